@@ -1,0 +1,147 @@
+//! Generic property tests for the trait contracts.
+//!
+//! An equation of state joins the harness with one line in its crate's tests:
+//!
+//! ```ignore
+//! brisance_core::eos_contract_tests!(ideal_gas_air, IdealGas::air(), rho: 0.01..100.0, e: 1.0e3..1.0e7);
+//! ```
+//!
+//! The checks themselves are plain functions so a failing case can be
+//! replayed by hand.
+
+use crate::Eos;
+
+/// Relative difference scaled by the larger magnitude (and `floor`).
+pub fn rel_diff(a: f64, b: f64, floor: f64) -> f64 {
+    (a - b).abs() / a.abs().max(b.abs()).max(floor)
+}
+
+/// p(ρ, e(ρ, p)) = p.
+pub fn check_pressure_roundtrip<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    let p = eos.pressure(rho, e);
+    let e2 = eos
+        .specific_internal_energy(rho, p)
+        .map_err(|err| format!("e(ρ={rho}, p={p}) failed: {err}"))?;
+    let p2 = eos.pressure(rho, e2);
+    if rel_diff(p, p2, 1e-12 * (rho * e.abs()).max(1.0)) > 1e-9 {
+        return Err(format!("p(ρ,e(ρ,p)) = {p2} ≠ p = {p} at ρ={rho}, e={e}"));
+    }
+    Ok(())
+}
+
+/// c² ≥ 0 and c² = ∂p/∂ρ|ₑ + (p/ρ²) ∂p/∂e|ρ with finite-difference derivatives.
+pub fn check_sound_speed<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    let c2 = eos.sound_speed_squared(rho, e);
+    if !(c2 >= 0.0) {
+        return Err(format!("c² = {c2} < 0 at ρ={rho}, e={e}"));
+    }
+    let (hr, he) = (1e-6 * rho, 1e-6 * e.abs().max(1.0));
+    let dpdr = (eos.pressure(rho + hr, e) - eos.pressure(rho - hr, e)) / (2.0 * hr);
+    let dpde = (eos.pressure(rho, e + he) - eos.pressure(rho, e - he)) / (2.0 * he);
+    let p = eos.pressure(rho, e);
+    let fd = dpdr + p / (rho * rho) * dpde;
+    if rel_diff(c2, fd, 1e-9 * c2.abs().max(1e-30)) > 1e-5 {
+        return Err(format!(
+            "c² = {c2} but finite differences give {fd} at ρ={rho}, e={e}"
+        ));
+    }
+    Ok(())
+}
+
+/// The analytic derivatives agree with central differences.
+pub fn check_derivatives<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    let (hr, he) = (1e-6 * rho, 1e-6 * e.abs().max(1.0));
+    let dpdr = (eos.pressure(rho + hr, e) - eos.pressure(rho - hr, e)) / (2.0 * hr);
+    let dpde = (eos.pressure(rho, e + he) - eos.pressure(rho, e - he)) / (2.0 * he);
+    let (a, b) = (eos.dp_drho(rho, e), eos.dp_de(rho, e));
+    let scale_r = (eos.pressure(rho, e).abs() / rho).max(1e-30);
+    if rel_diff(a, dpdr, scale_r) > 1e-5 {
+        return Err(format!(
+            "∂p/∂ρ = {a} vs finite difference {dpdr} at ρ={rho}, e={e}"
+        ));
+    }
+    if rel_diff(b, dpde, rho * 1e-6) > 1e-5 {
+        return Err(format!(
+            "∂p/∂e = {b} vs finite difference {dpde} at ρ={rho}, e={e}"
+        ));
+    }
+    Ok(())
+}
+
+/// T(ρ, e(ρ, T)) = T and ρ(p(ρ, e), T(ρ, e)) = ρ.
+pub fn check_thermal_roundtrip<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    let t = eos.temperature(rho, e);
+    let e2 = eos.specific_internal_energy_from_temperature(rho, t);
+    if rel_diff(e, e2, 1e-9 * e.abs().max(1.0)) > 1e-9 {
+        return Err(format!("e(ρ, T(ρ,e)) = {e2} ≠ e = {e} at ρ={rho}"));
+    }
+    let p = eos.pressure(rho, e);
+    let rho2 = eos
+        .density(p, t)
+        .map_err(|err| format!("ρ(p={p}, T={t}) failed: {err}"))?;
+    if rel_diff(rho, rho2, 0.0) > 1e-9 {
+        return Err(format!("ρ(p, T) = {rho2} ≠ ρ = {rho} (p={p}, T={t})"));
+    }
+    Ok(())
+}
+
+/// Compressibility and expansivity agree with finite differences of ρ(p, T).
+pub fn check_thermal_derivatives<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    let p = eos.pressure(rho, e);
+    let t = eos.temperature(rho, e);
+    let fail = |what: &str, err: crate::EosError| format!("{what} failed at p={p}, T={t}: {err}");
+    let kappa = eos
+        .isothermal_compressibility(p, t)
+        .map_err(|er| fail("κ", er))?;
+    let alpha = eos.thermal_expansivity(p, t).map_err(|er| fail("α", er))?;
+    let (hp, ht) = (1e-6 * p.abs().max(1.0), 1e-6 * t.abs().max(1e-3));
+    let rho_of = |p: f64, t: f64| eos.density(p, t).map_err(|er| fail("ρ(p,T)", er));
+    let kappa_fd = (rho_of(p + hp, t)? - rho_of(p - hp, t)?) / (2.0 * hp) / rho;
+    let alpha_fd = -(rho_of(p, t + ht)? - rho_of(p, t - ht)?) / (2.0 * ht) / rho;
+    if rel_diff(kappa, kappa_fd, 1e-30) > 1e-5 {
+        return Err(format!(
+            "κ = {kappa} vs finite difference {kappa_fd} at p={p}, T={t}"
+        ));
+    }
+    if rel_diff(alpha, alpha_fd, 1e-12 / t.abs().max(1e-3)) > 1e-5 {
+        return Err(format!(
+            "α = {alpha} vs finite difference {alpha_fd} at p={p}, T={t}"
+        ));
+    }
+    Ok(())
+}
+
+/// Every contract check at one state.
+pub fn check_all<E: Eos + ?Sized>(eos: &E, rho: f64, e: f64) -> Result<(), String> {
+    check_pressure_roundtrip(eos, rho, e)?;
+    check_sound_speed(eos, rho, e)?;
+    check_derivatives(eos, rho, e)?;
+    check_thermal_roundtrip(eos, rho, e)?;
+    check_thermal_derivatives(eos, rho, e)
+}
+
+/// Generates a proptest module checking the [`Eos`] contract for one
+/// implementation over a box of (ρ, e) states where the model is valid.
+///
+/// The invoking crate needs `proptest` as a dev-dependency and
+/// `brisance-core` with the `contracts` feature.
+#[macro_export]
+macro_rules! eos_contract_tests {
+    ($name:ident, $eos:expr, rho: $rho:expr, e: $e:expr) => {
+        mod $name {
+            #[allow(unused_imports)]
+            use super::*;
+            use proptest::prelude::*;
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(256))]
+                #[test]
+                fn eos_contract_holds(rho in $rho, e in $e) {
+                    let eos = $eos;
+                    if let Err(msg) = $crate::contracts::check_all(&eos, rho, e) {
+                        prop_assert!(false, "{}", msg);
+                    }
+                }
+            }
+        }
+    };
+}

@@ -1,0 +1,79 @@
+//! The equation-of-state trait.
+
+use crate::EosError;
+
+/// Thermodynamics of one material.
+///
+/// The mechanical part maps (density ρ, specific internal energy e) to
+/// pressure and sound speed; the thermal part adds temperature through the
+/// specific heat at constant volume, and the (p, T) → ρ inversion,
+/// isothermal compressibility and thermal expansivity that the ICE
+/// equilibration pressure needs (seed 000 eqs 4–10, 20).
+///
+/// # Contract (checked for every implementation by
+/// [`crate::eos_contract_tests!`])
+/// - `pressure(ρ, specific_internal_energy(ρ, p)) = p` wherever the model is
+///   valid.
+/// - `sound_speed_squared(ρ, e) ≥ 0` and equals
+///   `∂p/∂ρ|ₑ + (p/ρ²) ∂p/∂e|ρ`.
+/// - `dp_drho` and `dp_de` agree with finite differences of `pressure`.
+/// - `density(pressure(ρ, e), temperature(ρ, e)) = ρ` (the (p, T) → ρ
+///   inversion round-trips), and `temperature` inverts
+///   `specific_internal_energy_from_temperature`.
+/// - `isothermal_compressibility` and `thermal_expansivity` agree with finite
+///   differences of `density(p, T)`.
+///
+/// Units: ρ kg/m³, e J/kg, p Pa, T K, c m/s.
+///
+/// Solvers call these in hot loops through a generic parameter (`E: Eos`),
+/// so the methods are small and `#[inline]`-able; the trait is also object
+/// safe for the registry.
+pub trait Eos: Send + Sync + std::fmt::Debug {
+    /// Registry name of the model (`ideal_gas`, `jwl`, ...).
+    fn name(&self) -> &'static str;
+
+    /// Reference (initial) density ρ₀, kg/m³.
+    fn reference_density(&self) -> f64;
+
+    /// Pressure p(ρ, e), Pa.
+    fn pressure(&self, rho: f64, e: f64) -> f64;
+
+    /// ∂p/∂ρ at constant e.
+    fn dp_drho(&self, rho: f64, e: f64) -> f64;
+
+    /// ∂p/∂e at constant ρ.
+    fn dp_de(&self, rho: f64, e: f64) -> f64;
+
+    /// Squared isentropic sound speed c² = ∂p/∂ρ|ₑ + (p/ρ²) ∂p/∂e|ρ, m²/s².
+    fn sound_speed_squared(&self, rho: f64, e: f64) -> f64 {
+        let p = self.pressure(rho, e);
+        self.dp_drho(rho, e) + p / (rho * rho) * self.dp_de(rho, e)
+    }
+
+    /// Sound speed c, m/s (zero where c² < 0).
+    fn sound_speed(&self, rho: f64, e: f64) -> f64 {
+        self.sound_speed_squared(rho, e).max(0.0).sqrt()
+    }
+
+    /// The specific internal energy that gives pressure `p` at density `rho`.
+    fn specific_internal_energy(&self, rho: f64, p: f64) -> Result<f64, EosError>;
+
+    /// Temperature T(ρ, e), K.
+    fn temperature(&self, rho: f64, e: f64) -> f64;
+
+    /// Specific internal energy e(ρ, T), J/kg (inverse of `temperature`).
+    fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64;
+
+    /// Specific heat at constant volume, J/(kg·K).
+    fn cv(&self, rho: f64, t: f64) -> f64;
+
+    /// Density at pressure p and temperature T (the thermal EOS v(p, T)
+    /// inverted), kg/m³.
+    fn density(&self, p: f64, t: f64) -> Result<f64, EosError>;
+
+    /// Isothermal compressibility κ = (1/ρ) ∂ρ/∂p|_T, 1/Pa.
+    fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError>;
+
+    /// Thermal expansivity α = (1/v) ∂v/∂T|_p = −(1/ρ) ∂ρ/∂T|_p, 1/K.
+    fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError>;
+}

@@ -1,0 +1,115 @@
+//! What solvers hand to the output writers and the conservation bookkeeping.
+
+use serde::{Deserialize, Serialize};
+
+/// Totals of the conserved quantities over the whole domain.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ConservationTotals {
+    /// Total mass, kg.
+    pub mass: f64,
+    /// Total momentum, kg·m/s.
+    pub momentum: [f64; 3],
+    /// Total energy (internal + kinetic), J.
+    pub energy: f64,
+}
+
+/// A uniform Cartesian grid: `cells[d]` cells of width `spacing[d]` starting
+/// at `origin` (the low corner of cell (0, 0, 0)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct UniformGridGeometry {
+    /// Low corner of the domain, m.
+    pub origin: [f64; 3],
+    /// Cell widths, m.
+    pub spacing: [f64; 3],
+    /// Cell counts per direction (1 in unused directions).
+    pub cells: [usize; 3],
+}
+
+impl UniformGridGeometry {
+    /// Total number of cells.
+    pub fn cell_count(&self) -> usize {
+        self.cells[0] * self.cells[1] * self.cells[2]
+    }
+
+    /// Centre of global cell (i, j, k).
+    pub fn cell_centre(&self, c: [usize; 3]) -> [f64; 3] {
+        std::array::from_fn(|d| self.origin[d] + (c[d] as f64 + 0.5) * self.spacing[d])
+    }
+
+    /// The cell that contains `x`, or `None` outside the domain. Points on
+    /// the upper boundary belong to the last cell.
+    pub fn cell_containing(&self, x: [f64; 3]) -> Option<[usize; 3]> {
+        let mut c = [0usize; 3];
+        for d in 0..3 {
+            let s = (x[d] - self.origin[d]) / self.spacing[d];
+            let n = self.cells[d] as f64;
+            if !(s >= 0.0 && s <= n) {
+                return None;
+            }
+            c[d] = (s.floor() as usize).min(self.cells[d] - 1);
+        }
+        Some(c)
+    }
+
+    /// Linear index of global cell (i, j, k), x fastest.
+    pub fn linear_index(&self, c: [usize; 3]) -> usize {
+        c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2])
+    }
+
+    /// Upper corner of the domain.
+    pub fn upper(&self) -> [f64; 3] {
+        std::array::from_fn(|d| self.origin[d] + self.cells[d] as f64 * self.spacing[d])
+    }
+}
+
+/// Cell-centred fields on the whole grid, gathered from all patches, each in
+/// global x-fastest order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellData {
+    /// The grid the fields live on.
+    pub geometry: UniformGridGeometry,
+    /// `(name, values)` pairs, snake_case names (`density`, `pressure`, ...).
+    pub fields: Vec<(String, Vec<f64>)>,
+}
+
+impl CellData {
+    /// The values of a named field.
+    pub fn field(&self, name: &str) -> Option<&[f64]> {
+        self.fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry() -> UniformGridGeometry {
+        UniformGridGeometry {
+            origin: [0.0, -1.0, 0.0],
+            spacing: [0.1, 0.5, 1.0],
+            cells: [10, 4, 1],
+        }
+    }
+
+    #[test]
+    fn cell_containing_maps_centres_back_to_their_cell() {
+        let g = geometry();
+        for c in [[0, 0, 0], [9, 3, 0], [4, 2, 0]] {
+            assert_eq!(g.cell_containing(g.cell_centre(c)), Some(c));
+        }
+        assert_eq!(g.cell_containing([1.0, 1.0, 1.0]), Some([9, 3, 0]));
+        assert_eq!(g.cell_containing([1.01, 0.0, 0.5]), None);
+        assert_eq!(g.cell_containing([f64::NAN, 0.0, 0.5]), None);
+    }
+
+    #[test]
+    fn linear_index_is_x_fastest() {
+        let g = geometry();
+        assert_eq!(g.linear_index([1, 0, 0]), 1);
+        assert_eq!(g.linear_index([0, 1, 0]), 10);
+        assert_eq!(g.cell_count(), 40);
+    }
+}

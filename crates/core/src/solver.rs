@@ -1,0 +1,49 @@
+//! The solver trait: what the run loop drives.
+
+use crate::{CellData, ConservationTotals, SolverError};
+
+/// A numerical method, or a coupled pipeline of methods, that owns its state
+/// and advances it in time.
+///
+/// # Contract
+/// - [`Solver::stable_dt`] is the largest step the method takes safely from
+///   the current state; the run loop may take a smaller one (to land on an
+///   output time exactly) but never a larger one.
+/// - [`Solver::advance`] either advances the whole state by `dt` or returns
+///   an error and leaves the last good state for output.
+/// - Results are deterministic: the same input gives the same bits whatever
+///   the thread count or patch split, and
+///   [`Solver::restore_state`] of a [`Solver::save_state`] continues
+///   bit-identically.
+pub trait Solver: Send {
+    /// Short name of the method (`fdm`, `mpm`, `ice-mpm`, ...).
+    fn name(&self) -> &str;
+
+    /// Current simulation time, s.
+    fn time(&self) -> f64;
+
+    /// Largest stable step from the current state, s.
+    fn stable_dt(&self) -> Result<f64, SolverError>;
+
+    /// Advances the state by `dt`.
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError>;
+
+    /// Domain totals of mass, momentum and total energy.
+    fn conservation_totals(&self) -> ConservationTotals;
+
+    /// Names of the cell fields this solver can output.
+    fn cell_field_names(&self) -> Vec<&'static str>;
+
+    /// The requested cell fields on the whole grid (unknown names are an
+    /// error naming the known ones).
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError>;
+
+    /// Work done by one step, in the kernel's unit, for throughput figures.
+    fn work_per_step(&self) -> (f64, &'static str);
+
+    /// Serialises the full state for a checkpoint.
+    fn save_state(&self) -> Result<Vec<u8>, SolverError>;
+
+    /// Restores a state written by [`Solver::save_state`].
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError>;
+}

@@ -1,0 +1,333 @@
+//! Halo exchange: filling ghost layers from neighbouring patches or from the
+//! boundary conditions.
+//!
+//! The exchange is two-phase, as a message-passing implementation would be:
+//! every patch *packs* the values its ghost layers need (from the neighbour's
+//! interior or from its own boundary cells) into a buffer, then every patch
+//! *unpacks* its buffer into its ghosts. Both phases run in parallel over
+//! patches with no shared mutable state, so the result does not depend on
+//! the thread count. Buffers are kept between calls, so a step allocates
+//! nothing once warmed up.
+
+use rayon::prelude::*;
+
+use crate::{BoundaryConditions, Face, FaceBc, FieldKind, FieldSet, Level, Patch, PatchFields};
+
+/// Fills ghost layers. Implementations: [`InProcessExchange`] (all patches in
+/// this process); a message-passing one implements the same calls.
+pub trait HaloExchange: Send {
+    /// Fills the ghost layers along `axis` of every patch. The planes span
+    /// the full allocated extent of the other two axes, so filling x, then y,
+    /// then z also fills edges and corners.
+    fn fill_axis(
+        &mut self,
+        level: &Level,
+        set: &FieldSet,
+        bcs: &BoundaryConditions,
+        fields: &mut [PatchFields],
+        axis: usize,
+    );
+
+    /// Fills every ghost layer (all active axes in order).
+    fn fill_all(
+        &mut self,
+        level: &Level,
+        set: &FieldSet,
+        bcs: &BoundaryConditions,
+        fields: &mut [PatchFields],
+    ) {
+        for axis in 0..3 {
+            if level.is_active(axis) {
+                self.fill_axis(level, set, bcs, fields, axis);
+            }
+        }
+    }
+}
+
+/// The in-process exchange: patches are entries of one slice.
+#[derive(Debug, Default, Clone)]
+pub struct InProcessExchange {
+    buffers: Vec<[Vec<f64>; 2]>,
+}
+
+impl InProcessExchange {
+    /// An exchange with no buffers yet (they grow on first use).
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
+
+/// Calls `f(storage index)` for every cell of the plane `layer` normal to
+/// `axis`, in a fixed order shared by packing and unpacking.
+#[inline]
+fn for_each_in_plane(dims: [usize; 3], axis: usize, layer: usize, mut f: impl FnMut(usize)) {
+    let stride = [1, dims[0], dims[0] * dims[1]];
+    let (e1, e2) = match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let base = layer * stride[axis];
+    for c2 in 0..dims[e2] {
+        for c1 in 0..dims[e1] {
+            f(base + c1 * stride[e1] + c2 * stride[e2]);
+        }
+    }
+}
+
+/// The patch next to `patch` on `side` of `axis`, if any (wrapping for
+/// periodic boundaries).
+fn neighbour(
+    level: &Level,
+    bcs: &BoundaryConditions,
+    patch: &Patch,
+    axis: usize,
+    side: usize,
+) -> Option<usize> {
+    let mut idx = patch.index;
+    let n = level.layout[axis];
+    if side == 0 {
+        if idx[axis] == 0 {
+            if *bcs.get(Face::of(axis, 0)) != FaceBc::Periodic {
+                return None;
+            }
+            idx[axis] = n - 1;
+        } else {
+            idx[axis] -= 1;
+        }
+    } else if idx[axis] + 1 == n {
+        if *bcs.get(Face::of(axis, 1)) != FaceBc::Periodic {
+            return None;
+        }
+        idx[axis] = 0;
+    } else {
+        idx[axis] += 1;
+    }
+    Some(level.patch_id(idx))
+}
+
+/// Packs the values for the ghost layers on `side` of `axis` of patch `id`.
+fn pack(
+    out: &mut Vec<f64>,
+    level: &Level,
+    set: &FieldSet,
+    bcs: &BoundaryConditions,
+    fields: &[PatchFields],
+    id: usize,
+    axis: usize,
+    side: usize,
+) {
+    out.clear();
+    let patch = &level.patches[id];
+    let g = patch.ghost[axis];
+    let size = patch.size[axis];
+    if let Some(q) = neighbour(level, bcs, patch, axis, side) {
+        let src = &fields[q];
+        let qsize = level.patches[q].size[axis];
+        for values in &src.data {
+            for a in 0..g {
+                // Ghost a on the low side is the neighbour's interior layer
+                // qsize + a (its top g layers); on the high side its first g.
+                let layer = if side == 0 { qsize + a } else { g + a };
+                for_each_in_plane(src.dims, axis, layer, |n| out.push(values[n]));
+            }
+        }
+        return;
+    }
+    let own = &fields[id];
+    match bcs.get(Face::of(axis, side)) {
+        FaceBc::Outflow => {
+            let layer = if side == 0 { g } else { g + size - 1 };
+            for values in &own.data {
+                for _ in 0..g {
+                    for_each_in_plane(own.dims, axis, layer, |n| out.push(values[n]));
+                }
+            }
+        }
+        FaceBc::Reflective => {
+            for (values, kind) in own.data.iter().zip(&set.kinds) {
+                let sign = if *kind == FieldKind::VectorComponent(axis) {
+                    -1.0
+                } else {
+                    1.0
+                };
+                for a in 0..g {
+                    // Local ghost layer a mirrors the interior layer at the
+                    // same distance from the face.
+                    let layer = if side == 0 {
+                        2 * g - 1 - a
+                    } else {
+                        g + size - 1 - a
+                    };
+                    for_each_in_plane(own.dims, axis, layer, |n| out.push(sign * values[n]));
+                }
+            }
+        }
+        FaceBc::Fixed(state) => {
+            for &v in state {
+                for _ in 0..g {
+                    for_each_in_plane(own.dims, axis, 0, |_| out.push(v));
+                }
+            }
+        }
+        // A periodic face always has a neighbour (possibly itself).
+        FaceBc::Periodic => unreachable!("periodic faces are resolved as neighbours"),
+    }
+}
+
+/// Writes a packed buffer into the ghost layers on `side` of `axis`.
+fn unpack(buf: &[f64], patch: &Patch, fields: &mut PatchFields, axis: usize, side: usize) {
+    let g = patch.ghost[axis];
+    let size = patch.size[axis];
+    let dims = fields.dims;
+    let mut it = buf.iter();
+    for values in &mut fields.data {
+        for a in 0..g {
+            let layer = if side == 0 { a } else { g + size + a };
+            for_each_in_plane(dims, axis, layer, |n| {
+                values[n] = *it.next().expect("halo buffer matches the ghost layers");
+            });
+        }
+    }
+}
+
+impl HaloExchange for InProcessExchange {
+    fn fill_axis(
+        &mut self,
+        level: &Level,
+        set: &FieldSet,
+        bcs: &BoundaryConditions,
+        fields: &mut [PatchFields],
+        axis: usize,
+    ) {
+        if !level.is_active(axis) {
+            return;
+        }
+        self.buffers
+            .resize_with(level.patches.len(), Default::default);
+        let shared: &[PatchFields] = fields;
+        self.buffers
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(id, bufs)| {
+                for (side, buf) in bufs.iter_mut().enumerate() {
+                    pack(buf, level, set, bcs, shared, id, axis, side);
+                }
+            });
+        fields
+            .par_iter_mut()
+            .zip(self.buffers.par_iter())
+            .zip(level.patches.par_iter())
+            .for_each(|((f, bufs), patch)| {
+                for (side, buf) in bufs.iter().enumerate() {
+                    unpack(buf, patch, f, axis, side);
+                }
+            });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set() -> FieldSet {
+        FieldSet {
+            names: vec!["a", "u"],
+            kinds: vec![FieldKind::Scalar, FieldKind::VectorComponent(0)],
+        }
+    }
+
+    /// Fills interior cells with f(global index) and ghosts with NaN.
+    fn filled(level: &Level) -> Vec<PatchFields> {
+        level
+            .patches
+            .iter()
+            .map(|p| {
+                let mut f = PatchFields::zeros(p, 2);
+                let d = p.dims();
+                for k in 0..d[2] {
+                    for j in 0..d[1] {
+                        for i in 0..d[0] {
+                            let n = p.local_index([i, j, k]);
+                            let interior = (0..3).all(|a| {
+                                let l = [i, j, k][a];
+                                l >= p.ghost[a] && l < p.ghost[a] + p.size[a]
+                            });
+                            let gi: [i64; 3] = std::array::from_fn(|a| {
+                                [i, j, k][a] as i64 + p.lo[a] as i64 - p.ghost[a] as i64
+                            });
+                            let v = (gi[0] + 100 * gi[1] + 10000 * gi[2]) as f64;
+                            f.data[0][n] = if interior { v } else { f64::NAN };
+                            f.data[1][n] = if interior { v + 0.5 } else { f64::NAN };
+                        }
+                    }
+                }
+                f
+            })
+            .collect()
+    }
+
+    fn value(
+        level: &Level,
+        fields: &[PatchFields],
+        pid: usize,
+        l: [usize; 3],
+        field: usize,
+    ) -> f64 {
+        fields[pid].data[field][level.patches[pid].local_index(l)]
+    }
+
+    #[test]
+    fn neighbour_ghosts_copy_the_neighbours_interior() {
+        let level = Level::new([0.0; 3], [1.0; 3], [8, 6, 1], [2, 2, 1], 2).unwrap();
+        let bcs = BoundaryConditions::uniform(FaceBc::Outflow);
+        let mut fields = filled(&level);
+        InProcessExchange::new().fill_all(&level, &set(), &bcs, &mut fields);
+        // Patch 3 (upper right) ghost at local (0, 0) is global (2, 1).
+        assert_eq!(value(&level, &fields, 3, [0, 0, 0], 0), (2 + 100) as f64);
+        // Every ghost is filled, corners included.
+        for f in &fields {
+            assert!(f.data.iter().flatten().all(|v| v.is_finite()));
+        }
+    }
+
+    #[test]
+    fn reflective_mirrors_and_negates_the_normal_component() {
+        let level = Level::new([0.0; 3], [1.0; 3], [6, 1, 1], [1, 1, 1], 3).unwrap();
+        let bcs = BoundaryConditions::uniform(FaceBc::Reflective);
+        let mut fields = filled(&level);
+        InProcessExchange::new().fill_all(&level, &set(), &bcs, &mut fields);
+        // Low side: ghost local 2 mirrors interior local 3 (global 0).
+        assert_eq!(value(&level, &fields, 0, [2, 0, 0], 0), 0.0);
+        assert_eq!(value(&level, &fields, 0, [0, 0, 0], 0), 2.0);
+        assert_eq!(value(&level, &fields, 0, [0, 0, 0], 1), -2.5);
+        // High side: ghost local 9 mirrors global 5; local 11 mirrors global 3.
+        assert_eq!(value(&level, &fields, 0, [9, 0, 0], 0), 5.0);
+        assert_eq!(value(&level, &fields, 0, [11, 0, 0], 1), -3.5);
+    }
+
+    #[test]
+    fn outflow_periodic_and_fixed_ghosts() {
+        let level = Level::new([0.0; 3], [1.0; 3], [6, 1, 1], [2, 1, 1], 3).unwrap();
+        let mut bcs = BoundaryConditions::uniform(FaceBc::Periodic);
+        let mut fields = filled(&level);
+        InProcessExchange::new().fill_all(&level, &set(), &bcs, &mut fields);
+        // Patch 0's low ghosts wrap to globals 3, 4, 5.
+        assert_eq!(value(&level, &fields, 0, [0, 0, 0], 0), 3.0);
+        assert_eq!(value(&level, &fields, 1, [8, 0, 0], 0), 2.0);
+
+        bcs.faces[0] = FaceBc::Fixed(vec![7.0, 8.0]);
+        bcs.faces[1] = FaceBc::Outflow;
+        let mut fields = filled(&level);
+        InProcessExchange::new().fill_all(&level, &set(), &bcs, &mut fields);
+        assert_eq!(value(&level, &fields, 0, [1, 0, 0], 1), 8.0);
+        assert_eq!(value(&level, &fields, 1, [8, 0, 0], 0), 5.0);
+    }
+
+    #[test]
+    fn mismatched_periodic_faces_are_rejected() {
+        let mut bcs = BoundaryConditions::uniform(FaceBc::Outflow);
+        bcs.faces[2] = FaceBc::Periodic;
+        assert!(bcs.validate(2).unwrap_err().contains("y_high"));
+    }
+}

@@ -1,0 +1,229 @@
+//! Levels and patches.
+
+use brisance_core::UniformGridGeometry;
+
+/// Why a level cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GridError {
+    /// A cell count of zero, or more patches than cells, or a patch thinner
+    /// than the ghost layers.
+    #[error("{0}")]
+    Layout(String),
+}
+
+/// One patch: a box of interior cells of the level plus `ghost[d]` layers on
+/// each side in every active direction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    /// Position of the patch in the patch layout.
+    pub index: [usize; 3],
+    /// Global index of the first interior cell.
+    pub lo: [usize; 3],
+    /// Interior cells per direction.
+    pub size: [usize; 3],
+    /// Ghost layers per side per direction (0 in unused directions).
+    pub ghost: [usize; 3],
+}
+
+impl Patch {
+    /// Allocated cells per direction (interior plus ghosts on both sides).
+    pub fn dims(&self) -> [usize; 3] {
+        std::array::from_fn(|d| self.size[d] + 2 * self.ghost[d])
+    }
+
+    /// Number of allocated cells.
+    pub fn allocated_cells(&self) -> usize {
+        self.dims().iter().product()
+    }
+
+    /// Number of interior cells.
+    pub fn interior_cells(&self) -> usize {
+        self.size.iter().product()
+    }
+
+    /// Stride of one step along each direction in the local storage.
+    pub fn strides(&self) -> [usize; 3] {
+        let d = self.dims();
+        [1, d[0], d[0] * d[1]]
+    }
+
+    /// Local storage index of local cell (i, j, k), counted from the first
+    /// ghost cell.
+    #[inline]
+    pub fn local_index(&self, l: [usize; 3]) -> usize {
+        let d = self.dims();
+        l[0] + d[0] * (l[1] + d[1] * l[2])
+    }
+
+    /// Local storage index of the interior cell with global index `g`.
+    #[inline]
+    pub fn index_of_global(&self, g: [usize; 3]) -> usize {
+        self.local_index(std::array::from_fn(|d| g[d] - self.lo[d] + self.ghost[d]))
+    }
+
+    /// Whether global cell `g` is an interior cell of this patch.
+    pub fn contains_global(&self, g: [usize; 3]) -> bool {
+        (0..3).all(|d| g[d] >= self.lo[d] && g[d] < self.lo[d] + self.size[d])
+    }
+
+    /// Global index of the interior cell at local storage index `l`.
+    pub fn global_of_local(&self, l: [usize; 3]) -> [usize; 3] {
+        std::array::from_fn(|d| l[d] + self.lo[d] - self.ghost[d])
+    }
+}
+
+/// A Cartesian level: the grid geometry and its split into patches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level {
+    /// Cells, spacing and origin.
+    pub geometry: UniformGridGeometry,
+    /// Patches per direction.
+    pub layout: [usize; 3],
+    /// The patches, x-fastest in the layout.
+    pub patches: Vec<Patch>,
+}
+
+/// Sizes of `parts` nearly equal pieces of `n` cells (the first `n % parts`
+/// get one more).
+fn split(n: usize, parts: usize) -> Vec<usize> {
+    (0..parts)
+        .map(|p| n / parts + usize::from(p < n % parts))
+        .collect()
+}
+
+impl Level {
+    /// Builds a level of `cells` cells between `origin` and `upper`, split
+    /// into `layout` patches, with `ghost` layers in every direction that has
+    /// more than one cell.
+    pub fn new(
+        origin: [f64; 3],
+        upper: [f64; 3],
+        cells: [usize; 3],
+        layout: [usize; 3],
+        ghost: usize,
+    ) -> Result<Self, GridError> {
+        const AXES: [char; 3] = ['x', 'y', 'z'];
+        for d in 0..3 {
+            if cells[d] == 0 {
+                return Err(GridError::Layout(format!(
+                    "the domain has 0 cells along {}",
+                    AXES[d]
+                )));
+            }
+            if !(upper[d] > origin[d]) || !(upper[d] - origin[d]).is_finite() {
+                return Err(GridError::Layout(format!(
+                    "the domain's upper bound along {} ({}) must be above its lower bound ({})",
+                    AXES[d], upper[d], origin[d]
+                )));
+            }
+            if layout[d] == 0 || layout[d] > cells[d] {
+                return Err(GridError::Layout(format!(
+                    "{} patches along {} for {} cells: need between 1 and the cell count",
+                    layout[d], AXES[d], cells[d]
+                )));
+            }
+        }
+        let ghost_d: [usize; 3] = std::array::from_fn(|d| if cells[d] > 1 { ghost } else { 0 });
+        let sizes: [Vec<usize>; 3] = std::array::from_fn(|d| split(cells[d], layout[d]));
+        for d in 0..3 {
+            if cells[d] > 1 && sizes[d].iter().any(|&s| s < ghost) {
+                return Err(GridError::Layout(format!(
+                    "patches along {} would be thinner than the {ghost} ghost layers; use at most {} patches",
+                    AXES[d],
+                    cells[d] / ghost.max(1)
+                )));
+            }
+        }
+        let mut patches = Vec::with_capacity(layout.iter().product());
+        for pk in 0..layout[2] {
+            for pj in 0..layout[1] {
+                for pi in 0..layout[0] {
+                    let index = [pi, pj, pk];
+                    let lo = std::array::from_fn(|d| sizes[d][..index[d]].iter().sum());
+                    let size = std::array::from_fn(|d| sizes[d][index[d]]);
+                    patches.push(Patch {
+                        index,
+                        lo,
+                        size,
+                        ghost: ghost_d,
+                    });
+                }
+            }
+        }
+        let geometry = UniformGridGeometry {
+            origin,
+            spacing: std::array::from_fn(|d| (upper[d] - origin[d]) / cells[d] as f64),
+            cells,
+        };
+        Ok(Self {
+            geometry,
+            layout,
+            patches,
+        })
+    }
+
+    /// Linear patch id of layout position `index`.
+    pub fn patch_id(&self, index: [usize; 3]) -> usize {
+        index[0] + self.layout[0] * (index[1] + self.layout[1] * index[2])
+    }
+
+    /// Whether direction `d` is active (has more than one cell).
+    pub fn is_active(&self, d: usize) -> bool {
+        self.geometry.cells[d] > 1
+    }
+
+    /// The patch that owns global cell `g`, and the local storage index.
+    pub fn locate(&self, g: [usize; 3]) -> Option<(usize, usize)> {
+        let id = self.patches.iter().position(|p| p.contains_global(g))?;
+        Some((id, self.patches[id].index_of_global(g)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn patches_tile_the_level_without_overlap() {
+        let level = Level::new([0.0; 3], [1.0; 3], [10, 7, 1], [3, 2, 1], 3).unwrap();
+        let mut owner = vec![usize::MAX; 70];
+        for (id, p) in level.patches.iter().enumerate() {
+            assert_eq!(p.ghost, [3, 3, 0]);
+            for k in 0..p.size[2] {
+                for j in 0..p.size[1] {
+                    for i in 0..p.size[0] {
+                        let g = [p.lo[0] + i, p.lo[1] + j, p.lo[2] + k];
+                        let n = level.geometry.linear_index(g);
+                        assert_eq!(owner[n], usize::MAX, "cell {g:?} owned twice");
+                        owner[n] = id;
+                    }
+                }
+            }
+        }
+        assert!(owner.iter().all(|&o| o != usize::MAX));
+        assert_eq!(level.patches[0].size, [4, 4, 1]);
+        assert_eq!(level.patches[5].lo, [7, 4, 0]);
+    }
+
+    #[test]
+    fn local_and_global_indices_invert() {
+        let level = Level::new([0.0; 3], [1.0; 3], [8, 8, 8], [2, 2, 2], 2).unwrap();
+        let p = &level.patches[7];
+        let g = [6, 5, 7];
+        let l = p.index_of_global(g);
+        let d = p.dims();
+        let local = [l % d[0], (l / d[0]) % d[1], l / (d[0] * d[1])];
+        assert_eq!(p.global_of_local(local), g);
+        assert_eq!(level.locate(g), Some((7, l)));
+    }
+
+    #[test]
+    fn bad_layouts_are_rejected_with_a_reason() {
+        let e = Level::new([0.0; 3], [1.0; 3], [0, 1, 1], [1, 1, 1], 3).unwrap_err();
+        assert!(e.to_string().contains("0 cells along x"));
+        let e = Level::new([0.0; 3], [1.0; 3], [10, 1, 1], [4, 1, 1], 3).unwrap_err();
+        assert!(e.to_string().contains("thinner"));
+        let e = Level::new([0.0; 3], [0.0, 1.0, 1.0], [10, 1, 1], [1, 1, 1], 3).unwrap_err();
+        assert!(e.to_string().contains("upper bound"));
+    }
+}

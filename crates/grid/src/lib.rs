@@ -1,0 +1,23 @@
+//! Brisance grid: the Cartesian mesh every Eulerian solver and the MPM
+//! background grid live on.
+//!
+//! - [`level`]: a box of cells (1D, 2D or 3D by cell counts of 1 in unused
+//!   directions) split into patches with ghost layers.
+//! - [`fields`]: cell-centred and node-centred fields, structure of arrays,
+//!   one allocation per field per patch.
+//! - [`boundary`]: boundary conditions per domain face.
+//! - [`halo`]: the halo-exchange interface and its in-process implementation.
+//!
+//! Every kernel works on one patch plus its ghost layers; patches are
+//! independent between exchanges, which is what makes results independent of
+//! the patch split and thread count.
+
+pub mod boundary;
+pub mod fields;
+pub mod halo;
+pub mod level;
+
+pub use boundary::{BoundaryConditions, Face, FaceBc};
+pub use fields::{FieldKind, FieldSet, NodeLayout, PatchFields};
+pub use halo::{HaloExchange, InProcessExchange};
+pub use level::{GridError, Level, Patch};
