@@ -38,6 +38,15 @@ pub trait Solver: Send {
     /// error naming the known ones).
     fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError>;
 
+    /// Values of `fields` at `point` (the containing cell's value for
+    /// cell-centred methods), written into `out`.
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError>;
+
     /// Work done by one step, in the kernel's unit, for throughput figures.
     fn work_per_step(&self) -> (f64, &'static str);
 

@@ -1,1 +1,25 @@
-//! placeholder
+//! Brisance FDM: the explicit three-dimensional finite-difference Euler
+//! solver of seed 001 §2.1.
+//!
+//! - [`state`]: conservative variables U = (ρ, ρu, ρv, ρw, E) (seed 001
+//!   eq 2) and primitive states.
+//! - [`viscosity`]: the adaptive artificial viscosity of seed 001 eqs 3–5.
+//! - [`sweep`]: one directional operator L_d(Δt/2): smoothing (eq 3) then a
+//!   two-step (Richtmyer) Lax–Wendroff step (the scheme eqs 7–9 stand for).
+//! - [`solver`]: the [`FdmSolver`], the Yanenko splitting of eq 6, the CFL
+//!   time step and the `Solver` implementation.
+//!
+//! The numerical choices the paper leaves open are written down in
+//! `docs/physics/fdm.md`.
+
+pub mod solver;
+pub mod state;
+pub mod sweep;
+pub mod viscosity;
+
+pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver};
+pub use state::PrimitiveState;
+pub use viscosity::ArtificialViscosity;
+
+#[cfg(test)]
+mod tests;

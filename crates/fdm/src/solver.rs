@@ -1,0 +1,590 @@
+//! The FDM solver: Yanenko splitting (seed 001 eq 6), CFL time step,
+//! positivity diagnostics and the [`Solver`] implementation.
+
+use std::cell::RefCell;
+
+use brisance_core::{CellData, ConservationTotals, Eos, Solver, SolverError};
+use brisance_grid::{
+    BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
+    PatchFields,
+};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::state::{
+    specific_internal_energy, PrimitiveState, CONSERVATIVE_NAMES, ENERGY, MOM, NVAR, RHO,
+};
+use crate::sweep::{sweep_slab, PatchPtrs, SlabShape, GHOST};
+use crate::viscosity::ArtificialViscosity;
+
+/// Why the FDM solver cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FdmError {
+    /// A parameter is out of range.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Largest per-sweep Courant number for which Lax–Wendroff is stable.
+pub const MAX_CFL: f64 = 1.0;
+
+/// Solver options (`..Default::default()` for the rest).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FdmOptions {
+    /// Courant number of each directional sweep:
+    /// Δt = 2·cfl·min_d min_cells Δx_d / (|u_d| + c), since each sweep
+    /// advances Δt/2 (seed 001 eq 6). Must lie in (0, 1].
+    pub cfl: f64,
+    /// The artificial viscosity law (seed 001 eqs 3–5).
+    pub viscosity: ArtificialViscosity,
+    /// Smallest time step before the run is stopped as collapsed, s.
+    pub min_dt: f64,
+}
+
+impl Default for FdmOptions {
+    fn default() -> Self {
+        Self {
+            cfl: 0.8,
+            viscosity: ArtificialViscosity::Adaptive,
+            min_dt: 1e-14,
+        }
+    }
+}
+
+/// A boundary condition of the Euler solver on one face.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FdmBoundary {
+    /// Zero-gradient outflow.
+    Outflow,
+    /// Slip wall / symmetry plane.
+    Reflective,
+    /// Periodic (both faces of an axis).
+    Periodic,
+    /// A fixed inflow/ambient state.
+    Fixed(PrimitiveState),
+}
+
+/// What a checkpoint holds: the interior conservative fields in global
+/// order, so a restart may use another patch split or thread count.
+#[derive(Serialize, Deserialize)]
+struct SavedState {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    fields: Vec<Vec<f64>>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The Lax–Wendroff finite-difference Euler solver of seed 001 §2.1 for one
+/// gas described by `E`.
+#[derive(Debug)]
+pub struct FdmSolver<E: Eos> {
+    eos: E,
+    level: Level,
+    set: FieldSet,
+    bcs: BoundaryConditions,
+    fields: Vec<PatchFields>,
+    exchange: InProcessExchange,
+    options: FdmOptions,
+    time: f64,
+    steps: u64,
+}
+
+impl<E: Eos> FdmSolver<E> {
+    /// Builds the solver on `level` (built with [`GHOST`] ghost layers) with
+    /// the initial state `init(cell centre)`.
+    pub fn new(
+        eos: E,
+        level: Level,
+        boundaries: [FdmBoundary; 6],
+        options: FdmOptions,
+        init: impl Fn([f64; 3]) -> PrimitiveState + Sync,
+    ) -> Result<Self, FdmError> {
+        if !(options.cfl > 0.0 && options.cfl <= MAX_CFL) {
+            return Err(FdmError::Invalid(format!(
+                "cfl = {} is outside (0, {MAX_CFL}]: the Lax-Wendroff sweep is unstable above a Courant number of 1",
+                options.cfl
+            )));
+        }
+        if let ArtificialViscosity::Constant(eta) = options.viscosity {
+            if !(0.0..=0.25).contains(&eta) {
+                return Err(FdmError::Invalid(format!(
+                    "constant viscosity η = {eta} must lie in [0, 0.25]"
+                )));
+            }
+        }
+        for d in 0..3 {
+            if level.is_active(d) && level.patches.iter().any(|p| p.ghost[d] < GHOST) {
+                return Err(FdmError::Invalid(format!(
+                    "the level needs {GHOST} ghost layers"
+                )));
+            }
+        }
+        let set = FieldSet {
+            names: CONSERVATIVE_NAMES.to_vec(),
+            kinds: vec![
+                FieldKind::Scalar,
+                FieldKind::VectorComponent(0),
+                FieldKind::VectorComponent(1),
+                FieldKind::VectorComponent(2),
+                FieldKind::Scalar,
+            ],
+        };
+        let mut faces: Vec<FaceBc> = Vec::with_capacity(6);
+        for b in boundaries {
+            faces.push(match b {
+                FdmBoundary::Outflow => FaceBc::Outflow,
+                FdmBoundary::Reflective => FaceBc::Reflective,
+                FdmBoundary::Periodic => FaceBc::Periodic,
+                FdmBoundary::Fixed(s) => FaceBc::Fixed(
+                    s.to_conservative(&eos)
+                        .map_err(|e| FdmError::Invalid(format!("fixed boundary state: {e}")))?
+                        .to_vec(),
+                ),
+            });
+        }
+        let bcs = BoundaryConditions {
+            faces: faces.try_into().expect("six faces"),
+        };
+        bcs.validate(NVAR).map_err(FdmError::Invalid)?;
+
+        let geometry = level.geometry;
+        let mut fields = Vec::with_capacity(level.patches.len());
+        for patch in &level.patches {
+            let mut pf = PatchFields::zeros(patch, NVAR);
+            for k in 0..patch.size[2] {
+                for j in 0..patch.size[1] {
+                    for i in 0..patch.size[0] {
+                        let g = [patch.lo[0] + i, patch.lo[1] + j, patch.lo[2] + k];
+                        let state = init(geometry.cell_centre(g));
+                        if !(state.density > 0.0 && state.pressure > 0.0) {
+                            return Err(FdmError::Invalid(format!(
+                                "initial state in cell {g:?} has density {} and pressure {}: both must be positive",
+                                state.density, state.pressure
+                            )));
+                        }
+                        let u = state.to_conservative(&eos).map_err(|e| {
+                            FdmError::Invalid(format!("initial state in cell {g:?}: {e}"))
+                        })?;
+                        let n = patch.index_of_global(g);
+                        for f in 0..NVAR {
+                            pf.data[f][n] = u[f];
+                        }
+                    }
+                }
+            }
+            fields.push(pf);
+        }
+        Ok(Self {
+            eos,
+            level,
+            set,
+            bcs,
+            fields,
+            exchange: InProcessExchange::new(),
+            options,
+            time: 0.0,
+            steps: 0,
+        })
+    }
+
+    /// The level the solver runs on.
+    pub fn level(&self) -> &Level {
+        &self.level
+    }
+
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// One directional operator L_axis(Δt/2) on every patch (seed 001 eq 6
+    /// factor), after filling the ghost layers along `axis`.
+    fn sweep(&mut self, axis: usize, dt_sweep: f64) -> Result<(), SolverError> {
+        self.exchange
+            .fill_axis(&self.level, &self.set, &self.bcs, &mut self.fields, axis);
+        let lambda = dt_sweep / self.level.geometry.spacing[axis];
+        let (eos, visc) = (&self.eos, self.options.viscosity);
+        // Work items: (patch, slab). x and y sweeps slab by k-planes, z
+        // sweeps by j-planes; slabs of one patch write disjoint cells.
+        let slab_axis = if axis == 2 { 1 } else { 2 };
+        let items: Vec<(usize, usize, PatchPtrs)> = self
+            .fields
+            .iter_mut()
+            .enumerate()
+            .flat_map(|(id, f)| {
+                let ptrs = PatchPtrs::new(&mut f.data);
+                let n = self.level.patches[id].size[slab_axis];
+                (0..n).map(move |s| (id, s, ptrs))
+            })
+            .collect();
+        let level = &self.level;
+        let all_ok = items
+            .par_iter()
+            .map(|&(id, slab, ptrs)| {
+                let p = &level.patches[id];
+                let (g, d, st) = (p.ghost, p.dims(), p.strides());
+                let shape = match axis {
+                    0 => SlabShape {
+                        dims_a: d[0],
+                        ghost: g[0],
+                        stride_a: 1,
+                        base: 0,
+                        width: 0,
+                    },
+                    1 => SlabShape {
+                        dims_a: d[1],
+                        ghost: g[1],
+                        stride_a: st[1],
+                        base: p.local_index([g[0], 0, g[2] + slab]),
+                        width: p.size[0],
+                    },
+                    _ => SlabShape {
+                        dims_a: d[2],
+                        ghost: g[2],
+                        stride_a: st[2],
+                        base: p.local_index([g[0], g[1] + slab, 0]),
+                        width: p.size[0],
+                    },
+                };
+                SCRATCH.with(|s| {
+                    let mut scratch = s.borrow_mut();
+                    if axis == 0 {
+                        let mut ok = true;
+                        for j in 0..p.size[1] {
+                            let line = SlabShape {
+                                base: p.local_index([0, g[1] + j, g[2] + slab]),
+                                ..shape
+                            };
+                            // SAFETY: x lines of distinct (j, k) are disjoint.
+                            ok &= unsafe {
+                                sweep_slab::<0, E>(eos, visc, lambda, &ptrs, &line, &mut scratch)
+                            };
+                        }
+                        ok
+                    } else if axis == 1 {
+                        // SAFETY: distinct k-planes are disjoint.
+                        unsafe {
+                            sweep_slab::<1, E>(eos, visc, lambda, &ptrs, &shape, &mut scratch)
+                        }
+                    } else {
+                        // SAFETY: distinct j-planes are disjoint.
+                        unsafe {
+                            sweep_slab::<2, E>(eos, visc, lambda, &ptrs, &shape, &mut scratch)
+                        }
+                    }
+                })
+            })
+            .reduce(|| true, |a, b| a & b);
+        if all_ok {
+            Ok(())
+        } else {
+            Err(self.non_physical_error(&format!("during the {} sweep", ["x", "y", "z"][axis])))
+        }
+    }
+
+    /// Primitive values of the interior cell at storage index `n` of patch
+    /// `pid`: (ρ, u, e, p).
+    fn primitive(&self, pid: usize, n: usize) -> (f64, [f64; 3], f64, f64) {
+        let d = &self.fields[pid].data;
+        let rho = d[RHO][n];
+        let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
+        let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
+        (rho, m.map(|x| x / rho), e, self.eos.pressure(rho, e))
+    }
+
+    /// Calls `f(global cell, patch, storage index)` for every interior cell
+    /// in global x-fastest order, independent of the patch split.
+    fn for_each_cell_in_order(&self, mut f: impl FnMut([usize; 3], usize, usize)) {
+        let cells = self.level.geometry.cells;
+        let layout = self.level.layout;
+        for pz in 0..layout[2] {
+            let p0 = &self.level.patches[self.level.patch_id([0, 0, pz])];
+            for k in p0.lo[2]..p0.lo[2] + p0.size[2] {
+                for py in 0..layout[1] {
+                    let p1 = &self.level.patches[self.level.patch_id([0, py, pz])];
+                    for j in p1.lo[1]..p1.lo[1] + p1.size[1] {
+                        for px in 0..layout[0] {
+                            let id = self.level.patch_id([px, py, pz]);
+                            let p = &self.level.patches[id];
+                            for i in p.lo[0]..p.lo[0] + p.size[0] {
+                                f([i, j, k], id, p.index_of_global([i, j, k]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        debug_assert!(cells.iter().all(|&c| c > 0));
+    }
+
+    /// Locates the first non-physical interior cell (global order) and
+    /// describes it.
+    fn non_physical_error(&self, when: &str) -> SolverError {
+        let mut found = None;
+        self.for_each_cell_in_order(|g, pid, n| {
+            if found.is_none() {
+                let (rho, u, e, p) = self.primitive(pid, n);
+                let bad =
+                    !(rho > 0.0 && p > 0.0 && p.is_finite() && u.iter().all(|x| x.is_finite()));
+                if bad {
+                    found = Some((g, rho, u, e, p));
+                }
+            }
+        });
+        match found {
+            Some((cell, rho, u, e, p)) => SolverError::NonPhysicalState {
+                time: self.time,
+                cell,
+                centre: self.level.geometry.cell_centre(cell),
+                detail: format!(
+                    "density {rho:e} kg/m³, velocity ({:e}, {:e}, {:e}) m/s, specific internal energy {e:e} J/kg, pressure {p:e} Pa ({when})",
+                    u[0], u[1], u[2]
+                ),
+            },
+            // The bad value sat in a ghost cell fed by a fixed boundary state.
+            None => SolverError::Other(format!("non-physical ghost state at t = {:e} s ({when})", self.time)),
+        }
+    }
+
+    /// Value of a named output field at interior cell `n` of patch `pid`.
+    fn derived(&self, pid: usize, n: usize, field: usize) -> f64 {
+        let (rho, u, e, p) = self.primitive(pid, n);
+        match field {
+            0 => rho,
+            1..=3 => u[field - 1],
+            4 => p,
+            5 => e,
+            6 => self.eos.temperature(rho, e),
+            7 => self.eos.sound_speed(rho, e),
+            8 => self.fields[pid].data[ENERGY][n],
+            _ => {
+                let c = self.eos.sound_speed(rho, e);
+                (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt() / c
+            }
+        }
+    }
+
+    /// Output field names, in the order `derived` numbers them.
+    pub const FIELDS: [&'static str; 10] = [
+        "density",
+        "velocity_x",
+        "velocity_y",
+        "velocity_z",
+        "pressure",
+        "specific_internal_energy",
+        "temperature",
+        "sound_speed",
+        "total_energy_density",
+        "mach_number",
+    ];
+
+    fn field_index(name: &str) -> Result<usize, SolverError> {
+        Self::FIELDS.iter().position(|f| *f == name).ok_or_else(|| {
+            SolverError::Other(format!(
+                "unknown field `{name}`; known fields: {}",
+                Self::FIELDS.join(", ")
+            ))
+        })
+    }
+}
+
+impl<E: Eos> Solver for FdmSolver<E> {
+    fn name(&self) -> &str {
+        "fdm"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Δt = 2·cfl·min over cells and active directions of Δx_d/(|u_d| + c):
+    /// each of the six sweeps of eq 6 advances Δt/2 at Courant number ≤ cfl.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let spacing = self.level.geometry.spacing;
+        let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
+        let per_patch: Vec<(f64, bool)> = self
+            .level
+            .patches
+            .par_iter()
+            .zip(self.fields.par_iter())
+            .map(|(p, f)| {
+                let mut min_t = f64::INFINITY;
+                let mut ok = true;
+                let d = &f.data;
+                for k in 0..p.size[2] {
+                    for j in 0..p.size[1] {
+                        let start = p.local_index([p.ghost[0], p.ghost[1] + j, p.ghost[2] + k]);
+                        for n in start..start + p.size[0] {
+                            let rho = d[RHO][n];
+                            let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
+                            let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
+                            let p = self.eos.pressure(rho, e);
+                            ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
+                            let c = self.eos.sound_speed(rho, e);
+                            for a in 0..3 {
+                                if active[a] {
+                                    min_t = min_t.min(spacing[a] / ((m[a] / rho).abs() + c));
+                                }
+                            }
+                        }
+                    }
+                }
+                (min_t, ok)
+            })
+            .collect();
+        if per_patch.iter().any(|(_, ok)| !ok) {
+            return Err(self.non_physical_error("at the start of a step"));
+        }
+        let min_t = per_patch
+            .iter()
+            .map(|(t, _)| *t)
+            .fold(f64::INFINITY, f64::min);
+        // A domain with no active direction has no CFL limit.
+        let dt = if min_t.is_finite() {
+            2.0 * self.options.cfl * min_t
+        } else {
+            f64::INFINITY
+        };
+        if !(dt >= self.options.min_dt) {
+            return Err(SolverError::TimeStepCollapse {
+                dt,
+                min_dt: self.options.min_dt,
+                time: self.time,
+                detail: "the fastest signal speed has become too large for the cell size".into(),
+            });
+        }
+        Ok(dt)
+    }
+
+    /// U^{n+1} = L_z L_y L_x L_x L_y L_z U^n, each over Δt/2 (seed 001
+    /// eq 6); directions with a single cell are skipped.
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        let _span = tracing::trace_span!("fdm_step", step = self.steps, dt).entered();
+        for axis in [2, 1, 0, 0, 1, 2] {
+            if self.level.is_active(axis) {
+                self.sweep(axis, 0.5 * dt)?;
+            }
+        }
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Totals summed in global cell order so the bits do not depend on the
+    /// patch split or thread count.
+    fn conservation_totals(&self) -> ConservationTotals {
+        let mut t = ConservationTotals::default();
+        self.for_each_cell_in_order(|_, pid, n| {
+            let d = &self.fields[pid].data;
+            t.mass += d[RHO][n];
+            for a in 0..3 {
+                t.momentum[a] += d[MOM + a][n];
+            }
+            t.energy += d[ENERGY][n];
+        });
+        let vol: f64 = self.level.geometry.spacing.iter().product();
+        t.mass *= vol;
+        t.momentum = t.momentum.map(|m| m * vol);
+        t.energy *= vol;
+        t
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        Self::FIELDS.to_vec()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
+        let ids = fields
+            .iter()
+            .map(|f| Self::field_index(f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let count = self.level.geometry.cell_count();
+        let mut out: Vec<(String, Vec<f64>)> = fields
+            .iter()
+            .map(|f| (f.clone(), Vec::with_capacity(count)))
+            .collect();
+        self.for_each_cell_in_order(|_, pid, n| {
+            for (slot, &id) in out.iter_mut().zip(&ids) {
+                slot.1.push(self.derived(pid, n, id));
+            }
+        });
+        Ok(CellData {
+            geometry: self.level.geometry,
+            fields: out,
+        })
+    }
+
+    /// Values of `fields` in the cell that contains `point`.
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let g = self.level.geometry.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!("point {point:?} lies outside the domain"))
+        })?;
+        let (pid, n) = self.level.locate(g).expect("every cell has a patch");
+        out.clear();
+        for f in fields {
+            out.push(self.derived(pid, n, Self::field_index(f)?));
+        }
+        Ok(())
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.level.geometry.cell_count() as f64, "cell-updates")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let mut fields = vec![Vec::with_capacity(self.level.geometry.cell_count()); NVAR];
+        self.for_each_cell_in_order(|_, pid, n| {
+            for (f, out) in fields.iter_mut().enumerate() {
+                out.push(self.fields[pid].data[f][n]);
+            }
+        });
+        let saved = SavedState {
+            time: self.time,
+            steps: self.steps,
+            cells: self.level.geometry.cells,
+            fields,
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let saved: SavedState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let cells = self.level.geometry.cells;
+        if saved.cells != cells
+            || saved.fields.len() != NVAR
+            || saved
+                .fields
+                .iter()
+                .any(|f| f.len() != cells.iter().product())
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint grid {:?} does not match the scenario's {:?}",
+                saved.cells, cells
+            )));
+        }
+        let mut idx = 0;
+        let mut writes = Vec::with_capacity(cells.iter().product());
+        self.for_each_cell_in_order(|_, pid, n| {
+            writes.push((pid, n, idx));
+            idx += 1;
+        });
+        for (pid, n, i) in writes {
+            for f in 0..NVAR {
+                self.fields[pid].data[f][n] = saved.fields[f][i];
+            }
+        }
+        self.time = saved.time;
+        self.steps = saved.steps;
+        Ok(())
+    }
+}

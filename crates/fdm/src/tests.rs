@@ -1,0 +1,282 @@
+//! Solver-level tests: invariants, determinism, restart, diagnostics.
+
+use brisance_core::{Solver, SolverError};
+use brisance_eos::IdealGas;
+use brisance_grid::Level;
+
+use crate::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+
+fn gas() -> IdealGas {
+    IdealGas::new(1.4, 1.0, 1.0)
+}
+
+fn state(density: f64, velocity: [f64; 3], pressure: f64) -> PrimitiveState {
+    PrimitiveState {
+        density,
+        velocity,
+        pressure,
+    }
+}
+
+/// A 3D blast: a dense hot sphere off-centre in a box with mixed boundaries.
+fn blast(layout: [usize; 3]) -> FdmSolver<IdealGas> {
+    let level = Level::new(
+        [0.0; 3],
+        [1.0, 0.8, 0.6],
+        [20, 16, 12],
+        layout,
+        crate::sweep::GHOST,
+    )
+    .unwrap();
+    let bcs = [
+        FdmBoundary::Reflective,
+        FdmBoundary::Outflow,
+        FdmBoundary::Periodic,
+        FdmBoundary::Periodic,
+        FdmBoundary::Fixed(state(1.0, [0.0, 0.0, 0.1], 1.0)),
+        FdmBoundary::Outflow,
+    ];
+    FdmSolver::new(gas(), level, bcs, FdmOptions::default(), |x| {
+        let r2 = (x[0] - 0.3).powi(2) + (x[1] - 0.4).powi(2) + (x[2] - 0.25).powi(2);
+        if r2 < 0.04 {
+            state(4.0, [0.1, 0.0, 0.0], 10.0)
+        } else {
+            state(1.0, [0.0, 0.2 * x[0], 0.0], 1.0)
+        }
+    })
+    .unwrap()
+}
+
+fn run(solver: &mut impl Solver, steps: usize) {
+    for _ in 0..steps {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt).unwrap();
+    }
+}
+
+fn all_fields(solver: &impl Solver) -> Vec<(String, Vec<f64>)> {
+    let names: Vec<String> = solver
+        .cell_field_names()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    solver.cell_data(&names).unwrap().fields
+}
+
+#[test]
+fn fields_are_bit_identical_for_any_patch_split_and_thread_count() {
+    let reference = {
+        let mut s = blast([1, 1, 1]);
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| run(&mut s, 8));
+        all_fields(&s)
+    };
+    for layout in [[2, 1, 1], [2, 2, 2], [1, 2, 1]] {
+        for threads in [1, 2] {
+            let mut s = blast(layout);
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| run(&mut s, 8));
+            let f = all_fields(&s);
+            for ((name, a), (_, b)) in reference.iter().zip(&f) {
+                let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(
+                    same,
+                    "{name} differs for layout {layout:?} on {threads} threads"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_uniform_moving_state_stays_exactly_uniform() {
+    let level = Level::new([0.0; 3], [1.0; 3], [8, 8, 8], [2, 1, 2], 3).unwrap();
+    let s0 = state(1.3, [0.3, -0.2, 0.1], 2.0);
+    let mut s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Periodic; 6],
+        FdmOptions::default(),
+        |_| s0,
+    )
+    .unwrap();
+    run(&mut s, 5);
+    let d = s
+        .cell_data(&["density".into(), "velocity_y".into(), "pressure".into()])
+        .unwrap();
+    for (name, values) in &d.fields {
+        let first = values[0];
+        assert!(
+            values
+                .iter()
+                .all(|v| (v - first).abs() <= 1e-14 * first.abs()),
+            "{name} not uniform"
+        );
+    }
+    assert!((d.fields[0].1[0] - 1.3).abs() < 1e-14);
+}
+
+#[test]
+fn periodic_domain_conserves_mass_momentum_and_energy_to_round_off() {
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [24, 12, 1], [2, 2, 1], 3).unwrap();
+    let mut s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Periodic; 6],
+        FdmOptions::default(),
+        |x| {
+            if (x[0] - 0.5).abs() < 0.2 && (x[1] - 0.5).abs() < 0.2 {
+                state(1.0, [0.5, 0.0, 0.0], 1.0)
+            } else {
+                state(0.125, [0.0, 0.1, 0.0], 0.1)
+            }
+        },
+    )
+    .unwrap();
+    let t0 = s.conservation_totals();
+    run(&mut s, 40);
+    let t1 = s.conservation_totals();
+    assert!(
+        ((t1.mass - t0.mass) / t0.mass).abs() < 1e-13,
+        "mass {} → {}",
+        t0.mass,
+        t1.mass
+    );
+    assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
+    for a in 0..3 {
+        assert!(
+            (t1.momentum[a] - t0.momentum[a]).abs() < 1e-13 * t0.mass,
+            "momentum {a}"
+        );
+    }
+}
+
+#[test]
+fn restart_from_saved_state_continues_bit_identically() {
+    let mut a = blast([2, 1, 1]);
+    run(&mut a, 4);
+    let saved = a.save_state().unwrap();
+    run(&mut a, 4);
+    // Restore into a solver with another patch split.
+    let mut b = blast([1, 2, 2]);
+    b.restore_state(&saved).unwrap();
+    assert_eq!(b.time().to_bits(), {
+        let mut c = blast([1, 1, 1]);
+        run(&mut c, 4);
+        c.time().to_bits()
+    });
+    run(&mut b, 4);
+    assert_eq!(a.time().to_bits(), b.time().to_bits());
+    for ((name, x), (_, y)) in all_fields(&a).iter().zip(&all_fields(&b)) {
+        assert!(
+            x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()),
+            "{name} differs after restart"
+        );
+    }
+}
+
+#[test]
+fn a_vacuum_forming_state_stops_with_a_diagnostic_naming_the_cell() {
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [40, 1, 1], [1, 1, 1], 3).unwrap();
+    let opts = FdmOptions {
+        viscosity: ArtificialViscosity::Off,
+        ..Default::default()
+    };
+    let mut s = FdmSolver::new(gas(), level, [FdmBoundary::Outflow; 6], opts, |x| {
+        let u = if x[0] < 0.5 { -20.0 } else { 20.0 };
+        state(1.0, [u, 0.0, 0.0], 0.01)
+    })
+    .unwrap();
+    let mut err = None;
+    for _ in 0..200 {
+        match s.stable_dt().and_then(|dt| s.advance(dt)) {
+            Ok(()) => {}
+            Err(e) => {
+                err = Some(e);
+                break;
+            }
+        }
+    }
+    match err {
+        Some(SolverError::NonPhysicalState { cell, detail, .. }) => {
+            assert!(cell[0] > 10 && cell[0] < 30, "cell {cell:?}");
+            assert!(detail.contains("pressure"), "{detail}");
+        }
+        other => panic!("expected a non-physical state error, got {other:?}"),
+    }
+}
+
+#[test]
+fn cfl_above_the_scheme_limit_is_rejected() {
+    let level = Level::new([0.0; 3], [1.0; 3], [10, 1, 1], [1, 1, 1], 3).unwrap();
+    let opts = FdmOptions {
+        cfl: 1.2,
+        ..Default::default()
+    };
+    let err = FdmSolver::new(gas(), level, [FdmBoundary::Outflow; 6], opts, |_| {
+        state(1.0, [0.0; 3], 1.0)
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("cfl = 1.2"));
+}
+
+#[test]
+fn time_step_follows_the_cfl_formula() {
+    // ρ = 1, p = 1, γ = 1.4: c = √1.4; u = 0.5 along x; Δx = 0.1.
+    let level = Level::new([0.0; 3], [1.0; 3], [10, 1, 1], [1, 1, 1], 3).unwrap();
+    let s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Outflow; 6],
+        FdmOptions {
+            cfl: 0.5,
+            ..Default::default()
+        },
+        |_| state(1.0, [0.5, 0.0, 0.0], 1.0),
+    )
+    .unwrap();
+    let expected = 2.0 * 0.5 * 0.1 / (0.5 + 1.4f64.sqrt());
+    assert!((s.stable_dt().unwrap() - expected).abs() < 1e-15);
+}
+
+#[test]
+#[ignore]
+fn print_sod() {
+    let level = Level::new([0.0; 3], [1.0; 3], [400, 1, 1], [1, 1, 1], 3).unwrap();
+    let mut s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Outflow; 6],
+        FdmOptions::default(),
+        |x| {
+            if x[0] < 0.5 {
+                state(1.0, [0.0; 3], 1.0)
+            } else {
+                state(0.125, [0.0; 3], 0.1)
+            }
+        },
+    )
+    .unwrap();
+    while s.time() < 0.2 {
+        let dt = s.stable_dt().unwrap().min(0.2 - s.time());
+        s.advance(dt).unwrap();
+    }
+    let d = s
+        .cell_data(&["density".into(), "velocity_x".into(), "pressure".into()])
+        .unwrap();
+    for i in (0..400).step_by(8) {
+        println!(
+            "{:.4} {:.5} {:.5} {:.5}",
+            (i as f64 + 0.5) / 400.0,
+            d.fields[0].1[i],
+            d.fields[1].1[i],
+            d.fields[2].1[i]
+        );
+    }
+}
