@@ -1,1 +1,22 @@
+//! Brisance: simulation of explosions of energetic devices and their effect
+//! on nearby structures.
+//!
+//! This facade re-exports the component crates so a program (or the
+//! validation tool) can depend on one crate:
+//!
+//! - [`core`]: the `Eos`, `Material`, `ReactionModel` and `Solver` traits.
+//! - [`grid`]: Cartesian levels of patches with ghost layers.
+//! - [`eos`]: equations of state.
+//! - [`fdm`]: the Lax–Wendroff finite-difference Euler solver.
+//! - [`io`]: VTK, CSV, summary and checkpoint writers.
+//! - [`compose`]: the RON scenario schema, registry and run loop.
+//! - [`verification`]: exact solutions the validation suite compares against.
 
+pub use brisance_compose as compose;
+pub use brisance_core as core;
+pub use brisance_eos as eos;
+pub use brisance_fdm as fdm;
+pub use brisance_grid as grid;
+pub use brisance_io as io;
+
+pub mod verification;

@@ -1,1 +1,23 @@
-//! placeholder
+//! Brisance composer: turns a RON scenario into a running pipeline.
+//!
+//! - [`config`]: the serde schema of a scenario.
+//! - [`ron_path`]: dotted-path lookup in RON text (`--set`, error positions).
+//! - [`load`]: read → override → parse → validate, errors at file:line:col.
+//! - [`validate`]: the checks serde cannot express.
+//! - [`registry`]: every named component with a one-line description.
+//! - [`build`]: assembling the solver for a pipeline.
+//! - [`run`]: the run loop, outputs, checkpoints and restart.
+
+pub mod build;
+pub mod config;
+pub mod error;
+pub mod load;
+pub mod registry;
+pub mod ron_path;
+pub mod run;
+pub mod validate;
+
+pub use config::Scenario;
+pub use error::{ConfigError, RunError};
+pub use load::{load_file, load_str, LoadedScenario, DEFAULT_SCENARIO};
+pub use run::{run, RunOptions};

@@ -1,1 +1,36 @@
-//! placeholder
+//! Brisance output writers: everything a run puts on disk.
+//!
+//! - [`atomic`]: crash-safe file replacement ([`write_atomic`]) and
+//!   output-directory checks ([`ensure_dir`], [`check_writable_dir`]).
+//! - [`vti`]: VTK XML ImageData snapshots of cell fields ([`write_vti`]).
+//! - [`pvd`]: ParaView collections tying snapshots to times ([`PvdSeries`]).
+//! - [`csv`]: gauge, line-out and conservation tables, and a reader.
+//! - [`summary`]: the end-of-run JSON summary ([`RunSummary`]).
+//! - [`checkpoint`]: restart files ([`Checkpoint`]).
+//! - [`number`]: exact, compact text for `f64` values ([`format_f64`]).
+//! - [`error`]: the shared error type [`IoError`], whose messages always
+//!   name the file involved.
+//!
+//! Every file is written through [`write_atomic`], so an interrupted run
+//! never leaves a half-written output file behind.
+
+pub mod atomic;
+pub mod checkpoint;
+pub mod csv;
+pub mod error;
+pub mod number;
+pub mod pvd;
+pub mod summary;
+pub mod vti;
+
+pub use atomic::{check_writable_dir, ensure_dir, write_atomic};
+pub use checkpoint::{
+    checkpoint_file_name, read_checkpoint, write_checkpoint, Checkpoint, CHECKPOINT_FORMAT_VERSION,
+    CHECKPOINT_MAGIC,
+};
+pub use csv::{read_csv, write_conservation_csv, write_gauge_csv, write_lineout_csv};
+pub use error::IoError;
+pub use number::format_f64;
+pub use pvd::PvdSeries;
+pub use summary::{read_summary, relative_change, write_summary, RunSummary};
+pub use vti::write_vti;

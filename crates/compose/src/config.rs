@@ -1,0 +1,314 @@
+//! The RON scenario schema: plain serde types, validated in
+//! [`crate::validate`] before anything is built.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scenario: one RON file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name used in outputs and the summary.
+    pub name: String,
+    /// The grid.
+    pub domain: Domain,
+    /// Boundary conditions per face (outflow where not given).
+    #[serde(default)]
+    pub boundaries: Boundaries,
+    /// End time and step control.
+    pub time: TimeControl,
+    /// Materials by name.
+    pub materials: BTreeMap<String, MaterialConfig>,
+    /// The numerical method(s).
+    pub pipeline: Pipeline,
+    /// Initial regions; later entries override earlier ones.
+    pub initial: Vec<InitialRegion>,
+    /// What to write and when.
+    #[serde(default)]
+    pub outputs: Outputs,
+}
+
+/// The Cartesian domain.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// Low corner, m.
+    pub lower: [f64; 3],
+    /// High corner, m.
+    pub upper: [f64; 3],
+    /// Cells per direction (1 in unused directions).
+    pub cells: [usize; 3],
+    /// Patches per direction.
+    #[serde(default = "one_patch")]
+    pub patches: [usize; 3],
+}
+
+fn one_patch() -> [usize; 3] {
+    [1, 1, 1]
+}
+
+/// Boundary conditions on the six faces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct Boundaries {
+    /// x = x_min
+    pub x_low: BoundaryConfig,
+    /// x = x_max
+    pub x_high: BoundaryConfig,
+    /// y = y_min
+    pub y_low: BoundaryConfig,
+    /// y = y_max
+    pub y_high: BoundaryConfig,
+    /// z = z_min
+    pub z_low: BoundaryConfig,
+    /// z = z_max
+    pub z_high: BoundaryConfig,
+}
+
+impl Boundaries {
+    /// The faces in storage order with their config names.
+    pub fn faces(&self) -> [(&'static str, &BoundaryConfig); 6] {
+        [
+            ("x_low", &self.x_low),
+            ("x_high", &self.x_high),
+            ("y_low", &self.y_low),
+            ("y_high", &self.y_high),
+            ("z_low", &self.z_low),
+            ("z_high", &self.z_high),
+        ]
+    }
+}
+
+/// One face's boundary condition.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub enum BoundaryConfig {
+    /// Zero-gradient outflow.
+    #[default]
+    Outflow,
+    /// Slip wall / symmetry plane.
+    Reflective,
+    /// Periodic (set on both faces of the axis).
+    Periodic,
+    /// A fixed state of the pipeline's material.
+    Fixed(StateConfig),
+}
+
+/// Time control.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeControl {
+    /// End time, s.
+    pub end: f64,
+    /// Courant number (per directional sweep for FDM).
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// Stop after this many steps even if `end` is not reached.
+    #[serde(default)]
+    pub max_steps: Option<u64>,
+}
+
+fn default_cfl() -> f64 {
+    0.8
+}
+
+/// A material: its equation of state (constitutive and reaction models join
+/// here later).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialConfig {
+    /// The equation of state.
+    pub eos: EosConfig,
+}
+
+/// Equations of state by name (see `brisance list`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum EosConfig {
+    /// γ-law gas, seed 001 eq 55.
+    IdealGas {
+        /// Ratio of specific heats.
+        gamma: f64,
+        /// Specific heat at constant volume, J/(kg·K).
+        cv: f64,
+        /// Reference density, kg/m³.
+        #[serde(default = "default_rho0")]
+        reference_density: f64,
+    },
+}
+
+fn default_rho0() -> f64 {
+    1.225
+}
+
+/// The numerical method(s) of the run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Pipeline {
+    /// The Lax–Wendroff finite-difference Euler solver (seed 001 §2.1).
+    Fdm(FdmConfig),
+}
+
+/// Options of the FDM pipeline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FdmConfig {
+    /// The gas (a key of `materials`).
+    pub material: String,
+    /// Artificial viscosity (seed 001 eqs 3–5).
+    #[serde(default)]
+    pub viscosity: ViscosityConfig,
+}
+
+/// Artificial viscosity law.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum ViscosityConfig {
+    /// η = ν(1 − ν) (seed 001 eq 5).
+    #[default]
+    Adaptive,
+    /// A constant η in [0, 0.25].
+    Constant(f64),
+    /// None.
+    Off,
+}
+
+/// A thermodynamic state: density, velocity and exactly one of pressure,
+/// specific internal energy or temperature.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StateConfig {
+    /// Density, kg/m³.
+    pub density: f64,
+    /// Velocity, m/s.
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Pressure, Pa.
+    #[serde(default)]
+    pub pressure: Option<f64>,
+    /// Specific internal energy, J/kg.
+    #[serde(default)]
+    pub specific_internal_energy: Option<f64>,
+    /// Temperature, K.
+    #[serde(default)]
+    pub temperature: Option<f64>,
+}
+
+/// A geometric region.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Region {
+    /// The whole domain.
+    Everywhere,
+    /// An axis-aligned box.
+    Box {
+        /// Low corner.
+        min: [f64; 3],
+        /// High corner.
+        max: [f64; 3],
+    },
+    /// A ball.
+    Sphere {
+        /// Centre.
+        centre: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+    },
+    /// A finite circular cylinder from `base` along `axis` for `length`.
+    Cylinder {
+        /// Centre of the base disc.
+        base: [f64; 3],
+        /// Direction of the axis (normalised internally).
+        axis: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+        /// Length along the axis, m.
+        length: f64,
+    },
+    /// The points x with (x − point)·normal ≥ 0.
+    HalfSpace {
+        /// A point on the bounding plane.
+        point: [f64; 3],
+        /// Normal pointing into the region.
+        normal: [f64; 3],
+    },
+}
+
+/// One initial region.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialRegion {
+    /// Where (cells whose centre lies inside).
+    pub region: Region,
+    /// Which material (a key of `materials`).
+    pub material: String,
+    /// Its state.
+    pub state: StateConfig,
+}
+
+/// Outputs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Outputs {
+    /// Simulation time between field outputs, s (None: start and end only).
+    pub interval: Option<f64>,
+    /// Cell fields written to VTK and line-outs.
+    pub fields: Vec<String>,
+    /// Whether to write VTK files.
+    pub vtk: bool,
+    /// Point gauges (sampled every step).
+    pub gauges: Vec<Gauge>,
+    /// Line-outs (written at every output time).
+    pub lineouts: Vec<Lineout>,
+    /// Write a checkpoint every this many steps.
+    pub checkpoint_every: Option<u64>,
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Self {
+            interval: None,
+            fields: [
+                "density",
+                "velocity_x",
+                "velocity_y",
+                "velocity_z",
+                "pressure",
+                "specific_internal_energy",
+                "temperature",
+                "sound_speed",
+            ]
+            .map(String::from)
+            .to_vec(),
+            vtk: true,
+            gauges: Vec::new(),
+            lineouts: Vec::new(),
+            checkpoint_every: None,
+        }
+    }
+}
+
+/// A point gauge: one CSV `gauges/<name>.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gauge {
+    /// File stem.
+    pub name: String,
+    /// Position, m.
+    pub point: [f64; 3],
+    /// Fields to record.
+    pub fields: Vec<String>,
+}
+
+/// A line-out between two points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lineout {
+    /// File stem.
+    pub name: String,
+    /// Start point, m.
+    pub from: [f64; 3],
+    /// End point, m.
+    pub to: [f64; 3],
+    /// Number of samples, at the midpoints of equal segments.
+    pub points: usize,
+    /// Fields to record (the output fields when empty).
+    #[serde(default)]
+    pub fields: Vec<String>,
+}

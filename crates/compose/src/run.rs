@@ -1,0 +1,416 @@
+//! The run loop: stable time step, advance, outputs on schedule (output
+//! times hit exactly), gauges every step, conservation bookkeeping,
+//! checkpoints and restart, a progress bar and tracing spans.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use brisance_core::{ConservationTotals, Solver};
+use brisance_io as io;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::{Deserialize, Serialize};
+
+use crate::build::build_solver;
+use crate::config::{Pipeline, Scenario};
+use crate::error::{ConfigError, RunError};
+use crate::load::{ron_options, LoadedScenario};
+use crate::ron_path;
+
+/// How to run.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Output directory.
+    pub out_dir: PathBuf,
+    /// Continue from this checkpoint.
+    pub restart: Option<PathBuf>,
+    /// Show a progress bar (only drawn on a terminal).
+    pub progress: bool,
+}
+
+/// The run loop's own state, saved in checkpoints so a restart continues
+/// exactly where the interrupted run was.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+struct RunState {
+    steps: u64,
+    /// Index of the next scheduled output time.
+    next_output: usize,
+    gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
+    conservation_rows: Vec<(f64, ConservationTotals)>,
+    pvd: Vec<(f64, String)>,
+    initial_totals: ConservationTotals,
+    compute_seconds: f64,
+}
+
+/// Output times: 0, Δ, 2Δ, ... below the end, then the end.
+pub fn output_times(end: f64, interval: Option<f64>) -> Vec<f64> {
+    let mut times = vec![0.0];
+    if let Some(iv) = interval {
+        let mut k = 1u64;
+        loop {
+            let t = k as f64 * iv;
+            if t >= end * (1.0 - 1e-12) {
+                break;
+            }
+            times.push(t);
+            k += 1;
+        }
+    }
+    times.push(end);
+    times
+}
+
+/// Sample points of a line-out: midpoints of `n` equal segments.
+pub fn lineout_points(from: [f64; 3], to: [f64; 3], n: usize) -> Vec<[f64; 3]> {
+    (0..n)
+        .map(|k| {
+            let s = (k as f64 + 0.5) / n as f64;
+            std::array::from_fn(|d| from[d] + s * (to[d] - from[d]))
+        })
+        .collect()
+}
+
+struct Runner<'a> {
+    scenario: &'a Scenario,
+    text: &'a str,
+    out: PathBuf,
+    solver: Box<dyn Solver>,
+    state: RunState,
+    times: Vec<f64>,
+    sample: Vec<f64>,
+}
+
+impl Runner<'_> {
+    fn record_gauges(&mut self) -> Result<(), RunError> {
+        let t = self.solver.time();
+        for (k, g) in self.scenario.outputs.gauges.iter().enumerate() {
+            self.solver
+                .sample(g.point, &g.fields, &mut self.sample)
+                .map_err(|source| RunError::Solver {
+                    step: self.state.steps,
+                    source,
+                })?;
+            self.state.gauge_rows[k].push((t, self.sample.clone()));
+        }
+        Ok(())
+    }
+
+    fn lineout_fields(&self, k: usize) -> Vec<String> {
+        let l = &self.scenario.outputs.lineouts[k];
+        if l.fields.is_empty() {
+            self.scenario.outputs.fields.clone()
+        } else {
+            l.fields.clone()
+        }
+    }
+
+    fn write_lineouts(&mut self, label: &str) -> Result<(), RunError> {
+        for k in 0..self.scenario.outputs.lineouts.len() {
+            let l = &self.scenario.outputs.lineouts[k];
+            let fields = self.lineout_fields(k);
+            let points = lineout_points(l.from, l.to, l.points);
+            let mut values = Vec::with_capacity(points.len());
+            for p in &points {
+                self.solver
+                    .sample(*p, &fields, &mut self.sample)
+                    .map_err(|source| RunError::Solver {
+                        step: self.state.steps,
+                        source,
+                    })?;
+                values.push(self.sample.clone());
+            }
+            let path = self
+                .out
+                .join("lineouts")
+                .join(format!("{}_{label}.csv", l.name));
+            io::write_lineout_csv(&path, &fields, &points, &values)?;
+        }
+        Ok(())
+    }
+
+    /// Field output number `index` at the current time.
+    fn write_output(&mut self, index: usize) -> Result<(), RunError> {
+        let _span = tracing::debug_span!("output", index, time = self.solver.time()).entered();
+        let t = self.solver.time();
+        let o = &self.scenario.outputs;
+        if o.vtk && !o.fields.is_empty() {
+            let data = self
+                .solver
+                .cell_data(&o.fields)
+                .map_err(|source| RunError::Solver {
+                    step: self.state.steps,
+                    source,
+                })?;
+            let rel = format!("vtk/{}_{index:05}.vti", self.scenario.name);
+            io::write_vti(&self.out.join(&rel), &data)?;
+            self.state.pvd.push((t, rel));
+            let mut pvd = io::PvdSeries::new();
+            for (time, file) in &self.state.pvd {
+                pvd.push(*time, file.clone());
+            }
+            pvd.write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
+        }
+        self.write_lineouts(&index.to_string())?;
+        self.state
+            .conservation_rows
+            .push((t, self.solver.conservation_totals()));
+        self.write_histories()
+    }
+
+    fn write_histories(&self) -> Result<(), RunError> {
+        for (k, g) in self.scenario.outputs.gauges.iter().enumerate() {
+            io::write_gauge_csv(
+                &self.out.join("gauges").join(format!("{}.csv", g.name)),
+                &g.fields,
+                &self.state.gauge_rows[k],
+            )?;
+        }
+        io::write_conservation_csv(
+            &self.out.join("conservation.csv"),
+            &self.state.conservation_rows,
+        )?;
+        Ok(())
+    }
+
+    fn write_checkpoint(&self) -> Result<(), RunError> {
+        let _span = tracing::debug_span!("checkpoint", step = self.state.steps).entered();
+        let run_state =
+            bincode::serialize(&self.state).map_err(|e| RunError::Checkpoint(e.to_string()))?;
+        let solver_state = self
+            .solver
+            .save_state()
+            .map_err(|source| RunError::Solver {
+                step: self.state.steps,
+                source,
+            })?;
+        let ck = io::Checkpoint::new(self.text.to_string(), run_state, solver_state);
+        let path = self
+            .out
+            .join("checkpoints")
+            .join(io::checkpoint_file_name(self.state.steps));
+        io::write_checkpoint(&path, &ck)?;
+        tracing::info!(path = %path.display(), "checkpoint written");
+        Ok(())
+    }
+
+    fn summary(&self, wall: f64, completed: bool, stop_reason: Option<String>) -> io::RunSummary {
+        let final_totals = self.solver.conservation_totals();
+        let (work, unit) = self.solver.work_per_step();
+        let throughput = if self.state.compute_seconds > 0.0 {
+            work * self.state.steps as f64 / self.state.compute_seconds
+        } else {
+            0.0
+        };
+        io::RunSummary {
+            scenario: self.scenario.name.clone(),
+            pipeline: self.solver.name().to_string(),
+            steps: self.state.steps,
+            final_time: self.solver.time(),
+            wall_seconds: wall,
+            throughput,
+            throughput_unit: format!("{unit}/s"),
+            initial_totals: self.state.initial_totals,
+            final_totals,
+            relative_mass_change: io::relative_change(
+                self.state.initial_totals.mass,
+                final_totals.mass,
+            ),
+            relative_energy_change: io::relative_change(
+                self.state.initial_totals.energy,
+                final_totals.energy,
+            ),
+            threads: rayon::current_num_threads(),
+            completed,
+            stop_reason,
+        }
+    }
+}
+
+/// The parts of a scenario a checkpoint must agree with to be continued.
+fn same_problem(a: &Scenario, b: &Scenario) -> Result<(), String> {
+    if a.domain != b.domain {
+        return Err("domain differs".into());
+    }
+    if a.pipeline != b.pipeline {
+        return Err("pipeline differs".into());
+    }
+    if a.materials != b.materials {
+        return Err("materials differ".into());
+    }
+    if a.boundaries != b.boundaries {
+        return Err("boundaries differ".into());
+    }
+    let Pipeline::Fdm(_) = &a.pipeline;
+    if a.time.cfl != b.time.cfl {
+        return Err("time.cfl differs".into());
+    }
+    Ok(())
+}
+
+fn located(loaded: &LoadedScenario, mut e: ConfigError) -> ConfigError {
+    e.file = loaded.file.clone();
+    if let Some(field) = &e.field {
+        e.position = ron_path::find_nearest(&loaded.text, field)
+            .map(|r| ron_path::line_col(&loaded.text, r.start));
+    }
+    e
+}
+
+/// Runs a loaded scenario to its end time and returns the summary (also
+/// written to `summary.json`). Nothing is written before the configuration,
+/// the solver and the output directory have all been checked.
+pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary, RunError> {
+    let scenario = &loaded.scenario;
+    let started = Instant::now();
+    let mut solver = {
+        let _span = tracing::info_span!("build").entered();
+        build_solver(scenario).map_err(|e| located(loaded, e))?
+    };
+    let mut state = RunState {
+        gauge_rows: vec![Vec::new(); scenario.outputs.gauges.len()],
+        ..Default::default()
+    };
+    if let Some(path) = &opts.restart {
+        let ck = io::read_checkpoint(path)?;
+        let old: Scenario = ron_options().from_str(&ck.scenario_ron).map_err(|e| {
+            RunError::Checkpoint(format!(
+                "{}: its scenario does not parse: {e}",
+                path.display()
+            ))
+        })?;
+        same_problem(&old, scenario).map_err(|why| {
+            RunError::Checkpoint(format!(
+                "{} was written for another problem: {why}",
+                path.display()
+            ))
+        })?;
+        state = bincode::deserialize(&ck.run_state)
+            .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
+        if state.gauge_rows.len() != scenario.outputs.gauges.len() {
+            return Err(RunError::Checkpoint(format!(
+                "{}: the gauges differ from the scenario's",
+                path.display()
+            )));
+        }
+        solver
+            .restore_state(&ck.solver_state)
+            .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
+    }
+    io::check_writable_dir(&opts.out_dir)?;
+    let o = &scenario.outputs;
+    for (needed, sub) in [
+        (o.vtk && !o.fields.is_empty(), "vtk"),
+        (!o.gauges.is_empty(), "gauges"),
+        (!o.lineouts.is_empty(), "lineouts"),
+        (o.checkpoint_every.is_some(), "checkpoints"),
+    ] {
+        if needed {
+            io::ensure_dir(&opts.out_dir.join(sub))?;
+        }
+    }
+    let mut r = Runner {
+        scenario,
+        text: &loaded.text,
+        out: opts.out_dir.clone(),
+        solver,
+        state,
+        times: output_times(scenario.time.end, scenario.outputs.interval),
+        sample: Vec::new(),
+    };
+    if opts.restart.is_none() {
+        r.state.initial_totals = r.solver.conservation_totals();
+        r.record_gauges()?;
+        r.write_output(0)?;
+        r.state.next_output = 1;
+    }
+    let bar = if opts.progress {
+        ProgressBar::new(1000)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let end = scenario.time.end;
+    let max_steps = scenario.time.max_steps.unwrap_or(u64::MAX);
+    let outcome: Result<(), RunError> = (|| {
+        while r.state.next_output < r.times.len() && r.state.steps < max_steps {
+            let target = r.times[r.state.next_output];
+            let remaining = target - r.solver.time();
+            let t0 = Instant::now();
+            let stable = r.solver.stable_dt().map_err(|source| RunError::Solver {
+                step: r.state.steps,
+                source,
+            })?;
+            // Land on the output time exactly, without a sliver of a step.
+            let (dt, hits) = if stable >= remaining {
+                (remaining, true)
+            } else if 2.0 * stable > remaining {
+                (0.5 * remaining, false)
+            } else {
+                (stable, false)
+            };
+            {
+                let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
+                r.solver.advance(dt).map_err(|source| RunError::Solver {
+                    step: r.state.steps,
+                    source,
+                })?;
+            }
+            r.state.compute_seconds += t0.elapsed().as_secs_f64();
+            r.state.steps += 1;
+            r.record_gauges()?;
+            if hits {
+                let index = r.state.next_output;
+                r.write_output(index)?;
+                r.state.next_output += 1;
+            }
+            if let Some(every) = scenario.outputs.checkpoint_every {
+                if r.state.steps % every == 0 {
+                    r.write_checkpoint()?;
+                }
+            }
+            bar.set_position((1000.0 * r.solver.time() / end).min(1000.0) as u64);
+            bar.set_message(format!(
+                "step {} t = {:.4e} s dt = {dt:.3e} s",
+                r.state.steps,
+                r.solver.time()
+            ));
+        }
+        Ok(())
+    })();
+    bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+    match outcome {
+        Ok(()) => {
+            let completed = r.state.next_output >= r.times.len();
+            if !completed {
+                // Stopped by max_steps: write the state reached.
+                let index = r.state.next_output;
+                r.write_output(index)?;
+            }
+            r.write_lineouts("final")?;
+            r.write_histories()?;
+            let reason = (!completed).then(|| format!("max_steps = {max_steps} reached"));
+            let summary = r.summary(wall, completed, reason);
+            io::write_summary(&r.out.join("summary.json"), &summary)?;
+            Ok(summary)
+        }
+        Err(err) => {
+            // Keep the last good outputs; record how far the run got.
+            let summary = r.summary(wall, false, Some(err.to_string()));
+            r.write_histories()?;
+            io::write_summary(&r.out.join("summary.json"), &summary)?;
+            Err(err)
+        }
+    }
+}
+
+/// Default output directory for a config path: `out/<config stem>/`.
+pub fn default_out_dir(config: Option<&Path>, scenario_name: &str) -> PathBuf {
+    let stem = config
+        .and_then(|p| p.file_stem())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| scenario_name.to_string());
+    PathBuf::from("out").join(stem)
+}

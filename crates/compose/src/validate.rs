@@ -1,0 +1,366 @@
+//! Checks of a parsed scenario that serde cannot express. Each problem is
+//! reported with the path of the offending field so the caller can point at
+//! its line and column.
+
+use crate::config::{
+    BoundaryConfig, EosConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig,
+};
+
+/// A validation problem: the field path and the message.
+pub type Problem = (String, String);
+
+fn finite3(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn check_state(path: &str, s: &StateConfig) -> Result<(), Problem> {
+    if !(s.density > 0.0 && s.density.is_finite()) {
+        return Err((
+            format!("{path}.density"),
+            format!("density must be positive and finite, got {}", s.density),
+        ));
+    }
+    if !finite3(&s.velocity) {
+        return Err((format!("{path}.velocity"), "velocity must be finite".into()));
+    }
+    let given: Vec<(&str, f64)> = [
+        ("pressure", s.pressure),
+        ("specific_internal_energy", s.specific_internal_energy),
+        ("temperature", s.temperature),
+    ]
+    .into_iter()
+    .filter_map(|(n, v)| v.map(|v| (n, v)))
+    .collect();
+    match given.as_slice() {
+        [(name, v)] => {
+            if !(*v > 0.0 && v.is_finite()) {
+                return Err((
+                    format!("{path}.{name}"),
+                    format!("{name} must be positive and finite, got {v}"),
+                ));
+            }
+            Ok(())
+        }
+        [] => Err((
+            path.into(),
+            "give one of `pressure`, `specific_internal_energy` or `temperature`".into(),
+        )),
+        _ => Err((
+            path.into(),
+            "give only one of `pressure`, `specific_internal_energy` or `temperature`".into(),
+        )),
+    }
+}
+
+fn check_region(path: &str, r: &Region) -> Result<(), Problem> {
+    let bad = |what: &str, msg: String| Err((format!("{path}.{what}"), msg));
+    match r {
+        Region::Everywhere => Ok(()),
+        Region::Box { min, max } => {
+            if !(finite3(min) && finite3(max)) || (0..3).any(|d| min[d] >= max[d]) {
+                return bad(
+                    "max",
+                    format!("box max {max:?} must exceed min {min:?} in every direction"),
+                );
+            }
+            Ok(())
+        }
+        Region::Sphere { centre, radius } => {
+            if !finite3(centre) {
+                return bad("centre", "centre must be finite".into());
+            }
+            if !(*radius > 0.0 && radius.is_finite()) {
+                return bad("radius", format!("radius must be positive, got {radius}"));
+            }
+            Ok(())
+        }
+        Region::Cylinder {
+            base,
+            axis,
+            radius,
+            length,
+        } => {
+            if !finite3(base) {
+                return bad("base", "base must be finite".into());
+            }
+            if !finite3(axis) || axis.iter().map(|a| a * a).sum::<f64>() == 0.0 {
+                return bad("axis", "axis must be a non-zero finite vector".into());
+            }
+            if !(*radius > 0.0 && radius.is_finite()) {
+                return bad("radius", format!("radius must be positive, got {radius}"));
+            }
+            if !(*length > 0.0 && length.is_finite()) {
+                return bad("length", format!("length must be positive, got {length}"));
+            }
+            Ok(())
+        }
+        Region::HalfSpace { point, normal } => {
+            if !finite3(point) {
+                return bad("point", "point must be finite".into());
+            }
+            if !finite3(normal) || normal.iter().map(|a| a * a).sum::<f64>() == 0.0 {
+                return bad("normal", "normal must be a non-zero finite vector".into());
+            }
+            Ok(())
+        }
+    }
+}
+
+fn file_safe(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
+/// Validates a scenario; `known_fields` are the output fields of its
+/// pipeline and `max_cfl` the scheme's stability limit.
+pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(), Problem> {
+    const AXES: [&str; 3] = ["x", "y", "z"];
+    if !file_safe(&s.name) {
+        return Err((
+            "name".into(),
+            format!(
+                "`{}` must be non-empty and use only letters, digits, `_` and `-`",
+                s.name
+            ),
+        ));
+    }
+    let d = &s.domain;
+    for a in 0..3 {
+        if d.cells[a] == 0 {
+            return Err((
+                format!("domain.cells.{a}"),
+                format!("the domain is empty: 0 cells along {}", AXES[a]),
+            ));
+        }
+        if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.upper[a] > d.lower[a]) {
+            return Err((
+                format!("domain.upper.{a}"),
+                format!(
+                    "upper bound {} must exceed lower bound {} along {}",
+                    d.upper[a], d.lower[a], AXES[a]
+                ),
+            ));
+        }
+        if d.patches[a] == 0 || d.patches[a] > d.cells[a] {
+            return Err((
+                format!("domain.patches.{a}"),
+                format!(
+                    "{} patches along {}: need between 1 and the {} cells",
+                    d.patches[a], AXES[a], d.cells[a]
+                ),
+            ));
+        }
+    }
+    let t = &s.time;
+    if !(t.end > 0.0 && t.end.is_finite()) {
+        return Err((
+            "time.end".into(),
+            format!("end time must be positive, got {}", t.end),
+        ));
+    }
+    if !(t.cfl > 0.0 && t.cfl <= max_cfl) {
+        return Err((
+            "time.cfl".into(),
+            format!(
+                "cfl = {} is outside (0, {max_cfl}], the scheme's stability limit",
+                t.cfl
+            ),
+        ));
+    }
+    if t.max_steps == Some(0) {
+        return Err((
+            "time.max_steps".into(),
+            "max_steps must be at least 1".into(),
+        ));
+    }
+    for (name, m) in &s.materials {
+        let path = format!("materials.{name}.eos");
+        match m.eos {
+            EosConfig::IdealGas {
+                gamma,
+                cv,
+                reference_density,
+            } => {
+                if !(gamma > 1.0 && gamma.is_finite()) {
+                    return Err((
+                        format!("{path}.gamma"),
+                        format!("gamma must exceed 1, got {gamma}"),
+                    ));
+                }
+                if !(cv > 0.0 && cv.is_finite()) {
+                    return Err((
+                        format!("{path}.cv"),
+                        format!("cv must be positive, got {cv}"),
+                    ));
+                }
+                if !(reference_density > 0.0 && reference_density.is_finite()) {
+                    return Err((
+                        format!("{path}.reference_density"),
+                        format!("reference density must be positive, got {reference_density}"),
+                    ));
+                }
+            }
+        }
+    }
+    let known_materials = || {
+        s.materials
+            .keys()
+            .map(|k| format!("`{k}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let Pipeline::Fdm(fdm) = &s.pipeline;
+    if !s.materials.contains_key(&fdm.material) {
+        return Err((
+            "pipeline.material".into(),
+            format!(
+                "unknown material `{}`; known materials: {}",
+                fdm.material,
+                known_materials()
+            ),
+        ));
+    }
+    if let ViscosityConfig::Constant(eta) = fdm.viscosity {
+        if !(0.0..=0.25).contains(&eta) {
+            return Err((
+                "pipeline.viscosity".into(),
+                format!("constant η = {eta} must lie in [0, 0.25]"),
+            ));
+        }
+    }
+    for (face, bc) in s.boundaries.faces() {
+        if let BoundaryConfig::Fixed(state) = bc {
+            check_state(&format!("boundaries.{face}"), state)?;
+        }
+    }
+    for (a, pair) in s.boundaries.faces().chunks(2).enumerate() {
+        let lo = matches!(pair[0].1, BoundaryConfig::Periodic);
+        let hi = matches!(pair[1].1, BoundaryConfig::Periodic);
+        if lo != hi {
+            let missing = if lo { pair[1].0 } else { pair[0].0 };
+            return Err((
+                format!("boundaries.{missing}"),
+                format!("periodic along {} needs `Periodic` on both faces", AXES[a]),
+            ));
+        }
+    }
+    if s.initial.is_empty() {
+        return Err((
+            "initial".into(),
+            "at least one initial region is needed".into(),
+        ));
+    }
+    for (i, r) in s.initial.iter().enumerate() {
+        let path = format!("initial.{i}");
+        if !s.materials.contains_key(&r.material) {
+            return Err((
+                format!("{path}.material"),
+                format!(
+                    "unknown material `{}`; known materials: {}",
+                    r.material,
+                    known_materials()
+                ),
+            ));
+        }
+        if r.material != fdm.material {
+            return Err((
+                format!("{path}.material"),
+                format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
+            ));
+        }
+        check_region(&format!("{path}.region"), &r.region)?;
+        check_state(&format!("{path}.state"), &r.state)?;
+    }
+    let o = &s.outputs;
+    if let Some(iv) = o.interval {
+        if !(iv > 0.0 && iv.is_finite()) {
+            return Err((
+                "outputs.interval".into(),
+                format!("output interval must be positive, got {iv}"),
+            ));
+        }
+    }
+    let check_fields = |path: String, fields: &[String]| -> Result<(), Problem> {
+        for (k, f) in fields.iter().enumerate() {
+            if !known_fields.contains(&f.as_str()) {
+                return Err((
+                    format!("{path}.{k}"),
+                    format!(
+                        "unknown field `{f}`; known fields: {}",
+                        known_fields.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    };
+    check_fields("outputs.fields".into(), &o.fields)?;
+    let inside = |p: &[f64; 3]| (0..3).all(|a| p[a] >= d.lower[a] && p[a] <= d.upper[a]);
+    let mut names = std::collections::BTreeSet::new();
+    for (i, g) in o.gauges.iter().enumerate() {
+        let path = format!("outputs.gauges.{i}");
+        if !file_safe(&g.name) || !names.insert(g.name.clone()) {
+            return Err((
+                format!("{path}.name"),
+                format!(
+                    "gauge name `{}` must be unique and use only letters, digits, `_` and `-`",
+                    g.name
+                ),
+            ));
+        }
+        if !inside(&g.point) {
+            return Err((
+                format!("{path}.point"),
+                format!("gauge point {:?} lies outside the domain", g.point),
+            ));
+        }
+        if g.fields.is_empty() {
+            return Err((
+                format!("{path}.fields"),
+                "a gauge needs at least one field".into(),
+            ));
+        }
+        check_fields(format!("{path}.fields"), &g.fields)?;
+    }
+    let mut names = std::collections::BTreeSet::new();
+    for (i, l) in o.lineouts.iter().enumerate() {
+        let path = format!("outputs.lineouts.{i}");
+        if !file_safe(&l.name) || !names.insert(l.name.clone()) {
+            return Err((
+                format!("{path}.name"),
+                format!(
+                    "line-out name `{}` must be unique and use only letters, digits, `_` and `-`",
+                    l.name
+                ),
+            ));
+        }
+        if !inside(&l.from) {
+            return Err((
+                format!("{path}.from"),
+                format!("line-out start {:?} lies outside the domain", l.from),
+            ));
+        }
+        if !inside(&l.to) {
+            return Err((
+                format!("{path}.to"),
+                format!("line-out end {:?} lies outside the domain", l.to),
+            ));
+        }
+        if l.points == 0 {
+            return Err((
+                format!("{path}.points"),
+                "a line-out needs at least one point".into(),
+            ));
+        }
+        check_fields(format!("{path}.fields"), &l.fields)?;
+    }
+    if o.checkpoint_every == Some(0) {
+        return Err((
+            "outputs.checkpoint_every".into(),
+            "checkpoint interval must be at least 1 step".into(),
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,230 @@
+//! Restart files: the scenario and the opaque state of the run loop and the
+//! solver, so a run can resume where it stopped.
+//!
+//! File layout: the 8 bytes [`CHECKPOINT_MAGIC`], then the bincode 1.3
+//! encoding (fixed-width little-endian integers) of a [`Checkpoint`], whose
+//! first field, the format version, thus sits in bytes 8..12.
+
+use std::path::Path;
+
+use bincode::Options;
+use serde::{Deserialize, Serialize};
+
+use crate::atomic::write_atomic;
+use crate::IoError;
+
+/// The first 8 bytes of every checkpoint file.
+pub const CHECKPOINT_MAGIC: [u8; 8] = *b"BRISCKPT";
+
+/// The format version this build writes and reads.
+pub const CHECKPOINT_FORMAT_VERSION: u32 = 1;
+
+/// What [`read_checkpoint`] calls its files in errors.
+const KIND: &str = "Brisance checkpoint";
+
+/// Everything needed to resume a run.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// Layout version of this structure; [`CHECKPOINT_FORMAT_VERSION`].
+    pub format_version: u32,
+    /// The scenario, as RON text, exactly as the run used it.
+    pub scenario_ron: String,
+    /// The run loop's state (step count, time, output counters, ...),
+    /// encoded by its owner.
+    pub run_state: Vec<u8>,
+    /// The solver's state, encoded by the solver.
+    pub solver_state: Vec<u8>,
+}
+
+impl Checkpoint {
+    /// A checkpoint of the current format version.
+    pub fn new(scenario_ron: String, run_state: Vec<u8>, solver_state: Vec<u8>) -> Self {
+        Self {
+            format_version: CHECKPOINT_FORMAT_VERSION,
+            scenario_ron,
+            run_state,
+            solver_state,
+        }
+    }
+}
+
+/// The file name of the checkpoint taken at `step`:
+/// `checkpoint_{step:08}.bin`, so names sort by step.
+pub fn checkpoint_file_name(step: u64) -> String {
+    format!("checkpoint_{step:08}.bin")
+}
+
+/// Writes `checkpoint` to `path` (atomically). Fails without writing if its
+/// format version is not [`CHECKPOINT_FORMAT_VERSION`], since this build
+/// could not read it back.
+pub fn write_checkpoint(path: &Path, checkpoint: &Checkpoint) -> Result<(), IoError> {
+    if checkpoint.format_version != CHECKPOINT_FORMAT_VERSION {
+        return Err(IoError::invalid_input(
+            path,
+            format!(
+                "checkpoint format version {} is not the supported version {}",
+                checkpoint.format_version, CHECKPOINT_FORMAT_VERSION
+            ),
+        ));
+    }
+    let payload =
+        bincode::serialize(checkpoint).map_err(|e| IoError::encode(path, e.to_string()))?;
+    let mut bytes = Vec::with_capacity(CHECKPOINT_MAGIC.len() + payload.len());
+    bytes.extend_from_slice(&CHECKPOINT_MAGIC);
+    bytes.extend_from_slice(&payload);
+    write_atomic(path, &bytes)
+}
+
+/// Reads a checkpoint written by [`write_checkpoint`], rejecting files that
+/// do not start with [`CHECKPOINT_MAGIC`], are truncated, carry trailing
+/// bytes, or have another format version.
+pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::read(path, e))?;
+    let malformed = |message: String| IoError::malformed(path, KIND, message);
+    let truncated = || malformed(format!("the file is truncated ({} bytes)", bytes.len()));
+
+    let magic_len = CHECKPOINT_MAGIC.len();
+    let head = &bytes[..bytes.len().min(magic_len)];
+    if head != &CHECKPOINT_MAGIC[..head.len()] {
+        return Err(malformed(
+            "it does not start with the checkpoint magic bytes".into(),
+        ));
+    }
+    let payload = bytes.get(magic_len..).ok_or_else(truncated)?;
+    let version_bytes: [u8; 4] = payload
+        .get(..4)
+        .and_then(|b| b.try_into().ok())
+        .ok_or_else(truncated)?;
+    let version = u32::from_le_bytes(version_bytes);
+    if version != CHECKPOINT_FORMAT_VERSION {
+        return Err(malformed(format!(
+            "format version {version} is not supported (this build reads version {CHECKPOINT_FORMAT_VERSION})"
+        )));
+    }
+    bincode::DefaultOptions::new()
+        .with_fixint_encoding()
+        .with_limit(payload.len() as u64)
+        .reject_trailing_bytes()
+        .deserialize(payload)
+        .map_err(|e| match *e {
+            bincode::ErrorKind::SizeLimit => truncated(),
+            bincode::ErrorKind::Io(ref io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+                truncated()
+            }
+            other => malformed(other.to_string()),
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f64_bytes(values: &[f64]) -> Vec<u8> {
+        values.iter().flat_map(|x| x.to_le_bytes()).collect()
+    }
+
+    fn sample() -> Checkpoint {
+        Checkpoint::new(
+            "(name: \"test\", end_time: 1e-3)".to_string(),
+            f64_bytes(&[0.1 + 0.2, 1e-300]),
+            f64_bytes(&[f64::NAN, -0.0, f64::INFINITY, 5e-324, 1.0 / 3.0]),
+        )
+    }
+
+    fn write_sample(dir: &Path) -> std::path::PathBuf {
+        let path = dir.join(checkpoint_file_name(42));
+        write_checkpoint(&path, &sample()).unwrap();
+        path
+    }
+
+    #[test]
+    fn file_name_is_zero_padded_step() {
+        assert_eq!(checkpoint_file_name(42), "checkpoint_00000042.bin");
+        assert_eq!(
+            checkpoint_file_name(123_456_789),
+            "checkpoint_123456789.bin"
+        );
+    }
+
+    #[test]
+    fn round_trip_preserves_payload_bits() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_sample(dir.path());
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[..8], b"BRISCKPT");
+        assert_eq!(&bytes[8..12], &1u32.to_le_bytes());
+        let back = read_checkpoint(&path).unwrap();
+        assert_eq!(back, sample());
+        let nan_bits = u64::from_le_bytes(back.solver_state[..8].try_into().unwrap());
+        assert_eq!(nan_bits, f64::NAN.to_bits());
+    }
+
+    #[test]
+    fn every_truncation_is_reported_as_truncated() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_sample(dir.path());
+        let bytes = std::fs::read(&path).unwrap();
+        for len in 0..bytes.len() {
+            std::fs::write(&path, &bytes[..len]).unwrap();
+            let err = read_checkpoint(&path).unwrap_err();
+            let text = err.to_string();
+            assert!(
+                text.starts_with(&format!(
+                    "{} is not a valid Brisance checkpoint",
+                    path.display()
+                )),
+                "{text}"
+            );
+            assert!(text.contains("truncated"), "length {len}: {text}");
+        }
+    }
+
+    #[test]
+    fn wrong_magic_is_rejected() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_sample(dir.path());
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes[0] = b'X';
+        std::fs::write(&path, &bytes).unwrap();
+        let text = read_checkpoint(&path).unwrap_err().to_string();
+        assert!(text.contains("magic bytes"), "{text}");
+        std::fs::write(&path, b"hello").unwrap();
+        let text = read_checkpoint(&path).unwrap_err().to_string();
+        assert!(text.contains("magic bytes"), "{text}");
+    }
+
+    #[test]
+    fn other_format_version_is_rejected() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("future.bin");
+        let mut future = sample();
+        future.format_version = 2;
+        let mut bytes = CHECKPOINT_MAGIC.to_vec();
+        bytes.extend(bincode::serialize(&future).unwrap());
+        std::fs::write(&path, &bytes).unwrap();
+        let text = read_checkpoint(&path).unwrap_err().to_string();
+        assert!(text.contains("format version 2 is not supported"), "{text}");
+
+        let err = write_checkpoint(&path, &future).unwrap_err();
+        assert!(matches!(err, IoError::InvalidInput { .. }), "{err:?}");
+    }
+
+    #[test]
+    fn trailing_bytes_are_rejected() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_sample(dir.path());
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes.push(0);
+        std::fs::write(&path, &bytes).unwrap();
+        assert!(read_checkpoint(&path).is_err());
+    }
+
+    #[test]
+    fn missing_file_is_a_read_error_naming_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nope.bin");
+        let err = read_checkpoint(&path).unwrap_err();
+        assert!(matches!(err, IoError::Read { .. }), "{err:?}");
+        assert_eq!(err.path(), path);
+    }
+}

@@ -1,0 +1,148 @@
+//! The end-of-run summary (`summary.json`).
+
+use std::path::Path;
+
+use brisance_core::ConservationTotals;
+use serde::{Deserialize, Serialize};
+
+use crate::atomic::write_atomic;
+use crate::IoError;
+
+/// What a finished (or stopped) run reports about itself.
+///
+/// Non-finite numbers (e.g. a relative change from a zero initial total)
+/// are written by JSON as `null`, which [`read_summary`] rejects.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Name of the scenario that was run.
+    pub scenario: String,
+    /// Name of the solver pipeline that ran it.
+    pub pipeline: String,
+    /// Number of time steps taken.
+    pub steps: u64,
+    /// Simulation time reached, s.
+    pub final_time: f64,
+    /// Wall-clock time of the run, s.
+    pub wall_seconds: f64,
+    /// Work per wall-clock second, in `throughput_unit`.
+    pub throughput: f64,
+    /// Unit of `throughput`, e.g. `cell-updates/s`.
+    pub throughput_unit: String,
+    /// Conserved totals at the start of the run.
+    pub initial_totals: ConservationTotals,
+    /// Conserved totals at the end of the run.
+    pub final_totals: ConservationTotals,
+    /// [`relative_change`] of the total mass.
+    pub relative_mass_change: f64,
+    /// [`relative_change`] of the total energy.
+    pub relative_energy_change: f64,
+    /// Number of worker threads used.
+    pub threads: usize,
+    /// Whether the run reached its end time.
+    pub completed: bool,
+    /// Why the run stopped early, when it did.
+    pub stop_reason: Option<String>,
+}
+
+/// `(final_ - initial) / |initial|`; 0 when both are 0 (and ±infinity when
+/// only `initial` is 0).
+pub fn relative_change(initial: f64, final_: f64) -> f64 {
+    if initial == 0.0 && final_ == 0.0 {
+        0.0
+    } else {
+        (final_ - initial) / initial.abs()
+    }
+}
+
+/// Writes `summary` to `path` as pretty-printed JSON (atomically).
+pub fn write_summary(path: &Path, summary: &RunSummary) -> Result<(), IoError> {
+    let mut text =
+        serde_json::to_string_pretty(summary).map_err(|e| IoError::encode(path, e.to_string()))?;
+    text.push('\n');
+    write_atomic(path, text.as_bytes())
+}
+
+/// Reads a summary written by [`write_summary`].
+pub fn read_summary(path: &Path) -> Result<RunSummary, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::read(path, e))?;
+    serde_json::from_slice(&bytes)
+        .map_err(|e| IoError::malformed(path, "Brisance run summary", e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> RunSummary {
+        let initial = ConservationTotals {
+            mass: 2.0,
+            momentum: [0.0; 3],
+            energy: 1.0e6,
+        };
+        let final_ = ConservationTotals {
+            mass: 2.0 + 1e-12,
+            momentum: [0.1 + 0.2, 0.0, -1e-300],
+            energy: 0.999e6,
+        };
+        RunSummary {
+            scenario: "sphere_in_air".to_string(),
+            pipeline: "fdm-euler".to_string(),
+            steps: 1234,
+            final_time: 1e-3,
+            wall_seconds: 12.5,
+            throughput: 3.2e7,
+            throughput_unit: "cell-updates/s".to_string(),
+            initial_totals: initial,
+            final_totals: final_,
+            relative_mass_change: relative_change(initial.mass, final_.mass),
+            relative_energy_change: relative_change(initial.energy, final_.energy),
+            threads: 2,
+            completed: false,
+            stop_reason: Some("wall-clock limit".to_string()),
+        }
+    }
+
+    #[test]
+    fn relative_change_is_signed_and_scaled_by_initial_magnitude() {
+        assert_eq!(relative_change(2.0, 3.0), 0.5);
+        assert_eq!(relative_change(-2.0, -3.0), -0.5);
+        assert_eq!(relative_change(4.0, 3.0), -0.25);
+        assert_eq!(relative_change(0.0, 0.0), 0.0);
+        assert_eq!(relative_change(0.0, 1.0), f64::INFINITY);
+    }
+
+    #[test]
+    fn summary_round_trips_through_pretty_json() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        let summary = sample();
+        write_summary(&path, &summary).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.starts_with("{\n  \"scenario\": \"sphere_in_air\",\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\"stop_reason\": \"wall-clock limit\""),
+            "{text}"
+        );
+        assert!(text.contains("\"momentum\": [\n"), "{text}");
+        assert_eq!(read_summary(&path).unwrap(), summary);
+        assert_eq!(summary.relative_energy_change, -0.001);
+    }
+
+    #[test]
+    fn reading_garbage_names_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        std::fs::write(&path, "{\"scenario\": 3}").unwrap();
+        let err = read_summary(&path).unwrap_err();
+        assert!(
+            err.to_string().starts_with(&format!(
+                "{} is not a valid Brisance run summary",
+                path.display()
+            )),
+            "{err}"
+        );
+    }
+}

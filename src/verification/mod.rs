@@ -1,0 +1,4 @@
+//! Exact solutions the validation suite compares against, written from the physics.
+
+pub mod riemann;
+pub mod smooth;
