@@ -1,4 +1,5 @@
 //! Exact solutions the validation suite compares against, written from the physics.
 
+pub mod cases;
 pub mod riemann;
 pub mod smooth;

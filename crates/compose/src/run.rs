@@ -69,6 +69,38 @@ pub fn lineout_points(from: [f64; 3], to: [f64; 3], n: usize) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// The step to take toward `remaining` seconds away when the solver allows
+/// `stable`: land on the target exactly, and never leave a sliver of a step
+/// (halve the remainder when it is less than two stable steps). Returns the
+/// step and whether it reaches the target.
+pub fn next_step(stable: f64, remaining: f64) -> (f64, bool) {
+    if stable >= remaining {
+        (remaining, true)
+    } else if 2.0 * stable > remaining {
+        (0.5 * remaining, false)
+    } else {
+        (stable, false)
+    }
+}
+
+/// Advances a solver to time `end` (no outputs), with the run loop's step
+/// rule; returns the number of steps taken.
+pub fn advance_to(solver: &mut dyn Solver, end: f64) -> Result<u64, brisance_core::SolverError> {
+    let mut steps = 0;
+    loop {
+        let remaining = end - solver.time();
+        if remaining <= 0.0 {
+            return Ok(steps);
+        }
+        let (dt, hits) = next_step(solver.stable_dt()?, remaining);
+        solver.advance(dt)?;
+        steps += 1;
+        if hits {
+            return Ok(steps);
+        }
+    }
+}
+
 struct Runner<'a> {
     scenario: &'a Scenario,
     text: &'a str,
@@ -342,14 +374,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
                 step: r.state.steps,
                 source,
             })?;
-            // Land on the output time exactly, without a sliver of a step.
-            let (dt, hits) = if stable >= remaining {
-                (remaining, true)
-            } else if 2.0 * stable > remaining {
-                (0.5 * remaining, false)
-            } else {
-                (stable, false)
-            };
+            let (dt, hits) = next_step(stable, remaining);
             {
                 let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
                 r.solver.advance(dt).map_err(|source| RunError::Solver {
@@ -413,4 +438,33 @@ pub fn default_out_dir(config: Option<&Path>, scenario_name: &str) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| scenario_name.to_string());
     PathBuf::from("out").join(stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_times_hit_every_interval_and_the_end() {
+        assert_eq!(
+            output_times(0.2, Some(0.05)),
+            vec![0.0, 0.05, 0.1, 0.15000000000000002, 0.2]
+        );
+        assert_eq!(output_times(1.0, None), vec![0.0, 1.0]);
+        assert_eq!(output_times(0.25, Some(0.1)), vec![0.0, 0.1, 0.2, 0.25]);
+    }
+
+    #[test]
+    fn next_step_lands_exactly_and_leaves_no_sliver() {
+        assert_eq!(next_step(1.0, 0.5), (0.5, true));
+        assert_eq!(next_step(0.4, 0.5), (0.25, false));
+        assert_eq!(next_step(0.1, 0.5), (0.1, false));
+    }
+
+    #[test]
+    fn lineout_points_are_segment_midpoints() {
+        let p = lineout_points([0.0, 0.0, 0.0], [1.0, 2.0, 0.0], 4);
+        assert_eq!(p[0], [0.125, 0.25, 0.0]);
+        assert_eq!(p[3], [0.875, 1.75, 0.0]);
+    }
 }

@@ -13,13 +13,13 @@
 //! for z sweeps) of one patch and runs five passes over it, each a loop over
 //! contiguous slices that the compiler vectorises:
 //! 1. per cell: the switch θ (eq 4) and the acoustic Courant number ν;
-//! 2. per face: μ = ½ η max(θ_l, θ_r) (eqs 3, 5);
+//! 2. per face: μ = ½ η max(θ) over the four cells around it (eqs 3, 5);
 //! 3. per cell: smoothed Ū (eq 3, flux form) and its flux F(Ū);
 //! 4. per face: the Richtmyer half-step state and its flux;
 //! 5. per cell: the conservative update.
 //!
-//! Passes 1–4 reach 3, 2, 1 and 1 cells beyond the slab's interior along the
-//! sweep, so the patch needs 3 ghost layers ([`GHOST`]).
+//! Passes 1–4 reach 4, 3, 2 and 1 cells beyond the slab's interior along the
+//! sweep, so the patch needs 4 ghost layers ([`GHOST`]).
 
 use brisance_core::Eos;
 
@@ -27,7 +27,7 @@ use crate::state::{specific_internal_energy, NVAR};
 use crate::viscosity::{switch_theta, ArtificialViscosity};
 
 /// Ghost layers the sweep needs on each side.
-pub const GHOST: usize = 3;
+pub const GHOST: usize = 4;
 
 /// Number of scratch arrays per slab: θ, ν, μ, Ū (5), F(Ū) (5), F* (5).
 const NSCRATCH: usize = 3 + 3 * NVAR;
@@ -167,8 +167,8 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
     );
     let mut ok = true;
 
-    // Pass 1: θ (eq 4) and ν = λc per cell, for a ∈ [g−2, hi+2).
-    for_rows(shape, g - 2, hi_cell + 2, |fo, so, len| {
+    // Pass 1: θ (eq 4) and ν = λc per cell, for a ∈ [g−3, hi+3).
+    for_rows(shape, g - 3, hi_cell + 3, |fo, so, len| {
         let rho_m = fields.row(0, fo - sa, len);
         let rho_p = fields.row(0, fo + sa, len);
         let u: [&[f64]; NVAR] = std::array::from_fn(|f| fields.row(f, fo, len));
@@ -187,7 +187,11 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
     for_rows(shape, g - 2, hi_cell + 1, |_, so, len| {
         for k in so..so + len {
-            mu[k] = viscosity.face_coefficient(theta[k], theta[k + ss], nu[k], nu[k + ss]);
+            let theta_face = theta[k - ss]
+                .max(theta[k])
+                .max(theta[k + ss])
+                .max(theta[k + 2 * ss]);
+            mu[k] = viscosity.face_coefficient(theta_face, nu[k], nu[k + ss]);
         }
     });
 

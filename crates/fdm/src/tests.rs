@@ -96,7 +96,14 @@ fn fields_are_bit_identical_for_any_patch_split_and_thread_count() {
 
 #[test]
 fn a_uniform_moving_state_stays_exactly_uniform() {
-    let level = Level::new([0.0; 3], [1.0; 3], [8, 8, 8], [2, 1, 2], 3).unwrap();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0; 3],
+        [8, 8, 8],
+        [2, 1, 2],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
     let s0 = state(1.3, [0.3, -0.2, 0.1], 2.0);
     let mut s = FdmSolver::new(
         gas(),
@@ -124,7 +131,14 @@ fn a_uniform_moving_state_stays_exactly_uniform() {
 
 #[test]
 fn periodic_domain_conserves_mass_momentum_and_energy_to_round_off() {
-    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [24, 12, 1], [2, 2, 1], 3).unwrap();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0, 1.0, 1.0],
+        [24, 12, 1],
+        [2, 2, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
     let mut s = FdmSolver::new(
         gas(),
         level,
@@ -183,7 +197,14 @@ fn restart_from_saved_state_continues_bit_identically() {
 
 #[test]
 fn a_vacuum_forming_state_stops_with_a_diagnostic_naming_the_cell() {
-    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [40, 1, 1], [1, 1, 1], 3).unwrap();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0, 1.0, 1.0],
+        [40, 1, 1],
+        [1, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
     let opts = FdmOptions {
         viscosity: ArtificialViscosity::Off,
         ..Default::default()
@@ -214,7 +235,14 @@ fn a_vacuum_forming_state_stops_with_a_diagnostic_naming_the_cell() {
 
 #[test]
 fn cfl_above_the_scheme_limit_is_rejected() {
-    let level = Level::new([0.0; 3], [1.0; 3], [10, 1, 1], [1, 1, 1], 3).unwrap();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0; 3],
+        [10, 1, 1],
+        [1, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
     let opts = FdmOptions {
         cfl: 1.2,
         ..Default::default()
@@ -229,7 +257,14 @@ fn cfl_above_the_scheme_limit_is_rejected() {
 #[test]
 fn time_step_follows_the_cfl_formula() {
     // ρ = 1, p = 1, γ = 1.4: c = √1.4; u = 0.5 along x; Δx = 0.1.
-    let level = Level::new([0.0; 3], [1.0; 3], [10, 1, 1], [1, 1, 1], 3).unwrap();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0; 3],
+        [10, 1, 1],
+        [1, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
     let s = FdmSolver::new(
         gas(),
         level,
@@ -243,40 +278,4 @@ fn time_step_follows_the_cfl_formula() {
     .unwrap();
     let expected = 2.0 * 0.5 * 0.1 / (0.5 + 1.4f64.sqrt());
     assert!((s.stable_dt().unwrap() - expected).abs() < 1e-15);
-}
-
-#[test]
-#[ignore]
-fn print_sod() {
-    let level = Level::new([0.0; 3], [1.0; 3], [400, 1, 1], [1, 1, 1], 3).unwrap();
-    let mut s = FdmSolver::new(
-        gas(),
-        level,
-        [FdmBoundary::Outflow; 6],
-        FdmOptions::default(),
-        |x| {
-            if x[0] < 0.5 {
-                state(1.0, [0.0; 3], 1.0)
-            } else {
-                state(0.125, [0.0; 3], 0.1)
-            }
-        },
-    )
-    .unwrap();
-    while s.time() < 0.2 {
-        let dt = s.stable_dt().unwrap().min(0.2 - s.time());
-        s.advance(dt).unwrap();
-    }
-    let d = s
-        .cell_data(&["density".into(), "velocity_x".into(), "pressure".into()])
-        .unwrap();
-    for i in (0..400).step_by(8) {
-        println!(
-            "{:.4} {:.5} {:.5} {:.5}",
-            (i as f64 + 0.5) / 400.0,
-            d.fields[0].1[i],
-            d.fields[1].1[i],
-            d.fields[2].1[i]
-        );
-    }
 }

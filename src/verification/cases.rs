@@ -1,0 +1,194 @@
+//! The verification cases of docs/validation.md as functions, shared by the
+//! integration tests (reduced resolutions) and `cargo xtask validate` (full
+//! resolutions), so both measure the same thing.
+
+use brisance_compose::{build::build_solver, load_str, run::advance_to};
+use brisance_core::Solver;
+use brisance_eos::IdealGas;
+use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+use brisance_grid::Level;
+
+use super::riemann::{sod, RiemannSolution};
+use super::smooth::AdvectedSine;
+
+/// The V-SOD scenario file.
+pub const SOD_CONFIG: &str = include_str!("../../configs/sod.ron");
+
+/// Observed orders of accuracy between successive refinements:
+/// log(e_k / e_{k+1}) / log(n_{k+1} / n_k).
+pub fn observed_orders(cells: &[usize], errors: &[f64]) -> Vec<f64> {
+    cells
+        .windows(2)
+        .zip(errors.windows(2))
+        .map(|(n, e)| (e[0] / e[1]).ln() / (n[1] as f64 / n[0] as f64).ln())
+        .collect()
+}
+
+/// Result of one V-SOD run.
+#[derive(Debug, Clone)]
+pub struct SodResult {
+    /// Number of cells.
+    pub cells: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// Cell centres.
+    pub x: Vec<f64>,
+    /// Computed density, velocity and pressure.
+    pub density: Vec<f64>,
+    /// Computed velocity.
+    pub velocity: Vec<f64>,
+    /// Computed pressure.
+    pub pressure: Vec<f64>,
+    /// Exact cell averages of density, velocity and pressure.
+    pub exact_density: Vec<f64>,
+    /// Exact velocity cell averages.
+    pub exact_velocity: Vec<f64>,
+    /// Exact pressure cell averages.
+    pub exact_pressure: Vec<f64>,
+    /// L1 norm of the density error, Σ|ρ − ρ_exact| Δx.
+    pub l1_density: f64,
+    /// Largest density overshoot near the contact, as a fraction of the
+    /// contact's density jump.
+    pub contact_overshoot: f64,
+    /// Largest density overshoot near the shock, as a fraction of the
+    /// shock's density jump.
+    pub shock_overshoot: f64,
+    /// Largest pressure overshoot near the shock, as a fraction of the
+    /// shock's pressure jump.
+    pub shock_pressure_overshoot: f64,
+    /// Relative change of total mass over the run.
+    pub relative_mass_change: f64,
+}
+
+/// Largest excursion of `values[i]` (cells with centre in `[a, b)`) outside
+/// the band between `lo` and `hi`, as a fraction of `hi − lo`.
+fn overshoot(x: &[f64], values: &[f64], a: f64, b: f64, lo: f64, hi: f64) -> f64 {
+    x.iter()
+        .zip(values)
+        .filter(|(xi, _)| **xi >= a && **xi < b)
+        .map(|(_, v)| (v - hi).max(lo - v).max(0.0))
+        .fold(0.0, f64::max)
+        / (hi - lo)
+}
+
+/// Runs V-SOD (configs/sod.ron) at `cells` cells and compares with the
+/// exact solution averaged over each cell.
+pub fn sod_case(cells: usize) -> Result<SodResult, String> {
+    let sets = [format!("domain.cells=({cells},1,1)")];
+    let loaded = load_str("configs/sod.ron", SOD_CONFIG, &sets).map_err(|e| e.to_string())?;
+    let end = loaded.scenario.time.end;
+    let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
+    let initial_mass = solver.conservation_totals().mass;
+    let steps = advance_to(solver.as_mut(), end).map_err(|e| e.to_string())?;
+    let names = ["density", "velocity_x", "pressure"].map(String::from);
+    let data = solver.cell_data(&names).map_err(|e| e.to_string())?;
+    let g = data.geometry;
+    let dx = g.spacing[0];
+    let x: Vec<f64> = (0..cells).map(|i| g.cell_centre([i, 0, 0])[0]).collect();
+    let exact: RiemannSolution = sod().solve()?;
+    let averages: Vec<_> = x
+        .iter()
+        .map(|xc| exact.cell_average(xc - 0.5 * dx, xc + 0.5 * dx, 0.5, end))
+        .collect();
+    let col = |k: usize| data.fields[k].1.clone();
+    let (density, velocity, pressure) = (col(0), col(1), col(2));
+    let exact_density: Vec<f64> = averages.iter().map(|s| s.density).collect();
+    let l1_density = density
+        .iter()
+        .zip(&exact_density)
+        .map(|(a, b)| (a - b).abs())
+        .sum::<f64>()
+        * dx;
+    // Windows: the contact between the rarefaction tail and the shock, the
+    // shock from half-way to it up to the end of the tube.
+    let w = exact.waves();
+    let (xc, xs) = (0.5 + w.contact * end, 0.5 + w.right_head * end);
+    let xt = 0.5 + w.left_tail * end;
+    let mid_cs = 0.5 * (xc + xs);
+    let (rho_l, rho_r) = (exact.rho_star_left(), exact.rho_star_right());
+    let right = exact.problem().right;
+    let contact_overshoot = overshoot(&x, &density, 0.5 * (xt + xc), mid_cs, rho_r, rho_l);
+    let shock_overshoot = overshoot(&x, &density, mid_cs, 1.0, right.density, rho_r);
+    let shock_pressure_overshoot =
+        overshoot(&x, &pressure, mid_cs, 1.0, right.pressure, exact.p_star());
+    let final_mass = solver.conservation_totals().mass;
+    Ok(SodResult {
+        cells,
+        steps,
+        x,
+        density,
+        velocity,
+        pressure,
+        exact_density,
+        exact_velocity: averages.iter().map(|s| s.velocity).collect(),
+        exact_pressure: averages.iter().map(|s| s.pressure).collect(),
+        l1_density,
+        contact_overshoot,
+        shock_overshoot,
+        shock_pressure_overshoot,
+        relative_mass_change: (final_mass - initial_mass) / initial_mass,
+    })
+}
+
+/// The smooth problem: a density sine wave ρ = 1 + 0.2 sin(2πx) advected at
+/// u = 1 with p = 1 (γ = 1.4) once around the periodic unit interval.
+pub fn advected_sine() -> AdvectedSine {
+    AdvectedSine {
+        mean_density: 1.0,
+        amplitude: 0.2,
+        velocity: 1.0,
+        pressure: 1.0,
+        length: 1.0,
+        x_min: 0.0,
+    }
+}
+
+/// L1 density error of the advected sine wave after one period (t = 1) on
+/// `cells` cells, with the given viscosity and per-sweep Courant number.
+pub fn advected_sine_l1(
+    cells: usize,
+    viscosity: ArtificialViscosity,
+    cfl: f64,
+) -> Result<f64, String> {
+    let wave = advected_sine();
+    let level = Level::new(
+        [0.0; 3],
+        [1.0, 0.01, 0.01],
+        [cells, 1, 1],
+        [1, 1, 1],
+        brisance_fdm::sweep::GHOST,
+    )
+    .map_err(|e| e.to_string())?;
+    let gas = IdealGas::new(1.4, 1.0, 1.0);
+    // Initialise with exact cell averages so the comparison is between
+    // averages (a second-order scheme otherwise carries an O(h²) offset
+    // either way).
+    let dx = 1.0 / cells as f64;
+    let init = |x: [f64; 3]| PrimitiveState {
+        density: wave.cell_average_density(x[0] - 0.5 * dx, x[0] + 0.5 * dx, 0.0),
+        velocity: [wave.velocity, 0.0, 0.0],
+        pressure: wave.pressure,
+    };
+    let options = FdmOptions {
+        cfl,
+        viscosity,
+        ..Default::default()
+    };
+    let mut solver = FdmSolver::new(gas, level, [FdmBoundary::Periodic; 6], options, init)
+        .map_err(|e| e.to_string())?;
+    let end = 1.0;
+    advance_to(&mut solver, end).map_err(|e| e.to_string())?;
+    let data = solver
+        .cell_data(&["density".to_string()])
+        .map_err(|e| e.to_string())?;
+    Ok(data.fields[0]
+        .1
+        .iter()
+        .enumerate()
+        .map(|(i, rho)| {
+            let xc = (i as f64 + 0.5) * dx;
+            (rho - wave.cell_average_density(xc - 0.5 * dx, xc + 0.5 * dx, end)).abs()
+        })
+        .sum::<f64>()
+        * dx)
+}

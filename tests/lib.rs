@@ -1,0 +1,8 @@
+//! Workspace-level integration and validation tests (one test binary, so
+//! the workspace links once). Each module is named for what it checks;
+//! validation cases carry their id from docs/validation.md (`v_sod`).
+
+mod cli;
+mod restart;
+mod v_smooth;
+mod v_sod;
