@@ -20,3 +20,8 @@ pub use brisance_grid as grid;
 pub use brisance_io as io;
 
 pub mod verification;
+
+/// Number of threads in the current rayon pool (what the kernels use).
+pub fn rayon_threads() -> usize {
+    rayon::current_num_threads()
+}

@@ -192,3 +192,33 @@ pub fn advected_sine_l1(
         .sum::<f64>()
         * dx)
 }
+
+/// A 3D box of `n³` cells holding a spherical blast (ideal gas, reflective
+/// walls), the throughput benchmark's problem.
+pub fn blast_box(n: usize, layout: [usize; 3]) -> Result<FdmSolver<IdealGas>, String> {
+    let level = Level::new(
+        [0.0; 3],
+        [1.0; 3],
+        [n, n, n],
+        layout,
+        brisance_fdm::sweep::GHOST,
+    )
+    .map_err(|e| e.to_string())?;
+    let gas = IdealGas::air();
+    FdmSolver::new(
+        gas,
+        level,
+        [FdmBoundary::Reflective; 6],
+        FdmOptions::default(),
+        |x| {
+            let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2) + (x[2] - 0.5).powi(2);
+            let pressure = if r2 < 0.04 { 1.0e6 } else { 1.0e5 };
+            PrimitiveState {
+                density: if r2 < 0.04 { 5.0 } else { 1.2 },
+                velocity: [0.0; 3],
+                pressure,
+            }
+        },
+    )
+    .map_err(|e| e.to_string())
+}

@@ -1,0 +1,474 @@
+//! The `brisance` command line: bad input gives one clear error line
+//! (file:line:column where it applies, what was expected), exit code 1, no
+//! panic and nothing written; the basic commands (`run`, `check`, `list`)
+//! work and a run writes its outputs under the documented names.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+const SOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/sod.ron");
+
+/// The text of `configs/sod.ron`, read at test time.
+fn sod_text() -> String {
+    fs::read_to_string(SOD).expect("configs/sod.ron is readable")
+}
+
+/// `text` with `from` replaced by `to`, which must occur exactly once.
+fn replaced(text: &str, from: &str, to: &str) -> String {
+    assert_eq!(
+        text.matches(from).count(),
+        1,
+        "`{from}` should occur once in the config"
+    );
+    text.replacen(from, to, 1)
+}
+
+/// The 1-based number of the (only) line of `text` containing `marker`.
+fn line_of(text: &str, marker: &str) -> usize {
+    let lines: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.contains(marker))
+        .map(|(i, _)| i + 1)
+        .collect();
+    assert_eq!(lines.len(), 1, "`{marker}` should be on exactly one line");
+    lines[0]
+}
+
+/// The `brisance` binary, with logging at its default level.
+fn brisance() -> Command {
+    let mut cmd = Command::new(BIN);
+    cmd.env_remove("BRISANCE_LOG");
+    cmd
+}
+
+/// Runs `brisance run <config> --out <out> --quiet <extra...>`.
+fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
+    brisance()
+        .arg("run")
+        .arg(config)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .expect("the brisance binary runs")
+}
+
+/// A temporary directory holding `c.ron` with `text`; returns the dir, the
+/// config path and the (not yet existing) output path `<dir>/out`.
+fn scenario(text: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("c.ron");
+    fs::write(&config, text).unwrap();
+    let out = dir.path().join("out");
+    (dir, config, out)
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Checks that the command failed cleanly: exit code 1, no panic, and
+/// stderr is exactly one line starting with `error: `. Returns that line
+/// without the `error: ` prefix.
+fn single_error_line(out: &Output) -> String {
+    let err = stderr(out);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "expected exit code 1; stderr:\n{err}\nstdout:\n{}",
+        stdout(out)
+    );
+    assert!(!err.contains("panicked"), "the binary panicked:\n{err}");
+    let line = err.strip_suffix('\n').unwrap_or(&err);
+    assert!(
+        !line.is_empty() && !line.contains('\n'),
+        "expected exactly one error line, got:\n{err}"
+    );
+    line.strip_prefix("error: ")
+        .unwrap_or_else(|| panic!("error line should start with `error: `: {line}"))
+        .to_string()
+}
+
+/// Checks a located configuration error: one clean error line of the form
+/// `error: <file>:<line>:<col>: <message>` with the expected line. Returns
+/// the message.
+fn located_error(out: &Output, file: &Path, line: usize) -> String {
+    let msg = single_error_line(out);
+    let prefix = format!("{}:", file.display());
+    let rest = msg
+        .strip_prefix(&prefix)
+        .unwrap_or_else(|| panic!("error should start with `{prefix}`: {msg}"));
+    let mut parts = rest.splitn(3, ':');
+    let got_line: usize = parts
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no line number in: {msg}"));
+    let got_col: usize = parts
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no column number in: {msg}"));
+    let message = parts
+        .next()
+        .unwrap_or_else(|| panic!("no message in: {msg}"));
+    assert_eq!(got_line, line, "wrong line in: {msg}");
+    assert!(got_col >= 1, "column should be 1-based in: {msg}");
+    message.trim().to_string()
+}
+
+/// Nothing was written: the output directory does not exist or is empty.
+fn assert_nothing_written(out: &Path) {
+    if out.exists() {
+        let entries: Vec<_> = fs::read_dir(out).unwrap().collect();
+        assert!(
+            entries.is_empty(),
+            "{} should be empty, holds {entries:?}",
+            out.display()
+        );
+    }
+}
+
+fn read_json(path: &Path) -> Value {
+    let text =
+        fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{} is not JSON: {e}", path.display()))
+}
+
+fn first_line(path: &Path) -> String {
+    let text =
+        fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    text.lines().next().unwrap_or_default().to_string()
+}
+
+/// The names of the files directly in `dir`, sorted.
+fn file_names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+// ---------------------------------------------------------------------------
+// Bad input: one clear error line, exit code 1, nothing written.
+
+#[test]
+fn malformed_ron_is_one_located_error_saying_what_was_expected() {
+    let text = replaced(&sod_text(), "end: 0.2, cfl", "end: 0.2 cfl");
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "end: 0.2 cfl"));
+    assert!(
+        message.to_lowercase().contains("expected comma"),
+        "{message}"
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn wrong_type_is_one_located_error_naming_the_expected_type() {
+    let text = replaced(&sod_text(), "end: 0.2,", "end: \"soon\",");
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "\"soon\""));
+    assert!(message.to_lowercase().contains("float"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn unknown_eos_name_lists_the_known_ones() {
+    let text = replaced(&sod_text(), "eos: IdealGas(", "eos: PerfectGas(");
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "PerfectGas"));
+    assert!(message.contains("PerfectGas"), "{message}");
+    assert!(message.contains("IdealGas"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn negative_density_is_located_and_says_it_must_be_positive() {
+    let text = replaced(
+        &sod_text(),
+        "(density: 0.125, pressure: 0.1)",
+        "(density: -0.125, pressure: 0.1)",
+    );
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "density: -0.125"));
+    assert!(message.contains("density"), "{message}");
+    assert!(message.contains("positive"), "{message}");
+    assert!(message.contains("-0.125"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn empty_domain_is_located_and_says_zero_cells() {
+    let text = replaced(&sod_text(), "cells: (400, 1, 1)", "cells: (0, 1, 1)");
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "cells: (0, 1, 1)"));
+    assert!(message.contains("domain.cells"), "{message}");
+    assert!(message.contains("0 cells"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn cfl_above_the_scheme_limit_is_located_and_names_the_limit() {
+    let text = replaced(&sod_text(), "cfl: 0.8", "cfl: 1.5");
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "cfl: 1.5"));
+    assert!(message.contains("cfl"), "{message}");
+    assert!(message.contains("1.5"), "{message}");
+    assert!(message.contains("(0, 1]"), "limit 1 not named: {message}");
+    assert!(message.contains("stability limit"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn unwritable_output_dir_is_one_error_naming_the_path() {
+    let (dir, config, _) = scenario(&sod_text());
+    let blocker = dir.path().join("afile");
+    fs::write(&blocker, b"a regular file").unwrap();
+    let out = blocker.join("out");
+    let output = run(&config, &out, &["--set", "domain.cells=(50,1,1)"]);
+    let message = single_error_line(&output);
+    assert!(
+        message.contains(&out.display().to_string()),
+        "error should name {}: {message}",
+        out.display()
+    );
+    assert!(blocker.is_file());
+    assert_eq!(fs::read(&blocker).unwrap(), b"a regular file");
+    assert_eq!(file_names(dir.path()), ["afile", "c.ron"]);
+}
+
+#[test]
+fn unknown_pipeline_material_lists_the_known_materials() {
+    let text = replaced(
+        &sod_text(),
+        "Fdm(material: \"gas\"",
+        "Fdm(material: \"air\"",
+    );
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &[]);
+    let message = located_error(&output, &config, line_of(&text, "\"air\""));
+    assert!(message.contains("unknown material `air`"), "{message}");
+    assert!(message.contains("known materials: `gas`"), "{message}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn set_with_a_path_that_does_not_exist_names_the_path() {
+    let (_dir, config, out) = scenario(&sod_text());
+    // A path below a field that does not exist.
+    let output = run(&config, &out, &["--set", "time.nothere.x=3"]);
+    let message = single_error_line(&output);
+    assert!(message.contains("time.nothere.x"), "{message}");
+    assert_nothing_written(&out);
+    // A misspelt field of an existing struct.
+    let output = run(&config, &out, &["--set", "time.cfll=0.5"]);
+    let message = single_error_line(&output);
+    assert!(message.contains("cfll"), "{message}");
+    assert!(message.contains("cfl"), "{message}");
+    assert_nothing_written(&out);
+}
+
+// ---------------------------------------------------------------------------
+// The basic commands.
+
+#[test]
+fn set_overrides_the_grid_and_the_run_completes() {
+    let (_dir, config, out) = scenario(&sod_text());
+    let output = run(&config, &out, &["--set", "domain.cells=(60,1,1)"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(!stderr(&output).contains("panicked"));
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["completed"], Value::Bool(true), "{summary}");
+    assert!(summary["steps"].as_u64().unwrap() > 0, "{summary}");
+    assert_eq!(summary["final_time"].as_f64(), Some(0.2), "{summary}");
+    // The field files hold 60 cells along x.
+    let vti = fs::read_to_string(out.join("vtk").join("sod_00000.vti")).unwrap();
+    assert!(
+        vti.contains("WholeExtent=\"0 60 0 1 0 1\""),
+        "not a 60-cell grid: {}",
+        &vti[..vti.len().min(300)]
+    );
+}
+
+#[test]
+fn check_prints_the_resolved_pipeline() {
+    let output = brisance().arg("check").arg(SOD).output().unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("ok"), "{text}");
+    assert!(text.contains("Fdm"), "{text}");
+    assert!(text.contains("400 x 1 x 1"), "{text}");
+    assert!(text.contains("IdealGas"), "{text}");
+}
+
+#[test]
+fn check_of_a_bad_file_fails_with_a_located_error() {
+    let text = replaced(&sod_text(), "cfl: 0.8", "cfl: 2.0");
+    let (_dir, config, _) = scenario(&text);
+    let output = brisance().arg("check").arg(&config).output().unwrap();
+    let message = located_error(&output, &config, line_of(&text, "cfl: 2.0"));
+    assert!(message.contains("cfl"), "{message}");
+    assert!(stdout(&output).is_empty(), "{}", stdout(&output));
+}
+
+#[test]
+fn list_names_the_equations_of_state_and_pipelines() {
+    let output = brisance().arg("list").output().unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("IdealGas"), "{text}");
+    assert!(text.contains("Fdm"), "{text}");
+}
+
+#[test]
+fn run_without_a_config_runs_the_built_in_default_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let output = brisance()
+        .current_dir(dir.path())
+        .arg("run")
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .args(["--set", "time.end=1e-4"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["completed"], Value::Bool(true), "{summary}");
+    assert_eq!(summary["final_time"].as_f64(), Some(1e-4), "{summary}");
+    assert!(out.join("conservation.csv").is_file());
+    let names = file_names(&out);
+    assert!(names.iter().any(|n| n.ends_with(".pvd")), "{names:?}");
+    let vtk = file_names(&out.join("vtk"));
+    assert!(
+        vtk.len() >= 2 && vtk.iter().all(|n| n.ends_with(".vti")),
+        "{vtk:?}"
+    );
+    // Nothing is written next to the working directory besides `out`.
+    assert_eq!(file_names(dir.path()), ["out"]);
+}
+
+#[test]
+fn run_writes_its_outputs_under_the_documented_names() {
+    let (_dir, config, out) = scenario(&sod_text());
+    let output = run(&config, &out, &["--set", "domain.cells=(50,1,1)"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+
+    assert_eq!(
+        first_line(&out.join("gauges").join("x0_75.csv")),
+        "time,density,pressure,velocity_x"
+    );
+    // Output times 0, 0.05, 0.1, 0.15, 0.2: five numbered line-outs + final.
+    let lineouts = file_names(&out.join("lineouts"));
+    assert_eq!(
+        lineouts,
+        [
+            "tube_0.csv",
+            "tube_1.csv",
+            "tube_2.csv",
+            "tube_3.csv",
+            "tube_4.csv",
+            "tube_final.csv"
+        ]
+    );
+    for name in &lineouts {
+        let header = first_line(&out.join("lineouts").join(name));
+        assert!(header.starts_with("x,y,z,"), "{name}: {header}");
+        assert_eq!(
+            header, "x,y,z,density,velocity_x,pressure,specific_internal_energy",
+            "{name}"
+        );
+    }
+    assert_eq!(
+        first_line(&out.join("conservation.csv")),
+        "time,mass,momentum_x,momentum_y,momentum_z,energy"
+    );
+    let vtk = file_names(&out.join("vtk"));
+    assert_eq!(
+        vtk,
+        [
+            "sod_00000.vti",
+            "sod_00001.vti",
+            "sod_00002.vti",
+            "sod_00003.vti",
+            "sod_00004.vti"
+        ]
+    );
+    let pvd = fs::read_to_string(out.join("sod.pvd")).unwrap();
+    for name in &vtk {
+        assert!(pvd.contains(&format!("file=\"vtk/{name}\"")), "{pvd}");
+    }
+
+    let s = read_json(&out.join("summary.json"));
+    assert!(s["steps"].as_u64().unwrap() > 0, "{s}");
+    assert_eq!(s["final_time"].as_f64(), Some(0.2), "{s}");
+    assert!(s["wall_seconds"].as_f64().unwrap() >= 0.0, "{s}");
+    assert!(s["throughput"].as_f64().unwrap() > 0.0, "{s}");
+    assert_eq!(s["throughput_unit"], "cell-updates/s", "{s}");
+    let dm = s["relative_mass_change"]
+        .as_f64()
+        .expect("relative_mass_change");
+    let de = s["relative_energy_change"]
+        .as_f64()
+        .expect("relative_energy_change");
+    assert!(dm.abs() < 1e-6, "{s}");
+    assert!(de.abs() < 1e-6, "{s}");
+    assert_eq!(s["completed"], Value::Bool(true), "{s}");
+    assert_eq!(s["stop_reason"], Value::Null, "{s}");
+}
+
+#[test]
+fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
+    // The halves fly apart at Mach ~ 50: the gap between them empties.
+    let text = replaced(
+        &sod_text(),
+        "(density: 1.0, pressure: 1.0)",
+        "(density: 1.0, velocity: (-20, 0, 0), pressure: 0.01)",
+    );
+    let text = replaced(
+        &text,
+        "(density: 0.125, pressure: 0.1)",
+        "(density: 0.125, velocity: (20, 0, 0), pressure: 0.01)",
+    );
+    let (_dir, config, out) = scenario(&text);
+    let output = run(&config, &out, &["--set", "domain.cells=(50,1,1)"]);
+    let message = single_error_line(&output);
+    assert!(
+        message.contains("non-physical state at t = "),
+        "should name the time: {message}"
+    );
+    assert!(
+        message.contains(" in cell ("),
+        "should name the cell: {message}"
+    );
+
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["completed"], Value::Bool(false), "{summary}");
+    let reason = summary["stop_reason"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no stop_reason: {summary}"));
+    assert!(reason.contains("non-physical state"), "{reason}");
+    // The outputs written before the failure are kept.
+    assert!(out.join("vtk").join("sod_00000.vti").is_file());
+    assert!(out.join("lineouts").join("tube_0.csv").is_file());
+    assert!(out.join("sod.pvd").is_file());
+    assert!(out.join("conservation.csv").is_file());
+}

@@ -1,0 +1,255 @@
+//! Checkpoints and restart: `brisance run --restart <checkpoint>` continues
+//! an interrupted run and ends bit-identical to an uninterrupted one, also
+//! on another thread count and patch split; a checkpoint of another problem
+//! or a damaged checkpoint file is refused with one clear error line.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+const SOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/sod.ron");
+
+/// The overrides every run of these tests shares.
+const SETS: [&str; 4] = [
+    "--set",
+    "domain.cells=(100,1,1)",
+    "--set",
+    "outputs.checkpoint_every=10",
+];
+
+/// Runs `brisance run configs/sod.ron --out <out> --quiet <SETS> <extra...>`.
+fn run_sod(out: &Path, extra: &[&str]) -> Output {
+    Command::new(BIN)
+        .env_remove("BRISANCE_LOG")
+        .arg("run")
+        .arg(SOD)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(SETS)
+        .args(extra)
+        .output()
+        .expect("the brisance binary runs")
+}
+
+fn assert_success(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "run failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Checks exit code 1, no panic and exactly one `error: ` line on stderr;
+/// returns the line.
+fn single_error_line(out: &Output) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "expected exit code 1:\n{err}");
+    assert!(!err.contains("panicked"), "the binary panicked:\n{err}");
+    let line = err.strip_suffix('\n').unwrap_or(&err);
+    assert!(
+        line.starts_with("error: ") && !line.contains('\n'),
+        "expected one `error: ` line, got:\n{err}"
+    );
+    line.to_string()
+}
+
+/// The uninterrupted reference run, and the checkpoint in its middle.
+fn reference_run(dir: &Path) -> (PathBuf, PathBuf) {
+    let a = dir.join("A");
+    assert_success(&run_sod(&a, &[]));
+    let mut checkpoints: Vec<PathBuf> = fs::read_dir(a.join("checkpoints"))
+        .expect("the run wrote checkpoints")
+        .map(|e| e.unwrap().path())
+        .collect();
+    checkpoints.sort();
+    assert!(
+        checkpoints.len() >= 2,
+        "need a checkpoint before the end: {checkpoints:?}"
+    );
+    let middle = checkpoints[checkpoints.len() / 2].clone();
+    (a, middle)
+}
+
+/// Every file under `dir`, as paths relative to `root`, sorted.
+fn files_under(root: &Path, dir: &str) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![root.join(dir)];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap_or_else(|e| panic!("cannot list {}: {e}", d.display())) {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                files.push(p.strip_prefix(root).unwrap().to_path_buf());
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+fn assert_same_bytes(a: &Path, b: &Path, rel: &Path) {
+    let left = fs::read(a.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
+    let right = fs::read(b.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
+    assert!(
+        left == right,
+        "{} differs between the uninterrupted and the restarted run",
+        rel.display()
+    );
+}
+
+fn read_json(path: &Path) -> Value {
+    let text =
+        fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{} is not JSON: {e}", path.display()))
+}
+
+/// The final VTK file and line-out of the sod scenario.
+fn final_outputs(root: &Path) -> Vec<PathBuf> {
+    let vtk = files_under(root, "vtk");
+    let last_vti = vtk.last().expect("a VTK file was written").clone();
+    vec![last_vti, PathBuf::from("lineouts/tube_final.csv")]
+}
+
+#[test]
+fn restart_ends_bit_identical_to_an_uninterrupted_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, checkpoint) = reference_run(dir.path());
+    let b = dir.path().join("B");
+    assert_success(&run_sod(&b, &["--restart", checkpoint.to_str().unwrap()]));
+
+    let mut compared = Vec::new();
+    for sub in ["vtk", "lineouts", "gauges"] {
+        compared.extend(files_under(&b, sub));
+    }
+    compared.push(PathBuf::from("conservation.csv"));
+    compared.push(PathBuf::from("sod.pvd"));
+    // The restarted run wrote the later field outputs, including the last.
+    assert!(
+        compared.contains(&final_outputs(&a)[0]),
+        "the restarted run did not write the final VTK file: {compared:?}"
+    );
+    assert!(compared.contains(&PathBuf::from("lineouts/tube_final.csv")));
+    assert!(compared.contains(&PathBuf::from("gauges/x0_75.csv")));
+    for rel in &compared {
+        assert_same_bytes(&a, &b, rel);
+    }
+
+    let sa = read_json(&a.join("summary.json"));
+    let sb = read_json(&b.join("summary.json"));
+    assert_eq!(sb["completed"], Value::Bool(true), "{sb}");
+    for key in [
+        "steps",
+        "final_time",
+        "initial_totals",
+        "final_totals",
+        "relative_mass_change",
+        "relative_energy_change",
+    ] {
+        assert_eq!(sa[key], sb[key], "summary `{key}` differs");
+    }
+}
+
+#[test]
+fn restart_on_other_threads_and_patches_ends_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, checkpoint) = reference_run(dir.path());
+    let c = dir.path().join("C");
+    assert_success(&run_sod(
+        &c,
+        &[
+            "--threads",
+            "1",
+            "--set",
+            "domain.patches=(4,1,1)",
+            "--restart",
+            checkpoint.to_str().unwrap(),
+        ],
+    ));
+    for rel in final_outputs(&a) {
+        assert_same_bytes(&a, &c, &rel);
+    }
+    let sa = read_json(&a.join("summary.json"));
+    let sc = read_json(&c.join("summary.json"));
+    assert_eq!(sa["steps"], sc["steps"]);
+    assert_eq!(sa["final_totals"], sc["final_totals"]);
+}
+
+#[test]
+fn restart_with_another_domain_is_refused_as_another_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_a, checkpoint) = reference_run(dir.path());
+    let d = dir.path().join("D");
+    let output = run_sod(
+        &d,
+        &[
+            "--set",
+            "domain.cells=(120,1,1)",
+            "--restart",
+            checkpoint.to_str().unwrap(),
+        ],
+    );
+    let line = single_error_line(&output);
+    assert!(
+        line.contains(&checkpoint.display().to_string()),
+        "should name the checkpoint: {line}"
+    );
+    assert!(line.contains("written for another problem"), "{line}");
+    assert!(line.contains("domain"), "{line}");
+    assert!(!d.exists(), "nothing should be written");
+}
+
+#[test]
+fn truncated_or_garbage_checkpoint_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_a, checkpoint) = reference_run(dir.path());
+    let bytes = fs::read(&checkpoint).unwrap();
+
+    let mut garbage_after_header = bytes[..12].to_vec();
+    garbage_after_header.extend((0..200u32).map(|i| (i * 37 % 251) as u8));
+    let cases: [(&str, Vec<u8>, Option<&str>); 4] = [
+        (
+            "truncated.bin",
+            bytes[..bytes.len() / 2].to_vec(),
+            Some("truncated"),
+        ),
+        ("empty.bin", Vec::new(), Some("truncated")),
+        (
+            "garbage.bin",
+            b"this is not a checkpoint at all\n".to_vec(),
+            Some("magic"),
+        ),
+        ("garbage_after_header.bin", garbage_after_header, None),
+    ];
+    for (name, content, says) in cases {
+        let file = dir.path().join(name);
+        fs::write(&file, &content).unwrap();
+        let out = dir.path().join(format!("out_{name}"));
+        let output = run_sod(&out, &["--restart", file.to_str().unwrap()]);
+        let line = single_error_line(&output);
+        assert!(
+            line.contains(&file.display().to_string()),
+            "{name}: should name the file: {line}"
+        );
+        assert!(
+            line.contains("not a valid Brisance checkpoint"),
+            "{name}: {line}"
+        );
+        if let Some(word) = says {
+            assert!(line.contains(word), "{name}: should say `{word}`: {line}");
+        }
+        assert!(!out.exists(), "{name}: nothing should be written");
+    }
+    // A checkpoint that does not exist.
+    let missing = dir.path().join("missing.bin");
+    let out = dir.path().join("out_missing");
+    let output = run_sod(&out, &["--restart", missing.to_str().unwrap()]);
+    let line = single_error_line(&output);
+    assert!(line.contains(&missing.display().to_string()), "{line}");
+    assert!(!out.exists());
+}
