@@ -23,7 +23,7 @@
 
 use brisance_core::Eos;
 
-use crate::state::{specific_internal_energy, NVAR};
+use crate::state::NVAR;
 use crate::viscosity::{switch_theta, ArtificialViscosity};
 
 /// Ghost layers the sweep needs on each side.
@@ -112,13 +112,50 @@ fn for_rows(s: &SlabShape, lo: usize, hi: usize, mut f: impl FnMut(usize, usize,
     }
 }
 
+/// `[e(0), e(1), ..., e(4)]` written out, so inner loops stay free of
+/// closure calls (`std::array::from_fn` is not always inlined there).
+macro_rules! per_var {
+    (|$f:ident| $e:expr) => {
+        [
+            {
+                let $f = 0;
+                $e
+            },
+            {
+                let $f = 1;
+                $e
+            },
+            {
+                let $f = 2;
+                $e
+            },
+            {
+                let $f = 3;
+                $e
+            },
+            {
+                let $f = 4;
+                $e
+            },
+        ]
+    };
+}
+
+/// The `NVAR` arrays of length `n` stored one after another in `buf`.
+fn split_vars(buf: &mut [f64], n: usize) -> [&mut [f64]; NVAR] {
+    let mut parts = buf.chunks_exact_mut(n);
+    std::array::from_fn(|_| parts.next().expect("buffer holds NVAR arrays"))
+}
+
 /// Flux along `AXIS` of a conservative state (seed 001 eq 2), and pressure.
 #[inline(always)]
 fn flux<const AXIS: usize, E: Eos>(eos: &E, u: [f64; NVAR]) -> [f64; NVAR] {
     let rho = u[0];
-    let e = specific_internal_energy(rho, u[1], u[2], u[3], u[4]);
+    // One division per state: multiply by 1/ρ for e and the normal velocity.
+    let inv = 1.0 / rho;
+    let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
     let p = eos.pressure(rho, e);
-    let vn = u[1 + AXIS] / rho;
+    let vn = u[1 + AXIS] * inv;
     let mut f = [
         u[1 + AXIS],
         u[1] * vn,
@@ -171,12 +208,15 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
     for_rows(shape, g - 3, hi_cell + 3, |fo, so, len| {
         let rho_m = fields.row(0, fo - sa, len);
         let rho_p = fields.row(0, fo + sa, len);
-        let u: [&[f64]; NVAR] = std::array::from_fn(|f| fields.row(f, fo, len));
+        let u: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
         let th = &mut theta[so..so + len];
         let nv = &mut nu[so..so + len];
         for k in 0..len {
             let rho = u[0][k];
-            let e = specific_internal_energy(rho, u[1][k], u[2][k], u[3][k], u[4][k]);
+            let inv = 1.0 / rho;
+            let e = (u[4][k]
+                - 0.5 * (u[1][k] * u[1][k] + u[2][k] * u[2][k] + u[3][k] * u[3][k]) * inv)
+                * inv;
             let p = eos.pressure(rho, e);
             ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
             th[k] = switch_theta(rho_m[k], rho, rho_p[k]);
@@ -186,46 +226,66 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
 
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
     for_rows(shape, g - 2, hi_cell + 1, |_, so, len| {
-        for k in so..so + len {
-            let theta_face = theta[k - ss]
-                .max(theta[k])
-                .max(theta[k + ss])
-                .max(theta[k + 2 * ss]);
-            mu[k] = viscosity.face_coefficient(theta_face, nu[k], nu[k + ss]);
+        let tm = &theta[so - ss..][..len];
+        let t0 = &theta[so..][..len];
+        let tp = &theta[so + ss..][..len];
+        let tpp = &theta[so + 2 * ss..][..len];
+        let (n0, np) = (&nu[so..][..len], &nu[so + ss..][..len]);
+        let m = &mut mu[so..][..len];
+        for k in 0..len {
+            let theta_face = tm[k].max(t0[k]).max(tp[k]).max(tpp[k]);
+            m[k] = viscosity.face_coefficient(theta_face, n0[k], np[k]);
         }
     });
 
+    let mut ubar = split_vars(ubar, n);
+    let mut fbar = split_vars(fbar, n);
+    let mut fstar = split_vars(fstar, n);
+
     // Pass 3: Ū (eq 3 in flux form) and F(Ū) for a ∈ [g−1, hi+1).
     for_rows(shape, g - 1, hi_cell + 1, |fo, so, len| {
-        let um: [&[f64]; NVAR] = std::array::from_fn(|f| fields.row(f, fo - sa, len));
-        let u0: [&[f64]; NVAR] = std::array::from_fn(|f| fields.row(f, fo, len));
-        let up: [&[f64]; NVAR] = std::array::from_fn(|f| fields.row(f, fo + sa, len));
-        let mu_m = &mu[so - ss..so - ss + len];
-        let mu_0 = &mu[so..so + len];
+        let um: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo - sa, len));
+        let u0: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
+        let up: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo + sa, len));
+        let mu_m = &mu[so - ss..][..len];
+        let mu_0 = &mu[so..][..len];
+        let ub = ubar.each_mut().map(|a| &mut a[so..][..len]);
+        let fb = fbar.each_mut().map(|a| &mut a[so..][..len]);
         for k in 0..len {
             let (a, b) = (mu_0[k], mu_m[k]);
-            let s: [f64; NVAR] = std::array::from_fn(|f| {
-                u0[f][k] + a * (up[f][k] - u0[f][k]) - b * (u0[f][k] - um[f][k])
-            });
+            let s: [f64; NVAR] =
+                per_var!(|f| u0[f][k] + a * (up[f][k] - u0[f][k]) - b * (u0[f][k] - um[f][k]));
             let fl = flux::<AXIS, E>(eos, s);
-            for f in 0..NVAR {
-                ubar[f * n + so + k] = s[f];
-                fbar[f * n + so + k] = fl[f];
-            }
+            ub[0][k] = s[0];
+            ub[1][k] = s[1];
+            ub[2][k] = s[2];
+            ub[3][k] = s[3];
+            ub[4][k] = s[4];
+            fb[0][k] = fl[0];
+            fb[1][k] = fl[1];
+            fb[2][k] = fl[2];
+            fb[3][k] = fl[3];
+            fb[4][k] = fl[4];
         }
     });
 
     // Pass 4: Richtmyer half step at faces a+½ for a ∈ [g−1, hi).
+    let half_lambda = 0.5 * lambda;
     for_rows(shape, g - 1, hi_cell, |_, so, len| {
-        for k in so..so + len {
-            let s: [f64; NVAR] = std::array::from_fn(|f| {
-                0.5 * (ubar[f * n + k] + ubar[f * n + k + ss])
-                    - 0.5 * lambda * (fbar[f * n + k + ss] - fbar[f * n + k])
-            });
+        let u0: [&[f64]; NVAR] = per_var!(|f| &ubar[f][so..][..len]);
+        let up: [&[f64]; NVAR] = per_var!(|f| &ubar[f][so + ss..][..len]);
+        let f0: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so..][..len]);
+        let fp: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so + ss..][..len]);
+        let fs = fstar.each_mut().map(|a| &mut a[so..][..len]);
+        for k in 0..len {
+            let s: [f64; NVAR] =
+                per_var!(|f| 0.5 * (u0[f][k] + up[f][k]) - half_lambda * (fp[f][k] - f0[f][k]));
             let fl = flux::<AXIS, E>(eos, s);
-            for f in 0..NVAR {
-                fstar[f * n + k] = fl[f];
-            }
+            fs[0][k] = fl[0];
+            fs[1][k] = fl[1];
+            fs[2][k] = fl[2];
+            fs[3][k] = fl[3];
+            fs[4][k] = fl[4];
         }
     });
 
@@ -233,9 +293,9 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
     for_rows(shape, g, hi_cell, |fo, so, len| {
         for f in 0..NVAR {
             let out = fields.row_mut(f, fo, len);
-            let ub = &ubar[f * n + so..f * n + so + len];
-            let fp = &fstar[f * n + so..f * n + so + len];
-            let fm = &fstar[f * n + so - ss..f * n + so - ss + len];
+            let ub = &ubar[f][so..][..len];
+            let fp = &fstar[f][so..][..len];
+            let fm = &fstar[f][so - ss..][..len];
             for k in 0..len {
                 out[k] = ub[k] - lambda * (fp[k] - fm[k]);
             }
