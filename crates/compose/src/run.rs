@@ -393,7 +393,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
                 r.state.next_output += 1;
             }
             if let Some(every) = scenario.outputs.checkpoint_every {
-                if r.state.steps % every == 0 {
+                if r.state.steps.is_multiple_of(every) {
                     r.write_checkpoint()?;
                 }
             }

@@ -127,11 +127,11 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
         ));
     }
     let d = &s.domain;
-    for a in 0..3 {
+    for (a, axis) in AXES.iter().enumerate() {
         if d.cells[a] == 0 {
             return Err((
                 format!("domain.cells.{a}"),
-                format!("the domain is empty: 0 cells along {}", AXES[a]),
+                format!("the domain is empty: 0 cells along {}", axis),
             ));
         }
         if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.upper[a] > d.lower[a]) {
@@ -139,7 +139,7 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
                 format!("domain.upper.{a}"),
                 format!(
                     "upper bound {} must exceed lower bound {} along {}",
-                    d.upper[a], d.lower[a], AXES[a]
+                    d.upper[a], d.lower[a], axis
                 ),
             ));
         }
@@ -148,7 +148,7 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
                 format!("domain.patches.{a}"),
                 format!(
                     "{} patches along {}: need between 1 and the {} cells",
-                    d.patches[a], AXES[a], d.cells[a]
+                    d.patches[a], axis, d.cells[a]
                 ),
             ));
         }

@@ -170,8 +170,8 @@ impl<E: Eos> FdmSolver<E> {
                             FdmError::Invalid(format!("initial state in cell {g:?}: {e}"))
                         })?;
                         let n = patch.index_of_global(g);
-                        for f in 0..NVAR {
-                            pf.data[f][n] = u[f];
+                        for (values, v) in pf.data.iter_mut().zip(u) {
+                            values[n] = v;
                         }
                     }
                 }
@@ -418,16 +418,19 @@ impl<E: Eos> Solver for FdmSolver<E> {
                 for k in 0..p.size[2] {
                     for j in 0..p.size[1] {
                         let start = p.local_index([p.ghost[0], p.ghost[1] + j, p.ghost[2] + k]);
-                        for n in start..start + p.size[0] {
-                            let rho = d[RHO][n];
-                            let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
-                            let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
+                        let row = |f: usize| &d[f][start..start + p.size[0]];
+                        let (r, mx, my, mz, en) =
+                            (row(RHO), row(MOM), row(MOM + 1), row(MOM + 2), row(ENERGY));
+                        for n in 0..r.len() {
+                            let rho = r[n];
+                            let m = [mx[n], my[n], mz[n]];
+                            let e = specific_internal_energy(rho, m[0], m[1], m[2], en[n]);
                             let p = self.eos.pressure(rho, e);
                             ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
                             let c = self.eos.sound_speed(rho, e);
-                            for a in 0..3 {
-                                if active[a] {
-                                    min_t = min_t.min(spacing[a] / ((m[a] / rho).abs() + c));
+                            for ((&on, dx), mom) in active.iter().zip(spacing).zip(m) {
+                                if on {
+                                    min_t = min_t.min(dx / ((mom / rho).abs() + c));
                                 }
                             }
                         }
@@ -541,7 +544,9 @@ impl<E: Eos> Solver for FdmSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let mut fields = vec![Vec::with_capacity(self.level.geometry.cell_count()); NVAR];
+        let mut fields: Vec<Vec<f64>> = (0..NVAR)
+            .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
+            .collect();
         self.for_each_cell_in_order(|_, pid, n| {
             for (f, out) in fields.iter_mut().enumerate() {
                 out.push(self.fields[pid].data[f][n]);

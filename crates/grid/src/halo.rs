@@ -106,30 +106,35 @@ fn neighbour(
     Some(level.patch_id(idx))
 }
 
+/// What packing reads: the level, its fields and their boundary conditions.
+struct Source<'a> {
+    level: &'a Level,
+    set: &'a FieldSet,
+    bcs: &'a BoundaryConditions,
+    fields: &'a [PatchFields],
+}
+
 /// Packs the values for the ghost layers on `side` of `axis` of patch `id`.
-fn pack(
-    out: &mut Vec<f64>,
-    level: &Level,
-    set: &FieldSet,
-    bcs: &BoundaryConditions,
-    fields: &[PatchFields],
-    id: usize,
-    axis: usize,
-    side: usize,
-) {
+fn pack(out: &mut Vec<f64>, src: &Source, id: usize, axis: usize, side: usize) {
+    let Source {
+        level,
+        set,
+        bcs,
+        fields,
+    } = *src;
     out.clear();
     let patch = &level.patches[id];
     let g = patch.ghost[axis];
     let size = patch.size[axis];
     if let Some(q) = neighbour(level, bcs, patch, axis, side) {
-        let src = &fields[q];
+        let from = &fields[q];
         let qsize = level.patches[q].size[axis];
-        for values in &src.data {
+        for values in &from.data {
             for a in 0..g {
                 // Ghost a on the low side is the neighbour's interior layer
                 // qsize + a (its top g layers); on the high side its first g.
                 let layer = if side == 0 { qsize + a } else { g + a };
-                for_each_in_plane(src.dims, axis, layer, |n| out.push(values[n]));
+                for_each_in_plane(from.dims, axis, layer, |n| out.push(values[n]));
             }
         }
         return;
@@ -205,13 +210,18 @@ impl HaloExchange for InProcessExchange {
         }
         self.buffers
             .resize_with(level.patches.len(), Default::default);
-        let shared: &[PatchFields] = fields;
+        let src = Source {
+            level,
+            set,
+            bcs,
+            fields,
+        };
         self.buffers
             .par_iter_mut()
             .enumerate()
             .for_each(|(id, bufs)| {
                 for (side, buf) in bufs.iter_mut().enumerate() {
-                    pack(buf, level, set, bcs, shared, id, axis, side);
+                    pack(buf, &src, id, axis, side);
                 }
             });
         fields
