@@ -279,3 +279,88 @@ fn time_step_follows_the_cfl_formula() {
     let expected = 2.0 * 0.5 * 0.1 / (0.5 + 1.4f64.sqrt());
     assert!((s.stable_dt().unwrap() - expected).abs() < 1e-15);
 }
+
+mod contract {
+    //! Property tests of the `Solver` contract on random initial data.
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A periodic 2D box with a random box of a second state inside.
+    fn random_problem(
+        layout: [usize; 3],
+        inner: (f64, f64, f64, f64),
+        outer: (f64, f64),
+        corner: (f64, f64),
+    ) -> FdmSolver<IdealGas> {
+        let level = Level::new(
+            [0.0; 3],
+            [1.0, 1.0, 0.1],
+            [16, 12, 1],
+            layout,
+            crate::sweep::GHOST,
+        )
+        .unwrap();
+        let (rho_i, p_i, u_i, v_i) = inner;
+        FdmSolver::new(
+            gas(),
+            level,
+            [FdmBoundary::Periodic; 6],
+            FdmOptions::default(),
+            move |x| {
+                if x[0] > corner.0
+                    && x[0] < corner.0 + 0.4
+                    && x[1] > corner.1
+                    && x[1] < corner.1 + 0.4
+                {
+                    state(rho_i, [u_i, v_i, 0.0], p_i)
+                } else {
+                    state(outer.0, [0.0; 3], outer.1)
+                }
+            },
+        )
+        .unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+
+        #[test]
+        fn random_periodic_flows_conserve_and_stay_physical(
+            rho_i in 0.2..5.0f64, p_i in 0.2..5.0f64, u_i in -0.5..0.5f64, v_i in -0.5..0.5f64,
+            rho_o in 0.2..5.0f64, p_o in 0.2..5.0f64, cx in 0.0..0.6f64, cy in 0.0..0.6f64,
+        ) {
+            let mut s = random_problem([1, 1, 1], (rho_i, p_i, u_i, v_i), (rho_o, p_o), (cx, cy));
+            let t0 = s.conservation_totals();
+            for _ in 0..6 {
+                let dt = s.stable_dt().unwrap();
+                prop_assert!(dt > 0.0 && dt.is_finite());
+                s.advance(dt).unwrap();
+            }
+            let t1 = s.conservation_totals();
+            prop_assert!(((t1.mass - t0.mass) / t0.mass).abs() < 1e-13);
+            prop_assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
+            for a in 0..2 {
+                prop_assert!((t1.momentum[a] - t0.momentum[a]).abs() < 1e-12 * (t0.mass + t0.energy));
+            }
+            let d = s.cell_data(&["density".into(), "pressure".into()]).unwrap();
+            prop_assert!(d.fields.iter().all(|(_, v)| v.iter().all(|x| *x > 0.0)));
+        }
+
+        #[test]
+        fn random_patch_splits_give_the_same_bits(px in 1usize..4, py in 1usize..3, rho_i in 0.2..5.0f64, p_i in 0.2..5.0f64) {
+            let run = |layout| {
+                let mut s = random_problem(layout, (rho_i, p_i, 0.1, -0.2), (1.0, 1.0), (0.3, 0.2));
+                for _ in 0..4 {
+                    let dt = s.stable_dt().unwrap();
+                    s.advance(dt).unwrap();
+                }
+                all_fields(&s)
+            };
+            let a = run([1, 1, 1]);
+            let b = run([px, py, 1]);
+            for ((name, x), (_, y)) in a.iter().zip(&b) {
+                prop_assert!(x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()), "{} differs", name);
+            }
+        }
+    }
+}

@@ -340,4 +340,41 @@ mod tests {
         bcs.faces[2] = FaceBc::Periodic;
         assert!(bcs.validate(2).unwrap_err().contains("y_high"));
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+        /// With periodic faces every ghost cell, corners included, holds the
+        /// interior value of the cell it stands for, for any patch split.
+        #[test]
+        fn periodic_ghosts_hold_the_wrapped_interior_value(
+            nx in 2usize..12, ny in 1usize..9, nz in 1usize..5,
+            px in 1usize..4, py in 1usize..3, pz in 1usize..3, g in 1usize..3,
+        ) {
+            let cells = [nx, ny, nz];
+            let layout = [px.min(nx / g), py.min((ny / g).max(1)), pz.min((nz / g).max(1))];
+            proptest::prop_assume!(layout.iter().all(|&l| l >= 1));
+            let Ok(level) = Level::new([0.0; 3], [1.0; 3], cells, layout, g) else {
+                return Ok(());
+            };
+            let mut fields = filled(&level);
+            let bcs = BoundaryConditions::uniform(FaceBc::Periodic);
+            InProcessExchange::new().fill_all(&level, &set(), &bcs, &mut fields);
+            for (pid, p) in level.patches.iter().enumerate() {
+                let d = p.dims();
+                for k in 0..d[2] {
+                    for j in 0..d[1] {
+                        for i in 0..d[0] {
+                            let gi: [i64; 3] = std::array::from_fn(|a| {
+                                let x = [i, j, k][a] as i64 + p.lo[a] as i64 - p.ghost[a] as i64;
+                                x.rem_euclid(cells[a] as i64)
+                            });
+                            let want = (gi[0] + 100 * gi[1] + 10000 * gi[2]) as f64;
+                            proptest::prop_assert_eq!(value(&level, &fields, pid, [i, j, k], 0), want);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
