@@ -2,7 +2,7 @@
 //!
 //! An equation of state joins the harness with one line in its crate's tests:
 //!
-//! ```ignore
+//! ```text
 //! brisance_core::eos_contract_tests!(ideal_gas_air, IdealGas::air(), rho: 0.01..100.0, e: 1.0e3..1.0e7);
 //! ```
 //!
