@@ -88,6 +88,8 @@ pub struct FdmSolver<E: Eos> {
     bcs: BoundaryConditions,
     fields: Vec<PatchFields>,
     exchange: InProcessExchange,
+    /// Reused list of (patch, slab, pointers) work items of a sweep.
+    work_items: Vec<(usize, usize, PatchPtrs)>,
     options: FdmOptions,
     time: f64,
     steps: u64,
@@ -185,6 +187,7 @@ impl<E: Eos> FdmSolver<E> {
             bcs,
             fields,
             exchange: InProcessExchange::new(),
+            work_items: Vec::new(),
             options,
             time: 0.0,
             steps: 0,
@@ -211,16 +214,14 @@ impl<E: Eos> FdmSolver<E> {
         // Work items: (patch, slab). x and y sweeps slab by k-planes, z
         // sweeps by j-planes; slabs of one patch write disjoint cells.
         let slab_axis = if axis == 2 { 1 } else { 2 };
-        let items: Vec<(usize, usize, PatchPtrs)> = self
-            .fields
-            .iter_mut()
-            .enumerate()
-            .flat_map(|(id, f)| {
-                let ptrs = PatchPtrs::new(&mut f.data);
-                let n = self.level.patches[id].size[slab_axis];
-                (0..n).map(move |s| (id, s, ptrs))
-            })
-            .collect();
+        // The list is rebuilt in place, so a warmed-up step allocates nothing.
+        let mut items = std::mem::take(&mut self.work_items);
+        items.clear();
+        for (id, f) in self.fields.iter_mut().enumerate() {
+            let ptrs = PatchPtrs::new(&mut f.data);
+            let n = self.level.patches[id].size[slab_axis];
+            items.extend((0..n).map(|s| (id, s, ptrs)));
+        }
         let level = &self.level;
         let all_ok = items
             .par_iter()
@@ -279,6 +280,7 @@ impl<E: Eos> FdmSolver<E> {
                 })
             })
             .reduce(|| true, |a, b| a & b);
+        self.work_items = items;
         if all_ok {
             Ok(())
         } else {
@@ -406,7 +408,9 @@ impl<E: Eos> Solver for FdmSolver<E> {
     fn stable_dt(&self) -> Result<f64, SolverError> {
         let spacing = self.level.geometry.spacing;
         let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
-        let per_patch: Vec<(f64, bool)> = self
+        // (min over cells, all cells physical); min is exact, so the
+        // reduction order cannot change the result.
+        let (min_t, all_ok) = self
             .level
             .patches
             .par_iter()
@@ -438,14 +442,10 @@ impl<E: Eos> Solver for FdmSolver<E> {
                 }
                 (min_t, ok)
             })
-            .collect();
-        if per_patch.iter().any(|(_, ok)| !ok) {
+            .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1));
+        if !all_ok {
             return Err(self.non_physical_error("at the start of a step"));
         }
-        let min_t = per_patch
-            .iter()
-            .map(|(t, _)| *t)
-            .fold(f64::INFINITY, f64::min);
         // A domain with no active direction has no CFL limit.
         let dt = if min_t.is_finite() {
             2.0 * self.options.cfl * min_t

@@ -34,7 +34,7 @@ const NSCRATCH: usize = 3 + 3 * NVAR;
 
 /// Raw pointers to the five conservative arrays of one patch, so that slabs
 /// of the same patch can be swept by different threads.
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 pub struct PatchPtrs {
     ptr: [*mut f64; NVAR],
     len: usize,
