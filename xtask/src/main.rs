@@ -323,6 +323,93 @@ fn v_smooth(report: &mut Report, img: &Path) -> Result<()> {
     Ok(())
 }
 
+fn v_cj(report: &mut Report) -> Result<()> {
+    use brisance::eos::tools::v_cj_report;
+    println!("V-CJ: Chapman-Jouguet states by Rayleigh-line tangency");
+    let _ = writeln!(
+        report.md,
+        "## V-CJ — Chapman–Jouguet states of the products equations of state\n"
+    );
+    let _ = writeln!(
+        report.md,
+        "CJ state from the unreacted state by tangency of the Rayleigh line with the products Hugoniot \
+         (`brisance::eos::tools::chapman_jouguet`). Target (validation plan): TNT JWL within 3 % of the \
+         published 6930 m/s and ~21 GPa.\n"
+    );
+    let _ = writeln!(report.md, "| material | EOS | D (m/s) | P_CJ (GPa) | V_CJ/V₀ | u_CJ (m/s) | reference D | reference P_CJ | source |");
+    let _ = writeln!(report.md, "|---|---|---:|---:|---:|---:|---:|---:|---|");
+    let mut tnt = None;
+    for case in v_cj_report() {
+        let fmt_ref = |v: Option<f64>, scale: f64, digits: usize| {
+            v.map_or("—".to_string(), |x| format!("{:.*}", digits, x / scale))
+        };
+        match &case.computed {
+            Ok(cj) => {
+                let _ = writeln!(
+                    report.md,
+                    "| {} | {} | {:.1} | {:.3} | {:.4} | {:.1} | {} | {} | {} |",
+                    case.material,
+                    case.eos,
+                    cj.detonation_velocity,
+                    cj.pressure / 1e9,
+                    cj.relative_volume,
+                    cj.particle_velocity,
+                    fmt_ref(case.reference_detonation_velocity, 1.0, 0),
+                    fmt_ref(case.reference_pressure, 1e9, 1),
+                    case.reference_source
+                );
+                println!(
+                    "  {:<12} D {:.1} m/s  P_CJ {:.3} GPa",
+                    case.material,
+                    cj.detonation_velocity,
+                    cj.pressure / 1e9
+                );
+                if case.material.to_lowercase().contains("tnt") {
+                    tnt = Some((
+                        cj.detonation_velocity,
+                        cj.pressure,
+                        case.reference_detonation_velocity,
+                        case.reference_pressure,
+                    ));
+                }
+            }
+            Err(e) => {
+                let _ = writeln!(
+                    report.md,
+                    "| {} | {} | failed: {e} | | | | | | {} |",
+                    case.material, case.eos, case.reference_source
+                );
+                println!("  {:<12} failed: {e}", case.material);
+            }
+        }
+    }
+    let _ = writeln!(
+        report.md,
+        "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    match tnt {
+        Some((d, p, Some(d_ref), Some(p_ref))) => {
+            let ed = (d - d_ref) / d_ref;
+            let ep = (p - p_ref) / p_ref;
+            report.target(
+                "V-CJ TNT detonation velocity error",
+                format!("{:+.2} %", 100.0 * ed),
+                "within 3 %",
+                ed.abs() <= 0.03,
+            );
+            report.target(
+                "V-CJ TNT CJ pressure error",
+                format!("{:+.2} %", 100.0 * ep),
+                "within 3 %",
+                ep.abs() <= 0.03,
+            );
+        }
+        _ => report.target("V-CJ TNT computed", "no result".into(), "computed", false),
+    }
+    let _ = writeln!(report.md);
+    Ok(())
+}
+
 fn throughput(report: &mut Report) -> Result<()> {
     println!("Throughput: 3D 64³ blast box");
     let before = resident_bytes();
@@ -393,6 +480,7 @@ fn validate() -> Result<()> {
     };
     v_sod(&mut body, &img)?;
     v_smooth(&mut body, &img)?;
+    v_cj(&mut body)?;
     throughput(&mut body)?;
     let _ = writeln!(report.md, "## Summary\n");
     if body.failures.is_empty() {

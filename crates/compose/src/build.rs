@@ -5,9 +5,9 @@ use brisance_eos::IdealGas;
 use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
 
-use crate::config::{
-    BoundaryConfig, EosConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig,
-};
+use brisance_eos::EosModel;
+
+use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
 use crate::error::ConfigError;
 
 /// Output fields and the Courant-number limit of a pipeline.
@@ -45,16 +45,6 @@ pub fn region_contains(r: &Region, x: [f64; 3]) -> bool {
             (0.0..=*length).contains(&s) && dot(r, r) <= radius * radius
         }
         Region::HalfSpace { point, normal } => dot(sub(x, *point), *normal) >= 0.0,
-    }
-}
-
-fn eos_of(c: &EosConfig) -> IdealGas {
-    match *c {
-        EosConfig::IdealGas {
-            gamma,
-            cv,
-            reference_density,
-        } => IdealGas::new(gamma, cv, reference_density),
     }
 }
 
@@ -98,11 +88,27 @@ pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
         brisance_fdm::sweep::GHOST,
     )
     .map_err(|e| located("domain.patches", e.to_string()))?;
-    let material = s
+    let eos = s
         .materials
         .get(&fdm.material)
+        .and_then(|m| m.eos())
         .ok_or_else(|| located("pipeline.material", "unknown material".into()))?;
-    let eos = eos_of(&material.eos);
+    // The ideal gas gets its own monomorphic solver; other gases go through
+    // the model enum.
+    match eos {
+        EosModel::IdealGas(gas) => build_fdm(s, level, *gas),
+        other => build_fdm(s, level, other.clone()),
+    }
+}
+
+/// The FDM solver of scenario `s` for gas `eos` on `level`.
+fn build_fdm<E: Eos + 'static>(
+    s: &Scenario,
+    level: Level,
+    eos: E,
+) -> Result<Box<dyn Solver>, ConfigError> {
+    let Pipeline::Fdm(fdm) = &s.pipeline;
+    let d = &s.domain;
     let mut boundaries = [FdmBoundary::Outflow; 6];
     for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
         boundaries[k] = match bc {

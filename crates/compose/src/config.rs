@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use brisance_eos::EosModel;
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario: one RON file.
@@ -112,32 +113,25 @@ fn default_cfl() -> f64 {
     0.8
 }
 
-/// A material: its equation of state (constitutive and reaction models join
-/// here later).
+/// A material: its equation of state, given inline or taken from the
+/// material library by name (constitutive and reaction models join here
+/// later).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
-    /// The equation of state.
-    pub eos: EosConfig,
+    /// A library material (`configs/materials/<name>.ron`, see `brisance list`).
+    #[serde(default)]
+    pub library: Option<String>,
+    /// The equation of state (filled from the library when `library` is given).
+    #[serde(default)]
+    pub eos: Option<EosModel>,
 }
 
-/// Equations of state by name (see `brisance list`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum EosConfig {
-    /// γ-law gas, seed 001 eq 55.
-    IdealGas {
-        /// Ratio of specific heats.
-        gamma: f64,
-        /// Specific heat at constant volume, J/(kg·K).
-        cv: f64,
-        /// Reference density, kg/m³.
-        #[serde(default = "default_rho0")]
-        reference_density: f64,
-    },
-}
-
-fn default_rho0() -> f64 {
-    1.225
+impl MaterialConfig {
+    /// The equation of state (present once the scenario is loaded).
+    pub fn eos(&self) -> Option<&EosModel> {
+        self.eos.as_ref()
+    }
 }
 
 /// The numerical method(s) of the run.

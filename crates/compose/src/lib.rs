@@ -5,12 +5,14 @@
 //! - [`load`]: read → override → parse → validate, errors at file:line:col.
 //! - [`validate`]: the checks serde cannot express.
 //! - [`registry`]: every named component with a one-line description.
+//! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline.
 //! - [`run`]: the run loop, outputs, checkpoints and restart.
 
 pub mod build;
 pub mod config;
 pub mod error;
+pub mod library;
 pub mod load;
 pub mod registry;
 pub mod ron_path;

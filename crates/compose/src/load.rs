@@ -8,6 +8,7 @@ use ron::extensions::Extensions;
 use crate::build::pipeline_limits;
 use crate::config::Scenario;
 use crate::error::ConfigError;
+use crate::library;
 use crate::ron_path;
 use crate::validate::validate;
 
@@ -34,6 +35,34 @@ pub struct LoadedScenario {
 pub fn ron_options() -> ron::Options {
     ron::Options::default()
         .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
+}
+
+/// Fills the equation of state of every material that names a library
+/// entry; a material must give exactly one of `library` and `eos`.
+fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
+    for (name, m) in s.materials.iter_mut() {
+        match (&m.library, &m.eos) {
+            (Some(_), Some(_)) => {
+                return Err((
+                    format!("materials.{name}.library"),
+                    "give either `library` or `eos`, not both".into(),
+                ));
+            }
+            (None, None) => {
+                return Err((
+                    format!("materials.{name}"),
+                    "give `eos` or `library` (see `brisance list`)".into(),
+                ));
+            }
+            (Some(lib), None) => {
+                let entry =
+                    library::get(lib).map_err(|msg| (format!("materials.{name}.library"), msg))?;
+                m.eos = Some(entry.eos);
+            }
+            (None, Some(_)) => {}
+        }
+    }
+    Ok(())
 }
 
 /// Reads and validates a scenario file, applying `PATH=VALUE` overrides.
@@ -74,11 +103,17 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
     } else {
         " (after --set overrides)"
     };
-    let scenario: Scenario = ron_options().from_str(&text).map_err(|e| ConfigError {
+    let mut scenario: Scenario = ron_options().from_str(&text).map_err(|e| ConfigError {
         file: file.to_string(),
         position: Some((e.span.start.line, e.span.start.col)),
         field: None,
         message: format!("{}{suffix}", e.code),
+    })?;
+    resolve_library(&mut scenario).map_err(|(path, message)| ConfigError {
+        file: file.to_string(),
+        position: ron_path::find_nearest(&text, &path).map(|r| ron_path::line_col(&text, r.start)),
+        field: Some(path),
+        message: format!("{message}{suffix}"),
     })?;
     let (fields, max_cfl) = pipeline_limits(&scenario.pipeline);
     validate(&scenario, fields, max_cfl).map_err(|(path, message)| ConfigError {
@@ -92,4 +127,68 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
         text,
         scenario,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SOD: &str = include_str!("../../../configs/sod.ron");
+
+    fn with_material(material: &str) -> String {
+        SOD.replace(
+            "\"gas\": (eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0)),",
+            &format!("\"gas\": {material},"),
+        )
+    }
+
+    #[test]
+    fn a_material_can_come_from_the_library() {
+        let text = with_material("(library: \"air\")");
+        assert_ne!(text, SOD);
+        let loaded = load_str("t.ron", &text, &[]).unwrap();
+        let eos = loaded.scenario.materials["gas"].eos().unwrap();
+        assert_eq!(eos, &library::get("air").unwrap().eos);
+    }
+
+    #[test]
+    fn an_unknown_library_material_is_located_and_lists_the_known_ones() {
+        let text = with_material("(library: \"unobtainium\")");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("materials.gas.library"));
+        assert!(err.message.contains("known: air"), "{err}");
+        let line = text
+            .lines()
+            .position(|l| l.contains("unobtainium"))
+            .unwrap()
+            + 1;
+        assert_eq!(err.position.map(|p| p.0), Some(line));
+    }
+
+    #[test]
+    fn library_and_eos_together_or_neither_are_errors() {
+        let both = with_material("(library: \"air\", eos: IdealGas(gamma: 1.4, cv: 1.0))");
+        assert!(load_str("t.ron", &both, &[])
+            .unwrap_err()
+            .message
+            .contains("not both"));
+        let neither = with_material("()");
+        assert!(load_str("t.ron", &neither, &[]).is_err());
+    }
+
+    #[test]
+    fn a_solid_cannot_be_the_gas_of_the_fdm_pipeline() {
+        let text = with_material("(library: \"ofhc_copper\")");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("pipeline.material"));
+        assert!(err.message.contains("carries a gas"), "{err}");
+    }
+
+    #[test]
+    fn invalid_eos_parameters_name_the_field() {
+        let text = with_material("(eos: IdealGas(gamma: 0.9, cv: 1.0))");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("materials.gas.eos"));
+        assert!(err.message.contains("gamma"), "{err}");
+    }
 }

@@ -21,7 +21,49 @@ pub const ENTRIES: &[Entry] = &[
         family: "eos",
         name: "IdealGas",
         summary: "gamma-law gas p = (gamma-1) rho e with constant cv (seed 001 eq 55)",
-        example: "IdealGas(gamma: 1.4, cv: 717.6, reference_density: 1.225)",
+        example: "IdealGas(gamma: 1.4, cv: 717.6, rho0: 1.225)",
+    },
+    Entry {
+        family: "eos",
+        name: "Jwl",
+        summary: "JWL detonation products, E0 per initial volume (seed 001 eq 54)",
+        example: "Jwl(a: 3.712e11, b: 3.21e9, r1: 4.15, r2: 0.95, omega: 0.3, e0: 6.993e9, rho0: 1630.0, cv: 613.5)",
+    },
+    Entry {
+        family: "eos",
+        name: "JwlCTerm",
+        summary: "JWL C-term products of JWL++ (seed 000 eq 34, Souers et al. 2000)",
+        example: "JwlCTerm(a: 2.9867e11, b: 4.11706e9, c: 7.206147e8, r1: 4.95, r2: 1.15, omega: 0.35, rho0: 1160.0, cv: 862.07)",
+    },
+    Entry {
+        family: "eos",
+        name: "Murnaghan",
+        summary: "Murnaghan unreacted explosive p = ((rho/rho0)^n - 1)/(n kappa) (seed 000 eq 33)",
+        example: "Murnaghan(n: 7.4, kappa: 3.9e-10, rho0: 1160.0, cv: 1700.0, t_ref: 298.15)",
+    },
+    Entry {
+        family: "eos",
+        name: "MieGruneisenCubic",
+        summary: "Mie-Grueneisen on a cubic Hugoniot, compression and tension branches (seed 001 eqs 65-66)",
+        example: "MieGruneisenCubic(gamma: 2.17, c0: 4569.0, s: 1.49, rho0: 7850.0, cv: 477.0, t0: 300.0)",
+    },
+    Entry {
+        family: "eos",
+        name: "MieGruneisenLinear",
+        summary: "Mie-Grueneisen on the linear Us-up Hugoniot (seed 000 eq 40)",
+        example: "MieGruneisenLinear(c0: 3574.0, s: 1.92, gamma0: 1.69, rho0: 7830.0, cv: 477.0, t0: 294.0)",
+    },
+    Entry {
+        family: "eos",
+        name: "MieGruneisenThermal",
+        summary: "thermal Mie-Grueneisen of the lattice, e = cv T (seed 003 eqs 12-14)",
+        example: "MieGruneisenThermal(gamma: 0.7, rho0: 1580.0, c0: 2674.3, s: 0.0, cv: 1757.28, t0: 300.0, p0: 100000.0)",
+    },
+    Entry {
+        family: "eos",
+        name: "SolidThreshold",
+        summary: "a solid EOS with the C1 low-pressure threshold of seed 000 §3.1",
+        example: "SolidThreshold(solid: MieGruneisenLinear(c0: 3574.0, s: 1.92, gamma0: 1.69, rho0: 7830.0, cv: 477.0, t0: 294.0), threshold_pressure: 101325.0)",
     },
     Entry {
         family: "pipeline",
@@ -75,7 +117,14 @@ pub fn listing() -> String {
             out.push_str("  (none registered yet)\n");
         }
         for e in entries {
-            out.push_str(&format!("  {:<12} {}\n", e.name, e.summary));
+            out.push_str(&format!("  {:<20} {}\n", e.name, e.summary));
+        }
+    }
+    out.push_str("material library (materials: { \"x\": (library: \"name\") }):\n");
+    for name in crate::library::names() {
+        match crate::library::get(name) {
+            Ok(m) => out.push_str(&format!("  {:<28} {}\n", name, m.description)),
+            Err(e) => out.push_str(&format!("  {:<28} (unreadable: {e})\n", name)),
         }
     }
     out
@@ -84,14 +133,15 @@ pub fn listing() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{BoundaryConfig, EosConfig, Pipeline, Region};
+    use crate::config::{BoundaryConfig, Pipeline, Region};
     use crate::load::ron_options;
+    use brisance_eos::EosModel;
 
     #[test]
     fn every_example_parses_as_its_family_and_names_its_variant() {
         for e in ENTRIES {
             let ok = match e.family {
-                "eos" => ron_options().from_str::<EosConfig>(e.example).map(|_| ()),
+                "eos" => ron_options().from_str::<EosModel>(e.example).map(|_| ()),
                 "pipeline" => ron_options().from_str::<Pipeline>(e.example).map(|_| ()),
                 "region" => ron_options().from_str::<Region>(e.example).map(|_| ()),
                 "boundary" => ron_options()
@@ -104,6 +154,16 @@ mod tests {
                 e.example.starts_with(e.name),
                 "{} example must use its name",
                 e.name
+            );
+        }
+    }
+
+    #[test]
+    fn every_equation_of_state_is_registered() {
+        for v in brisance_eos::EosModel::VARIANTS {
+            assert!(
+                ENTRIES.iter().any(|e| e.family == "eos" && e.name == *v),
+                "{v} missing from the registry"
             );
         }
     }

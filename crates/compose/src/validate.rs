@@ -2,9 +2,9 @@
 //! reported with the path of the offending field so the caller can point at
 //! its line and column.
 
-use crate::config::{
-    BoundaryConfig, EosConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig,
-};
+use brisance_core::Eos;
+
+use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
@@ -176,33 +176,11 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
         ));
     }
     for (name, m) in &s.materials {
-        let path = format!("materials.{name}.eos");
-        match m.eos {
-            EosConfig::IdealGas {
-                gamma,
-                cv,
-                reference_density,
-            } => {
-                if !(gamma > 1.0 && gamma.is_finite()) {
-                    return Err((
-                        format!("{path}.gamma"),
-                        format!("gamma must exceed 1, got {gamma}"),
-                    ));
-                }
-                if !(cv > 0.0 && cv.is_finite()) {
-                    return Err((
-                        format!("{path}.cv"),
-                        format!("cv must be positive, got {cv}"),
-                    ));
-                }
-                if !(reference_density > 0.0 && reference_density.is_finite()) {
-                    return Err((
-                        format!("{path}.reference_density"),
-                        format!("reference density must be positive, got {reference_density}"),
-                    ));
-                }
-            }
-        }
+        let path = format!("materials.{name}");
+        let Some(eos) = m.eos() else {
+            return Err((path, "give `eos` or `library`".into()));
+        };
+        eos.validate().map_err(|msg| (format!("{path}.eos"), msg))?;
     }
     let known_materials = || {
         s.materials
@@ -212,15 +190,28 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
             .join(", ")
     };
     let Pipeline::Fdm(fdm) = &s.pipeline;
-    if !s.materials.contains_key(&fdm.material) {
-        return Err((
-            "pipeline.material".into(),
-            format!(
-                "unknown material `{}`; known materials: {}",
-                fdm.material,
-                known_materials()
-            ),
-        ));
+    match s.materials.get(&fdm.material).and_then(|m| m.eos()) {
+        None => {
+            return Err((
+                "pipeline.material".into(),
+                format!(
+                    "unknown material `{}`; known materials: {}",
+                    fdm.material,
+                    known_materials()
+                ),
+            ));
+        }
+        Some(eos) if !eos.is_gas() => {
+            return Err((
+                "pipeline.material".into(),
+                format!(
+                    "the Fdm pipeline carries a gas (IdealGas, Jwl or JwlCTerm); `{}` is `{}`",
+                    fdm.material,
+                    eos.name()
+                ),
+            ));
+        }
+        Some(_) => {}
     }
     if let ViscosityConfig::Constant(eta) = fdm.viscosity {
         if !(0.0..=0.25).contains(&eta) {

@@ -10,8 +10,8 @@ use crate::EosError;
 /// isothermal compressibility and thermal expansivity that the ICE
 /// equilibration pressure needs (seed 000 eqs 4–10, 20).
 ///
-/// # Contract (checked for every implementation by
-/// [`crate::eos_contract_tests!`])
+/// # Contract (checked for every implementation by the
+/// `eos_contract_tests!` macro of the `contracts` feature)
 /// - `pressure(ρ, specific_internal_energy(ρ, p)) = p` wherever the model is
 ///   valid.
 /// - `sound_speed_squared(ρ, e) ≥ 0` and equals
@@ -22,6 +22,9 @@ use crate::EosError;
 ///   `specific_internal_energy_from_temperature`.
 /// - `isothermal_compressibility` and `thermal_expansivity` agree with finite
 ///   differences of `density(p, T)`.
+/// - `gruneisen(ρ, e)` is the model's Γ and equals `(1/ρ) ∂p/∂e|ρ`.
+/// - Out-of-range input (ρ ≤ 0, NaN) is an error from `check_state`,
+///   `specific_internal_energy` and `density`, never a NaN that flows on.
 ///
 /// Units: ρ kg/m³, e J/kg, p Pa, T K, c m/s.
 ///
@@ -43,6 +46,36 @@ pub trait Eos: Send + Sync + std::fmt::Debug {
 
     /// ∂p/∂e at constant ρ.
     fn dp_de(&self, rho: f64, e: f64) -> f64;
+
+    /// Grüneisen parameter Γ = (1/ρ) ∂p/∂e|ρ (dimensionless). The default
+    /// derives it from `dp_de`; models override it with their analytic Γ
+    /// (ω for JWL, γ − 1 for an ideal gas, 0 for a barotropic solid), which
+    /// the contract tests compare against the finite difference.
+    #[inline]
+    fn gruneisen(&self, rho: f64, e: f64) -> f64 {
+        self.dp_de(rho, e) / rho
+    }
+
+    /// Whether (ρ, e) lies where the model may be evaluated. The default
+    /// rejects a non-finite or non-positive density and a non-finite energy
+    /// with [`EosError::OutOfRange`] naming the model and the value; models
+    /// with a narrower valid range override it. Solvers call it where a state
+    /// enters (initialisation, after a reaction step), not per evaluation.
+    fn check_state(&self, rho: f64, e: f64) -> Result<(), EosError> {
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(EosError::OutOfRange {
+                eos: self.name(),
+                detail: format!("density ρ = {rho} kg/m³ must be finite and > 0"),
+            });
+        }
+        if !e.is_finite() {
+            return Err(EosError::OutOfRange {
+                eos: self.name(),
+                detail: format!("specific internal energy e = {e} J/kg must be finite"),
+            });
+        }
+        Ok(())
+    }
 
     /// Squared isentropic sound speed c² = ∂p/∂ρ|ₑ + (p/ρ²) ∂p/∂e|ρ, m²/s².
     fn sound_speed_squared(&self, rho: f64, e: f64) -> f64 {

@@ -6,16 +6,45 @@ use serde::{Deserialize, Serialize};
 
 /// Ideal gas p = (γ − 1) ρ e (seed 001 eq 55), e = c_v T.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct IdealGas {
     /// Ratio of specific heats γ (> 1).
     pub gamma: f64,
     /// Specific heat at constant volume c_v, J/(kg·K).
     pub cv: f64,
     /// Reference density, kg/m³ (used only as a scale).
+    #[serde(default = "air_density")]
     pub rho0: f64,
 }
 
+fn air_density() -> f64 {
+    1.225
+}
+
 impl IdealGas {
+    /// Checks the parameters; the message names the bad field.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.gamma > 1.0 && self.gamma.is_finite()) {
+            return Err(format!(
+                "ideal_gas: field `gamma` = {}, expected a finite value > 1",
+                self.gamma
+            ));
+        }
+        if !(self.cv > 0.0 && self.cv.is_finite()) {
+            return Err(format!(
+                "ideal_gas: field `cv` = {}, expected a finite value > 0 J/(kg·K)",
+                self.cv
+            ));
+        }
+        if !(self.rho0 > 0.0 && self.rho0.is_finite()) {
+            return Err(format!(
+                "ideal_gas: field `rho0` = {}, expected a finite value > 0 kg/m³",
+                self.rho0
+            ));
+        }
+        Ok(())
+    }
+
     /// Air as in seed 001 §4.2: γ = 1.4, ρ₀ = 1.225 kg/m³, and
     /// c_v = R/(γ − 1) with R = 287.05 J/(kg·K), so e₀ = 2.0685e5 J/kg is
     /// 288.3 K and p₀ = 1.0136e5 Pa.
@@ -58,6 +87,12 @@ impl Eos for IdealGas {
         (self.gamma - 1.0) * rho
     }
 
+    /// Γ = γ − 1.
+    #[inline]
+    fn gruneisen(&self, _rho: f64, _e: f64) -> f64 {
+        self.gamma - 1.0
+    }
+
     /// c² = γ (γ − 1) e = γ p / ρ.
     #[inline]
     fn sound_speed_squared(&self, _rho: f64, e: f64) -> f64 {
@@ -65,10 +100,16 @@ impl Eos for IdealGas {
     }
 
     fn specific_internal_energy(&self, rho: f64, p: f64) -> Result<f64, EosError> {
-        if !(rho > 0.0) {
+        if !(rho.is_finite() && rho > 0.0) {
             return Err(EosError::OutOfRange {
                 eos: "ideal_gas",
-                detail: format!("density {rho} ≤ 0"),
+                detail: format!("density {rho} must be finite and > 0"),
+            });
+        }
+        if !p.is_finite() {
+            return Err(EosError::OutOfRange {
+                eos: "ideal_gas",
+                detail: format!("pressure {p} must be finite"),
             });
         }
         Ok(p / ((self.gamma - 1.0) * rho))
@@ -88,7 +129,7 @@ impl Eos for IdealGas {
 
     /// ρ = p / ((γ − 1) c_v T).
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        if !(p > 0.0 && t > 0.0) {
+        if !(p > 0.0 && t > 0.0 && p.is_finite() && t.is_finite()) {
             return Err(EosError::OutOfRange {
                 eos: "ideal_gas",
                 detail: format!("ρ(p, T) needs p > 0 and T > 0, got p = {p}, T = {t}"),
