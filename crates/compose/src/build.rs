@@ -10,13 +10,25 @@ use brisance_eos::EosModel;
 use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
 use crate::error::ConfigError;
 
-/// Output fields and the Courant-number limit of a pipeline.
-pub fn pipeline_limits(p: &Pipeline) -> (&'static [&'static str], f64) {
+/// What validation needs to know about a pipeline.
+#[derive(Debug, Clone, Copy)]
+pub struct PipelineLimits {
+    /// Output field names.
+    pub fields: &'static [&'static str],
+    /// Largest Courant number the scheme is stable at.
+    pub max_cfl: f64,
+    /// Ghost layers each patch must hold.
+    pub ghost: usize,
+}
+
+/// The limits of a pipeline.
+pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
-        Pipeline::Fdm(_) => (
-            &FdmSolver::<IdealGas>::FIELDS,
-            brisance_fdm::solver::MAX_CFL,
-        ),
+        Pipeline::Fdm(_) => PipelineLimits {
+            fields: &FdmSolver::<IdealGas>::FIELDS,
+            max_cfl: brisance_fdm::solver::MAX_CFL,
+            ghost: brisance_fdm::sweep::GHOST,
+        },
     }
 }
 
@@ -173,7 +185,7 @@ pub fn describe(s: &Scenario) -> String {
     format!(
         "scenario `{}`: Fdm pipeline (Lax-Wendroff Euler, seed 001 §2.1), {dims}D\n  \
          grid: {} x {} x {} cells = {} cells in {} x {} x {} patches, from {:?} to {:?} m\n  \
-         gas: `{}` ({:?}), viscosity {:?}\n  \
+         gas: `{}` ({}), viscosity {:?}\n  \
          time: to {} s at cfl {}\n  \
          boundaries: {}\n  \
          initial regions: {}\n  \
@@ -189,7 +201,10 @@ pub fn describe(s: &Scenario) -> String {
         d.lower,
         d.upper,
         fdm.material,
-        s.materials.get(&fdm.material).map(|m| &m.eos),
+        s.materials
+            .get(&fdm.material)
+            .and_then(|m| m.eos())
+            .map_or("?", |e| e.variant()),
         fdm.viscosity,
         s.time.end,
         s.time.cfl,

@@ -115,12 +115,14 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
         field: Some(path),
         message: format!("{message}{suffix}"),
     })?;
-    let (fields, max_cfl) = pipeline_limits(&scenario.pipeline);
-    validate(&scenario, fields, max_cfl).map_err(|(path, message)| ConfigError {
-        file: file.to_string(),
-        position: ron_path::find_nearest(&text, &path).map(|r| ron_path::line_col(&text, r.start)),
-        field: Some(path),
-        message: format!("{message}{suffix}"),
+    validate(&scenario, &pipeline_limits(&scenario.pipeline)).map_err(|(path, message)| {
+        ConfigError {
+            file: file.to_string(),
+            position: ron_path::find_nearest(&text, &path)
+                .map(|r| ron_path::line_col(&text, r.start)),
+            field: Some(path),
+            message: format!("{message}{suffix}"),
+        }
     })?;
     Ok(LoadedScenario {
         file: file.to_string(),

@@ -2,8 +2,7 @@
 //! reported with the path of the offending field so the caller can point at
 //! its line and column.
 
-use brisance_core::Eos;
-
+use crate::build::PipelineLimits;
 use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
 
 /// A validation problem: the field path and the message.
@@ -115,7 +114,10 @@ fn file_safe(name: &str) -> bool {
 
 /// Validates a scenario; `known_fields` are the output fields of its
 /// pipeline and `max_cfl` the scheme's stability limit.
-pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(), Problem> {
+/// Validates a scenario against its pipeline's limits (output fields,
+/// Courant-number limit, ghost layers per patch).
+pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
+    let (known_fields, max_cfl, ghost) = (limits.fields, limits.max_cfl, limits.ghost);
     const AXES: [&str; 3] = ["x", "y", "z"];
     if !file_safe(&s.name) {
         return Err((
@@ -149,6 +151,18 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
                 format!(
                     "{} patches along {}: need between 1 and the {} cells",
                     d.patches[a], axis, d.cells[a]
+                ),
+            ));
+        }
+        // Every patch must hold the stencil's ghost layers (the smallest
+        // patch has cells / patches cells, rounded down).
+        if d.cells[a] > 1 && d.cells[a] / d.patches[a] < ghost {
+            return Err((
+                format!("domain.patches.{a}"),
+                format!(
+                    "{} patches along {axis} leave patches thinner than the {ghost} ghost layers the scheme needs; use at most {}",
+                    d.patches[a],
+                    d.cells[a] / ghost
                 ),
             ));
         }
@@ -207,7 +221,7 @@ pub fn validate(s: &Scenario, known_fields: &[&str], max_cfl: f64) -> Result<(),
                 format!(
                     "the Fdm pipeline carries a gas (IdealGas, Jwl or JwlCTerm); `{}` is `{}`",
                     fdm.material,
-                    eos.name()
+                    eos.variant()
                 ),
             ));
         }

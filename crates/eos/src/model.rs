@@ -76,6 +76,11 @@ macro_rules! dispatch_eos {
                 match self { $(Self::$variant(m) => m.validate(),)* }
             }
 
+            /// The config name of this model (`IdealGas`, `Jwl`, ...).
+            pub fn variant(&self) -> &'static str {
+                match self { $(Self::$variant(_) => stringify!($variant),)* }
+            }
+
             /// The config names of every variant.
             pub const VARIANTS: &'static [&'static str] = &[$(stringify!($variant)),*];
         }
