@@ -1,0 +1,457 @@
+//! Property tests shared by every shape function, and hand-computed values.
+
+use super::*;
+use crate::nodes::patch_node_index;
+use brisance_grid::{Level, NodeLayout};
+use proptest::prelude::*;
+
+fn grid(origin: [f64; 3], spacing: [f64; 3], cells: [usize; 3]) -> UniformGridGeometry {
+    UniformGridGeometry {
+        origin,
+        spacing,
+        cells,
+    }
+}
+
+/// A random level (1, 2 or 3 active directions, any spacing) and a particle
+/// in it, with positions concentrated on the hard places: on nodes (patch
+/// and cell faces), a round-off away from them, at cell centres and on the
+/// domain's faces.
+#[derive(Debug, Clone)]
+struct Case {
+    grid: UniformGridGeometry,
+    x: [f64; 3],
+}
+
+fn fraction() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        3 => 0.0..1.0f64,
+        1 => Just(0.0),
+        1 => Just(1e-13),
+        1 => Just(0.5),
+        1 => Just(1.0 - 1e-13),
+    ]
+}
+
+fn case() -> impl Strategy<Value = Case> {
+    let axis = || {
+        (
+            1usize..=12,
+            1e-3..2.0f64,
+            -5.0..5.0f64,
+            0usize..12,
+            fraction(),
+        )
+    };
+    (axis(), axis(), axis(), any::<bool>()).prop_map(|(ax, ay, az, on_upper)| {
+        let mut origin = [0.0; 3];
+        let mut spacing = [0.0; 3];
+        let mut cells = [0; 3];
+        let mut x = [0.0; 3];
+        for (d, (n, h, o, c, f)) in [ax, ay, az].into_iter().enumerate() {
+            origin[d] = o;
+            spacing[d] = h;
+            cells[d] = n;
+            let c = c % n;
+            x[d] = o + (c as f64 + f) * h;
+        }
+        if on_upper {
+            // A particle on the upper face of the domain along x.
+            x[0] = origin[0] + cells[0] as f64 * spacing[0];
+        }
+        Case {
+            grid: grid(origin, spacing, cells),
+            x,
+        }
+    })
+}
+
+fn half_width(g: &UniformGridGeometry, fraction_of_half_cell: f64) -> [f64; 3] {
+    std::array::from_fn(|d| 0.5 * g.spacing[d] * fraction_of_half_cell)
+}
+
+fn node_position(g: &UniformGridGeometry, n: [isize; 3]) -> [f64; 3] {
+    std::array::from_fn(|d| g.origin[d] + n[d] as f64 * g.spacing[d])
+}
+
+fn active_dims(g: &UniformGridGeometry) -> u32 {
+    g.cells.iter().filter(|&&n| n > 1).count() as u32
+}
+
+fn eval(sf: ShapeFunction, g: &UniformGridGeometry, x: [f64; 3], lp: [f64; 3]) -> ShapeStencil {
+    let mut s = ShapeStencil::new();
+    sf.evaluate(g, x, lp, &mut s).unwrap();
+    s
+}
+
+/// Weight of global node `n` in stencil `s` (0 if not touched).
+fn weight_of(s: &ShapeStencil, n: [isize; 3]) -> f64 {
+    s.iter()
+        .find(|(m, _, _)| *m == n)
+        .map_or(0.0, |(_, w, _)| w)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn weights_partition_unity_and_are_non_negative(c in case(), lpf in 0.05..=1.0f64) {
+        for sf in ShapeFunction::ALL {
+            let s = eval(sf, &c.grid, c.x, half_width(&c.grid, lpf));
+            let sum: f64 = s.weights().iter().sum();
+            prop_assert!((sum - 1.0).abs() <= 1e-12, "{sf:?}: ΣN = {sum}");
+            prop_assert!(s.weights().iter().all(|&w| w >= 0.0), "{sf:?}: negative weight");
+        }
+    }
+
+    #[test]
+    fn gradients_sum_to_zero(c in case(), lpf in 0.05..=1.0f64) {
+        let inv_h = c.grid.spacing.iter().fold(0.0f64, |m, h| m.max(1.0 / h));
+        for sf in ShapeFunction::ALL {
+            let s = eval(sf, &c.grid, c.x, half_width(&c.grid, lpf));
+            for d in 0..3 {
+                let sum: f64 = s.gradients().iter().map(|g| g[d]).sum();
+                prop_assert!(sum.abs() <= 1e-12 * inv_h, "{sf:?}: Σ∂N/∂x{d} = {sum}");
+            }
+        }
+    }
+
+    #[test]
+    fn weights_reproduce_linear_fields(c in case(), lpf in 0.05..=1.0f64) {
+        for sf in ShapeFunction::ALL {
+            let s = eval(sf, &c.grid, c.x, half_width(&c.grid, lpf));
+            for d in 0..3 {
+                if c.grid.cells[d] <= 1 {
+                    continue; // one node layer: x_I is the origin, not x_p
+                }
+                let sum: f64 = s
+                    .iter()
+                    .map(|(n, w, _)| w * node_position(&c.grid, n)[d])
+                    .sum();
+                prop_assert!((sum - c.x[d]).abs() <= 1e-12, "{sf:?}: ΣN x_I = {sum} vs {}", c.x[d]);
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_reproduce_the_identity(c in case(), lpf in 0.05..=1.0f64) {
+        for sf in ShapeFunction::ALL {
+            let s = eval(sf, &c.grid, c.x, half_width(&c.grid, lpf));
+            // Round-off scale of Σ ∇N_I x_I: |x_I| / Δx.
+            let scale = s
+                .iter()
+                .flat_map(|(n, _, _)| {
+                    let p = node_position(&c.grid, n);
+                    (0..3).map(move |d| p[d].abs())
+                })
+                .fold(1.0f64, f64::max)
+                / c.grid.spacing.iter().cloned().fold(f64::INFINITY, f64::min);
+            for a in 0..3 {
+                for b in 0..3 {
+                    let sum: f64 = s
+                        .iter()
+                        .map(|(n, _, g)| g[a] * node_position(&c.grid, n)[b])
+                        .sum();
+                    let expected = if a == b && c.grid.cells[a] > 1 { 1.0 } else { 0.0 };
+                    prop_assert!(
+                        (sum - expected).abs() <= 1e-12 * scale,
+                        "{sf:?}: Σ ∂N/∂x{a} x_I{b} = {sum}, expected {expected}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stencil_sizes_match_the_active_directions(c in case(), lpf in 0.05..=1.0f64) {
+        let dims = active_dims(&c.grid);
+        let lin = eval(ShapeFunction::Linear, &c.grid, c.x, [0.0; 3]);
+        prop_assert_eq!(lin.len(), 2usize.pow(dims));
+        let bs = eval(ShapeFunction::QuadraticBSpline, &c.grid, c.x, [0.0; 3]);
+        prop_assert_eq!(bs.len(), 3usize.pow(dims));
+        let gi = eval(ShapeFunction::Gimp, &c.grid, c.x, half_width(&c.grid, lpf));
+        prop_assert!(gi.len() >= 2usize.pow(dims) && gi.len() <= 3usize.pow(dims));
+        for s in [&lin, &bs, &gi] {
+            for (n, w, g) in s.iter() {
+                for d in 0..3 {
+                    if c.grid.cells[d] <= 1 {
+                        prop_assert_eq!(n[d], 0);
+                        prop_assert_eq!(g[d], 0.0);
+                    }
+                }
+                prop_assert!(w.is_finite());
+            }
+        }
+    }
+
+    #[test]
+    fn stencil_nodes_are_allocated_on_the_owning_patch(
+        c in case(),
+        layout in (1usize..=3, 1usize..=3, 1usize..=3),
+        lpf in 0.05..=1.0f64,
+    ) {
+        for sf in ShapeFunction::ALL {
+            let g = &c.grid;
+            let upper = g.upper();
+            let lay = [layout.0.min(g.cells[0]), layout.1.min(g.cells[1]), layout.2.min(g.cells[2])];
+            let level = Level::new(g.origin, upper, g.cells, lay, sf.required_ghost_nodes()).unwrap();
+            let Some(cell) = level.geometry.cell_containing(c.x) else {
+                continue; // round-off put the particle a hair outside
+            };
+            let Some((id, _)) = level.locate(cell) else { continue };
+            let patch = &level.patches[id];
+            let active = std::array::from_fn(|d| level.is_active(d));
+            let nodes = NodeLayout::for_patch(patch, active);
+            let s = eval(sf, &level.geometry, c.x, half_width(&level.geometry, lpf));
+            for (n, _, _) in s.iter() {
+                prop_assert!(
+                    patch_node_index(patch, &nodes, n).is_some(),
+                    "{sf:?}: node {n:?} of particle {:?} not on patch {id}", c.x
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences_of_weights(
+        cells in 2usize..8,
+        h in 0.01..1.0f64,
+        fx in 0.0..1.0f64,
+        fy in 0.0..1.0f64,
+        lpf in 0.05..=1.0f64,
+    ) {
+        let g = grid([0.0; 3], [h, 1.3 * h, 1.0], [cells, cells, 1]);
+        let x = [(1.0 + fx) * h, (1.0 + fy) * 1.3 * h, 0.5];
+        let lp = half_width(&g, lpf);
+        let delta = 1e-6 * h;
+        for sf in ShapeFunction::ALL {
+            if sf == ShapeFunction::Linear && !(0.01..0.99).contains(&fx) {
+                continue; // the hat's gradient jumps at nodes
+            }
+            if sf == ShapeFunction::Linear && !(0.01..0.99).contains(&fy) {
+                continue;
+            }
+            let s = eval(sf, &g, x, lp);
+            for d in 0..2 {
+                let mut xp = x;
+                let mut xm = x;
+                xp[d] += delta;
+                xm[d] -= delta;
+                let sp = eval(sf, &g, xp, lp);
+                let sm = eval(sf, &g, xm, lp);
+                for (n, _, grad) in s.iter() {
+                    let fd = (weight_of(&sp, n) - weight_of(&sm, n)) / (2.0 * delta);
+                    prop_assert!(
+                        (fd - grad[d]).abs() <= 1e-5 / h,
+                        "{sf:?} node {n:?} axis {d}: ∇N = {}, finite difference {fd}", grad[d]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gimp_equals_linear_while_the_particle_stays_inside_one_cell(
+        cell in 1usize..6,
+        lpf in 0.05..=1.0f64,
+        t in 0.0..=1.0f64,
+    ) {
+        let h = 0.2;
+        let g = grid([0.0; 3], [h, 1.0, 1.0], [8, 1, 1]);
+        let lp = 0.5 * h * lpf;
+        // Fractions f with l_p ≤ f·h ≤ h − l_p: the particle's box lies in
+        // cell `cell`, where the average of the hat over it is the hat itself.
+        let f = lp / h + t * (1.0 - 2.0 * lp / h);
+        let x = [(cell as f64 + f) * h, 0.5, 0.5];
+        let lin = eval(ShapeFunction::Linear, &g, x, [lp; 3]);
+        let gi = eval(ShapeFunction::Gimp, &g, x, [lp; 3]);
+        for (n, w, grad) in lin.iter() {
+            let gw = weight_of(&gi, n);
+            prop_assert!((gw - w).abs() <= 1e-12, "node {n:?}: GIMP {gw} vs linear {w}");
+            let gg = gi.iter().find(|(m, _, _)| *m == n).map_or(0.0, |(_, _, g)| g[0]);
+            prop_assert!((gg - grad[0]).abs() <= 1e-12 / h);
+        }
+        let extra: f64 = gi
+            .iter()
+            .filter(|(n, _, _)| lin.nodes().iter().all(|m| m != n))
+            .map(|(_, w, _)| w.abs())
+            .sum();
+        prop_assert!(extra <= 1e-12, "GIMP weight {extra} outside the cell's nodes");
+    }
+}
+
+#[test]
+fn linear_weights_match_seed_001_eq_16_at_a_known_point() {
+    let g = grid([-1.0, 0.0, 2.0], [0.5, 0.25, 2.0], [4, 4, 4]);
+    // Cell (1, 2, 0); fractions (0.25, 0.5, 0.75) across it.
+    let x = [-1.0 + 0.5 * 1.25, 0.25 * 2.5, 2.0 + 2.0 * 0.75];
+    let s = eval(ShapeFunction::Linear, &g, x, [0.0; 3]);
+    assert_eq!(s.len(), 8);
+    let (xi, eta, zeta) = (2.0 * 0.25 - 1.0, 2.0 * 0.5 - 1.0, 2.0 * 0.75 - 1.0);
+    for (n, w, grad) in s.iter() {
+        let (xi_i, eta_i, zeta_i) = (
+            if n[0] == 1 { -1.0 } else { 1.0 },
+            if n[1] == 2 { -1.0 } else { 1.0 },
+            if n[2] == 0 { -1.0 } else { 1.0 },
+        );
+        let eq16 = 0.125 * (1.0 + xi * xi_i) * (1.0 + eta * eta_i) * (1.0 + zeta * zeta_i);
+        assert!((w - eq16).abs() < 1e-15, "node {n:?}: {w} vs {eq16}");
+        // ∂N/∂x = (1/8) ξ_I (1 + η η_I)(1 + ζ ζ_I) · dξ/dx, dξ/dx = 2/Δx.
+        let dndx = 0.125 * xi_i * (1.0 + eta * eta_i) * (1.0 + zeta * zeta_i) * 2.0 / 0.5;
+        assert!((grad[0] - dndx).abs() < 1e-14);
+    }
+    // Node (1, 2, 0): (1 − 0.25)(1 − 0.5)(1 − 0.75) = 0.09375.
+    assert!((weight_of(&s, [1, 2, 0]) - 0.09375).abs() < 1e-15);
+    assert!((weight_of(&s, [2, 3, 1]) - 0.25 * 0.5 * 0.75).abs() < 1e-15);
+}
+
+#[test]
+fn linear_particle_on_the_upper_boundary_stays_on_grid_nodes() {
+    let g = grid([0.0; 3], [0.1, 1.0, 1.0], [10, 1, 1]);
+    let s = eval(ShapeFunction::Linear, &g, [1.0, 0.5, 0.5], [0.0; 3]);
+    assert_eq!(s.nodes(), &[[9, 0, 0], [10, 0, 0]]);
+    assert_eq!(s.weights(), &[0.0, 1.0]);
+}
+
+#[test]
+fn inactive_directions_give_four_nodes_in_2d_and_two_in_1d() {
+    let g2 = grid([0.0; 3], [1.0; 3], [4, 4, 1]);
+    let s = eval(ShapeFunction::Linear, &g2, [1.5, 2.25, 0.3], [0.0; 3]);
+    assert_eq!(s.len(), 4);
+    assert!(s.nodes().iter().all(|n| n[2] == 0));
+    assert!(s.gradients().iter().all(|g| g[2] == 0.0));
+    let g1 = grid([0.0; 3], [1.0; 3], [4, 1, 1]);
+    let s = eval(ShapeFunction::Linear, &g1, [1.5, 0.2, 0.3], [0.0; 3]);
+    assert_eq!(s.len(), 2);
+    assert_eq!(s.weights(), &[0.5, 0.5]);
+}
+
+#[test]
+fn gimp_at_a_cell_centre_gives_the_linear_weights_for_every_half_width() {
+    // At the centre of cell i the two nodes are h/2 away, which lies in the
+    // linear branch l_p ≤ |r| ≤ h − l_p for every l_p ≤ h/2, and node i − 1
+    // is 3h/2 ≥ h + l_p away.
+    let h = 0.5;
+    let g = grid([0.0; 3], [h, 1.0, 1.0], [6, 1, 1]);
+    for lp in [0.01, 0.125, 0.2, 0.25] {
+        let s = eval(ShapeFunction::Gimp, &g, [2.5 * h, 0.5, 0.5], [lp, 0.5, 0.5]);
+        assert_eq!(s.nodes(), &[[2, 0, 0], [3, 0, 0]], "l_p = {lp}");
+        assert!((s.weights()[0] - 0.5).abs() < 1e-15 && (s.weights()[1] - 0.5).abs() < 1e-15);
+        assert!((s.gradients()[0][0] + 1.0 / h).abs() < 1e-14);
+        assert!((s.gradients()[1][0] - 1.0 / h).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn gimp_on_a_node_spreads_to_both_neighbours() {
+    // l_p = h/4 (two particles per cell), particle on node 3:
+    // S(0) = 1 − l_p/(2h) = 7/8, S(±h) = l_p/(4h) = 1/16,
+    // S'(0) = 0, S'(±h) = ∓1/(2h).
+    let h = 2.0;
+    let g = grid([0.0; 3], [h, 1.0, 1.0], [6, 1, 1]);
+    let s = eval(
+        ShapeFunction::Gimp,
+        &g,
+        [3.0 * h, 0.5, 0.5],
+        [h / 4.0, 0.5, 0.5],
+    );
+    assert_eq!(s.nodes(), &[[2, 0, 0], [3, 0, 0], [4, 0, 0]]);
+    let expected_w = [1.0 / 16.0, 7.0 / 8.0, 1.0 / 16.0];
+    let expected_g = [-1.0 / (2.0 * h), 0.0, 1.0 / (2.0 * h)];
+    for k in 0..3 {
+        assert!((s.weights()[k] - expected_w[k]).abs() < 1e-15);
+        assert!((s.gradients()[k][0] - expected_g[k]).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn gimp_gradient_is_continuous_across_a_cell_face_where_linear_jumps() {
+    let h = 1.0;
+    let g = grid([0.0; 3], [h, 1.0, 1.0], [6, 1, 1]);
+    let eps = 1e-9;
+    let lp = [0.25, 0.5, 0.5];
+    let grad_of_node_3 = |sf: ShapeFunction, x: f64| {
+        let s = eval(sf, &g, [x, 0.5, 0.5], lp);
+        let g = s.iter().find(|(n, _, _)| n[0] == 3).map(|(_, _, gr)| gr[0]);
+        g.unwrap_or(0.0)
+    };
+    let jump = |sf| (grad_of_node_3(sf, 3.0 + eps) - grad_of_node_3(sf, 3.0 - eps)).abs();
+    assert!((jump(ShapeFunction::Linear) - 2.0 / h).abs() < 1e-12);
+    assert!(jump(ShapeFunction::Gimp) < 1e-6 / h);
+    assert!(jump(ShapeFunction::QuadraticBSpline) < 1e-6 / h);
+}
+
+#[test]
+fn bspline_weights_at_a_known_point() {
+    // ξ = 2.3: nearest node 2, d = 0.3; weights 0.5(0.5 − d)² = 0.02,
+    // 0.75 − d² = 0.66, 0.5(0.5 + d)² = 0.32 on nodes 1, 2, 3.
+    let h = 0.1;
+    let g = grid([1.0, 0.0, 0.0], [h, 1.0, 1.0], [8, 1, 1]);
+    let s = eval(
+        ShapeFunction::QuadraticBSpline,
+        &g,
+        [1.0 + 2.3 * h, 0.5, 0.5],
+        [0.0; 3],
+    );
+    assert_eq!(s.nodes(), &[[1, 0, 0], [2, 0, 0], [3, 0, 0]]);
+    let expected_w = [0.02, 0.66, 0.32];
+    let expected_g = [-0.2 / h, -0.6 / h, 0.8 / h];
+    for k in 0..3 {
+        assert!((s.weights()[k] - expected_w[k]).abs() < 1e-14);
+        assert!((s.gradients()[k][0] - expected_g[k]).abs() < 1e-12);
+        // The same from the B-spline of the node distance.
+        let xi = 2.3 - (1 + k) as f64;
+        assert!((s.weights()[k] - bspline::quadratic_bspline(xi)).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn bspline_near_the_domain_edge_reaches_one_ghost_node() {
+    let g = grid([0.0; 3], [1.0; 3], [4, 1, 1]);
+    let s = eval(
+        ShapeFunction::QuadraticBSpline,
+        &g,
+        [0.2, 0.5, 0.5],
+        [0.0; 3],
+    );
+    assert_eq!(s.nodes()[0], [-1, 0, 0]);
+    let s = eval(
+        ShapeFunction::QuadraticBSpline,
+        &g,
+        [3.9, 0.5, 0.5],
+        [0.0; 3],
+    );
+    assert_eq!(s.nodes()[2], [5, 0, 0]);
+}
+
+#[test]
+fn invalid_inputs_are_rejected_with_a_reason() {
+    let g = grid([0.0; 3], [1.0; 3], [4, 4, 4]);
+    let mut s = ShapeStencil::new();
+    let e = ShapeFunction::Linear
+        .evaluate(&g, [f64::NAN, 0.0, 0.0], [0.0; 3], &mut s)
+        .unwrap_err();
+    assert!(matches!(e, ShapeError::NonFinitePosition { .. }));
+    let e = ShapeFunction::Gimp
+        .evaluate(&g, [1.0; 3], [0.25, 0.75, 0.25], &mut s)
+        .unwrap_err();
+    assert_eq!(
+        e,
+        ShapeError::HalfWidth {
+            axis: 1,
+            half_width: 0.75,
+            max: 0.5
+        }
+    );
+    assert!(e.to_string().contains("axis 1"));
+    let e = ShapeFunction::Gimp
+        .evaluate(&g, [1.0; 3], [0.0, 0.25, 0.25], &mut s)
+        .unwrap_err();
+    assert!(matches!(e, ShapeError::HalfWidth { axis: 0, .. }));
+}
+
+#[test]
+fn default_half_width_tiles_the_cell() {
+    let g = grid([0.0; 3], [0.2, 0.4, 1.0], [5, 5, 1]);
+    assert_eq!(ShapeFunction::default_half_width(&g, 2), [0.05, 0.1, 0.5]);
+}
