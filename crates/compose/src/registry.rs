@@ -66,6 +66,18 @@ pub const ENTRIES: &[Entry] = &[
         example: "SolidThreshold(solid: MieGruneisenLinear(c0: 3574.0, s: 1.92, gamma0: 1.69, rho0: 7830.0, cv: 477.0, t0: 294.0), threshold_pressure: 101325.0)",
     },
     Entry {
+        family: "material",
+        name: "Hypoelastic",
+        summary: "isotropic hypoelastic solid (K or an EOS, G) with a Jaumann or Green-Naghdi rate (seed 000 §4.2, seed 001 eq 30)",
+        example: "Hypoelastic(shear_modulus: 43.8e9, pressure: Linear(bulk_modulus: 117.0e9), rate: Jaumann)",
+    },
+    Entry {
+        family: "material",
+        name: "ElasticPlastic",
+        summary: "J2 radial return, constant or Johnson-Cook flow stress, Johnson-Cook damage, plastic heating (seed 000 eqs 41-42, 47)",
+        example: "ElasticPlastic(shear_modulus: 43.8e9, pressure: Linear(bulk_modulus: 117.0e9), flow_stress: Constant(sigma_y: 70.0e6), damage: None, rate: GreenNaghdi, taylor_quinney: 0.9, specific_heat: 383.0)",
+    },
+    Entry {
         family: "pipeline",
         name: "Fdm",
         summary: "3D Lax-Wendroff finite-difference Euler solver, Yanenko splitting, adaptive viscosity (seed 001 §2.1)",
@@ -135,6 +147,7 @@ mod tests {
     use super::*;
     use crate::config::{BoundaryConfig, Pipeline, Region};
     use crate::load::ron_options;
+    use brisance_constitutive::MaterialModel;
     use brisance_eos::EosModel;
 
     #[test]
@@ -142,6 +155,9 @@ mod tests {
         for e in ENTRIES {
             let ok = match e.family {
                 "eos" => ron_options().from_str::<EosModel>(e.example).map(|_| ()),
+                "material" => ron_options()
+                    .from_str::<MaterialModel>(e.example)
+                    .map(|_| ()),
                 "pipeline" => ron_options().from_str::<Pipeline>(e.example).map(|_| ()),
                 "region" => ron_options().from_str::<Region>(e.example).map(|_| ()),
                 "boundary" => ron_options()
@@ -169,11 +185,23 @@ mod tests {
     }
 
     #[test]
+    fn every_constitutive_model_is_registered() {
+        for v in brisance_constitutive::MaterialModel::VARIANTS {
+            assert!(
+                ENTRIES
+                    .iter()
+                    .any(|e| e.family == "material" && e.name == *v),
+                "{v} missing from the registry"
+            );
+        }
+    }
+
+    #[test]
     fn listing_names_every_entry() {
         let l = listing();
         for e in ENTRIES {
             assert!(l.contains(e.name));
         }
-        assert!(l.contains("constitutive models (material):\n  (none registered yet)"));
+        assert!(l.contains("reaction models (reaction):\n  (none registered yet)"));
     }
 }
