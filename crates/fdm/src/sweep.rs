@@ -24,7 +24,7 @@
 use brisance_core::Eos;
 
 use crate::state::NVAR;
-use crate::viscosity::{switch_theta, ArtificialViscosity};
+use crate::viscosity::{adaptive_eta, face_mu, switch_theta, ArtificialViscosity};
 
 /// Ghost layers the sweep needs on each side.
 pub const GHOST: usize = 4;
@@ -167,6 +167,268 @@ fn flux<const AXIS: usize, E: Eos>(eos: &E, u: [f64; NVAR]) -> [f64; NVAR] {
     f
 }
 
+/// Pass 1 on one row: the switch θ (eq 4) and the acoustic Courant number
+/// ν = λc per cell; returns whether every state was physical.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn cells_kernel<E: Eos>(
+    eos: &E,
+    lambda: f64,
+    rho_m: &[f64],
+    rho_p: &[f64],
+    r: &[f64],
+    mx: &[f64],
+    my: &[f64],
+    mz: &[f64],
+    en: &[f64],
+    th: &mut [f64],
+    nv: &mut [f64],
+) -> bool {
+    let n = th.len();
+    let (rho_m, rho_p, r, mx, my, mz, en, nv) = (
+        &rho_m[..n],
+        &rho_p[..n],
+        &r[..n],
+        &mx[..n],
+        &my[..n],
+        &mz[..n],
+        &en[..n],
+        &mut nv[..n],
+    );
+    let mut ok = true;
+    for k in 0..n {
+        let rho = r[k];
+        let inv = 1.0 / rho;
+        let e = (en[k] - 0.5 * (mx[k] * mx[k] + my[k] * my[k] + mz[k] * mz[k]) * inv) * inv;
+        let p = eos.pressure(rho, e);
+        ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
+        th[k] = switch_theta(rho_m[k], rho, rho_p[k]);
+        nv[k] = lambda * eos.sound_speed(rho, e);
+    }
+    ok
+}
+
+/// Pass 2 on one row: μ at each face from the four switches around it.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn faces_kernel(
+    viscosity: ArtificialViscosity,
+    tm: &[f64],
+    t0: &[f64],
+    tp: &[f64],
+    tpp: &[f64],
+    n0: &[f64],
+    np: &[f64],
+    mu: &mut [f64],
+) {
+    let n = mu.len();
+    let (tm, t0, tp, tpp, n0, np) = (&tm[..n], &t0[..n], &tp[..n], &tpp[..n], &n0[..n], &np[..n]);
+    // θ and ν are finite here (pass 1 flags any non-finite state), so plain
+    // comparisons replace f64::max and the loops vectorise; the law is
+    // chosen once per row, not per face.
+    let max = |a: f64, b: f64| if a > b { a } else { b };
+    let theta_face = |k: usize| max(max(tm[k], t0[k]), max(tp[k], tpp[k]));
+    match viscosity {
+        ArtificialViscosity::Adaptive => {
+            for (k, m) in mu.iter_mut().enumerate() {
+                *m = face_mu(adaptive_eta(0.5 * (n0[k] + np[k])), theta_face(k));
+            }
+        }
+        ArtificialViscosity::Constant(eta) => {
+            for (k, m) in mu.iter_mut().enumerate() {
+                *m = face_mu(eta, theta_face(k));
+            }
+        }
+        ArtificialViscosity::Off => mu.fill(0.0),
+    }
+}
+
+/// Pass 5 on one row of one variable: U = Ū − λ(F*₊ − F*₋).
+#[inline(never)]
+fn update_kernel(lambda: f64, ubar: &[f64], f_minus: &[f64], f_plus: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let (ubar, f_minus, f_plus) = (&ubar[..n], &f_minus[..n], &f_plus[..n]);
+    for k in 0..n {
+        out[k] = ubar[k] - lambda * (f_plus[k] - f_minus[k]);
+    }
+}
+
+/// Pass 3 on one row: the smoothed state Ū (eq 3, flux form) and its flux.
+/// Separate slice arguments tell the compiler the outputs alias nothing,
+/// so the loop vectorises.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn smooth_kernel<const AXIS: usize, E: Eos>(
+    eos: &E,
+    mu_m: &[f64],
+    mu_0: &[f64],
+    m0: &[f64],
+    m1: &[f64],
+    m2: &[f64],
+    m3: &[f64],
+    m4: &[f64],
+    c0: &[f64],
+    c1: &[f64],
+    c2: &[f64],
+    c3: &[f64],
+    c4: &[f64],
+    n0: &[f64],
+    n1: &[f64],
+    n2: &[f64],
+    n3: &[f64],
+    n4: &[f64],
+    p0: &mut [f64],
+    p1: &mut [f64],
+    p2: &mut [f64],
+    p3: &mut [f64],
+    p4: &mut [f64],
+    q0: &mut [f64],
+    q1: &mut [f64],
+    q2: &mut [f64],
+    q3: &mut [f64],
+    q4: &mut [f64],
+) {
+    let n = p0.len();
+    let (mu_m, mu_0) = (&mu_m[..n], &mu_0[..n]);
+    let (m0, m1, m2, m3, m4) = (&m0[..n], &m1[..n], &m2[..n], &m3[..n], &m4[..n]);
+    let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
+    let (n0, n1, n2, n3, n4) = (&n0[..n], &n1[..n], &n2[..n], &n3[..n], &n4[..n]);
+    let (p1, p2, p3, p4) = (&mut p1[..n], &mut p2[..n], &mut p3[..n], &mut p4[..n]);
+    let (q0, q1, q2, q3, q4) = (
+        &mut q0[..n],
+        &mut q1[..n],
+        &mut q2[..n],
+        &mut q3[..n],
+        &mut q4[..n],
+    );
+    for k in 0..n {
+        let (a, b) = (mu_0[k], mu_m[k]);
+        let sm = |m: f64, c: f64, p: f64| c + a * (p - c) - b * (c - m);
+        let s = [
+            sm(m0[k], c0[k], n0[k]),
+            sm(m1[k], c1[k], n1[k]),
+            sm(m2[k], c2[k], n2[k]),
+            sm(m3[k], c3[k], n3[k]),
+            sm(m4[k], c4[k], n4[k]),
+        ];
+        let fl = flux::<AXIS, E>(eos, s);
+        p0[k] = s[0];
+        p1[k] = s[1];
+        p2[k] = s[2];
+        p3[k] = s[3];
+        p4[k] = s[4];
+        q0[k] = fl[0];
+        q1[k] = fl[1];
+        q2[k] = fl[2];
+        q3[k] = fl[3];
+        q4[k] = fl[4];
+    }
+}
+
+/// Pass 4 on one row: the Richtmyer half-step state at each face and its
+/// flux. Every slice is a separate argument so the compiler knows the
+/// outputs alias none of the inputs and vectorises the loop.
+#[inline(always)]
+fn predictor_row<const AXIS: usize, E: Eos>(
+    eos: &E,
+    half_lambda: f64,
+    u0: [&[f64]; NVAR],
+    up: [&[f64]; NVAR],
+    f0: [&[f64]; NVAR],
+    fp: [&[f64]; NVAR],
+    out: [&mut [f64]; NVAR],
+) {
+    let [a0, a1, a2, a3, a4] = u0;
+    let [b0, b1, b2, b3, b4] = up;
+    let [c0, c1, c2, c3, c4] = f0;
+    let [d0, d1, d2, d3, d4] = fp;
+    let [o0, o1, o2, o3, o4] = out;
+    predictor_kernel::<AXIS, E>(
+        eos,
+        half_lambda,
+        a0,
+        a1,
+        a2,
+        a3,
+        a4,
+        b0,
+        b1,
+        b2,
+        b3,
+        b4,
+        c0,
+        c1,
+        c2,
+        c3,
+        c4,
+        d0,
+        d1,
+        d2,
+        d3,
+        d4,
+        o0,
+        o1,
+        o2,
+        o3,
+        o4,
+    );
+}
+
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn predictor_kernel<const AXIS: usize, E: Eos>(
+    eos: &E,
+    half_lambda: f64,
+    a0: &[f64],
+    a1: &[f64],
+    a2: &[f64],
+    a3: &[f64],
+    a4: &[f64],
+    b0: &[f64],
+    b1: &[f64],
+    b2: &[f64],
+    b3: &[f64],
+    b4: &[f64],
+    c0: &[f64],
+    c1: &[f64],
+    c2: &[f64],
+    c3: &[f64],
+    c4: &[f64],
+    d0: &[f64],
+    d1: &[f64],
+    d2: &[f64],
+    d3: &[f64],
+    d4: &[f64],
+    o0: &mut [f64],
+    o1: &mut [f64],
+    o2: &mut [f64],
+    o3: &mut [f64],
+    o4: &mut [f64],
+) {
+    let n = o0.len();
+    let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
+    let (b0, b1, b2, b3, b4) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n], &b4[..n]);
+    let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
+    let (d0, d1, d2, d3, d4) = (&d0[..n], &d1[..n], &d2[..n], &d3[..n], &d4[..n]);
+    let (o1, o2, o3, o4) = (&mut o1[..n], &mut o2[..n], &mut o3[..n], &mut o4[..n]);
+    for k in 0..n {
+        let h = |a: f64, b: f64, c: f64, d: f64| 0.5 * (a + b) - half_lambda * (d - c);
+        let s = [
+            h(a0[k], b0[k], c0[k], d0[k]),
+            h(a1[k], b1[k], c1[k], d1[k]),
+            h(a2[k], b2[k], c2[k], d2[k]),
+            h(a3[k], b3[k], c3[k], d3[k]),
+            h(a4[k], b4[k], c4[k], d4[k]),
+        ];
+        let fl = flux::<AXIS, E>(eos, s);
+        o0[k] = fl[0];
+        o1[k] = fl[1];
+        o2[k] = fl[2];
+        o3[k] = fl[3];
+        o4[k] = fl[4];
+    }
+}
+
 /// Sweeps one slab along `AXIS` with λ = Δt_s/Δx. Returns `false` if a cell
 /// read by the sweep had non-positive density or pressure or a non-finite
 /// value (the caller then locates it and stops the run).
@@ -211,17 +473,8 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let u: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
         let th = &mut theta[so..so + len];
         let nv = &mut nu[so..so + len];
-        for k in 0..len {
-            let rho = u[0][k];
-            let inv = 1.0 / rho;
-            let e = (u[4][k]
-                - 0.5 * (u[1][k] * u[1][k] + u[2][k] * u[2][k] + u[3][k] * u[3][k]) * inv)
-                * inv;
-            let p = eos.pressure(rho, e);
-            ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
-            th[k] = switch_theta(rho_m[k], rho, rho_p[k]);
-            nv[k] = lambda * eos.sound_speed(rho, e);
-        }
+        let [r, mx, my, mz, en] = u;
+        ok &= cells_kernel(eos, lambda, rho_m, rho_p, r, mx, my, mz, en, th, nv);
     });
 
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
@@ -232,10 +485,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let tpp = &theta[so + 2 * ss..][..len];
         let (n0, np) = (&nu[so..][..len], &nu[so + ss..][..len]);
         let m = &mut mu[so..][..len];
-        for k in 0..len {
-            let theta_face = tm[k].max(t0[k]).max(tp[k]).max(tpp[k]);
-            m[k] = viscosity.face_coefficient(theta_face, n0[k], np[k]);
-        }
+        faces_kernel(viscosity, tm, t0, tp, tpp, n0, np, m);
     });
 
     let mut ubar = split_vars(ubar, n);
@@ -249,24 +499,15 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let up: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo + sa, len));
         let mu_m = &mu[so - ss..][..len];
         let mu_0 = &mu[so..][..len];
-        let ub = ubar.each_mut().map(|a| &mut a[so..][..len]);
-        let fb = fbar.each_mut().map(|a| &mut a[so..][..len]);
-        for k in 0..len {
-            let (a, b) = (mu_0[k], mu_m[k]);
-            let s: [f64; NVAR] =
-                per_var!(|f| u0[f][k] + a * (up[f][k] - u0[f][k]) - b * (u0[f][k] - um[f][k]));
-            let fl = flux::<AXIS, E>(eos, s);
-            ub[0][k] = s[0];
-            ub[1][k] = s[1];
-            ub[2][k] = s[2];
-            ub[3][k] = s[3];
-            ub[4][k] = s[4];
-            fb[0][k] = fl[0];
-            fb[1][k] = fl[1];
-            fb[2][k] = fl[2];
-            fb[3][k] = fl[3];
-            fb[4][k] = fl[4];
-        }
+        let [p0, p1, p2, p3, p4] = ubar.each_mut().map(|a| &mut a[so..][..len]);
+        let [q0, q1, q2, q3, q4] = fbar.each_mut().map(|a| &mut a[so..][..len]);
+        let [m0, m1, m2, m3, m4] = um;
+        let [c0, c1, c2, c3, c4] = u0;
+        let [n0, n1, n2, n3, n4] = up;
+        smooth_kernel::<AXIS, E>(
+            eos, mu_m, mu_0, m0, m1, m2, m3, m4, c0, c1, c2, c3, c4, n0, n1, n2, n3, n4, p0, p1,
+            p2, p3, p4, q0, q1, q2, q3, q4,
+        );
     });
 
     // Pass 4: Richtmyer half step at faces a+½ for a ∈ [g−1, hi).
@@ -276,17 +517,8 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let up: [&[f64]; NVAR] = per_var!(|f| &ubar[f][so + ss..][..len]);
         let f0: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so..][..len]);
         let fp: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so + ss..][..len]);
-        let fs = fstar.each_mut().map(|a| &mut a[so..][..len]);
-        for k in 0..len {
-            let s: [f64; NVAR] =
-                per_var!(|f| 0.5 * (u0[f][k] + up[f][k]) - half_lambda * (fp[f][k] - f0[f][k]));
-            let fl = flux::<AXIS, E>(eos, s);
-            fs[0][k] = fl[0];
-            fs[1][k] = fl[1];
-            fs[2][k] = fl[2];
-            fs[3][k] = fl[3];
-            fs[4][k] = fl[4];
-        }
+        let [s0, s1, s2, s3, s4] = fstar.each_mut().map(|a| &mut a[so..][..len]);
+        predictor_row::<AXIS, E>(eos, half_lambda, u0, up, f0, fp, [s0, s1, s2, s3, s4]);
     });
 
     // Pass 5: conservative update of the interior, a ∈ [g, hi).
@@ -296,9 +528,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
             let ub = &ubar[f][so..][..len];
             let fp = &fstar[f][so..][..len];
             let fm = &fstar[f][so - ss..][..len];
-            for k in 0..len {
-                out[k] = ub[k] - lambda * (fp[k] - fm[k]);
-            }
+            update_kernel(lambda, ub, fm, fp, out);
         }
     });
     ok

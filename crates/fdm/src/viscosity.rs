@@ -47,9 +47,23 @@ pub fn switch_theta(rho_m: f64, rho_0: f64, rho_p: f64) -> f64 {
 
 /// η of seed 001 eq 5 for an acoustic Courant number ν (clamped to [0, 1]).
 #[inline(always)]
+#[allow(clippy::manual_clamp)]
 pub fn adaptive_eta(nu: f64) -> f64 {
-    let nu = nu.clamp(0.0, 1.0);
+    // Plain comparisons rather than f64::clamp so the kernel loop vectorises.
+    let nu = if nu < 0.0 {
+        0.0
+    } else if nu > 1.0 {
+        1.0
+    } else {
+        nu
+    };
     nu * (1.0 - nu)
+}
+
+/// μ = ½ η θ, the face coefficient of the flux-form eq 3.
+#[inline(always)]
+pub fn face_mu(eta: f64, theta_face: f64) -> f64 {
+    0.5 * eta * theta_face
 }
 
 impl ArtificialViscosity {
@@ -63,7 +77,7 @@ impl ArtificialViscosity {
             Self::Constant(eta) => eta,
             Self::Off => 0.0,
         };
-        0.5 * eta * theta_face
+        face_mu(eta, theta_face)
     }
 }
 

@@ -57,20 +57,38 @@ impl InProcessExchange {
     }
 }
 
-/// Calls `f(storage index)` for every cell of the plane `layer` normal to
-/// `axis`, in a fixed order shared by packing and unpacking.
+/// Calls `f(range)` for the contiguous runs of storage indices that make up
+/// the plane `layer` normal to `axis`, in a fixed order shared by packing
+/// and unpacking: whole x rows for planes normal to y or z, single cells
+/// for planes normal to x.
 #[inline]
-fn for_each_in_plane(dims: [usize; 3], axis: usize, layer: usize, mut f: impl FnMut(usize)) {
+fn for_each_run(
+    dims: [usize; 3],
+    axis: usize,
+    layer: usize,
+    mut f: impl FnMut(std::ops::Range<usize>),
+) {
     let stride = [1, dims[0], dims[0] * dims[1]];
-    let (e1, e2) = match axis {
-        0 => (1, 2),
-        1 => (0, 2),
-        _ => (0, 1),
-    };
-    let base = layer * stride[axis];
-    for c2 in 0..dims[e2] {
-        for c1 in 0..dims[e1] {
-            f(base + c1 * stride[e1] + c2 * stride[e2]);
+    match axis {
+        0 => {
+            for c2 in 0..dims[2] {
+                for c1 in 0..dims[1] {
+                    let n = layer + c1 * stride[1] + c2 * stride[2];
+                    f(n..n + 1);
+                }
+            }
+        }
+        1 => {
+            for c2 in 0..dims[2] {
+                let n = layer * stride[1] + c2 * stride[2];
+                f(n..n + dims[0]);
+            }
+        }
+        _ => {
+            for c1 in 0..dims[1] {
+                let n = layer * stride[2] + c1 * stride[1];
+                f(n..n + dims[0]);
+            }
         }
     }
 }
@@ -134,7 +152,9 @@ fn pack(out: &mut Vec<f64>, src: &Source, id: usize, axis: usize, side: usize) {
                 // Ghost a on the low side is the neighbour's interior layer
                 // qsize + a (its top g layers); on the high side its first g.
                 let layer = if side == 0 { qsize + a } else { g + a };
-                for_each_in_plane(from.dims, axis, layer, |n| out.push(values[n]));
+                for_each_run(from.dims, axis, layer, |r| {
+                    out.extend_from_slice(&values[r])
+                });
             }
         }
         return;
@@ -145,7 +165,7 @@ fn pack(out: &mut Vec<f64>, src: &Source, id: usize, axis: usize, side: usize) {
             let layer = if side == 0 { g } else { g + size - 1 };
             for values in &own.data {
                 for _ in 0..g {
-                    for_each_in_plane(own.dims, axis, layer, |n| out.push(values[n]));
+                    for_each_run(own.dims, axis, layer, |r| out.extend_from_slice(&values[r]));
                 }
             }
         }
@@ -164,14 +184,18 @@ fn pack(out: &mut Vec<f64>, src: &Source, id: usize, axis: usize, side: usize) {
                     } else {
                         g + size - 1 - a
                     };
-                    for_each_in_plane(own.dims, axis, layer, |n| out.push(sign * values[n]));
+                    for_each_run(own.dims, axis, layer, |r| {
+                        out.extend(values[r].iter().map(|v| sign * v))
+                    });
                 }
             }
         }
         FaceBc::Fixed(state) => {
             for &v in state {
                 for _ in 0..g {
-                    for_each_in_plane(own.dims, axis, 0, |_| out.push(v));
+                    for_each_run(own.dims, axis, 0, |r| {
+                        out.extend(std::iter::repeat_n(v, r.len()))
+                    });
                 }
             }
         }
@@ -185,15 +209,18 @@ fn unpack(buf: &[f64], patch: &Patch, fields: &mut PatchFields, axis: usize, sid
     let g = patch.ghost[axis];
     let size = patch.size[axis];
     let dims = fields.dims;
-    let mut it = buf.iter();
+    let mut pos = 0;
     for values in &mut fields.data {
         for a in 0..g {
             let layer = if side == 0 { a } else { g + size + a };
-            for_each_in_plane(dims, axis, layer, |n| {
-                values[n] = *it.next().expect("halo buffer matches the ghost layers");
+            for_each_run(dims, axis, layer, |r| {
+                let len = r.len();
+                values[r].copy_from_slice(&buf[pos..pos + len]);
+                pos += len;
             });
         }
     }
+    debug_assert_eq!(pos, buf.len(), "halo buffer matches the ghost layers");
 }
 
 impl HaloExchange for InProcessExchange {
