@@ -74,5 +74,35 @@ fn eos_pressure(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, fdm_lax_wendroff, eos_pressure);
+/// One explicit MPM step (MUSL) of a 3D elastic-plastic copper block with
+/// 2 x 2 x 2 particles per cell: particle-steps per second, for linear and
+/// quadratic B-spline shape functions.
+fn mpm_step(c: &mut Criterion) {
+    use brisance::compose::{build::build_solver, load_str};
+    let text = include_str!("../configs/taylor2d.ron");
+    let mut group = c.benchmark_group("mpm_step");
+    group.sample_size(10);
+    for shape in ["Linear", "QuadraticBSpline"] {
+        let sets = [
+            "domain.cells=(16,32,16)".to_string(),
+            "domain.upper=(0.008,0.016,0.008)".to_string(),
+            "initial.0.region.max=(0.004,0.012,0.004)".to_string(),
+            "boundaries.z_low=Reflective".to_string(),
+            "outputs.gauges=[]".to_string(),
+            format!("pipeline.shape_function={shape}"),
+        ];
+        let loaded = load_str("taylor2d.ron", text, &sets).expect("benchmark scenario loads");
+        let mut solver = build_solver(&loaded.scenario).expect("benchmark scenario builds");
+        group.throughput(Throughput::Elements(solver.work_per_step().0 as u64));
+        group.bench_function(BenchmarkId::from_parameter(shape), |b| {
+            b.iter(|| {
+                let dt = solver.stable_dt().expect("stable");
+                solver.advance(dt).expect("advances");
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, fdm_lax_wendroff, eos_pressure, mpm_step);
 criterion_main!(benches);

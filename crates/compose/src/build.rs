@@ -5,9 +5,14 @@ use brisance_eos::IdealGas;
 use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
 
+use brisance_constitutive::MaterialModel;
+use brisance_core::Material;
 use brisance_eos::EosModel;
+use brisance_mpm::{GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, Particles};
 
-use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
+use crate::config::{
+    BoundaryConfig, MpmConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig,
+};
 use crate::error::ConfigError;
 
 /// What validation needs to know about a pipeline.
@@ -24,6 +29,11 @@ pub struct PipelineLimits {
 /// The limits of a pipeline.
 pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
+        Pipeline::Mpm(_) => PipelineLimits {
+            fields: &MpmSolver::FIELDS,
+            max_cfl: 1.0,
+            ghost: 1,
+        },
         Pipeline::Fdm(_) => PipelineLimits {
             fields: &FdmSolver::<IdealGas>::FIELDS,
             max_cfl: brisance_fdm::solver::MAX_CFL,
@@ -55,6 +65,23 @@ pub fn region_contains(r: &Region, x: [f64; 3]) -> bool {
             let s = dot(v, a);
             let r = sub(v, a.map(|c| c * s));
             (0.0..=*length).contains(&s) && dot(r, r) <= radius * radius
+        }
+        Region::Shell {
+            base,
+            axis,
+            inner_radius,
+            outer_radius,
+            length,
+        } => {
+            let n = dot(*axis, *axis).sqrt();
+            let a = axis.map(|c| c / n);
+            let v = sub(x, *base);
+            let s = dot(v, a);
+            let r = sub(v, a.map(|c| c * s));
+            let r2 = dot(r, r);
+            (0.0..=*length).contains(&s)
+                && r2 >= inner_radius * inner_radius
+                && r2 <= outer_radius * outer_radius
         }
         Region::HalfSpace { point, normal } => dot(sub(x, *point), *normal) >= 0.0,
     }
@@ -91,7 +118,10 @@ fn located(path: &str, message: String) -> ConfigError {
 /// the caller fills in the file and position.
 pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
     let d = &s.domain;
-    let Pipeline::Fdm(fdm) = &s.pipeline;
+    let fdm = match &s.pipeline {
+        Pipeline::Fdm(fdm) => fdm,
+        Pipeline::Mpm(mpm) => return build_mpm(s, mpm),
+    };
     let level = Level::new(
         d.lower,
         d.upper,
@@ -119,7 +149,9 @@ fn build_fdm<E: Eos + 'static>(
     level: Level,
     eos: E,
 ) -> Result<Box<dyn Solver>, ConfigError> {
-    let Pipeline::Fdm(fdm) = &s.pipeline;
+    let Pipeline::Fdm(fdm) = &s.pipeline else {
+        unreachable!("build_fdm is called for Fdm pipelines");
+    };
     let d = &s.domain;
     let mut boundaries = [FdmBoundary::Outflow; 6];
     for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
@@ -131,6 +163,12 @@ fn build_fdm<E: Eos + 'static>(
                 primitive_state(&eos, state)
                     .map_err(|m| located(&format!("boundaries.{face}"), m))?,
             ),
+            BoundaryConfig::Wall => {
+                return Err(located(
+                    &format!("boundaries.{face}"),
+                    "`Wall` is a particle boundary; use `Reflective`".into(),
+                ))
+            }
         };
     }
     let states = s
@@ -180,7 +218,10 @@ fn build_fdm<E: Eos + 'static>(
 /// A one-paragraph description of the assembled pipeline (for `check`).
 pub fn describe(s: &Scenario) -> String {
     let d = &s.domain;
-    let Pipeline::Fdm(fdm) = &s.pipeline;
+    let fdm = match &s.pipeline {
+        Pipeline::Fdm(fdm) => fdm,
+        Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
+    };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
     format!(
         "scenario `{}`: Fdm pipeline (Lax-Wendroff Euler, seed 001 §2.1), {dims}D\n  \
@@ -224,5 +265,256 @@ fn bc_name(b: &BoundaryConfig) -> &'static str {
         BoundaryConfig::Reflective => "reflective",
         BoundaryConfig::Periodic => "periodic",
         BoundaryConfig::Fixed(_) => "fixed",
+        BoundaryConfig::Wall => "wall",
+    }
+}
+
+/// Builds the MPM solver: every sub-cell point (ppc per direction) inside an
+/// initial region becomes a particle of that region's material (the last
+/// region containing the point wins, as for cells).
+fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Box<dyn Solver>, ConfigError> {
+    let d = &s.domain;
+    let level = Level::new(d.lower, d.upper, d.cells, d.patches, 1)
+        .map_err(|e| located("domain.patches", e.to_string()))?;
+    let grid = level.geometry;
+    // Materials with a constitutive model, numbered in name order.
+    let names: Vec<&String> = s
+        .materials
+        .iter()
+        .filter(|(_, m)| m.model.is_some())
+        .map(|(n, _)| n)
+        .collect();
+    let models: Vec<MaterialModel> = names
+        .iter()
+        .filter_map(|n| s.materials[*n].model.clone())
+        .collect();
+    let stride = models.iter().map(|m| m.history_len()).max().unwrap_or(0);
+    let mut regions = Vec::with_capacity(s.initial.len());
+    for (i, r) in s.initial.iter().enumerate() {
+        let path = format!("initial.{i}");
+        let id = names
+            .iter()
+            .position(|n| **n == r.material)
+            .ok_or_else(|| {
+                located(
+                    &format!("{path}.material"),
+                    "the material has no constitutive `model`".into(),
+                )
+            })?;
+        let model = &models[id];
+        let st = &r.state;
+        // Temperature and specific internal energy from whichever is given,
+        // through the model's equation of state when it has one.
+        let (temperature, energy) = match (
+            model.eos(),
+            st.temperature,
+            st.specific_internal_energy,
+            st.pressure,
+        ) {
+            (Some(eos), Some(t), None, None) => (
+                t,
+                eos.specific_internal_energy_from_temperature(st.density, t),
+            ),
+            (Some(eos), None, Some(e), None) => (eos.temperature(st.density, e), e),
+            (Some(eos), None, None, Some(p)) => {
+                let e = eos
+                    .specific_internal_energy(st.density, p)
+                    .map_err(|e| located(&format!("{path}.state.pressure"), e.to_string()))?;
+                (eos.temperature(st.density, e), e)
+            }
+            (None, Some(t), None, None) => (t, 0.0),
+            _ => {
+                return Err(located(
+                    &format!("{path}.state"),
+                    "this material has no equation of state: give its `temperature`".into(),
+                ))
+            }
+        };
+        regions.push((r, MaterialId(id as u16), temperature, energy));
+    }
+    let ppc = mpm.ppc;
+    let active: [bool; 3] = std::array::from_fn(|a| d.cells[a] > 1);
+    let per_axis: [usize; 3] = std::array::from_fn(|a| if active[a] { ppc } else { 1 });
+    let sub_volume =
+        grid.spacing.iter().product::<f64>() / per_axis.iter().product::<usize>() as f64;
+    let mut particles = Particles::new(stride);
+    let history = vec![0.0; stride];
+    for k in 0..d.cells[2] {
+        for j in 0..d.cells[1] {
+            for i in 0..d.cells[0] {
+                for sk in 0..per_axis[2] {
+                    for sj in 0..per_axis[1] {
+                        for si in 0..per_axis[0] {
+                            let idx = [i, j, k];
+                            let sub = [si, sj, sk];
+                            let x: [f64; 3] = std::array::from_fn(|a| {
+                                grid.origin[a]
+                                    + (idx[a] as f64 + (sub[a] as f64 + 0.5) / per_axis[a] as f64)
+                                        * grid.spacing[a]
+                            });
+                            let Some(&(r, material, temperature, energy)) = regions
+                                .iter()
+                                .rev()
+                                .find(|(r, ..)| region_contains(&r.region, x))
+                            else {
+                                continue;
+                            };
+                            let init = ParticleInit {
+                                position: x,
+                                velocity: r.state.velocity,
+                                mass: r.state.density * sub_volume,
+                                volume: sub_volume,
+                                temperature,
+                                specific_internal_energy: energy,
+                                material,
+                                ..Default::default()
+                            };
+                            particles
+                                .push(&init, &history)
+                                .map_err(|e| located("initial", e.to_string()))?;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if particles.is_empty() {
+        return Err(located(
+            "initial",
+            "no particle lies in any initial region".into(),
+        ));
+    }
+    let boundary = |bc: &BoundaryConfig| match bc {
+        BoundaryConfig::Wall => GridBoundary::Fixed,
+        BoundaryConfig::Reflective => GridBoundary::Symmetry,
+        _ => GridBoundary::Outflow,
+    };
+    let faces = s.boundaries.faces();
+    let options = MpmOptions {
+        shape: mpm.shape_function,
+        scheme: mpm.scheme,
+        cfl: s.time.cfl,
+        gravity: mpm.gravity,
+        boundaries: std::array::from_fn(|k| boundary(faces[k].1)),
+        mass_cutoff: mpm.mass_cutoff,
+        ..Default::default()
+    };
+    let solver = MpmSolver::new(level, models, particles, options)
+        .map_err(|e| located("pipeline", e.to_string()))?;
+    Ok(Box::new(solver))
+}
+
+fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
+    let d = &s.domain;
+    let dims = d.cells.iter().filter(|&&c| c > 1).count();
+    let materials: Vec<String> = s
+        .materials
+        .iter()
+        .filter_map(|(n, m)| {
+            m.model
+                .as_ref()
+                .map(|model| format!("`{n}` ({})", model.name()))
+        })
+        .collect();
+    format!(
+        "scenario `{}`: Mpm pipeline (explicit MPM, seed 001 §2.2), {dims}D, {:?} shape functions, {:?}, {} particles per cell per direction\n  \
+         grid: {} x {} x {} cells from {:?} to {:?} m\n  \
+         materials: {}\n  \
+         time: to {} s at cfl {}\n  \
+         boundaries: {}\n  \
+         initial regions: {}",
+        s.name,
+        mpm.shape_function,
+        mpm.scheme,
+        mpm.ppc,
+        d.cells[0],
+        d.cells[1],
+        d.cells[2],
+        d.lower,
+        d.upper,
+        materials.join(", "),
+        s.time.end,
+        s.time.cfl,
+        s.boundaries.faces().iter().map(|(f, b)| format!("{f}={}", bc_name(b))).collect::<Vec<_>>().join(" "),
+        s.initial.len(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::load_str;
+
+    const TAYLOR: &str = include_str!("../../../configs/taylor2d.ron");
+    const SOD: &str = include_str!("../../../configs/sod.ron");
+
+    #[test]
+    fn the_mpm_scenario_builds_particles_and_steps() {
+        // A bar aligned with the 0.5 mm cells: 8 x 50 cells, 2 x 2 particles each.
+        let sets = ["initial.0.region.max=(0.004, 0.025, 0.001)".to_string()];
+        let loaded = load_str("taylor2d.ron", TAYLOR, &sets).unwrap();
+        let mut solver = build_solver(&loaded.scenario).unwrap();
+        assert_eq!(solver.name(), "mpm");
+        assert_eq!(solver.work_per_step().0, (8 * 50 * 4) as f64);
+        let t0 = solver.conservation_totals();
+        let expected_mass = 8930.0 * 0.004 * 0.025 * 0.001;
+        assert!(
+            (t0.mass - expected_mass).abs() < 1e-9 * expected_mass,
+            "mass {}",
+            t0.mass
+        );
+        assert!((t0.momentum[1] + 190.0 * expected_mass).abs() < 1e-9 * expected_mass * 190.0);
+        for _ in 0..5 {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
+        }
+        assert_eq!(
+            solver.conservation_totals().mass.to_bits(),
+            t0.mass.to_bits()
+        );
+    }
+
+    #[test]
+    fn shells_contain_the_annulus_only() {
+        let shell = Region::Shell {
+            base: [0.0; 3],
+            axis: [0.0, 0.0, 2.0],
+            inner_radius: 1.0,
+            outer_radius: 2.0,
+            length: 3.0,
+        };
+        assert!(region_contains(&shell, [1.5, 0.0, 1.0]));
+        assert!(!region_contains(&shell, [0.5, 0.0, 1.0]));
+        assert!(!region_contains(&shell, [2.5, 0.0, 1.0]));
+        assert!(!region_contains(&shell, [1.5, 0.0, 3.5]));
+    }
+
+    #[test]
+    fn pipeline_specific_boundaries_are_rejected_where_they_do_not_apply() {
+        let err = load_str("sod.ron", SOD, &["boundaries.x_low=Wall".into()]).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("boundaries.x_low"));
+        let err = load_str(
+            "taylor2d.ron",
+            TAYLOR,
+            &[
+                "boundaries.x_low=Periodic".into(),
+                "boundaries.x_high=Periodic".into(),
+            ],
+        )
+        .unwrap_err();
+        assert!(err.message.contains("Mpm pipeline takes"), "{err}");
+    }
+
+    #[test]
+    fn an_mpm_material_needs_a_constitutive_model() {
+        let text = TAYLOR
+            .replace(
+                "\"copper\": (",
+                "\"air\": (library: \"air\"),\n        \"copper\": (",
+            )
+            .replace("material: \"copper\"", "material: \"air\"");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("initial.0.material"));
+        assert!(err.message.contains("constitutive"), "{err}");
     }
 }

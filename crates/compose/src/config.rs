@@ -3,7 +3,9 @@
 
 use std::collections::BTreeMap;
 
+use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
+use brisance_mpm::{ShapeFunction, UpdateScheme};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario: one RON file.
@@ -91,8 +93,10 @@ pub enum BoundaryConfig {
     Reflective,
     /// Periodic (set on both faces of the axis).
     Periodic,
-    /// A fixed state of the pipeline's material.
+    /// A fixed state of the pipeline's gas (Fdm).
     Fixed(StateConfig),
+    /// A rigid no-slip wall: every grid velocity component is zero (Mpm).
+    Wall,
 }
 
 /// Time control.
@@ -125,6 +129,9 @@ pub struct MaterialConfig {
     /// The equation of state (filled from the library when `library` is given).
     #[serde(default)]
     pub eos: Option<EosModel>,
+    /// The constitutive model, for particle (Mpm) pipelines.
+    #[serde(default)]
+    pub model: Option<MaterialModel>,
 }
 
 impl MaterialConfig {
@@ -139,6 +146,39 @@ impl MaterialConfig {
 pub enum Pipeline {
     /// The Lax–Wendroff finite-difference Euler solver (seed 001 §2.1).
     Fdm(FdmConfig),
+    /// The explicit material point method (seed 001 §2.2, seed 000 §3.2).
+    Mpm(MpmConfig),
+}
+
+/// Options of the MPM pipeline. Every initial region becomes particles of
+/// its material, which must name a constitutive `model`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmConfig {
+    /// Shape function: `Linear`, `Gimp` or `QuadraticBSpline`.
+    #[serde(default)]
+    pub shape_function: ShapeFunction,
+    /// Update scheme: `Usf`, `Usl` or `Musl`.
+    #[serde(default)]
+    pub scheme: UpdateScheme,
+    /// Particles per cell per active direction.
+    #[serde(default = "default_ppc")]
+    pub ppc: usize,
+    /// Body force per unit mass (gravity), m/s².
+    #[serde(default)]
+    pub gravity: [f64; 3],
+    /// Nodes lighter than this fraction of the mean particle mass are
+    /// treated as empty.
+    #[serde(default = "default_mass_cutoff")]
+    pub mass_cutoff: f64,
+}
+
+fn default_ppc() -> usize {
+    2
+}
+
+fn default_mass_cutoff() -> f64 {
+    1e-5
 }
 
 /// Options of the FDM pipeline.
@@ -212,6 +252,19 @@ pub enum Region {
         axis: [f64; 3],
         /// Radius, m.
         radius: f64,
+        /// Length along the axis, m.
+        length: f64,
+    },
+    /// A thick-walled circular tube from `base` along `axis`.
+    Shell {
+        /// Centre of the base annulus.
+        base: [f64; 3],
+        /// Direction of the axis (normalised internally).
+        axis: [f64; 3],
+        /// Inner radius, m.
+        inner_radius: f64,
+        /// Outer radius, m.
+        outer_radius: f64,
         /// Length along the axis, m.
         length: f64,
     },

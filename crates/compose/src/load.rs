@@ -48,18 +48,12 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
                     "give either `library` or `eos`, not both".into(),
                 ));
             }
-            (None, None) => {
-                return Err((
-                    format!("materials.{name}"),
-                    "give `eos` or `library` (see `brisance list`)".into(),
-                ));
-            }
             (Some(lib), None) => {
                 let entry =
                     library::get(lib).map_err(|msg| (format!("materials.{name}.library"), msg))?;
                 m.eos = Some(entry.eos);
             }
-            (None, Some(_)) => {}
+            (None, _) => {}
         }
     }
     Ok(())

@@ -78,10 +78,34 @@ pub const ENTRIES: &[Entry] = &[
         example: "ElasticPlastic(shear_modulus: 43.8e9, pressure: Linear(bulk_modulus: 117.0e9), flow_stress: Constant(sigma_y: 70.0e6), damage: None, rate: GreenNaghdi, taylor_quinney: 0.9, specific_heat: 383.0)",
     },
     Entry {
+        family: "material",
+        name: "DruckerPrager",
+        summary: "Drucker-Prager soil, shear cone and tension cutoff with apex return (seed 001 eqs 59-63, soil of Luccioni & Luege 2006)",
+        example: "DruckerPrager(shear_modulus: 38.4615e6, bulk_modulus: 83.3333e6, k_phi: 134715.46, q_phi: 0.445749, tensile_strength: 302222.5, q_psi: 0.0, rate: Jaumann)",
+    },
+    Entry {
+        family: "material",
+        name: "Hjc",
+        summary: "Holmquist-Johnson-Cook concrete, three-region crush EOS, Jiang tensile damage (seed 001 eqs 56-58; HJC 1993 constants)",
+        example: "Hjc(reference_density: 2440.0, shear_modulus: 14.86e9, compressive_strength: 48.0e6, tensile_strength: 4.0e6, a: 0.79, b: 1.6, n: 0.61, c: 0.007, s_max: 7.0, reference_strain_rate: 1.0, d1: 0.04, d2: 1.0, ef_min: 0.01, p_crush: 16.0e6, mu_crush: 0.001, p_lock: 0.8e9, mu_lock: 0.1, k1: 85.0e9, k2: -171.0e9, k3: 208.0e9, tensile_damage: None, rate: Jaumann)",
+    },
+    Entry {
+        family: "material",
+        name: "Null",
+        summary: "fluid as material points: EOS pressure, zero or Newtonian viscous deviator 2 mu dev D (for MPM-vs-FDM gas runs, seed 001 §5)",
+        example: "Null(eos: IdealGas(gamma: 1.4, cv: 717.625, rho0: 1.225), viscosity: 0.0)",
+    },
+    Entry {
         family: "pipeline",
         name: "Fdm",
         summary: "3D Lax-Wendroff finite-difference Euler solver, Yanenko splitting, adaptive viscosity (seed 001 §2.1)",
         example: "Fdm(material: \"air\", viscosity: Adaptive)",
+    },
+    Entry {
+        family: "pipeline",
+        name: "Mpm",
+        summary: "explicit material point method: USF/USL/MUSL, linear/GIMP/B-spline shapes (seed 001 §2.2, seed 000 §3.2)",
+        example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2)",
     },
     Entry { family: "region", name: "Everywhere", summary: "the whole domain", example: "Everywhere" },
     Entry { family: "region", name: "Box", summary: "axis-aligned box", example: "Box(min: (0, 0, 0), max: (1, 1, 1))" },
@@ -94,6 +118,12 @@ pub const ENTRIES: &[Entry] = &[
     },
     Entry {
         family: "region",
+        name: "Shell",
+        summary: "thick-walled circular tube (cylindrical shell) from a base point along an axis",
+        example: "Shell(base: (0, 0, 0), axis: (0, 0, 1), inner_radius: 0.0254, outer_radius: 0.0306, length: 0.35)",
+    },
+    Entry {
+        family: "region",
         name: "HalfSpace",
         summary: "points on the side of a plane the normal points to",
         example: "HalfSpace(point: (0.5, 0, 0), normal: (1, 0, 0))",
@@ -101,6 +131,12 @@ pub const ENTRIES: &[Entry] = &[
     Entry { family: "boundary", name: "Outflow", summary: "zero-gradient outflow", example: "Outflow" },
     Entry { family: "boundary", name: "Reflective", summary: "slip wall / symmetry plane", example: "Reflective" },
     Entry { family: "boundary", name: "Periodic", summary: "periodic (both faces of an axis)", example: "Periodic" },
+    Entry {
+        family: "boundary",
+        name: "Wall",
+        summary: "rigid no-slip wall for particle pipelines (grid velocity zero)",
+        example: "Wall",
+    },
     Entry {
         family: "boundary",
         name: "Fixed",

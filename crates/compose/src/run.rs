@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::build::build_solver;
-use crate::config::{Pipeline, Scenario};
+use crate::config::Scenario;
 use crate::error::{ConfigError, RunError};
 use crate::load::{ron_options, LoadedScenario};
 use crate::ron_path;
@@ -273,7 +273,6 @@ fn same_problem(a: &Scenario, b: &Scenario) -> Result<(), String> {
     if a.boundaries != b.boundaries {
         return Err("boundaries differ".into());
     }
-    let Pipeline::Fdm(_) = &a.pipeline;
     if a.time.cfl != b.time.cfl {
         return Err("time.cfl differs".into());
     }

@@ -93,6 +93,30 @@ fn check_region(path: &str, r: &Region) -> Result<(), Problem> {
             }
             Ok(())
         }
+        Region::Shell {
+            base,
+            axis,
+            inner_radius,
+            outer_radius,
+            length,
+        } => {
+            if !finite3(base) {
+                return bad("base", "base must be finite".into());
+            }
+            if !finite3(axis) || axis.iter().map(|a| a * a).sum::<f64>() == 0.0 {
+                return bad("axis", "axis must be a non-zero finite vector".into());
+            }
+            if !(*inner_radius >= 0.0 && inner_radius < outer_radius && outer_radius.is_finite()) {
+                return bad(
+                    "outer_radius",
+                    format!("need 0 ≤ inner_radius < outer_radius, got {inner_radius} and {outer_radius}"),
+                );
+            }
+            if !(*length > 0.0 && length.is_finite()) {
+                return bad("length", format!("length must be positive, got {length}"));
+            }
+            Ok(())
+        }
         Region::HalfSpace { point, normal } => {
             if !finite3(point) {
                 return bad("point", "point must be finite".into());
@@ -191,10 +215,20 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     }
     for (name, m) in &s.materials {
         let path = format!("materials.{name}");
-        let Some(eos) = m.eos() else {
-            return Err((path, "give `eos` or `library`".into()));
-        };
-        eos.validate().map_err(|msg| (format!("{path}.eos"), msg))?;
+        if m.eos().is_none() && m.model.is_none() {
+            return Err((
+                path,
+                "give `eos`, `library` or a constitutive `model`".into(),
+            ));
+        }
+        if let Some(eos) = m.eos() {
+            eos.validate().map_err(|msg| (format!("{path}.eos"), msg))?;
+        }
+        if let Some(model) = &m.model {
+            model
+                .validate()
+                .map_err(|msg| (format!("{path}.model"), msg.to_string()))?;
+        }
     }
     let known_materials = || {
         s.materials
@@ -203,36 +237,75 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let Pipeline::Fdm(fdm) = &s.pipeline;
-    match s.materials.get(&fdm.material).and_then(|m| m.eos()) {
-        None => {
-            return Err((
-                "pipeline.material".into(),
-                format!(
-                    "unknown material `{}`; known materials: {}",
-                    fdm.material,
-                    known_materials()
-                ),
-            ));
+    match &s.pipeline {
+        Pipeline::Fdm(fdm) => {
+            match s.materials.get(&fdm.material).and_then(|m| m.eos()) {
+                None => {
+                    return Err((
+                        "pipeline.material".into(),
+                        format!(
+                            "unknown material `{}`; known materials: {}",
+                            fdm.material,
+                            known_materials()
+                        ),
+                    ));
+                }
+                Some(eos) if !eos.is_gas() => {
+                    return Err((
+                        "pipeline.material".into(),
+                        format!(
+                        "the Fdm pipeline carries a gas (IdealGas, Jwl or JwlCTerm); `{}` is `{}`",
+                        fdm.material,
+                        eos.variant()
+                    ),
+                    ));
+                }
+                Some(_) => {}
+            }
+            if let ViscosityConfig::Constant(eta) = fdm.viscosity {
+                if !(0.0..=0.25).contains(&eta) {
+                    return Err((
+                        "pipeline.viscosity".into(),
+                        format!("constant η = {eta} must lie in [0, 0.25]"),
+                    ));
+                }
+            }
+            for (face, bc) in s.boundaries.faces() {
+                if matches!(bc, BoundaryConfig::Wall) {
+                    return Err((
+                        format!("boundaries.{face}"),
+                        "`Wall` is a particle boundary; the Fdm pipeline uses `Reflective` for a slip wall".into(),
+                    ));
+                }
+            }
         }
-        Some(eos) if !eos.is_gas() => {
-            return Err((
-                "pipeline.material".into(),
-                format!(
-                    "the Fdm pipeline carries a gas (IdealGas, Jwl or JwlCTerm); `{}` is `{}`",
-                    fdm.material,
-                    eos.variant()
-                ),
-            ));
-        }
-        Some(_) => {}
-    }
-    if let ViscosityConfig::Constant(eta) = fdm.viscosity {
-        if !(0.0..=0.25).contains(&eta) {
-            return Err((
-                "pipeline.viscosity".into(),
-                format!("constant η = {eta} must lie in [0, 0.25]"),
-            ));
+        Pipeline::Mpm(mpm) => {
+            if mpm.ppc == 0 || mpm.ppc > 8 {
+                return Err((
+                    "pipeline.ppc".into(),
+                    format!(
+                        "ppc = {} must lie in 1..=8 particles per cell per direction",
+                        mpm.ppc
+                    ),
+                ));
+            }
+            if !(mpm.mass_cutoff >= 0.0 && mpm.mass_cutoff < 1.0) {
+                return Err((
+                    "pipeline.mass_cutoff".into(),
+                    format!("mass_cutoff = {} must lie in [0, 1)", mpm.mass_cutoff),
+                ));
+            }
+            if !finite3(&mpm.gravity) {
+                return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
+            }
+            for (face, bc) in s.boundaries.faces() {
+                if matches!(bc, BoundaryConfig::Periodic | BoundaryConfig::Fixed(_)) {
+                    return Err((
+                        format!("boundaries.{face}"),
+                        "the Mpm pipeline takes `Wall`, `Reflective` (roller) or `Outflow`".into(),
+                    ));
+                }
+            }
         }
     }
     for (face, bc) in s.boundaries.faces() {
@@ -269,11 +342,23 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 ),
             ));
         }
-        if r.material != fdm.material {
-            return Err((
-                format!("{path}.material"),
-                format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
-            ));
+        match &s.pipeline {
+            Pipeline::Fdm(fdm) if r.material != fdm.material => {
+                return Err((
+                    format!("{path}.material"),
+                    format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
+                ));
+            }
+            Pipeline::Mpm(_) if s.materials[&r.material].model.is_none() => {
+                return Err((
+                    format!("{path}.material"),
+                    format!(
+                        "`{}` has no constitutive `model`, which Mpm particles need",
+                        r.material
+                    ),
+                ));
+            }
+            _ => {}
         }
         check_region(&format!("{path}.region"), &r.region)?;
         check_state(&format!("{path}.state"), &r.state)?;

@@ -11,6 +11,12 @@
 //! - [`elastic_plastic`]: J2 radial return, plastic heating, melting
 //!   (seed 000 §4.2).
 //! - [`damage`]: Johnson–Cook damage and the failed point (seed 000 eq 47).
+//! - [`drucker_prager`]: Drucker–Prager soil with shear and tension
+//!   failure (seed 001 §4.4, eqs 59–63).
+//! - [`hjc`]: Holmquist–Johnson–Cook concrete, its three-region EOS and
+//!   Jiang's tensile damage (seed 001 §4.3, eqs 56–58).
+//! - [`null_material`]: fluids as material points — EOS pressure, optional
+//!   Newtonian viscosity (for seed 001's MPM-vs-FDM comparisons).
 //! - [`model`]: the [`MaterialModel`] enum a config names models through.
 //! - [`contracts`]: the property checks every model passes, and the
 //!   `material_contract_tests!` macro that joins a model to them.
@@ -19,19 +25,25 @@
 
 pub mod contracts;
 pub mod damage;
+pub mod drucker_prager;
 pub mod elastic_plastic;
 pub mod error;
 pub mod flow_stress;
+pub mod hjc;
 pub mod hypoelastic;
 pub mod model;
+pub mod null_material;
 pub mod objective;
 pub mod pressure;
 
 pub use damage::JohnsonCookDamage;
+pub use drucker_prager::DruckerPrager;
 pub use elastic_plastic::ElasticPlastic;
 pub use error::ConstitutiveError;
 pub use flow_stress::FlowStress;
+pub use hjc::Hjc;
 pub use hypoelastic::Hypoelastic;
 pub use model::MaterialModel;
+pub use null_material::NullMaterial;
 pub use objective::ObjectiveRate;
 pub use pressure::PressureModel;

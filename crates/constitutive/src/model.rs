@@ -1,10 +1,14 @@
 //! The registry of constitutive models: one serde enum whose variant names
-//! are what a config writes (`Hypoelastic(...)`, `ElasticPlastic(...)`),
+//! are what a config writes (`Hypoelastic(...)`, `ElasticPlastic(...)`,
+//! `DruckerPrager(...)`, `Hjc(...)`, `Null(...)`),
 //! dispatching the core [`Material`] trait with a `match` (no virtual call
 //! per point). Adding a model is a module plus one variant here.
 
-use crate::{elastic_plastic::FAILED_INDEX, ConstitutiveError, ElasticPlastic, Hypoelastic};
-use brisance_core::{Eos, Material, StressUpdate, StressUpdateInput};
+use crate::{
+    drucker_prager, elastic_plastic, hjc, ConstitutiveError, DruckerPrager, ElasticPlastic, Hjc,
+    Hypoelastic, NullMaterial,
+};
+use brisance_core::{Eos, Mat3, Material, StressUpdate, StressUpdateInput};
 use serde::{Deserialize, Serialize};
 
 /// Every constitutive model a config can name.
@@ -15,6 +19,15 @@ pub enum MaterialModel {
     /// Hypoelastic–plastic J2 metal with Johnson–Cook flow stress and
     /// damage ([`crate::elastic_plastic`], seed 000 §4.2).
     ElasticPlastic(ElasticPlastic),
+    /// Drucker–Prager soil with shear and tension failure
+    /// ([`crate::drucker_prager`], seed 001 §4.4).
+    DruckerPrager(DruckerPrager),
+    /// Holmquist–Johnson–Cook concrete with Jiang's tensile damage
+    /// ([`crate::hjc`], seed 001 §4.3).
+    Hjc(Hjc),
+    /// A fluid as material points: EOS pressure, optional Newtonian
+    /// viscosity ([`crate::null_material`]).
+    Null(NullMaterial),
 }
 
 macro_rules! dispatch {
@@ -22,38 +35,109 @@ macro_rules! dispatch {
         match $self {
             MaterialModel::Hypoelastic($m) => $e,
             MaterialModel::ElasticPlastic($m) => $e,
+            MaterialModel::DruckerPrager($m) => $e,
+            MaterialModel::Hjc($m) => $e,
+            MaterialModel::Null($m) => $e,
         }
     };
 }
 
 impl MaterialModel {
     /// The config names of every variant.
-    pub const VARIANTS: &'static [&'static str] = &["Hypoelastic", "ElasticPlastic"];
+    pub const VARIANTS: &'static [&'static str] = &[
+        "Hypoelastic",
+        "ElasticPlastic",
+        "DruckerPrager",
+        "Hjc",
+        "Null",
+    ];
 
     /// Checks the parameters; the message names the bad field.
     pub fn validate(&self) -> Result<(), ConstitutiveError> {
         dispatch!(self, m => m.validate())
     }
 
-    /// Whether the model is purely elastic (no plastic flow, no failure).
+    /// Whether the model is purely elastic (no plastic flow, no failure,
+    /// no dissipation): the hypoelastic solid and the inviscid fluid.
     pub fn is_elastic(&self) -> bool {
-        matches!(self, Self::Hypoelastic(_))
+        match self {
+            Self::Hypoelastic(_) => true,
+            Self::Null(m) => !m.is_viscous(),
+            Self::ElasticPlastic(_) | Self::DruckerPrager(_) | Self::Hjc(_) => false,
+        }
     }
 
-    /// The flow stress at a point's history and temperature (Pa), for
-    /// plastic models.
+    /// Whether the stress depends on the current rate of deformation
+    /// rather than being carried from step to step (the viscous fluid,
+    /// σ' = 2μ dev D): zero strain rate then removes the viscous stress.
+    pub fn is_viscous(&self) -> bool {
+        matches!(self, Self::Null(m) if m.is_viscous())
+    }
+
+    /// The flow stress at a point's history and temperature (Pa), for the
+    /// J2 metal (the other models' strength depends on the pressure; see
+    /// [`MaterialModel::yield_excess`]).
     pub fn flow_stress(&self, history: &[f64], temperature: f64) -> Option<f64> {
         match self {
-            Self::Hypoelastic(_) => None,
             Self::ElasticPlastic(m) => Some(m.current_flow_stress(history, temperature)),
+            _ => None,
+        }
+    }
+
+    /// How far a stress lies outside the model's yield surface at the
+    /// point's history: (value, scale), value ≤ 0 inside, scale the
+    /// magnitude its round-off is relative to (Pa). J2 metal: σ̄ − σ_y, σ_y;
+    /// Drucker–Prager: max(f^s, f^t) and the size of their terms; HJC:
+    /// σ̄ − σ* f'_c, σ* f'_c. `None` for models without a yield surface
+    /// (hypoelastic solid, null fluid).
+    pub fn yield_excess(
+        &self,
+        stress: &Mat3,
+        history: &[f64],
+        temperature: f64,
+    ) -> Option<(f64, f64)> {
+        match self {
+            Self::ElasticPlastic(m) => {
+                let sigma_y = m.current_flow_stress(history, temperature);
+                let dev = crate::hypoelastic::deviator(stress);
+                Some((crate::hypoelastic::von_mises(&dev) - sigma_y, sigma_y))
+            }
+            Self::DruckerPrager(m) => Some(m.yield_excess(stress)),
+            Self::Hjc(m) => Some(m.yield_excess(stress, history)),
+            Self::Hypoelastic(_) | Self::Null(_) => None,
         }
     }
 
     /// Whether the history records a failed point.
     pub fn is_failed(&self, history: &[f64]) -> bool {
         match self {
-            Self::Hypoelastic(_) => false,
-            Self::ElasticPlastic(_) => history[FAILED_INDEX] != 0.0,
+            Self::ElasticPlastic(_) => history[elastic_plastic::FAILED_INDEX] != 0.0,
+            Self::Hjc(_) => history[hjc::FAILED_INDEX] != 0.0,
+            Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) => false,
+        }
+    }
+
+    /// The damage variables in a point's history, each non-decreasing:
+    /// Johnson–Cook D for the metal, D_c and D_t for HJC, none otherwise.
+    pub fn damage<'h>(&self, history: &'h [f64]) -> &'h [f64] {
+        match self {
+            Self::ElasticPlastic(_) => {
+                &history[elastic_plastic::DAMAGE_INDEX..=elastic_plastic::DAMAGE_INDEX]
+            }
+            Self::Hjc(_) => &history[hjc::COMPRESSION_DAMAGE_INDEX..=hjc::TENSILE_DAMAGE_INDEX],
+            Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) => &[],
+        }
+    }
+
+    /// Number of leading history values that are scalar state — unchanged
+    /// by a rigid motion — before per-step values and the objective rate's
+    /// rotation history.
+    pub fn scalar_state_len(&self) -> usize {
+        match self {
+            Self::Hypoelastic(_) | Self::Null(_) => 0,
+            Self::ElasticPlastic(_) => elastic_plastic::SCALAR_HISTORY_LEN,
+            Self::DruckerPrager(_) => drucker_prager::SCALAR_HISTORY_LEN,
+            Self::Hjc(_) => hjc::STATE_HISTORY_LEN,
         }
     }
 }
@@ -98,10 +182,28 @@ impl From<ElasticPlastic> for MaterialModel {
     }
 }
 
+impl From<DruckerPrager> for MaterialModel {
+    fn from(m: DruckerPrager) -> Self {
+        Self::DruckerPrager(m)
+    }
+}
+
+impl From<Hjc> for MaterialModel {
+    fn from(m: Hjc) -> Self {
+        Self::Hjc(m)
+    }
+}
+
+impl From<NullMaterial> for MaterialModel {
+    fn from(m: NullMaterial) -> Self {
+        Self::Null(m)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{ElasticPlastic, Hypoelastic, ObjectiveRate};
+    use crate::{DruckerPrager, ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ObjectiveRate};
     use brisance_core::Mat3;
 
     #[test]
@@ -116,8 +218,45 @@ mod tests {
         let h = MaterialModel::from(Hypoelastic::ofhc_copper_seed000(ObjectiveRate::Jaumann));
         assert_eq!(h.history_len(), 0);
         assert!(h.is_elastic() && h.eos().is_none());
-        assert_eq!(MaterialModel::VARIANTS.len(), 2);
+        assert_eq!(MaterialModel::VARIANTS.len(), 5);
+        let soil = MaterialModel::from(DruckerPrager::soil_luccioni_luege_2006());
+        assert_eq!(soil.name(), "drucker_prager");
+        assert!(!soil.is_elastic() && soil.eos().is_none());
+        let concrete = MaterialModel::from(Hjc::concrete_48mpa_hjc1993());
+        assert_eq!(concrete.name(), "hjc");
+        assert_eq!(
+            concrete.damage(&[0.0, 0.1, 0.2, 0.0, 0.0, 0.0, 1.0]),
+            &[0.1, 0.2]
+        );
+        let air = MaterialModel::from(NullMaterial::air());
+        assert_eq!(air.name(), "null");
+        assert!(air.is_elastic() && !air.is_viscous() && air.eos().is_some());
+        assert_eq!(
+            air.wave_speed(1.225, 2.0685e5),
+            NullMaterial::air().wave_speed(1.225, 2.0685e5)
+        );
         let _ = Mat3::zeros();
+    }
+
+    #[test]
+    fn every_variant_validates_and_names_a_bad_field() {
+        for m in [
+            MaterialModel::from(DruckerPrager::soil_luccioni_luege_2006()),
+            Hjc::concrete_48mpa_hjc1993().into(),
+            Hjc::concrete_25mpa_seed001().into(),
+            NullMaterial::air().into(),
+        ] {
+            assert!(m.validate().is_ok(), "{m:?}");
+        }
+        let bad = MaterialModel::from(NullMaterial {
+            viscosity: f64::NAN,
+            ..NullMaterial::air()
+        });
+        assert!(bad
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("viscosity"));
     }
 
     crate::material_contract_tests!(
@@ -135,4 +274,40 @@ mod tests {
     );
     crate::material_contract_tests!(steel_4340_seed000, ElasticPlastic::steel_4340_seed000());
     crate::material_contract_tests!(rha_steel_seed001, ElasticPlastic::rha_steel_seed001());
+    crate::material_contract_tests!(
+        soil_drucker_prager,
+        DruckerPrager::soil_luccioni_luege_2006()
+    );
+    crate::material_contract_tests!(
+        soil_drucker_prager_dilatant_green_naghdi,
+        DruckerPrager {
+            q_psi: 0.2,
+            tensile_strength: 50.0e3,
+            rate: ObjectiveRate::GreenNaghdi,
+            ..DruckerPrager::soil_luccioni_luege_2006()
+        }
+    );
+    crate::material_contract_tests!(concrete_hjc1993, Hjc::concrete_48mpa_hjc1993());
+    crate::material_contract_tests!(
+        concrete_25mpa_jiang_green_naghdi,
+        Hjc {
+            tensile_damage: Some(crate::hjc::JiangTensileDamage {
+                growth_factor: 1.0e6,
+                threshold_stress: 1.0e6,
+                exponent: 1.0,
+                initial_damage: 0.01,
+                critical_damage: 0.5,
+            }),
+            rate: ObjectiveRate::GreenNaghdi,
+            ..Hjc::concrete_25mpa_seed001()
+        }
+    );
+    crate::material_contract_tests!(null_air, NullMaterial::air());
+    crate::material_contract_tests!(
+        null_viscous_tnt_products,
+        NullMaterial {
+            eos: brisance_eos::EosModel::Jwl(brisance_eos::Jwl::tnt()),
+            viscosity: 1.0e-3,
+        }
+    );
 }

@@ -9,20 +9,38 @@
 //!   stencils without allocation.
 //! - [`particles`]: the particle state, structure of arrays, with a stable
 //!   counting sort by cell.
+//! - [`grid_nodes`]: node fields (mass, momentum, force, velocities) on the
+//!   whole level's node lattice, structure of arrays.
+//! - [`transfer`]: P2G as a deterministic gather over cell-sorted particles
+//!   and G2P (seed 001 eqs 18–21, 24–26).
+//! - [`step`]: the USF, USL and MUSL explicit steps and the particle stress
+//!   update (seed 001 eqs 12–13, 22–30).
+//! - [`boundary`]: grid boundary conditions per domain face.
+//! - [`solver`]: [`MpmSolver`], the method behind the core `Solver` trait.
 //! - [`generate`]: particles from geometric shapes (box, sphere, cylinder,
 //!   cylindrical shell, half-space), `ppc` per cell per direction.
 //!
 //! The choices the papers leave open are written down in
-//! `docs/physics/mpm/shape_functions.md`. Units are SI throughout.
+//! `docs/physics/mpm/shape_functions.md` and
+//! `docs/physics/mpm/explicit_mpm.md`. Units are SI throughout.
 
+pub mod boundary;
 pub mod generate;
+pub mod grid_nodes;
 pub mod nodes;
 pub mod particles;
 pub mod shape;
+pub mod solver;
+pub mod step;
+pub mod transfer;
 
+pub use boundary::GridBoundary;
 pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
+pub use grid_nodes::{GridNodes, NodeLattice};
 pub use nodes::patch_node_index;
 pub use particles::{
     matrix_to_voigt, voigt_to_matrix, MaterialId, ParticleError, ParticleInit, Particles,
 };
 pub use shape::{ShapeError, ShapeFunction, ShapeStencil, MAX_STENCIL_NODES};
+pub use solver::{MpmOptions, MpmSetupError, MpmSolver};
+pub use step::UpdateScheme;

@@ -285,8 +285,15 @@ impl Particles {
         Ok(perm)
     }
 
+    /// Keeps only the particles `keep` (increasing indices), in that order:
+    /// new particle i is old particle `keep[i]`.
+    pub fn select(&mut self, keep: &[usize]) {
+        self.permute(keep);
+    }
+
     /// Reorders every array so that new particle i is old particle
-    /// `perm[i]`. `perm` must be a permutation of 0..len.
+    /// `perm[i]`. `perm` is a permutation of 0..len, or (through
+    /// [`Particles::select`]) a subset of it.
     pub fn permute(&mut self, perm: &[usize]) {
         fn apply<T: Copy>(v: &mut Vec<T>, perm: &[usize]) {
             *v = perm.iter().map(|&p| v[p]).collect();

@@ -1,0 +1,795 @@
+//! [`MpmSolver`]: the explicit MPM of seed 001 §2.2 behind the core
+//! [`Solver`] trait.
+//!
+//! One [`Solver::advance`]:
+//!
+//! 1. sort the particles by cell (stable counting sort; skipped when they are
+//!    still sorted) and count them per cell;
+//! 2. the 1D shape-function stencils of every particle;
+//! 3. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
+//!    deterministic gather P2G of [`crate::transfer`];
+//! 4. particles that crossed an [`GridBoundary::Outflow`] face are removed
+//!    and booked; a particle that crossed any other face stops the run.
+//!
+//! # Conservation bookkeeping
+//!
+//! [`Solver::conservation_totals`] sums, in particle order, mass Σ m_p,
+//! momentum Σ m_p v_p and energy Σ m_p (e_p + |v_p|²/2), and adds the
+//! *outflow* totals: the same quantities of every particle removed through
+//! an outflow face, accumulated when it left. The totals thus stay constant
+//! when matter leaves the domain; [`MpmSolver::outflow_totals`] gives the
+//! outflow part alone.
+//!
+//! # Cell fields
+//!
+//! Cell values are mass-weighted averages over the particles whose position
+//! lies in the cell: for a particle quantity q, q_cell = Σ m_p q_p / Σ m_p
+//! (density ρ_p = m_p/V_p, velocity components, pressure −tr σ_p/3,
+//! specific internal energy), and zero in a cell without particles.
+//! `mass_density` is Σ m_p / V_cell, the particle mass smeared over the cell.
+
+use crate::boundary::{GridBoundary, FACE_NAMES};
+use crate::grid_nodes::{GridNodes, NodeLattice};
+use crate::step::{self, StepParams, UpdateScheme};
+use crate::transfer::{build_cell_start, compute_stencils, AxisStencils, GatherContext};
+use crate::{MaterialId, Particles, ShapeFunction};
+use brisance_constitutive::MaterialModel;
+use brisance_core::{CellData, ConservationTotals, Mat3, Material, Solver, SolverError};
+use brisance_grid::Level;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Options of the explicit MPM solver.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MpmOptions {
+    /// Shape function.
+    pub shape: ShapeFunction,
+    /// Update scheme.
+    pub scheme: UpdateScheme,
+    /// Courant number of Δt = cfl·min Δx / max(c + |v|), in (0, 1].
+    pub cfl: f64,
+    /// Body force per unit mass, m/s².
+    pub gravity: [f64; 3],
+    /// Face conditions x−, x+, y−, y+, z−, z+.
+    pub boundaries: [GridBoundary; 6],
+    /// Nodes whose mass is below `mass_cutoff` × the mean particle mass at
+    /// construction get zero velocity and acceleration (≥ 0).
+    pub mass_cutoff: f64,
+    /// Smallest acceptable time step, s.
+    pub min_dt: f64,
+}
+
+impl Default for MpmOptions {
+    fn default() -> Self {
+        Self {
+            shape: ShapeFunction::Linear,
+            scheme: UpdateScheme::Musl,
+            cfl: 0.4,
+            gravity: [0.0; 3],
+            boundaries: [GridBoundary::Free; 6],
+            mass_cutoff: 1e-3,
+            min_dt: 1e-14,
+        }
+    }
+}
+
+/// Why an [`MpmSolver`] cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MpmSetupError {
+    /// An option out of range.
+    #[error("MPM option `{option}` = {value}: {expected}")]
+    Option {
+        /// The option's name.
+        option: &'static str,
+        /// Its value, printed.
+        value: String,
+        /// What is expected.
+        expected: &'static str,
+    },
+    /// No particle.
+    #[error("the MPM solver needs at least one particle")]
+    NoParticles,
+    /// A particle names a material that does not exist.
+    #[error("particle {particle} has material {material}, but only {count} materials are given")]
+    UnknownMaterial {
+        /// Particle index.
+        particle: usize,
+        /// Its material id.
+        material: u16,
+        /// Number of materials.
+        count: usize,
+    },
+    /// A material's parameters are invalid.
+    #[error("material {index}: {detail}")]
+    Material {
+        /// Material index.
+        index: usize,
+        /// The model's message.
+        detail: String,
+    },
+    /// The particle set stores fewer history values than a model needs.
+    #[error(
+        "material {index} ({name}) needs {needed} history values per particle, the particle set stores {stride}"
+    )]
+    HistoryStride {
+        /// Material index.
+        index: usize,
+        /// Model name.
+        name: &'static str,
+        /// Values needed.
+        needed: usize,
+        /// Values stored.
+        stride: usize,
+    },
+    /// A particle outside the grid.
+    #[error("particle {particle} at {position:?} m lies outside the grid")]
+    OutsideGrid {
+        /// Particle index.
+        particle: usize,
+        /// Its position, m.
+        position: [f64; 3],
+    },
+    /// A particle whose shape-function stencil cannot be evaluated.
+    #[error("particle {particle}: {detail}")]
+    Shape {
+        /// Particle index.
+        particle: usize,
+        /// The reason.
+        detail: String,
+    },
+}
+
+/// Buffers reused from step to step.
+#[derive(Debug, Clone)]
+struct Workspace {
+    nodes: GridNodes,
+    cells: Vec<usize>,
+    cell_start: Vec<usize>,
+    stencils: Vec<AxisStencils>,
+    velocity_gradient: Vec<Mat3>,
+}
+
+/// The explicit material point method on one level.
+#[derive(Debug, Clone)]
+pub struct MpmSolver {
+    level: Level,
+    materials: Vec<MaterialModel>,
+    particles: Particles,
+    options: MpmOptions,
+    reference_particle_mass: f64,
+    time: f64,
+    steps: u64,
+    outflow: ConservationTotals,
+    work: Workspace,
+}
+
+/// What a checkpoint holds: every particle array, time, step count and the
+/// outflow totals.
+#[derive(Serialize, Deserialize)]
+struct SavedState {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    history_stride: usize,
+    outflow: ConservationTotals,
+    position: Vec<[f64; 3]>,
+    velocity: Vec<[f64; 3]>,
+    mass: Vec<f64>,
+    initial_volume: Vec<f64>,
+    volume: Vec<f64>,
+    deformation_gradient: Vec<[f64; 9]>,
+    stress: Vec<[f64; 6]>,
+    temperature: Vec<f64>,
+    specific_internal_energy: Vec<f64>,
+    material: Vec<MaterialId>,
+    history: Vec<f64>,
+    failed: Vec<bool>,
+}
+
+const CELL_FIELDS: [&str; 7] = [
+    "density",
+    "velocity_x",
+    "velocity_y",
+    "velocity_z",
+    "pressure",
+    "specific_internal_energy",
+    "mass_density",
+];
+
+impl MpmSolver {
+    /// The cell fields the solver outputs.
+    pub const FIELDS: [&'static str; 7] = CELL_FIELDS;
+
+    /// Builds the solver; the particles' history blocks are initialised by
+    /// their models ([`Material::init_history`]).
+    pub fn new(
+        level: Level,
+        materials: Vec<MaterialModel>,
+        mut particles: Particles,
+        options: MpmOptions,
+    ) -> Result<Self, MpmSetupError> {
+        let bad = |option, value: f64, expected| MpmSetupError::Option {
+            option,
+            value: value.to_string(),
+            expected,
+        };
+        if !(options.cfl > 0.0 && options.cfl <= 1.0) {
+            return Err(bad("cfl", options.cfl, "must lie in (0, 1]"));
+        }
+        if !(options.mass_cutoff >= 0.0) || !options.mass_cutoff.is_finite() {
+            return Err(bad(
+                "mass_cutoff",
+                options.mass_cutoff,
+                "must be finite and ≥ 0",
+            ));
+        }
+        if !(options.min_dt >= 0.0) || !options.min_dt.is_finite() {
+            return Err(bad("min_dt", options.min_dt, "must be finite and ≥ 0"));
+        }
+        if let Some(g) = options.gravity.iter().find(|g| !g.is_finite()) {
+            return Err(bad("gravity", *g, "components must be finite"));
+        }
+        if particles.is_empty() {
+            return Err(MpmSetupError::NoParticles);
+        }
+        for (index, m) in materials.iter().enumerate() {
+            m.validate().map_err(|e| MpmSetupError::Material {
+                index,
+                detail: e.to_string(),
+            })?;
+            if m.history_len() > particles.history_stride() {
+                return Err(MpmSetupError::HistoryStride {
+                    index,
+                    name: m.name(),
+                    needed: m.history_len(),
+                    stride: particles.history_stride(),
+                });
+            }
+        }
+        if let Some((particle, id)) = particles
+            .material
+            .iter()
+            .enumerate()
+            .find(|(_, id)| id.0 as usize >= materials.len())
+        {
+            return Err(MpmSetupError::UnknownMaterial {
+                particle,
+                material: id.0,
+                count: materials.len(),
+            });
+        }
+        let grid = level.geometry;
+        if let Some((particle, &position)) = particles
+            .position
+            .iter()
+            .enumerate()
+            .find(|(_, x)| grid.cell_containing(**x).is_none())
+        {
+            return Err(MpmSetupError::OutsideGrid { particle, position });
+        }
+        let mut stencils = Vec::new();
+        compute_stencils(
+            options.shape,
+            &grid,
+            &particles.position,
+            &particles.initial_volume,
+            &mut stencils,
+        )
+        .map_err(|(particle, e)| MpmSetupError::Shape {
+            particle,
+            detail: e.to_string(),
+        })?;
+        for p in 0..particles.len() {
+            let m = &materials[particles.material[p].0 as usize];
+            let len = m.history_len();
+            m.init_history(&mut particles.history_of_mut(p)[..len]);
+        }
+        let reference_particle_mass = particles.total_mass() / particles.len() as f64;
+        let lattice = NodeLattice::new(&grid, options.shape);
+        Ok(Self {
+            level,
+            materials,
+            particles,
+            options,
+            reference_particle_mass,
+            time: 0.0,
+            steps: 0,
+            outflow: ConservationTotals::default(),
+            work: Workspace {
+                nodes: GridNodes::new(lattice),
+                cells: Vec::new(),
+                cell_start: Vec::new(),
+                stencils,
+                velocity_gradient: Vec::new(),
+            },
+        })
+    }
+
+    /// The particles (sorted by the cell they were in at the start of the
+    /// last step).
+    pub fn particles(&self) -> &Particles {
+        &self.particles
+    }
+
+    /// The level.
+    pub fn level(&self) -> &Level {
+        &self.level
+    }
+
+    /// The options.
+    pub fn options(&self) -> &MpmOptions {
+        &self.options
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The node fields of the last step.
+    pub fn grid_nodes(&self) -> &GridNodes {
+        &self.work.nodes
+    }
+
+    /// Mass, momentum and energy carried out through outflow faces so far.
+    pub fn outflow_totals(&self) -> ConservationTotals {
+        self.outflow
+    }
+
+    /// Sorts the particles by cell if they are not sorted, and counts them
+    /// per cell.
+    fn sort_particles(&mut self) -> Result<(), SolverError> {
+        let grid = self.level.geometry;
+        let time = self.time;
+        let outside = |index: usize, position: [f64; 3]| {
+            SolverError::Other(format!(
+                "MPM at t = {time:e} s: particle {index} at {position:?} m lies outside the grid"
+            ))
+        };
+        self.particles
+            .cell_indices(&grid, &mut self.work.cells)
+            .map_err(|e| match e {
+                crate::ParticleError::OutsideGrid { index, position } => outside(index, position),
+                other => SolverError::Other(other.to_string()),
+            })?;
+        if !self.work.cells.windows(2).all(|w| w[0] <= w[1]) {
+            self.particles
+                .sort_by_cell(&grid)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
+            self.particles
+                .cell_indices(&grid, &mut self.work.cells)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
+        }
+        build_cell_start(
+            &self.work.cells,
+            grid.cell_count(),
+            &mut self.work.cell_start,
+        );
+        Ok(())
+    }
+
+    fn particle_error(&self, index: usize, detail: String) -> SolverError {
+        let grid = &self.level.geometry;
+        let x = self
+            .particles
+            .position
+            .get(index)
+            .copied()
+            .unwrap_or([f64::NAN; 3]);
+        let cell = grid.cell_containing(x).unwrap_or([0; 3]);
+        SolverError::NonPhysicalState {
+            time: self.time,
+            cell,
+            centre: grid.cell_centre(cell),
+            detail: format!("particle {index} at {x:?} m: {detail}"),
+        }
+    }
+
+    /// Removes particles that left through outflow faces; errors for any
+    /// other face.
+    fn handle_leaving_particles(&mut self) -> Result<(), SolverError> {
+        let grid = self.level.geometry;
+        let upper = grid.upper();
+        let mut leaving = Vec::new();
+        for (p, x) in self.particles.position.iter().enumerate() {
+            if grid.cell_containing(*x).is_some() {
+                continue;
+            }
+            if x.iter().any(|c| !c.is_finite()) {
+                return Err(self.particle_error(p, "position is not finite".into()));
+            }
+            let mut face = None;
+            for d in 0..3 {
+                if x[d] < grid.origin[d] {
+                    face = Some(2 * d);
+                    break;
+                }
+                if x[d] > upper[d] {
+                    face = Some(2 * d + 1);
+                    break;
+                }
+            }
+            let face = face.unwrap_or(0);
+            let bc = self.options.boundaries[face];
+            if bc != GridBoundary::Outflow {
+                return Err(SolverError::Other(format!(
+                    "MPM at t = {:e} s: particle {p} at {x:?} m left the domain through face {} \
+                     (boundary {bc:?}); only Outflow faces let particles leave",
+                    self.time, FACE_NAMES[face]
+                )));
+            }
+            leaving.push(p);
+        }
+        if leaving.is_empty() {
+            return Ok(());
+        }
+        let ps = &self.particles;
+        for &p in &leaving {
+            let (m, v) = (ps.mass[p], ps.velocity[p]);
+            self.outflow.mass += m;
+            for (q, vc) in self.outflow.momentum.iter_mut().zip(v) {
+                *q += m * vc;
+            }
+            self.outflow.energy += particle_energy(m, v, ps.specific_internal_energy[p]);
+        }
+        let mut next = leaving.iter().peekable();
+        let keep: Vec<usize> = (0..ps.len())
+            .filter(|p| {
+                if next.peek() == Some(&p) {
+                    next.next();
+                    false
+                } else {
+                    true
+                }
+            })
+            .collect();
+        self.particles.select(&keep);
+        Ok(())
+    }
+
+    fn cell_fields(&self, names: &[usize]) -> Vec<Vec<f64>> {
+        let grid = &self.level.geometry;
+        let n = grid.cell_count();
+        let mut mass = vec![0.0; n];
+        let mut sums = vec![vec![0.0; n]; names.len()];
+        let ps = &self.particles;
+        for p in 0..ps.len() {
+            let Some(c) = grid.cell_containing(ps.position[p]) else {
+                continue;
+            };
+            let c = grid.linear_index(c);
+            let m = ps.mass[p];
+            mass[c] += m;
+            for (k, &f) in names.iter().enumerate() {
+                let q = match f {
+                    0 => m / ps.volume[p],
+                    1..=3 => ps.velocity[p][f - 1],
+                    4 => -(ps.stress[p][0] + ps.stress[p][1] + ps.stress[p][2]) / 3.0,
+                    5 => ps.specific_internal_energy[p],
+                    _ => 1.0,
+                };
+                sums[k][c] += m * q;
+            }
+        }
+        let cell_volume: f64 = grid.spacing.iter().product();
+        for (k, &f) in names.iter().enumerate() {
+            for c in 0..n {
+                sums[k][c] = if f == 6 {
+                    mass[c] / cell_volume
+                } else if mass[c] > 0.0 {
+                    sums[k][c] / mass[c]
+                } else {
+                    0.0
+                };
+            }
+        }
+        sums
+    }
+
+    fn field_indices(fields: &[String]) -> Result<Vec<usize>, SolverError> {
+        fields
+            .iter()
+            .map(|f| {
+                CELL_FIELDS.iter().position(|n| n == f).ok_or_else(|| {
+                    SolverError::Other(format!(
+                        "unknown MPM cell field `{f}`; known fields: {}",
+                        CELL_FIELDS.join(", ")
+                    ))
+                })
+            })
+            .collect()
+    }
+}
+
+/// m (e + |v|²/2), J.
+#[inline]
+fn particle_energy(m: f64, v: [f64; 3], e: f64) -> f64 {
+    m * (e + 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
+}
+
+impl Solver for MpmSolver {
+    fn name(&self) -> &str {
+        "mpm"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Δt = cfl · min over active axes Δx_d / max over particles (c_p + |v_p|)
+    /// with c_p = [`Material::wave_speed`] at ρ_p = m_p/V_p, e_p.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let grid = &self.level.geometry;
+        let dx_min = (0..3)
+            .filter(|&d| grid.cells[d] > 1)
+            .map(|d| grid.spacing[d])
+            .fold(f64::INFINITY, f64::min);
+        let ps = &self.particles;
+        let mats = &self.materials;
+        // max is exact, so the reduction order cannot change the result;
+        // a NaN speed is reported.
+        let (speed, bad) = (0..ps.len())
+            .into_par_iter()
+            .map(|p| {
+                let rho = ps.mass[p] / ps.volume[p];
+                let c =
+                    mats[ps.material[p].0 as usize].wave_speed(rho, ps.specific_internal_energy[p]);
+                let v = ps.velocity[p];
+                let s = c + (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                if s.is_finite() {
+                    (s, usize::MAX)
+                } else {
+                    (0.0, p)
+                }
+            })
+            .reduce(|| (0.0, usize::MAX), |a, b| (a.0.max(b.0), a.1.min(b.1)));
+        if bad != usize::MAX {
+            return Err(self.particle_error(bad, "wave speed plus |v| is not finite".into()));
+        }
+        let dt = if speed > 0.0 && dx_min.is_finite() {
+            self.options.cfl * dx_min / speed
+        } else {
+            f64::INFINITY
+        };
+        if !(dt >= self.options.min_dt) {
+            return Err(SolverError::TimeStepCollapse {
+                dt,
+                min_dt: self.options.min_dt,
+                time: self.time,
+                detail: format!("fastest particle signal speed {speed} m/s"),
+            });
+        }
+        Ok(dt)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        if !(dt > 0.0) || !dt.is_finite() {
+            return Err(SolverError::Other(format!(
+                "MPM: time step {dt} s must be positive and finite"
+            )));
+        }
+        self.sort_particles()?;
+        let grid = self.level.geometry;
+        if let Err((p, e)) = compute_stencils(
+            self.options.shape,
+            &grid,
+            &self.particles.position,
+            &self.particles.initial_volume,
+            &mut self.work.stencils,
+        ) {
+            return Err(self.particle_error(p, e.to_string()));
+        }
+        let params = StepParams {
+            grid: &grid,
+            shape: self.options.shape,
+            scheme: self.options.scheme,
+            gravity: self.options.gravity,
+            boundaries: &self.options.boundaries,
+            mass_threshold: self.options.mass_cutoff * self.reference_particle_mass,
+            materials: &self.materials,
+            dt,
+        };
+        let work = &mut self.work;
+        let ctx = GatherContext {
+            grid: &grid,
+            lattice: &work.nodes.lattice.clone(),
+            shape: self.options.shape,
+            cell_start: &work.cell_start,
+            stencils: &work.stencils,
+        };
+        let nodes = &mut work.nodes;
+        let ps = &mut self.particles;
+        let failure = match params.scheme {
+            UpdateScheme::Usf => {
+                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
+                step::velocity_gradients(
+                    &work.stencils,
+                    nodes,
+                    &nodes.velocity,
+                    &mut work.velocity_gradient,
+                );
+                let failure = step::update_stresses(ps, &work.velocity_gradient, &params);
+                if failure.is_none() {
+                    step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
+                    step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
+                }
+                failure
+            }
+            UpdateScheme::Usl | UpdateScheme::Musl => {
+                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
+                step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
+                step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
+                if params.scheme == UpdateScheme::Musl {
+                    step::remap_velocity(&ctx, ps, nodes, &params);
+                }
+                step::velocity_gradients(
+                    &work.stencils,
+                    nodes,
+                    &nodes.velocity_new,
+                    &mut work.velocity_gradient,
+                );
+                step::update_stresses(ps, &work.velocity_gradient, &params)
+            }
+        };
+        if let Some(f) = failure {
+            return Err(self.particle_error(
+                f.index,
+                format!("{} (J = det F = {:e})", f.reason, f.jacobian),
+            ));
+        }
+        self.handle_leaving_particles()?;
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    fn conservation_totals(&self) -> ConservationTotals {
+        let ps = &self.particles;
+        let mut t = self.outflow;
+        for p in 0..ps.len() {
+            let (m, v) = (ps.mass[p], ps.velocity[p]);
+            t.mass += m;
+            for (q, vc) in t.momentum.iter_mut().zip(v) {
+                *q += m * vc;
+            }
+            t.energy += particle_energy(m, v, ps.specific_internal_energy[p]);
+        }
+        t
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        CELL_FIELDS.to_vec()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
+        let idx = Self::field_indices(fields)?;
+        let values = self.cell_fields(&idx);
+        Ok(CellData {
+            geometry: self.level.geometry,
+            fields: fields.iter().cloned().zip(values).collect(),
+        })
+    }
+
+    /// The value of the cell that contains `point` (mass-weighted particle
+    /// averages, see the module doc).
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let grid = &self.level.geometry;
+        let idx = Self::field_indices(fields)?;
+        let cell = grid.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!(
+                "MPM sample point {point:?} m lies outside the grid"
+            ))
+        })?;
+        let c = grid.linear_index(cell);
+        let values = self.cell_fields(&idx);
+        out.clear();
+        out.extend(values.iter().map(|v| v[c]));
+        Ok(())
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.particles.len() as f64, "particle-steps")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let ps = &self.particles;
+        let saved = SavedState {
+            time: self.time,
+            steps: self.steps,
+            cells: self.level.geometry.cells,
+            history_stride: ps.history_stride(),
+            outflow: self.outflow,
+            position: ps.position.clone(),
+            velocity: ps.velocity.clone(),
+            mass: ps.mass.clone(),
+            initial_volume: ps.initial_volume.clone(),
+            volume: ps.volume.clone(),
+            deformation_gradient: ps.deformation_gradient.clone(),
+            stress: ps.stress.clone(),
+            temperature: ps.temperature.clone(),
+            specific_internal_energy: ps.specific_internal_energy.clone(),
+            material: ps.material.clone(),
+            history: ps.history.clone(),
+            failed: ps.failed.clone(),
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: SavedState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        if s.cells != self.level.geometry.cells {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint grid {:?} does not match the scenario's {:?}",
+                s.cells, self.level.geometry.cells
+            )));
+        }
+        let n = s.mass.len();
+        let history_rows = if s.history_stride == 0 {
+            if s.history.is_empty() {
+                n
+            } else {
+                usize::MAX
+            }
+        } else if s.history.len().is_multiple_of(s.history_stride) {
+            s.history.len() / s.history_stride
+        } else {
+            usize::MAX
+        };
+        let lengths = [
+            s.position.len(),
+            s.velocity.len(),
+            s.initial_volume.len(),
+            s.volume.len(),
+            s.deformation_gradient.len(),
+            s.stress.len(),
+            s.temperature.len(),
+            s.specific_internal_energy.len(),
+            s.material.len(),
+            s.failed.len(),
+            history_rows,
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(SolverError::Checkpoint(format!(
+                "particle arrays of unequal length in the checkpoint ({n} masses)"
+            )));
+        }
+        if let Some(m) = s
+            .material
+            .iter()
+            .find(|m| m.0 as usize >= self.materials.len())
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint particle material {} not among the {} materials",
+                m.0,
+                self.materials.len()
+            )));
+        }
+        let mut ps = Particles::new(s.history_stride);
+        ps.position = s.position;
+        ps.velocity = s.velocity;
+        ps.mass = s.mass;
+        ps.initial_volume = s.initial_volume;
+        ps.volume = s.volume;
+        ps.deformation_gradient = s.deformation_gradient;
+        ps.stress = s.stress;
+        ps.temperature = s.temperature;
+        ps.specific_internal_energy = s.specific_internal_energy;
+        ps.material = s.material;
+        ps.history = s.history;
+        ps.failed = s.failed;
+        self.particles = ps;
+        self.time = s.time;
+        self.steps = s.steps;
+        self.outflow = s.outflow;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;

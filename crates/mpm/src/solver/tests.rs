@@ -1,0 +1,592 @@
+//! Tests of the explicit MPM solver: the V-BAR validation case, exact
+//! conservation and motion properties, determinism across thread counts and
+//! checkpoints, outflow bookkeeping and setup errors.
+
+use super::*;
+use crate::{fill_shape, FillSpec, Shape};
+use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+use std::f64::consts::PI;
+
+fn hypoelastic(bulk_modulus: f64, shear_modulus: f64) -> MaterialModel {
+    MaterialModel::Hypoelastic(Hypoelastic {
+        shear_modulus,
+        pressure: PressureModel::Linear { bulk_modulus },
+        rate: ObjectiveRate::Jaumann,
+    })
+}
+
+fn fill(
+    particles: &mut Particles,
+    level: &Level,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    density: f64,
+    velocity: [f64; 3],
+    material: u16,
+) {
+    fill_shape(
+        particles,
+        &level.geometry,
+        &FillSpec {
+            shape: Shape::Box { lo, hi },
+            ppc: 2,
+            density,
+            material: MaterialId(material),
+            velocity,
+            temperature: 300.0,
+            specific_internal_energy: 0.0,
+        },
+    )
+    .unwrap();
+}
+
+/// 8 × 8 × 1 cells of 1/8 m (dyadic, so the transfers of dyadic data are
+/// exact), with a soft solid.
+fn dyadic_level() -> Level {
+    Level::new([0.0; 3], [1.0, 1.0, 1.0], [8, 8, 1], [1, 1, 1], 0).unwrap()
+}
+
+fn soft() -> MaterialModel {
+    hypoelastic(1.0e7, 5.0e6)
+}
+
+// ---------------------------------------------------------------- V-BAR
+
+struct BarResult {
+    period: f64,
+    exact_period: f64,
+    energy_drift: f64,
+}
+
+/// V-BAR: an elastic bar 0 ≤ x ≤ L on a 1D grid (cells (n, 1, 1)), fixed at
+/// x = 0 and free at x = L, started in its first mode v(x) = v0 sin(πx/2L).
+///
+/// On a 1D grid the motion is uniaxial *strain* (no lateral contraction:
+/// the inactive directions carry no gradient), so the wave speed compared
+/// with is the longitudinal c = √((K + 4G/3)/ρ), and the exact period is
+/// T = 4L/c. The period is measured from the zero crossings of the bar's
+/// total momentum (∝ cos ωt) and the energy drift is max |E(t) − E(0)|/E(0)
+/// over the run.
+fn v_bar(cells_in_bar: usize, periods: f64, scheme: UpdateScheme) -> BarResult {
+    let length = 1.0;
+    let (bulk, shear, rho, v0) = (60.0e9, 30.0e9, 8000.0, 1.0);
+    let dx = length / cells_in_bar as f64;
+    let n = cells_in_bar + 2;
+    let level = Level::new([0.0; 3], [n as f64 * dx, 1.0, 1.0], [n, 1, 1], [1, 1, 1], 0).unwrap();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.0; 3],
+        [length, 1.0, 1.0],
+        rho,
+        [0.0; 3],
+        0,
+    );
+    for p in 0..ps.len() {
+        ps.velocity[p][0] = v0 * (PI * ps.position[p][0] / (2.0 * length)).sin();
+    }
+    let mut boundaries = [GridBoundary::Free; 6];
+    boundaries[0] = GridBoundary::Fixed;
+    let mut solver = MpmSolver::new(
+        level,
+        vec![hypoelastic(bulk, shear)],
+        ps,
+        MpmOptions {
+            scheme,
+            cfl: 0.4,
+            boundaries,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let c = ((bulk + 4.0 * shear / 3.0) / rho).sqrt();
+    let exact_period = 4.0 * length / c;
+    let e0 = solver.conservation_totals().energy;
+    let mut drift: f64 = 0.0;
+    let mut crossings = Vec::new();
+    let mut last = (0.0, solver.conservation_totals().momentum[0]);
+    while solver.time() < periods * exact_period {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt).unwrap();
+        let t = solver.conservation_totals();
+        drift = drift.max((t.energy - e0).abs() / e0);
+        let now = (solver.time(), t.momentum[0]);
+        if last.1 > 0.0 && now.1 <= 0.0 || last.1 < 0.0 && now.1 >= 0.0 {
+            crossings.push(last.0 + (now.0 - last.0) * last.1 / (last.1 - now.1));
+        }
+        last = now;
+    }
+    // Successive zero crossings are half a period apart.
+    let k = crossings.len();
+    assert!(k >= 3, "only {k} zero crossings");
+    let period = 2.0 * (crossings[k - 1] - crossings[0]) / (k - 1) as f64;
+    BarResult {
+        period,
+        exact_period,
+        energy_drift: drift,
+    }
+}
+
+#[test]
+fn v_bar_first_mode_period_within_one_percent_and_energy_drift_below_one_percent() {
+    let r = v_bar(50, 10.0, UpdateScheme::Musl);
+    let period_error = (r.period - r.exact_period).abs() / r.exact_period;
+    println!(
+        "V-BAR 50 cells, 10 periods, MUSL: T = {:e} s, exact {:e} s, error {:.3e}, energy drift {:.3e}",
+        r.period, r.exact_period, period_error, r.energy_drift
+    );
+    assert!(period_error < 0.01, "period error {period_error}");
+    assert!(r.energy_drift <= 0.01, "energy drift {}", r.energy_drift);
+}
+
+#[test]
+#[ignore = "V-BAR at full resolution (200 cells, 10 periods, all schemes); slow in debug"]
+fn v_bar_full_resolution_all_schemes() {
+    for scheme in [UpdateScheme::Musl, UpdateScheme::Usl, UpdateScheme::Usf] {
+        let r = v_bar(200, 10.0, scheme);
+        let period_error = (r.period - r.exact_period).abs() / r.exact_period;
+        println!(
+            "V-BAR 200 cells, {scheme:?}: T = {:e} s, exact {:e} s, error {:.3e}, energy drift {:.3e}",
+            r.period, r.exact_period, period_error, r.energy_drift
+        );
+        assert!(
+            period_error < 0.01,
+            "{scheme:?}: period error {period_error}"
+        );
+        assert!(
+            r.energy_drift <= 0.01,
+            "{scheme:?}: energy drift {}",
+            r.energy_drift
+        );
+    }
+}
+
+// ------------------------------------------------- exact motion properties
+
+#[test]
+fn uniform_velocity_block_in_free_space_keeps_velocity_and_momentum_exactly() {
+    for scheme in [UpdateScheme::Usf, UpdateScheme::Usl, UpdateScheme::Musl] {
+        let level = dyadic_level();
+        let mut ps = Particles::new(0);
+        let v = [0.5, -0.25, 0.0];
+        fill(
+            &mut ps,
+            &level,
+            [0.25, 0.5, 0.0],
+            [0.5, 0.75, 1.0],
+            1024.0,
+            v,
+            0,
+        );
+        let x0 = ps.position.clone();
+        let mut solver = MpmSolver::new(
+            level,
+            vec![soft()],
+            ps,
+            MpmOptions {
+                scheme,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let p0 = solver.conservation_totals().momentum;
+        let dt = 1.0 / 4096.0;
+        for _ in 0..64 {
+            solver.advance(dt).unwrap();
+        }
+        let ps = solver.particles();
+        assert!(ps.velocity.iter().all(|u| *u == v), "{scheme:?}");
+        assert_eq!(solver.conservation_totals().momentum, p0, "{scheme:?}");
+        assert!(ps.stress.iter().all(|s| *s == [0.0; 6]), "{scheme:?}");
+        // Sorted order equals fill order here (the block moves rigidly).
+        for (x, x0) in ps.position.iter().zip(&x0) {
+            for c in 0..3 {
+                assert_eq!(x[c], x0[c] + 64.0 * dt * v[c], "{scheme:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn block_at_rest_without_gravity_stays_at_rest() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.0; 3],
+        [0.5, 0.25, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let x0 = ps.position.clone();
+    let mut solver = MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            boundaries: [GridBoundary::Fixed; 6],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    for _ in 0..20 {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt).unwrap();
+    }
+    let ps = solver.particles();
+    assert_eq!(ps.position, x0);
+    assert!(ps.velocity.iter().all(|v| *v == [0.0; 3]));
+    assert!(ps.stress.iter().all(|s| *s == [0.0; 6]));
+}
+
+#[test]
+fn block_in_free_fall_accelerates_at_gravity() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.5, 0.0],
+        [0.5, 0.75, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let g = [0.0, -9.81, 0.0];
+    let mut solver = MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            gravity: g,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    for _ in 0..50 {
+        solver.advance(1.0e-4).unwrap();
+    }
+    let t = solver.time();
+    for v in &solver.particles().velocity {
+        // Round-off in Σ ∇N_I = 0 leaves a stress of order 1e-16 of the
+        // scale, hence the relative tolerance on both components.
+        assert!((v[1] - g[1] * t).abs() < 1e-12 * (g[1] * t).abs(), "{v:?}");
+        assert!(v[0].abs() < 1e-12 * (g[1] * t).abs(), "{v:?}");
+    }
+}
+
+/// Two blocks of different density collide; the right one then hits a fixed
+/// wall under gravity. Masses are dyadic so every sum is exact.
+fn collision(shape: ShapeFunction, scheme: UpdateScheme) -> MpmSolver {
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [16, 16, 1], [1, 1, 1], 0).unwrap();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.125, 0.25, 0.0],
+        [0.375, 0.5, 1.0],
+        1024.0,
+        [8.0, 1.0, 0.0],
+        0,
+    );
+    fill(
+        &mut ps,
+        &level,
+        [0.4375, 0.25, 0.0],
+        [0.75, 0.625, 1.0],
+        2048.0,
+        [-4.0, 0.0, 0.0],
+        1,
+    );
+    let mut boundaries = [GridBoundary::Symmetry; 6];
+    boundaries[1] = GridBoundary::Fixed;
+    MpmSolver::new(
+        level,
+        vec![soft(), hypoelastic(2.0e7, 1.0e7)],
+        ps,
+        MpmOptions {
+            shape,
+            scheme,
+            gravity: [0.0, -9.81, 0.0],
+            boundaries,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+fn run(solver: &mut MpmSolver, steps: usize) {
+    for _ in 0..steps {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt).unwrap();
+    }
+}
+
+#[test]
+fn total_mass_is_conserved_exactly_through_collisions() {
+    for shape in ShapeFunction::ALL {
+        let mut s = collision(shape, UpdateScheme::Musl);
+        let m0 = s.conservation_totals().mass;
+        run(&mut s, 100);
+        assert_eq!(s.conservation_totals().mass, m0, "{shape:?}");
+    }
+}
+
+#[test]
+fn results_are_bit_identical_on_one_and_two_threads() {
+    for shape in ShapeFunction::ALL {
+        for scheme in [UpdateScheme::Usf, UpdateScheme::Usl, UpdateScheme::Musl] {
+            if (shape, scheme) == (ShapeFunction::Linear, UpdateScheme::Usl) {
+                // Linear USL inverts a particle at the contact corner after
+                // ~25 steps of this impact (see
+                // `linear_usl_inverts_a_contact_corner_particle`).
+                continue;
+            }
+            let state = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    let mut s = collision(shape, scheme);
+                    run(&mut s, 100);
+                    s.save_state().unwrap()
+                })
+            };
+            assert!(state(1) == state(2), "{shape:?} {scheme:?}");
+        }
+    }
+}
+
+/// Known failing: with linear shapes, USL forms the velocity gradient from
+/// v_I + f_I/m_I Δt at nodes that a corner particle barely touches, and the
+/// impact of [`collision`] inverts that particle after about 25 steps
+/// (MUSL, USF, GIMP and the B-spline all run it through). When this passes,
+/// add Linear USL back to the determinism test.
+#[test]
+#[ignore = "known failing: linear USL inverts a contact-corner particle (J <= 0) after ~25 steps"]
+fn linear_usl_runs_the_block_impact() {
+    let mut s = collision(ShapeFunction::Linear, UpdateScheme::Usl);
+    let err = (0..100)
+        .map(|_| s.stable_dt().and_then(|dt| s.advance(dt)))
+        .find_map(Result::err);
+    assert!(err.is_none(), "{err:?}");
+}
+
+#[test]
+fn restore_of_a_saved_state_continues_bit_identically() {
+    let mut a = collision(ShapeFunction::QuadraticBSpline, UpdateScheme::Musl);
+    run(&mut a, 30);
+    let saved = a.save_state().unwrap();
+    run(&mut a, 30);
+    let mut b = collision(ShapeFunction::QuadraticBSpline, UpdateScheme::Musl);
+    b.restore_state(&saved).unwrap();
+    assert_eq!(b.time(), a.time() - (a.time() - b.time()));
+    run(&mut b, 30);
+    assert_eq!(a.time(), b.time());
+    assert!(a.save_state().unwrap() == b.save_state().unwrap());
+    assert!(b.restore_state(&saved[..saved.len() / 2]).is_err());
+}
+
+#[test]
+fn collision_conserves_momentum_when_no_wall_or_gravity_acts() {
+    // Free faces and no gravity: Σ f_I^int = 0, so momentum is conserved to
+    // round-off while the blocks collide.
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [16, 16, 1], [1, 1, 1], 0).unwrap();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [20.0, 0.0, 0.0],
+        0,
+    );
+    fill(
+        &mut ps,
+        &level,
+        [0.5, 0.25, 0.0],
+        [0.75, 0.5, 1.0],
+        1024.0,
+        [-20.0, 0.0, 0.0],
+        0,
+    );
+    let mut s = MpmSolver::new(level, vec![soft()], ps, MpmOptions::default()).unwrap();
+    let scale = s.conservation_totals().mass * 20.0;
+    run(&mut s, 200);
+    let p = s.conservation_totals().momentum;
+    assert!(p.iter().all(|q| q.abs() < 1e-12 * scale), "{p:?}");
+    // The blocks did interact: some particle was slowed down.
+    assert!(s.particles().velocity.iter().any(|v| v[0].abs() < 19.0));
+}
+
+// ---------------------------------------------------------- leaving particles
+
+fn leaving_block(face: GridBoundary) -> MpmSolver {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.75, 0.25, 0.0],
+        [1.0, 0.5, 1.0],
+        1024.0,
+        [64.0, 0.0, 0.0],
+        0,
+    );
+    let mut boundaries = [GridBoundary::Free; 6];
+    boundaries[1] = face;
+    MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            boundaries,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn particles_crossing_an_outflow_face_are_removed_and_booked() {
+    let mut s = leaving_block(GridBoundary::Outflow);
+    let t0 = s.conservation_totals();
+    let n0 = s.particles().len();
+    for _ in 0..16 {
+        s.advance(1.0 / 1024.0).unwrap();
+    }
+    assert!(s.particles().len() < n0);
+    let t = s.conservation_totals();
+    assert_eq!(t.mass, t0.mass);
+    assert!(s.outflow_totals().mass > 0.0);
+    assert!((t.momentum[0] - t0.momentum[0]).abs() < 1e-12 * t0.momentum[0]);
+}
+
+#[test]
+fn a_particle_leaving_through_a_free_face_stops_the_run_naming_the_face() {
+    let mut s = leaving_block(GridBoundary::Free);
+    let err = (0..16)
+        .map(|_| s.advance(1.0 / 1024.0))
+        .find_map(Result::err)
+        .unwrap();
+    let msg = err.to_string();
+    assert!(msg.contains("x+") && msg.contains("Outflow"), "{msg}");
+}
+
+#[test]
+fn an_inverted_particle_stops_the_run_with_its_index_and_jacobian() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    for p in 0..ps.len() {
+        // Strong converging flow: L_xx ≈ −1000 1/s.
+        ps.velocity[p][0] = -1000.0 * (ps.position[p][0] - 0.375);
+    }
+    let mut s = MpmSolver::new(level, vec![soft()], ps, MpmOptions::default()).unwrap();
+    let err = s.advance(0.01).unwrap_err();
+    assert!(matches!(err, SolverError::NonPhysicalState { .. }), "{err}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("particle") && msg.contains("J = det F"),
+        "{msg}"
+    );
+}
+
+// ----------------------------------------------------------------- setup
+
+#[test]
+fn setup_errors_name_the_bad_option_or_particle() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let e = MpmSolver::new(
+        level.clone(),
+        vec![soft()],
+        ps.clone(),
+        MpmOptions {
+            cfl: 1.5,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("cfl"), "{e}");
+    ps.material[3] = MaterialId(4);
+    let e = MpmSolver::new(level.clone(), vec![soft()], ps, MpmOptions::default()).unwrap_err();
+    assert_eq!(
+        e,
+        MpmSetupError::UnknownMaterial {
+            particle: 3,
+            material: 4,
+            count: 1
+        }
+    );
+    let e = MpmSolver::new(
+        level,
+        vec![soft()],
+        Particles::new(0),
+        MpmOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(e, MpmSetupError::NoParticles);
+}
+
+#[test]
+fn stable_dt_is_cfl_times_cell_over_wave_speed_plus_velocity() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [3.0, 4.0, 0.0],
+        0,
+    );
+    let s = MpmSolver::new(level, vec![soft()], ps, MpmOptions::default()).unwrap();
+    let c = ((1.0e7 + 4.0 * 5.0e6 / 3.0) / 1024.0f64).sqrt();
+    let expected = 0.4 * 0.125 / (c + 5.0);
+    assert!((s.stable_dt().unwrap() - expected).abs() < 1e-12 * expected);
+}
+
+#[test]
+fn cell_data_gives_mass_weighted_particle_averages() {
+    let mut s = collision(ShapeFunction::Linear, UpdateScheme::Musl);
+    let names: Vec<String> = ["density", "velocity_x", "mass_density"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let data = s.cell_data(&names).unwrap();
+    let g = s.level().geometry;
+    let c = g.linear_index(g.cell_containing([0.2, 0.3, 0.5]).unwrap());
+    assert_eq!(data.field("density").unwrap()[c], 1024.0);
+    assert_eq!(data.field("velocity_x").unwrap()[c], 8.0);
+    assert_eq!(data.field("mass_density").unwrap()[c], 1024.0);
+    assert_eq!(data.field("density").unwrap()[0], 0.0);
+    let mut out = Vec::new();
+    s.sample([0.6, 0.3, 0.5], &names, &mut out).unwrap();
+    assert_eq!(out, vec![2048.0, -4.0, 2048.0]);
+    assert!(s.cell_data(&["nope".to_string()]).is_err());
+    run(&mut s, 1);
+}

@@ -1,0 +1,414 @@
+//! The explicit MPM step of seed 001 §2.2 in its three classical variants.
+//!
+//! With N_Ip and ∇N_Ip evaluated at the particle positions of the start of
+//! the step (x_p^n):
+//!
+//! - **USL** (update stress last): P2G of m_I (eq 21), p_I (eq 18) and
+//!   f_I = f_I^int + f_I^ext (eqs 19, 20, 23) from σ_p^n; nodal
+//!   acceleration a_I = f_I/m_I and v_I^{n+1} = v_I^n + a_I Δt (eq 22);
+//!   G2P v_p += Σ N_Ip a_I Δt (eq 24) and x_p += Σ N_Ip v_I^{n+1} Δt
+//!   (eq 25); velocity gradient L_p = Σ v_I^{n+1} ⊗ ∇N_Ip (eqs 27–28) and
+//!   the stress update.
+//! - **MUSL** (modified USL): as USL, but before the velocity gradient the
+//!   grid velocity is re-mapped from the updated particle velocities,
+//!   v_I^{n+1} = Σ m_p N_Ip v_p^{n+1} / m_I (eq 26), the variant of the
+//!   seed's step list (its steps 9–13).
+//! - **USF** (update stress first): P2G of m_I and p_I; L_p from v_I^n and
+//!   the stress update; then P2G of the force from σ_p^{n+1} and the
+//!   momentum update and G2P as above.
+//!
+//! Eq 25 of the seed writes the position update with p_I^n; it is read here
+//! as the leapfrog (central-difference) update x_p += Σ N_Ip v_I^{n+1} Δt
+//! of the same authors' explicit MPM, which unlike a forward-Euler position
+//! update does not feed energy into an oscillating body.
+//!
+//! Nodes whose mass is below `mass_cutoff` × the reference particle mass
+//! get zero velocity and acceleration (see [`StepParams::mass_threshold`]).
+//! The grid boundary conditions ([`crate::boundary`]) act on v_I^n, a_I and
+//! v_I^{n+1}.
+//!
+//! The per-particle stress update is in [`update_particle_stress`].
+
+use crate::boundary::{apply_grid_boundaries, GridBoundary};
+use crate::grid_nodes::GridNodes;
+use crate::transfer::{for_each_node, AxisStencils, GatherContext};
+use crate::{MaterialId, Particles, ShapeFunction};
+use brisance_constitutive::{elastic_plastic::TEMPERATURE_INCREMENT_INDEX, MaterialModel};
+use brisance_core::{Mat3, Material, StressUpdateInput, UniformGridGeometry};
+use rayon::iter::Either;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Which explicit MPM update scheme a step uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum UpdateScheme {
+    /// Update stress first: velocity gradient from the start-of-step grid
+    /// velocity.
+    Usf,
+    /// Update stress last: velocity gradient from the momentum-updated grid
+    /// velocity (seed 001 eq 22).
+    Usl,
+    /// Modified USL: velocity gradient from the grid velocity re-mapped from
+    /// the updated particle velocities (seed 001 eq 26).
+    #[default]
+    Musl,
+}
+
+/// The fixed parameters of one step.
+#[derive(Debug, Clone, Copy)]
+pub struct StepParams<'a> {
+    /// The grid.
+    pub grid: &'a UniformGridGeometry,
+    /// Shape function.
+    pub shape: ShapeFunction,
+    /// Update scheme.
+    pub scheme: UpdateScheme,
+    /// Body force per unit mass (gravity), m/s².
+    pub gravity: [f64; 3],
+    /// Face conditions x−, x+, y−, y+, z−, z+.
+    pub boundaries: &'a [GridBoundary; 6],
+    /// Nodes lighter than this (kg) get zero velocity and acceleration:
+    /// `mass_cutoff` × the reference particle mass.
+    pub mass_threshold: f64,
+    /// Constitutive models, indexed by [`MaterialId`].
+    pub materials: &'a [MaterialModel],
+    /// Time step, s.
+    pub dt: f64,
+}
+
+/// Why a particle's stress update was refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParticleFailure {
+    /// Particle index (in the sorted order of this step).
+    pub index: usize,
+    /// det F after the update.
+    pub jacobian: f64,
+    /// What went wrong.
+    pub reason: &'static str,
+}
+
+/// Node velocity v = p/m (zero below the mass threshold).
+fn nodal_velocity(nodes: &mut GridNodes, threshold: f64) {
+    nodes
+        .velocity
+        .par_iter_mut()
+        .zip(nodes.momentum.par_iter().zip(nodes.mass.par_iter()))
+        .for_each(|(v, (p, &m))| {
+            *v = if m > threshold && m > 0.0 {
+                [p[0] / m, p[1] / m, p[2] / m]
+            } else {
+                [0.0; 3]
+            };
+        });
+}
+
+/// P2G of mass (eq 21) and momentum (eq 18), then v_I^n with the cut-off
+/// and the boundary conditions.
+pub fn p2g_mass_momentum(
+    ctx: &GatherContext,
+    particles: &Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    let (mass, vel) = (&particles.mass, &particles.velocity);
+    ctx.gather(&mut nodes.mass, |m, p, w, _| *m += w * mass[p]);
+    ctx.gather(&mut nodes.momentum, |q, p, w, _| {
+        let wm = w * mass[p];
+        for c in 0..3 {
+            q[c] += wm * vel[p][c];
+        }
+    });
+    nodal_velocity(nodes, params.mass_threshold);
+    apply_grid_boundaries(
+        params.boundaries,
+        &nodes.lattice,
+        params.grid.cells,
+        &mut [&mut nodes.velocity],
+    );
+}
+
+/// P2G of the force f_I = −Σ V_p σ_p ∇N_Ip + Σ m_p N_Ip g (eqs 19, 20,
+/// 23; no surface traction), then a_I = f_I/m_I and v_I^{n+1} = v_I^n +
+/// a_I Δt (eq 22) with the cut-off and the boundary conditions.
+pub fn p2g_force_and_integrate(
+    ctx: &GatherContext,
+    particles: &Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    let (mass, vol, stress) = (&particles.mass, &particles.volume, &particles.stress);
+    let g = params.gravity;
+    ctx.gather(&mut nodes.force, |f, p, w, grad| {
+        let s = &stress[p];
+        // Voigt (xx, yy, zz, yz, xz, xy).
+        let sg = [
+            s[0] * grad[0] + s[5] * grad[1] + s[4] * grad[2],
+            s[5] * grad[0] + s[1] * grad[1] + s[3] * grad[2],
+            s[4] * grad[0] + s[3] * grad[1] + s[2] * grad[2],
+        ];
+        let wm = w * mass[p];
+        for c in 0..3 {
+            f[c] += -vol[p] * sg[c] + wm * g[c];
+        }
+    });
+    let (dt, threshold) = (params.dt, params.mass_threshold);
+    nodes
+        .acceleration
+        .par_iter_mut()
+        .zip(nodes.force.par_iter().zip(nodes.mass.par_iter()))
+        .for_each(|(a, (f, &m))| {
+            *a = if m > threshold && m > 0.0 {
+                [f[0] / m, f[1] / m, f[2] / m]
+            } else {
+                [0.0; 3]
+            };
+        });
+    apply_grid_boundaries(
+        params.boundaries,
+        &nodes.lattice,
+        params.grid.cells,
+        &mut [&mut nodes.acceleration],
+    );
+    nodes
+        .velocity_new
+        .par_iter_mut()
+        .zip(nodes.velocity.par_iter().zip(nodes.acceleration.par_iter()))
+        .for_each(|(vn, (v, a))| *vn = std::array::from_fn(|c| v[c] + a[c] * dt));
+}
+
+/// G2P of eqs 24–25: v_p += Σ N_Ip a_I Δt, x_p += Σ N_Ip v_I^{n+1} Δt.
+pub fn g2p_velocity_position(
+    stencils: &[AxisStencils],
+    particles: &mut Particles,
+    nodes: &GridNodes,
+    dt: f64,
+) {
+    let lattice = &nodes.lattice;
+    particles
+        .velocity
+        .par_iter_mut()
+        .zip(particles.position.par_iter_mut())
+        .zip(stencils.par_iter())
+        .for_each(|((v, x), s)| {
+            let mut dv = [0.0; 3];
+            let mut dx = [0.0; 3];
+            for_each_node(lattice, s, |idx, w, _| {
+                let a = nodes.acceleration[idx];
+                let vn = nodes.velocity_new[idx];
+                for c in 0..3 {
+                    dv[c] += w * a[c];
+                    dx[c] += w * vn[c];
+                }
+            });
+            for c in 0..3 {
+                v[c] += dv[c] * dt;
+                x[c] += dx[c] * dt;
+            }
+        });
+}
+
+/// MUSL re-mapping (eq 26): v_I^{n+1} = Σ m_p N_Ip v_p^{n+1} / m_I with the
+/// start-of-step weights, the cut-off and the boundary conditions.
+pub fn remap_velocity(
+    ctx: &GatherContext,
+    particles: &Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    let (mass, vel) = (&particles.mass, &particles.velocity);
+    ctx.gather(&mut nodes.momentum, |q, p, w, _| {
+        let wm = w * mass[p];
+        for c in 0..3 {
+            q[c] += wm * vel[p][c];
+        }
+    });
+    let threshold = params.mass_threshold;
+    nodes
+        .velocity_new
+        .par_iter_mut()
+        .zip(nodes.momentum.par_iter().zip(nodes.mass.par_iter()))
+        .for_each(|(v, (p, &m))| {
+            *v = if m > threshold && m > 0.0 {
+                [p[0] / m, p[1] / m, p[2] / m]
+            } else {
+                [0.0; 3]
+            };
+        });
+    apply_grid_boundaries(
+        params.boundaries,
+        &nodes.lattice,
+        params.grid.cells,
+        &mut [&mut nodes.velocity_new],
+    );
+}
+
+/// Velocity gradient L_p = Σ_I v_I ⊗ ∇N_Ip (L[i][j] = Σ v_i ∂N/∂x_j,
+/// seed 001 eqs 27–28, seed 000 eq 13) from the node velocities
+/// `velocity`, into `out`.
+pub fn velocity_gradients(
+    stencils: &[AxisStencils],
+    nodes: &GridNodes,
+    velocity: &[[f64; 3]],
+    out: &mut Vec<Mat3>,
+) {
+    out.resize(stencils.len(), Mat3::zeros());
+    let lattice = &nodes.lattice;
+    out.par_iter_mut()
+        .zip(stencils.par_iter())
+        .for_each(|(l, s)| {
+            let mut m = Mat3::zeros();
+            for_each_node(lattice, s, |idx, _, grad| {
+                let v = velocity[idx];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        m[(i, j)] += v[i] * grad[j];
+                    }
+                }
+            });
+            *l = m;
+        });
+}
+
+/// The stress update of every particle (parallel over particles), see
+/// [`update_particle_stress`]. Returns the failure of the lowest-index
+/// particle that failed, if any.
+pub fn update_stresses(
+    particles: &mut Particles,
+    velocity_gradient: &[Mat3],
+    params: &StepParams,
+) -> Option<ParticleFailure> {
+    let n = particles.len();
+    let stride = particles.history_stride();
+    let history = if stride > 0 {
+        Either::Left(particles.history.par_chunks_mut(stride))
+    } else {
+        Either::Right(rayon::iter::repeat_n((), n).map(|()| -> &mut [f64] { &mut [] }))
+    };
+    let materials = params.materials;
+    let dt = params.dt;
+    (
+        particles.stress.par_iter_mut(),
+        particles.deformation_gradient.par_iter_mut(),
+        particles.volume.par_iter_mut(),
+        particles.temperature.par_iter_mut(),
+        particles.specific_internal_energy.par_iter_mut(),
+        particles.failed.par_iter_mut(),
+        history,
+        velocity_gradient.par_iter(),
+        particles.material.par_iter(),
+        particles.mass.par_iter(),
+        particles.initial_volume.par_iter(),
+    )
+        .into_par_iter()
+        .enumerate()
+        .filter_map(
+            |(index, (stress, f, volume, t, e, failed, hist, l, &mat, &m, &v0))| {
+                let state = ParticleState {
+                    stress,
+                    deformation_gradient: f,
+                    volume,
+                    temperature: t,
+                    specific_internal_energy: e,
+                    failed,
+                    history: hist,
+                };
+                update_particle_stress(&materials[mat.0 as usize], mat, state, l, m, v0, dt)
+                    .err()
+                    .map(|(jacobian, reason)| ParticleFailure {
+                        index,
+                        jacobian,
+                        reason,
+                    })
+            },
+        )
+        .min_by_key(|f| f.index)
+}
+
+/// The mutable state of one particle in the stress update.
+pub struct ParticleState<'a> {
+    /// σ_p, Voigt.
+    pub stress: &'a mut [f64; 6],
+    /// F_p, row-major.
+    pub deformation_gradient: &'a mut [f64; 9],
+    /// V_p, m³.
+    pub volume: &'a mut f64,
+    /// T_p, K.
+    pub temperature: &'a mut f64,
+    /// e_p, J/kg.
+    pub specific_internal_energy: &'a mut f64,
+    /// Failed flag.
+    pub failed: &'a mut bool,
+    /// History block (the set's stride; the model uses its first
+    /// `history_len` values).
+    pub history: &'a mut [f64],
+}
+
+/// One particle's update over Δt from its velocity gradient L:
+///
+/// 1. F ← (I + L Δt) F; J = det F must be positive and finite;
+/// 2. V = J V⁰ and ρ = m/V = ρ₀/J (seed 001 eqs 12, 29);
+/// 3. σ from [`Material::update_stress`] (the Jaumann rate of eq 30 or the
+///    model's own objective rate) at the new density;
+/// 4. specific internal energy from the stress power of eq 13,
+///    Δe = Δt (σⁿ + σⁿ⁺¹)/2 : D / ρ^{n+½} with D = sym L and
+///    ρ^{n+½} = 2m/(Vⁿ + Vⁿ⁺¹) — this already contains the plastic work, so
+///    plastic heating enters the temperature only: T += ΔT, the increment
+///    the elastic–plastic model stores in its history;
+/// 5. the failed flag from the update (irreversible).
+///
+/// Returns (J, reason) when the new state is not physical; the particle is
+/// then left partly updated and the step must be abandoned.
+pub fn update_particle_stress(
+    material: &MaterialModel,
+    _id: MaterialId,
+    state: ParticleState,
+    l: &Mat3,
+    mass: f64,
+    initial_volume: f64,
+    dt: f64,
+) -> Result<(), (f64, &'static str)> {
+    let f_old = Mat3::from_row_slice(&state.deformation_gradient[..]);
+    let f_new = (Mat3::identity() + l * dt) * f_old;
+    let j = f_new.determinant();
+    if !(j > 0.0) || !j.is_finite() {
+        return Err((j, "det F is not positive"));
+    }
+    let v_old = *state.volume;
+    let v_new = j * initial_volume;
+    let rho = mass / v_new;
+    let sigma_old = crate::voigt_to_matrix(state.stress);
+    let hlen = material.history_len();
+    let history = &mut state.history[..hlen];
+    let update = material.update_stress(
+        &StressUpdateInput {
+            velocity_gradient: *l,
+            dt,
+            density: rho,
+            temperature: *state.temperature,
+            specific_internal_energy: *state.specific_internal_energy,
+            stress: sigma_old,
+        },
+        history,
+    );
+    if update.stress.iter().any(|s| !s.is_finite()) {
+        return Err((j, "the updated stress is not finite"));
+    }
+    let d = 0.5 * (l + l.transpose());
+    let power = 0.5 * (sigma_old + update.stress).component_mul(&d).sum();
+    let rho_mid = 2.0 * mass / (v_old + v_new);
+    let e_new = *state.specific_internal_energy + dt * power / rho_mid;
+    if !e_new.is_finite() {
+        return Err((j, "the specific internal energy is not finite"));
+    }
+    if let MaterialModel::ElasticPlastic(_) = material {
+        *state.temperature += history[TEMPERATURE_INCREMENT_INDEX];
+    }
+    *state.specific_internal_energy = e_new;
+    *state.stress = crate::matrix_to_voigt(&update.stress);
+    state
+        .deformation_gradient
+        .copy_from_slice(f_new.transpose().as_slice());
+    *state.volume = v_new;
+    *state.failed |= update.failed;
+    Ok(())
+}
