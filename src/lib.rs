@@ -8,16 +8,20 @@
 //! - [`grid`]: Cartesian levels of patches with ghost layers.
 //! - [`eos`]: equations of state.
 //! - [`fdm`]: the Lax–Wendroff finite-difference Euler solver.
+//! - [`constitutive`]: stress-update models for solids and particle fluids.
+//! - [`mpm`]: the explicit material point method.
 //! - [`io`]: VTK, CSV, summary and checkpoint writers.
 //! - [`compose`]: the RON scenario schema, registry and run loop.
 //! - [`verification`]: exact solutions the validation suite compares against.
 
 pub use brisance_compose as compose;
+pub use brisance_constitutive as constitutive;
 pub use brisance_core as core;
 pub use brisance_eos as eos;
 pub use brisance_fdm as fdm;
 pub use brisance_grid as grid;
 pub use brisance_io as io;
+pub use brisance_mpm as mpm;
 
 pub mod verification;
 

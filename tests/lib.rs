@@ -4,5 +4,6 @@
 
 mod cli;
 mod restart;
+mod v_bar;
 mod v_smooth;
 mod v_sod;

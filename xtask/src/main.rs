@@ -323,6 +323,46 @@ fn v_smooth(report: &mut Report, img: &Path) -> Result<()> {
     Ok(())
 }
 
+fn v_bar_case(report: &mut Report) -> Result<()> {
+    use brisance::mpm::UpdateScheme;
+    use brisance::verification::cases::v_bar;
+    println!("V-BAR: first mode of an elastic bar, MPM, 200 cells, 10 periods");
+    let _ = writeln!(report.md, "## V-BAR — elastic bar, first mode (MPM)\n");
+    let _ = writeln!(
+        report.md,
+        "Bar 0 ≤ x ≤ 1 m on a 1D grid of 200 cells (2 particles per cell, linear shape functions), fixed at x = 0, \
+         started with v = sin(πx/2L) m/s; hypoelastic K 60 GPa, G 30 GPa, ρ 8000 kg/m³. A 1D grid is uniaxial \
+         strain, so the exact period is T = 4L/√((K + 4G/3)/ρ). The period comes from the zero crossings of the \
+         bar's momentum over 10 periods; the energy drift is the largest |E(t) − E(0)|/E(0).\n"
+    );
+    let _ = writeln!(report.md, "| scheme | steps | period (ms) | exact (ms) | period error | energy drift |\n|---|---:|---:|---:|---:|---:|");
+    let mut musl = None;
+    for scheme in [UpdateScheme::Musl, UpdateScheme::Usl, UpdateScheme::Usf] {
+        let r = v_bar(200, 10.0, scheme).map_err(anyhow::Error::msg)?;
+        let err = (r.period - r.exact_period).abs() / r.exact_period;
+        println!("  {scheme:?}: period error {err:.2e}, energy drift {:.2e}", r.energy_drift);
+        let _ = writeln!(
+            report.md,
+            "| {scheme:?} | {} | {:.6} | {:.6} | {:.2e} | {:.2e} |",
+            r.steps,
+            1e3 * r.period,
+            1e3 * r.exact_period,
+            err,
+            r.energy_drift
+        );
+        if scheme == UpdateScheme::Musl {
+            musl = Some((err, r.energy_drift));
+        }
+    }
+    let _ = writeln!(report.md, "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|");
+    if let Some((err, drift)) = musl {
+        report.target("V-BAR period error (MUSL)", format!("{:.2e}", err), "≤ 1 %", err <= 0.01);
+        report.target("V-BAR energy drift over 10 periods (MUSL)", format!("{:.2e}", drift), "≤ 1 %", drift <= 0.01);
+    }
+    let _ = writeln!(report.md);
+    Ok(())
+}
+
 fn v_cj(report: &mut Report) -> Result<()> {
     use brisance::eos::tools::v_cj_report;
     println!("V-CJ: Chapman-Jouguet states by Rayleigh-line tangency");
@@ -481,6 +521,7 @@ fn validate() -> Result<()> {
     v_sod(&mut body, &img)?;
     v_smooth(&mut body, &img)?;
     v_cj(&mut body)?;
+    v_bar_case(&mut body)?;
     throughput(&mut body)?;
     let _ = writeln!(report.md, "## Summary\n");
     if body.failures.is_empty() {

@@ -5,7 +5,6 @@
 use super::*;
 use crate::{fill_shape, FillSpec, Shape};
 use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
-use std::f64::consts::PI;
 
 fn hypoelastic(bulk_modulus: f64, shear_modulus: f64) -> MaterialModel {
     MaterialModel::Hypoelastic(Hypoelastic {
@@ -50,117 +49,8 @@ fn soft() -> MaterialModel {
     hypoelastic(1.0e7, 5.0e6)
 }
 
-// ---------------------------------------------------------------- V-BAR
-
-struct BarResult {
-    period: f64,
-    exact_period: f64,
-    energy_drift: f64,
-}
-
-/// V-BAR: an elastic bar 0 ≤ x ≤ L on a 1D grid (cells (n, 1, 1)), fixed at
-/// x = 0 and free at x = L, started in its first mode v(x) = v0 sin(πx/2L).
-///
-/// On a 1D grid the motion is uniaxial *strain* (no lateral contraction:
-/// the inactive directions carry no gradient), so the wave speed compared
-/// with is the longitudinal c = √((K + 4G/3)/ρ), and the exact period is
-/// T = 4L/c. The period is measured from the zero crossings of the bar's
-/// total momentum (∝ cos ωt) and the energy drift is max |E(t) − E(0)|/E(0)
-/// over the run.
-fn v_bar(cells_in_bar: usize, periods: f64, scheme: UpdateScheme) -> BarResult {
-    let length = 1.0;
-    let (bulk, shear, rho, v0) = (60.0e9, 30.0e9, 8000.0, 1.0);
-    let dx = length / cells_in_bar as f64;
-    let n = cells_in_bar + 2;
-    let level = Level::new([0.0; 3], [n as f64 * dx, 1.0, 1.0], [n, 1, 1], [1, 1, 1], 0).unwrap();
-    let mut ps = Particles::new(0);
-    fill(
-        &mut ps,
-        &level,
-        [0.0; 3],
-        [length, 1.0, 1.0],
-        rho,
-        [0.0; 3],
-        0,
-    );
-    for p in 0..ps.len() {
-        ps.velocity[p][0] = v0 * (PI * ps.position[p][0] / (2.0 * length)).sin();
-    }
-    let mut boundaries = [GridBoundary::Free; 6];
-    boundaries[0] = GridBoundary::Fixed;
-    let mut solver = MpmSolver::new(
-        level,
-        vec![hypoelastic(bulk, shear)],
-        ps,
-        MpmOptions {
-            scheme,
-            cfl: 0.4,
-            boundaries,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let c = ((bulk + 4.0 * shear / 3.0) / rho).sqrt();
-    let exact_period = 4.0 * length / c;
-    let e0 = solver.conservation_totals().energy;
-    let mut drift: f64 = 0.0;
-    let mut crossings = Vec::new();
-    let mut last = (0.0, solver.conservation_totals().momentum[0]);
-    while solver.time() < periods * exact_period {
-        let dt = solver.stable_dt().unwrap();
-        solver.advance(dt).unwrap();
-        let t = solver.conservation_totals();
-        drift = drift.max((t.energy - e0).abs() / e0);
-        let now = (solver.time(), t.momentum[0]);
-        if last.1 > 0.0 && now.1 <= 0.0 || last.1 < 0.0 && now.1 >= 0.0 {
-            crossings.push(last.0 + (now.0 - last.0) * last.1 / (last.1 - now.1));
-        }
-        last = now;
-    }
-    // Successive zero crossings are half a period apart.
-    let k = crossings.len();
-    assert!(k >= 3, "only {k} zero crossings");
-    let period = 2.0 * (crossings[k - 1] - crossings[0]) / (k - 1) as f64;
-    BarResult {
-        period,
-        exact_period,
-        energy_drift: drift,
-    }
-}
-
-#[test]
-fn v_bar_first_mode_period_within_one_percent_and_energy_drift_below_one_percent() {
-    let r = v_bar(50, 10.0, UpdateScheme::Musl);
-    let period_error = (r.period - r.exact_period).abs() / r.exact_period;
-    println!(
-        "V-BAR 50 cells, 10 periods, MUSL: T = {:e} s, exact {:e} s, error {:.3e}, energy drift {:.3e}",
-        r.period, r.exact_period, period_error, r.energy_drift
-    );
-    assert!(period_error < 0.01, "period error {period_error}");
-    assert!(r.energy_drift <= 0.01, "energy drift {}", r.energy_drift);
-}
-
-#[test]
-#[ignore = "V-BAR at full resolution (200 cells, 10 periods, all schemes); slow in debug"]
-fn v_bar_full_resolution_all_schemes() {
-    for scheme in [UpdateScheme::Musl, UpdateScheme::Usl, UpdateScheme::Usf] {
-        let r = v_bar(200, 10.0, scheme);
-        let period_error = (r.period - r.exact_period).abs() / r.exact_period;
-        println!(
-            "V-BAR 200 cells, {scheme:?}: T = {:e} s, exact {:e} s, error {:.3e}, energy drift {:.3e}",
-            r.period, r.exact_period, period_error, r.energy_drift
-        );
-        assert!(
-            period_error < 0.01,
-            "{scheme:?}: period error {period_error}"
-        );
-        assert!(
-            r.energy_drift <= 0.01,
-            "{scheme:?}: energy drift {}",
-            r.energy_drift
-        );
-    }
-}
+// V-BAR lives in the workspace's validation cases (tests/v_bar.rs,
+// brisance::verification::cases::v_bar), shared with `cargo xtask validate`.
 
 // ------------------------------------------------- exact motion properties
 
