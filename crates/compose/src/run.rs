@@ -37,6 +37,7 @@ struct RunState {
     gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
     conservation_rows: Vec<(f64, ConservationTotals)>,
     pvd: Vec<(f64, String)>,
+    particle_pvd: Vec<(f64, String)>,
     initial_totals: ConservationTotals,
     compute_seconds: f64,
 }
@@ -180,6 +181,22 @@ impl Runner<'_> {
                 pvd.push(*time, file.clone());
             }
             pvd.write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
+        }
+        if o.vtk {
+            if let Some(particles) = self.solver.particle_data() {
+                let rel = format!("vtk/{}_particles_{index:05}.vtu", self.scenario.name);
+                io::write_vtu(&self.out.join(&rel), &particles)?;
+                self.state.particle_pvd.push((t, rel));
+                let mut pvd = io::PvdSeries::new();
+                for (time, file) in &self.state.particle_pvd {
+                    pvd.push(*time, file.clone());
+                }
+                pvd.write(
+                    &self
+                        .out
+                        .join(format!("{}_particles.pvd", self.scenario.name)),
+                )?;
+            }
         }
         self.write_lineouts(&index.to_string())?;
         self.state
@@ -331,7 +348,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
     io::check_writable_dir(&opts.out_dir)?;
     let o = &scenario.outputs;
     for (needed, sub) in [
-        (o.vtk && !o.fields.is_empty(), "vtk"),
+        (o.vtk, "vtk"),
         (!o.gauges.is_empty(), "gauges"),
         (!o.lineouts.is_empty(), "lineouts"),
         (o.checkpoint_every.is_some(), "checkpoints"),

@@ -82,6 +82,16 @@ impl CellData {
     }
 }
 
+/// Point data of a particle or node set (MPM particles, PD nodes): one
+/// position per point and named per-point fields in the same order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleData {
+    /// Positions, m.
+    pub positions: Vec<[f64; 3]>,
+    /// `(name, values)` pairs, one value per point, snake_case names.
+    pub fields: Vec<(String, Vec<f64>)>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,6 @@
 //! The solver trait: what the run loop drives.
 
-use crate::{CellData, ConservationTotals, SolverError};
+use crate::{CellData, ConservationTotals, ParticleData, SolverError};
 
 /// A numerical method, or a coupled pipeline of methods, that owns its state
 /// and advances it in time.
@@ -46,6 +46,12 @@ pub trait Solver: Send {
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError>;
+
+    /// Every particle (or node) with its state, for methods that carry
+    /// them; `None` for purely Eulerian methods.
+    fn particle_data(&self) -> Option<ParticleData> {
+        None
+    }
 
     /// Work done by one step, in the kernel's unit, for throughput figures.
     fn work_per_step(&self) -> (f64, &'static str);

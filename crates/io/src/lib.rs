@@ -11,6 +11,8 @@
 //! - [`error`]: the shared error type [`IoError`], whose messages always
 //!   name the file involved.
 //!
+//! - [`vtu`]: particle sets as VTK UnstructuredGrid vertices (`.vtu`).
+//!
 //! Every file is written through [`write_atomic`], so an interrupted run
 //! never leaves a half-written output file behind.
 
@@ -22,6 +24,7 @@ pub mod number;
 pub mod pvd;
 pub mod summary;
 pub mod vti;
+pub mod vtu;
 
 pub use atomic::{check_writable_dir, ensure_dir, write_atomic};
 pub use checkpoint::{
@@ -34,3 +37,4 @@ pub use number::format_f64;
 pub use pvd::PvdSeries;
 pub use summary::{read_summary, relative_change, write_summary, RunSummary};
 pub use vti::write_vti;
+pub use vtu::write_vtu;

@@ -696,6 +696,49 @@ impl Solver for MpmSolver {
         (self.particles.len() as f64, "particle-steps")
     }
 
+    /// Every particle with its mass, volume, density, velocity, pressure
+    /// p = −tr σ/3, von Mises stress, temperature, specific internal energy,
+    /// material id and failed flag (1 or 0).
+    fn particle_data(&self) -> Option<brisance_core::ParticleData> {
+        let p = &self.particles;
+        let n = p.len();
+        let col = |f: &dyn Fn(usize) -> f64| (0..n).map(f).collect::<Vec<f64>>();
+        let von_mises = |s: &[f64; 6]| {
+            let (a, b, c) = (s[0] - s[1], s[1] - s[2], s[2] - s[0]);
+            (0.5 * (a * a + b * b + c * c) + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])).sqrt()
+        };
+        let fields = vec![
+            ("mass".to_string(), p.mass.clone()),
+            ("volume".to_string(), p.volume.clone()),
+            ("density".to_string(), col(&|i| p.mass[i] / p.volume[i])),
+            ("velocity_x".to_string(), col(&|i| p.velocity[i][0])),
+            ("velocity_y".to_string(), col(&|i| p.velocity[i][1])),
+            ("velocity_z".to_string(), col(&|i| p.velocity[i][2])),
+            (
+                "pressure".to_string(),
+                col(&|i| -(p.stress[i][0] + p.stress[i][1] + p.stress[i][2]) / 3.0),
+            ),
+            (
+                "von_mises_stress".to_string(),
+                col(&|i| von_mises(&p.stress[i])),
+            ),
+            ("temperature".to_string(), p.temperature.clone()),
+            (
+                "specific_internal_energy".to_string(),
+                p.specific_internal_energy.clone(),
+            ),
+            ("material".to_string(), col(&|i| f64::from(p.material[i].0))),
+            (
+                "failed".to_string(),
+                col(&|i| if p.failed[i] { 1.0 } else { 0.0 }),
+            ),
+        ];
+        Some(brisance_core::ParticleData {
+            positions: p.position.clone(),
+            fields,
+        })
+    }
+
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
         let ps = &self.particles;
         let saved = SavedState {
