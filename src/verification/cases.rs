@@ -263,8 +263,8 @@ pub fn v_bar(
     let mut particles = Particles::new(0);
     let spec = FillSpec {
         shape: Shape::Box {
-            lo: [0.0; 3],
-            hi: [length, 1.0, 1.0],
+            min: [0.0; 3],
+            max: [length, 1.0, 1.0],
         },
         ppc: 2,
         density: rho,

@@ -10,9 +10,7 @@ use brisance_core::Material;
 use brisance_eos::EosModel;
 use brisance_mpm::{GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, Particles};
 
-use crate::config::{
-    BoundaryConfig, MpmConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig,
-};
+use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
 use crate::error::ConfigError;
 
 /// What validation needs to know about a pipeline.
@@ -39,51 +37,6 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             max_cfl: brisance_fdm::solver::MAX_CFL,
             ghost: brisance_fdm::sweep::GHOST,
         },
-    }
-}
-
-/// Whether `x` lies in the region.
-pub fn region_contains(r: &Region, x: [f64; 3]) -> bool {
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    match r {
-        Region::Everywhere => true,
-        Region::Box { min, max } => (0..3).all(|d| x[d] >= min[d] && x[d] <= max[d]),
-        Region::Sphere { centre, radius } => {
-            let v = sub(x, *centre);
-            dot(v, v) <= radius * radius
-        }
-        Region::Cylinder {
-            base,
-            axis,
-            radius,
-            length,
-        } => {
-            let n = dot(*axis, *axis).sqrt();
-            let a = axis.map(|c| c / n);
-            let v = sub(x, *base);
-            let s = dot(v, a);
-            let r = sub(v, a.map(|c| c * s));
-            (0.0..=*length).contains(&s) && dot(r, r) <= radius * radius
-        }
-        Region::Shell {
-            base,
-            axis,
-            inner_radius,
-            outer_radius,
-            length,
-        } => {
-            let n = dot(*axis, *axis).sqrt();
-            let a = axis.map(|c| c / n);
-            let v = sub(x, *base);
-            let s = dot(v, a);
-            let r = sub(v, a.map(|c| c * s));
-            let r2 = dot(r, r);
-            (0.0..=*length).contains(&s)
-                && r2 >= inner_radius * inner_radius
-                && r2 <= outer_radius * outer_radius
-        }
-        Region::HalfSpace { point, normal } => dot(sub(x, *point), *normal) >= 0.0,
     }
 }
 
@@ -181,7 +134,7 @@ fn build_fdm<E: Eos + 'static>(
         .collect::<Result<Vec<_>, _>>()?;
     // Every cell must be covered; find an uncovered one before building.
     let geometry = level.geometry;
-    let covered = |x: [f64; 3]| s.initial.iter().any(|r| region_contains(&r.region, x));
+    let covered = |x: [f64; 3]| s.initial.iter().any(|r| r.region.contains(x));
     for k in 0..d.cells[2] {
         for j in 0..d.cells[1] {
             for i in 0..d.cells[0] {
@@ -197,7 +150,7 @@ fn build_fdm<E: Eos + 'static>(
         let idx = s
             .initial
             .iter()
-            .rposition(|r| region_contains(&r.region, x))
+            .rposition(|r| r.region.contains(x))
             .unwrap_or(0);
         states[idx]
     };
@@ -352,10 +305,8 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Box<dyn Solver>, ConfigErr
                                     + (idx[a] as f64 + (sub[a] as f64 + 0.5) / per_axis[a] as f64)
                                         * grid.spacing[a]
                             });
-                            let Some(&(r, material, temperature, energy)) = regions
-                                .iter()
-                                .rev()
-                                .find(|(r, ..)| region_contains(&r.region, x))
+                            let Some(&(r, material, temperature, energy)) =
+                                regions.iter().rev().find(|(r, ..)| r.region.contains(x))
                             else {
                                 continue;
                             };
@@ -476,17 +427,17 @@ mod tests {
 
     #[test]
     fn shells_contain_the_annulus_only() {
-        let shell = Region::Shell {
+        let shell = crate::config::Region::Shell {
             base: [0.0; 3],
             axis: [0.0, 0.0, 2.0],
             inner_radius: 1.0,
             outer_radius: 2.0,
             length: 3.0,
         };
-        assert!(region_contains(&shell, [1.5, 0.0, 1.0]));
-        assert!(!region_contains(&shell, [0.5, 0.0, 1.0]));
-        assert!(!region_contains(&shell, [2.5, 0.0, 1.0]));
-        assert!(!region_contains(&shell, [1.5, 0.0, 3.5]));
+        assert!(shell.contains([1.5, 0.0, 1.0]));
+        assert!(!shell.contains([0.5, 0.0, 1.0]));
+        assert!(!shell.contains([2.5, 0.0, 1.0]));
+        assert!(!shell.contains([1.5, 0.0, 3.5]));
     }
 
     #[test]

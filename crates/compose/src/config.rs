@@ -225,57 +225,9 @@ pub struct StateConfig {
     pub temperature: Option<f64>,
 }
 
-/// A geometric region.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Region {
-    /// The whole domain.
-    Everywhere,
-    /// An axis-aligned box.
-    Box {
-        /// Low corner.
-        min: [f64; 3],
-        /// High corner.
-        max: [f64; 3],
-    },
-    /// A ball.
-    Sphere {
-        /// Centre.
-        centre: [f64; 3],
-        /// Radius, m.
-        radius: f64,
-    },
-    /// A finite circular cylinder from `base` along `axis` for `length`.
-    Cylinder {
-        /// Centre of the base disc.
-        base: [f64; 3],
-        /// Direction of the axis (normalised internally).
-        axis: [f64; 3],
-        /// Radius, m.
-        radius: f64,
-        /// Length along the axis, m.
-        length: f64,
-    },
-    /// A thick-walled circular tube from `base` along `axis`.
-    Shell {
-        /// Centre of the base annulus.
-        base: [f64; 3],
-        /// Direction of the axis (normalised internally).
-        axis: [f64; 3],
-        /// Inner radius, m.
-        inner_radius: f64,
-        /// Outer radius, m.
-        outer_radius: f64,
-        /// Length along the axis, m.
-        length: f64,
-    },
-    /// The points x with (x − point)·normal ≥ 0.
-    HalfSpace {
-        /// A point on the bounding plane.
-        point: [f64; 3],
-        /// Normal pointing into the region.
-        normal: [f64; 3],
-    },
-}
+/// A geometric region: the shapes every method shares (see
+/// [`brisance_grid::Shape`]).
+pub use brisance_grid::Shape as Region;
 
 /// One initial region.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

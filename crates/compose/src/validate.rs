@@ -52,81 +52,8 @@ fn check_state(path: &str, s: &StateConfig) -> Result<(), Problem> {
 }
 
 fn check_region(path: &str, r: &Region) -> Result<(), Problem> {
-    let bad = |what: &str, msg: String| Err((format!("{path}.{what}"), msg));
-    match r {
-        Region::Everywhere => Ok(()),
-        Region::Box { min, max } => {
-            if !(finite3(min) && finite3(max)) || (0..3).any(|d| min[d] >= max[d]) {
-                return bad(
-                    "max",
-                    format!("box max {max:?} must exceed min {min:?} in every direction"),
-                );
-            }
-            Ok(())
-        }
-        Region::Sphere { centre, radius } => {
-            if !finite3(centre) {
-                return bad("centre", "centre must be finite".into());
-            }
-            if !(*radius > 0.0 && radius.is_finite()) {
-                return bad("radius", format!("radius must be positive, got {radius}"));
-            }
-            Ok(())
-        }
-        Region::Cylinder {
-            base,
-            axis,
-            radius,
-            length,
-        } => {
-            if !finite3(base) {
-                return bad("base", "base must be finite".into());
-            }
-            if !finite3(axis) || axis.iter().map(|a| a * a).sum::<f64>() == 0.0 {
-                return bad("axis", "axis must be a non-zero finite vector".into());
-            }
-            if !(*radius > 0.0 && radius.is_finite()) {
-                return bad("radius", format!("radius must be positive, got {radius}"));
-            }
-            if !(*length > 0.0 && length.is_finite()) {
-                return bad("length", format!("length must be positive, got {length}"));
-            }
-            Ok(())
-        }
-        Region::Shell {
-            base,
-            axis,
-            inner_radius,
-            outer_radius,
-            length,
-        } => {
-            if !finite3(base) {
-                return bad("base", "base must be finite".into());
-            }
-            if !finite3(axis) || axis.iter().map(|a| a * a).sum::<f64>() == 0.0 {
-                return bad("axis", "axis must be a non-zero finite vector".into());
-            }
-            if !(*inner_radius >= 0.0 && inner_radius < outer_radius && outer_radius.is_finite()) {
-                return bad(
-                    "outer_radius",
-                    format!("need 0 ≤ inner_radius < outer_radius, got {inner_radius} and {outer_radius}"),
-                );
-            }
-            if !(*length > 0.0 && length.is_finite()) {
-                return bad("length", format!("length must be positive, got {length}"));
-            }
-            Ok(())
-        }
-        Region::HalfSpace { point, normal } => {
-            if !finite3(point) {
-                return bad("point", "point must be finite".into());
-            }
-            if !finite3(normal) || normal.iter().map(|a| a * a).sum::<f64>() == 0.0 {
-                return bad("normal", "normal must be a non-zero finite vector".into());
-            }
-            Ok(())
-        }
-    }
+    r.validate()
+        .map_err(|e| (format!("{path}.{}", e.field), e.message))
 }
 
 fn file_safe(name: &str) -> bool {

@@ -7,6 +7,7 @@
 //!   one allocation per field per patch.
 //! - [`boundary`]: boundary conditions per domain face.
 //! - [`halo`]: the halo-exchange interface and its in-process implementation.
+//! - [`shape`]: geometric shapes for initial regions and particle filling.
 //!
 //! Every kernel works on one patch plus its ghost layers; patches are
 //! independent between exchanges, which is what makes results independent of
@@ -16,8 +17,10 @@ pub mod boundary;
 pub mod fields;
 pub mod halo;
 pub mod level;
+pub mod shape;
 
 pub use boundary::{BoundaryConditions, Face, FaceBc};
 pub use fields::{FieldKind, FieldSet, NodeLayout, PatchFields};
 pub use halo::{HaloExchange, InProcessExchange};
 pub use level::{GridError, Level, Patch};
+pub use shape::{Shape, ShapeError};

@@ -15,217 +15,20 @@
 
 use crate::particles::{MaterialId, ParticleError, ParticleInit, Particles};
 use brisance_core::UniformGridGeometry;
-use serde::{Deserialize, Serialize};
-
-/// A region of space to fill with material. Lengths in m.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Shape {
-    /// The axis-aligned box lo ≤ x ≤ hi.
-    Box {
-        /// Low corner.
-        lo: [f64; 3],
-        /// High corner.
-        hi: [f64; 3],
-    },
-    /// The ball |x − centre| ≤ radius.
-    Sphere {
-        /// Centre.
-        centre: [f64; 3],
-        /// Radius.
-        radius: f64,
-    },
-    /// The solid cylinder of `radius` around the segment from `base` along
-    /// `axis` (any length, normalised) over `length`.
-    Cylinder {
-        /// Centre of the base disc.
-        base: [f64; 3],
-        /// Direction of the axis.
-        axis: [f64; 3],
-        /// Radius.
-        radius: f64,
-        /// Length along the axis.
-        length: f64,
-    },
-    /// The tube inner_radius ≤ r ≤ outer_radius around the same segment.
-    CylindricalShell {
-        /// Centre of the base annulus.
-        base: [f64; 3],
-        /// Direction of the axis.
-        axis: [f64; 3],
-        /// Inner radius.
-        inner_radius: f64,
-        /// Outer radius.
-        outer_radius: f64,
-        /// Length along the axis.
-        length: f64,
-    },
-    /// The half-space (x − point)·normal ≤ 0: material lies on the side the
-    /// normal points away from.
-    HalfSpace {
-        /// A point on the bounding plane.
-        point: [f64; 3],
-        /// Outward normal of the material (any length).
-        normal: [f64; 3],
-    },
-}
+pub use brisance_grid::{Shape, ShapeError};
 
 /// Why particles cannot be generated.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GenerateError {
     /// A shape with a non-positive or non-finite size or a zero direction.
     #[error("invalid shape: {0}")]
-    InvalidShape(String),
+    InvalidShape(#[from] ShapeError),
     /// Particles per cell or density out of range.
     #[error("invalid fill: {0}")]
     InvalidSpec(String),
     /// A generated particle was rejected.
     #[error(transparent)]
     Particle(#[from] ParticleError),
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn finite(v: &[f64]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-fn unit(v: [f64; 3], what: &str) -> Result<[f64; 3], GenerateError> {
-    let n = dot(v, v).sqrt();
-    if !(n > 0.0) || !n.is_finite() {
-        return Err(GenerateError::InvalidShape(format!(
-            "{what} {v:?} must be a finite non-zero vector"
-        )));
-    }
-    Ok([v[0] / n, v[1] / n, v[2] / n])
-}
-
-fn positive(v: f64, what: &str) -> Result<(), GenerateError> {
-    if v > 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(GenerateError::InvalidShape(format!(
-            "{what} {v} m must be positive"
-        )))
-    }
-}
-
-/// Axial coordinate and squared radial distance of `x` from the axis
-/// through `base` along the unit vector `axis`.
-fn axial_radial(x: [f64; 3], base: [f64; 3], axis: [f64; 3]) -> (f64, f64) {
-    let r = sub(x, base);
-    let t = dot(r, axis);
-    (t, (dot(r, r) - t * t).max(0.0))
-}
-
-impl Shape {
-    /// Checks sizes and directions, and returns the shape with its
-    /// directions normalised.
-    pub fn validated(&self) -> Result<Shape, GenerateError> {
-        let mut s = self.clone();
-        match &mut s {
-            Shape::Box { lo, hi } => {
-                if !finite(lo) || !finite(hi) || (0..3).any(|d| !(hi[d] > lo[d])) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "box corners {lo:?}, {hi:?} must be finite with hi > lo on every axis"
-                    )));
-                }
-            }
-            Shape::Sphere { centre, radius } => {
-                if !finite(centre) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "sphere centre {centre:?} must be finite"
-                    )));
-                }
-                positive(*radius, "sphere radius")?;
-            }
-            Shape::Cylinder {
-                base,
-                axis,
-                radius,
-                length,
-            } => {
-                if !finite(base) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "cylinder base {base:?} must be finite"
-                    )));
-                }
-                *axis = unit(*axis, "cylinder axis")?;
-                positive(*radius, "cylinder radius")?;
-                positive(*length, "cylinder length")?;
-            }
-            Shape::CylindricalShell {
-                base,
-                axis,
-                inner_radius,
-                outer_radius,
-                length,
-            } => {
-                if !finite(base) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "shell base {base:?} must be finite"
-                    )));
-                }
-                *axis = unit(*axis, "shell axis")?;
-                positive(*outer_radius, "shell outer radius")?;
-                positive(*length, "shell length")?;
-                if !(*inner_radius >= 0.0 && *inner_radius < *outer_radius) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "shell inner radius {inner_radius} m must lie in [0, {outer_radius})"
-                    )));
-                }
-            }
-            Shape::HalfSpace { point, normal } => {
-                if !finite(point) {
-                    return Err(GenerateError::InvalidShape(format!(
-                        "half-space point {point:?} must be finite"
-                    )));
-                }
-                *normal = unit(*normal, "half-space normal")?;
-            }
-        }
-        Ok(s)
-    }
-
-    /// Whether `x` lies inside (boundary included). Directions are used as
-    /// given: call on a [`Shape::validated`] shape.
-    pub fn contains(&self, x: [f64; 3]) -> bool {
-        match *self {
-            Shape::Box { lo, hi } => (0..3).all(|d| x[d] >= lo[d] && x[d] <= hi[d]),
-            Shape::Sphere { centre, radius } => {
-                let r = sub(x, centre);
-                dot(r, r) <= radius * radius
-            }
-            Shape::Cylinder {
-                base,
-                axis,
-                radius,
-                length,
-            } => {
-                let (t, r2) = axial_radial(x, base, axis);
-                t >= 0.0 && t <= length && r2 <= radius * radius
-            }
-            Shape::CylindricalShell {
-                base,
-                axis,
-                inner_radius,
-                outer_radius,
-                length,
-            } => {
-                let (t, r2) = axial_radial(x, base, axis);
-                t >= 0.0
-                    && t <= length
-                    && r2 >= inner_radius * inner_radius
-                    && r2 <= outer_radius * outer_radius
-            }
-            Shape::HalfSpace { point, normal } => dot(sub(x, point), normal) <= 0.0,
-        }
-    }
 }
 
 /// What to fill a shape with.
@@ -256,7 +59,8 @@ pub fn fill_shape(
     grid: &UniformGridGeometry,
     spec: &FillSpec,
 ) -> Result<usize, GenerateError> {
-    let shape = spec.shape.validated()?;
+    spec.shape.validate()?;
+    let shape = &spec.shape;
     if spec.ppc == 0 {
         return Err(GenerateError::InvalidSpec(
             "particles per cell must be at least 1".into(),
@@ -359,8 +163,8 @@ mod tests {
         let g = cube_grid(10, [10; 3]);
         let rho = 7850.0;
         let shape = Shape::Box {
-            lo: [0.2, 0.2, 0.3],
-            hi: [0.6, 0.5, 0.7],
+            min: [0.2, 0.2, 0.3],
+            max: [0.6, 0.5, 0.7],
         };
         let mut ps = Particles::new(4);
         let n = fill_shape(&mut ps, &g, &spec(shape, 2, rho)).unwrap();
@@ -385,8 +189,8 @@ mod tests {
             cells: [10, 10, 1],
         };
         let shape = Shape::Box {
-            lo: [0.1, 0.3, -1.0],
-            hi: [0.4, 0.5, 1.0],
+            min: [0.1, 0.3, -1.0],
+            max: [0.4, 0.5, 1.0],
         };
         let mut ps = Particles::new(0);
         let n = fill_shape(&mut ps, &g, &spec(shape, 3, 1000.0)).unwrap();
@@ -402,7 +206,7 @@ mod tests {
         let g = cube_grid(8, [8; 3]);
         let shape = Shape::HalfSpace {
             point: [0.0, 0.0, 0.25],
-            normal: [0.0, 0.0, 2.0],
+            normal: [0.0, 0.0, -2.0],
         };
         let mut ps = Particles::new(0);
         let n = fill_shape(&mut ps, &g, &spec(shape, 2, 1.0)).unwrap();
@@ -440,7 +244,7 @@ mod tests {
             radius: 0.3,
             length: 0.8,
         };
-        let shell = Shape::CylindricalShell {
+        let shell = Shape::Shell {
             base: [0.5, 0.5, 0.1],
             axis: [0.0, 0.0, 1.0],
             inner_radius: 0.2,
@@ -475,9 +279,8 @@ mod tests {
             axis: [1.0, 1.0, 0.0],
             radius: 0.1,
             length: 1.0,
-        }
-        .validated()
-        .unwrap();
+        };
+        s.validate().unwrap();
         let on_axis = [0.5, 0.5, 0.0];
         assert!(s.contains(on_axis));
         assert!(s.contains([0.5, 0.5, 0.099]));
@@ -508,21 +311,21 @@ mod tests {
                 "axis",
             ),
             (
-                Shape::CylindricalShell {
+                Shape::Shell {
                     base: [0.0; 3],
                     axis: [0.0, 0.0, 1.0],
                     inner_radius: 0.3,
                     outer_radius: 0.2,
                     length: 1.0,
                 },
-                "inner radius",
+                "inner_radius",
             ),
             (
                 Shape::Box {
-                    lo: [0.0; 3],
-                    hi: [1.0, 0.0, 1.0],
+                    min: [0.0; 3],
+                    max: [1.0, 0.0, 1.0],
                 },
-                "hi > lo",
+                "must exceed min",
             ),
         ];
         for (shape, word) in bad {

@@ -27,7 +27,7 @@ fn fill(
         particles,
         &level.geometry,
         &FillSpec {
-            shape: Shape::Box { lo, hi },
+            shape: Shape::Box { min: lo, max: hi },
             ppc: 2,
             density,
             material: MaterialId(material),
