@@ -87,15 +87,15 @@ pub struct ParticleFailure {
     pub reason: &'static str,
 }
 
-/// Node velocity v = p/m (zero below the mass threshold).
-fn nodal_velocity(nodes: &mut GridNodes, threshold: f64) {
-    nodes
-        .velocity
-        .par_iter_mut()
-        .zip(nodes.momentum.par_iter().zip(nodes.mass.par_iter()))
-        .for_each(|(v, (p, &m))| {
-            *v = if m > threshold && m > 0.0 {
-                [p[0] / m, p[1] / m, p[2] / m]
+/// `out = num / m` per node, zero where the node mass is at or below the
+/// cut-off `threshold` (or not positive): velocities from momenta and
+/// accelerations from forces.
+fn per_unit_mass(out: &mut [[f64; 3]], num: &[[f64; 3]], mass: &[f64], threshold: f64) {
+    out.par_iter_mut()
+        .zip(num.par_iter().zip(mass.par_iter()))
+        .for_each(|(o, (q, &m))| {
+            *o = if m > threshold && m > 0.0 {
+                [q[0] / m, q[1] / m, q[2] / m]
             } else {
                 [0.0; 3]
             };
@@ -118,7 +118,12 @@ pub fn p2g_mass_momentum(
             q[c] += wm * vel[p][c];
         }
     });
-    nodal_velocity(nodes, params.mass_threshold);
+    per_unit_mass(
+        &mut nodes.velocity,
+        &nodes.momentum,
+        &nodes.mass,
+        params.mass_threshold,
+    );
     apply_grid_boundaries(
         params.boundaries,
         &nodes.lattice,
@@ -151,18 +156,13 @@ pub fn p2g_force_and_integrate(
             f[c] += -vol[p] * sg[c] + wm * g[c];
         }
     });
-    let (dt, threshold) = (params.dt, params.mass_threshold);
-    nodes
-        .acceleration
-        .par_iter_mut()
-        .zip(nodes.force.par_iter().zip(nodes.mass.par_iter()))
-        .for_each(|(a, (f, &m))| {
-            *a = if m > threshold && m > 0.0 {
-                [f[0] / m, f[1] / m, f[2] / m]
-            } else {
-                [0.0; 3]
-            };
-        });
+    let dt = params.dt;
+    per_unit_mass(
+        &mut nodes.acceleration,
+        &nodes.force,
+        &nodes.mass,
+        params.mass_threshold,
+    );
     apply_grid_boundaries(
         params.boundaries,
         &nodes.lattice,
@@ -222,18 +222,12 @@ pub fn remap_velocity(
             q[c] += wm * vel[p][c];
         }
     });
-    let threshold = params.mass_threshold;
-    nodes
-        .velocity_new
-        .par_iter_mut()
-        .zip(nodes.momentum.par_iter().zip(nodes.mass.par_iter()))
-        .for_each(|(v, (p, &m))| {
-            *v = if m > threshold && m > 0.0 {
-                [p[0] / m, p[1] / m, p[2] / m]
-            } else {
-                [0.0; 3]
-            };
-        });
+    per_unit_mass(
+        &mut nodes.velocity_new,
+        &nodes.momentum,
+        &nodes.mass,
+        params.mass_threshold,
+    );
     apply_grid_boundaries(
         params.boundaries,
         &nodes.lattice,
