@@ -36,8 +36,8 @@ struct RunState {
     next_output: usize,
     gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
     conservation_rows: Vec<(f64, ConservationTotals)>,
-    pvd: Vec<(f64, String)>,
-    particle_pvd: Vec<(f64, String)>,
+    pvd: io::PvdSeries,
+    particle_pvd: io::PvdSeries,
     initial_totals: ConservationTotals,
     compute_seconds: f64,
 }
@@ -175,23 +175,17 @@ impl Runner<'_> {
                 })?;
             let rel = format!("vtk/{}_{index:05}.vti", self.scenario.name);
             io::write_vti(&self.out.join(&rel), &data)?;
-            self.state.pvd.push((t, rel));
-            let mut pvd = io::PvdSeries::new();
-            for (time, file) in &self.state.pvd {
-                pvd.push(*time, file.clone());
-            }
-            pvd.write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
+            self.state.pvd.push(t, rel);
+            self.state
+                .pvd
+                .write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
         }
         if o.vtk {
             if let Some(particles) = self.solver.particle_data() {
                 let rel = format!("vtk/{}_particles_{index:05}.vtu", self.scenario.name);
                 io::write_vtu(&self.out.join(&rel), &particles)?;
-                self.state.particle_pvd.push((t, rel));
-                let mut pvd = io::PvdSeries::new();
-                for (time, file) in &self.state.particle_pvd {
-                    pvd.push(*time, file.clone());
-                }
-                pvd.write(
+                self.state.particle_pvd.push(t, rel);
+                self.state.particle_pvd.write(
                     &self
                         .out
                         .join(format!("{}_particles.pvd", self.scenario.name)),

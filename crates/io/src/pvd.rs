@@ -8,7 +8,7 @@ use crate::IoError;
 
 /// A time series of snapshot files, written as a ParaView `.pvd`
 /// collection so that ParaView shows the snapshots as one animated data set.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PvdSeries {
     entries: Vec<(f64, String)>,
 }
