@@ -1,7 +1,14 @@
 //! The material library: named materials (`configs/materials/*.ron`,
 //! embedded at build time) that a scenario references with
 //! `(library: "tnt")` instead of repeating parameters.
+//!
+//! An entry carries an equation of state (for the Eulerian solvers and for
+//! temperatures), a constitutive model (for particle pipelines), or both.
+//! A scenario material that names an entry takes both; it may give its own
+//! `model` instead of the entry's (the entry's EOS stays), but not its own
+//! `eos` (then it should not name the entry).
 
+use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
 use serde::Deserialize;
 
@@ -21,8 +28,43 @@ pub struct LibraryMaterial {
     pub source: String,
     /// Nominal initial density, kg/m³.
     pub density: f64,
-    /// Its equation of state.
-    pub eos: EosModel,
+    /// Its equation of state, if it has one on its own (the concrete of
+    /// the HJC model carries its EOS inside its constitutive model).
+    #[serde(default)]
+    pub eos: Option<EosModel>,
+    /// Its constitutive model for particle pipelines, if the library
+    /// gives one.
+    #[serde(default)]
+    pub model: Option<MaterialModel>,
+}
+
+impl LibraryMaterial {
+    /// Checks the entry: an EOS or a model (or both), each valid, and a
+    /// positive density.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.eos.is_none() && self.model.is_none() {
+            return Err(format!(
+                "library material `{}` gives neither `eos` nor `model`",
+                self.name
+            ));
+        }
+        if !(self.density > 0.0 && self.density.is_finite()) {
+            return Err(format!(
+                "library material `{}`: `density` must be positive, got {}",
+                self.name, self.density
+            ));
+        }
+        if let Some(eos) = &self.eos {
+            eos.validate()
+                .map_err(|e| format!("library material `{}`: eos: {e}", self.name))?;
+        }
+        if let Some(model) = &self.model {
+            model
+                .validate()
+                .map_err(|e| format!("library material `{}`: model: {e}", self.name))?;
+        }
+        Ok(())
+    }
 }
 
 /// Names of every library material.
@@ -53,8 +95,7 @@ mod tests {
         for name in names() {
             let m = get(name).unwrap();
             assert_eq!(m.name, name, "file {name}.ron names itself `{}`", m.name);
-            m.eos.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert!(m.density > 0.0);
+            m.validate().unwrap_or_else(|e| panic!("{e}"));
         }
     }
 
@@ -68,9 +109,26 @@ mod tests {
             "qm100_products",
             "ofhc_copper",
             "steel_4340",
+            "rha_steel",
+            "concrete_25mpa",
+            "concrete_48mpa",
+            "soil",
         ] {
             assert!(names().contains(&name), "missing {name}");
         }
         assert!(get("unobtainium").unwrap_err().contains("known: air"));
+    }
+
+    #[test]
+    fn an_entry_without_eos_or_model_or_with_a_bad_density_is_refused() {
+        let mut m = get("soil").unwrap();
+        m.model = None;
+        assert!(m
+            .validate()
+            .unwrap_err()
+            .contains("neither `eos` nor `model`"));
+        let mut m = get("air").unwrap();
+        m.density = -1.0;
+        assert!(m.validate().unwrap_err().contains("`density`"));
     }
 }

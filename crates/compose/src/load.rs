@@ -37,8 +37,9 @@ pub fn ron_options() -> ron::Options {
         .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
 }
 
-/// Fills the equation of state of every material that names a library
-/// entry; a material must give exactly one of `library` and `eos`.
+/// Fills the equation of state and the constitutive model of every
+/// material that names a library entry. A material gives `library` or
+/// `eos`, not both; its own `model` replaces the entry's.
 fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
     for (name, m) in s.materials.iter_mut() {
         match (&m.library, &m.eos) {
@@ -51,7 +52,10 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
             (Some(lib), None) => {
                 let entry =
                     library::get(lib).map_err(|msg| (format!("materials.{name}.library"), msg))?;
-                m.eos = Some(entry.eos);
+                m.eos = entry.eos;
+                if m.model.is_none() {
+                    m.model = entry.model;
+                }
             }
             (None, _) => {}
         }
@@ -143,8 +147,53 @@ mod tests {
         let text = with_material("(library: \"air\")");
         assert_ne!(text, SOD);
         let loaded = load_str("t.ron", &text, &[]).unwrap();
-        let eos = loaded.scenario.materials["gas"].eos().unwrap();
-        assert_eq!(eos, &library::get("air").unwrap().eos);
+        let eos = loaded.scenario.materials["gas"].eos();
+        assert_eq!(eos, library::get("air").unwrap().eos.as_ref());
+        assert!(eos.is_some());
+    }
+
+    const TAYLOR: &str = include_str!("../../../configs/taylor2d.ron");
+
+    fn copper_as(material: &str) -> String {
+        let start = TAYLOR.find("\"copper\": (").unwrap();
+        let end = start + TAYLOR[start..].find("\n        ),\n").unwrap() + "\n        ),".len();
+        format!(
+            "{}\"copper\": {material},{}",
+            &TAYLOR[..start],
+            &TAYLOR[end + 1..]
+        )
+    }
+
+    #[test]
+    fn a_library_entry_brings_its_model_and_a_scenario_model_replaces_it() {
+        let text = copper_as("(library: \"ofhc_copper\")");
+        let loaded = load_str("t.ron", &text, &[]).unwrap();
+        let entry = library::get("ofhc_copper").unwrap();
+        let m = &loaded.scenario.materials["copper"];
+        assert!(entry.model.is_some());
+        assert_eq!(m.model, entry.model);
+        assert_eq!(m.eos, entry.eos);
+
+        let own = copper_as(
+            "(library: \"ofhc_copper\", model: Hypoelastic(shear_modulus: 4.0e10, pressure: Linear(bulk_modulus: 1.0e11)))",
+        );
+        let loaded = load_str("t.ron", &own, &[]).unwrap();
+        let m = &loaded.scenario.materials["copper"];
+        assert!(matches!(
+            m.model,
+            Some(brisance_constitutive::MaterialModel::Hypoelastic(_))
+        ));
+        assert_eq!(m.eos, entry.eos);
+    }
+
+    #[test]
+    fn concrete_and_soil_come_from_the_library_as_models() {
+        for (name, variant) in [("concrete_25mpa", "hjc"), ("soil", "drucker_prager")] {
+            let loaded = load_str("t.ron", &copper_as(&format!("(library: \"{name}\")")), &[])
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let model = loaded.scenario.materials["copper"].model.as_ref().unwrap();
+            assert_eq!(brisance_core::Material::name(model), variant);
+        }
     }
 
     #[test]
