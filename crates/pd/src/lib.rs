@@ -1,0 +1,1 @@
+//! Brisance peridynamics (in progress).

@@ -1,0 +1,20 @@
+//! Brisance reaction models.
+//!
+//! - [`program_burn`]: detonation times of explosive nodes by the Huygens
+//!   construction over a node graph (detonations go around obstacles,
+//!   isolated explosive does not detonate) or by straight lines from the
+//!   detonation points (seed 004, "Propagation of Detonation").
+//! - [`products`]: the pressure isentrope P_S(X) of the detonation products
+//!   for an ideal gas (seed 004 eq 29) and JWL (eq 30), with its reference
+//!   pressure P_S0 from the volume-burn algorithm (eqs 20–21, computed by
+//!   `brisance_eos::tools::volume_burn_reference`).
+//!
+//! Units are SI throughout.
+
+pub mod products;
+pub mod program_burn;
+
+pub use products::{ProductsError, ProductsIsentrope};
+pub use program_burn::{
+    huygens_detonation_times, straight_line_detonation_times, BurnError, DetonationPoint,
+};
