@@ -1,1 +1,45 @@
-//! Brisance peridynamics (in progress).
+//! Brisance peridynamics: meshfree bond-based peridynamics with the
+//! detonation model of seed 004 (Demmie).
+//!
+//! - [`lattice`]: nodes on a regular lattice filling the bodies' shapes,
+//!   with reference volumes (seed 004 "Numerical Method").
+//! - [`cell_list`]: the O(N) hashed cell list for families and contacts.
+//! - [`family`]: families within the horizon as compressed rows, with the
+//!   partial-volume correction.
+//! - [`material`]: proportional micro-elastic and micro-plastic solids
+//!   (eqs 7–8, 28), critical stretch with the damage-stretch and
+//!   minimum-stretch refinements; detonation products as gases.
+//! - [`surface`]: the energy-method surface correction of solid bonds.
+//! - [`forces`]: the bond-force kernels of eq 9 (solids, eq 8; gases,
+//!   eqs 17–19).
+//! - [`contact`]: short-range forces (eq 27).
+//! - [`fragments`]: fragments as connected components, CMD output.
+//! - [`solver`]: [`PdSolver`], the time integration (eq 10 in velocity
+//!   form), stable step (eqs 24–26), program burn, behind the core
+//!   `Solver` trait.
+//!
+//! The choices the seed leaves open are written in `docs/physics/pd/`.
+//! Units are SI throughout.
+
+pub mod cell_list;
+pub mod contact;
+pub mod family;
+pub mod forces;
+pub mod fragments;
+pub mod lattice;
+pub mod material;
+pub mod solver;
+pub mod surface;
+
+pub use brisance_reaction::{DetonationPoint, ProductsIsentrope};
+pub use family::{build_families, partial_volume, Families};
+pub use forces::{bond_forces, BondLaw, ForceInput, NodeForce};
+pub use fragments::{cumulative_mass_distribution, write_fragments_csv, CmdPoint, Fragment};
+pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec, NodeCloud};
+pub use material::{
+    micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind,
+};
+pub use solver::{
+    BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,
+    PdSolver,
+};

@@ -1,0 +1,227 @@
+use super::*;
+use proptest::prelude::*;
+
+const SOLID: BondLaw = BondLaw::Solid {
+    micromodulus: 3.0,
+    yield_stretch: f64::INFINITY,
+    plastic: false,
+    critical_stretch: f64::INFINITY,
+};
+
+/// Two nodes: 0 at the origin with V = 2, 1 at (2, 0, 0) with V = 0.5.
+struct Pair {
+    reference: Vec<[f64; 4]>,
+    state: Vec<[f64; 4]>,
+    factor: Vec<f32>,
+    plastic: Vec<f32>,
+    out: Vec<NodeForce>,
+    laws: Vec<BondLaw>,
+}
+
+impl Pair {
+    fn new(law: BondLaw, xi: [f64; 3]) -> Self {
+        Self {
+            reference: vec![[0.0, 0.0, 0.0, 2.0], [xi[0], xi[1], xi[2], 0.5]],
+            state: vec![[0.0; 4]; 2],
+            factor: vec![1.0; 2],
+            plastic: vec![0.0; 2],
+            out: vec![NodeForce::default(); 2],
+            laws: vec![law],
+        }
+    }
+
+    fn set(&mut self, eta: [f64; 3], scalar: [f64; 2]) -> [[f64; 3]; 2] {
+        self.state[0] = [0.0, 0.0, 0.0, scalar[0]];
+        self.state[1] = [eta[0], eta[1], eta[2], scalar[1]];
+        let input = ForceInput {
+            reference: &self.reference,
+            state: &self.state,
+            offsets: &[0, 1, 2],
+            neighbours: &[1, 0],
+            material: &[0, 0],
+            laws: &self.laws,
+        };
+        bond_forces(&input, &mut self.factor, &mut self.plastic, &mut self.out);
+        [self.out[0].force, self.out[1].force]
+    }
+}
+
+#[test]
+fn elastic_bond_force_is_c_s_v_by_hand() {
+    // r = 2, stretched to 2.2: s = 0.1; on node 0: c s V₁ = 3·0.1·0.5 = 0.15
+    // towards node 1; on node 1: c s V₀ = 0.6 towards node 0.
+    let mut p = Pair::new(SOLID, [2.0, 0.0, 0.0]);
+    let f = p.set([0.2, 0.0, 0.0], [1.0, 1.0]);
+    assert!((f[0][0] - 0.15).abs() < 1e-15, "{f:?}");
+    assert!((f[1][0] + 0.6).abs() < 1e-15, "{f:?}");
+    assert_eq!(p.out[0].intact, 1);
+    assert!((p.out[0].min_stretch - 0.1).abs() < 1e-15);
+}
+
+#[test]
+fn micro_elastic_yield_caps_the_force_and_unloads_reversibly() {
+    let law = BondLaw::Solid {
+        micromodulus: 3.0,
+        yield_stretch: 0.05,
+        plastic: false,
+        critical_stretch: f64::INFINITY,
+    };
+    let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+    let f = p.set([0.2, 0.0, 0.0], [1.0, 1.0]);
+    assert!((f[0][0] - 3.0 * 0.05 * 0.5).abs() < 1e-15);
+    let f = p.set([0.0; 3], [1.0, 1.0]);
+    assert_eq!(f[0], [0.0; 3]);
+}
+
+#[test]
+fn micro_plastic_unloads_on_a_shifted_line() {
+    let law = BondLaw::Solid {
+        micromodulus: 3.0,
+        yield_stretch: 0.05,
+        plastic: true,
+        critical_stretch: f64::INFINITY,
+    };
+    let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+    p.set([0.2, 0.0, 0.0], [1.0, 1.0]);
+    assert!((p.plastic[0] - 0.05).abs() < 1e-7 && p.plastic[0] == p.plastic[1]);
+    // Back to the reference length: s − s_p = −0.05, a compressive force
+    // c·0.05·V₁ = 0.075 pushing node 0 away from node 1 (−x).
+    let f = p.set([0.0; 3], [1.0, 1.0]);
+    assert!((f[0][0] + 0.075).abs() < 1e-8, "{f:?}");
+    // Reloading to s = 0.08 stays elastic: force c(0.08 − 0.05)V₁.
+    let f = p.set([0.16, 0.0, 0.0], [1.0, 1.0]);
+    assert!((f[0][0] - 3.0 * 0.03 * 0.5).abs() < 1e-8, "{f:?}");
+}
+
+#[test]
+fn a_broken_bond_never_carries_force_again() {
+    let law = BondLaw::Solid {
+        micromodulus: 3.0,
+        yield_stretch: f64::INFINITY,
+        plastic: false,
+        critical_stretch: 0.08,
+    };
+    let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+    // Node scalars hold the effective critical stretch: 0.08 and 0.2.
+    let f = p.set([0.2, 0.0, 0.0], [0.08, 0.2]);
+    assert_eq!(f, [[0.0; 3]; 2]);
+    assert_eq!(p.factor, vec![0.0, 0.0]);
+    assert_eq!(p.out[0].intact, 0);
+    for eta in [[0.0; 3], [-0.5, 0.0, 0.0], [0.01, 0.0, 0.0]] {
+        assert_eq!(p.set(eta, [0.08, 0.2]), [[0.0; 3]; 2]);
+    }
+}
+
+#[test]
+fn the_raised_critical_stretch_of_either_node_is_respected() {
+    let law = BondLaw::Solid {
+        micromodulus: 3.0,
+        yield_stretch: f64::INFINITY,
+        plastic: false,
+        critical_stretch: 0.08,
+    };
+    let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+    // s = 0.1 exceeds s_c0 but both nodes' effective values are 0.12.
+    p.set([0.2, 0.0, 0.0], [0.12, 0.12]);
+    assert_eq!(p.factor, vec![1.0, 1.0]);
+}
+
+#[test]
+fn gas_pair_force_is_the_mean_of_the_endpoint_values_of_eq_19() {
+    // r = 2, p = 2.2, coefficients 4 and 2, β = 1, V₁ = 0.5:
+    // on node 0: −½(4 + 2)·2·0.5/2.2³ · 2.2 = −0.619835 along x.
+    let mut p = Pair::new(BondLaw::Gas, [2.0, 0.0, 0.0]);
+    let f = p.set([0.2, 0.0, 0.0], [4.0, 2.0]);
+    let want = -3.0 * 2.0 * 0.5 / 2.2f64.powi(3) * 2.2;
+    assert!((f[0][0] - want).abs() < 1e-14, "{f:?}");
+    // Before detonation of both (coefficients 0) there is no force.
+    assert_eq!(p.set([0.2, 0.0, 0.0], [0.0, 0.0]), [[0.0; 3]; 2]);
+}
+
+#[test]
+fn gas_expansion_is_one_at_rest_and_eight_when_doubled() {
+    let reference = vec![
+        [0.0, 0.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 2.0, 0.0, 3.0],
+    ];
+    let mut state = vec![[0.0; 4]; 3];
+    let (x, _, _) = gas_expansion(0, &reference, &state, &[1, 2], &[1.0, 1.0], 4.0);
+    assert!((x - 1.0).abs() < 1e-15);
+    // Every bond doubled in length: Σ (r/p) V / V = ½, X = 8 (eq 17).
+    state[1] = [1.0, 0.0, 0.0, 0.0];
+    state[2] = [0.0, 2.0, 0.0, 0.0];
+    let (x, _, _) = gas_expansion(0, &reference, &state, &[1, 2], &[1.0, 1.0], 4.0);
+    assert!((x - 8.0).abs() < 1e-12, "{x}");
+}
+
+fn law_strategy() -> impl Strategy<Value = BondLaw> {
+    prop_oneof![
+        (0.01f64..0.3, any::<bool>()).prop_map(|(sy, plastic)| BondLaw::Solid {
+            micromodulus: 7.0,
+            yield_stretch: sy,
+            plastic,
+            critical_stretch: f64::INFINITY,
+        }),
+        Just(BondLaw::Gas),
+    ]
+}
+
+fn vec3(range: f64) -> impl Strategy<Value = [f64; 3]> {
+    [-range..range, -range..range, -range..range]
+}
+
+proptest! {
+    /// Seed 004 eqs 2–4: the pairwise force is odd (f V₀ on node 0 is minus
+    /// f V₁ on node 1) and parallel to the deformed bond η + ξ.
+    #[test]
+    fn pairwise_force_is_odd_and_parallel_to_the_deformed_bond(
+        law in law_strategy(),
+        xi in vec3(1.0),
+        eta in vec3(0.2),
+        c0 in 0.1f64..5.0,
+        c1 in 0.1f64..5.0,
+    ) {
+        let r = (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]).sqrt();
+        prop_assume!(r > 0.3);
+        let mut p = Pair::new(law, xi);
+        let f = p.set(eta, [c0, c1]);
+        let y = [xi[0] + eta[0], xi[1] + eta[1], xi[2] + eta[2]];
+        let scale = f[0].iter().map(|v| v.abs()).fold(0.0, f64::max) + 1e-300;
+        for (a, b) in f[0].iter().zip(f[1]) {
+            // Node 0 has V = 2, node 1 has V = 0.5: f₀ V₀ = −f₁ V₁.
+            prop_assert!((a * 2.0 + b * 0.5).abs() <= 1e-13 * scale * 2.0);
+        }
+        let cross = [
+            f[0][1] * y[2] - f[0][2] * y[1],
+            f[0][2] * y[0] - f[0][0] * y[2],
+            f[0][0] * y[1] - f[0][1] * y[0],
+        ];
+        let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
+        for c in cross {
+            prop_assert!(c.abs() <= 1e-13 * scale * ny);
+        }
+    }
+
+    /// Once a bond breaks, no later deformation gives it force again.
+    #[test]
+    fn a_bond_that_broke_stays_broken(history in proptest::collection::vec(vec3(0.5), 1..20)) {
+        let law = BondLaw::Solid {
+            micromodulus: 3.0,
+            yield_stretch: 0.02,
+            plastic: true,
+            critical_stretch: 0.1,
+        };
+        let mut p = Pair::new(law, [1.0, 0.5, 0.0]);
+        let mut broken = false;
+        for eta in history {
+            let f = p.set(eta, [0.1, 0.1]);
+            if broken {
+                prop_assert_eq!(f, [[0.0; 3]; 2]);
+                prop_assert_eq!(&p.factor, &vec![0.0f32, 0.0]);
+            }
+            broken = p.factor[0] == 0.0;
+            prop_assert_eq!(p.factor[0], p.factor[1]);
+        }
+    }
+}

@@ -1,0 +1,255 @@
+//! Peridynamic materials of seed 004: proportional solids (eqs 7–8, 28) and
+//! detonation products as peridynamic gases (eqs 16–19, 29–30).
+//!
+//! **Proportional solids.** The bond force is g(s) = c · (s − s_p) clamped
+//! by the yield stretch (eq 8 with a piecewise-linear g), where c is the
+//! micro-modulus:
+//!
+//! - 3D: c = k_PD = 18K/(πδ⁴) (eq 28), K = ρ c_b² from the bulk sound
+//!   speed c_b the seed's examples give;
+//! - 1D bar of cross-section A: c = 2E/(Aδ²) (Silling & Askari 2005), with
+//!   E = 3K(1 − 2ν) = 3K/2 for the ν = 1/4 of bond-based peridynamics, so
+//!   the same (ρ, c_b) describe the same solid in 1D and 3D.
+//!
+//! The yield stretch is s_Y = σ_Y/E: a bond along the axis of a bar in
+//! uniaxial tension yields when the bar reaches σ_Y. A micro-elastic bond
+//! follows g = c·clamp(s, −s_Y, s_Y) up and down (reversible); a
+//! micro-plastic bond loads the same way but unloads on a line shifted by
+//! its plastic stretch s_p (g = c(s − s_p), s_p moved so |s − s_p| ≤ s_Y).
+//!
+//! **Failure.** A bond breaks irreversibly when s exceeds its critical
+//! stretch; a broken bond carries no force again. The bond's critical
+//! stretch is min(s_c(x_i), s_c(x_j)) with the node value
+//!
+//! ```text
+//! s_c(x) = s_c0 (1 + α_D φ(x)) − α_min min(s_min(x), 0)
+//! ```
+//!
+//! φ the node's damage (broken fraction of its bonds) and s_min the
+//! smallest stretch among its intact bonds at the previous step. Seed 004
+//! (footnote c) used a "damage stretch coefficient" α_D and a "minimum
+//! stretch coefficient" α_min for its steel and says only that they raise
+//! the critical stretch as damage grows or in compression; the minimum-
+//! stretch form is that of Silling & Askari (2005, seed 004 ref 3,
+//! s₀ = s₀₀ − α s_min, α = 0.25 there), here only allowed to raise s_c;
+//! the damage-stretch form (linear in φ) is Brisance's choice. Both default
+//! to 0 (plain critical stretch).
+
+use brisance_reaction::ProductsIsentrope;
+use serde::{Deserialize, Serialize};
+
+/// How a proportional bond unloads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ProportionalKind {
+    /// Reversible: unloads along the loading curve.
+    MicroElastic,
+    /// Unloads on a line shifted by the plastic stretch.
+    MicroPlastic,
+}
+
+/// A proportional solid (seed 004 eqs 7–8).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Proportional {
+    /// Reference density, kg/m³.
+    pub density: f64,
+    /// Bulk sound speed c_b = √(K/ρ), m/s.
+    pub sound_speed: f64,
+    /// Yield strength σ_Y, Pa (infinite: no yield).
+    pub yield_strength: f64,
+    /// Critical stretch s_c0 (infinite: no failure).
+    pub critical_stretch: f64,
+    /// Micro-elastic or micro-plastic.
+    pub kind: ProportionalKind,
+    /// Damage-stretch coefficient α_D (≥ 0).
+    pub damage_stretch_coefficient: f64,
+    /// Minimum-stretch coefficient α_min (≥ 0).
+    pub minimum_stretch_coefficient: f64,
+}
+
+impl Proportional {
+    /// Bulk modulus K = ρ c_b², Pa.
+    pub fn bulk_modulus(&self) -> f64 {
+        self.density * self.sound_speed * self.sound_speed
+    }
+
+    /// Young's modulus of bond-based peridynamics, E = 3K/2 (ν = 1/4), Pa.
+    pub fn youngs_modulus(&self) -> f64 {
+        1.5 * self.bulk_modulus()
+    }
+
+    /// Yield stretch s_Y = σ_Y / E.
+    pub fn yield_stretch(&self) -> f64 {
+        self.yield_strength / self.youngs_modulus()
+    }
+
+    /// Checks every parameter; the error names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        let pos = |field: &str, v: f64| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("`{field}` = {v}: expected a finite value > 0"))
+            }
+        };
+        pos("density", self.density)?;
+        pos("sound_speed", self.sound_speed)?;
+        if !(self.yield_strength > 0.0) {
+            return Err(format!(
+                "`yield_strength` = {}: expected a value > 0 (inf for none)",
+                self.yield_strength
+            ));
+        }
+        if !(self.critical_stretch > 0.0) {
+            return Err(format!(
+                "`critical_stretch` = {}: expected a value > 0 (inf for none)",
+                self.critical_stretch
+            ));
+        }
+        for (f, v) in [
+            (
+                "damage_stretch_coefficient",
+                self.damage_stretch_coefficient,
+            ),
+            (
+                "minimum_stretch_coefficient",
+                self.minimum_stretch_coefficient,
+            ),
+        ] {
+            if !(v >= 0.0 && v.is_finite()) {
+                return Err(format!("`{f}` = {v}: expected a finite value ≥ 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Detonation products as a peridynamic gas (seed 004 eqs 16–19).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Gas {
+    /// Density of the unreacted explosive ρ₀, kg/m³ (X = 1 there).
+    pub density: f64,
+    /// Detonation velocity used by program burn, m/s.
+    pub detonation_velocity: f64,
+    /// The products isentrope P_S(X).
+    pub isentrope: ProductsIsentrope,
+}
+
+/// A material of the peridynamic solver.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum PdMaterial {
+    /// Proportional solid.
+    Proportional(Proportional),
+    /// Detonation products.
+    Gas(Gas),
+}
+
+impl PdMaterial {
+    /// Reference density, kg/m³.
+    pub fn density(&self) -> f64 {
+        match self {
+            PdMaterial::Proportional(p) => p.density,
+            PdMaterial::Gas(g) => g.density,
+        }
+    }
+
+    /// Bulk modulus the short-range forces use for k_PD (eq 27–28), Pa: the
+    /// solid's K; 0 for a gas (a gas–solid pair takes the solid's).
+    pub fn contact_bulk_modulus(&self) -> f64 {
+        match self {
+            PdMaterial::Proportional(p) => p.bulk_modulus(),
+            PdMaterial::Gas(_) => 0.0,
+        }
+    }
+
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), String> {
+        match self {
+            PdMaterial::Proportional(p) => p.validate(),
+            PdMaterial::Gas(g) => {
+                if !(g.density > 0.0 && g.density.is_finite()) {
+                    return Err(format!("`density` = {}: expected > 0", g.density));
+                }
+                if !(g.detonation_velocity > 0.0 && g.detonation_velocity.is_finite()) {
+                    return Err(format!(
+                        "`detonation_velocity` = {}: expected > 0",
+                        g.detonation_velocity
+                    ));
+                }
+                if !(g.isentrope.reference_pressure() > 0.0) {
+                    return Err("products isentrope has no positive reference pressure".into());
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The micro-modulus c of a proportional solid: 18K/(πδ⁴) in 3D (seed 004
+/// eq 28), 2E/(Aδ²) in 1D with E = 3K/2.
+pub fn micromodulus(
+    material: &Proportional,
+    dimension: crate::Dimension,
+    horizon: f64,
+    cross_section: f64,
+) -> f64 {
+    match dimension {
+        crate::Dimension::Three => spring_constant(material.bulk_modulus(), horizon),
+        crate::Dimension::One => {
+            2.0 * material.youngs_modulus() / (cross_section * horizon * horizon)
+        }
+    }
+}
+
+/// The PD spring constant k_PD = 18K/(πδ⁴), N/m⁶ (seed 004 eq 28).
+pub fn spring_constant(bulk_modulus: f64, horizon: f64) -> f64 {
+    18.0 * bulk_modulus / (std::f64::consts::PI * horizon.powi(4))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn copper() -> Proportional {
+        Proportional {
+            density: 8930.0,
+            sound_speed: 3602.0,
+            yield_strength: 324.0e6,
+            critical_stretch: 2.0,
+            kind: ProportionalKind::MicroElastic,
+            damage_stretch_coefficient: 0.0,
+            minimum_stretch_coefficient: 0.0,
+        }
+    }
+
+    #[test]
+    fn copper_moduli_and_yield_stretch_by_hand() {
+        let c = copper();
+        // K = 8930 · 3602² = 1.15861427720e11 Pa, E = 1.5 K.
+        assert!((c.bulk_modulus() - 1.158_614_277_2e11).abs() < 1.0);
+        assert!((c.youngs_modulus() - 1.737_921_415_8e11).abs() < 1.0);
+        // s_Y = 324e6 / 1.73792e11 = 1.864296e-3.
+        assert!((c.yield_stretch() - 1.864_296e-3).abs() < 1e-9);
+    }
+
+    #[test]
+    fn spring_constant_is_eq_28() {
+        // K = 1e11 Pa, δ = 3 mm: 18e11/(π·8.1e-11) = 7.07355e21 N/m⁶.
+        let k = spring_constant(1.0e11, 3.0e-3);
+        assert!((k / 7.073_553_026e21 - 1.0).abs() < 1e-9, "{k}");
+        let m = micromodulus(&copper(), crate::Dimension::One, 0.03, 1e-4);
+        assert!((m - 2.0 * copper().youngs_modulus() / (1e-4 * 9e-4)).abs() < 1.0);
+    }
+
+    #[test]
+    fn invalid_material_names_the_field() {
+        let mut c = copper();
+        c.sound_speed = -1.0;
+        assert!(c.validate().unwrap_err().contains("sound_speed"));
+        let mut c = copper();
+        c.minimum_stretch_coefficient = f64::NAN;
+        assert!(c
+            .validate()
+            .unwrap_err()
+            .contains("minimum_stretch_coefficient"));
+    }
+}

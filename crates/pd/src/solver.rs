@@ -1,0 +1,1060 @@
+//! [`PdSolver`]: meshfree bond-based peridynamics behind the core `Solver`
+//! trait (seed 004).
+//!
+//! One step (velocity form of the central difference eq 10, i.e. velocity
+//! Verlet, identical to eq 10 for a constant step):
+//!
+//! 1. v ← v + ½Δt a;  prescribed velocity components are imposed;
+//! 2. u ← u + Δt v;
+//! 3. node scalars: effective critical stretch of solid nodes (damage- and
+//!    minimum-stretch refinements), gas expansion X (eq 17), pressure
+//!    P_S(X) (eqs 29–30) of nodes past their detonation time;
+//! 4. bond forces (eq 9: Σ_j f V_j with eqs 8 and 19), short-range forces
+//!    (eq 27), body force b: a = (Σ f V_j + f_SR + b)/ρ;
+//! 5. v ← v + ½Δt a; prescribed velocities imposed again.
+//!
+//! The stable step (eq 24) is min_i √(2ρ_i / Σ_k V_k C_ik) times a safety
+//! factor, with C = c/r for proportional bonds (eq 22), |∂f/∂p| of eq 19 for
+//! gas bonds (eq 26) and ρ = ρ₀/X for gas nodes (eq 25), and the contact
+//! stiffness of the pairs near contact; it is recomputed every step.
+
+use crate::cell_list::CellList;
+use crate::contact::{contact_forces, ContactInput, ContactParams};
+use crate::family::{build_families, partial_volume, Families};
+use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInput, NodeForce};
+use crate::fragments::{find_fragments, Fragment};
+use crate::lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec};
+use crate::material::{micromodulus, PdMaterial, ProportionalKind};
+use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
+use brisance_grid::Shape;
+use brisance_reaction::{
+    huygens_detonation_times, straight_line_detonation_times, DetonationPoint,
+};
+use serde::{Deserialize, Serialize};
+
+/// Short-range force options (seed 004 eq 27).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactOptions {
+    /// F_SR (default 15).
+    pub force_factor: f64,
+    /// p_contact as a multiple of the spacing (default 1: lattice
+    /// neighbours of two bodies touch without force at rest).
+    pub distance_factor: f64,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        Self {
+            force_factor: 15.0,
+            distance_factor: 1.0,
+        }
+    }
+}
+
+/// Solver options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PdOptions {
+    /// Lattice spacing h, m.
+    pub spacing: f64,
+    /// Horizon as a multiple of the spacing (seed 004: "typically three").
+    pub horizon_factor: f64,
+    /// Lattice origin, m.
+    pub origin: [f64; 3],
+    /// Dimension.
+    pub dimension: Dimension,
+    /// Cross-section of a 1D bar, m².
+    pub cross_section: f64,
+    /// Safety factor on the stable step of eq 24 (0 < f ≤ 1).
+    pub safety_factor: f64,
+    /// Energy-method surface correction of proportional bonds.
+    pub surface_correction: bool,
+    /// Short-range forces (None: off).
+    pub contact: Option<ContactOptions>,
+    /// Body force density b, N/m³ (eq 9), on every node.
+    pub body_force: [f64; 3],
+    /// Smallest step before the run is stopped, s.
+    pub min_dt: f64,
+}
+
+impl Default for PdOptions {
+    fn default() -> Self {
+        Self {
+            spacing: 1.0e-3,
+            horizon_factor: 3.0,
+            origin: [0.0; 3],
+            dimension: Dimension::Three,
+            cross_section: 0.0,
+            safety_factor: 0.8,
+            surface_correction: true,
+            contact: Some(ContactOptions::default()),
+            body_force: [0.0; 3],
+            min_dt: 1.0e-15,
+        }
+    }
+}
+
+/// Prescribed velocity components on the nodes inside a region (a fixed
+/// boundary is velocity 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PdBoundary {
+    /// Region (reference positions).
+    pub region: Shape,
+    /// Prescribed components, m/s (None: free).
+    pub velocity: [Option<f64>; 3],
+}
+
+/// How detonation times are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BurnMethod {
+    /// Huygens construction over the families.
+    Huygens,
+    /// Straight lines from the points.
+    StraightLine,
+}
+
+/// Program burn input.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DetonationSpec {
+    /// Detonation points.
+    pub points: Vec<DetonationPoint>,
+    /// Method.
+    pub method: BurnMethod,
+}
+
+/// Everything the solver is built from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PdSetup {
+    /// Options.
+    pub options: PdOptions,
+    /// Materials, indexed by the bodies.
+    pub materials: Vec<PdMaterial>,
+    /// Bodies.
+    pub bodies: Vec<BodySpec>,
+    /// Prescribed velocities.
+    pub boundaries: Vec<PdBoundary>,
+    /// Program burn (needed when a body is a gas).
+    pub detonation: Option<DetonationSpec>,
+}
+
+/// Why the solver cannot be built; messages name the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PdSetupError {
+    /// A parameter is out of range.
+    #[error("peridynamics: `{field}`: {message}")]
+    Invalid {
+        /// The field.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The lattice could not be filled.
+    #[error("peridynamics: {0}")]
+    Lattice(#[from] crate::lattice::LatticeError),
+    /// Program burn failed.
+    #[error("peridynamics: {0}")]
+    Burn(#[from] brisance_reaction::BurnError),
+}
+
+fn invalid(field: impl Into<String>, message: impl Into<String>) -> PdSetupError {
+    PdSetupError::Invalid {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+/// The mutable state (what a checkpoint holds).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct PdState {
+    time: f64,
+    steps: u64,
+    state: Vec<[f64; 4]>,
+    velocity: Vec<[f64; 3]>,
+    factor: Vec<f32>,
+    plastic: Vec<f32>,
+    bond_out: Vec<(f64, f64, f64, f64, u32)>,
+    contact: Vec<([f64; 3], f64)>,
+    gas: Vec<[f64; 2]>,
+}
+
+/// Meshfree bond-based peridynamics.
+#[derive(Debug)]
+pub struct PdSolver {
+    options: PdOptions,
+    horizon: f64,
+    materials: Vec<PdMaterial>,
+    laws: Vec<BondLaw>,
+    bulk_modulus: Vec<f64>,
+    breakable: Vec<bool>,
+    // Per node, fixed.
+    reference: Vec<[f64; 4]>,
+    body: Vec<u32>,
+    material: Vec<u16>,
+    density: Vec<f64>,
+    family_volume: Vec<f64>,
+    solid_stiffness: Vec<f64>,
+    detonation_time: Vec<f64>,
+    prescribed: Vec<(u32, u8, f64)>,
+    families: Families,
+    // Per node, evolving.
+    time: f64,
+    steps: u64,
+    state: Vec<[f64; 4]>,
+    velocity: Vec<[f64; 3]>,
+    bond_out: Vec<NodeForce>,
+    contact: Vec<([f64; 3], f64)>,
+    gas: Vec<[f64; 2]>,
+    current: Vec<[f64; 3]>,
+    // Per bond.
+    factor: Vec<f32>,
+    plastic: Vec<f32>,
+    cells: CellList,
+}
+
+impl PdSolver {
+    /// Builds the nodes, families, bond weights and detonation times, and
+    /// evaluates the forces of the initial state.
+    pub fn new(setup: PdSetup) -> Result<Self, PdSetupError> {
+        let o = setup.options.clone();
+        let h = o.spacing;
+        if !(o.horizon_factor >= 1.0 && o.horizon_factor.is_finite()) {
+            return Err(invalid(
+                "horizon_factor",
+                format!("expected a finite value ≥ 1, got {}", o.horizon_factor),
+            ));
+        }
+        if !(o.safety_factor > 0.0 && o.safety_factor <= 1.0) {
+            return Err(invalid(
+                "safety_factor",
+                format!("expected 0 < f ≤ 1, got {}", o.safety_factor),
+            ));
+        }
+        if !o.body_force.iter().all(|b| b.is_finite()) {
+            return Err(invalid("body_force", "must be finite"));
+        }
+        if let Some(c) = o.contact {
+            if !(c.force_factor >= 0.0 && c.force_factor.is_finite()) {
+                return Err(invalid(
+                    "contact.force_factor",
+                    "expected a finite value ≥ 0",
+                ));
+            }
+            if !(c.distance_factor > 0.0 && c.distance_factor < o.horizon_factor) {
+                return Err(invalid(
+                    "contact.distance_factor",
+                    format!(
+                        "expected 0 < factor < horizon_factor, got {}",
+                        c.distance_factor
+                    ),
+                ));
+            }
+        }
+        if setup.materials.is_empty() {
+            return Err(invalid("materials", "at least one material is needed"));
+        }
+        for (m, mat) in setup.materials.iter().enumerate() {
+            mat.validate()
+                .map_err(|e| invalid(format!("materials[{m}]"), e))?;
+        }
+        for (b, body) in setup.bodies.iter().enumerate() {
+            if body.material as usize >= setup.materials.len() {
+                return Err(invalid(
+                    format!("bodies[{b}].material"),
+                    format!(
+                        "material {} does not exist ({} materials)",
+                        body.material,
+                        setup.materials.len()
+                    ),
+                ));
+            }
+        }
+        let horizon = o.horizon_factor * h;
+        let cloud = fill_lattice(
+            &LatticeSpec {
+                spacing: h,
+                origin: o.origin,
+                dimension: o.dimension,
+                cross_section: o.cross_section,
+            },
+            &setup.bodies,
+        )?;
+        let n = cloud.positions.len();
+        if n == 0 {
+            return Err(invalid("bodies", "the bodies contain no lattice node"));
+        }
+        let families = build_families(&cloud.positions, &cloud.body, horizon, h);
+        let laws: Vec<BondLaw> = setup
+            .materials
+            .iter()
+            .map(|m| match m {
+                PdMaterial::Proportional(p) => BondLaw::Solid {
+                    micromodulus: micromodulus(p, o.dimension, horizon, o.cross_section),
+                    yield_stretch: p.yield_stretch(),
+                    plastic: p.kind == ProportionalKind::MicroPlastic,
+                    critical_stretch: p.critical_stretch,
+                },
+                PdMaterial::Gas(_) => BondLaw::Gas,
+            })
+            .collect();
+        let reference: Vec<[f64; 4]> = (0..n)
+            .map(|i| {
+                let x = cloud.positions[i];
+                [x[0], x[1], x[2], cloud.volumes[i]]
+            })
+            .collect();
+        // Bond weights β (and surface correction for solids).
+        let mut factor = vec![0f32; families.bond_count()];
+        let beta = |i: usize, j: usize| {
+            partial_volume(distance(cloud.positions[i], cloud.positions[j]), horizon, h)
+        };
+        for i in 0..n {
+            for k in families.row(i) {
+                factor[k] = beta(i, families.neighbours[k] as usize) as f32;
+            }
+        }
+        if o.surface_correction {
+            crate::surface::apply_surface_correction(
+                &reference,
+                &families,
+                &cloud.material,
+                &laws,
+                o.dimension,
+                horizon,
+                o.cross_section,
+                &mut factor,
+            );
+        }
+        let family_volume: Vec<f64> = (0..n)
+            .map(|i| {
+                families
+                    .row(i)
+                    .map(|k| factor[k] as f64 * reference[families.neighbours[k] as usize][3])
+                    .sum()
+            })
+            .collect();
+        let solid_stiffness: Vec<f64> = (0..n)
+            .map(|i| match laws[cloud.material[i] as usize] {
+                BondLaw::Solid { micromodulus, .. } => families
+                    .row(i)
+                    .map(|k| {
+                        let j = families.neighbours[k] as usize;
+                        micromodulus * factor[k] as f64 * reference[j][3]
+                            / distance(cloud.positions[i], cloud.positions[j])
+                    })
+                    .sum(),
+                BondLaw::Gas => 0.0,
+            })
+            .collect();
+        let density: Vec<f64> = cloud
+            .material
+            .iter()
+            .map(|&m| setup.materials[m as usize].density())
+            .collect();
+        // Program burn.
+        let explosive: Vec<bool> = cloud
+            .material
+            .iter()
+            .map(|&m| matches!(setup.materials[m as usize], PdMaterial::Gas(_)))
+            .collect();
+        let mut detonation_time = vec![f64::INFINITY; n];
+        if explosive.iter().any(|&e| e) {
+            let spec = setup.detonation.as_ref().ok_or_else(|| {
+                invalid(
+                    "detonation",
+                    "a body is an explosive (gas material): detonation points are needed",
+                )
+            })?;
+            let speeds: Vec<f64> = setup
+                .materials
+                .iter()
+                .filter_map(|m| match m {
+                    PdMaterial::Gas(g) => Some(g.detonation_velocity),
+                    _ => None,
+                })
+                .collect();
+            let speed = speeds[0];
+            if speeds.iter().any(|&s| s != speed) {
+                return Err(invalid(
+                    "materials",
+                    "all explosive materials must share one detonation velocity",
+                ));
+            }
+            detonation_time = match spec.method {
+                BurnMethod::Huygens => huygens_detonation_times(
+                    &cloud.positions,
+                    &families.offsets,
+                    &families.neighbours,
+                    &explosive,
+                    &spec.points,
+                    speed,
+                    horizon,
+                )?,
+                BurnMethod::StraightLine => straight_line_detonation_times(
+                    &cloud.positions,
+                    &explosive,
+                    &spec.points,
+                    speed,
+                )?,
+            };
+        }
+        // Prescribed velocities.
+        let mut prescribed = Vec::new();
+        for (b, bc) in setup.boundaries.iter().enumerate() {
+            bc.region
+                .validate()
+                .map_err(|e| invalid(format!("boundaries[{b}].region.{}", e.field), e.message))?;
+            if !bc.velocity.iter().flatten().all(|v| v.is_finite()) {
+                return Err(invalid(
+                    format!("boundaries[{b}].velocity"),
+                    "must be finite",
+                ));
+            }
+            for (i, x) in cloud.positions.iter().enumerate() {
+                if bc.region.contains(*x) {
+                    for (d, v) in bc.velocity.iter().enumerate() {
+                        if let Some(v) = v {
+                            prescribed.push((i as u32, d as u8, *v));
+                        }
+                    }
+                }
+            }
+        }
+        let mut state = vec![[0.0; 4]; n];
+        for (i, s) in state.iter_mut().enumerate() {
+            if let PdMaterial::Proportional(p) = setup.materials[cloud.material[i] as usize] {
+                s[3] = p.critical_stretch;
+            }
+        }
+        let mut solver = Self {
+            bulk_modulus: setup
+                .materials
+                .iter()
+                .map(PdMaterial::contact_bulk_modulus)
+                .collect(),
+            breakable: setup
+                .materials
+                .iter()
+                .map(|m| matches!(m, PdMaterial::Proportional(_)))
+                .collect(),
+            options: o,
+            horizon,
+            materials: setup.materials,
+            laws,
+            reference,
+            body: cloud.body,
+            material: cloud.material,
+            density,
+            family_volume,
+            solid_stiffness,
+            detonation_time,
+            prescribed,
+            families,
+            time: 0.0,
+            steps: 0,
+            state,
+            velocity: cloud.velocity,
+            bond_out: vec![NodeForce::default(); n],
+            contact: vec![([0.0; 3], 0.0); n],
+            gas: vec![[1.0, 0.0]; n],
+            current: vec![[0.0; 3]; n],
+            plastic: vec![0.0; factor.len()],
+            factor,
+            cells: CellList::default(),
+        };
+        solver.impose_velocities();
+        solver.update_node_scalars();
+        solver.compute_forces();
+        Ok(solver)
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.reference.len()
+    }
+
+    /// Number of directed bonds (each bond once per node).
+    pub fn bond_count(&self) -> usize {
+        self.families.bond_count()
+    }
+
+    /// The horizon δ, m.
+    pub fn horizon(&self) -> f64 {
+        self.horizon
+    }
+
+    /// Reference positions and volumes (x, V).
+    pub fn reference(&self) -> &[[f64; 4]] {
+        &self.reference
+    }
+
+    /// Displacements u.
+    pub fn displacement(&self, i: usize) -> [f64; 3] {
+        let s = self.state[i];
+        [s[0], s[1], s[2]]
+    }
+
+    /// Velocities.
+    pub fn velocities(&self) -> &[[f64; 3]] {
+        &self.velocity
+    }
+
+    /// Sets every node's velocity from its reference position (an initial
+    /// condition beyond the bodies' uniform velocities); prescribed
+    /// components keep their prescribed values.
+    pub fn set_velocities(&mut self, field: impl Fn([f64; 3]) -> [f64; 3]) {
+        for (v, x) in self.velocity.iter_mut().zip(&self.reference) {
+            *v = field([x[0], x[1], x[2]]);
+        }
+        self.impose_velocities();
+    }
+
+    /// Body index per node.
+    pub fn bodies(&self) -> &[u32] {
+        &self.body
+    }
+
+    /// Material index per node.
+    pub fn materials(&self) -> &[u16] {
+        &self.material
+    }
+
+    /// Node masses ρ₀V, kg.
+    pub fn mass(&self, i: usize) -> f64 {
+        self.density[i] * self.reference[i][3]
+    }
+
+    /// Detonation time per node (infinite for inert or unreached nodes), s.
+    pub fn detonation_times(&self) -> &[f64] {
+        &self.detonation_time
+    }
+
+    /// Expansion X of node i (eq 17; 1 for solids).
+    pub fn expansion(&self, i: usize) -> f64 {
+        self.gas[i][0]
+    }
+
+    /// The families.
+    pub fn families(&self) -> &Families {
+        &self.families
+    }
+
+    /// Whether bond `k` (position in the rows) is intact.
+    pub fn bond_intact(&self, k: usize) -> bool {
+        self.factor[k] != 0.0
+    }
+
+    /// Node damage: the broken fraction of its bonds (0 for gas nodes and
+    /// nodes without bonds).
+    pub fn damage(&self, i: usize) -> f64 {
+        let total = self.families.row(i).len();
+        if total == 0 || !self.breakable[self.material[i] as usize] {
+            return 0.0;
+        }
+        1.0 - self.bond_out[i].intact as f64 / total as f64
+    }
+
+    /// Current force per unit volume on node i (bonds + contact + body), N/m³.
+    pub fn force_density(&self, i: usize) -> [f64; 3] {
+        let b = self.bond_out[i].force;
+        let c = self.contact[i].0;
+        std::array::from_fn(|d| b[d] + c[d] + self.options.body_force[d])
+    }
+
+    /// Gas pressure P_S(X) of node i (0 before detonation and for solids), Pa.
+    pub fn pressure(&self, i: usize) -> f64 {
+        match self.materials[self.material[i] as usize] {
+            PdMaterial::Gas(g) if self.time >= self.detonation_time[i] => {
+                g.isentrope.pressure(self.gas[i][0])
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Fragments: connected components of solid nodes over intact bonds.
+    pub fn fragments(&self) -> Vec<Fragment> {
+        let solid: Vec<bool> = self
+            .material
+            .iter()
+            .map(|&m| self.breakable[m as usize])
+            .collect();
+        let mass: Vec<f64> = (0..self.node_count()).map(|i| self.mass(i)).collect();
+        find_fragments(&self.families, &self.factor, &solid, &mass, &self.velocity)
+    }
+
+    fn impose_velocities(&mut self) {
+        for &(i, d, v) in &self.prescribed {
+            self.velocity[i as usize][d as usize] = v;
+        }
+    }
+
+    /// Step 3: effective critical stretch of solid nodes, gas expansion
+    /// (eq 17) and the gas coefficient 6 P X^{4/3}/V of eq 19.
+    fn update_node_scalars(&mut self) {
+        let reference = &self.reference;
+        let state = &self.state;
+        let families = &self.families;
+        let factor = &self.factor;
+        let material = &self.material;
+        let materials = &self.materials;
+        let family_volume = &self.family_volume;
+        for_each_node(&mut self.gas, |i, g| {
+            if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
+                let row = families.row(i);
+                let vf = family_volume[i];
+                let (x, s3, s4) = gas_expansion(
+                    i,
+                    reference,
+                    state,
+                    &families.neighbours[row.clone()],
+                    &factor[row],
+                    vf,
+                );
+                // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
+                // through p and through X(p) (eq 17).
+                let p = gas.isentrope.pressure(x);
+                let x43 = x.powf(4.0 / 3.0);
+                let dq =
+                    (gas.isentrope.dpressure_dx(x) * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
+                let stiff = 12.0 * p.abs() * x43 / vf * s3
+                    + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
+                *g = [x, stiff];
+            }
+        });
+        let time = self.time;
+        let gas = &self.gas;
+        let bond_out = &self.bond_out;
+        let detonation_time = &self.detonation_time;
+        for_each_node(&mut self.state, |i, s| {
+            match materials[material[i] as usize] {
+                PdMaterial::Gas(g) => {
+                    s[3] = if time >= detonation_time[i] {
+                        let x = gas[i][0];
+                        6.0 * g.isentrope.pressure(x) * x.powf(4.0 / 3.0) / family_volume[i]
+                    } else {
+                        0.0
+                    };
+                }
+                PdMaterial::Proportional(p) => {
+                    let total = families.row(i).len();
+                    let damage = if total == 0 {
+                        0.0
+                    } else {
+                        1.0 - bond_out[i].intact as f64 / total as f64
+                    };
+                    let smin = bond_out[i].min_stretch;
+                    let smin = if smin.is_finite() { smin.min(0.0) } else { 0.0 };
+                    s[3] = p.critical_stretch * (1.0 + p.damage_stretch_coefficient * damage)
+                        - p.minimum_stretch_coefficient * smin;
+                }
+            }
+        });
+    }
+
+    /// Step 4: bond and short-range forces of the current state.
+    fn compute_forces(&mut self) {
+        let reference = &self.reference;
+        let state = &self.state;
+        for_each_node(&mut self.current, |i, y| {
+            *y = [
+                reference[i][0] + state[i][0],
+                reference[i][1] + state[i][1],
+                reference[i][2] + state[i][2],
+            ];
+        });
+        let input = ForceInput {
+            reference: &self.reference,
+            state: &self.state,
+            offsets: &self.families.offsets,
+            neighbours: &self.families.neighbours,
+            material: &self.material,
+            laws: &self.laws,
+        };
+        bond_forces(
+            &input,
+            &mut self.factor,
+            &mut self.plastic,
+            &mut self.bond_out,
+        );
+        if let Some(c) = self.options.contact {
+            let params = ContactParams {
+                force_factor: c.force_factor,
+                contact_distance: c.distance_factor * self.options.spacing,
+                horizon: self.horizon,
+            };
+            let current = &self.current;
+            self.cells
+                .rebuild(current.len(), 1.5 * params.contact_distance, |i| current[i]);
+            let input = ContactInput {
+                current: &self.current,
+                reference: &self.reference,
+                body: &self.body,
+                material: &self.material,
+                bulk_modulus: &self.bulk_modulus,
+                breakable: &self.breakable,
+                families: &self.families,
+                factor: &self.factor,
+            };
+            contact_forces(&input, &self.cells, &params, &mut self.contact);
+        }
+    }
+
+    /// Stable step of node i without the safety factor (eq 24), s.
+    fn node_dt(&self, i: usize) -> f64 {
+        let (rho, stiff) = match self.laws[self.material[i] as usize] {
+            BondLaw::Solid { .. } => (self.density[i], self.solid_stiffness[i]),
+            // Eq 25: ρ = ρ₀/X.
+            BondLaw::Gas => (self.density[i] / self.gas[i][0], self.gas[i][1]),
+        };
+        let stiff = stiff + self.contact[i].1;
+        if stiff > 0.0 {
+            (2.0 * rho / stiff).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    fn mutable_state(&self) -> PdState {
+        PdState {
+            time: self.time,
+            steps: self.steps,
+            state: self.state.clone(),
+            velocity: self.velocity.clone(),
+            factor: self.factor.clone(),
+            plastic: self.plastic.clone(),
+            bond_out: self
+                .bond_out
+                .iter()
+                .map(|b| (b.force[0], b.force[1], b.force[2], b.min_stretch, b.intact))
+                .collect(),
+            contact: self.contact.clone(),
+            gas: self.gas.clone(),
+        }
+    }
+
+    /// Elastic energy stored in the bonds of proportional solids, J:
+    /// Σ_i V_i · ½ Σ_j w V_j with the micro-potential w = r ∫ g ds (eq 6).
+    pub fn bond_energy(&self) -> f64 {
+        let mut total = 0.0;
+        for i in 0..self.node_count() {
+            let BondLaw::Solid {
+                micromodulus,
+                yield_stretch,
+                plastic,
+                ..
+            } = self.laws[self.material[i] as usize]
+            else {
+                continue;
+            };
+            let xi = self.reference[i];
+            let ui = self.state[i];
+            let mut w_sum = 0.0;
+            for k in self.families.row(i) {
+                let w = self.factor[k] as f64;
+                if w == 0.0 {
+                    continue;
+                }
+                let j = self.families.neighbours[k] as usize;
+                let xj = self.reference[j];
+                let uj = self.state[j];
+                let r = distance([xi[0], xi[1], xi[2]], [xj[0], xj[1], xj[2]]);
+                let p = distance(
+                    [xi[0] + ui[0], xi[1] + ui[1], xi[2] + ui[2]],
+                    [xj[0] + uj[0], xj[1] + uj[1], xj[2] + uj[2]],
+                );
+                let s = (p - r) / r;
+                let e = if plastic {
+                    s - self.plastic[k] as f64
+                } else {
+                    s
+                };
+                let a = e.abs();
+                let psi = if plastic || a <= yield_stretch {
+                    0.5 * a * a
+                } else {
+                    yield_stretch * (a - 0.5 * yield_stretch)
+                };
+                w_sum += micromodulus * w * r * psi * xj[3];
+            }
+            total += 0.5 * xi[3] * w_sum;
+        }
+        total
+    }
+
+    /// Energy stored in the products (Σ W(X_i) V_i over detonated gas
+    /// nodes) and chemical energy not yet released (W(1) V_i), J.
+    pub fn gas_energy(&self) -> f64 {
+        (0..self.node_count())
+            .map(|i| match self.materials[self.material[i] as usize] {
+                PdMaterial::Gas(g) => {
+                    let x = if self.time >= self.detonation_time[i] {
+                        self.gas[i][0]
+                    } else {
+                        1.0
+                    };
+                    g.isentrope.energy(x) * self.reference[i][3]
+                }
+                _ => 0.0,
+            })
+            .sum()
+    }
+
+    /// Kinetic energy, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.node_count())
+            .map(|i| {
+                let v = self.velocity[i];
+                0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            })
+            .sum()
+    }
+}
+
+impl Solver for PdSolver {
+    fn name(&self) -> &str {
+        "pd"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let (mut dt, mut at) = (f64::INFINITY, 0);
+        for i in 0..self.node_count() {
+            let d = self.node_dt(i);
+            if d < dt {
+                dt = d;
+                at = i;
+            }
+        }
+        let dt = dt * self.options.safety_factor;
+        if !(dt >= self.options.min_dt) {
+            let x = self.current[at];
+            return Err(SolverError::TimeStepCollapse {
+                dt,
+                min_dt: self.options.min_dt,
+                time: self.time,
+                detail: format!("limited by node {at} at {x:?} m"),
+            });
+        }
+        Ok(dt)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(SolverError::Other(format!(
+                "peridynamics: step {dt} s must be finite and > 0"
+            )));
+        }
+        let body_force = self.options.body_force;
+        let density = &self.density;
+        let bond_out = &self.bond_out;
+        let contact = &self.contact;
+        let kick = |v: &mut [[f64; 3]], half: f64| {
+            for_each_node(v, |i, v| {
+                let b = bond_out[i].force;
+                let c = contact[i].0;
+                for d in 0..3 {
+                    v[d] += half * (b[d] + c[d] + body_force[d]) / density[i];
+                }
+            });
+        };
+        kick(&mut self.velocity, 0.5 * dt);
+        self.impose_velocities();
+        let velocity = &self.velocity;
+        for_each_node(&mut self.state, |i, s| {
+            for d in 0..3 {
+                s[d] += dt * velocity[i][d];
+            }
+        });
+        self.time += dt;
+        self.update_node_scalars();
+        self.compute_forces();
+        let density = &self.density;
+        let bond_out = &self.bond_out;
+        let contact = &self.contact;
+        for_each_node(&mut self.velocity, |i, v| {
+            let b = bond_out[i].force;
+            let c = contact[i].0;
+            for d in 0..3 {
+                v[d] += 0.5 * dt * (b[d] + c[d] + body_force[d]) / density[i];
+            }
+        });
+        self.impose_velocities();
+        self.steps += 1;
+        if let Some(i) = self
+            .velocity
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return Err(SolverError::Other(format!(
+                "peridynamics: non-finite velocity at node {i} (reference {:?} m) at t = {:e} s",
+                &self.reference[i][..3],
+                self.time
+            )));
+        }
+        Ok(())
+    }
+
+    fn conservation_totals(&self) -> ConservationTotals {
+        let mut mass = 0.0;
+        let mut momentum = [0.0; 3];
+        for i in 0..self.node_count() {
+            let m = self.mass(i);
+            mass += m;
+            for (p, v) in momentum.iter_mut().zip(self.velocity[i]) {
+                *p += m * v;
+            }
+        }
+        ConservationTotals {
+            mass,
+            momentum,
+            energy: self.kinetic_energy() + self.bond_energy() + self.gas_energy(),
+        }
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<brisance_core::CellData, SolverError> {
+        Err(SolverError::Other(format!(
+            "peridynamics has no cell fields (asked for {fields:?}); its nodes are written as particles"
+        )))
+    }
+
+    /// The value at the node nearest `point` (reference positions):
+    /// `displacement_x|y|z`, `velocity_x|y|z`, `radial_displacement`
+    /// (from the z axis), `damage`, `pressure`, `expansion`.
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let mut best = (f64::INFINITY, 0);
+        for (i, x) in self.reference.iter().enumerate() {
+            let d = distance([x[0], x[1], x[2]], point);
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        let i = best.1;
+        out.clear();
+        for f in fields {
+            let u = self.displacement(i);
+            let v = self.velocity[i];
+            let x = self.reference[i];
+            out.push(match f.as_str() {
+                "displacement_x" => u[0],
+                "displacement_y" => u[1],
+                "displacement_z" => u[2],
+                "velocity_x" => v[0],
+                "velocity_y" => v[1],
+                "velocity_z" => v[2],
+                "radial_displacement" => {
+                    let r0 = x[0].hypot(x[1]);
+                    (x[0] + u[0]).hypot(x[1] + u[1]) - r0
+                }
+                "damage" => self.damage(i),
+                "pressure" => self.pressure(i),
+                "expansion" => self.gas[i][0],
+                other => {
+                    return Err(SolverError::Other(format!(
+                        "peridynamics: unknown field `{other}`; known: displacement_x, displacement_y, displacement_z, velocity_x, velocity_y, velocity_z, radial_displacement, damage, pressure, expansion"
+                    )))
+                }
+            });
+        }
+        Ok(())
+    }
+
+    fn particle_data(&self) -> Option<ParticleData> {
+        let n = self.node_count();
+        let col = |f: &dyn Fn(usize) -> f64| (0..n).map(f).collect::<Vec<f64>>();
+        Some(ParticleData {
+            positions: self.current.clone(),
+            fields: vec![
+                ("damage".into(), col(&|i| self.damage(i))),
+                ("velocity_x".into(), col(&|i| self.velocity[i][0])),
+                ("velocity_y".into(), col(&|i| self.velocity[i][1])),
+                ("velocity_z".into(), col(&|i| self.velocity[i][2])),
+                ("displacement_x".into(), col(&|i| self.state[i][0])),
+                ("displacement_y".into(), col(&|i| self.state[i][1])),
+                ("displacement_z".into(), col(&|i| self.state[i][2])),
+                ("pressure".into(), col(&|i| self.pressure(i))),
+                ("expansion".into(), col(&|i| self.gas[i][0])),
+                (
+                    "detonation_time".into(),
+                    col(&|i| {
+                        let t = self.detonation_time[i];
+                        if t.is_finite() {
+                            t
+                        } else {
+                            -1.0
+                        }
+                    }),
+                ),
+                ("body".into(), col(&|i| self.body[i] as f64)),
+                ("material".into(), col(&|i| self.material[i] as f64)),
+                ("volume".into(), col(&|i| self.reference[i][3])),
+            ],
+        })
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.bond_count() as f64, "bond-evaluations")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        bincode::serialize(&self.mutable_state())
+            .map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: PdState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        if s.state.len() != self.node_count() || s.factor.len() != self.bond_count() {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has {} nodes and {} bonds, the scenario {} and {}",
+                s.state.len(),
+                s.factor.len(),
+                self.node_count(),
+                self.bond_count()
+            )));
+        }
+        self.time = s.time;
+        self.steps = s.steps;
+        self.state = s.state;
+        self.velocity = s.velocity;
+        self.factor = s.factor;
+        self.plastic = s.plastic;
+        self.bond_out = s
+            .bond_out
+            .into_iter()
+            .map(|(a, b, c, m, k)| NodeForce {
+                force: [a, b, c],
+                min_stretch: m,
+                intact: k,
+            })
+            .collect();
+        self.contact = s.contact;
+        self.gas = s.gas;
+        let reference = &self.reference;
+        let state = &self.state;
+        for_each_node(&mut self.current, |i, y| {
+            *y = [
+                reference[i][0] + state[i][0],
+                reference[i][1] + state[i][1],
+                reference[i][2] + state[i][2],
+            ];
+        });
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
