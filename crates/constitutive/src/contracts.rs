@@ -48,6 +48,17 @@ impl PointState {
             history,
         }
     }
+
+    /// The initial state of the point `seed` of `model`: zero stress, the
+    /// history of [`Material::init_history_at`].
+    pub fn initial_at(model: &MaterialModel, seed: u64) -> Self {
+        let mut history = vec![0.0; model.history_len()];
+        model.init_history_at(&mut history, seed);
+        Self {
+            stress: Mat3::zeros(),
+            history,
+        }
+    }
 }
 
 /// Result of one step as the checks see it.
@@ -256,22 +267,49 @@ pub fn check_zero_rate_keeps_stress(
     Ok(())
 }
 
-/// Along any path: stress and history stay finite; plastic work ≥ 0; an
-/// elastic model never yields or fails; for a model with a yield surface
-/// the stress after the return mapping lies inside it at the updated
-/// history to [`YIELD_TOLERANCE`] of its scale
+/// Along any path, from the initial state of the point `seed` (or the
+/// model's mean initial state for `None`): the initial history is finite
+/// and the same bits for the same seed; stress and history stay finite;
+/// plastic work ≥ 0; an elastic model never yields or fails; for a model
+/// with a yield surface the stress after the return mapping lies inside it
+/// at the updated history to [`YIELD_TOLERANCE`] of its scale
 /// ([`MaterialModel::yield_excess`]: σ̄ ≤ σ_y (1 + tol) for the J2 metal);
 /// once failed the point stays failed and carries no deviatoric and no
-/// tensile stress; no damage variable ever decreases.
+/// tensile stress; no damage variable ever decreases; a porosity stays in
+/// [0, 1) and never decreases.
 pub fn check_loading_path(
     model: &MaterialModel,
     path: &[Mat3],
     dt: f64,
     t: f64,
+    seed: Option<u64>,
 ) -> Result<(), String> {
-    let mut s = PointState::initial(model);
+    let mut s = match seed {
+        Some(seed) => {
+            let a = PointState::initial_at(model, seed);
+            let b = PointState::initial_at(model, seed);
+            let bits = |h: &[f64]| h.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            if bits(&a.history) != bits(&b.history) {
+                return Err(format!(
+                    "seed {seed}: two initialisations differ: {:?} vs {:?}",
+                    a.history, b.history
+                ));
+            }
+            a
+        }
+        None => PointState::initial(model),
+    };
+    if !s.history.iter().all(|x| x.is_finite()) {
+        return Err(format!("non-finite initial history {:?}", s.history));
+    }
     let mut was_failed = false;
     let mut damage = model.damage(&s.history).to_vec();
+    let mut porosity = model.porosity(&s.history);
+    if let Some(f) = porosity {
+        if !(0.0..1.0).contains(&f) {
+            return Err(format!("initial porosity {f} outside [0, 1)"));
+        }
+    }
     for (k, l) in path.iter().enumerate() {
         let r = step(model, &mut s, l, dt, t);
         if !(s.stress.iter().all(|x| x.is_finite()) && s.history.iter().all(|x| x.is_finite())) {
@@ -301,6 +339,15 @@ pub fn check_loading_path(
             }
             *old = new;
         }
+        let new_porosity = model.porosity(&s.history);
+        if let (Some(old), Some(new)) = (porosity, new_porosity) {
+            if !(new >= old && new < 1.0) {
+                return Err(format!(
+                    "step {k}: porosity went from {old} to {new} (must not fall, must stay < 1)"
+                ));
+            }
+        }
+        porosity = new_porosity;
         if r.failed {
             // No deviatoric stress means σ = −p I exactly: equal diagonal,
             // zero off-diagonal (computing σ̄ of −p I would add the
@@ -408,9 +455,10 @@ macro_rules! material_contract_tests {
                     strain in 1e-4f64..5e-2,
                     dt in 1e-8f64..1e-5,
                     t in 250.0f64..2000.0,
+                    seed in proptest::option::of(any::<u64>()),
                 ) {
                     let m = model();
-                    if let Err(msg) = c::check_loading_path(&m, &path(&entries, strain, dt), dt, t) {
+                    if let Err(msg) = c::check_loading_path(&m, &path(&entries, strain, dt), dt, t, seed) {
                         prop_assert!(false, "{}", msg);
                     }
                 }

@@ -14,6 +14,13 @@
 //! [`MIN_FRACTURE_STRAIN`] so a parameter set with D₁ < 0 cannot give a
 //! zero or negative fracture strain.
 //!
+//! **Initial damage.** Seed 000 §4.2 spreads the fracture strains over the
+//! points "by initializing the damage variable to a non-zero value": with
+//! `initial_damage` given, each point starts from its own D₀ drawn from that
+//! Gaussian (seed 000 §5.3: mean 0.005, standard deviation 0.001), truncated
+//! to [0, 1] unless the config narrows it ([`crate::random`]); a point then
+//! fails after (1 − D₀) of its fracture strain. Without it D₀ = 0.
+//!
 //! **The failed point.** Seed 000 §4.2 sets the stress of a failed point to
 //! zero ("a free surface has been created"). Here a failed point keeps its
 //! pressure in compression and carries no deviatoric and no tensile stress:
@@ -26,6 +33,7 @@
 use crate::{
     error::{non_negative, positive},
     flow_stress::homologous_temperature,
+    random::{Gaussian, STREAM_DAMAGE},
     ConstitutiveError,
 };
 use serde::{Deserialize, Serialize};
@@ -55,6 +63,10 @@ pub struct JohnsonCookDamage {
     pub t_room: f64,
     /// Melt temperature of T*, K.
     pub t_melt: f64,
+    /// Gaussian initial damage D₀ over the points (seed 000 §4.2, §5.3);
+    /// none: D₀ = 0.
+    #[serde(default)]
+    pub initial_damage: Option<Gaussian>,
 }
 
 impl JohnsonCookDamage {
@@ -70,6 +82,7 @@ impl JohnsonCookDamage {
             eps_dot0: 1.0,
             t_room: 294.0,
             t_melt: 1793.0,
+            initial_damage: None,
         }
     }
 
@@ -88,6 +101,7 @@ impl JohnsonCookDamage {
             eps_dot0: 1.0,
             t_room: 294.0,
             t_melt: 1356.0,
+            initial_damage: None,
         }
     }
 
@@ -117,7 +131,20 @@ impl JohnsonCookDamage {
                 expected: "a melt temperature above `t_room`, K",
             });
         }
-        Ok(())
+        match &self.initial_damage {
+            Some(g) => g.validate(NAME, "initial_damage", 0.0, 1.0),
+            None => Ok(()),
+        }
+    }
+
+    /// The initial damage D₀: the distribution's mean without a seed, the
+    /// point's draw with one (seed 000 §4.2); 0 without a distribution.
+    pub fn initial(&self, point_seed: Option<u64>) -> f64 {
+        match (&self.initial_damage, point_seed) {
+            (None, _) => 0.0,
+            (Some(g), None) => g.mean_within(0.0, 1.0),
+            (Some(g), Some(seed)) => g.sample(seed, STREAM_DAMAGE, 0.0, 1.0),
+        }
     }
 
     /// Plastic strain at fracture ε_p^f (seed 000 eq 47) for the stress
@@ -199,5 +226,38 @@ mod tests {
         };
         let msg = bad.validate().unwrap_err().to_string();
         assert!(msg.contains("eps_dot0"), "{msg}");
+        let bad = JohnsonCookDamage {
+            initial_damage: Some(Gaussian::new(1.5, 0.1)),
+            ..JohnsonCookDamage::steel_4340_seed000()
+        };
+        let msg = bad.validate().unwrap_err().to_string();
+        assert!(msg.contains("initial_damage"), "{msg}");
+    }
+
+    /// Seed 000 §5.3: D₀ ~ N(0.005, 0.001). Without a seed the mean; with
+    /// one, a draw in [0, 1] that depends on the seed only; 2000 points
+    /// average within 5 standard errors (5 × 0.001/√2000 = 1.1e-4) of 0.005.
+    #[test]
+    fn initial_damage_is_the_mean_or_the_point_draw() {
+        let d = JohnsonCookDamage {
+            initial_damage: Some(Gaussian::new(0.005, 0.001)),
+            ..JohnsonCookDamage::steel_4340_seed000()
+        };
+        assert_eq!(
+            JohnsonCookDamage::steel_4340_seed000().initial(Some(3)),
+            0.0
+        );
+        assert_eq!(d.initial(None), 0.005);
+        assert_eq!(d.initial(Some(42)).to_bits(), d.initial(Some(42)).to_bits());
+        let n = 2000;
+        let mean = (0..n)
+            .map(|p| d.initial(Some(crate::random::mix64(p))))
+            .inspect(|x| assert!((0.0..=1.0).contains(x)))
+            .sum::<f64>()
+            / n as f64;
+        assert!(
+            (mean - 0.005).abs() < 5.0 * 0.001 / (n as f64).sqrt(),
+            "{mean}"
+        );
     }
 }

@@ -158,6 +158,58 @@ impl FlowStress {
         self.flow_stress_and_slope(eps_p, eps_p_rate, 0.0, t).0
     }
 
+    /// Partial derivatives of the flow stress at (ε_p, ε̇_p, T):
+    /// (∂σ_y/∂ε_p, ∂σ_y/∂T), Pa and Pa/K, at fixed rate.
+    ///
+    /// Constant: (0, 0). Johnson–Cook: ∂σ_y/∂ε_p = B n ε_pⁿ⁻¹ R Θ (+∞ at
+    /// ε_p = 0 when n < 1) and ∂σ_y/∂T = −(A + B ε_pⁿ) R m T*ᵐ⁻¹/(T_melt −
+    /// T_room) for 0 < T* < 1, zero where T* is clamped (the clamped flow
+    /// stress is flat there), with R the rate factor and Θ = 1 − T*ᵐ. Both
+    /// are zero for a melted point (Θ = 0).
+    pub fn partial_derivatives(&self, eps_p: f64, eps_p_rate: f64, t: f64) -> (f64, f64) {
+        match *self {
+            Self::Constant { .. } => (0.0, 0.0),
+            Self::JohnsonCook {
+                a,
+                b,
+                n,
+                c,
+                m,
+                eps_dot0,
+                t_room,
+                t_melt,
+            } => {
+                let eps = eps_p.max(0.0);
+                let rate_star = eps_p_rate / eps_dot0;
+                let rate = if rate_star > 1.0 {
+                    1.0 + c * rate_star.ln()
+                } else {
+                    1.0
+                };
+                let t_star = homologous_temperature(t, t_room, t_melt);
+                let thermal = 1.0 - t_star.powf(m);
+                if thermal <= 0.0 {
+                    return (0.0, 0.0);
+                }
+                let d_eps = if eps > 0.0 {
+                    b * n * eps.powf(n - 1.0) * rate * thermal
+                } else if b > 0.0 && n < 1.0 {
+                    f64::INFINITY
+                } else if b > 0.0 && n == 1.0 {
+                    b * rate * thermal
+                } else {
+                    0.0
+                };
+                let d_t = if t_star > 0.0 && t_star < 1.0 {
+                    -(a + b * eps.powf(n)) * rate * m * t_star.powf(m - 1.0) / (t_melt - t_room)
+                } else {
+                    0.0
+                };
+                (d_eps, d_t)
+            }
+        }
+    }
+
     /// σ_y and its derivative along a return-mapping increment: with
     /// ε_p = ε_pⁿ + Δε and ε̇_p = Δε/Δt, returns (σ_y, dσ_y/dΔε) where
     /// `inv_dt` = 1/Δt (0 for no rate coupling). Pa and Pa.
@@ -256,6 +308,36 @@ mod tests {
         let h = 1e-9;
         let fd = (f(de + h) - f(de - h)) / (2.0 * h);
         assert!((slope - fd).abs() < 1e-5 * fd.abs(), "{slope} vs {fd}");
+    }
+
+    /// 4340 at ε_p = 0.1, ε̇ = 1000/s, T = 1043.5 K (T* = 0.5):
+    /// ∂σ/∂ε = 510e6 × 0.26 × 0.1^(−0.74) × 1.096709 × 0.510290
+    /// = 407.80 MPa; ∂σ/∂T = −1072.266e6 × 1.096709 × 1.03 × 0.5^0.03/1499
+    /// = −0.79140 MPa/K. Both match central differences.
+    #[test]
+    fn partial_derivatives_match_hand_values_and_differences() {
+        let jc = FlowStress::steel_4340_seed000();
+        let (de, dt) = jc.partial_derivatives(0.1, 1000.0, 1043.5);
+        let r = 1.0 + 0.014 * 1000.0_f64.ln();
+        let th = 1.0 - 0.5_f64.powf(1.03);
+        let h = 792.0e6 + 510.0e6 * 0.1_f64.powf(0.26);
+        let de_hand = 510.0e6 * 0.26 * 0.1_f64.powf(-0.74) * r * th;
+        let dt_hand = -h * r * 1.03 * 0.5_f64.powf(0.03) / 1499.0;
+        assert!((de - de_hand).abs() < 1e-9 * de_hand, "{de}");
+        assert!((dt - dt_hand).abs() < 1e-9 * dt_hand.abs(), "{dt}");
+        assert!((de - 407.80e6).abs() < 0.01e6, "{de}");
+        assert!((dt + 0.791_40e6).abs() < 0.000_01e6, "{dt}");
+        let f = |e: f64, t: f64| jc.flow_stress(e, 1000.0, t);
+        let fd_e = (f(0.1 + 1e-7, 1043.5) - f(0.1 - 1e-7, 1043.5)) / 2e-7;
+        let fd_t = (f(0.1, 1043.5 + 1e-3) - f(0.1, 1043.5 - 1e-3)) / 2e-3;
+        assert!((de - fd_e).abs() < 1e-6 * de, "{de} vs {fd_e}");
+        assert!((dt - fd_t).abs() < 1e-6 * dt.abs(), "{dt} vs {fd_t}");
+        // Flat where T* is clamped; zero for a melted point; constant σ_y.
+        assert_eq!(jc.partial_derivatives(0.1, 1.0, 200.0).1, 0.0);
+        assert_eq!(jc.partial_derivatives(0.1, 1.0, 1793.0), (0.0, 0.0));
+        assert_eq!(jc.partial_derivatives(0.0, 1.0, 300.0).0, f64::INFINITY);
+        let c = FlowStress::Constant { sigma_y: 1e8 };
+        assert_eq!(c.partial_derivatives(0.3, 1e3, 500.0), (0.0, 0.0));
     }
 
     #[test]

@@ -10,7 +10,14 @@
 //!   eqs 41–42, seed 001 eq 64).
 //! - [`elastic_plastic`]: J2 radial return, plastic heating, melting
 //!   (seed 000 §4.2).
-//! - [`damage`]: Johnson–Cook damage and the failed point (seed 000 eq 47).
+//! - [`damage`]: Johnson–Cook damage and the failed point (seed 000 eq 47),
+//!   with a Gaussian initial damage.
+//! - [`tepla`]: TEPLA-F porosity — nucleation, growth — and failure (seed
+//!   000 eqs 43–46).
+//! - [`stability`]: loss of material stability — Drucker's postulate and
+//!   the loss of hyperbolicity (seed 000 §4.2, eq 48).
+//! - [`random`]: counter-based random draws of per-point initial values
+//!   (Gaussian porosity and damage, seed 000 §5.3).
 //! - [`drucker_prager`]: Drucker–Prager soil with shear and tension
 //!   failure (seed 001 §4.4, eqs 59–63).
 //! - [`hjc`]: Holmquist–Johnson–Cook concrete, its three-region EOS and
@@ -35,6 +42,9 @@ pub mod model;
 pub mod null_material;
 pub mod objective;
 pub mod pressure;
+pub mod random;
+pub mod stability;
+pub mod tepla;
 
 pub use damage::JohnsonCookDamage;
 pub use drucker_prager::DruckerPrager;
@@ -47,3 +57,6 @@ pub use model::MaterialModel;
 pub use null_material::NullMaterial;
 pub use objective::ObjectiveRate;
 pub use pressure::PressureModel;
+pub use random::Gaussian;
+pub use stability::StabilityChecks;
+pub use tepla::Tepla;

@@ -129,6 +129,17 @@ impl MaterialModel {
         }
     }
 
+    /// The TEPLA-F porosity in a point's history (non-decreasing, in
+    /// [0, 1)): the J2 metal with a `tepla` model, `None` otherwise.
+    pub fn porosity(&self, history: &[f64]) -> Option<f64> {
+        match self {
+            Self::ElasticPlastic(m) if m.tepla.is_some() => {
+                Some(history[elastic_plastic::POROSITY_INDEX])
+            }
+            _ => None,
+        }
+    }
+
     /// Number of leading history values that are scalar state — unchanged
     /// by a rigid motion — before per-step values and the objective rate's
     /// rotation history.
@@ -153,6 +164,10 @@ impl Material for MaterialModel {
 
     fn init_history(&self, history: &mut [f64]) {
         dispatch!(self, m => m.init_history(history))
+    }
+
+    fn init_history_at(&self, history: &mut [f64], seed: u64) {
+        dispatch!(self, m => m.init_history_at(history, seed))
     }
 
     #[inline]
@@ -273,6 +288,53 @@ mod tests {
         ElasticPlastic::ofhc_copper_johnson_cook()
     );
     crate::material_contract_tests!(steel_4340_seed000, ElasticPlastic::steel_4340_seed000());
+    crate::material_contract_tests!(
+        steel_4340_cookoff_seed000,
+        ElasticPlastic::steel_4340_cookoff_seed000()
+    );
+    crate::material_contract_tests!(
+        copper_johnson_cook_tepla_drucker_jaumann,
+        ElasticPlastic {
+            tepla: Some(crate::Tepla {
+                initial_porosity: crate::Gaussian {
+                    min: Some(0.001),
+                    max: Some(0.02),
+                    seed: 7,
+                    ..crate::Gaussian::new(0.01, 0.005)
+                },
+                ..crate::Tepla::steel_4340_seed000()
+            }),
+            stability: crate::StabilityChecks {
+                drucker: true,
+                hyperbolicity: false,
+            },
+            rate: ObjectiveRate::Jaumann,
+            ..ElasticPlastic::ofhc_copper_johnson_cook()
+        }
+    );
+    crate::material_contract_tests!(
+        steel_4340_cookoff_hyperbolicity_jaumann,
+        ElasticPlastic {
+            stability: crate::StabilityChecks {
+                drucker: false,
+                hyperbolicity: true,
+            },
+            rate: ObjectiveRate::Jaumann,
+            ..ElasticPlastic::steel_4340_cookoff_seed000()
+        }
+    );
+    crate::material_contract_tests!(
+        copper_tepla_without_damage_hyperbolicity,
+        ElasticPlastic {
+            damage: None,
+            tepla: Some(crate::Tepla::steel_4340_seed000()),
+            stability: crate::StabilityChecks {
+                drucker: false,
+                hyperbolicity: true,
+            },
+            ..ElasticPlastic::ofhc_copper_johnson_cook()
+        }
+    );
     crate::material_contract_tests!(rha_steel_seed001, ElasticPlastic::rha_steel_seed001());
     crate::material_contract_tests!(
         soil_drucker_prager,

@@ -54,6 +54,19 @@ pub trait Material: Send + Sync + std::fmt::Debug {
     /// Initial values of the history variables.
     fn init_history(&self, history: &mut [f64]);
 
+    /// Initial values of the history variables of one material point, for
+    /// models whose initial state is drawn per point from a distribution
+    /// (seed 000 §4.2: Gaussian initial porosity and damage). `seed`
+    /// identifies the point; the values must depend on it alone — not on
+    /// the order of the calls or on the thread — so a solver that derives
+    /// it from the point's initial position and material gets the same bits
+    /// whatever its thread count or particle order. Models without per-point
+    /// randomness keep this default, [`Material::init_history`].
+    fn init_history_at(&self, history: &mut [f64], seed: u64) {
+        let _ = seed;
+        self.init_history(history);
+    }
+
     /// Advances the stress over one step.
     fn update_stress(&self, input: &StressUpdateInput, history: &mut [f64]) -> StressUpdate;
 
