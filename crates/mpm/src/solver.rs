@@ -280,9 +280,14 @@ impl MpmSolver {
             detail: e.to_string(),
         })?;
         for p in 0..particles.len() {
-            let m = &materials[particles.material[p].0 as usize];
+            let id = particles.material[p].0;
+            let m = &materials[id as usize];
             let len = m.history_len();
-            m.init_history(&mut particles.history_of_mut(p)[..len]);
+            // Per-point initial draws (seed 000 §4.2) seeded by the initial
+            // position and material alone: the same bits whatever the
+            // thread count or particle order.
+            let seed = brisance_constitutive::random::point_seed(particles.position[p], id);
+            m.init_history_at(&mut particles.history_of_mut(p)[..len], seed);
         }
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let lattice = NodeLattice::new(&grid, options.shape);
