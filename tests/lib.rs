@@ -7,3 +7,4 @@ mod restart;
 mod v_bar;
 mod v_smooth;
 mod v_sod;
+mod v_sod_mpm;

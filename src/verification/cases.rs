@@ -81,13 +81,30 @@ pub fn sod_case(cells: usize) -> Result<SodResult, String> {
     sod_run(cells, &[])
 }
 
+/// The artificial bulk viscosity of V-SOD-MPM: LS-DYNA's default
+/// coefficients Q₁ = 1.5, Q₂ = 0.06 (docs/physics/mpm/bulk_viscosity.md).
+pub const SOD_MPM_BULK_VISCOSITY: &str = "On(quadratic: 1.5, linear: 0.06)";
+
 /// V-SOD-MPM: the same tube with gas particles (an inviscid null material
-/// with the same ideal gas, MUSL, 4 particles per cell, Courant number 0.4)
-/// and rigid tube ends (particles cannot leave an MPM domain the way an
-/// Eulerian outflow face lets gas out), with `shape` = `Linear` or `Gimp`.
+/// with the same ideal gas, MUSL, 4 particles per cell, Courant number 0.4,
+/// the artificial bulk viscosity [`SOD_MPM_BULK_VISCOSITY`]) and rigid tube
+/// ends (particles cannot leave an MPM domain the way an Eulerian outflow
+/// face lets gas out), with `shape` = `Linear` or `Gimp`.
 pub fn sod_mpm_case(cells: usize, shape: &str) -> Result<SodResult, String> {
+    sod_mpm_case_with(cells, shape, SOD_MPM_BULK_VISCOSITY)
+}
+
+/// V-SOD-MPM with the config value `bulk_viscosity` (`Off`, or `On(...)`),
+/// to show what the viscosity changes.
+pub fn sod_mpm_case_with(
+    cells: usize,
+    shape: &str,
+    bulk_viscosity: &str,
+) -> Result<SodResult, String> {
     let sets = [
-        format!("pipeline=Mpm(shape_function: {shape}, scheme: Musl, ppc: 4)"),
+        format!(
+            "pipeline=Mpm(shape_function: {shape}, scheme: Musl, ppc: 4, bulk_viscosity: {bulk_viscosity})"
+        ),
         "materials.gas=(model: Null(eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0), viscosity: 0.0))".to_string(),
         "time.cfl=0.4".to_string(),
         "boundaries.x_low=Reflective".to_string(),

@@ -348,6 +348,7 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Box<dyn Solver>, ConfigErr
         gravity: mpm.gravity,
         boundaries: std::array::from_fn(|k| boundary(faces[k].1)),
         mass_cutoff: mpm.mass_cutoff,
+        bulk_viscosity: mpm.bulk_viscosity.option(),
         ..Default::default()
     };
     let solver = MpmSolver::new(level, models, particles, options)
@@ -368,7 +369,7 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
         })
         .collect();
     format!(
-        "scenario `{}`: Mpm pipeline (explicit MPM, seed 001 §2.2), {dims}D, {:?} shape functions, {:?}, {} particles per cell per direction\n  \
+        "scenario `{}`: Mpm pipeline (explicit MPM, seed 001 §2.2), {dims}D, {:?} shape functions, {:?}, {} particles per cell per direction, bulk viscosity {}\n  \
          grid: {} x {} x {} cells from {:?} to {:?} m\n  \
          materials: {}\n  \
          time: to {} s at cfl {}\n  \
@@ -378,6 +379,10 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
         mpm.shape_function,
         mpm.scheme,
         mpm.ppc,
+        match mpm.bulk_viscosity.option() {
+            None => "off".to_string(),
+            Some(v) => format!("Q1 = {}, Q2 = {}", v.quadratic, v.linear),
+        },
         d.cells[0],
         d.cells[1],
         d.cells[2],
@@ -422,6 +427,42 @@ mod tests {
         assert_eq!(
             solver.conservation_totals().mass.to_bits(),
             t0.mass.to_bits()
+        );
+    }
+
+    #[test]
+    fn bulk_viscosity_is_off_by_default_and_on_takes_ls_dyna_defaults() {
+        use crate::config::BulkViscosityConfig;
+        let loaded = load_str("taylor2d.ron", TAYLOR, &[]).unwrap();
+        let Pipeline::Mpm(mpm) = &loaded.scenario.pipeline else {
+            panic!("taylor2d is an Mpm scenario");
+        };
+        assert_eq!(mpm.bulk_viscosity, BulkViscosityConfig::Off);
+        for (set, want) in [
+            ("pipeline.bulk_viscosity=On()", (1.5, 0.06)),
+            ("pipeline.bulk_viscosity=On(linear: 0.2)", (1.5, 0.2)),
+            (
+                "pipeline.bulk_viscosity=On(quadratic: 2.0, linear: 0.2)",
+                (2.0, 0.2),
+            ),
+        ] {
+            let loaded = load_str("taylor2d.ron", TAYLOR, &[set.to_string()]).unwrap();
+            let Pipeline::Mpm(mpm) = &loaded.scenario.pipeline else {
+                unreachable!()
+            };
+            let v = mpm.bulk_viscosity.option().unwrap();
+            assert_eq!((v.quadratic, v.linear), want, "{set}");
+            assert!(describe(&loaded.scenario).contains(&format!("Q1 = {}", want.0)));
+        }
+        let err = load_str(
+            "taylor2d.ron",
+            TAYLOR,
+            &["pipeline.bulk_viscosity=On(quadratic: -1.0)".to_string()],
+        )
+        .unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.bulk_viscosity.quadratic")
         );
     }
 

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
-use brisance_mpm::{ShapeFunction, UpdateScheme};
+use brisance_mpm::{BulkViscosity, ShapeFunction, UpdateScheme};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario: one RON file.
@@ -171,6 +171,32 @@ pub struct MpmConfig {
     /// treated as empty.
     #[serde(default = "default_mass_cutoff")]
     pub mass_cutoff: f64,
+    /// Artificial bulk viscosity of the particles (default `Off`).
+    #[serde(default)]
+    pub bulk_viscosity: BulkViscosityConfig,
+}
+
+/// The artificial bulk viscosity of the particles
+/// (docs/physics/mpm/bulk_viscosity.md): q = ρ l (Q₁ l (tr D)² − Q₂ c tr D)
+/// in compression, added to the pressure.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum BulkViscosityConfig {
+    /// No bulk viscosity (the default).
+    #[default]
+    Off,
+    /// On, with `quadratic` Q₁ (default 1.5) and `linear` Q₂ (default
+    /// 0.06), LS-DYNA's defaults: `On()` or `On(quadratic: 1.5, linear: 0.06)`.
+    On(BulkViscosity),
+}
+
+impl BulkViscosityConfig {
+    /// The solver option.
+    pub fn option(&self) -> Option<BulkViscosity> {
+        match self {
+            Self::Off => None,
+            Self::On(v) => Some(*v),
+        }
+    }
 }
 
 fn default_ppc() -> usize {

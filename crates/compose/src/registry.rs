@@ -104,8 +104,8 @@ pub const ENTRIES: &[Entry] = &[
     Entry {
         family: "pipeline",
         name: "Mpm",
-        summary: "explicit material point method: USF/USL/MUSL, linear/GIMP/B-spline shapes (seed 001 §2.2, seed 000 §3.2)",
-        example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2)",
+        summary: "explicit material point method: USF/USL/MUSL, linear/GIMP/B-spline shapes, optional bulk viscosity (seed 001 §2.2, seed 000 §3.2)",
+        example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2, bulk_viscosity: On(quadratic: 1.5, linear: 0.06))",
     },
     Entry { family: "region", name: "Everywhere", summary: "the whole domain", example: "Everywhere" },
     Entry { family: "region", name: "Box", summary: "axis-aligned box", example: "Box(min: (0, 0, 0), max: (1, 1, 1))" },

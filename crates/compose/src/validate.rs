@@ -225,6 +225,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             if !finite3(&mpm.gravity) {
                 return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
             }
+            if let Some(Err((name, value))) = mpm.bulk_viscosity.option().map(|v| v.validate()) {
+                return Err((
+                    format!("pipeline.bulk_viscosity.{name}"),
+                    format!("bulk viscosity coefficient {name} = {value} must be finite and ≥ 0"),
+                ));
+            }
             for (face, bc) in s.boundaries.faces() {
                 if matches!(bc, BoundaryConfig::Periodic | BoundaryConfig::Fixed(_)) {
                     return Err((

@@ -17,6 +17,8 @@
 //!   update (seed 001 eqs 12–13, 22–30).
 //! - [`boundary`]: grid boundary conditions per domain face.
 //! - [`solver`]: [`MpmSolver`], the method behind the core `Solver` trait.
+//! - [`viscosity`]: the artificial bulk viscosity q of shocked particles
+//!   (von Neumann–Richtmyer quadratic and Landshoff linear terms).
 //! - [`generate`]: particles from geometric shapes (box, sphere, cylinder,
 //!   cylindrical shell, half-space), `ppc` per cell per direction.
 //!
@@ -33,6 +35,7 @@ pub mod shape;
 pub mod solver;
 pub mod step;
 pub mod transfer;
+pub mod viscosity;
 
 pub use boundary::GridBoundary;
 pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
@@ -44,3 +47,4 @@ pub use particles::{
 pub use shape::{ShapeError, ShapeFunction, ShapeStencil, MAX_STENCIL_NODES};
 pub use solver::{MpmOptions, MpmSetupError, MpmSolver};
 pub use step::UpdateScheme;
+pub use viscosity::{BulkViscosity, BulkViscosityState};

@@ -24,14 +24,16 @@
 //!
 //! Cell values are mass-weighted averages over the particles whose position
 //! lies in the cell: for a particle quantity q, q_cell = Σ m_p q_p / Σ m_p
-//! (density ρ_p = m_p/V_p, velocity components, pressure −tr σ_p/3,
-//! specific internal energy), and zero in a cell without particles.
+//! (density ρ_p = m_p/V_p, velocity components, the material's pressure
+//! −tr σ_p/3 − q_p without the bulk viscosity q_p, specific internal
+//! energy), and zero in a cell without particles.
 //! `mass_density` is Σ m_p / V_cell, the particle mass smeared over the cell.
 
 use crate::boundary::{GridBoundary, FACE_NAMES};
 use crate::grid_nodes::{GridNodes, NodeLattice};
 use crate::step::{self, StepParams, UpdateScheme};
 use crate::transfer::{build_cell_start, compute_stencils, AxisStencils, GatherContext};
+use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
 use brisance_core::{CellData, ConservationTotals, Mat3, Material, Solver, SolverError};
@@ -57,6 +59,9 @@ pub struct MpmOptions {
     pub mass_cutoff: f64,
     /// Smallest acceptable time step, s.
     pub min_dt: f64,
+    /// Artificial bulk viscosity of the particles ([`crate::viscosity`]);
+    /// `None` (the default) adds none.
+    pub bulk_viscosity: Option<BulkViscosity>,
 }
 
 impl Default for MpmOptions {
@@ -69,6 +74,7 @@ impl Default for MpmOptions {
             boundaries: [GridBoundary::Free; 6],
             mass_cutoff: 1e-3,
             min_dt: 1e-14,
+            bulk_viscosity: None,
         }
     }
 }
@@ -161,6 +167,8 @@ pub struct MpmSolver {
     steps: u64,
     outflow: ConservationTotals,
     work: Workspace,
+    /// Per particle, in particle order: the bulk viscosity in its stress.
+    bulk: Vec<BulkViscosityState>,
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -172,6 +180,7 @@ struct SavedState {
     cells: [usize; 3],
     history_stride: usize,
     outflow: ConservationTotals,
+    bulk_viscosity: Vec<BulkViscosityState>,
     position: Vec<[f64; 3]>,
     velocity: Vec<[f64; 3]>,
     mass: Vec<f64>,
@@ -229,6 +238,14 @@ impl MpmSolver {
         if let Some(g) = options.gravity.iter().find(|g| !g.is_finite()) {
             return Err(bad("gravity", *g, "components must be finite"));
         }
+        if let Some(Err((name, value))) = options.bulk_viscosity.map(|v| v.validate()) {
+            let option = if name == "linear" {
+                "bulk_viscosity.linear"
+            } else {
+                "bulk_viscosity.quadratic"
+            };
+            return Err(bad(option, value, "must be finite and ≥ 0"));
+        }
         if particles.is_empty() {
             return Err(MpmSetupError::NoParticles);
         }
@@ -280,16 +297,12 @@ impl MpmSolver {
             detail: e.to_string(),
         })?;
         for p in 0..particles.len() {
-            let id = particles.material[p].0;
-            let m = &materials[id as usize];
+            let m = &materials[particles.material[p].0 as usize];
             let len = m.history_len();
-            // Per-point initial draws (seed 000 §4.2) seeded by the initial
-            // position and material alone: the same bits whatever the
-            // thread count or particle order.
-            let seed = brisance_constitutive::random::point_seed(particles.position[p], id);
-            m.init_history_at(&mut particles.history_of_mut(p)[..len], seed);
+            m.init_history(&mut particles.history_of_mut(p)[..len]);
         }
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
+        let bulk = vec![BulkViscosityState::default(); particles.len()];
         let lattice = NodeLattice::new(&grid, options.shape);
         Ok(Self {
             level,
@@ -307,6 +320,7 @@ impl MpmSolver {
                 stencils,
                 velocity_gradient: Vec::new(),
             },
+            bulk,
         })
     }
 
@@ -341,6 +355,26 @@ impl MpmSolver {
         self.outflow
     }
 
+    /// Each particle's bulk-viscosity state (q and tr D), in particle order.
+    pub fn bulk_viscosity(&self) -> &[BulkViscosityState] {
+        &self.bulk
+    }
+
+    /// The material's own pressure of particle `p`, −tr σ/3 − q (the stored
+    /// stress contains −q I), Pa.
+    fn material_pressure(&self, p: usize) -> f64 {
+        let s = &self.particles.stress[p];
+        -(s[0] + s[1] + s[2]) / 3.0 - self.bulk[p].q
+    }
+
+    /// The viscosity parameters of a step, if the option is on.
+    fn viscosity_params(&self) -> Option<ViscosityParams> {
+        self.options.bulk_viscosity.map(|model| ViscosityParams {
+            model,
+            length: viscosity_length(&self.level.geometry),
+        })
+    }
+
     /// Sorts the particles by cell if they are not sorted, and counts them
     /// per cell.
     fn sort_particles(&mut self) -> Result<(), SolverError> {
@@ -358,9 +392,11 @@ impl MpmSolver {
                 other => SolverError::Other(other.to_string()),
             })?;
         if !self.work.cells.windows(2).all(|w| w[0] <= w[1]) {
-            self.particles
+            let perm = self
+                .particles
                 .sort_by_cell(&grid)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
+            self.bulk = perm.iter().map(|&p| self.bulk[p]).collect();
             self.particles
                 .cell_indices(&grid, &mut self.work.cells)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
@@ -449,6 +485,7 @@ impl MpmSolver {
             })
             .collect();
         self.particles.select(&keep);
+        self.bulk = keep.iter().map(|&p| self.bulk[p]).collect();
         Ok(())
     }
 
@@ -469,7 +506,7 @@ impl MpmSolver {
                 let q = match f {
                     0 => m / ps.volume[p],
                     1..=3 => ps.velocity[p][f - 1],
-                    4 => -(ps.stress[p][0] + ps.stress[p][1] + ps.stress[p][2]) / 3.0,
+                    4 => self.material_pressure(p),
                     5 => ps.specific_internal_energy[p],
                     _ => 1.0,
                 };
@@ -522,7 +559,10 @@ impl Solver for MpmSolver {
     }
 
     /// Δt = cfl · min over active axes Δx_d / max over particles (c_p + |v_p|)
-    /// with c_p = [`Material::wave_speed`] at ρ_p = m_p/V_p, e_p.
+    /// with c_p = [`Material::wave_speed`] at ρ_p = m_p/V_p, e_p. With the
+    /// bulk viscosity on, c_p is replaced by the signal speed
+    /// Q + √(Q² + c_p²) of [`BulkViscosity::signal_speed`] at the particle's
+    /// last tr D.
     fn stable_dt(&self) -> Result<f64, SolverError> {
         let grid = &self.level.geometry;
         let dx_min = (0..3)
@@ -531,14 +571,19 @@ impl Solver for MpmSolver {
             .fold(f64::INFINITY, f64::min);
         let ps = &self.particles;
         let mats = &self.materials;
+        let viscosity = self.viscosity_params();
+        let bulk = &self.bulk;
         // max is exact, so the reduction order cannot change the result;
         // a NaN speed is reported.
         let (speed, bad) = (0..ps.len())
             .into_par_iter()
             .map(|p| {
                 let rho = ps.mass[p] / ps.volume[p];
-                let c =
+                let mut c =
                     mats[ps.material[p].0 as usize].wave_speed(rho, ps.specific_internal_energy[p]);
+                if let Some(v) = viscosity {
+                    c = v.model.signal_speed(bulk[p].trace_d, c, v.length);
+                }
                 let v = ps.velocity[p];
                 let s = c + (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
                 if s.is_finite() {
@@ -593,6 +638,7 @@ impl Solver for MpmSolver {
             mass_threshold: self.options.mass_cutoff * self.reference_particle_mass,
             materials: &self.materials,
             dt,
+            bulk_viscosity: self.viscosity_params(),
         };
         let work = &mut self.work;
         let ctx = GatherContext {
@@ -604,6 +650,7 @@ impl Solver for MpmSolver {
         };
         let nodes = &mut work.nodes;
         let ps = &mut self.particles;
+        let bulk = &mut self.bulk;
         let failure = match params.scheme {
             UpdateScheme::Usf => {
                 step::p2g_mass_momentum(&ctx, ps, nodes, &params);
@@ -613,7 +660,7 @@ impl Solver for MpmSolver {
                     &nodes.velocity,
                     &mut work.velocity_gradient,
                 );
-                let failure = step::update_stresses(ps, &work.velocity_gradient, &params);
+                let failure = step::update_stresses(ps, &work.velocity_gradient, bulk, &params);
                 if failure.is_none() {
                     step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
                     step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
@@ -633,7 +680,7 @@ impl Solver for MpmSolver {
                     &nodes.velocity_new,
                     &mut work.velocity_gradient,
                 );
-                step::update_stresses(ps, &work.velocity_gradient, &params)
+                step::update_stresses(ps, &work.velocity_gradient, bulk, &params)
             }
         };
         if let Some(f) = failure {
@@ -702,8 +749,9 @@ impl Solver for MpmSolver {
     }
 
     /// Every particle with its mass, volume, density, velocity, pressure
-    /// p = −tr σ/3, von Mises stress, temperature, specific internal energy,
-    /// material id and failed flag (1 or 0).
+    /// p = −tr σ/3 − q (the material's, without the bulk viscosity), von
+    /// Mises stress, temperature, specific internal energy, material id,
+    /// failed flag (1 or 0) and bulk viscosity q.
     fn particle_data(&self) -> Option<brisance_core::ParticleData> {
         let p = &self.particles;
         let n = p.len();
@@ -719,10 +767,7 @@ impl Solver for MpmSolver {
             ("velocity_x".to_string(), col(&|i| p.velocity[i][0])),
             ("velocity_y".to_string(), col(&|i| p.velocity[i][1])),
             ("velocity_z".to_string(), col(&|i| p.velocity[i][2])),
-            (
-                "pressure".to_string(),
-                col(&|i| -(p.stress[i][0] + p.stress[i][1] + p.stress[i][2]) / 3.0),
-            ),
+            ("pressure".to_string(), col(&|i| self.material_pressure(i))),
             (
                 "von_mises_stress".to_string(),
                 col(&|i| von_mises(&p.stress[i])),
@@ -737,6 +782,7 @@ impl Solver for MpmSolver {
                 "failed".to_string(),
                 col(&|i| if p.failed[i] { 1.0 } else { 0.0 }),
             ),
+            ("bulk_viscosity".to_string(), col(&|i| self.bulk[i].q)),
         ];
         Some(brisance_core::ParticleData {
             positions: p.position.clone(),
@@ -752,6 +798,7 @@ impl Solver for MpmSolver {
             cells: self.level.geometry.cells,
             history_stride: ps.history_stride(),
             outflow: self.outflow,
+            bulk_viscosity: self.bulk.clone(),
             position: ps.position.clone(),
             velocity: ps.velocity.clone(),
             mass: ps.mass.clone(),
@@ -800,6 +847,7 @@ impl Solver for MpmSolver {
             s.specific_internal_energy.len(),
             s.material.len(),
             s.failed.len(),
+            s.bulk_viscosity.len(),
             history_rows,
         ];
         if lengths.iter().any(|&l| l != n) {
@@ -832,6 +880,7 @@ impl Solver for MpmSolver {
         ps.history = s.history;
         ps.failed = s.failed;
         self.particles = ps;
+        self.bulk = s.bulk_viscosity;
         self.time = s.time;
         self.steps = s.steps;
         self.outflow = s.outflow;

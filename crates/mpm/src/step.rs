@@ -32,6 +32,7 @@
 use crate::boundary::{apply_grid_boundaries, GridBoundary};
 use crate::grid_nodes::GridNodes;
 use crate::transfer::{for_each_node, AxisStencils, GatherContext};
+use crate::viscosity::{BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::{elastic_plastic::TEMPERATURE_INCREMENT_INDEX, MaterialModel};
 use brisance_core::{Mat3, Material, StressUpdateInput, UniformGridGeometry};
@@ -74,6 +75,8 @@ pub struct StepParams<'a> {
     pub materials: &'a [MaterialModel],
     /// Time step, s.
     pub dt: f64,
+    /// Artificial bulk viscosity of the stress update, if any.
+    pub bulk_viscosity: Option<ViscosityParams>,
 }
 
 /// Why a particle's stress update was refused.
@@ -264,11 +267,13 @@ pub fn velocity_gradients(
 }
 
 /// The stress update of every particle (parallel over particles), see
-/// [`update_particle_stress`]. Returns the failure of the lowest-index
-/// particle that failed, if any.
+/// [`update_particle_stress`]; `bulk` is each particle's bulk-viscosity
+/// state (same order as the particles). Returns the failure of the
+/// lowest-index particle that failed, if any.
 pub fn update_stresses(
     particles: &mut Particles,
     velocity_gradient: &[Mat3],
+    bulk: &mut [BulkViscosityState],
     params: &StepParams,
 ) -> Option<ParticleFailure> {
     let n = particles.len();
@@ -280,6 +285,7 @@ pub fn update_stresses(
     };
     let materials = params.materials;
     let dt = params.dt;
+    let viscosity = params.bulk_viscosity;
     (
         particles.stress.par_iter_mut(),
         particles.deformation_gradient.par_iter_mut(),
@@ -292,11 +298,12 @@ pub fn update_stresses(
         particles.material.par_iter(),
         particles.mass.par_iter(),
         particles.initial_volume.par_iter(),
+        bulk.par_iter_mut(),
     )
         .into_par_iter()
         .enumerate()
         .filter_map(
-            |(index, (stress, f, volume, t, e, failed, hist, l, &mat, &m, &v0))| {
+            |(index, (stress, f, volume, t, e, failed, hist, l, &mat, &m, &v0, bulk))| {
                 let state = ParticleState {
                     stress,
                     deformation_gradient: f,
@@ -305,8 +312,10 @@ pub fn update_stresses(
                     specific_internal_energy: e,
                     failed,
                     history: hist,
+                    bulk_viscosity: bulk,
                 };
-                update_particle_stress(&materials[mat.0 as usize], mat, state, l, m, v0, dt)
+                let material = &materials[mat.0 as usize];
+                update_particle_stress(material, mat, state, l, m, v0, dt, viscosity)
                     .err()
                     .map(|(jacobian, reason)| ParticleFailure {
                         index,
@@ -335,6 +344,8 @@ pub struct ParticleState<'a> {
     /// History block (the set's stride; the model uses its first
     /// `history_len` values).
     pub history: &'a mut [f64],
+    /// The bulk viscosity q contained in `stress` and its tr D.
+    pub bulk_viscosity: &'a mut BulkViscosityState,
 }
 
 /// One particle's update over Δt from its velocity gradient L:
@@ -350,8 +361,18 @@ pub struct ParticleState<'a> {
 ///    the elastic–plastic model stores in its history;
 /// 5. the failed flag from the update (irreversible).
 ///
+/// With an artificial bulk viscosity ([`crate::viscosity`]) the stored
+/// stress is σ − q I: the material's own stress σ minus the viscous
+/// pressure q. The model is given σⁿ = σ_storedⁿ + qⁿ I, the new
+/// qⁿ⁺¹ = q(tr D, ρⁿ⁺¹, c(ρⁿ⁺¹, eⁿ), l) is subtracted from its σⁿ⁺¹, and the
+/// stress power of step 4 uses the stored (total) stresses, so the work of
+/// q, Δt (qⁿ + qⁿ⁺¹)/2 |tr D| / ρ^{n+½}, heats the particle. A model that
+/// tracks its temperature apart from e (the elastic–plastic one) also gets
+/// that work as ΔT = w_q / c_v.
+///
 /// Returns (J, reason) when the new state is not physical; the particle is
 /// then left partly updated and the step must be abandoned.
+#[allow(clippy::too_many_arguments)]
 pub fn update_particle_stress(
     material: &MaterialModel,
     _id: MaterialId,
@@ -360,6 +381,7 @@ pub fn update_particle_stress(
     mass: f64,
     initial_volume: f64,
     dt: f64,
+    viscosity: Option<ViscosityParams>,
 ) -> Result<(), (f64, &'static str)> {
     let f_old = Mat3::from_row_slice(&state.deformation_gradient[..]);
     let f_new = (Mat3::identity() + l * dt) * f_old;
@@ -370,7 +392,14 @@ pub fn update_particle_stress(
     let v_old = *state.volume;
     let v_new = j * initial_volume;
     let rho = mass / v_new;
+    // The stored stress: the material's minus the viscous pressure.
     let sigma_old = crate::voigt_to_matrix(state.stress);
+    let q_old = state.bulk_viscosity.q;
+    let sigma_material_old = if q_old != 0.0 {
+        sigma_old + Mat3::identity() * q_old
+    } else {
+        sigma_old
+    };
     let hlen = material.history_len();
     let history = &mut state.history[..hlen];
     let update = material.update_stress(
@@ -380,7 +409,7 @@ pub fn update_particle_stress(
             density: rho,
             temperature: *state.temperature,
             specific_internal_energy: *state.specific_internal_energy,
-            stress: sigma_old,
+            stress: sigma_material_old,
         },
         history,
     );
@@ -388,17 +417,38 @@ pub fn update_particle_stress(
         return Err((j, "the updated stress is not finite"));
     }
     let d = 0.5 * (l + l.transpose());
-    let power = 0.5 * (sigma_old + update.stress).component_mul(&d).sum();
+    let trace_d = d.trace();
+    let q_new = match viscosity {
+        Some(v) => {
+            let c = material.wave_speed(rho, *state.specific_internal_energy);
+            v.model.pressure(trace_d, rho, c, v.length)
+        }
+        None => 0.0,
+    };
+    if !q_new.is_finite() {
+        return Err((j, "the bulk viscosity is not finite"));
+    }
+    let sigma_new = if q_new != 0.0 {
+        update.stress - Mat3::identity() * q_new
+    } else {
+        update.stress
+    };
+    let power = 0.5 * (sigma_old + sigma_new).component_mul(&d).sum();
     let rho_mid = 2.0 * mass / (v_old + v_new);
     let e_new = *state.specific_internal_energy + dt * power / rho_mid;
     if !e_new.is_finite() {
         return Err((j, "the specific internal energy is not finite"));
     }
-    if let MaterialModel::ElasticPlastic(_) = material {
+    if let MaterialModel::ElasticPlastic(model) = material {
         *state.temperature += history[TEMPERATURE_INCREMENT_INDEX];
+        if q_old != 0.0 || q_new != 0.0 {
+            let viscous_work = -dt * 0.5 * (q_old + q_new) * trace_d / rho_mid;
+            *state.temperature += viscous_work / model.specific_heat;
+        }
     }
     *state.specific_internal_energy = e_new;
-    *state.stress = crate::matrix_to_voigt(&update.stress);
+    *state.stress = crate::matrix_to_voigt(&sigma_new);
+    *state.bulk_viscosity = BulkViscosityState { q: q_new, trace_d };
     state
         .deformation_gradient
         .copy_from_slice(f_new.transpose().as_slice());

@@ -480,3 +480,194 @@ fn cell_data_gives_mass_weighted_particle_averages() {
     assert!(s.cell_data(&["nope".to_string()]).is_err());
     run(&mut s, 1);
 }
+
+// ------------------------------------------------------- bulk viscosity
+
+fn viscous(mut s: MpmSolver) -> MpmSolver {
+    let mut options = *s.options();
+    options.bulk_viscosity = Some(crate::BulkViscosity::LS_DYNA);
+    let (level, materials, particles) = (s.level.clone(), s.materials.clone(), s.particles);
+    s = MpmSolver::new(level, materials, particles, options).unwrap();
+    s
+}
+
+#[test]
+fn bulk_viscosity_states_follow_their_particles_through_sort_and_outflow() {
+    // Particles pushed right block first, so the first sort permutes them;
+    // tag each particle's state with its own mass to see that it follows.
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.75, 0.25, 0.0],
+        [1.0, 0.5, 1.0],
+        2048.0,
+        [64.0, 0.0, 0.0],
+        0,
+    );
+    fill(
+        &mut ps,
+        &level,
+        [0.0, 0.25, 0.0],
+        [0.25, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let mut boundaries = [GridBoundary::Free; 6];
+    boundaries[1] = GridBoundary::Outflow;
+    let mut s = MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            boundaries,
+            bulk_viscosity: Some(crate::BulkViscosity::LS_DYNA),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let tag = |s: &mut MpmSolver| {
+        for p in 0..s.particles.len() {
+            s.bulk[p].trace_d = s.particles.mass[p] + s.particles.position[p][1];
+        }
+    };
+    let check = |s: &MpmSolver| {
+        for p in 0..s.particles.len() {
+            let want = s.particles.mass[p] + s.particles.position[p][1];
+            assert_eq!(s.bulk[p].trace_d, want, "particle {p}");
+        }
+    };
+    tag(&mut s);
+    let first = s.particles.mass[0];
+    s.sort_particles().unwrap();
+    assert_ne!(
+        s.particles.mass[0], first,
+        "the sort permuted the particles"
+    );
+    check(&s);
+    // Move the fast block out through x+ and remove it.
+    let n0 = s.particles.len();
+    for p in 0..n0 {
+        // The heavy (2048 kg/m³) block: particles of 8 kg, the others 4 kg.
+        if s.particles.mass[p] > 6.0 {
+            s.particles.position[p][0] += 0.3;
+        }
+    }
+    s.handle_leaving_particles().unwrap();
+    assert!(s.particles.len() < n0);
+    check(&s);
+}
+
+#[test]
+fn stable_dt_uses_the_viscous_signal_speed_of_compressed_particles() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [3.0, 4.0, 0.0],
+        0,
+    );
+    let mut s = MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            bulk_viscosity: Some(crate::BulkViscosity::LS_DYNA),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let c = ((1.0e7 + 4.0 * 5.0e6 / 3.0) / 1024.0f64).sqrt();
+    // No compression yet: the plain CFL step.
+    let plain = 0.4 * 0.125 / (c + 5.0);
+    assert!((s.stable_dt().unwrap() - plain).abs() < 1e-12 * plain);
+    // One particle at tr D = −2000 /s: Q = 0.06 c + 1.5 · 0.125 · 2000 (l =
+    // 1/8 m, the 2D cell size), speed Q + √(Q² + c²).
+    s.bulk[5].trace_d = -2000.0;
+    let q = 0.06 * c + 1.5 * 0.125 * 2000.0;
+    let expected = 0.4 * 0.125 / (q + (q * q + c * c).sqrt() + 5.0);
+    let dt = s.stable_dt().unwrap();
+    assert!((dt - expected).abs() < 1e-12 * expected, "{dt} {expected}");
+    assert!(dt < 0.2 * plain);
+    // Expansion does not shorten the step.
+    s.bulk[5].trace_d = 2000.0;
+    assert!((s.stable_dt().unwrap() - plain).abs() < 1e-12 * plain);
+}
+
+#[test]
+fn viscous_runs_are_deterministic_restartable_and_conserve_mass_and_momentum() {
+    let mut s = viscous(collision(ShapeFunction::Gimp, UpdateScheme::Musl));
+    let m0 = s.conservation_totals().mass;
+    run(&mut s, 40);
+    assert!(
+        s.bulk_viscosity().iter().any(|b| b.q > 0.0),
+        "the impact compresses some particle"
+    );
+    assert_eq!(s.conservation_totals().mass, m0);
+    let saved = s.save_state().unwrap();
+    let pressure_and_q: Vec<(f64, f64)> = {
+        let data = s.particle_data().unwrap();
+        let col = |n: &str| data.fields.iter().find(|f| f.0 == n).unwrap().1.clone();
+        col("pressure")
+            .into_iter()
+            .zip(col("bulk_viscosity"))
+            .collect()
+    };
+    for (p, &(pressure, q)) in pressure_and_q.iter().enumerate() {
+        let st = s.particles.stress[p];
+        let total = -(st[0] + st[1] + st[2]) / 3.0;
+        assert_eq!(q, s.bulk[p].q);
+        assert!((pressure + q - total).abs() <= 1e-12 * total.abs().max(1.0));
+    }
+    let state = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut b = viscous(collision(ShapeFunction::Gimp, UpdateScheme::Musl));
+            b.restore_state(&saved).unwrap();
+            run(&mut b, 30);
+            b.save_state().unwrap()
+        })
+    };
+    run(&mut s, 30);
+    let reference = s.save_state().unwrap();
+    assert!(state(1) == reference);
+    assert!(state(2) == reference);
+}
+
+#[test]
+fn negative_viscosity_coefficients_are_refused_by_name() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let e = MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            bulk_viscosity: Some(crate::BulkViscosity {
+                quadratic: 1.5,
+                linear: -0.1,
+            }),
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("bulk_viscosity.linear"), "{e}");
+}
