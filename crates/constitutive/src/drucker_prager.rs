@@ -552,4 +552,87 @@ mod tests {
         assert!((q - 0.480384).abs() < 1e-6, "{q}");
         assert!((k - 832_050.3).abs() < 0.1, "{k}");
     }
+
+    /// Uniaxial strain in compression, seed 001 soil (non-dilatant): the
+    /// elastic path σ_m = Kε, τ = 2G|ε|/√3 meets the cone τ + q_φσ_m = k_φ
+    /// at ε_y = −k_φ/(2G/√3 − q_φK) = −134 715.5/(44.4115e6 − 37.1458e6)
+    /// = −0.018541; beyond it σ_m = Kε (no plastic dilation) and
+    /// τ = k_φ − q_φKε, so σ_xx = σ_m − (2/√3)τ, σ_yy = σ_m + τ/√3, and
+    /// ε̄_p = (2G/√3 − q_φK)(|ε| − |ε_y|)/(√3 G).
+    #[test]
+    fn uniaxial_strain_follows_the_hand_computed_elastic_then_cone_path() {
+        let m = DruckerPrager::soil_luccioni_luege_2006();
+        let (k, q) = (m.k_phi, m.q_phi);
+        let slope = 2.0 * G / 3f64.sqrt() - q * K;
+        let eps_y = -k / slope;
+        assert!((eps_y + 0.018_541).abs() < 1e-6, "{eps_y}");
+        let (dt, rate) = (1e-5, -10.0);
+        let l = Mat3::new(rate, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut h = vec![0.0; m.history_len()];
+        m.init_history(&mut h);
+        let mut sigma = Mat3::zeros();
+        for step in 1..=400 {
+            let input = StressUpdateInput {
+                velocity_gradient: l,
+                dt,
+                density: 1200.0,
+                temperature: 300.0,
+                specific_internal_energy: 0.0,
+                stress: sigma,
+            };
+            sigma = m.update_stress(&input, &mut h).stress;
+            let eps = rate * dt * step as f64;
+            let sm = K * eps;
+            let tau = if eps > eps_y * (1.0 - 1e-9) {
+                -2.0 * G * eps / 3f64.sqrt()
+            } else if eps < eps_y * (1.0 + 1e-9) {
+                k - q * K * eps
+            } else {
+                continue;
+            };
+            let (sxx, syy) = (sm - 2.0 * tau / 3f64.sqrt(), sm + tau / 3f64.sqrt());
+            let scale = sm.abs().max(tau);
+            assert!(
+                (sigma[(0, 0)] - sxx).abs() < 1e-9 * scale,
+                "ε = {eps}: {sigma}"
+            );
+            assert!(
+                (sigma[(1, 1)] - syy).abs() < 1e-9 * scale,
+                "ε = {eps}: {sigma}"
+            );
+            assert!(
+                (sigma[(2, 2)] - syy).abs() < 1e-9 * scale,
+                "ε = {eps}: {sigma}"
+            );
+        }
+        let eps_end: f64 = rate * dt * 400.0;
+        let eps_p = slope * (eps_end.abs() - eps_y.abs()) / (3f64.sqrt() * G);
+        assert!(
+            (h[PLASTIC_STRAIN_INDEX] - eps_p).abs() < 1e-9 * eps_p,
+            "{h:?} vs {eps_p}"
+        );
+        assert_eq!(h[PLASTIC_VOLUMETRIC_STRAIN_INDEX], 0.0);
+    }
+
+    /// Simple shear with rotation to γ = 2 (Jaumann), seed 001 soil at zero
+    /// mean stress: the radial return on the cone at σ_m = 0 is that of a
+    /// J2 solid of shear strength k_φ, so the deviator reaches the same
+    /// steady state as the J2 metal: s₁₁ = −s₂₂ = k_φ²/G = 471.85 Pa,
+    /// s₁₂ = √(k_φ² − (k_φ²/G)²), σ_m = 0 (measured 7.5e-9 of a off the
+    /// continuum steady state at Δγ = 2e-4 per step).
+    #[test]
+    fn simple_shear_with_rotation_reaches_the_steady_state_on_the_cone() {
+        let m = DruckerPrager::soil_luccioni_luege_2006();
+        let (dt, gamma_dot) = (1e-5, 20.0);
+        let l = Mat3::new(0.0, gamma_dot, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (sigma, _, _) = drive(&m, l, dt, 10_000, Mat3::zeros());
+        let k = m.k_phi;
+        let a = k * k / G;
+        assert!((a - 471.85).abs() < 0.01, "{a}");
+        let b = (k * k - a * a).sqrt();
+        assert!((sigma[(0, 0)] - a).abs() < 1e-7 * a, "{sigma}");
+        assert!((sigma[(1, 1)] + a).abs() < 1e-7 * a, "{sigma}");
+        assert!((sigma[(0, 1)] - b).abs() < 1e-9 * b, "{sigma}");
+        assert!(sigma.trace().abs() < 1e-9 * k, "{sigma}");
+    }
 }
