@@ -11,8 +11,10 @@
 //! an x-row of nodes is one contiguous slice — the unit the parallel P2G
 //! gather works on.
 
+use crate::boundary::GridBoundary;
 use crate::ShapeFunction;
 use brisance_core::UniformGridGeometry;
+use rayon::prelude::*;
 
 /// Shape of the node lattice of a level: node counts and the global index
 /// of the first stored node per direction.
@@ -94,9 +96,84 @@ pub struct GridNodes {
     pub velocity: Vec<[f64; 3]>,
     /// Acceleration a_I = f_I/m_I after the boundary conditions, m/s².
     pub acceleration: Vec<[f64; 3]>,
-    /// Velocity at the end of the step, v_I^{n+1} (eq 22 for USL, eq 26 for
-    /// MUSL), after the boundary conditions, m/s.
+    /// Velocity at the end of the step from the momentum update,
+    /// v_I^{n+1} = v_I^n + a_I Δt (eq 22), after the boundary conditions,
+    /// m/s; it moves the particles (eq 25).
     pub velocity_new: Vec<[f64; 3]>,
+    /// MUSL only: the velocity re-mapped from the updated particle momenta,
+    /// v_I^{n+1} = Σ m_p N_Ip v_p^{n+1} / m_I (eq 26), after the boundary
+    /// conditions, m/s; the velocity gradient is formed from it.
+    pub velocity_remap: Vec<[f64; 3]>,
+}
+
+/// What the node updates between the transfers need.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeUpdate<'a> {
+    /// Face conditions x−, x+, y−, y+, z−, z+ ([`crate::boundary`]).
+    pub boundaries: &'a [GridBoundary; 6],
+    /// Cells per axis.
+    pub cells: [usize; 3],
+    /// Nodes at or below this mass (kg) get zero velocity and acceleration.
+    pub mass_threshold: f64,
+    /// Body force per unit mass, m/s².
+    pub gravity: [f64; 3],
+    /// Time step, s.
+    pub dt: f64,
+}
+
+/// Which node update [`GridNodes::update`] makes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeStage {
+    /// v_I^n = p_I/m_I.
+    Velocity,
+    /// f_I += m_I g, a_I = f_I/m_I, v_I^{n+1} = v_I^n + a_I Δt.
+    Integrate,
+    /// Both, in one pass.
+    VelocityAndIntegrate,
+    /// MUSL: the re-mapped v_I^{n+1} = p_I/m_I into `velocity_remap`.
+    Remap,
+}
+
+impl NodeUpdate<'_> {
+    /// `q/m` with the cut-off: zero at or below the threshold (or for a
+    /// non-positive mass).
+    #[inline(always)]
+    fn per_unit_mass(&self, q: [f64; 3], m: f64) -> [f64; 3] {
+        if m > self.mass_threshold && m > 0.0 {
+            [q[0] / m, q[1] / m, q[2] / m]
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// The components the face conditions zero at global node index `i`
+    /// along `axis` (see [`crate::boundary::apply_grid_boundaries`]: the
+    /// nodes on or beyond a face, of active axes only).
+    #[inline(always)]
+    fn face_mask(&self, axis: usize, i: isize) -> [bool; 3] {
+        let n = self.cells[axis] as isize;
+        if n <= 1 {
+            return [false; 3];
+        }
+        let bc = if i <= 0 {
+            self.boundaries[2 * axis]
+        } else if i >= n {
+            self.boundaries[2 * axis + 1]
+        } else {
+            return [false; 3];
+        };
+        match bc {
+            GridBoundary::Fixed => [true; 3],
+            GridBoundary::Symmetry => std::array::from_fn(|c| c == axis),
+            GridBoundary::Free | GridBoundary::Outflow => [false; 3],
+        }
+    }
+}
+
+/// `v` with the components of `mask` set to zero.
+#[inline(always)]
+fn masked(v: [f64; 3], mask: [bool; 3]) -> [f64; 3] {
+    std::array::from_fn(|c| if mask[c] { 0.0 } else { v[c] })
 }
 
 impl GridNodes {
@@ -111,13 +188,151 @@ impl GridNodes {
             velocity: vec![[0.0; 3]; n],
             acceleration: vec![[0.0; 3]; n],
             velocity_new: vec![[0.0; 3]; n],
+            velocity_remap: vec![[0.0; 3]; n],
         }
+    }
+
+    /// The node update `stage`, with the mass cut-off and the boundary
+    /// conditions applied to every velocity and acceleration formed
+    /// (parallel over x-rows of nodes; each node on its own, so the result
+    /// does not depend on the split).
+    pub fn update(&mut self, u: &NodeUpdate, stage: NodeStage) {
+        let lattice = self.lattice;
+        let nx = lattice.dims[0];
+        let (vel, integrate, remap) = match stage {
+            NodeStage::Velocity => (true, false, false),
+            NodeStage::Integrate => (false, true, false),
+            NodeStage::VelocityAndIntegrate => (true, true, false),
+            NodeStage::Remap => (false, false, true),
+        };
+        let g = u.gravity;
+        let dt = u.dt;
+        (
+            self.mass.par_chunks(nx),
+            self.momentum.par_chunks(nx),
+            self.force.par_chunks_mut(nx),
+            self.velocity.par_chunks_mut(nx),
+            self.acceleration.par_chunks_mut(nx),
+            self.velocity_new.par_chunks_mut(nx),
+            self.velocity_remap.par_chunks_mut(nx),
+        )
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(row, (m, p, f, v, a, vn, vr))| {
+                let first = lattice.node(row * nx);
+                let yz: [bool; 3] = {
+                    let my = u.face_mask(1, first[1]);
+                    let mz = u.face_mask(2, first[2]);
+                    std::array::from_fn(|c| my[c] || mz[c])
+                };
+                for i in 0..nx {
+                    let mx = u.face_mask(0, first[0] + i as isize);
+                    let mask: [bool; 3] = std::array::from_fn(|c| mx[c] || yz[c]);
+                    if vel {
+                        v[i] = masked(u.per_unit_mass(p[i], m[i]), mask);
+                    }
+                    if integrate {
+                        let ft: [f64; 3] = std::array::from_fn(|c| f[i][c] + m[i] * g[c]);
+                        f[i] = ft;
+                        a[i] = masked(u.per_unit_mass(ft, m[i]), mask);
+                        vn[i] = std::array::from_fn(|c| v[i][c] + a[i][c] * dt);
+                    }
+                    if remap {
+                        vr[i] = masked(u.per_unit_mass(p[i], m[i]), mask);
+                    }
+                }
+            });
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::boundary::apply_grid_boundaries;
+
+    /// Every combination of the four conditions on the six faces of a 3D
+    /// and a 2D lattice (with ghost layers): the node update forms the
+    /// per-unit-mass quantities with the cut-off and applies the face
+    /// conditions exactly as `apply_grid_boundaries` does.
+    #[test]
+    fn node_update_matches_the_step_by_step_definition() {
+        let kinds = [
+            GridBoundary::Fixed,
+            GridBoundary::Symmetry,
+            GridBoundary::Free,
+            GridBoundary::Outflow,
+        ];
+        for cells in [[3, 4, 2], [4, 3, 1]] {
+            let grid = UniformGridGeometry {
+                origin: [0.0; 3],
+                spacing: [1.0; 3],
+                cells,
+            };
+            for shape in [ShapeFunction::Linear, ShapeFunction::QuadraticBSpline] {
+                let lat = NodeLattice::new(&grid, shape);
+                let n = lat.len();
+                let mut nodes = GridNodes::new(lat);
+                for i in 0..n {
+                    let t = i as f64;
+                    // Some nodes below the cut-off, one massless.
+                    nodes.mass[i] = if i % 5 == 0 { 0.01 } else { 1.0 + 0.1 * t };
+                    nodes.mass[n / 2] = 0.0;
+                    nodes.momentum[i] = [t.sin(), t.cos(), 0.3 * t];
+                    nodes.force[i] = [(2.0 * t).sin(), -t, 0.5];
+                }
+                for code in 0..4usize.pow(6) {
+                    let bcs: [GridBoundary; 6] =
+                        std::array::from_fn(|f| kinds[(code >> (2 * f)) & 3]);
+                    let u = NodeUpdate {
+                        boundaries: &bcs,
+                        cells,
+                        mass_threshold: 0.05,
+                        gravity: [0.5, -9.75, 0.25],
+                        dt: 0.125,
+                    };
+                    let mut got = nodes.clone();
+                    got.update(&u, NodeStage::VelocityAndIntegrate);
+                    got.update(&u, NodeStage::Remap);
+                    let unit = |q: &[[f64; 3]]| -> Vec<[f64; 3]> {
+                        (0..n)
+                            .map(|i| {
+                                let m = nodes.mass[i];
+                                if m > 0.05 {
+                                    std::array::from_fn(|c| q[i][c] / m)
+                                } else {
+                                    [0.0; 3]
+                                }
+                            })
+                            .collect()
+                    };
+                    let f: Vec<[f64; 3]> = (0..n)
+                        .map(|i| {
+                            std::array::from_fn(|c| {
+                                nodes.force[i][c] + nodes.mass[i] * u.gravity[c]
+                            })
+                        })
+                        .collect();
+                    let mut v = unit(&nodes.momentum);
+                    let mut a = unit(&f);
+                    let mut vr = v.clone();
+                    apply_grid_boundaries(&bcs, &lat, cells, &mut [&mut v, &mut a, &mut vr]);
+                    let vn: Vec<[f64; 3]> = (0..n)
+                        .map(|i| std::array::from_fn(|c| v[i][c] + a[i][c] * u.dt))
+                        .collect();
+                    assert_eq!(got.velocity, v, "{cells:?} {bcs:?}");
+                    assert_eq!(got.force, f);
+                    assert_eq!(got.acceleration, a, "{cells:?} {bcs:?}");
+                    assert_eq!(got.velocity_new, vn);
+                    assert_eq!(got.velocity_remap, vr);
+                    // The stages one at a time give the same.
+                    let mut one = nodes.clone();
+                    one.update(&u, NodeStage::Velocity);
+                    one.update(&u, NodeStage::Integrate);
+                    assert_eq!(one.velocity_new, vn);
+                }
+            }
+        }
+    }
 
     #[test]
     fn lattice_index_and_node_invert_with_ghost_layers() {

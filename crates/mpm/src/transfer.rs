@@ -1,45 +1,986 @@
 //! Particle-to-grid (P2G) and grid-to-particle (G2P) transfers of seed 001
-//! eqs 18–21, 24–26 (seed 000 eqs 12, 16–17).
+//! eqs 18–21, 24–28 (seed 000 eqs 12–17).
 //!
-//! # Deterministic P2G by gathering
+//! # Kernel design
 //!
-//! The textbook P2G is a scatter: every particle adds N_Ip m_p, N_Ip m_p v_p
-//! and −V_p σ_p ∇N_Ip into its nodes. Done in parallel that is a data race
-//! unless it uses atomics or per-thread copies, and both make the
-//! floating-point summation order depend on the scheduling, so the bits
-//! change with the thread count. Here P2G is a *gather* instead:
+//! **Stencils.** Every shape function is a tensor product of 1D weights
+//! ([`crate::shape`]). A kernel evaluates a particle's three 1D stencils
+//! from its position when it visits the particle, into fixed-length arrays
+//! of N = 2 (linear) or 3 (GIMP, B-spline; GIMP padded with zero weights)
+//! nodes per active axis and 1 per inactive axis. Nothing is stored per
+//! particle: recomputing the 1D weights (one division and a few products
+//! per axis) costs less than reading a stored stencil back from memory.
+//! The kernels are monomorphised for the node counts (NX, NY, NZ) so that
+//! the node loops have constant trip counts; the weight and gradient of
+//! node (a, b, c) are formed by [`TensorRow`], exactly as
+//! [`crate::ShapeFunction::evaluate`] forms them.
 //!
-//! 1. The particles are kept sorted by cell (a stable counting sort, redone
-//!    every step), and `cell_start[c] .. cell_start[c + 1]` are the
-//!    particles of cell c.
-//! 2. Each node I = (i, j, k) is computed by exactly one task (rayon over
-//!    x-rows of nodes). It visits the cells whose particles can touch it —
-//!    along an active axis cells i − 1, i for the linear function and
-//!    i − 2 … i + 1 for GIMP and the B-spline, clipped to the grid — in
-//!    increasing linear cell index, and within a cell the particles in their
-//!    sorted order.
-//! 3. For each (node, particle) pair the weight and gradient are the
-//!    tensor products N = φx φy φz, ∇N = (φx′ φy φz, φx φy′ φz, φx φy φz′)
-//!    of the particle's three 1D stencils (the public 1D kernels of
-//!    [`crate::shape`]), formed in the same order as
-//!    [`crate::ShapeStencil`] forms them, so the values are bit-identical to
-//!    those of [`crate::ShapeFunction::evaluate`]. The 1D stencils are
-//!    computed once per particle per step into a reused buffer
-//!    ([`compute_stencils`]): recomputing them per pair would give the same
-//!    bits at several times the cost.
+//! **Bins and blocks.** A particle's stencil starts at the storage offset
+//! `bin` along each active axis: its cell ⌊ξ⌋ for the linear function, its
+//! nearest node ⌊ξ + 1/2⌋ for GIMP and the B-spline (ξ = (x − x_min)/Δx;
+//! with the lattice's ghost layer that node's left neighbour is stored at
+//! offset ⌊ξ + 1/2⌋). Bins are grouped into blocks of [`BLOCK_BINS`] per
+//! active axis, and [`ParticleBins`] lists the particles of each block
+//! (a counting sort, O(N), redone every step; within a block the particles
+//! keep their storage order).
 //!
-//! Every node's sums are therefore taken in one fixed order that depends
-//! only on the particle positions, never on how the nodes are split among
-//! threads: the result is the same on 1 or 64 threads, without atomics.
+//! **Deterministic scatter P2G by colouring.** A particle of block k
+//! (along one axis) touches storage nodes kT … kT + T − 1 + N − 1 with
+//! T = [`BLOCK_BINS`]; block k + 2 starts at (k + 2)T, past that range
+//! whenever T ≥ N − 1. The blocks are coloured by the parity of their
+//! three block coordinates (8 colours), so two blocks of one colour touch
+//! disjoint nodes. P2G visits the colours one after the other; within a
+//! colour the blocks run in parallel and each scatters its particles, in
+//! list order, straight into the node arrays. A node therefore receives its
+//! contributions in one fixed order — colour by colour, from the single
+//! block of each colour that reaches it, particle by particle in the
+//! block's list — which depends only on the particles' positions and
+//! storage order, never on the thread count or on how the level is split
+//! into patches: the sums are the same bits on 1 or 64 threads, without
+//! atomics or per-thread copies. The disjointness is checked, not assumed:
+//! each coloured visit asserts that the particle's stencil lies in the
+//! footprint of the block it is listed in, and every node row written is
+//! bounds-checked.
 //!
-//! G2P (eqs 24, 25) and the velocity gradient are naturally parallel over
-//! particles: each particle reads its nodes and writes only itself.
+//! **Fused passes.** One coloured pass gathers mass, momentum and internal
+//! force together (eqs 18, 19, 21); MUSL's second pass updates each
+//! particle's velocity from the nodal acceleration (eq 24) and scatters its
+//! new momentum for the re-mapping (eq 26) in the same visit. The passes
+//! that only read the grid — position update (eq 25) and velocity gradient
+//! (eqs 27–28) — run over the particles in storage order, in parallel, each
+//! particle writing only itself.
 
-use crate::grid_nodes::NodeLattice;
-use crate::shape::{bspline, gimp, linear, ShapeError, Stencil1d};
+use crate::grid_nodes::{GridNodes, NodeLattice};
+use crate::shape::{bspline, gimp, linear, ShapeError, Stencil1d, TensorRow};
 use crate::ShapeFunction;
-use brisance_core::UniformGridGeometry;
+use brisance_core::{Mat3, UniformGridGeometry};
 use rayon::prelude::*;
+use std::marker::PhantomData;
+
+/// Bins per block edge along an active axis. The colouring needs
+/// `BLOCK_BINS ≥ N − 1` for stencils of N nodes per axis (N ≤ 3).
+pub const BLOCK_BINS: usize = 2;
+
+/// Number of block colours: the parities of the three block coordinates.
+pub const COLOURS: usize = 8;
+
+/// Particles a parallel task takes at least, in the storage-order passes.
+const PARTICLES_PER_TASK: usize = 512;
+
+/// The grid as the kernels see it: geometry, node lattice and the bin and
+/// block layout of the shape function.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridMap {
+    /// The grid.
+    pub grid: UniformGridGeometry,
+    /// The shape function.
+    pub shape: ShapeFunction,
+    /// The node lattice.
+    pub lattice: NodeLattice,
+    /// 1/Δx per axis, 1/m.
+    inv_spacing: [f64; 3],
+    /// Nodes a particle's stencil spans per axis (1 on an inactive axis).
+    pub nodes_per_axis: [usize; 3],
+    /// Storage stride of a node step along each axis.
+    stride: [usize; 3],
+    /// Bins per axis.
+    pub bins: [usize; 3],
+    /// Blocks per axis.
+    pub blocks: [usize; 3],
+}
+
+impl GridMap {
+    /// The map of `grid` for `shape`.
+    pub fn new(grid: &UniformGridGeometry, shape: ShapeFunction) -> Self {
+        let lattice = NodeLattice::new(grid, shape);
+        let active: [bool; 3] = std::array::from_fn(|d| grid.cells[d] > 1);
+        let nodes_per_axis =
+            std::array::from_fn(|d| if active[d] { shape.nodes_per_axis() } else { 1 });
+        let bins: [usize; 3] = std::array::from_fn(|d| match (active[d], shape) {
+            (false, _) => 1,
+            (true, ShapeFunction::Linear) => grid.cells[d],
+            (true, ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline) => grid.cells[d] + 1,
+        });
+        Self {
+            grid: *grid,
+            shape,
+            lattice,
+            inv_spacing: std::array::from_fn(|d| 1.0 / grid.spacing[d]),
+            nodes_per_axis,
+            stride: [1, lattice.dims[0], lattice.dims[0] * lattice.dims[1]],
+            bins,
+            blocks: std::array::from_fn(|d| bins[d].div_ceil(BLOCK_BINS)),
+        }
+    }
+
+    /// Number of blocks.
+    pub fn block_count(&self) -> usize {
+        self.blocks.iter().product()
+    }
+
+    /// The bin of grid coordinate `xi` along axis `d` (the storage offset of
+    /// the first node of the stencil), or `None` when `xi` lies outside
+    /// [0, cells] (outside the grid, or not finite).
+    #[inline]
+    fn bin(&self, d: usize, xi: f64) -> Option<usize> {
+        let n = self.grid.cells[d];
+        if !(xi >= 0.0 && xi <= n as f64) {
+            return None;
+        }
+        if n <= 1 {
+            return Some(0);
+        }
+        // The same floors as the 1D stencils of crate::shape.
+        Some(match self.shape {
+            ShapeFunction::Linear => {
+                let mut c = crate::shape::floor(xi);
+                if xi == n as f64 {
+                    c -= 1.0;
+                }
+                c as usize
+            }
+            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => {
+                crate::shape::floor(xi + 0.5) as usize
+            }
+        })
+    }
+
+    /// The block of a particle at `x`, or `None` outside the grid.
+    #[inline]
+    pub fn block_of(&self, x: [f64; 3]) -> Option<usize> {
+        let mut block = 0;
+        for d in (0..3).rev() {
+            let xi = (x[d] - self.grid.origin[d]) / self.grid.spacing[d];
+            block = block * self.blocks[d] + self.bin(d, xi)? / BLOCK_BINS;
+        }
+        Some(block)
+    }
+
+    /// The block that holds storage offsets `offset` (the bins of a
+    /// stencil).
+    #[inline]
+    fn block_of_offsets(&self, offset: [usize; 3]) -> usize {
+        offset[0] / BLOCK_BINS
+            + self.blocks[0] * (offset[1] / BLOCK_BINS + self.blocks[1] * (offset[2] / BLOCK_BINS))
+    }
+
+    /// The uGIMP half-width of a particle of initial volume `v0` (0 for the
+    /// other shapes, which do not use it), checked against (0, Δx/2] on
+    /// every active axis.
+    pub fn half_width(&self, v0: f64) -> Result<f64, ShapeError> {
+        if self.shape != ShapeFunction::Gimp {
+            return Ok(0.0);
+        }
+        let lp = gimp_half_width(&self.grid, v0);
+        for d in 0..3 {
+            let h = self.grid.spacing[d];
+            if self.grid.cells[d] > 1 && !(lp > 0.0 && lp <= 0.5 * h) {
+                return Err(ShapeError::HalfWidth {
+                    axis: d,
+                    half_width: lp,
+                    max: 0.5 * h,
+                });
+            }
+        }
+        Ok(lp)
+    }
+
+    /// The 1D stencil along axis `d` of a particle at coordinate `x` (m)
+    /// with GIMP half-width `lp`, as N weights and derivatives from the
+    /// storage offset `offset`.
+    #[inline(always)]
+    fn axis<const N: usize>(&self, d: usize, x: f64, lp: f64) -> Axis<N> {
+        let mut w = [0.0; N];
+        let mut g = [0.0; N];
+        if N == 1 {
+            w[0] = 1.0;
+            return Axis { offset: 0, w, g };
+        }
+        let h = self.grid.spacing[d];
+        let xi = (x - self.grid.origin[d]) / h;
+        let s: Stencil1d = match self.shape {
+            ShapeFunction::Linear => {
+                linear::hat_1d_scaled(xi, self.inv_spacing[d], self.grid.cells[d])
+            }
+            ShapeFunction::QuadraticBSpline => {
+                bspline::quadratic_bspline_1d_scaled(xi, self.inv_spacing[d])
+            }
+            ShapeFunction::Gimp => gimp::ugimp_1d_padded(xi, h, lp),
+        };
+        w.copy_from_slice(&s.weight[..N]);
+        g.copy_from_slice(&s.gradient[..N]);
+        Axis {
+            // A particle outside the lattice wraps to a huge offset, which
+            // the bounds checks of the node rows reject.
+            offset: (s.first - self.lattice.first[d]) as usize,
+            w,
+            g,
+        }
+    }
+
+    /// The stencil of a particle at `x` with GIMP half-width `lp`.
+    #[inline(always)]
+    fn stencil<const NX: usize, const NY: usize, const NZ: usize>(
+        &self,
+        x: [f64; 3],
+        lp: f64,
+    ) -> Stencil<NX, NY, NZ> {
+        let sx = self.axis::<NX>(0, x[0], lp);
+        let sy = self.axis::<NY>(1, x[1], lp);
+        let sz = self.axis::<NZ>(2, x[2], lp);
+        Stencil {
+            base: sx.offset + self.stride[1] * sy.offset + self.stride[2] * sz.offset,
+            offset: [sx.offset, sy.offset, sz.offset],
+            x: sx,
+            y: sy,
+            z: sz,
+        }
+    }
+
+    /// Storage index of the first node of row (b, c) of a stencil.
+    #[inline(always)]
+    fn row_start(&self, base: usize, b: usize, c: usize) -> usize {
+        base + b * self.stride[1] + c * self.stride[2]
+    }
+}
+
+/// The uGIMP half-width of a particle of volume `volume` (m³): half the
+/// side of a cube of that volume over the active axes, l_p = ½ (V_p /
+/// Π_inactive Δx)^(1/n_active). For particles generated `ppc` per cell per
+/// direction this is Δx/(2 ppc), the default of
+/// [`ShapeFunction::default_half_width`].
+pub fn gimp_half_width(grid: &UniformGridGeometry, volume: f64) -> f64 {
+    let mut thickness = 1.0;
+    let mut active = 0;
+    for d in 0..3 {
+        if grid.cells[d] > 1 {
+            active += 1;
+        } else {
+            thickness *= grid.spacing[d];
+        }
+    }
+    if active == 0 {
+        return f64::INFINITY;
+    }
+    0.5 * (volume / thickness).powf(1.0 / active as f64)
+}
+
+/// One axis of a particle stencil: N weights and derivatives (1/m) from
+/// storage offset `offset`.
+#[derive(Debug, Clone, Copy)]
+struct Axis<const N: usize> {
+    offset: usize,
+    w: [f64; N],
+    g: [f64; N],
+}
+
+/// A particle's stencil: its three axes and the storage index of its first
+/// node.
+#[derive(Debug, Clone, Copy)]
+struct Stencil<const NX: usize, const NY: usize, const NZ: usize> {
+    base: usize,
+    offset: [usize; 3],
+    x: Axis<NX>,
+    y: Axis<NY>,
+    z: Axis<NZ>,
+}
+
+impl<const NX: usize, const NY: usize, const NZ: usize> Stencil<NX, NY, NZ> {
+    /// The y–z factors of row (b, c).
+    #[inline(always)]
+    fn row(&self, b: usize, c: usize) -> TensorRow {
+        TensorRow::new(self.y.w[b], self.y.g[b], self.z.w[c], self.z.g[c])
+    }
+}
+
+/// Why particles cannot be binned.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum BinError {
+    /// A particle outside the grid or with a non-finite coordinate.
+    #[error("particle {index} at {position:?} m lies outside the grid")]
+    Outside {
+        /// Particle index.
+        index: usize,
+        /// Its position, m.
+        position: [f64; 3],
+    },
+    /// A particle whose shape function cannot be evaluated.
+    #[error("particle {index}: {error}")]
+    Shape {
+        /// Particle index.
+        index: usize,
+        /// The reason.
+        error: ShapeError,
+    },
+    /// More particles than the 32-bit particle lists hold.
+    #[error("{count} particles exceed the 4 294 967 295 a solver holds")]
+    TooMany {
+        /// The particle count.
+        count: usize,
+    },
+}
+
+/// The particles of every block, and the non-empty blocks of every colour:
+/// the schedule of the coloured passes. Rebuilt every step from the
+/// positions (see the module doc).
+#[derive(Debug, Clone, Default)]
+pub struct ParticleBins {
+    /// Block of each particle, storage order.
+    block: Vec<u32>,
+    /// Particle indices grouped by block; within a block, storage order.
+    order: Vec<u32>,
+    /// Particles of block b are `order[block_start[b] .. block_start[b + 1]]`.
+    block_start: Vec<u32>,
+    /// Scratch cursor of the counting sort.
+    cursor: Vec<u32>,
+    /// Non-empty blocks of each colour, increasing.
+    colour_blocks: [Vec<u32>; COLOURS],
+    /// uGIMP half-width of each particle (GIMP only), m.
+    half_width: Vec<f64>,
+}
+
+impl ParticleBins {
+    /// Bins the particles at `position` (with initial volumes
+    /// `initial_volume`, used by GIMP). On failure names the lowest failing
+    /// particle.
+    pub fn build(
+        &mut self,
+        map: &GridMap,
+        position: &[[f64; 3]],
+        initial_volume: &[f64],
+    ) -> Result<(), BinError> {
+        let n = position.len();
+        if n >= u32::MAX as usize {
+            return Err(BinError::TooMany { count: n });
+        }
+        const OUTSIDE: u32 = u32::MAX;
+        self.block.resize(n, 0);
+        self.block
+            .par_iter_mut()
+            .zip(position.par_iter())
+            .with_min_len(PARTICLES_PER_TASK)
+            .for_each(|(b, x)| *b = map.block_of(*x).map_or(OUTSIDE, |b| b as u32));
+        if let Some(index) = self.block.par_iter().position_first(|&b| b == OUTSIDE) {
+            return Err(BinError::Outside {
+                index,
+                position: position[index],
+            });
+        }
+        if map.shape == ShapeFunction::Gimp {
+            self.half_width.resize(n, 0.0);
+            let bad = self
+                .half_width
+                .par_iter_mut()
+                .zip(initial_volume.par_iter())
+                .with_min_len(PARTICLES_PER_TASK)
+                .enumerate()
+                .filter_map(|(index, (lp, &v0))| match map.half_width(v0) {
+                    Ok(l) => {
+                        *lp = l;
+                        None
+                    }
+                    Err(error) => Some(BinError::Shape { index, error }),
+                })
+                .min_by_key(|e| match e {
+                    BinError::Shape { index, .. } => *index,
+                    _ => usize::MAX,
+                });
+            if let Some(e) = bad {
+                return Err(e);
+            }
+        } else {
+            self.half_width.clear();
+        }
+        // Stable counting sort of the particle indices by block.
+        let blocks = map.block_count();
+        self.block_start.clear();
+        self.block_start.resize(blocks + 1, 0);
+        for &b in &self.block {
+            self.block_start[b as usize + 1] += 1;
+        }
+        for b in 0..blocks {
+            self.block_start[b + 1] += self.block_start[b];
+        }
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.block_start[..blocks]);
+        self.order.resize(n, 0);
+        for (p, &b) in self.block.iter().enumerate() {
+            let c = &mut self.cursor[b as usize];
+            self.order[*c as usize] = p as u32;
+            *c += 1;
+        }
+        for list in &mut self.colour_blocks {
+            list.clear();
+        }
+        let [bx, by, bz] = map.blocks;
+        let mut b = 0;
+        for k in 0..bz {
+            for j in 0..by {
+                for i in 0..bx {
+                    if self.block_start[b + 1] > self.block_start[b] {
+                        let colour = (i & 1) | (j & 1) << 1 | (k & 1) << 2;
+                        self.colour_blocks[colour].push(b as u32);
+                    }
+                    b += 1;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of particles binned.
+    pub fn len(&self) -> usize {
+        self.block.len()
+    }
+
+    /// Whether no particle is binned.
+    pub fn is_empty(&self) -> bool {
+        self.block.is_empty()
+    }
+
+    /// The particles of block `b`, in the order the scatter visits them.
+    pub fn block_particles(&self, b: usize) -> &[u32] {
+        &self.order[self.block_start[b] as usize..self.block_start[b + 1] as usize]
+    }
+
+    /// The non-empty blocks of colour `c`, increasing.
+    pub fn colour_blocks(&self, c: usize) -> &[u32] {
+        &self.colour_blocks[c]
+    }
+
+    /// GIMP half-width of particle `p` (0 for the other shapes).
+    #[inline(always)]
+    fn half_width(&self, p: usize) -> f64 {
+        self.half_width.get(p).copied().unwrap_or(0.0)
+    }
+
+    /// Calls `visit(block, particle)` for every particle, colour by colour;
+    /// the blocks of one colour run in parallel, the particles of a block
+    /// in list order on one thread.
+    #[inline]
+    fn for_each_coloured(&self, visit: impl Fn(usize, usize) + Sync) {
+        let threads = rayon::current_num_threads().max(1);
+        for colour in 0..COLOURS {
+            let blocks = &self.colour_blocks[colour];
+            if blocks.is_empty() {
+                continue;
+            }
+            let min_len = (blocks.len() / (4 * threads)).max(1);
+            blocks.par_iter().with_min_len(min_len).for_each(|&b| {
+                for &p in self.block_particles(b as usize) {
+                    visit(b as usize, p as usize);
+                }
+            });
+        }
+    }
+}
+
+/// A slice the blocks of one colour write through concurrently, each to
+/// node (or particle) ranges that no other block of the colour touches.
+#[derive(Clone, Copy)]
+struct SharedSlice<'a, T> {
+    ptr: *mut T,
+    len: usize,
+    _borrow: PhantomData<&'a mut [T]>,
+}
+
+// SAFETY: the slice is only accessed through `range`, whose callers
+// guarantee that concurrently running blocks access disjoint ranges (the
+// colouring of the module doc, asserted per particle by
+// `check_footprint`).
+unsafe impl<T: Send> Send for SharedSlice<'_, T> {}
+unsafe impl<T: Send> Sync for SharedSlice<'_, T> {}
+
+impl<'a, T> SharedSlice<'a, T> {
+    fn new(s: &'a mut [T]) -> Self {
+        Self {
+            ptr: s.as_mut_ptr(),
+            len: s.len(),
+            _borrow: PhantomData,
+        }
+    }
+
+    /// `start .. start + n` of the slice, bounds-checked.
+    ///
+    /// # Safety
+    /// No other thread reads or writes the range while the borrow lives.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn range(&self, start: usize, n: usize) -> &mut [T] {
+        assert!(
+            start <= self.len && n <= self.len - start,
+            "node row out of the lattice"
+        );
+        // SAFETY: in bounds (just checked); exclusive by the caller's
+        // guarantee.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(start), n) }
+    }
+}
+
+/// A pass generic over the stencil's node counts per axis.
+trait StencilPass {
+    fn run<const NX: usize, const NY: usize, const NZ: usize>(self);
+}
+
+/// Runs `pass` monomorphised for the node counts of `map`.
+fn dispatch(map: &GridMap, pass: impl StencilPass) {
+    match map.nodes_per_axis {
+        [2, 2, 2] => pass.run::<2, 2, 2>(),
+        [2, 2, 1] => pass.run::<2, 2, 1>(),
+        [2, 1, 2] => pass.run::<2, 1, 2>(),
+        [1, 2, 2] => pass.run::<1, 2, 2>(),
+        [2, 1, 1] => pass.run::<2, 1, 1>(),
+        [1, 2, 1] => pass.run::<1, 2, 1>(),
+        [1, 1, 2] => pass.run::<1, 1, 2>(),
+        [3, 3, 3] => pass.run::<3, 3, 3>(),
+        [3, 3, 1] => pass.run::<3, 3, 1>(),
+        [3, 1, 3] => pass.run::<3, 1, 3>(),
+        [1, 3, 3] => pass.run::<1, 3, 3>(),
+        [3, 1, 1] => pass.run::<3, 1, 1>(),
+        [1, 3, 1] => pass.run::<1, 3, 1>(),
+        [1, 1, 3] => pass.run::<1, 1, 3>(),
+        [1, 1, 1] => pass.run::<1, 1, 1>(),
+        other => unreachable!("stencil node counts {other:?}"),
+    }
+}
+
+/// Panics unless the stencil at `offset` lies in the footprint of block `b`
+/// (the colouring's disjointness rests on it).
+#[inline(always)]
+fn check_footprint(map: &GridMap, offset: [usize; 3], b: usize) {
+    assert_eq!(
+        map.block_of_offsets(offset),
+        b,
+        "particle stencil outside its block"
+    );
+}
+
+/// The particle quantities P2G reads.
+#[derive(Debug, Clone, Copy)]
+pub struct P2gParticles<'a> {
+    /// Positions x_p, m.
+    pub position: &'a [[f64; 3]],
+    /// Masses m_p, kg.
+    pub mass: &'a [f64],
+    /// Velocities v_p, m/s.
+    pub velocity: &'a [[f64; 3]],
+    /// Volumes V_p, m³.
+    pub volume: &'a [f64],
+    /// Cauchy stresses σ_p, Voigt (xx, yy, zz, yz, xz, xy), Pa.
+    pub stress: &'a [[f64; 6]],
+}
+
+/// Which sums a P2G pass forms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum P2gSums {
+    /// m_I and p_I (eqs 21, 18).
+    MassMomentum,
+    /// f_I^int (eq 19).
+    Force,
+    /// All three in one visit.
+    All,
+}
+
+/// P2G (coloured scatter, see the module doc): zeroes the sums `which`
+/// of `nodes` and adds m_I = Σ N_Ip m_p, p_I = Σ N_Ip m_p v_p and
+/// f_I^int = −Σ V_p σ_p ∇N_Ip into `nodes.mass`, `nodes.momentum` and
+/// `nodes.force`.
+pub fn p2g(
+    map: &GridMap,
+    bins: &ParticleBins,
+    particles: P2gParticles,
+    nodes: &mut GridNodes,
+    which: P2gSums,
+) {
+    let (mom, force) = match which {
+        P2gSums::MassMomentum => (true, false),
+        P2gSums::Force => (false, true),
+        P2gSums::All => (true, true),
+    };
+    if mom {
+        zero(&mut nodes.mass, 0.0);
+        zero(&mut nodes.momentum, [0.0; 3]);
+    }
+    if force {
+        zero(&mut nodes.force, [0.0; 3]);
+    }
+    let targets = P2gTargets {
+        mass: SharedSlice::new(&mut nodes.mass),
+        momentum: SharedSlice::new(&mut nodes.momentum),
+        force: SharedSlice::new(&mut nodes.force),
+    };
+    match (mom, force) {
+        (true, true) => dispatch(
+            map,
+            P2g::<true, true> {
+                map,
+                bins,
+                particles,
+                targets,
+            },
+        ),
+        (true, false) => dispatch(
+            map,
+            P2g::<true, false> {
+                map,
+                bins,
+                particles,
+                targets,
+            },
+        ),
+        _ => dispatch(
+            map,
+            P2g::<false, true> {
+                map,
+                bins,
+                particles,
+                targets,
+            },
+        ),
+    }
+}
+
+/// Fills `v` with `value` in parallel.
+fn zero<T: Copy + Send + Sync>(v: &mut [T], value: T) {
+    v.par_chunks_mut(4096).for_each(|c| c.fill(value));
+}
+
+#[derive(Clone, Copy)]
+struct P2gTargets<'a> {
+    mass: SharedSlice<'a, f64>,
+    momentum: SharedSlice<'a, [f64; 3]>,
+    force: SharedSlice<'a, [f64; 3]>,
+}
+
+struct P2g<'a, const MOM: bool, const FORCE: bool> {
+    map: &'a GridMap,
+    bins: &'a ParticleBins,
+    particles: P2gParticles<'a>,
+    targets: P2gTargets<'a>,
+}
+
+impl<const MOM: bool, const FORCE: bool> StencilPass for P2g<'_, MOM, FORCE> {
+    fn run<const NX: usize, const NY: usize, const NZ: usize>(self) {
+        let Self {
+            map,
+            bins,
+            particles: ps,
+            targets: t,
+        } = self;
+        bins.for_each_coloured(|block, p| {
+            let s = map.stencil::<NX, NY, NZ>(ps.position[p], bins.half_width(p));
+            check_footprint(map, s.offset, block);
+            let m = ps.mass[p];
+            let v = ps.velocity[p];
+            let mv = [m * v[0], m * v[1], m * v[2]];
+            let vol = ps.volume[p];
+            let sg = ps.stress[p];
+            // V_p σ_p, Voigt.
+            let vs: [f64; 6] = std::array::from_fn(|k| vol * sg[k]);
+            for c in 0..NZ {
+                for b in 0..NY {
+                    let row = s.row(b, c);
+                    let start = map.row_start(s.base, b, c);
+                    // SAFETY: the stencil lies in its block's footprint
+                    // (checked above), and blocks of one colour have
+                    // disjoint footprints, so no other thread touches these
+                    // nodes during this colour.
+                    let (mr, pr, fr) = unsafe {
+                        (
+                            t.mass.range(start, if MOM { NX } else { 0 }),
+                            t.momentum.range(start, if MOM { NX } else { 0 }),
+                            t.force.range(start, if FORCE { NX } else { 0 }),
+                        )
+                    };
+                    for a in 0..NX {
+                        let (w, g) = row.node(s.x.w[a], s.x.g[a]);
+                        if MOM {
+                            mr[a] += w * m;
+                            for k in 0..3 {
+                                pr[a][k] += w * mv[k];
+                            }
+                        }
+                        if FORCE {
+                            fr[a][0] -= vs[0] * g[0] + vs[5] * g[1] + vs[4] * g[2];
+                            fr[a][1] -= vs[5] * g[0] + vs[1] * g[1] + vs[3] * g[2];
+                            fr[a][2] -= vs[4] * g[0] + vs[3] * g[1] + vs[2] * g[2];
+                        }
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// MUSL's second transfer (coloured, see the module doc), one visit per
+/// particle: the velocity update of eq 24, v_p += Δt Σ_I N_Ip a_I, then the
+/// scatter of the updated momentum for the re-mapping of eq 26, p_I =
+/// Σ_p N_Ip m_p v_p^{n+1}, into `nodes.momentum` (zeroed first). The
+/// weights are those of the positions of the start of the step.
+pub fn g2p_velocity_and_remap_momentum(
+    map: &GridMap,
+    bins: &ParticleBins,
+    position: &[[f64; 3]],
+    mass: &[f64],
+    velocity: &mut [[f64; 3]],
+    nodes: &mut GridNodes,
+    dt: f64,
+) {
+    zero(&mut nodes.momentum, [0.0; 3]);
+    dispatch(
+        map,
+        Remap {
+            map,
+            bins,
+            position,
+            mass,
+            velocity: SharedSlice::new(velocity),
+            acceleration: &nodes.acceleration,
+            momentum: SharedSlice::new(&mut nodes.momentum),
+            dt,
+        },
+    );
+}
+
+struct Remap<'a> {
+    map: &'a GridMap,
+    bins: &'a ParticleBins,
+    position: &'a [[f64; 3]],
+    mass: &'a [f64],
+    velocity: SharedSlice<'a, [f64; 3]>,
+    acceleration: &'a [[f64; 3]],
+    momentum: SharedSlice<'a, [f64; 3]>,
+    dt: f64,
+}
+
+impl StencilPass for Remap<'_> {
+    fn run<const NX: usize, const NY: usize, const NZ: usize>(self) {
+        let Self {
+            map,
+            bins,
+            position,
+            mass,
+            velocity,
+            acceleration,
+            momentum,
+            dt,
+        } = self;
+        bins.for_each_coloured(|block, p| {
+            let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
+            check_footprint(map, s.offset, block);
+            let mut dv = [0.0; 3];
+            for c in 0..NZ {
+                for b in 0..NY {
+                    let row = s.row(b, c);
+                    let start = map.row_start(s.base, b, c);
+                    let ar = &acceleration[start..start + NX];
+                    for (&wx, acc) in s.x.w.iter().zip(ar) {
+                        let w = row.weight(wx);
+                        for k in 0..3 {
+                            dv[k] += w * acc[k];
+                        }
+                    }
+                }
+            }
+            // SAFETY: particle p is listed in exactly one block, so no
+            // other visit touches its velocity.
+            let v = unsafe { &mut velocity.range(p, 1)[0] };
+            for k in 0..3 {
+                v[k] += dv[k] * dt;
+            }
+            let m = mass[p];
+            let mv = [m * v[0], m * v[1], m * v[2]];
+            for c in 0..NZ {
+                for b in 0..NY {
+                    let row = s.row(b, c);
+                    let start = map.row_start(s.base, b, c);
+                    // SAFETY: as in the P2G pass, blocks of one colour
+                    // touch disjoint nodes.
+                    let pr = unsafe { momentum.range(start, NX) };
+                    for (&wx, q) in s.x.w.iter().zip(pr) {
+                        let w = row.weight(wx);
+                        for k in 0..3 {
+                            q[k] += w * mv[k];
+                        }
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// What a storage-order G2P pass reads from the grid and which of its
+/// parts run.
+#[derive(Debug, Clone, Copy)]
+pub struct G2p<'a> {
+    /// a_I, for v_p += Δt Σ N_Ip a_I (eq 24).
+    pub acceleration: &'a [[f64; 3]],
+    /// v_I^{n+1}, for x_p += Δt Σ N_Ip v_I^{n+1} (eq 25).
+    pub velocity_new: &'a [[f64; 3]],
+    /// The node velocity the gradient L_p = Σ_I v_I ⊗ ∇N_Ip (eqs 27–28) is
+    /// formed from.
+    pub gradient_velocity: &'a [[f64; 3]],
+    /// Time step, s.
+    pub dt: f64,
+    /// Update the particle velocities (eq 24).
+    pub update_velocity: bool,
+    /// Update the particle positions (eq 25).
+    pub update_position: bool,
+    /// Form the velocity gradients.
+    pub velocity_gradient: bool,
+}
+
+/// The particle arrays a storage-order G2P pass updates.
+pub struct G2pParticles<'a> {
+    /// Positions: the weights are those of the positions at entry; updated
+    /// by eq 25 if asked.
+    pub position: &'a mut [[f64; 3]],
+    /// Velocities, updated by eq 24 if asked.
+    pub velocity: &'a mut [[f64; 3]],
+    /// Velocity gradients L_p (L[i][j] = Σ v_i ∂N/∂x_j), resized to the
+    /// particle count and written if asked.
+    pub gradient: &'a mut Vec<Mat3>,
+}
+
+/// G2P over the particles in storage order, in parallel, each particle
+/// writing only itself: any of the velocity update (eq 24), the position
+/// update (eq 25) and the velocity gradient (eqs 27–28), with the weights
+/// of the positions at entry.
+pub fn g2p(map: &GridMap, bins: &ParticleBins, grid: G2p, particles: G2pParticles) {
+    let n = particles.position.len();
+    assert_eq!(particles.velocity.len(), n, "one velocity per particle");
+    if grid.velocity_gradient {
+        particles.gradient.resize(n, Mat3::zeros());
+    }
+    let targets = G2pTargets {
+        position: SharedSlice::new(particles.position),
+        velocity: SharedSlice::new(particles.velocity),
+        gradient: SharedSlice::new(particles.gradient.as_mut_slice()),
+    };
+    macro_rules! go {
+        ($v:literal, $x:literal, $l:literal) => {
+            dispatch(
+                map,
+                G2pPass::<$v, $x, $l> {
+                    map,
+                    bins,
+                    grid,
+                    targets,
+                },
+            )
+        };
+    }
+    match (
+        grid.update_velocity,
+        grid.update_position,
+        grid.velocity_gradient,
+    ) {
+        (true, true, true) => go!(true, true, true),
+        (true, true, false) => go!(true, true, false),
+        (true, false, true) => go!(true, false, true),
+        (true, false, false) => go!(true, false, false),
+        (false, true, true) => go!(false, true, true),
+        (false, true, false) => go!(false, true, false),
+        (false, false, true) => go!(false, false, true),
+        (false, false, false) => {}
+    }
+}
+
+#[derive(Clone, Copy)]
+struct G2pTargets<'a> {
+    position: SharedSlice<'a, [f64; 3]>,
+    velocity: SharedSlice<'a, [f64; 3]>,
+    gradient: SharedSlice<'a, Mat3>,
+}
+
+struct G2pPass<'a, const VEL: bool, const POS: bool, const GRAD: bool> {
+    map: &'a GridMap,
+    bins: &'a ParticleBins,
+    grid: G2p<'a>,
+    targets: G2pTargets<'a>,
+}
+
+impl<const VEL: bool, const POS: bool, const GRAD: bool> StencilPass
+    for G2pPass<'_, VEL, POS, GRAD>
+{
+    fn run<const NX: usize, const NY: usize, const NZ: usize>(self) {
+        let Self {
+            map,
+            bins,
+            grid,
+            targets: t,
+        } = self;
+        let n = t.position.len;
+        let tasks = n.div_ceil(PARTICLES_PER_TASK);
+        (0..tasks).into_par_iter().for_each(|task| {
+            let start = task * PARTICLES_PER_TASK;
+            let len = PARTICLES_PER_TASK.min(n - start);
+            // SAFETY: the tasks cover disjoint particle ranges.
+            let xs = unsafe { t.position.range(start, len) };
+            for (i, x) in xs.iter_mut().enumerate() {
+                let p = start + i;
+                let s = map.stencil::<NX, NY, NZ>(*x, bins.half_width(p));
+                let mut dv = [0.0; 3];
+                let mut dx = [0.0; 3];
+                let mut l = [[0.0; 3]; 3];
+                for c in 0..NZ {
+                    for b in 0..NY {
+                        let row = s.row(b, c);
+                        let r = map.row_start(s.base, b, c);
+                        let ar = &grid.acceleration[r..r + if VEL { NX } else { 0 }];
+                        let vr = &grid.velocity_new[r..r + if POS { NX } else { 0 }];
+                        let gr = &grid.gradient_velocity[r..r + if GRAD { NX } else { 0 }];
+                        for a in 0..NX {
+                            let (w, g) = row.node(s.x.w[a], s.x.g[a]);
+                            if VEL {
+                                for k in 0..3 {
+                                    dv[k] += w * ar[a][k];
+                                }
+                            }
+                            if POS {
+                                for k in 0..3 {
+                                    dx[k] += w * vr[a][k];
+                                }
+                            }
+                            if GRAD {
+                                for (li, vi) in l.iter_mut().zip(gr[a]) {
+                                    for j in 0..3 {
+                                        li[j] += vi * g[j];
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+                if VEL {
+                    // SAFETY: particle p belongs to this task only.
+                    let v = unsafe { &mut t.velocity.range(p, 1)[0] };
+                    for k in 0..3 {
+                        v[k] += dv[k] * grid.dt;
+                    }
+                }
+                if POS {
+                    for k in 0..3 {
+                        x[k] += dx[k] * grid.dt;
+                    }
+                }
+                if GRAD {
+                    // SAFETY: as above.
+                    unsafe {
+                        t.gradient.range(p, 1)[0] = Mat3::new(
+                            l[0][0], l[0][1], l[0][2], l[1][0], l[1][1], l[1][2], l[2][0], l[2][1],
+                            l[2][2],
+                        )
+                    };
+                }
+            }
+        });
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The node-gather transfers that the step used before the coloured scatter;
+// kept until every caller has moved to the kernels above.
 
 /// The 1D stencils of one particle, one per axis.
 pub type AxisStencils = [Stencil1d; 3];
@@ -74,27 +1015,6 @@ pub fn axis_stencil(
             gimp::ugimp_1d(xi, h, lp)
         }
     })
-}
-
-/// The uGIMP half-width of a particle of volume `volume` (m³): half the
-/// side of a cube of that volume over the active axes, l_p = ½ (V_p /
-/// Π_inactive Δx)^(1/n_active). For particles generated `ppc` per cell per
-/// direction this is Δx/(2 ppc), the default of
-/// [`ShapeFunction::default_half_width`].
-pub fn gimp_half_width(grid: &UniformGridGeometry, volume: f64) -> f64 {
-    let mut thickness = 1.0;
-    let mut active = 0;
-    for d in 0..3 {
-        if grid.cells[d] > 1 {
-            active += 1;
-        } else {
-            thickness *= grid.spacing[d];
-        }
-    }
-    if active == 0 {
-        return f64::INFINITY;
-    }
-    0.5 * (volume / thickness).powf(1.0 / active as f64)
 }
 
 /// Fills `out` with the 1D stencils of every particle (parallel over
@@ -277,109 +1197,483 @@ pub fn for_each_node(
 }
 
 #[cfg(test)]
-mod tests {
+#[allow(clippy::needless_range_loop)]
+mod kernel_tests {
     use super::*;
     use crate::ShapeStencil;
+    use proptest::prelude::*;
 
-    fn grid() -> UniformGridGeometry {
+    fn grid(cells: [usize; 3]) -> UniformGridGeometry {
         UniformGridGeometry {
-            origin: [0.0; 3],
-            spacing: [0.5, 0.25, 1.0],
-            cells: [6, 5, 1],
+            origin: [-0.25, 0.5, 1.0],
+            spacing: [0.5, 0.25, 0.75],
+            cells,
         }
     }
 
-    /// Positions, initial volumes, stencils, cell starts and lattice.
-    type Setup = (
-        Vec<[f64; 3]>,
-        Vec<f64>,
-        Vec<AxisStencils>,
-        Vec<usize>,
-        NodeLattice,
-    );
-
-    /// Sorted particles of a few cells, their stencils and cell starts.
-    fn setup(shape: ShapeFunction) -> Setup {
-        let g = grid();
-        let mut xs: Vec<[f64; 3]> = (0..40)
-            .map(|k| {
-                let t = k as f64 * 0.618_033_988_75;
-                [
-                    (t.fract() * 3.0).min(2.999),
-                    ((t * 7.3).fract() * 1.25).min(1.249),
-                    0.5,
-                ]
-            })
-            .collect();
-        xs.sort_by_key(|x| g.linear_index(g.cell_containing(*x).unwrap()));
-        let v0 = vec![0.5 * 0.25 / 4.0; xs.len()];
-        let mut st = Vec::new();
-        compute_stencils(shape, &g, &xs, &v0, &mut st).unwrap();
-        let cells: Vec<usize> = xs
-            .iter()
-            .map(|x| g.linear_index(g.cell_containing(*x).unwrap()))
-            .collect();
-        let mut cs = Vec::new();
-        build_cell_start(&cells, g.cell_count(), &mut cs);
-        (xs, v0, st, cs, NodeLattice::new(&g, shape))
+    /// Particles scattered over the grid (positions from a low-discrepancy
+    /// sequence, some on cell faces and on the domain boundary), with
+    /// non-uniform masses, velocities, volumes and stresses.
+    fn particles(g: &UniformGridGeometry, n: usize) -> crate::Particles {
+        let mut ps = crate::Particles::new(0);
+        let upper = g.upper();
+        for k in 0..n {
+            let t = k as f64;
+            let frac = |a: f64| (t * a).fract();
+            let mut x: [f64; 3] = std::array::from_fn(|d| {
+                g.origin[d]
+                    + frac([0.618_033_988_75, 0.414_213_562_37, 0.732_050_807_57][d])
+                        * (upper[d] - g.origin[d])
+            });
+            if k % 7 == 3 {
+                // On a cell face.
+                x[0] = g.origin[0] + (k % g.cells[0]) as f64 * g.spacing[0];
+            }
+            if k % 11 == 5 {
+                x[1] = upper[1];
+            }
+            ps.push(
+                &crate::ParticleInit {
+                    position: x,
+                    velocity: [frac(0.3) - 0.5, frac(0.7), -frac(0.9)],
+                    mass: 1.0 + frac(0.19),
+                    volume: g.spacing.iter().product::<f64>() / 8.0 * (0.9 + 0.2 * frac(0.23)),
+                    stress: std::array::from_fn(|c| (frac(0.1 + 0.17 * c as f64) - 0.5) * 1e6),
+                    ..Default::default()
+                },
+                &[],
+            )
+            .unwrap();
+        }
+        ps
     }
 
-    #[test]
-    fn gathered_weights_equal_the_scattered_stencil_weights_bit_for_bit() {
-        let g = grid();
-        for shape in ShapeFunction::ALL {
-            let (xs, v0, st, cs, lat) = setup(shape);
-            let ctx = GatherContext {
-                grid: &g,
-                lattice: &lat,
-                shape,
-                cell_start: &cs,
-                stencils: &st,
-            };
-            // Node → list of (particle, N, ∇N) from the gather.
-            let mut gathered: Vec<Vec<(usize, f64, [f64; 3])>> = vec![Vec::new(); lat.len()];
-            ctx.gather(&mut gathered, |v, p, w, grad| v.push((p, w, grad)));
-            // The same pairs from ShapeFunction::evaluate, particle by particle.
-            let mut scattered: Vec<Vec<(usize, f64, [f64; 3])>> = vec![Vec::new(); lat.len()];
-            let mut stencil = ShapeStencil::new();
-            for (p, x) in xs.iter().enumerate() {
-                let lp = gimp_half_width(&g, v0[p]);
-                shape.evaluate(&g, *x, [lp; 3], &mut stencil).unwrap();
-                for (node, w, grad) in stencil.iter() {
-                    let idx = lat.index(node).unwrap();
-                    scattered[idx].push((p, w, grad));
+    fn setups() -> Vec<(UniformGridGeometry, ShapeFunction)> {
+        let mut out = Vec::new();
+        for cells in [[6, 5, 4], [7, 4, 1], [9, 1, 1], [1, 5, 3]] {
+            for shape in ShapeFunction::ALL {
+                out.push((grid(cells), shape));
+            }
+        }
+        out
+    }
+
+    /// The reference P2G: a plain sequential scatter in the kernel's
+    /// visiting order, with the weights of `ShapeFunction::evaluate`.
+    fn reference_p2g(
+        map: &GridMap,
+        bins: &ParticleBins,
+        ps: &crate::Particles,
+    ) -> (Vec<f64>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let n = map.lattice.len();
+        let (mut m, mut p, mut f) = (vec![0.0; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        let mut st = ShapeStencil::new();
+        for colour in 0..COLOURS {
+            for &b in bins.colour_blocks(colour) {
+                for &q in bins.block_particles(b as usize) {
+                    let q = q as usize;
+                    let lp = bins.half_width(q);
+                    map.shape
+                        .evaluate(&map.grid, ps.position[q], [lp; 3], &mut st)
+                        .unwrap();
+                    let mv: [f64; 3] = std::array::from_fn(|k| ps.mass[q] * ps.velocity[q][k]);
+                    let vs: [f64; 6] = std::array::from_fn(|k| ps.volume[q] * ps.stress[q][k]);
+                    for (node, w, g) in st.iter() {
+                        let i = map.lattice.index(node).unwrap();
+                        m[i] += w * ps.mass[q];
+                        for k in 0..3 {
+                            p[i][k] += w * mv[k];
+                        }
+                        f[i][0] -= vs[0] * g[0] + vs[5] * g[1] + vs[4] * g[2];
+                        f[i][1] -= vs[5] * g[0] + vs[1] * g[1] + vs[3] * g[2];
+                        f[i][2] -= vs[4] * g[0] + vs[3] * g[1] + vs[2] * g[2];
+                    }
                 }
             }
-            assert_eq!(gathered, scattered, "{shape:?}");
+        }
+        (m, p, f)
+    }
+
+    fn inputs(ps: &crate::Particles) -> P2gParticles<'_> {
+        P2gParticles {
+            position: &ps.position,
+            mass: &ps.mass,
+            velocity: &ps.velocity,
+            volume: &ps.volume,
+            stress: &ps.stress,
+        }
+    }
+
+    fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    #[test]
+    fn p2g_equals_the_sequential_scatter_bit_for_bit_on_any_thread_count() {
+        for (g, shape) in setups() {
+            let ps = particles(&g, 300);
+            let map = GridMap::new(&g, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            let (m, p, f) = reference_p2g(&map, &bins, &ps);
+            for threads in [1, 2, 3] {
+                let mut nodes = GridNodes::new(map.lattice);
+                in_pool(threads, || {
+                    p2g(&map, &bins, inputs(&ps), &mut nodes, P2gSums::All)
+                });
+                assert_eq!(
+                    nodes.mass, m,
+                    "{shape:?} {:?} mass, {threads} threads",
+                    g.cells
+                );
+                assert_eq!(nodes.momentum, p, "{shape:?} {:?} momentum", g.cells);
+                assert_eq!(nodes.force, f, "{shape:?} {:?} force", g.cells);
+                // The split passes give the same sums.
+                let mut split = GridNodes::new(map.lattice);
+                in_pool(threads, || {
+                    p2g(&map, &bins, inputs(&ps), &mut split, P2gSums::MassMomentum);
+                    p2g(&map, &bins, inputs(&ps), &mut split, P2gSums::Force);
+                });
+                assert_eq!(
+                    (split.mass, split.momentum, split.force),
+                    (m.clone(), p.clone(), f.clone())
+                );
+            }
         }
     }
 
     #[test]
-    fn gathered_mass_is_identical_on_one_and_three_threads() {
-        let g = grid();
-        let (_, _, st, cs, lat) = setup(ShapeFunction::QuadraticBSpline);
-        let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
+    fn p2g_conserves_mass_and_momentum_and_forces_sum_to_zero() {
+        for (g, shape) in setups() {
+            let ps = particles(&g, 200);
+            let map = GridMap::new(&g, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            let mut nodes = GridNodes::new(map.lattice);
+            p2g(&map, &bins, inputs(&ps), &mut nodes, P2gSums::All);
+            let total: f64 = ps.mass.iter().sum();
+            let m: f64 = nodes.mass.iter().sum();
+            assert!(
+                (m - total).abs() <= 1e-13 * total,
+                "{shape:?}: {m} vs {total}"
+            );
+            for k in 0..3 {
+                let want: f64 = (0..ps.len()).map(|q| ps.mass[q] * ps.velocity[q][k]).sum();
+                let got: f64 = nodes.momentum.iter().map(|q| q[k]).sum();
+                assert!(
+                    (got - want).abs() <= 1e-12 * total,
+                    "{shape:?} p{k}: {got} vs {want}"
+                );
+                // Σ_I ∇N_Ip = 0 for every particle.
+                let f: f64 = nodes.force.iter().map(|q| q[k]).sum();
+                let scale: f64 = nodes.force.iter().map(|q| q[k].abs()).sum();
+                assert!(f.abs() <= 1e-12 * scale.max(1.0), "{shape:?} f{k}: {f}");
+            }
+        }
+    }
+
+    /// The reference G2P of one particle: eqs 24, 25 and 27–28 with the
+    /// weights of `ShapeFunction::evaluate`, in stencil order.
+    fn reference_g2p(
+        map: &GridMap,
+        x: [f64; 3],
+        lp: f64,
+        a: &[[f64; 3]],
+        vn: &[[f64; 3]],
+        vl: &[[f64; 3]],
+    ) -> ([f64; 3], [f64; 3], Mat3) {
+        let mut st = ShapeStencil::new();
+        map.shape.evaluate(&map.grid, x, [lp; 3], &mut st).unwrap();
+        let (mut dv, mut dx, mut l) = ([0.0; 3], [0.0; 3], [[0.0; 3]; 3]);
+        // Stencil order is the kernel's order, but GIMP's evaluate leaves
+        // out zero-weight nodes, which add nothing.
+        for (node, w, g) in st.iter() {
+            let i = map.lattice.index(node).unwrap();
+            for k in 0..3 {
+                dv[k] += w * a[i][k];
+                dx[k] += w * vn[i][k];
+                for j in 0..3 {
+                    l[k][j] += vl[i][k] * g[j];
+                }
+            }
+        }
+        let l = Mat3::new(
+            l[0][0], l[0][1], l[0][2], l[1][0], l[1][1], l[1][2], l[2][0], l[2][1], l[2][2],
+        );
+        (dv, dx, l)
+    }
+
+    fn node_field(n: usize, seed: f64) -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|i| std::array::from_fn(|k| ((i as f64 + 1.0) * seed + k as f64 * 0.37).sin()))
+            .collect()
+    }
+
+    #[test]
+    fn g2p_passes_equal_the_sequential_gather_bit_for_bit() {
+        for (g, shape) in setups() {
+            let ps0 = particles(&g, 150);
+            let map = GridMap::new(&g, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps0.position, &ps0.initial_volume)
                 .unwrap();
-            pool.install(|| {
-                let ctx = GatherContext {
-                    grid: &g,
-                    lattice: &lat,
-                    shape: ShapeFunction::QuadraticBSpline,
-                    cell_start: &cs,
-                    stencils: &st,
-                };
-                let mut m = vec![0.0f64; lat.len()];
-                ctx.gather(&mut m, |v, p, w, _| *v += w * (1.0 + 0.1 * p as f64));
-                m
-            })
-        };
-        let a = run(1);
-        assert_eq!(a, run(3));
-        let total: f64 = a.iter().sum();
-        let expected: f64 = (0..40).map(|p| 1.0 + 0.1 * p as f64).sum();
-        assert!((total - expected).abs() < 1e-12 * expected);
+            let nn = map.lattice.len();
+            let (a, vn, vl) = (
+                node_field(nn, 0.7),
+                node_field(nn, 1.3),
+                node_field(nn, 2.9),
+            );
+            let dt = 0.125;
+            for (vel, pos, grad) in [
+                (true, true, true),
+                (false, true, true),
+                (true, true, false),
+                (false, false, true),
+            ] {
+                let mut ps = ps0.clone();
+                let mut l = Vec::new();
+                g2p(
+                    &map,
+                    &bins,
+                    G2p {
+                        acceleration: &a,
+                        velocity_new: &vn,
+                        gradient_velocity: &vl,
+                        dt,
+                        update_velocity: vel,
+                        update_position: pos,
+                        velocity_gradient: grad,
+                    },
+                    G2pParticles {
+                        position: &mut ps.position,
+                        velocity: &mut ps.velocity,
+                        gradient: &mut l,
+                    },
+                );
+                for q in 0..ps.len() {
+                    let (dv, dx, lq) =
+                        reference_g2p(&map, ps0.position[q], bins.half_width(q), &a, &vn, &vl);
+                    let v: [f64; 3] = std::array::from_fn(|k| {
+                        if vel {
+                            ps0.velocity[q][k] + dv[k] * dt
+                        } else {
+                            ps0.velocity[q][k]
+                        }
+                    });
+                    let x: [f64; 3] = std::array::from_fn(|k| {
+                        if pos {
+                            ps0.position[q][k] + dx[k] * dt
+                        } else {
+                            ps0.position[q][k]
+                        }
+                    });
+                    assert_eq!(ps.velocity[q], v, "{shape:?} {:?} particle {q}", g.cells);
+                    assert_eq!(ps.position[q], x, "{shape:?} {:?} particle {q}", g.cells);
+                    if grad {
+                        assert_eq!(l[q], lq, "{shape:?} {:?} particle {q}", g.cells);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn remap_pass_equals_the_sequential_update_and_scatter_on_any_thread_count() {
+        for (g, shape) in setups() {
+            let ps0 = particles(&g, 200);
+            let map = GridMap::new(&g, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps0.position, &ps0.initial_volume)
+                .unwrap();
+            let nn = map.lattice.len();
+            let a = node_field(nn, 0.9);
+            let dt = 0.25;
+            // Reference: every particle's new velocity, then the scatter of
+            // its momentum in visiting order.
+            let mut v_ref = ps0.velocity.clone();
+            for (q, v) in v_ref.iter_mut().enumerate() {
+                let (dv, _, _) =
+                    reference_g2p(&map, ps0.position[q], bins.half_width(q), &a, &a, &a);
+                for k in 0..3 {
+                    v[k] += dv[k] * dt;
+                }
+            }
+            let mut p_ref = vec![[0.0; 3]; nn];
+            let mut st = ShapeStencil::new();
+            for colour in 0..COLOURS {
+                for &b in bins.colour_blocks(colour) {
+                    for &q in bins.block_particles(b as usize) {
+                        let q = q as usize;
+                        let lp = bins.half_width(q);
+                        map.shape
+                            .evaluate(&map.grid, ps0.position[q], [lp; 3], &mut st)
+                            .unwrap();
+                        let mv: [f64; 3] = std::array::from_fn(|k| ps0.mass[q] * v_ref[q][k]);
+                        for (node, w, _) in st.iter() {
+                            let i = map.lattice.index(node).unwrap();
+                            for k in 0..3 {
+                                p_ref[i][k] += w * mv[k];
+                            }
+                        }
+                    }
+                }
+            }
+            for threads in [1, 3] {
+                let mut ps = ps0.clone();
+                let mut nodes = GridNodes::new(map.lattice);
+                nodes.acceleration.clone_from(&a);
+                nodes.momentum.fill([7.0; 3]);
+                in_pool(threads, || {
+                    g2p_velocity_and_remap_momentum(
+                        &map,
+                        &bins,
+                        &ps.position,
+                        &ps.mass,
+                        &mut ps.velocity,
+                        &mut nodes,
+                        dt,
+                    )
+                });
+                assert_eq!(ps.velocity, v_ref, "{shape:?} {:?}", g.cells);
+                assert_eq!(nodes.momentum, p_ref, "{shape:?} {:?}", g.cells);
+            }
+        }
+    }
+
+    #[test]
+    fn blocks_of_one_colour_touch_disjoint_nodes() {
+        for (g, shape) in setups() {
+            let ps = particles(&g, 400);
+            let map = GridMap::new(&g, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            let mut st = ShapeStencil::new();
+            for colour in 0..COLOURS {
+                // Node → the block of this colour that touched it.
+                let mut owner = vec![usize::MAX; map.lattice.len()];
+                for &b in bins.colour_blocks(colour) {
+                    for &q in bins.block_particles(b as usize) {
+                        let q = q as usize;
+                        let lp = bins.half_width(q);
+                        map.shape
+                            .evaluate(&map.grid, ps.position[q], [lp; 3], &mut st)
+                            .unwrap();
+                        for node in st.nodes() {
+                            let i = map.lattice.index(*node).unwrap();
+                            assert!(
+                                owner[i] == usize::MAX || owner[i] == b as usize,
+                                "{shape:?}: node {node:?} in blocks {} and {b} of colour {colour}",
+                                owner[i]
+                            );
+                            owner[i] = b as usize;
+                        }
+                    }
+                }
+            }
+            // Every particle is listed exactly once.
+            let mut seen = vec![0; ps.len()];
+            for b in 0..map.block_count() {
+                for &q in bins.block_particles(b) {
+                    seen[q as usize] += 1;
+                }
+            }
+            assert!(seen.iter().all(|&s| s == 1));
+        }
+    }
+
+    #[test]
+    fn a_block_lists_its_particles_in_storage_order() {
+        let g = grid([6, 5, 4]);
+        let ps = particles(&g, 300);
+        let map = GridMap::new(&g, ShapeFunction::Linear);
+        let mut bins = ParticleBins::default();
+        bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+        for b in 0..map.block_count() {
+            let list = bins.block_particles(b);
+            assert!(list.windows(2).all(|w| w[0] < w[1]));
+            for &q in list {
+                assert_eq!(map.block_of(ps.position[q as usize]), Some(b));
+            }
+        }
+    }
+
+    #[test]
+    fn binning_names_the_first_particle_outside_or_with_a_bad_half_width() {
+        let g = grid([6, 5, 4]);
+        let mut ps = particles(&g, 50);
+        ps.position[17][2] = g.upper()[2] + 1e-9;
+        ps.position[31][0] = f64::NAN;
+        let mut bins = ParticleBins::default();
+        let map = GridMap::new(&g, ShapeFunction::QuadraticBSpline);
+        let e = bins
+            .build(&map, &ps.position, &ps.initial_volume)
+            .unwrap_err();
+        assert_eq!(
+            e,
+            BinError::Outside {
+                index: 17,
+                position: ps.position[17]
+            }
+        );
+        let ps = particles(&g, 50);
+        let mut v0 = ps.initial_volume.clone();
+        v0[40] = 1.0e3;
+        v0[44] = 1.0e3;
+        let map = GridMap::new(&g, ShapeFunction::Gimp);
+        let e = bins.build(&map, &ps.position, &v0).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                BinError::Shape {
+                    index: 40,
+                    error: ShapeError::HalfWidth { .. }
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("particle 40"), "{e}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// The bin a particle is listed under is the offset its stencil
+        /// starts at, for positions anywhere in the grid — on nodes, a
+        /// round-off off them, on the domain faces.
+        #[test]
+        fn the_bin_of_a_particle_is_where_its_stencil_starts(
+            cells in prop::array::uniform3(1usize..9),
+            cell in prop::array::uniform3(0usize..9),
+            frac in prop::array::uniform3(prop_oneof![
+                3 => 0.0..1.0f64, 1 => Just(0.0), 1 => Just(0.5),
+                1 => Just(1e-15), 1 => Just(1.0 - 1e-15), 1 => Just(1.0)
+            ]),
+            spacing in prop::array::uniform3(1e-3..3.0f64),
+            origin in prop::array::uniform3(-5.0..5.0f64),
+        ) {
+            let g = UniformGridGeometry { origin, spacing, cells };
+            let x: [f64; 3] = std::array::from_fn(|d| {
+                origin[d] + ((cell[d] % cells[d]) as f64 + frac[d]) * spacing[d]
+            });
+            prop_assume!(g.cell_containing(x).is_some());
+            for shape in ShapeFunction::ALL {
+                let map = GridMap::new(&g, shape);
+                let lp = 0.25 * spacing.iter().cloned().fold(f64::INFINITY, f64::min);
+                let offset: [usize; 3] = std::array::from_fn(|d| match map.nodes_per_axis[d] {
+                    1 => map.axis::<1>(d, x[d], lp).offset,
+                    2 => map.axis::<2>(d, x[d], lp).offset,
+                    _ => map.axis::<3>(d, x[d], lp).offset,
+                });
+                prop_assert_eq!(map.block_of(x), Some(map.block_of_offsets(offset)), "{:?}", shape);
+                // And the stencil is on the lattice.
+                for d in 0..3 {
+                    prop_assert!(offset[d] + map.nodes_per_axis[d] <= map.lattice.dims[d]);
+                }
+            }
+        }
     }
 }

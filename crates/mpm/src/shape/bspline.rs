@@ -18,14 +18,21 @@
 //! splines), which keeps partition of unity and linear reproduction exact
 //! everywhere.
 
-use super::Stencil1d;
+use super::{floor, Stencil1d};
 
 /// The three 1D quadratic B-spline weights and derivatives (1/m) for a
 /// particle at grid coordinate `xi` = (x_p − x_min)/Δx on an axis of cell
 /// width `h` (m). The first node is ⌊xi + 1/2⌋ − 1.
 #[inline]
 pub fn quadratic_bspline_1d(xi: f64, h: f64) -> Stencil1d {
-    let c = (xi + 0.5).floor();
+    quadratic_bspline_1d_scaled(xi, 1.0 / h)
+}
+
+/// [`quadratic_bspline_1d`] with the inverse cell width `inv_h` = 1/Δx
+/// (1/m) given: the derivatives are (−(1/2 − d), −2d, 1/2 + d)·inv_h.
+#[inline]
+pub fn quadratic_bspline_1d_scaled(xi: f64, inv_h: f64) -> Stencil1d {
+    let c = floor(xi + 0.5);
     let d = xi - c;
     let lo = 0.5 - d;
     let hi = 0.5 + d;
@@ -33,7 +40,7 @@ pub fn quadratic_bspline_1d(xi: f64, h: f64) -> Stencil1d {
         first: c as isize - 1,
         len: 3,
         weight: [0.5 * lo * lo, 0.75 - d * d, 0.5 * hi * hi],
-        gradient: [-lo / h, -2.0 * d / h, hi / h],
+        gradient: [-lo * inv_h, -2.0 * d * inv_h, hi * inv_h],
     }
 }
 

@@ -31,7 +31,7 @@
 //! seeds; the closed form above follows from its definition in three lines
 //! of integration (see `docs/physics/mpm/shape_functions.md`).
 
-use super::Stencil1d;
+use super::{floor, Stencil1d};
 
 /// The 1D uGIMP weight S(r) and derivative S'(r) (1/m) of one node at
 /// signed distance `r` = x_p − x_i (m), for cell width `h` and particle
@@ -56,7 +56,7 @@ pub fn ugimp_weight(r: f64, h: f64, lp: f64) -> (f64, f64) {
 /// ⌊xi + 1/2⌋ − 1 … ⌊xi + 1/2⌋ + 1 whose weight is non-zero (2 or 3).
 #[inline]
 pub fn ugimp_1d(xi: f64, h: f64, lp: f64) -> Stencil1d {
-    let c = (xi + 0.5).floor();
+    let c = floor(xi + 0.5);
     let mut out = Stencil1d {
         first: c as isize - 1,
         len: 0,
@@ -77,6 +77,32 @@ pub fn ugimp_1d(xi: f64, h: f64, lp: f64) -> Stencil1d {
         out.weight[out.len] = w;
         out.gradient[out.len] = g;
         out.len += 1;
+    }
+    out
+}
+
+/// [`ugimp_1d`] padded to its three candidate nodes ⌊xi + 1/2⌋ − 1 …
+/// ⌊xi + 1/2⌋ + 1: a node outside the particle's support gets weight and
+/// derivative 0 instead of being left out, so the stencil has a fixed
+/// length (the form the transfer kernels loop over). The non-zero entries
+/// are bit-identical to those of [`ugimp_1d`].
+#[inline]
+pub fn ugimp_1d_padded(xi: f64, h: f64, lp: f64) -> Stencil1d {
+    let c = floor(xi + 0.5);
+    let mut out = Stencil1d {
+        first: c as isize - 1,
+        len: 3,
+        weight: [0.0; 3],
+        gradient: [0.0; 3],
+    };
+    for k in 0..3 {
+        let node = c - 1.0 + k as f64;
+        let r = (xi - node) * h;
+        if r.abs() < h + lp {
+            let (w, g) = ugimp_weight(r, h, lp);
+            out.weight[k] = w;
+            out.gradient[k] = g;
+        }
     }
     out
 }

@@ -14,7 +14,7 @@
 //! faces (the cell-crossing error GIMP and the B-spline remove); a particle
 //! exactly on an interior node takes the gradient of the cell above it.
 
-use super::Stencil1d;
+use super::{floor, Stencil1d};
 
 /// The 1D hat weights of seed 001 eq 16 for a particle at grid coordinate
 /// `xi` = (x_p − x_min)/Δx on an axis of `cells` cells of width `h` (m):
@@ -24,7 +24,14 @@ use super::Stencil1d;
 /// so it never touches a node beyond n.
 #[inline]
 pub fn hat_1d(xi: f64, h: f64, cells: usize) -> Stencil1d {
-    let mut cell = xi.floor();
+    hat_1d_scaled(xi, 1.0 / h, cells)
+}
+
+/// [`hat_1d`] with the inverse cell width `inv_h` = 1/Δx (1/m) given, so
+/// that a kernel evaluating many particles divides once per axis.
+#[inline]
+pub fn hat_1d_scaled(xi: f64, inv_h: f64, cells: usize) -> Stencil1d {
+    let mut cell = floor(xi);
     if xi == cells as f64 {
         cell -= 1.0;
     }
@@ -33,6 +40,6 @@ pub fn hat_1d(xi: f64, h: f64, cells: usize) -> Stencil1d {
         first: cell as isize,
         len: 2,
         weight: [1.0 - f, f, 0.0],
-        gradient: [-1.0 / h, 1.0 / h, 0.0],
+        gradient: [-inv_h, inv_h, 0.0],
     }
 }

@@ -151,30 +151,85 @@ impl ShapeStencil {
     }
 
     /// Fills the stencil with the tensor product of three 1D stencils:
-    /// N_I = φx φy φz, ∇N_I = (φx' φy φz, φx φy' φz, φx φy φz').
+    /// N_I = φx φy φz, ∇N_I = (φx' φy φz, φx φy' φz, φx φy φz'), each
+    /// product formed as [`TensorRow`] forms it (the transfer kernels
+    /// of [`crate::transfer`] give the same bits).
     fn set_tensor_product(&mut self, axes: &[Stencil1d; 3]) {
         let [sx, sy, sz] = axes;
         let mut n = 0;
         for c in 0..sz.len {
             for b in 0..sy.len {
+                let yz = TensorRow::new(sy.weight[b], sy.gradient[b], sz.weight[c], sz.gradient[c]);
                 for a in 0..sx.len {
-                    let (wx, wy, wz) = (sx.weight[a], sy.weight[b], sz.weight[c]);
                     self.nodes[n] = [
                         sx.first + a as isize,
                         sy.first + b as isize,
                         sz.first + c as isize,
                     ];
-                    self.weights[n] = wx * wy * wz;
-                    self.gradients[n] = [
-                        sx.gradient[a] * wy * wz,
-                        wx * sy.gradient[b] * wz,
-                        wx * wy * sz.gradient[c],
-                    ];
+                    let (w, grad) = yz.node(sx.weight[a], sx.gradient[a]);
+                    self.weights[n] = w;
+                    self.gradients[n] = grad;
                     n += 1;
                 }
             }
         }
         self.len = n;
+    }
+}
+
+/// The y–z factors of one row of a tensor-product stencil: with φy, φy′
+/// of node j and φz, φz′ of node k, the products φy φz, φy′ φz and φy φz′
+/// that every node (i, j, k) of the row shares.
+#[derive(Debug, Clone, Copy)]
+pub struct TensorRow {
+    wyz: f64,
+    gyz: f64,
+    wygz: f64,
+}
+
+impl TensorRow {
+    /// The factors of the row of y-weight `wy` (derivative `gy`) and
+    /// z-weight `wz` (derivative `gz`).
+    #[inline(always)]
+    pub fn new(wy: f64, gy: f64, wz: f64, gz: f64) -> Self {
+        Self {
+            wyz: wy * wz,
+            gyz: gy * wz,
+            wygz: wy * gz,
+        }
+    }
+
+    /// N = φx (φy φz) and ∇N = (φx′ (φy φz), φx (φy′ φz), φx (φy φz′)) of
+    /// the node of x-weight `wx` and derivative `gx` on this row.
+    #[inline(always)]
+    pub fn node(&self, wx: f64, gx: f64) -> (f64, [f64; 3]) {
+        (
+            wx * self.wyz,
+            [gx * self.wyz, wx * self.gyz, wx * self.wygz],
+        )
+    }
+
+    /// N alone, for transfers that need no gradient.
+    #[inline(always)]
+    pub fn weight(&self, wx: f64) -> f64 {
+        wx * self.wyz
+    }
+}
+
+/// ⌊x⌋ for every finite x, without the libm call that `f64::floor` is on
+/// x86-64 targets without SSE4.1: truncation, corrected for negative
+/// non-integers. Values of magnitude ≥ 2⁵² are integers already.
+#[inline(always)]
+pub fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x
     }
 }
 
