@@ -10,6 +10,8 @@
 //! - [`fdm`]: the Lax–Wendroff finite-difference Euler solver.
 //! - [`constitutive`]: stress-update models for solids and particle fluids.
 //! - [`mpm`]: the explicit material point method.
+//! - [`pd`]: bond-based peridynamics with the detonation model of seed 004.
+//! - [`reaction`]: program burn and the detonation-products isentrope.
 //! - [`io`]: VTK, CSV, summary and checkpoint writers.
 //! - [`compose`]: the RON scenario schema, registry and run loop.
 //! - [`verification`]: exact solutions the validation suite compares against.
@@ -22,6 +24,8 @@ pub use brisance_fdm as fdm;
 pub use brisance_grid as grid;
 pub use brisance_io as io;
 pub use brisance_mpm as mpm;
+pub use brisance_pd as pd;
+pub use brisance_reaction as reaction;
 
 pub mod verification;
 

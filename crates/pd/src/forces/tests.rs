@@ -1,6 +1,12 @@
 use super::*;
 use proptest::prelude::*;
 
+/// The solid kernel forms stretch and force magnitude in f32 (relative
+/// precision ~1e-7, see the module doc); hand values are checked to that.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 4e-7 * b.abs()
+}
+
 const SOLID: BondLaw = BondLaw::Solid {
     micromodulus: 3.0,
     yield_stretch: f64::INFINITY,
@@ -52,10 +58,11 @@ fn elastic_bond_force_is_c_s_v_by_hand() {
     // towards node 1; on node 1: c s V₀ = 0.6 towards node 0.
     let mut p = Pair::new(SOLID, [2.0, 0.0, 0.0]);
     let f = p.set([0.2, 0.0, 0.0], [1.0, 1.0]);
-    assert!((f[0][0] - 0.15).abs() < 1e-15, "{f:?}");
-    assert!((f[1][0] + 0.6).abs() < 1e-15, "{f:?}");
+    assert!(close(f[0][0], 0.15), "{f:?}");
+    assert!(close(f[1][0], -0.6), "{f:?}");
+    assert_eq!(f[0][1], 0.0);
     assert_eq!(p.out[0].intact, 1);
-    assert!((p.out[0].min_stretch - 0.1).abs() < 1e-15);
+    assert!(close(p.out[0].min_stretch, 0.1));
 }
 
 #[test]
@@ -68,7 +75,7 @@ fn micro_elastic_yield_caps_the_force_and_unloads_reversibly() {
     };
     let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
     let f = p.set([0.2, 0.0, 0.0], [1.0, 1.0]);
-    assert!((f[0][0] - 3.0 * 0.05 * 0.5).abs() < 1e-15);
+    assert!(close(f[0][0], 3.0 * 0.05 * 0.5), "{f:?}");
     let f = p.set([0.0; 3], [1.0, 1.0]);
     assert_eq!(f[0], [0.0; 3]);
 }
@@ -87,10 +94,11 @@ fn micro_plastic_unloads_on_a_shifted_line() {
     // Back to the reference length: s − s_p = −0.05, a compressive force
     // c·0.05·V₁ = 0.075 pushing node 0 away from node 1 (−x).
     let f = p.set([0.0; 3], [1.0, 1.0]);
-    assert!((f[0][0] + 0.075).abs() < 1e-8, "{f:?}");
-    // Reloading to s = 0.08 stays elastic: force c(0.08 − 0.05)V₁.
+    assert!(close(f[0][0], -0.075), "{f:?}");
+    // Reloading to s = 0.08 stays elastic: force c(0.08 − 0.05)V₁; s − s_p
+    // is a difference of f32 stretches, good to a few f32 ulps of 0.08.
     let f = p.set([0.16, 0.0, 0.0], [1.0, 1.0]);
-    assert!((f[0][0] - 3.0 * 0.03 * 0.5).abs() < 1e-8, "{f:?}");
+    assert!((f[0][0] / (3.0 * 0.5) - 0.03).abs() < 3e-8, "{f:?}");
 }
 
 #[test]
