@@ -9,7 +9,8 @@
 //! 3. If σ̄* = √(3/2 ŝ*:ŝ*) ≤ σ_y(ε_pⁿ, 0, T_n) the step is elastic.
 //!    Otherwise the radial return solves
 //!    σ̄* − 3G Δε_p = σ_y(ε_pⁿ + Δε_p, Δε_p/Δt, T_n)
-//!    by bracketed Newton on [0, σ̄*/(3G)] and scales ŝ = ŝ*(1 − 3GΔε_p/σ̄*).
+//!    by bracketed Newton on [0, σ̄*/(3G)] and scales ŝ = ŝ* σ_y/σ̄* (equal to
+//!    1 − 3GΔε_p/σ̄* at the root, without its cancellation when σ_y ≪ σ̄*).
 //!    The plastic strain and rate are implicit and the temperature is that
 //!    of the start of the step, the semi-implicit update of seed 000 §4.2
 //!    (its refs [23, 24]).
@@ -474,14 +475,16 @@ impl Material for ElasticPlastic {
             + 2.0 * g * dt * deviator(&frames.unrotate_end(&d));
         let trial = von_mises(&s_trial);
         let eps_p = scalars[PLASTIC_STRAIN_INDEX];
-        // On the yield surface σ̄ = σ_y; the work uses the σ_y of the return
-        // (exactly 0 for a melted point) rather than σ̄, which carries the
-        // round-off of the scaling.
+        // On the yield surface σ̄ = σ_y: the trial deviator is scaled by
+        // σ_y/σ̄*, which equals 1 − 3GΔε_p/σ̄* at the converged return but
+        // keeps full relative precision when σ_y ≪ σ̄* (near melting the
+        // difference form cancels catastrophically). The work uses the same
+        // σ_y (exactly 0 for a melted point).
         let (s_hat, d_eps, sigma_eq, sigma_y) =
             if trial > self.flow_stress.flow_stress(eps_p, 0.0, t) {
                 let (d_eps, sigma_y) = radial_return(&self.flow_stress, g, trial, eps_p, dt, t);
-                let factor = (1.0 - 3.0 * g * d_eps / trial).max(0.0);
-                (s_trial * factor, d_eps, trial * factor, sigma_y)
+                let factor = (sigma_y / trial).max(0.0);
+                (s_trial * factor, d_eps, sigma_y, sigma_y)
             } else {
                 (s_trial, 0.0, trial, 0.0)
             };
