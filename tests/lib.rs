@@ -3,6 +3,7 @@
 //! validation cases carry their id from docs/validation.md (`v_sod`).
 
 mod cli;
+mod particle_gauges;
 mod restart;
 mod v_bar;
 mod v_smooth;

@@ -8,7 +8,10 @@ use brisance_grid::Level;
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
 use brisance_eos::EosModel;
-use brisance_mpm::{GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, Particles};
+use brisance_mpm::{
+    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
+    SetQuantity,
+};
 
 use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
 use crate::error::ConfigError;
@@ -67,9 +70,80 @@ fn located(path: &str, message: String) -> ConfigError {
     }
 }
 
+/// A built run: the solver, and for the particle pipeline the particle
+/// sets of `outputs.particle_gauges` (in that order). Dereferences to the
+/// solver.
+pub enum Built {
+    /// A solver without particle gauges.
+    Solver(Box<dyn Solver>),
+    /// The MPM solver and the particle sets of its particle gauges.
+    Mpm {
+        /// The solver.
+        solver: Box<MpmSolver>,
+        /// One set per particle gauge.
+        particle_gauges: Vec<ParticleSet>,
+    },
+}
+
+impl std::ops::Deref for Built {
+    type Target = dyn Solver;
+    fn deref(&self) -> &Self::Target {
+        match self {
+            Built::Solver(s) => s.as_ref(),
+            Built::Mpm { solver, .. } => solver.as_ref(),
+        }
+    }
+}
+
+impl std::ops::DerefMut for Built {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        match self {
+            Built::Solver(s) => s.as_mut(),
+            Built::Mpm { solver, .. } => solver.as_mut(),
+        }
+    }
+}
+
+impl Built {
+    /// The solver alone.
+    pub fn into_solver(self) -> Box<dyn Solver> {
+        match self {
+            Built::Solver(s) => s,
+            Built::Mpm { solver, .. } => solver,
+        }
+    }
+
+    /// Samples particle gauge `k` (its set averages of `quantities`, see
+    /// [`ParticleSet::sample`]) into `out`; false when there is no such
+    /// gauge.
+    pub fn sample_particle_gauge(
+        &self,
+        k: usize,
+        quantities: &[SetQuantity],
+        out: &mut Vec<f64>,
+    ) -> bool {
+        match self {
+            Built::Mpm {
+                solver,
+                particle_gauges,
+            } if k < particle_gauges.len() => {
+                particle_gauges[k].sample(solver, quantities, out);
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
 /// Builds the solver a scenario describes. Errors carry the field path;
 /// the caller fills in the file and position.
 pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
+    build(s).map(Built::into_solver)
+}
+
+/// Builds the solver a scenario describes with its particle gauges. Errors
+/// carry the field path; the caller fills in the file and position.
+pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
     let d = &s.domain;
     let fdm = match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm,
@@ -94,6 +168,7 @@ pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
         EosModel::IdealGas(gas) => build_fdm(s, level, *gas),
         other => build_fdm(s, level, other.clone()),
     }
+    .map(Built::Solver)
 }
 
 /// The FDM solver of scenario `s` for gas `eos` on `level`.
@@ -224,8 +299,10 @@ fn bc_name(b: &BoundaryConfig) -> &'static str {
 
 /// Builds the MPM solver: every sub-cell point (ppc per direction) inside an
 /// initial region becomes a particle of that region's material (the last
-/// region containing the point wins, as for cells).
-fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Box<dyn Solver>, ConfigError> {
+/// region containing the point wins, as for cells). Each particle gauge
+/// selects the particles that start in its region (and material); an empty
+/// selection is an error naming the gauge.
+fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, 1)
         .map_err(|e| located("domain.patches", e.to_string()))?;
@@ -351,9 +428,47 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Box<dyn Solver>, ConfigErr
         bulk_viscosity: mpm.bulk_viscosity.option(),
         ..Default::default()
     };
+    let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());
+    for (i, g) in s.outputs.particle_gauges.iter().enumerate() {
+        let material = match &g.material {
+            Some(name) => Some(
+                names
+                    .iter()
+                    .position(|n| *n == name)
+                    .map(|id| MaterialId(id as u16))
+                    .ok_or_else(|| {
+                        located(
+                            &format!("outputs.particle_gauges.{i}.material"),
+                            format!("`{name}` has no constitutive `model`"),
+                        )
+                    })?,
+            ),
+            None => None,
+        };
+        let set = ParticleSet::select(&particles, |x, m| {
+            g.region.contains(x) && (material.is_none() || material == Some(m))
+        });
+        if set.is_empty() {
+            let of = g
+                .material
+                .as_ref()
+                .map_or(String::new(), |m| format!(" of material `{m}`"));
+            return Err(located(
+                &format!("outputs.particle_gauges.{i}.region"),
+                format!(
+                    "particle gauge `{}`: no particle{of} starts inside its region",
+                    g.name
+                ),
+            ));
+        }
+        particle_gauges.push(set);
+    }
     let solver = MpmSolver::new(level, models, particles, options)
         .map_err(|e| located("pipeline", e.to_string()))?;
-    Ok(Box::new(solver))
+    Ok(Built::Mpm {
+        solver: Box::new(solver),
+        particle_gauges,
+    })
 }
 
 fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
@@ -374,7 +489,8 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
          materials: {}\n  \
          time: to {} s at cfl {}\n  \
          boundaries: {}\n  \
-         initial regions: {}",
+         initial regions: {}\n  \
+         outputs: interval {:?}, fields [{}], {} gauges, {} particle gauges, {} line-outs, checkpoints every {:?} steps",
         s.name,
         mpm.shape_function,
         mpm.scheme,
@@ -393,6 +509,12 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
         s.time.cfl,
         s.boundaries.faces().iter().map(|(f, b)| format!("{f}={}", bc_name(b))).collect::<Vec<_>>().join(" "),
         s.initial.len(),
+        s.outputs.interval,
+        s.outputs.fields.join(", "),
+        s.outputs.gauges.len(),
+        s.outputs.particle_gauges.len(),
+        s.outputs.lineouts.len(),
+        s.outputs.checkpoint_every,
     )
 }
 

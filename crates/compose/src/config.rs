@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
-use brisance_mpm::{BulkViscosity, ShapeFunction, UpdateScheme};
+use brisance_mpm::{BulkViscosity, SetQuantity, ShapeFunction, UpdateScheme};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario: one RON file.
@@ -279,6 +279,9 @@ pub struct Outputs {
     pub vtk: bool,
     /// Point gauges (sampled every step).
     pub gauges: Vec<Gauge>,
+    /// Particle gauges (Mpm): averages over a set of particles chosen by
+    /// their initial position, sampled every step.
+    pub particle_gauges: Vec<ParticleGauge>,
     /// Line-outs (written at every output time).
     pub lineouts: Vec<Lineout>,
     /// Write a checkpoint every this many steps.
@@ -303,6 +306,7 @@ impl Default for Outputs {
             .to_vec(),
             vtk: true,
             gauges: Vec::new(),
+            particle_gauges: Vec::new(),
             lineouts: Vec::new(),
             checkpoint_every: None,
         }
@@ -319,6 +323,25 @@ pub struct Gauge {
     pub point: [f64; 3],
     /// Fields to record.
     pub fields: Vec<String>,
+}
+
+/// A particle gauge: one CSV `particle_gauges/<name>.csv` of set averages
+/// over the particles whose *initial* position lies in `region` (and, if
+/// given, of `material`), followed wherever they move.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleGauge {
+    /// File stem.
+    pub name: String,
+    /// Where the particles start.
+    pub region: Region,
+    /// Only particles of this material (a key of `materials`).
+    #[serde(default)]
+    pub material: Option<String>,
+    /// What to record: `MeanVelocity`, `MeanPosition`, `MeanDisplacement`,
+    /// `MeanStress`, `MeanPressure`, `MeanVonMisesStress`,
+    /// `MeanTemperature`, `MeanSpecificInternalEnergy`, `Mass`.
+    pub quantities: Vec<SetQuantity>,
 }
 
 /// A line-out between two points.

@@ -1,6 +1,6 @@
 //! The run loop: stable time step, advance, outputs on schedule (output
-//! times hit exactly), gauges every step, conservation bookkeeping,
-//! checkpoints and restart, a progress bar and tracing spans.
+//! times hit exactly), point and particle gauges every step, conservation
+//! bookkeeping, checkpoints and restart, a progress bar and tracing spans.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -10,7 +10,7 @@ use brisance_io as io;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::build::build_solver;
+use crate::build::{build, Built};
 use crate::config::Scenario;
 use crate::error::{ConfigError, RunError};
 use crate::load::{ron_options, LoadedScenario};
@@ -35,11 +35,16 @@ struct RunState {
     /// Index of the next scheduled output time.
     next_output: usize,
     gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
+    particle_gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
     conservation_rows: Vec<(f64, ConservationTotals)>,
     pvd: io::PvdSeries,
     particle_pvd: io::PvdSeries,
     initial_totals: ConservationTotals,
     compute_seconds: f64,
+    /// Work done so far in the solver's unit (cell-updates, particle-steps),
+    /// summed step by step because the particle count changes when
+    /// particles leave through outflow faces.
+    work: f64,
 }
 
 /// Output times: 0, Δ, 2Δ, ... below the end, then the end.
@@ -106,7 +111,7 @@ struct Runner<'a> {
     scenario: &'a Scenario,
     text: &'a str,
     out: PathBuf,
-    solver: Box<dyn Solver>,
+    solver: Built,
     state: RunState,
     times: Vec<f64>,
     sample: Vec<f64>,
@@ -123,6 +128,21 @@ impl Runner<'_> {
                     source,
                 })?;
             self.state.gauge_rows[k].push((t, self.sample.clone()));
+        }
+        for (k, g) in self.scenario.outputs.particle_gauges.iter().enumerate() {
+            if !self
+                .solver
+                .sample_particle_gauge(k, &g.quantities, &mut self.sample)
+            {
+                return Err(RunError::Solver {
+                    step: self.state.steps,
+                    source: brisance_core::SolverError::Other(format!(
+                        "particle gauge `{}` has no particle set (not an Mpm run)",
+                        g.name
+                    )),
+                });
+            }
+            self.state.particle_gauge_rows[k].push((t, self.sample.clone()));
         }
         Ok(())
     }
@@ -207,6 +227,16 @@ impl Runner<'_> {
                 &self.state.gauge_rows[k],
             )?;
         }
+        for (k, g) in self.scenario.outputs.particle_gauges.iter().enumerate() {
+            io::write_gauge_csv(
+                &self
+                    .out
+                    .join("particle_gauges")
+                    .join(format!("{}.csv", g.name)),
+                &brisance_mpm::ParticleSet::columns(&g.quantities),
+                &self.state.particle_gauge_rows[k],
+            )?;
+        }
         io::write_conservation_csv(
             &self.out.join("conservation.csv"),
             &self.state.conservation_rows,
@@ -237,9 +267,9 @@ impl Runner<'_> {
 
     fn summary(&self, wall: f64, completed: bool, stop_reason: Option<String>) -> io::RunSummary {
         let final_totals = self.solver.conservation_totals();
-        let (work, unit) = self.solver.work_per_step();
+        let unit = self.solver.work_per_step().1;
         let throughput = if self.state.compute_seconds > 0.0 {
-            work * self.state.steps as f64 / self.state.compute_seconds
+            self.state.work / self.state.compute_seconds
         } else {
             0.0
         };
@@ -307,10 +337,11 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
     let started = Instant::now();
     let mut solver = {
         let _span = tracing::info_span!("build").entered();
-        build_solver(scenario).map_err(|e| located(loaded, e))?
+        build(scenario).map_err(|e| located(loaded, e))?
     };
     let mut state = RunState {
         gauge_rows: vec![Vec::new(); scenario.outputs.gauges.len()],
+        particle_gauge_rows: vec![Vec::new(); scenario.outputs.particle_gauges.len()],
         ..Default::default()
     };
     if let Some(path) = &opts.restart {
@@ -329,7 +360,9 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
         })?;
         state = bincode::deserialize(&ck.run_state)
             .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
-        if state.gauge_rows.len() != scenario.outputs.gauges.len() {
+        if state.gauge_rows.len() != scenario.outputs.gauges.len()
+            || state.particle_gauge_rows.len() != scenario.outputs.particle_gauges.len()
+        {
             return Err(RunError::Checkpoint(format!(
                 "{}: the gauges differ from the scenario's",
                 path.display()
@@ -344,6 +377,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
     for (needed, sub) in [
         (o.vtk, "vtk"),
         (!o.gauges.is_empty(), "gauges"),
+        (!o.particle_gauges.is_empty(), "particle_gauges"),
         (!o.lineouts.is_empty(), "lineouts"),
         (o.checkpoint_every.is_some(), "checkpoints"),
     ] {
@@ -387,6 +421,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
                 source,
             })?;
             let (dt, hits) = next_step(stable, remaining);
+            let work = r.solver.work_per_step().0;
             {
                 let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
                 r.solver.advance(dt).map_err(|source| RunError::Solver {
@@ -395,6 +430,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
                 })?;
             }
             r.state.compute_seconds += t0.elapsed().as_secs_f64();
+            r.state.work += work;
             r.state.steps += 1;
             r.record_gauges()?;
             if hits {

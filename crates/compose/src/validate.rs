@@ -348,6 +348,44 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         check_fields(format!("{path}.fields"), &g.fields)?;
     }
     let mut names = std::collections::BTreeSet::new();
+    for (i, g) in o.particle_gauges.iter().enumerate() {
+        let path = format!("outputs.particle_gauges.{i}");
+        if !matches!(s.pipeline, Pipeline::Mpm(_)) {
+            return Err((
+                path,
+                "particle gauges follow particles: they need the Mpm pipeline".into(),
+            ));
+        }
+        if !file_safe(&g.name) || !names.insert(g.name.clone()) {
+            return Err((
+                format!("{path}.name"),
+                format!(
+                    "particle gauge name `{}` must be unique and use only letters, digits, `_` and `-`",
+                    g.name
+                ),
+            ));
+        }
+        check_region(&format!("{path}.region"), &g.region)?;
+        if let Some(m) = &g.material {
+            if s.materials.get(m).and_then(|m| m.model.as_ref()).is_none() {
+                return Err((
+                    format!("{path}.material"),
+                    format!(
+                        "particle gauge `{}`: `{m}` is not a particle material (one with a constitutive `model`); known materials: {}",
+                        g.name,
+                        known_materials()
+                    ),
+                ));
+            }
+        }
+        if g.quantities.is_empty() {
+            return Err((
+                format!("{path}.quantities"),
+                format!("particle gauge `{}` needs at least one quantity", g.name),
+            ));
+        }
+    }
+    let mut names = std::collections::BTreeSet::new();
     for (i, l) in o.lineouts.iter().enumerate() {
         let path = format!("outputs.lineouts.{i}");
         if !file_safe(&l.name) || !names.insert(l.name.clone()) {

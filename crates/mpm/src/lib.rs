@@ -9,6 +9,8 @@
 //!   stencils without allocation.
 //! - [`particles`]: the particle state, structure of arrays, with a stable
 //!   counting sort by cell.
+//! - [`particle_sets`]: particle sets chosen by their initial state and
+//!   followed through the run (particle gauges).
 //! - [`grid_nodes`]: node fields (mass, momentum, force, velocities) on the
 //!   whole level's node lattice, structure of arrays.
 //! - [`transfer`]: P2G as a deterministic gather over cell-sorted particles
@@ -30,6 +32,7 @@ pub mod boundary;
 pub mod generate;
 pub mod grid_nodes;
 pub mod nodes;
+pub mod particle_sets;
 pub mod particles;
 pub mod shape;
 pub mod solver;
@@ -41,6 +44,7 @@ pub use boundary::GridBoundary;
 pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
 pub use grid_nodes::{GridNodes, NodeLattice};
 pub use nodes::patch_node_index;
+pub use particle_sets::{ParticleSet, SetQuantity};
 pub use particles::{
     matrix_to_voigt, voigt_to_matrix, MaterialId, ParticleError, ParticleInit, Particles,
 };

@@ -135,6 +135,12 @@ pub enum MpmSetupError {
         /// Its position, m.
         position: [f64; 3],
     },
+    /// More particles than a 32-bit particle identity can number.
+    #[error("{count} particles: at most {max} are supported", max = u32::MAX)]
+    TooManyParticles {
+        /// The number given.
+        count: usize,
+    },
     /// A particle whose shape-function stencil cannot be evaluated.
     #[error("particle {particle}: {detail}")]
     Shape {
@@ -169,6 +175,9 @@ pub struct MpmSolver {
     work: Workspace,
     /// Per particle, in particle order: the bulk viscosity in its stress.
     bulk: Vec<BulkViscosityState>,
+    /// Per particle, in particle order: its index in the set handed to
+    /// [`MpmSolver::new`] (its identity through sorts and removals).
+    ids: Vec<u32>,
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -181,6 +190,7 @@ struct SavedState {
     history_stride: usize,
     outflow: ConservationTotals,
     bulk_viscosity: Vec<BulkViscosityState>,
+    ids: Vec<u32>,
     position: Vec<[f64; 3]>,
     velocity: Vec<[f64; 3]>,
     mass: Vec<f64>,
@@ -249,6 +259,11 @@ impl MpmSolver {
         if particles.is_empty() {
             return Err(MpmSetupError::NoParticles);
         }
+        if u32::try_from(particles.len()).is_err() {
+            return Err(MpmSetupError::TooManyParticles {
+                count: particles.len(),
+            });
+        }
         for (index, m) in materials.iter().enumerate() {
             m.validate().map_err(|e| MpmSetupError::Material {
                 index,
@@ -303,6 +318,7 @@ impl MpmSolver {
         }
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let bulk = vec![BulkViscosityState::default(); particles.len()];
+        let ids = (0..particles.len() as u32).collect();
         let lattice = NodeLattice::new(&grid, options.shape);
         Ok(Self {
             level,
@@ -321,6 +337,7 @@ impl MpmSolver {
                 velocity_gradient: Vec::new(),
             },
             bulk,
+            ids,
         })
     }
 
@@ -353,6 +370,21 @@ impl MpmSolver {
     /// Mass, momentum and energy carried out through outflow faces so far.
     pub fn outflow_totals(&self) -> ConservationTotals {
         self.outflow
+    }
+
+    /// Each particle's identity, in particle order: its index in the set
+    /// handed to [`MpmSolver::new`]. Particles are re-sorted by cell and
+    /// removed through outflow faces; the identity follows them (see
+    /// [`crate::ParticleSet`]).
+    pub fn particle_ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// Reorders the per-particle arrays the solver keeps beside
+    /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`.
+    fn permute_own(&mut self, perm: &[usize]) {
+        self.bulk = perm.iter().map(|&p| self.bulk[p]).collect();
+        self.ids = perm.iter().map(|&p| self.ids[p]).collect();
     }
 
     /// Each particle's bulk-viscosity state (q and tr D), in particle order.
@@ -396,7 +428,7 @@ impl MpmSolver {
                 .particles
                 .sort_by_cell(&grid)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
-            self.bulk = perm.iter().map(|&p| self.bulk[p]).collect();
+            self.permute_own(&perm);
             self.particles
                 .cell_indices(&grid, &mut self.work.cells)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
@@ -485,7 +517,7 @@ impl MpmSolver {
             })
             .collect();
         self.particles.select(&keep);
-        self.bulk = keep.iter().map(|&p| self.bulk[p]).collect();
+        self.permute_own(&keep);
         Ok(())
     }
 
@@ -799,6 +831,7 @@ impl Solver for MpmSolver {
             history_stride: ps.history_stride(),
             outflow: self.outflow,
             bulk_viscosity: self.bulk.clone(),
+            ids: self.ids.clone(),
             position: ps.position.clone(),
             velocity: ps.velocity.clone(),
             mass: ps.mass.clone(),
@@ -848,6 +881,7 @@ impl Solver for MpmSolver {
             s.material.len(),
             s.failed.len(),
             s.bulk_viscosity.len(),
+            s.ids.len(),
             history_rows,
         ];
         if lengths.iter().any(|&l| l != n) {
@@ -881,6 +915,7 @@ impl Solver for MpmSolver {
         ps.failed = s.failed;
         self.particles = ps;
         self.bulk = s.bulk_viscosity;
+        self.ids = s.ids;
         self.time = s.time;
         self.steps = s.steps;
         self.outflow = s.outflow;
