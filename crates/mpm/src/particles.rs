@@ -10,6 +10,7 @@
 //! one contiguous stream per quantity.
 
 use brisance_core::{Mat3, UniformGridGeometry};
+use rayon::prelude::*;
 
 /// Which material a particle belongs to (an index into the run's material
 /// list, not a count).
@@ -259,6 +260,17 @@ impl Particles {
         Ok(())
     }
 
+    /// Whether the particles are in increasing order of the linear index of
+    /// their cell; `false` if one lies outside the grid.
+    pub fn is_sorted_by_cell(&self, grid: &UniformGridGeometry) -> bool {
+        let cell = |x: &[f64; 3]| grid.cell_containing(*x).map(|c| grid.linear_index(c));
+        self.position
+            .par_windows(2)
+            .with_min_len(4096)
+            .all(|w| matches!((cell(&w[0]), cell(&w[1])), (Some(a), Some(b)) if a <= b))
+            && (self.position.len() != 1 || cell(&self.position[0]).is_some())
+    }
+
     /// Sorts the particles by the linear index of their cell with a stable
     /// counting sort (particles of one cell keep their relative order, so
     /// the result is deterministic), and returns the permutation applied:
@@ -295,8 +307,8 @@ impl Particles {
     /// `perm[i]`. `perm` is a permutation of 0..len, or (through
     /// [`Particles::select`]) a subset of it.
     pub fn permute(&mut self, perm: &[usize]) {
-        fn apply<T: Copy>(v: &mut Vec<T>, perm: &[usize]) {
-            *v = perm.iter().map(|&p| v[p]).collect();
+        fn apply<T: Copy + Send + Sync>(v: &mut Vec<T>, perm: &[usize]) {
+            *v = perm.par_iter().with_min_len(4096).map(|&p| v[p]).collect();
         }
         apply(&mut self.position, perm);
         apply(&mut self.velocity, perm);
@@ -312,10 +324,13 @@ impl Particles {
         let s = self.history_stride;
         if s > 0 {
             let old = std::mem::take(&mut self.history);
-            self.history = perm
-                .iter()
-                .flat_map(|&p| old[p * s..(p + 1) * s].iter().copied())
-                .collect();
+            let mut history = vec![0.0; perm.len() * s];
+            history
+                .par_chunks_mut(s)
+                .zip(perm.par_iter())
+                .with_min_len(4096)
+                .for_each(|(h, &p)| h.copy_from_slice(&old[p * s..(p + 1) * s]));
+            self.history = history;
         }
     }
 }
@@ -418,6 +433,15 @@ mod tests {
         let mut cells = Vec::new();
         ps.cell_indices(&g, &mut cells).unwrap();
         assert!(cells.windows(2).all(|w| w[0] <= w[1]));
+        assert!(ps.is_sorted_by_cell(&g));
+        ps.position.swap(0, 4);
+        assert!(!ps.is_sorted_by_cell(&g));
+        ps.position.swap(0, 4);
+        ps.position[0] = [-1.0, 0.5, 0.5];
+        assert!(
+            !ps.is_sorted_by_cell(&g),
+            "a particle outside is not sorted"
+        );
     }
 
     #[test]

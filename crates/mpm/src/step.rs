@@ -29,9 +29,9 @@
 //!
 //! The per-particle stress update is in [`update_particle_stress`].
 
-use crate::boundary::{apply_grid_boundaries, GridBoundary};
-use crate::grid_nodes::GridNodes;
-use crate::transfer::{for_each_node, AxisStencils, GatherContext};
+use crate::boundary::GridBoundary;
+use crate::grid_nodes::{GridNodes, NodeStage, NodeUpdate};
+use crate::transfer::{self, G2pParticles, GridMap, P2gParticles, P2gSums, ParticleBins};
 use crate::viscosity::{BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::{elastic_plastic::TEMPERATURE_INCREMENT_INDEX, MaterialModel};
@@ -90,180 +90,169 @@ pub struct ParticleFailure {
     pub reason: &'static str,
 }
 
-/// `out = num / m` per node, zero where the node mass is at or below the
-/// cut-off `threshold` (or not positive): velocities from momenta and
-/// accelerations from forces.
-fn per_unit_mass(out: &mut [[f64; 3]], num: &[[f64; 3]], mass: &[f64], threshold: f64) {
-    out.par_iter_mut()
-        .zip(num.par_iter().zip(mass.par_iter()))
-        .for_each(|(o, (q, &m))| {
-            *o = if m > threshold && m > 0.0 {
-                [q[0] / m, q[1] / m, q[2] / m]
-            } else {
-                [0.0; 3]
-            };
-        });
+/// The kernels' view of one step: the grid map and the particles' bins
+/// (see [`crate::transfer`]), built at the start of the step from the
+/// positions x_p^n.
+#[derive(Debug, Clone, Copy)]
+pub struct Transfer<'a> {
+    /// Grid geometry, lattice and block layout of the shape function.
+    pub map: &'a GridMap,
+    /// The particles of every block.
+    pub bins: &'a ParticleBins,
 }
 
-/// P2G of mass (eq 21) and momentum (eq 18), then v_I^n with the cut-off
-/// and the boundary conditions.
-pub fn p2g_mass_momentum(
-    ctx: &GatherContext,
+impl StepParams<'_> {
+    /// What the node updates need.
+    fn node_update(&self) -> NodeUpdate<'_> {
+        NodeUpdate {
+            boundaries: self.boundaries,
+            cells: self.grid.cells,
+            mass_threshold: self.mass_threshold,
+            gravity: self.gravity,
+            dt: self.dt,
+        }
+    }
+}
+
+fn p2g_inputs(particles: &Particles) -> P2gParticles<'_> {
+    P2gParticles {
+        position: &particles.position,
+        mass: &particles.mass,
+        velocity: &particles.velocity,
+        volume: &particles.volume,
+        stress: &particles.stress,
+    }
+}
+
+/// P2G of mass (eq 21) and momentum (eq 18), then v_I^n = p_I/m_I with the
+/// cut-off and the boundary conditions (USF's first transfer).
+pub fn p2g_velocity(
+    t: &Transfer,
     particles: &Particles,
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
-    let (mass, vel) = (&particles.mass, &particles.velocity);
-    ctx.gather(&mut nodes.mass, |m, p, w, _| *m += w * mass[p]);
-    ctx.gather(&mut nodes.momentum, |q, p, w, _| {
-        let wm = w * mass[p];
-        for c in 0..3 {
-            q[c] += wm * vel[p][c];
-        }
-    });
-    per_unit_mass(
-        &mut nodes.velocity,
-        &nodes.momentum,
-        &nodes.mass,
-        params.mass_threshold,
+    transfer::p2g(
+        t.map,
+        t.bins,
+        p2g_inputs(particles),
+        nodes,
+        P2gSums::MassMomentum,
     );
-    apply_grid_boundaries(
-        params.boundaries,
-        &nodes.lattice,
-        params.grid.cells,
-        &mut [&mut nodes.velocity],
-    );
+    nodes.update(&params.node_update(), NodeStage::Velocity);
 }
 
-/// P2G of the force f_I = −Σ V_p σ_p ∇N_Ip + Σ m_p N_Ip g (eqs 19, 20,
-/// 23; no surface traction), then a_I = f_I/m_I and v_I^{n+1} = v_I^n +
-/// a_I Δt (eq 22) with the cut-off and the boundary conditions.
-pub fn p2g_force_and_integrate(
-    ctx: &GatherContext,
+/// P2G of the internal force f_I = −Σ V_p σ_p ∇N_Ip (eq 19), then
+/// f_I += m_I g (eq 23 with the body force; no surface traction),
+/// a_I = f_I/m_I and v_I^{n+1} = v_I^n + a_I Δt (eq 22), with the cut-off
+/// and the boundary conditions (USF's force transfer, from σ_p^{n+1}).
+pub fn p2g_integrate(
+    t: &Transfer,
     particles: &Particles,
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
-    let (mass, vol, stress) = (&particles.mass, &particles.volume, &particles.stress);
-    let g = params.gravity;
-    ctx.gather(&mut nodes.force, |f, p, w, grad| {
-        let s = &stress[p];
-        // Voigt (xx, yy, zz, yz, xz, xy).
-        let sg = [
-            s[0] * grad[0] + s[5] * grad[1] + s[4] * grad[2],
-            s[5] * grad[0] + s[1] * grad[1] + s[3] * grad[2],
-            s[4] * grad[0] + s[3] * grad[1] + s[2] * grad[2],
-        ];
-        let wm = w * mass[p];
-        for c in 0..3 {
-            f[c] += -vol[p] * sg[c] + wm * g[c];
-        }
-    });
-    let dt = params.dt;
-    per_unit_mass(
-        &mut nodes.acceleration,
-        &nodes.force,
-        &nodes.mass,
-        params.mass_threshold,
-    );
-    apply_grid_boundaries(
-        params.boundaries,
-        &nodes.lattice,
-        params.grid.cells,
-        &mut [&mut nodes.acceleration],
-    );
-    nodes
-        .velocity_new
-        .par_iter_mut()
-        .zip(nodes.velocity.par_iter().zip(nodes.acceleration.par_iter()))
-        .for_each(|(vn, (v, a))| *vn = std::array::from_fn(|c| v[c] + a[c] * dt));
+    transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::Force);
+    nodes.update(&params.node_update(), NodeStage::Integrate);
 }
 
-/// G2P of eqs 24–25: v_p += Σ N_Ip a_I Δt, x_p += Σ N_Ip v_I^{n+1} Δt.
-pub fn g2p_velocity_position(
-    stencils: &[AxisStencils],
+/// [`p2g_velocity`] and [`p2g_integrate`] fused: mass, momentum and force
+/// in one visit of each particle, then v_I^n, a_I and v_I^{n+1} in one
+/// pass over the nodes (USL and MUSL, force from σ_p^n).
+pub fn p2g_velocity_and_integrate(
+    t: &Transfer,
+    particles: &Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::All);
+    nodes.update(&params.node_update(), NodeStage::VelocityAndIntegrate);
+}
+
+/// MUSL: the velocity update of eq 24, v_p += Δt Σ N_Ip a_I, and the
+/// re-mapping of eq 26 in one visit of each particle, then
+/// v_I^{n+1} = Σ m_p N_Ip v_p^{n+1} / m_I into `nodes.velocity_remap`, with
+/// the cut-off and the boundary conditions. The weights are those of x_p^n.
+pub fn g2p_velocity_and_remap(
+    t: &Transfer,
+    particles: &mut Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    transfer::g2p_velocity_and_remap_momentum(
+        t.map,
+        t.bins,
+        &particles.position,
+        &particles.mass,
+        &mut particles.velocity,
+        nodes,
+        params.dt,
+    );
+    nodes.update(&params.node_update(), NodeStage::Remap);
+}
+
+/// A node velocity field of [`GridNodes`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeVelocity {
+    /// v_I^n (`velocity`).
+    Start,
+    /// v_I^{n+1} of eq 22 (`velocity_new`).
+    End,
+    /// MUSL's re-mapped v_I^{n+1} of eq 26 (`velocity_remap`).
+    Remapped,
+}
+
+impl NodeVelocity {
+    fn of(self, nodes: &GridNodes) -> &[[f64; 3]] {
+        match self {
+            Self::Start => &nodes.velocity,
+            Self::End => &nodes.velocity_new,
+            Self::Remapped => &nodes.velocity_remap,
+        }
+    }
+}
+
+/// What one G2P visit of the particles does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct G2pParts {
+    /// v_p += Δt Σ N_Ip a_I (eq 24).
+    pub velocity: bool,
+    /// x_p += Δt Σ N_Ip v_I^{n+1} (eq 25).
+    pub position: bool,
+    /// L_p = Σ_I v_I ⊗ ∇N_Ip (eqs 27–28, L[i][j] = Σ v_i ∂N/∂x_j) from
+    /// this node velocity, into the gradient buffer.
+    pub gradient: Option<NodeVelocity>,
+}
+
+/// G2P over the particles in storage order (parallel, each particle
+/// writing only itself), with the weights of x_p^n: the parts of `parts`,
+/// the velocity gradients into `gradient` (resized to the particle count).
+pub fn g2p(
+    t: &Transfer,
     particles: &mut Particles,
     nodes: &GridNodes,
     dt: f64,
+    parts: G2pParts,
+    gradient: &mut Vec<Mat3>,
 ) {
-    let lattice = &nodes.lattice;
-    particles
-        .velocity
-        .par_iter_mut()
-        .zip(particles.position.par_iter_mut())
-        .zip(stencils.par_iter())
-        .for_each(|((v, x), s)| {
-            let mut dv = [0.0; 3];
-            let mut dx = [0.0; 3];
-            for_each_node(lattice, s, |idx, w, _| {
-                let a = nodes.acceleration[idx];
-                let vn = nodes.velocity_new[idx];
-                for c in 0..3 {
-                    dv[c] += w * a[c];
-                    dx[c] += w * vn[c];
-                }
-            });
-            for c in 0..3 {
-                v[c] += dv[c] * dt;
-                x[c] += dx[c] * dt;
-            }
-        });
-}
-
-/// MUSL re-mapping (eq 26): v_I^{n+1} = Σ m_p N_Ip v_p^{n+1} / m_I with the
-/// start-of-step weights, the cut-off and the boundary conditions.
-pub fn remap_velocity(
-    ctx: &GatherContext,
-    particles: &Particles,
-    nodes: &mut GridNodes,
-    params: &StepParams,
-) {
-    let (mass, vel) = (&particles.mass, &particles.velocity);
-    ctx.gather(&mut nodes.momentum, |q, p, w, _| {
-        let wm = w * mass[p];
-        for c in 0..3 {
-            q[c] += wm * vel[p][c];
-        }
-    });
-    per_unit_mass(
-        &mut nodes.velocity_new,
-        &nodes.momentum,
-        &nodes.mass,
-        params.mass_threshold,
+    transfer::g2p(
+        t.map,
+        t.bins,
+        transfer::G2p {
+            acceleration: &nodes.acceleration,
+            velocity_new: &nodes.velocity_new,
+            gradient_velocity: parts.gradient.unwrap_or(NodeVelocity::End).of(nodes),
+            dt,
+            update_velocity: parts.velocity,
+            update_position: parts.position,
+            velocity_gradient: parts.gradient.is_some(),
+        },
+        G2pParticles {
+            position: &mut particles.position,
+            velocity: &mut particles.velocity,
+            gradient,
+        },
     );
-    apply_grid_boundaries(
-        params.boundaries,
-        &nodes.lattice,
-        params.grid.cells,
-        &mut [&mut nodes.velocity_new],
-    );
-}
-
-/// Velocity gradient L_p = Σ_I v_I ⊗ ∇N_Ip (L[i][j] = Σ v_i ∂N/∂x_j,
-/// seed 001 eqs 27–28, seed 000 eq 13) from the node velocities
-/// `velocity`, into `out`.
-pub fn velocity_gradients(
-    stencils: &[AxisStencils],
-    nodes: &GridNodes,
-    velocity: &[[f64; 3]],
-    out: &mut Vec<Mat3>,
-) {
-    out.resize(stencils.len(), Mat3::zeros());
-    let lattice = &nodes.lattice;
-    out.par_iter_mut()
-        .zip(stencils.par_iter())
-        .for_each(|(l, s)| {
-            let mut m = Mat3::zeros();
-            for_each_node(lattice, s, |idx, _, grad| {
-                let v = velocity[idx];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        m[(i, j)] += v[i] * grad[j];
-                    }
-                }
-            });
-            *l = m;
-        });
 }
 
 /// The stress update of every particle (parallel over particles), see
