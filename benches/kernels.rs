@@ -104,6 +104,191 @@ fn mpm_step(c: &mut Criterion) {
     group.finish();
 }
 
+/// The 3D elastic-plastic copper block of the MPM benchmarks (`mpm_step`'s
+/// problem: 16 x 32 x 16 cells of 0.5 mm, a 4 x 12 x 4 mm block of
+/// 2 x 2 x 2 particles per cell hitting a rigid wall at 190 m/s), after
+/// `steps` steps of the full solver, so the kernels see a deforming,
+/// partly plastic state.
+fn mpm_bench_block(shape: &str, steps: usize) -> brisance::mpm::MpmSolver {
+    use brisance::compose::{build::build, build::Built, load_str};
+    let text = include_str!("../configs/taylor2d.ron");
+    let sets = [
+        "domain.cells=(16,32,16)".to_string(),
+        "domain.upper=(0.008,0.016,0.008)".to_string(),
+        "initial.0.region.max=(0.004,0.012,0.004)".to_string(),
+        "boundaries.z_low=Reflective".to_string(),
+        "outputs.gauges=[]".to_string(),
+        format!("pipeline.shape_function={shape}"),
+    ];
+    let loaded = load_str("taylor2d.ron", text, &sets).expect("benchmark scenario loads");
+    let Built::Mpm { mut solver, .. } = build(&loaded.scenario).expect("benchmark scenario builds")
+    else {
+        panic!("the benchmark scenario is an Mpm pipeline");
+    };
+    for _ in 0..steps {
+        let dt = solver.stable_dt().expect("stable");
+        solver.advance(dt).expect("advances");
+    }
+    *solver
+}
+
+/// The transfer kernels' inputs for one state of [`mpm_bench_block`].
+struct MpmKernelState {
+    particles: brisance::mpm::Particles,
+    map: brisance::mpm::transfer::GridMap,
+    bins: brisance::mpm::transfer::ParticleBins,
+    nodes: brisance::mpm::GridNodes,
+    options: brisance::mpm::MpmOptions,
+    grid: brisance::core::UniformGridGeometry,
+}
+
+impl MpmKernelState {
+    fn new(shape: &str) -> Self {
+        use brisance::mpm::transfer::{GridMap, ParticleBins};
+        let solver = mpm_bench_block(shape, 40);
+        let particles = solver.particles().clone();
+        let grid = solver.level().geometry;
+        let options = *solver.options();
+        let map = GridMap::new(&grid, options.shape);
+        let mut bins = ParticleBins::default();
+        bins.build(&map, &particles.position, &particles.initial_volume)
+            .expect("benchmark particles bin");
+        let nodes = brisance::mpm::GridNodes::new(map.lattice);
+        Self {
+            particles,
+            map,
+            bins,
+            nodes,
+            options,
+            grid,
+        }
+    }
+
+    /// P2G of mass, momentum and internal force (seed 001 eqs 18, 19, 21)
+    /// and the node update to v_I^n, a_I and v_I^{n+1} (eq 22), as a USL or
+    /// MUSL step makes it.
+    fn p2g(&mut self, dt: f64) {
+        use brisance::mpm::grid_nodes::{NodeStage, NodeUpdate};
+        use brisance::mpm::transfer::{p2g, P2gParticles, P2gSums};
+        let ps = &self.particles;
+        p2g(
+            &self.map,
+            &self.bins,
+            P2gParticles {
+                position: &ps.position,
+                mass: &ps.mass,
+                velocity: &ps.velocity,
+                volume: &ps.volume,
+                stress: &ps.stress,
+            },
+            &mut self.nodes,
+            P2gSums::All,
+        );
+        let reference_mass = ps.total_mass() / ps.len() as f64;
+        self.nodes.update(
+            &NodeUpdate {
+                boundaries: &self.options.boundaries,
+                cells: self.grid.cells,
+                mass_threshold: self.options.mass_cutoff * reference_mass,
+                gravity: self.options.gravity,
+                dt,
+            },
+            NodeStage::VelocityAndIntegrate,
+        );
+    }
+}
+
+/// The MPM kernels one at a time, on [`mpm_bench_block`] after 40 steps
+/// (12 288 particles), particle-steps per second: `mpm_p2g` (mass, momentum
+/// and internal force to the grid and the node update), `mpm_g2p` (velocity
+/// and position update and velocity gradient from the grid, eqs 24, 25,
+/// 27–28; Δt = 0 so the particles stay where they were binned) and
+/// `mpm_stress_update` (F, volume, J2 radial return with the Jaumann rate
+/// and energy of every particle, from the velocity gradient of that state;
+/// each iteration starts from the same state).
+fn mpm_kernels(c: &mut Criterion) {
+    use brisance::mpm::step::{update_stresses, StepParams};
+    use brisance::mpm::transfer::{g2p, G2p, G2pParticles};
+    use brisance::mpm::BulkViscosityState;
+    use criterion::BatchSize;
+    for shape in ["Linear", "QuadraticBSpline"] {
+        let mut k = MpmKernelState::new(shape);
+        let n = k.particles.len() as u64;
+        let dt = 1e-9;
+        let mut group = c.benchmark_group("mpm_p2g");
+        group.sample_size(10);
+        group.throughput(Throughput::Elements(n));
+        group.bench_function(BenchmarkId::from_parameter(shape), |b| b.iter(|| k.p2g(dt)));
+        group.finish();
+
+        k.p2g(dt);
+        let mut gradient = Vec::new();
+        let mut group = c.benchmark_group("mpm_g2p");
+        group.sample_size(10);
+        group.throughput(Throughput::Elements(n));
+        group.bench_function(BenchmarkId::from_parameter(shape), |b| {
+            b.iter(|| {
+                let nodes = &k.nodes;
+                g2p(
+                    &k.map,
+                    &k.bins,
+                    G2p {
+                        acceleration: &nodes.acceleration,
+                        velocity_new: &nodes.velocity_new,
+                        gradient_velocity: &nodes.velocity_new,
+                        dt: 0.0,
+                        update_velocity: true,
+                        update_position: true,
+                        velocity_gradient: true,
+                    },
+                    G2pParticles {
+                        position: &mut k.particles.position,
+                        velocity: &mut k.particles.velocity,
+                        gradient: &mut gradient,
+                    },
+                )
+            })
+        });
+        group.finish();
+
+        if shape != "Linear" {
+            continue;
+        }
+        // The stress update does not depend on the shape function.
+        let solver = mpm_bench_block(shape, 40);
+        let params = StepParams {
+            grid: &k.grid,
+            shape: k.options.shape,
+            scheme: k.options.scheme,
+            gravity: k.options.gravity,
+            boundaries: &k.options.boundaries,
+            mass_threshold: 0.0,
+            materials: solver.materials(),
+            dt: 0.2 * solver.stable_dt().expect("stable"),
+            bulk_viscosity: None,
+        };
+        let mut group = c.benchmark_group("mpm_stress_update");
+        group.sample_size(10);
+        group.throughput(Throughput::Elements(n));
+        group.bench_function("elastic_plastic_jaumann", |b| {
+            b.iter_batched_ref(
+                || {
+                    (
+                        k.particles.clone(),
+                        vec![BulkViscosityState::default(); n as usize],
+                    )
+                },
+                |(ps, bulk)| {
+                    let failure = update_stresses(ps, &gradient, bulk, &params);
+                    assert!(failure.is_none(), "{failure:?}");
+                },
+                BatchSize::LargeInput,
+            )
+        });
+        group.finish();
+    }
+}
+
 /// The peridynamic bond-force pass (seed 004 eq 9 with the proportional
 /// micro-elastic bond of eq 8) on a 3D block of 28³ nodes with δ = 3h:
 /// bond evaluations per second, one evaluation being the force of one bond
@@ -198,6 +383,7 @@ criterion_group!(
     fdm_lax_wendroff,
     eos_pressure,
     mpm_step,
+    mpm_kernels,
     pd_bond_forces
 );
 criterion_main!(benches);

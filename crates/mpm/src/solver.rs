@@ -30,9 +30,9 @@
 //! `mass_density` is Σ m_p / V_cell, the particle mass smeared over the cell.
 
 use crate::boundary::{GridBoundary, FACE_NAMES};
-use crate::grid_nodes::GridNodes;
-use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
-use crate::transfer::{BinError, GridMap, ParticleBins};
+use crate::grid_nodes::{GridNodes, NodeLattice};
+use crate::step::{self, StepParams, UpdateScheme};
+use crate::transfer::{build_cell_start, compute_stencils, AxisStencils, GatherContext};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
@@ -151,17 +151,13 @@ pub enum MpmSetupError {
     },
 }
 
-/// Particles are re-sorted by cell (in storage) every this many steps;
-/// in between, the transfers find them through the bins of
-/// [`crate::transfer`] wherever they lie.
-pub const RESORT_INTERVAL: u64 = 32;
-
 /// Buffers reused from step to step.
 #[derive(Debug, Clone)]
 struct Workspace {
-    map: GridMap,
     nodes: GridNodes,
-    bins: ParticleBins,
+    cells: Vec<usize>,
+    cell_start: Vec<usize>,
+    stencils: Vec<AxisStencils>,
     velocity_gradient: Vec<Mat3>,
 }
 
@@ -303,24 +299,18 @@ impl MpmSolver {
         {
             return Err(MpmSetupError::OutsideGrid { particle, position });
         }
-        let map = GridMap::new(&grid, options.shape);
-        let mut bins = ParticleBins::default();
-        bins.build(&map, &particles.position, &particles.initial_volume)
-            .map_err(|e| match e {
-                BinError::Outside { index, position } => MpmSetupError::OutsideGrid {
-                    particle: index,
-                    position,
-                },
-                BinError::Shape { index, error } => MpmSetupError::Shape {
-                    particle: index,
-                    detail: error.to_string(),
-                },
-                BinError::TooMany { count } => MpmSetupError::Option {
-                    option: "particles",
-                    value: count.to_string(),
-                    expected: "at most 4294967294 particles",
-                },
-            })?;
+        let mut stencils = Vec::new();
+        compute_stencils(
+            options.shape,
+            &grid,
+            &particles.position,
+            &particles.initial_volume,
+            &mut stencils,
+        )
+        .map_err(|(particle, e)| MpmSetupError::Shape {
+            particle,
+            detail: e.to_string(),
+        })?;
         for p in 0..particles.len() {
             let m = &materials[particles.material[p].0 as usize];
             let len = m.history_len();
@@ -329,6 +319,7 @@ impl MpmSolver {
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let bulk = vec![BulkViscosityState::default(); particles.len()];
         let ids = (0..particles.len() as u32).collect();
+        let lattice = NodeLattice::new(&grid, options.shape);
         Ok(Self {
             level,
             materials,
@@ -339,9 +330,10 @@ impl MpmSolver {
             steps: 0,
             outflow: ConservationTotals::default(),
             work: Workspace {
-                map,
-                nodes: GridNodes::new(map.lattice),
-                bins,
+                nodes: GridNodes::new(lattice),
+                cells: Vec::new(),
+                cell_start: Vec::new(),
+                stencils,
                 velocity_gradient: Vec::new(),
             },
             bulk,
@@ -349,8 +341,8 @@ impl MpmSolver {
         })
     }
 
-    /// The particles, in storage order: sorted by cell at the last re-sort
-    /// (every [`RESORT_INTERVAL`] steps), and in that order since.
+    /// The particles (sorted by the cell they were in at the start of the
+    /// last step).
     pub fn particles(&self) -> &Particles {
         &self.particles
     }
@@ -363,6 +355,11 @@ impl MpmSolver {
     /// The options.
     pub fn options(&self) -> &MpmOptions {
         &self.options
+    }
+
+    /// The constitutive models, indexed by [`MaterialId`].
+    pub fn materials(&self) -> &[MaterialModel] {
+        &self.materials
     }
 
     /// Steps taken.
@@ -415,9 +412,8 @@ impl MpmSolver {
         })
     }
 
-    /// Every [`RESORT_INTERVAL`] steps, sorts the particles by cell (a
-    /// stable counting sort, skipped when they are sorted); every step, bins
-    /// them for the transfers (see [`crate::transfer`]).
+    /// Sorts the particles by cell if they are not sorted, and counts them
+    /// per cell.
     fn sort_particles(&mut self) -> Result<(), SolverError> {
         let grid = self.level.geometry;
         let time = self.time;
@@ -426,23 +422,28 @@ impl MpmSolver {
                 "MPM at t = {time:e} s: particle {index} at {position:?} m lies outside the grid"
             ))
         };
-        if self.steps.is_multiple_of(RESORT_INTERVAL) && !self.particles.is_sorted_by_cell(&grid) {
-            let perm = self.particles.sort_by_cell(&grid).map_err(|e| match e {
+        self.particles
+            .cell_indices(&grid, &mut self.work.cells)
+            .map_err(|e| match e {
                 crate::ParticleError::OutsideGrid { index, position } => outside(index, position),
                 other => SolverError::Other(other.to_string()),
             })?;
+        if !self.work.cells.windows(2).all(|w| w[0] <= w[1]) {
+            let perm = self
+                .particles
+                .sort_by_cell(&grid)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
             self.permute_own(&perm);
+            self.particles
+                .cell_indices(&grid, &mut self.work.cells)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
         }
-        let ps = &self.particles;
-        let binned = self
-            .work
-            .bins
-            .build(&self.work.map, &ps.position, &ps.initial_volume);
-        binned.map_err(|e| match e {
-            BinError::Outside { index, position } => outside(index, position),
-            BinError::Shape { index, error } => self.particle_error(index, error.to_string()),
-            BinError::TooMany { .. } => SolverError::Other(e.to_string()),
-        })
+        build_cell_start(
+            &self.work.cells,
+            grid.cell_count(),
+            &mut self.work.cell_start,
+        );
+        Ok(())
     }
 
     fn particle_error(&self, index: usize, detail: String) -> SolverError {
@@ -656,6 +657,15 @@ impl Solver for MpmSolver {
         }
         self.sort_particles()?;
         let grid = self.level.geometry;
+        if let Err((p, e)) = compute_stencils(
+            self.options.shape,
+            &grid,
+            &self.particles.position,
+            &self.particles.initial_volume,
+            &mut self.work.stencils,
+        ) {
+            return Err(self.particle_error(p, e.to_string()));
+        }
         let params = StepParams {
             grid: &grid,
             shape: self.options.shape,
@@ -668,55 +678,46 @@ impl Solver for MpmSolver {
             bulk_viscosity: self.viscosity_params(),
         };
         let work = &mut self.work;
-        let t = step::Transfer {
-            map: &work.map,
-            bins: &work.bins,
+        let ctx = GatherContext {
+            grid: &grid,
+            lattice: &work.nodes.lattice.clone(),
+            shape: self.options.shape,
+            cell_start: &work.cell_start,
+            stencils: &work.stencils,
         };
         let nodes = &mut work.nodes;
         let ps = &mut self.particles;
         let bulk = &mut self.bulk;
-        let l = &mut work.velocity_gradient;
         let failure = match params.scheme {
             UpdateScheme::Usf => {
-                let parts = G2pParts {
-                    velocity: false,
-                    position: false,
-                    gradient: Some(NodeVelocity::Start),
-                };
-                step::p2g_velocity(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                let failure = step::update_stresses(ps, &l[..], bulk, &params);
+                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
+                step::velocity_gradients(
+                    &work.stencils,
+                    nodes,
+                    &nodes.velocity,
+                    &mut work.velocity_gradient,
+                );
+                let failure = step::update_stresses(ps, &work.velocity_gradient, bulk, &params);
                 if failure.is_none() {
-                    let parts = G2pParts {
-                        velocity: true,
-                        position: true,
-                        gradient: None,
-                    };
-                    step::p2g_integrate(&t, ps, nodes, &params);
-                    step::g2p(&t, ps, nodes, dt, parts, l);
+                    step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
+                    step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
                 }
                 failure
             }
-            UpdateScheme::Usl => {
-                let parts = G2pParts {
-                    velocity: true,
-                    position: true,
-                    gradient: Some(NodeVelocity::End),
-                };
-                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                step::update_stresses(ps, &l[..], bulk, &params)
-            }
-            UpdateScheme::Musl => {
-                let parts = G2pParts {
-                    velocity: false,
-                    position: true,
-                    gradient: Some(NodeVelocity::Remapped),
-                };
-                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
-                step::g2p_velocity_and_remap(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                step::update_stresses(ps, &l[..], bulk, &params)
+            UpdateScheme::Usl | UpdateScheme::Musl => {
+                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
+                step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
+                step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
+                if params.scheme == UpdateScheme::Musl {
+                    step::remap_velocity(&ctx, ps, nodes, &params);
+                }
+                step::velocity_gradients(
+                    &work.stencils,
+                    nodes,
+                    &nodes.velocity_new,
+                    &mut work.velocity_gradient,
+                );
+                step::update_stresses(ps, &work.velocity_gradient, bulk, &params)
             }
         };
         if let Some(f) = failure {
