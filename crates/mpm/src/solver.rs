@@ -30,9 +30,9 @@
 //! `mass_density` is Σ m_p / V_cell, the particle mass smeared over the cell.
 
 use crate::boundary::{GridBoundary, FACE_NAMES};
-use crate::grid_nodes::{GridNodes, NodeLattice};
-use crate::step::{self, StepParams, UpdateScheme};
-use crate::transfer::{build_cell_start, compute_stencils, AxisStencils, GatherContext};
+use crate::grid_nodes::GridNodes;
+use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
+use crate::transfer::{BinError, GridMap, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
@@ -151,13 +151,17 @@ pub enum MpmSetupError {
     },
 }
 
+/// Particles are re-sorted by cell (in storage) every this many steps;
+/// in between, the transfers find them through the bins of
+/// [`crate::transfer`] wherever they lie.
+pub const RESORT_INTERVAL: u64 = 32;
+
 /// Buffers reused from step to step.
 #[derive(Debug, Clone)]
 struct Workspace {
+    map: GridMap,
     nodes: GridNodes,
-    cells: Vec<usize>,
-    cell_start: Vec<usize>,
-    stencils: Vec<AxisStencils>,
+    bins: ParticleBins,
     velocity_gradient: Vec<Mat3>,
 }
 
@@ -299,27 +303,37 @@ impl MpmSolver {
         {
             return Err(MpmSetupError::OutsideGrid { particle, position });
         }
-        let mut stencils = Vec::new();
-        compute_stencils(
-            options.shape,
-            &grid,
-            &particles.position,
-            &particles.initial_volume,
-            &mut stencils,
-        )
-        .map_err(|(particle, e)| MpmSetupError::Shape {
-            particle,
-            detail: e.to_string(),
-        })?;
+        let map = GridMap::new(&grid, options.shape);
+        let mut bins = ParticleBins::default();
+        bins.build(&map, &particles.position, &particles.initial_volume)
+            .map_err(|e| match e {
+                BinError::Outside { index, position } => MpmSetupError::OutsideGrid {
+                    particle: index,
+                    position,
+                },
+                BinError::Shape { index, error } => MpmSetupError::Shape {
+                    particle: index,
+                    detail: error.to_string(),
+                },
+                BinError::TooMany { count } => MpmSetupError::Option {
+                    option: "particles",
+                    value: count.to_string(),
+                    expected: "at most 4294967294 particles",
+                },
+            })?;
         for p in 0..particles.len() {
-            let m = &materials[particles.material[p].0 as usize];
+            let id = particles.material[p].0;
+            let m = &materials[id as usize];
             let len = m.history_len();
-            m.init_history(&mut particles.history_of_mut(p)[..len]);
+            // Per-point initial draws (seed 000 §4.2) seeded by the initial
+            // position and material alone: the same bits whatever the
+            // thread count or particle order.
+            let seed = brisance_constitutive::random::point_seed(particles.position[p], id);
+            m.init_history_at(&mut particles.history_of_mut(p)[..len], seed);
         }
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let bulk = vec![BulkViscosityState::default(); particles.len()];
         let ids = (0..particles.len() as u32).collect();
-        let lattice = NodeLattice::new(&grid, options.shape);
         Ok(Self {
             level,
             materials,
@@ -330,10 +344,9 @@ impl MpmSolver {
             steps: 0,
             outflow: ConservationTotals::default(),
             work: Workspace {
-                nodes: GridNodes::new(lattice),
-                cells: Vec::new(),
-                cell_start: Vec::new(),
-                stencils,
+                map,
+                nodes: GridNodes::new(map.lattice),
+                bins,
                 velocity_gradient: Vec::new(),
             },
             bulk,
@@ -341,8 +354,8 @@ impl MpmSolver {
         })
     }
 
-    /// The particles (sorted by the cell they were in at the start of the
-    /// last step).
+    /// The particles, in storage order: sorted by cell at the last re-sort
+    /// (every [`RESORT_INTERVAL`] steps), and in that order since.
     pub fn particles(&self) -> &Particles {
         &self.particles
     }
@@ -412,8 +425,9 @@ impl MpmSolver {
         })
     }
 
-    /// Sorts the particles by cell if they are not sorted, and counts them
-    /// per cell.
+    /// Every [`RESORT_INTERVAL`] steps, sorts the particles by cell (a
+    /// stable counting sort, skipped when they are sorted); every step, bins
+    /// them for the transfers (see [`crate::transfer`]).
     fn sort_particles(&mut self) -> Result<(), SolverError> {
         let grid = self.level.geometry;
         let time = self.time;
@@ -422,28 +436,23 @@ impl MpmSolver {
                 "MPM at t = {time:e} s: particle {index} at {position:?} m lies outside the grid"
             ))
         };
-        self.particles
-            .cell_indices(&grid, &mut self.work.cells)
-            .map_err(|e| match e {
+        if self.steps.is_multiple_of(RESORT_INTERVAL) && !self.particles.is_sorted_by_cell(&grid) {
+            let perm = self.particles.sort_by_cell(&grid).map_err(|e| match e {
                 crate::ParticleError::OutsideGrid { index, position } => outside(index, position),
                 other => SolverError::Other(other.to_string()),
             })?;
-        if !self.work.cells.windows(2).all(|w| w[0] <= w[1]) {
-            let perm = self
-                .particles
-                .sort_by_cell(&grid)
-                .map_err(|e| SolverError::Other(e.to_string()))?;
             self.permute_own(&perm);
-            self.particles
-                .cell_indices(&grid, &mut self.work.cells)
-                .map_err(|e| SolverError::Other(e.to_string()))?;
         }
-        build_cell_start(
-            &self.work.cells,
-            grid.cell_count(),
-            &mut self.work.cell_start,
-        );
-        Ok(())
+        let ps = &self.particles;
+        let binned = self
+            .work
+            .bins
+            .build(&self.work.map, &ps.position, &ps.initial_volume);
+        binned.map_err(|e| match e {
+            BinError::Outside { index, position } => outside(index, position),
+            BinError::Shape { index, error } => self.particle_error(index, error.to_string()),
+            BinError::TooMany { .. } => SolverError::Other(e.to_string()),
+        })
     }
 
     fn particle_error(&self, index: usize, detail: String) -> SolverError {
@@ -657,15 +666,6 @@ impl Solver for MpmSolver {
         }
         self.sort_particles()?;
         let grid = self.level.geometry;
-        if let Err((p, e)) = compute_stencils(
-            self.options.shape,
-            &grid,
-            &self.particles.position,
-            &self.particles.initial_volume,
-            &mut self.work.stencils,
-        ) {
-            return Err(self.particle_error(p, e.to_string()));
-        }
         let params = StepParams {
             grid: &grid,
             shape: self.options.shape,
@@ -678,46 +678,55 @@ impl Solver for MpmSolver {
             bulk_viscosity: self.viscosity_params(),
         };
         let work = &mut self.work;
-        let ctx = GatherContext {
-            grid: &grid,
-            lattice: &work.nodes.lattice.clone(),
-            shape: self.options.shape,
-            cell_start: &work.cell_start,
-            stencils: &work.stencils,
+        let t = step::Transfer {
+            map: &work.map,
+            bins: &work.bins,
         };
         let nodes = &mut work.nodes;
         let ps = &mut self.particles;
         let bulk = &mut self.bulk;
+        let l = &mut work.velocity_gradient;
         let failure = match params.scheme {
             UpdateScheme::Usf => {
-                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
-                step::velocity_gradients(
-                    &work.stencils,
-                    nodes,
-                    &nodes.velocity,
-                    &mut work.velocity_gradient,
-                );
-                let failure = step::update_stresses(ps, &work.velocity_gradient, bulk, &params);
+                let parts = G2pParts {
+                    velocity: false,
+                    position: false,
+                    gradient: Some(NodeVelocity::Start),
+                };
+                step::p2g_velocity(&t, ps, nodes, &params);
+                step::g2p(&t, ps, nodes, dt, parts, l);
+                let failure = step::update_stresses(ps, &l[..], bulk, &params);
                 if failure.is_none() {
-                    step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
-                    step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
+                    let parts = G2pParts {
+                        velocity: true,
+                        position: true,
+                        gradient: None,
+                    };
+                    step::p2g_integrate(&t, ps, nodes, &params);
+                    step::g2p(&t, ps, nodes, dt, parts, l);
                 }
                 failure
             }
-            UpdateScheme::Usl | UpdateScheme::Musl => {
-                step::p2g_mass_momentum(&ctx, ps, nodes, &params);
-                step::p2g_force_and_integrate(&ctx, ps, nodes, &params);
-                step::g2p_velocity_position(&work.stencils, ps, nodes, dt);
-                if params.scheme == UpdateScheme::Musl {
-                    step::remap_velocity(&ctx, ps, nodes, &params);
-                }
-                step::velocity_gradients(
-                    &work.stencils,
-                    nodes,
-                    &nodes.velocity_new,
-                    &mut work.velocity_gradient,
-                );
-                step::update_stresses(ps, &work.velocity_gradient, bulk, &params)
+            UpdateScheme::Usl => {
+                let parts = G2pParts {
+                    velocity: true,
+                    position: true,
+                    gradient: Some(NodeVelocity::End),
+                };
+                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
+                step::g2p(&t, ps, nodes, dt, parts, l);
+                step::update_stresses(ps, &l[..], bulk, &params)
+            }
+            UpdateScheme::Musl => {
+                let parts = G2pParts {
+                    velocity: false,
+                    position: true,
+                    gradient: Some(NodeVelocity::Remapped),
+                };
+                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
+                step::g2p_velocity_and_remap(&t, ps, nodes, &params);
+                step::g2p(&t, ps, nodes, dt, parts, l);
+                step::update_stresses(ps, &l[..], bulk, &params)
             }
         };
         if let Some(f) = failure {
