@@ -1,6 +1,7 @@
 //! Brisance peridynamics: meshfree bond-based peridynamics with the
 //! detonation model of seed 004 (Demmie).
 //!
+//! - [`cases`]: E-PD-CYL and E-PD-FRAG, shared by tests and `xtask`.
 //! - [`lattice`]: nodes on a regular lattice filling the bodies' shapes,
 //!   with reference volumes (seed 004 "Numerical Method").
 //! - [`cell_list`]: the O(N) hashed cell list for families and contacts.
@@ -21,6 +22,7 @@
 //! The choices the seed leaves open are written in `docs/physics/pd/`.
 //! Units are SI throughout.
 
+pub mod cases;
 pub mod cell_list;
 pub mod contact;
 pub mod family;

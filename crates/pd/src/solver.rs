@@ -15,8 +15,9 @@
 //!
 //! The stable step (eq 24) is min_i √(2ρ_i / Σ_k V_k C_ik) times a safety
 //! factor, with C = c/r for proportional bonds (eq 22), |∂f/∂p| of eq 19 for
-//! gas bonds (eq 26) and ρ = ρ₀/X for gas nodes (eq 25), and the contact
-//! stiffness of the pairs near contact; it is recomputed every step.
+//! gas bonds (eq 26) with ρ = ρ₀/X (eq 25), and the contact stiffness of
+//! the pairs near contact with the node's own ρ₀ (the terms add as
+//! stiffness/density); it is recomputed every step.
 
 use crate::cell_list::CellList;
 use crate::contact::{contact_forces, ContactInput, ContactParams};
@@ -697,19 +698,49 @@ impl PdSolver {
         }
     }
 
-    /// Stable step of node i without the safety factor (eq 24), s.
+    /// Stable step of node i without the safety factor (eq 24), s:
+    /// √(2 / Σ (stiffness / density)) over the bond, gas and contact terms.
+    /// The gas pairwise force (eq 26) uses the density ρ₀/X of eq 25; the
+    /// short-range forces act on the node's own inertia, ρ₀ (its mass ρ₀V
+    /// does not change as the gas expands).
     fn node_dt(&self, i: usize) -> f64 {
-        let (rho, stiff) = match self.laws[self.material[i] as usize] {
-            BondLaw::Solid { .. } => (self.density[i], self.solid_stiffness[i]),
-            // Eq 25: ρ = ρ₀/X.
-            BondLaw::Gas => (self.density[i] / self.gas[i][0], self.gas[i][1]),
-        };
-        let stiff = stiff + self.contact[i].1;
-        if stiff > 0.0 {
-            (2.0 * rho / stiff).sqrt()
+        let rho = self.density[i];
+        let mut omega2 = self.contact[i].1 / rho;
+        match self.laws[self.material[i] as usize] {
+            BondLaw::Solid { .. } => omega2 += self.solid_stiffness[i] / rho,
+            BondLaw::Gas => omega2 += self.gas[i][1] * self.gas[i][0] / rho,
+        }
+        if omega2 > 0.0 {
+            (2.0 / omega2).sqrt()
         } else {
             f64::INFINITY
         }
+    }
+
+    /// The node that limits the stable step and a description of why
+    /// (material, expansion, stiffness sums), for diagnostics.
+    pub fn limiting_node(&self) -> (usize, String) {
+        let mut best = (f64::INFINITY, 0);
+        for i in 0..self.node_count() {
+            let d = self.node_dt(i);
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        let i = best.1;
+        (
+            i,
+            format!(
+                "node {i} material {} dt {:e} s: X = {:.4}, gas stiffness {:e}, contact {:e}, solid {:e}, detonated {}",
+                self.material[i],
+                best.0,
+                self.gas[i][0],
+                self.gas[i][1],
+                self.contact[i].1,
+                self.solid_stiffness[i],
+                self.time >= self.detonation_time[i]
+            ),
+        )
     }
 
     fn mutable_state(&self) -> PdState {

@@ -1,0 +1,281 @@
+//! The seed 004 validation cases, one definition for the test suite
+//! (reduced) and `cargo xtask validate` (full): E-PD-CYL, the copper
+//! cylinder-expansion test, and E-PD-FRAG, the fragmenting steel cylinder.
+//!
+//! Both tubes lie along z with their axis through the lattice origin and
+//! are filled with TNT detonated on the axis at the z = 0 end. The seed
+//! used JWL for the explosive without printing its parameters; Brisance
+//! uses the TNT set of seed 001 §4.1 (`brisance_eos::Jwl::tnt()`: A =
+//! 371.2 GPa, B = 3.21 GPa, R₁ = 4.15, R₂ = 0.95, ω = 0.3, E₀ =
+//! 6.993 GJ/m³, ρ₀ = 1630 kg/m³, after Dobratz & Crawford, LLNL Explosives
+//! Handbook), with the products isentrope through the volume-burn
+//! reference state (seed 004 eqs 20–21, 30).
+
+use crate::lattice::BodySpec;
+use crate::material::{Gas, PdMaterial, Proportional, ProportionalKind};
+use crate::solver::{BurnMethod, DetonationSpec, PdOptions, PdSetup, PdSetupError, PdSolver};
+use crate::Fragment;
+use brisance_core::Solver;
+use brisance_eos::tools::gurney::CYLINDER_TEST_RELATIVE_VOLUME;
+use brisance_eos::tools::{cylinder_wall_velocity, gurney_estimate};
+use brisance_eos::Jwl;
+use brisance_grid::Shape;
+use brisance_reaction::{DetonationPoint, ProductsIsentrope};
+
+/// A tube filled with explosive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TubeCase {
+    /// Length, m.
+    pub length: f64,
+    /// Inner radius, m.
+    pub inner_radius: f64,
+    /// Outer radius, m.
+    pub outer_radius: f64,
+    /// The case material.
+    pub metal: Proportional,
+    /// Lattice spacing, m.
+    pub spacing: f64,
+}
+
+/// E-PD-CYL: the copper tube of seed 004 (25.8 cm long, inner diameter
+/// 2.54 cm, wall 0.26 cm; ρ 8930 kg/m³, bulk sound speed 3602 m/s, yield
+/// 324 MPa, critical stretch 2.0), micro-elastic as the seed's "proportional
+/// model".
+pub fn copper_cylinder(spacing: f64, length: f64) -> TubeCase {
+    TubeCase {
+        length,
+        inner_radius: 0.0127,
+        outer_radius: 0.0127 + 0.0026,
+        metal: Proportional {
+            density: 8930.0,
+            sound_speed: 3602.0,
+            yield_strength: 324.0e6,
+            critical_stretch: 2.0,
+            kind: ProportionalKind::MicroElastic,
+            damage_stretch_coefficient: 0.0,
+            minimum_stretch_coefficient: 0.0,
+        },
+        spacing,
+    }
+}
+
+/// E-PD-FRAG: the steel tube of seed 004 (4.25 in long, inner diameter
+/// 1.0 in, wall 1/8 in; ρ 7850 kg/m³, 3212 m/s, 750 MPa, critical stretch
+/// 0.11, micro-plastic), with the damage-stretch and minimum-stretch
+/// coefficients the seed's footnote c mentions (values: `alpha_d`,
+/// `alpha_min`).
+pub fn steel_fragmenting_cylinder(
+    spacing: f64,
+    length: f64,
+    alpha_d: f64,
+    alpha_min: f64,
+) -> TubeCase {
+    TubeCase {
+        length,
+        inner_radius: 0.0127,
+        outer_radius: 0.0127 + 0.003175,
+        metal: Proportional {
+            density: 7850.0,
+            sound_speed: 3212.0,
+            yield_strength: 750.0e6,
+            critical_stretch: 0.11,
+            kind: ProportionalKind::MicroPlastic,
+            damage_stretch_coefficient: alpha_d,
+            minimum_stretch_coefficient: alpha_min,
+        },
+        spacing,
+    }
+}
+
+/// The TNT products as a peridynamic gas, with the CJ detonation velocity.
+pub fn tnt_products() -> Result<Gas, PdSetupError> {
+    let (isentrope, cj) =
+        ProductsIsentrope::from_jwl(&Jwl::tnt()).map_err(|e| PdSetupError::Invalid {
+            field: "explosive".into(),
+            message: e.to_string(),
+        })?;
+    Ok(Gas {
+        density: Jwl::tnt().rho0,
+        detonation_velocity: cj.detonation_velocity,
+        isentrope,
+    })
+}
+
+impl TubeCase {
+    /// The solver setup: explosive first (it claims the lattice sites on
+    /// the inner surface), then the case.
+    pub fn setup(&self) -> Result<PdSetup, PdSetupError> {
+        let axis = [0.0, 0.0, 1.0];
+        Ok(PdSetup {
+            options: PdOptions {
+                spacing: self.spacing,
+                ..PdOptions::default()
+            },
+            materials: vec![
+                PdMaterial::Proportional(self.metal),
+                PdMaterial::Gas(tnt_products()?),
+            ],
+            bodies: vec![
+                BodySpec {
+                    shape: Shape::Cylinder {
+                        base: [0.0; 3],
+                        axis,
+                        radius: self.inner_radius,
+                        length: self.length,
+                    },
+                    material: 1,
+                    velocity: [0.0; 3],
+                },
+                BodySpec {
+                    shape: Shape::Shell {
+                        base: [0.0; 3],
+                        axis,
+                        inner_radius: self.inner_radius,
+                        outer_radius: self.outer_radius,
+                        length: self.length,
+                    },
+                    material: 0,
+                    velocity: [0.0; 3],
+                },
+            ],
+            boundaries: vec![],
+            detonation: Some(DetonationSpec {
+                points: vec![DetonationPoint {
+                    position: [0.0, 0.0, 0.5 * self.spacing],
+                    time: 0.0,
+                }],
+                method: BurnMethod::Huygens,
+            }),
+        })
+    }
+
+    /// Metal-to-charge mass ratio M/C of the nominal geometry.
+    pub fn metal_to_charge(&self) -> f64 {
+        let metal = self.metal.density * (self.outer_radius.powi(2) - self.inner_radius.powi(2));
+        let charge = Jwl::tnt().rho0 * self.inner_radius.powi(2);
+        metal / charge
+    }
+
+    /// Gurney wall velocity of the nominal geometry, m/s: √(2E) at the
+    /// cylinder-test expansion V = 7 along the TNT principal isentrope
+    /// (`brisance_eos::tools::gurney_estimate`), and the open-ended cylinder
+    /// relation v = √(2E)(M/C + ½)^{−1/2}.
+    pub fn gurney_wall_velocity(&self) -> Result<f64, String> {
+        let jwl = Jwl::tnt();
+        let (_, cj) = ProductsIsentrope::from_jwl(&jwl).map_err(|e| e.to_string())?;
+        let g = gurney_estimate(&jwl, &cj, CYLINDER_TEST_RELATIVE_VOLUME, 1e-11)
+            .map_err(|e| e.to_string())?;
+        cylinder_wall_velocity(g.gurney_velocity, self.metal_to_charge()).map_err(|e| e.to_string())
+    }
+}
+
+/// The mid-length outer-wall history of a cylinder run.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct WallHistory {
+    /// Times, s.
+    pub time: Vec<f64>,
+    /// Mean radial displacement of the outermost wall nodes within one
+    /// spacing of mid-length, m.
+    pub radial_displacement: Vec<f64>,
+    /// Their mean radial velocity, m/s.
+    pub radial_velocity: Vec<f64>,
+}
+
+/// Runs `case` to `end_time`, sampling the mid-length outer wall every
+/// `every` steps; returns the solver at the end and the history.
+pub fn run_cylinder(
+    case: &TubeCase,
+    end_time: f64,
+    every: usize,
+) -> Result<(PdSolver, WallHistory), String> {
+    let mut s =
+        PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    let h = case.spacing;
+    let ring: Vec<usize> = (0..s.node_count())
+        .filter(|&i| {
+            let x = s.reference()[i];
+            let r = x[0].hypot(x[1]);
+            s.materials()[i] == 0
+                && (x[2] - 0.5 * case.length).abs() <= h
+                && r > case.outer_radius - h
+        })
+        .collect();
+    if ring.is_empty() {
+        return Err("no wall node at mid-length".into());
+    }
+    let mut history = WallHistory::default();
+    let mut sample = |s: &PdSolver| {
+        let (mut u, mut v) = (0.0, 0.0);
+        for &i in &ring {
+            let x = s.reference()[i];
+            let d = s.displacement(i);
+            let r0 = x[0].hypot(x[1]);
+            let (cx, cy) = (x[0] + d[0], x[1] + d[1]);
+            let r = cx.hypot(cy);
+            u += r - r0;
+            let vel = s.velocities()[i];
+            v += (vel[0] * cx + vel[1] * cy) / r;
+        }
+        let n = ring.len() as f64;
+        history.time.push(s.time());
+        history.radial_displacement.push(u / n);
+        history.radial_velocity.push(v / n);
+    };
+    sample(&s);
+    let mut step = 0usize;
+    while s.time() < end_time {
+        let dt = s.stable_dt().map_err(|e| e.to_string())?;
+        s.advance(dt.min(end_time - s.time()).max(1e-15))
+            .map_err(|e| e.to_string())?;
+        step += 1;
+        if step.is_multiple_of(every) {
+            sample(&s);
+        }
+    }
+    sample(&s);
+    Ok((s, history))
+}
+
+/// Fragment statistics of a fragmenting run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FragmentResult {
+    /// Fragments, largest first.
+    pub fragments: Vec<Fragment>,
+    /// Mass of every case node, kg.
+    pub case_mass: f64,
+    /// Σ fragment masses, kg.
+    pub fragment_mass: f64,
+    /// Steps taken.
+    pub steps: u64,
+}
+
+/// Runs `case` to `end_time` and counts the fragments of the case.
+pub fn run_fragmentation(
+    case: &TubeCase,
+    end_time: f64,
+) -> Result<(PdSolver, FragmentResult), String> {
+    let mut s =
+        PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    let mut steps = 0;
+    while s.time() < end_time {
+        let dt = s.stable_dt().map_err(|e| e.to_string())?;
+        s.advance(dt.min(end_time - s.time()).max(1e-15))
+            .map_err(|e| e.to_string())?;
+        steps += 1;
+    }
+    let fragments = s.fragments();
+    let case_mass: f64 = (0..s.node_count())
+        .filter(|&i| s.materials()[i] == 0)
+        .map(|i| s.mass(i))
+        .sum();
+    let fragment_mass = fragments.iter().map(|f| f.mass).sum();
+    Ok((
+        s,
+        FragmentResult {
+            fragments,
+            case_mass,
+            fragment_mass,
+            steps,
+        },
+    ))
+}
