@@ -5,6 +5,7 @@
 mod cli;
 mod particle_gauges;
 mod restart;
+mod surface_loads;
 mod v_bar;
 mod v_smooth;
 mod v_sod;

@@ -10,7 +10,7 @@ use brisance_core::Material;
 use brisance_eos::EosModel;
 use brisance_mpm::{
     GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
-    SetQuantity,
+    SetQuantity, SurfaceLoad,
 };
 
 use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
@@ -463,8 +463,63 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
         }
         particle_gauges.push(set);
     }
+    let material_id = |name: &Option<String>, path: &str| -> Result<_, ConfigError> {
+        name.as_ref()
+            .map(|n| {
+                names
+                    .iter()
+                    .position(|m| *m == n)
+                    .map(|id| MaterialId(id as u16))
+                    .ok_or_else(|| located(path, format!("`{n}` has no constitutive `model`")))
+            })
+            .transpose()
+    };
+    let mut loads = Vec::with_capacity(mpm.surface_loads.len());
+    for (i, l) in mpm.surface_loads.iter().enumerate() {
+        let path = format!("pipeline.surface_loads.{i}");
+        let material = material_id(&l.material, &format!("{path}.material"))?;
+        let set = ParticleSet::select(&particles, |x, m| {
+            l.region.contains(x) && (material.is_none() || material == Some(m))
+        });
+        if set.is_empty() {
+            let of = l
+                .material
+                .as_ref()
+                .map_or(String::new(), |m| format!(" of material `{m}`"));
+            return Err(located(
+                &format!("{path}.region"),
+                format!(
+                    "surface load `{}`: no particle{of} starts inside its region",
+                    l.name
+                ),
+            ));
+        }
+        let norm = l.normal.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let normal = l.normal.map(|c| c / norm);
+        // The particle spacing along the normal: l_d = Δx_d / ppc_d.
+        let thickness = l.thickness.unwrap_or_else(|| {
+            1.0 / (0..3)
+                .map(|d| normal[d].abs() * per_axis[d] as f64 / grid.spacing[d])
+                .sum::<f64>()
+        });
+        loads.push(SurfaceLoad {
+            set,
+            load: l.load,
+            normal,
+            thickness,
+            history: l.history.clone(),
+        });
+    }
     let solver = MpmSolver::new(level, models, particles, options)
-        .map_err(|e| located("pipeline", e.to_string()))?;
+        .map_err(|e| located("pipeline", e.to_string()))?
+        .with_surface_loads(loads)
+        .map_err(|e| match e {
+            brisance_mpm::MpmSetupError::SurfaceLoad { index, detail } => located(
+                &format!("pipeline.surface_loads.{index}"),
+                format!("surface load `{}`: {detail}", mpm.surface_loads[index].name),
+            ),
+            other => located("pipeline", other.to_string()),
+        })?;
     Ok(Built::Mpm {
         solver: Box::new(solver),
         particle_gauges,
@@ -489,7 +544,7 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
          materials: {}\n  \
          time: to {} s at cfl {}\n  \
          boundaries: {}\n  \
-         initial regions: {}\n  \
+         initial regions: {}, surface loads: {}\n  \
          outputs: interval {:?}, fields [{}], {} gauges, {} particle gauges, {} line-outs, checkpoints every {:?} steps",
         s.name,
         mpm.shape_function,
@@ -509,6 +564,7 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
         s.time.cfl,
         s.boundaries.faces().iter().map(|(f, b)| format!("{f}={}", bc_name(b))).collect::<Vec<_>>().join(" "),
         s.initial.len(),
+        mpm.surface_loads.len(),
         s.outputs.interval,
         s.outputs.fields.join(", "),
         s.outputs.gauges.len(),

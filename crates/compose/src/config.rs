@@ -5,7 +5,9 @@ use std::collections::BTreeMap;
 
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
-use brisance_mpm::{BulkViscosity, SetQuantity, ShapeFunction, UpdateScheme};
+use brisance_mpm::{
+    BulkViscosity, LoadHistory, SetQuantity, ShapeFunction, SurfaceLoadKind, UpdateScheme,
+};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario: one RON file.
@@ -174,6 +176,37 @@ pub struct MpmConfig {
     /// Artificial bulk viscosity of the particles (default `Off`).
     #[serde(default)]
     pub bulk_viscosity: BulkViscosityConfig,
+    /// Prescribed tractions on particle surfaces (seed 001 eq 20).
+    #[serde(default)]
+    pub surface_loads: Vec<SurfaceLoadConfig>,
+}
+
+/// A prescribed traction or pressure on the particles that start in
+/// `region` (docs/physics/mpm/traction.md): each stands for the area
+/// V⁰/h of the surface with outward normal `normal`, carried along by its
+/// deformation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceLoadConfig {
+    /// Name, for messages.
+    pub name: String,
+    /// Where the loaded particles start (one layer of particles).
+    pub region: Region,
+    /// Only particles of this material.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// `Traction((tx, ty, tz))` per unit area or `Pressure(p)`, Pa.
+    pub load: SurfaceLoadKind,
+    /// Outward normal of the loaded surface at the start (normalised).
+    pub normal: [f64; 3],
+    /// Thickness h of the loaded particle layer, m (default: the particle
+    /// spacing along the normal, 1/Σ_d |n_d| ppc/Δx_d).
+    #[serde(default)]
+    pub thickness: Option<f64>,
+    /// Time factor: `Constant` (default), `Ramp(rise_time: t)` or
+    /// `Table([(t, s), ...])`.
+    #[serde(default)]
+    pub history: LoadHistory,
 }
 
 /// The artificial bulk viscosity of the particles

@@ -5,7 +5,8 @@
 /// One named component.
 #[derive(Debug, Clone, Copy)]
 pub struct Entry {
-    /// Family: `eos`, `material`, `reaction`, `pipeline`, `region`, `boundary`.
+    /// Family: `eos`, `material`, `reaction`, `pipeline`, `load`, `history`,
+    /// `quantity`, `region`, `boundary`.
     pub family: &'static str,
     /// The name a config uses.
     pub name: &'static str,
@@ -107,6 +108,90 @@ pub const ENTRIES: &[Entry] = &[
         summary: "explicit material point method: USF/USL/MUSL, linear/GIMP/B-spline shapes, optional bulk viscosity (seed 001 §2.2, seed 000 §3.2)",
         example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2, bulk_viscosity: On(quadratic: 1.5, linear: 0.06))",
     },
+    Entry {
+        family: "load",
+        name: "Traction",
+        summary: "traction vector per unit area on a particle surface layer, Pa (seed 001 eq 20)",
+        example: "Traction(1.0e6, 0.0, 0.0)",
+    },
+    Entry {
+        family: "load",
+        name: "Pressure",
+        summary: "pressure on a particle surface layer, along the deformed inward normal, Pa (seed 001 eq 20)",
+        example: "Pressure(2.0e6)",
+    },
+    Entry {
+        family: "history",
+        name: "Constant",
+        summary: "full load from t = 0",
+        example: "Constant",
+    },
+    Entry {
+        family: "history",
+        name: "Ramp",
+        summary: "load factor rising linearly from 0 to 1 over rise_time",
+        example: "Ramp(rise_time: 1.0e-5)",
+    },
+    Entry {
+        family: "history",
+        name: "Table",
+        summary: "piecewise-linear load factor through (time, factor) points, held beyond the ends",
+        example: "Table([(0.0, 0.0), (1.0e-5, 1.0), (3.0e-5, 0.0)])",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanVelocity",
+        summary: "mass-weighted mean velocity of a particle gauge's particles (their momentum over their mass)",
+        example: "MeanVelocity",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanPosition",
+        summary: "centre of mass of a particle gauge's particles",
+        example: "MeanPosition",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanDisplacement",
+        summary: "centre of mass of a particle gauge's particles minus its start",
+        example: "MeanDisplacement",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanStress",
+        summary: "volume-weighted mean material stress (six Voigt columns) of a particle gauge's particles",
+        example: "MeanStress",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanPressure",
+        summary: "volume-weighted mean material pressure of a particle gauge's particles",
+        example: "MeanPressure",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanVonMisesStress",
+        summary: "volume-weighted mean von Mises stress of a particle gauge's particles",
+        example: "MeanVonMisesStress",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanTemperature",
+        summary: "mass-weighted mean temperature of a particle gauge's particles",
+        example: "MeanTemperature",
+    },
+    Entry {
+        family: "quantity",
+        name: "MeanSpecificInternalEnergy",
+        summary: "mass-weighted mean specific internal energy of a particle gauge's particles",
+        example: "MeanSpecificInternalEnergy",
+    },
+    Entry {
+        family: "quantity",
+        name: "Mass",
+        summary: "mass of a particle gauge's particles still in the domain",
+        example: "Mass",
+    },
     Entry { family: "region", name: "Everywhere", summary: "the whole domain", example: "Everywhere" },
     Entry { family: "region", name: "Box", summary: "axis-aligned box", example: "Box(min: (0, 0, 0), max: (1, 1, 1))" },
     Entry { family: "region", name: "Sphere", summary: "ball", example: "Sphere(centre: (0, 0, 0), radius: 0.1)" },
@@ -151,6 +236,9 @@ pub const FAMILIES: &[(&str, &str)] = &[
     ("material", "constitutive models"),
     ("reaction", "reaction models"),
     ("pipeline", "pipelines"),
+    ("load", "surface loads (Mpm surface_loads)"),
+    ("history", "load histories"),
+    ("quantity", "particle gauge quantities"),
     ("region", "initial-region shapes"),
     ("boundary", "boundary conditions"),
 ];
@@ -185,6 +273,7 @@ mod tests {
     use crate::load::ron_options;
     use brisance_constitutive::MaterialModel;
     use brisance_eos::EosModel;
+    use brisance_mpm::{LoadHistory, SetQuantity, SurfaceLoadKind};
 
     #[test]
     fn every_example_parses_as_its_family_and_names_its_variant() {
@@ -196,6 +285,11 @@ mod tests {
                     .map(|_| ()),
                 "pipeline" => ron_options().from_str::<Pipeline>(e.example).map(|_| ()),
                 "region" => ron_options().from_str::<Region>(e.example).map(|_| ()),
+                "load" => ron_options()
+                    .from_str::<SurfaceLoadKind>(e.example)
+                    .map(|_| ()),
+                "history" => ron_options().from_str::<LoadHistory>(e.example).map(|_| ()),
+                "quantity" => ron_options().from_str::<SetQuantity>(e.example).map(|_| ()),
                 "boundary" => ron_options()
                     .from_str::<BoundaryConfig>(e.example)
                     .map(|_| ()),

@@ -225,6 +225,69 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             if !finite3(&mpm.gravity) {
                 return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
             }
+            let mut load_names = std::collections::BTreeSet::new();
+            for (i, l) in mpm.surface_loads.iter().enumerate() {
+                let path = format!("pipeline.surface_loads.{i}");
+                if l.name.is_empty() || !load_names.insert(l.name.clone()) {
+                    return Err((
+                        format!("{path}.name"),
+                        format!(
+                            "surface load name `{}` must be non-empty and unique",
+                            l.name
+                        ),
+                    ));
+                }
+                check_region(&format!("{path}.region"), &l.region)?;
+                if let Some(m) = &l.material {
+                    if s.materials.get(m).and_then(|m| m.model.as_ref()).is_none() {
+                        return Err((
+                            format!("{path}.material"),
+                            format!(
+                                "surface load `{}`: `{m}` is not a particle material (one with a constitutive `model`); known materials: {}",
+                                l.name,
+                                known_materials()
+                            ),
+                        ));
+                    }
+                }
+                let n2: f64 = l.normal.iter().map(|c| c * c).sum();
+                if !finite3(&l.normal) || !(n2 > 0.0) {
+                    return Err((
+                        format!("{path}.normal"),
+                        format!(
+                            "surface load `{}`: normal {:?} must be finite and non-zero",
+                            l.name, l.normal
+                        ),
+                    ));
+                }
+                if let Some(h) = l.thickness {
+                    if !(h > 0.0 && h.is_finite()) {
+                        return Err((
+                            format!("{path}.thickness"),
+                            format!(
+                                "surface load `{}`: thickness {h} m must be positive",
+                                l.name
+                            ),
+                        ));
+                    }
+                }
+                let finite = match l.load {
+                    brisance_mpm::SurfaceLoadKind::Traction(t) => finite3(&t),
+                    brisance_mpm::SurfaceLoadKind::Pressure(p) => p.is_finite(),
+                };
+                if !finite {
+                    return Err((
+                        format!("{path}.load"),
+                        format!("surface load `{}`: the load must be finite", l.name),
+                    ));
+                }
+                l.history.validate().map_err(|m| {
+                    (
+                        format!("{path}.history"),
+                        format!("surface load `{}`: {m}", l.name),
+                    )
+                })?;
+            }
             if let Some(Err((name, value))) = mpm.bulk_viscosity.option().map(|v| v.validate()) {
                 return Err((
                     format!("pipeline.bulk_viscosity.{name}"),

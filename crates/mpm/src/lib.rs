@@ -19,6 +19,8 @@
 //!   update (seed 001 eqs 12–13, 22–30).
 //! - [`boundary`]: grid boundary conditions per domain face.
 //! - [`solver`]: [`MpmSolver`], the method behind the core `Solver` trait.
+//! - [`traction`]: prescribed traction or pressure on the particles of a
+//!   surface layer (seed 001 eq 20), with a time history.
 //! - [`viscosity`]: the artificial bulk viscosity q of shocked particles
 //!   (von Neumann–Richtmyer quadratic and Landshoff linear terms).
 //! - [`generate`]: particles from geometric shapes (box, sphere, cylinder,
@@ -37,6 +39,7 @@ pub mod particles;
 pub mod shape;
 pub mod solver;
 pub mod step;
+pub mod traction;
 pub mod transfer;
 pub mod viscosity;
 
@@ -51,4 +54,5 @@ pub use particles::{
 pub use shape::{ShapeError, ShapeFunction, ShapeStencil, MAX_STENCIL_NODES};
 pub use solver::{MpmOptions, MpmSetupError, MpmSolver};
 pub use step::UpdateScheme;
+pub use traction::{LoadHistory, SurfaceLoad, SurfaceLoadKind};
 pub use viscosity::{BulkViscosity, BulkViscosityState};

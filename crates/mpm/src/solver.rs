@@ -32,6 +32,7 @@
 use crate::boundary::{GridBoundary, FACE_NAMES};
 use crate::grid_nodes::GridNodes;
 use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
+use crate::traction::{self, SurfaceLoad};
 use crate::transfer::{BinError, GridMap, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
@@ -135,6 +136,14 @@ pub enum MpmSetupError {
         /// Its position, m.
         position: [f64; 3],
     },
+    /// A surface load is invalid.
+    #[error("surface load {index}: {detail}")]
+    SurfaceLoad {
+        /// Index of the load.
+        index: usize,
+        /// What is wrong.
+        detail: String,
+    },
     /// More particles than a 32-bit particle identity can number.
     #[error("{count} particles: at most {max} are supported", max = u32::MAX)]
     TooManyParticles {
@@ -182,6 +191,10 @@ pub struct MpmSolver {
     /// Per particle, in particle order: its index in the set handed to
     /// [`MpmSolver::new`] (its identity through sorts and removals).
     ids: Vec<u32>,
+    /// Prescribed surface tractions ([`crate::traction`]).
+    loads: Vec<SurfaceLoad>,
+    /// Their nodal forces of the current step (reused buffer).
+    surface_forces: Vec<(usize, [f64; 3])>,
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -351,7 +364,26 @@ impl MpmSolver {
             },
             bulk,
             ids,
+            loads: Vec::new(),
+            surface_forces: Vec::new(),
         })
+    }
+
+    /// Adds prescribed surface tractions ([`crate::traction`]); their
+    /// particle sets must have been chosen from the particle set handed to
+    /// [`MpmSolver::new`].
+    pub fn with_surface_loads(mut self, loads: Vec<SurfaceLoad>) -> Result<Self, MpmSetupError> {
+        for (index, load) in loads.iter().enumerate() {
+            load.validate()
+                .map_err(|detail| MpmSetupError::SurfaceLoad { index, detail })?;
+        }
+        self.loads = loads;
+        Ok(self)
+    }
+
+    /// The prescribed surface tractions.
+    pub fn surface_loads(&self) -> &[SurfaceLoad] {
+        &self.loads
     }
 
     /// The particles, in storage order: sorted by cell at the last re-sort
@@ -665,6 +697,17 @@ impl Solver for MpmSolver {
             )));
         }
         self.sort_particles()?;
+        let mut surface_forces = std::mem::take(&mut self.surface_forces);
+        if let Err((p, why)) = traction::surface_node_forces(
+            &self.loads,
+            self.time,
+            &self.work.map,
+            &self.particles,
+            &self.ids,
+            &mut surface_forces,
+        ) {
+            return Err(self.particle_error(p, why));
+        }
         let grid = self.level.geometry;
         let params = StepParams {
             grid: &grid,
@@ -676,6 +719,7 @@ impl Solver for MpmSolver {
             materials: &self.materials,
             dt,
             bulk_viscosity: self.viscosity_params(),
+            surface_forces: &surface_forces,
         };
         let work = &mut self.work;
         let t = step::Transfer {
@@ -729,6 +773,7 @@ impl Solver for MpmSolver {
                 step::update_stresses(ps, &l[..], bulk, &params)
             }
         };
+        self.surface_forces = surface_forces;
         if let Some(f) = failure {
             return Err(self.particle_error(
                 f.index,

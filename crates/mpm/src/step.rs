@@ -77,6 +77,10 @@ pub struct StepParams<'a> {
     pub dt: f64,
     /// Artificial bulk viscosity of the stress update, if any.
     pub bulk_viscosity: Option<ViscosityParams>,
+    /// Nodal forces of the prescribed surface tractions at tⁿ, as (node
+    /// storage index, force in N) pairs ([`crate::traction`]); added to
+    /// f_I before the momentum update.
+    pub surface_forces: &'a [(usize, [f64; 3])],
 }
 
 /// Why a particle's stress update was refused.
@@ -142,8 +146,9 @@ pub fn p2g_velocity(
     nodes.update(&params.node_update(), NodeStage::Velocity);
 }
 
-/// P2G of the internal force f_I = −Σ V_p σ_p ∇N_Ip (eq 19), then
-/// f_I += m_I g (eq 23 with the body force; no surface traction),
+/// P2G of the internal force f_I = −Σ V_p σ_p ∇N_Ip (eq 19), then the
+/// surface tractions f_I += Σ_p N_Ip t_p A_p and the body force
+/// f_I += m_I g (eqs 20, 23),
 /// a_I = f_I/m_I and v_I^{n+1} = v_I^n + a_I Δt (eq 22), with the cut-off
 /// and the boundary conditions (USF's force transfer, from σ_p^{n+1}).
 pub fn p2g_integrate(
@@ -153,6 +158,7 @@ pub fn p2g_integrate(
     params: &StepParams,
 ) {
     transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::Force);
+    crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
     nodes.update(&params.node_update(), NodeStage::Integrate);
 }
 
@@ -166,6 +172,7 @@ pub fn p2g_velocity_and_integrate(
     params: &StepParams,
 ) {
     transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::All);
+    crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
     nodes.update(&params.node_update(), NodeStage::VelocityAndIntegrate);
 }
 
