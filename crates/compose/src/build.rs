@@ -30,6 +30,11 @@ pub struct PipelineLimits {
 /// The limits of a pipeline.
 pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
+        Pipeline::Peridynamics(_) => PipelineLimits {
+            fields: &brisance_pd::PdSolver::FIELDS,
+            max_cfl: 1.0,
+            ghost: 1,
+        },
         Pipeline::Mpm(_) => PipelineLimits {
             fields: &MpmSolver::FIELDS,
             max_cfl: 1.0,
@@ -148,6 +153,11 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
     let fdm = match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return build_mpm(s, mpm),
+        Pipeline::Peridynamics(pd) => {
+            return crate::peridynamics::build(s, pd)
+                .map(|solver| Built::Solver(Box::new(solver)))
+                .map_err(|(path, message)| located(&path, message))
+        }
     };
     let level = Level::new(
         d.lower,
@@ -249,6 +259,7 @@ pub fn describe(s: &Scenario) -> String {
     let fdm = match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
+        Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
     };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
     format!(

@@ -150,6 +150,8 @@ pub enum Pipeline {
     Fdm(FdmConfig),
     /// The explicit material point method (seed 001 §2.2, seed 000 §3.2).
     Mpm(MpmConfig),
+    /// Bond-based peridynamics with the detonation model of seed 004.
+    Peridynamics(crate::peridynamics::PdConfig),
 }
 
 /// Options of the MPM pipeline. Every initial region becomes particles of

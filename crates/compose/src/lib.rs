@@ -14,6 +14,7 @@ pub mod config;
 pub mod error;
 pub mod library;
 pub mod load;
+pub mod peridynamics;
 pub mod registry;
 pub mod ron_path;
 pub mod run;

@@ -109,6 +109,12 @@ pub const ENTRIES: &[Entry] = &[
         example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2, bulk_viscosity: On(quadratic: 1.5, linear: 0.06))",
     },
     Entry {
+        family: "pipeline",
+        name: "Peridynamics",
+        summary: "bond-based peridynamics: proportional micro-elastic/plastic solids with critical stretch, JWL or ideal-gas products as PD gases, program burn, short-range forces, fragments (seed 004)",
+        example: "Peridynamics(spacing: 0.001, materials: {\"steel\": Proportional(density: 7850, sound_speed: 3212, yield_strength: Some(7.5e8), critical_stretch: Some(0.11), kind: MicroPlastic)})",
+    },
+    Entry {
         family: "load",
         name: "Traction",
         summary: "traction vector per unit area on a particle surface layer, Pa (seed 001 eq 20)",

@@ -206,6 +206,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 }
             }
         }
+        Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
         Pipeline::Mpm(mpm) => {
             if mpm.ppc == 0 || mpm.ppc > 8 {
                 return Err((

@@ -212,6 +212,21 @@ pub struct PdSolver {
 }
 
 impl PdSolver {
+    /// The fields [`Solver::sample`] knows (gauges sample the node nearest
+    /// the gauge point).
+    pub const FIELDS: [&'static str; 10] = [
+        "displacement_x",
+        "displacement_y",
+        "displacement_z",
+        "velocity_x",
+        "velocity_y",
+        "velocity_z",
+        "radial_displacement",
+        "damage",
+        "pressure",
+        "expansion",
+    ];
+
     /// Builds the nodes, families, bond weights and detonation times, and
     /// evaluates the forces of the initial state.
     pub fn new(setup: PdSetup) -> Result<Self, PdSetupError> {
