@@ -10,3 +10,4 @@ mod v_bar;
 mod v_smooth;
 mod v_sod;
 mod v_sod_mpm;
+mod v_taylor;

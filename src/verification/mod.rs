@@ -3,3 +3,4 @@
 pub mod cases;
 pub mod riemann;
 pub mod smooth;
+pub mod taylor;

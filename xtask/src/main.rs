@@ -2,10 +2,13 @@
 //!
 //! - `cargo xtask validate`: runs the validation cases at full resolution,
 //!   prints the tables and writes `docs/validation.md` with its plots in
-//!   `docs/img/`.
+//!   `docs/img/`. `--only taylor,bar` runs just those cases (names in
+//!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
 mod plot;
+mod splice;
+mod taylor;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -602,7 +605,26 @@ fn throughput(report: &mut Report) -> Result<()> {
     Ok(())
 }
 
-fn validate() -> Result<()> {
+/// The cases of `cargo xtask validate`, in report order, by the names that
+/// `--only` takes.
+const CASES: [&str; 7] = [
+    "sod",
+    "smooth",
+    "cj",
+    "bar",
+    "sod-mpm",
+    "taylor",
+    "throughput",
+];
+
+fn validate(only: &[String]) -> Result<()> {
+    if let Some(bad) = only.iter().find(|c| !CASES.contains(&c.as_str())) {
+        bail!(
+            "unknown case `{bad}` for --only; known: {}",
+            CASES.join(", ")
+        );
+    }
+    let run = |case: &str| only.is_empty() || only.iter().any(|c| c == case);
     let root = workspace_root();
     let img = root.join("docs/img");
     std::fs::create_dir_all(&img).with_context(|| format!("cannot create {}", img.display()))?;
@@ -621,12 +643,48 @@ fn validate() -> Result<()> {
         md: String::new(),
         failures: Vec::new(),
     };
-    v_sod(&mut body, &img)?;
-    v_smooth(&mut body, &img)?;
-    v_cj(&mut body)?;
-    v_bar_case(&mut body)?;
-    v_sod_mpm(&mut body)?;
-    throughput(&mut body)?;
+    if run("sod") {
+        v_sod(&mut body, &img)?;
+    }
+    if run("smooth") {
+        v_smooth(&mut body, &img)?;
+    }
+    if run("cj") {
+        v_cj(&mut body)?;
+    }
+    if run("bar") {
+        v_bar_case(&mut body)?;
+    }
+    if run("sod-mpm") {
+        v_sod_mpm(&mut body)?;
+    }
+    if run("taylor") {
+        taylor::v_taylor(&mut body, &img)?;
+    }
+    if run("throughput") {
+        throughput(&mut body)?;
+    }
+    let path = root.join("docs/validation.md");
+    if !only.is_empty() {
+        let existing = std::fs::read_to_string(&path).unwrap_or_default();
+        report.md = splice::splice(&existing, &body.md, &report.md);
+    } else {
+        write_summary(&mut report, &body);
+    }
+    std::fs::write(&path, &report.md)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    println!("\nwrote {}", path.display());
+    if !body.failures.is_empty() {
+        println!("{} target(s) not met:", body.failures.len());
+        for f in &body.failures {
+            println!("  {f}");
+        }
+    }
+    Ok(())
+}
+
+/// Appends the summary of `body`'s failures and then `body` to `report`.
+fn write_summary(report: &mut Report, body: &Report) {
     let _ = writeln!(report.md, "## Summary\n");
     if body.failures.is_empty() {
         let _ = writeln!(report.md, "All targets met.\n");
@@ -638,17 +696,6 @@ fn validate() -> Result<()> {
         let _ = writeln!(report.md);
     }
     report.md.push_str(&body.md);
-    let path = root.join("docs/validation.md");
-    std::fs::write(&path, &report.md)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    println!("\nwrote {}", path.display());
-    if !body.failures.is_empty() {
-        println!("{} target(s) not met:", body.failures.len());
-        for f in &body.failures {
-            println!("  {f}");
-        }
-    }
-    Ok(())
 }
 
 fn bench(args: &[String]) -> Result<()> {
@@ -667,10 +714,25 @@ fn bench(args: &[String]) -> Result<()> {
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
-        Some("validate") => validate(),
+        Some("validate") => match &args[1..] {
+            [] => validate(&[]),
+            [flag, cases] if flag == "--only" => validate(
+                &cases
+                    .split(',')
+                    .map(|c| c.trim().to_string())
+                    .collect::<Vec<_>>(),
+            ),
+            _ => {
+                eprintln!("usage: cargo xtask validate [--only CASE[,CASE...]]");
+                eprintln!("cases: {}", CASES.join(", "));
+                std::process::exit(2);
+            }
+        },
         Some("bench") => bench(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask validate | bench [criterion args]");
+            eprintln!(
+                "usage: cargo xtask validate [--only CASE[,CASE...]] | bench [criterion args]"
+            );
             std::process::exit(2);
         }
     }

@@ -59,6 +59,10 @@ impl CorotationalFrames {
     /// startᵀ σ start.
     #[inline]
     pub fn unrotate_start(&self, sigma: &Mat3) -> Mat3 {
+        if self.start == Mat3::identity() {
+            // The Jaumann frame: the start of the step is the spatial frame.
+            return *sigma;
+        }
         self.start.transpose() * sigma * self.start
     }
 
@@ -102,10 +106,33 @@ pub fn midpoint_increment(a: &Mat3, dt: f64) -> Option<Mat3> {
 /// Hughes–Winget incremental rotation Q = (I − ½WΔt)⁻¹(I + ½WΔt) of the
 /// spin of `l` over `dt`. A skew W has purely imaginary eigenvalues, so
 /// I − ½WΔt is never singular and Q always exists.
+///
+/// Evaluated in closed form, without a matrix inverse: for the skew
+/// A = ½WΔt with axial vector a (A v = a × v), A² = a aᵀ − |a|² I and
+/// A³ = −|a|² A, so the Cayley transform is
+/// (I − A)⁻¹(I + A) = I + 2(A + A²)/(1 + |a|²).
 #[inline]
 pub fn hughes_winget_rotation(l: &Mat3, dt: f64) -> Mat3 {
-    // Skew W: det(I − ½WΔt) = 1 + |ω Δt/2|² ≥ 1, so the inverse exists.
-    midpoint_increment(&spin(l), dt).unwrap_or_else(Mat3::identity)
+    // a = axial vector of ½Δt · ½(L − Lᵀ).
+    let h = 0.25 * dt;
+    let a = [
+        h * (l[(2, 1)] - l[(1, 2)]),
+        h * (l[(0, 2)] - l[(2, 0)]),
+        h * (l[(1, 0)] - l[(0, 1)]),
+    ];
+    let s = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    let k = 2.0 / (1.0 + s);
+    Mat3::new(
+        1.0 + k * (a[0] * a[0] - s),
+        k * (a[0] * a[1] - a[2]),
+        k * (a[0] * a[2] + a[1]),
+        k * (a[1] * a[0] + a[2]),
+        1.0 + k * (a[1] * a[1] - s),
+        k * (a[1] * a[2] - a[0]),
+        k * (a[2] * a[0] - a[1]),
+        k * (a[2] * a[1] + a[0]),
+        1.0 + k * (a[2] * a[2] - s),
+    )
 }
 
 /// Rotation R of the polar decomposition F = RU, by the scaled Newton
@@ -214,11 +241,15 @@ impl ObjectiveRate {
     /// either way; no NaN enters the stress.
     #[inline]
     pub fn advance_or_jaumann(self, l: &Mat3, dt: f64, history: &mut [f64]) -> CorotationalFrames {
-        self.advance(l, dt, history)
-            .unwrap_or_else(|_| CorotationalFrames {
-                start: Mat3::identity(),
-                end: hughes_winget_rotation(l, dt),
-            })
+        let jaumann = || CorotationalFrames {
+            start: Mat3::identity(),
+            end: hughes_winget_rotation(l, dt),
+        };
+        match self {
+            // Directly: the Jaumann frames cannot fail.
+            Self::Jaumann => jaumann(),
+            Self::GreenNaghdi => self.advance(l, dt, history).unwrap_or_else(|_| jaumann()),
+        }
     }
 }
 
@@ -283,6 +314,26 @@ mod tests {
         let (_, sj) = rotate_by_spin_for_steps(ObjectiveRate::Jaumann, 200);
         let (_, sg) = rotate_by_spin_for_steps(ObjectiveRate::GreenNaghdi, 200);
         assert!((sj - sg).norm() <= 1e-10 * sj.norm(), "{sj} vs {sg}");
+    }
+
+    #[test]
+    fn closed_form_hughes_winget_rotation_equals_the_cayley_transform() {
+        // Against (I − ½WΔt)⁻¹(I + ½WΔt) by a matrix inverse, for velocity
+        // gradients with any spin, stretch and magnitude.
+        for k in 0..200 {
+            let t = k as f64;
+            let l = Mat3::from_fn(|i, j| ((t + 1.0) * (3 * i + j + 1) as f64 * 0.731).sin() * 1e5);
+            for dt in [1e-9, 1e-6, 1e-5, 3e-5] {
+                let q = hughes_winget_rotation(&l, dt);
+                let reference = midpoint_increment(&spin(&l), dt).unwrap();
+                assert!((q - reference).norm() <= 1e-15, "{q} vs {reference}");
+                assert!((q * q.transpose() - Mat3::identity()).norm() <= 1e-15);
+            }
+        }
+        assert_eq!(
+            hughes_winget_rotation(&Mat3::zeros(), 1.0),
+            Mat3::identity()
+        );
     }
 
     #[test]

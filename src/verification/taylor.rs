@@ -1,0 +1,549 @@
+//! V-TAYLOR: the Taylor impact of an OFHC copper rod on a rigid wall
+//! (`configs/taylor3d.ron`), measured the same way by the integration test
+//! and by `cargo xtask validate`.
+//!
+//! # The test
+//!
+//! Johnson & Cook, *A constitutive model and data for metals subjected to
+//! large strains, high strain rates and high temperatures*, Proc. 7th Int.
+//! Symp. on Ballistics, The Hague (1983) 541–547, give the Johnson–Cook
+//! constants of OFHC copper (A = 90 MPa, B = 292 MPa, n = 0.31, C = 0.025,
+//! m = 1.09, T_melt = 1356 K, c_p = 383 J/(kg·K), ε̇₀ = 1 s⁻¹) and compare
+//! them with cylinder-impact tests of rods L₀ = 25.4 mm long and
+//! D₀ = 7.62 mm across. The 190 m/s test ended at L_f/L₀ = 0.638 and a
+//! foot ("mushroom") diameter D_f/D₀ = 1.78, i.e. L_f = 16.21 mm and
+//! D_f = 13.56 mm. These ratios are the values tabulated, with the rod
+//! geometry, by B. Banerjee's compilation of Taylor-test data (the Utah
+//! data set `HighRateExptData`, `TaylorData/MATLAB/plotOFHCCu.m`, function
+//! `zerilliData`, noted there as Johnson & Cook's tests, the 190 m/s profile
+//! digitised from Zerilli & Armstrong, J. Appl. Phys. 61 (1987) 1816–1825,
+//! p. 1822) and used in Banerjee, *An evaluation of plastic flow stress
+//! models for the simulation of high-temperature and high-strain-rate
+//! deformation of metals*, arXiv cond-mat/0512466 (2005). The 1983 paper
+//! itself was not at hand to read the numbers off its figure.
+//!
+//! # The model
+//!
+//! A quarter of the rod (x, y ≥ 0; symmetry planes x = 0 and y = 0 through
+//! the axis z) on the frictionless rigid wall z = 0 (the grid's normal
+//! velocity is zero on and beyond the face, the tangential velocity free),
+//! explicit MPM (MUSL, uGIMP, 2 particles per cell per direction), J2
+//! plasticity with the Johnson–Cook flow stress above, no damage, the
+//! library's Mie–Grüneisen copper for the pressure. See
+//! `docs/physics/mpm/taylor.md`.
+//!
+//! # What is measured
+//!
+//! Each particle stands for the cube of side h = V₀^(1/3) (V₀ its initial
+//! volume: the sub-cell the generator filled) centred on x_p and deformed
+//! by F_p; its extent along a unit vector n is half the width of that
+//! parallelepiped along n, ½ h ‖F_pᵀ n‖₁ (the support function of
+//! F_p [−h/2, h/2]³). Then
+//!
+//! - final length L_f = max_p (z_p + ½ h ‖F_pᵀ e_z‖₁): the rear face's
+//!   height above the wall;
+//! - final diameter D_f = 2 max_p (r_p + ½ h ‖F_pᵀ e_r‖₁), r_p = √(x² + y²),
+//!   e_r = (x, y, 0)/r_p: the widest point of the rod, which for a Taylor
+//!   mushroom is the foot on the wall ([`TaylorResult::widest_at`] reports
+//!   the height of the particle that sets it);
+//! - the profile r(z): the same radial extent, maximised over the particles
+//!   whose centres fall in each slice of height h (slices without a
+//!   particle are left out).
+
+use brisance_compose::build::build_solver;
+use brisance_compose::config::{BoundaryConfig, Pipeline, Scenario};
+use brisance_compose::{load_str, run::advance_to};
+use brisance_constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
+use brisance_constitutive::MaterialModel;
+use brisance_core::{Material, Solver};
+use brisance_grid::Level;
+use brisance_mpm::{
+    fill_shape, FillSpec, GridBoundary, MaterialId, MpmOptions, MpmSolver, Particles,
+};
+
+/// The V-TAYLOR scenario file.
+pub const TAYLOR3D_CONFIG: &str = include_str!("../../configs/taylor3d.ron");
+
+/// Cells across the rod's radius in `configs/taylor3d.ron` as shipped.
+pub const CONFIG_CELLS_ACROSS_RADIUS: usize = 12;
+
+/// One published cylinder-impact (Taylor) test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaylorTest {
+    /// Initial length L₀, m.
+    pub length: f64,
+    /// Initial diameter D₀, m.
+    pub diameter: f64,
+    /// Impact velocity, m/s.
+    pub velocity: f64,
+    /// Measured final length over the initial, L_f/L₀.
+    pub final_length_ratio: f64,
+    /// Measured foot diameter over the initial, D_f/D₀.
+    pub final_diameter_ratio: f64,
+    /// Where the numbers come from.
+    pub source: &'static str,
+}
+
+impl TaylorTest {
+    /// Final length L_f, m.
+    pub fn final_length(&self) -> f64 {
+        self.final_length_ratio * self.length
+    }
+
+    /// Final (foot) diameter D_f, m.
+    pub fn final_diameter(&self) -> f64 {
+        self.final_diameter_ratio * self.diameter
+    }
+}
+
+/// The OFHC copper cylinder-impact test at 190 m/s of Johnson & Cook (1983)
+/// (module documentation).
+pub const JOHNSON_COOK_1983_OFHC_190: TaylorTest = TaylorTest {
+    length: 0.0254,
+    diameter: 0.00762,
+    velocity: 190.0,
+    final_length_ratio: 0.638,
+    final_diameter_ratio: 1.78,
+    source: "Johnson & Cook (1983), Proc. 7th Int. Symp. Ballistics 541–547, OFHC copper \
+             cylinder-impact test; Lf/L0 and Df/D0 as tabulated in Banerjee's Taylor-test \
+             compilation (HighRateExptData, plotOFHCCu.m; Zerilli & Armstrong, J. Appl. Phys. \
+             61 (1987) 1816)",
+};
+
+/// Final shape of the rod from its particles (module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RodShape {
+    /// Final length L_f, m.
+    pub length: f64,
+    /// Final (widest) diameter D_f, m.
+    pub diameter: f64,
+    /// Height of the particle centre that sets D_f, m.
+    pub widest_at: f64,
+    /// Slice centres z, m (slices of height h from the wall that hold a
+    /// particle).
+    pub profile_z: Vec<f64>,
+    /// Largest radial extent in each slice, m.
+    pub profile_r: Vec<f64>,
+}
+
+/// Half the width of the cube of side `h`, deformed by `f` (row-major),
+/// along the unit vector `n`: ½ h ‖Fᵀn‖₁.
+pub fn half_extent(f: &[f64; 9], h: f64, n: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|j| (n[0] * f[j] + n[1] * f[3 + j] + n[2] * f[6 + j]).abs())
+        .sum::<f64>()
+        * 0.5
+        * h
+}
+
+/// Measures the rod (module documentation) from its particles; the wall is
+/// the plane z = 0 and the axis the line x = y = 0. Errors on an empty set.
+pub fn rod_shape(particles: &Particles) -> Result<RodShape, String> {
+    if particles.is_empty() {
+        return Err("no particles to measure".into());
+    }
+    let n = particles.len();
+    let side = |p: usize| particles.initial_volume[p].cbrt();
+    let radial = |p: usize| {
+        let [x, y, _] = particles.position[p];
+        let r = x.hypot(y);
+        let e = if r > 0.0 {
+            [x / r, y / r, 0.0]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        r + half_extent(&particles.deformation_gradient[p], side(p), e)
+    };
+    let top = (0..n)
+        .map(|p| {
+            particles.position[p][2]
+                + half_extent(&particles.deformation_gradient[p], side(p), [0.0, 0.0, 1.0])
+        })
+        .fold(f64::NEG_INFINITY, f64::max);
+    // Widest particle; ties go to the lowest index, so the result does not
+    // depend on anything but the particle order.
+    let (widest, radius) =
+        (0..n)
+            .map(|p| (p, radial(p)))
+            .fold((0, f64::NEG_INFINITY), |best, (p, r)| {
+                if r > best.1 {
+                    (p, r)
+                } else {
+                    best
+                }
+            });
+    let slice = (0..n).map(side).fold(f64::INFINITY, f64::min);
+    let slices = (top / slice).ceil().max(1.0) as usize;
+    let mut largest = vec![f64::NEG_INFINITY; slices];
+    for p in 0..n {
+        let k = ((particles.position[p][2] / slice).floor().max(0.0) as usize).min(slices - 1);
+        largest[k] = largest[k].max(radial(p));
+    }
+    let (profile_z, profile_r) = largest
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.is_finite())
+        .map(|(k, r)| ((k as f64 + 0.5) * slice, *r))
+        .unzip();
+    Ok(RodShape {
+        length: top,
+        diameter: 2.0 * radius,
+        widest_at: particles.position[widest][2],
+        profile_z,
+        profile_r,
+    })
+}
+
+/// Result of one V-TAYLOR run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaylorResult {
+    /// Cells across the rod's radius.
+    pub cells_across_radius: usize,
+    /// Cell size Δx = R/`cells_across_radius`, m.
+    pub cell_size: f64,
+    /// Particles in the quarter rod.
+    pub particles: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// End time, s.
+    pub end_time: f64,
+    /// The undeformed rod's length by the same measure (L₀ up to round-off
+    /// when L₀ is a whole number of particle heights), m.
+    pub initial_length: f64,
+    /// The undeformed rod's diameter by the same measure (D₀ up to the
+    /// staircase of the particles on the curved surface), m.
+    pub initial_diameter: f64,
+    /// The rod's shape at the end.
+    pub shape: RodShape,
+    /// Kinetic energy at the end over the initial.
+    pub kinetic_energy_ratio: f64,
+    /// Particle mass over the exact quarter-rod mass ρ π R² L₀ / 4, minus 1.
+    pub mass_error: f64,
+    /// Relative change of the total (kinetic + internal) energy.
+    pub energy_change: f64,
+    /// Largest equivalent plastic strain.
+    pub max_plastic_strain: f64,
+    /// Largest temperature, K.
+    pub max_temperature: f64,
+}
+
+/// Rod radius R = D₀/2 of the test, m.
+fn rod_radius() -> f64 {
+    0.5 * JOHNSON_COOK_1983_OFHC_190.diameter
+}
+
+/// `configs/taylor3d.ron` with `cells_across_radius` cells across the rod's
+/// radius (Δx = R/n): ⌈2.5 n⌉ cells in x and y (room for a foot of radius
+/// 2.5 R) and ⌈L₀/Δx⌉ + 2 cells in z, the domain upper corner set to
+/// match; `end` s of simulated time; then the `--set`-style `extra`
+/// overrides (`PATH=VALUE`, for sensitivity studies).
+pub fn taylor_scenario(
+    cells_across_radius: usize,
+    end: f64,
+    extra: &[String],
+) -> Result<Scenario, String> {
+    if cells_across_radius == 0 {
+        return Err("cells_across_radius must be at least 1".into());
+    }
+    let dx = rod_radius() / cells_across_radius as f64;
+    let across = (2.5 * cells_across_radius as f64).ceil() as usize;
+    // The rod's length in cells, rounded to the nearest when it is within
+    // rounding of a whole number (L₀/Δx = 20n/3).
+    let along_f = JOHNSON_COOK_1983_OFHC_190.length / dx;
+    let along = if (along_f - along_f.round()).abs() < 1e-9 {
+        along_f.round() as usize
+    } else {
+        along_f.ceil() as usize
+    } + 2;
+    let (w, h) = (across as f64 * dx, along as f64 * dx);
+    let mut sets = vec![
+        format!("domain.cells=({across},{across},{along})"),
+        format!("domain.upper=({w:e},{w:e},{h:e})"),
+        format!("time.end={end:e}"),
+    ];
+    sets.extend_from_slice(extra);
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
+        .map(|l| l.scenario)
+        .map_err(|e| e.to_string())
+}
+
+/// Builds the MPM solver of a one-region `Mpm` scenario exactly as
+/// `brisance run` does (the particles of `brisance_compose::build` come
+/// from the same sub-cell rule as [`fill_shape`]), but as an [`MpmSolver`]
+/// so its particles can be measured.
+pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
+    let Pipeline::Mpm(mpm) = &s.pipeline else {
+        return Err("pipeline: V-TAYLOR needs the Mpm pipeline".into());
+    };
+    let [region] = s.initial.as_slice() else {
+        return Err(format!(
+            "initial: V-TAYLOR expects one initial region, the scenario has {}",
+            s.initial.len()
+        ));
+    };
+    let model: MaterialModel = s
+        .materials
+        .get(&region.material)
+        .and_then(|m| m.model.clone())
+        .ok_or_else(|| {
+            format!(
+                "initial.0.material: `{}` has no constitutive model",
+                region.material
+            )
+        })?;
+    let eos = model
+        .eos()
+        .ok_or("materials: the rod's model has no equation of state")?;
+    let st = &region.state;
+    let energy = match (st.temperature, st.specific_internal_energy, st.pressure) {
+        (Some(t), None, None) => eos.specific_internal_energy_from_temperature(st.density, t),
+        (None, Some(e), None) => e,
+        (None, None, Some(p)) => eos
+            .specific_internal_energy(st.density, p)
+            .map_err(|e| format!("initial.0.state.pressure: {e}"))?,
+        _ => return Err("initial.0.state: give one of temperature, energy, pressure".into()),
+    };
+    let temperature = eos.temperature(st.density, energy);
+    let d = &s.domain;
+    let level =
+        Level::new(d.lower, d.upper, d.cells, d.patches, 1).map_err(|e| format!("domain: {e}"))?;
+    let mut particles = Particles::new(model.history_len());
+    let spec = FillSpec {
+        shape: region.region.clone(),
+        ppc: mpm.ppc,
+        density: st.density,
+        material: MaterialId(0),
+        velocity: st.velocity,
+        temperature,
+        specific_internal_energy: energy,
+    };
+    fill_shape(&mut particles, &level.geometry, &spec).map_err(|e| format!("initial.0: {e}"))?;
+    let faces = s.boundaries.faces();
+    let boundaries = std::array::from_fn(|k| match faces[k].1 {
+        BoundaryConfig::Wall => GridBoundary::Fixed,
+        BoundaryConfig::Reflective => GridBoundary::Symmetry,
+        _ => GridBoundary::Outflow,
+    });
+    let options = MpmOptions {
+        shape: mpm.shape_function,
+        scheme: mpm.scheme,
+        cfl: s.time.cfl,
+        gravity: mpm.gravity,
+        boundaries,
+        mass_cutoff: mpm.mass_cutoff,
+        bulk_viscosity: mpm.bulk_viscosity.option(),
+        ..Default::default()
+    };
+    MpmSolver::new(level, vec![model], particles, options).map_err(|e| format!("pipeline: {e}"))
+}
+
+/// Σ ½ m |v|², J.
+fn kinetic_energy(p: &Particles) -> f64 {
+    p.mass
+        .iter()
+        .zip(&p.velocity)
+        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
+        .sum()
+}
+
+/// Runs V-TAYLOR with `cells_across_radius` cells across the rod's radius
+/// to `end` s, with the `extra` overrides of [`taylor_scenario`], and
+/// measures the rod (module documentation).
+pub fn taylor_case(
+    cells_across_radius: usize,
+    end: f64,
+    extra: &[String],
+) -> Result<TaylorResult, String> {
+    let scenario = taylor_scenario(cells_across_radius, end, extra)?;
+    let mut solver = taylor_solver(&scenario)?;
+    let test = JOHNSON_COOK_1983_OFHC_190;
+    let rho = scenario.initial[0].state.density;
+    let exact_mass = rho * std::f64::consts::PI * rod_radius().powi(2) * test.length / 4.0;
+    let initial = rod_shape(solver.particles())?;
+    let ke0 = kinetic_energy(solver.particles());
+    let e0 = solver.conservation_totals().energy;
+    let steps = advance_to(&mut solver, end).map_err(|e| e.to_string())?;
+    let ps = solver.particles();
+    let max_plastic_strain = (0..ps.len())
+        .map(|p| ps.history_of(p)[PLASTIC_STRAIN_INDEX])
+        .fold(0.0, f64::max);
+    let max_temperature = ps.temperature.iter().copied().fold(0.0, f64::max);
+    Ok(TaylorResult {
+        cells_across_radius,
+        cell_size: rod_radius() / cells_across_radius as f64,
+        particles: ps.len(),
+        steps,
+        end_time: solver.time(),
+        initial_length: initial.length,
+        initial_diameter: initial.diameter,
+        shape: rod_shape(ps)?,
+        kinetic_energy_ratio: kinetic_energy(ps) / ke0,
+        mass_error: ps.total_mass() / exact_mass - 1.0,
+        energy_change: (solver.conservation_totals().energy - e0) / e0,
+        max_plastic_strain,
+        max_temperature,
+    })
+}
+
+/// Builds `configs/taylor3d.ron` at `cells_across_radius` through the
+/// composer (`brisance run`'s path) for comparison with [`taylor_solver`].
+pub fn taylor_solver_via_composer(
+    cells_across_radius: usize,
+    end: f64,
+    extra: &[String],
+) -> Result<Box<dyn Solver>, String> {
+    let s = taylor_scenario(cells_across_radius, end, extra)?;
+    build_solver(&s).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use brisance_mpm::ParticleInit;
+
+    fn particle(ps: &mut Particles, x: [f64; 3], f: [f64; 9], volume: f64) {
+        let init = ParticleInit {
+            position: x,
+            mass: 1.0,
+            volume,
+            deformation_gradient: f,
+            ..Default::default()
+        };
+        let history = vec![0.0; ps.history_stride()];
+        ps.push(&init, &history).unwrap();
+    }
+
+    const IDENTITY: [f64; 9] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+
+    #[test]
+    fn half_extent_is_the_support_of_the_deformed_cube() {
+        // Undeformed: half the side along any axis.
+        assert_eq!(half_extent(&IDENTITY, 0.2, [0.0, 0.0, 1.0]), 0.1);
+        // Stretched by 2 along x, squashed by 1/2 along z.
+        let f = [2.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5];
+        assert_eq!(half_extent(&f, 0.2, [1.0, 0.0, 0.0]), 0.2);
+        assert_eq!(half_extent(&f, 0.2, [0.0, 0.0, 1.0]), 0.05);
+        // Simple shear x += 0.5 z: the cube's x-extent is 0.1 (1 + 0.5).
+        let shear = [1.0, 0.0, 0.5, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        assert!((half_extent(&shear, 0.2, [1.0, 0.0, 0.0]) - 0.15).abs() < 1e-15);
+        // Unit cube rotated 45° about z: its x-width is √2.
+        let c = std::f64::consts::FRAC_1_SQRT_2;
+        let rot = [c, -c, 0.0, c, c, 0.0, 0.0, 0.0, 1.0];
+        assert!((half_extent(&rot, 1.0, [1.0, 0.0, 0.0]) - c).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rod_shape_takes_the_outermost_faces_and_slices_the_profile() {
+        let mut ps = Particles::new(0);
+        // h = 0.1 for every particle (V₀ = 1e-3).
+        let v = 1e-3;
+        particle(&mut ps, [0.05, 0.05, 0.05], IDENTITY, v);
+        // A foot particle at r = 0.5, stretched ×2 radially (along x).
+        let f = [2.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5];
+        particle(&mut ps, [0.5, 0.0, 0.05], f, v);
+        // A diagonal particle at r = 0.3√2 = 0.4243, undeformed: its radial
+        // extent along (1, 1, 0)/√2 is 0.05·√2.
+        particle(&mut ps, [0.3, 0.3, 0.15], IDENTITY, v);
+        // The rear particle at z = 0.95, squashed axially to 0.8.
+        let g = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.8];
+        particle(&mut ps, [0.05, 0.0, 0.95], g, v);
+        let s = rod_shape(&ps).unwrap();
+        assert!((s.length - (0.95 + 0.04)).abs() < 1e-12, "{}", s.length);
+        assert!((s.diameter - 2.0 * 0.6).abs() < 1e-12, "{}", s.diameter);
+        assert_eq!(s.widest_at, 0.05);
+        // Slices of height 0.1 up to 0.99: 10 of them, particles in the
+        // first, second and last.
+        assert_eq!(s.profile_z.len(), 3);
+        for (z, want) in s.profile_z.iter().zip([0.05, 0.15, 0.95]) {
+            assert!((z - want).abs() < 1e-12, "{z} vs {want}");
+        }
+        assert!((s.profile_r[0] - 0.6).abs() < 1e-12);
+        let diag = 0.3 * 2f64.sqrt() + 0.05 * 2f64.sqrt();
+        assert!((s.profile_r[1] - diag).abs() < 1e-12, "{}", s.profile_r[1]);
+        assert!((s.profile_r[2] - 0.1).abs() < 1e-12);
+        assert!(rod_shape(&Particles::new(0)).is_err());
+    }
+
+    #[test]
+    fn the_shipped_config_is_the_twelve_cell_scenario() {
+        let shipped = load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &[])
+            .unwrap()
+            .scenario;
+        let built = taylor_scenario(CONFIG_CELLS_ACROSS_RADIUS, shipped.time.end, &[]).unwrap();
+        assert_eq!(built.domain.cells, shipped.domain.cells);
+        for d in 0..3 {
+            let (a, b) = (built.domain.upper[d], shipped.domain.upper[d]);
+            assert!((a - b).abs() <= 1e-12 * b, "upper[{d}]: {a} vs {b}");
+        }
+        assert_eq!(built.materials, shipped.materials);
+        assert_eq!(built.initial, shipped.initial);
+    }
+
+    #[test]
+    fn the_rod_uses_the_published_johnson_cook_constants_and_the_library_copper() {
+        use brisance_constitutive::{FlowStress, PressureModel};
+        let s = taylor_scenario(3, 1e-6, &[]).unwrap();
+        let copper = &s.materials["copper"];
+        let Some(MaterialModel::ElasticPlastic(ep)) = &copper.model else {
+            panic!("the rod is not ElasticPlastic");
+        };
+        assert_eq!(
+            ep.flow_stress,
+            FlowStress::ofhc_copper_johnson_cook_1983(),
+            "Johnson & Cook (1983) OFHC copper"
+        );
+        assert!(ep.damage.is_none());
+        // The library's copper, less its damage model.
+        let library = brisance_compose::library::get("ofhc_copper").unwrap();
+        let Some(MaterialModel::ElasticPlastic(mut lib)) = library.model.clone() else {
+            panic!("the library copper is not ElasticPlastic");
+        };
+        lib.damage = None;
+        assert_eq!(ep, &lib);
+        let eos = library.eos.clone().unwrap();
+        assert_eq!(ep.pressure, PressureModel::Eos(eos.clone()));
+        assert_eq!(copper.eos.as_ref(), Some(&eos));
+        let test = JOHNSON_COOK_1983_OFHC_190;
+        assert_eq!(s.initial[0].state.velocity, [0.0, 0.0, -test.velocity]);
+    }
+
+    #[test]
+    fn the_direct_solver_matches_the_composer_step_for_step() {
+        // As shipped, and with the pipeline's bulk viscosity switched on.
+        for extra in [vec![], vec!["pipeline.bulk_viscosity=On()".to_string()]] {
+            let scenario = taylor_scenario(3, 1e-6, &extra).unwrap();
+            let mut direct = taylor_solver(&scenario).unwrap();
+            let mut composed = taylor_solver_via_composer(3, 1e-6, &extra).unwrap();
+            assert_eq!(
+                direct.work_per_step().0,
+                composed.work_per_step().0,
+                "particle count"
+            );
+            for _ in 0..5 {
+                assert_eq!(direct.conservation_totals(), composed.conservation_totals());
+                let dt = direct.stable_dt().unwrap();
+                assert_eq!(dt, composed.stable_dt().unwrap());
+                direct.advance(dt).unwrap();
+                composed.advance(dt).unwrap();
+            }
+            let (a, b) = (direct.conservation_totals(), composed.conservation_totals());
+            assert_eq!(a, b, "{extra:?}");
+        }
+    }
+
+    #[test]
+    fn the_undeformed_rod_measures_its_initial_length_and_diameter() {
+        // n = 3: Δx = 1.27 mm, L₀ = 20 Δx, h = Δx/2 = 0.635 mm.
+        let solver = taylor_solver(&taylor_scenario(3, 1e-6, &[]).unwrap()).unwrap();
+        let s = rod_shape(solver.particles()).unwrap();
+        let test = JOHNSON_COOK_1983_OFHC_190;
+        assert!((s.length - test.length).abs() < 1e-12, "{}", s.length);
+        let h = 0.5 * rod_radius() / 3.0;
+        assert!(
+            (s.diameter - test.diameter).abs() <= h,
+            "D {} vs D0 {} (h {h})",
+            s.diameter,
+            test.diameter
+        );
+    }
+}

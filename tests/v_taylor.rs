@@ -1,0 +1,69 @@
+//! V-TAYLOR: the Taylor impact of an OFHC copper rod (L₀ 25.4 mm, D₀
+//! 7.62 mm, 190 m/s) on a rigid wall, 3D quarter rod, Johnson–Cook copper
+//! (`configs/taylor3d.ron`, `brisance::verification::taylor`). Target: final
+//! length and foot diameter within 5 % of the test of Johnson & Cook (1983).
+//! `cargo xtask validate` runs the same case and reports both resolutions.
+
+use brisance::verification::taylor::{
+    taylor_case, CONFIG_CELLS_ACROSS_RADIUS, JOHNSON_COOK_1983_OFHC_190,
+};
+
+/// The first 10 µs on a coarse grid (3 cells across the radius): the rod
+/// shortens and spreads at the wall, its mass is the generated mass, no
+/// particle leaves, and the total energy holds to a fraction of a percent.
+#[test]
+fn v_taylor_reduced_first_ten_microseconds_shorten_and_spread_the_rod() {
+    let test = JOHNSON_COOK_1983_OFHC_190;
+    let r = taylor_case(3, 10e-6, &[]).unwrap();
+    let s = &r.shape;
+    // By 10 µs the wall has stopped the foot; the rear still moves at
+    // about 190 m/s, so the rod is at most 1.9 mm shorter.
+    assert!(
+        s.length < test.length && s.length > test.length - 190.0 * 10e-6,
+        "length {} m",
+        s.length
+    );
+    assert!(s.diameter > test.diameter, "diameter {} m", s.diameter);
+    assert!(
+        s.widest_at < 0.25 * test.length,
+        "widest at z = {}",
+        s.widest_at
+    );
+    assert!(r.kinetic_energy_ratio < 1.0);
+    assert!(
+        r.energy_change.abs() < 5e-3,
+        "energy change {}",
+        r.energy_change
+    );
+    assert!(r.max_plastic_strain > 0.0);
+}
+
+/// Not met yet: L_f 17.49 mm (+7.95 %) and D_f 12.72 mm (−6.22 %) at 12 cells
+/// across the radius (docs/validation.md, docs/physics/mpm/taylor.md).
+#[test]
+#[ignore = "known failing (Lf +7.95 %, Df -6.22 %) and slow (minutes); cargo xtask validate --only taylor reports it"]
+fn v_taylor_final_length_and_diameter_within_five_percent_of_the_test() {
+    let test = JOHNSON_COOK_1983_OFHC_190;
+    let r = taylor_case(CONFIG_CELLS_ACROSS_RADIUS, 80e-6, &[]).unwrap();
+    let length_error = (r.shape.length - test.final_length()) / test.final_length();
+    let diameter_error = (r.shape.diameter - test.final_diameter()) / test.final_diameter();
+    assert!(
+        r.kinetic_energy_ratio <= 0.01,
+        "not at rest: KE/KE0 = {}",
+        r.kinetic_energy_ratio
+    );
+    assert!(
+        length_error.abs() <= 0.05,
+        "Lf {} mm vs {} mm: {:+.2} %",
+        1e3 * r.shape.length,
+        1e3 * test.final_length(),
+        100.0 * length_error
+    );
+    assert!(
+        diameter_error.abs() <= 0.05,
+        "Df {} mm vs {} mm: {:+.2} %",
+        1e3 * r.shape.diameter,
+        1e3 * test.final_diameter(),
+        100.0 * diameter_error
+    );
+}
