@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod pd_cases;
 mod plot;
 mod splice;
 mod taylor;
@@ -607,13 +608,15 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 7] = [
+const CASES: [&str; 9] = [
     "sod",
     "smooth",
     "cj",
     "bar",
     "sod-mpm",
     "taylor",
+    "pd-cyl",
+    "pd-frag",
     "throughput",
 ];
 
@@ -660,6 +663,12 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("taylor") {
         taylor::v_taylor(&mut body, &img)?;
+    }
+    if run("pd-cyl") {
+        pd_cases::e_pd_cyl(&mut body, &img)?;
+    }
+    if run("pd-frag") {
+        pd_cases::e_pd_frag(&mut body, &img)?;
     }
     if run("throughput") {
         throughput(&mut body)?;
