@@ -51,7 +51,7 @@
 //! particle writing only itself.
 
 use crate::grid_nodes::{GridNodes, NodeLattice};
-use crate::shape::{bspline, gimp, linear, ShapeError, Stencil1d, TensorRow};
+use crate::shape::{bspline, gimp, linear, ShapeError, TensorRow};
 use crate::ShapeFunction;
 use brisance_core::{Mat3, UniformGridGeometry};
 use rayon::prelude::*;
@@ -118,42 +118,44 @@ impl GridMap {
         self.blocks.iter().product()
     }
 
-    /// The bin of grid coordinate `xi` along axis `d` (the storage offset of
-    /// the first node of the stencil), or `None` when `xi` lies outside
-    /// [0, cells] (outside the grid, or not finite).
-    #[inline]
-    fn bin(&self, d: usize, xi: f64) -> Option<usize> {
+    /// The bin of grid coordinate `xi` along axis `d`: the storage offset of
+    /// the first node of the stencil (the same floors as the 1D stencils of
+    /// [`crate::shape`]). Meaningful for `xi` in [0, cells] only.
+    #[inline(always)]
+    fn bin(&self, d: usize, xi: f64) -> usize {
         let n = self.grid.cells[d];
-        if !(xi >= 0.0 && xi <= n as f64) {
-            return None;
-        }
         if n <= 1 {
-            return Some(0);
+            return 0;
         }
-        // The same floors as the 1D stencils of crate::shape.
-        Some(match self.shape {
+        let b = match self.shape {
             ShapeFunction::Linear => {
-                let mut c = crate::shape::floor(xi);
+                let c = crate::shape::floor(xi);
                 if xi == n as f64 {
-                    c -= 1.0;
+                    c - 1.0
+                } else {
+                    c
                 }
-                c as usize
             }
-            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => {
-                crate::shape::floor(xi + 0.5) as usize
-            }
-        })
+            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => crate::shape::floor(xi + 0.5),
+        };
+        // Clamped, so that a position outside (discarded by the caller)
+        // cannot overflow the block index.
+        (b as usize).min(self.bins[d] - 1)
     }
 
-    /// The block of a particle at `x`, or `None` outside the grid.
+    /// The block of a particle at `x`, or `None` when it lies outside the
+    /// grid ([0, cells] in grid coordinates on every axis, the test of
+    /// `UniformGridGeometry::cell_containing`) or is not finite.
     #[inline]
     pub fn block_of(&self, x: [f64; 3]) -> Option<usize> {
         let mut block = 0;
+        let mut inside = true;
         for d in (0..3).rev() {
             let xi = (x[d] - self.grid.origin[d]) / self.grid.spacing[d];
-            block = block * self.blocks[d] + self.bin(d, xi)? / BLOCK_BINS;
+            inside &= xi >= 0.0 && xi <= self.grid.cells[d] as f64;
+            block = block * self.blocks[d] + self.bin(d, xi) / BLOCK_BINS;
         }
-        Some(block)
+        inside.then_some(block)
     }
 
     /// The block that holds storage offsets `offset` (the bins of a
@@ -198,21 +200,21 @@ impl GridMap {
         }
         let h = self.grid.spacing[d];
         let xi = (x - self.grid.origin[d]) / h;
-        let s: Stencil1d = match self.shape {
+        let inv_h = self.inv_spacing[d];
+        // In place, so that the weights stay in registers.
+        let first = match self.shape {
             ShapeFunction::Linear => {
-                linear::hat_1d_scaled(xi, self.inv_spacing[d], self.grid.cells[d])
+                linear::hat_1d_into(xi, inv_h, self.grid.cells[d], &mut w, &mut g)
             }
             ShapeFunction::QuadraticBSpline => {
-                bspline::quadratic_bspline_1d_scaled(xi, self.inv_spacing[d])
+                bspline::quadratic_bspline_1d_into(xi, inv_h, &mut w, &mut g)
             }
-            ShapeFunction::Gimp => gimp::ugimp_1d_padded(xi, h, lp),
+            ShapeFunction::Gimp => gimp::ugimp_1d_padded_into(xi, h, lp, &mut w, &mut g),
         };
-        w.copy_from_slice(&s.weight[..N]);
-        g.copy_from_slice(&s.gradient[..N]);
         Axis {
             // A particle outside the lattice wraps to a huge offset, which
             // the bounds checks of the node rows reject.
-            offset: (s.first - self.lattice.first[d]) as usize,
+            offset: (first - self.lattice.first[d]) as usize,
             w,
             g,
         }
@@ -360,7 +362,7 @@ impl ParticleBins {
             .zip(position.par_iter())
             .with_min_len(PARTICLES_PER_TASK)
             .for_each(|(b, x)| *b = map.block_of(*x).map_or(OUTSIDE, |b| b as u32));
-        if let Some(index) = self.block.par_iter().position_first(|&b| b == OUTSIDE) {
+        if let Some(index) = self.block.iter().position(|&b| b == OUTSIDE) {
             return Err(BinError::Outside {
                 index,
                 position: position[index],

@@ -32,16 +32,37 @@ pub fn quadratic_bspline_1d(xi: f64, h: f64) -> Stencil1d {
 /// (1/m) given: the derivatives are (−(1/2 − d), −2d, 1/2 + d)·inv_h.
 #[inline]
 pub fn quadratic_bspline_1d_scaled(xi: f64, inv_h: f64) -> Stencil1d {
+    let mut out = Stencil1d {
+        first: 0,
+        len: 3,
+        weight: [0.0; 3],
+        gradient: [0.0; 3],
+    };
+    out.first = quadratic_bspline_1d_into(xi, inv_h, &mut out.weight, &mut out.gradient);
+    out
+}
+
+/// The three weights and derivatives of [`quadratic_bspline_1d_scaled`]
+/// written into `weight[..3]` and `gradient[..3]`; returns the first node.
+/// The form the transfer kernels evaluate in place.
+#[inline(always)]
+pub fn quadratic_bspline_1d_into(
+    xi: f64,
+    inv_h: f64,
+    weight: &mut [f64],
+    gradient: &mut [f64],
+) -> isize {
     let c = floor(xi + 0.5);
     let d = xi - c;
     let lo = 0.5 - d;
     let hi = 0.5 + d;
-    Stencil1d {
-        first: c as isize - 1,
-        len: 3,
-        weight: [0.5 * lo * lo, 0.75 - d * d, 0.5 * hi * hi],
-        gradient: [-lo * inv_h, -2.0 * d * inv_h, hi * inv_h],
-    }
+    weight[0] = 0.5 * lo * lo;
+    weight[1] = 0.75 - d * d;
+    weight[2] = 0.5 * hi * hi;
+    gradient[0] = -lo * inv_h;
+    gradient[1] = -2.0 * d * inv_h;
+    gradient[2] = hi * inv_h;
+    c as isize - 1
 }
 
 /// The quadratic B-spline φ(ξ) of one node at distance ξ (in cells).

@@ -88,21 +88,35 @@ pub fn ugimp_1d(xi: f64, h: f64, lp: f64) -> Stencil1d {
 /// are bit-identical to those of [`ugimp_1d`].
 #[inline]
 pub fn ugimp_1d_padded(xi: f64, h: f64, lp: f64) -> Stencil1d {
-    let c = floor(xi + 0.5);
     let mut out = Stencil1d {
-        first: c as isize - 1,
+        first: 0,
         len: 3,
         weight: [0.0; 3],
         gradient: [0.0; 3],
     };
+    out.first = ugimp_1d_padded_into(xi, h, lp, &mut out.weight, &mut out.gradient);
+    out
+}
+
+/// The three weights and derivatives of [`ugimp_1d_padded`] written into
+/// `weight[..3]` and `gradient[..3]`; returns the first node.
+#[inline(always)]
+pub fn ugimp_1d_padded_into(
+    xi: f64,
+    h: f64,
+    lp: f64,
+    weight: &mut [f64],
+    gradient: &mut [f64],
+) -> isize {
+    let c = floor(xi + 0.5);
     for k in 0..3 {
         let node = c - 1.0 + k as f64;
         let r = (xi - node) * h;
-        if r.abs() < h + lp {
-            let (w, g) = ugimp_weight(r, h, lp);
-            out.weight[k] = w;
-            out.gradient[k] = g;
-        }
+        (weight[k], gradient[k]) = if r.abs() < h + lp {
+            ugimp_weight(r, h, lp)
+        } else {
+            (0.0, 0.0)
+        };
     }
-    out
+    c as isize - 1
 }

@@ -31,15 +31,35 @@ pub fn hat_1d(xi: f64, h: f64, cells: usize) -> Stencil1d {
 /// that a kernel evaluating many particles divides once per axis.
 #[inline]
 pub fn hat_1d_scaled(xi: f64, inv_h: f64, cells: usize) -> Stencil1d {
+    let mut out = Stencil1d {
+        first: 0,
+        len: 2,
+        weight: [0.0; 3],
+        gradient: [0.0; 3],
+    };
+    out.first = hat_1d_into(xi, inv_h, cells, &mut out.weight, &mut out.gradient);
+    out
+}
+
+/// The two weights and derivatives of [`hat_1d_scaled`] written into
+/// `weight[..2]` and `gradient[..2]`; returns the first node. The form the
+/// transfer kernels evaluate in place.
+#[inline(always)]
+pub fn hat_1d_into(
+    xi: f64,
+    inv_h: f64,
+    cells: usize,
+    weight: &mut [f64],
+    gradient: &mut [f64],
+) -> isize {
     let mut cell = floor(xi);
     if xi == cells as f64 {
         cell -= 1.0;
     }
     let f = xi - cell;
-    Stencil1d {
-        first: cell as isize,
-        len: 2,
-        weight: [1.0 - f, f, 0.0],
-        gradient: [-inv_h, inv_h, 0.0],
-    }
+    weight[0] = 1.0 - f;
+    weight[1] = f;
+    gradient[0] = -inv_h;
+    gradient[1] = inv_h;
+    cell as isize
 }

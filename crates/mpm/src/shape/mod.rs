@@ -217,19 +217,22 @@ impl TensorRow {
 }
 
 /// ⌊x⌋ for every finite x, without the libm call that `f64::floor` is on
-/// x86-64 targets without SSE4.1: truncation, corrected for negative
-/// non-integers. Values of magnitude ≥ 2⁵² are integers already.
+/// x86-64 targets without SSE4.1: adding and subtracting 1.5·2⁵² rounds x
+/// to the nearest integer (exact for |x| < 2⁵¹), which is then corrected
+/// down where it rounded up. Larger magnitudes (never a grid coordinate)
+/// take the library floor.
 #[inline(always)]
 pub fn floor(x: f64) -> f64 {
-    if x.abs() < 4_503_599_627_370_496.0 {
-        let t = x as i64 as f64;
-        if t > x {
-            t - 1.0
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    if x.abs() < 2_251_799_813_685_248.0 {
+        let r = (x + ROUND) - ROUND;
+        if r > x {
+            r - 1.0
         } else {
-            t
+            r
         }
     } else {
-        x
+        x.floor()
     }
 }
 

@@ -95,6 +95,21 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
     #[test]
+    fn floor_equals_the_library_floor(
+        x in prop_oneof![
+            -1e3..1e3f64,
+            -1e17..1e17f64,
+            (-1000i64..1000).prop_map(|k| k as f64),
+            (-1000i64..1000).prop_map(|k| k as f64 + 0.5),
+            (-1000i64..1000).prop_map(|k| k as f64 - 1e-13),
+            (-1000i64..1000).prop_map(|k| k as f64 + 1e-13),
+            any::<f64>().prop_filter("finite", |x| x.is_finite()),
+        ]
+    ) {
+        prop_assert_eq!(floor(x), x.floor(), "x = {:e}", x);
+    }
+
+    #[test]
     fn weights_partition_unity_and_are_non_negative(c in case(), lpf in 0.05..=1.0f64) {
         for sf in ShapeFunction::ALL {
             let s = eval(sf, &c.grid, c.x, half_width(&c.grid, lpf));
