@@ -486,6 +486,7 @@ fn v_cj(report: &mut Report) -> Result<()> {
     let _ = writeln!(report.md, "| material | EOS | D (m/s) | P_CJ (GPa) | V_CJ/V₀ | u_CJ (m/s) | reference D | reference P_CJ | source |");
     let _ = writeln!(report.md, "|---|---|---:|---:|---:|---:|---:|---:|---|");
     let mut tnt = None;
+    let mut anfo = None;
     for case in v_cj_report() {
         let fmt_ref = |v: Option<f64>, scale: f64, digits: usize| {
             v.map_or("—".to_string(), |x| format!("{:.*}", digits, x / scale))
@@ -511,6 +512,11 @@ fn v_cj(report: &mut Report) -> Result<()> {
                     cj.detonation_velocity,
                     cj.pressure / 1e9
                 );
+                if case.material == "anfo_k1" {
+                    anfo = case
+                        .reference_detonation_velocity
+                        .map(|d_ref| (cj.detonation_velocity, d_ref));
+                }
                 if case.material.to_lowercase().contains("tnt") {
                     tnt = Some((
                         cj.detonation_velocity,
@@ -552,6 +558,23 @@ fn v_cj(report: &mut Report) -> Result<()> {
             );
         }
         _ => report.target("V-CJ TNT computed", "no result".into(), "computed", false),
+    }
+    match anfo {
+        Some((d, d_ref)) => {
+            let ed = (d - d_ref) / d_ref;
+            report.target(
+                "V-CJ ANFO-K1 D vs large-radius rate-stick velocity",
+                format!("{:+.2} %", 100.0 * ed),
+                "within 3 %",
+                ed.abs() <= 0.03,
+            );
+        }
+        None => report.target(
+            "V-CJ ANFO-K1 computed",
+            "no result".into(),
+            "computed",
+            false,
+        ),
     }
     let _ = writeln!(report.md);
     Ok(())
