@@ -303,6 +303,23 @@ pub fn validate(s: &Scenario, pd: &PdConfig) -> Result<(), Problem> {
             format!("safety_factor must lie in (0, 1], got {}", pd.safety_factor),
         ));
     }
+    // The nodes are written as particles; there is no grid to put cell
+    // fields or line-outs on (gauges sample the nearest node).
+    if !s.outputs.fields.is_empty() {
+        return Err((
+            "outputs.fields".into(),
+            "the Peridynamics pipeline writes its nodes as particles and has no cell fields: \
+             write `fields: []` (point gauges can sample the node fields)"
+                .into(),
+        ));
+    }
+    if !s.outputs.lineouts.is_empty() {
+        return Err((
+            "outputs.lineouts".into(),
+            "the Peridynamics pipeline has no cell fields to take line-outs of: write `lineouts: []`"
+                .into(),
+        ));
+    }
     let setup = setup(s, pd)?;
     let explosive = setup
         .materials
@@ -375,5 +392,19 @@ mod tests {
         let text = include_str!("../../../configs/pd_fragment.ron");
         let e = load_str("bad.ron", text, &["initial.1.material=\"stele\"".into()]).unwrap_err();
         assert!(e.to_string().contains("initial.1.material"), "{e}");
+    }
+
+    /// Cell fields and line-outs have no grid to live on: asking for them
+    /// is refused at load time, naming the field, instead of failing at
+    /// the first output.
+    #[test]
+    fn cell_fields_and_lineouts_are_refused_at_load_time() {
+        let text = include_str!("../../../configs/pd_fragment.ron");
+        let e = load_str("f.ron", text, &["outputs.fields=[\"damage\"]".into()]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("outputs.fields"), "{e}");
+        assert!(e.message.contains("no cell fields"), "{e}");
+        let line = "outputs.lineouts=[(name: \"l\", from: (0.0, 0.0, 0.0), to: (0.01, 0.0, 0.0), points: 4, fields: [\"damage\"])]";
+        let e = load_str("l.ron", text, &[line.into()]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("outputs.lineouts"), "{e}");
     }
 }
