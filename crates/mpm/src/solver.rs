@@ -316,7 +316,8 @@ impl MpmSolver {
         {
             return Err(MpmSetupError::OutsideGrid { particle, position });
         }
-        let map = GridMap::new(&grid, options.shape);
+        let block_bins = GridMap::block_bins_for(particles.len());
+        let map = GridMap::with_block_bins(&grid, options.shape, block_bins);
         let mut bins = ParticleBins::default();
         bins.build(&map, &particles.position, &particles.initial_volume)
             .map_err(|e| match e {

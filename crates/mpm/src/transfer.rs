@@ -19,14 +19,14 @@
 //! `bin` along each active axis: its cell ⌊ξ⌋ for the linear function, its
 //! nearest node ⌊ξ + 1/2⌋ for GIMP and the B-spline (ξ = (x − x_min)/Δx;
 //! with the lattice's ghost layer that node's left neighbour is stored at
-//! offset ⌊ξ + 1/2⌋). Bins are grouped into blocks of [`BLOCK_BINS`] per
+//! offset ⌊ξ + 1/2⌋). Bins are grouped into blocks of T bins per
 //! active axis, and [`ParticleBins`] lists the particles of each block
 //! (a counting sort, O(N), redone every step; within a block the particles
 //! keep their storage order).
 //!
 //! **Deterministic scatter P2G by colouring.** A particle of block k
 //! (along one axis) touches storage nodes kT … kT + T − 1 + N − 1 with
-//! T = [`BLOCK_BINS`]; block k + 2 starts at (k + 2)T, past that range
+//! T = [`GridMap::block_bins`]; block k + 2 starts at (k + 2)T, past that range
 //! whenever T ≥ N − 1. The blocks are coloured by the parity of their
 //! three block coordinates (8 colours), so two blocks of one colour touch
 //! disjoint nodes. P2G visits the colours one after the other; within a
@@ -57,8 +57,8 @@ use brisance_core::{Mat3, UniformGridGeometry};
 use rayon::prelude::*;
 use std::marker::PhantomData;
 
-/// Bins per block edge along an active axis. The colouring needs
-/// `BLOCK_BINS ≥ N − 1` for stencils of N nodes per axis (N ≤ 3).
+/// The default block edge, in bins, of [`GridMap::new`]. The colouring
+/// needs a block edge T ≥ N − 1 for stencils of N nodes per axis (N ≤ 3).
 pub const BLOCK_BINS: usize = 2;
 
 /// Number of block colours: the parities of the three block coordinates.
@@ -85,13 +85,46 @@ pub struct GridMap {
     stride: [usize; 3],
     /// Bins per axis.
     pub bins: [usize; 3],
+    /// Bins per block edge along an active axis (T of the module doc).
+    pub block_bins: usize,
     /// Blocks per axis.
     pub blocks: [usize; 3],
 }
 
 impl GridMap {
-    /// The map of `grid` for `shape`.
+    /// The map of `grid` for `shape`, with blocks of [`BLOCK_BINS`] bins.
     pub fn new(grid: &UniformGridGeometry, shape: ShapeFunction) -> Self {
+        Self::with_block_bins(grid, shape, BLOCK_BINS)
+    }
+
+    /// The block edge, in bins, for a set of `particles` particles: 2 up to
+    /// 2¹⁷ particles, 4 up to 2¹⁹, 8 above. Small blocks give each colour
+    /// many blocks to share among the threads; large ones keep a block's
+    /// nodes in cache while its particles are scattered, which is what
+    /// limits a coloured pass over a million particles. A function of the
+    /// problem only, never of the thread count, so the summation order
+    /// (and the bits) stays fixed.
+    pub fn block_bins_for(particles: usize) -> usize {
+        if particles < 1 << 17 {
+            2
+        } else if particles < 1 << 19 {
+            4
+        } else {
+            8
+        }
+    }
+
+    /// The map of `grid` for `shape` with blocks of `block_bins` bins per
+    /// active axis (at least 2, as the colouring needs).
+    pub fn with_block_bins(
+        grid: &UniformGridGeometry,
+        shape: ShapeFunction,
+        block_bins: usize,
+    ) -> Self {
+        assert!(
+            block_bins >= 2,
+            "blocks of {block_bins} bins are too small to colour"
+        );
         let lattice = NodeLattice::new(grid, shape);
         let active: [bool; 3] = std::array::from_fn(|d| grid.cells[d] > 1);
         let nodes_per_axis =
@@ -109,7 +142,8 @@ impl GridMap {
             nodes_per_axis,
             stride: [1, lattice.dims[0], lattice.dims[0] * lattice.dims[1]],
             bins,
-            blocks: std::array::from_fn(|d| bins[d].div_ceil(BLOCK_BINS)),
+            block_bins,
+            blocks: std::array::from_fn(|d| bins[d].div_ceil(block_bins)),
         }
     }
 
@@ -153,7 +187,7 @@ impl GridMap {
         for d in (0..3).rev() {
             let xi = (x[d] - self.grid.origin[d]) / self.grid.spacing[d];
             inside &= xi >= 0.0 && xi <= self.grid.cells[d] as f64;
-            block = block * self.blocks[d] + self.bin(d, xi) / BLOCK_BINS;
+            block = block * self.blocks[d] + self.bin(d, xi) / self.block_bins;
         }
         inside.then_some(block)
     }
@@ -162,8 +196,8 @@ impl GridMap {
     /// stencil).
     #[inline]
     fn block_of_offsets(&self, offset: [usize; 3]) -> usize {
-        offset[0] / BLOCK_BINS
-            + self.blocks[0] * (offset[1] / BLOCK_BINS + self.blocks[1] * (offset[2] / BLOCK_BINS))
+        let t = self.block_bins;
+        offset[0] / t + self.blocks[0] * (offset[1] / t + self.blocks[1] * (offset[2] / t))
     }
 
     /// The uGIMP half-width of a particle of initial volume `v0` (0 for the
@@ -1032,11 +1066,16 @@ mod tests {
         ps
     }
 
-    fn setups() -> Vec<(UniformGridGeometry, ShapeFunction)> {
+    /// Grids with 1, 2 and 3 active axes, every shape, and blocks of 2, 3
+    /// and 4 bins.
+    fn setups() -> Vec<(UniformGridGeometry, GridMap)> {
         let mut out = Vec::new();
         for cells in [[6, 5, 4], [7, 4, 1], [9, 1, 1], [1, 5, 3]] {
             for shape in ShapeFunction::ALL {
-                out.push((grid(cells), shape));
+                for t in [2, 3, 4] {
+                    let g = grid(cells);
+                    out.push((g, GridMap::with_block_bins(&g, shape, t)));
+                }
             }
         }
         out
@@ -1098,9 +1137,9 @@ mod tests {
 
     #[test]
     fn p2g_equals_the_sequential_scatter_bit_for_bit_on_any_thread_count() {
-        for (g, shape) in setups() {
+        for (g, map) in setups() {
+            let shape = map.shape;
             let ps = particles(&g, 300);
-            let map = GridMap::new(&g, shape);
             let mut bins = ParticleBins::default();
             bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
             let (m, p, f) = reference_p2g(&map, &bins, &ps);
@@ -1132,9 +1171,9 @@ mod tests {
 
     #[test]
     fn p2g_conserves_mass_and_momentum_and_forces_sum_to_zero() {
-        for (g, shape) in setups() {
+        for (g, map) in setups() {
+            let shape = map.shape;
             let ps = particles(&g, 200);
-            let map = GridMap::new(&g, shape);
             let mut bins = ParticleBins::default();
             bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
             let mut nodes = GridNodes::new(map.lattice);
@@ -1199,9 +1238,9 @@ mod tests {
 
     #[test]
     fn g2p_passes_equal_the_sequential_gather_bit_for_bit() {
-        for (g, shape) in setups() {
+        for (g, map) in setups() {
+            let shape = map.shape;
             let ps0 = particles(&g, 150);
-            let map = GridMap::new(&g, shape);
             let mut bins = ParticleBins::default();
             bins.build(&map, &ps0.position, &ps0.initial_volume)
                 .unwrap();
@@ -1267,9 +1306,9 @@ mod tests {
 
     #[test]
     fn remap_pass_equals_the_sequential_update_and_scatter_on_any_thread_count() {
-        for (g, shape) in setups() {
+        for (g, map) in setups() {
+            let shape = map.shape;
             let ps0 = particles(&g, 200);
-            let map = GridMap::new(&g, shape);
             let mut bins = ParticleBins::default();
             bins.build(&map, &ps0.position, &ps0.initial_volume)
                 .unwrap();
@@ -1330,9 +1369,9 @@ mod tests {
 
     #[test]
     fn blocks_of_one_colour_touch_disjoint_nodes() {
-        for (g, shape) in setups() {
+        for (g, map) in setups() {
+            let shape = map.shape;
             let ps = particles(&g, 400);
-            let map = GridMap::new(&g, shape);
             let mut bins = ParticleBins::default();
             bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
             let mut st = ShapeStencil::new();
@@ -1444,8 +1483,8 @@ mod tests {
                 origin[d] + ((cell[d] % cells[d]) as f64 + frac[d]) * spacing[d]
             });
             prop_assume!(g.cell_containing(x).is_some());
-            for shape in ShapeFunction::ALL {
-                let map = GridMap::new(&g, shape);
+            for (shape, t) in ShapeFunction::ALL.into_iter().flat_map(|s| [(s, 2), (s, 8)]) {
+                let map = GridMap::with_block_bins(&g, shape, t);
                 let lp = 0.25 * spacing.iter().cloned().fold(f64::INFINITY, f64::min);
                 let offset: [usize; 3] = std::array::from_fn(|d| match map.nodes_per_axis[d] {
                     1 => map.axis::<1>(d, x[d], lp).offset,
