@@ -602,6 +602,24 @@ impl MpmSolver {
     /// other face.
     fn handle_leaving_particles(&mut self) -> Result<(), SolverError> {
         let grid = self.level.geometry;
+        // Nearly always every particle is still inside: check that first,
+        // in parallel, and look for the leavers one by one only if not. The
+        // test is that of `cell_containing`, without forming the cell.
+        let inside = |x: &[f64; 3]| {
+            (0..3).all(|d| {
+                let s = (x[d] - grid.origin[d]) / grid.spacing[d];
+                s >= 0.0 && s <= grid.cells[d] as f64
+            })
+        };
+        if self
+            .particles
+            .position
+            .par_iter()
+            .with_min_len(4096)
+            .all(inside)
+        {
+            return Ok(());
+        }
         let upper = grid.upper();
         let mut leaving = Vec::new();
         for (p, x) in self.particles.position.iter().enumerate() {
