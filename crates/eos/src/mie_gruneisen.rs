@@ -269,6 +269,9 @@ mod tests {
         source: String,
         density: f64,
         eos: EosForTest,
+        /// The constitutive model of a solid entry (read by the composer).
+        #[serde(default)]
+        model: Option<serde::de::IgnoredAny>,
     }
 
     fn parse(text: &str) -> MaterialFile {

@@ -28,6 +28,9 @@ struct MaterialFile {
     source: String,
     density: f64,
     eos: EosModel,
+    /// The constitutive model of a solid entry (read by the composer).
+    #[serde(default)]
+    model: Option<serde::de::IgnoredAny>,
 }
 
 fn materials_dir() -> PathBuf {
