@@ -37,7 +37,7 @@ use crate::transfer::{BinError, GridMap, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
-use brisance_core::{CellData, ConservationTotals, Mat3, Material, Solver, SolverError};
+use brisance_core::{CellData, ConservationTotals, Material, Solver, SolverError};
 use brisance_grid::Level;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -171,7 +171,6 @@ struct Workspace {
     map: GridMap,
     nodes: GridNodes,
     bins: ParticleBins,
-    velocity_gradient: Vec<Mat3>,
 }
 
 /// The explicit material point method on one level.
@@ -361,7 +360,6 @@ impl MpmSolver {
                 map,
                 nodes: GridNodes::new(map.lattice),
                 bins,
-                velocity_gradient: Vec::new(),
             },
             bulk,
             ids,
@@ -524,7 +522,8 @@ impl MpmSolver {
         let nodes = &mut work.nodes;
         let ps = &mut self.particles;
         let bulk = &mut self.bulk;
-        let l = &mut work.velocity_gradient;
+        // G2P and the stress update share one visit of each particle
+        // (step::g2p_and_update_stresses): L_p is not stored.
         let failure = match params.scheme {
             UpdateScheme::Usf => {
                 let parts = G2pParts {
@@ -533,8 +532,7 @@ impl MpmSolver {
                     gradient: Some(NodeVelocity::Start),
                 };
                 step::p2g_velocity(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                let failure = step::update_stresses(ps, &l[..], bulk, &params);
+                let failure = step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts);
                 if failure.is_none() {
                     let parts = G2pParts {
                         velocity: true,
@@ -542,7 +540,7 @@ impl MpmSolver {
                         gradient: None,
                     };
                     step::p2g_integrate(&t, ps, nodes, &params);
-                    step::g2p(&t, ps, nodes, dt, parts, l);
+                    step::g2p(&t, ps, nodes, dt, parts, &mut Vec::new());
                 }
                 failure
             }
@@ -553,8 +551,7 @@ impl MpmSolver {
                     gradient: Some(NodeVelocity::End),
                 };
                 step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                step::update_stresses(ps, &l[..], bulk, &params)
+                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
             }
             UpdateScheme::Musl => {
                 let parts = G2pParts {
@@ -564,8 +561,7 @@ impl MpmSolver {
                 };
                 step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
                 step::g2p_velocity_and_remap(&t, ps, nodes, &params);
-                step::g2p(&t, ps, nodes, dt, parts, l);
-                step::update_stresses(ps, &l[..], bulk, &params)
+                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
             }
         };
         self.surface_forces = surface_forces;

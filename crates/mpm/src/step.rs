@@ -272,55 +272,201 @@ pub fn update_stresses(
     bulk: &mut [BulkViscosityState],
     params: &StepParams,
 ) -> Option<ParticleFailure> {
+    assert_eq!(
+        velocity_gradient.len(),
+        particles.len(),
+        "one L per particle"
+    );
+    for_each_chunk(particles, bulk, |mut chunk| {
+        let l = &velocity_gradient[chunk.first..chunk.first + chunk.len()];
+        chunk.update_stresses(l, params)
+    })
+}
+
+/// G2P (the `parts`, as [`g2p`] makes them) and the stress update
+/// ([`update_stresses`]) in one visit of each particle: the velocity
+/// gradient is formed for a chunk of particles and used at once, instead of
+/// being stored for every particle and read back. The same results as the
+/// two passes one after the other. `parts.gradient` must be set.
+pub fn g2p_and_update_stresses(
+    t: &Transfer,
+    particles: &mut Particles,
+    bulk: &mut [BulkViscosityState],
+    nodes: &GridNodes,
+    params: &StepParams,
+    parts: G2pParts,
+) -> Option<ParticleFailure> {
+    let from = parts
+        .gradient
+        .expect("the stress update needs a velocity gradient");
+    let grid = transfer::G2p {
+        acceleration: &nodes.acceleration,
+        velocity_new: &nodes.velocity_new,
+        gradient_velocity: from.of(nodes),
+        dt: params.dt,
+        update_velocity: parts.velocity,
+        update_position: parts.position,
+        velocity_gradient: true,
+    };
+    for_each_chunk(particles, bulk, |mut chunk| {
+        let mut l = [Mat3::zeros(); STRESS_CHUNK];
+        let l = &mut l[..chunk.len()];
+        transfer::g2p_range(
+            t.map,
+            t.bins,
+            grid,
+            chunk.first,
+            chunk.position,
+            chunk.velocity,
+            l,
+        );
+        chunk.update_stresses(l, params)
+    })
+}
+
+/// Particles per task of the stress-update passes.
+const STRESS_CHUNK: usize = 256;
+
+/// The particles `first .. first + len` of the set, every array the
+/// stress update and G2P touch.
+struct ParticleChunk<'a> {
+    first: usize,
+    stride: usize,
+    position: &'a mut [[f64; 3]],
+    velocity: &'a mut [[f64; 3]],
+    stress: &'a mut [[f64; 6]],
+    deformation_gradient: &'a mut [[f64; 9]],
+    volume: &'a mut [f64],
+    temperature: &'a mut [f64],
+    specific_internal_energy: &'a mut [f64],
+    failed: &'a mut [bool],
+    history: &'a mut [f64],
+    material: &'a [MaterialId],
+    mass: &'a [f64],
+    initial_volume: &'a [f64],
+    bulk: &'a mut [BulkViscosityState],
+}
+
+impl ParticleChunk<'_> {
+    fn len(&self) -> usize {
+        self.stress.len()
+    }
+
+    /// [`update_particle_stress`] of every particle of the chunk, with
+    /// velocity gradients `l`; the chunk's first failure, if any (every
+    /// particle is updated either way).
+    fn update_stresses(&mut self, l: &[Mat3], params: &StepParams) -> Option<ParticleFailure> {
+        let mut failure = None;
+        let s = self.stride;
+        for (i, l) in l.iter().enumerate() {
+            let mat = self.material[i];
+            let state = ParticleState {
+                stress: &mut self.stress[i],
+                deformation_gradient: &mut self.deformation_gradient[i],
+                volume: &mut self.volume[i],
+                temperature: &mut self.temperature[i],
+                specific_internal_energy: &mut self.specific_internal_energy[i],
+                failed: &mut self.failed[i],
+                history: &mut self.history[i * s..(i + 1) * s],
+                bulk_viscosity: &mut self.bulk[i],
+            };
+            let material = &params.materials[mat.0 as usize];
+            let updated = update_particle_stress(
+                material,
+                mat,
+                state,
+                l,
+                self.mass[i],
+                self.initial_volume[i],
+                params.dt,
+                params.bulk_viscosity,
+            );
+            if let (Err((jacobian, reason)), None) = (updated, &failure) {
+                failure = Some(ParticleFailure {
+                    index: self.first + i,
+                    jacobian,
+                    reason,
+                });
+            }
+        }
+        failure
+    }
+}
+
+/// Runs `f` on the particles in chunks of [`STRESS_CHUNK`], in parallel;
+/// returns the failure of the lowest index that any chunk reported.
+fn for_each_chunk(
+    particles: &mut Particles,
+    bulk: &mut [BulkViscosityState],
+    f: impl Fn(ParticleChunk) -> Option<ParticleFailure> + Sync + Send,
+) -> Option<ParticleFailure> {
+    const C: usize = STRESS_CHUNK;
     let n = particles.len();
+    assert_eq!(bulk.len(), n, "one bulk-viscosity state per particle");
     let stride = particles.history_stride();
     let history = if stride > 0 {
-        Either::Left(particles.history.par_chunks_mut(stride))
+        Either::Left(particles.history.par_chunks_mut(C * stride))
     } else {
-        Either::Right(rayon::iter::repeat_n((), n).map(|()| -> &mut [f64] { &mut [] }))
+        Either::Right(rayon::iter::repeat_n((), n.div_ceil(C)).map(|()| -> &mut [f64] { &mut [] }))
     };
-    let materials = params.materials;
-    let dt = params.dt;
-    let viscosity = params.bulk_viscosity;
     (
-        particles.stress.par_iter_mut(),
-        particles.deformation_gradient.par_iter_mut(),
-        particles.volume.par_iter_mut(),
-        particles.temperature.par_iter_mut(),
-        particles.specific_internal_energy.par_iter_mut(),
-        particles.failed.par_iter_mut(),
+        particles.position.par_chunks_mut(C),
+        particles.velocity.par_chunks_mut(C),
+        particles.stress.par_chunks_mut(C),
+        particles.deformation_gradient.par_chunks_mut(C),
+        particles.volume.par_chunks_mut(C),
+        particles.temperature.par_chunks_mut(C),
+        particles.specific_internal_energy.par_chunks_mut(C),
+        particles.failed.par_chunks_mut(C),
         history,
-        velocity_gradient.par_iter(),
-        particles.material.par_iter(),
-        particles.mass.par_iter(),
-        particles.initial_volume.par_iter(),
-        bulk.par_iter_mut(),
+        particles.material.par_chunks(C),
+        particles.mass.par_chunks(C),
+        particles.initial_volume.par_chunks(C),
     )
         .into_par_iter()
+        .zip(bulk.par_chunks_mut(C))
         .enumerate()
         .filter_map(
-            |(index, (stress, f, volume, t, e, failed, hist, l, &mat, &m, &v0, bulk))| {
-                let state = ParticleState {
+            |(
+                k,
+                (
+                    (
+                        position,
+                        velocity,
+                        stress,
+                        f_,
+                        volume,
+                        t,
+                        e,
+                        failed,
+                        history,
+                        material,
+                        mass,
+                        v0,
+                    ),
+                    bulk,
+                ),
+            )| {
+                f(ParticleChunk {
+                    first: k * C,
+                    stride,
+                    position,
+                    velocity,
                     stress,
-                    deformation_gradient: f,
+                    deformation_gradient: f_,
                     volume,
                     temperature: t,
                     specific_internal_energy: e,
                     failed,
-                    history: hist,
-                    bulk_viscosity: bulk,
-                };
-                let material = &materials[mat.0 as usize];
-                update_particle_stress(material, mat, state, l, m, v0, dt, viscosity)
-                    .err()
-                    .map(|(jacobian, reason)| ParticleFailure {
-                        index,
-                        jacobian,
-                        reason,
-                    })
+                    history,
+                    material,
+                    mass,
+                    initial_volume: v0,
+                    bulk,
+                })
             },
         )
-        .min_by_key(|f| f.index)
+        .min_by_key(|failure| failure.index)
 }
 
 /// The mutable state of one particle in the stress update.
@@ -451,4 +597,125 @@ pub fn update_particle_stress(
     *state.volume = v_new;
     *state.failed |= update.failed;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{fill_shape, FillSpec, Shape};
+    use brisance_constitutive::{ElasticPlastic, ObjectiveRate};
+
+    /// A deforming copper block (J2, Jaumann) binned on a 3D grid, with
+    /// node velocities and accelerations of a shear-and-squeeze field.
+    fn setup() -> (UniformGridGeometry, Particles, Vec<MaterialModel>) {
+        let grid = UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [1e-3; 3],
+            cells: [6, 5, 4],
+        };
+        let mut m = ElasticPlastic::ofhc_copper_seed000();
+        m.rate = ObjectiveRate::Jaumann;
+        let mat = MaterialModel::ElasticPlastic(m);
+        let mut ps = Particles::new(mat.history_len());
+        fill_shape(
+            &mut ps,
+            &grid,
+            &FillSpec {
+                shape: Shape::Box {
+                    min: [1e-3; 3],
+                    max: [5e-3, 4e-3, 3e-3],
+                },
+                ppc: 2,
+                density: 8930.0,
+                material: MaterialId(0),
+                velocity: [0.0; 3],
+                temperature: 293.0,
+                specific_internal_energy: 0.0,
+            },
+        )
+        .unwrap();
+        for p in 0..ps.len() {
+            mat.init_history(ps.history_of_mut(p));
+            // Some particles yielded already.
+            ps.stress[p] = [-1e8, 5e7, 0.0, 1e7, 0.0, 4e7 * (p % 3) as f64];
+        }
+        (grid, ps, vec![mat])
+    }
+
+    #[test]
+    fn fused_g2p_and_stress_update_equals_the_two_passes_bit_for_bit() {
+        for shape in ShapeFunction::ALL {
+            let (grid, ps0, materials) = setup();
+            let map = GridMap::new(&grid, shape);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps0.position, &ps0.initial_volume)
+                .unwrap();
+            let mut nodes = GridNodes::new(map.lattice);
+            for (i, (v, a)) in nodes
+                .velocity_new
+                .iter_mut()
+                .zip(nodes.acceleration.iter_mut())
+                .enumerate()
+            {
+                let node = map.lattice.node(i);
+                let x = node.map(|k| k as f64 * 1e-3);
+                *v = [
+                    300.0 * x[1] - 50.0 * x[0],
+                    -80.0 * x[1],
+                    20.0 * x[2] + 10.0 * x[0],
+                ];
+                *a = [1e6 * x[2], -2e6 * x[0], 5e5];
+            }
+            nodes.velocity_remap = nodes
+                .velocity_new
+                .iter()
+                .map(|v| v.map(|c| 0.9 * c))
+                .collect();
+            let boundaries = [GridBoundary::Free; 6];
+            let params = StepParams {
+                grid: &grid,
+                shape,
+                scheme: UpdateScheme::Musl,
+                gravity: [0.0; 3],
+                boundaries: &boundaries,
+                mass_threshold: 0.0,
+                materials: &materials,
+                dt: 2e-8,
+                bulk_viscosity: None,
+                surface_forces: &[],
+            };
+            let t = Transfer {
+                map: &map,
+                bins: &bins,
+            };
+            for parts in [
+                G2pParts {
+                    velocity: false,
+                    position: true,
+                    gradient: Some(NodeVelocity::Remapped),
+                },
+                G2pParts {
+                    velocity: true,
+                    position: true,
+                    gradient: Some(NodeVelocity::End),
+                },
+            ] {
+                let mut a = ps0.clone();
+                let mut bulk_a = vec![BulkViscosityState::default(); a.len()];
+                let mut l = Vec::new();
+                g2p(&t, &mut a, &nodes, params.dt, parts, &mut l);
+                let fa = update_stresses(&mut a, &l, &mut bulk_a, &params);
+                let mut b = ps0.clone();
+                let mut bulk_b = bulk_a.clone();
+                bulk_b.fill(BulkViscosityState::default());
+                let fb = g2p_and_update_stresses(&t, &mut b, &mut bulk_b, &nodes, &params, parts);
+                assert_eq!(fa, fb);
+                assert!(a == b, "{shape:?} {parts:?}");
+                assert_eq!(bulk_a, bulk_b);
+                // The step did something: particles moved and stresses changed.
+                assert_ne!(a.position, ps0.position);
+                assert_ne!(a.stress, ps0.stress);
+            }
+        }
+    }
 }

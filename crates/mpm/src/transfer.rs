@@ -881,27 +881,64 @@ pub struct G2pParticles<'a> {
 /// G2P over the particles in storage order, in parallel, each particle
 /// writing only itself: any of the velocity update (eq 24), the position
 /// update (eq 25) and the velocity gradient (eqs 27–28), with the weights
-/// of the positions at entry.
+/// of the positions at entry. Runs [`g2p_range`] on chunks of particles.
 pub fn g2p(map: &GridMap, bins: &ParticleBins, grid: G2p, particles: G2pParticles) {
-    let n = particles.position.len();
-    assert_eq!(particles.velocity.len(), n, "one velocity per particle");
-    if grid.velocity_gradient {
-        particles.gradient.resize(n, Mat3::zeros());
-    }
-    let targets = G2pTargets {
-        position: SharedSlice::new(particles.position),
-        velocity: SharedSlice::new(particles.velocity),
-        gradient: SharedSlice::new(particles.gradient.as_mut_slice()),
+    let G2pParticles {
+        position,
+        velocity,
+        gradient,
+    } = particles;
+    let n = position.len();
+    assert_eq!(velocity.len(), n, "one velocity per particle");
+    let chunk = PARTICLES_PER_TASK;
+    let gradients = if grid.velocity_gradient {
+        gradient.resize(n, Mat3::zeros());
+        rayon::iter::Either::Left(gradient.par_chunks_mut(chunk))
+    } else {
+        let chunks = n.div_ceil(chunk);
+        rayon::iter::Either::Right(
+            rayon::iter::repeat_n((), chunks).map(|()| -> &mut [Mat3] { &mut [] }),
+        )
     };
+    position
+        .par_chunks_mut(chunk)
+        .zip(velocity.par_chunks_mut(chunk))
+        .zip(gradients)
+        .enumerate()
+        .for_each(|(k, ((x, v), l))| g2p_range(map, bins, grid, k * chunk, x, v, l));
+}
+
+/// [`g2p`] of the particles `first .. first + position.len()` (storage
+/// order), sequentially: `velocity` holds their velocities and
+/// `gradient` receives their velocity gradients (empty when
+/// `grid.velocity_gradient` is off). The building block of the passes that
+/// go on to use L_p at once (the fused G2P and stress update of
+/// [`crate::step`]).
+pub fn g2p_range(
+    map: &GridMap,
+    bins: &ParticleBins,
+    grid: G2p,
+    first: usize,
+    position: &mut [[f64; 3]],
+    velocity: &mut [[f64; 3]],
+    gradient: &mut [Mat3],
+) {
+    assert_eq!(velocity.len(), position.len(), "one velocity per particle");
+    if grid.velocity_gradient {
+        assert_eq!(gradient.len(), position.len(), "one gradient per particle");
+    }
     macro_rules! go {
         ($v:literal, $x:literal, $l:literal) => {
             dispatch(
                 map,
-                G2pPass::<$v, $x, $l> {
+                G2pRange::<$v, $x, $l> {
                     map,
                     bins,
                     grid,
-                    targets,
+                    first,
+                    position,
+                    velocity,
+                    gradient,
                 },
             )
         };
@@ -922,95 +959,79 @@ pub fn g2p(map: &GridMap, bins: &ParticleBins, grid: G2p, particles: G2pParticle
     }
 }
 
-#[derive(Clone, Copy)]
-struct G2pTargets<'a> {
-    position: SharedSlice<'a, [f64; 3]>,
-    velocity: SharedSlice<'a, [f64; 3]>,
-    gradient: SharedSlice<'a, Mat3>,
-}
-
-struct G2pPass<'a, const VEL: bool, const POS: bool, const GRAD: bool> {
+struct G2pRange<'a, const VEL: bool, const POS: bool, const GRAD: bool> {
     map: &'a GridMap,
     bins: &'a ParticleBins,
     grid: G2p<'a>,
-    targets: G2pTargets<'a>,
+    first: usize,
+    position: &'a mut [[f64; 3]],
+    velocity: &'a mut [[f64; 3]],
+    gradient: &'a mut [Mat3],
 }
 
 impl<const VEL: bool, const POS: bool, const GRAD: bool> StencilPass
-    for G2pPass<'_, VEL, POS, GRAD>
+    for G2pRange<'_, VEL, POS, GRAD>
 {
     fn run<const NX: usize, const NY: usize, const NZ: usize>(self) {
         let Self {
             map,
             bins,
             grid,
-            targets: t,
+            first,
+            position,
+            velocity,
+            gradient,
         } = self;
-        let n = t.position.len;
-        let tasks = n.div_ceil(PARTICLES_PER_TASK);
-        (0..tasks).into_par_iter().for_each(|task| {
-            let start = task * PARTICLES_PER_TASK;
-            let len = PARTICLES_PER_TASK.min(n - start);
-            // SAFETY: the tasks cover disjoint particle ranges.
-            let xs = unsafe { t.position.range(start, len) };
-            for (i, x) in xs.iter_mut().enumerate() {
-                let p = start + i;
-                let s = map.stencil::<NX, NY, NZ>(*x, bins.half_width(p));
-                let mut dv = [0.0; 3];
-                let mut dx = [0.0; 3];
-                let mut l = [[0.0; 3]; 3];
-                for c in 0..NZ {
-                    for b in 0..NY {
-                        let row = s.row(b, c);
-                        let r = map.row_start(s.base, b, c);
-                        let ar = &grid.acceleration[r..r + if VEL { NX } else { 0 }];
-                        let vr = &grid.velocity_new[r..r + if POS { NX } else { 0 }];
-                        let gr = &grid.gradient_velocity[r..r + if GRAD { NX } else { 0 }];
-                        for a in 0..NX {
-                            let (w, g) = row.node(s.x.w[a], s.x.g[a]);
-                            if VEL {
-                                for k in 0..3 {
-                                    dv[k] += w * ar[a][k];
-                                }
+        for (i, (x, v)) in position.iter_mut().zip(velocity.iter_mut()).enumerate() {
+            let s = map.stencil::<NX, NY, NZ>(*x, bins.half_width(first + i));
+            let mut dv = [0.0; 3];
+            let mut dx = [0.0; 3];
+            let mut l = [[0.0; 3]; 3];
+            for c in 0..NZ {
+                for b in 0..NY {
+                    let row = s.row(b, c);
+                    let r = map.row_start(s.base, b, c);
+                    let ar = &grid.acceleration[r..r + if VEL { NX } else { 0 }];
+                    let vr = &grid.velocity_new[r..r + if POS { NX } else { 0 }];
+                    let gr = &grid.gradient_velocity[r..r + if GRAD { NX } else { 0 }];
+                    for a in 0..NX {
+                        let (w, g) = row.node(s.x.w[a], s.x.g[a]);
+                        if VEL {
+                            for k in 0..3 {
+                                dv[k] += w * ar[a][k];
                             }
-                            if POS {
-                                for k in 0..3 {
-                                    dx[k] += w * vr[a][k];
-                                }
+                        }
+                        if POS {
+                            for k in 0..3 {
+                                dx[k] += w * vr[a][k];
                             }
-                            if GRAD {
-                                for (li, vi) in l.iter_mut().zip(gr[a]) {
-                                    for j in 0..3 {
-                                        li[j] += vi * g[j];
-                                    }
+                        }
+                        if GRAD {
+                            for (li, vi) in l.iter_mut().zip(gr[a]) {
+                                for j in 0..3 {
+                                    li[j] += vi * g[j];
                                 }
                             }
                         }
                     }
                 }
-                if VEL {
-                    // SAFETY: particle p belongs to this task only.
-                    let v = unsafe { &mut t.velocity.range(p, 1)[0] };
-                    for k in 0..3 {
-                        v[k] += dv[k] * grid.dt;
-                    }
-                }
-                if POS {
-                    for k in 0..3 {
-                        x[k] += dx[k] * grid.dt;
-                    }
-                }
-                if GRAD {
-                    // SAFETY: as above.
-                    unsafe {
-                        t.gradient.range(p, 1)[0] = Mat3::new(
-                            l[0][0], l[0][1], l[0][2], l[1][0], l[1][1], l[1][2], l[2][0], l[2][1],
-                            l[2][2],
-                        )
-                    };
+            }
+            if VEL {
+                for k in 0..3 {
+                    v[k] += dv[k] * grid.dt;
                 }
             }
-        });
+            if POS {
+                for k in 0..3 {
+                    x[k] += dx[k] * grid.dt;
+                }
+            }
+            if GRAD {
+                gradient[i] = Mat3::new(
+                    l[0][0], l[0][1], l[0][2], l[1][0], l[1][1], l[1][2], l[2][0], l[2][1], l[2][2],
+                );
+            }
+        }
     }
 }
 
