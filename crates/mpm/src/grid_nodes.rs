@@ -192,6 +192,23 @@ impl GridNodes {
         }
     }
 
+    /// Bytes the node fields hold: 152 per node (mass and six vectors).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.mass.as_slice())
+            + [
+                &self.momentum,
+                &self.force,
+                &self.velocity,
+                &self.acceleration,
+                &self.velocity_new,
+                &self.velocity_remap,
+            ]
+            .iter()
+            .map(|v| size_of_val(v.as_slice()))
+            .sum::<usize>()
+    }
+
     /// The node update `stage`, with the mass cut-off and the boundary
     /// conditions applied to every velocity and acceleration formed
     /// (parallel over x-rows of nodes; each node on its own, so the result

@@ -237,6 +237,24 @@ impl Particles {
         voigt_to_matrix(&self.stress[p])
     }
 
+    /// Bytes the particle arrays hold (their lengths, not capacities): per
+    /// particle 211 bytes of state plus 8 per history value.
+    pub fn state_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.position.as_slice())
+            + size_of_val(self.velocity.as_slice())
+            + size_of_val(self.mass.as_slice())
+            + size_of_val(self.initial_volume.as_slice())
+            + size_of_val(self.volume.as_slice())
+            + size_of_val(self.deformation_gradient.as_slice())
+            + size_of_val(self.stress.as_slice())
+            + size_of_val(self.temperature.as_slice())
+            + size_of_val(self.specific_internal_energy.as_slice())
+            + size_of_val(self.material.as_slice())
+            + size_of_val(self.history.as_slice())
+            + size_of_val(self.failed.as_slice())
+    }
+
     /// Total mass Σ m_p, kg.
     pub fn total_mass(&self) -> f64 {
         self.mass.iter().sum()
@@ -451,6 +469,17 @@ mod tests {
         ps.push(&particle([5.0, 0.5, 0.5], 1.0), &[]).unwrap();
         let e = ps.sort_by_cell(&grid()).unwrap_err();
         assert!(matches!(e, ParticleError::OutsideGrid { index: 1, .. }));
+    }
+
+    #[test]
+    fn state_bytes_count_every_array() {
+        let mut ps = Particles::new(7);
+        for k in 0..3 {
+            ps.push(&particle([0.5 + k as f64, 0.5, 0.5], 1.0), &[0.0; 7])
+                .unwrap();
+        }
+        // 3·(24 + 24 + 8 + 8 + 8 + 72 + 48 + 8 + 8 + 2 + 1) + 3·7·8.
+        assert_eq!(ps.state_bytes(), 3 * 211 + 3 * 56);
     }
 
     #[test]

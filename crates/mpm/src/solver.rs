@@ -173,6 +173,17 @@ struct Workspace {
     bins: ParticleBins,
 }
 
+/// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryUse {
+    /// Every per-particle array: the particle state ([`Particles`]), the
+    /// bulk-viscosity state and identity kept beside it, and the transfer
+    /// bins.
+    pub particles: usize,
+    /// The grid: node fields and the per-block lists of the bins.
+    pub grid: usize,
+}
+
 /// The explicit material point method on one level.
 #[derive(Debug, Clone)]
 pub struct MpmSolver {
@@ -414,6 +425,18 @@ impl MpmSolver {
     /// The node fields of the last step.
     pub fn grid_nodes(&self) -> &GridNodes {
         &self.work.nodes
+    }
+
+    /// The memory the solver holds (see [`MemoryUse`]).
+    pub fn memory_use(&self) -> MemoryUse {
+        use std::mem::size_of_val;
+        MemoryUse {
+            particles: self.particles.state_bytes()
+                + size_of_val(self.bulk.as_slice())
+                + size_of_val(self.ids.as_slice())
+                + self.work.bins.particle_bytes(),
+            grid: self.work.nodes.bytes() + self.work.bins.block_bytes(),
+        }
     }
 
     /// Mass, momentum and energy carried out through outflow faces so far.

@@ -395,11 +395,15 @@ impl ParticleBins {
         }
         const OUTSIDE: u32 = u32::MAX;
         self.block.resize(n, 0);
+        // By chunks, so that each task is one plain loop.
         self.block
-            .par_iter_mut()
-            .zip(position.par_iter())
-            .with_min_len(PARTICLES_PER_TASK)
-            .for_each(|(b, x)| *b = map.block_of(*x).map_or(OUTSIDE, |b| b as u32));
+            .par_chunks_mut(PARTICLES_PER_TASK)
+            .zip(position.par_chunks(PARTICLES_PER_TASK))
+            .for_each(|(blocks, xs)| {
+                for (b, x) in blocks.iter_mut().zip(xs) {
+                    *b = map.block_of(*x).map_or(OUTSIDE, |b| b as u32);
+                }
+            });
         if let Some(index) = self.block.iter().position(|&b| b == OUTSIDE) {
             return Err(BinError::Outside {
                 index,
@@ -466,6 +470,28 @@ impl ParticleBins {
             }
         }
         Ok(())
+    }
+
+    /// Bytes of the per-particle arrays: each particle's block and its
+    /// place in the lists, 8 bytes (16 with GIMP's half-widths).
+    pub fn particle_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.block.as_slice())
+            + size_of_val(self.order.as_slice())
+            + size_of_val(self.half_width.as_slice())
+    }
+
+    /// Bytes of the per-block arrays (list starts, sort cursor, colour
+    /// lists).
+    pub fn block_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.block_start.as_slice())
+            + size_of_val(self.cursor.as_slice())
+            + self
+                .colour_blocks
+                .iter()
+                .map(|c| size_of_val(c.as_slice()))
+                .sum::<usize>()
     }
 
     /// Number of particles binned.

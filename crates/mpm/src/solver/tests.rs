@@ -671,3 +671,47 @@ fn negative_viscosity_coefficients_are_refused_by_name() {
     .unwrap_err();
     assert!(e.to_string().contains("bulk_viscosity.linear"), "{e}");
 }
+
+#[test]
+fn a_j2_particle_costs_295_bytes_and_the_grid_152_per_node() {
+    // 3D J2 copper (Jaumann: 7 history values): 211 bytes of state + 56 of
+    // history + 16 of bulk-viscosity state + 4 of identity + 8 of bins.
+    use brisance_constitutive::ElasticPlastic;
+    let level = Level::new([0.0; 3], [0.008, 0.016, 0.008], [16, 32, 16], [1, 1, 1], 0).unwrap();
+    let mut m = ElasticPlastic::ofhc_copper_seed000();
+    m.rate = ObjectiveRate::Jaumann;
+    let copper = MaterialModel::ElasticPlastic(m);
+    let mut ps = Particles::new(copper.history_len());
+    fill(
+        &mut ps,
+        &level,
+        [0.0; 3],
+        [0.004, 0.012, 0.004],
+        8930.0,
+        [0.0, -190.0, 0.0],
+        0,
+    );
+    let n = ps.len();
+    assert_eq!(n, 8 * 24 * 8 * 8);
+    let boundaries = [GridBoundary::Fixed; 6];
+    let mut s = MpmSolver::new(
+        level,
+        vec![copper],
+        ps,
+        MpmOptions {
+            boundaries,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    run(&mut s, 2);
+    let used = s.memory_use();
+    assert_eq!(used.particles, n * 295);
+    assert!(used.particles <= n * 400);
+    // Linear shapes: 17 × 33 × 17 nodes of 152 bytes, plus 8 bytes per
+    // block of 2 × 2 × 2 cells and 4 per non-empty block.
+    let nodes = 17 * 33 * 17;
+    let blocks = 8 * 16 * 8;
+    assert!(used.grid >= nodes * 152 + 4 * (blocks + 1) + 4 * blocks);
+    assert!(used.grid <= nodes * 152 + 4 * (blocks + 1) + 8 * blocks);
+}
