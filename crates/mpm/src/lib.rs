@@ -13,8 +13,8 @@
 //!   followed through the run (particle gauges).
 //! - [`grid_nodes`]: node fields (mass, momentum, force, velocities) on the
 //!   whole level's node lattice, structure of arrays.
-//! - [`transfer`]: P2G as a deterministic gather over cell-sorted particles
-//!   and G2P (seed 001 eqs 18–21, 24–26).
+//! - [`transfer`]: P2G as a deterministic coloured scatter over particles
+//!   binned by block, and G2P (seed 001 eqs 18–21, 24–28).
 //! - [`step`]: the USF, USL and MUSL explicit steps and the particle stress
 //!   update (seed 001 eqs 12–13, 22–30).
 //! - [`boundary`]: grid boundary conditions per domain face.

@@ -118,7 +118,7 @@ pub struct Particles {
     pub initial_volume: Vec<f64>,
     /// Current volume V_p = det(F_p) V_p⁰, m³.
     pub volume: Vec<f64>,
-    /// Deformation gradient F_p, row-major (F[r][c] at 3r + c).
+    /// Deformation gradient F_p, row-major (`F[r][c]` at 3r + c).
     pub deformation_gradient: Vec<[f64; 9]>,
     /// Cauchy stress σ_p, Voigt order (xx, yy, zz, yz, xz, xy), Pa.
     pub stress: Vec<[f64; 6]>,

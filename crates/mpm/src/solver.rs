@@ -3,13 +3,18 @@
 //!
 //! One [`Solver::advance`]:
 //!
-//! 1. sort the particles by cell (stable counting sort; skipped when they are
-//!    still sorted) and count them per cell;
-//! 2. the 1D shape-function stencils of every particle;
-//! 3. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
-//!    deterministic gather P2G of [`crate::transfer`];
-//! 4. particles that crossed an [`GridBoundary::Outflow`] face are removed
+//! 1. every [`RESORT_INTERVAL`] steps, sort the particles by cell (stable
+//!    counting sort; skipped when they are still sorted); every step, bin
+//!    them by block for the transfers ([`crate::transfer::ParticleBins`]);
+//! 2. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
+//!    deterministic coloured-scatter P2G of [`crate::transfer`], G2P and the
+//!    stress update in one visit of each particle;
+//! 3. particles that crossed an [`GridBoundary::Outflow`] face are removed
 //!    and booked; a particle that crossed any other face stops the run.
+//!
+//! The step runs as one task of the rayon pool; see
+//! `docs/physics/mpm/kernels.md` for the loop structure, memory and
+//! throughput.
 //!
 //! # Conservation bookkeeping
 //!

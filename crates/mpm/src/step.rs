@@ -226,7 +226,7 @@ pub struct G2pParts {
     pub velocity: bool,
     /// x_p += Δt Σ N_Ip v_I^{n+1} (eq 25).
     pub position: bool,
-    /// L_p = Σ_I v_I ⊗ ∇N_Ip (eqs 27–28, L[i][j] = Σ v_i ∂N/∂x_j) from
+    /// L_p = Σ_I v_I ⊗ ∇N_Ip (eqs 27–28, `L[i][j]` = Σ v_i ∂N/∂x_j) from
     /// this node velocity, into the gradient buffer.
     pub gradient: Option<NodeVelocity>,
 }

@@ -903,7 +903,7 @@ pub struct G2pParticles<'a> {
     pub position: &'a mut [[f64; 3]],
     /// Velocities, updated by eq 24 if asked.
     pub velocity: &'a mut [[f64; 3]],
-    /// Velocity gradients L_p (L[i][j] = Σ v_i ∂N/∂x_j), resized to the
+    /// Velocity gradients L_p (`L[i][j]` = Σ v_i ∂N/∂x_j), resized to the
     /// particle count and written if asked.
     pub gradient: &'a mut Vec<Mat3>,
 }
