@@ -723,11 +723,14 @@ fn results_do_not_depend_on_the_patch_split_of_the_level() {
     for shape in ShapeFunction::ALL {
         let a = collision(shape, UpdateScheme::Musl);
         let split = Level::new([0.0; 3], [1.0, 1.0, 1.0], [16, 16, 1], [4, 2, 1], 1).unwrap();
-        let mut b = MpmSolver::new(split, a.materials.clone(), a.particles.clone(), a.options)
-            .unwrap();
+        let mut b =
+            MpmSolver::new(split, a.materials.clone(), a.particles.clone(), a.options).unwrap();
         let mut a = a;
         run(&mut a, 60);
         run(&mut b, 60);
-        assert!(a.save_state().unwrap() == b.save_state().unwrap(), "{shape:?}");
+        assert!(
+            a.save_state().unwrap() == b.save_state().unwrap(),
+            "{shape:?}"
+        );
     }
 }
