@@ -296,82 +296,14 @@ fn mpm_kernels(c: &mut Criterion) {
 /// on one of its two nodes (178 per interior node with the partial-volume
 /// cutoff δ + h/2).
 fn pd_bond_forces(c: &mut Criterion) {
-    use brisance::grid::Shape;
-    use brisance::pd::{
-        bond_forces, build_families, fill_lattice, partial_volume, spring_constant, BodySpec,
-        BondLaw, Dimension, ForceInput, LatticeSpec, NodeForce,
-    };
-    let (n, h) = (28usize, 1.0e-3);
-    let cloud = fill_lattice(
-        &LatticeSpec {
-            spacing: h,
-            origin: [0.0; 3],
-            dimension: Dimension::Three,
-            cross_section: 0.0,
-        },
-        &[BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [n as f64 * h; 3],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
-    )
-    .expect("benchmark block fills");
-    let horizon = 3.0 * h;
-    let families = build_families(&cloud.positions, &cloud.body, horizon, h);
-    let reference: Vec<[f64; 4]> = cloud
-        .positions
-        .iter()
-        .zip(&cloud.volumes)
-        .map(|(x, v)| [x[0], x[1], x[2], *v])
-        .collect();
-    // A smooth small strain field, so every bond is stretched.
-    let state: Vec<[f64; 4]> = cloud
-        .positions
-        .iter()
-        .map(|x| {
-            [
-                1e-4 * (x[0] * 300.0).sin(),
-                1e-4 * x[1],
-                -2e-5 * x[2],
-                f64::INFINITY,
-            ]
-        })
-        .collect();
-    let mut factor: Vec<f32> = (0..cloud.positions.len())
-        .flat_map(|i| {
-            let row = families.row(i);
-            let p = &cloud.positions;
-            families.neighbours[row]
-                .iter()
-                .map(move |&j| {
-                    let d: f64 = (0..3).map(|k| (p[j as usize][k] - p[i][k]).powi(2)).sum();
-                    partial_volume(d.sqrt(), horizon, h) as f32
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    use brisance::pd::{bond_forces, cases::BondBenchBlock, NodeForce};
+    let mut block = BondBenchBlock::new(28, 1.0e-3);
+    let mut factor = std::mem::take(&mut block.factor);
     let mut plastic = vec![0f32; factor.len()];
-    let mut out = vec![NodeForce::default(); reference.len()];
-    let laws = [BondLaw::Solid {
-        micromodulus: spring_constant(7850.0 * 3212.0 * 3212.0, horizon),
-        yield_stretch: f64::INFINITY,
-        plastic: false,
-        critical_stretch: f64::INFINITY,
-    }];
-    let material = vec![0u16; reference.len()];
-    let input = ForceInput {
-        reference: &reference,
-        state: &state,
-        offsets: &families.offsets,
-        neighbours: &families.neighbours,
-        material: &material,
-        laws: &laws,
-    };
+    let mut out = vec![NodeForce::default(); block.reference.len()];
+    let input = block.input();
     let mut group = c.benchmark_group("pd_bond_forces");
-    group.throughput(Throughput::Elements(families.bond_count() as u64));
+    group.throughput(Throughput::Elements(block.families.bond_count() as u64));
     group.sample_size(20);
     group.bench_function("micro_elastic_block_28cubed", |b| {
         b.iter(|| bond_forces(&input, &mut factor, &mut plastic, &mut out))

@@ -6,11 +6,7 @@
 //!
 //! `cargo run --release -p brisance-pd --example bond_throughput [n]`
 
-use brisance_grid::Shape;
-use brisance_pd::{
-    bond_forces, build_families, fill_lattice, partial_volume, spring_constant, BodySpec, BondLaw,
-    Dimension, ForceInput, LatticeSpec, NodeForce,
-};
+use brisance_pd::{bond_forces, cases::BondBenchBlock, NodeForce};
 use std::time::Instant;
 
 fn main() {
@@ -18,69 +14,12 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(28);
-    let h = 1.0e-3;
-    let cloud = fill_lattice(
-        &LatticeSpec {
-            spacing: h,
-            origin: [0.0; 3],
-            dimension: Dimension::Three,
-            cross_section: 0.0,
-        },
-        &[BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [n as f64 * h; 3],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
-    )
-    .expect("block fills");
-    let horizon = 3.0 * h;
-    let families = build_families(&cloud.positions, &cloud.body, horizon, h);
-    let reference: Vec<[f64; 4]> = cloud
-        .positions
-        .iter()
-        .zip(&cloud.volumes)
-        .map(|(x, v)| [x[0], x[1], x[2], *v])
-        .collect();
-    let state: Vec<[f64; 4]> = cloud
-        .positions
-        .iter()
-        .map(|x| {
-            [
-                1e-4 * (x[0] * 300.0).sin(),
-                1e-4 * x[1],
-                -2e-5 * x[2],
-                f64::INFINITY,
-            ]
-        })
-        .collect();
-    let mut factor = Vec::with_capacity(families.bond_count());
-    for i in 0..cloud.positions.len() {
-        for &j in &families.neighbours[families.row(i)] {
-            let (a, b) = (cloud.positions[i], cloud.positions[j as usize]);
-            let r = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-            factor.push(partial_volume(r, horizon, h) as f32);
-        }
-    }
+    let mut block = BondBenchBlock::new(n, 1.0e-3);
+    let mut factor = std::mem::take(&mut block.factor);
     let mut plastic = vec![0f32; factor.len()];
-    let mut out = vec![NodeForce::default(); reference.len()];
-    let laws = [BondLaw::Solid {
-        micromodulus: spring_constant(7850.0 * 3212.0 * 3212.0, horizon),
-        yield_stretch: f64::INFINITY,
-        plastic: false,
-        critical_stretch: f64::INFINITY,
-    }];
-    let material = vec![0u16; reference.len()];
-    let input = ForceInput {
-        reference: &reference,
-        state: &state,
-        offsets: &families.offsets,
-        neighbours: &families.neighbours,
-        material: &material,
-        laws: &laws,
-    };
+    let mut out = vec![NodeForce::default(); block.reference.len()];
+    let input = block.input();
+    let (families, reference) = (&block.families, &block.reference);
     let bonds = families.bond_count() as f64;
     println!(
         "{} nodes, {} bonds ({:.1} per node)",

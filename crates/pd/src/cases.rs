@@ -279,3 +279,103 @@ pub fn run_fragmentation(
         },
     ))
 }
+
+/// The micro-elastic 3D block that measures bond-force throughput (the
+/// criterion bench `pd_bond_forces` and the `bond_throughput` example):
+/// n³ nodes of spacing h in one steel-like body (ρc² = 7850 · 3212² Pa),
+/// δ = 3h, under a smooth small displacement field so every bond is
+/// stretched; no bond yields or breaks.
+#[derive(Debug, Clone)]
+pub struct BondBenchBlock {
+    /// (x, V) per node.
+    pub reference: Vec<[f64; 4]>,
+    /// (u, σ) per node.
+    pub state: Vec<[f64; 4]>,
+    /// The bond families.
+    pub families: crate::Families,
+    /// Material index per node (all 0).
+    pub material: Vec<u16>,
+    /// The one micro-elastic law.
+    pub laws: [crate::BondLaw; 1],
+    /// Partial-volume factor per bond (the kernel's mutable bond state).
+    pub factor: Vec<f32>,
+}
+
+impl BondBenchBlock {
+    /// The block of n³ nodes of spacing `h` (m).
+    pub fn new(n: usize, h: f64) -> Self {
+        let cloud = crate::fill_lattice(
+            &crate::LatticeSpec {
+                spacing: h,
+                origin: [0.0; 3],
+                dimension: crate::Dimension::Three,
+                cross_section: 0.0,
+            },
+            &[BodySpec {
+                shape: Shape::Box {
+                    min: [0.0; 3],
+                    max: [n as f64 * h; 3],
+                },
+                material: 0,
+                velocity: [0.0; 3],
+            }],
+        )
+        .expect("a box of positive size fills with nodes");
+        let horizon = 3.0 * h;
+        let families = crate::build_families(&cloud.positions, &cloud.body, horizon, h);
+        let reference = cloud
+            .positions
+            .iter()
+            .zip(&cloud.volumes)
+            .map(|(x, v)| [x[0], x[1], x[2], *v])
+            .collect();
+        let state = cloud
+            .positions
+            .iter()
+            .map(|x| {
+                [
+                    1e-4 * (x[0] * 300.0).sin(),
+                    1e-4 * x[1],
+                    -2e-5 * x[2],
+                    f64::INFINITY,
+                ]
+            })
+            .collect();
+        let mut factor = Vec::with_capacity(families.bond_count());
+        for (i, a) in cloud.positions.iter().enumerate() {
+            for &j in &families.neighbours[families.row(i)] {
+                let b = cloud.positions[j as usize];
+                let r =
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+                factor.push(crate::partial_volume(r, horizon, h) as f32);
+            }
+        }
+        let material = vec![0u16; cloud.positions.len()];
+        let laws = [crate::BondLaw::Solid {
+            micromodulus: crate::spring_constant(7850.0 * 3212.0 * 3212.0, horizon),
+            yield_stretch: f64::INFINITY,
+            plastic: false,
+            critical_stretch: f64::INFINITY,
+        }];
+        Self {
+            reference,
+            state,
+            families,
+            material,
+            laws,
+            factor,
+        }
+    }
+
+    /// The kernel's read-only input.
+    pub fn input(&self) -> crate::ForceInput<'_> {
+        crate::ForceInput {
+            reference: &self.reference,
+            state: &self.state,
+            offsets: &self.families.offsets,
+            neighbours: &self.families.neighbours,
+            material: &self.material,
+            laws: &self.laws,
+        }
+    }
+}
