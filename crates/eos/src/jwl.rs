@@ -33,7 +33,7 @@
 //! Units: A, B, E₀ in Pa (= J/m³); R₁, R₂, ω dimensionless; ρ₀ kg/m³;
 //! c_v J/(kg·K).
 
-use brisance_core::{Eos, EosError};
+use brisance_core::EosError;
 use serde::{Deserialize, Serialize};
 
 /// JWL parameters (seed 001 eq 54).
@@ -316,76 +316,99 @@ impl JwlCold {
     }
 }
 
-impl Eos for Jwl {
-    fn name(&self) -> &'static str {
-        "jwl"
-    }
+/// The `Eos` implementation shared by the JWL forms whose pressure is
+/// p = p_c(V) + ωρ(e − e_c(V)) with a constant Grüneisen ω and heat
+/// capacity c_v ([`Jwl`], seed 001 eq 54, and
+/// [`crate::jwl_cterm::JwlCTerm`], seed 000 eq 35, where the C terms
+/// cancel). The type provides `cold() -> JwlCold` and the fields `rho0`,
+/// `omega`, `cv`.
+macro_rules! impl_jwl_form_eos {
+    ($ty:ty, $name:literal) => {
+        impl brisance_core::Eos for $ty {
+            fn name(&self) -> &'static str {
+                $name
+            }
 
-    fn reference_density(&self) -> f64 {
-        self.rho0
-    }
+            fn reference_density(&self) -> f64 {
+                self.rho0
+            }
 
-    /// Seed 001 eq 54 with V = ρ₀/ρ and E = ρ₀e, written as
-    /// p = p_c(V) + ωρ(e − e_c(V)) (algebraically identical).
-    #[inline]
-    fn pressure(&self, rho: f64, e: f64) -> f64 {
-        self.cold().total_pressure(rho, e)
-    }
+            /// p = p_c(V) + ωρ(e − e_c(V)), V = ρ₀/ρ.
+            #[inline]
+            fn pressure(&self, rho: f64, e: f64) -> f64 {
+                self.cold().total_pressure(rho, e)
+            }
 
-    #[inline]
-    fn dp_drho(&self, rho: f64, e: f64) -> f64 {
-        self.cold().dp_drho(rho, e)
-    }
+            #[inline]
+            fn dp_drho(&self, rho: f64, e: f64) -> f64 {
+                self.cold().dp_drho(rho, e)
+            }
 
-    /// ∂p/∂e|ρ = ωρ.
-    #[inline]
-    fn dp_de(&self, rho: f64, _e: f64) -> f64 {
-        self.omega * rho
-    }
+            /// ∂p/∂e|ρ = ωρ.
+            #[inline]
+            fn dp_de(&self, rho: f64, _e: f64) -> f64 {
+                self.omega * rho
+            }
 
-    /// Γ = ω.
-    #[inline]
-    fn gruneisen(&self, _rho: f64, _e: f64) -> f64 {
-        self.omega
-    }
+            /// Γ = ω.
+            #[inline]
+            fn gruneisen(&self, _rho: f64, _e: f64) -> f64 {
+                self.omega
+            }
 
-    fn check_state(&self, rho: f64, e: f64) -> Result<(), EosError> {
-        self.cold().check_state("jwl", rho, e)
-    }
+            fn check_state(&self, rho: f64, e: f64) -> Result<(), brisance_core::EosError> {
+                self.cold().check_state($name, rho, e)
+            }
 
-    fn specific_internal_energy(&self, rho: f64, p: f64) -> Result<f64, EosError> {
-        self.cold().specific_internal_energy("jwl", rho, p)
-    }
+            fn specific_internal_energy(
+                &self,
+                rho: f64,
+                p: f64,
+            ) -> Result<f64, brisance_core::EosError> {
+                self.cold().specific_internal_energy($name, rho, p)
+            }
 
-    /// T = (e − e_c(V))/c_v.
-    fn temperature(&self, rho: f64, e: f64) -> f64 {
-        (e - self.cold().energy(self.rho0 / rho)) / self.cv
-    }
+            /// T = (e − e_c(V))/c_v.
+            fn temperature(&self, rho: f64, e: f64) -> f64 {
+                (e - self.cold().energy(self.rho0 / rho)) / self.cv
+            }
 
-    fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64 {
-        self.cold().energy(self.rho0 / rho) + self.cv * t
-    }
+            fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64 {
+                self.cold().energy(self.rho0 / rho) + self.cv * t
+            }
 
-    fn cv(&self, _rho: f64, _t: f64) -> f64 {
-        self.cv
-    }
+            fn cv(&self, _rho: f64, _t: f64) -> f64 {
+                self.cv
+            }
 
-    fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().density("jwl", p, t)
-    }
+            fn density(&self, p: f64, t: f64) -> Result<f64, brisance_core::EosError> {
+                self.cold().density($name, p, t)
+            }
 
-    fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().isothermal_compressibility("jwl", p, t)
-    }
+            fn isothermal_compressibility(
+                &self,
+                p: f64,
+                t: f64,
+            ) -> Result<f64, brisance_core::EosError> {
+                self.cold().isothermal_compressibility($name, p, t)
+            }
 
-    fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().thermal_expansivity("jwl", p, t)
-    }
+            fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, brisance_core::EosError> {
+                self.cold().thermal_expansivity($name, p, t)
+            }
+        }
+    };
 }
+pub(crate) use impl_jwl_form_eos;
+
+// Seed 001 eq 54 with V = ρ₀/ρ and E = ρ₀e, written as
+// p = p_c(V) + ωρ(e − e_c(V)) (algebraically identical).
+impl_jwl_form_eos!(Jwl, "jwl");
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use brisance_core::Eos;
 
     /// Seed 001 eq 54 exactly as printed, for comparison.
     fn eq54(j: &Jwl, rho: f64, e: f64) -> f64 {

@@ -47,7 +47,6 @@
 //! Units: A, B, C in Pa; R₁, R₂, ω dimensionless; ρ₀ kg/m³; c_v J/(kg·K).
 
 use crate::jwl::{positive, JwlCold, PRODUCTS_HEAT_CAPACITY_PER_VOLUME};
-use brisance_core::{Eos, EosError};
 use serde::{Deserialize, Serialize};
 
 /// JWL C-term (JWL++ products) parameters, seed 000 eq 34 as corrected
@@ -148,76 +147,14 @@ impl JwlCTerm {
     }
 }
 
-impl Eos for JwlCTerm {
-    fn name(&self) -> &'static str {
-        "jwl_cterm"
-    }
-
-    fn reference_density(&self) -> f64 {
-        self.rho0
-    }
-
-    /// p = p_s(V) + ωρ(e − e_s(V)), evaluated in the equivalent form
-    /// p_c(V) + ωρ(e − e_c(V)) where the C terms have cancelled.
-    #[inline]
-    fn pressure(&self, rho: f64, e: f64) -> f64 {
-        self.cold().total_pressure(rho, e)
-    }
-
-    #[inline]
-    fn dp_drho(&self, rho: f64, e: f64) -> f64 {
-        self.cold().dp_drho(rho, e)
-    }
-
-    /// ∂p/∂e|ρ = ωρ.
-    #[inline]
-    fn dp_de(&self, rho: f64, _e: f64) -> f64 {
-        self.omega * rho
-    }
-
-    /// Γ = ω.
-    #[inline]
-    fn gruneisen(&self, _rho: f64, _e: f64) -> f64 {
-        self.omega
-    }
-
-    fn check_state(&self, rho: f64, e: f64) -> Result<(), EosError> {
-        self.cold().check_state("jwl_cterm", rho, e)
-    }
-
-    fn specific_internal_energy(&self, rho: f64, p: f64) -> Result<f64, EosError> {
-        self.cold().specific_internal_energy("jwl_cterm", rho, p)
-    }
-
-    /// T = (e − e_c(V))/c_v.
-    fn temperature(&self, rho: f64, e: f64) -> f64 {
-        (e - self.cold().energy(self.rho0 / rho)) / self.cv
-    }
-
-    fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64 {
-        self.cold().energy(self.rho0 / rho) + self.cv * t
-    }
-
-    fn cv(&self, _rho: f64, _t: f64) -> f64 {
-        self.cv
-    }
-
-    fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().density("jwl_cterm", p, t)
-    }
-
-    fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().isothermal_compressibility("jwl_cterm", p, t)
-    }
-
-    fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.cold().thermal_expansivity("jwl_cterm", p, t)
-    }
-}
+// p = p_s(V) + ωρ(e − e_s(V)), evaluated in the equivalent form
+// p_c(V) + ωρ(e − e_c(V)) where the C terms have cancelled.
+crate::jwl::impl_jwl_form_eos!(JwlCTerm, "jwl_cterm");
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use brisance_core::Eos;
 
     #[test]
     fn on_the_reference_isentrope_pressure_is_the_published_cterm_form() {
