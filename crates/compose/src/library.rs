@@ -109,6 +109,7 @@ mod tests {
             "qm100_products",
             "ofhc_copper",
             "steel_4340",
+            "steel_4340_cookoff",
             "rha_steel",
             "concrete_25mpa",
             "concrete_48mpa",
@@ -117,6 +118,18 @@ mod tests {
             assert!(names().contains(&name), "missing {name}");
         }
         assert!(get("unobtainium").unwrap_err().contains("known: air"));
+    }
+
+    #[test]
+    fn the_cookoff_steel_entry_is_the_seed000_section_5_3_model() {
+        let entry = get("steel_4340_cookoff").unwrap();
+        assert_eq!(
+            entry.model,
+            Some(MaterialModel::ElasticPlastic(
+                brisance_constitutive::ElasticPlastic::steel_4340_cookoff_seed000()
+            ))
+        );
+        assert_eq!(entry.eos, get("steel_4340").unwrap().eos);
     }
 
     #[test]
