@@ -1,0 +1,106 @@
+//! Steps 8, 9 and 11 of seed 000 §3.3: Lagrangian sources and values,
+//! and the specific-volume evolution. All quantities are per unit cell
+//! volume (the seed's Δ(m)_r/V), so a cell's mass is ρ_r V.
+
+/// f_r^θ = θ_r κ_r / Σ_s θ_s κ_s (seed 000 eq 10): the share of a cell's
+/// volume change that material r takes.
+#[inline]
+pub fn volume_change_share(theta_kappa_r: f64, theta_kappa_sum: f64) -> f64 {
+    theta_kappa_r / theta_kappa_sum
+}
+
+/// Lagrangian momentum (ρu)^{L−}_r per unit volume (seed 000 eqs 24, 27,
+/// without reactions or deviatoric stress):
+/// ρ_r u_r − Δt θ_r ∇p* + Δt ρ_r g, kg/(m²·s).
+#[inline]
+pub fn lagrangian_momentum(
+    rho: f64,
+    velocity: [f64; 3],
+    theta: f64,
+    grad_p: [f64; 3],
+    gravity: [f64; 3],
+    dt: f64,
+) -> [f64; 3] {
+    std::array::from_fn(|d| rho * velocity[d] - dt * theta * grad_p[d] + dt * rho * gravity[d])
+}
+
+/// Lagrangian internal energy (ρe)^{L−}_r per unit volume (seed 000
+/// eqs 25, 28): ρ_r e_r − Δt f_r^θ p Σ_s ∇·(θ*_s u*_s), J/m³ — the flow
+/// work p dV of material r's share of the cell's volume change.
+#[inline]
+pub fn lagrangian_energy(
+    rho: f64,
+    e: f64,
+    f_theta: f64,
+    pressure: f64,
+    volume_flux_divergence: f64,
+    dt: f64,
+) -> f64 {
+    rho * e - dt * f_theta * pressure * volume_flux_divergence
+}
+
+/// Thermal-expansion part of seed 000 eq 31 for material r:
+/// θ_r β_r Ṫ_r − f_r^θ Σ_s θ_s β_s Ṫ_s (1/s), with `theta_beta_tdot[s]` =
+/// θ_s β_s Ṫ_s. Sums to zero over the materials, so the cell's volume is
+/// only redistributed.
+#[inline]
+pub fn thermal_expansion_term(theta_beta_tdot: &[f64], r: usize, f_theta: f64) -> f64 {
+    let sum: f64 = theta_beta_tdot.iter().sum();
+    theta_beta_tdot[r] - f_theta * sum
+}
+
+/// Lagrangian material volume (ρv)^L_r = θ^L_r per unit volume (seed 000
+/// eqs 31–32, without reactions):
+/// θ_r + Δt [f_r^θ Σ_s ∇·(θ*_s u*_s) + thermal], dimensionless.
+#[inline]
+pub fn lagrangian_volume(
+    theta: f64,
+    f_theta: f64,
+    volume_flux_divergence: f64,
+    thermal: f64,
+    dt: f64,
+) -> f64 {
+    theta + dt * (f_theta * volume_flux_divergence + thermal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pressure_gradient_decelerates_by_theta() {
+        // 2·[1,0,0] − 0.1·0.5·[10,0,−4] + 0.1·2·[0,0,−9.81]
+        let m = lagrangian_momentum(
+            2.0,
+            [1.0, 0.0, 0.0],
+            0.5,
+            [10.0, 0.0, -4.0],
+            [0.0, 0.0, -9.81],
+            0.1,
+        );
+        assert!((m[0] - 1.5).abs() < 1e-15);
+        assert_eq!(m[1], 0.0);
+        assert!((m[2] - (0.2 - 1.962)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn expansion_work_lowers_internal_energy() {
+        // ρe = 3·2 = 6; work 0.01·0.25·1e5·2 = 500
+        assert!((lagrangian_energy(3.0, 2.0, 0.25, 1e5, 2.0, 0.01) - (6.0 - 500.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn volume_shares_and_thermal_terms_redistribute_only() {
+        let tk = [2e-6, 6e-6];
+        let s = tk[0] + tk[1];
+        let f = [volume_change_share(tk[0], s), volume_change_share(tk[1], s)];
+        assert_eq!(f, [0.25, 0.75]);
+        let tbt = [0.3, -0.1];
+        let t0 = thermal_expansion_term(&tbt, 0, f[0]);
+        let t1 = thermal_expansion_term(&tbt, 1, f[1]);
+        assert!((t0 - (0.3 - 0.25 * 0.2)).abs() < 1e-15);
+        assert!((t0 + t1).abs() < 1e-15);
+        // θ grows by Δt f Σdiv: 0.4 + 0.1·(0.25·2) = 0.45
+        assert!((lagrangian_volume(0.4, 0.25, 2.0, 0.0, 0.1) - 0.45).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,1450 @@
+//! The ICE solver: the fluid steps of seed 000 §3.3 in order, the CFL
+//! time step and the [`Solver`] implementation.
+//!
+//! One call of [`Solver::advance`] is
+//! 3. [`IceSolver::compute_face_centred_velocities`] (eq 19 + face exchange),
+//! 5. [`IceSolver::compute_pressure_increment`] (eqs 20–21),
+//! 6–9. [`IceSolver::compute_lagrangian_values`] (eqs 22–28), with
+//! 10. momentum and heat exchange (eqs 29–30) and
+//! 11. the specific-volume evolution (eqs 31–32) in the same cell visit,
+//! 12. [`IceSolver::advect_fluids`],
+//! 2. [`IceSolver::compute_equilibration_pressure`] (eq 7) for the new
+//!    state, so that the state between steps (outputs, checkpoints, the
+//!    next time step) is always equilibrated.
+//!
+//! Steps 1, 4, 7, 13 and 14 of the seed concern particles (MPM) and
+//! reactions; they belong to the coupled pipeline and the reaction models.
+//!
+//! Every kernel visits one patch (ghost layers filled by the grid's halo
+//! exchange) and writes only that patch; patches run in parallel under
+//! rayon, and every value is a function of the cell's neighbourhood alone,
+//! so the bits do not depend on the thread count or the patch split.
+
+use brisance_core::{CellData, ConservationTotals, Eos, Solver, SolverError};
+use brisance_grid::{
+    BoundaryConditions, Face, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
+    Patch, PatchFields,
+};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::advection::{carried_value, fluxed_slab, van_leer_difference, Advection};
+use crate::equilibration::{
+    equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
+};
+use crate::exchange::{heat_exchange, momentum_exchange};
+use crate::face_velocity::face_velocity;
+use crate::lagrangian::{
+    lagrangian_energy, lagrangian_momentum, lagrangian_volume, thermal_expansion_term,
+    volume_change_share,
+};
+use crate::pressure::{face_pressure, pressure_increment};
+use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
+
+/// Ghost layers the solver needs (van Leer differences of a donor that is
+/// itself a ghost cell).
+pub const GHOST: usize = 2;
+
+/// Per-material fields of the state group, in storage order.
+const RHO: usize = 0;
+const VEL: usize = 1;
+const ENERGY: usize = 4;
+const VSP: usize = 5;
+const THETA: usize = 6;
+const TEMP: usize = 7;
+const SOUND: usize = 8;
+/// Fields per material in the state group; the cell's equilibration
+/// pressure follows the last material.
+const NS: usize = 9;
+/// Per-material fields of the Lagrangian group (ρ, u, e, v after steps
+/// 8–11).
+const L_RHO: usize = 0;
+const L_VEL: usize = 1;
+const L_ENERGY: usize = 4;
+const L_VSP: usize = 5;
+const NL: usize = 6;
+
+/// Solver options (`..Default::default()` for the rest).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IceOptions {
+    /// Courant number: Δt = cfl / max over cells of
+    /// Σ_d max_r (|u_r,d| + c_r)/Δx_d. In (0, 1].
+    pub cfl: f64,
+    /// Advection scheme of step 12.
+    pub advection: Advection,
+    /// Gravity, m/s².
+    pub gravity: [f64; 3],
+    /// Smallest time step before the run is stopped as collapsed, s.
+    pub min_dt: f64,
+    /// Convergence of the equilibration pressure.
+    pub equilibration: EquilibrationSettings,
+}
+
+impl Default for IceOptions {
+    fn default() -> Self {
+        Self {
+            cfl: 0.4,
+            advection: Advection::VanLeer,
+            gravity: [0.0; 3],
+            min_dt: 1e-14,
+            equilibration: EquilibrationSettings::default(),
+        }
+    }
+}
+
+/// Work arrays of one patch that no halo exchange touches.
+#[derive(Debug, Clone)]
+struct PatchScratch {
+    /// Σ_r ∇·(θ*_r u*_r) per cell, 1/s (eq 20's numerator).
+    divergence: Vec<f64>,
+    /// Face velocities u*_r per axis and material, stored at the cell on
+    /// the face's high side (the face is that cell's low face).
+    face_velocity: [Vec<Vec<f64>>; 3],
+}
+
+/// A checkpoint: the interior state fields in global order.
+#[derive(Serialize, Deserialize)]
+struct SavedState {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    materials: usize,
+    fields: Vec<Vec<f64>>,
+}
+
+/// Statistics of the last equilibration sweep over the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EquilibrationStats {
+    /// Largest iteration count of any cell.
+    pub max_iterations: usize,
+    /// Largest |1 − Σθ| of any cell.
+    pub max_residual: f64,
+    /// Iterations summed over the cells.
+    pub total_iterations: u64,
+}
+
+/// The first failing cell of a pass: (global linear index, global cell,
+/// description).
+type Failure = Option<(usize, [usize; 3], String)>;
+
+fn first_failure(a: Failure, b: Failure) -> Failure {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(if x.0 <= y.0 { x } else { y }),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// Calls `f(n)` for the storage index of every interior cell of `p`.
+#[inline]
+fn for_interior(p: &Patch, mut f: impl FnMut(usize)) {
+    let g = p.ghost;
+    for k in g[2]..g[2] + p.size[2] {
+        for j in g[1]..g[1] + p.size[1] {
+            let base = p.local_index([g[0], j, k]);
+            for i in 0..p.size[0] {
+                f(base + i);
+            }
+        }
+    }
+}
+
+/// Calls `f(n)` for every cell whose low face along `axis` bounds an
+/// interior cell: interior cells plus the first ghost cell on the high
+/// side.
+#[inline]
+fn for_faces(p: &Patch, axis: usize, mut f: impl FnMut(usize)) {
+    let g = p.ghost;
+    let mut hi = [g[0] + p.size[0], g[1] + p.size[1], g[2] + p.size[2]];
+    hi[axis] += 1;
+    for k in g[2]..hi[2] {
+        for j in g[1]..hi[1] {
+            let base = p.local_index([g[0], j, k]);
+            for i in 0..hi[0] - g[0] {
+                f(base + i);
+            }
+        }
+    }
+}
+
+fn global_of(p: &Patch, n: usize) -> [usize; 3] {
+    let d = p.dims();
+    p.global_of_local([n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])])
+}
+
+/// Everything a per-cell kernel reads besides the fields.
+struct Params<'a, E: Eos> {
+    eos: &'a [E],
+    k: &'a [f64],
+    h: &'a [f64],
+    heat_active: bool,
+    options: IceOptions,
+    spacing: [f64; 3],
+    active: [bool; 3],
+}
+
+fn make_params<'a, E: Eos>(
+    eos: &'a [E],
+    exchange: &'a ExchangeCoefficients,
+    options: IceOptions,
+    level: &Level,
+) -> Params<'a, E> {
+    Params {
+        eos,
+        k: &exchange.momentum,
+        h: &exchange.heat,
+        heat_active: exchange.heat.iter().any(|&h| h > 0.0),
+        options,
+        spacing: level.geometry.spacing,
+        active: std::array::from_fn(|d| level.is_active(d)),
+    }
+}
+
+/// The multi-material ICE solver of seed 000 for materials described by
+/// `E` (normally [`brisance_eos::EosModel`]).
+#[derive(Debug)]
+pub struct IceSolver<E: Eos> {
+    eos: Vec<E>,
+    level: Level,
+    boundaries: [IceBoundary; 6],
+    exchange: ExchangeCoefficients,
+    options: IceOptions,
+    state: Vec<PatchFields>,
+    state_set: FieldSet,
+    state_bcs: BoundaryConditions,
+    lag: Vec<PatchFields>,
+    lag_set: FieldSet,
+    lag_bcs: BoundaryConditions,
+    press: Vec<PatchFields>,
+    press_set: FieldSet,
+    press_bcs: BoundaryConditions,
+    scratch: Vec<PatchScratch>,
+    halo: InProcessExchange,
+    time: f64,
+    steps: u64,
+    last_equilibration: EquilibrationStats,
+}
+
+/// Field set of `n` materials with `per` fields each (velocity at
+/// `vel..vel+3`) and `extra` scalars after them.
+fn field_set(n: usize, per: usize, vel: usize, extra: usize) -> FieldSet {
+    let mut kinds = Vec::with_capacity(n * per + extra);
+    for _ in 0..n {
+        for f in 0..per {
+            kinds.push(if (vel..vel + 3).contains(&f) {
+                FieldKind::VectorComponent(f - vel)
+            } else {
+                FieldKind::Scalar
+            });
+        }
+    }
+    kinds.extend(std::iter::repeat_n(FieldKind::Scalar, extra));
+    FieldSet {
+        names: vec!["ice"; kinds.len()],
+        kinds,
+    }
+}
+
+impl<E: Eos> IceSolver<E> {
+    /// Builds the solver for `eos` (one per material, at most
+    /// [`MAX_MATERIALS`]) on `level` (built with [`GHOST`] ghost layers),
+    /// with the state `init(cell centre)` in every cell, and equilibrates
+    /// it (step 2).
+    pub fn new(
+        eos: Vec<E>,
+        level: Level,
+        boundaries: [IceBoundary; 6],
+        exchange: ExchangeCoefficients,
+        options: IceOptions,
+        init: impl Fn([f64; 3]) -> CellState + Sync,
+    ) -> Result<Self, IceError> {
+        let n = eos.len();
+        exchange.validate(n)?;
+        if !(options.cfl > 0.0 && options.cfl <= 1.0) {
+            return Err(IceError::Invalid(format!(
+                "ice: field `cfl` = {}, expected a value in (0, 1]",
+                options.cfl
+            )));
+        }
+        if options.gravity.iter().any(|g| !g.is_finite()) {
+            return Err(IceError::Invalid(
+                "ice: field `gravity` must be finite".into(),
+            ));
+        }
+        for d in 0..3 {
+            if level.is_active(d) && level.patches.iter().any(|p| p.ghost[d] < GHOST) {
+                return Err(IceError::Invalid(format!(
+                    "ice: the level needs {GHOST} ghost layers"
+                )));
+            }
+        }
+        let state_set = field_set(n, NS, VEL, 1);
+        let lag_set = field_set(n, NL, L_VEL, 0);
+        let press_set = FieldSet {
+            names: vec!["pressure"],
+            kinds: vec![FieldKind::Scalar],
+        };
+        let mut solver = Self {
+            eos,
+            state: level
+                .patches
+                .iter()
+                .map(|p| PatchFields::zeros(p, n * NS + 1))
+                .collect(),
+            lag: level
+                .patches
+                .iter()
+                .map(|p| PatchFields::zeros(p, n * NL))
+                .collect(),
+            press: level
+                .patches
+                .iter()
+                .map(|p| PatchFields::zeros(p, 1))
+                .collect(),
+            scratch: level
+                .patches
+                .iter()
+                .map(|p| PatchScratch {
+                    divergence: vec![0.0; p.allocated_cells()],
+                    face_velocity: std::array::from_fn(|d| {
+                        if level.is_active(d) {
+                            (0..n).map(|_| vec![0.0; p.allocated_cells()]).collect()
+                        } else {
+                            Vec::new()
+                        }
+                    }),
+                })
+                .collect(),
+            level,
+            boundaries: boundaries.clone(),
+            exchange,
+            options,
+            state_set,
+            lag_set,
+            press_set,
+            state_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
+            lag_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
+            press_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
+            halo: InProcessExchange::new(),
+            time: 0.0,
+            steps: 0,
+            last_equilibration: EquilibrationStats::default(),
+        };
+        // Boundary conditions per group.
+        for (f, b) in boundaries.iter().enumerate() {
+            let face = Face::ALL[f];
+            let (s, l, p) = match b {
+                IceBoundary::Symmetry | IceBoundary::FixedVelocity(_) => {
+                    (FaceBc::Reflective, FaceBc::Reflective, FaceBc::Reflective)
+                }
+                IceBoundary::Outflow => (FaceBc::Outflow, FaceBc::Outflow, FaceBc::Outflow),
+                IceBoundary::Periodic => (FaceBc::Periodic, FaceBc::Periodic, FaceBc::Periodic),
+                IceBoundary::FixedState(cs) => {
+                    let (sv, lv, pv) = solver.fixed_values(cs).map_err(|e| {
+                        IceError::Invalid(format!("ice: fixed state on {}: {e}", face.name()))
+                    })?;
+                    (
+                        FaceBc::Fixed(sv),
+                        FaceBc::Fixed(lv),
+                        FaceBc::Fixed(vec![pv]),
+                    )
+                }
+            };
+            solver.state_bcs.faces[f] = s;
+            solver.lag_bcs.faces[f] = l;
+            solver.press_bcs.faces[f] = p;
+        }
+        solver
+            .state_bcs
+            .validate(n * NS + 1)
+            .map_err(IceError::Invalid)?;
+        // Initial state.
+        let geometry = solver.level.geometry;
+        for (pid, patch) in solver.level.patches.iter().enumerate() {
+            let data = &mut solver.state[pid].data;
+            let mut err = None;
+            for_interior(patch, |c| {
+                if err.is_some() {
+                    return;
+                }
+                let g = global_of(patch, c);
+                let cs = init(geometry.cell_centre(g));
+                match Self::material_values(&solver.eos, &cs) {
+                    Ok(vals) => {
+                        for (f, v) in vals.iter().enumerate() {
+                            data[f][c] = *v;
+                        }
+                    }
+                    Err(e) => err = Some(format!("ice: initial state in cell {g:?}: {e}")),
+                }
+            });
+            if let Some(e) = err {
+                return Err(IceError::Invalid(e));
+            }
+        }
+        solver
+            .compute_equilibration_pressure()
+            .map_err(|e| IceError::Invalid(format!("ice: initial state: {e}")))?;
+        Ok(solver)
+    }
+
+    /// State-group values (before equilibration) of a cell state.
+    fn material_values(eos: &[E], cs: &CellState) -> Result<Vec<f64>, String> {
+        let n = eos.len();
+        if cs.materials.len() != n {
+            return Err(format!(
+                "{} material states given for {n} materials",
+                cs.materials.len()
+            ));
+        }
+        if !(cs.pressure > 0.0 && cs.pressure.is_finite()) {
+            return Err(format!(
+                "pressure {} Pa must be finite and > 0",
+                cs.pressure
+            ));
+        }
+        let sum: f64 = cs.materials.iter().map(|m| m.volume_fraction).sum();
+        if (sum - 1.0).abs() > 1e-6 {
+            return Err(format!(
+                "volume fractions sum to {sum}, expected 1 (give absent materials a trace)"
+            ));
+        }
+        let mut vals = vec![0.0; n * NS + 1];
+        for (r, m) in cs.materials.iter().enumerate() {
+            if !(m.volume_fraction > 0.0 && m.volume_fraction <= 1.0) {
+                return Err(format!(
+                    "material {}: volume_fraction {} must lie in (0, 1]",
+                    r + 1,
+                    m.volume_fraction
+                ));
+            }
+            if m.velocity.iter().any(|u| !u.is_finite()) {
+                return Err(format!("material {}: velocity must be finite", r + 1));
+            }
+            let rho_micro = m.density;
+            let e = eos[r]
+                .specific_internal_energy(rho_micro, cs.pressure)
+                .map_err(|e| format!("material {}: {e}", r + 1))?;
+            let b = r * NS;
+            vals[b + RHO] = m.volume_fraction * rho_micro;
+            for d in 0..3 {
+                vals[b + VEL + d] = m.velocity[d];
+            }
+            vals[b + ENERGY] = e;
+            vals[b + VSP] = 1.0 / rho_micro;
+            vals[b + THETA] = m.volume_fraction;
+            vals[b + TEMP] = eos[r].temperature(rho_micro, e);
+            vals[b + SOUND] = eos[r].sound_speed(rho_micro, e);
+        }
+        vals[n * NS] = cs.pressure;
+        Ok(vals)
+    }
+
+    /// Ghost values of a fixed-state face for the three field groups.
+    fn fixed_values(&self, cs: &CellState) -> Result<(Vec<f64>, Vec<f64>, f64), String> {
+        let n = self.eos.len();
+        let mut vals = Self::material_values(&self.eos, cs)?;
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        equilibrate_cell(&params, &mut vals).map_err(|e| e.1)?;
+        let mut lag = vec![0.0; n * NL];
+        for r in 0..n {
+            lag[r * NL + L_RHO] = vals[r * NS + RHO];
+            for d in 0..3 {
+                lag[r * NL + L_VEL + d] = vals[r * NS + VEL + d];
+            }
+            lag[r * NL + L_ENERGY] = vals[r * NS + ENERGY];
+            lag[r * NL + L_VSP] = vals[r * NS + VSP];
+        }
+        let p = vals[n * NS];
+        Ok((vals, lag, p))
+    }
+
+    /// The level the solver runs on.
+    pub fn level(&self) -> &Level {
+        &self.level
+    }
+
+    /// Number of materials.
+    pub fn material_count(&self) -> usize {
+        self.eos.len()
+    }
+
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Iterations and residuals of the last equilibration sweep.
+    pub fn equilibration_stats(&self) -> EquilibrationStats {
+        self.last_equilibration
+    }
+
+    /// The solver's options.
+    pub fn options(&self) -> &IceOptions {
+        &self.options
+    }
+
+    /// Fills the ghosts of the state group and applies moving walls.
+    fn fill_state_ghosts(&mut self) {
+        self.halo.fill_all(
+            &self.level,
+            &self.state_set,
+            &self.state_bcs,
+            &mut self.state,
+        );
+        apply_moving_walls(
+            &self.level,
+            &self.boundaries,
+            &mut self.state,
+            self.eos.len(),
+            NS,
+            VEL,
+        );
+    }
+
+    /// Step 2 (seed 000 eq 7): the equilibration pressure of every cell,
+    /// with new specific volumes, volume fractions, temperatures and sound
+    /// speeds. A cell that fails stops the run with its state.
+    pub fn compute_equilibration_pressure(&mut self) -> Result<(), SolverError> {
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let time = self.time;
+        let geometry = self.level.geometry;
+        let results: Vec<(EquilibrationStats, Failure)> = self
+            .state
+            .par_iter_mut()
+            .zip(self.level.patches.par_iter())
+            .map(|(pf, patch)| {
+                let mut stats = EquilibrationStats::default();
+                let mut fail: Failure = None;
+                let n = params.eos.len();
+                let mut vals = [0.0; MAX_MATERIALS * NS + 1];
+                for_interior(patch, |c| {
+                    let m = n * NS + 1;
+                    for f in 0..m {
+                        vals[f] = pf.data[f][c];
+                    }
+                    match equilibrate_cell(&params, &mut vals[..m]) {
+                        Ok(rep) => {
+                            stats.max_iterations = stats.max_iterations.max(rep.iterations);
+                            stats.max_residual = stats.max_residual.max(rep.residual.abs());
+                            stats.total_iterations += rep.iterations as u64;
+                            for f in 0..m {
+                                pf.data[f][c] = vals[f];
+                            }
+                        }
+                        Err((_, msg)) => {
+                            let g = global_of(patch, c);
+                            fail = first_failure(
+                                fail.take(),
+                                Some((geometry.linear_index(g), g, msg)),
+                            );
+                        }
+                    }
+                });
+                (stats, fail)
+            })
+            .collect();
+        let mut stats = EquilibrationStats::default();
+        let mut fail = None;
+        for (s, f) in results {
+            stats.max_iterations = stats.max_iterations.max(s.max_iterations);
+            stats.max_residual = stats.max_residual.max(s.max_residual);
+            stats.total_iterations += s.total_iterations;
+            fail = first_failure(fail, f);
+        }
+        self.last_equilibration = stats;
+        match fail {
+            None => Ok(()),
+            Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
+                time,
+                cell,
+                centre: geometry.cell_centre(cell),
+                detail,
+            }),
+        }
+    }
+
+    /// Step 3 (seed 000 eq 19): face-centred velocities u*_r of every
+    /// material on every face, followed by the implicit momentum exchange
+    /// on the face (the seed's "same manner as step 10"), with face volume
+    /// fractions and densities the means of the two cells'. On symmetry
+    /// and fixed-velocity faces u* is the wall's normal velocity.
+    pub fn compute_face_centred_velocities(&mut self, dt: f64) {
+        self.fill_state_ghosts();
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let boundaries = &self.boundaries;
+        let cells = self.level.geometry.cells;
+        self.scratch
+            .par_iter_mut()
+            .zip(self.state.par_iter())
+            .zip(self.level.patches.par_iter())
+            .for_each(|((sc, pf), patch)| {
+                let n = params.eos.len();
+                let st = patch.strides();
+                let d = &pf.data;
+                let pidx = n * NS;
+                for a in 0..3 {
+                    if !params.active[a] {
+                        continue;
+                    }
+                    let dx = params.spacing[a];
+                    let g = params.options.gravity[a];
+                    let fv = &mut sc.face_velocity[a];
+                    // Wall faces of this patch along a.
+                    let lo_wall = if patch.lo[a] == 0 {
+                        boundaries[2 * a].wall_velocity().map(|w| w[a])
+                    } else {
+                        None
+                    };
+                    let hi_wall = if patch.lo[a] + patch.size[a] == cells[a] {
+                        boundaries[2 * a + 1].wall_velocity().map(|w| w[a])
+                    } else {
+                        None
+                    };
+                    let dims = patch.dims();
+                    for_faces(patch, a, |c| {
+                        let l = c - st[a];
+                        let la = (c / st[a]) % dims[a];
+                        let wall = if la == patch.ghost[a] {
+                            lo_wall
+                        } else if la == patch.ghost[a] + patch.size[a] {
+                            hi_wall
+                        } else {
+                            None
+                        };
+                        if let Some(w) = wall {
+                            for v in fv.iter_mut() {
+                                v[c] = w;
+                            }
+                            return;
+                        }
+                        let mut u = [[0.0; 1]; MAX_MATERIALS];
+                        let mut rho_f = [0.0; MAX_MATERIALS];
+                        let mut th_f = [0.0; MAX_MATERIALS];
+                        for r in 0..n {
+                            let b = r * NS;
+                            u[r][0] = face_velocity(
+                                d[b + RHO][l],
+                                d[b + VEL + a][l],
+                                d[b + VSP][l],
+                                d[pidx][l],
+                                d[b + RHO][c],
+                                d[b + VEL + a][c],
+                                d[b + VSP][c],
+                                d[pidx][c],
+                                dt,
+                                dx,
+                                g,
+                            );
+                            rho_f[r] = 0.5 * (d[b + RHO][l] + d[b + RHO][c]);
+                            th_f[r] = 0.5 * (d[b + THETA][l] + d[b + THETA][c]);
+                        }
+                        momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
+                        for r in 0..n {
+                            fv[r][c] = u[r][0];
+                        }
+                    });
+                }
+            });
+    }
+
+    /// Step 5 (seed 000 eqs 20–21): the volume-flux divergence
+    /// Σ_r ∇·(θ*_r u*_r), with θ* carried by the advection scheme of step 12
+    /// so the pressure sees the volume the advection will move, and the
+    /// time-advanced pressure p = p_eq + Δp.
+    pub fn compute_pressure_increment(&mut self, dt: f64) {
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        self.press
+            .par_iter_mut()
+            .zip(self.scratch.par_iter_mut())
+            .zip(self.state.par_iter())
+            .zip(self.level.patches.par_iter())
+            .for_each(|(((pr, sc), pf), patch)| {
+                let n = params.eos.len();
+                let st = patch.strides();
+                let d = &pf.data;
+                let scheme = params.options.advection;
+                for_interior(patch, |c| {
+                    let mut div = 0.0;
+                    let mut theta_kappa = 0.0;
+                    for r in 0..n {
+                        let b = r * NS;
+                        for a in 0..3 {
+                            if !params.active[a] {
+                                continue;
+                            }
+                            let lam = dt / params.spacing[a];
+                            let fv = &sc.face_velocity[a][r];
+                            let flux = |m: usize| {
+                                let courant = fv[m] * lam;
+                                let donor = if courant > 0.0 { m - st[a] } else { m };
+                                let q = |f: usize, i: usize| d[b + f][i];
+                                let diff = |f: usize| match scheme {
+                                    Advection::DonorCell => 0.0,
+                                    Advection::VanLeer => van_leer_difference(
+                                        q(f, donor) - q(f, donor - st[a]),
+                                        q(f, donor + st[a]) - q(f, donor),
+                                    ),
+                                };
+                                let slab = fluxed_slab(courant, q(RHO, donor), diff(RHO), scheme);
+                                courant
+                                    * slab.mean_density
+                                    * carried_value(q(VSP, donor), diff(VSP), &slab)
+                            };
+                            div += (flux(c + st[a]) - flux(c)) / dt;
+                        }
+                        let v = d[b + VSP][c];
+                        let cs = d[b + SOUND][c];
+                        theta_kappa += d[b + THETA][c] * v / (cs * cs);
+                    }
+                    sc.divergence[c] = div;
+                    pr.data[0][c] = d[n * NS][c] + pressure_increment(dt, 0.0, div, theta_kappa);
+                });
+            });
+    }
+
+    /// Steps 6, 8, 9, 10 and 11 (seed 000 eqs 22–32) in one visit of each
+    /// cell: face pressures p* (eq 22) and their gradient, the Lagrangian
+    /// momentum and flow-work energy (eqs 23–28), the implicit momentum and
+    /// heat exchange (eqs 29–30) with the dissipated kinetic energy
+    /// returned to internal energy, and the Lagrangian material volume
+    /// (eqs 31–32).
+    pub fn compute_lagrangian_values(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.halo.fill_all(
+            &self.level,
+            &self.press_set,
+            &self.press_bcs,
+            &mut self.press,
+        );
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let geometry = self.level.geometry;
+        let fail = self
+            .lag
+            .par_iter_mut()
+            .zip(self.press.par_iter())
+            .zip(self.scratch.par_iter())
+            .zip(self.state.par_iter())
+            .zip(self.level.patches.par_iter())
+            .map(|((((lg, pr), sc), pf), patch)| {
+                let mut fail: Failure = None;
+                let n = params.eos.len();
+                let st = patch.strides();
+                let d = &pf.data;
+                let p = &pr.data[0];
+                let rho_cell = |i: usize| (0..n).map(|r| d[r * NS + RHO][i]).sum::<f64>();
+                for_interior(patch, |c| {
+                    let rho_c = rho_cell(c);
+                    let mut grad = [0.0; 3];
+                    for a in 0..3 {
+                        if params.active[a] {
+                            let (lo, hi) = (c - st[a], c + st[a]);
+                            let (rl, rh) = (rho_cell(lo), rho_cell(hi));
+                            let p_hi = face_pressure(p[c], rho_c, p[hi], rh);
+                            let p_lo = face_pressure(p[lo], rl, p[c], rho_c);
+                            grad[a] = (p_hi - p_lo) / params.spacing[a];
+                        }
+                    }
+                    match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, dt) {
+                        Ok(out) => {
+                            for r in 0..n {
+                                for f in 0..NL {
+                                    lg.data[r * NL + f][c] = out[r][f];
+                                }
+                            }
+                        }
+                        Err(msg) => {
+                            let g = global_of(patch, c);
+                            fail = first_failure(
+                                fail.take(),
+                                Some((geometry.linear_index(g), g, msg)),
+                            );
+                        }
+                    }
+                });
+                fail
+            })
+            .reduce(|| None, first_failure);
+        match fail {
+            None => Ok(()),
+            Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
+                time: self.time,
+                cell,
+                centre: geometry.cell_centre(cell),
+                detail,
+            }),
+        }
+    }
+
+    /// Step 12: advects every material's mass, momentum, internal energy
+    /// and volume with its face velocities, van Leer compatible fluxes or
+    /// donor cell (see [`crate::advection`]), and writes the new state.
+    pub fn advect_fluids(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.halo
+            .fill_all(&self.level, &self.lag_set, &self.lag_bcs, &mut self.lag);
+        apply_moving_walls(
+            &self.level,
+            &self.boundaries,
+            &mut self.lag,
+            self.eos.len(),
+            NL,
+            L_VEL,
+        );
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let geometry = self.level.geometry;
+        let fail = self
+            .state
+            .par_iter_mut()
+            .zip(self.lag.par_iter())
+            .zip(self.scratch.par_iter())
+            .zip(self.level.patches.par_iter())
+            .map(|(((pf, lg), sc), patch)| {
+                let mut fail: Failure = None;
+                let n = params.eos.len();
+                let st = patch.strides();
+                let l = &lg.data;
+                let scheme = params.options.advection;
+                for_interior(patch, |c| {
+                    for r in 0..n {
+                        let b = r * NL;
+                        let q = |f: usize, i: usize| l[b + f][i];
+                        // Conserved per unit volume: ρ, ρu (3), ρe, ρv.
+                        let rho_l = q(L_RHO, c);
+                        let mut cons = [
+                            rho_l,
+                            rho_l * q(L_VEL, c),
+                            rho_l * q(L_VEL + 1, c),
+                            rho_l * q(L_VEL + 2, c),
+                            rho_l * q(L_ENERGY, c),
+                            rho_l * q(L_VSP, c),
+                        ];
+                        for a in 0..3 {
+                            if !params.active[a] {
+                                continue;
+                            }
+                            let lam = dt / params.spacing[a];
+                            let fv = &sc.face_velocity[a][r];
+                            // Flux (per unit volume) through the low face of m.
+                            let flux = |m: usize| -> [f64; 6] {
+                                let courant = fv[m] * lam;
+                                if courant == 0.0 {
+                                    return [0.0; 6];
+                                }
+                                let donor = if courant > 0.0 { m - st[a] } else { m };
+                                let diff = |f: usize| match scheme {
+                                    Advection::DonorCell => 0.0,
+                                    Advection::VanLeer => van_leer_difference(
+                                        q(f, donor) - q(f, donor - st[a]),
+                                        q(f, donor + st[a]) - q(f, donor),
+                                    ),
+                                };
+                                let slab = fluxed_slab(courant, q(L_RHO, donor), diff(L_RHO), scheme);
+                                let mass = courant * slab.mean_density;
+                                let carried =
+                                    |f: usize| mass * carried_value(q(f, donor), diff(f), &slab);
+                                [
+                                    mass,
+                                    carried(L_VEL),
+                                    carried(L_VEL + 1),
+                                    carried(L_VEL + 2),
+                                    carried(L_ENERGY),
+                                    carried(L_VSP),
+                                ]
+                            };
+                            let (f_lo, f_hi) = (flux(c), flux(c + st[a]));
+                            for k in 0..6 {
+                                cons[k] += f_lo[k] - f_hi[k];
+                            }
+                        }
+                        let rho = cons[0];
+                        if !(rho > 0.0 && rho.is_finite()) {
+                            let g = global_of(patch, c);
+                            fail = first_failure(
+                                fail.take(),
+                                Some((
+                                    geometry.linear_index(g),
+                                    g,
+                                    format!(
+                                        "material {} density {rho:e} kg/m³ after advection (step 12)",
+                                        r + 1
+                                    ),
+                                )),
+                            );
+                            continue;
+                        }
+                        let s = r * NS;
+                        pf.data[s + RHO][c] = rho;
+                        for k in 0..3 {
+                            pf.data[s + VEL + k][c] = cons[1 + k] / rho;
+                        }
+                        pf.data[s + ENERGY][c] = cons[4] / rho;
+                        pf.data[s + VSP][c] = cons[5] / rho;
+                        pf.data[s + THETA][c] = cons[5];
+                    }
+                });
+                fail
+            })
+            .reduce(|| None, first_failure);
+        match fail {
+            None => Ok(()),
+            Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
+                time: self.time,
+                cell,
+                centre: geometry.cell_centre(cell),
+                detail,
+            }),
+        }
+    }
+
+    /// Calls `f(global cell, patch, storage index)` for every interior cell
+    /// in global x-fastest order, independent of the patch split.
+    fn for_each_cell_in_order(&self, mut f: impl FnMut([usize; 3], usize, usize)) {
+        let layout = self.level.layout;
+        for pz in 0..layout[2] {
+            let p0 = &self.level.patches[self.level.patch_id([0, 0, pz])];
+            for k in p0.lo[2]..p0.lo[2] + p0.size[2] {
+                for py in 0..layout[1] {
+                    let p1 = &self.level.patches[self.level.patch_id([0, py, pz])];
+                    for j in p1.lo[1]..p1.lo[1] + p1.size[1] {
+                        for px in 0..layout[0] {
+                            let id = self.level.patch_id([px, py, pz]);
+                            let p = &self.level.patches[id];
+                            for i in p.lo[0]..p.lo[0] + p.size[0] {
+                                f([i, j, k], id, p.index_of_global([i, j, k]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Output field names: mixture fields, then per material k (1-based).
+    pub fn field_names(&self) -> Vec<&'static str> {
+        let mut v = MIXTURE_FIELDS.to_vec();
+        for k in 0..self.eos.len() {
+            v.extend([
+                VOLUME_FRACTION[k],
+                MATERIAL_DENSITY[k],
+                MATERIAL_TEMPERATURE[k],
+                MATERIAL_VELOCITY_X[k],
+            ]);
+        }
+        v
+    }
+
+    fn field_index(&self, name: &str) -> Result<usize, SolverError> {
+        let names = self.field_names();
+        names.iter().position(|f| *f == name).ok_or_else(|| {
+            SolverError::Other(format!(
+                "unknown field `{name}`; known fields: {}",
+                names.join(", ")
+            ))
+        })
+    }
+
+    /// Value of output field `field` at storage index `c` of patch `pid`.
+    fn derived(&self, pid: usize, c: usize, field: usize) -> f64 {
+        let n = self.eos.len();
+        let d = &self.state[pid].data;
+        let rho: f64 = (0..n).map(|r| d[r * NS + RHO][c]).sum();
+        let mean = |f: usize| {
+            (0..n)
+                .map(|r| d[r * NS + RHO][c] * d[r * NS + f][c])
+                .sum::<f64>()
+                / rho
+        };
+        match field {
+            0 => rho,
+            1..=3 => mean(VEL + field - 1),
+            4 => d[n * NS][c],
+            5 => mean(ENERGY),
+            6 => mean(TEMP),
+            7 => {
+                let tk: f64 = (0..n)
+                    .map(|r| {
+                        let cs = d[r * NS + SOUND][c];
+                        d[r * NS + THETA][c] * d[r * NS + VSP][c] / (cs * cs)
+                    })
+                    .sum();
+                1.0 / (rho * tk).sqrt()
+            }
+            _ => {
+                let k = (field - MIXTURE_FIELDS.len()) / 4;
+                let b = k * NS;
+                match (field - MIXTURE_FIELDS.len()) % 4 {
+                    0 => d[b + THETA][c],
+                    1 => d[b + RHO][c],
+                    2 => d[b + TEMP][c],
+                    _ => d[b + VEL][c],
+                }
+            }
+        }
+    }
+}
+
+/// Mixture output fields, in the order `derived` numbers them.
+const MIXTURE_FIELDS: [&str; 8] = [
+    "density",
+    "velocity_x",
+    "velocity_y",
+    "velocity_z",
+    "pressure",
+    "specific_internal_energy",
+    "temperature",
+    "sound_speed",
+];
+const VOLUME_FRACTION: [&str; MAX_MATERIALS] = [
+    "volume_fraction_1",
+    "volume_fraction_2",
+    "volume_fraction_3",
+    "volume_fraction_4",
+    "volume_fraction_5",
+    "volume_fraction_6",
+    "volume_fraction_7",
+    "volume_fraction_8",
+];
+const MATERIAL_DENSITY: [&str; MAX_MATERIALS] = [
+    "density_1",
+    "density_2",
+    "density_3",
+    "density_4",
+    "density_5",
+    "density_6",
+    "density_7",
+    "density_8",
+];
+const MATERIAL_TEMPERATURE: [&str; MAX_MATERIALS] = [
+    "temperature_1",
+    "temperature_2",
+    "temperature_3",
+    "temperature_4",
+    "temperature_5",
+    "temperature_6",
+    "temperature_7",
+    "temperature_8",
+];
+const MATERIAL_VELOCITY_X: [&str; MAX_MATERIALS] = [
+    "velocity_x_1",
+    "velocity_x_2",
+    "velocity_x_3",
+    "velocity_x_4",
+    "velocity_x_5",
+    "velocity_x_6",
+    "velocity_x_7",
+    "velocity_x_8",
+];
+
+/// Step 2 on one cell's state-group values `vals` (n·NS + 1 of them):
+/// temperatures from (v_r, e_r), the equilibration pressure, then v_r, θ_r,
+/// T_r and c_r at the new pressure with e_r kept (so energy is
+/// untouched).
+fn equilibrate_cell<E: Eos>(
+    params: &Params<'_, E>,
+    vals: &mut [f64],
+) -> Result<EquilibrationReport, (usize, String)> {
+    let n = params.eos.len();
+    let mut rho = [0.0; MAX_MATERIALS];
+    let mut temp = [0.0; MAX_MATERIALS];
+    let mut vsp = [0.0; MAX_MATERIALS];
+    let mut theta = [0.0; MAX_MATERIALS];
+    for r in 0..n {
+        let b = r * NS;
+        rho[r] = vals[b + RHO];
+        temp[r] = params.eos[r].temperature(1.0 / vals[b + VSP], vals[b + ENERGY]);
+    }
+    let (p, rep) = equilibration_pressure(
+        params.eos,
+        &rho[..n],
+        &temp[..n],
+        vals[n * NS],
+        &params.options.equilibration,
+        &mut vsp[..n],
+        &mut theta[..n],
+    )
+    .map_err(|e| (0, e.to_string()))?;
+    for r in 0..n {
+        let b = r * NS;
+        let rho_micro = 1.0 / vsp[r];
+        let e = vals[b + ENERGY];
+        let c = params.eos[r].sound_speed(rho_micro, e);
+        if !(c > 0.0 && c.is_finite()) {
+            return Err((
+                0,
+                format!(
+                    "material {}: sound speed {c:e} m/s at ρ = {rho_micro:e} kg/m³, e = {e:e} J/kg (p = {p:e} Pa)",
+                    r + 1
+                ),
+            ));
+        }
+        vals[b + VSP] = vsp[r];
+        vals[b + THETA] = theta[r];
+        vals[b + TEMP] = params.eos[r].temperature(rho_micro, e);
+        vals[b + SOUND] = c;
+    }
+    vals[n * NS] = p;
+    Ok(rep)
+}
+
+/// Steps 8–11 on one interior cell: returns, per material, the Lagrangian
+/// (ρ, u, e, v).
+fn lagrangian_cell<E: Eos>(
+    params: &Params<'_, E>,
+    d: &[Vec<f64>],
+    c: usize,
+    p: f64,
+    divergence: f64,
+    grad: [f64; 3],
+    dt: f64,
+) -> Result<[[f64; NL]; MAX_MATERIALS], String> {
+    let n = params.eos.len();
+    let mut rho = [0.0; MAX_MATERIALS];
+    let mut theta = [0.0; MAX_MATERIALS];
+    let mut tk = [0.0; MAX_MATERIALS];
+    let mut vel = [[0.0; 3]; MAX_MATERIALS];
+    let mut e = [0.0; MAX_MATERIALS];
+    let mut tk_sum = 0.0;
+    for r in 0..n {
+        let b = r * NS;
+        rho[r] = d[b + RHO][c];
+        theta[r] = d[b + THETA][c];
+        let cs = d[b + SOUND][c];
+        tk[r] = theta[r] * d[b + VSP][c] / (cs * cs);
+        tk_sum += tk[r];
+    }
+    let rho_sum: f64 = rho[..n].iter().sum();
+    for r in 0..n {
+        let b = r * NS;
+        let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+        let m = lagrangian_momentum(rho[r], u, theta[r], grad, params.options.gravity, dt);
+        vel[r] = m.map(|x| x / rho[r]);
+        let f = volume_change_share(tk[r], tk_sum);
+        e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], f, p, divergence, dt) / rho[r];
+    }
+    // Step 10: momentum exchange, dissipated kinetic energy back to heat
+    // with one specific increment for every material.
+    let dissipated = momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]);
+    if dissipated != 0.0 {
+        let de = dissipated / rho_sum;
+        for x in &mut e[..n] {
+            *x += de;
+        }
+    }
+    let mut tbt = [0.0; MAX_MATERIALS];
+    if params.heat_active {
+        let mut temp = [[0.0; 1]; MAX_MATERIALS];
+        let mut rho_cv = [0.0; MAX_MATERIALS];
+        let mut cv = [0.0; MAX_MATERIALS];
+        for r in 0..n {
+            let rho_micro = 1.0 / d[r * NS + VSP][c];
+            temp[r][0] = params.eos[r].temperature(rho_micro, e[r]);
+            cv[r] = params.eos[r].cv(rho_micro, temp[r][0]);
+            rho_cv[r] = rho[r] * cv[r];
+        }
+        let before = temp;
+        heat_exchange(&rho_cv[..n], &theta[..n], params.h, dt, &mut temp[..n]);
+        for r in 0..n {
+            let dtemp = temp[r][0] - before[r][0];
+            e[r] += cv[r] * dtemp;
+            if dtemp != 0.0 {
+                let beta = params.eos[r]
+                    .thermal_expansivity(p.max(f64::MIN_POSITIVE), temp[r][0])
+                    .map_err(|err| format!("material {}: thermal expansivity: {err}", r + 1))?;
+                tbt[r] = theta[r] * beta * dtemp / dt;
+            }
+        }
+    }
+    let mut out = [[0.0; NL]; MAX_MATERIALS];
+    for r in 0..n {
+        let f = volume_change_share(tk[r], tk_sum);
+        let thermal = thermal_expansion_term(&tbt[..n], r, f);
+        let theta_l = lagrangian_volume(theta[r], f, divergence, thermal, dt);
+        out[r][L_RHO] = rho[r];
+        out[r][L_VEL..L_VEL + 3].copy_from_slice(&vel[r]);
+        out[r][L_ENERGY] = e[r];
+        out[r][L_VSP] = theta_l / rho[r];
+        if !(theta_l > 0.0 && e[r].is_finite() && vel[r].iter().all(|u| u.is_finite())) {
+            return Err(format!(
+                "material {}: Lagrangian volume fraction {theta_l:e}, specific internal energy {:e} J/kg, \
+                 velocity ({:e}, {:e}, {:e}) m/s (steps 8–11, p = {p:e} Pa)",
+                r + 1,
+                e[r],
+                vel[r][0],
+                vel[r][1],
+                vel[r][2]
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Ghost velocities of fixed-velocity walls: after the mirror fill, set
+/// u_ghost = 2u_w − u_mirror for every component, so the wall moves at u_w.
+fn apply_moving_walls(
+    level: &Level,
+    boundaries: &[IceBoundary; 6],
+    fields: &mut [PatchFields],
+    n: usize,
+    per: usize,
+    vel: usize,
+) {
+    for (f, b) in boundaries.iter().enumerate() {
+        let IceBoundary::FixedVelocity(w) = b else {
+            continue;
+        };
+        let (a, side) = (f / 2, f % 2);
+        if !level.is_active(a) {
+            continue;
+        }
+        for (patch, pf) in level.patches.iter().zip(fields.iter_mut()) {
+            let touches = if side == 0 {
+                patch.lo[a] == 0
+            } else {
+                patch.lo[a] + patch.size[a] == level.geometry.cells[a]
+            };
+            if !touches {
+                continue;
+            }
+            let dims = patch.dims();
+            let g = patch.ghost[a];
+            for m in 0..g {
+                let layer = if side == 0 { m } else { g + patch.size[a] + m };
+                for k in 0..dims[2] {
+                    for j in 0..dims[1] {
+                        for i in 0..dims[0] {
+                            let l = [i, j, k];
+                            if l[a] != layer {
+                                continue;
+                            }
+                            let idx = patch.local_index(l);
+                            for r in 0..n {
+                                for comp in 0..3 {
+                                    let x = &mut pf.data[r * per + vel + comp][idx];
+                                    // The mirror negated the normal component.
+                                    *x = if comp == a {
+                                        *x + 2.0 * w[comp]
+                                    } else {
+                                        2.0 * w[comp] - *x
+                                    };
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl<E: Eos> Solver for IceSolver<E> {
+    fn name(&self) -> &str {
+        "ice"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Δt = cfl / max over cells of Σ_d max_r (|u_r,d| + c_r)/Δx_d: the
+    /// unsplit face fluxes move at most a fraction cfl of a cell's content
+    /// per step, and pressure waves cross at most that fraction of a cell.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let n = self.eos.len();
+        let max_rate = self
+            .state
+            .par_iter()
+            .zip(self.level.patches.par_iter())
+            .map(|(pf, patch)| {
+                let d = &pf.data;
+                let mut max_rate = 0.0_f64;
+                for_interior(patch, |c| {
+                    let mut rate = 0.0;
+                    for a in 0..3 {
+                        if !params.active[a] {
+                            continue;
+                        }
+                        let mut s = 0.0_f64;
+                        for r in 0..n {
+                            s = s.max(d[r * NS + VEL + a][c].abs() + d[r * NS + SOUND][c]);
+                        }
+                        rate += s / params.spacing[a];
+                    }
+                    // NaN propagates as "not finite" through max below.
+                    max_rate = if rate.is_nan() {
+                        f64::NAN
+                    } else {
+                        max_rate.max(rate)
+                    };
+                });
+                max_rate
+            })
+            .reduce(
+                || 0.0,
+                |a, b| {
+                    if a.is_nan() || b.is_nan() {
+                        f64::NAN
+                    } else {
+                        a.max(b)
+                    }
+                },
+            );
+        let dt = if max_rate > 0.0 {
+            self.options.cfl / max_rate
+        } else if max_rate == 0.0 {
+            f64::INFINITY
+        } else {
+            f64::NAN
+        };
+        if !(dt >= self.options.min_dt) {
+            return Err(SolverError::TimeStepCollapse {
+                dt,
+                min_dt: self.options.min_dt,
+                time: self.time,
+                detail:
+                    "the fastest signal speed of the ICE materials is too large for the cell size"
+                        .into(),
+            });
+        }
+        Ok(dt)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
+        self.compute_face_centred_velocities(dt);
+        self.compute_pressure_increment(dt);
+        self.compute_lagrangian_values(dt)?;
+        self.advect_fluids(dt)?;
+        self.time += dt;
+        self.steps += 1;
+        self.compute_equilibration_pressure()
+    }
+
+    /// Totals summed in global cell order: the bits do not depend on the
+    /// patch split or thread count.
+    fn conservation_totals(&self) -> ConservationTotals {
+        let n = self.eos.len();
+        let mut t = ConservationTotals::default();
+        self.for_each_cell_in_order(|_, pid, c| {
+            let d = &self.state[pid].data;
+            for r in 0..n {
+                let b = r * NS;
+                let rho = d[b + RHO][c];
+                let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+                t.mass += rho;
+                for a in 0..3 {
+                    t.momentum[a] += rho * u[a];
+                }
+                t.energy +=
+                    rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+            }
+        });
+        let vol: f64 = self.level.geometry.spacing.iter().product();
+        t.mass *= vol;
+        t.momentum = t.momentum.map(|m| m * vol);
+        t.energy *= vol;
+        t
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        self.field_names()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
+        let ids = fields
+            .iter()
+            .map(|f| self.field_index(f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let count = self.level.geometry.cell_count();
+        let mut out: Vec<(String, Vec<f64>)> = fields
+            .iter()
+            .map(|f| (f.clone(), Vec::with_capacity(count)))
+            .collect();
+        self.for_each_cell_in_order(|_, pid, c| {
+            for (slot, &id) in out.iter_mut().zip(&ids) {
+                slot.1.push(self.derived(pid, c, id));
+            }
+        });
+        Ok(CellData {
+            geometry: self.level.geometry,
+            fields: out,
+        })
+    }
+
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let g = self.level.geometry.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!("point {point:?} lies outside the domain"))
+        })?;
+        let (pid, c) = self.level.locate(g).expect("every cell has a patch");
+        out.clear();
+        for f in fields {
+            out.push(self.derived(pid, c, self.field_index(f)?));
+        }
+        Ok(())
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.level.geometry.cell_count() as f64, "cell-updates")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let nf = self.eos.len() * NS + 1;
+        let mut fields: Vec<Vec<f64>> = (0..nf)
+            .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
+            .collect();
+        self.for_each_cell_in_order(|_, pid, c| {
+            for (f, out) in fields.iter_mut().enumerate() {
+                out.push(self.state[pid].data[f][c]);
+            }
+        });
+        let saved = SavedState {
+            time: self.time,
+            steps: self.steps,
+            cells: self.level.geometry.cells,
+            materials: self.eos.len(),
+            fields,
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let saved: SavedState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let cells = self.level.geometry.cells;
+        let nf = self.eos.len() * NS + 1;
+        if saved.cells != cells
+            || saved.materials != self.eos.len()
+            || saved.fields.len() != nf
+            || saved
+                .fields
+                .iter()
+                .any(|f| f.len() != cells.iter().product())
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint of {} materials on grid {:?} does not match the scenario's {} materials on {:?}",
+                saved.materials,
+                saved.cells,
+                self.eos.len(),
+                cells
+            )));
+        }
+        let mut writes = Vec::with_capacity(cells.iter().product());
+        let mut idx = 0;
+        self.for_each_cell_in_order(|_, pid, c| {
+            writes.push((pid, c, idx));
+            idx += 1;
+        });
+        for (pid, c, i) in writes {
+            for f in 0..nf {
+                self.state[pid].data[f][c] = saved.fields[f][i];
+            }
+        }
+        self.time = saved.time;
+        self.steps = saved.steps;
+        Ok(())
+    }
+}
