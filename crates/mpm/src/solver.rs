@@ -334,7 +334,8 @@ impl MpmSolver {
         let block_bins = GridMap::block_bins_for(particles.len());
         let map = GridMap::with_block_bins(&grid, options.shape, block_bins);
         let mut bins = ParticleBins::default();
-        bins.build(&map, &particles.position, &particles.initial_volume)
+        let f = &particles.deformation_gradient;
+        bins.build_deformed(&map, &particles.position, &particles.initial_volume, f)
             .map_err(|e| match e {
                 BinError::Outside { index, position } => MpmSetupError::OutsideGrid {
                     particle: index,
@@ -503,10 +504,12 @@ impl MpmSolver {
             self.permute_own(&perm);
         }
         let ps = &self.particles;
-        let binned = self
-            .work
-            .bins
-            .build(&self.work.map, &ps.position, &ps.initial_volume);
+        let binned = self.work.bins.build_deformed(
+            &self.work.map,
+            &ps.position,
+            &ps.initial_volume,
+            &ps.deformation_gradient,
+        );
         binned.map_err(|e| match e {
             BinError::Outside { index, position } => outside(index, position),
             BinError::Shape { index, error } => self.particle_error(index, error.to_string()),

@@ -135,7 +135,10 @@ impl GridMap {
         let bins: [usize; 3] = std::array::from_fn(|d| match (active[d], shape) {
             (false, _) => 1,
             (true, ShapeFunction::Linear) => grid.cells[d],
-            (true, ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline) => grid.cells[d] + 1,
+            (
+                true,
+                ShapeFunction::Gimp | ShapeFunction::CpGimp | ShapeFunction::QuadraticBSpline,
+            ) => grid.cells[d] + 1,
         });
         Self {
             grid: *grid,
@@ -174,7 +177,9 @@ impl GridMap {
                     c
                 }
             }
-            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => crate::shape::floor(xi + 0.5),
+            ShapeFunction::Gimp | ShapeFunction::CpGimp | ShapeFunction::QuadraticBSpline => {
+                crate::shape::floor(xi + 0.5)
+            }
         };
         // Clamped, so that a position outside (discarded by the caller)
         // cannot overflow the block index.
@@ -206,23 +211,56 @@ impl GridMap {
 
     /// The uGIMP half-width of a particle of initial volume `v0` (0 for the
     /// other shapes, which do not use it), checked against (0, Δx/2] on
-    /// every active axis.
+    /// every active axis; a value a few ulps above Δx/2 (the round-off of
+    /// [`gimp_half_width`] at one particle per cell) is taken as Δx/2 (see
+    /// [`gimp::admissible_half_width`]). For cpGIMP this is the undeformed
+    /// half-width l_p0; [`GridMap::deformed_half_width`] gives the deformed
+    /// one.
     pub fn half_width(&self, v0: f64) -> Result<f64, ShapeError> {
-        if self.shape != ShapeFunction::Gimp {
+        if !self.shape.is_gimp() {
             return Ok(0.0);
         }
         let lp = gimp_half_width(&self.grid, v0);
+        let mut admitted = lp;
         for d in 0..3 {
             let h = self.grid.spacing[d];
-            if self.grid.cells[d] > 1 && !(lp > 0.0 && lp <= 0.5 * h) {
-                return Err(ShapeError::HalfWidth {
-                    axis: d,
-                    half_width: lp,
-                    max: 0.5 * h,
-                });
+            if self.grid.cells[d] > 1 {
+                match gimp::admissible_half_width(lp, h) {
+                    Some(l) => admitted = admitted.min(l),
+                    None => {
+                        return Err(ShapeError::HalfWidth {
+                            axis: d,
+                            half_width: lp,
+                            max: 0.5 * h,
+                        })
+                    }
+                }
             }
         }
-        Ok(lp)
+        Ok(admitted)
+    }
+
+    /// The cpGIMP half-widths per axis of a particle of initial volume `v0`
+    /// and deformation gradient `f` (row-major): l_p,i = l_p0 F_ii
+    /// ([`gimp::cpgimp_half_width`]) on active axes, l_p0 =
+    /// [`GridMap::half_width`]; Δx/2 on inactive ones (unused).
+    pub fn deformed_half_width(&self, v0: f64, f: &[f64; 9]) -> Result<[f64; 3], ShapeError> {
+        let l0 = self.half_width(v0)?;
+        let mut out = [0.0; 3];
+        for d in 0..3 {
+            let h = self.grid.spacing[d];
+            if self.grid.cells[d] <= 1 {
+                out[d] = 0.5 * h;
+                continue;
+            }
+            let lp = gimp::cpgimp_half_width(l0, f[4 * d], h);
+            out[d] = gimp::admissible_half_width(lp, h).ok_or(ShapeError::HalfWidth {
+                axis: d,
+                half_width: lp,
+                max: 0.5 * h,
+            })?;
+        }
+        Ok(out)
     }
 
     /// The 1D stencil along axis `d` of a particle at coordinate `x` (m)
@@ -247,7 +285,9 @@ impl GridMap {
             ShapeFunction::QuadraticBSpline => {
                 bspline::quadratic_bspline_1d_into(xi, inv_h, &mut w, &mut g)
             }
-            ShapeFunction::Gimp => gimp::ugimp_1d_padded_into(xi, h, lp, &mut w, &mut g),
+            ShapeFunction::Gimp | ShapeFunction::CpGimp => {
+                gimp::ugimp_1d_padded_into(xi, h, lp, &mut w, &mut g)
+            }
         };
         Axis {
             // A particle outside the lattice wraps to a huge offset, which
@@ -258,16 +298,16 @@ impl GridMap {
         }
     }
 
-    /// The stencil of a particle at `x` with GIMP half-width `lp`.
+    /// The stencil of a particle at `x` with GIMP half-widths `lp` per axis.
     #[inline(always)]
     fn stencil<const NX: usize, const NY: usize, const NZ: usize>(
         &self,
         x: [f64; 3],
-        lp: f64,
+        lp: [f64; 3],
     ) -> Stencil<NX, NY, NZ> {
-        let sx = self.axis::<NX>(0, x[0], lp);
-        let sy = self.axis::<NY>(1, x[1], lp);
-        let sz = self.axis::<NZ>(2, x[2], lp);
+        let sx = self.axis::<NX>(0, x[0], lp[0]);
+        let sy = self.axis::<NY>(1, x[1], lp[1]);
+        let sz = self.axis::<NZ>(2, x[2], lp[2]);
         Stencil {
             base: sx.offset + self.stride[1] * sy.offset + self.stride[2] * sz.offset,
             offset: [sx.offset, sy.offset, sz.offset],
@@ -377,17 +417,35 @@ pub struct ParticleBins {
     colour_blocks: [Vec<u32>; COLOURS],
     /// uGIMP half-width of each particle (GIMP only), m.
     half_width: Vec<f64>,
+    /// cpGIMP half-widths of each particle per axis (cpGIMP only), m.
+    deformed_half_width: Vec<[f64; 3]>,
 }
 
 impl ParticleBins {
     /// Bins the particles at `position` (with initial volumes
     /// `initial_volume`, used by GIMP). On failure names the lowest failing
-    /// particle.
+    /// particle. cpGIMP particles get their undeformed domains here (F = I);
+    /// [`ParticleBins::build_deformed`] gives them the deformed ones.
     pub fn build(
         &mut self,
         map: &GridMap,
         position: &[[f64; 3]],
         initial_volume: &[f64],
+    ) -> Result<(), BinError> {
+        self.build_deformed(map, position, initial_volume, &[])
+    }
+
+    /// [`ParticleBins::build`] with the particles' deformation gradients
+    /// `deformation_gradient` (row-major), from which cpGIMP forms each
+    /// particle's half-widths l_p,i = l_p0 F_ii
+    /// ([`GridMap::deformed_half_width`]); an empty slice stands for F = I.
+    /// The other shape functions ignore it.
+    pub fn build_deformed(
+        &mut self,
+        map: &GridMap,
+        position: &[[f64; 3]],
+        initial_volume: &[f64],
+        deformation_gradient: &[[f64; 9]],
     ) -> Result<(), BinError> {
         let n = position.len();
         if n >= u32::MAX as usize {
@@ -410,7 +468,35 @@ impl ParticleBins {
                 position: position[index],
             });
         }
-        if map.shape == ShapeFunction::Gimp {
+        if map.shape == ShapeFunction::CpGimp {
+            self.half_width.clear();
+            self.deformed_half_width.resize(n, [0.0; 3]);
+            const IDENTITY: [f64; 9] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+            let bad = self
+                .deformed_half_width
+                .par_iter_mut()
+                .zip(initial_volume.par_iter())
+                .with_min_len(PARTICLES_PER_TASK)
+                .enumerate()
+                .filter_map(|(index, (lp, &v0))| {
+                    let f = deformation_gradient.get(index).unwrap_or(&IDENTITY);
+                    match map.deformed_half_width(v0, f) {
+                        Ok(l) => {
+                            *lp = l;
+                            None
+                        }
+                        Err(error) => Some(BinError::Shape { index, error }),
+                    }
+                })
+                .min_by_key(|e| match e {
+                    BinError::Shape { index, .. } => *index,
+                    _ => usize::MAX,
+                });
+            if let Some(e) = bad {
+                return Err(e);
+            }
+        } else if map.shape == ShapeFunction::Gimp {
+            self.deformed_half_width.clear();
             self.half_width.resize(n, 0.0);
             let bad = self
                 .half_width
@@ -434,6 +520,7 @@ impl ParticleBins {
             }
         } else {
             self.half_width.clear();
+            self.deformed_half_width.clear();
         }
         // Stable counting sort of the particle indices by block.
         let blocks = map.block_count();
@@ -473,12 +560,14 @@ impl ParticleBins {
     }
 
     /// Bytes of the per-particle arrays: each particle's block and its
-    /// place in the lists, 8 bytes (16 with GIMP's half-widths).
+    /// place in the lists, 8 bytes (16 with uGIMP's half-widths, 32 with
+    /// cpGIMP's three).
     pub fn particle_bytes(&self) -> usize {
         use std::mem::size_of_val;
         size_of_val(self.block.as_slice())
             + size_of_val(self.order.as_slice())
             + size_of_val(self.half_width.as_slice())
+            + size_of_val(self.deformed_half_width.as_slice())
     }
 
     /// Bytes of the per-block arrays (list starts, sort cursor, colour
@@ -514,10 +603,15 @@ impl ParticleBins {
         &self.colour_blocks[c]
     }
 
-    /// GIMP half-width of particle `p` (0 for the other shapes).
+    /// GIMP half-widths of particle `p` per axis (0 for the shapes that
+    /// use none): uGIMP's one l_p on every axis, cpGIMP's deformed l_p,i.
     #[inline(always)]
-    fn half_width(&self, p: usize) -> f64 {
-        self.half_width.get(p).copied().unwrap_or(0.0)
+    fn half_width(&self, p: usize) -> [f64; 3] {
+        if let Some(&l) = self.half_width.get(p) {
+            [l; 3]
+        } else {
+            self.deformed_half_width.get(p).copied().unwrap_or([0.0; 3])
+        }
     }
 
     /// Calls `visit(block, particle)` for every particle, colour by colour;
@@ -1108,6 +1202,19 @@ mod tests {
                     mass: 1.0 + frac(0.19),
                     volume: g.spacing.iter().product::<f64>() / 8.0 * (0.9 + 0.2 * frac(0.23)),
                     stress: std::array::from_fn(|c| (frac(0.1 + 0.17 * c as f64) - 0.5) * 1e6),
+                    // Stretched and sheared, so that cpGIMP's half-widths
+                    // differ per particle and axis (some reach Δx/2).
+                    deformation_gradient: [
+                        0.6 + 0.8 * frac(0.37),
+                        0.1 * frac(0.11),
+                        0.0,
+                        -0.05,
+                        0.7 + 0.9 * frac(0.41),
+                        0.02,
+                        0.0,
+                        0.0,
+                        0.8 + 0.4 * frac(0.53),
+                    ],
                     ..Default::default()
                 },
                 &[],
@@ -1148,7 +1255,7 @@ mod tests {
                     let q = q as usize;
                     let lp = bins.half_width(q);
                     map.shape
-                        .evaluate(&map.grid, ps.position[q], [lp; 3], &mut st)
+                        .evaluate(&map.grid, ps.position[q], lp, &mut st)
                         .unwrap();
                     let mv: [f64; 3] = std::array::from_fn(|k| ps.mass[q] * ps.velocity[q][k]);
                     let vs: [f64; 6] = std::array::from_fn(|k| ps.volume[q] * ps.stress[q][k]);
@@ -1192,7 +1299,13 @@ mod tests {
             let shape = map.shape;
             let ps = particles(&g, 300);
             let mut bins = ParticleBins::default();
-            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            bins.build_deformed(
+                &map,
+                &ps.position,
+                &ps.initial_volume,
+                &ps.deformation_gradient,
+            )
+            .unwrap();
             let (m, p, f) = reference_p2g(&map, &bins, &ps);
             for threads in [1, 2, 3] {
                 let mut nodes = GridNodes::new(map.lattice);
@@ -1226,7 +1339,13 @@ mod tests {
             let shape = map.shape;
             let ps = particles(&g, 200);
             let mut bins = ParticleBins::default();
-            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            bins.build_deformed(
+                &map,
+                &ps.position,
+                &ps.initial_volume,
+                &ps.deformation_gradient,
+            )
+            .unwrap();
             let mut nodes = GridNodes::new(map.lattice);
             p2g(&map, &bins, inputs(&ps), &mut nodes, P2gSums::All);
             let total: f64 = ps.mass.iter().sum();
@@ -1255,13 +1374,13 @@ mod tests {
     fn reference_g2p(
         map: &GridMap,
         x: [f64; 3],
-        lp: f64,
+        lp: [f64; 3],
         a: &[[f64; 3]],
         vn: &[[f64; 3]],
         vl: &[[f64; 3]],
     ) -> ([f64; 3], [f64; 3], Mat3) {
         let mut st = ShapeStencil::new();
-        map.shape.evaluate(&map.grid, x, [lp; 3], &mut st).unwrap();
+        map.shape.evaluate(&map.grid, x, lp, &mut st).unwrap();
         let (mut dv, mut dx, mut l) = ([0.0; 3], [0.0; 3], [[0.0; 3]; 3]);
         // Stencil order is the kernel's order, but GIMP's evaluate leaves
         // out zero-weight nodes, which add nothing.
@@ -1293,8 +1412,13 @@ mod tests {
             let shape = map.shape;
             let ps0 = particles(&g, 150);
             let mut bins = ParticleBins::default();
-            bins.build(&map, &ps0.position, &ps0.initial_volume)
-                .unwrap();
+            bins.build_deformed(
+                &map,
+                &ps0.position,
+                &ps0.initial_volume,
+                &ps0.deformation_gradient,
+            )
+            .unwrap();
             let nn = map.lattice.len();
             let (a, vn, vl) = (
                 node_field(nn, 0.7),
@@ -1361,8 +1485,13 @@ mod tests {
             let shape = map.shape;
             let ps0 = particles(&g, 200);
             let mut bins = ParticleBins::default();
-            bins.build(&map, &ps0.position, &ps0.initial_volume)
-                .unwrap();
+            bins.build_deformed(
+                &map,
+                &ps0.position,
+                &ps0.initial_volume,
+                &ps0.deformation_gradient,
+            )
+            .unwrap();
             let nn = map.lattice.len();
             let a = node_field(nn, 0.9);
             let dt = 0.25;
@@ -1384,7 +1513,7 @@ mod tests {
                         let q = q as usize;
                         let lp = bins.half_width(q);
                         map.shape
-                            .evaluate(&map.grid, ps0.position[q], [lp; 3], &mut st)
+                            .evaluate(&map.grid, ps0.position[q], lp, &mut st)
                             .unwrap();
                         let mv: [f64; 3] = std::array::from_fn(|k| ps0.mass[q] * v_ref[q][k]);
                         for (node, w, _) in st.iter() {
@@ -1424,7 +1553,13 @@ mod tests {
             let shape = map.shape;
             let ps = particles(&g, 400);
             let mut bins = ParticleBins::default();
-            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            bins.build_deformed(
+                &map,
+                &ps.position,
+                &ps.initial_volume,
+                &ps.deformation_gradient,
+            )
+            .unwrap();
             let mut st = ShapeStencil::new();
             for colour in 0..COLOURS {
                 // Node → the block of this colour that touched it.
@@ -1434,7 +1569,7 @@ mod tests {
                         let q = q as usize;
                         let lp = bins.half_width(q);
                         map.shape
-                            .evaluate(&map.grid, ps.position[q], [lp; 3], &mut st)
+                            .evaluate(&map.grid, ps.position[q], lp, &mut st)
                             .unwrap();
                         for node in st.nodes() {
                             let i = map.lattice.index(*node).unwrap();
@@ -1465,7 +1600,13 @@ mod tests {
         let ps = particles(&g, 300);
         let map = GridMap::new(&g, ShapeFunction::Linear);
         let mut bins = ParticleBins::default();
-        bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+        bins.build_deformed(
+            &map,
+            &ps.position,
+            &ps.initial_volume,
+            &ps.deformation_gradient,
+        )
+        .unwrap();
         for b in 0..map.block_count() {
             let list = bins.block_particles(b);
             assert!(list.windows(2).all(|w| w[0] < w[1]));
@@ -1510,6 +1651,98 @@ mod tests {
             "{e:?}"
         );
         assert!(e.to_string().contains("particle 40"), "{e}");
+    }
+
+    #[test]
+    fn ugimp_with_one_particle_per_cell_in_3d_takes_half_a_cell() {
+        // Regression: l_p = ½ (Δx³)^(1/3) rounds one ulp above Δx/2 for
+        // Δx = 0.1 m, and the strict check refused `ppc: 1` in 3D.
+        let g = UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [0.1; 3],
+            cells: [4, 4, 4],
+        };
+        let v0 = 0.1 * 0.1 * 0.1;
+        assert!(
+            gimp_half_width(&g, v0) > 0.05,
+            "the round-off this test is about"
+        );
+        for shape in [ShapeFunction::Gimp, ShapeFunction::CpGimp] {
+            let map = GridMap::new(&g, shape);
+            assert_eq!(map.half_width(v0), Ok(0.05));
+            let mut ps = crate::Particles::new(0);
+            crate::fill_shape(
+                &mut ps,
+                &g,
+                &crate::FillSpec {
+                    shape: crate::Shape::Box {
+                        min: [0.0; 3],
+                        max: [0.4; 3],
+                    },
+                    ppc: 1,
+                    density: 1.0,
+                    material: crate::MaterialId(0),
+                    velocity: [0.0; 3],
+                    temperature: 300.0,
+                    specific_internal_energy: 0.0,
+                },
+            )
+            .unwrap();
+            assert_eq!(ps.len(), 64);
+            let mut bins = ParticleBins::default();
+            bins.build(&map, &ps.position, &ps.initial_volume).unwrap();
+            assert!((0..64).all(|p| bins.half_width(p) == [0.05; 3]));
+            // The shape function takes the rounded value as Δx/2 too.
+            let lp = gimp_half_width(&g, v0);
+            let (mut a, mut b) = (ShapeStencil::new(), ShapeStencil::new());
+            shape
+                .evaluate(&g, [0.15, 0.2, 0.05], [lp; 3], &mut a)
+                .unwrap();
+            shape
+                .evaluate(&g, [0.15, 0.2, 0.05], [0.05; 3], &mut b)
+                .unwrap();
+            assert_eq!(a, b);
+            // A real excess is still refused.
+            let e = map.half_width(v0 * (1.0 + 1e-9)).unwrap_err();
+            assert!(matches!(e, ShapeError::HalfWidth { axis: 0, .. }), "{e:?}");
+        }
+    }
+
+    #[test]
+    fn cpgimp_half_widths_follow_the_diagonal_of_f() {
+        let g = grid([6, 5, 4]);
+        let map = GridMap::new(&g, ShapeFunction::CpGimp);
+        // l_p0 = ½ (0.2³)^(1/3) = 0.1 m; Δx/2 = (0.25, 0.125, 0.375) m.
+        let v0 = 0.2 * 0.2 * 0.2;
+        let l0 = map.half_width(v0).unwrap();
+        assert!((l0 - 0.1).abs() < 1e-16);
+        let f = [1.2, 0.3, -0.4, 0.1, 0.5, 0.2, 0.7, -0.1, 3.0];
+        let x = [[0.9, 1.1, 2.0], [0.1, 0.6, 1.5], [1.0, 1.0, 2.5]];
+        let fs = [f, crate::particles::IDENTITY, [f64::NAN; 9]];
+        let mut bins = ParticleBins::default();
+        bins.build_deformed(&map, &x[..2], &[v0; 2], &fs[..2])
+            .unwrap();
+        // l_p,i = l_p0 F_ii: 0.12, 0.05 and 0.3 m (below Δx/2 = 0.375).
+        let lp = bins.half_width(0);
+        let expected = [l0 * 1.2, l0 * 0.5, l0 * 3.0];
+        assert_eq!(lp, expected);
+        assert_eq!(bins.half_width(1), [l0; 3]);
+        // Without F (build): the undeformed domain.
+        bins.build(&map, &x[..2], &[v0; 2]).unwrap();
+        assert_eq!(bins.half_width(0), [l0; 3]);
+        // A non-finite F names its particle.
+        let e = bins.build_deformed(&map, &x, &[v0; 3], &fs).unwrap_err();
+        assert!(matches!(e, BinError::Shape { index: 2, .. }), "{e:?}");
+        // On a 1D grid the inactive axes get Δx/2.
+        let g1 = grid([9, 1, 1]);
+        let map1 = GridMap::new(&g1, ShapeFunction::CpGimp);
+        // l_p0 = ½ V/(Δy Δz) = 0.1 m.
+        let v1 = 0.2 * 0.25 * 0.75;
+        bins.build_deformed(&map1, &[[1.0, 0.6, 1.2]], &[v1], &[f])
+            .unwrap();
+        let lp = bins.half_width(0);
+        assert!((lp[0] - 0.12).abs() < 1e-15, "{lp:?}");
+        assert_eq!([lp[1], lp[2]], [0.125, 0.375]);
     }
 
     proptest! {

@@ -30,8 +30,63 @@
 //! numbers of the paper are not reproduced here because it is not among the
 //! seeds; the closed form above follows from its definition in three lines
 //! of integration (see `docs/physics/mpm/shape_functions.md`).
+//!
+//! # Contiguous-particle GIMP
+//!
+//! uGIMP keeps l_p fixed, so the particle boxes stop tiling the body once it
+//! deforms: where gas expands they overlap, where it compresses gaps open.
+//! Then Σ_p V_p ∇S_Ip no longer vanishes at interior nodes and the volume
+//! update V_p ← V_p (1 + Δt tr L_p) drifts. cpGIMP (Bardenhagen & Kober
+//! 2004; Wallstedt & Guilkey 2008, J. Comput. Phys. 227:9628) lets each
+//! half-width follow the deformation, l_p,i = l_p0,i F_ii, and evaluates the
+//! same closed form with that l_p ([`cpgimp_half_width`]). In 1D the
+//! gradient is ∇S_Ip = (S_I(x_p + l_p) − S_I(x_p − l_p))/(2 l_p), so
+//! V_p ∇S_Ip = A (S_I(x_p + l_p) − S_I(x_p − l_p)) (A the cross-section):
+//! over domains that tile the tube the sum telescopes to zero at every
+//! interior node, and the total volume changes only through the tube ends.
 
 use super::{floor, Stencil1d};
+
+/// Relative round-off a half-width may carry above Δx/2 and still be taken
+/// as Δx/2: a few ulps, the error of forming l_p = ½ (V_p)^(1/3) from a
+/// particle volume of exactly Δx³ (`ppc: 1` in 3D).
+pub const HALF_WIDTH_ROUND_OFF: f64 = 4.0 * f64::EPSILON;
+
+/// The half-width `lp` (m) on an axis of cell width `h` (m) as the 1D
+/// weights take it: `lp` itself when 0 < lp ≤ h/2, h/2 when `lp` exceeds
+/// h/2 by no more than [`HALF_WIDTH_ROUND_OFF`] (relative), `None` otherwise
+/// (also for NaN).
+#[inline]
+pub fn admissible_half_width(lp: f64, h: f64) -> Option<f64> {
+    let max = 0.5 * h;
+    if lp > 0.0 && lp <= max {
+        Some(lp)
+    } else if lp > max && lp <= max * (1.0 + HALF_WIDTH_ROUND_OFF) {
+        Some(max)
+    } else {
+        None
+    }
+}
+
+/// Smallest stretch F_ii a cpGIMP domain follows: below it (strong
+/// compression, or a rotation that turns the axis away, where F_ii → 0 or
+/// changes sign) the half-width stays at `MIN_STRETCH` · l_p0.
+pub const MIN_STRETCH: f64 = 0.01;
+
+/// The cpGIMP half-width along one active axis (Bardenhagen & Kober 2004;
+/// Wallstedt & Guilkey 2008, J. Comput. Phys. 227:9628, their "contiguous
+/// particle GIMP"): the undeformed half-width `l0` (m) times the stretch
+/// F_ii of the deformation gradient along that axis, l_p = l_p0 F_ii, kept
+/// in [`MIN_STRETCH`] · l0 … h/2 so that the domain stays inside the three
+/// nodes per axis the stencils hold (cell width `h`, m). A non-finite
+/// `stretch` gives NaN, which [`admissible_half_width`] rejects.
+#[inline]
+pub fn cpgimp_half_width(l0: f64, stretch: f64, h: f64) -> f64 {
+    if !stretch.is_finite() {
+        return f64::NAN;
+    }
+    (l0 * stretch.max(MIN_STRETCH)).min(0.5 * h)
+}
 
 /// The 1D uGIMP weight S(r) and derivative S'(r) (1/m) of one node at
 /// signed distance `r` = x_p − x_i (m), for cell width `h` and particle

@@ -10,7 +10,8 @@
 //!   eq 16 (2 nodes per axis);
 //! - [`gimp`]: the uGIMP weight of Bardenhagen & Kober 2004 (seed 000
 //!   ref 13), the hat function averaged over a particle of half-width l_p
-//!   (up to 3 nodes per axis);
+//!   (up to 3 nodes per axis), and its contiguous-particle variant cpGIMP,
+//!   whose half-widths follow the deformation (l_p,i = l_p0,i F_ii);
 //! - [`bspline`]: the uniform quadratic B-spline (3 nodes per axis).
 //!
 //! Node indexing is that of [`crate::nodes`]: global node i at
@@ -41,6 +42,12 @@ pub enum ShapeFunction {
     /// Uniform GIMP (Bardenhagen & Kober 2004, seed 000 ref 13): the hat
     /// function averaged over the particle's undeformed box.
     Gimp,
+    /// Contiguous-particle GIMP (Bardenhagen & Kober 2004; Wallstedt &
+    /// Guilkey 2008, J. Comput. Phys. 227:9628): the uGIMP average over a
+    /// box whose half-widths follow the deformation, l_p,i = l_p0,i F_ii
+    /// ([`gimp::cpgimp_half_width`]), so that the particle domains keep
+    /// tiling the body as it stretches or compresses.
+    CpGimp,
     /// Quadratic B-spline, C¹ with a support of 3 nodes per axis.
     QuadraticBSpline,
 }
@@ -54,7 +61,9 @@ pub enum ShapeError {
         /// The offending position, m.
         position: [f64; 3],
     },
-    /// A GIMP half-width outside (0, Δx/2] along an active direction.
+    /// A GIMP half-width outside (0, Δx/2] along an active direction (a
+    /// few ulps above Δx/2 are taken as Δx/2, see
+    /// [`gimp::admissible_half_width`]).
     #[error(
         "GIMP particle half-width {half_width} m along axis {axis} must lie in (0, {max}] \
          (half the cell width)"
@@ -238,11 +247,19 @@ pub fn floor(x: f64) -> f64 {
 
 impl ShapeFunction {
     /// All variants, for tests and listings.
-    pub const ALL: [ShapeFunction; 3] = [
+    pub const ALL: [ShapeFunction; 4] = [
         ShapeFunction::Linear,
         ShapeFunction::Gimp,
+        ShapeFunction::CpGimp,
         ShapeFunction::QuadraticBSpline,
     ];
+
+    /// Whether the shape function averages over a particle box of
+    /// half-width l_p (uGIMP and cpGIMP).
+    #[inline(always)]
+    pub fn is_gimp(self) -> bool {
+        matches!(self, ShapeFunction::Gimp | ShapeFunction::CpGimp)
+    }
 
     /// Ghost node layers a patch needs so that every particle in its
     /// interior cells finds all its nodes allocated: 0 for the linear
@@ -251,7 +268,7 @@ impl ShapeFunction {
     pub fn required_ghost_nodes(self) -> usize {
         match self {
             ShapeFunction::Linear => 0,
-            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => 1,
+            ShapeFunction::Gimp | ShapeFunction::CpGimp | ShapeFunction::QuadraticBSpline => 1,
         }
     }
 
@@ -259,7 +276,7 @@ impl ShapeFunction {
     pub fn nodes_per_axis(self) -> usize {
         match self {
             ShapeFunction::Linear => 2,
-            ShapeFunction::Gimp | ShapeFunction::QuadraticBSpline => 3,
+            ShapeFunction::Gimp | ShapeFunction::CpGimp | ShapeFunction::QuadraticBSpline => 3,
         }
     }
 
@@ -279,8 +296,10 @@ impl ShapeFunction {
 
     /// Evaluates N_I(x_p) and ∇N_I(x_p) for the particle at `position` (m)
     /// into `out`. `half_width` (m) is the particle half-width l_p per axis,
-    /// used by [`ShapeFunction::Gimp`] only (it must lie in (0, Δx/2] along
-    /// active axes) and ignored by the others.
+    /// used by [`ShapeFunction::Gimp`] and [`ShapeFunction::CpGimp`] only (it
+    /// must lie in (0, Δx/2] along active axes, up to the round-off of
+    /// [`gimp::admissible_half_width`]) and ignored by the others. For
+    /// cpGIMP it is the deformed half-width ([`gimp::cpgimp_half_width`]).
     ///
     /// Positions outside the domain are not rejected: they give nodes
     /// outside 0 ..= n, which the caller must handle (a particle that left
@@ -306,15 +325,15 @@ impl ShapeFunction {
             axes[d] = match self {
                 ShapeFunction::Linear => linear::hat_1d(xi, h, grid.cells[d]),
                 ShapeFunction::QuadraticBSpline => bspline::quadratic_bspline_1d(xi, h),
-                ShapeFunction::Gimp => {
+                ShapeFunction::Gimp | ShapeFunction::CpGimp => {
                     let lp = half_width[d];
-                    if !(lp > 0.0 && lp <= 0.5 * h) {
+                    let Some(lp) = gimp::admissible_half_width(lp, h) else {
                         return Err(ShapeError::HalfWidth {
                             axis: d,
                             half_width: lp,
                             max: 0.5 * h,
                         });
-                    }
+                    };
                     gimp::ugimp_1d(xi, h, lp)
                 }
             };

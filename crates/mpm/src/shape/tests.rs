@@ -470,3 +470,299 @@ fn default_half_width_tiles_the_cell() {
     let g = grid([0.0; 3], [0.2, 0.4, 1.0], [5, 5, 1]);
     assert_eq!(ShapeFunction::default_half_width(&g, 2), [0.05, 0.1, 0.5]);
 }
+
+// ------------------------------------------------------------------ cpGIMP
+
+/// Stretches F_ii with the clamped places: strong compression, a sign
+/// change (rotation), the identity and stretches that reach h/2.
+fn stretch() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => 0.2..3.0f64,
+        1 => Just(1.0),
+        1 => Just(1e-4),
+        1 => -2.0..0.0f64,
+        1 => 4.0..50.0f64,
+    ]
+}
+
+/// cpGIMP half-widths l_p0 F_ii of a particle of undeformed half-width
+/// `l0f` × Δx/2 on `g`.
+fn deformed_half_width(g: &UniformGridGeometry, l0f: f64, s: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|d| {
+        let h = g.spacing[d];
+        gimp::cpgimp_half_width(0.5 * h * l0f, s[d], h)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn cpgimp_with_deformed_half_widths_keeps_the_shape_function_contract(
+        c in case(),
+        l0f in 0.05..=1.0f64,
+        s in [stretch(), stretch(), stretch()],
+    ) {
+        let lp = deformed_half_width(&c.grid, l0f, s);
+        for (l, h) in lp.iter().zip(c.grid.spacing) {
+            prop_assert!(*l > 0.0 && *l <= 0.5 * h);
+        }
+        let st = eval(ShapeFunction::CpGimp, &c.grid, c.x, lp);
+        // The same weights as uGIMP with those half-widths.
+        prop_assert_eq!(&st, &eval(ShapeFunction::Gimp, &c.grid, c.x, lp));
+        let sum: f64 = st.weights().iter().sum();
+        prop_assert!((sum - 1.0).abs() <= 1e-12, "ΣN = {sum}");
+        prop_assert!(st.weights().iter().all(|&w| w >= 0.0));
+        let inv_h = c.grid.spacing.iter().fold(0.0f64, |m, h| m.max(1.0 / h));
+        let scale = st
+            .iter()
+            .flat_map(|(n, _, _)| {
+                let p = node_position(&c.grid, n);
+                (0..3).map(move |d| p[d].abs())
+            })
+            .fold(1.0f64, f64::max)
+            / c.grid.spacing.iter().cloned().fold(f64::INFINITY, f64::min);
+        for a in 0..3 {
+            let gsum: f64 = st.gradients().iter().map(|g| g[a]).sum();
+            prop_assert!(gsum.abs() <= 1e-12 * inv_h, "Σ∂N/∂x{a} = {gsum}");
+            if c.grid.cells[a] > 1 {
+                let x: f64 = st.iter().map(|(n, w, _)| w * node_position(&c.grid, n)[a]).sum();
+                prop_assert!((x - c.x[a]).abs() <= 1e-12, "ΣN x_I = {x} vs {}", c.x[a]);
+            }
+            for b in 0..3 {
+                let gx: f64 = st
+                    .iter()
+                    .map(|(n, _, g)| g[a] * node_position(&c.grid, n)[b])
+                    .sum();
+                let expected = if a == b && c.grid.cells[a] > 1 { 1.0 } else { 0.0 };
+                prop_assert!((gx - expected).abs() <= 1e-12 * scale, "Σ∂N/∂x{a} x_I{b} = {gx}");
+            }
+        }
+    }
+
+    #[test]
+    fn cpgimp_gradients_match_finite_differences_with_unequal_half_widths(
+        h in 0.01..1.0f64,
+        fx in 0.0..1.0f64,
+        fy in 0.0..1.0f64,
+        l0f in 0.05..=1.0f64,
+        s in [stretch(), stretch(), stretch()],
+    ) {
+        let g = grid([0.0; 3], [h, 1.3 * h, 1.0], [6, 6, 1]);
+        let x = [(2.0 + fx) * h, (2.0 + fy) * 1.3 * h, 0.5];
+        let lp = deformed_half_width(&g, l0f, s);
+        let st = eval(ShapeFunction::CpGimp, &g, x, lp);
+        let delta = 1e-6 * h;
+        for d in 0..2 {
+            let (mut xp, mut xm) = (x, x);
+            xp[d] += delta;
+            xm[d] -= delta;
+            let (sp, sm) = (eval(ShapeFunction::CpGimp, &g, xp, lp), eval(ShapeFunction::CpGimp, &g, xm, lp));
+            for (n, _, grad) in st.iter() {
+                let fd = (weight_of(&sp, n) - weight_of(&sm, n)) / (2.0 * delta);
+                // The quadratic branches curve by 1/(h l_p): the central
+                // difference is exact to δ²/(h l_p) per unit gradient.
+                prop_assert!(
+                    (fd - grad[d]).abs() <= 1e-5 / h + 1e-3 * delta / (h * lp[d]),
+                    "node {n:?} axis {d}: ∇N = {}, finite difference {fd}", grad[d]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn cpgimp_half_width_is_l0_times_the_stretch_within_its_bounds(
+        h in 1e-3..2.0f64,
+        l0f in 0.05..=1.0f64,
+        s in stretch(),
+    ) {
+        let l0 = 0.5 * h * l0f;
+        let lp = gimp::cpgimp_half_width(l0, s, h);
+        let expected = (l0 * s).clamp(l0 * gimp::MIN_STRETCH, 0.5 * h);
+        prop_assert_eq!(lp, expected.min(0.5 * h));
+        prop_assert!(gimp::admissible_half_width(lp, h).is_some());
+    }
+}
+
+#[test]
+fn cpgimp_half_width_at_hand_computed_stretches() {
+    let (l0, h) = (0.125, 1.0);
+    assert_eq!(gimp::cpgimp_half_width(l0, 1.0, h), 0.125);
+    assert_eq!(gimp::cpgimp_half_width(l0, 2.0, h), 0.25);
+    assert_eq!(gimp::cpgimp_half_width(l0, 0.5, h), 0.0625);
+    // Beyond Δx/2 the stencil of three nodes cannot hold the domain.
+    assert_eq!(gimp::cpgimp_half_width(l0, 5.0, h), 0.5);
+    // Compressed to nothing, or turned over: l0 · 0.01.
+    assert_eq!(gimp::cpgimp_half_width(l0, 1e-6, h), 0.00125);
+    assert_eq!(gimp::cpgimp_half_width(l0, -1.0, h), 0.00125);
+    assert!(gimp::cpgimp_half_width(l0, f64::NAN, h).is_nan());
+    assert!(gimp::cpgimp_half_width(l0, f64::INFINITY, h).is_nan());
+    let g = grid([0.0; 3], [h; 3], [4, 1, 1]);
+    let mut s = ShapeStencil::new();
+    let e = ShapeFunction::CpGimp
+        .evaluate(&g, [1.0, 0.5, 0.5], [f64::NAN, 0.5, 0.5], &mut s)
+        .unwrap_err();
+    assert!(matches!(e, ShapeError::HalfWidth { axis: 0, .. }));
+}
+
+/// Σ_p V_p ∂S_Ip/∂x over 1D particles of the given domain edges (cross
+/// section 1 m²), on the nodes 0 ..= 4 of a grid of 4 cells of 1 m, each
+/// particle at the centre of its domain with half-width `lp(p)`.
+fn volume_gradient_sums(
+    sf: ShapeFunction,
+    edges: &[f64],
+    lp: impl Fn(usize) -> f64,
+) -> ([f64; 5], [f64; 5]) {
+    let g = grid([0.0; 3], [1.0; 3], [4, 1, 1]);
+    let (mut grad, mut weight) = ([0.0; 5], [0.0; 5]);
+    for p in 0..edges.len() - 1 {
+        let x = 0.5 * (edges[p] + edges[p + 1]);
+        let l = lp(p);
+        let v = 2.0 * l;
+        let s = eval(sf, &g, [x, 0.5, 0.5], [l, 0.5, 0.5]);
+        // (A uGIMP box that pokes out of the tube reaches node −1 or 5.)
+        for (n, w, gr) in s.iter().filter(|(n, _, _)| (0..5).contains(&n[0])) {
+            grad[n[0] as usize] += v * gr[0];
+            weight[n[0] as usize] += v * w;
+        }
+    }
+    (grad, weight)
+}
+
+#[test]
+fn cpgimp_volume_gradients_vanish_at_interior_nodes_of_tiling_domains() {
+    // Nine particles of unequal sizes whose domains tile [0, 4] m (half-
+    // widths 0.15, 0.1, 0.35, 0.2, 0.2, 0.45, 0.05, 0.25, 0.25, all ≤ Δx/2):
+    // V_p ∂S_Ip/∂x = S_I(x_p + l_p) − S_I(x_p − l_p), which telescopes to
+    // S_I(4) − S_I(0): −1 at node 0, +1 at node 4, 0 inside. Likewise
+    // V_p S_Ip = ∫ S_I over the domain, which sums to ∫₀⁴ S_I = ½ Δx at the
+    // end nodes and Δx inside.
+    let edges = [0.0, 0.3, 0.5, 1.2, 1.6, 2.0, 2.9, 3.0, 3.5, 4.0];
+    let lp = |p: usize| 0.5 * (edges[p + 1] - edges[p]);
+    let (grad, weight) = volume_gradient_sums(ShapeFunction::CpGimp, &edges, lp);
+    let expected_grad = [-1.0, 0.0, 0.0, 0.0, 1.0];
+    let expected_weight = [0.5, 1.0, 1.0, 1.0, 0.5];
+    for i in 0..5 {
+        assert!(
+            (grad[i] - expected_grad[i]).abs() < 1e-14,
+            "node {i}: {}",
+            grad[i]
+        );
+        assert!(
+            (weight[i] - expected_weight[i]).abs() < 1e-14,
+            "node {i}: {}",
+            weight[i]
+        );
+    }
+    // uGIMP at the same positions, every particle with the mean half-width
+    // l = 2/9 m (the same total volume): the boxes overlap and leave gaps,
+    // and the interior sums no longer vanish. Node 1 (Δx = 1 m) is reached
+    // by the particles at 0.15, 0.4, 0.85, 1.4 and 1.8 m, r = −0.85, −0.6,
+    // −0.15, 0.4, 0.8; with the branches of gimp.rs their S' are
+    // (0.15 + l)/(2l), 1, 0.15/l, −1, −(0.2 + l)/(2l),
+    // and Σ 2l S' = (0.15 + l) + 2l + 0.3 − 2l − (0.2 + l) = 0.25.
+    let l = 2.0 / 9.0;
+    let (grad_u, _) = volume_gradient_sums(ShapeFunction::Gimp, &edges, |_| l);
+    assert!(
+        (grad_u[1] - 0.25).abs() < 1e-14,
+        "uGIMP Σ V ∂S/∂x at node 1 = {}",
+        grad_u[1]
+    );
+}
+
+/// A closed 1D Sod tube of gas particles: [0, 1] m in 50 cells, 4
+/// particles per cell, ρ = 1, p = 1 left of 0.5 m and ρ = 0.125, p = 0.1
+/// right of it (γ = 1.4), rigid ends, the LS-DYNA bulk viscosity, run for
+/// `steps` steps at the solver's stable Δt. Returns |Σ V_p − V_tube| /
+/// V_tube after each step.
+fn closed_tube_volume_error(
+    shape: ShapeFunction,
+    scheme: crate::UpdateScheme,
+    steps: usize,
+) -> Vec<f64> {
+    use crate::{
+        fill_shape, BulkViscosity, FillSpec, GridBoundary, MaterialId, MpmOptions, MpmSolver,
+        Particles, Shape,
+    };
+    use brisance_constitutive::{MaterialModel, NullMaterial};
+    use brisance_core::Solver;
+    let (dy, dz) = (0.01, 0.01);
+    let level = Level::new([0.0; 3], [1.0, dy, dz], [50, 1, 1], [1, 1, 1], 1).unwrap();
+    let mut ps = Particles::new(8);
+    for (lo, hi, density, pressure) in [(0.0, 0.5, 1.0, 1.0), (0.5, 1.0, 0.125, 0.1)] {
+        fill_shape(
+            &mut ps,
+            &level.geometry,
+            &FillSpec {
+                shape: Shape::Box {
+                    min: [lo, 0.0, 0.0],
+                    max: [hi, dy, dz],
+                },
+                ppc: 4,
+                density,
+                material: MaterialId(0),
+                velocity: [0.0; 3],
+                temperature: 300.0,
+                specific_internal_energy: pressure / (0.4 * density),
+            },
+        )
+        .unwrap();
+    }
+    let mut boundaries = [GridBoundary::Symmetry; 6];
+    boundaries[0] = GridBoundary::Fixed;
+    boundaries[1] = GridBoundary::Fixed;
+    let options = MpmOptions {
+        shape,
+        scheme,
+        boundaries,
+        bulk_viscosity: Some(BulkViscosity::LS_DYNA),
+        ..Default::default()
+    };
+    let gas = MaterialModel::Null(NullMaterial::air());
+    let mut solver = MpmSolver::new(level, vec![gas], ps, options).unwrap();
+    let tube = dy * dz;
+    (0..steps)
+        .map(|_| {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
+            let v: f64 = solver.particles().volume.iter().sum();
+            (v - tube).abs() / tube
+        })
+        .collect()
+}
+
+#[test]
+fn cpgimp_keeps_the_particle_volume_of_a_closed_gas_tube_closer_than_ugimp() {
+    use crate::UpdateScheme;
+    let steps = 60;
+    let max = |e: &[f64]| e.iter().cloned().fold(0.0, f64::max);
+    for scheme in [UpdateScheme::Usl, UpdateScheme::Musl] {
+        let cp = closed_tube_volume_error(ShapeFunction::CpGimp, scheme, steps);
+        let u = closed_tube_volume_error(ShapeFunction::Gimp, scheme, steps);
+        // The first step starts from tiling domains: Σ_p V_p ∇S_Ip vanishes
+        // at every interior node, the end nodes do not move, and the total
+        // volume changes by round-off only.
+        assert!(cp[0] <= 1e-14, "{scheme:?}: first step {:e}", cp[0]);
+        if scheme == UpdateScheme::Usl {
+            // Afterwards the domains tile only approximately (a domain that
+            // straddles a node moves with the average of a kinked velocity,
+            // its edges with the end values), but far better than uGIMP's
+            // fixed boxes: measured 2.9e-4 against 3.1e-3.
+            assert!(
+                max(&cp) <= 0.2 * max(&u),
+                "USL: cpGIMP {:e}, uGIMP {:e}",
+                max(&cp),
+                max(&u)
+            );
+        } else {
+            // MUSL moves the particles with v_I^{n+1} but forms L_p (and so
+            // the domain sizes and volumes) from the re-mapped velocity:
+            // the domain edges of neighbours drift apart whatever the shape
+            // function, and cpGIMP's drift stays that of uGIMP (measured
+            // 3.2e-3 and 2.8e-3; docs/physics/mpm/gimp.md). This documents
+            // the limitation: should it fail, the scheme has become
+            // consistent and the page needs updating.
+            assert!(max(&cp) > 0.5 * max(&u), "MUSL: cpGIMP {:e}", max(&cp));
+        }
+    }
+}
