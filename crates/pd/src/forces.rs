@@ -81,14 +81,319 @@ fn sub3(a: &[f64; 4], b: &[f64; 4]) -> [f64; 3] {
 /// Bonds per lane group of the solid kernel.
 const LANES: usize = 8;
 
+/// The constants of a solid row: the law and the node's own data.
+#[derive(Clone, Copy)]
+struct SolidRow {
+    xi: [f64; 4],
+    ui: [f64; 4],
+    yield_stretch: f32,
+    critical_stretch: f32,
+    node_critical_stretch: f32,
+    plastic: bool,
+}
+
+/// Per-lane running sums of a solid row.
+struct SolidSums {
+    force: [[f64; LANES]; 3],
+    min_stretch: [f32; LANES],
+    intact: [u32; LANES],
+}
+
+/// The neighbour data of one group of bonds in structure-of-arrays lanes:
+/// reference offsets ξ = x_j − x_i, volumes V_j, displacement differences
+/// η = u_j − u_i and the neighbours' scalars σ_j (`state[j][3]`).
+struct Gathered {
+    x: [[f64; LANES]; 3],
+    vol: [f64; LANES],
+    u: [[f64; LANES]; 3],
+    sigma: [f64; LANES],
+}
+
+/// How a group's neighbour data is fetched. Both ways copy the same
+/// values, so the choice never changes a bit of the result.
+trait Gather {
+    /// Fills the lanes with `reference[js[l]] − xi` and `state[js[l]] −
+    /// ui` (the last components of `xi` and `ui` are 0); every `js[l]`
+    /// must be below `reference.len()` and `state.len()`.
+    fn gather(
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[usize; LANES],
+        xi: [f64; 4],
+        ui: [f64; 4],
+    ) -> Gathered;
+
+    /// One group of a solid row: [`solid_group`] with this gather, unless
+    /// an instruction set has its own form (same bits).
+    #[inline(always)]
+    fn solid_group(
+        row: &SolidRow,
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[u32; LANES],
+        w_io: &mut [f32; LANES],
+        sp_io: &mut [f32; LANES],
+        sums: &mut SolidSums,
+    ) where
+        Self: Sized,
+    {
+        solid_group::<Self>(row, reference, state, js, w_io, sp_io, sums)
+    }
+}
+
+/// One element at a time (any processor).
+struct ScalarGather;
+
+impl Gather for ScalarGather {
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)]
+    fn gather(
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[usize; LANES],
+        xi: [f64; 4],
+        ui: [f64; 4],
+    ) -> Gathered {
+        let mut g = Gathered {
+            x: [[0.0; LANES]; 3],
+            vol: [0.0; LANES],
+            u: [[0.0; LANES]; 3],
+            sigma: [0.0; LANES],
+        };
+        for l in 0..LANES {
+            let xj = reference[js[l]];
+            let uj = state[js[l]];
+            for d in 0..3 {
+                g.x[d][l] = xj[d] - xi[d];
+                g.u[d][l] = uj[d] - ui[d];
+            }
+            g.vol[l] = xj[3] - xi[3];
+            g.sigma[l] = uj[3] - ui[3];
+        }
+        g
+    }
+}
+
+/// Whole 32-byte node records loaded as AVX vectors and transposed four
+/// at a time (two unpacks and two lane permutes per four values), instead
+/// of one insert per value. Only instantiated inside functions compiled
+/// with AVX2, which the dispatch checks at run time.
+#[cfg(target_arch = "x86_64")]
+struct AvxGather;
+
+#[cfg(target_arch = "x86_64")]
+impl Gather for AvxGather {
+    #[inline(always)]
+    fn gather(
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[usize; LANES],
+        xi: [f64; 4],
+        ui: [f64; 4],
+    ) -> Gathered {
+        use std::arch::x86_64::*;
+        assert!(js.iter().all(|&j| j < reference.len() && j < state.len()));
+        let mut g = Gathered {
+            x: [[0.0; LANES]; 3],
+            vol: [0.0; LANES],
+            u: [[0.0; LANES]; 3],
+            sigma: [0.0; LANES],
+        };
+        // SAFETY: AvxGather is only used by `rows_serial_avx2` and
+        // `rows_serial_avx512`, which run after the processor was checked
+        // for AVX2; every index is in bounds (asserted above), and the
+        // unaligned loads and stores read and write 4 f64 inside
+        // `[f64; 4]` records and `[f64; LANES]` arrays at offsets 0 and 4.
+        unsafe {
+            #[inline(always)]
+            unsafe fn transpose(
+                rows: [__m256d; 4],
+                out: [&mut [f64; LANES]; 4],
+                half: usize,
+                origin: [f64; 4],
+            ) {
+                let o = origin.map(|v| _mm256_set1_pd(v));
+                let t0 = _mm256_unpacklo_pd(rows[0], rows[1]);
+                let t1 = _mm256_unpackhi_pd(rows[0], rows[1]);
+                let t2 = _mm256_unpacklo_pd(rows[2], rows[3]);
+                let t3 = _mm256_unpackhi_pd(rows[2], rows[3]);
+                let [a, b, c, d] = out;
+                _mm256_storeu_pd(
+                    a.as_mut_ptr().add(4 * half),
+                    _mm256_sub_pd(_mm256_permute2f128_pd::<0x20>(t0, t2), o[0]),
+                );
+                _mm256_storeu_pd(
+                    b.as_mut_ptr().add(4 * half),
+                    _mm256_sub_pd(_mm256_permute2f128_pd::<0x20>(t1, t3), o[1]),
+                );
+                _mm256_storeu_pd(
+                    c.as_mut_ptr().add(4 * half),
+                    _mm256_sub_pd(_mm256_permute2f128_pd::<0x31>(t0, t2), o[2]),
+                );
+                _mm256_storeu_pd(
+                    d.as_mut_ptr().add(4 * half),
+                    _mm256_sub_pd(_mm256_permute2f128_pd::<0x31>(t1, t3), o[3]),
+                );
+            }
+            let rp = reference.as_ptr();
+            let sp = state.as_ptr();
+            for half in 0..2 {
+                let j = &js[4 * half..4 * half + 4];
+                let r = [0, 1, 2, 3].map(|l| _mm256_loadu_pd(rp.add(j[l]) as *const f64));
+                let [x0, x1, x2] = &mut g.x;
+                transpose(r, [x0, x1, x2, &mut g.vol], half, xi);
+                let s = [0, 1, 2, 3].map(|l| _mm256_loadu_pd(sp.add(j[l]) as *const f64));
+                let [u0, u1, u2] = &mut g.u;
+                transpose(s, [u0, u1, u2, &mut g.sigma], half, ui);
+            }
+        }
+        g
+    }
+}
+
+/// The AVX-512 kernel: whole solid groups in explicit 512-bit intrinsics
+/// (`forces/avx512.rs`). Only instantiated inside functions compiled with
+/// AVX-512F/VL/DQ, which the dispatch checks at run time.
+#[cfg(target_arch = "x86_64")]
+struct Avx512Gather;
+
+#[cfg(target_arch = "x86_64")]
+impl Gather for Avx512Gather {
+    #[inline(always)]
+    fn gather(
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[usize; LANES],
+        xi: [f64; 4],
+        ui: [f64; 4],
+    ) -> Gathered {
+        ScalarGather::gather(reference, state, js, xi, ui)
+    }
+
+    #[inline(always)]
+    fn solid_group(
+        row: &SolidRow,
+        reference: &[[f64; 4]],
+        state: &[[f64; 4]],
+        js: &[u32; LANES],
+        w_io: &mut [f32; LANES],
+        sp_io: &mut [f32; LANES],
+        sums: &mut SolidSums,
+    ) {
+        let last = reference.len().min(state.len()) - 1;
+        let js = js.map(|j| (j as usize).min(last));
+        // SAFETY: Avx512Gather is only used by `rows_serial_avx512`, which
+        // runs after the processor was checked for AVX-512F/VL/DQ and AVX2.
+        unsafe { avx512::solid_group(row, reference, state, &js, w_io, sp_io, sums) }
+    }
+}
+
+/// One group of eight bonds of a solid row (see [`solid_row`]). `js` are
+/// the neighbours (already known to be valid indices), `w` and `sp` the
+/// bonds' factors and plastic stretches, updated in place.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn solid_group<G: Gather>(
+    row: &SolidRow,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    js: &[u32; LANES],
+    w_io: &mut [f32; LANES],
+    sp_io: &mut [f32; LANES],
+    sums: &mut SolidSums,
+) {
+    let (xi, ui) = (row.xi, row.ui);
+    // Gather, then reference offsets ξ, displacement differences η, V_j
+    // and the neighbour's critical stretch. The index is clamped to the
+    // arrays, which is the identity for valid rows and lets the compiler
+    // drop the bounds checks.
+    let last = reference.len().min(state.len()) - 1;
+    let g = G::gather(
+        reference,
+        state,
+        &js.map(|j| (j as usize).min(last)),
+        [xi[0], xi[1], xi[2], 0.0],
+        [ui[0], ui[1], ui[2], 0.0],
+    );
+    let (dx, de, vol) = (&g.x, &g.u, &g.vol);
+    let crit = g.sigma.map(|v| v as f32);
+    let mut w = *w_io;
+    // Lane arithmetic.
+    let mut y = [[0.0f64; LANES]; 3];
+    let mut s = [0f32; LANES];
+    let mut inv_p = [0f32; LANES];
+    let mut any_failure = false;
+    for l in 0..LANES {
+        for d in 0..3 {
+            y[d][l] = dx[d][l] + de[d][l];
+        }
+        let num = 2.0 * (dx[0][l] * de[0][l] + dx[1][l] * de[1][l] + dx[2][l] * de[2][l])
+            + (de[0][l] * de[0][l] + de[1][l] * de[1][l] + de[2][l] * de[2][l]);
+        let r2 = dx[0][l] * dx[0][l] + dx[1][l] * dx[1][l] + dx[2][l] * dx[2][l];
+        let p2 = y[0][l] * y[0][l] + y[1][l] * y[1][l] + y[2][l] * y[2][l];
+        let r = (r2 as f32).sqrt();
+        let p = (p2 as f32).sqrt().max(1e-6 * r);
+        let inv = 1.0 / (r * p * (p + r));
+        s[l] = (num as f32) * (p * inv);
+        inv_p[l] = r * (p + r) * inv;
+        any_failure |= (s[l] > row.critical_stretch) & (w[l] != 0.0);
+    }
+    if any_failure {
+        let sci = row.node_critical_stretch;
+        for l in 0..LANES {
+            if w[l] != 0.0 && s[l] > row.critical_stretch && s[l] > sci.min(crit[l]) {
+                w[l] = 0.0;
+            }
+        }
+        *w_io = w;
+    }
+    let sy = row.yield_stretch;
+    let mut e = [0f32; LANES];
+    if row.plastic {
+        let mut sp = *sp_io;
+        for l in 0..LANES {
+            let el = s[l] - sp[l];
+            let shifted = if el > sy {
+                s[l] - sy
+            } else if el < -sy {
+                s[l] + sy
+            } else {
+                sp[l]
+            };
+            e[l] = s[l] - shifted;
+            // A broken bond keeps its last plastic stretch.
+            sp[l] = if w[l] != 0.0 { shifted } else { sp[l] };
+        }
+        *sp_io = sp;
+    } else {
+        for l in 0..LANES {
+            e[l] = s[l].clamp(-sy, sy);
+        }
+    }
+    for l in 0..LANES {
+        let g = (w[l] * e[l] * inv_p[l]) as f64 * vol[l];
+        for d in 0..3 {
+            sums.force[d][l] += g * y[d][l];
+        }
+        let live = w[l] != 0.0;
+        sums.intact[l] += live as u32;
+        sums.min_stretch[l] = if live {
+            sums.min_stretch[l].min(s[l])
+        } else {
+            sums.min_stretch[l]
+        };
+    }
+}
+
 /// Proportional-solid row: eq 8 with g = c (s − s_p) clamped by yield, and
 /// irreversible failure.
 ///
-/// Bonds are taken eight at a time: the gathers fill structure-of-arrays
-/// lanes (a short last group is padded with inert lanes of weight 0), and
-/// the rest is straight-line arithmetic over the eight lanes that the
-/// compiler vectorises. Every lane goes through the same IEEE operations,
-/// so a bond gives the same bits wherever it sits in a row, and the two
+/// Bonds are taken eight at a time (`chunks_exact`): the gathers fill
+/// structure-of-arrays lanes, and the rest is straight-line arithmetic
+/// over the eight lanes that the compiler vectorises. A short last group
+/// is padded with copies of the row's last neighbour at weight 0, which
+/// add exactly zero. Every lane goes through the same IEEE operations, so
+/// a bond gives the same bits wherever it sits in a row, and the two
 /// copies of a bond (in rows i and j) agree.
 ///
 /// The stretch s = (2ξ·η + η·η)/(r(p + r)) (eq 7 without cancellation)
@@ -99,7 +404,7 @@ const LANES: usize = 8;
 /// lanes in a fixed order at the end of the row.
 #[inline(always)]
 #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
-fn solid_row(
+fn solid_row<G: Gather>(
     i: usize,
     input: &ForceInput,
     micromodulus: f64,
@@ -110,118 +415,60 @@ fn solid_row(
     factor: &mut [f32],
     plastic: &mut [f32],
 ) -> NodeForce {
-    let xi = input.reference[i];
-    let ui = input.state[i];
-    let sy = yield_stretch as f32;
-    let sc0 = critical_stretch as f32;
-    let sci = ui[3] as f32;
-    let mut acc = [[0.0f64; LANES]; 3];
-    let mut min_lane = [f32::INFINITY; LANES];
-    let mut intact = 0u32;
-    let len = neighbours.len();
-    let mut start = 0;
-    while start < len {
-        let width = LANES.min(len - start);
-        // Gather: reference offsets ξ, displacement differences η, V_j,
-        // the neighbour's critical stretch and the bond state.
-        let mut dx = [[0.0f64; LANES]; 3];
-        let mut de = [[0.0f64; LANES]; 3];
-        let mut vol = [0.0f64; LANES];
-        let mut crit = [0f32; LANES];
+    let row = SolidRow {
+        xi: input.reference[i],
+        ui: input.state[i],
+        yield_stretch: yield_stretch as f32,
+        critical_stretch: critical_stretch as f32,
+        node_critical_stretch: input.state[i][3] as f32,
+        plastic: plastic_law,
+    };
+    let mut sums = SolidSums {
+        force: [[0.0; LANES]; 3],
+        min_stretch: [f32::INFINITY; LANES],
+        intact: [0; LANES],
+    };
+    let (reference, state) = (input.reference, input.state);
+    let len = neighbours.len().min(factor.len()).min(plastic.len());
+    let (neighbours, factor, plastic) =
+        (&neighbours[..len], &mut factor[..len], &mut plastic[..len]);
+    let mut js = neighbours.chunks_exact(LANES);
+    let mut ws = factor.chunks_exact_mut(LANES);
+    let mut sps = plastic.chunks_exact_mut(LANES);
+    for ((j, w), sp) in (&mut js).zip(&mut ws).zip(&mut sps) {
+        // The chunks are exactly LANES long.
+        let j: &[u32; LANES] = j.try_into().unwrap_or(&[0; LANES]);
+        let w: &mut [f32; LANES] = w.try_into().expect("chunk of LANES");
+        let sp: &mut [f32; LANES] = sp.try_into().expect("chunk of LANES");
+        G::solid_group(&row, reference, state, j, w, sp, &mut sums);
+    }
+    let (jt, wt, spt) = (js.remainder(), ws.into_remainder(), sps.into_remainder());
+    if let Some(&pad) = jt.last() {
+        let mut j = [pad; LANES];
         let mut w = [0f32; LANES];
         let mut sp = [0f32; LANES];
-        dx[0] = [1.0; LANES];
-        for l in 0..width {
-            let j = neighbours[start + l] as usize;
-            let xj = input.reference[j];
-            let uj = input.state[j];
-            for d in 0..3 {
-                dx[d][l] = xj[d] - xi[d];
-                de[d][l] = uj[d] - ui[d];
-            }
-            vol[l] = xj[3];
-            crit[l] = uj[3] as f32;
-            w[l] = factor[start + l];
-            sp[l] = plastic[start + l];
-        }
-        // Lane arithmetic.
-        let mut y = [[0.0f64; LANES]; 3];
-        let mut s = [0f32; LANES];
-        let mut inv_p = [0f32; LANES];
-        let mut any_failure = false;
-        for l in 0..LANES {
-            for d in 0..3 {
-                y[d][l] = dx[d][l] + de[d][l];
-            }
-            let num = 2.0 * (dx[0][l] * de[0][l] + dx[1][l] * de[1][l] + dx[2][l] * de[2][l])
-                + (de[0][l] * de[0][l] + de[1][l] * de[1][l] + de[2][l] * de[2][l]);
-            let r2 = dx[0][l] * dx[0][l] + dx[1][l] * dx[1][l] + dx[2][l] * dx[2][l];
-            let p2 = y[0][l] * y[0][l] + y[1][l] * y[1][l] + y[2][l] * y[2][l];
-            let r = (r2 as f32).sqrt();
-            let p = (p2 as f32).sqrt().max(1e-6 * r);
-            let inv = 1.0 / (r * p * (p + r));
-            s[l] = (num as f32) * (p * inv);
-            inv_p[l] = r * (p + r) * inv;
-            any_failure |= (s[l] > sc0) & (w[l] != 0.0);
-        }
-        if any_failure {
-            for l in 0..width {
-                if w[l] != 0.0 && s[l] > sc0 && s[l] > sci.min(crit[l]) {
-                    w[l] = 0.0;
-                    factor[start + l] = 0.0;
-                }
-            }
-        }
-        let mut e = [0f32; LANES];
-        if plastic_law {
-            for l in 0..LANES {
-                let el = s[l] - sp[l];
-                let shifted = if el > sy {
-                    s[l] - sy
-                } else if el < -sy {
-                    s[l] + sy
-                } else {
-                    sp[l]
-                };
-                sp[l] = shifted;
-                e[l] = s[l] - shifted;
-            }
-            for l in 0..width {
-                if w[l] != 0.0 {
-                    plastic[start + l] = sp[l];
-                }
-            }
-        } else {
-            for l in 0..LANES {
-                e[l] = s[l].clamp(-sy, sy);
-            }
-        }
-        for l in 0..LANES {
-            let g = (w[l] * e[l] * inv_p[l]) as f64 * vol[l];
-            for d in 0..3 {
-                acc[d][l] += g * y[d][l];
-            }
-            let live = w[l] != 0.0;
-            intact += live as u32;
-            min_lane[l] = if live {
-                min_lane[l].min(s[l])
-            } else {
-                min_lane[l]
-            };
-        }
-        start += width;
+        let n = jt.len();
+        j[..n].copy_from_slice(jt);
+        w[..n].copy_from_slice(wt);
+        sp[..n].copy_from_slice(spt);
+        G::solid_group(&row, reference, state, &j, &mut w, &mut sp, &mut sums);
+        wt.copy_from_slice(&w[..n]);
+        spt.copy_from_slice(&sp[..n]);
     }
     let mut f = [0.0f64; 3];
     for d in 0..3 {
         for l in 0..LANES {
-            f[d] += acc[d][l];
+            f[d] += sums.force[d][l];
         }
     }
-    let min_stretch = min_lane.iter().fold(f32::INFINITY, |a, &b| a.min(b));
+    let min_stretch = sums
+        .min_stretch
+        .iter()
+        .fold(f32::INFINITY, |a, &b| a.min(b));
     NodeForce {
         force: f.map(|v| v * micromodulus),
         min_stretch: min_stretch as f64,
-        intact,
+        intact: sums.intact.iter().sum(),
     }
 }
 
@@ -263,7 +510,7 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
 }
 
 #[inline(always)]
-fn rows_serial(
+fn rows_serial<G: Gather>(
     nodes: std::ops::Range<usize>,
     input: &ForceInput,
     factor: &mut [f32],
@@ -280,7 +527,7 @@ fn rows_serial(
                 yield_stretch,
                 plastic: pl,
                 critical_stretch,
-            } => solid_row(
+            } => solid_row::<G>(
                 i,
                 input,
                 micromodulus,
@@ -311,7 +558,7 @@ unsafe fn rows_serial_avx2(
     plastic: &mut [f32],
     out: &mut [NodeForce],
 ) {
-    rows_serial(nodes, input, factor, plastic, out)
+    rows_serial::<AvxGather>(nodes, input, factor, plastic, out)
 }
 
 /// [`rows_serial`] compiled with AVX-512 (same bits, see above).
@@ -324,7 +571,7 @@ unsafe fn rows_serial_avx512(
     plastic: &mut [f32],
     out: &mut [NodeForce],
 ) {
-    rows_serial(nodes, input, factor, plastic, out)
+    rows_serial::<Avx512Gather>(nodes, input, factor, plastic, out)
 }
 
 /// The widest build of the row pass this processor runs.
@@ -343,7 +590,7 @@ fn rows_for_this_cpu() -> RowsFn {
             return |n, i, f, p, o| unsafe { rows_serial_avx2(n, i, f, p, o) };
         }
     }
-    rows_serial
+    rows_serial::<ScalarGather>
 }
 
 fn rows_parallel(
@@ -434,5 +681,7 @@ pub fn for_each_node<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
         .for_each(|(i, o)| f(i, o));
 }
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 #[cfg(test)]
 mod tests;
