@@ -159,7 +159,8 @@ pub enum Pipeline {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MpmConfig {
-    /// Shape function: `Linear`, `Gimp` or `QuadraticBSpline`.
+    /// Shape function: `Linear`, `Gimp` (uGIMP), `CpGimp` (contiguous-particle
+    /// GIMP, docs/physics/mpm/gimp.md) or `QuadraticBSpline`.
     #[serde(default)]
     pub shape_function: ShapeFunction,
     /// Update scheme: `Usf`, `Usl` or `Musl`.
