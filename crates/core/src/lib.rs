@@ -24,7 +24,7 @@ pub mod contracts;
 pub use eos::Eos;
 pub use error::{EosError, SolverError};
 pub use material::{Material, StressUpdate, StressUpdateInput};
-pub use output::{CellData, ConservationTotals, ParticleData, UniformGridGeometry};
+pub use output::{CellData, ConservationTotals, NodeData, ParticleData, UniformGridGeometry};
 pub use reaction::{ReactionModel, ReactionState};
 pub use solver::Solver;
 pub use tensor::{Mat3, Vec3};

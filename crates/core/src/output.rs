@@ -92,6 +92,37 @@ pub struct ParticleData {
     pub fields: Vec<(String, Vec<f64>)>,
 }
 
+/// Fields on the nodes of a uniform lattice (the background grid of a
+/// particle method): `nodes[d]` nodes per direction, node (i, j, k) at
+/// `origin + (i, j, k) · spacing`, each field one value per node in
+/// x-fastest order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeData {
+    /// Position of node (0, 0, 0), m.
+    pub origin: [f64; 3],
+    /// Node spacing per direction, m.
+    pub spacing: [f64; 3],
+    /// Nodes per direction (1 in unused directions).
+    pub nodes: [usize; 3],
+    /// `(name, values)` pairs, snake_case names (`mass`, `velocity_x`, ...).
+    pub fields: Vec<(String, Vec<f64>)>,
+}
+
+impl NodeData {
+    /// Total number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.nodes[0] * self.nodes[1] * self.nodes[2]
+    }
+
+    /// The values of a named field.
+    pub fn field(&self, name: &str) -> Option<&[f64]> {
+        self.fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,6 +144,19 @@ mod tests {
         assert_eq!(g.cell_containing([1.0, 1.0, 1.0]), Some([9, 3, 0]));
         assert_eq!(g.cell_containing([1.01, 0.0, 0.5]), None);
         assert_eq!(g.cell_containing([f64::NAN, 0.0, 0.5]), None);
+    }
+
+    #[test]
+    fn node_data_counts_nodes_and_finds_fields() {
+        let d = NodeData {
+            origin: [0.0; 3],
+            spacing: [1.0; 3],
+            nodes: [3, 2, 1],
+            fields: vec![("mass".into(), vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0])],
+        };
+        assert_eq!(d.node_count(), 6);
+        assert_eq!(d.field("mass").map(|m| m[5]), Some(6.0));
+        assert_eq!(d.field("velocity_x"), None);
     }
 
     #[test]

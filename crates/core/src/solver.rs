@@ -1,6 +1,6 @@
 //! The solver trait: what the run loop drives.
 
-use crate::{CellData, ConservationTotals, ParticleData, SolverError};
+use crate::{CellData, ConservationTotals, NodeData, ParticleData, SolverError};
 
 /// A numerical method, or a coupled pipeline of methods, that owns its state
 /// and advances it in time.
@@ -50,6 +50,28 @@ pub trait Solver: Send {
     /// Every particle (or node) with its state, for methods that carry
     /// them; `None` for purely Eulerian methods.
     fn particle_data(&self) -> Option<ParticleData> {
+        None
+    }
+
+    /// Names of the background-grid node fields this solver can output;
+    /// empty for methods without a node grid (the default).
+    fn node_field_names(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+
+    /// The requested node fields on the whole node lattice (unknown names
+    /// are an error naming the known ones); `None` for methods without a
+    /// node grid (the default).
+    fn node_data(&self, fields: &[String]) -> Result<Option<NodeData>, SolverError> {
+        let _ = fields;
+        Ok(None)
+    }
+
+    /// Work done on the domain by prescribed external forces (surface
+    /// tractions, body forces) since the start, J, so that
+    /// E(t) − W_ext(t) stays at E(0); `None` for methods that apply no such
+    /// forces (the default).
+    fn external_work(&self) -> Option<f64> {
         None
     }
 

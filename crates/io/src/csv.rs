@@ -67,7 +67,38 @@ pub fn write_conservation_csv(
     path: &Path,
     rows: &[(f64, ConservationTotals)],
 ) -> Result<(), IoError> {
-    let header: Vec<String> = [
+    conservation_table(path, rows, None)
+}
+
+/// Writes a conservation history with the work of the external forces:
+/// the columns of [`write_conservation_csv`] followed by `external_work`
+/// (W, J, done on the domain since the start) and
+/// `energy_minus_external_work` (E − W, which the external forces leave
+/// unchanged). `work[k]` belongs to `rows[k]`.
+pub fn write_conservation_csv_with_work(
+    path: &Path,
+    rows: &[(f64, ConservationTotals)],
+    work: &[f64],
+) -> Result<(), IoError> {
+    if work.len() != rows.len() {
+        return Err(IoError::invalid_input(
+            path,
+            format!(
+                "{} conservation rows but {} external-work values",
+                rows.len(),
+                work.len()
+            ),
+        ));
+    }
+    conservation_table(path, rows, Some(work))
+}
+
+fn conservation_table(
+    path: &Path,
+    rows: &[(f64, ConservationTotals)],
+    work: Option<&[f64]>,
+) -> Result<(), IoError> {
+    let mut header: Vec<String> = [
         "time",
         "mass",
         "momentum_x",
@@ -77,10 +108,20 @@ pub fn write_conservation_csv(
     ]
     .map(String::from)
     .to_vec();
+    if work.is_some() {
+        header.push("external_work".into());
+        header.push("energy_minus_external_work".into());
+    }
     let mut table = Table::new(path, &header)?;
-    for (time, t) in rows {
+    for (k, (time, t)) in rows.iter().enumerate() {
         let [px, py, pz] = t.momentum;
-        table.row(&[*time, t.mass, px, py, pz, t.energy], &[])?;
+        match work {
+            Some(w) => table.row(
+                &[*time, t.mass, px, py, pz, t.energy],
+                &[w[k], t.energy - w[k]],
+            )?,
+            None => table.row(&[*time, t.mass, px, py, pz, t.energy], &[])?,
+        }
     }
     table.write()
 }
@@ -286,6 +327,32 @@ mod tests {
         assert_eq!(
             bits(&rows),
             bits(&[vec![0.25, 1.5, 0.1 + 0.2, -0.0, 1e-300, 2.0e9]])
+        );
+    }
+
+    #[test]
+    fn conservation_csv_with_work_adds_work_and_the_balance() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("conservation.csv");
+        let totals = |energy| ConservationTotals {
+            mass: 2.0,
+            momentum: [0.5, 0.0, 0.0],
+            energy,
+        };
+        let rows = [(0.0, totals(10.0)), (1.0, totals(10.75))];
+        write_conservation_csv_with_work(&path, &rows, &[0.0, 0.5]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "time,mass,momentum_x,momentum_y,momentum_z,energy,external_work,energy_minus_external_work\n\
+             0,2,0.5,0,0,10,0,10\n\
+             1,2,0.5,0,0,10.75,0.5,10.25\n"
+        );
+        let err = write_conservation_csv_with_work(&path, &rows, &[0.0]).unwrap_err();
+        assert!(matches!(err, IoError::InvalidInput { .. }), "{err:?}");
+        assert!(
+            err.to_string().contains("2 conservation rows but 1"),
+            "{err}"
         );
     }
 

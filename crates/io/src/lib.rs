@@ -2,7 +2,8 @@
 //!
 //! - [`atomic`]: crash-safe file replacement ([`write_atomic`]) and
 //!   output-directory checks ([`ensure_dir`], [`check_writable_dir`]).
-//! - [`vti`]: VTK XML ImageData snapshots of cell fields ([`write_vti`]).
+//! - [`vti`]: VTK XML ImageData snapshots of cell fields ([`write_vti`])
+//!   and of grid node fields ([`write_vti_nodes`]).
 //! - [`pvd`]: ParaView collections tying snapshots to times ([`PvdSeries`]).
 //! - [`csv`]: gauge, line-out and conservation tables, and a reader.
 //! - [`summary`]: the end-of-run JSON summary ([`RunSummary`]).
@@ -31,10 +32,13 @@ pub use checkpoint::{
     checkpoint_file_name, read_checkpoint, write_checkpoint, Checkpoint, CHECKPOINT_FORMAT_VERSION,
     CHECKPOINT_MAGIC,
 };
-pub use csv::{read_csv, write_conservation_csv, write_gauge_csv, write_lineout_csv};
+pub use csv::{
+    read_csv, write_conservation_csv, write_conservation_csv_with_work, write_gauge_csv,
+    write_lineout_csv,
+};
 pub use error::IoError;
 pub use number::format_f64;
 pub use pvd::PvdSeries;
 pub use summary::{read_summary, relative_change, write_summary, RunSummary};
-pub use vti::write_vti;
+pub use vti::{write_vti, write_vti_nodes};
 pub use vtu::write_vtu;

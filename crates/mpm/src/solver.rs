@@ -25,6 +25,21 @@
 //! when matter leaves the domain; [`MpmSolver::outflow_totals`] gives the
 //! outflow part alone.
 //!
+//! The prescribed external forces — surface tractions (seed 001 eq 20) and
+//! the body force m_I g (eq 23) — add energy; their work is accumulated
+//! step by step at the nodes ([`GridNodes::external_work`]:
+//! Δt Σ_I f_I^ext · (v_I^n + v_I^{n+1})/2) and reported by
+//! [`Solver::external_work`], so that E(t) − W_ext(t) is the quantity the
+//! method keeps (up to the dissipation of the scheme itself). Particles
+//! carry no potential energy: the work of gravity is in W_ext, not in E.
+//!
+//! # Node fields
+//!
+//! [`Solver::node_data`] hands out the background grid's node fields as the
+//! last step left them ([`MpmSolver::NODE_FIELDS`]), on the whole node lattice
+//! including the ghost layers of the wider shape functions; before the
+//! first step, the P2G of the initial particles' mass and momentum.
+//!
 //! # Cell fields
 //!
 //! Cell values are mass-weighted averages over the particles whose position
@@ -218,6 +233,8 @@ pub struct MpmSolver {
 struct SavedState {
     time: f64,
     steps: u64,
+    /// Work of the external forces (tractions, gravity) since the start, J.
+    external_work: f64,
     cells: [usize; 3],
     history_stride: usize,
     outflow: ConservationTotals,
@@ -231,6 +248,7 @@ struct SavedState {
     deformation_gradient: Vec<[f64; 9]>,
     stress: Vec<[f64; 6]>,
     temperature: Vec<f64>,
+    external_work: f64,
     specific_internal_energy: Vec<f64>,
     material: Vec<MaterialId>,
     history: Vec<f64>,
@@ -245,6 +263,24 @@ const CELL_FIELDS: [&str; 7] = [
     "pressure",
     "specific_internal_energy",
     "mass_density",
+/// The node fields of [`MpmSolver::NODE_FIELDS`].
+const MPM_NODE_FIELDS: [&str; 14] = [
+    "mass",
+    "momentum_x",
+    "momentum_y",
+    "momentum_z",
+    "velocity_x",
+    "velocity_y",
+    "velocity_z",
+    "force_x",
+    "force_y",
+    "force_z",
+    "acceleration_x",
+    "acceleration_y",
+    "acceleration_z",
+    "active",
+];
+
 ];
 
 impl MpmSolver {
@@ -259,6 +295,13 @@ impl MpmSolver {
         mut particles: Particles,
         options: MpmOptions,
     ) -> Result<Self, MpmSetupError> {
+    /// The node fields the solver outputs: lumped mass m_I (kg), momentum
+    /// p_I (kg·m/s), velocity v_I^{n+1} of the momentum update (eq 22,
+    /// after the boundary conditions; p_I/m_I before the first step, m/s),
+    /// force f_I = f_I^int + f_I^ext + m_I g (N), acceleration a_I (m/s²),
+    /// and `active`: 1 where m_I is above the mass cut-off, else 0.
+    pub const NODE_FIELDS: [&'static str; 14] = MPM_NODE_FIELDS;
+
         let bad = |option, value: f64, expected| MpmSetupError::Option {
             option,
             value: value.to_string(),
@@ -373,6 +416,7 @@ impl MpmSolver {
             time: 0.0,
             steps: 0,
             outflow: ConservationTotals::default(),
+            external_work: 0.0,
             work: Workspace {
                 map,
                 nodes: GridNodes::new(map.lattice),
@@ -457,6 +501,38 @@ impl MpmSolver {
     pub fn particle_ids(&self) -> &[u32] {
         &self.ids
     }
+    /// The node fields before the first step: the P2G of the particles'
+    /// mass and momentum (eqs 18, 21) and v_I = p_I/m_I with the cut-off
+    /// `threshold` and the boundary conditions, in `velocity_new` as well;
+    /// force and acceleration zero.
+    fn initial_nodes(&self, threshold: f64) -> GridNodes {
+        let ps = &self.particles;
+        let mut nodes = GridNodes::new(self.work.map.lattice);
+        crate::transfer::p2g(
+            &self.work.map,
+            &self.work.bins,
+            crate::transfer::P2gParticles {
+                position: &ps.position,
+                mass: &ps.mass,
+                velocity: &ps.velocity,
+                volume: &ps.volume,
+                stress: &ps.stress,
+            },
+            &mut nodes,
+            crate::transfer::P2gSums::MassMomentum,
+        );
+        let update = crate::grid_nodes::NodeUpdate {
+            boundaries: &self.options.boundaries,
+            cells: self.level.geometry.cells,
+            mass_threshold: threshold,
+            gravity: self.options.gravity,
+            dt: 0.0,
+        };
+        nodes.update(&update, crate::grid_nodes::NodeStage::Velocity);
+        nodes.velocity_new.clone_from(&nodes.velocity);
+        nodes
+    }
+
 
     /// Reorders the per-particle arrays the solver keeps beside
     /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`.
@@ -634,6 +710,10 @@ impl MpmSolver {
         // test is that of `cell_containing`, without forming the cell.
         let inside = |x: &[f64; 3]| {
             (0..3).all(|d| {
+        self.external_work +=
+            self.work
+                .nodes
+                .external_work(&self.surface_forces, self.options.gravity, dt);
                 let s = (x[d] - grid.origin[d]) / grid.spacing[d];
                 s >= 0.0 && s <= grid.cells[d] as f64
             })
@@ -900,6 +980,67 @@ impl Solver for MpmSolver {
     /// failed flag (1 or 0) and bulk viscosity q.
     fn particle_data(&self) -> Option<brisance_core::ParticleData> {
         let p = &self.particles;
+    fn node_field_names(&self) -> Vec<&'static str> {
+        MPM_NODE_FIELDS.to_vec()
+    }
+
+    /// The node fields of the last step on the whole node lattice (module
+    /// doc); node (0, 0, 0) of the data is the lattice's first stored node,
+    /// a ghost node below the domain for GIMP and the B-spline.
+    fn node_data(&self, fields: &[String]) -> Result<Option<brisance_core::NodeData>, SolverError> {
+        let idx: Vec<usize> = fields
+            .iter()
+            .map(|f| {
+                MPM_NODE_FIELDS.iter().position(|n| n == f).ok_or_else(|| {
+                    SolverError::Other(format!(
+                        "unknown MPM node field `{f}`; known node fields: {}",
+                        MPM_NODE_FIELDS.join(", ")
+                    ))
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        let threshold = self.options.mass_cutoff * self.reference_particle_mass;
+        let initial;
+        let nodes = if self.steps == 0 {
+            initial = self.initial_nodes(threshold);
+            &initial
+        } else {
+            &self.work.nodes
+        };
+        let grid = &self.level.geometry;
+        let lattice = nodes.lattice;
+        let values = idx
+            .iter()
+            .map(|&k| -> Vec<f64> {
+                let c = (k + 2) % 3;
+                match k {
+                    0 => nodes.mass.clone(),
+                    1..=3 => nodes.momentum.iter().map(|v| v[c]).collect(),
+                    4..=6 => nodes.velocity_new.iter().map(|v| v[c]).collect(),
+                    7..=9 => nodes.force.iter().map(|v| v[c]).collect(),
+                    10..=12 => nodes.acceleration.iter().map(|v| v[c]).collect(),
+                    _ => nodes
+                        .mass
+                        .iter()
+                        .map(|&m| if m > threshold && m > 0.0 { 1.0 } else { 0.0 })
+                        .collect(),
+                }
+            })
+            .collect::<Vec<_>>();
+        Ok(Some(brisance_core::NodeData {
+            origin: std::array::from_fn(|d| {
+                grid.origin[d] + lattice.first[d] as f64 * grid.spacing[d]
+            }),
+            spacing: grid.spacing,
+            nodes: lattice.dims,
+            fields: fields.iter().cloned().zip(values).collect(),
+        }))
+    }
+
+    fn external_work(&self) -> Option<f64> {
+        Some(self.external_work)
+    }
+
         let n = p.len();
         let col = |f: &dyn Fn(usize) -> f64| (0..n).map(f).collect::<Vec<f64>>();
         let von_mises = |s: &[f64; 6]| {
@@ -978,6 +1119,7 @@ impl Solver for MpmSolver {
             } else {
                 usize::MAX
             }
+            external_work: self.external_work,
         } else if s.history.len().is_multiple_of(s.history_stride) {
             s.history.len() / s.history_stride
         } else {
@@ -1039,3 +1181,7 @@ impl Solver for MpmSolver {
 
 #[cfg(test)]
 mod tests;
+        self.external_work = s.external_work;
+
+#[cfg(test)]
+mod output_tests;
