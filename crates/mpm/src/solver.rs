@@ -225,6 +225,8 @@ pub struct MpmSolver {
     loads: Vec<SurfaceLoad>,
     /// Their nodal forces of the current step (reused buffer).
     surface_forces: Vec<(usize, [f64; 3])>,
+    /// Work of the external forces (tractions, gravity) since the start, J.
+    external_work: f64,
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -233,13 +235,12 @@ pub struct MpmSolver {
 struct SavedState {
     time: f64,
     steps: u64,
-    /// Work of the external forces (tractions, gravity) since the start, J.
-    external_work: f64,
     cells: [usize; 3],
     history_stride: usize,
     outflow: ConservationTotals,
     bulk_viscosity: Vec<BulkViscosityState>,
     ids: Vec<u32>,
+    external_work: f64,
     position: Vec<[f64; 3]>,
     velocity: Vec<[f64; 3]>,
     mass: Vec<f64>,
@@ -248,21 +249,12 @@ struct SavedState {
     deformation_gradient: Vec<[f64; 9]>,
     stress: Vec<[f64; 6]>,
     temperature: Vec<f64>,
-    external_work: f64,
     specific_internal_energy: Vec<f64>,
     material: Vec<MaterialId>,
     history: Vec<f64>,
     failed: Vec<bool>,
 }
 
-const CELL_FIELDS: [&str; 7] = [
-    "density",
-    "velocity_x",
-    "velocity_y",
-    "velocity_z",
-    "pressure",
-    "specific_internal_energy",
-    "mass_density",
 /// The node fields of [`MpmSolver::NODE_FIELDS`].
 const MPM_NODE_FIELDS: [&str; 14] = [
     "mass",
@@ -281,11 +273,26 @@ const MPM_NODE_FIELDS: [&str; 14] = [
     "active",
 ];
 
+const CELL_FIELDS: [&str; 7] = [
+    "density",
+    "velocity_x",
+    "velocity_y",
+    "velocity_z",
+    "pressure",
+    "specific_internal_energy",
+    "mass_density",
 ];
 
 impl MpmSolver {
     /// The cell fields the solver outputs.
     pub const FIELDS: [&'static str; 7] = CELL_FIELDS;
+
+    /// The node fields the solver outputs: lumped mass m_I (kg), momentum
+    /// p_I (kg·m/s), velocity v_I^{n+1} of the momentum update (eq 22,
+    /// after the boundary conditions; p_I/m_I before the first step, m/s),
+    /// force f_I = f_I^int + f_I^ext + m_I g (N), acceleration a_I (m/s²),
+    /// and `active`: 1 where m_I is above the mass cut-off, else 0.
+    pub const NODE_FIELDS: [&'static str; 14] = MPM_NODE_FIELDS;
 
     /// Builds the solver; the particles' history blocks are initialised by
     /// their models ([`Material::init_history`]).
@@ -295,13 +302,6 @@ impl MpmSolver {
         mut particles: Particles,
         options: MpmOptions,
     ) -> Result<Self, MpmSetupError> {
-    /// The node fields the solver outputs: lumped mass m_I (kg), momentum
-    /// p_I (kg·m/s), velocity v_I^{n+1} of the momentum update (eq 22,
-    /// after the boundary conditions; p_I/m_I before the first step, m/s),
-    /// force f_I = f_I^int + f_I^ext + m_I g (N), acceleration a_I (m/s²),
-    /// and `active`: 1 where m_I is above the mass cut-off, else 0.
-    pub const NODE_FIELDS: [&'static str; 14] = MPM_NODE_FIELDS;
-
         let bad = |option, value: f64, expected| MpmSetupError::Option {
             option,
             value: value.to_string(),
@@ -408,6 +408,7 @@ impl MpmSolver {
         let bulk = vec![BulkViscosityState::default(); particles.len()];
         let ids = (0..particles.len() as u32).collect();
         Ok(Self {
+            external_work: 0.0,
             level,
             materials,
             particles,
@@ -416,7 +417,6 @@ impl MpmSolver {
             time: 0.0,
             steps: 0,
             outflow: ConservationTotals::default(),
-            external_work: 0.0,
             work: Workspace {
                 map,
                 nodes: GridNodes::new(map.lattice),
@@ -489,18 +489,6 @@ impl MpmSolver {
         }
     }
 
-    /// Mass, momentum and energy carried out through outflow faces so far.
-    pub fn outflow_totals(&self) -> ConservationTotals {
-        self.outflow
-    }
-
-    /// Each particle's identity, in particle order: its index in the set
-    /// handed to [`MpmSolver::new`]. Particles are re-sorted by cell and
-    /// removed through outflow faces; the identity follows them (see
-    /// [`crate::ParticleSet`]).
-    pub fn particle_ids(&self) -> &[u32] {
-        &self.ids
-    }
     /// The node fields before the first step: the P2G of the particles'
     /// mass and momentum (eqs 18, 21) and v_I = p_I/m_I with the cut-off
     /// `threshold` and the boundary conditions, in `velocity_new` as well;
@@ -533,6 +521,18 @@ impl MpmSolver {
         nodes
     }
 
+    /// Mass, momentum and energy carried out through outflow faces so far.
+    pub fn outflow_totals(&self) -> ConservationTotals {
+        self.outflow
+    }
+
+    /// Each particle's identity, in particle order: its index in the set
+    /// handed to [`MpmSolver::new`]. Particles are re-sorted by cell and
+    /// removed through outflow faces; the identity follows them (see
+    /// [`crate::ParticleSet`]).
+    pub fn particle_ids(&self) -> &[u32] {
+        &self.ids
+    }
 
     /// Reorders the per-particle arrays the solver keeps beside
     /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`.
@@ -678,6 +678,10 @@ impl MpmSolver {
                 format!("{} (J = det F = {:e})", f.reason, f.jacobian),
             ));
         }
+        self.external_work +=
+            self.work
+                .nodes
+                .external_work(&self.surface_forces, self.options.gravity, dt);
         self.handle_leaving_particles()?;
         self.time += dt;
         self.steps += 1;
@@ -710,10 +714,6 @@ impl MpmSolver {
         // test is that of `cell_containing`, without forming the cell.
         let inside = |x: &[f64; 3]| {
             (0..3).all(|d| {
-        self.external_work +=
-            self.work
-                .nodes
-                .external_work(&self.surface_forces, self.options.gravity, dt);
                 let s = (x[d] - grid.origin[d]) / grid.spacing[d];
                 s >= 0.0 && s <= grid.cells[d] as f64
             })
@@ -948,38 +948,6 @@ impl Solver for MpmSolver {
         })
     }
 
-    /// The value of the cell that contains `point` (mass-weighted particle
-    /// averages, see the module doc).
-    fn sample(
-        &self,
-        point: [f64; 3],
-        fields: &[String],
-        out: &mut Vec<f64>,
-    ) -> Result<(), SolverError> {
-        let grid = &self.level.geometry;
-        let idx = Self::field_indices(fields)?;
-        let cell = grid.cell_containing(point).ok_or_else(|| {
-            SolverError::Other(format!(
-                "MPM sample point {point:?} m lies outside the grid"
-            ))
-        })?;
-        let c = grid.linear_index(cell);
-        let values = self.cell_fields(&idx);
-        out.clear();
-        out.extend(values.iter().map(|v| v[c]));
-        Ok(())
-    }
-
-    fn work_per_step(&self) -> (f64, &'static str) {
-        (self.particles.len() as f64, "particle-steps")
-    }
-
-    /// Every particle with its mass, volume, density, velocity, pressure
-    /// p = −tr σ/3 − q (the material's, without the bulk viscosity), von
-    /// Mises stress, temperature, specific internal energy, material id,
-    /// failed flag (1 or 0) and bulk viscosity q.
-    fn particle_data(&self) -> Option<brisance_core::ParticleData> {
-        let p = &self.particles;
     fn node_field_names(&self) -> Vec<&'static str> {
         MPM_NODE_FIELDS.to_vec()
     }
@@ -1041,6 +1009,38 @@ impl Solver for MpmSolver {
         Some(self.external_work)
     }
 
+    /// The value of the cell that contains `point` (mass-weighted particle
+    /// averages, see the module doc).
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let grid = &self.level.geometry;
+        let idx = Self::field_indices(fields)?;
+        let cell = grid.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!(
+                "MPM sample point {point:?} m lies outside the grid"
+            ))
+        })?;
+        let c = grid.linear_index(cell);
+        let values = self.cell_fields(&idx);
+        out.clear();
+        out.extend(values.iter().map(|v| v[c]));
+        Ok(())
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.particles.len() as f64, "particle-steps")
+    }
+
+    /// Every particle with its mass, volume, density, velocity, pressure
+    /// p = −tr σ/3 − q (the material's, without the bulk viscosity), von
+    /// Mises stress, temperature, specific internal energy, material id,
+    /// failed flag (1 or 0) and bulk viscosity q.
+    fn particle_data(&self) -> Option<brisance_core::ParticleData> {
+        let p = &self.particles;
         let n = p.len();
         let col = |f: &dyn Fn(usize) -> f64| (0..n).map(f).collect::<Vec<f64>>();
         let von_mises = |s: &[f64; 6]| {
@@ -1087,6 +1087,7 @@ impl Solver for MpmSolver {
             outflow: self.outflow,
             bulk_viscosity: self.bulk.clone(),
             ids: self.ids.clone(),
+            external_work: self.external_work,
             position: ps.position.clone(),
             velocity: ps.velocity.clone(),
             mass: ps.mass.clone(),
@@ -1119,7 +1120,6 @@ impl Solver for MpmSolver {
             } else {
                 usize::MAX
             }
-            external_work: self.external_work,
         } else if s.history.len().is_multiple_of(s.history_stride) {
             s.history.len() / s.history_stride
         } else {
@@ -1175,13 +1175,13 @@ impl Solver for MpmSolver {
         self.time = s.time;
         self.steps = s.steps;
         self.outflow = s.outflow;
+        self.external_work = s.external_work;
         Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests;
-        self.external_work = s.external_work;
 
 #[cfg(test)]
 mod output_tests;
