@@ -29,6 +29,7 @@
 
 pub mod advection;
 pub mod boundary;
+pub mod cases;
 pub mod equilibration;
 pub mod exchange;
 pub mod face_velocity;

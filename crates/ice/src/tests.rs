@@ -5,6 +5,7 @@ use brisance_core::Solver;
 use brisance_eos::IdealGas;
 use brisance_grid::Level;
 
+use crate::cases::{contact_width, sod_one, sod_two};
 use crate::solver::GHOST;
 use crate::{
     Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver, MaterialState,
@@ -15,44 +16,6 @@ fn mat(theta: f64, density: f64, u: f64) -> MaterialState {
         volume_fraction: theta,
         density,
         velocity: [u, 0.0, 0.0],
-    }
-}
-
-/// Sod tube of one material on `cells` cells to t = `t_end`; returns the solver.
-pub(crate) fn sod_one(cells: usize, scheme: Advection, t_end: f64) -> IceSolver<IdealGas> {
-    let level = Level::new([0.0; 3], [1.0, 0.1, 0.1], [cells, 1, 1], [1, 1, 1], GHOST).unwrap();
-    let mut s = IceSolver::new(
-        vec![IdealGas::new(1.4, 1.0, 1.0)],
-        level,
-        std::array::from_fn(|_| IceBoundary::Outflow),
-        ExchangeCoefficients::uniform(1, 0.0, 0.0),
-        IceOptions {
-            advection: scheme,
-            ..Default::default()
-        },
-        |x| {
-            if x[0] < 0.5 {
-                CellState {
-                    pressure: 1.0,
-                    materials: vec![mat(1.0, 1.0, 0.0)],
-                }
-            } else {
-                CellState {
-                    pressure: 0.1,
-                    materials: vec![mat(1.0, 0.125, 0.0)],
-                }
-            }
-        },
-    )
-    .unwrap();
-    run_to(&mut s, t_end);
-    s
-}
-
-pub(crate) fn run_to<S: Solver>(s: &mut S, t_end: f64) {
-    while s.time() < t_end * (1.0 - 1e-12) {
-        let dt = s.stable_dt().unwrap().min(t_end - s.time());
-        s.advance(dt).unwrap();
     }
 }
 
@@ -84,4 +47,321 @@ fn sod_plateaus_are_close_to_the_exact_star_states() {
     assert!((rho[i] - 0.26557).abs() < 0.01, "rho = {}", rho[i]);
     let i = 120; // x = 0.6025, left plateau
     assert!((rho[i] - 0.42632).abs() < 0.01, "rho = {}", rho[i]);
+}
+
+/// Two-material states used below: an ideal gas γ 1.4 and one γ 1.67.
+fn two_gases() -> Vec<IdealGas> {
+    vec![
+        IdealGas::new(1.4, 717.5, 1.0),
+        IdealGas::new(1.67, 3115.0, 1.0),
+    ]
+}
+
+fn uniform_solver(
+    cells: [usize; 3],
+    layout: [usize; 3],
+    bcs: [IceBoundary; 6],
+    velocity: [f64; 3],
+) -> IceSolver<IdealGas> {
+    let upper = [1.0, 0.8, 0.6].map(|x: f64| x);
+    let level = Level::new([0.0; 3], upper, cells, layout, GHOST).unwrap();
+    let state = CellState {
+        pressure: 1.0e5,
+        materials: vec![
+            MaterialState {
+                volume_fraction: 0.7,
+                density: 1.2,
+                velocity,
+            },
+            MaterialState {
+                volume_fraction: 0.3,
+                density: 0.2,
+                velocity,
+            },
+        ],
+    };
+    IceSolver::new(
+        two_gases(),
+        level,
+        bcs,
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |_| state.clone(),
+    )
+    .unwrap()
+}
+
+fn all_fields<E: brisance_core::Eos>(s: &IceSolver<E>) -> Vec<(String, Vec<f64>)> {
+    let names: Vec<String> = s.cell_field_names().iter().map(|n| n.to_string()).collect();
+    s.cell_data(&names).unwrap().fields
+}
+
+#[test]
+fn a_uniform_moving_state_is_unchanged_by_every_step() {
+    use IceBoundary::*;
+    let u = [30.0, -20.0, 10.0];
+    let st = CellState {
+        pressure: 1.0e5,
+        materials: vec![
+            MaterialState {
+                volume_fraction: 0.7,
+                density: 1.2,
+                velocity: u,
+            },
+            MaterialState {
+                volume_fraction: 0.3,
+                density: 0.2,
+                velocity: u,
+            },
+        ],
+    };
+    let bcs = [
+        FixedState(st.clone()),
+        Outflow,
+        Periodic,
+        Periodic,
+        Outflow,
+        FixedState(st),
+    ];
+    let mut s = uniform_solver([6, 5, 4], [2, 1, 1], bcs, u);
+    let before = all_fields(&s);
+    for _ in 0..5 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let after = all_fields(&s);
+    for ((name, a), (_, b)) in before.iter().zip(&after) {
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x - y).abs() <= 1e-13 * x.abs().max(1e-3),
+                "{name}: {x} -> {y}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_wall_moving_with_the_gas_leaves_it_unchanged() {
+    use IceBoundary::*;
+    let u = [25.0, 0.0, 0.0];
+    let bcs = [
+        FixedVelocity(u),
+        Outflow,
+        Symmetry,
+        Symmetry,
+        Symmetry,
+        Symmetry,
+    ];
+    let mut s = uniform_solver([8, 1, 1], [1, 1, 1], bcs, u);
+    let before = all_fields(&s);
+    for _ in 0..10 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    for ((name, a), (_, b)) in before.iter().zip(&all_fields(&s)) {
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x - y).abs() <= 1e-12 * x.abs().max(1e-3),
+                "{name}: {x} -> {y}"
+            );
+        }
+    }
+}
+
+/// A gas column with a pressure bump, periodic along x: mass of every
+/// material and total momentum are conserved to round-off.
+fn bump_solver(layout: [usize; 3], cells: [usize; 3]) -> IceSolver<IdealGas> {
+    let level = Level::new([0.0; 3], [1.0, 0.5, 0.25], cells, layout, GHOST).unwrap();
+    let bcs: [IceBoundary; 6] = std::array::from_fn(|f| {
+        if f < 2 {
+            IceBoundary::Periodic
+        } else {
+            IceBoundary::Symmetry
+        }
+    });
+    IceSolver::new(
+        two_gases(),
+        level,
+        bcs,
+        ExchangeCoefficients::uniform(2, 1e15, 1e6),
+        IceOptions::default(),
+        |x| {
+            let hot = (x[0] - 0.3).abs() < 0.15 && x[1] < 0.3;
+            let th = if x[0] < 0.5 { 0.999 } else { 0.001 };
+            CellState {
+                pressure: if hot { 3.0e5 } else { 1.0e5 },
+                materials: vec![
+                    MaterialState {
+                        volume_fraction: th,
+                        density: 1.2,
+                        velocity: [5.0, 0.0, 0.0],
+                    },
+                    MaterialState {
+                        volume_fraction: 1.0 - th,
+                        density: 0.3,
+                        velocity: [5.0, 0.0, 0.0],
+                    },
+                ],
+            }
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn mass_and_momentum_are_conserved_to_round_off_in_a_periodic_tube() {
+    let mut s = bump_solver([1, 1, 1], [40, 1, 1]);
+    let t0 = s.conservation_totals();
+    for _ in 0..40 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let t1 = s.conservation_totals();
+    assert!(
+        ((t1.mass - t0.mass) / t0.mass).abs() < 1e-14,
+        "{t0:?} {t1:?}"
+    );
+    // Momentum scale: mass × a sound speed.
+    let scale = t0.mass * 400.0;
+    assert!(
+        ((t1.momentum[0] - t0.momentum[0]) / scale).abs() < 1e-14,
+        "{t0:?} {t1:?}"
+    );
+    let de = (t1.energy - t0.energy) / t0.energy;
+    eprintln!("relative energy change over 40 steps: {de:e}");
+    assert!(de.abs() < 1e-2, "{de}");
+    // The pressure bump really moved something.
+    let p = s.cell_data(&["pressure".into()]).unwrap().fields[0]
+        .1
+        .clone();
+    assert!(p.iter().cloned().fold(0.0, f64::max) < 2.9e5);
+}
+
+#[test]
+fn results_do_not_depend_on_patches_or_threads() {
+    let run = |layout: [usize; 3], threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut s = bump_solver(layout, [12, 8, 4]);
+            for _ in 0..4 {
+                let dt = s.stable_dt().unwrap();
+                s.advance(dt).unwrap();
+            }
+            s.save_state().unwrap()
+        })
+    };
+    let a = run([1, 1, 1], 1);
+    assert_eq!(a, run([3, 2, 2], 2));
+    assert_eq!(a, run([2, 1, 1], 1));
+}
+
+#[test]
+fn restore_continues_bit_identically() {
+    let mut s = bump_solver([1, 1, 1], [16, 4, 1]);
+    for _ in 0..3 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let saved = s.save_state().unwrap();
+    let mut t = bump_solver([2, 2, 1], [16, 4, 1]);
+    t.restore_state(&saved).unwrap();
+    for _ in 0..3 {
+        let dt = s.stable_dt().unwrap();
+        assert_eq!(dt, t.stable_dt().unwrap());
+        s.advance(dt).unwrap();
+        t.advance(dt).unwrap();
+    }
+    assert_eq!(s.save_state().unwrap(), t.save_state().unwrap());
+    let other = bump_solver([1, 1, 1], [8, 4, 1]);
+    let mut other = other;
+    assert!(other.restore_state(&saved).is_err());
+}
+
+#[test]
+fn contacting_materials_move_together_after_one_step() {
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [4, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let mut s = IceSolver::new(
+        two_gases(),
+        level,
+        std::array::from_fn(|_| IceBoundary::Periodic),
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |_| CellState {
+            pressure: 1e5,
+            materials: vec![
+                MaterialState {
+                    volume_fraction: 0.5,
+                    density: 1.0,
+                    velocity: [10.0, 0.0, 0.0],
+                },
+                MaterialState {
+                    volume_fraction: 0.5,
+                    density: 0.5,
+                    velocity: [-20.0, 0.0, 0.0],
+                },
+            ],
+        },
+    )
+    .unwrap();
+    let p0 = s.conservation_totals();
+    let dt = s.stable_dt().unwrap();
+    s.advance(dt).unwrap();
+    let d = s
+        .cell_data(&["velocity_x_1".into(), "velocity_x_2".into()])
+        .unwrap();
+    let (u1, u2) = (d.fields[0].1[0], d.fields[1].1[0]);
+    // mass-weighted mean (0.5·10 − 0.25·20)/0.75 = 0
+    assert!(u1.abs() < 1e-9 && u2.abs() < 1e-9, "{u1} {u2}");
+    let p1 = s.conservation_totals();
+    // The kinetic energy the exchange dissipated is now internal energy.
+    assert!(
+        ((p1.energy - p0.energy) / p0.energy).abs() < 1e-14,
+        "{p0:?} {p1:?}"
+    );
+}
+
+#[test]
+fn bad_input_is_refused_with_the_field_named() {
+    let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [4, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let make = |theta: f64, cfl: f64| {
+        IceSolver::new(
+            two_gases(),
+            level.clone(),
+            std::array::from_fn(|_| IceBoundary::Outflow),
+            ExchangeCoefficients::uniform(2, 1e15, 0.0),
+            IceOptions {
+                cfl,
+                ..Default::default()
+            },
+            move |_| CellState {
+                pressure: 1e5,
+                materials: vec![mat(theta, 1.0, 0.0), mat(0.5, 1.0, 0.0)],
+            },
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string()
+    };
+    assert!(make(0.2, 0.4).contains("volume fractions sum"));
+    assert!(make(0.5, 1.5).contains("cfl"));
+}
+
+#[test]
+fn two_material_sod_has_no_pressure_spike_and_a_narrow_contact() {
+    let s = sod_two(200, Advection::VanLeer, 0.2);
+    let m = contact_width(&s).unwrap();
+    eprintln!("{m:?}");
+    // No spike: pressure within 1 % of the plateau around the contact.
+    assert!(m.pressure_excursion < 0.01, "{m:?}");
+    // Measured 4.6 cells (θ 0.9 → 0.1) at 200 cells; the V-SOD-ICE target
+    // of 3 cells is reported by `cargo xtask validate`. This bound catches
+    // a regression to donor-cell smearing (about 13 cells here).
+    assert!(m.width_cells < 5.0, "{m:?}");
+    let d = sod_two(200, Advection::DonorCell, 0.2);
+    let md = contact_width(&d).unwrap();
+    eprintln!("donor cell: {md:?}");
+    assert!(md.width_cells > m.width_cells, "{md:?}");
 }
