@@ -62,6 +62,10 @@ pub struct SodResult {
     /// and the contact (2 % of the tube in from each end): the size of the
     /// oscillations a scheme leaves in a region that should be constant.
     pub plateau_oscillation: f64,
+    /// Particle solvers: (Σ V_p − V_tube)/V_tube at the end, the drift of
+    /// the particle volumes away from the volume they fill; `None` for a
+    /// grid solver.
+    pub particle_volume_excess: Option<f64>,
 }
 
 /// Largest excursion of `values[i]` (cells with centre in `[a, b)`) outside
@@ -89,7 +93,7 @@ pub const SOD_MPM_BULK_VISCOSITY: &str = "On(quadratic: 1.5, linear: 0.06)";
 /// with the same ideal gas, MUSL, 4 particles per cell, Courant number 0.4,
 /// the artificial bulk viscosity [`SOD_MPM_BULK_VISCOSITY`]) and rigid tube
 /// ends (particles cannot leave an MPM domain the way an Eulerian outflow
-/// face lets gas out), with `shape` = `Linear` or `Gimp`.
+/// face lets gas out), with `shape` = `Linear`, `Gimp` or `CpGimp`.
 pub fn sod_mpm_case(cells: usize, shape: &str) -> Result<SodResult, String> {
     sod_mpm_case_with(cells, shape, SOD_MPM_BULK_VISCOSITY)
 }
@@ -164,6 +168,11 @@ fn sod_run(cells: usize, extra: &[String]) -> Result<SodResult, String> {
         .map(|(_, r)| (r - rho_l).abs() / rho_l)
         .fold(0.0, f64::max);
     let final_mass = solver.conservation_totals().mass;
+    let tube: f64 = (0..3).map(|d| g.spacing[d] * g.cells[d] as f64).product();
+    let particle_volume_excess = solver.particle_data().and_then(|p| {
+        let (_, v) = p.fields.iter().find(|(name, _)| name == "volume")?;
+        Some(v.iter().sum::<f64>() / tube - 1.0)
+    });
     Ok(SodResult {
         cells,
         steps,
@@ -180,6 +189,7 @@ fn sod_run(cells: usize, extra: &[String]) -> Result<SodResult, String> {
         shock_pressure_overshoot,
         relative_mass_change: (final_mass - initial_mass) / initial_mass,
         plateau_oscillation,
+        particle_volume_excess,
     })
 }
 

@@ -224,7 +224,8 @@ impl GridMap {
         let mut admitted = lp;
         for d in 0..3 {
             let h = self.grid.spacing[d];
-            if self.grid.cells[d] > 1 {
+            // The plain check first: the round-off rule is the rare case.
+            if self.grid.cells[d] > 1 && !(lp > 0.0 && lp <= 0.5 * h) {
                 match gimp::admissible_half_width(lp, h) {
                     Some(l) => admitted = admitted.min(l),
                     None => {

@@ -758,7 +758,8 @@ fn cpgimp_keeps_the_particle_volume_of_a_closed_gas_tube_closer_than_ugimp() {
             // MUSL moves the particles with v_I^{n+1} but forms L_p (and so
             // the domain sizes and volumes) from the re-mapped velocity:
             // the domain edges of neighbours drift apart whatever the shape
-            // function, and cpGIMP's drift stays that of uGIMP (measured
+            // function, and over these first steps cpGIMP's drift stays
+            // that of uGIMP (measured
             // 3.7e-3 and 3.0e-3; docs/physics/mpm/gimp.md). This documents
             // the limitation: should it fail, the scheme has become
             // consistent and the page needs updating.
