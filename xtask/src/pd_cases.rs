@@ -10,7 +10,7 @@ use anyhow::Result;
 use brisance::pd::cases::{
     copper_cylinder, run_cylinder, run_fragmentation, steel_fragmenting_cylinder,
 };
-use brisance::pd::{cumulative_mass_distribution, write_fragments_csv};
+use brisance::pd::{cumulative_mass_distribution, write_cmd_csv, write_fragments_csv};
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::Report;
@@ -97,6 +97,33 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Statistics of one spacing of the E-PD-FRAG resolution study.
+struct FragStats {
+    label: String,
+    log_mass_g: Vec<f64>,
+    log_count: Vec<f64>,
+    mass_fraction: Vec<f64>,
+}
+
+/// Median of the fragment masses (by count), kg.
+fn median_mass(fragments: &[brisance::pd::Fragment]) -> f64 {
+    let n = fragments.len();
+    // Sorted by decreasing mass.
+    if n % 2 == 1 {
+        fragments[n / 2].mass
+    } else {
+        0.5 * (fragments[n / 2 - 1].mass + fragments[n / 2].mass)
+    }
+}
+
+/// Mass-median fragment mass m₅₀, kg: the smallest fragment mass such that
+/// the fragments at least this heavy hold half the case mass.
+fn mass_median(cmd: &[brisance::pd::CmdPoint]) -> f64 {
+    cmd.iter()
+        .find(|c| c.mass_fraction_at_least >= 0.5)
+        .map_or(0.0, |c| c.mass)
+}
+
 /// E-PD-FRAG: steel tube 4.25 in, fragment count and CMD at two spacings,
 /// mass conservation across fragments.
 pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
@@ -106,12 +133,17 @@ pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
         "## E-PD-FRAG — fragmenting steel cylinder (peridynamics, seed 004)\n\n\
          Steel tube 4.25 in long, ID 1.0 in, wall 1/8 in (ρ 7850 kg/m³, 3212 m/s, yield 750 MPa, critical \
          stretch 0.11, micro-plastic), TNT inside (seed 001 §4.1 JWL), detonated on the axis at one end; run to \
-         40 µs. Fragments are connected components of case nodes over intact bonds; CSVs beside the plot.\n\n\
+         40 µs. Fragments are connected components of case nodes over intact bonds. Per spacing, \
+         `img/e_pd_frag_<h>mm_fragments.csv` lists every fragment (mass, node count, velocity) and \
+         `img/e_pd_frag_<h>mm_cmd.csv` its cumulative mass distribution (CMD).\n\n\
          ![E-PD-FRAG](img/e_pd_frag.png)\n\n\
-         | spacing (mm) | nodes | steps | fragments | ≥ 10 nodes | largest (g) | Σ fragments − case mass (kg) |\n\
-         |---:|---:|---:|---:|---:|---:|---:|"
+         Resolution study: fragment count (all, and of at least 2 and 10 nodes), median fragment mass by count, \
+         mass-median m₅₀ (fragments at least this heavy hold half the case mass), largest fragment, and the mass \
+         of one node for scale.\n\n\
+         | spacing (mm) | nodes | steps | fragments | ≥ 2 nodes | ≥ 10 nodes | one node (mg) | median (mg) | m₅₀ (g) | largest (g) | single-node debris (% of mass) | Σ fragments − case mass (kg) |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
-    let mut curves = Vec::new();
+    let mut curves: Vec<FragStats> = Vec::new();
     let mut worst_mass = 0.0f64;
     for &hs in &FRAG_SPACINGS {
         let case = steel_fragmenting_cylinder(hs, 0.10795, 0.0, 0.0);
@@ -119,25 +151,47 @@ pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
         let dm = r.fragment_mass - r.case_mass;
         worst_mass = worst_mass.max(dm.abs() / r.case_mass);
         write_fragments_csv(
-            &img.join(format!("e_pd_frag_{:.2}mm.csv", hs * 1e3)),
+            &img.join(format!("e_pd_frag_{:.2}mm_fragments.csv", hs * 1e3)),
             &r.fragments,
         )?;
+        write_cmd_csv(
+            &img.join(format!("e_pd_frag_{:.2}mm_cmd.csv", hs * 1e3)),
+            &r.fragments,
+        )?;
+        let cmd = cumulative_mass_distribution(&r.fragments);
+        let node_mass = case.metal.density * hs.powi(3);
+        let single: f64 = r
+            .fragments
+            .iter()
+            .filter(|f| f.nodes == 1)
+            .map(|f| f.mass)
+            .sum();
         let _ = writeln!(
             report.md,
-            "| {:.2} | {} | {} | {} | {} | {:.2} | {:.1e} |",
+            "| {:.2} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1e} |",
             hs * 1e3,
             s.node_count(),
             r.steps,
             r.fragments.len(),
+            r.fragments.iter().filter(|f| f.nodes >= 2).count(),
             r.fragments.iter().filter(|f| f.nodes >= 10).count(),
+            node_mass * 1e6,
+            median_mass(&r.fragments) * 1e6,
+            mass_median(&cmd) * 1e3,
             r.fragments[0].mass * 1e3,
+            100.0 * single / r.case_mass,
             dm
         );
         println!("  h = {hs}: {} fragments", r.fragments.len());
-        let cmd = cumulative_mass_distribution(&r.fragments);
-        let x: Vec<f64> = cmd.iter().map(|c| (c.mass * 1e3).log10()).collect();
-        let y: Vec<f64> = cmd.iter().map(|c| c.count_at_least as f64).collect();
-        curves.push((format!("h = {:.2} mm", hs * 1e3), x, y));
+        curves.push(FragStats {
+            label: format!("h = {:.2} mm", hs * 1e3),
+            log_mass_g: cmd.iter().map(|c| (c.mass * 1e3).log10()).collect(),
+            log_count: cmd
+                .iter()
+                .map(|c| (c.count_at_least as f64).log10())
+                .collect(),
+            mass_fraction: cmd.iter().map(|c| c.mass_fraction_at_least).collect(),
+        });
     }
     let _ = writeln!(
         report.md,
@@ -150,22 +204,31 @@ pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
         worst_mass <= 1e-12,
     );
     let _ = writeln!(report.md);
+    let series = |y: fn(&FragStats) -> &Vec<f64>| -> Vec<Series<'_>> {
+        curves
+            .iter()
+            .map(|c| Series {
+                label: &c.label,
+                x: &c.log_mass_g,
+                y: y(c),
+                style: SeriesStyle::Line,
+            })
+            .collect()
+    };
     plot::plot_panels(
         &img.join("e_pd_frag.png"),
-        "E-PD-FRAG: cumulative mass distribution",
-        "log10(fragment mass [g])",
-        &[Panel {
-            y_label: "fragments of at least this mass",
-            series: curves
-                .iter()
-                .map(|(l, x, y)| Series {
-                    label: l,
-                    x,
-                    y,
-                    style: SeriesStyle::Points,
-                })
-                .collect(),
-        }],
+        "E-PD-FRAG: cumulative mass distribution of the steel case fragments",
+        "log10(fragment mass m [g])",
+        &[
+            Panel {
+                y_label: "log10(fragments of mass ≥ m)",
+                series: series(|c| &c.log_count),
+            },
+            Panel {
+                y_label: "case mass fraction in fragments ≥ m",
+                series: series(|c| &c.mass_fraction),
+            },
+        ],
     )?;
     Ok(())
 }

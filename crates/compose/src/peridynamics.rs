@@ -407,4 +407,86 @@ mod tests {
         let e = load_str("l.ron", text, &[line.into()]).unwrap_err();
         assert_eq!(e.field.as_deref(), Some("outputs.lineouts"), "{e}");
     }
+
+    /// The run loop writes the fragments: two separate steel blocks (27
+    /// and 8 nodes of h = 1 mm, further apart than the horizon, so no
+    /// bond or contact joins them) flying apart at ±10 m/s are two
+    /// fragments of exactly 27ρh³ and 8ρh³ whose velocities stay ±10 m/s;
+    /// `fragments.csv` and `cmd.csv` are written at the end and
+    /// `fragments/*_<index>.csv` at every output.
+    #[test]
+    fn run_loop_writes_fragments_and_cmd() {
+        let text = r#"Scenario(
+    name: "two_blocks",
+    domain: (lower: (-0.01, -0.01, -0.01), upper: (0.02, 0.01, 0.01), cells: (3, 2, 2)),
+    time: (end: 2.0e-7),
+    materials: {"steel": (library: "steel_4340")},
+    pipeline: Peridynamics(
+        spacing: 1.0e-3,
+        materials: {"steel": Proportional(density: 7850.0, sound_speed: 3212.0, critical_stretch: Some(0.11), kind: MicroElastic)},
+    ),
+    initial: [
+        (region: Box(min: (0.0, 0.0, 0.0), max: (0.003, 0.003, 0.003)), material: "steel", state: (density: 7850.0, velocity: (10.0, 0.0, 0.0), pressure: 1.0e5)),
+        (region: Box(min: (0.01, 0.0, 0.0), max: (0.012, 0.002, 0.002)), material: "steel", state: (density: 7850.0, velocity: (-10.0, 0.0, 0.0), pressure: 1.0e5)),
+    ],
+    outputs: (interval: 1.0e-7, fields: [], vtk: false),
+)"#;
+        let loaded = load_str("two_blocks.ron", text, &[]).unwrap();
+        let dir = std::env::temp_dir().join(format!("brisance_pd_run_{}", std::process::id()));
+        let summary = crate::run(
+            &loaded,
+            &crate::RunOptions {
+                out_dir: dir.clone(),
+                restart: None,
+                progress: false,
+            },
+        )
+        .unwrap();
+        assert!(summary.completed);
+        let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+        let m = |n: f64| 7850.0 * n * 1.0e-9;
+        let rows: Vec<Vec<f64>> = read("fragments.csv")
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 2);
+        // rank, mass, nodes, vx, vy, vz, speed
+        assert_eq!(rows[0][2], 27.0);
+        assert!(
+            (rows[0][1] - m(27.0)).abs() <= 1e-15 * m(27.0),
+            "{:?}",
+            rows[0]
+        );
+        assert_eq!(&rows[0][3..], &[10.0, 0.0, 0.0, 10.0]);
+        assert_eq!(rows[1][2], 8.0);
+        assert!(
+            (rows[1][1] - m(8.0)).abs() <= 1e-15 * m(8.0),
+            "{:?}",
+            rows[1]
+        );
+        assert_eq!(&rows[1][3..], &[-10.0, 0.0, 0.0, 10.0]);
+        let cmd: Vec<Vec<f64>> = read("cmd.csv")
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(cmd.len(), 2);
+        assert_eq!((cmd[0][1], cmd[1][1]), (1.0, 2.0));
+        assert!((cmd[0][2] - 27.0 / 35.0).abs() < 1e-15);
+        assert_eq!(cmd[1][2], 1.0);
+        for k in 0..3 {
+            assert_eq!(
+                read(&format!("fragments/fragments_{k:05}.csv"))
+                    .lines()
+                    .count(),
+                3
+            );
+            assert_eq!(
+                read(&format!("fragments/cmd_{k:05}.csv")).lines().count(),
+                3
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -213,6 +213,12 @@ impl Runner<'_> {
             }
         }
         self.write_lineouts(&index.to_string())?;
+        self.solver
+            .write_output_files(&self.out, index)
+            .map_err(|source| RunError::Solver {
+                step: self.state.steps,
+                source,
+            })?;
         self.state
             .conservation_rows
             .push((t, self.solver.conservation_totals()));
@@ -464,6 +470,10 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
             }
             r.write_lineouts("final")?;
             r.write_histories()?;
+            let step = r.state.steps;
+            r.solver
+                .finish(&opts.out_dir)
+                .map_err(|source| RunError::Solver { step, source })?;
             let reason = (!completed).then(|| format!("max_steps = {max_steps} reached"));
             let summary = r.summary(wall, completed, reason);
             io::write_summary(&r.out.join("summary.json"), &summary)?;

@@ -1,5 +1,7 @@
 //! The solver trait: what the run loop drives.
 
+use std::path::Path;
+
 use crate::{CellData, ConservationTotals, NodeData, ParticleData, SolverError};
 
 /// A numerical method, or a coupled pipeline of methods, that owns its state
@@ -73,6 +75,24 @@ pub trait Solver: Send {
     /// forces (the default).
     fn external_work(&self) -> Option<f64> {
         None
+    }
+
+    /// Writes the method's own output files (those that are neither cell
+    /// fields, particles nor gauges: fragment tables, for instance) into the
+    /// run's output directory `out_dir`, for field output number `index`.
+    /// Called by the run loop at every output time; the default writes
+    /// nothing.
+    fn write_output_files(&self, out_dir: &Path, index: usize) -> Result<(), SolverError> {
+        let _ = (out_dir, index);
+        Ok(())
+    }
+
+    /// End-of-run hook: called once by the run loop after the last output
+    /// of a run that reached its end (or its step limit), to write the
+    /// method's final products into `out_dir`. The default does nothing.
+    fn finish(&mut self, out_dir: &Path) -> Result<(), SolverError> {
+        let _ = out_dir;
+        Ok(())
     }
 
     /// Work done by one step, in the kernel's unit, for throughput figures.

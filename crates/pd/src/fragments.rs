@@ -116,34 +116,50 @@ pub fn cumulative_mass_distribution(fragments: &[Fragment]) -> Vec<CmdPoint> {
         .collect()
 }
 
-/// Writes the fragments and their CMD as CSV: one row per fragment,
-/// largest first.
-pub fn write_fragments_csv(path: &std::path::Path, fragments: &[Fragment]) -> std::io::Result<()> {
+fn create(path: &std::path::Path) -> std::io::Result<std::io::BufWriter<std::fs::File>> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    Ok(std::io::BufWriter::new(std::fs::File::create(path)?))
+}
+
+/// Writes the fragments as CSV, one row per fragment in the given order
+/// (largest first as [`find_fragments`] returns them): rank, mass (kg),
+/// node count, mass-weighted velocity (m/s) and speed.
+pub fn write_fragments_csv(path: &std::path::Path, fragments: &[Fragment]) -> std::io::Result<()> {
+    let mut w = create(path)?;
     writeln!(
         w,
-        "rank,mass_kg,nodes,velocity_x,velocity_y,velocity_z,speed,count_at_least,mass_fraction_at_least"
+        "rank,mass_kg,nodes,velocity_x,velocity_y,velocity_z,speed"
     )?;
-    for (f, c) in fragments
-        .iter()
-        .zip(cumulative_mass_distribution(fragments))
-    {
+    for (k, f) in fragments.iter().enumerate() {
         let v = f.velocity;
         writeln!(
             w,
-            "{},{:e},{},{:e},{:e},{:e},{:e},{},{:e}",
-            c.count_at_least,
+            "{},{:e},{},{:e},{:e},{:e},{:e}",
+            k + 1,
             f.mass,
             f.nodes,
             v[0],
             v[1],
             v[2],
             (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt(),
-            c.count_at_least,
-            c.mass_fraction_at_least
+        )?;
+    }
+    w.flush()
+}
+
+/// Writes the cumulative mass distribution of `fragments` (sorted by
+/// decreasing mass) as CSV: fragment mass m (kg), the number of fragments
+/// of mass ≥ m, and the fraction of the fragment mass they hold.
+pub fn write_cmd_csv(path: &std::path::Path, fragments: &[Fragment]) -> std::io::Result<()> {
+    let mut w = create(path)?;
+    writeln!(w, "mass_kg,count_at_least,mass_fraction_at_least")?;
+    for c in cumulative_mass_distribution(fragments) {
+        writeln!(
+            w,
+            "{:e},{},{:e}",
+            c.mass, c.count_at_least, c.mass_fraction_at_least
         )?;
     }
     w.flush()
@@ -182,5 +198,43 @@ mod tests {
         assert_eq!(cmd[1].count_at_least, 2);
         assert!((cmd[0].mass_fraction_at_least - 0.6).abs() < 1e-15);
         assert_eq!(cmd[1].mass_fraction_at_least, 1.0);
+    }
+
+    fn two_fragments() -> Vec<Fragment> {
+        vec![
+            Fragment {
+                mass: 3.0,
+                velocity: [3.0, 4.0, 0.0],
+                nodes: 3,
+                label: 0,
+            },
+            Fragment {
+                mass: 1.0,
+                velocity: [0.0, 0.0, -2.0],
+                nodes: 1,
+                label: 5,
+            },
+        ]
+    }
+
+    #[test]
+    fn fragment_and_cmd_csv_hold_one_row_per_fragment() {
+        let dir = std::env::temp_dir().join(format!("brisance_pd_frag_csv_{}", std::process::id()));
+        let f = two_fragments();
+        write_fragments_csv(&dir.join("a/fragments.csv"), &f).unwrap();
+        write_cmd_csv(&dir.join("a/cmd.csv"), &f).unwrap();
+        let frag = std::fs::read_to_string(dir.join("a/fragments.csv")).unwrap();
+        assert_eq!(
+            frag,
+            "rank,mass_kg,nodes,velocity_x,velocity_y,velocity_z,speed\n\
+             1,3e0,3,3e0,4e0,0e0,5e0\n\
+             2,1e0,1,0e0,0e0,-2e0,2e0\n"
+        );
+        let cmd = std::fs::read_to_string(dir.join("a/cmd.csv")).unwrap();
+        assert_eq!(
+            cmd,
+            "mass_kg,count_at_least,mass_fraction_at_least\n3e0,1,7.5e-1\n1e0,2,1e0\n"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -36,7 +36,9 @@ pub mod surface;
 pub use brisance_reaction::{DetonationPoint, ProductsIsentrope};
 pub use family::{build_families, partial_volume, Families};
 pub use forces::{bond_forces, BondLaw, ForceInput, NodeForce};
-pub use fragments::{cumulative_mass_distribution, write_fragments_csv, CmdPoint, Fragment};
+pub use fragments::{
+    cumulative_mass_distribution, write_cmd_csv, write_fragments_csv, CmdPoint, Fragment,
+};
 pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec, NodeCloud};
 pub use material::{
     micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind,

@@ -23,7 +23,7 @@ use crate::cell_list::CellList;
 use crate::contact::{contact_forces, ContactInput, ContactParams};
 use crate::family::{build_families, partial_volume, Families};
 use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInput, NodeForce};
-use crate::fragments::{find_fragments, Fragment};
+use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec};
 use crate::material::{micromodulus, PdMaterial, ProportionalKind};
 use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
@@ -32,6 +32,7 @@ use brisance_reaction::{
     huygens_detonation_times, straight_line_detonation_times, DetonationPoint,
 };
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// Short-range force options (seed 004 eq 27).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -596,6 +597,28 @@ impl PdSolver {
         find_fragments(&self.families, &self.factor, &solid, &mass, &self.velocity)
     }
 
+    fn has_breakable_nodes(&self) -> bool {
+        self.material.iter().any(|&m| self.breakable[m as usize])
+    }
+
+    /// Writes the current fragments and their CMD into `dir`.
+    fn write_fragment_files(
+        &self,
+        dir: &Path,
+        fragments: &str,
+        cmd: &str,
+    ) -> Result<(), SolverError> {
+        let f = self.fragments();
+        let io = |file: &str, e: std::io::Error| {
+            SolverError::Other(format!(
+                "peridynamics: cannot write {}: {e}",
+                dir.join(file).display()
+            ))
+        };
+        write_fragments_csv(&dir.join(fragments), &f).map_err(|e| io(fragments, e))?;
+        write_cmd_csv(&dir.join(cmd), &f).map_err(|e| io(cmd, e))
+    }
+
     fn impose_velocities(&mut self) {
         for &(i, d, v) in &self.prescribed {
             self.velocity[i as usize][d as usize] = v;
@@ -1049,6 +1072,29 @@ impl Solver for PdSolver {
 
     fn work_per_step(&self) -> (f64, &'static str) {
         (self.bond_count() as f64, "bond-evaluations")
+    }
+
+    /// The fragments of the breakable bodies at this output (one pass over
+    /// the bonds, cheaper than a step): `fragments/fragments_<index>.csv`
+    /// and `fragments/cmd_<index>.csv`. Nothing when no node can break.
+    fn write_output_files(&self, out_dir: &Path, index: usize) -> Result<(), SolverError> {
+        if !self.has_breakable_nodes() {
+            return Ok(());
+        }
+        self.write_fragment_files(
+            &out_dir.join("fragments"),
+            &format!("fragments_{index:05}.csv"),
+            &format!("cmd_{index:05}.csv"),
+        )
+    }
+
+    /// The fragments at the end of the run: `fragments.csv` (rank, mass,
+    /// node count, velocity) and `cmd.csv` (cumulative mass distribution).
+    fn finish(&mut self, out_dir: &Path) -> Result<(), SolverError> {
+        if !self.has_breakable_nodes() {
+            return Ok(());
+        }
+        self.write_fragment_files(out_dir, "fragments.csv", "cmd.csv")
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
