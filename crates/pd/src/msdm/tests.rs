@@ -1,0 +1,511 @@
+//! Tests of the lattice against hand-computed and exact values, and
+//! proptests on the contracts of the spring forces.
+
+use proptest::prelude::*;
+
+use super::cases::*;
+use super::*;
+
+const ALL: [Integrator; 4] = [
+    Integrator::ExplicitEuler,
+    Integrator::VelocityVerlet,
+    Integrator::ImplicitEuler,
+    Integrator::ImplicitRk2,
+];
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn oscillator_first_step_matches_hand_values() {
+    let (k, m, v0, dt) = (OSC_K, OSC_M, OSC_V0, 0.1);
+    let w2 = k / m;
+    for integ in ALL {
+        let mut lat = oscillator(integ).unwrap();
+        let node = lat.geom.solid_index(1, 0, 0);
+        let x0 = lat.x[0][node];
+        lat.step(dt).unwrap();
+        let (x, u) = (lat.x[0][node] - x0, lat.u[0][node]);
+        let (xe, ue) = match integ {
+            // eqs 16–17 from x = 0: a⁰ = 0.
+            Integrator::ExplicitEuler => (v0 * dt, v0),
+            // eq 18: a¹ = −ω² x¹.
+            Integrator::VelocityVerlet => (v0 * dt, v0 - 0.5 * w2 * v0 * dt * dt),
+            // eq 21: (m + Δt²k) Δu = Δt (0 − Δt k v₀).
+            Integrator::ImplicitEuler => {
+                let du = -dt * dt * k * v0 / (m + dt * dt * k);
+                (dt * (v0 + du), v0 + du)
+            }
+            // eq 22: (m + Δt²k/4) Δu = Δt (0 − ½Δt k v₀), Δx = Δt(v₀ + Δu/2).
+            Integrator::ImplicitRk2 => {
+                let du = -0.5 * dt * dt * k * v0 / (m + 0.25 * dt * dt * k);
+                (dt * (v0 + 0.5 * du), v0 + du)
+            }
+        };
+        assert!(rel(x, xe) < 1e-13, "{integ:?}: x {x} vs {xe}");
+        assert!(rel(u, ue) < 1e-13, "{integ:?}: u {u} vs {ue}");
+    }
+}
+
+#[test]
+fn oscillator_observed_orders() {
+    // V-OSC reduced to t ∈ [0, 5] s.
+    for (integ, order) in [
+        (Integrator::ExplicitEuler, 1.0),
+        (Integrator::VelocityVerlet, 2.0),
+        (Integrator::ImplicitEuler, 1.0),
+        (Integrator::ImplicitRk2, 2.0),
+    ] {
+        let e: Vec<f64> = [0.01, 0.005, 0.0025]
+            .iter()
+            .map(|&dt| oscillator_error(integ, dt, 5.0).unwrap())
+            .collect();
+        let p = (e[1] / e[2]).log2();
+        assert!(
+            (p - order).abs() < 0.1,
+            "{integ:?}: order {p}, errors {e:?}"
+        );
+    }
+}
+
+#[test]
+fn rod_tip_is_exact_and_l2_error_is_h_squared_over_four() {
+    // V-ROD, n = 1..5. Nodal values of the lattice solution are exact
+    // (the second difference of a quadratic is exact), so the L2 error of
+    // the linear interpolant is (b/2E)(x−x_k)(x_{k+1}−x) integrated:
+    // ‖e‖/‖u‖ = h²/(4L²).
+    let mut last = f64::INFINITY;
+    for n in 1..=5 {
+        let r = rod(n, 1.0, 1.0e9, 2.0e7).unwrap();
+        let h = 1.0 / (r.nodes - 1) as f64;
+        assert!(r.tip_error < 1e-14, "n = {n}: tip {}", r.tip_error);
+        assert!(r.nodal_error < 1e-13, "n = {n}: nodes {}", r.nodal_error);
+        assert!(
+            rel(r.l2_error, 0.25 * h * h) < 1e-9,
+            "n = {n}: {}",
+            r.l2_error
+        );
+        assert!(r.l2_error < last);
+        last = r.l2_error;
+    }
+}
+
+#[test]
+fn impedance_mismatch_amplitudes_reduced() {
+    // V-IMPEDANCE with a 40-node pulse: 4/3, 1/3, 2/3, −1/3 within 0.5 %,
+    // wave speed within 0.5 %.
+    let r = impedance(40, 1.0).unwrap();
+    assert!(rel(r.velocity_transmitted, 4.0 / 3.0) < 5e-3, "{r:?}");
+    assert!(rel(r.velocity_reflected, 1.0 / 3.0) < 5e-3, "{r:?}");
+    assert!(rel(r.stress_transmitted, 2.0 / 3.0) < 5e-3, "{r:?}");
+    assert!(rel(r.stress_reflected, -1.0 / 3.0) < 5e-3, "{r:?}");
+    assert!((r.speed_ratio_1 - 1.0).abs() < 5e-3, "{r:?}");
+    assert!((r.speed_ratio_2 - 1.0).abs() < 5e-3, "{r:?}");
+}
+
+fn material(young: f64) -> LatticeMaterial {
+    let mut m = LatticeMaterial::elastic(
+        "m",
+        young,
+        brisance_eos::MieGruneisenThermal::estane_seed003(),
+    );
+    m.conductivity = 0.2;
+    m
+}
+
+/// A 2D block with diagonals, perpendicular forces and Kelvin–Voigt
+/// damping, perturbed by a deterministic pseudo-random field.
+fn perturbed_block(dim: Dim, seed: u64, integ: Integrator) -> MsdmLattice {
+    block(dim, seed, integ, true)
+}
+
+fn block(dim: Dim, seed: u64, integ: Integrator, plastic: bool) -> MsdmLattice {
+    let n = match dim {
+        Dim::One => [6, 1, 1],
+        Dim::Two => [5, 4, 1],
+        Dim::Three => [3, 3, 3],
+    };
+    let geom = Geometry::new(dim, n, 1.0e-3, true, |ix, _, _| Some(u16::from(ix >= 2)));
+    let mut a = material(2.0e9);
+    a.damping = Damping::KelvinVoigt { viscosity: 50.0 };
+    a.perpendicular_modulus = 0.3e9;
+    let mut b = material(1.0e9);
+    b.name = "b".into();
+    if plastic {
+        b.plasticity = Some(Plasticity {
+            yield_strain: 1e-3,
+            hardening_ratio: 0.1,
+        });
+    }
+    let opts = MsdmOptions {
+        integrator: integ,
+        ..MsdmOptions::default()
+    };
+    let mut lat = MsdmLattice::new(geom, vec![a, b], opts).unwrap();
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut rnd = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    for i in 0..lat.len() {
+        if lat.geom.is_solid(i) {
+            for a in 0..dim.count() {
+                lat.x[a][i] += 2e-5 * rnd();
+                lat.u[a][i] = 3.0 * rnd();
+            }
+        }
+    }
+    lat
+}
+
+#[test]
+fn isolated_lattice_conserves_momentum_for_every_integrator() {
+    for dim in [Dim::Two, Dim::Three] {
+        for integ in ALL {
+            let mut lat = perturbed_block(dim, 7, integ);
+            let p0 = lat.momentum();
+            let scale: f64 = (0..lat.len())
+                .map(|i| lat.mass[i] * (lat.u[0][i].abs() + lat.u[1][i].abs() + lat.u[2][i].abs()))
+                .sum();
+            for _ in 0..10 {
+                lat.step(2e-8).unwrap();
+            }
+            let p1 = lat.momentum();
+            for a in 0..3 {
+                assert!(
+                    (p1[a] - p0[a]).abs() <= 1e-12 * scale,
+                    "{dim:?} {integ:?}: axis {a}: {} → {}",
+                    p0[a],
+                    p1[a]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn same_bits_for_one_and_two_threads() {
+    for integ in [Integrator::VelocityVerlet, Integrator::ImplicitEuler] {
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut lat = perturbed_block(Dim::Two, 3, integ);
+                for _ in 0..5 {
+                    lat.step(2e-8).unwrap();
+                }
+                (lat.x.clone(), lat.u.clone(), lat.temperature.clone())
+            })
+        };
+        assert_eq!(run(1), run(2), "{integ:?}");
+    }
+}
+
+#[test]
+fn jacobian_matches_finite_differences() {
+    let mut m = material(2.0e9);
+    m.damping = Damping::KelvinVoigt { viscosity: 80.0 };
+    m.perpendicular_modulus = 0.4e9;
+    let law = PairLaw::single(&m);
+    let xi = [1e-3, 1e-3, 0.0];
+    let r = [1.0013e-3, 0.9991e-3, 0.0004e-3];
+    let w = [0.7, -1.3, 0.4];
+    let st = SpringState::default();
+    let b = bond_force(&law, xi, r, w, st, true);
+    let (kx, cu) = bond_jacobian(&b);
+    for c in 0..3 {
+        let hr = 1e-10;
+        let hw = 1e-4;
+        let mut rp = r;
+        let mut rm = r;
+        rp[c] += hr;
+        rm[c] -= hr;
+        let mut wp = w;
+        let mut wm = w;
+        wp[c] += hw;
+        wm[c] -= hw;
+        let fp = bond_force(&law, xi, rp, w, st, true).f;
+        let fm = bond_force(&law, xi, rm, w, st, true).f;
+        let gp = bond_force(&law, xi, r, wp, st, true).f;
+        let gm = bond_force(&law, xi, r, wm, st, true).f;
+        for row in 0..3 {
+            let dfx = (fp[row] - fm[row]) / (2.0 * hr);
+            let dfu = (gp[row] - gm[row]) / (2.0 * hw);
+            assert!(
+                (dfx - kx[row][c]).abs() < 1e-5 * 2e6,
+                "∂f{row}/∂r{c}: {dfx} vs {}",
+                kx[row][c]
+            );
+            assert!(
+                (dfu - cu[row][c]).abs() < 1e-6 * 0.08,
+                "∂f{row}/∂w{c}: {dfu} vs {}",
+                cu[row][c]
+            );
+        }
+    }
+}
+
+#[test]
+fn spring_fractures_at_the_fracture_strain_and_stays_broken() {
+    let mut m = material(1.0e9);
+    m.fracture_strain = Some(0.01);
+    let geom = Geometry::new(Dim::One, [2, 1, 1], 1.0e-3, false, |_, _, _| Some(0));
+    let mut lat = MsdmLattice::new(
+        geom,
+        vec![m],
+        MsdmOptions {
+            integrator: Integrator::ExplicitEuler,
+            ..MsdmOptions::default()
+        },
+    )
+    .unwrap();
+    let (a, b) = (lat.geom.solid_index(0, 0, 0), lat.geom.solid_index(1, 0, 0));
+    lat.prescribed[a] = true;
+    lat.prescribed[b] = true;
+    lat.u[0][b] = 1.0; // 1 m/s: strain 1e-3 per µs.
+    let dt = 1e-6;
+    let mut broke_at = None;
+    for n in 1..=20 {
+        let rep = lat.step(dt).unwrap();
+        if rep.broken > 0 {
+            broke_at = Some(n);
+            break;
+        }
+    }
+    // Strain after step n is n·1e-3; it must exceed 0.01: n = 11.
+    assert_eq!(broke_at, Some(11));
+    assert_eq!(lat.spring_intact(a, 0), Some(false));
+    // Push the nodes back together: the spring stays broken, no force.
+    lat.u[0][b] = -1.0;
+    for _ in 0..15 {
+        assert_eq!(lat.step(dt).unwrap().broken, 0);
+    }
+    lat.compute_forces();
+    assert_eq!(lat.spring_intact(a, 0), Some(false));
+    assert_eq!(lat.force[0][b], 0.0);
+    assert_eq!(lat.spring_force(a, 0), None);
+}
+
+#[test]
+fn compression_heats_by_eqs_11_and_14() {
+    // 2D block 3 × 3 of Estane, h = 1 mm; compress x by 1 % and advance
+    // the energy equation: interior node V: h³ → 0.99 h³.
+    let mat = material(6.25e9);
+    let eos = mat.eos;
+    let geom = Geometry::new(Dim::Two, [3, 3, 1], 1.0e-3, false, |_, _, _| Some(0));
+    let mut lat = MsdmLattice::new(geom, vec![mat.clone()], MsdmOptions::default()).unwrap();
+    let i = lat.geom.solid_index(1, 1, 0);
+    let (v0, m, t0, p0) = (
+        lat.volume[i],
+        lat.mass[i],
+        lat.temperature[i],
+        lat.pressure[i],
+    );
+    assert!(rel(v0, 1e-9) < 1e-12);
+    assert!(rel(p0, 1e5) < 1e-9, "initial pressure {p0}");
+    for k in 0..lat.len() {
+        lat.x[0][k] *= 0.99;
+    }
+    lat.update_volume_and_energy(1e-9);
+    let k_bulk = eos.rho0 * eos.c0 * eos.c0;
+    let dp = k_bulk * 0.01; // −K ΔV/V
+    let dt_exp = dp * v0 / (m * eos.gamma * eos.cv); // eq 14
+    assert!(rel(lat.volume[i], 0.99e-9) < 1e-12);
+    assert!(rel(lat.pressure[i] - p0, dp) < 1e-9);
+    assert!(
+        rel(lat.temperature[i] - t0, dt_exp) < 1e-9,
+        "{} vs {dt_exp}",
+        lat.temperature[i] - t0
+    );
+    assert!(rel(lat.energy[i], eos.cv * lat.temperature[i]) < 1e-14);
+}
+
+#[test]
+fn conduction_is_the_centred_difference_with_ghosts() {
+    let mut mat = material(1.0e9);
+    mat.conductivity = 2.0;
+    let geom = Geometry::new(Dim::One, [3, 1, 1], 0.5, false, |_, _, _| Some(0));
+    let opts = MsdmOptions {
+        surroundings: Surroundings {
+            temperature: 250.0,
+            conductivity: 2.0,
+        },
+        ..MsdmOptions::default()
+    };
+    let mut lat = MsdmLattice::new(geom, vec![mat.clone()], opts).unwrap();
+    let n: Vec<usize> = (0..3).map(|k| lat.geom.solid_index(k, 0, 0)).collect();
+    lat.temperature[n[0]] = 400.0;
+    lat.temperature[n[1]] = 300.0;
+    lat.temperature[n[2]] = 350.0;
+    // Middle: κh(T₀ + T₂ − 2T₁) = 2·0.5·150.
+    assert!((lat.conduction(n[1]) - 150.0).abs() < 1e-12);
+    // End: neighbour 300 plus the ghost at 250: 2·0.5·(−100 − 150).
+    assert!((lat.conduction(n[0]) + 250.0).abs() < 1e-12);
+    // Adiabatic surroundings keep Σ m e while heat flows inside.
+    lat.options.surroundings.conductivity = 0.0;
+    for k in 0..3 {
+        lat.energy[n[k]] = mat.eos.cv * lat.temperature[n[k]];
+    }
+    let total = |l: &MsdmLattice| -> f64 { n.iter().map(|&i| l.mass[i] * l.energy[i]).sum() };
+    let e0 = total(&lat);
+    for _ in 0..100 {
+        lat.step(1e-3).unwrap();
+    }
+    assert!(rel(total(&lat), e0) < 1e-13);
+    assert!((lat.temperature[n[0]] - lat.temperature[n[2]]).abs() < 50.0);
+}
+
+#[test]
+fn chemical_heat_release_and_mass_loss() {
+    let mut mat = material(1.0e9);
+    mat.enthalpy = 5.0e6;
+    let geom = Geometry::new(Dim::One, [2, 1, 1], 1e-3, false, |_, _, _| Some(0));
+    let mut lat = MsdmLattice::new(geom, vec![mat.clone()], MsdmOptions::default()).unwrap();
+    let i = lat.geom.solid_index(0, 0, 0);
+    let (m0, e0) = (lat.mass[i], lat.energy[i]);
+    let rate = 1e-3 * m0; // kg/s
+    lat.mass_rate[i] = rate;
+    lat.step(1e-3).unwrap();
+    // Δe = h ṁ Δt / m (with m at the start of the step), m += ṁ Δt.
+    assert!(rel(lat.energy[i] - e0, 5.0e6 * rate * 1e-3 / m0) < 1e-9);
+    assert!(rel(lat.mass[i], m0 + rate * 1e-3) < 1e-14);
+    assert!(rel(lat.mass_k[i], lat.mass[i]) < 1e-15);
+}
+
+#[test]
+fn integrators_converge_to_the_same_motion_of_a_damped_block() {
+    // Elastic 2D block with damping and perpendicular forces, t = 2e-8 s
+    // (ω Δt ≈ 1e-3 at Δt = 1e-9): each integrator against a fine Verlet
+    // reference at Δt and Δt/2; the error falls by 2 (first order) or 4
+    // (second order).
+    let run = |integ: Integrator, dt: f64| {
+        let mut lat = block(Dim::Two, 11, integ, false);
+        let steps = (2e-8 / dt).round() as usize;
+        for _ in 0..steps {
+            lat.step(dt).unwrap();
+        }
+        lat.u
+    };
+    let reference = run(Integrator::VelocityVerlet, 1.25e-10);
+    let err = |u: &[Vec<f64>; 3]| -> f64 {
+        (0..2)
+            .flat_map(|a| u[a].iter().zip(&reference[a]).map(|(p, q)| (p - q).abs()))
+            .fold(0.0, f64::max)
+    };
+    for (integ, order) in [
+        (Integrator::ExplicitEuler, 1.0),
+        (Integrator::VelocityVerlet, 2.0),
+        (Integrator::ImplicitEuler, 1.0),
+        (Integrator::ImplicitRk2, 2.0),
+    ] {
+        let e1 = err(&run(integ, 2e-9));
+        let e2 = err(&run(integ, 1e-9));
+        let p = (e1 / e2).log2();
+        eprintln!("{integ:?}: {e1:.3e} {e2:.3e} order {p:.3}");
+        assert!((p - order).abs() < 0.25, "{integ:?}: {e1} {e2} order {p}");
+    }
+}
+
+#[test]
+fn invalid_input_names_the_field() {
+    let geom = Geometry::new(Dim::One, [2, 1, 1], 1e-3, false, |_, _, _| Some(3));
+    let err = MsdmLattice::new(geom, vec![material(1e9)], MsdmOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("`materials`"), "{err}");
+    let geom = Geometry::new(Dim::One, [2, 1, 1], -1.0, false, |_, _, _| Some(0));
+    let err = MsdmLattice::new(geom, vec![material(1e9)], MsdmOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("`spacing`"), "{err}");
+    let geom = Geometry::new(Dim::One, [2, 1, 1], 1e-3, false, |_, _, _| Some(0));
+    let mut lat = MsdmLattice::new(geom, vec![material(1e9)], MsdmOptions::default()).unwrap();
+    assert!(lat.step(-1.0).unwrap_err().to_string().contains("`dt`"));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn spring_force_is_odd_and_along_the_deformed_bond(
+        dx in -3e-4f64..3e-4, dy in -3e-4f64..3e-4, dz in -3e-4f64..3e-4,
+        wx in -5.0f64..5.0, wy in -5.0f64..5.0, wz in -5.0f64..5.0,
+        diag in proptest::bool::ANY, visc in 0.0f64..100.0, plastic in proptest::bool::ANY,
+    ) {
+        let mut m = material(2.0e9);
+        m.damping = Damping::KelvinVoigt { viscosity: visc };
+        if plastic {
+            m.plasticity = Some(Plasticity { yield_strain: 1e-2, hardening_ratio: 0.2 });
+        }
+        let law = PairLaw::single(&m);
+        let xi = if diag { [1e-3, 1e-3, 0.0] } else { [1e-3, 0.0, 0.0] };
+        let r = [xi[0] + dx, xi[1] + dy, xi[2] + dz];
+        let w = [wx, wy, wz];
+        let st = SpringState::default();
+        let f = bond_force(&law, xi, r, w, st, !diag).f;
+        let g = bond_force(&law, [-xi[0], -xi[1], -xi[2]], [-r[0], -r[1], -r[2]], [-w[0], -w[1], -w[2]], st, !diag).f;
+        for a in 0..3 {
+            prop_assert_eq!(g[a], -f[a]);
+        }
+        // Along the deformed bond: f × r = 0 (no perpendicular force).
+        let cross = [
+            f[1] * r[2] - f[2] * r[1],
+            f[2] * r[0] - f[0] * r[2],
+            f[0] * r[1] - f[1] * r[0],
+        ];
+        let fr = (f.iter().map(|v| v * v).sum::<f64>() * r.iter().map(|v| v * v).sum::<f64>()).sqrt();
+        for c in cross {
+            prop_assert!(c.abs() <= 1e-14 * fr.max(1e-300));
+        }
+    }
+
+    #[test]
+    fn lattice_forces_sum_to_the_body_forces(seed in 0u64..1000, three in proptest::bool::ANY) {
+        let dim = if three { Dim::Three } else { Dim::Two };
+        let mut lat = perturbed_block(dim, seed, Integrator::VelocityVerlet);
+        lat.compute_forces();
+        let mut scale = 0.0;
+        let mut sum = [0.0; 3];
+        for i in 0..lat.len() {
+            for a in 0..3 {
+                sum[a] += lat.force[a][i];
+                scale += lat.force[a][i].abs();
+            }
+        }
+        for s in sum {
+            prop_assert!(s.abs() <= 1e-13 * scale.max(1.0));
+        }
+    }
+
+    #[test]
+    fn broken_springs_stay_broken(seed in 0u64..1000) {
+        let mut lat = perturbed_block(Dim::Two, seed, Integrator::ExplicitEuler);
+        // Make material 0 brittle: strains reach ~1e-2 within the run.
+        lat.materials[0].fracture_strain = Some(2e-3);
+        let mut lat = MsdmLattice::new(lat.geom.clone(), lat.materials.clone(), lat.options).unwrap();
+        let mut s = seed.wrapping_add(1);
+        for i in 0..lat.len() {
+            if lat.geom.is_solid(i) {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
+                lat.u[0][i] = ((s >> 40) as f64 / (1u64 << 24) as f64 - 0.5) * 40.0;
+            }
+        }
+        let nd = lat.geom.directions.len();
+        let mut broken = vec![false; lat.len() * nd];
+        for _ in 0..40 {
+            lat.step(2e-8).unwrap();
+            for i in 0..lat.len() {
+                for d in 0..nd {
+                    let now = lat.spring_intact(i, d) == Some(false);
+                    prop_assert!(!broken[i * nd + d] || now, "spring ({i}, {d}) healed");
+                    broken[i * nd + d] = now;
+                }
+            }
+        }
+        // The run must exercise fracture for the contract to mean anything.
+        prop_assert!(lat.broken_springs() > 0);
+    }
+}
