@@ -47,8 +47,9 @@ pub enum BondLaw {
 pub struct NodeForce {
     /// Σ_j f V_j, N/m³ (force per unit volume of the node).
     pub force: [f64; 3],
-    /// Smallest stretch among the node's intact bonds (solids).
-    pub min_stretch: f64,
+    /// Smallest stretch among the node's intact bonds (solids); the
+    /// kernel forms stretches in f32, so it is kept at that precision.
+    pub min_stretch: f32,
     /// Intact bonds after this pass.
     pub intact: u32,
 }
@@ -467,7 +468,7 @@ fn solid_row<G: Gather>(
         .fold(f32::INFINITY, |a, &b| a.min(b));
     NodeForce {
         force: f.map(|v| v * micromodulus),
-        min_stretch: min_stretch as f64,
+        min_stretch,
         intact: sums.intact.iter().sum(),
     }
 }

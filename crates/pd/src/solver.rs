@@ -178,6 +178,46 @@ struct PdState {
     gas: Vec<[f64; 2]>,
 }
 
+/// Heap memory of a [`PdSolver`], summed from the capacities of its arrays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PdMemory {
+    /// Nodes.
+    pub nodes: usize,
+    /// Directed bonds (each bond once per node).
+    pub bonds: usize,
+    /// Bytes of the arrays with one entry per node: node data, row starts,
+    /// and, with contact on, the contact forces, current positions and the
+    /// contact cell list.
+    pub node_bytes: usize,
+    /// Bytes of the arrays with one entry per bond: neighbour index, bond
+    /// factor and plastic stretch.
+    pub bond_bytes: usize,
+    /// Everything else: materials, laws, prescribed velocities.
+    pub other_bytes: usize,
+}
+
+impl PdMemory {
+    /// Node-array bytes per node.
+    pub fn bytes_per_node(&self) -> f64 {
+        self.node_bytes as f64 / self.nodes.max(1) as f64
+    }
+
+    /// Bond-array bytes per bond.
+    pub fn bytes_per_bond(&self) -> f64 {
+        self.bond_bytes as f64 / self.bonds.max(1) as f64
+    }
+
+    /// All bytes.
+    pub fn total(&self) -> usize {
+        self.node_bytes + self.bond_bytes + self.other_bytes
+    }
+}
+
+/// Heap bytes of a vector's allocation.
+fn heap<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}
+
 /// Meshfree bond-based peridynamics.
 #[derive(Debug)]
 pub struct PdSolver {
@@ -191,9 +231,11 @@ pub struct PdSolver {
     reference: Vec<[f64; 4]>,
     body: Vec<u32>,
     material: Vec<u16>,
-    density: Vec<f64>,
-    family_volume: Vec<f64>,
-    solid_stiffness: Vec<f64>,
+    /// ρ₀ per material (not per node).
+    material_density: Vec<f64>,
+    /// Per node, fixed: the family volume Σ β V_j of a gas node (eq 17),
+    /// the bond stiffness Σ c β V_j / r of a solid node (eq 22).
+    node_scale: Vec<f64>,
     detonation_time: Vec<f64>,
     prescribed: Vec<(u32, u8, f64)>,
     families: Families,
@@ -203,8 +245,11 @@ pub struct PdSolver {
     state: Vec<[f64; 4]>,
     velocity: Vec<[f64; 3]>,
     bond_out: Vec<NodeForce>,
+    /// Contact force and stiffness per node; empty when contact is off.
     contact: Vec<([f64; 3], f64)>,
+    /// (X, gas stiffness) per node; empty when no material is a gas.
     gas: Vec<[f64; 2]>,
+    /// Current positions for the contact search; empty when contact is off.
     current: Vec<[f64; 3]>,
     // Per bond.
     factor: Vec<f32>,
@@ -340,15 +385,7 @@ impl PdSolver {
                 &mut factor,
             );
         }
-        let family_volume: Vec<f64> = (0..n)
-            .map(|i| {
-                families
-                    .row(i)
-                    .map(|k| factor[k] as f64 * reference[families.neighbours[k] as usize][3])
-                    .sum()
-            })
-            .collect();
-        let solid_stiffness: Vec<f64> = (0..n)
+        let node_scale: Vec<f64> = (0..n)
             .map(|i| match laws[cloud.material[i] as usize] {
                 BondLaw::Solid { micromodulus, .. } => families
                     .row(i)
@@ -358,13 +395,11 @@ impl PdSolver {
                             / distance(cloud.positions[i], cloud.positions[j])
                     })
                     .sum(),
-                BondLaw::Gas => 0.0,
+                BondLaw::Gas => families
+                    .row(i)
+                    .map(|k| factor[k] as f64 * reference[families.neighbours[k] as usize][3])
+                    .sum(),
             })
-            .collect();
-        let density: Vec<f64> = cloud
-            .material
-            .iter()
-            .map(|&m| setup.materials[m as usize].density())
             .collect();
         // Program burn.
         let explosive: Vec<bool> = cloud
@@ -441,7 +476,10 @@ impl PdSolver {
                 s[3] = p.critical_stretch;
             }
         }
+        let has_gas = laws.iter().any(|l| matches!(l, BondLaw::Gas));
+        let contact_on = o.contact.is_some();
         let mut solver = Self {
+            material_density: setup.materials.iter().map(PdMaterial::density).collect(),
             bulk_modulus: setup
                 .materials
                 .iter()
@@ -459,9 +497,7 @@ impl PdSolver {
             reference,
             body: cloud.body,
             material: cloud.material,
-            density,
-            family_volume,
-            solid_stiffness,
+            node_scale,
             detonation_time,
             prescribed,
             families,
@@ -470,13 +506,19 @@ impl PdSolver {
             state,
             velocity: cloud.velocity,
             bond_out: vec![NodeForce::default(); n],
-            contact: vec![([0.0; 3], 0.0); n],
-            gas: vec![[1.0, 0.0]; n],
-            current: vec![[0.0; 3]; n],
+            contact: vec![([0.0; 3], 0.0); if contact_on { n } else { 0 }],
+            gas: vec![[1.0, 0.0]; if has_gas { n } else { 0 }],
+            current: vec![[0.0; 3]; if contact_on { n } else { 0 }],
             plastic: vec![0.0; factor.len()],
             factor,
             cells: CellList::default(),
         };
+        // Arrays grown by pushing keep their spare capacity otherwise.
+        solver.body.shrink_to_fit();
+        solver.material.shrink_to_fit();
+        solver.velocity.shrink_to_fit();
+        solver.detonation_time.shrink_to_fit();
+        solver.prescribed.shrink_to_fit();
         solver.impose_velocities();
         solver.update_node_scalars();
         solver.compute_forces();
@@ -491,6 +533,48 @@ impl PdSolver {
     /// Number of directed bonds (each bond once per node).
     pub fn bond_count(&self) -> usize {
         self.families.bond_count()
+    }
+
+    /// Heap memory of the solver, from the capacities of its arrays. The
+    /// contact cell list keeps its buffers private (`cell_list.rs`); they
+    /// are counted as `CellList::rebuild` sizes them for n points: a bucket
+    /// table of the power of two ≥ max(2n, 64) plus one `u32` starts, and
+    /// two `u32` per point.
+    pub fn memory_use(&self) -> PdMemory {
+        let n = self.node_count();
+        let cells = if self.options.contact.is_some() {
+            let table = (2 * n).max(64).next_power_of_two();
+            (table + 1 + 2 * n) * std::mem::size_of::<u32>()
+        } else {
+            0
+        };
+        let node_bytes = heap(&self.reference)
+            + heap(&self.body)
+            + heap(&self.material)
+            + heap(&self.node_scale)
+            + heap(&self.detonation_time)
+            + heap(&self.families.offsets)
+            + heap(&self.state)
+            + heap(&self.velocity)
+            + heap(&self.bond_out)
+            + heap(&self.contact)
+            + heap(&self.gas)
+            + heap(&self.current)
+            + cells;
+        let bond_bytes = heap(&self.families.neighbours) + heap(&self.factor) + heap(&self.plastic);
+        let other_bytes = heap(&self.materials)
+            + heap(&self.laws)
+            + heap(&self.bulk_modulus)
+            + heap(&self.breakable)
+            + heap(&self.material_density)
+            + heap(&self.prescribed);
+        PdMemory {
+            nodes: n,
+            bonds: self.bond_count(),
+            node_bytes,
+            bond_bytes,
+            other_bytes,
+        }
     }
 
     /// The horizon δ, m.
@@ -536,7 +620,13 @@ impl PdSolver {
 
     /// Node masses ρ₀V, kg.
     pub fn mass(&self, i: usize) -> f64 {
-        self.density[i] * self.reference[i][3]
+        self.material_density[self.material[i] as usize] * self.reference[i][3]
+    }
+
+    /// Current position x + u of node i, m.
+    pub fn current_position(&self, i: usize) -> [f64; 3] {
+        let (x, u) = (self.reference[i], self.state[i]);
+        [x[0] + u[0], x[1] + u[1], x[2] + u[2]]
     }
 
     /// Detonation time per node (infinite for inert or unreached nodes), s.
@@ -546,7 +636,7 @@ impl PdSolver {
 
     /// Expansion X of node i (eq 17; 1 for solids).
     pub fn expansion(&self, i: usize) -> f64 {
-        self.gas[i][0]
+        self.gas.get(i).map_or(1.0, |g| g[0])
     }
 
     /// The families.
@@ -572,7 +662,7 @@ impl PdSolver {
     /// Current force per unit volume on node i (bonds + contact + body), N/m³.
     pub fn force_density(&self, i: usize) -> [f64; 3] {
         let b = self.bond_out[i].force;
-        let c = self.contact[i].0;
+        let c = self.contact.get(i).map_or([0.0; 3], |c| c.0);
         std::array::from_fn(|d| b[d] + c[d] + self.options.body_force[d])
     }
 
@@ -580,7 +670,7 @@ impl PdSolver {
     pub fn pressure(&self, i: usize) -> f64 {
         match self.materials[self.material[i] as usize] {
             PdMaterial::Gas(g) if self.time >= self.detonation_time[i] => {
-                g.isentrope.pressure(self.gas[i][0])
+                g.isentrope.pressure(self.expansion(i))
             }
             _ => 0.0,
         }
@@ -634,7 +724,7 @@ impl PdSolver {
         let factor = &self.factor;
         let material = &self.material;
         let materials = &self.materials;
-        let family_volume = &self.family_volume;
+        let family_volume = &self.node_scale;
         for_each_node(&mut self.gas, |i, g| {
             if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
                 let row = families.row(i);
@@ -679,7 +769,7 @@ impl PdSolver {
                     } else {
                         1.0 - bond_out[i].intact as f64 / total as f64
                     };
-                    let smin = bond_out[i].min_stretch;
+                    let smin = bond_out[i].min_stretch as f64;
                     let smin = if smin.is_finite() { smin.min(0.0) } else { 0.0 };
                     s[3] = p.critical_stretch * (1.0 + p.damage_stretch_coefficient * damage)
                         - p.minimum_stretch_coefficient * smin;
@@ -742,10 +832,10 @@ impl PdSolver {
     /// short-range forces act on the node's own inertia, ρ₀ (its mass ρ₀V
     /// does not change as the gas expands).
     fn node_dt(&self, i: usize) -> f64 {
-        let rho = self.density[i];
-        let mut omega2 = self.contact[i].1 / rho;
+        let rho = self.material_density[self.material[i] as usize];
+        let mut omega2 = self.contact.get(i).map_or(0.0, |c| c.1) / rho;
         match self.laws[self.material[i] as usize] {
-            BondLaw::Solid { .. } => omega2 += self.solid_stiffness[i] / rho,
+            BondLaw::Solid { .. } => omega2 += self.node_scale[i] / rho,
             BondLaw::Gas => omega2 += self.gas[i][1] * self.gas[i][0] / rho,
         }
         if omega2 > 0.0 {
@@ -772,10 +862,13 @@ impl PdSolver {
                 "node {i} material {} dt {:e} s: X = {:.4}, gas stiffness {:e}, contact {:e}, solid {:e}, detonated {}",
                 self.material[i],
                 best.0,
-                self.gas[i][0],
-                self.gas[i][1],
-                self.contact[i].1,
-                self.solid_stiffness[i],
+                self.expansion(i),
+                self.gas.get(i).map_or(0.0, |g| g[1]),
+                self.contact.get(i).map_or(0.0, |c| c.1),
+                match self.laws[self.material[i] as usize] {
+                    BondLaw::Solid { .. } => self.node_scale[i],
+                    BondLaw::Gas => 0.0,
+                },
                 self.time >= self.detonation_time[i]
             ),
         )
@@ -792,7 +885,10 @@ impl PdSolver {
             bond_out: self
                 .bond_out
                 .iter()
-                .map(|b| (b.force[0], b.force[1], b.force[2], b.min_stretch, b.intact))
+                .map(|b| {
+                    let m = b.min_stretch as f64;
+                    (b.force[0], b.force[1], b.force[2], m, b.intact)
+                })
                 .collect(),
             contact: self.contact.clone(),
             gas: self.gas.clone(),
@@ -897,7 +993,7 @@ impl Solver for PdSolver {
         }
         let dt = dt * self.options.safety_factor;
         if !(dt >= self.options.min_dt) {
-            let x = self.current[at];
+            let x = self.current_position(at);
             return Err(SolverError::TimeStepCollapse {
                 dt,
                 min_dt: self.options.min_dt,
@@ -915,15 +1011,17 @@ impl Solver for PdSolver {
             )));
         }
         let body_force = self.options.body_force;
-        let density = &self.density;
+        let density = &self.material_density;
+        let material = &self.material;
         let bond_out = &self.bond_out;
         let contact = &self.contact;
         let kick = |v: &mut [[f64; 3]], half: f64| {
             for_each_node(v, |i, v| {
                 let b = bond_out[i].force;
-                let c = contact[i].0;
+                let c = contact.get(i).map_or([0.0; 3], |c| c.0);
+                let rho = density[material[i] as usize];
                 for d in 0..3 {
-                    v[d] += half * (b[d] + c[d] + body_force[d]) / density[i];
+                    v[d] += half * (b[d] + c[d] + body_force[d]) / rho;
                 }
             });
         };
@@ -938,14 +1036,16 @@ impl Solver for PdSolver {
         self.time += dt;
         self.update_node_scalars();
         self.compute_forces();
-        let density = &self.density;
+        let density = &self.material_density;
+        let material = &self.material;
         let bond_out = &self.bond_out;
         let contact = &self.contact;
         for_each_node(&mut self.velocity, |i, v| {
             let b = bond_out[i].force;
-            let c = contact[i].0;
+            let c = contact.get(i).map_or([0.0; 3], |c| c.0);
+            let rho = density[material[i] as usize];
             for d in 0..3 {
-                v[d] += 0.5 * dt * (b[d] + c[d] + body_force[d]) / density[i];
+                v[d] += 0.5 * dt * (b[d] + c[d] + body_force[d]) / rho;
             }
         });
         self.impose_velocities();
@@ -1026,7 +1126,7 @@ impl Solver for PdSolver {
                 }
                 "damage" => self.damage(i),
                 "pressure" => self.pressure(i),
-                "expansion" => self.gas[i][0],
+                "expansion" => self.expansion(i),
                 other => {
                     return Err(SolverError::Other(format!(
                         "peridynamics: unknown field `{other}`; known: displacement_x, displacement_y, displacement_z, velocity_x, velocity_y, velocity_z, radial_displacement, damage, pressure, expansion"
@@ -1041,7 +1141,7 @@ impl Solver for PdSolver {
         let n = self.node_count();
         let col = |f: &dyn Fn(usize) -> f64| (0..n).map(f).collect::<Vec<f64>>();
         Some(ParticleData {
-            positions: self.current.clone(),
+            positions: (0..n).map(|i| self.current_position(i)).collect(),
             fields: vec![
                 ("damage".into(), col(&|i| self.damage(i))),
                 ("velocity_x".into(), col(&|i| self.velocity[i][0])),
@@ -1051,7 +1151,7 @@ impl Solver for PdSolver {
                 ("displacement_y".into(), col(&|i| self.state[i][1])),
                 ("displacement_z".into(), col(&|i| self.state[i][2])),
                 ("pressure".into(), col(&|i| self.pressure(i))),
-                ("expansion".into(), col(&|i| self.gas[i][0])),
+                ("expansion".into(), col(&|i| self.expansion(i))),
                 (
                     "detonation_time".into(),
                     col(&|i| {
@@ -1125,7 +1225,7 @@ impl Solver for PdSolver {
             .into_iter()
             .map(|(a, b, c, m, k)| NodeForce {
                 force: [a, b, c],
-                min_stretch: m,
+                min_stretch: m as f32,
                 intact: k,
             })
             .collect();
@@ -1144,6 +1244,8 @@ impl Solver for PdSolver {
     }
 }
 
+#[cfg(test)]
+mod memory_tests;
 #[cfg(test)]
 mod tests;
 

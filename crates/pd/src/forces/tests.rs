@@ -62,7 +62,7 @@ fn elastic_bond_force_is_c_s_v_by_hand() {
     assert!(close(f[1][0], -0.6), "{f:?}");
     assert_eq!(f[0][1], 0.0);
     assert_eq!(p.out[0].intact, 1);
-    assert!(close(p.out[0].min_stretch, 0.1));
+    assert!(close(p.out[0].min_stretch as f64, 0.1));
 }
 
 #[test]

@@ -341,7 +341,7 @@ fn gas_against_wall(contact: bool) -> (f64, f64) {
         let dt = s.stable_dt().unwrap();
         s.advance(dt).unwrap();
         for i in 0..s.node_count() {
-            let y = s.current[i];
+            let y = s.current_position(i);
             if s.materials()[i] == 1 && y[1].abs() < 12.0 * h && y[2].abs() < 12.0 * h {
                 max_x = max_x.max(y[0]);
             }
@@ -349,7 +349,7 @@ fn gas_against_wall(contact: bool) -> (f64, f64) {
     }
     let xs: Vec<f64> = (0..s.node_count())
         .filter(|&i| s.materials()[i] == 1)
-        .map(|i| s.current[i][0])
+        .map(|i| s.current_position(i)[0])
         .collect();
     let mean = xs.iter().sum::<f64>() / xs.len() as f64;
     (max_x, mean)
