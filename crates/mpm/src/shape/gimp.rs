@@ -34,7 +34,8 @@
 //! # Contiguous-particle GIMP
 //!
 //! uGIMP keeps l_p fixed, so the particle boxes stop tiling the body once it
-//! deforms: where gas expands they overlap, where it compresses gaps open.
+//! deforms: where gas expands gaps open between them, where it compresses
+//! they overlap.
 //! Then Σ_p V_p ∇S_Ip no longer vanishes at interior nodes and the volume
 //! update V_p ← V_p (1 + Δt tr L_p) drifts. cpGIMP (Bardenhagen & Kober
 //! 2004; Wallstedt & Guilkey 2008, J. Comput. Phys. 227:9628) lets each
