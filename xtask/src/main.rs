@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod mpm_throughput;
 mod pd_cases;
 mod plot;
 mod splice;
@@ -718,7 +719,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 9] = [
+const CASES: [&str; 10] = [
     "sod",
     "smooth",
     "cj",
@@ -727,6 +728,7 @@ const CASES: [&str; 9] = [
     "taylor",
     "pd-cyl",
     "pd-frag",
+    "mpm-throughput",
     "throughput",
 ];
 
@@ -779,6 +781,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("pd-frag") {
         pd_cases::e_pd_frag(&mut body, &img)?;
+    }
+    if run("mpm-throughput") {
+        mpm_throughput::mpm_throughput(&mut body)?;
     }
     if run("throughput") {
         throughput(&mut body)?;

@@ -25,6 +25,9 @@ pub struct PipelineLimits {
     pub max_cfl: f64,
     /// Ghost layers each patch must hold.
     pub ghost: usize,
+    /// Background-grid node field names (empty: the pipeline has no node
+    /// grid).
+    pub node_fields: &'static [&'static str],
 }
 
 /// The limits of a pipeline.
@@ -34,16 +37,19 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             fields: &brisance_pd::PdSolver::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
+            node_fields: &[],
         },
         Pipeline::Mpm(_) => PipelineLimits {
             fields: &MpmSolver::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
+            node_fields: &MpmSolver::NODE_FIELDS,
         },
         Pipeline::Fdm(_) => PipelineLimits {
             fields: &FdmSolver::<IdealGas>::FIELDS,
             max_cfl: brisance_fdm::solver::MAX_CFL,
             ghost: brisance_fdm::sweep::GHOST,
+            node_fields: &[],
         },
     }
 }

@@ -311,6 +311,11 @@ pub struct Outputs {
     pub interval: Option<f64>,
     /// Cell fields written to VTK and line-outs.
     pub fields: Vec<String>,
+    /// Background-grid node fields (Mpm: `mass`, `momentum_x`, ...,
+    /// `velocity_x`, ..., `force_x`, ..., `acceleration_x`, ..., `active`)
+    /// written to VTK as point data `vtk/<name>_nodes_<k>.vti`, listed in
+    /// `<name>_nodes.pvd`; none by default.
+    pub node_fields: Vec<String>,
     /// Whether to write VTK files.
     pub vtk: bool,
     /// Point gauges (sampled every step).
@@ -340,6 +345,7 @@ impl Default for Outputs {
             ]
             .map(String::from)
             .to_vec(),
+            node_fields: Vec::new(),
             vtk: true,
             gauges: Vec::new(),
             particle_gauges: Vec::new(),

@@ -37,8 +37,12 @@ struct RunState {
     gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
     particle_gauge_rows: Vec<Vec<(f64, Vec<f64>)>>,
     conservation_rows: Vec<(f64, ConservationTotals)>,
+    /// The solver's external work at each conservation row (methods that
+    /// report one), J.
+    external_work_rows: Vec<f64>,
     pvd: io::PvdSeries,
     particle_pvd: io::PvdSeries,
+    node_pvd: io::PvdSeries,
     initial_totals: ConservationTotals,
     compute_seconds: f64,
     /// Work done so far in the solver's unit (cell-updates, particle-steps),
@@ -200,6 +204,23 @@ impl Runner<'_> {
                 .pvd
                 .write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
         }
+        if o.vtk && !o.node_fields.is_empty() {
+            let nodes =
+                self.solver
+                    .node_data(&o.node_fields)
+                    .map_err(|source| RunError::Solver {
+                        step: self.state.steps,
+                        source,
+                    })?;
+            if let Some(nodes) = nodes {
+                let rel = format!("vtk/{}_nodes_{index:05}.vti", self.scenario.name);
+                io::write_vti_nodes(&self.out.join(&rel), &nodes)?;
+                self.state.node_pvd.push(t, rel);
+                self.state
+                    .node_pvd
+                    .write(&self.out.join(format!("{}_nodes.pvd", self.scenario.name)))?;
+            }
+        }
         if o.vtk {
             if let Some(particles) = self.solver.particle_data() {
                 let rel = format!("vtk/{}_particles_{index:05}.vtu", self.scenario.name);
@@ -222,6 +243,9 @@ impl Runner<'_> {
         self.state
             .conservation_rows
             .push((t, self.solver.conservation_totals()));
+        if let Some(w) = self.solver.external_work() {
+            self.state.external_work_rows.push(w);
+        }
         self.write_histories()
     }
 
@@ -243,10 +267,13 @@ impl Runner<'_> {
                 &self.state.particle_gauge_rows[k],
             )?;
         }
-        io::write_conservation_csv(
-            &self.out.join("conservation.csv"),
-            &self.state.conservation_rows,
-        )?;
+        let path = self.out.join("conservation.csv");
+        let rows = &self.state.conservation_rows;
+        if self.solver.external_work().is_some() {
+            io::write_conservation_csv_with_work(&path, rows, &self.state.external_work_rows)?;
+        } else {
+            io::write_conservation_csv(&path, rows)?;
+        }
         Ok(())
     }
 
@@ -517,6 +544,138 @@ mod tests {
         assert_eq!(next_step(1.0, 0.5), (0.5, true));
         assert_eq!(next_step(0.4, 0.5), (0.25, false));
         assert_eq!(next_step(0.1, 0.5), (0.1, false));
+    }
+
+    /// One particle of 2 kg (ρ 2 kg/m³, ppc 1) at x = 1.5 m, the centre of
+    /// cell 1 of a 1D grid of four 1 m cells, moving at 3 m/s and falling
+    /// along x under g = −10 m/s², with the given node fields.
+    fn one_particle(node_fields: &str) -> String {
+        format!(
+            r#"Scenario(
+    name: "nodes",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (4.0, 1.0, 1.0), cells: (4, 1, 1)),
+    time: (end: 1.0e-4, cfl: 0.4),
+    materials: {{
+        "solid": (model: Hypoelastic(shear_modulus: 3.0e7, pressure: Linear(bulk_modulus: 6.0e7))),
+    }},
+    pipeline: Mpm(ppc: 1, gravity: (-10.0, 0.0, 0.0)),
+    initial: [
+        (
+            region: Box(min: (1.0, 0.0, 0.0), max: (2.0, 1.0, 1.0)),
+            material: "solid",
+            state: (density: 2.0, velocity: (3.0, 0.0, 0.0), temperature: 300.0),
+        ),
+    ],
+    outputs: (
+        fields: ["density"],
+        node_fields: {node_fields},
+    ),
+)"#
+        )
+    }
+
+    /// The point-data arrays of a `.vti` file, by name.
+    fn point_arrays(path: &Path) -> Vec<(String, Vec<f64>)> {
+        use vtkio::model::{Attribute, DataSet, Piece};
+        let vtk = vtkio::Vtk::import(path).unwrap();
+        let DataSet::ImageData { pieces, .. } = vtk.data else {
+            panic!("not ImageData");
+        };
+        let Piece::Inline(piece) = pieces.into_iter().next().unwrap() else {
+            panic!("piece not inline");
+        };
+        piece
+            .data
+            .point
+            .into_iter()
+            .map(|a| {
+                let Attribute::DataArray(a) = a else {
+                    panic!("not a data array");
+                };
+                let vtkio::IOBuffer::F64(v) = a.data else {
+                    panic!("not Float64");
+                };
+                (a.name, v)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_mpm_run_writes_node_fields_and_the_work_of_gravity() {
+        let text = one_particle(r#"["mass", "velocity_x", "active"]"#);
+        let loaded = crate::load_str("nodes.ron", &text, &[]).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let opts = RunOptions {
+            out_dir: dir.path().to_path_buf(),
+            restart: None,
+            progress: false,
+        };
+        run(&loaded, &opts).unwrap();
+        // At t = 0 the particle's mass and momentum go half to node 1 and
+        // half to node 2 (linear weights ½ at the cell centre).
+        let first = point_arrays(&dir.path().join("vtk/nodes_nodes_00000.vti"));
+        assert_eq!(
+            first,
+            vec![
+                ("mass".to_string(), vec![0.0, 1.0, 1.0, 0.0, 0.0]),
+                ("velocity_x".to_string(), vec![0.0, 3.0, 3.0, 0.0, 0.0]),
+                ("active".to_string(), vec![0.0, 1.0, 1.0, 0.0, 0.0]),
+            ]
+        );
+        // At the end: the nodes of the last step still carry the 2 kg.
+        let last = point_arrays(&dir.path().join("vtk/nodes_nodes_00001.vti"));
+        assert_eq!(last[0].1.iter().sum::<f64>(), 2.0);
+        let pvd = std::fs::read_to_string(dir.path().join("nodes_nodes.pvd")).unwrap();
+        assert!(pvd.contains("file=\"vtk/nodes_nodes_00000.vti\""), "{pvd}");
+        assert!(pvd.contains("file=\"vtk/nodes_nodes_00001.vti\""), "{pvd}");
+        // The particle falls freely: the work of gravity is the kinetic
+        // energy it gains, so E − W stays at E(0).
+        let (header, rows) = io::read_csv(&dir.path().join("conservation.csv")).unwrap();
+        assert_eq!(
+            header[5..],
+            ["energy", "external_work", "energy_minus_external_work"]
+        );
+        assert_eq!(rows.len(), 2);
+        let (e0, w) = (rows[0][5], rows[1][6]);
+        assert_eq!(rows[0][6], 0.0);
+        // Speed 3 − 10 t (t = 1e-4 s), from 3: W = ½ m (v² − v0²) < 0.
+        let v = 3.0 - 10.0 * 1.0e-4;
+        let hand = 0.5 * 2.0 * (v * v - 9.0);
+        assert!(
+            (w - hand).abs() < 1e-12 * hand.abs(),
+            "W = {w}, hand {hand}"
+        );
+        assert!((rows[1][7] - e0).abs() < 1e-12 * e0, "{rows:?}");
+    }
+
+    #[test]
+    fn unknown_node_fields_are_located_in_the_file() {
+        let text = one_particle(
+            r#"["mass",
+            "pressure"]"#,
+        );
+        let err = crate::load_str("nodes.ron", &text, &[]).unwrap_err();
+        let line = text
+            .lines()
+            .position(|l| l.contains("\"pressure\""))
+            .unwrap()
+            + 1;
+        assert_eq!(err.field.as_deref(), Some("outputs.node_fields.1"));
+        assert_eq!(err.position.map(|p| p.0), Some(line));
+        let shown = err.to_string();
+        assert!(shown.starts_with(&format!("nodes.ron:{line}:")), "{shown}");
+        assert!(shown.contains("unknown node field `pressure`"), "{shown}");
+        assert!(
+            shown.contains("known node fields: mass, momentum_x"),
+            "{shown}"
+        );
+
+        // The Fdm pipeline has no node grid.
+        let sod = include_str!("../../../configs/sod.ron");
+        let err = crate::load_str("sod.ron", sod, &["outputs.node_fields=[\"mass\"]".into()])
+            .unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("outputs.node_fields"));
+        assert!(err.message.contains("only the Mpm pipeline"), "{err}");
     }
 
     #[test]

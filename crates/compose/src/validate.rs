@@ -384,6 +384,25 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Ok(())
     };
     check_fields("outputs.fields".into(), &o.fields)?;
+    let node_fields = limits.node_fields;
+    if node_fields.is_empty() && !o.node_fields.is_empty() {
+        return Err((
+            "outputs.node_fields".into(),
+            "node fields are those of a background grid of nodes: only the Mpm pipeline has one"
+                .into(),
+        ));
+    }
+    for (k, f) in o.node_fields.iter().enumerate() {
+        if !node_fields.contains(&f.as_str()) {
+            return Err((
+                format!("outputs.node_fields.{k}"),
+                format!(
+                    "unknown node field `{f}`; known node fields: {}",
+                    node_fields.join(", ")
+                ),
+            ));
+        }
+    }
     let inside = |p: &[f64; 3]| (0..3).all(|a| p[a] >= d.lower[a] && p[a] <= d.upper[a]);
     let mut names = std::collections::BTreeSet::new();
     for (i, g) in o.gauges.iter().enumerate() {
