@@ -78,6 +78,13 @@ pub struct IceOptions {
     pub min_dt: f64,
     /// Convergence of the equilibration pressure.
     pub equilibration: EquilibrationSettings,
+    /// Conserve total energy (see `docs/physics/ice/steps.md`): the
+    /// Lagrangian phase closes each cell's energy budget with the face
+    /// pressure work −Δt∇·(p* Σθ*u*), and step 12 advects each material's
+    /// total specific energy e + ½|u|² instead of e, so the kinetic energy
+    /// numerical dissipation removes stays as heat — which correct shock
+    /// jumps need. `false` follows eqs 25 and step 12 literally.
+    pub conserve_total_energy: bool,
 }
 
 impl Default for IceOptions {
@@ -88,6 +95,7 @@ impl Default for IceOptions {
             gravity: [0.0; 3],
             min_dt: 1e-14,
             equilibration: EquilibrationSettings::default(),
+            conserve_total_energy: true,
         }
     }
 }
@@ -100,6 +108,9 @@ struct PatchScratch {
     /// Face velocities u*_r per axis and material, stored at the cell on
     /// the face's high side (the face is that cell's low face).
     face_velocity: [Vec<Vec<f64>>; 3],
+    /// Σ_r θ*_r u*_r on the low face of each cell per axis, m/s (the
+    /// volume flux of eq 20, kept for the energy-conserving work).
+    volume_flux: [Vec<f64>; 3],
 }
 
 /// A checkpoint: the interior state fields in global order.
@@ -313,6 +324,7 @@ impl<E: Eos> IceSolver<E> {
                             Vec::new()
                         }
                     }),
+                    volume_flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
                 })
                 .collect(),
             level,
@@ -667,6 +679,8 @@ impl<E: Eos> IceSolver<E> {
                 for_interior(patch, |c| {
                     let mut div = 0.0;
                     let mut theta_kappa = 0.0;
+                    let mut w_lo = [0.0; 3];
+                    let mut w_hi = [0.0; 3];
                     for r in 0..n {
                         let b = r * NS;
                         for a in 0..3 {
@@ -691,13 +705,22 @@ impl<E: Eos> IceSolver<E> {
                                     * slab.mean_density
                                     * carried_value(q(VSP, donor), diff(VSP), &slab)
                             };
-                            div += (flux(c + st[a]) - flux(c)) / dt;
+                            let (lo, hi) = (flux(c), flux(c + st[a]));
+                            div += (hi - lo) / dt;
+                            w_lo[a] += lo / lam;
+                            w_hi[a] += hi / lam;
                         }
                         let v = d[b + VSP][c];
                         let cs = d[b + SOUND][c];
                         theta_kappa += d[b + THETA][c] * v / (cs * cs);
                     }
                     sc.divergence[c] = div;
+                    for a in 0..3 {
+                        if params.active[a] {
+                            sc.volume_flux[a][c] = w_lo[a];
+                            sc.volume_flux[a][c + st[a]] = w_hi[a];
+                        }
+                    }
                     pr.data[0][c] = d[n * NS][c] + pressure_increment(dt, 0.0, div, theta_kappa);
                 });
             });
@@ -735,6 +758,7 @@ impl<E: Eos> IceSolver<E> {
                 for_interior(patch, |c| {
                     let rho_c = rho_cell(c);
                     let mut grad = [0.0; 3];
+                    let mut work = 0.0;
                     for a in 0..3 {
                         if params.active[a] {
                             let (lo, hi) = (c - st[a], c + st[a]);
@@ -742,9 +766,12 @@ impl<E: Eos> IceSolver<E> {
                             let p_hi = face_pressure(p[c], rho_c, p[hi], rh);
                             let p_lo = face_pressure(p[lo], rl, p[c], rho_c);
                             grad[a] = (p_hi - p_lo) / params.spacing[a];
+                            let w = &sc.volume_flux[a];
+                            work -= dt * (p_hi * w[hi] - p_lo * w[c]) / params.spacing[a];
                         }
                     }
-                    match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, dt) {
+                    let work = params.options.conserve_total_energy.then_some(work);
+                    match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, work, dt) {
                         Ok(out) => {
                             for r in 0..n {
                                 for f in 0..NL {
@@ -806,8 +833,19 @@ impl<E: Eos> IceSolver<E> {
                 for_interior(patch, |c| {
                     for r in 0..n {
                         let b = r * NL;
-                        let q = |f: usize, i: usize| l[b + f][i];
-                        // Conserved per unit volume: ρ, ρu (3), ρe, ρv.
+                        let total = params.options.conserve_total_energy;
+                        // The carried energy is e, or e + ½|u|² when total
+                        // energy is advected.
+                        let q = |f: usize, i: usize| {
+                            let v = l[b + f][i];
+                            if total && f == L_ENERGY {
+                                let (x, y, z) = (l[b + L_VEL][i], l[b + L_VEL + 1][i], l[b + L_VEL + 2][i]);
+                                v + 0.5 * (x * x + y * y + z * z)
+                            } else {
+                                v
+                            }
+                        };
+                        // Conserved per unit volume: ρ, ρu (3), ρe (or ρE), ρv.
                         let rho_l = q(L_RHO, c);
                         let mut cons = [
                             rho_l,
@@ -876,7 +914,13 @@ impl<E: Eos> IceSolver<E> {
                         for k in 0..3 {
                             pf.data[s + VEL + k][c] = cons[1 + k] / rho;
                         }
-                        pf.data[s + ENERGY][c] = cons[4] / rho;
+                        let kinetic = if total {
+                            let u = [cons[1] / rho, cons[2] / rho, cons[3] / rho];
+                            0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+                        } else {
+                            0.0
+                        };
+                        pf.data[s + ENERGY][c] = cons[4] / rho - kinetic;
                         pf.data[s + VSP][c] = cons[5] / rho;
                         pf.data[s + THETA][c] = cons[5];
                     }
@@ -1087,6 +1131,7 @@ fn equilibrate_cell<E: Eos>(
 
 /// Steps 8–11 on one interior cell: returns, per material, the Lagrangian
 /// (ρ, u, e, v).
+#[allow(clippy::too_many_arguments)]
 fn lagrangian_cell<E: Eos>(
     params: &Params<'_, E>,
     d: &[Vec<f64>],
@@ -1094,6 +1139,7 @@ fn lagrangian_cell<E: Eos>(
     p: f64,
     divergence: f64,
     grad: [f64; 3],
+    pressure_work: Option<f64>,
     dt: f64,
 ) -> Result<[[f64; NL]; MAX_MATERIALS], String> {
     let n = params.eos.len();
@@ -1119,6 +1165,26 @@ fn lagrangian_cell<E: Eos>(
         vel[r] = m.map(|x| x / rho[r]);
         let f = volume_change_share(tk[r], tk_sum);
         e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], f, p, divergence, dt) / rho[r];
+    }
+    // Energy-conserving closure of steps 8–9: the cell's total energy
+    // changes by the face pressure work −Δt ∇·(p* Σθ*u*) (plus gravity's
+    // work); what eqs 24–25 miss of it goes to internal energy in the
+    // shares f_r^θ of eq 25.
+    if let Some(work) = pressure_work {
+        let mut delta = work;
+        for r in 0..n {
+            let b = r * NS;
+            let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+            let mut dk = 0.0;
+            for a in 0..3 {
+                delta += dt * rho[r] * params.options.gravity[a] * 0.5 * (u[a] + vel[r][a]);
+                dk += 0.5 * rho[r] * (vel[r][a] - u[a]) * (vel[r][a] + u[a]);
+            }
+            delta -= rho[r] * (e[r] - d[b + ENERGY][c]) + dk;
+        }
+        for r in 0..n {
+            e[r] += volume_change_share(tk[r], tk_sum) * delta / rho[r];
+        }
     }
     // Step 10: momentum exchange, dissipated kinetic energy back to heat
     // with one specific increment for every material.
