@@ -397,3 +397,58 @@ fn two_material_sod_has_no_pressure_spike_and_a_narrow_contact() {
     eprintln!("donor cell: {md:?}");
     assert!(md.width_cells > m.width_cells, "{md:?}");
 }
+
+/// Throughput of a full step for three materials on a 3D box (release:
+/// `cargo test --release -p brisance-ice throughput -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn throughput_three_materials_3d() {
+    let n = 32;
+    for layout in [[1, 1, 1], [1, 1, 2]] {
+        let level = Level::new([0.0; 3], [1.0; 3], [n, n, n], layout, GHOST).unwrap();
+        let eos = vec![
+            IdealGas::new(1.4, 717.5, 1.0),
+            IdealGas::new(1.67, 3115.0, 1.0),
+            IdealGas::new(1.3, 1000.0, 1.0),
+        ];
+        let mut s = IceSolver::new(
+            eos,
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            ExchangeCoefficients::uniform(3, 1e15, 0.0),
+            IceOptions::default(),
+            |x| {
+                let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2) + (x[2] - 0.5).powi(2);
+                let th = if r2 < 0.04 {
+                    [0.98, 0.01, 0.01]
+                } else {
+                    [0.01, 0.98, 0.01]
+                };
+                CellState {
+                    pressure: if r2 < 0.04 { 1e6 } else { 1e5 },
+                    materials: (0..3)
+                        .map(|r| MaterialState {
+                            volume_fraction: th[r],
+                            density: 1.0,
+                            velocity: [0.0; 3],
+                        })
+                        .collect(),
+                }
+            },
+        )
+        .unwrap();
+        let steps = 10;
+        let t = std::time::Instant::now();
+        for _ in 0..steps {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        let rate = (steps * n * n * n) as f64 / t.elapsed().as_secs_f64();
+        eprintln!(
+            "layout {layout:?}, {} threads: {:.3e} cell-updates/s, equilibration {:?}",
+            rayon::current_num_threads(),
+            rate,
+            s.equilibration_stats()
+        );
+    }
+}
