@@ -20,6 +20,12 @@
 //! **Stretch without cancellation.** s = (p − r)/r is evaluated as
 //! s = (2ξ·η + η·η) / (r (p + r)), which keeps full precision for the
 //! tiny stretches of elastic waves.
+//!
+//! **Instruction sets.** Solid rows run in groups of eight bonds; the
+//! gather and the group arithmetic have portable, AVX2 and AVX-512 forms
+//! that perform the same IEEE operations in the same order, so the choice
+//! made at run time never changes a bit (tested). Layout, loop, memory
+//! and measured throughput: `docs/physics/pd/kernel.md`.
 
 use rayon::prelude::*;
 
@@ -268,6 +274,8 @@ impl Gather for Avx512Gather {
         xi: [f64; 4],
         ui: [f64; 4],
     ) -> Gathered {
+        // Not reached by the solid rows (they use the whole-group form
+        // below); kept so the trait is complete.
         ScalarGather::gather(reference, state, js, xi, ui)
     }
 
