@@ -345,3 +345,36 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod proptests {
+    use super::*;
+    use brisance_eos::IdealGas;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Any mixture of up to four ideal gases, from any guess,
+        /// equilibrates at Dalton's pressure with Σθ = 1.
+        #[test]
+        fn ideal_gas_mixtures_equilibrate_at_daltons_pressure(
+            n in 1usize..=4,
+            gamma in proptest::collection::vec(1.1f64..1.9, 4),
+            rho in proptest::collection::vec(1e-6f64..1e3, 4),
+            temp in proptest::collection::vec(10.0f64..1e4, 4),
+            log_guess in -3.0f64..12.0,
+        ) {
+            let eos: Vec<IdealGas> = (0..n).map(|r| IdealGas::new(gamma[r], 700.0, 1.0)).collect();
+            let dalton: f64 = (0..n).map(|r| rho[r] * (gamma[r] - 1.0) * 700.0 * temp[r]).sum();
+            let (mut v, mut th) = ([0.0; 4], [0.0; 4]);
+            let (p, rep) = equilibration_pressure(
+                &eos, &rho[..n], &temp[..n], 10f64.powf(log_guess),
+                &EquilibrationSettings::default(), &mut v[..n], &mut th[..n],
+            ).unwrap();
+            prop_assert!((p / dalton - 1.0).abs() < 1e-9, "{} vs {}", p, dalton);
+            prop_assert!(rep.residual.abs() <= 1e-10, "{:?}", rep);
+            prop_assert!(rep.iterations <= 100);
+            let sum: f64 = th[..n].iter().sum();
+            prop_assert!((sum - 1.0).abs() < 1e-9);
+        }
+    }
+}

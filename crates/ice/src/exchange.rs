@@ -225,3 +225,38 @@ mod tests {
         assert_eq!(d, 0.0);
     }
 }
+
+#[cfg(test)]
+mod proptests {
+    use super::*;
+    use crate::ExchangeCoefficients;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// For any masses, volume fractions, coefficients and step, the
+        /// exchange conserves momentum, dissipates kinetic energy, and
+        /// leaves every velocity within the range it started in.
+        #[test]
+        fn exchange_conserves_momentum_and_stays_bounded(
+            n in 2usize..=5,
+            rho in proptest::collection::vec(1e-6f64..1e4, 5),
+            theta in proptest::collection::vec(1e-6f64..1.0, 5),
+            u in proptest::collection::vec(-1e3f64..1e3, 5),
+            log_k in 0.0f64..15.0,
+            dt in 1e-9f64..1e-2,
+        ) {
+            let k = ExchangeCoefficients::uniform(n, 10f64.powf(log_k), 0.0).momentum;
+            let mut vel: Vec<[f64; 1]> = u[..n].iter().map(|&x| [x]).collect();
+            let m0: f64 = (0..n).map(|r| rho[r] * u[r]).sum();
+            let scale: f64 = (0..n).map(|r| rho[r] * u[r].abs()).sum::<f64>().max(1e-300);
+            let diss = momentum_exchange(&rho[..n], &theta[..n], &k, dt, &mut vel);
+            let m1: f64 = (0..n).map(|r| rho[r] * vel[r][0]).sum();
+            prop_assert!((m1 - m0).abs() <= 1e-13 * scale, "{} vs {}", m1, m0);
+            prop_assert!(diss >= -1e-12 * scale * 1e3);
+            let (lo, hi) = u[..n].iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &x| (a.0.min(x), a.1.max(x)));
+            for v in &vel {
+                prop_assert!(v[0] >= lo - 1e-9 * (hi - lo).max(1.0) && v[0] <= hi + 1e-9 * (hi - lo).max(1.0));
+            }
+        }
+    }
+}
