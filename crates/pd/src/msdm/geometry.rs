@@ -66,6 +66,8 @@ pub struct Geometry {
     pub n: [usize; 3],
     /// Lattice spacing h, m.
     pub spacing: f64,
+    /// Reference position of solid-block node (0, 0, 0), m.
+    pub origin: [f64; 3],
     /// Forward directions (axial first, then diagonals).
     pub directions: Vec<Direction>,
     /// Node kinds, one per box node.
@@ -136,6 +138,7 @@ impl Geometry {
             dim,
             n,
             spacing,
+            origin: [0.0; 3],
             directions,
             kind,
         }
@@ -173,14 +176,20 @@ impl Geometry {
         self.index(ix + p(0), iy + p(1), iz + p(2))
     }
 
-    /// Reference position of node `i` (solid-block node (0,0,0) at the
-    /// origin).
+    /// The same lattice with solid-block node (0, 0, 0) at `origin`.
+    pub fn with_origin(mut self, origin: [f64; 3]) -> Self {
+        self.origin = origin;
+        self
+    }
+
+    /// Reference position of node `i`: `origin + (k − 1) h` on the active
+    /// axes (k the box coordinate), `origin` on the others.
     pub fn reference_position(&self, i: usize) -> [f64; 3] {
         let c = self.coords(i);
         let d = self.dim.count();
-        let mut x = [0.0; 3];
+        let mut x = self.origin;
         for a in 0..d {
-            x[a] = (c[a] as f64 - 1.0) * self.spacing;
+            x[a] += (c[a] as f64 - 1.0) * self.spacing;
         }
         x
     }

@@ -18,9 +18,10 @@ use serde::{Deserialize, Serialize};
 
 /// Arrangement of springs and dashpots in a bond (seed 003 §2.1 "springs
 /// and dampers in series and/or parallel").
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub enum Damping {
     /// No dashpot.
+    #[default]
     None,
     /// Kelvin–Voigt: spring E|ξ| parallel to a dashpot η|ξ| (eq 5's c).
     KelvinVoigt {
@@ -65,10 +66,14 @@ pub struct Plasticity {
     pub hardening_ratio: f64,
 }
 
-/// A lattice material.
+/// A lattice material. In a scenario file every field but `young` and
+/// `eos` may be left out (no damping, plasticity, fracture, f⊥, heat
+/// conduction or chemistry); `name` is the key of the material map.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LatticeMaterial {
     /// Name, for messages.
+    #[serde(default)]
     pub name: String,
     /// Young's modulus E, Pa (k = E|ξ|).
     pub young: f64,
@@ -76,19 +81,26 @@ pub struct LatticeMaterial {
     /// ρ₀c₀² the bulk modulus K of eq 11.
     pub eos: MieGruneisenThermal,
     /// Thermal conductivity κ, W/(m·K).
+    #[serde(default)]
     pub conductivity: f64,
     /// Spring/dashpot arrangement.
+    #[serde(default)]
     pub damping: Damping,
     /// Hysteretic damping, if any.
+    #[serde(default)]
     pub hysteretic: Option<Hysteretic>,
     /// Plastic springs, if any.
+    #[serde(default)]
     pub plasticity: Option<Plasticity>,
     /// Fracture strain (tension); `None` for unbreakable springs.
+    #[serde(default)]
     pub fracture_strain: Option<f64>,
     /// Modulus of the perpendicular corrective force (eq 10b f⊥), Pa; 0
     /// switches it off.
+    #[serde(default)]
     pub perpendicular_modulus: f64,
     /// Chemical enthalpy h_k of this material's component (eq 10c), J/kg.
+    #[serde(default)]
     pub enthalpy: f64,
 }
 
@@ -262,7 +274,7 @@ impl PairLaw {
 }
 
 /// Internal state of one spring.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct SpringState {
     /// Plastic extension s_p, m.
     pub plastic: f64,

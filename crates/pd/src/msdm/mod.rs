@@ -12,6 +12,7 @@
 //!   energy equation (eqs 10c, 11–15).
 //! - [`integrate`]: explicit Euler, velocity Verlet, implicit Euler and
 //!   implicit RK2 (§2.3, eqs 16–22).
+//! - [`solver`]: the lattice behind the core `Solver` trait.
 //! - [`sparse`]: the sparse matrix and iterative solver of the implicit
 //!   steps.
 //! - [`cases`]: the verification cases V-OSC, V-ROD and V-IMPEDANCE
@@ -29,6 +30,7 @@ pub mod geometry;
 pub mod integrate;
 pub mod law;
 pub mod model;
+pub mod solver;
 pub mod sparse;
 
 pub use geometry::{dual_volume, Dim, Direction, Geometry, NodeKind};

@@ -63,6 +63,11 @@ pub struct MsdmOptions {
     pub thermal: bool,
     /// Relative residual of the implicit linear solves.
     pub solver_tolerance: f64,
+    /// Safety factor on the explicit stable step.
+    pub safety_factor: f64,
+    /// Fixed step of the implicit integrators when run as a `Solver`
+    /// (`None`: the explicit limit), s.
+    pub time_step: Option<f64>,
 }
 
 impl Default for MsdmOptions {
@@ -76,6 +81,8 @@ impl Default for MsdmOptions {
             initial_temperature: 300.0,
             thermal: true,
             solver_tolerance: 1e-12,
+            safety_factor: 0.8,
+            time_step: None,
         }
     }
 }
@@ -108,7 +115,8 @@ pub struct MsdmLattice {
     pub options: MsdmOptions,
     /// Time, s.
     pub time: f64,
-    /// Positions x, per axis, m.
+    /// Positions x, per axis, m. After changing `x`, `u` or `body` between
+    /// steps call [`MsdmLattice::mark_modified`].
     pub x: [Vec<f64>; 3],
     /// Velocities u, per axis, m/s.
     pub u: [Vec<f64>; 3],
@@ -293,6 +301,19 @@ impl MsdmLattice {
                 options.surroundings.conductivity
             )));
         }
+        if !(options.safety_factor > 0.0 && options.safety_factor <= 1.0) {
+            return Err(MsdmError::Invalid(format!(
+                "lattice: field `safety_factor` = {}, expected a value in (0, 1]",
+                options.safety_factor
+            )));
+        }
+        if let Some(dt) = options.time_step {
+            if !(dt > 0.0 && dt.is_finite()) {
+                return Err(MsdmError::Invalid(format!(
+                    "lattice: field `time_step` = {dt}, expected a finite value > 0"
+                )));
+            }
+        }
         if !(options.solver_tolerance > 0.0 && options.solver_tolerance < 1.0) {
             return Err(MsdmError::Invalid(format!(
                 "lattice: field `solver_tolerance` = {}, expected a value in (0, 1)",
@@ -389,6 +410,13 @@ impl MsdmLattice {
     /// Whether the lattice has no nodes.
     pub fn is_empty(&self) -> bool {
         self.geom.is_empty()
+    }
+
+    /// Declares that positions, velocities or body forces were changed
+    /// from outside between steps, so the forces kept by velocity Verlet
+    /// from the previous step are recomputed.
+    pub fn mark_modified(&mut self) {
+        self.forces_current = false;
     }
 
     /// Whether any spring law has a parallel dashpot (velocity-dependent
