@@ -1,0 +1,315 @@
+//! The lattice behind the core `Solver` trait, so a scenario pipeline can
+//! run it: stable step, conservation totals, node output as particles and
+//! point sampling.
+
+use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
+use serde::{Deserialize, Serialize};
+
+use super::law::SpringState;
+use super::model::{Integrator, MsdmLattice};
+
+/// The evolving state of a lattice, for checkpoints.
+#[derive(Serialize, Deserialize)]
+struct LatticeState {
+    time: f64,
+    x: [Vec<f64>; 3],
+    u: [Vec<f64>; 3],
+    mass_k: Vec<f64>,
+    mass: Vec<f64>,
+    volume: Vec<f64>,
+    pressure: Vec<f64>,
+    temperature: Vec<f64>,
+    energy: Vec<f64>,
+    status: Vec<u8>,
+    spring: Vec<SpringState>,
+}
+
+impl MsdmLattice {
+    /// Largest explicit step: 2/ω_max times the safety factor, with
+    /// ω²_max ≤ max_i Σ_j k_ij (1/m_i + 1/m_j) (Gershgorin; exact for a
+    /// uniform chain, 4k/m), k_ij the spring's tangent plus perpendicular
+    /// stiffness; and, with the energy equation on, the explicit
+    /// conduction limit 2 / max_i Σ_j g_ij (1/C_i + 1/C_j), g = κ_ij h and
+    /// C = m c_v. Dashpots are not included (they are assumed light).
+    pub fn explicit_stable_dt(&self) -> f64 {
+        let nd = self.geom.directions.len();
+        let n = self.len();
+        let mut mech = vec![0.0f64; n];
+        for i in 0..n {
+            for d in 0..nd {
+                if self.status[i * nd + d] != super::model::INTACT {
+                    continue;
+                }
+                let j = (i as isize + self.geom.directions[d].offset) as usize;
+                let b = self.eval_bond(i, d, self.spring[i * nd + d]);
+                let k = b.k_t.abs() + b.k_perp;
+                let w = k * (1.0 / self.mass[i] + 1.0 / self.mass[j]);
+                mech[i] += w;
+                mech[j] += w;
+            }
+        }
+        let w2 = mech.iter().cloned().fold(0.0, f64::max);
+        let mut dt = if w2 > 0.0 {
+            2.0 / w2.sqrt()
+        } else {
+            f64::INFINITY
+        };
+        if self.options.thermal {
+            let mut lam = 0.0f64;
+            for i in 0..n {
+                if let Some(m) = self.material_of(i) {
+                    let g = self.materials[m].conductivity * self.geom.spacing;
+                    let c = self.mass[i] * self.materials[m].eos.cv;
+                    // At most 2 d neighbours with g ≤ max(κ) h each.
+                    lam = lam.max(
+                        4.0 * self.geom.dim.count() as f64
+                            * g.max(self.options.surroundings.conductivity * self.geom.spacing)
+                            / c,
+                    );
+                }
+            }
+            if lam > 0.0 {
+                dt = dt.min(2.0 / lam);
+            }
+        }
+        dt * self.options.safety_factor
+    }
+}
+
+impl Solver for MsdmLattice {
+    fn name(&self) -> &str {
+        "lattice"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The configured step for the implicit integrators if one is set,
+    /// else the explicit limit of [`MsdmLattice::explicit_stable_dt`].
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let dt = match (self.options.integrator, self.options.time_step) {
+            (Integrator::ImplicitEuler | Integrator::ImplicitRk2, Some(dt)) => dt,
+            _ => self.explicit_stable_dt(),
+        };
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(SolverError::Other(format!(
+                "lattice: no finite stable step ({dt} s): no springs and no conduction; set `time_step`"
+            )));
+        }
+        Ok(dt)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.step(dt)
+            .map_err(|e| SolverError::Other(format!("lattice: {e}")))?;
+        let n = self.len();
+        if let Some(i) = (0..n).find(|&i| {
+            !(self.u[0][i].is_finite() && self.u[1][i].is_finite() && self.u[2][i].is_finite())
+        }) {
+            return Err(SolverError::Other(format!(
+                "lattice: non-finite velocity at node {:?} at t = {:e} s",
+                self.geom.coords(i),
+                self.time
+            )));
+        }
+        Ok(())
+    }
+
+    /// Mass, momentum, and kinetic + spring + internal (Σ m e) energy.
+    fn conservation_totals(&self) -> ConservationTotals {
+        let internal: f64 = (0..self.len())
+            .filter(|&i| self.geom.is_solid(i))
+            .map(|i| self.mass[i] * self.energy[i])
+            .sum();
+        ConservationTotals {
+            mass: self.mass.iter().sum(),
+            momentum: self.momentum(),
+            energy: self.kinetic_energy() + self.spring_energy() + internal,
+        }
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        let solid = (0..self.len()).filter(|&i| self.geom.is_solid(i)).count();
+        (solid as f64, "node-updates")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let s = LatticeState {
+            time: self.time,
+            x: self.x.clone(),
+            u: self.u.clone(),
+            mass_k: self.mass_k.clone(),
+            mass: self.mass.clone(),
+            volume: self.volume.clone(),
+            pressure: self.pressure.clone(),
+            temperature: self.temperature.clone(),
+            energy: self.energy.clone(),
+            status: self.status.clone(),
+            spring: self.spring.clone(),
+        };
+        bincode::serialize(&s).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: LatticeState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        if s.mass.len() != self.len() || s.status.len() != self.status.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has {} nodes and {} bond slots, the lattice {} and {}",
+                s.mass.len(),
+                s.status.len(),
+                self.len(),
+                self.status.len()
+            )));
+        }
+        self.time = s.time;
+        self.x = s.x;
+        self.u = s.u;
+        self.mass_k = s.mass_k;
+        self.mass = s.mass;
+        self.volume = s.volume;
+        self.pressure = s.pressure;
+        self.temperature = s.temperature;
+        self.energy = s.energy;
+        self.status = s.status;
+        self.spring = s.spring;
+        self.mark_modified();
+        Ok(())
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<brisance_core::CellData, SolverError> {
+        Err(SolverError::Other(format!(
+            "the lattice has no cell fields (asked for {fields:?}); its nodes are written as particles"
+        )))
+    }
+
+    /// The value at the solid node nearest `point` (reference positions):
+    /// `displacement_x|y|z`, `velocity_x|y|z`, `temperature`, `pressure`,
+    /// `density`.
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let mut best = (f64::INFINITY, usize::MAX);
+        for i in 0..self.len() {
+            if !self.geom.is_solid(i) {
+                continue;
+            }
+            let p = self.geom.reference_position(i);
+            let d = (0..3).map(|a| (p[a] - point[a]).powi(2)).sum::<f64>();
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        let i = best.1;
+        if i == usize::MAX {
+            return Err(SolverError::Other(
+                "lattice: no solid node to sample".into(),
+            ));
+        }
+        let p = self.geom.reference_position(i);
+        out.clear();
+        for f in fields {
+            out.push(match f.as_str() {
+                "displacement_x" => self.x[0][i] - p[0],
+                "displacement_y" => self.x[1][i] - p[1],
+                "displacement_z" => self.x[2][i] - p[2],
+                "velocity_x" => self.u[0][i],
+                "velocity_y" => self.u[1][i],
+                "velocity_z" => self.u[2][i],
+                "temperature" => self.temperature[i],
+                "pressure" => self.pressure[i],
+                "density" => self.mass[i] / self.volume[i],
+                other => {
+                    return Err(SolverError::Other(format!(
+                        "lattice: unknown sample field `{other}`; known: displacement_x|y|z, velocity_x|y|z, temperature, pressure, density"
+                    )))
+                }
+            });
+        }
+        Ok(())
+    }
+
+    /// The solid nodes with `velocity_x|y|z`, `temperature`, `pressure`,
+    /// `density`, `mass`, `volume`, `material`.
+    fn particle_data(&self) -> Option<ParticleData> {
+        let ids: Vec<usize> = (0..self.len()).filter(|&i| self.geom.is_solid(i)).collect();
+        let col = |f: &dyn Fn(usize) -> f64| ids.iter().map(|&i| f(i)).collect::<Vec<f64>>();
+        Some(ParticleData {
+            positions: ids
+                .iter()
+                .map(|&i| [self.x[0][i], self.x[1][i], self.x[2][i]])
+                .collect(),
+            fields: vec![
+                ("velocity_x".into(), col(&|i| self.u[0][i])),
+                ("velocity_y".into(), col(&|i| self.u[1][i])),
+                ("velocity_z".into(), col(&|i| self.u[2][i])),
+                ("temperature".into(), col(&|i| self.temperature[i])),
+                ("pressure".into(), col(&|i| self.pressure[i])),
+                ("density".into(), col(&|i| self.mass[i] / self.volume[i])),
+                ("mass".into(), col(&|i| self.mass[i])),
+                ("volume".into(), col(&|i| self.volume[i])),
+                (
+                    "material".into(),
+                    col(&|i| self.material_of(i).map_or(-1.0, |m| m as f64)),
+                ),
+            ],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::cases::oscillator;
+    use super::*;
+
+    #[test]
+    fn stable_step_of_a_chain_is_two_over_omega_max() {
+        // Oscillator: one free node of mass m on a spring k to a held node
+        // of mass m/…: Gershgorin gives k(1/m₀ + 1/m₁) on each end; the
+        // held node is a real node of the chain (mass ρ·0.5).
+        let mut lat = oscillator(Integrator::VelocityVerlet).unwrap();
+        lat.options.safety_factor = 1.0;
+        let m = lat.mass[lat.geom.solid_index(1, 0, 0)];
+        let m0 = lat.mass[lat.geom.solid_index(0, 0, 0)];
+        let w2 = 0.35 * (1.0 / m + 1.0 / m0);
+        assert!((lat.explicit_stable_dt() - 2.0 / w2.sqrt()).abs() < 1e-14);
+        lat.options.integrator = Integrator::ImplicitEuler;
+        lat.options.time_step = Some(0.5);
+        assert_eq!(lat.stable_dt().unwrap(), 0.5);
+    }
+
+    #[test]
+    fn totals_sample_and_particles() {
+        let mut lat = oscillator(Integrator::VelocityVerlet).unwrap();
+        let t = lat.conservation_totals();
+        assert!((t.mass - 1.0 / 9.0).abs() < 1e-15);
+        assert!((t.momentum[0] - 0.1 / 18.0).abs() < 1e-16);
+        let mut out = Vec::new();
+        lat.sample([1.0, 0.0, 0.0], &["velocity_x".into()], &mut out)
+            .unwrap();
+        assert_eq!(out, vec![0.1]);
+        assert!(lat
+            .sample([1.0, 0.0, 0.0], &["nope".into()], &mut out)
+            .unwrap_err()
+            .to_string()
+            .contains("`nope`"));
+        let p = lat.particle_data().unwrap();
+        assert_eq!(p.positions.len(), 2);
+        let saved = lat.save_state().unwrap();
+        Solver::advance(&mut lat, 0.01).unwrap();
+        assert!((lat.time - 0.01).abs() < 1e-16);
+        let after = (lat.x.clone(), lat.u.clone());
+        lat.restore_state(&saved).unwrap();
+        assert_eq!(lat.time, 0.0);
+        Solver::advance(&mut lat, 0.01).unwrap();
+        assert_eq!((lat.x.clone(), lat.u.clone()), after);
+    }
+}
