@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod lattice_cases;
 mod mpm_throughput;
 mod pd_cases;
 mod plot;
@@ -719,7 +720,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 10] = [
+const CASES: [&str; 13] = [
     "sod",
     "smooth",
     "cj",
@@ -728,6 +729,9 @@ const CASES: [&str; 10] = [
     "taylor",
     "pd-cyl",
     "pd-frag",
+    "osc",
+    "rod",
+    "impedance",
     "mpm-throughput",
     "throughput",
 ];
@@ -781,6 +785,15 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("pd-frag") {
         pd_cases::e_pd_frag(&mut body, &img)?;
+    }
+    if run("osc") {
+        lattice_cases::v_osc(&mut body, &img)?;
+    }
+    if run("rod") {
+        lattice_cases::v_rod(&mut body, &img)?;
+    }
+    if run("impedance") {
+        lattice_cases::v_impedance(&mut body)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;
