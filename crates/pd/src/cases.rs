@@ -179,6 +179,8 @@ pub struct WallHistory {
     pub radial_displacement: Vec<f64>,
     /// Their mean radial velocity, m/s.
     pub radial_velocity: Vec<f64>,
+    /// Total energy at the start ([`EnergyBudget::total`]), J.
+    pub initial_energy: f64,
 }
 
 /// Runs `case` to `end_time`, sampling the mid-length outer wall every
@@ -203,7 +205,10 @@ pub fn run_cylinder(
     if ring.is_empty() {
         return Err("no wall node at mid-length".into());
     }
-    let mut history = WallHistory::default();
+    let mut history = WallHistory {
+        initial_energy: EnergyBudget::of(&s).total(),
+        ..WallHistory::default()
+    };
     let mut sample = |s: &PdSolver| {
         let (mut u, mut v) = (0.0, 0.0);
         for &i in &ring {
@@ -234,6 +239,90 @@ pub fn run_cylinder(
     }
     sample(&s);
     Ok((s, history))
+}
+
+/// Where the energy of a tube run is (J): the products' stored energy
+/// W(X)V and chemical energy not yet released, the kinetic energy of the
+/// case and of the products, and the elastic energy of the case bonds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyBudget {
+    /// Σ W(X_i) V_i over the explosive nodes (W(1) V_i before detonation).
+    pub products: f64,
+    /// Kinetic energy of the case nodes.
+    pub case_kinetic: f64,
+    /// Kinetic energy of the products nodes.
+    pub products_kinetic: f64,
+    /// Bond energy of the case.
+    pub bonds: f64,
+}
+
+impl EnergyBudget {
+    /// The budget of the solver's current state (material 0 is the case,
+    /// as [`TubeCase::setup`] builds it).
+    pub fn of(s: &PdSolver) -> Self {
+        let (mut case_kinetic, mut products_kinetic) = (0.0, 0.0);
+        for i in 0..s.node_count() {
+            let v = s.velocities()[i];
+            let k = 0.5 * s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            if s.materials()[i] == 0 {
+                case_kinetic += k;
+            } else {
+                products_kinetic += k;
+            }
+        }
+        Self {
+            products: s.gas_energy(),
+            case_kinetic,
+            products_kinetic,
+            bonds: s.bond_energy(),
+        }
+    }
+
+    /// The sum of the four parts.
+    pub fn total(&self) -> f64 {
+        self.products + self.case_kinetic + self.products_kinetic + self.bonds
+    }
+}
+
+/// Products nodes that have gone through the case: those whose current
+/// distance from the axis exceeds that of every case node in their axial
+/// slab of one spacing and the two slabs beside it, counted over the nodes whose
+/// current axial position lies in `z_range` (m). Returns (through,
+/// products nodes counted).
+pub fn products_through_case(s: &PdSolver, spacing: f64, z_range: (f64, f64)) -> (usize, usize) {
+    let n = s.node_count();
+    let current = |i: usize| {
+        let x = s.reference()[i];
+        let u = s.displacement(i);
+        [x[0] + u[0], x[1] + u[1], x[2] + u[2]]
+    };
+    // Largest case radius per axial slab of one spacing (slabs cover z_range
+    // with one spare on each side).
+    let slabs = ((z_range.1 - z_range.0) / spacing).ceil().max(0.0) as usize + 3;
+    let slab = |z: f64| ((z - z_range.0) / spacing + 1.0).floor();
+    let mut outer = vec![f64::NEG_INFINITY; slabs];
+    for i in (0..n).filter(|&i| s.materials()[i] == 0) {
+        let y = current(i);
+        let b = slab(y[2]);
+        if b >= 0.0 && (b as usize) < slabs {
+            let r = y[0].hypot(y[1]);
+            outer[b as usize] = outer[b as usize].max(r);
+        }
+    }
+    let (mut through, mut counted) = (0, 0);
+    for i in (0..n).filter(|&i| s.materials()[i] != 0) {
+        let y = current(i);
+        if y[2] < z_range.0 || y[2] > z_range.1 {
+            continue;
+        }
+        counted += 1;
+        let b = slab(y[2]) as usize;
+        let edge = outer[b - 1].max(outer[b]).max(outer[b + 1]);
+        if y[0].hypot(y[1]) > edge {
+            through += 1;
+        }
+    }
+    (through, counted)
 }
 
 /// Fragment statistics of a fragmenting run.
@@ -377,5 +466,77 @@ impl BondBenchBlock {
             material: &self.material,
             laws: &self.laws,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 5.2 mm slice of the copper tube at h = 1.3 mm.
+    fn slice() -> (TubeCase, PdSolver) {
+        let case = copper_cylinder(1.3e-3, 5.2e-3);
+        let s = PdSolver::new(case.setup().unwrap()).unwrap();
+        (case, s)
+    }
+
+    #[test]
+    fn energy_budget_at_rest_is_the_chemical_energy_and_moving_adds_half_m_v2() {
+        let (_, mut s) = slice();
+        let b = EnergyBudget::of(&s);
+        let gas = tnt_products().unwrap();
+        let volume: f64 = (0..s.node_count())
+            .filter(|&i| s.materials()[i] == 1)
+            .map(|i| s.reference()[i][3])
+            .sum();
+        let w1 = gas.isentrope.energy(1.0) * volume;
+        assert!((b.products - w1).abs() <= 1e-12 * w1, "{b:?} vs {w1}");
+        assert_eq!(
+            (b.case_kinetic, b.products_kinetic, b.bonds),
+            (0.0, 0.0, 0.0)
+        );
+        s.set_velocities(|_| [3.0, 0.0, 4.0]);
+        let b = EnergyBudget::of(&s);
+        let (mut mc, mut mg) = (0.0, 0.0);
+        for i in 0..s.node_count() {
+            if s.materials()[i] == 0 {
+                mc += s.mass(i);
+            } else {
+                mg += s.mass(i);
+            }
+        }
+        assert!((b.case_kinetic - 12.5 * mc).abs() <= 1e-12 * 12.5 * mc);
+        assert!((b.products_kinetic - 12.5 * mg).abs() <= 1e-12 * 12.5 * mg);
+        assert!((b.total() - (w1 + 12.5 * (mc + mg))).abs() <= 1e-12 * b.total());
+    }
+
+    #[test]
+    fn a_products_node_thrown_through_the_case_is_counted() {
+        let (case, mut s) = slice();
+        let z = (0.0, case.length);
+        let (through, counted) = products_through_case(&s, case.spacing, z);
+        let gas = (0..s.node_count())
+            .filter(|&i| s.materials()[i] == 1)
+            .count();
+        assert_eq!((through, counted), (0, gas));
+        // One products node near mid-length on the +x side, 10⁷ m/s outward
+        // for 1 ns: 10 mm, well past the 15.3 mm outer radius.
+        let pick = (0..s.node_count())
+            .filter(|&i| s.materials()[i] == 1)
+            .max_by(|&a, &b| {
+                let key = |i: usize| s.reference()[i][0] - (s.reference()[i][2] - 2.6e-3).abs();
+                key(a).total_cmp(&key(b))
+            })
+            .unwrap();
+        let target = s.reference()[pick];
+        s.set_velocities(|x| {
+            if x == [target[0], target[1], target[2]] {
+                [1.0e7, 0.0, 0.0]
+            } else {
+                [0.0; 3]
+            }
+        });
+        s.advance(1.0e-9).unwrap();
+        assert_eq!(products_through_case(&s, case.spacing, z), (1, gas));
     }
 }
