@@ -332,6 +332,7 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
         boundaries,
         mass_cutoff: mpm.mass_cutoff,
         bulk_viscosity: mpm.bulk_viscosity.option(),
+        anti_locking: mpm.anti_locking,
         ..Default::default()
     };
     MpmSolver::new(level, vec![model], particles, options).map_err(|e| format!("pipeline: {e}"))
@@ -477,6 +478,16 @@ mod tests {
         }
         assert_eq!(built.materials, shipped.materials);
         assert_eq!(built.initial, shipped.initial);
+    }
+
+    #[test]
+    fn the_anti_locking_option_is_off_as_shipped_and_reaches_the_solver() {
+        use brisance_mpm::AntiLocking;
+        let off = taylor_solver(&taylor_scenario(2, 1e-6, &[]).unwrap()).unwrap();
+        assert_eq!(off.options().anti_locking, AntiLocking::Off);
+        let set = ["pipeline.anti_locking=FBar".to_string()];
+        let on = taylor_solver(&taylor_scenario(2, 1e-6, &set).unwrap()).unwrap();
+        assert_eq!(on.options().anti_locking, AntiLocking::FBar);
     }
 
     #[test]

@@ -443,6 +443,7 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
         boundaries: std::array::from_fn(|k| boundary(faces[k].1)),
         mass_cutoff: mpm.mass_cutoff,
         bulk_viscosity: mpm.bulk_viscosity.option(),
+        anti_locking: mpm.anti_locking,
         ..Default::default()
     };
     let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());

@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
 use brisance_mpm::{
-    BulkViscosity, LoadHistory, SetQuantity, ShapeFunction, SurfaceLoadKind, UpdateScheme,
+    AntiLocking, BulkViscosity, LoadHistory, SetQuantity, ShapeFunction, SurfaceLoadKind,
+    UpdateScheme,
 };
 use serde::{Deserialize, Serialize};
 
@@ -179,6 +180,11 @@ pub struct MpmConfig {
     /// Artificial bulk viscosity of the particles (default `Off`).
     #[serde(default)]
     pub bulk_viscosity: BulkViscosityConfig,
+    /// Volumetric anti-locking of the stress update: `Off` (the default)
+    /// or `FBar`, the ΔF̄ volume averaging of Coombs et al. (2018) over
+    /// the particles of each cell (docs/physics/mpm/anti_locking.md).
+    #[serde(default)]
+    pub anti_locking: AntiLocking,
     /// Prescribed tractions on particle surfaces (seed 001 eq 20).
     #[serde(default)]
     pub surface_loads: Vec<SurfaceLoadConfig>,

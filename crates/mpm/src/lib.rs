@@ -23,6 +23,8 @@
 //!   surface layer (seed 001 eq 20), with a time history.
 //! - [`viscosity`]: the artificial bulk viscosity q of shocked particles
 //!   (von Neumann–Richtmyer quadratic and Landshoff linear terms).
+//! - [`anti_locking`]: the ΔF̄ volume averaging of Coombs et al. (2018)
+//!   against volumetric locking (option `AntiLocking::FBar`).
 //! - [`generate`]: particles from geometric shapes (box, sphere, cylinder,
 //!   cylindrical shell, half-space), `ppc` per cell per direction.
 //!
@@ -30,6 +32,7 @@
 //! `docs/physics/mpm/shape_functions.md` and
 //! `docs/physics/mpm/explicit_mpm.md`. Units are SI throughout.
 
+pub mod anti_locking;
 pub mod boundary;
 pub mod generate;
 pub mod grid_nodes;
@@ -43,6 +46,7 @@ pub mod traction;
 pub mod transfer;
 pub mod viscosity;
 
+pub use anti_locking::AntiLocking;
 pub use boundary::GridBoundary;
 pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
 pub use grid_nodes::{GridNodes, NodeLattice};

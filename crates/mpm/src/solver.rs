@@ -49,11 +49,12 @@
 //! energy), and zero in a cell without particles.
 //! `mass_density` is Σ m_p / V_cell, the particle mass smeared over the cell.
 
+use crate::anti_locking::{AntiLocking, PatchAverage};
 use crate::boundary::{GridBoundary, FACE_NAMES};
 use crate::grid_nodes::GridNodes;
 use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
 use crate::traction::{self, SurfaceLoad};
-use crate::transfer::{BinError, GridMap, ParticleBins};
+use crate::transfer::{BinError, GridMap, P2gSums, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
@@ -83,6 +84,10 @@ pub struct MpmOptions {
     /// Artificial bulk viscosity of the particles ([`crate::viscosity`]);
     /// `None` (the default) adds none.
     pub bulk_viscosity: Option<BulkViscosity>,
+    /// Volumetric anti-locking of the stress update
+    /// ([`crate::anti_locking`]); `Off` by default.
+    #[serde(default)]
+    pub anti_locking: AntiLocking,
 }
 
 impl Default for MpmOptions {
@@ -96,6 +101,7 @@ impl Default for MpmOptions {
             mass_cutoff: 1e-3,
             min_dt: 1e-14,
             bulk_viscosity: None,
+            anti_locking: AntiLocking::Off,
         }
     }
 }
@@ -191,6 +197,8 @@ struct Workspace {
     map: GridMap,
     nodes: GridNodes,
     bins: ParticleBins,
+    /// The ΔF̄ buffers (empty unless the option is on).
+    average: PatchAverage,
 }
 
 /// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
@@ -421,6 +429,7 @@ impl MpmSolver {
                 map,
                 nodes: GridNodes::new(map.lattice),
                 bins,
+                average: PatchAverage::default(),
             },
             bulk,
             ids,
@@ -484,8 +493,11 @@ impl MpmSolver {
             particles: self.particles.state_bytes()
                 + size_of_val(self.bulk.as_slice())
                 + size_of_val(self.ids.as_slice())
-                + self.work.bins.particle_bytes(),
-            grid: self.work.nodes.bytes() + self.work.bins.block_bytes(),
+                + self.work.bins.particle_bytes()
+                + self.work.average.particle_bytes(),
+            grid: self.work.nodes.bytes()
+                + self.work.bins.block_bytes()
+                + self.work.average.cell_bytes(),
         }
     }
 
@@ -597,6 +609,12 @@ impl MpmSolver {
     /// update the stresses, remove the particles that left.
     fn step(&mut self, dt: f64) -> Result<(), SolverError> {
         self.sort_particles()?;
+        if self.options.anti_locking == AntiLocking::FBar {
+            let grid = &self.level.geometry;
+            if let Err(e) = self.work.average.assign(grid, &self.particles.position) {
+                return Err(self.particle_error(e.index, e.to_string()));
+            }
+        }
         let mut surface_forces = std::mem::take(&mut self.surface_forces);
         if let Err((p, why)) = traction::surface_node_forces(
             &self.loads,
@@ -630,7 +648,14 @@ impl MpmSolver {
         let ps = &mut self.particles;
         let bulk = &mut self.bulk;
         // G2P and the stress update share one visit of each particle
-        // (step::g2p_and_update_stresses): L_p is not stored.
+        // (step::g2p_and_update_stresses): L_p is not stored. With the ΔF̄
+        // averaging (crate::anti_locking), L_p of every particle is stored
+        // and averaged over its cell first, and the internal force is formed
+        // with the cell-averaged pressure; the cells are those of x_pⁿ.
+        let mut average = match self.options.anti_locking {
+            AntiLocking::Off => None,
+            AntiLocking::FBar => Some(&mut work.average),
+        };
         let failure = match params.scheme {
             UpdateScheme::Usf => {
                 let parts = G2pParts {
@@ -639,14 +664,22 @@ impl MpmSolver {
                     gradient: Some(NodeVelocity::Start),
                 };
                 step::p2g_velocity(&t, ps, nodes, &params);
-                let failure = step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts);
+                let failure = step::g2p_and_update_stresses_averaged(
+                    &t,
+                    ps,
+                    bulk,
+                    nodes,
+                    &params,
+                    parts,
+                    average.as_deref_mut(),
+                );
                 if failure.is_none() {
                     let parts = G2pParts {
                         velocity: true,
                         position: true,
                         gradient: None,
                     };
-                    step::p2g_integrate(&t, ps, nodes, &params);
+                    step::p2g_integrate_averaged(&t, ps, nodes, &params, P2gSums::Force, average);
                     step::g2p(&t, ps, nodes, dt, parts, &mut Vec::new());
                 }
                 failure
@@ -657,8 +690,9 @@ impl MpmSolver {
                     position: true,
                     gradient: Some(NodeVelocity::End),
                 };
-                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
-                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
+                let all = P2gSums::All;
+                step::p2g_integrate_averaged(&t, ps, nodes, &params, all, average.as_deref_mut());
+                step::g2p_and_update_stresses_averaged(&t, ps, bulk, nodes, &params, parts, average)
             }
             UpdateScheme::Musl => {
                 let parts = G2pParts {
@@ -666,9 +700,10 @@ impl MpmSolver {
                     position: true,
                     gradient: Some(NodeVelocity::Remapped),
                 };
-                step::p2g_velocity_and_integrate(&t, ps, nodes, &params);
+                let all = P2gSums::All;
+                step::p2g_integrate_averaged(&t, ps, nodes, &params, all, average.as_deref_mut());
                 step::g2p_velocity_and_remap(&t, ps, nodes, &params);
-                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
+                step::g2p_and_update_stresses_averaged(&t, ps, bulk, nodes, &params, parts, average)
             }
         };
         self.surface_forces = surface_forces;

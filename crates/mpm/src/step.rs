@@ -157,7 +157,24 @@ pub fn p2g_integrate(
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
-    transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::Force);
+    p2g_integrate_stress(t, particles, &particles.stress, nodes, params);
+}
+
+/// [`p2g_integrate`] with the internal force formed from `stress` instead
+/// of the particles' own (the cell-averaged pressure of the ΔF̄ option,
+/// [`crate::anti_locking::PatchAverage::average_pressure`]).
+pub fn p2g_integrate_stress(
+    t: &Transfer,
+    particles: &Particles,
+    stress: &[[f64; 6]],
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    let inputs = P2gParticles {
+        stress,
+        ..p2g_inputs(particles)
+    };
+    transfer::p2g(t.map, t.bins, inputs, nodes, P2gSums::Force);
     crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
     nodes.update(&params.node_update(), NodeStage::Integrate);
 }
@@ -171,7 +188,23 @@ pub fn p2g_velocity_and_integrate(
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
-    transfer::p2g(t.map, t.bins, p2g_inputs(particles), nodes, P2gSums::All);
+    p2g_velocity_and_integrate_stress(t, particles, &particles.stress, nodes, params);
+}
+
+/// [`p2g_velocity_and_integrate`] with the internal force formed from
+/// `stress` instead of the particles' own (see [`p2g_integrate_stress`]).
+pub fn p2g_velocity_and_integrate_stress(
+    t: &Transfer,
+    particles: &Particles,
+    stress: &[[f64; 6]],
+    nodes: &mut GridNodes,
+    params: &StepParams,
+) {
+    let inputs = P2gParticles {
+        stress,
+        ..p2g_inputs(particles)
+    };
+    transfer::p2g(t.map, t.bins, inputs, nodes, P2gSums::All);
     crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
     nodes.update(&params.node_update(), NodeStage::VelocityAndIntegrate);
 }
@@ -322,6 +355,76 @@ pub fn g2p_and_update_stresses(
         );
         chunk.update_stresses(l, params)
     })
+}
+
+/// G2P (the `parts`) and the stress update with the ΔF̄ volume averaging
+/// of [`crate::anti_locking`]: G2P stores every L_p in
+/// `average.gradient`, the volume changes are averaged over each cell
+/// (the cells `average` was assigned at the start of the step, from
+/// x_pⁿ) with the volumes Vⁿ as weights, and [`update_stresses`] runs on
+/// the averaged gradients L̄_p. Three passes instead of the fused one,
+/// since a particle's L̄ needs the L of every particle of its cell.
+/// `parts.gradient` must be set.
+pub fn g2p_average_and_update_stresses(
+    t: &Transfer,
+    particles: &mut Particles,
+    bulk: &mut [BulkViscosityState],
+    nodes: &GridNodes,
+    params: &StepParams,
+    parts: G2pParts,
+    average: &mut crate::anti_locking::PatchAverage,
+) -> Option<ParticleFailure> {
+    assert!(
+        parts.gradient.is_some(),
+        "the stress update needs a velocity gradient"
+    );
+    g2p(t, particles, nodes, params.dt, parts, &mut average.gradient);
+    average.average(&particles.volume, params.dt);
+    update_stresses(particles, &average.gradient, bulk, params)
+}
+
+/// What [`p2g_integrate`] or [`p2g_velocity_and_integrate`] (per
+/// `sums`, [`P2gSums::Force`] or [`P2gSums::All`]) do, with the internal
+/// force formed from the cell-averaged pressure when `average` is given
+/// (the ΔF̄ option, [`crate::anti_locking`]; `average` assigned to the
+/// cells of x_pⁿ).
+pub fn p2g_integrate_averaged(
+    t: &Transfer,
+    particles: &Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+    sums: P2gSums,
+    average: Option<&mut crate::anti_locking::PatchAverage>,
+) {
+    let stress = match average {
+        Some(a) => {
+            a.average_pressure(&particles.volume, &particles.stress);
+            &a.stress
+        }
+        None => &particles.stress,
+    };
+    match sums {
+        P2gSums::Force => p2g_integrate_stress(t, particles, stress, nodes, params),
+        P2gSums::All => p2g_velocity_and_integrate_stress(t, particles, stress, nodes, params),
+        P2gSums::MassMomentum => unreachable!("no internal force in a mass-momentum P2G"),
+    }
+}
+
+/// [`g2p_and_update_stresses`], or [`g2p_average_and_update_stresses`]
+/// when `average` is given.
+pub fn g2p_and_update_stresses_averaged(
+    t: &Transfer,
+    particles: &mut Particles,
+    bulk: &mut [BulkViscosityState],
+    nodes: &GridNodes,
+    params: &StepParams,
+    parts: G2pParts,
+    average: Option<&mut crate::anti_locking::PatchAverage>,
+) -> Option<ParticleFailure> {
+    match average {
+        Some(a) => g2p_average_and_update_stresses(t, particles, bulk, nodes, params, parts, a),
+        None => g2p_and_update_stresses(t, particles, bulk, nodes, params, parts),
+    }
 }
 
 /// Particles per task of the stress-update passes.
