@@ -33,6 +33,12 @@ pub struct PipelineLimits {
 /// The limits of a pipeline.
 pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
+        Pipeline::Lattice(_) => PipelineLimits {
+            fields: &brisance_pd::msdm::MsdmLattice::FIELDS,
+            max_cfl: 1.0,
+            ghost: 1,
+            node_fields: &[],
+        },
         Pipeline::Peridynamics(_) => PipelineLimits {
             fields: &brisance_pd::PdSolver::FIELDS,
             max_cfl: 1.0,
@@ -164,6 +170,11 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 .map(|solver| Built::Solver(Box::new(solver)))
                 .map_err(|(path, message)| located(&path, message))
         }
+        Pipeline::Lattice(l) => {
+            return crate::lattice::build(s, l)
+                .map(|solver| Built::Solver(Box::new(solver)))
+                .map_err(|(path, message)| located(&path, message))
+        }
     };
     let level = Level::new(
         d.lower,
@@ -266,6 +277,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
         Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
+        Pipeline::Lattice(l) => return crate::lattice::describe(s, l),
     };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
     format!(

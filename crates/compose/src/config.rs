@@ -153,6 +153,8 @@ pub enum Pipeline {
     Mpm(MpmConfig),
     /// Bond-based peridynamics with the detonation model of seed 004.
     Peridynamics(crate::peridynamics::PdConfig),
+    /// The thermo-mechanical mass–spring–damper lattice of seed 003.
+    Lattice(crate::lattice::LatticeConfig),
 }
 
 /// Options of the MPM pipeline. Every initial region becomes particles of

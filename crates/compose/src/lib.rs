@@ -12,6 +12,7 @@
 pub mod build;
 pub mod config;
 pub mod error;
+pub mod lattice;
 pub mod library;
 pub mod load;
 pub mod peridynamics;

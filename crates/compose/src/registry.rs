@@ -115,6 +115,12 @@ pub const ENTRIES: &[Entry] = &[
         example: "Peridynamics(spacing: 0.001, materials: {\"steel\": Proportional(density: 7850, sound_speed: 3212, yield_strength: Some(7.5e8), critical_stretch: Some(0.11), kind: MicroPlastic)})",
     },
     Entry {
+        family: "pipeline",
+        name: "Lattice",
+        summary: "thermo-mechanical mass-spring-damper lattice (MSDM): springs k = E|ξ| with damping, plasticity and fracture, energy equation with Mie-Grüneisen heating and conduction; explicit Euler, Verlet, implicit Euler, implicit RK2 (seed 003 ch. 2)",
+        example: "Lattice(dimension: Two, spacing: 2e-5, materials: {\"hmx\": (young: 25.325e9, conductivity: 0.4)})",
+    },
+    Entry {
         family: "load",
         name: "Traction",
         summary: "traction vector per unit area on a particle surface layer, Pa (seed 001 eq 20)",

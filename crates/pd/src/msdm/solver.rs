@@ -25,6 +25,19 @@ struct LatticeState {
 }
 
 impl MsdmLattice {
+    /// Fields a gauge can sample ([`Solver::sample`]).
+    pub const FIELDS: [&'static str; 9] = [
+        "displacement_x",
+        "displacement_y",
+        "displacement_z",
+        "velocity_x",
+        "velocity_y",
+        "velocity_z",
+        "temperature",
+        "pressure",
+        "density",
+    ];
+
     /// Largest explicit step: 2/ω_max times the safety factor, with
     /// ω²_max ≤ max_i Σ_j k_ij (1/m_i + 1/m_j) (Gershgorin; exact for a
     /// uniform chain, 4k/m), k_ij the spring's tangent plus perpendicular
