@@ -3,6 +3,9 @@
 //!
 //! - [`state`]: conservative variables U = (ρ, ρu, ρv, ρw, E) (seed 001
 //!   eq 2) and primitive states.
+//! - [`gas`]: the gas law of the kernels: one species, or detonation
+//!   products in air carried as a mass fraction with a pressure-equilibrium
+//!   mixture rule.
 //! - [`viscosity`]: the adaptive artificial viscosity of seed 001 eqs 3–5.
 //! - [`sweep`]: one directional operator L_d(Δt/2): smoothing (eq 3) then a
 //!   two-step (Richtmyer) Lax–Wendroff step (the scheme eqs 7–9 stand for).
@@ -12,14 +15,18 @@
 //! The numerical choices the paper leaves open are written down in
 //! `docs/physics/fdm.md`.
 
+pub mod gas;
 pub mod solver;
 pub mod state;
 pub mod sweep;
 pub mod viscosity;
 
+pub use gas::{GasLaw, ProductsInAir};
 pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver};
 pub use state::PrimitiveState;
 pub use viscosity::ArtificialViscosity;
 
+#[cfg(test)]
+mod species_tests;
 #[cfg(test)]
 mod tests;

@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use brisance_core::{CellData, ConservationTotals, Eos, Solver, SolverError};
+use brisance_core::{CellData, ConservationTotals, Solver, SolverError};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     PatchFields,
@@ -11,8 +11,10 @@ use brisance_grid::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::gas::GasLaw;
 use crate::state::{
-    specific_internal_energy, PrimitiveState, CONSERVATIVE_NAMES, ENERGY, MOM, NVAR, RHO,
+    specific_internal_energy, PrimitiveState, CONSERVATIVE_NAMES, ENERGY, MOM, NVAR, RHO, SPECIES,
+    SPECIES_NAME,
 };
 use crate::sweep::{sweep_slab, PatchPtrs, SlabShape, GHOST};
 use crate::viscosity::ArtificialViscosity;
@@ -60,7 +62,7 @@ pub enum FdmBoundary {
     Reflective,
     /// Periodic (both faces of an axis).
     Periodic,
-    /// A fixed inflow/ambient state.
+    /// A fixed inflow/ambient state (pure air, Y = 0, with a species).
     Fixed(PrimitiveState),
 }
 
@@ -78,10 +80,11 @@ thread_local! {
     static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
 }
 
-/// The Lax–Wendroff finite-difference Euler solver of seed 001 §2.1 for one
-/// gas described by `E`.
+/// The Lax–Wendroff finite-difference Euler solver of seed 001 §2.1 for the
+/// gas law `E`: one gas (any `Eos`) or detonation products in air
+/// ([`crate::ProductsInAir`], with the partial density ρY stored).
 #[derive(Debug)]
-pub struct FdmSolver<E: Eos> {
+pub struct FdmSolver<E: GasLaw> {
     eos: E,
     level: Level,
     set: FieldSet,
@@ -95,15 +98,31 @@ pub struct FdmSolver<E: Eos> {
     steps: u64,
 }
 
-impl<E: Eos> FdmSolver<E> {
+impl<E: GasLaw> FdmSolver<E> {
+    /// Number of stored conservative fields (5, or 6 with ρY).
+    const NFIELDS: usize = NVAR + E::SPECIES as usize;
+
     /// Builds the solver on `level` (built with [`GHOST`] ghost layers) with
-    /// the initial state `init(cell centre)`.
+    /// the initial state `init(cell centre)` (pure air where the gas law
+    /// carries a species).
     pub fn new(
         eos: E,
         level: Level,
         boundaries: [FdmBoundary; 6],
         options: FdmOptions,
         init: impl Fn([f64; 3]) -> PrimitiveState + Sync,
+    ) -> Result<Self, FdmError> {
+        Self::with_species(eos, level, boundaries, options, |x| (init(x), 0.0))
+    }
+
+    /// As [`Self::new`] with `init` returning the state and the products
+    /// mass fraction Y ∈ [0, 1] (ignored by a one-species gas law).
+    pub fn with_species(
+        eos: E,
+        level: Level,
+        boundaries: [FdmBoundary; 6],
+        options: FdmOptions,
+        init: impl Fn([f64; 3]) -> (PrimitiveState, f64) + Sync,
     ) -> Result<Self, FdmError> {
         if !(options.cfl > 0.0 && options.cfl <= MAX_CFL) {
             return Err(FdmError::Invalid(format!(
@@ -125,7 +144,7 @@ impl<E: Eos> FdmSolver<E> {
                 )));
             }
         }
-        let set = FieldSet {
+        let mut set = FieldSet {
             names: CONSERVATIVE_NAMES.to_vec(),
             kinds: vec![
                 FieldKind::Scalar,
@@ -135,45 +154,63 @@ impl<E: Eos> FdmSolver<E> {
                 FieldKind::Scalar,
             ],
         };
+        if E::SPECIES {
+            set.names.push(SPECIES_NAME);
+            set.kinds.push(FieldKind::Scalar);
+        }
         let mut faces: Vec<FaceBc> = Vec::with_capacity(6);
         for b in boundaries {
             faces.push(match b {
                 FdmBoundary::Outflow => FaceBc::Outflow,
                 FdmBoundary::Reflective => FaceBc::Reflective,
                 FdmBoundary::Periodic => FaceBc::Periodic,
-                FdmBoundary::Fixed(s) => FaceBc::Fixed(
-                    s.to_conservative(&eos)
-                        .map_err(|e| FdmError::Invalid(format!("fixed boundary state: {e}")))?
-                        .to_vec(),
-                ),
+                FdmBoundary::Fixed(s) => FaceBc::Fixed({
+                    let (u, ry) = s
+                        .to_conservative_mixed(&eos, 0.0)
+                        .map_err(|e| FdmError::Invalid(format!("fixed boundary state: {e}")))?;
+                    let mut v = u.to_vec();
+                    if E::SPECIES {
+                        v.push(ry);
+                    }
+                    v
+                }),
             });
         }
         let bcs = BoundaryConditions {
             faces: faces.try_into().expect("six faces"),
         };
-        bcs.validate(NVAR).map_err(FdmError::Invalid)?;
+        bcs.validate(Self::NFIELDS).map_err(FdmError::Invalid)?;
 
         let geometry = level.geometry;
         let mut fields = Vec::with_capacity(level.patches.len());
         for patch in &level.patches {
-            let mut pf = PatchFields::zeros(patch, NVAR);
+            let mut pf = PatchFields::zeros(patch, Self::NFIELDS);
             for k in 0..patch.size[2] {
                 for j in 0..patch.size[1] {
                     for i in 0..patch.size[0] {
                         let g = [patch.lo[0] + i, patch.lo[1] + j, patch.lo[2] + k];
-                        let state = init(geometry.cell_centre(g));
+                        let (state, y) = init(geometry.cell_centre(g));
                         if !(state.density > 0.0 && state.pressure > 0.0) {
                             return Err(FdmError::Invalid(format!(
                                 "initial state in cell {g:?} has density {} and pressure {}: both must be positive",
                                 state.density, state.pressure
                             )));
                         }
-                        let u = state.to_conservative(&eos).map_err(|e| {
+                        let y = if E::SPECIES { y } else { 0.0 };
+                        if !(0.0..=1.0).contains(&y) {
+                            return Err(FdmError::Invalid(format!(
+                                "initial products mass fraction in cell {g:?} is {y}: it must lie in [0, 1]"
+                            )));
+                        }
+                        let (u, ry) = state.to_conservative_mixed(&eos, y).map_err(|e| {
                             FdmError::Invalid(format!("initial state in cell {g:?}: {e}"))
                         })?;
                         let n = patch.index_of_global(g);
                         for (values, v) in pf.data.iter_mut().zip(u) {
                             values[n] = v;
+                        }
+                        if E::SPECIES {
+                            pf.data[SPECIES][n] = ry;
                         }
                     }
                 }
@@ -288,6 +325,17 @@ impl<E: Eos> FdmSolver<E> {
         }
     }
 
+    /// Products mass fraction Y of the interior cell `n` of patch `pid` (0
+    /// without a species).
+    fn mass_fraction(&self, pid: usize, n: usize) -> f64 {
+        if E::SPECIES {
+            let d = &self.fields[pid].data;
+            d[SPECIES][n] / d[RHO][n]
+        } else {
+            0.0
+        }
+    }
+
     /// Primitive values of the interior cell at storage index `n` of patch
     /// `pid`: (ρ, u, e, p).
     fn primitive(&self, pid: usize, n: usize) -> (f64, [f64; 3], f64, f64) {
@@ -295,7 +343,8 @@ impl<E: Eos> FdmSolver<E> {
         let rho = d[RHO][n];
         let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
         let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
-        (rho, m.map(|x| x / rho), e, self.eos.pressure(rho, e))
+        let y = self.mass_fraction(pid, n);
+        (rho, m.map(|x| x / rho), e, self.eos.gas_pressure(rho, e, y))
     }
 
     /// Calls `f(global cell, patch, storage index)` for every interior cell
@@ -355,20 +404,25 @@ impl<E: Eos> FdmSolver<E> {
     /// Value of a named output field at interior cell `n` of patch `pid`.
     fn derived(&self, pid: usize, n: usize, field: usize) -> f64 {
         let (rho, u, e, p) = self.primitive(pid, n);
+        let y = self.mass_fraction(pid, n);
         match field {
             0 => rho,
             1..=3 => u[field - 1],
             4 => p,
             5 => e,
-            6 => self.eos.temperature(rho, e),
-            7 => self.eos.sound_speed(rho, e),
+            6 => self.eos.gas_temperature(rho, e, y),
+            7 => self.eos.gas_sound_speed(rho, e, y),
             8 => self.fields[pid].data[ENERGY][n],
-            _ => {
-                let c = self.eos.sound_speed(rho, e);
+            9 => {
+                let c = self.eos.gas_sound_speed(rho, e, y);
                 (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt() / c
             }
+            _ => y,
         }
     }
+
+    /// Name of the products mass fraction output field (species runs only).
+    pub const MASS_FRACTION_FIELD: &'static str = "products_mass_fraction";
 
     /// Output field names, in the order `derived` numbers them.
     pub const FIELDS: [&'static str; 10] = [
@@ -385,16 +439,40 @@ impl<E: Eos> FdmSolver<E> {
     ];
 
     fn field_index(name: &str) -> Result<usize, SolverError> {
+        if E::SPECIES && name == Self::MASS_FRACTION_FIELD {
+            return Ok(Self::FIELDS.len());
+        }
         Self::FIELDS.iter().position(|f| *f == name).ok_or_else(|| {
             SolverError::Other(format!(
                 "unknown field `{name}`; known fields: {}",
-                Self::FIELDS.join(", ")
+                Self::field_names().join(", ")
             ))
         })
     }
+
+    /// The output fields of this gas law: [`Self::FIELDS`], and the products
+    /// mass fraction with a species.
+    pub fn field_names() -> Vec<&'static str> {
+        let mut names = Self::FIELDS.to_vec();
+        if E::SPECIES {
+            names.push(Self::MASS_FRACTION_FIELD);
+        }
+        names
+    }
+
+    /// Total mass of detonation products Σ ρY ΔV, kg (0 without a species),
+    /// summed in global cell order.
+    pub fn products_mass(&self) -> f64 {
+        if !E::SPECIES {
+            return 0.0;
+        }
+        let mut m = 0.0;
+        self.for_each_cell_in_order(|_, pid, n| m += self.fields[pid].data[SPECIES][n]);
+        m * self.level.geometry.spacing.iter().product::<f64>()
+    }
 }
 
-impl<E: Eos> Solver for FdmSolver<E> {
+impl<E: GasLaw> Solver for FdmSolver<E> {
     fn name(&self) -> &str {
         "fdm"
     }
@@ -425,13 +503,15 @@ impl<E: Eos> Solver for FdmSolver<E> {
                         let row = |f: usize| &d[f][start..start + p.size[0]];
                         let (r, mx, my, mz, en) =
                             (row(RHO), row(MOM), row(MOM + 1), row(MOM + 2), row(ENERGY));
+                        let ry = if E::SPECIES { row(SPECIES) } else { &[][..] };
                         for n in 0..r.len() {
                             let rho = r[n];
                             let m = [mx[n], my[n], mz[n]];
                             let e = specific_internal_energy(rho, m[0], m[1], m[2], en[n]);
-                            let p = self.eos.pressure(rho, e);
+                            let y = if E::SPECIES { ry[n] / rho } else { 0.0 };
+                            let p = self.eos.gas_pressure(rho, e, y);
                             ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
-                            let c = self.eos.sound_speed(rho, e);
+                            let c = self.eos.gas_sound_speed(rho, e, y);
                             for ((&on, dx), mom) in active.iter().zip(spacing).zip(m) {
                                 if on {
                                     min_t = min_t.min(dx / ((mom / rho).abs() + c));
@@ -497,7 +577,7 @@ impl<E: Eos> Solver for FdmSolver<E> {
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {
-        Self::FIELDS.to_vec()
+        Self::field_names()
     }
 
     fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
@@ -544,7 +624,7 @@ impl<E: Eos> Solver for FdmSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let mut fields: Vec<Vec<f64>> = (0..NVAR)
+        let mut fields: Vec<Vec<f64>> = (0..Self::NFIELDS)
             .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
             .collect();
         self.for_each_cell_in_order(|_, pid, n| {
@@ -566,7 +646,7 @@ impl<E: Eos> Solver for FdmSolver<E> {
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
         let cells = self.level.geometry.cells;
         if saved.cells != cells
-            || saved.fields.len() != NVAR
+            || saved.fields.len() != Self::NFIELDS
             || saved
                 .fields
                 .iter()
@@ -584,7 +664,7 @@ impl<E: Eos> Solver for FdmSolver<E> {
             idx += 1;
         });
         for (pid, n, i) in writes {
-            for f in 0..NVAR {
+            for f in 0..Self::NFIELDS {
                 self.fields[pid].data[f][n] = saved.fields[f][i];
             }
         }

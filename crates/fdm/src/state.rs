@@ -8,8 +8,13 @@ pub const RHO: usize = 0;
 pub const MOM: usize = 1;
 /// Index of the total energy per unit volume E = ρe + ½ρ|u|².
 pub const ENERGY: usize = 4;
-/// Number of conservative variables.
+/// Number of conservative flow variables.
 pub const NVAR: usize = 5;
+/// Index of the partial density ρY of detonation products, stored after
+/// the flow variables when the gas law carries a species.
+pub const SPECIES: usize = 5;
+/// Field name of the stored ρY.
+pub const SPECIES_NAME: &str = "products_density";
 
 /// Field names of the stored conservative variables.
 pub const CONSERVATIVE_NAMES: [&str; NVAR] = [
@@ -39,6 +44,20 @@ impl PrimitiveState {
         let [u, v, w] = self.velocity;
         let kinetic = 0.5 * rho * (u * u + v * v + w * w);
         Ok([rho, rho * u, rho * v, rho * w, rho * e + kinetic])
+    }
+
+    /// The conservative vector and ρY of this state with products mass
+    /// fraction `y` under the gas law `gas`.
+    pub fn to_conservative_mixed<G: crate::gas::GasLaw>(
+        &self,
+        gas: &G,
+        y: f64,
+    ) -> Result<([f64; NVAR], f64), EosError> {
+        let rho = self.density;
+        let e = gas.gas_energy(rho, self.pressure, y)?;
+        let [u, v, w] = self.velocity;
+        let kinetic = 0.5 * rho * (u * u + v * v + w * w);
+        Ok(([rho, rho * u, rho * v, rho * w, rho * e + kinetic], rho * y))
     }
 }
 

@@ -20,24 +20,38 @@
 //!
 //! Passes 1–4 reach 4, 3, 2 and 1 cells beyond the slab's interior along the
 //! sweep, so the patch needs 4 ghost layers ([`GHOST`]).
+//!
+//! With a second species ([`GasLaw::SPECIES`]) the partial density ρY is a
+//! sixth conservative variable, smoothed with the same μ and advanced by the
+//! same two-step update (flux ρY u_d); the switch θ of a cell is then the
+//! larger of the density and mass-fraction switches, so a species interface
+//! at uniform density is smoothed like a contact, and the updated ρY is
+//! clipped to [0, ρ]. The one-species kernels compile without any of it
+//! (`SPECIES` is a constant), so their arithmetic is unchanged.
 
-use brisance_core::Eos;
-
-use crate::state::NVAR;
+use crate::gas::GasLaw;
+use crate::state::{NVAR, SPECIES};
 use crate::viscosity::{adaptive_eta, face_mu, switch_theta, ArtificialViscosity};
 
 /// Ghost layers the sweep needs on each side.
 pub const GHOST: usize = 4;
 
-/// Number of scratch arrays per slab: θ, ν, μ, Ū (5), F(Ū) (5), F* (5).
-const NSCRATCH: usize = 3 + 3 * NVAR;
+/// Most conservative variables per cell: the five flow variables and ρY.
+const NMAX: usize = NVAR + 1;
 
-/// Raw pointers to the five conservative arrays of one patch, so that slabs
-/// of the same patch can be swept by different threads.
+/// Number of scratch arrays per slab for `nf` variables: θ, ν, μ, Ū (nf),
+/// F(Ū) (nf), F* (nf).
+const fn nscratch(nf: usize) -> usize {
+    3 + 3 * nf
+}
+
+/// Raw pointers to the five (six with a species) conservative arrays of one
+/// patch, so that slabs of the same patch can be swept by different threads.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchPtrs {
-    ptr: [*mut f64; NVAR],
+    ptr: [*mut f64; NMAX],
     len: usize,
+    species: bool,
 }
 
 // SAFETY: the pointers are only dereferenced by `sweep_slab`, whose callers
@@ -50,10 +64,31 @@ impl PatchPtrs {
     /// Pointers to the conservative arrays of a patch.
     pub fn new(data: &mut [Vec<f64>]) -> Self {
         let len = data[0].len();
-        assert!(data.len() == NVAR && data.iter().all(|v| v.len() == len));
+        assert!((data.len() == NVAR || data.len() == NMAX) && data.iter().all(|v| v.len() == len));
+        let species = data.len() == NMAX;
         Self {
-            ptr: std::array::from_fn(|f| data[f].as_mut_ptr()),
+            ptr: std::array::from_fn(|f| {
+                if f < data.len() {
+                    data[f].as_mut_ptr()
+                } else {
+                    std::ptr::null_mut()
+                }
+            }),
             len,
+            species,
+        }
+    }
+
+    /// The ρY row, or an empty slice without a species.
+    ///
+    /// # Safety
+    /// As [`Self::row`].
+    #[inline(always)]
+    unsafe fn species_row<G: GasLaw>(&self, start: usize, len: usize) -> &[f64] {
+        if G::SPECIES {
+            self.row(SPECIES, start, len)
+        } else {
+            &[]
         }
     }
 
@@ -141,20 +176,85 @@ macro_rules! per_var {
     };
 }
 
-/// The `NVAR` arrays of length `n` stored one after another in `buf`.
-fn split_vars(buf: &mut [f64], n: usize) -> [&mut [f64]; NVAR] {
+/// The `nf` arrays of length `n` stored one after another in `buf`; the
+/// species array is empty when `nf == NVAR`.
+fn split_vars(buf: &mut [f64], n: usize) -> [&mut [f64]; NMAX] {
     let mut parts = buf.chunks_exact_mut(n);
-    std::array::from_fn(|_| parts.next().expect("buffer holds NVAR arrays"))
+    std::array::from_fn(|f| match parts.next() {
+        Some(p) => p,
+        None => {
+            assert!(f == SPECIES, "buffer holds NVAR arrays");
+            &mut []
+        }
+    })
 }
 
-/// Flux along `AXIS` of a conservative state (seed 001 eq 2), and pressure.
+/// `a[i][so..so + len]` for each scratch array; the species entry is empty
+/// without a species. Written out: no closure calls, no runtime test.
 #[inline(always)]
-fn flux<const AXIS: usize, E: Eos>(eos: &E, u: [f64; NVAR]) -> [f64; NVAR] {
+fn rows_at<'a, G: GasLaw>(a: &'a [&mut [f64]; NMAX], so: usize, len: usize) -> [&'a [f64]; NMAX] {
+    [
+        &a[0][so..][..len],
+        &a[1][so..][..len],
+        &a[2][so..][..len],
+        &a[3][so..][..len],
+        &a[4][so..][..len],
+        if G::SPECIES { &a[5][so..][..len] } else { &[] },
+    ]
+}
+
+/// Mutable [`rows_at`].
+#[inline(always)]
+fn rows_at_mut<'a, G: GasLaw>(
+    a: &'a mut [&mut [f64]; NMAX],
+    so: usize,
+    len: usize,
+) -> [&'a mut [f64]; NMAX] {
+    let [a0, a1, a2, a3, a4, a5] = a;
+    [
+        &mut a0[so..][..len],
+        &mut a1[so..][..len],
+        &mut a2[so..][..len],
+        &mut a3[so..][..len],
+        &mut a4[so..][..len],
+        if G::SPECIES {
+            &mut a5[so..][..len]
+        } else {
+            &mut []
+        },
+    ]
+}
+
+/// `&a[..n]` with a species, an empty slice without (never indexed then).
+#[inline(always)]
+fn opt<G: GasLaw>(a: &[f64], n: usize) -> &[f64] {
+    if G::SPECIES {
+        &a[..n]
+    } else {
+        &a[..0]
+    }
+}
+
+/// Mutable [`opt`].
+#[inline(always)]
+fn opt_mut<G: GasLaw>(a: &mut [f64], n: usize) -> &mut [f64] {
+    if G::SPECIES {
+        &mut a[..n]
+    } else {
+        &mut a[..0]
+    }
+}
+
+/// Flux along `AXIS` of a conservative state (seed 001 eq 2) with partial
+/// density `ry` (ignored without a species), and the flux ρY u_d.
+#[inline(always)]
+fn flux<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> ([f64; NVAR], f64) {
     let rho = u[0];
     // One division per state: multiply by 1/ρ for e and the normal velocity.
     let inv = 1.0 / rho;
     let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
-    let p = eos.pressure(rho, e);
+    let y = if G::SPECIES { ry * inv } else { 0.0 };
+    let p = eos.gas_pressure(rho, e, y);
     let vn = u[1 + AXIS] * inv;
     let mut f = [
         u[1 + AXIS],
@@ -164,15 +264,15 @@ fn flux<const AXIS: usize, E: Eos>(eos: &E, u: [f64; NVAR]) -> [f64; NVAR] {
         (u[4] + p) * vn,
     ];
     f[1 + AXIS] += p;
-    f
+    (f, ry * vn)
 }
 
 /// Pass 1 on one row: the switch θ (eq 4) and the acoustic Courant number
 /// ν = λc per cell; returns whether every state was physical.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn cells_kernel<E: Eos>(
-    eos: &E,
+fn cells_kernel<G: GasLaw>(
+    eos: &G,
     lambda: f64,
     rho_m: &[f64],
     rho_p: &[f64],
@@ -181,6 +281,7 @@ fn cells_kernel<E: Eos>(
     my: &[f64],
     mz: &[f64],
     en: &[f64],
+    ry: [&[f64]; 3],
     th: &mut [f64],
     nv: &mut [f64],
 ) -> bool {
@@ -195,15 +296,27 @@ fn cells_kernel<E: Eos>(
         &en[..n],
         &mut nv[..n],
     );
+    let (ry_m, ry_0, ry_p) = (opt::<G>(ry[0], n), opt::<G>(ry[1], n), opt::<G>(ry[2], n));
     let mut ok = true;
     for k in 0..n {
         let rho = r[k];
         let inv = 1.0 / rho;
         let e = (en[k] - 0.5 * (mx[k] * mx[k] + my[k] * my[k] + mz[k] * mz[k]) * inv) * inv;
-        let p = eos.pressure(rho, e);
+        let y = if G::SPECIES { ry_0[k] * inv } else { 0.0 };
+        let p = eos.gas_pressure(rho, e, y);
         ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
-        th[k] = switch_theta(rho_m[k], rho, rho_p[k]);
-        nv[k] = lambda * eos.sound_speed(rho, e);
+        let theta = switch_theta(rho_m[k], rho, rho_p[k]);
+        th[k] = if G::SPECIES {
+            let ty = switch_theta(ry_m[k] / rho_m[k], y, ry_p[k] / rho_p[k]);
+            if ty > theta {
+                ty
+            } else {
+                theta
+            }
+        } else {
+            theta
+        };
+        nv[k] = lambda * eos.gas_sound_speed(rho, e, y);
     }
     ok
 }
@@ -243,6 +356,31 @@ fn faces_kernel(
     }
 }
 
+/// Pass 5 on the ρY row: ρY = Ū − λ(F*₊ − F*₋) clipped to [0, ρ] (the
+/// updated density), so Y stays in [0, 1].
+#[inline(never)]
+fn species_update_kernel(
+    lambda: f64,
+    ubar: &[f64],
+    f_minus: &[f64],
+    f_plus: &[f64],
+    rho: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (ubar, f_minus, f_plus, rho) = (&ubar[..n], &f_minus[..n], &f_plus[..n], &rho[..n]);
+    for k in 0..n {
+        let v = ubar[k] - lambda * (f_plus[k] - f_minus[k]);
+        out[k] = if v < 0.0 {
+            0.0
+        } else if v > rho[k] {
+            rho[k]
+        } else {
+            v
+        };
+    }
+}
+
 /// Pass 5 on one row of one variable: U = Ū − λ(F*₊ − F*₋).
 #[inline(never)]
 fn update_kernel(lambda: f64, ubar: &[f64], f_minus: &[f64], f_plus: &[f64], out: &mut [f64]) {
@@ -258,8 +396,8 @@ fn update_kernel(lambda: f64, ubar: &[f64], f_minus: &[f64], f_plus: &[f64], out
 /// so the loop vectorises.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn smooth_kernel<const AXIS: usize, E: Eos>(
-    eos: &E,
+fn smooth_kernel<const AXIS: usize, G: GasLaw>(
+    eos: &G,
     mu_m: &[f64],
     mu_0: &[f64],
     m0: &[f64],
@@ -287,8 +425,17 @@ fn smooth_kernel<const AXIS: usize, E: Eos>(
     q2: &mut [f64],
     q3: &mut [f64],
     q4: &mut [f64],
+    species: [&[f64]; 3],
+    p5: &mut [f64],
+    q5: &mut [f64],
 ) {
     let n = p0.len();
+    let (m5, c5, n5) = (
+        opt::<G>(species[0], n),
+        opt::<G>(species[1], n),
+        opt::<G>(species[2], n),
+    );
+    let (p5, q5) = (opt_mut::<G>(p5, n), opt_mut::<G>(q5, n));
     let (mu_m, mu_0) = (&mu_m[..n], &mu_0[..n]);
     let (m0, m1, m2, m3, m4) = (&m0[..n], &m1[..n], &m2[..n], &m3[..n], &m4[..n]);
     let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
@@ -311,7 +458,16 @@ fn smooth_kernel<const AXIS: usize, E: Eos>(
             sm(m3[k], c3[k], n3[k]),
             sm(m4[k], c4[k], n4[k]),
         ];
-        let fl = flux::<AXIS, E>(eos, s);
+        let s5 = if G::SPECIES {
+            sm(m5[k], c5[k], n5[k])
+        } else {
+            0.0
+        };
+        let (fl, f5) = flux::<AXIS, G>(eos, s, s5);
+        if G::SPECIES {
+            p5[k] = s5;
+            q5[k] = f5;
+        }
         p0[k] = s[0];
         p1[k] = s[1];
         p2[k] = s[2];
@@ -329,21 +485,21 @@ fn smooth_kernel<const AXIS: usize, E: Eos>(
 /// flux. Every slice is a separate argument so the compiler knows the
 /// outputs alias none of the inputs and vectorises the loop.
 #[inline(always)]
-fn predictor_row<const AXIS: usize, E: Eos>(
-    eos: &E,
+fn predictor_row<const AXIS: usize, G: GasLaw>(
+    eos: &G,
     half_lambda: f64,
-    u0: [&[f64]; NVAR],
-    up: [&[f64]; NVAR],
-    f0: [&[f64]; NVAR],
-    fp: [&[f64]; NVAR],
-    out: [&mut [f64]; NVAR],
+    u0: [&[f64]; NMAX],
+    up: [&[f64]; NMAX],
+    f0: [&[f64]; NMAX],
+    fp: [&[f64]; NMAX],
+    out: [&mut [f64]; NMAX],
 ) {
-    let [a0, a1, a2, a3, a4] = u0;
-    let [b0, b1, b2, b3, b4] = up;
-    let [c0, c1, c2, c3, c4] = f0;
-    let [d0, d1, d2, d3, d4] = fp;
-    let [o0, o1, o2, o3, o4] = out;
-    predictor_kernel::<AXIS, E>(
+    let [a0, a1, a2, a3, a4, a5] = u0;
+    let [b0, b1, b2, b3, b4, b5] = up;
+    let [c0, c1, c2, c3, c4, c5] = f0;
+    let [d0, d1, d2, d3, d4, d5] = fp;
+    let [o0, o1, o2, o3, o4, o5] = out;
+    predictor_kernel::<AXIS, G>(
         eos,
         half_lambda,
         a0,
@@ -371,13 +527,15 @@ fn predictor_row<const AXIS: usize, E: Eos>(
         o2,
         o3,
         o4,
+        [a5, b5, c5, d5],
+        o5,
     );
 }
 
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn predictor_kernel<const AXIS: usize, E: Eos>(
-    eos: &E,
+fn predictor_kernel<const AXIS: usize, G: GasLaw>(
+    eos: &G,
     half_lambda: f64,
     a0: &[f64],
     a1: &[f64],
@@ -404,8 +562,12 @@ fn predictor_kernel<const AXIS: usize, E: Eos>(
     o2: &mut [f64],
     o3: &mut [f64],
     o4: &mut [f64],
+    species: [&[f64]; 4],
+    o5: &mut [f64],
 ) {
     let n = o0.len();
+    let [a5, b5, c5, d5] = species.map(|x| opt::<G>(x, n));
+    let o5 = opt_mut::<G>(o5, n);
     let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
     let (b0, b1, b2, b3, b4) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n], &b4[..n]);
     let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
@@ -420,7 +582,15 @@ fn predictor_kernel<const AXIS: usize, E: Eos>(
             h(a3[k], b3[k], c3[k], d3[k]),
             h(a4[k], b4[k], c4[k], d4[k]),
         ];
-        let fl = flux::<AXIS, E>(eos, s);
+        let s5 = if G::SPECIES {
+            h(a5[k], b5[k], c5[k], d5[k])
+        } else {
+            0.0
+        };
+        let (fl, f5) = flux::<AXIS, G>(eos, s, s5);
+        if G::SPECIES {
+            o5[k] = f5;
+        }
         o0[k] = fl[0];
         o1[k] = fl[1];
         o2[k] = fl[2];
@@ -440,8 +610,8 @@ fn predictor_kernel<const AXIS: usize, E: Eos>(
 /// (distinct k-planes for x/y sweeps, distinct j-planes for z sweeps) satisfy
 /// this.
 #[allow(clippy::too_many_arguments)]
-pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
-    eos: &E,
+pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
+    eos: &G,
     viscosity: ArtificialViscosity,
     lambda: f64,
     fields: &PatchPtrs,
@@ -449,15 +619,17 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
     scratch: &mut Vec<f64>,
 ) -> bool {
     let n = shape.scratch_len();
-    if scratch.len() < NSCRATCH * n {
-        scratch.resize(NSCRATCH * n, 0.0);
+    let nf = if G::SPECIES { NMAX } else { NVAR };
+    debug_assert_eq!(fields.species, G::SPECIES);
+    if scratch.len() < nscratch(nf) * n {
+        scratch.resize(nscratch(nf) * n, 0.0);
     }
     let (theta, rest) = scratch.split_at_mut(n);
     let (nu, rest) = rest.split_at_mut(n);
     let (mu, rest) = rest.split_at_mut(n);
-    let (ubar, rest) = rest.split_at_mut(NVAR * n);
-    let (fbar, rest) = rest.split_at_mut(NVAR * n);
-    let fstar = &mut rest[..NVAR * n];
+    let (ubar, rest) = rest.split_at_mut(nf * n);
+    let (fbar, rest) = rest.split_at_mut(nf * n);
+    let fstar = &mut rest[..nf * n];
     let g = shape.ghost;
     let hi_cell = shape.dims_a - g; // one past the last interior cell
     let (sa, ss) = (
@@ -474,7 +646,12 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let th = &mut theta[so..so + len];
         let nv = &mut nu[so..so + len];
         let [r, mx, my, mz, en] = u;
-        ok &= cells_kernel(eos, lambda, rho_m, rho_p, r, mx, my, mz, en, th, nv);
+        let ry = [
+            fields.species_row::<G>(fo - sa, len),
+            fields.species_row::<G>(fo, len),
+            fields.species_row::<G>(fo + sa, len),
+        ];
+        ok &= cells_kernel(eos, lambda, rho_m, rho_p, r, mx, my, mz, en, ry, th, nv);
     });
 
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
@@ -499,26 +676,30 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
         let up: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo + sa, len));
         let mu_m = &mu[so - ss..][..len];
         let mu_0 = &mu[so..][..len];
-        let [p0, p1, p2, p3, p4] = ubar.each_mut().map(|a| &mut a[so..][..len]);
-        let [q0, q1, q2, q3, q4] = fbar.each_mut().map(|a| &mut a[so..][..len]);
+        let [p0, p1, p2, p3, p4, p5] = rows_at_mut::<G>(&mut ubar, so, len);
+        let [q0, q1, q2, q3, q4, q5] = rows_at_mut::<G>(&mut fbar, so, len);
         let [m0, m1, m2, m3, m4] = um;
         let [c0, c1, c2, c3, c4] = u0;
         let [n0, n1, n2, n3, n4] = up;
-        smooth_kernel::<AXIS, E>(
+        let species = [
+            fields.species_row::<G>(fo - sa, len),
+            fields.species_row::<G>(fo, len),
+            fields.species_row::<G>(fo + sa, len),
+        ];
+        smooth_kernel::<AXIS, G>(
             eos, mu_m, mu_0, m0, m1, m2, m3, m4, c0, c1, c2, c3, c4, n0, n1, n2, n3, n4, p0, p1,
-            p2, p3, p4, q0, q1, q2, q3, q4,
+            p2, p3, p4, q0, q1, q2, q3, q4, species, p5, q5,
         );
     });
 
     // Pass 4: Richtmyer half step at faces a+½ for a ∈ [g−1, hi).
     let half_lambda = 0.5 * lambda;
     for_rows(shape, g - 1, hi_cell, |_, so, len| {
-        let u0: [&[f64]; NVAR] = per_var!(|f| &ubar[f][so..][..len]);
-        let up: [&[f64]; NVAR] = per_var!(|f| &ubar[f][so + ss..][..len]);
-        let f0: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so..][..len]);
-        let fp: [&[f64]; NVAR] = per_var!(|f| &fbar[f][so + ss..][..len]);
-        let [s0, s1, s2, s3, s4] = fstar.each_mut().map(|a| &mut a[so..][..len]);
-        predictor_row::<AXIS, E>(eos, half_lambda, u0, up, f0, fp, [s0, s1, s2, s3, s4]);
+        let rows = |a, o| rows_at::<G>(a, o, len);
+        let (u0, up) = (rows(&ubar, so), rows(&ubar, so + ss));
+        let (f0, fp) = (rows(&fbar, so), rows(&fbar, so + ss));
+        let out = rows_at_mut::<G>(&mut fstar, so, len);
+        predictor_row::<AXIS, G>(eos, half_lambda, u0, up, f0, fp, out);
     });
 
     // Pass 5: conservative update of the interior, a ∈ [g, hi).
@@ -529,6 +710,14 @@ pub unsafe fn sweep_slab<const AXIS: usize, E: Eos>(
             let fp = &fstar[f][so..][..len];
             let fm = &fstar[f][so - ss..][..len];
             update_kernel(lambda, ub, fm, fp, out);
+        }
+        if G::SPECIES {
+            let out = fields.row_mut(SPECIES, fo, len);
+            let rho = fields.row(0, fo, len);
+            let ub = &ubar[SPECIES][so..][..len];
+            let fp = &fstar[SPECIES][so..][..len];
+            let fm = &fstar[SPECIES][so - ss..][..len];
+            species_update_kernel(lambda, ub, fm, fp, rho, out);
         }
     });
     ok

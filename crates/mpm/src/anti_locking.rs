@@ -34,8 +34,9 @@
 //! Σ_p V_p σ_p : D̄_p. The two agree only if the pressure is the same at
 //! every particle of a cell; where it is not (the particles keep their own
 //! J and e), the difference feeds the volumetric motion the averaging
-//! released, and the body gains energy without bound (a Taylor rod's
-//! foot spread to 60 mm in 30 µs in our trial). As in the B̄ method that
+//! released, and the body gains energy without bound (V-TAYLOR with
+//! linear shape functions at 6 cells across the radius: +110 % total
+//! energy and a 61 mm foot after 40 µs). As in the B̄ method that
 //! F̄ generalises, the force is therefore formed from
 //! σ̃_p = σ_p + (p_p − p̄) I, each particle's stress with its pressure
 //! p_p = −tr σ_p/3 replaced by the volume-weighted mean p̄ of its cell
