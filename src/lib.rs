@@ -8,6 +8,7 @@
 //! - [`grid`]: Cartesian levels of patches with ghost layers.
 //! - [`eos`]: equations of state.
 //! - [`fdm`]: the Lax–Wendroff finite-difference Euler solver.
+//! - [`ice`]: the multi-material cell-centred ICE method of seed 000.
 //! - [`constitutive`]: stress-update models for solids and particle fluids.
 //! - [`mpm`]: the explicit material point method.
 //! - [`pd`]: bond-based peridynamics with the detonation model of seed 004.
@@ -22,6 +23,7 @@ pub use brisance_core as core;
 pub use brisance_eos as eos;
 pub use brisance_fdm as fdm;
 pub use brisance_grid as grid;
+pub use brisance_ice as ice;
 pub use brisance_io as io;
 pub use brisance_mpm as mpm;
 pub use brisance_pd as pd;

@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod ice_cases;
 mod lattice_cases;
 mod mpm_throughput;
 mod pd_cases;
@@ -720,8 +721,9 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 13] = [
+const CASES: [&str; 14] = [
     "sod",
+    "sod-ice",
     "smooth",
     "cj",
     "bar",
@@ -764,6 +766,9 @@ fn validate(only: &[String]) -> Result<()> {
     };
     if run("sod") {
         v_sod(&mut body, &img)?;
+    }
+    if run("sod-ice") {
+        ice_cases::v_sod_ice(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
