@@ -45,7 +45,7 @@ pub use equilibration::{
     MAX_MATERIALS,
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
-pub use solver::{IceOptions, IceSolver};
+pub use solver::{EquilibrationStats, IceOptions, IceSolver, GHOST};
 
 #[cfg(test)]
 mod tests;
