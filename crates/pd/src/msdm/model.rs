@@ -108,7 +108,9 @@ pub struct StepReport {
 pub struct MsdmLattice {
     /// The lattice.
     pub geom: Geometry,
-    /// Materials, indexed by [`NodeKind::Solid`].
+    /// Materials, indexed by [`NodeKind::Solid`]. The spring laws are
+    /// derived from them in [`MsdmLattice::new`]; build a new lattice to
+    /// change them.
     pub materials: Vec<LatticeMaterial>,
     laws: Vec<PairLaw>,
     /// Options.
@@ -146,6 +148,7 @@ pub struct MsdmLattice {
     pub force: [Vec<f64>; 3],
     pub(crate) force_prev: [Vec<f64>; 3],
     pub(crate) forces_current: bool,
+    has_spring_state: bool,
     scratch: [Vec<f64>; 4],
     pub(crate) matrix: CsrMatrix,
     pub(crate) rhs: Vec<f64>,
@@ -378,6 +381,7 @@ impl MsdmLattice {
             force: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             force_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             forces_current: false,
+            has_spring_state: false,
             scratch: [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             matrix: CsrMatrix::default(),
             rhs: Vec::new(),
@@ -387,6 +391,10 @@ impl MsdmLattice {
             x,
             geom,
         };
+        s.has_spring_state = s
+            .laws
+            .iter()
+            .any(|l| l.yield_strain.is_finite() || l.fracture_strain.is_finite() || l.k_arm > 0.0);
         for i in 0..n {
             if let NodeKind::Solid(m) = s.geom.kind[i] {
                 let v = dual_volume(&s.geom, &s.x, i);
@@ -622,6 +630,11 @@ impl MsdmLattice {
     /// tensile strain exceeds the fracture strain (irreversible). Returns
     /// the number of springs broken and whether any state changed.
     pub fn commit_springs(&mut self, dt: f64) -> (usize, bool) {
+        if !self.has_spring_state {
+            // Elastic, unbreakable springs without Maxwell arms: nothing
+            // to commit.
+            return (0, false);
+        }
         let nd = self.geom.directions.len();
         let mut status = std::mem::take(&mut self.status);
         let mut spring = std::mem::take(&mut self.spring);

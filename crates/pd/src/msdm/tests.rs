@@ -537,3 +537,40 @@ proptest! {
         prop_assert!(lat.broken_springs() > 0);
     }
 }
+
+/// Explicit-step throughput on the 432 × 432 lattice of the hot-spot
+/// problem with the energy equation (run with `--release --ignored`).
+#[test]
+#[ignore]
+fn throughput_432_squared() {
+    for integ in [Integrator::ExplicitEuler, Integrator::VelocityVerlet] {
+        let geom = Geometry::new(Dim::Two, [432, 432, 1], 1e-5, false, |_, _, _| Some(0));
+        let mut lat = MsdmLattice::new(
+            geom,
+            vec![material(6.25e9)],
+            MsdmOptions {
+                integrator: integ,
+                ..MsdmOptions::default()
+            },
+        )
+        .unwrap();
+        for i in 0..lat.len() {
+            if lat.geom.is_solid(i) {
+                lat.u[0][i] = -100.0;
+            }
+        }
+        let dt = 0.5 * lat.explicit_stable_dt();
+        lat.step(dt).unwrap();
+        let steps = 50;
+        let t0 = std::time::Instant::now();
+        for _ in 0..steps {
+            lat.step(dt).unwrap();
+        }
+        let s = t0.elapsed().as_secs_f64();
+        eprintln!(
+            "{integ:?}: {:.3e} node-updates/s ({} threads)",
+            (432.0 * 432.0 * steps as f64) / s,
+            rayon::current_num_threads()
+        );
+    }
+}
