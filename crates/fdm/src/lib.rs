@@ -6,6 +6,8 @@
 //! - [`gas`]: the gas law of the kernels: one species, or detonation
 //!   products in air carried as a mass fraction with a pressure-equilibrium
 //!   mixture rule.
+//! - [`detonation`]: the 1D (planar, cylindrical, spherical) program-burn
+//!   detonation of seed 001 §4.1 (eqs 52–53).
 //! - [`viscosity`]: the adaptive artificial viscosity of seed 001 eqs 3–5.
 //! - [`sweep`]: one directional operator L_d(Δt/2): smoothing (eq 3) then a
 //!   two-step (Richtmyer) Lax–Wendroff step (the scheme eqs 7–9 stand for).
@@ -15,6 +17,7 @@
 //! The numerical choices the paper leaves open are written down in
 //! `docs/physics/fdm.md`.
 
+pub mod detonation;
 pub mod gas;
 pub mod solver;
 pub mod state;
