@@ -51,8 +51,12 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: 1,
             node_fields: &MpmSolver::NODE_FIELDS,
         },
-        Pipeline::Fdm(_) => PipelineLimits {
-            fields: &FdmSolver::<IdealGas>::FIELDS,
+        Pipeline::Fdm(f) => PipelineLimits {
+            fields: if f.products.is_some() {
+                &FDM_SPECIES_FIELDS
+            } else {
+                &FdmSolver::<IdealGas>::FIELDS
+            },
             max_cfl: brisance_fdm::solver::MAX_CFL,
             ghost: brisance_fdm::sweep::GHOST,
             node_fields: &[],
@@ -152,6 +156,24 @@ impl Built {
     }
 }
 
+/// Output fields of an FDM run with a products species.
+const FDM_SPECIES_FIELDS: [&str; 11] = {
+    let f = FdmSolver::<IdealGas>::FIELDS;
+    [
+        f[0],
+        f[1],
+        f[2],
+        f[3],
+        f[4],
+        f[5],
+        f[6],
+        f[7],
+        f[8],
+        f[9],
+        FdmSolver::<IdealGas>::MASS_FRACTION_FIELD,
+    ]
+};
+
 /// Builds the solver a scenario describes. Errors carry the field path;
 /// the caller fills in the file and position.
 pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
@@ -189,20 +211,49 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         .get(&fdm.material)
         .and_then(|m| m.eos())
         .ok_or_else(|| located("pipeline.material", "unknown material".into()))?;
+    if let Some(products) = &fdm.products {
+        let products_eos = s
+            .materials
+            .get(products)
+            .and_then(|m| m.eos())
+            .ok_or_else(|| {
+                located(
+                    "pipeline.products",
+                    format!("unknown material `{products}`"),
+                )
+            })?;
+        let mixture = brisance_fdm::ProductsInAir::new(products_eos.clone(), eos.clone())
+            .map_err(|m| located("pipeline.products", m))?;
+        let state = |r: &crate::config::InitialRegion| {
+            let law = if &r.material == products {
+                products_eos
+            } else {
+                eos
+            };
+            let y = if &r.material == products { 1.0 } else { 0.0 };
+            primitive_state(law, &r.state).map(|p| (p, y))
+        };
+        return build_fdm(s, level, mixture, eos, state).map(Built::Solver);
+    }
+    let state = |r: &crate::config::InitialRegion| primitive_state(eos, &r.state).map(|p| (p, 0.0));
     // The ideal gas gets its own monomorphic solver; other gases go through
     // the model enum.
     match eos {
-        EosModel::IdealGas(gas) => build_fdm(s, level, *gas),
-        other => build_fdm(s, level, other.clone()),
+        EosModel::IdealGas(gas) => build_fdm(s, level, *gas, eos, state),
+        other => build_fdm(s, level, other.clone(), eos, state),
     }
     .map(Built::Solver)
 }
 
-/// The FDM solver of scenario `s` for gas `eos` on `level`.
-fn build_fdm<E: Eos + 'static>(
+/// The FDM solver of scenario `s` for gas law `law` on `level`; `gas`
+/// converts boundary states, `region_state` gives each initial region's
+/// state and products mass fraction.
+fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
     s: &Scenario,
     level: Level,
-    eos: E,
+    law: E,
+    gas: &EosModel,
+    region_state: impl Fn(&crate::config::InitialRegion) -> Result<(PrimitiveState, f64), String>,
 ) -> Result<Box<dyn Solver>, ConfigError> {
     let Pipeline::Fdm(fdm) = &s.pipeline else {
         unreachable!("build_fdm is called for Fdm pipelines");
@@ -215,7 +266,7 @@ fn build_fdm<E: Eos + 'static>(
             BoundaryConfig::Reflective => FdmBoundary::Reflective,
             BoundaryConfig::Periodic => FdmBoundary::Periodic,
             BoundaryConfig::Fixed(state) => FdmBoundary::Fixed(
-                primitive_state(&eos, state)
+                primitive_state(gas, state)
                     .map_err(|m| located(&format!("boundaries.{face}"), m))?,
             ),
             BoundaryConfig::Wall => {
@@ -230,9 +281,7 @@ fn build_fdm<E: Eos + 'static>(
         .initial
         .iter()
         .enumerate()
-        .map(|(i, r)| {
-            primitive_state(&eos, &r.state).map_err(|m| located(&format!("initial.{i}.state"), m))
-        })
+        .map(|(i, r)| region_state(r).map_err(|m| located(&format!("initial.{i}.state"), m)))
         .collect::<Result<Vec<_>, _>>()?;
     // Every cell must be covered; find an uncovered one before building.
     let geometry = level.geometry;
@@ -265,7 +314,7 @@ fn build_fdm<E: Eos + 'static>(
         },
         ..Default::default()
     };
-    let solver = FdmSolver::new(eos, level, boundaries, options, init)
+    let solver = FdmSolver::with_species(law, level, boundaries, options, init)
         .map_err(|e| located("pipeline", e.to_string()))?;
     Ok(Box::new(solver))
 }
@@ -611,6 +660,54 @@ mod tests {
 
     const TAYLOR: &str = include_str!("../../../configs/taylor2d.ron");
     const SOD: &str = include_str!("../../../configs/sod.ron");
+    const PRODUCTS_TUBE: &str = include_str!("../../../configs/fdm_products_tube.ron");
+
+    #[test]
+    fn the_products_tube_builds_two_species_and_conserves() {
+        let loaded = load_str("fdm_products_tube.ron", PRODUCTS_TUBE, &[]).unwrap();
+        let mut solver = build_solver(&loaded.scenario).unwrap();
+        assert!(solver
+            .cell_field_names()
+            .contains(&"products_mass_fraction"));
+        let y0 = solver
+            .cell_data(&["products_mass_fraction".to_string()])
+            .unwrap()
+            .fields[0]
+            .1
+            .clone();
+        // Products left of the diaphragm, air right of it.
+        assert_eq!((y0[0], y0[99], y0[100], y0[199]), (1.0, 1.0, 0.0, 0.0));
+        let p0 = solver.cell_data(&["pressure".to_string()]).unwrap().fields[0].1[0];
+        assert!((p0 - 1.0e6).abs() < 1e-6 * 1.0e6, "{p0}");
+        let t0 = solver.conservation_totals();
+        for _ in 0..20 {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
+        }
+        // Nothing has reached the outflow face yet: mass is conserved.
+        let t1 = solver.conservation_totals();
+        assert!((t1.mass - t0.mass).abs() < 1e-13 * t0.mass);
+        let y = solver
+            .cell_data(&["products_mass_fraction".to_string()])
+            .unwrap()
+            .fields[0]
+            .1
+            .clone();
+        assert!(y.iter().all(|y| (0.0..=1.0).contains(y)));
+    }
+
+    #[test]
+    fn unknown_products_material_is_named() {
+        let err = load_str(
+            "fdm_products_tube.ron",
+            PRODUCTS_TUBE,
+            &["pipeline.products=Some(\"tnt2\")".into()],
+        )
+        .and_then(|l| build_solver(&l.scenario).map(|_| ()))
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("products"), "{err}");
+    }
 
     #[test]
     fn the_mpm_scenario_builds_particles_and_steps() {

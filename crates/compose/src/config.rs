@@ -257,6 +257,13 @@ fn default_mass_cutoff() -> f64 {
 pub struct FdmConfig {
     /// The gas (a key of `materials`).
     pub material: String,
+    /// Detonation products carried as a second species (a key of
+    /// `materials`, a JWL): initial regions of this material hold products
+    /// (mass fraction Y = 1), all others the gas `material` (Y = 0); the
+    /// pressure of mixed cells follows docs/physics/fdm_mixture.md. None: one
+    /// gas.
+    #[serde(default)]
+    pub products: Option<String>,
     /// Artificial viscosity (seed 001 eqs 3–5).
     #[serde(default)]
     pub viscosity: ViscosityConfig,

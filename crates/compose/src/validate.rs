@@ -341,10 +341,18 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
         match &s.pipeline {
-            Pipeline::Fdm(fdm) if r.material != fdm.material => {
+            Pipeline::Fdm(fdm)
+                if r.material != fdm.material && fdm.products.as_ref() != Some(&r.material) =>
+            {
                 return Err((
                     format!("{path}.material"),
-                    format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
+                    match &fdm.products {
+                        None => format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
+                        Some(p) => format!(
+                            "the Fdm pipeline carries the gas `{}` and the products `{p}`",
+                            fdm.material
+                        ),
+                    },
                 ));
             }
             Pipeline::Mpm(_) if s.materials[&r.material].model.is_none() => {
