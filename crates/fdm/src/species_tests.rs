@@ -285,3 +285,73 @@ fn acoustic_pulse_leaves_through_outflow_boundaries() {
     eprintln!("outflow: largest |p − p0|/δp left in the tube: {left:e}");
     assert!(left < 0.01, "reflection {left:e} of the pulse amplitude");
 }
+
+/// A 3D products sphere in air between walls, on a given patch layout.
+fn products_sphere(layout: [usize; 3]) -> FdmSolver<Mix> {
+    let level = Level::new(
+        [0.0; 3],
+        [0.12, 0.1, 0.08],
+        [12, 10, 8],
+        layout,
+        crate::sweep::GHOST,
+    )
+    .unwrap();
+    FdmSolver::with_species(
+        mix(),
+        level,
+        [FdmBoundary::Reflective; 6],
+        FdmOptions::default(),
+        |x| {
+            let r2 = (x[0] - 0.05).powi(2) + (x[1] - 0.04).powi(2) + (x[2] - 0.045).powi(2);
+            let inside = r2 < 0.03f64.powi(2);
+            let state = PrimitiveState {
+                density: if inside { 20.0 } else { 1.2 },
+                velocity: [0.0; 3],
+                pressure: if inside { 2.0e7 } else { 1.0e5 },
+            };
+            (state, if inside { 1.0 } else { 0.0 })
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn three_dimensional_products_run_is_split_independent_and_conservative() {
+    let mut one = products_sphere([1, 1, 1]);
+    let mut four = products_sphere([2, 2, 1]);
+    let t0 = one.conservation_totals();
+    let m0 = one.products_mass();
+    for _ in 0..6 {
+        let dt = one.stable_dt().unwrap();
+        assert_eq!(dt.to_bits(), four.stable_dt().unwrap().to_bits());
+        one.advance(dt).unwrap();
+        four.advance(dt).unwrap();
+    }
+    let names: Vec<String> = one
+        .cell_field_names()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let (a, b) = (
+        one.cell_data(&names).unwrap(),
+        four.cell_data(&names).unwrap(),
+    );
+    for ((name, x), (_, y)) in a.fields.iter().zip(&b.fields) {
+        assert!(
+            x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()),
+            "{name} differs between patch layouts"
+        );
+    }
+    let t1 = one.conservation_totals();
+    assert!((t1.mass - t0.mass).abs() < 1e-13 * t0.mass);
+    assert!((t1.energy - t0.energy).abs() < 1e-12 * t0.energy);
+    // The products mass is changed by the clipping of Y only (measured
+    // 6.2e-3 on this coarse, 16 : 1 density sphere; docs/physics/
+    // fdm_mixture.md lists it as a limit), so it is reported, not bounded.
+    let dm = (one.products_mass() - m0).abs() / m0;
+    eprintln!("3D products sphere: products mass change {dm:e}");
+    let y = field(&one, "products_mass_fraction");
+    assert!(y.iter().all(|y| (0.0..=1.0).contains(y)));
+    // The sphere has pushed air outward: some cells are mixed now.
+    assert!(y.iter().any(|&y| y > 0.01 && y < 0.99));
+}
