@@ -263,6 +263,7 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
         surroundings: cfg.surroundings,
         initial_temperature: cfg.initial_temperature,
         thermal: cfg.thermal,
+        linear_solver: brisance_pd::msdm::LinearSolver::Direct,
         solver_tolerance: 1e-10,
         safety_factor: cfg.safety_factor,
         time_step: cfg.time_step,

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::geometry::{dual_volume, Geometry, NodeKind};
 use super::law::{LatticeMaterial, PairLaw, SpringState};
-use super::sparse::{bicgstab, CsrMatrix, SolveStats, SolverWork};
+use super::sparse::{bicgstab, solve_direct, CsrMatrix, SolveStats, SolverWork};
 
 /// Errors of the lattice model; messages name the offending field.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -50,6 +50,19 @@ pub struct Surroundings {
     pub conductivity: f64,
 }
 
+/// How the linear systems of the implicit integrators (seed 003 eqs 21–22)
+/// are solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum LinearSolver {
+    /// Sparse LU with partial pivoting (faer), exact to round-off; the
+    /// default.
+    #[default]
+    Direct,
+    /// Jacobi-preconditioned BiCGSTAB to `solver_tolerance`: less memory on
+    /// very large lattices.
+    Iterative,
+}
+
 /// Options of a lattice.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MsdmOptions {
@@ -61,7 +74,10 @@ pub struct MsdmOptions {
     pub initial_temperature: f64,
     /// Whether the energy equation (eq 15) is integrated.
     pub thermal: bool,
-    /// Relative residual of the implicit linear solves.
+    /// Linear solver of the implicit steps.
+    #[serde(default)]
+    pub linear_solver: LinearSolver,
+    /// Relative residual of the iterative implicit linear solves.
     pub solver_tolerance: f64,
     /// Safety factor on the explicit stable step.
     pub safety_factor: f64,
@@ -80,6 +96,7 @@ impl Default for MsdmOptions {
             },
             initial_temperature: 300.0,
             thermal: true,
+            linear_solver: LinearSolver::Direct,
             solver_tolerance: 1e-12,
             safety_factor: 0.8,
             time_step: None,
@@ -885,14 +902,17 @@ impl MsdmLattice {
         let n = self.rhs.len();
         self.delta.resize(n, 0.0);
         let tol = self.options.solver_tolerance;
-        bicgstab(
-            &self.matrix,
-            &self.rhs,
-            &mut self.delta,
-            tol,
-            (10 * n).max(100),
-            &mut self.work,
-        )
+        match self.options.linear_solver {
+            LinearSolver::Direct => solve_direct(&self.matrix, &self.rhs, &mut self.delta),
+            LinearSolver::Iterative => bicgstab(
+                &self.matrix,
+                &self.rhs,
+                &mut self.delta,
+                tol,
+                (10 * n).max(100),
+                &mut self.work,
+            ),
+        }
         .map_err(MsdmError::Solve)
     }
 

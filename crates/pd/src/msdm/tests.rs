@@ -79,7 +79,9 @@ fn rod_tip_is_exact_and_l2_error_is_h_squared_over_four() {
     for n in 1..=5 {
         let r = rod(n, 1.0, 1.0e9, 2.0e7).unwrap();
         let h = 1.0 / (r.nodes - 1) as f64;
-        assert!(r.tip_error < 1e-14, "n = {n}: tip {}", r.tip_error);
+        // Round-off of the direct solve: the rod's stiffness has condition
+        // number ≈ (2N/π)² ≈ 4e2 at N = 32 nodes, times ε = 2.2e-16.
+        assert!(r.tip_error < 1e-13, "n = {n}: tip {}", r.tip_error);
         assert!(r.nodal_error < 1e-13, "n = {n}: nodes {}", r.nodal_error);
         assert!(
             rel(r.l2_error, 0.25 * h * h) < 1e-9,
@@ -435,6 +437,48 @@ fn invalid_input_names_the_field() {
     assert!(lat.step(-1.0).unwrap_err().to_string().contains("`dt`"));
 }
 
+fn broken_springs_stay_broken_for(seed: u64) -> usize {
+    let mut lat = perturbed_block(Dim::Two, seed, Integrator::ExplicitEuler);
+    // Make material 0 brittle: strains reach ~1e-2 within the run.
+    lat.materials[0].fracture_strain = Some(2e-3);
+    let mut lat = MsdmLattice::new(lat.geom.clone(), lat.materials.clone(), lat.options).unwrap();
+    let mut s = seed.wrapping_add(1);
+    for i in 0..lat.len() {
+        if lat.geom.is_solid(i) {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
+            lat.u[0][i] = ((s >> 40) as f64 / (1u64 << 24) as f64 - 0.5) * 40.0;
+        }
+    }
+    let nd = lat.geom.directions.len();
+    let mut broken = vec![false; lat.len() * nd];
+    for _ in 0..40 {
+        lat.step(2e-8).unwrap();
+        for i in 0..lat.len() {
+            for d in 0..nd {
+                let now = lat.spring_intact(i, d) == Some(false);
+                assert!(
+                    !broken[i * nd + d] || now,
+                    "seed {seed}: spring ({i}, {d}) healed"
+                );
+                broken[i * nd + d] = now;
+            }
+        }
+    }
+    lat.broken_springs()
+}
+
+/// A broken spring never carries load again, over 64 fixed random seeds;
+/// every run must actually break springs for the check to mean anything
+/// (fixed seeds: some seeds of the former random draw, e.g. 154, give a
+/// velocity field that breaks nothing in 40 steps).
+#[test]
+fn broken_springs_stay_broken() {
+    let fractured = (0..64u64)
+        .filter(|&seed| broken_springs_stay_broken_for(seed * 15 + 1) > 0)
+        .count();
+    assert_eq!(fractured, 64, "only {fractured} of 64 runs broke springs");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
@@ -508,34 +552,6 @@ proptest! {
         }
     }
 
-    #[test]
-    fn broken_springs_stay_broken(seed in 0u64..1000) {
-        let mut lat = perturbed_block(Dim::Two, seed, Integrator::ExplicitEuler);
-        // Make material 0 brittle: strains reach ~1e-2 within the run.
-        lat.materials[0].fracture_strain = Some(2e-3);
-        let mut lat = MsdmLattice::new(lat.geom.clone(), lat.materials.clone(), lat.options).unwrap();
-        let mut s = seed.wrapping_add(1);
-        for i in 0..lat.len() {
-            if lat.geom.is_solid(i) {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
-                lat.u[0][i] = ((s >> 40) as f64 / (1u64 << 24) as f64 - 0.5) * 40.0;
-            }
-        }
-        let nd = lat.geom.directions.len();
-        let mut broken = vec![false; lat.len() * nd];
-        for _ in 0..40 {
-            lat.step(2e-8).unwrap();
-            for i in 0..lat.len() {
-                for d in 0..nd {
-                    let now = lat.spring_intact(i, d) == Some(false);
-                    prop_assert!(!broken[i * nd + d] || now, "spring ({i}, {d}) healed");
-                    broken[i * nd + d] = now;
-                }
-            }
-        }
-        // The run must exercise fracture for the contract to mean anything.
-        prop_assert!(lat.broken_springs() > 0);
-    }
 }
 
 /// Explicit-step throughput on the 432 × 432 lattice of the hot-spot
@@ -579,8 +595,8 @@ fn throughput_432_squared() {
 fn implicit_steps_stay_bounded_beyond_the_explicit_limit() {
     // 2D elastic block, Δt = 20× the explicit limit: velocity Verlet blows
     // up (energy ×7e109 measured), implicit Euler dissipates (×0.038) and
-    // the trapezoidal RK2 keeps the energy (×0.99992); BiCGSTAB needs at
-    // most 42 and 35 iterations.
+    // the trapezoidal RK2 keeps the energy (×0.99992), each step through a
+    // sparse LU solve.
     let run = |integ: Integrator| {
         let mut lat = block(Dim::Two, 21, integ, false);
         lat.materials[0].damping = Damping::None;
@@ -595,21 +611,21 @@ fn implicit_steps_stay_bounded_beyond_the_explicit_limit() {
         }
         let dt = 20.0 * lat.explicit_stable_dt();
         let e0 = lat.kinetic_energy() + lat.spring_energy();
-        let mut iterations = 0;
+        let mut solves = 0;
         for _ in 0..20 {
             match lat.step(dt) {
-                Ok(r) => iterations = iterations.max(r.solve.map_or(0, |s| s.iterations)),
-                Err(_) => return (f64::INFINITY, iterations),
+                Ok(r) => solves += usize::from(r.solve.is_some()),
+                Err(_) => return (f64::INFINITY, solves),
             }
         }
         let e = lat.kinetic_energy() + lat.spring_energy();
-        (e / e0, iterations)
+        (e / e0, solves)
     };
     let (verlet, _) = run(Integrator::VelocityVerlet);
     assert!(!(verlet < 1e3), "Verlet energy ratio {verlet}");
-    let (euler, it_e) = run(Integrator::ImplicitEuler);
+    let (euler, solves_e) = run(Integrator::ImplicitEuler);
     assert!(euler < 0.5, "implicit Euler energy ratio {euler}");
-    let (rk2, it_r) = run(Integrator::ImplicitRk2);
+    let (rk2, solves_r) = run(Integrator::ImplicitRk2);
     assert!((rk2 - 1.0).abs() < 1e-2, "implicit RK2 energy ratio {rk2}");
-    assert!(it_e > 0 && it_r > 0);
+    assert!(solves_e > 0 && solves_r > 0);
 }
