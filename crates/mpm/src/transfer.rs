@@ -216,6 +216,7 @@ impl GridMap {
     /// [`gimp::admissible_half_width`]). For cpGIMP this is the undeformed
     /// half-width l_p0; [`GridMap::deformed_half_width`] gives the deformed
     /// one.
+    #[inline]
     pub fn half_width(&self, v0: f64) -> Result<f64, ShapeError> {
         if !self.shape.is_gimp() {
             return Ok(0.0);
