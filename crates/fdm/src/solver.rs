@@ -347,36 +347,11 @@ impl<E: GasLaw> FdmSolver<E> {
         (rho, m.map(|x| x / rho), e, self.eos.gas_pressure(rho, e, y))
     }
 
-    /// Calls `f(global cell, patch, storage index)` for every interior cell
-    /// in global x-fastest order, independent of the patch split.
-    fn for_each_cell_in_order(&self, mut f: impl FnMut([usize; 3], usize, usize)) {
-        let cells = self.level.geometry.cells;
-        let layout = self.level.layout;
-        for pz in 0..layout[2] {
-            let p0 = &self.level.patches[self.level.patch_id([0, 0, pz])];
-            for k in p0.lo[2]..p0.lo[2] + p0.size[2] {
-                for py in 0..layout[1] {
-                    let p1 = &self.level.patches[self.level.patch_id([0, py, pz])];
-                    for j in p1.lo[1]..p1.lo[1] + p1.size[1] {
-                        for px in 0..layout[0] {
-                            let id = self.level.patch_id([px, py, pz]);
-                            let p = &self.level.patches[id];
-                            for i in p.lo[0]..p.lo[0] + p.size[0] {
-                                f([i, j, k], id, p.index_of_global([i, j, k]));
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        debug_assert!(cells.iter().all(|&c| c > 0));
-    }
-
     /// Locates the first non-physical interior cell (global order) and
     /// describes it.
     fn non_physical_error(&self, when: &str) -> SolverError {
         let mut found = None;
-        self.for_each_cell_in_order(|g, pid, n| {
+        self.level.for_each_cell_in_order(|g, pid, n| {
             if found.is_none() {
                 let (rho, u, e, p) = self.primitive(pid, n);
                 let bad =
@@ -467,7 +442,8 @@ impl<E: GasLaw> FdmSolver<E> {
             return 0.0;
         }
         let mut m = 0.0;
-        self.for_each_cell_in_order(|_, pid, n| m += self.fields[pid].data[SPECIES][n]);
+        self.level
+            .for_each_cell_in_order(|_, pid, n| m += self.fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
     }
 }
@@ -561,7 +537,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     /// patch split or thread count.
     fn conservation_totals(&self) -> ConservationTotals {
         let mut t = ConservationTotals::default();
-        self.for_each_cell_in_order(|_, pid, n| {
+        self.level.for_each_cell_in_order(|_, pid, n| {
             let d = &self.fields[pid].data;
             t.mass += d[RHO][n];
             for a in 0..3 {
@@ -585,20 +561,9 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             .iter()
             .map(|f| Self::field_index(f))
             .collect::<Result<Vec<_>, _>>()?;
-        let count = self.level.geometry.cell_count();
-        let mut out: Vec<(String, Vec<f64>)> = fields
-            .iter()
-            .map(|f| (f.clone(), Vec::with_capacity(count)))
-            .collect();
-        self.for_each_cell_in_order(|_, pid, n| {
-            for (slot, &id) in out.iter_mut().zip(&ids) {
-                slot.1.push(self.derived(pid, n, id));
-            }
-        });
-        Ok(CellData {
-            geometry: self.level.geometry,
-            fields: out,
-        })
+        Ok(self
+            .level
+            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(pid, n, id)))
     }
 
     /// Values of `fields` in the cell that contains `point`.
@@ -608,10 +573,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError> {
-        let g = self.level.geometry.cell_containing(point).ok_or_else(|| {
-            SolverError::Other(format!("point {point:?} lies outside the domain"))
-        })?;
-        let (pid, n) = self.level.locate(g).expect("every cell has a patch");
+        let (pid, n) = self.level.locate_point(point)?;
         out.clear();
         for f in fields {
             out.push(self.derived(pid, n, Self::field_index(f)?));
@@ -627,7 +589,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         let mut fields: Vec<Vec<f64>> = (0..Self::NFIELDS)
             .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
             .collect();
-        self.for_each_cell_in_order(|_, pid, n| {
+        self.level.for_each_cell_in_order(|_, pid, n| {
             for (f, out) in fields.iter_mut().enumerate() {
                 out.push(self.fields[pid].data[f][n]);
             }
@@ -659,7 +621,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         }
         let mut idx = 0;
         let mut writes = Vec::with_capacity(cells.iter().product());
-        self.for_each_cell_in_order(|_, pid, n| {
+        self.level.for_each_cell_in_order(|_, pid, n| {
             writes.push((pid, n, idx));
             idx += 1;
         });

@@ -1,6 +1,6 @@
 //! Levels and patches.
 
-use brisance_core::UniformGridGeometry;
+use brisance_core::{CellData, SolverError, UniformGridGeometry};
 
 /// Why a level cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -177,11 +177,113 @@ impl Level {
         let id = self.patches.iter().position(|p| p.contains_global(g))?;
         Some((id, self.patches[id].index_of_global(g)))
     }
+
+    /// The patch and local storage index of the cell that contains
+    /// `point`, or an error naming the point when it lies outside the
+    /// domain.
+    pub fn locate_point(&self, point: [f64; 3]) -> Result<(usize, usize), SolverError> {
+        let g = self.geometry.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!("point {point:?} lies outside the domain"))
+        })?;
+        Ok(self
+            .locate(g)
+            .expect("every cell of the domain has a patch"))
+    }
+
+    /// Calls `f(global cell, patch id, local index)` for every interior
+    /// cell in global order (x fastest, then y, then z), whatever the patch
+    /// split, so sums and outputs built in this order have the same bits
+    /// for any layout.
+    pub fn for_each_cell_in_order(&self, mut f: impl FnMut([usize; 3], usize, usize)) {
+        let layout = self.layout;
+        for pz in 0..layout[2] {
+            let p0 = &self.patches[self.patch_id([0, 0, pz])];
+            for k in p0.lo[2]..p0.lo[2] + p0.size[2] {
+                for py in 0..layout[1] {
+                    let p1 = &self.patches[self.patch_id([0, py, pz])];
+                    for j in p1.lo[1]..p1.lo[1] + p1.size[1] {
+                        for px in 0..layout[0] {
+                            let id = self.patch_id([px, py, pz]);
+                            let p = &self.patches[id];
+                            for i in p.lo[0]..p.lo[0] + p.size[0] {
+                                f([i, j, k], id, p.index_of_global([i, j, k]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The cell fields `names` (with field ids `ids`, one per name) on the
+    /// whole grid in global order, `value(patch id, local index, field id)`
+    /// giving each value.
+    pub fn gather_cell_data(
+        &self,
+        names: &[String],
+        ids: &[usize],
+        value: impl Fn(usize, usize, usize) -> f64,
+    ) -> CellData {
+        let count = self.geometry.cell_count();
+        let mut out: Vec<(String, Vec<f64>)> = names
+            .iter()
+            .map(|f| (f.clone(), Vec::with_capacity(count)))
+            .collect();
+        self.for_each_cell_in_order(|_, pid, n| {
+            for (slot, &id) in out.iter_mut().zip(ids) {
+                slot.1.push(value(pid, n, id));
+            }
+        });
+        CellData {
+            geometry: self.geometry,
+            fields: out,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cells_are_visited_in_global_order_whatever_the_patch_split() {
+        for layout in [[1, 1, 1], [3, 2, 1], [2, 1, 2]] {
+            let level = Level::new([0.0; 3], [1.0; 3], [7, 5, 4], layout, 2).unwrap();
+            let mut seen = Vec::new();
+            level.for_each_cell_in_order(|g, pid, n| {
+                assert_eq!(level.locate(g), Some((pid, n)));
+                seen.push(level.geometry.linear_index(g));
+            });
+            assert_eq!(seen, (0..140).collect::<Vec<_>>(), "layout {layout:?}");
+        }
+    }
+
+    #[test]
+    fn gathered_cell_data_and_points_follow_the_global_order() {
+        let level = Level::new([0.0; 3], [1.0; 3], [4, 3, 1], [2, 3, 1], 1).unwrap();
+        // A value that names its cell: 10 × global linear index + field id.
+        let value = |pid: usize, n: usize, id: usize| {
+            let p = &level.patches[pid];
+            let (s, d) = (p.strides(), p.dims());
+            let g = p.global_of_local([n % d[0], (n / s[1]) % d[1], n / s[2]]);
+            10.0 * level.geometry.linear_index(g) as f64 + id as f64
+        };
+        let names = ["a".to_string(), "b".to_string()];
+        let data = level.gather_cell_data(&names, &[0, 1], value);
+        assert_eq!(data.fields[0].0, "a");
+        for c in 0..12 {
+            assert_eq!(data.fields[0].1[c], 10.0 * c as f64);
+            assert_eq!(data.fields[1].1[c], 10.0 * c as f64 + 1.0);
+        }
+        // The point (0.6, 0.5) is in cell (2, 1): global index 6.
+        let (pid, n) = level.locate_point([0.6, 0.5, 0.5]).unwrap();
+        assert_eq!(value(pid, n, 0), 60.0);
+        assert!(level
+            .locate_point([1.5, 0.5, 0.5])
+            .unwrap_err()
+            .to_string()
+            .contains("outside the domain"));
+    }
 
     #[test]
     fn patches_tile_the_level_without_overlap() {

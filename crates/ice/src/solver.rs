@@ -939,29 +939,6 @@ impl<E: Eos> IceSolver<E> {
         }
     }
 
-    /// Calls `f(global cell, patch, storage index)` for every interior cell
-    /// in global x-fastest order, independent of the patch split.
-    fn for_each_cell_in_order(&self, mut f: impl FnMut([usize; 3], usize, usize)) {
-        let layout = self.level.layout;
-        for pz in 0..layout[2] {
-            let p0 = &self.level.patches[self.level.patch_id([0, 0, pz])];
-            for k in p0.lo[2]..p0.lo[2] + p0.size[2] {
-                for py in 0..layout[1] {
-                    let p1 = &self.level.patches[self.level.patch_id([0, py, pz])];
-                    for j in p1.lo[1]..p1.lo[1] + p1.size[1] {
-                        for px in 0..layout[0] {
-                            let id = self.level.patch_id([px, py, pz]);
-                            let p = &self.level.patches[id];
-                            for i in p.lo[0]..p.lo[0] + p.size[0] {
-                                f([i, j, k], id, p.index_of_global([i, j, k]));
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-
     /// Output field names: mixture fields, then per material k (1-based).
     pub fn field_names(&self) -> Vec<&'static str> {
         let mut v = MIXTURE_FIELDS.to_vec();
@@ -1390,7 +1367,7 @@ impl<E: Eos> Solver for IceSolver<E> {
     fn conservation_totals(&self) -> ConservationTotals {
         let n = self.eos.len();
         let mut t = ConservationTotals::default();
-        self.for_each_cell_in_order(|_, pid, c| {
+        self.level.for_each_cell_in_order(|_, pid, c| {
             let d = &self.state[pid].data;
             for r in 0..n {
                 let b = r * NS;
@@ -1420,20 +1397,9 @@ impl<E: Eos> Solver for IceSolver<E> {
             .iter()
             .map(|f| self.field_index(f))
             .collect::<Result<Vec<_>, _>>()?;
-        let count = self.level.geometry.cell_count();
-        let mut out: Vec<(String, Vec<f64>)> = fields
-            .iter()
-            .map(|f| (f.clone(), Vec::with_capacity(count)))
-            .collect();
-        self.for_each_cell_in_order(|_, pid, c| {
-            for (slot, &id) in out.iter_mut().zip(&ids) {
-                slot.1.push(self.derived(pid, c, id));
-            }
-        });
-        Ok(CellData {
-            geometry: self.level.geometry,
-            fields: out,
-        })
+        Ok(self
+            .level
+            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(pid, n, id)))
     }
 
     fn sample(
@@ -1442,10 +1408,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError> {
-        let g = self.level.geometry.cell_containing(point).ok_or_else(|| {
-            SolverError::Other(format!("point {point:?} lies outside the domain"))
-        })?;
-        let (pid, c) = self.level.locate(g).expect("every cell has a patch");
+        let (pid, c) = self.level.locate_point(point)?;
         out.clear();
         for f in fields {
             out.push(self.derived(pid, c, self.field_index(f)?));
@@ -1462,7 +1425,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         let mut fields: Vec<Vec<f64>> = (0..nf)
             .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
             .collect();
-        self.for_each_cell_in_order(|_, pid, c| {
+        self.level.for_each_cell_in_order(|_, pid, c| {
             for (f, out) in fields.iter_mut().enumerate() {
                 out.push(self.state[pid].data[f][c]);
             }
@@ -1500,7 +1463,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         }
         let mut writes = Vec::with_capacity(cells.iter().product());
         let mut idx = 0;
-        self.for_each_cell_in_order(|_, pid, c| {
+        self.level.for_each_cell_in_order(|_, pid, c| {
             writes.push((pid, c, idx));
             idx += 1;
         });
