@@ -233,9 +233,16 @@ pub fn surface_node_forces(
                     p,
                     "singular deformation gradient under a surface load".to_string(),
                 ))?;
-            let lp = map.half_width(v0).map_err(|e| (p, e.to_string()))?;
+            // The particle's own domain, as in the transfers: cpGIMP
+            // stretches it with F, the other shapes keep l_p0.
+            let lp = if map.shape == crate::ShapeFunction::CpGimp {
+                map.deformed_half_width(v0, &particles.deformation_gradient[p])
+            } else {
+                map.half_width(v0).map(|l| [l; 3])
+            }
+            .map_err(|e| (p, e.to_string()))?;
             map.shape
-                .evaluate(&map.grid, particles.position[p], [lp; 3], &mut stencil)
+                .evaluate(&map.grid, particles.position[p], lp, &mut stencil)
                 .map_err(|e| (p, e.to_string()))?;
             for (node, w, _) in stencil.iter() {
                 if w == 0.0 {
@@ -409,6 +416,64 @@ mod tests {
         add_node_forces(&out, &mut nodal);
         assert_eq!(nodal[n1], [4.0, 2.0, 3.0]);
         assert_eq!(nodal[n2], [1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn under_cpgimp_the_load_spreads_over_the_stretched_particle_domain() {
+        // 1D, cells of 0.25 m, 2 particles per cell (l_p0 = 0.0625 m); a
+        // particle at x = 0.27 stretched F_xx = 1.8 has the half-width
+        // 0.1125 m, so its domain [0.1575, 0.3825] m spreads the load
+        // otherwise than the undeformed [0.2075, 0.3325] m.
+        let grid = UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [0.25, 1.0, 1.0],
+            cells: [4, 1, 1],
+        };
+        let map = GridMap::new(&grid, crate::ShapeFunction::CpGimp);
+        let mut ps = Particles::new(0);
+        let init = crate::ParticleInit {
+            position: [0.27, 0.5, 0.5],
+            mass: 1.0,
+            volume: 0.125,
+            ..Default::default()
+        };
+        ps.push(&init, &[]).unwrap();
+        ps.deformation_gradient[0] = [1.8, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let l = SurfaceLoad {
+            set: ParticleSet::select(&ps, |_, _| true),
+            load: SurfaceLoadKind::Traction([0.0, 8.0, 0.0]),
+            normal: [0.0, 1.0, 0.0],
+            thickness: 0.125,
+            history: LoadHistory::Constant,
+        };
+        let mut out = Vec::new();
+        surface_node_forces(&[l], 0.0, &map, &ps, &[0], &mut out).unwrap();
+        let lp = map
+            .deformed_half_width(0.125, &ps.deformation_gradient[0])
+            .unwrap();
+        assert!((lp[0] - 0.1125).abs() < 1e-15, "{lp:?}");
+        let weights = |half: [f64; 3]| {
+            let mut st = ShapeStencil::new();
+            map.shape
+                .evaluate(&map.grid, [0.27, 0.5, 0.5], half, &mut st)
+                .unwrap();
+            st.iter()
+                .filter(|(_, w, _)| *w != 0.0)
+                .map(|(n, w, _)| (map.lattice.index(n).unwrap(), w))
+                .collect::<Vec<_>>()
+        };
+        let stretched = weights(lp);
+        let undeformed = weights([map.half_width(0.125).unwrap(); 3]);
+        assert_ne!(stretched, undeformed);
+        let total: f64 = out.iter().map(|(_, f)| f[1]).sum();
+        assert_eq!(out.len(), stretched.len());
+        for ((idx, f), (n, w)) in out.iter().zip(&stretched) {
+            assert_eq!(idx, n);
+            assert!(
+                (f[1] - w * total).abs() <= 1e-14 * total.abs(),
+                "{f:?} vs {w}"
+            );
+        }
     }
 
     fn elastic() -> MaterialModel {
