@@ -33,6 +33,12 @@ pub struct PipelineLimits {
 /// The limits of a pipeline.
 pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
+        Pipeline::Ice(_) => PipelineLimits {
+            fields: &crate::ice::FIELDS,
+            max_cfl: 1.0,
+            ghost: brisance_ice::GHOST,
+            node_fields: &[],
+        },
         Pipeline::Lattice(_) => PipelineLimits {
             fields: &brisance_pd::msdm::MsdmLattice::FIELDS,
             max_cfl: 1.0,
@@ -197,6 +203,11 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 .map(|solver| Built::Solver(Box::new(solver)))
                 .map_err(|(path, message)| located(&path, message))
         }
+        Pipeline::Ice(ice) => {
+            return crate::ice::build(s, ice)
+                .map(|solver| Built::Solver(Box::new(solver)))
+                .map_err(|(path, message)| located(&path, message))
+        }
     };
     let level = Level::new(
         d.lower,
@@ -327,6 +338,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
         Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
         Pipeline::Lattice(l) => return crate::lattice::describe(s, l),
+        Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
     };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
     format!(

@@ -155,6 +155,8 @@ pub enum Pipeline {
     Peridynamics(crate::peridynamics::PdConfig),
     /// The thermo-mechanical mass–spring–damper lattice of seed 003.
     Lattice(crate::lattice::LatticeConfig),
+    /// The multi-material ICE method of seed 000 §3.3.
+    Ice(crate::ice::IceConfig),
 }
 
 /// Options of the MPM pipeline. Every initial region becomes particles of

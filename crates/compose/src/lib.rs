@@ -6,12 +6,14 @@
 //! - [`validate`]: the checks serde cannot express.
 //! - [`registry`]: every named component with a one-line description.
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline.
+//! - [`build`]: assembling the solver for a pipeline ([`lattice`],
+//!   [`peridynamics`] and [`ice`] hold their own pipelines).
 //! - [`run`]: the run loop, outputs, checkpoints and restart.
 
 pub mod build;
 pub mod config;
 pub mod error;
+pub mod ice;
 pub mod lattice;
 pub mod library;
 pub mod load;

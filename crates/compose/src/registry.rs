@@ -121,6 +121,12 @@ pub const ENTRIES: &[Entry] = &[
         example: "Lattice(dimension: Two, spacing: 2e-5, materials: {\"hmx\": (young: 25.325e9, conductivity: 0.4)})",
     },
     Entry {
+        family: "pipeline",
+        name: "Ice",
+        summary: "multi-material cell-centred ICE: equilibration pressure, momentum and heat exchange, van Leer or donor-cell advection, total-energy closure (seed 000 §3.3)",
+        example: "Ice(materials: [\"air\", \"products\"], cfl: 0.4, advection: VanLeer, momentum_exchange: 1e15)",
+    },
+    Entry {
         family: "load",
         name: "Traction",
         summary: "traction vector per unit area on a particle surface layer, Pa (seed 001 eq 20)",

@@ -208,6 +208,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         }
         Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
         Pipeline::Lattice(l) => crate::lattice::validate(s, l)?,
+        Pipeline::Ice(ice) => crate::ice::validate(s, ice)?,
         Pipeline::Mpm(mpm) => {
             if mpm.ppc == 0 || mpm.ppc > 8 {
                 return Err((
