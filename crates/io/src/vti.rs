@@ -201,6 +201,24 @@ mod tests {
         (extent, *piece)
     }
 
+    /// Each attribute is a one-component Float64 array with the name and
+    /// the bits of the matching field.
+    fn assert_arrays_are_bit_exact(attributes: &[Attribute], fields: &[(String, Vec<f64>)]) {
+        assert_eq!(attributes.len(), fields.len());
+        for (attribute, (name, values)) in attributes.iter().zip(fields) {
+            let Attribute::DataArray(array) = attribute else {
+                panic!("not a data array: {attribute:?}");
+            };
+            assert_eq!(&array.name, name);
+            assert_eq!(array.elem.num_comp(), 1);
+            let IOBuffer::F64(read) = &array.data else {
+                panic!("not Float64: {:?}", array.data);
+            };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(read), bits(values), "{name}");
+        }
+    }
+
     #[test]
     fn fields_and_extent_round_trip_exactly() {
         let dir = tempfile::tempdir().unwrap();
@@ -214,18 +232,7 @@ mod tests {
         assert_eq!(piece.extent, expected);
         assert!(piece.data.point.is_empty());
         assert_eq!(piece.data.cell.len(), 2);
-        for (attribute, (name, values)) in piece.data.cell.iter().zip(&data.fields) {
-            let Attribute::DataArray(array) = attribute else {
-                panic!("not a data array: {attribute:?}");
-            };
-            assert_eq!(&array.name, name);
-            assert_eq!(array.elem.num_comp(), 1);
-            let IOBuffer::F64(read) = &array.data else {
-                panic!("not Float64: {:?}", array.data);
-            };
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(read), bits(values), "{name}");
-        }
+        assert_arrays_are_bit_exact(&piece.data.cell, &data.fields);
     }
 
     #[test]
@@ -293,18 +300,7 @@ mod tests {
         assert_eq!(piece.extent, expected);
         assert!(piece.data.cell.is_empty());
         assert_eq!(piece.data.point.len(), 2);
-        for (attribute, (name, values)) in piece.data.point.iter().zip(&data.fields) {
-            let Attribute::DataArray(array) = attribute else {
-                panic!("not a data array: {attribute:?}");
-            };
-            assert_eq!(&array.name, name);
-            assert_eq!(array.elem.num_comp(), 1);
-            let IOBuffer::F64(read) = &array.data else {
-                panic!("not Float64: {:?}", array.data);
-            };
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(read), bits(values), "{name}");
-        }
+        assert_arrays_are_bit_exact(&piece.data.point, &data.fields);
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(
             text.contains(

@@ -255,9 +255,9 @@ pub fn bicgstab(
 mod tests {
     use super::*;
 
-    #[test]
-    fn solves_a_nonsymmetric_tridiagonal_system() {
-        // A = tridiag(−1, 4, −2), n = 50, x* = (1, 2, …); b = A x*.
+    /// A = tridiag(−1, 4, −2), n = 50, x* = (1, 2, …, 50); returns
+    /// (n, A, x*, b = A x*).
+    fn tridiagonal_system() -> (usize, CsrMatrix, Vec<f64>, Vec<f64>) {
         let n = 50;
         let mut a = CsrMatrix::default();
         a.clear();
@@ -274,6 +274,12 @@ mod tests {
         let xs: Vec<f64> = (0..n).map(|k| (k + 1) as f64).collect();
         let mut b = vec![0.0; n];
         a.mul(&xs, &mut b);
+        (n, a, xs, b)
+    }
+
+    #[test]
+    fn solves_a_nonsymmetric_tridiagonal_system() {
+        let (n, a, xs, b) = tridiagonal_system();
         let mut x = vec![0.0; n];
         let mut w = SolverWork::default();
         let st = bicgstab(&a, &b, &mut x, 1e-13, 200, &mut w).unwrap();
@@ -323,22 +329,7 @@ mod tests {
 
     #[test]
     fn direct_and_iterative_solves_agree_on_the_tridiagonal_system() {
-        let n = 50;
-        let mut a = CsrMatrix::default();
-        a.clear();
-        for r in 0..n {
-            if r > 0 {
-                a.push(r - 1, -1.0);
-            }
-            a.push(r, 4.0);
-            if r + 1 < n {
-                a.push(r + 1, -2.0);
-            }
-            a.end_row();
-        }
-        let xs: Vec<f64> = (0..n).map(|k| (k + 1) as f64).collect();
-        let mut b = vec![0.0; n];
-        a.mul(&xs, &mut b);
+        let (n, a, xs, b) = tridiagonal_system();
         let mut x = vec![0.0; n];
         let st = solve_direct(&a, &b, &mut x).unwrap();
         assert!(st.relative_residual < 1e-14, "{}", st.relative_residual);
