@@ -28,7 +28,9 @@ use brisance_grid::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::advection::{carried_value, fluxed_slab, van_leer_difference, Advection};
+use crate::advection::{
+    carried_difference, carried_value, density_difference, fluxed_slab, Advection,
+};
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
@@ -693,14 +695,19 @@ impl<E: Eos> IceSolver<E> {
                                 let courant = fv[m] * lam;
                                 let donor = if courant > 0.0 { m - st[a] } else { m };
                                 let q = |f: usize, i: usize| d[b + f][i];
-                                let diff = |f: usize| match scheme {
-                                    Advection::DonorCell => 0.0,
-                                    Advection::VanLeer => van_leer_difference(
+                                let diff = |f: usize| {
+                                    carried_difference(
+                                        scheme,
                                         q(f, donor) - q(f, donor - st[a]),
                                         q(f, donor + st[a]) - q(f, donor),
-                                    ),
+                                    )
                                 };
-                                let slab = fluxed_slab(courant, q(RHO, donor), diff(RHO), scheme);
+                                let drho = density_difference(
+                                    scheme,
+                                    q(RHO, donor) - q(RHO, donor - st[a]),
+                                    q(RHO, donor + st[a]) - q(RHO, donor),
+                                );
+                                let slab = fluxed_slab(courant, q(RHO, donor), drho, scheme);
                                 courant
                                     * slab.mean_density
                                     * carried_value(q(VSP, donor), diff(VSP), &slab)
@@ -868,14 +875,19 @@ impl<E: Eos> IceSolver<E> {
                                     return [0.0; 6];
                                 }
                                 let donor = if courant > 0.0 { m - st[a] } else { m };
-                                let diff = |f: usize| match scheme {
-                                    Advection::DonorCell => 0.0,
-                                    Advection::VanLeer => van_leer_difference(
+                                let diff = |f: usize| {
+                                    carried_difference(
+                                        scheme,
                                         q(f, donor) - q(f, donor - st[a]),
                                         q(f, donor + st[a]) - q(f, donor),
-                                    ),
+                                    )
                                 };
-                                let slab = fluxed_slab(courant, q(L_RHO, donor), diff(L_RHO), scheme);
+                                let drho = density_difference(
+                                    scheme,
+                                    q(L_RHO, donor) - q(L_RHO, donor - st[a]),
+                                    q(L_RHO, donor + st[a]) - q(L_RHO, donor),
+                                );
+                                let slab = fluxed_slab(courant, q(L_RHO, donor), drho, scheme);
                                 let mass = courant * slab.mean_density;
                                 let carried =
                                     |f: usize| mass * carried_value(q(f, donor), diff(f), &slab);
