@@ -586,14 +586,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let mut fields: Vec<Vec<f64>> = (0..Self::NFIELDS)
-            .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
-            .collect();
-        self.level.for_each_cell_in_order(|_, pid, n| {
-            for (f, out) in fields.iter_mut().enumerate() {
-                out.push(self.fields[pid].data[f][n]);
-            }
-        });
+        let fields = self.level.gather_fields(&self.fields);
         let saved = SavedState {
             time: self.time,
             steps: self.steps,
@@ -619,17 +612,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                 saved.cells, cells
             )));
         }
-        let mut idx = 0;
-        let mut writes = Vec::with_capacity(cells.iter().product());
-        self.level.for_each_cell_in_order(|_, pid, n| {
-            writes.push((pid, n, idx));
-            idx += 1;
-        });
-        for (pid, n, i) in writes {
-            for f in 0..Self::NFIELDS {
-                self.fields[pid].data[f][n] = saved.fields[f][i];
-            }
-        }
+        self.level.scatter_fields(&mut self.fields, &saved.fields);
         self.time = saved.time;
         self.steps = saved.steps;
         Ok(())

@@ -2,6 +2,8 @@
 
 use brisance_core::{CellData, SolverError, UniformGridGeometry};
 
+use crate::fields::PatchFields;
+
 /// Why a level cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GridError {
@@ -215,6 +217,35 @@ impl Level {
         }
     }
 
+    /// Every field of `patches` (one [`PatchFields`] per patch) over the
+    /// interior cells in global order, one array per field: a layout that
+    /// does not depend on the patch split (checkpoints).
+    pub fn gather_fields(&self, patches: &[PatchFields]) -> Vec<Vec<f64>> {
+        let n_fields = patches.first().map_or(0, |p| p.data.len());
+        let mut out: Vec<Vec<f64>> = (0..n_fields)
+            .map(|_| Vec::with_capacity(self.geometry.cell_count()))
+            .collect();
+        self.for_each_cell_in_order(|_, pid, n| {
+            for (f, values) in out.iter_mut().enumerate() {
+                values.push(patches[pid].data[f][n]);
+            }
+        });
+        out
+    }
+
+    /// Writes arrays laid out as [`Level::gather_fields`] gives them back
+    /// into the interior cells of `patches`; the caller has checked that
+    /// there is one array per field, each with one value per cell.
+    pub fn scatter_fields(&self, patches: &mut [PatchFields], fields: &[Vec<f64>]) {
+        let mut i = 0;
+        self.for_each_cell_in_order(|_, pid, n| {
+            for (f, values) in fields.iter().enumerate() {
+                patches[pid].data[f][n] = values[i];
+            }
+            i += 1;
+        });
+    }
+
     /// The cell fields `names` (with field ids `ids`, one per name) on the
     /// whole grid in global order, `value(patch id, local index, field id)`
     /// giving each value.
@@ -283,6 +314,27 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("outside the domain"));
+    }
+
+    #[test]
+    fn fields_gathered_in_global_order_scatter_back_on_another_split() {
+        let a = Level::new([0.0; 3], [1.0; 3], [6, 4, 1], [2, 2, 1], 1).unwrap();
+        let b = Level::new([0.0; 3], [1.0; 3], [6, 4, 1], [3, 1, 1], 1).unwrap();
+        let mut pa: Vec<PatchFields> = a.patches.iter().map(|p| PatchFields::zeros(p, 2)).collect();
+        a.for_each_cell_in_order(|g, pid, n| {
+            let c = a.geometry.linear_index(g) as f64;
+            pa[pid].data[0][n] = c;
+            pa[pid].data[1][n] = -c;
+        });
+        let gathered = a.gather_fields(&pa);
+        assert_eq!(gathered[0], (0..24).map(|c| c as f64).collect::<Vec<_>>());
+        assert_eq!(
+            gathered[1],
+            (0..24).map(|c| -(c as f64)).collect::<Vec<_>>()
+        );
+        let mut pb: Vec<PatchFields> = b.patches.iter().map(|p| PatchFields::zeros(p, 2)).collect();
+        b.scatter_fields(&mut pb, &gathered);
+        assert_eq!(b.gather_fields(&pb), gathered);
     }
 
     #[test]

@@ -1433,15 +1433,7 @@ impl<E: Eos> Solver for IceSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let nf = self.eos.len() * NS + 1;
-        let mut fields: Vec<Vec<f64>> = (0..nf)
-            .map(|_| Vec::with_capacity(self.level.geometry.cell_count()))
-            .collect();
-        self.level.for_each_cell_in_order(|_, pid, c| {
-            for (f, out) in fields.iter_mut().enumerate() {
-                out.push(self.state[pid].data[f][c]);
-            }
-        });
+        let fields = self.level.gather_fields(&self.state);
         let saved = SavedState {
             time: self.time,
             steps: self.steps,
@@ -1473,17 +1465,7 @@ impl<E: Eos> Solver for IceSolver<E> {
                 cells
             )));
         }
-        let mut writes = Vec::with_capacity(cells.iter().product());
-        let mut idx = 0;
-        self.level.for_each_cell_in_order(|_, pid, c| {
-            writes.push((pid, c, idx));
-            idx += 1;
-        });
-        for (pid, c, i) in writes {
-            for f in 0..nf {
-                self.state[pid].data[f][c] = saved.fields[f][i];
-            }
-        }
+        self.level.scatter_fields(&mut self.state, &saved.fields);
         self.time = saved.time;
         self.steps = saved.steps;
         Ok(())
