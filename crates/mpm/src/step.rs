@@ -170,13 +170,15 @@ pub fn p2g_integrate_stress(
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
-    let inputs = P2gParticles {
+    p2g_with_force(
+        t,
+        particles,
         stress,
-        ..p2g_inputs(particles)
-    };
-    transfer::p2g(t.map, t.bins, inputs, nodes, P2gSums::Force);
-    crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
-    nodes.update(&params.node_update(), NodeStage::Integrate);
+        nodes,
+        params,
+        P2gSums::Force,
+        NodeStage::Integrate,
+    );
 }
 
 /// [`p2g_velocity`] and [`p2g_integrate`] fused: mass, momentum and force
@@ -200,13 +202,35 @@ pub fn p2g_velocity_and_integrate_stress(
     nodes: &mut GridNodes,
     params: &StepParams,
 ) {
+    p2g_with_force(
+        t,
+        particles,
+        stress,
+        nodes,
+        params,
+        P2gSums::All,
+        NodeStage::VelocityAndIntegrate,
+    );
+}
+
+/// The P2G sums `sums` with the internal force from `stress`, the surface
+/// loads added to the nodal force, then the node update `stage`.
+fn p2g_with_force(
+    t: &Transfer,
+    particles: &Particles,
+    stress: &[[f64; 6]],
+    nodes: &mut GridNodes,
+    params: &StepParams,
+    sums: P2gSums,
+    stage: NodeStage,
+) {
     let inputs = P2gParticles {
         stress,
         ..p2g_inputs(particles)
     };
-    transfer::p2g(t.map, t.bins, inputs, nodes, P2gSums::All);
+    transfer::p2g(t.map, t.bins, inputs, nodes, sums);
     crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
-    nodes.update(&params.node_update(), NodeStage::VelocityAndIntegrate);
+    nodes.update(&params.node_update(), stage);
 }
 
 /// MUSL: the velocity update of eq 24, v_p += Δt Σ N_Ip a_I, and the
