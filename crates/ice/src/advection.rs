@@ -131,6 +131,48 @@ pub fn fluxed_slab(courant: f64, rho: f64, drho: f64, scheme: Advection) -> Flux
     }
 }
 
+/// The backward and forward differences of `q` (a value per storage
+/// index) at `donor`, neighbours `stride` apart.
+#[inline]
+fn one_sided(q: &impl Fn(usize) -> f64, donor: usize, stride: usize) -> (f64, f64) {
+    let c = q(donor);
+    (c - q(donor - stride), q(donor + stride) - c)
+}
+
+/// The slab a face with Courant number `courant` takes from `donor`,
+/// whose material density is `rho(i)` per storage index: [`fluxed_slab`]
+/// with the donor's [`density_difference`].
+#[inline]
+pub fn donor_slab(
+    scheme: Advection,
+    courant: f64,
+    rho: impl Fn(usize) -> f64,
+    donor: usize,
+    stride: usize,
+) -> FluxedSlab {
+    let (back, forward) = one_sided(&rho, donor, stride);
+    fluxed_slab(
+        courant,
+        rho(donor),
+        density_difference(scheme, back, forward),
+        scheme,
+    )
+}
+
+/// The value of the specific quantity `phi(i)` that `slab` carries out of
+/// `donor`: [`carried_value`] with the donor's [`carried_difference`].
+#[inline]
+pub fn donor_carried(
+    scheme: Advection,
+    phi: impl Fn(usize) -> f64,
+    donor: usize,
+    stride: usize,
+    slab: &FluxedSlab,
+) -> f64 {
+    let (back, forward) = one_sided(&phi, donor, stride);
+    carried_value(phi(donor), carried_difference(scheme, back, forward), slab)
+}
+
 /// Value of a specific quantity φ carried by the slab's mass: the donor's
 /// limited profile φ + dφ·ξ at the slab's centre of mass.
 #[inline]

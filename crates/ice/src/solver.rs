@@ -28,9 +28,7 @@ use brisance_grid::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::advection::{
-    carried_difference, carried_value, density_difference, fluxed_slab, Advection,
-};
+use crate::advection::{donor_carried, donor_slab, Advection};
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
@@ -694,23 +692,11 @@ impl<E: Eos> IceSolver<E> {
                             let flux = |m: usize| {
                                 let courant = fv[m] * lam;
                                 let donor = if courant > 0.0 { m - st[a] } else { m };
-                                let q = |f: usize, i: usize| d[b + f][i];
-                                let diff = |f: usize| {
-                                    carried_difference(
-                                        scheme,
-                                        q(f, donor) - q(f, donor - st[a]),
-                                        q(f, donor + st[a]) - q(f, donor),
-                                    )
-                                };
-                                let drho = density_difference(
-                                    scheme,
-                                    q(RHO, donor) - q(RHO, donor - st[a]),
-                                    q(RHO, donor + st[a]) - q(RHO, donor),
-                                );
-                                let slab = fluxed_slab(courant, q(RHO, donor), drho, scheme);
+                                let q = |f: usize| move |i: usize| d[b + f][i];
+                                let slab = donor_slab(scheme, courant, q(RHO), donor, st[a]);
                                 courant
                                     * slab.mean_density
-                                    * carried_value(q(VSP, donor), diff(VSP), &slab)
+                                    * donor_carried(scheme, q(VSP), donor, st[a], &slab)
                             };
                             let (lo, hi) = (flux(c), flux(c + st[a]));
                             div += (hi - lo) / dt;
@@ -875,22 +861,13 @@ impl<E: Eos> IceSolver<E> {
                                     return [0.0; 6];
                                 }
                                 let donor = if courant > 0.0 { m - st[a] } else { m };
-                                let diff = |f: usize| {
-                                    carried_difference(
-                                        scheme,
-                                        q(f, donor) - q(f, donor - st[a]),
-                                        q(f, donor + st[a]) - q(f, donor),
-                                    )
-                                };
-                                let drho = density_difference(
-                                    scheme,
-                                    q(L_RHO, donor) - q(L_RHO, donor - st[a]),
-                                    q(L_RHO, donor + st[a]) - q(L_RHO, donor),
-                                );
-                                let slab = fluxed_slab(courant, q(L_RHO, donor), drho, scheme);
+                                let field = |f: usize| move |i: usize| q(f, i);
+                                let slab =
+                                    donor_slab(scheme, courant, field(L_RHO), donor, st[a]);
                                 let mass = courant * slab.mean_density;
-                                let carried =
-                                    |f: usize| mass * carried_value(q(f, donor), diff(f), &slab);
+                                let carried = |f: usize| {
+                                    mass * donor_carried(scheme, field(f), donor, st[a], &slab)
+                                };
                                 [
                                     mass,
                                     carried(L_VEL),
