@@ -402,6 +402,33 @@ pub enum BinError {
     },
 }
 
+/// `out[p] = value(p, V_p⁰)` for every particle, in parallel; on failure
+/// the error of the lowest particle index, so the report does not depend
+/// on the thread count.
+fn fill_per_particle<T: Send>(
+    out: &mut [T],
+    initial_volume: &[f64],
+    value: impl Fn(usize, f64) -> Result<T, ShapeError> + Sync,
+) -> Result<(), BinError> {
+    let bad = out
+        .par_iter_mut()
+        .zip(initial_volume.par_iter())
+        .with_min_len(PARTICLES_PER_TASK)
+        .enumerate()
+        .filter_map(|(index, (slot, &v0))| match value(index, v0) {
+            Ok(v) => {
+                *slot = v;
+                None
+            }
+            Err(error) => Some(BinError::Shape { index, error }),
+        })
+        .min_by_key(|e| match e {
+            BinError::Shape { index, .. } => *index,
+            _ => usize::MAX,
+        });
+    bad.map_or(Ok(()), Err)
+}
+
 /// The particles of every block, and the non-empty blocks of every colour:
 /// the schedule of the coloured passes. Rebuilt every step from the
 /// positions (see the module doc).
@@ -473,53 +500,22 @@ impl ParticleBins {
         if map.shape == ShapeFunction::CpGimp {
             self.half_width.clear();
             self.deformed_half_width.resize(n, [0.0; 3]);
-            const IDENTITY: [f64; 9] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
-            let bad = self
-                .deformed_half_width
-                .par_iter_mut()
-                .zip(initial_volume.par_iter())
-                .with_min_len(PARTICLES_PER_TASK)
-                .enumerate()
-                .filter_map(|(index, (lp, &v0))| {
-                    let f = deformation_gradient.get(index).unwrap_or(&IDENTITY);
-                    match map.deformed_half_width(v0, f) {
-                        Ok(l) => {
-                            *lp = l;
-                            None
-                        }
-                        Err(error) => Some(BinError::Shape { index, error }),
-                    }
-                })
-                .min_by_key(|e| match e {
-                    BinError::Shape { index, .. } => *index,
-                    _ => usize::MAX,
-                });
-            if let Some(e) = bad {
-                return Err(e);
-            }
+            fill_per_particle(
+                &mut self.deformed_half_width,
+                initial_volume,
+                |index, v0| {
+                    let f = deformation_gradient
+                        .get(index)
+                        .unwrap_or(&crate::particles::IDENTITY);
+                    map.deformed_half_width(v0, f)
+                },
+            )?;
         } else if map.shape == ShapeFunction::Gimp {
             self.deformed_half_width.clear();
             self.half_width.resize(n, 0.0);
-            let bad = self
-                .half_width
-                .par_iter_mut()
-                .zip(initial_volume.par_iter())
-                .with_min_len(PARTICLES_PER_TASK)
-                .enumerate()
-                .filter_map(|(index, (lp, &v0))| match map.half_width(v0) {
-                    Ok(l) => {
-                        *lp = l;
-                        None
-                    }
-                    Err(error) => Some(BinError::Shape { index, error }),
-                })
-                .min_by_key(|e| match e {
-                    BinError::Shape { index, .. } => *index,
-                    _ => usize::MAX,
-                });
-            if let Some(e) = bad {
-                return Err(e);
-            }
+            fill_per_particle(&mut self.half_width, initial_volume, |_, v0| {
+                map.half_width(v0)
+            })?;
         } else {
             self.half_width.clear();
             self.deformed_half_width.clear();
