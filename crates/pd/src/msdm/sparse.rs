@@ -237,17 +237,9 @@ pub fn bicgstab(
             });
         }
     }
-    let mut ax = vec![0.0; n];
-    a.mul(x, &mut ax);
-    let res: f64 = ax
-        .iter()
-        .zip(b)
-        .map(|(p, q)| (p - q) * (p - q))
-        .sum::<f64>()
-        .sqrt();
     Err(format!(
         "BiCGSTAB did not converge in {max_iter} iterations (relative residual {:.3e})",
-        res / bnorm
+        relative_residual(a, b, x)
     ))
 }
 
