@@ -1,0 +1,57 @@
+//! Criterion benchmark `lattice_step`: one explicit-Euler step of the MSDM
+//! lattice (seed 003 §2.3, eqs 16–17) with the energy equation (eqs 10c,
+//! 11–15) and heat conduction, on the 432 × 432 lattice of the hot-spot
+//! problem (§4.2). Throughput is in node-updates per second (432² solid
+//! nodes per step); the target of issue 6 is ≥ 30e6. Measured figures:
+//! `docs/physics/lattice/hotspots.md`.
+
+use brisance::pd::msdm::{Dim, Geometry, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+/// An Estane block (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K))
+/// of `n` × `n` nodes at h = 10 µm moving at −100 m/s, axial springs with
+/// the perpendicular corrective force of eq 10b.
+fn block(n: usize, diagonals: bool) -> MsdmLattice {
+    let geom = Geometry::new(Dim::Two, [n, n, 1], 1.0e-5, diagonals, |_, _, _| Some(0));
+    let mut mat = LatticeMaterial::elastic(
+        "estane",
+        6.25e9,
+        brisance::eos::MieGruneisenThermal::estane_seed003(),
+    );
+    mat.conductivity = 0.2;
+    mat.perpendicular_modulus = 1.0e9;
+    let mut lat = MsdmLattice::new(
+        geom,
+        vec![mat],
+        MsdmOptions {
+            integrator: Integrator::ExplicitEuler,
+            ..MsdmOptions::default()
+        },
+    )
+    .expect("benchmark lattice builds");
+    for i in 0..lat.len() {
+        if lat.geom.is_solid(i) {
+            lat.u[0][i] = -100.0;
+        }
+    }
+    lat
+}
+
+fn lattice_step(c: &mut Criterion) {
+    let n = 432;
+    let mut group = c.benchmark_group("lattice_step");
+    group.throughput(Throughput::Elements((n * n) as u64));
+    group.sample_size(20);
+    for (name, diagonals) in [
+        ("explicit_euler_432sq", false),
+        ("explicit_euler_432sq_diagonals", true),
+    ] {
+        let mut lat = block(n, diagonals);
+        let dt = 0.5 * lat.explicit_stable_dt();
+        group.bench_function(name, |b| b.iter(|| lat.step(dt).expect("lattice step")));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, lattice_step);
+criterion_main!(benches);
