@@ -11,6 +11,7 @@
 //!
 //! Units are SI throughout.
 
+pub mod jwlpp;
 pub mod products;
 pub mod program_burn;
 
