@@ -258,6 +258,28 @@ impl RadialDetonation {
         self.h
     }
 
+    /// The problem this run solves.
+    pub fn setup(&self) -> &DetonationSetup {
+        &self.setup
+    }
+
+    /// The products-in-air gas law of the run.
+    pub fn gas(&self) -> &ProductsInAir<Jwl, IdealGas> {
+        &self.gas
+    }
+
+    /// Conservative values (ρ, ρu_r, E, ρY) of interior cell i.
+    pub fn conservative(&self, i: usize) -> [f64; 4] {
+        let j = i + G;
+        std::array::from_fn(|f| self.u[f][j])
+    }
+
+    /// Whether every charge cell has burnt completely (F = 1, eq 53) at the
+    /// current time: t ≥ t_L + 1.5 h/D for the outermost charge cell.
+    pub fn burn_complete(&self) -> bool {
+        (G..self.u[0].len() - G).all(|j| self.burn_at(j, self.time) >= 1.0)
+    }
+
     /// Cell-centre radii, m.
     pub fn radii(&self) -> Vec<f64> {
         (0..self.setup.cells)

@@ -241,6 +241,62 @@ impl<E: GasLaw> FdmSolver<E> {
         self.steps
     }
 
+    /// The gas law.
+    pub fn gas(&self) -> &E {
+        &self.eos
+    }
+
+    /// The stored conservative fields (ρ, ρu, ρv, ρw, E and, with a
+    /// species, ρY) over the interior cells in global order (x fastest),
+    /// one array per field.
+    pub fn conservative_fields(&self) -> Vec<Vec<f64>> {
+        self.level.gather_fields(&self.fields)
+    }
+
+    /// Overwrites the conservative fields with arrays laid out as
+    /// [`Self::conservative_fields`] gives them (an initial state remapped
+    /// from another grid, or values set by a coupling). Fails, changing
+    /// nothing, when the number of arrays or their lengths do not match.
+    pub fn set_conservative_fields(&mut self, fields: &[Vec<f64>]) -> Result<(), FdmError> {
+        let cells = self.level.geometry.cell_count();
+        if fields.len() != Self::NFIELDS || fields.iter().any(|f| f.len() != cells) {
+            return Err(FdmError::Invalid(format!(
+                "conservative fields: expected {} arrays of {cells} values, got {} arrays of lengths {:?}",
+                Self::NFIELDS,
+                fields.len(),
+                fields.iter().map(Vec::len).collect::<Vec<_>>()
+            )));
+        }
+        self.level.scatter_fields(&mut self.fields, fields);
+        Ok(())
+    }
+
+    /// The stored conservative values of global cell `g` (5, or 6 with
+    /// ρY), or `None` outside the grid.
+    pub fn cell_conservative(&self, g: [usize; 3]) -> Option<[f64; 6]> {
+        let (pid, n) = self.level.locate(g)?;
+        let d = &self.fields[pid].data;
+        Some(std::array::from_fn(|f| d.get(f).map_or(0.0, |v| v[n])))
+    }
+
+    /// Overwrites the stored conservative values of global cell `g` (the
+    /// sixth value, ρY, is ignored without a species). Fails outside the
+    /// grid.
+    pub fn set_cell_conservative(
+        &mut self,
+        g: [usize; 3],
+        values: [f64; 6],
+    ) -> Result<(), FdmError> {
+        let (pid, n) = self
+            .level
+            .locate(g)
+            .ok_or_else(|| FdmError::Invalid(format!("cell {g:?} lies outside the FDM grid")))?;
+        for (f, v) in self.fields[pid].data.iter_mut().enumerate() {
+            v[n] = values[f];
+        }
+        Ok(())
+    }
+
     /// One directional operator L_axis(Δt/2) on every patch (seed 001 eq 6
     /// factor), after filling the ghost layers along `axis`.
     fn sweep(&mut self, axis: usize, dt_sweep: f64) -> Result<(), SolverError> {
