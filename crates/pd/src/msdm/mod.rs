@@ -27,11 +27,13 @@
 
 pub mod cases;
 pub mod geometry;
+pub mod hotspot;
 pub mod integrate;
 pub mod law;
 pub mod model;
 pub mod solver;
 pub mod sparse;
+pub mod stats;
 
 pub use geometry::{dual_volume, Dim, Direction, Geometry, NodeKind};
 pub use law::{Damping, Hysteretic, LatticeMaterial, PairLaw, Plasticity, SpringState};

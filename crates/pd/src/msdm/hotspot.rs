@@ -1,0 +1,565 @@
+//! Hot-spot detection (seed 003 §4.3).
+//!
+//! The temperature fields of a 2D lattice at successive output times are
+//! stacked into a 3D data set in (x, y, t). Every voxel whose temperature
+//! is strictly above a threshold T* is *hot*; a hot spot is a connected
+//! set of hot voxels, voxels being connected when they share a face in
+//! (x, y, t): the four in-plane neighbours of the same frame and the same
+//! node in the previous and next frame (6-connectivity, the region inside
+//! the seed's T* isosurface when the isosurface is drawn through the
+//! voxel faces). Diagonal contact does not connect.
+//!
+//! For each hot spot the detector reports the peak temperature (with its
+//! node and time), its footprint area (the area of its projection on the
+//! (x, y) plane: the union of the nodes it ever covers, as the seed's
+//! fig. 26 shows the isosurfaces "viewed along the time axis"), its
+//! largest cross-section area in one frame, its voxel count and the times
+//! of its first and last frames. Areas are node counts times the
+//! reference area of a node, h² (Lagrangian: the lattice's nodes are
+//! material points).
+//!
+//! The seed chooses T* per impact velocity by hand, as the temperature
+//! tangent to the profile through a region without hot spots (fig. 24);
+//! here T* is an input. Exterior (ghost) and missing nodes are passed as
+//! NaN and are never hot.
+//!
+//! Frames are processed as they are produced ([`HotSpotDetector::push`]):
+//! only the hot voxels are kept, with a union–find over them (union to the
+//! lower index, so each hot spot's representative is its first voxel in
+//! (t, y, x) order and the hot spots come out in order of first
+//! appearance, the same for any frame size or data). Memory is
+//! proportional to the number of hot voxels plus two frames of labels.
+
+use super::geometry::{Dim, NodeKind};
+use super::model::{MsdmError, MsdmLattice};
+
+const NONE: u32 = u32::MAX;
+
+/// One hot spot: a face-connected region of voxels above the threshold
+/// in (x, y, t).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HotSpot {
+    /// Peak temperature over the region, K.
+    pub peak_temperature: f64,
+    /// Node (ix, iy) of the peak (first in (t, y, x) order on ties).
+    pub peak_node: [usize; 2],
+    /// Time of the frame of the peak, s.
+    pub peak_time: f64,
+    /// Time of the first frame the region appears in, s.
+    pub first_time: f64,
+    /// Time of the last frame the region appears in, s.
+    pub last_time: f64,
+    /// Number of hot voxels in the region.
+    pub voxels: usize,
+    /// Area of the projection on the (x, y) plane (nodes ever covered ×
+    /// node area), m².
+    pub footprint_area: f64,
+    /// Largest area of the region within one frame, m².
+    pub max_area: f64,
+}
+
+/// Streaming detector of hot spots in stacked (x, y, t) frames; see the
+/// module documentation.
+#[derive(Debug, Clone)]
+pub struct HotSpotDetector {
+    nx: usize,
+    ny: usize,
+    node_area: f64,
+    threshold: f64,
+    times: Vec<f64>,
+    // Per hot voxel, in (t, y, x) order.
+    parent: Vec<u32>,
+    pixel: Vec<u32>,
+    frame: Vec<u32>,
+    temp: Vec<f64>,
+    // Voxel index of each node's hot voxel in the previous / current
+    // frame, NONE where not hot.
+    prev: Vec<u32>,
+    cur: Vec<u32>,
+}
+
+fn find(parent: &mut [u32], mut v: u32) -> u32 {
+    while parent[v as usize] != v {
+        let p = parent[v as usize];
+        parent[v as usize] = parent[p as usize];
+        v = p;
+    }
+    v
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra < rb {
+        parent[rb as usize] = ra;
+    } else if rb < ra {
+        parent[ra as usize] = rb;
+    }
+}
+
+impl HotSpotDetector {
+    /// A detector for frames of `nx` × `ny` nodes (node `(ix, iy)` at
+    /// index `ix + nx · iy`), each node of area `node_area` (m²), hot
+    /// above `threshold` (K).
+    pub fn new(nx: usize, ny: usize, node_area: f64, threshold: f64) -> Result<Self, MsdmError> {
+        if nx == 0 || ny == 0 {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: frame size `nx` × `ny` = {nx} × {ny}, expected both > 0"
+            )));
+        }
+        if nx.checked_mul(ny).filter(|&n| n < NONE as usize).is_none() {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: frame size `nx` × `ny` = {nx} × {ny} is too large"
+            )));
+        }
+        if !(node_area > 0.0 && node_area.is_finite()) {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: field `node_area` = {node_area}, expected a finite value > 0"
+            )));
+        }
+        if !threshold.is_finite() {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: field `threshold` = {threshold}, expected a finite value"
+            )));
+        }
+        Ok(Self {
+            nx,
+            ny,
+            node_area,
+            threshold,
+            times: Vec::new(),
+            parent: Vec::new(),
+            pixel: Vec::new(),
+            frame: Vec::new(),
+            temp: Vec::new(),
+            prev: vec![NONE; nx * ny],
+            cur: vec![NONE; nx * ny],
+        })
+    }
+
+    /// Threshold temperature T*, K.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    /// Number of frames pushed so far.
+    pub fn frames(&self) -> usize {
+        self.times.len()
+    }
+
+    /// Number of hot voxels so far.
+    pub fn hot_voxels(&self) -> usize {
+        self.parent.len()
+    }
+
+    /// Adds the frame at `time` (s, after the previous frame's time) with
+    /// node temperatures `temperature` (K, length nx · ny, NaN where there
+    /// is no material).
+    pub fn push(&mut self, time: f64, temperature: &[f64]) -> Result<(), MsdmError> {
+        let (nx, ny) = (self.nx, self.ny);
+        if temperature.len() != nx * ny {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: frame {} has {} temperatures, expected nx · ny = {}",
+                self.times.len(),
+                temperature.len(),
+                nx * ny
+            )));
+        }
+        if !time.is_finite() || self.times.last().is_some_and(|&t| !(time > t)) {
+            return Err(MsdmError::Invalid(format!(
+                "hot spots: frame {} has `time` = {time}, expected a finite value after the previous frame's",
+                self.times.len()
+            )));
+        }
+        let f = self.times.len();
+        if f >= NONE as usize {
+            return Err(MsdmError::Invalid("hot spots: too many frames".into()));
+        }
+        let fresh = self.parent.len() + nx * ny;
+        if fresh >= NONE as usize {
+            return Err(MsdmError::Invalid("hot spots: too many hot voxels".into()));
+        }
+        self.times.push(time);
+        self.cur.fill(NONE);
+        for iy in 0..ny {
+            for ix in 0..nx {
+                let p = ix + nx * iy;
+                let t = temperature[p];
+                if !(t > self.threshold) {
+                    continue;
+                }
+                let id = self.parent.len() as u32;
+                self.parent.push(id);
+                self.pixel.push(p as u32);
+                self.frame.push(f as u32);
+                self.temp.push(t);
+                self.cur[p] = id;
+                if ix > 0 && self.cur[p - 1] != NONE {
+                    union(&mut self.parent, id, self.cur[p - 1]);
+                }
+                if iy > 0 && self.cur[p - nx] != NONE {
+                    union(&mut self.parent, id, self.cur[p - nx]);
+                }
+                if self.prev[p] != NONE {
+                    union(&mut self.parent, id, self.prev[p]);
+                }
+            }
+        }
+        std::mem::swap(&mut self.prev, &mut self.cur);
+        Ok(())
+    }
+
+    /// The hot spots of the frames pushed so far, in order of first
+    /// appearance ((t, y, x) order of their first voxel).
+    pub fn hot_spots(&self) -> Vec<HotSpot> {
+        let mut parent = self.parent.clone();
+        let nv = parent.len();
+        // Component of each voxel; representatives are first voxels.
+        let mut comp = vec![0u32; nv];
+        let mut count = 0u32;
+        for v in 0..nv {
+            let r = find(&mut parent, v as u32) as usize;
+            comp[v] = if r == v {
+                count += 1;
+                count - 1
+            } else {
+                comp[r]
+            };
+        }
+        let nc = count as usize;
+        let mut out: Vec<HotSpot> = Vec::with_capacity(nc);
+        // Per component: frame being counted and its count.
+        let mut in_frame = vec![(NONE, 0usize); nc];
+        let mut max_in_frame = vec![0usize; nc];
+        for v in 0..nv {
+            let c = comp[v] as usize;
+            let (f, p, t) = (self.frame[v], self.pixel[v] as usize, self.temp[v]);
+            let time = self.times[f as usize];
+            let node = [p % self.nx, p / self.nx];
+            if c == out.len() {
+                out.push(HotSpot {
+                    peak_temperature: t,
+                    peak_node: node,
+                    peak_time: time,
+                    first_time: time,
+                    last_time: time,
+                    voxels: 0,
+                    footprint_area: 0.0,
+                    max_area: 0.0,
+                });
+            }
+            let h = &mut out[c];
+            h.voxels += 1;
+            h.last_time = time;
+            if t > h.peak_temperature {
+                h.peak_temperature = t;
+                h.peak_node = node;
+                h.peak_time = time;
+            }
+            let fc = &mut in_frame[c];
+            if fc.0 != f {
+                *fc = (f, 0);
+            }
+            fc.1 += 1;
+            max_in_frame[c] = max_in_frame[c].max(fc.1);
+        }
+        // Footprint: distinct nodes per component.
+        let mut cover: Vec<(u32, u32)> = comp
+            .iter()
+            .copied()
+            .zip(self.pixel.iter().copied())
+            .collect();
+        cover.sort_unstable();
+        cover.dedup();
+        let mut footprint = vec![0usize; nc];
+        for (c, _) in cover {
+            footprint[c as usize] += 1;
+        }
+        for (c, h) in out.iter_mut().enumerate() {
+            h.footprint_area = footprint[c] as f64 * self.node_area;
+            h.max_area = max_in_frame[c] as f64 * self.node_area;
+        }
+        out
+    }
+}
+
+/// The hot spots of `frames` ((time, temperatures) in increasing time),
+/// each of `nx` × `ny` nodes of area `node_area`, above `threshold`.
+pub fn detect_hot_spots<'a>(
+    frames: impl IntoIterator<Item = (f64, &'a [f64])>,
+    nx: usize,
+    ny: usize,
+    node_area: f64,
+    threshold: f64,
+) -> Result<Vec<HotSpot>, MsdmError> {
+    let mut d = HotSpotDetector::new(nx, ny, node_area, threshold)?;
+    for (t, frame) in frames {
+        d.push(t, frame)?;
+    }
+    Ok(d.hot_spots())
+}
+
+/// The temperature frame of a 2D lattice for [`HotSpotDetector`]: the
+/// solid block without its exterior padding, (nx, ny) = solid nodes per
+/// axis, NaN at exterior nodes. `frame` is resized and overwritten.
+/// Returns (nx, ny) and the node area h².
+pub fn lattice_frame(
+    lat: &MsdmLattice,
+    frame: &mut Vec<f64>,
+) -> Result<([usize; 2], f64), MsdmError> {
+    let g = &lat.geom;
+    if g.dim != Dim::Two {
+        return Err(MsdmError::Invalid(format!(
+            "hot spots: the lattice has dimension {:?}, expected Two",
+            g.dim
+        )));
+    }
+    let (nx, ny) = (g.n[0] - 2, g.n[1] - 2);
+    frame.clear();
+    frame.reserve(nx * ny);
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let i = g.index(ix + 1, iy + 1, 0);
+            frame.push(match g.kind[i] {
+                NodeKind::Solid(_) => lat.temperature[i],
+                NodeKind::Exterior => f64::NAN,
+            });
+        }
+    }
+    Ok(([nx, ny], g.spacing * g.spacing))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Frames from ASCII art: '#' = 500 K, a digit d = 400 + 10 d K,
+    /// '.' = 300 K, 'x' = NaN.
+    fn art(rows: &[&str]) -> (usize, usize, Vec<f64>) {
+        let ny = rows.len();
+        let nx = rows[0].len();
+        let mut v = Vec::new();
+        // Row 0 of the art is iy = 0.
+        for r in rows {
+            assert_eq!(r.len(), nx);
+            for ch in r.chars() {
+                v.push(match ch {
+                    '#' => 500.0,
+                    '.' => 300.0,
+                    'x' => f64::NAN,
+                    d => 400.0 + 10.0 * f64::from(d.to_digit(10).unwrap()),
+                });
+            }
+        }
+        (nx, ny, v)
+    }
+
+    fn run(frames: &[&[&str]], threshold: f64) -> Vec<HotSpot> {
+        let fr: Vec<_> = frames.iter().map(|f| art(f)).collect();
+        let (nx, ny) = (fr[0].0, fr[0].1);
+        detect_hot_spots(
+            fr.iter()
+                .enumerate()
+                .map(|(k, f)| (k as f64 * 0.5, f.2.as_slice())),
+            nx,
+            ny,
+            2.0,
+            threshold,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn no_hot_voxels_no_hot_spots() {
+        assert!(run(&[&["....", "...."], &["....", "x..."]], 350.0).is_empty());
+    }
+
+    #[test]
+    fn two_blobs_in_one_frame() {
+        let h = run(&[&["##....", "#3..9.", "....##"]], 420.0);
+        assert_eq!(h.len(), 2);
+        // First blob: (0,0),(1,0),(0,1),(1,1)=430 → 4 voxels, peak 500 at (0,0).
+        assert_eq!(h[0].voxels, 4);
+        assert_eq!(h[0].peak_temperature, 500.0);
+        assert_eq!(h[0].peak_node, [0, 0]);
+        assert_eq!(h[0].footprint_area, 8.0);
+        assert_eq!(h[0].max_area, 8.0);
+        // Second: (4,1)=490, (4,2), (5,2) = 500; first in scan order is (4,1).
+        assert_eq!(h[1].voxels, 3);
+        assert_eq!(h[1].peak_temperature, 500.0);
+        assert_eq!(h[1].peak_node, [4, 2]);
+        assert_eq!(
+            (h[1].first_time, h[1].last_time, h[1].peak_time),
+            (0.0, 0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn threshold_is_strict_and_nan_is_never_hot() {
+        // 420 K is not above 420 K; NaN never hot.
+        let h = run(&[&["2x.", "..."]], 420.0);
+        assert!(h.is_empty());
+        let h = run(&[&["2x.", "..."]], 419.0);
+        assert_eq!(h.len(), 1);
+        assert_eq!(h[0].peak_temperature, 420.0);
+    }
+
+    #[test]
+    fn diagonal_contact_does_not_connect() {
+        let h = run(&[&["#.", ".#"]], 400.0);
+        assert_eq!(h.len(), 2);
+        assert_eq!(h[0].peak_node, [0, 0]);
+        assert_eq!(h[1].peak_node, [1, 1]);
+    }
+
+    #[test]
+    fn a_moving_blob_is_one_hot_spot_with_union_footprint() {
+        // The blob shifts one node right per frame, always overlapping the
+        // previous frame's position, and heats up.
+        let h = run(
+            &[
+                &["11...", "....."],
+                &[".22..", ".2..."],
+                &["..#3.", "....."],
+            ],
+            400.0,
+        );
+        assert_eq!(h.len(), 1);
+        let h = h[0];
+        assert_eq!(h.voxels, 7);
+        assert_eq!(h.peak_temperature, 500.0);
+        assert_eq!(h.peak_node, [2, 0]);
+        assert_eq!(h.peak_time, 1.0);
+        assert_eq!((h.first_time, h.last_time), (0.0, 1.0));
+        // Nodes covered: (0,0),(1,0),(2,0),(3,0),(1,1) → 5 × 2 m².
+        assert_eq!(h.footprint_area, 10.0);
+        // Largest frame: 3 nodes in frame 1.
+        assert_eq!(h.max_area, 6.0);
+    }
+
+    #[test]
+    fn blobs_that_merge_later_are_one_hot_spot() {
+        // Two separate blobs in frame 0 joined by a bridge in frame 1: one
+        // region in (x, y, t), represented by the first blob.
+        let h = run(&[&["#.#", "..."], &["###", "..."]], 400.0);
+        assert_eq!(h.len(), 1);
+        assert_eq!(h[0].voxels, 5);
+        assert_eq!(h[0].footprint_area, 6.0);
+        assert_eq!(h[0].max_area, 6.0);
+        assert_eq!(h[0].peak_node, [0, 0]);
+        assert_eq!(h[0].peak_time, 0.0);
+    }
+
+    #[test]
+    fn a_gap_in_time_separates_hot_spots() {
+        let h = run(&[&["#.", ".."], &["..", ".."], &["5.", ".."]], 400.0);
+        assert_eq!(h.len(), 2);
+        assert_eq!((h[0].first_time, h[0].last_time), (0.0, 0.0));
+        assert_eq!((h[1].first_time, h[1].last_time), (1.0, 1.0));
+        assert_eq!(h[1].peak_temperature, 450.0);
+    }
+
+    #[test]
+    fn a_u_shape_within_a_frame_merges_late_in_the_scan() {
+        // Arms at x = 0 and x = 2 join only at the last row: the union of
+        // two provisional labels inside one frame.
+        let h = run(&[&["#.#", "#.#", "###"]], 400.0);
+        assert_eq!(h.len(), 1);
+        assert_eq!(h[0].voxels, 7);
+    }
+
+    #[test]
+    fn invalid_input_is_an_error_naming_the_field() {
+        let e = HotSpotDetector::new(0, 3, 1.0, 400.0).unwrap_err();
+        assert!(e.to_string().contains("nx"), "{e}");
+        let e = HotSpotDetector::new(2, 2, -1.0, 400.0).unwrap_err();
+        assert!(e.to_string().contains("node_area"), "{e}");
+        let e = HotSpotDetector::new(2, 2, 1.0, f64::NAN).unwrap_err();
+        assert!(e.to_string().contains("threshold"), "{e}");
+        let mut d = HotSpotDetector::new(2, 2, 1.0, 400.0).unwrap();
+        let e = d.push(0.0, &[0.0; 3]).unwrap_err();
+        assert!(e.to_string().contains("nx · ny"), "{e}");
+        d.push(1.0, &[0.0; 4]).unwrap();
+        let e = d.push(1.0, &[0.0; 4]).unwrap_err();
+        assert!(e.to_string().contains("time"), "{e}");
+        assert_eq!(d.frames(), 1);
+    }
+
+    #[test]
+    fn lattice_frame_strips_the_padding_and_marks_exterior_nodes() {
+        use crate::msdm::{Geometry, LatticeMaterial, MsdmOptions};
+        let geom = Geometry::new(Dim::Two, [3, 2, 1], 1e-3, false, |ix, iy, _| {
+            (!(ix == 2 && iy == 1)).then_some(0)
+        });
+        let mat = LatticeMaterial::elastic(
+            "m",
+            1e9,
+            brisance_eos::MieGruneisenThermal::estane_seed003(),
+        );
+        let mut lat = MsdmLattice::new(geom, vec![mat], MsdmOptions::default()).unwrap();
+        let i = lat.geom.index(2, 1, 0);
+        lat.temperature[i] = 700.0;
+        let mut f = Vec::new();
+        let (n, area) = lattice_frame(&lat, &mut f).unwrap();
+        assert_eq!(n, [3, 2]);
+        assert_eq!(area, 1e-6);
+        assert_eq!(f.len(), 6);
+        assert_eq!(f[1], 700.0);
+        assert!(f[5].is_nan());
+        assert_eq!(f[0], 300.0);
+        let h = detect_hot_spots([(0.0, f.as_slice())], 3, 2, area, 400.0).unwrap();
+        assert_eq!(h.len(), 1);
+        assert_eq!(h[0].peak_node, [1, 0]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Every hot voxel lies in exactly one hot spot, peaks are the
+        /// largest values, and reversing time (or transposing x and y)
+        /// gives the same hot spots up to order.
+        #[test]
+        fn voxels_are_partitioned_and_symmetries_hold(
+            cells in proptest::collection::vec(0u8..4, 4 * 4 * 3),
+        ) {
+            let (nx, ny, nt) = (4, 4, 3);
+            let temp = |c: u8| [300.0, f64::NAN, 450.0, 520.0][c as usize];
+            let frames: Vec<Vec<f64>> = (0..nt)
+                .map(|t| (0..nx * ny).map(|p| temp(cells[t * nx * ny + p])).collect())
+                .collect();
+            let hot = frames.iter().flatten().filter(|&&t| t > 400.0).count();
+            let key = |h: &[HotSpot]| {
+                let mut k: Vec<_> = h
+                    .iter()
+                    .map(|h| (h.voxels, h.peak_temperature.to_bits(), h.footprint_area.to_bits(), h.max_area.to_bits()))
+                    .collect();
+                k.sort_unstable();
+                k
+            };
+            let fwd = detect_hot_spots(
+                frames.iter().enumerate().map(|(k, f)| (k as f64, f.as_slice())),
+                nx, ny, 1.0, 400.0,
+            ).unwrap();
+            prop_assert_eq!(fwd.iter().map(|h| h.voxels).sum::<usize>(), hot);
+            for h in &fwd {
+                prop_assert!(h.peak_temperature > 400.0);
+                prop_assert!(h.max_area <= h.footprint_area);
+                prop_assert!(h.footprint_area <= h.voxels as f64);
+            }
+            let rev = detect_hot_spots(
+                frames.iter().rev().enumerate().map(|(k, f)| (k as f64, f.as_slice())),
+                nx, ny, 1.0, 400.0,
+            ).unwrap();
+            prop_assert_eq!(key(&fwd), key(&rev));
+            let transposed: Vec<Vec<f64>> = frames
+                .iter()
+                .map(|f| (0..nx * ny).map(|p| f[(p / nx) + nx * (p % nx)]).collect())
+                .collect();
+            let tr = detect_hot_spots(
+                transposed.iter().enumerate().map(|(k, f)| (k as f64, f.as_slice())),
+                nx, ny, 1.0, 400.0,
+            ).unwrap();
+            prop_assert_eq!(key(&fwd), key(&tr));
+        }
+    }
+}
