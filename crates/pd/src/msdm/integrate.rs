@@ -13,7 +13,9 @@
 //!
 //! After the mechanical update every integrator commits the spring state
 //! (plasticity, dashpots, fracture), recomputes the dual-mesh volumes and
-//! advances the energy equation (explicitly, over the same Δt).
+//! advances the energy equation (explicitly, over the same Δt); then the
+//! surface regresses (§2.4, [`super::regress`]) if regression is on. With
+//! `mechanics` off a step is the regression alone.
 
 use std::time::Instant;
 
@@ -30,6 +32,18 @@ impl MsdmLattice {
             )));
         }
         let mut report = StepReport::default();
+        if !self.mechanics {
+            if self.options.thermal {
+                return Err(MsdmError::Invalid(
+                    "lattice: field `mechanics` is false but `thermal` is true; the energy \
+                     equation needs the mechanical volume update (set `thermal: false`)"
+                        .into(),
+                ));
+            }
+            self.regress(dt);
+            self.time += dt;
+            return Ok(report);
+        }
         match self.options.integrator {
             Integrator::ExplicitEuler => self.explicit_euler(dt),
             Integrator::VelocityVerlet => self.velocity_verlet(dt),
@@ -47,6 +61,7 @@ impl MsdmLattice {
         let (broken, _) = self.commit_springs(dt);
         report.broken = broken;
         self.update_volume_and_energy(dt);
+        self.regress(dt);
         self.time += dt;
         Ok(report)
     }

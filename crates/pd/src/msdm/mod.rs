@@ -31,6 +31,8 @@ pub mod hotspot;
 pub mod integrate;
 pub mod law;
 pub mod model;
+pub mod pack;
+pub mod regress;
 pub mod solver;
 pub mod sparse;
 pub mod stats;

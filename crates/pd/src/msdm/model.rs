@@ -160,7 +160,6 @@ pub struct MsdmLattice {
     pub prescribed: Vec<bool>,
     pub(crate) status: Vec<u8>,
     pub(crate) spring: Vec<SpringState>,
-    bond_force: [Vec<f64>; 3],
     /// Net force on each node at the last force evaluation, N.
     pub force: [Vec<f64>; 3],
     pub(crate) force_prev: [Vec<f64>; 3],
@@ -172,6 +171,14 @@ pub struct MsdmLattice {
     pub(crate) delta: Vec<f64>,
     pub(crate) dof: Vec<usize>,
     pub(crate) work: SolverWork,
+    /// Surface regression (seed 003 §2.4), if on; see
+    /// [`MsdmLattice::set_regression`].
+    pub regression: Option<super::regress::SurfaceRegression>,
+    /// Whether the momentum equation is solved (default true). Off, a step
+    /// only regresses the surface, as in the propellant burns of seed 003
+    /// §3.1 ("the momentum equation is not solved"); the energy equation
+    /// must then be off too.
+    pub mechanics: bool,
 }
 
 /// The kinematics and force of one spring.
@@ -394,7 +401,6 @@ impl MsdmLattice {
             prescribed: vec![false; n],
             status,
             spring: vec![SpringState::default(); n * nd],
-            bond_force: [vec![0.0; n * nd], vec![0.0; n * nd], vec![0.0; n * nd]],
             force: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             force_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             forces_current: false,
@@ -405,6 +411,8 @@ impl MsdmLattice {
             delta: Vec::new(),
             dof: vec![usize::MAX; n],
             work: SolverWork::default(),
+            regression: None,
+            mechanics: true,
             x,
             geom,
         };
@@ -576,70 +584,84 @@ impl MsdmLattice {
 
     /// Evaluates the bond forces at the current (x, u) and gathers the net
     /// force on every node into [`MsdmLattice::force`] (eq 9 / 10b).
+    ///
+    /// One pass over the nodes: node i adds the force of each bond it owns
+    /// and subtracts the force of each bond owned by a lower neighbour,
+    /// evaluating that bond exactly as its owner does (same inputs, same
+    /// operations), so f_ij = −f_ji to the bit, the sum order is fixed and
+    /// nothing is stored per bond. Each bond is evaluated twice, which
+    /// costs less than writing and re-reading three per-bond arrays.
     pub fn compute_forces(&mut self) {
-        let nd = self.geom.directions.len();
-        let mut bf = std::mem::take(&mut self.bond_force);
-        {
-            let this = &*self;
-            let [b0, b1, b2] = &mut bf;
-            b0.par_chunks_mut(nd)
-                .zip(b1.par_chunks_mut(nd))
-                .zip(b2.par_chunks_mut(nd))
-                .enumerate()
-                .for_each(|(i, ((f0, f1), f2))| {
-                    for d in 0..nd {
-                        if this.status[i * nd + d] == INTACT {
-                            let b = this.eval_bond(i, d, this.spring[i * nd + d]);
-                            f0[d] = b.f[0];
-                            f1[d] = b.f[1];
-                            f2[d] = b.f[2];
-                        } else {
-                            f0[d] = 0.0;
-                            f1[d] = 0.0;
-                            f2[d] = 0.0;
-                        }
-                    }
-                });
-        }
-        self.bond_force = bf;
         let mut force = std::mem::take(&mut self.force);
-        for (a, fa) in force.iter_mut().enumerate() {
-            let this = &*self;
-            let bfa = &this.bond_force[a];
-            let body = &this.body[a];
-            fa.par_iter_mut().enumerate().for_each(|(i, fi)| {
-                *fi = if this.geom.is_solid(i) {
-                    body[i] + this.gather(i, bfa)
-                } else {
-                    0.0
-                };
-            });
+        match self.geom.dim {
+            super::geometry::Dim::One => self.gather_forces::<1>(&mut force),
+            super::geometry::Dim::Two => self.gather_forces::<2>(&mut force),
+            super::geometry::Dim::Three => self.gather_forces::<3>(&mut force),
         }
         self.force = force;
         self.forces_current = true;
     }
 
-    /// Σ of bond vectors `v` at node `i`: + for bonds it owns, − for bonds
-    /// owned by its lower neighbours, in a fixed order.
-    #[inline]
-    fn gather(&self, i: usize, v: &[f64]) -> f64 {
+    /// Force of intact bond `(i, d)` on its lower node for a `D`-dimensional
+    /// lattice: the same bits as [`MsdmLattice::eval_bond`] (the inactive
+    /// axes of positions and velocities are equal at both ends, so their
+    /// differences are exactly 0), without reading them.
+    #[inline(always)]
+    fn bond_force_on<const D: usize>(&self, i: usize, d: usize) -> [f64; 3] {
+        let dir = &self.geom.directions[d];
+        let j = (i as isize + dir.offset) as usize;
+        let h = self.geom.spacing;
+        let mut xi = [0.0; 3];
+        let mut r = [0.0; 3];
+        let mut w = [0.0; 3];
+        for a in 0..D {
+            xi[a] = f64::from(dir.step[a]) * h;
+            r[a] = self.x[a][j] - self.x[a][i];
+            w[a] = self.u[a][j] - self.u[a][i];
+        }
+        let st = if self.has_spring_state {
+            self.spring[i * self.geom.directions.len() + d]
+        } else {
+            SpringState::default()
+        };
+        bond_force(self.law(i, d), xi, r, w, st, dir.axial).f
+    }
+
+    fn gather_forces<const D: usize>(&self, force: &mut [Vec<f64>; 3]) {
         let nd = self.geom.directions.len();
-        let mut s = 0.0;
-        for d in 0..nd {
-            if self.status[i * nd + d] == INTACT {
-                s += v[i * nd + d];
-            }
-        }
-        for (d, dir) in self.geom.directions.iter().enumerate() {
-            let j = i as isize - dir.offset;
-            if j >= 0 && (j as usize) < self.len() {
-                let b = j as usize * nd + d;
-                if self.status[b] == INTACT {
-                    s -= v[b];
+        let n = self.len();
+        let [f0, f1, f2] = force;
+        f0.par_iter_mut()
+            .zip(f1.par_iter_mut())
+            .zip(f2.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, ((f0, f1), f2))| {
+                if !self.geom.is_solid(i) {
+                    (*f0, *f1, *f2) = (0.0, 0.0, 0.0);
+                    return;
                 }
-            }
-        }
-        s
+                let mut s = [0.0; 3];
+                for d in 0..nd {
+                    if self.status[i * nd + d] == INTACT {
+                        let f = self.bond_force_on::<D>(i, d);
+                        for a in 0..3 {
+                            s[a] += f[a];
+                        }
+                    }
+                }
+                for (d, dir) in self.geom.directions.iter().enumerate() {
+                    let j = i as isize - dir.offset;
+                    if j >= 0 && (j as usize) < n && self.status[j as usize * nd + d] == INTACT {
+                        let f = self.bond_force_on::<D>(j as usize, d);
+                        for a in 0..3 {
+                            s[a] -= f[a];
+                        }
+                    }
+                }
+                *f0 = self.body[0][i] + s[0];
+                *f1 = self.body[1][i] + s[1];
+                *f2 = self.body[2][i] + s[2];
+            });
     }
 
     /// Commits the spring state at the end of a step of length `dt`:

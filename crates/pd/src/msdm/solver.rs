@@ -6,6 +6,7 @@ use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::geometry::NodeKind;
 use super::law::SpringState;
 use super::model::{Integrator, MsdmLattice};
 
@@ -23,6 +24,12 @@ struct LatticeState {
     energy: Vec<f64>,
     status: Vec<u8>,
     spring: Vec<SpringState>,
+    /// Node kinds (material, or −1 for exterior): regression converts
+    /// solid nodes.
+    kind: Vec<i32>,
+    /// Regression: fluid flags, burnable volumes, consumed mass, converted
+    /// count.
+    regression: Option<(Vec<bool>, Vec<f64>, f64, usize)>,
 }
 
 impl MsdmLattice {
@@ -44,7 +51,10 @@ impl MsdmLattice {
     /// uniform chain, 4k/m), k_ij the spring's tangent plus perpendicular
     /// stiffness; and, with the energy equation on, the explicit
     /// conduction limit 2 / max_i Σ_j g_ij (1/C_i + 1/C_j), g = κ_ij h and
-    /// C = m c_v. Dashpots are not included (they are assumed light).
+    /// C = m c_v. Dashpots are not included (they are assumed light). With
+    /// surface regression the step is also at most
+    /// [`MsdmLattice::regression_dt`] (not scaled by the safety factor);
+    /// without `mechanics` the spring limit does not apply.
     pub fn explicit_stable_dt(&self) -> f64 {
         let nd = self.geom.directions.len();
         let n = self.len();
@@ -73,7 +83,7 @@ impl MsdmLattice {
                 sum
             })
             .reduce(|| 0.0, f64::max);
-        let mut dt = if w2 > 0.0 {
+        let mut dt = if w2 > 0.0 && self.mechanics {
             2.0 / w2.sqrt()
         } else {
             f64::INFINITY
@@ -96,7 +106,7 @@ impl MsdmLattice {
                 dt = dt.min(2.0 / lam);
             }
         }
-        dt * self.options.safety_factor
+        (dt * self.options.safety_factor).min(self.regression_dt())
     }
 }
 
@@ -113,7 +123,9 @@ impl Solver for MsdmLattice {
     /// else the explicit limit of [`MsdmLattice::explicit_stable_dt`].
     fn stable_dt(&self) -> Result<f64, SolverError> {
         let dt = match (self.options.integrator, self.options.time_step) {
-            (Integrator::ImplicitEuler | Integrator::ImplicitRk2, Some(dt)) => dt,
+            (Integrator::ImplicitEuler | Integrator::ImplicitRk2, Some(dt)) => {
+                dt.min(self.regression_dt())
+            }
             _ => self.explicit_stable_dt(),
         };
         if !(dt > 0.0 && dt.is_finite()) {
@@ -171,6 +183,23 @@ impl Solver for MsdmLattice {
             energy: self.energy.clone(),
             status: self.status.clone(),
             spring: self.spring.clone(),
+            kind: self
+                .geom
+                .kind
+                .iter()
+                .map(|k| match k {
+                    NodeKind::Solid(m) => i32::from(*m),
+                    NodeKind::Exterior => -1,
+                })
+                .collect(),
+            regression: self.regression.as_ref().map(|r| {
+                (
+                    r.fluid.clone(),
+                    r.remaining.clone(),
+                    r.consumed_mass,
+                    r.converted,
+                )
+            }),
         };
         bincode::serialize(&s).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -196,8 +225,35 @@ impl Solver for MsdmLattice {
         self.pressure = s.pressure;
         self.temperature = s.temperature;
         self.energy = s.energy;
+        if s.kind.len() != self.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has {} node kinds, the lattice {} nodes",
+                s.kind.len(),
+                self.len()
+            )));
+        }
+        match (&mut self.regression, s.regression) {
+            (Some(r), Some((fluid, remaining, consumed, converted))) => {
+                r.fluid = fluid;
+                r.remaining = remaining;
+                r.consumed_mass = consumed;
+                r.converted = converted;
+            }
+            (None, None) => {}
+            _ => {
+                return Err(SolverError::Checkpoint(
+                    "checkpoint and lattice differ in whether surface regression is on".into(),
+                ))
+            }
+        }
         self.status = s.status;
         self.spring = s.spring;
+        for (k, v) in self.geom.kind.iter_mut().zip(s.kind) {
+            *k = match u16::try_from(v) {
+                Ok(m) => NodeKind::Solid(m),
+                Err(_) => NodeKind::Exterior,
+            };
+        }
         self.mark_modified();
         Ok(())
     }

@@ -1,0 +1,718 @@
+//! Surface regression of the lattice (seed 003 §2.4, fig. 9): pyrolysis of
+//! the nodes exposed to a fluid.
+//!
+//! A solid node of a material with an Arrhenius law that has an exterior
+//! neighbour marked as fluid (along a lattice axis) regresses in one step by
+//!
+//! r = Ω A exp(−Eₐ/(R T)) Δt / ρ₀
+//!
+//! (A the pre-exponential factor in kg/(m²·s), Eₐ the activation energy in
+//! J/mol, T the node temperature, ρ₀ the material's initial density, Ω the
+//! catalytic factor of §3.2), moving by r along the unit vector away from
+//! the fluid. Its density is held constant: the regression sweeps the
+//! volume ΔV = r 𝒜 out of the node's burnable volume, and the mass of every
+//! component falls in proportion, so m = ρ₀ V. When the volume (hence the
+//! mass) vanishes, the node becomes an exterior fluid node and its springs
+//! are removed, exposing the nodes behind it.
+//!
+//! *Choices where the seed is silent* (`docs/physics/lattice/regression.md`):
+//!
+//! - **Direction.** n̂ points from the node towards the fluid: the sum of
+//!   the lattice offsets to the fluid nodes within `normal_radius` spacings.
+//!   A radius of 1 is the seed's rule (away from the axial fluid
+//!   neighbours); a wider radius gives the normal of the local surface
+//!   rather than of its lattice staircase.
+//! - **Swept area.** The burnable volume falls by r 𝒜 with
+//!   𝒜 = (cross-section of the node's dual cell across the axis a on which
+//!   |n̂_a| is largest) / |n̂_a|: a planar surface at any angle then recedes
+//!   at r along its normal, one lattice layer at a time, with one exposed
+//!   node per lattice column. Recomputing the dual-mesh volume of the moved
+//!   node instead (the literal reading of §2.4) removes 3/8 of the swept
+//!   area per unit travel and empties the node only after 4h/3 of travel,
+//!   so the mass flux would not be the Arrhenius one.
+//! - **Conversion.** A node is converted when its volume falls to 10⁻⁹ of
+//!   its initial volume or below; the last step's excess is not carried
+//!   over (an error below r/h per layer).
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::geometry::NodeKind;
+use super::model::{MsdmError, MsdmLattice, NO_BOND};
+
+/// Universal gas constant R, J/(mol·K).
+pub const GAS_CONSTANT: f64 = 8.314_462_618;
+
+/// Relative volume below which a regressing node is converted to fluid.
+const EMPTY: f64 = 1e-9;
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Arrhenius pyrolysis law of a material (seed 003 §2.4, §3.1–3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Arrhenius {
+    /// Pre-exponential factor A, kg/(m²·s).
+    pub pre_exponential: f64,
+    /// Activation energy Eₐ, J/mol.
+    pub activation_energy: f64,
+    /// Catalytic factor Ω multiplying A (§3.2; 1 without additive).
+    #[serde(default = "one")]
+    pub catalytic_factor: f64,
+}
+
+impl Arrhenius {
+    /// Mass flux Ω A exp(−Eₐ/(R T)), kg/(m²·s).
+    #[inline]
+    pub fn mass_flux(&self, temperature: f64) -> f64 {
+        self.catalytic_factor
+            * self.pre_exponential
+            * (-self.activation_energy / (GAS_CONSTANT * temperature)).exp()
+    }
+
+    /// Regression speed Ω A exp(−Eₐ/(R T)) / ρ₀, m/s.
+    #[inline]
+    pub fn speed(&self, rho0: f64, temperature: f64) -> f64 {
+        self.mass_flux(temperature) / rho0
+    }
+
+    /// Checks the parameters; `field` prefixes the field names.
+    pub fn validate(&self, field: &str) -> Result<(), String> {
+        for (name, v) in [
+            ("pre_exponential", self.pre_exponential),
+            ("catalytic_factor", self.catalytic_factor),
+        ] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(format!("{field}.{name} = {v}, expected a finite value > 0"));
+            }
+        }
+        if !(self.activation_energy >= 0.0 && self.activation_energy.is_finite()) {
+            return Err(format!(
+                "{field}.activation_energy = {}, expected a finite value ≥ 0",
+                self.activation_energy
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The regression state of a lattice (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct SurfaceRegression {
+    /// Arrhenius law per material (`None`: inert).
+    pub laws: Vec<Option<Arrhenius>>,
+    /// Whether each box node is a fluid (exposing) node; solid nodes are
+    /// never fluid, exterior nodes that are not fluid are inert walls.
+    pub fluid: Vec<bool>,
+    /// Burnable volume of each node, m³ (its dual-mesh volume at the start).
+    pub remaining: Vec<f64>,
+    /// Initial burnable volume of each node, m³.
+    pub initial: Vec<f64>,
+    /// Cross-section of each node's initial dual cell across each axis, m²
+    /// (`[a]`: across axis a).
+    cross: [Vec<f64>; 3],
+    /// Lattice offsets within the normal radius (origin excluded).
+    stencil: Vec<[i32; 3]>,
+    /// Radius of the normal estimate, in spacings.
+    pub normal_radius: f64,
+    /// Largest regression per step, in spacings (the regression limit of
+    /// the stable step).
+    pub step_fraction: f64,
+    /// Mass converted to gas so far, kg.
+    pub consumed_mass: f64,
+    /// Nodes converted to fluid so far.
+    pub converted: usize,
+    /// Per-node move of this step: (Δx, Δy, Δz, ΔV).
+    scratch: Vec<[f64; 4]>,
+}
+
+/// Cross-sections of the initial dual cell of solid node `i` across each
+/// axis: the product over the other active axes b of its extent e_b =
+/// h/2 (one half per side on which an all-solid lattice cell touches the
+/// node), times the out-of-plane factor (depth h in 2D, h² in 1D).
+fn cross_sections(lat: &MsdmLattice, i: usize) -> [f64; 3] {
+    let g = &lat.geom;
+    let h = g.spacing;
+    let d = g.dim.count();
+    let solid = |step: [i32; 3]| g.is_solid(g.solid_neighbour(i, step));
+    // present[b][0|1]: an all-solid cell on the −/+ side of axis b.
+    let mut present = [[false; 2]; 3];
+    let cells = 1usize << d;
+    for c in 0..cells {
+        let s: Vec<i32> = (0..d)
+            .map(|a| if c >> a & 1 == 1 { 1 } else { -1 })
+            .collect();
+        // All corners of the cell other than the node itself.
+        let mut all = true;
+        for corner in 1..cells {
+            let mut step = [0i32; 3];
+            for a in 0..d {
+                if corner >> a & 1 == 1 {
+                    step[a] = s[a];
+                }
+            }
+            all &= solid(step);
+        }
+        if all {
+            for a in 0..d {
+                present[a][usize::from(s[a] > 0)] = true;
+            }
+        }
+    }
+    let extent: Vec<f64> = (0..d)
+        .map(|b| {
+            0.5 * h * (f64::from(u8::from(present[b][0])) + f64::from(u8::from(present[b][1])))
+        })
+        .collect();
+    let mut out = [0.0; 3];
+    for a in 0..d {
+        // A full cell's face is h² in every dimension (1D cross-section
+        // h², 2D h times the depth h); the in-lattice extents are the
+        // node's own.
+        let mut area = h * h;
+        for b in 0..d {
+            if b != a {
+                area *= extent[b] / h;
+            }
+        }
+        out[a] = area;
+    }
+    out
+}
+
+impl SurfaceRegression {
+    /// The regression of `lat` with one law per material; every exterior
+    /// node is fluid. `normal_radius` ≥ 1 (spacings), `step_fraction` in
+    /// (0, 1].
+    pub fn new(
+        lat: &MsdmLattice,
+        laws: Vec<Option<Arrhenius>>,
+        normal_radius: f64,
+        step_fraction: f64,
+    ) -> Result<Self, MsdmError> {
+        if laws.len() != lat.materials.len() {
+            return Err(MsdmError::Invalid(format!(
+                "regression: {} Arrhenius laws for {} materials",
+                laws.len(),
+                lat.materials.len()
+            )));
+        }
+        for (k, l) in laws.iter().enumerate() {
+            if let Some(l) = l {
+                l.validate(&format!("materials.{}.arrhenius", lat.materials[k].name))
+                    .map_err(MsdmError::Invalid)?;
+            }
+        }
+        if !(1.0..=16.0).contains(&normal_radius) {
+            return Err(MsdmError::Invalid(format!(
+                "regression: field `normal_radius` = {normal_radius}, expected a value in [1, 16] spacings"
+            )));
+        }
+        if !(step_fraction > 0.0 && step_fraction <= 1.0) {
+            return Err(MsdmError::Invalid(format!(
+                "regression: field `step_fraction` = {step_fraction}, expected a value in (0, 1]"
+            )));
+        }
+        let d = lat.geom.dim.count();
+        let reach = normal_radius.floor() as i32;
+        let mut stencil = Vec::new();
+        let range = |a: usize| if a < d { -reach..=reach } else { 0..=0 };
+        for dz in range(2) {
+            for dy in range(1) {
+                for dx in range(0) {
+                    let q = f64::from(dx * dx + dy * dy + dz * dz);
+                    if q > 0.0 && q <= normal_radius * normal_radius + 1e-9 {
+                        stencil.push([dx, dy, dz]);
+                    }
+                }
+            }
+        }
+        let n = lat.len();
+        let mut cross = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        for i in 0..n {
+            if lat.geom.is_solid(i) {
+                let c = cross_sections(lat, i);
+                for a in 0..3 {
+                    cross[a][i] = c[a];
+                }
+            }
+        }
+        Ok(Self {
+            laws,
+            fluid: (0..n).map(|i| !lat.geom.is_solid(i)).collect(),
+            remaining: lat.volume.clone(),
+            initial: lat.volume.clone(),
+            cross,
+            stencil,
+            normal_radius,
+            step_fraction,
+            consumed_mass: 0.0,
+            converted: 0,
+            scratch: vec![[0.0; 4]; n],
+        })
+    }
+
+    /// Marks the exterior nodes for which `wall(i)` is true as inert walls
+    /// (not fluid).
+    pub fn set_walls(&mut self, lat: &MsdmLattice, mut wall: impl FnMut(usize) -> bool) {
+        for i in 0..lat.len() {
+            if !lat.geom.is_solid(i) && wall(i) {
+                self.fluid[i] = false;
+            }
+        }
+    }
+
+    /// Whether solid node `i` has a fluid neighbour along a lattice axis.
+    #[inline]
+    pub fn exposed(&self, lat: &MsdmLattice, i: usize) -> bool {
+        let g = &lat.geom;
+        (0..g.dim.count()).any(|a| {
+            [1i32, -1].iter().any(|&s| {
+                let mut step = [0i32; 3];
+                step[a] = s;
+                self.fluid[g.solid_neighbour(i, step)]
+            })
+        })
+    }
+
+    /// Unit vector from solid node `i` towards the fluid: the normalised
+    /// sum of the lattice offsets to the fluid nodes within the normal
+    /// radius (zero if there is none).
+    pub fn normal(&self, lat: &MsdmLattice, i: usize) -> [f64; 3] {
+        let g = &lat.geom;
+        let c = g.coords(i);
+        let mut v = [0.0; 3];
+        for o in &self.stencil {
+            // The stencil may reach past the padded box near its edge;
+            // outside the box counts as not fluid.
+            let mut inside = true;
+            for a in 0..3 {
+                let k = c[a] as i64 + i64::from(o[a]);
+                inside &= k >= 0 && k < g.n[a] as i64;
+            }
+            if inside && self.fluid[g.solid_neighbour(i, *o)] {
+                for a in 0..3 {
+                    v[a] += f64::from(o[a]);
+                }
+            }
+        }
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if len > 0.0 {
+            [v[0] / len, v[1] / len, v[2] / len]
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// Swept area 𝒜 of node `i` for a unit normal `n` (see the module
+    /// documentation), m².
+    #[inline]
+    pub fn swept_area(&self, i: usize, n: [f64; 3]) -> f64 {
+        let mut a = 0;
+        for b in 1..3 {
+            if n[b].abs() > n[a].abs() {
+                a = b;
+            }
+        }
+        if n[a] == 0.0 {
+            return 0.0;
+        }
+        self.cross[a][i] / n[a].abs()
+    }
+
+    /// Largest regression speed over the solid nodes at their current
+    /// temperatures, m/s.
+    pub fn max_speed(&self, lat: &MsdmLattice) -> f64 {
+        (0..lat.len())
+            .into_par_iter()
+            .filter_map(|i| {
+                let m = lat.material_of(i)?;
+                let law = self.laws[m]?;
+                Some(law.speed(lat.materials[m].eos.rho0, lat.temperature[i]))
+            })
+            .reduce(|| 0.0, f64::max)
+    }
+}
+
+impl MsdmLattice {
+    /// Switches surface regression on (seed 003 §2.4).
+    pub fn set_regression(&mut self, regression: SurfaceRegression) -> Result<(), MsdmError> {
+        if regression.fluid.len() != self.len() || regression.laws.len() != self.materials.len() {
+            return Err(MsdmError::Invalid(format!(
+                "regression: built for {} nodes and {} materials, the lattice has {} and {}",
+                regression.fluid.len(),
+                regression.laws.len(),
+                self.len(),
+                self.materials.len()
+            )));
+        }
+        self.regression = Some(regression);
+        Ok(())
+    }
+
+    /// Largest step of the regression: `step_fraction` h over the largest
+    /// regression speed (∞ without regression or at zero speed), s.
+    pub fn regression_dt(&self) -> f64 {
+        match &self.regression {
+            Some(r) => {
+                let v = r.max_speed(self);
+                if v > 0.0 {
+                    r.step_fraction * self.geom.spacing / v
+                } else {
+                    f64::INFINITY
+                }
+            }
+            None => f64::INFINITY,
+        }
+    }
+
+    /// One regression step of length `dt` (seed 003 §2.4): exposed nodes
+    /// move by r along −n̂ and lose r 𝒜 of volume at constant density;
+    /// emptied nodes become fluid. Returns the number of nodes converted.
+    /// Nothing happens without regression.
+    pub fn regress(&mut self, dt: f64) -> usize {
+        let Some(mut reg) = self.regression.take() else {
+            return 0;
+        };
+        let n = self.len();
+        {
+            let this = &*self;
+            let mut scratch = std::mem::take(&mut reg.scratch);
+            let r = &reg;
+            scratch.par_iter_mut().enumerate().for_each(|(i, out)| {
+                *out = [0.0; 4];
+                let Some(m) = this.material_of(i) else {
+                    return;
+                };
+                let Some(law) = r.laws[m] else {
+                    return;
+                };
+                if !r.exposed(this, i) {
+                    return;
+                }
+                let nrm = r.normal(this, i);
+                let dist = law.speed(this.materials[m].eos.rho0, this.temperature[i]) * dt;
+                let dv = dist * r.swept_area(i, nrm);
+                *out = [-dist * nrm[0], -dist * nrm[1], -dist * nrm[2], dv];
+            });
+            reg.scratch = scratch;
+        }
+        let nm = self.materials.len();
+        let mut converted = 0;
+        let mut moved = false;
+        for i in 0..n {
+            let [dx, dy, dz, dv] = reg.scratch[i];
+            if dv == 0.0 {
+                continue;
+            }
+            moved = true;
+            let old = reg.remaining[i];
+            let new = old - dv;
+            if new <= EMPTY * reg.initial[i] {
+                reg.consumed_mass += self.mass[i];
+                self.convert_to_fluid(i);
+                reg.fluid[i] = true;
+                reg.remaining[i] = 0.0;
+                converted += 1;
+                continue;
+            }
+            let dim = self.geom.dim.count();
+            for (a, d) in [dx, dy, dz].into_iter().enumerate().take(dim) {
+                self.x[a][i] += d;
+            }
+            let f = new / old;
+            let mut total = 0.0;
+            for k in 0..nm {
+                let mk = &mut self.mass_k[k * n + i];
+                *mk *= f;
+                total += *mk;
+            }
+            reg.consumed_mass += self.mass[i] - total;
+            self.mass[i] = total;
+            reg.remaining[i] = new;
+            if !self.mechanics {
+                self.volume[i] = new;
+            }
+        }
+        reg.converted += converted;
+        self.regression = Some(reg);
+        if moved || converted > 0 {
+            self.mark_modified();
+        }
+        converted
+    }
+
+    /// Turns solid node `i` into an exterior node: no mass, volume or
+    /// velocity, the surroundings' temperature, and no springs.
+    fn convert_to_fluid(&mut self, i: usize) {
+        let n = self.len();
+        self.geom.kind[i] = NodeKind::Exterior;
+        for k in 0..self.materials.len() {
+            self.mass_k[k * n + i] = 0.0;
+            self.mass_rate[k * n + i] = 0.0;
+        }
+        self.mass[i] = 0.0;
+        self.volume[i] = 0.0;
+        self.pressure[i] = 0.0;
+        self.energy[i] = 0.0;
+        self.temperature[i] = self.options.surroundings.temperature;
+        self.prescribed[i] = false;
+        for a in 0..3 {
+            self.u[a][i] = 0.0;
+            self.force[a][i] = 0.0;
+        }
+        let nd = self.geom.directions.len();
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            self.status[i * nd + d] = NO_BOND;
+            let j = i as isize - dir.offset;
+            if j >= 0 && (j as usize) < n {
+                self.status[j as usize * nd + d] = NO_BOND;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::cases::inert_eos;
+    use super::super::geometry::{Dim, Geometry};
+    use super::super::law::LatticeMaterial;
+    use super::super::model::MsdmOptions;
+    use super::*;
+    use brisance_core::Solver;
+
+    const H: f64 = 1e-4;
+    const RHO: f64 = 1000.0;
+
+    /// A `nx` × `ny` block of one material with an Arrhenius law of speed
+    /// 1 mm/s at any temperature (Eₐ = 0, A = ρ · 1e-3), mechanics and the
+    /// energy equation off, fluid above the top row only (walls on the
+    /// other sides) unless `all_fluid`.
+    fn block(nx: usize, ny: usize, radius: f64, all_fluid: bool) -> MsdmLattice {
+        let geom = Geometry::new(Dim::Two, [nx, ny, 1], H, false, |_, _, _| Some(0));
+        let mat = LatticeMaterial::elastic("fuel", 1e9, inert_eos(RHO, 1000.0));
+        let opts = MsdmOptions {
+            thermal: false,
+            ..MsdmOptions::default()
+        };
+        let mut lat = MsdmLattice::new(geom, vec![mat], opts).unwrap();
+        lat.mechanics = false;
+        let law = Arrhenius {
+            pre_exponential: RHO * 1e-3,
+            activation_energy: 0.0,
+            catalytic_factor: 1.0,
+        };
+        let mut reg = SurfaceRegression::new(&lat, vec![Some(law)], radius, 0.1).unwrap();
+        if !all_fluid {
+            let top = lat.geom.n[1] - 1;
+            let g = lat.geom.clone();
+            reg.set_walls(&lat, |i| g.coords(i)[1] != top);
+        }
+        lat.set_regression(reg).unwrap();
+        lat
+    }
+
+    #[test]
+    fn arrhenius_flux_and_speed_by_hand() {
+        // AP of seed 003 §3.1 at 823 K: 5e6 exp(−92109.6 / (8.314462618 · 823)).
+        let ap = Arrhenius {
+            pre_exponential: 5.0e6,
+            activation_energy: 92_109.6,
+            catalytic_factor: 1.0,
+        };
+        let expect = 7.128_838_597_305_868;
+        assert!((ap.mass_flux(823.0) - expect).abs() < 1e-13 * expect);
+        assert!((ap.speed(1950.0, 823.0) - expect / 1950.0).abs() < 1e-16);
+        let cat = Arrhenius {
+            catalytic_factor: 1.41,
+            ..ap
+        };
+        assert!((cat.mass_flux(823.0) - 1.41 * expect).abs() < 1e-13 * expect);
+        assert_eq!(
+            Arrhenius {
+                activation_energy: 0.0,
+                ..ap
+            }
+            .mass_flux(300.0),
+            5.0e6
+        );
+        let bad = Arrhenius {
+            catalytic_factor: 0.0,
+            ..ap
+        };
+        assert!(bad
+            .validate("materials.ap.arrhenius")
+            .unwrap_err()
+            .contains("materials.ap.arrhenius.catalytic_factor"));
+        let bad = Arrhenius {
+            activation_energy: f64::NAN,
+            ..ap
+        };
+        assert!(bad
+            .validate("x")
+            .unwrap_err()
+            .contains("x.activation_energy"));
+    }
+
+    /// One step of r = 1e-3 · 0.01 = 0.1 h on a flat top face: the middle
+    /// node moves down by r and loses r · h · h (dual volume h³/2); the
+    /// corner against the wall loses r · (h/2) · h of its h³/4; the row
+    /// below does not move.
+    #[test]
+    fn flat_face_regresses_by_r_at_constant_density() {
+        for radius in [1.0, 3.0] {
+            let mut lat = block(5, 4, radius, false);
+            let mid = lat.geom.solid_index(2, 3, 0);
+            let corner = lat.geom.solid_index(0, 3, 0);
+            let below = lat.geom.solid_index(2, 2, 0);
+            let y0 = lat.x[1][mid];
+            let r = 1e-3 * 0.01;
+            lat.step(0.01).unwrap();
+            assert!((lat.x[1][mid] - (y0 - r)).abs() < 1e-18, "radius {radius}");
+            assert_eq!(lat.x[0][mid], 2.0 * H);
+            let v = H * H * H / 2.0 - r * H * H;
+            assert!((lat.volume[mid] - v).abs() < 1e-15 * H * H * H);
+            assert!((lat.mass[mid] - RHO * v).abs() < 1e-15 * RHO * v);
+            assert!((lat.mass_k[mid] - RHO * v).abs() < 1e-15 * RHO * v);
+            // The seed's rule (radius 1) sees the fluid above the corner
+            // only; a wider stencil also sees the fluid corner of the
+            // padding and tilts the normal there.
+            if radius == 1.0 {
+                let vc = H * H * H / 4.0 - r * H * H / 2.0;
+                assert!((lat.volume[corner] - vc).abs() < 1e-15 * H * H * H);
+            }
+            assert_eq!(lat.x[1][below], 2.0 * H);
+            assert_eq!(lat.volume[below], H * H * H);
+            let reg = lat.regression.as_ref().unwrap();
+            // Five top nodes: three of h³/2 and two corners of h³/4 lose
+            // r h² and r h²/2: 4 r h² of volume.
+            let consumed = RHO * 4.0 * r * H * H;
+            if radius == 1.0 {
+                assert!((reg.consumed_mass - consumed).abs() < 1e-13 * consumed);
+            }
+        }
+    }
+
+    /// With every exterior node fluid the corner of the block is exposed
+    /// on +x and +y: it moves along −(1, 1)/√2 and sweeps r (h/2) h √2.
+    #[test]
+    fn exposed_corner_moves_along_the_diagonal() {
+        let mut lat = block(5, 4, 1.0, true);
+        let c = lat.geom.solid_index(4, 3, 0);
+        let (x0, y0) = (lat.x[0][c], lat.x[1][c]);
+        let r = 1e-3 * 0.01;
+        lat.step(0.01).unwrap();
+        let s = r / 2f64.sqrt();
+        assert!((lat.x[0][c] - (x0 - s)).abs() < 1e-18);
+        assert!((lat.x[1][c] - (y0 - s)).abs() < 1e-18);
+        let v = H * H * H / 4.0 - r * 0.5 * H * H * 2f64.sqrt();
+        assert!((lat.volume[c] - v).abs() < 1e-15 * H * H * H);
+        // An interior node sees no fluid along an axis and stays.
+        let inner = lat.geom.solid_index(2, 1, 0);
+        assert_eq!(lat.volume[inner], H * H * H);
+    }
+
+    /// The face recedes one layer per h/r: the top row (h³/2) empties in 5
+    /// steps of 0.1 h, each further row (h³) in 10, and the consumed mass
+    /// is exactly the mass of the emptied rows.
+    #[test]
+    fn emptied_nodes_become_fluid_one_layer_per_h_over_r() {
+        let mut lat = block(3, 6, 3.0, false);
+        let m0: f64 = lat.mass.iter().sum();
+        let row_mass = |lat: &MsdmLattice, iy: usize| -> f64 {
+            (0..3)
+                .map(|ix| lat.mass[lat.geom.solid_index(ix, iy, 0)])
+                .sum()
+        };
+        let top_row = row_mass(&lat, 5);
+        let next_row = row_mass(&lat, 4);
+        let mut converted = Vec::new();
+        for k in 1..=15 {
+            let before = lat.regression.as_ref().unwrap().converted;
+            lat.step(0.01).unwrap();
+            if lat.regression.as_ref().unwrap().converted > before {
+                converted.push(k);
+            }
+        }
+        assert_eq!(converted, vec![5, 15]);
+        let reg = lat.regression.as_ref().unwrap();
+        assert_eq!(reg.converted, 6);
+        assert!((reg.consumed_mass - (top_row + next_row)).abs() < 1e-12 * m0);
+        let left: f64 = lat.mass.iter().sum();
+        assert!((left + reg.consumed_mass - m0).abs() < 1e-12 * m0);
+        // The emptied nodes are fluid exterior nodes without springs.
+        let gone = lat.geom.solid_index(1, 4, 0);
+        assert!(!lat.geom.is_solid(gone));
+        assert!(reg.fluid[gone]);
+        assert_eq!(lat.spring_intact(gone, 1), None);
+        let below = gone - lat.geom.n[0];
+        assert_eq!(lat.spring_intact(below, 1), None);
+        // The new surface row has not moved yet.
+        assert_eq!(lat.x[1][lat.geom.solid_index(1, 3, 0)], 3.0 * H);
+        // Particles are the remaining solid nodes.
+        assert_eq!(lat.particle_data().unwrap().positions.len(), 12);
+    }
+
+    #[test]
+    fn stable_step_limit_checkpoint_and_field_errors() {
+        let mut lat = block(3, 6, 1.0, false);
+        // step_fraction 0.1 of h at 1 mm/s.
+        assert!((lat.stable_dt().unwrap() - 0.1 * H / 1e-3).abs() < 1e-15);
+        let saved = lat.save_state().unwrap();
+        for _ in 0..7 {
+            lat.step(0.01).unwrap();
+        }
+        let after = (lat.x.clone(), lat.mass.clone(), lat.geom.kind.clone());
+        lat.restore_state(&saved).unwrap();
+        assert!(lat.geom.is_solid(lat.geom.solid_index(1, 5, 0)));
+        for _ in 0..7 {
+            lat.step(0.01).unwrap();
+        }
+        assert_eq!(
+            (lat.x.clone(), lat.mass.clone(), lat.geom.kind.clone()),
+            after
+        );
+        lat.options.thermal = true;
+        assert!(lat
+            .step(0.01)
+            .unwrap_err()
+            .to_string()
+            .contains("`mechanics`"));
+        let plain = block(2, 2, 1.0, false);
+        assert!(SurfaceRegression::new(&plain, vec![None], 0.5, 0.1)
+            .unwrap_err()
+            .to_string()
+            .contains("normal_radius"));
+        assert!(SurfaceRegression::new(&plain, vec![None], 1.0, 0.0)
+            .unwrap_err()
+            .to_string()
+            .contains("step_fraction"));
+        assert!(SurfaceRegression::new(&plain, vec![], 1.0, 0.1).is_err());
+    }
+
+    /// With mechanics on, the regression runs after the mechanical step:
+    /// a block at rest (below the explicit limit, ~h/c = 1e-7 s) regresses
+    /// as without mechanics on its first step, up to the round-off forces
+    /// of the reference lattice.
+    #[test]
+    fn regression_also_runs_with_mechanics() {
+        let mut a = block(4, 4, 3.0, false);
+        let mut b = block(4, 4, 3.0, false);
+        b.mechanics = true;
+        let dt = 1e-8;
+        let r = 1e-3 * dt;
+        a.step(dt).unwrap();
+        b.step(dt).unwrap();
+        let i = a.geom.solid_index(1, 3, 0);
+        assert!((a.x[1][i] - (3.0 * H - r)).abs() < 1e-6 * r);
+        assert!(
+            (a.x[1][i] - b.x[1][i]).abs() < 1e-3 * r,
+            "{} vs {}",
+            a.x[1][i],
+            b.x[1][i]
+        );
+        assert_eq!(a.mass[i], b.mass[i]);
+    }
+}
