@@ -1,13 +1,16 @@
-//! Shock-tube cases of V-SOD-ICE as functions, shared by the unit tests
+//! Shock-tube cases of V-SOD-ICE and the 1D ANFO-K1 rate stick of
+//! E-RATESTICK as functions, shared by the unit tests
 //! (reduced resolutions) and `cargo xtask validate` (full resolutions).
 
-use brisance_core::Solver;
-use brisance_eos::IdealGas;
+use brisance_core::{Eos, Solver};
+use brisance_eos::{EosModel, IdealGas, JwlCTerm, Murnaghan};
 use brisance_grid::Level;
+use brisance_reaction::jwlpp::{detonation_energy, JwlPlusPlus};
 
 use crate::solver::GHOST;
 use crate::{
-    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver, MaterialState,
+    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
+    MaterialState,
 };
 
 fn mat(theta: f64, density: f64, u: f64) -> MaterialState {
@@ -138,4 +141,169 @@ pub fn contact_width<S: Solver>(s: &S) -> Result<ContactMeasure, String> {
         contact_cell: c,
         pressure_excursion: excursion,
     })
+}
+
+/// The ANFO-K1 JWL++ materials of seed 000 §5.1 (reactant, products) and
+/// the reaction between them (material 1 → material 2).
+pub fn anfo_k1_jwlpp() -> Result<(Vec<EosModel>, IceReaction), String> {
+    let (reactant, products) = (Murnaghan::anfo_k1(), JwlCTerm::anfo_k1());
+    let q = detonation_energy(&reactant, &products).map_err(|e| e.to_string())?;
+    Ok((
+        vec![EosModel::Murnaghan(reactant), EosModel::JwlCTerm(products)],
+        IceReaction {
+            reactant: 0,
+            product: 1,
+            rate: JwlPlusPlus::anfo_k1(),
+            heat_of_reaction: q,
+        },
+    ))
+}
+
+/// Settings of the 1D ("infinite radius") ANFO-K1 rate stick of seed 000
+/// §5.1: explosive on [0, length] moving at −`impact_velocity` onto a
+/// zero-velocity wall at x = 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RateStick1d {
+    /// Cell size, m.
+    pub h: f64,
+    /// Length of the stick, m.
+    pub length: f64,
+    /// Impact speed onto the wall, m/s (seed: 90).
+    pub impact_velocity: f64,
+    /// The two far-field gauge positions, m.
+    pub gauges: [f64; 2],
+    /// Arrival is the first time the gauge's pressure exceeds this, Pa.
+    pub arrival_pressure: f64,
+    /// Reactant compressibility κ, 1/Pa (ANFO-K1: 3.9 × 10⁻¹⁰, see
+    /// docs/physics/eos/murnaghan.md).
+    pub kappa: f64,
+    /// Largest simulated time, s.
+    pub t_max: f64,
+}
+
+impl RateStick1d {
+    /// The seed's stick (10 cm) with gauges at 5 and 9 cm.
+    pub fn seed(h: f64) -> Self {
+        Self {
+            h,
+            length: 0.1,
+            impact_velocity: 90.0,
+            gauges: [0.05, 0.09],
+            arrival_pressure: 2.0e9,
+            kappa: Murnaghan::anfo_k1().kappa,
+            t_max: 60e-6,
+        }
+    }
+}
+
+/// What a 1D rate stick measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateStickResult {
+    /// Arrival times at the two gauges (None: the wave never came), s.
+    pub arrival: [Option<f64>; 2],
+    /// Detonation velocity (x₂ − x₁)/(t₂ − t₁), m/s, when both arrived.
+    pub detonation_velocity: Option<f64>,
+    /// Largest pressure seen at the second gauge, Pa.
+    pub peak_pressure: f64,
+    /// Largest equilibration pressure anywhere at the end of the first step
+    /// after the impact, Pa (does the impact cross the 200 MPa threshold?).
+    pub impact_pressure: f64,
+    /// Fraction of the explosive mass burnt at the end.
+    pub burnt_fraction: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time at the end, s.
+    pub time: f64,
+}
+
+/// Runs the 1D rate stick (reactant + products, JWL++) until the wave has
+/// passed the second gauge or `t_max`; arrival times from gauge pressures
+/// sampled after every step.
+pub fn rate_stick_1d(cfg: &RateStick1d) -> Result<RateStickResult, String> {
+    let (mut eos, reaction) = anfo_k1_jwlpp()?;
+    if let EosModel::Murnaghan(m) = &mut eos[0] {
+        m.kappa = cfg.kappa;
+    }
+    let cells = (cfg.length / cfg.h).round() as usize;
+    let level = Level::new(
+        [0.0; 3],
+        [cfg.length, cfg.h, cfg.h],
+        [cells, 1, 1],
+        [1, 1, 1],
+        GHOST,
+    )
+    .map_err(|e| e.to_string())?;
+    let p0 = 1.0e5;
+    let t0 = 298.15;
+    let rho_r = eos[0].density(p0, t0).map_err(|e| e.to_string())?;
+    let rho_p = eos[1].density(p0, t0).map_err(|e| e.to_string())?;
+    let trace = 1e-6;
+    let u = -cfg.impact_velocity;
+    let mut s = IceSolver::new(
+        eos,
+        level,
+        [
+            IceBoundary::FixedVelocity([0.0; 3]),
+            IceBoundary::Outflow,
+            IceBoundary::Symmetry,
+            IceBoundary::Symmetry,
+            IceBoundary::Symmetry,
+            IceBoundary::Symmetry,
+        ],
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |_| CellState {
+            pressure: p0,
+            materials: vec![mat(1.0 - trace, rho_r, u), mat(trace, rho_p, u)],
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    s.set_reactions(vec![reaction]).map_err(|e| e.to_string())?;
+    let mass0 = explosive_mass(&s)?;
+    let fields = ["pressure".to_string()];
+    let mut arrival = [None; 2];
+    let mut peak: f64 = 0.0;
+    let mut impact_pressure = f64::NAN;
+    let mut out = Vec::new();
+    while s.time() < cfg.t_max && arrival[1].is_none() {
+        let dt = s.stable_dt().map_err(|e| e.to_string())?;
+        s.advance(dt).map_err(|e| e.to_string())?;
+        if s.steps() == 1 {
+            let p = s.cell_data(&fields).map_err(|e| e.to_string())?;
+            impact_pressure = p.fields[0].1.iter().cloned().fold(0.0, f64::max);
+        }
+        for (k, x) in cfg.gauges.iter().enumerate() {
+            s.sample([*x, 0.5 * cfg.h, 0.5 * cfg.h], &fields, &mut out)
+                .map_err(|e| e.to_string())?;
+            if k == 1 {
+                peak = peak.max(out[0]);
+            }
+            if arrival[k].is_none() && out[0] > cfg.arrival_pressure {
+                arrival[k] = Some(s.time());
+            }
+        }
+    }
+    let d = match arrival {
+        [Some(a), Some(b)] if b > a => Some((cfg.gauges[1] - cfg.gauges[0]) / (b - a)),
+        _ => None,
+    };
+    let burnt = 1.0 - explosive_mass(&s)?.0 / mass0.0;
+    Ok(RateStickResult {
+        arrival,
+        detonation_velocity: d,
+        peak_pressure: peak,
+        impact_pressure,
+        burnt_fraction: burnt,
+        steps: s.steps(),
+        time: s.time(),
+    })
+}
+
+/// (reactant mass, product mass) per unit cross-section area, kg/m².
+fn explosive_mass(s: &IceSolver<EosModel>) -> Result<(f64, f64), String> {
+    let f = ["density_1".to_string(), "density_2".to_string()];
+    let d = s.cell_data(&f).map_err(|e| e.to_string())?;
+    let h = s.level().geometry.spacing[0];
+    let sum = |k: usize| d.fields[k].1.iter().sum::<f64>() * h;
+    Ok((sum(0), sum(1)))
 }

@@ -9,6 +9,30 @@ pub fn volume_change_share(theta_kappa_r: f64, theta_kappa_sum: f64) -> f64 {
     theta_kappa_r / theta_kappa_sum
 }
 
+/// Relative compression x = Δt f_r^θ ∇·Σθ*u* / θ_r beyond which the
+/// linear volume response of eq 31 is replaced by [`bounded_compression`].
+pub const LINEAR_COMPRESSION_LIMIT: f64 = -0.5;
+
+/// The relative volume change of a material under the pressure rise from
+/// p_eq to p (> p_eq > 0), when its linear share of the cell's volume
+/// change, x = Δt f_r^θ ∇·Σθ*u* / θ_r = −κ_r (p − p_eq), is below
+/// [`LINEAR_COMPRESSION_LIMIT`]: the isentrope with the material's local
+/// exponent γ_r = 1/(κ_r p_eq), v^L/v = (p/p_eq)^{−κ_r p_eq}, minus one.
+/// It equals x to first order in p − p_eq and never reaches −1.
+///
+/// The linear share of eq 31 is the tangent of that response. For a gas
+/// present as a trace beside a condensed phase (κ larger by 10⁴–10⁵), a
+/// pressure rise of many times the gas's own pressure in one step makes the
+/// tangent remove more volume than the gas has (x ≈ −R/γ for a pressure
+/// ratio R), whereas the gas only shrinks by R^{−1/γ}. Below the limit the
+/// response is switched to this form (a jump of at most ½ in relative
+/// volume at the switch); above it eq 31 is used as printed. See
+/// docs/physics/ice/steps.md.
+#[inline]
+pub fn bounded_compression(kappa: f64, p_eq: f64, p: f64) -> f64 {
+    (-kappa * p_eq * (p / p_eq).ln()).exp() - 1.0
+}
+
 /// Lagrangian momentum (ρu)^{L−}_r per unit volume (seed 000 eqs 24, 27,
 /// without reactions or deviatoric stress):
 /// ρ_r u_r − Δt θ_r ∇p* + Δt ρ_r g, kg/(m²·s).
@@ -87,6 +111,19 @@ mod tests {
     fn expansion_work_lowers_internal_energy() {
         // ρe = 3·2 = 6; work 0.01·0.25·1e5·2 = 500
         assert!((lagrangian_energy(3.0, 2.0, 0.25, 1e5, 2.0, 0.01) - (6.0 - 500.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bounded_compression_is_the_local_isentrope() {
+        // A γ = 1.4 gas at 1e5 Pa (κ = 1/(γp)) taken to 5.7e7 Pa:
+        // v^L/v = 570^{−1/1.4} = 0.010735...
+        let k = 1.0 / (1.4 * 1e5);
+        let y = bounded_compression(k, 1e5, 5.7e7);
+        assert!((y + 1.0 - 570f64.powf(-1.0 / 1.4)).abs() < 1e-15, "{y}");
+        assert!(y > -1.0);
+        // First order: a small rise gives −κΔp.
+        let y = bounded_compression(k, 1e5, 1e5 + 1.0);
+        assert!((y + k).abs() < 1e-4 * k, "{y}");
     }
 
     #[test]

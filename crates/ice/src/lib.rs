@@ -14,6 +14,8 @@
 //! - [`face_velocity`]: step 3, face-centred velocities (eq 19).
 //! - [`exchange`]: step 10 and the face exchange of step 3, momentum and
 //!   heat exchange (eqs 29–30) solved pointwise-implicitly per cell.
+//! - [`reaction`]: step 4, reaction sources Γ (eq 1) of the JWL++ model
+//!   (§4.1.1), moved exactly from reactant to product.
 //! - [`pressure`]: step 5 (eqs 20–21) and step 6 (eq 22).
 //! - [`lagrangian`]: steps 8, 9 and 11 (eqs 23–28, 31–32).
 //! - [`advection`]: step 12, van Leer compatible fluxes (seed 000 ref 15)
@@ -36,15 +38,18 @@ pub mod face_velocity;
 pub mod lagrangian;
 pub mod material;
 pub mod pressure;
+pub mod reaction;
 pub mod solver;
 
 pub use advection::Advection;
 pub use boundary::IceBoundary;
+pub use brisance_reaction::jwlpp::JwlPlusPlus;
 pub use equilibration::{
     equilibration_pressure, EquilibrationError, EquilibrationReport, EquilibrationSettings,
     MAX_MATERIALS,
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
+pub use reaction::IceReaction;
 pub use solver::{EquilibrationStats, IceOptions, IceSolver, GHOST};
 
 #[cfg(test)]

@@ -35,10 +35,11 @@ use crate::equilibration::{
 use crate::exchange::{heat_exchange, momentum_exchange};
 use crate::face_velocity::face_velocity;
 use crate::lagrangian::{
-    lagrangian_energy, lagrangian_momentum, lagrangian_volume, thermal_expansion_term,
-    volume_change_share,
+    bounded_compression, lagrangian_energy, lagrangian_momentum, lagrangian_volume,
+    thermal_expansion_term, volume_change_share, LINEAR_COMPRESSION_LIMIT,
 };
 use crate::pressure::{face_pressure, pressure_increment};
+use crate::reaction::{transfer_burnt_mass, IceReaction, Parcel};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 
 /// Ghost layers the solver needs (van Leer differences of a donor that is
@@ -186,6 +187,7 @@ fn global_of(p: &Patch, n: usize) -> [usize; 3] {
 /// Everything a per-cell kernel reads besides the fields.
 struct Params<'a, E: Eos> {
     eos: &'a [E],
+    reactions: &'a [IceReaction],
     k: &'a [f64],
     h: &'a [f64],
     heat_active: bool,
@@ -196,12 +198,14 @@ struct Params<'a, E: Eos> {
 
 fn make_params<'a, E: Eos>(
     eos: &'a [E],
+    reactions: &'a [IceReaction],
     exchange: &'a ExchangeCoefficients,
     options: IceOptions,
     level: &Level,
 ) -> Params<'a, E> {
     Params {
         eos,
+        reactions,
         k: &exchange.momentum,
         h: &exchange.heat,
         heat_active: exchange.heat.iter().any(|&h| h > 0.0),
@@ -216,6 +220,7 @@ fn make_params<'a, E: Eos>(
 #[derive(Debug)]
 pub struct IceSolver<E: Eos> {
     eos: Vec<E>,
+    reactions: Vec<IceReaction>,
     level: Level,
     boundaries: [IceBoundary; 6],
     exchange: ExchangeCoefficients,
@@ -297,6 +302,7 @@ impl<E: Eos> IceSolver<E> {
         };
         let mut solver = Self {
             eos,
+            reactions: Vec::new(),
             state: level
                 .patches
                 .iter()
@@ -456,7 +462,13 @@ impl<E: Eos> IceSolver<E> {
     fn fixed_values(&self, cs: &CellState) -> Result<(Vec<f64>, Vec<f64>, f64), String> {
         let n = self.eos.len();
         let mut vals = Self::material_values(&self.eos, cs)?;
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         equilibrate_cell(&params, &mut vals).map_err(|e| e.1)?;
         let mut lag = vec![0.0; n * NL];
         for r in 0..n {
@@ -469,6 +481,30 @@ impl<E: Eos> IceSolver<E> {
         }
         let p = vals[n * NS];
         Ok((vals, lag, p))
+    }
+
+    /// Sets the reactions of step 4 (seed 000 eq 1; see [`crate::reaction`]).
+    /// A material may be the reactant of one reaction only.
+    pub fn set_reactions(&mut self, reactions: Vec<IceReaction>) -> Result<(), IceError> {
+        let n = self.eos.len();
+        for (k, r) in reactions.iter().enumerate() {
+            r.validate(n)
+                .map_err(|e| IceError::Invalid(format!("ice: reactions[{k}]: {e}")))?;
+            if reactions[..k].iter().any(|o| o.reactant == r.reactant) {
+                return Err(IceError::Invalid(format!(
+                    "ice: reactions[{k}]: field `reactant` = {}: material {} is already the reactant of another reaction",
+                    r.reactant,
+                    r.reactant + 1
+                )));
+            }
+        }
+        self.reactions = reactions;
+        Ok(())
+    }
+
+    /// The reactions of step 4.
+    pub fn reactions(&self) -> &[IceReaction] {
+        &self.reactions
     }
 
     /// The level the solver runs on.
@@ -518,7 +554,13 @@ impl<E: Eos> IceSolver<E> {
     /// with new specific volumes, volume fractions, temperatures and sound
     /// speeds. A cell that fails stops the run with its state.
     pub fn compute_equilibration_pressure(&mut self) -> Result<(), SolverError> {
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         let time = self.time;
         let geometry = self.level.geometry;
         let results: Vec<(EquilibrationStats, Failure)> = self
@@ -583,7 +625,13 @@ impl<E: Eos> IceSolver<E> {
     /// and fixed-velocity faces u* is the wall's normal velocity.
     pub fn compute_face_centred_velocities(&mut self, dt: f64) {
         self.fill_state_ghosts();
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         let boundaries = &self.boundaries;
         let cells = self.level.geometry.cells;
         self.scratch
@@ -665,7 +713,13 @@ impl<E: Eos> IceSolver<E> {
     /// so the pressure sees the volume the advection will move, and the
     /// time-advanced pressure p = p_eq + Δp.
     pub fn compute_pressure_increment(&mut self, dt: f64) {
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         self.press
             .par_iter_mut()
             .zip(self.scratch.par_iter_mut())
@@ -732,7 +786,13 @@ impl<E: Eos> IceSolver<E> {
             &self.press_bcs,
             &mut self.press,
         );
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         let geometry = self.level.geometry;
         let fail = self
             .lag
@@ -809,7 +869,13 @@ impl<E: Eos> IceSolver<E> {
             NL,
             L_VEL,
         );
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         let geometry = self.level.geometry;
         let fail = self
             .state
@@ -1123,20 +1189,64 @@ fn lagrangian_cell<E: Eos>(
         tk[r] = theta[r] * d[b + VSP][c] / (cs * cs);
         tk_sum += tk[r];
     }
-    let rho_sum: f64 = rho[..n].iter().sum();
+    // Shares f_r^θ of the cell's volume change (eq 10). A material whose
+    // linear share would remove more than half its volume in one step (a
+    // gas trace beside a condensed phase) loses the bounded amount instead
+    // (lagrangian::bounded_compression), with the flow work of that
+    // volume; the other materials share the rest of the change in
+    // proportion to their f_r^θ. Without a bounded material the shares are
+    // f_r^θ.
+    let mut share = [0.0; MAX_MATERIALS];
+    let mut bounded = [None; MAX_MATERIALS];
+    let mut free_share = 0.0;
+    let mut bounded_volume = 0.0;
+    for r in 0..n {
+        share[r] = volume_change_share(tk[r], tk_sum);
+        let x = dt * share[r] * divergence / theta[r];
+        let p_eq = d[n * NS][c];
+        if x < LINEAR_COMPRESSION_LIMIT && p > p_eq && p_eq > 0.0 {
+            let y = bounded_compression(tk[r] / theta[r], p_eq, p);
+            bounded[r] = Some(theta[r] * y);
+            bounded_volume += theta[r] * y;
+        } else {
+            free_share += share[r];
+        }
+    }
+    let any_bounded = bounded[..n].iter().any(|b| b.is_some());
+    if free_share == 0.0 {
+        bounded = [None; MAX_MATERIALS];
+    } else if any_bounded {
+        // Only compression is bounded, so dt·div < bounded_volume < 0.
+        let scale = (dt * divergence - bounded_volume) / (dt * divergence);
+        for r in 0..n {
+            share[r] = if bounded[r].is_some() {
+                0.0
+            } else {
+                share[r] / free_share * scale
+            };
+        }
+    }
     for r in 0..n {
         let b = r * NS;
         let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
         let m = lagrangian_momentum(rho[r], u, theta[r], grad, params.options.gravity, dt);
         vel[r] = m.map(|x| x / rho[r]);
-        let f = volume_change_share(tk[r], tk_sum);
-        e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], f, p, divergence, dt) / rho[r];
+        e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], share[r], p, divergence, dt) / rho[r];
+        if let Some(dv) = bounded[r] {
+            // The flow work of the volume the material actually loses, at
+            // the mean of the start and advanced pressures (trapezoid).
+            e[r] = d[b + ENERGY][c] - 0.5 * (d[n * NS][c] + p) * dv / rho[r];
+        }
     }
     // Energy-conserving closure of steps 8–9: the cell's total energy
     // changes by the face pressure work −Δt ∇·(p* Σθ*u*) (plus gravity's
-    // work); what eqs 24–25 miss of it goes to internal energy in the
-    // shares f_r^θ of eq 25.
+    // work); what eqs 24–25 miss of it goes to internal energy with one
+    // specific increment for every material (as the heat of step 10), so
+    // that a trace material takes a trace of it: shares f_r^θ would give
+    // a gas trace beside a condensed phase (f ≈ 10⁻² at θ = 10⁻⁶) a specific
+    // energy change 10⁴ times the cell's.
     if let Some(work) = pressure_work {
+        let rho_sum: f64 = rho[..n].iter().sum();
         let mut delta = work;
         for r in 0..n {
             let b = r * NS;
@@ -1149,9 +1259,38 @@ fn lagrangian_cell<E: Eos>(
             delta -= rho[r] * (e[r] - d[b + ENERGY][c]) + dk;
         }
         for r in 0..n {
-            e[r] += volume_change_share(tk[r], tk_sum) * delta / rho[r];
+            e[r] += delta / rho_sum;
         }
     }
+    // Step 4 (seed 000 eq 1): reaction sources at the start-of-step
+    // equilibration pressure, moved exactly from reactant to product with
+    // the reactant's Lagrangian momentum and energy and its specific volume
+    // (crate::reaction). θ is carried from here on with the moved volume.
+    let theta_start = theta;
+    if !params.reactions.is_empty() {
+        let p_eq = d[n * NS][c];
+        for rx in params.reactions {
+            let (a, b) = (rx.reactant, rx.product);
+            let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
+            if burnt > 0.0 {
+                let parcel = |r: usize| Parcel {
+                    rho: rho[r],
+                    velocity: vel[r],
+                    energy: e[r],
+                    volume: theta[r],
+                };
+                let (mut pa, mut pb) = (parcel(a), parcel(b));
+                transfer_burnt_mass(&mut pa, &mut pb, burnt, rx.heat_of_reaction);
+                for (r, x) in [(a, pa), (b, pb)] {
+                    rho[r] = x.rho;
+                    vel[r] = x.velocity;
+                    e[r] = x.energy;
+                    theta[r] = x.volume;
+                }
+            }
+        }
+    }
+    let rho_sum: f64 = rho[..n].iter().sum();
     // Step 10: momentum exchange, dissipated kinetic energy back to heat
     // with one specific increment for every material.
     let dissipated = momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]);
@@ -1189,7 +1328,10 @@ fn lagrangian_cell<E: Eos>(
     for r in 0..n {
         let f = volume_change_share(tk[r], tk_sum);
         let thermal = thermal_expansion_term(&tbt[..n], r, f);
-        let theta_l = lagrangian_volume(theta[r], f, divergence, thermal, dt);
+        let theta_l = match bounded[r] {
+            Some(dv) => theta_start[r] + dv + dt * thermal,
+            None => lagrangian_volume(theta_start[r], share[r], divergence, thermal, dt),
+        } + (theta[r] - theta_start[r]);
         out[r][L_RHO] = rho[r];
         out[r][L_VEL..L_VEL + 3].copy_from_slice(&vel[r]);
         out[r][L_ENERGY] = e[r];
@@ -1280,7 +1422,13 @@ impl<E: Eos> Solver for IceSolver<E> {
     /// unsplit face fluxes move at most a fraction cfl of a cell's content
     /// per step, and pressure waves cross at most that fraction of a cell.
     fn stable_dt(&self) -> Result<f64, SolverError> {
-        let params = make_params(&self.eos, &self.exchange, self.options, &self.level);
+        let params = make_params(
+            &self.eos,
+            &self.reactions,
+            &self.exchange,
+            self.options,
+            &self.level,
+        );
         let n = self.eos.len();
         let max_rate = self
             .state
@@ -1368,6 +1516,10 @@ impl<E: Eos> Solver for IceSolver<E> {
                 }
                 t.energy +=
                     rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+            }
+            // Chemical energy of the reactants, in the products' reference.
+            for rx in &self.reactions {
+                t.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
             }
         });
         let vol: f64 = self.level.geometry.spacing.iter().product();
