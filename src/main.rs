@@ -1,4 +1,4 @@
-//! The `brisance` command line: run, check and list.
+//! The `brisance` command line: run, check, list and remap.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -48,6 +48,207 @@ enum Command {
     },
     /// List every equation of state, material, reaction model and pipeline.
     List,
+    /// Run a 1D TNT detonation in air with program burn (seed 001 §4.1,
+    /// eqs 52–53) and remap it onto a 1D/2D/3D FDM grid as its initial
+    /// state, conserving the charge's mass, energy and products mass
+    /// (docs/physics/couple/remap.md). Writes remap.bin (the initial
+    /// state), remap.vti and profile.csv into OUT.
+    Remap(RemapArgs),
+}
+
+/// Symmetry of the 1D detonation.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum RemapSymmetry {
+    /// Slab (onto a 1D grid).
+    Planar,
+    /// Cylinder (onto a 2D grid).
+    Cylindrical,
+    /// Sphere (onto a 3D grid).
+    Spherical,
+}
+
+#[derive(clap::Args)]
+struct RemapArgs {
+    /// Symmetry of the charge.
+    #[arg(long, value_enum)]
+    symmetry: RemapSymmetry,
+    /// Charge radius, m.
+    #[arg(long)]
+    charge_radius: f64,
+    /// Outer radius of the 1D grid, m.
+    #[arg(long)]
+    radius_1d: f64,
+    /// Cells of the 1D grid.
+    #[arg(long)]
+    cells_1d: usize,
+    /// Time to run the 1D detonation to, s (after the burn is complete).
+    #[arg(long)]
+    time: f64,
+    /// Low corner of the target grid, m: x,y,z.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
+    lower: Vec<f64>,
+    /// High corner of the target grid, m: x,y,z.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
+    upper: Vec<f64>,
+    /// Cells of the target grid: nx,ny,nz (1 in unused directions).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
+    cells: Vec<usize>,
+    /// Charge centre, m: x,y,z.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
+    centre: Vec<f64>,
+    /// Remap radius, m (default: the 1D grid's outer radius).
+    #[arg(long)]
+    radius: Option<f64>,
+    /// Sub-cells per direction (default: ⌈Δx/h⌉ within [2, 16]).
+    #[arg(long)]
+    subsamples: Option<usize>,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// `brisance remap`: the 1D run, the remap and its files.
+fn remap(a: &RemapArgs) -> Result<String, String> {
+    use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
+    use brisance::fdm::GasLaw;
+    use brisance_couple::remap::{remap, RadialProfile, RemapTarget};
+    let symmetry = match a.symmetry {
+        RemapSymmetry::Planar => Symmetry::Planar,
+        RemapSymmetry::Cylindrical => Symmetry::Cylindrical,
+        RemapSymmetry::Spherical => Symmetry::Spherical,
+    };
+    if !(a.time > 0.0 && a.time.is_finite()) {
+        return Err(format!("--time = {} s must be positive", a.time));
+    }
+    let setup = DetonationSetup::tnt_in_air(symmetry, a.charge_radius, a.radius_1d, a.cells_1d);
+    let mut run = RadialDetonation::new(setup).map_err(|e| e.to_string())?;
+    run.run_until(a.time).map_err(|e| e.to_string())?;
+    let profile = RadialProfile::from_detonation(&run).map_err(|e| e.to_string())?;
+    for (name, len) in [
+        ("--lower", a.lower.len()),
+        ("--upper", a.upper.len()),
+        ("--cells", a.cells.len()),
+        ("--centre", a.centre.len()),
+    ] {
+        if len != 3 {
+            return Err(format!(
+                "{name} takes three comma-separated values, got {len}"
+            ));
+        }
+    }
+    let (lower, upper, cells, centre) = (
+        [a.lower[0], a.lower[1], a.lower[2]],
+        [a.upper[0], a.upper[1], a.upper[2]],
+        [a.cells[0], a.cells[1], a.cells[2]],
+        [a.centre[0], a.centre[1], a.centre[2]],
+    );
+    for d in 0..3 {
+        if cells[d] == 0 || !(upper[d] > lower[d]) {
+            return Err(format!(
+                "--cells and --lower/--upper: direction {d} needs at least one cell and upper > lower"
+            ));
+        }
+    }
+    let geometry = brisance::core::UniformGridGeometry {
+        origin: lower,
+        spacing: std::array::from_fn(|d| (upper[d] - lower[d]) / cells[d] as f64),
+        cells,
+    };
+    let target = RemapTarget {
+        geometry,
+        centre,
+        radius: a.radius,
+        subsamples: a.subsamples,
+    };
+    let mapped = remap(&profile, &target).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    mapped
+        .save(&a.out.join("remap.bin"))
+        .map_err(|e| e.to_string())?;
+    // Primitive fields for viewing.
+    let gas = run.gas();
+    let f = &mapped.fields;
+    let n = geometry.cell_count();
+    let prim: Vec<Vec<f64>> = (0..6)
+        .map(|k| {
+            (0..n)
+                .map(|c| {
+                    let rho = f[0][c];
+                    let u = [f[1][c] / rho, f[2][c] / rho, f[3][c] / rho];
+                    let y = f[5][c] / rho;
+                    match k {
+                        0 => rho,
+                        1..=3 => u[k - 1],
+                        4 => {
+                            let ke = 0.5 * rho * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+                            gas.gas_pressure(rho, (f[4][c] - ke) / rho, y)
+                        }
+                        _ => y,
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let names = [
+        "density",
+        "velocity_x",
+        "velocity_y",
+        "velocity_z",
+        "pressure",
+        "products_mass_fraction",
+    ];
+    let data = brisance::core::CellData {
+        geometry,
+        fields: names.iter().map(|s| s.to_string()).zip(prim).collect(),
+    };
+    brisance::io::vti::write_vti(&a.out.join("remap.vti"), &data).map_err(|e| e.to_string())?;
+    let mut csv = String::from("radius,density,velocity,pressure,products_mass_fraction\n");
+    for (i, r) in run.radii().iter().enumerate() {
+        let (rho, u, p, y) = run.state(i);
+        csv.push_str(&format!("{r:e},{rho:e},{u:e},{p:e},{y:e}\n"));
+    }
+    brisance::io::write_atomic(&a.out.join("profile.csv"), csv.as_bytes())
+        .map_err(|e| e.to_string())?;
+    let r = mapped.report;
+    let rel = |grid: f64, amb: f64, charge: f64| (grid - amb - charge) / charge;
+    Ok(format!(
+        "1D {} detonation: {} steps to t = {:e} s\nremap radius {} m, {} sub-cells per direction, {} symmetry plane(s), {} shell(s) merged, largest shell correction {:.3e}\ncharge: mass {:e} kg, energy {:e} J, products {:e} kg\nrelative change: mass {:.3e}, energy {:.3e}, products {:.3e}\noutputs in {}",
+        ["planar", "cylindrical", "spherical"][usize::from(brisance_couple::remap::alpha_of(symmetry))],
+        run.steps(),
+        run.time(),
+        r.radius,
+        r.subsamples,
+        r.symmetry_planes,
+        r.merged_shells,
+        r.max_correction,
+        r.charge.mass,
+        r.charge.energy,
+        r.charge.products,
+        rel(r.grid_mass, r.ambient.mass, r.charge.mass),
+        rel(r.grid_energy, r.ambient.energy, r.charge.energy),
+        rel(r.grid_products, r.ambient.products, r.charge.products),
+        a.out.display()
+    ))
 }
 
 fn load(
@@ -70,6 +271,16 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     match cli.command {
+        Command::Remap(args) => match remap(&args) {
+            Ok(text) => {
+                println!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Command::List => {
             print!("{}", registry::listing());
             ExitCode::SUCCESS
