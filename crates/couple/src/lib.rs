@@ -4,7 +4,20 @@
 //! - [`remap`]: a 1D (planar, cylindrical, spherical) detonation profile
 //!   mapped onto a 1D/2D/3D FDM grid as its initial state, conserving the
 //!   charge's mass, energy, products mass and radial momentum to round-off.
+//! - [`regions`]: the FDM region, the MPM region and the bridge region of
+//!   their overlap (seed 001 §3.1).
+//! - [`bridge`]: the exchanges across the bridge, one function per
+//!   equation group: fictitious FDM cells from the MPM grid (eqs 31–36),
+//!   FDM cells on the MPM interface nodes (eqs 37–39), and the transport of
+//!   mass, momentum and energy by created and absorbed particles
+//!   (eqs 40–51).
+//!
+//! Choices the paper leaves open are written down in
+//! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
 
+pub mod bridge;
+pub mod regions;
 pub mod remap;
 
+pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{remap, RadialProfile, RemapError, RemapReport, RemapTarget, Remapped};

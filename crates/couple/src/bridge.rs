@@ -1,0 +1,500 @@
+//! The exchanges of the bridge (seed 001 §3.2–3.4), one named function per
+//! equation group, on plain values so that each can be tested alone:
+//!
+//! - MPM → FDM, the fictitious cells (eqs 31–36):
+//!   [`fictitious_mass_momentum`], [`cell_internal_energy`],
+//!   [`fictitious_cell_state`];
+//! - FDM → MPM, the interface nodes (eqs 37–39): [`fdm_cell_as_particle`]
+//!   and [`cell_node_contribution`];
+//! - transport (eqs 40–51): [`interface_state`], [`interface_fluxes`],
+//!   [`new_particle_count`], [`create_particles`], [`absorb_particle`].
+//!
+//! Choices the paper leaves open (docs/physics/couple/bridge.md):
+//!
+//! - Shape functions are the linear ones of eq 16, so N_Ic = 1/2^d at a
+//!   cell centre for each of its 2^d corner nodes.
+//! - New particles move with the interface velocity v_f of eq 41: their
+//!   momentum is then exactly the momentum flux of eq 44
+//!   (f_p = f_m v_f). Their density and pressure are the donor cell's
+//!   (seed 001: "the same density, velocities and pressure as ... in the
+//!   donor cell"), and their internal energy is eq 48.
+//! - The count s of eq 45 is rounded up to a multiple of 4; the particles
+//!   sit on a lattice of s/2^(d−1) layers along the normal, spread over
+//!   the flux length d_1 = v_1 Δt of eq 47 (drifted tangentially by
+//!   d_t = v_t Δt), times 2^(d−1) positions across the face, so that they
+//!   fill the volume f_m/ρ the flux brought in.
+
+use crate::regions::Side;
+
+/// Weight N_Ic of each corner node at a cell centre for the linear shape
+/// functions of seed 001 eq 16: 1/2^d for d active directions.
+pub fn centre_weight(active_dims: usize) -> f64 {
+    0.5f64.powi(active_dims as i32)
+}
+
+/// Seed 001 eqs 31–32: mass m_c = Σ_l m_l N_lc and momentum
+/// p_c = Σ_l p_l N_lc of a fictitious cell from its corner nodes, all of
+/// weight `weight` ([`centre_weight`]).
+pub fn fictitious_mass_momentum(
+    node_mass: &[f64],
+    node_momentum: &[[f64; 3]],
+    weight: f64,
+) -> (f64, [f64; 3]) {
+    let mut m = 0.0;
+    let mut p = [0.0; 3];
+    for (mass, mom) in node_mass.iter().zip(node_momentum) {
+        m += weight * mass;
+        for (a, b) in p.iter_mut().zip(mom) {
+            *a += weight * b;
+        }
+    }
+    (m, p)
+}
+
+/// Seed 001 eq 33: internal energy of a cell, Σ m_p e_p over the particles
+/// in it (masses and specific internal energies), J.
+pub fn cell_internal_energy(mass: &[f64], specific_energy: &[f64]) -> f64 {
+    mass.iter().zip(specific_energy).map(|(m, e)| m * e).sum()
+}
+
+/// Seed 001 eqs 34–36: the conservative state (ρ, ρv, E) of a fictitious
+/// cell of volume `volume` from its mass, momentum and internal energy.
+/// `None` when the nodes carry no mass (the cell then keeps its own
+/// state).
+pub fn fictitious_cell_state(
+    mass: f64,
+    momentum: [f64; 3],
+    internal_energy: f64,
+    volume: f64,
+) -> Option<[f64; 5]> {
+    if !(mass > 0.0) {
+        return None;
+    }
+    let rho = mass / volume;
+    let v = momentum.map(|p| p / mass);
+    let kinetic = 0.5 * mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    Some([
+        rho,
+        rho * v[0],
+        rho * v[1],
+        rho * v[2],
+        (internal_energy + kinetic) / volume,
+    ])
+}
+
+/// An FDM cell centre acting as a particle in the P2G of the interface
+/// nodes (seed 001 §3.3): mass ρ_c V_c, velocity v_c, volume V_c and
+/// stress −p_c I, so that the particle sums of eqs 18, 19, 21 give the
+/// second terms of eqs 37, 38, 39.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellParticle {
+    /// Cell centre, m.
+    pub position: [f64; 3],
+    /// ρ_c V_c, kg.
+    pub mass: f64,
+    /// v_c, m/s.
+    pub velocity: [f64; 3],
+    /// V_c, m³.
+    pub volume: f64,
+    /// −p_c I in Voigt order (xx, yy, zz, yz, xz, xy), Pa.
+    pub stress: [f64; 6],
+}
+
+/// The FDM cell at `centre` with density, velocity and pressure as a
+/// particle (seed 001 eqs 37–39).
+pub fn fdm_cell_as_particle(
+    centre: [f64; 3],
+    density: f64,
+    velocity: [f64; 3],
+    pressure: f64,
+    volume: f64,
+) -> CellParticle {
+    CellParticle {
+        position: centre,
+        mass: density * volume,
+        velocity,
+        volume,
+        stress: [-pressure, -pressure, -pressure, 0.0, 0.0, 0.0],
+    }
+}
+
+/// The second terms of seed 001 eqs 37–39 for one cell and one node:
+/// (ρ_c N_Ic V_c, ρ_c V_c v_c N_Ic, N_Ic,i p_c V_c) with the linear shape
+/// function of eq 16 of the node at `node` (grid spacing `spacing`,
+/// directions `active`), evaluated at the cell centre. Zero when the node
+/// is not a corner of the cell's element.
+pub fn cell_node_contribution(
+    cell: &CellParticle,
+    node: [f64; 3],
+    spacing: [f64; 3],
+    active: [bool; 3],
+) -> (f64, [f64; 3], [f64; 3]) {
+    let mut n = 1.0;
+    let mut factors = [1.0; 3];
+    let mut slopes = [0.0; 3];
+    for d in 0..3 {
+        if !active[d] {
+            continue;
+        }
+        let s = (cell.position[d] - node[d]) / spacing[d];
+        if s.abs() >= 1.0 {
+            return (0.0, [0.0; 3], [0.0; 3]);
+        }
+        factors[d] = 1.0 - s.abs();
+        slopes[d] = -s.signum() / spacing[d];
+        n *= factors[d];
+    }
+    let grad: [f64; 3] = std::array::from_fn(|i| {
+        if !active[i] {
+            return 0.0;
+        }
+        let mut g = slopes[i];
+        for d in (0..3).filter(|&d| d != i) {
+            g *= factors[d];
+        }
+        g
+    });
+    // f_I = −Σ N_I,j σ_ij V, with σ = −p I: N_I,i p V (eq 39).
+    let p = -cell.stress[0];
+    (
+        n * cell.mass,
+        cell.velocity.map(|v| n * cell.mass * v),
+        grad.map(|g| g * p * cell.volume),
+    )
+}
+
+/// A primitive state: density, velocity, pressure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Primitive {
+    /// Density, kg/m³.
+    pub density: f64,
+    /// Velocity, m/s.
+    pub velocity: [f64; 3],
+    /// Pressure, Pa.
+    pub pressure: f64,
+}
+
+/// Seed 001 eqs 40–42: the interface state, the mean of the donor cell
+/// and the first bridge cell.
+pub fn interface_state(donor: &Primitive, bridge: &Primitive) -> Primitive {
+    Primitive {
+        density: 0.5 * (donor.density + bridge.density),
+        velocity: std::array::from_fn(|i| 0.5 * (donor.velocity[i] + bridge.velocity[i])),
+        pressure: 0.5 * (donor.pressure + bridge.pressure),
+    }
+}
+
+/// Seed 001 eqs 43–44: mass flux f_m = ρ_f v_n A Δt and momentum flux
+/// f_p = ρ_f v_f v_n A Δt into the MPM region through a face of area `area`
+/// normal to `axis`, v_n the velocity component towards the MPM region
+/// (`side`). Negative f_m: flow out of the MPM region.
+pub fn interface_fluxes(
+    face: &Primitive,
+    axis: usize,
+    side: Side,
+    area: f64,
+    dt: f64,
+) -> (f64, [f64; 3]) {
+    let vn = side.sign() * face.velocity[axis];
+    let fm = face.density * vn * area * dt;
+    (fm, face.velocity.map(|v| fm * v))
+}
+
+/// Seed 001 eq 45: s = ⌈f_m/m_e⌉, rounded up to a multiple of 4 (at least
+/// 4 for f_m > 0; 0 otherwise).
+pub fn new_particle_count(mass_flux: f64, existing_mass: f64) -> usize {
+    if !(mass_flux > 0.0 && existing_mass > 0.0) {
+        return 0;
+    }
+    let s = (mass_flux / existing_mass).ceil().max(1.0) as usize;
+    s.div_ceil(4) * 4
+}
+
+/// A particle created by the transport.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewParticle {
+    /// Position, m.
+    pub position: [f64; 3],
+    /// m_p = f_m/s (eq 46), kg.
+    pub mass: f64,
+    /// v_f, m/s.
+    pub velocity: [f64; 3],
+    /// m_p/ρ_p, m³.
+    pub volume: f64,
+    /// Specific internal energy p_p/((γ − 1)ρ_p) (eq 48 per unit mass), J/kg.
+    pub specific_internal_energy: f64,
+}
+
+/// Where and what the new particles of one interface face are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceInflow {
+    /// Centre of the interface face, m.
+    pub face_centre: [f64; 3],
+    /// Cell size, m.
+    pub spacing: [f64; 3],
+    /// Active directions.
+    pub active: [bool; 3],
+    /// Split axis.
+    pub axis: usize,
+    /// Side of the MPM region.
+    pub side: Side,
+    /// Interface state (eqs 40–42).
+    pub face: Primitive,
+    /// Donor-cell density and pressure of the new particles.
+    pub donor: Primitive,
+    /// γ of the air (eq 48).
+    pub gamma: f64,
+    /// Mass of an existing particle m_e (eq 45), kg.
+    pub existing_mass: f64,
+    /// Time step, s.
+    pub dt: f64,
+}
+
+/// Seed 001 eqs 45–48: the particles that carry the mass flux f_m > 0 and
+/// momentum flux f_p of one face into the first bridge cell, appended to
+/// `out`. Returns the number created (0 when f_m ≤ 0).
+pub fn create_particles(inflow: &FaceInflow, mass_flux: f64, out: &mut Vec<NewParticle>) -> usize {
+    let s = new_particle_count(mass_flux, inflow.existing_mass);
+    if s == 0 {
+        return 0;
+    }
+    let mass = mass_flux / s as f64;
+    let v = inflow.face.velocity;
+    let rho = inflow.donor.density;
+    let e = inflow.donor.pressure / ((inflow.gamma - 1.0) * rho);
+    let a = inflow.axis;
+    let tangential: Vec<usize> = (0..3).filter(|&d| d != a && inflow.active[d]).collect();
+    let across = 1usize << tangential.len();
+    let layers = s / across;
+    // Eq 47: the furthest particle is v Δt from the face centre.
+    let d: [f64; 3] = v.map(|x| x * inflow.dt);
+    for l in 0..layers {
+        let f = (l as f64 + 0.5) / layers as f64;
+        for c in 0..across {
+            let mut x = inflow.face_centre;
+            x[a] += inflow.side.sign() * d[a].abs() * f;
+            for (bit, &t) in tangential.iter().enumerate() {
+                let off = if (c >> bit) & 1 == 0 { -0.25 } else { 0.25 };
+                x[t] += off * inflow.spacing[t] + d[t] * f;
+            }
+            out.push(NewParticle {
+                position: x,
+                mass,
+                velocity: v,
+                volume: mass / rho,
+                specific_internal_energy: e,
+            });
+        }
+    }
+    s
+}
+
+/// Seed 001 eqs 49–51: adds a particle of mass `mass`, velocity `velocity`
+/// and specific internal energy `specific_energy` leaving the MPM region
+/// into the FDM cell `cell` = (ρ, ρu, ρv, ρw, E, ρY) of volume `volume`
+/// (the particle is air: ρY is unchanged).
+pub fn absorb_particle(
+    cell: &mut [f64; 6],
+    volume: f64,
+    mass: f64,
+    velocity: [f64; 3],
+    specific_energy: f64,
+) {
+    let inv = 1.0 / volume;
+    cell[0] += mass * inv;
+    for d in 0..3 {
+        cell[1 + d] += mass * velocity[d] * inv;
+    }
+    let v2 = velocity[0] * velocity[0] + velocity[1] * velocity[1] + velocity[2] * velocity[2];
+    cell[4] += mass * (specific_energy + 0.5 * v2) * inv;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn fictitious_cell_of_a_2d_element_is_hand_computed() {
+        // Four corner nodes of a 2D element, N = 1/4 each.
+        let w = centre_weight(2);
+        assert_eq!(w, 0.25);
+        let (m, p) = fictitious_mass_momentum(
+            &[1.0, 2.0, 3.0, 2.0],
+            &[
+                [4.0, 0.0, 0.0],
+                [0.0, 8.0, 0.0],
+                [4.0, 4.0, 0.0],
+                [0.0, 0.0, 0.0],
+            ],
+            w,
+        );
+        assert_eq!((m, p), (2.0, [2.0, 3.0, 0.0]));
+        let e = cell_internal_energy(&[0.5, 1.5], &[2.0, 4.0]);
+        assert_eq!(e, 7.0);
+        // V = 0.5: ρ = 4, ρv = (4, 6, 0), E = (7 + ½·2·(1 + 2.25))/0.5 = 20.5.
+        let u = fictitious_cell_state(m, p, e, 0.5).unwrap();
+        assert_eq!(u, [4.0, 4.0, 6.0, 0.0, 20.5]);
+        assert_eq!(fictitious_cell_state(0.0, [0.0; 3], 1.0, 1.0), None);
+    }
+
+    #[test]
+    fn a_cell_centre_pushes_its_interface_node_with_p_v_over_h() {
+        // 1D, h = 2: the cell [0, 2] has its centre at 1; its right node at
+        // 2 (the interface) gets N = 1/2 and N,x = +1/2: mass ρV/2,
+        // momentum ρVv/2 and force p V/2 along +x, into the MPM region.
+        let c = fdm_cell_as_particle([1.0, 0.5, 0.5], 3.0, [10.0, 0.0, 0.0], 8.0, 2.0);
+        assert_eq!(c.mass, 6.0);
+        let active = [true, false, false];
+        let (m, p, f) = cell_node_contribution(&c, [2.0, 0.0, 0.0], [2.0, 1.0, 1.0], active);
+        assert_eq!(m, 3.0);
+        assert_eq!(p, [30.0, 0.0, 0.0]);
+        assert_eq!(f, [8.0, 0.0, 0.0]);
+        // The left node is pushed the other way; a far node gets nothing.
+        let (_, _, f) = cell_node_contribution(&c, [0.0; 3], [2.0, 1.0, 1.0], active);
+        assert_eq!(f, [-8.0, 0.0, 0.0]);
+        let far = cell_node_contribution(&c, [4.0, 0.0, 0.0], [2.0, 1.0, 1.0], active);
+        assert_eq!(far, (0.0, [0.0; 3], [0.0; 3]));
+        // 2D, corner (2, 2) of [0, 2]²: N = 1/4, N,x = N,y = (1/h)(1/2) = 1/4,
+        // f = ∇N p V = (4, 4).
+        let c = fdm_cell_as_particle([1.0, 1.0, 0.5], 1.0, [0.0; 3], 8.0, 2.0);
+        let (m, _, f) =
+            cell_node_contribution(&c, [2.0, 2.0, 0.0], [2.0, 2.0, 1.0], [true, true, false]);
+        assert_eq!(m, 0.5);
+        assert_eq!(f, [4.0, 4.0, 0.0]);
+    }
+
+    #[test]
+    fn interface_state_and_fluxes_are_eqs_40_to_44() {
+        let a = Primitive {
+            density: 2.0,
+            velocity: [100.0, 20.0, 0.0],
+            pressure: 3.0e5,
+        };
+        let b = Primitive {
+            density: 1.0,
+            velocity: [50.0, 0.0, 0.0],
+            pressure: 1.0e5,
+        };
+        let f = interface_state(&a, &b);
+        assert_eq!(f.density, 1.5);
+        assert_eq!(f.velocity, [75.0, 10.0, 0.0]);
+        assert_eq!(f.pressure, 2.0e5);
+        // f_m = 1.5 · 75 · 4e-6 · 1e-6 = 4.5e-10 kg.
+        let (fm, fp) = interface_fluxes(&f, 0, Side::High, 4e-6, 1e-6);
+        assert!((fm - 4.5e-10).abs() < 1e-24);
+        assert_eq!(fp, [fm * 75.0, fm * 10.0, 0.0]);
+        // The same face with the MPM region on the low side: outflow.
+        let (fm_low, _) = interface_fluxes(&f, 0, Side::Low, 4e-6, 1e-6);
+        assert_eq!(fm_low, -fm);
+    }
+
+    #[test]
+    fn particle_count_is_a_multiple_of_four() {
+        assert_eq!(new_particle_count(1.0, 1.0), 4);
+        assert_eq!(new_particle_count(4.0, 1.0), 4);
+        assert_eq!(new_particle_count(4.01, 1.0), 8);
+        assert_eq!(new_particle_count(0.01, 1.0), 4);
+        assert_eq!(new_particle_count(-1.0, 1.0), 0);
+        assert_eq!(new_particle_count(0.0, 1.0), 0);
+    }
+
+    fn inflow(v: [f64; 3], active: [bool; 3]) -> FaceInflow {
+        FaceInflow {
+            face_centre: [0.11, 0.251, 0.001],
+            spacing: [0.002, 0.002, 0.002],
+            active,
+            axis: 0,
+            side: Side::High,
+            face: Primitive {
+                density: 1.5,
+                velocity: v,
+                pressure: 2.0e5,
+            },
+            donor: Primitive {
+                density: 2.0,
+                velocity: v,
+                pressure: 3.0e5,
+            },
+            gamma: 1.4,
+            existing_mass: 1.0e-9,
+            dt: 1.0e-6,
+        }
+    }
+
+    #[test]
+    fn new_particles_fill_the_flux_volume_inside_the_bridge_cell() {
+        let f = inflow([200.0, -40.0, 0.0], [true, true, false]);
+        let (fm, _) = interface_fluxes(&f.face, 0, Side::High, 0.002 * 0.002, f.dt);
+        // f_m = 1.5 · 200 · 4e-6 · 1e-6 = 1.2e-9: s = ⌈1.2⌉ = 2 → 4.
+        let mut out = Vec::new();
+        assert_eq!(create_particles(&f, fm, &mut out), 4);
+        // 2D: 2 across the face × 2 layers over d_1 = 0.2 mm.
+        let xs: Vec<f64> = out.iter().map(|p| p.position[0] - 0.11).collect();
+        for (x, want) in xs.iter().zip([0.05e-3, 0.05e-3, 0.15e-3, 0.15e-3]) {
+            assert!((x - want).abs() < 1e-15, "{x} vs {want}");
+        }
+        // Across: ±h/4 about the face centre plus the drift v_y Δt f.
+        assert!((out[0].position[1] - (0.251 - 0.0005 - 40e-6 * 0.25)).abs() < 1e-15);
+        assert!((out[1].position[1] - (0.251 + 0.0005 - 40e-6 * 0.25)).abs() < 1e-15);
+        // e = p/((γ − 1)ρ) of the donor: 3e5/(0.4 · 2).
+        assert!((out[0].specific_internal_energy - 3.75e5).abs() < 1e-9);
+        assert!((out[0].volume - fm / 4.0 / 2.0).abs() < 1e-25);
+    }
+
+    proptest! {
+        #[test]
+        fn created_particles_carry_exactly_the_fluxes(
+            rho in 0.1f64..10.0, vn in 1.0f64..800.0, vt in -300.0f64..300.0,
+            p in 1e4f64..1e7, me in 1e-11f64..1e-8, dt in 1e-8f64..2e-6,
+            three_d in any::<bool>(),
+        ) {
+            let active = [true, true, three_d];
+            let mut f = inflow([vn, vt, 0.5 * vt], active);
+            f.face.density = rho;
+            f.donor.pressure = p;
+            f.existing_mass = me;
+            f.dt = dt;
+            let (fm, fp) = interface_fluxes(&f.face, 0, Side::High, 4e-6, dt);
+            let mut out = Vec::new();
+            let s = create_particles(&f, fm, &mut out);
+            prop_assert_eq!(s % 4, 0);
+            prop_assert_eq!(out.len(), s);
+            let m: f64 = out.iter().map(|q| q.mass).sum();
+            prop_assert!((m - fm).abs() <= 4.0 * f64::EPSILON * s as f64 * fm);
+            for (i, fpi) in fp.iter().enumerate() {
+                let pi: f64 = out.iter().map(|q| q.mass * q.velocity[i]).sum();
+                prop_assert!((pi - fpi).abs() <= 8.0 * f64::EPSILON * s as f64 * fm * vn.max(vt.abs()));
+            }
+            // Energy: internal (eq 48, linear in mass) plus kinetic.
+            let e: f64 = out.iter().map(|q| q.mass * (q.specific_internal_energy
+                + 0.5 * (q.velocity[0].powi(2) + q.velocity[1].powi(2) + q.velocity[2].powi(2)))).sum();
+            let v2 = vn * vn + vt * vt + 0.25 * vt * vt;
+            let want = fm * (p / ((f.gamma - 1.0) * f.donor.density) + 0.5 * v2);
+            prop_assert!((e - want).abs() <= 16.0 * f64::EPSILON * s as f64 * want);
+            // Every particle inside the first bridge cell.
+            for q in &out {
+                prop_assert!(q.position[0] > 0.11 && q.position[0] < 0.112);
+            }
+        }
+
+        #[test]
+        fn absorbing_a_particle_conserves_the_cell_plus_particle(
+            rho in 0.1f64..10.0, u in -500.0f64..500.0, e in 1e4f64..1e7,
+            m in 1e-12f64..1e-8, vx in -500.0f64..500.0, vy in -500.0f64..500.0, ep in 1e4f64..1e7,
+        ) {
+            let vol = 8e-9;
+            let mut cell = [rho, rho * u, 0.0, 0.0, rho * (e + 0.5 * u * u), 0.3 * rho];
+            let before = cell.map(|x| x * vol);
+            absorb_particle(&mut cell, vol, m, [vx, vy, 0.0], ep);
+            let after = cell.map(|x| x * vol);
+            let tol = |x: f64| 4.0 * f64::EPSILON * x.abs().max(1e-30);
+            prop_assert!((after[0] - before[0] - m).abs() <= tol(after[0]));
+            prop_assert!((after[1] - before[1] - m * vx).abs() <= tol(after[1].abs() + (m * vx).abs()));
+            prop_assert!((after[2] - before[2] - m * vy).abs() <= tol(after[2].abs() + (m * vy).abs()));
+            let ek = m * (ep + 0.5 * (vx * vx + vy * vy));
+            prop_assert!((after[4] - before[4] - ek).abs() <= tol(after[4]));
+            prop_assert_eq!(after[5], before[5]);
+        }
+    }
+}
