@@ -56,7 +56,7 @@ use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
 use crate::traction::{self, SurfaceLoad};
 use crate::transfer::{BinError, GridMap, P2gSums, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
-use crate::{MaterialId, Particles, ShapeFunction};
+use crate::{MaterialId, ParticleInit, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
 use brisance_core::{CellData, ConservationTotals, Material, Solver, SolverError};
 use brisance_grid::Level;
@@ -229,6 +229,8 @@ pub struct MpmSolver {
     /// Per particle, in particle order: its index in the set handed to
     /// [`MpmSolver::new`] (its identity through sorts and removals).
     ids: Vec<u32>,
+    /// Identity of the next particle added by [`MpmSolver::insert_particles`].
+    next_id: u32,
     /// Prescribed surface tractions ([`crate::traction`]).
     loads: Vec<SurfaceLoad>,
     /// Their nodal forces of the current step (reused buffer).
@@ -414,7 +416,7 @@ impl MpmSolver {
         }
         let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let bulk = vec![BulkViscosityState::default(); particles.len()];
-        let ids = (0..particles.len() as u32).collect();
+        let ids: Vec<u32> = (0..particles.len() as u32).collect();
         Ok(Self {
             external_work: 0.0,
             level,
@@ -432,6 +434,7 @@ impl MpmSolver {
                 average: PatchAverage::default(),
             },
             bulk,
+            next_id: ids.len() as u32,
             ids,
             loads: Vec::new(),
             surface_forces: Vec::new(),
@@ -551,6 +554,95 @@ impl MpmSolver {
     fn permute_own(&mut self, perm: &[usize]) {
         self.bulk = perm.iter().map(|&p| self.bulk[p]).collect();
         self.ids = perm.iter().map(|&p| self.ids[p]).collect();
+    }
+
+    /// Adds particles during a run (matter a coupling brings into the MPM
+    /// region), with their models' initial history and identities after
+    /// every identity given so far; returns the first new identity. Fails,
+    /// adding nothing, for a particle outside the grid or of an unknown
+    /// material.
+    pub fn insert_particles(&mut self, new: &[ParticleInit]) -> Result<u32, MpmSetupError> {
+        let grid = self.level.geometry;
+        for (i, p) in new.iter().enumerate() {
+            let particle = self.particles.len() + i;
+            if p.material.0 as usize >= self.materials.len() {
+                return Err(MpmSetupError::UnknownMaterial {
+                    particle,
+                    material: p.material.0,
+                    count: self.materials.len(),
+                });
+            }
+            if grid.cell_containing(p.position).is_none() {
+                return Err(MpmSetupError::OutsideGrid {
+                    particle,
+                    position: p.position,
+                });
+            }
+            let finite = p.velocity.iter().all(|v| v.is_finite());
+            if !(finite
+                && p.mass > 0.0
+                && p.volume > 0.0
+                && p.mass.is_finite()
+                && p.volume.is_finite())
+            {
+                return Err(MpmSetupError::Shape {
+                    particle,
+                    detail: format!(
+                        "mass {} kg and volume {} m³ must be positive and velocity {:?} m/s finite",
+                        p.mass, p.volume, p.velocity
+                    ),
+                });
+            }
+        }
+        let count = self.particles.len() + new.len();
+        let last = u32::try_from(self.next_id as usize + new.len())
+            .map_err(|_| MpmSetupError::TooManyParticles { count })?;
+        let first = self.next_id;
+        let stride = self.particles.history_stride();
+        let zeros = vec![0.0; stride];
+        for p in new {
+            let index = self
+                .particles
+                .push(p, &zeros)
+                .map_err(|e| MpmSetupError::Shape {
+                    particle: self.particles.len(),
+                    detail: e.to_string(),
+                })?;
+            let id = p.material.0;
+            let m = &self.materials[id as usize];
+            let seed = brisance_constitutive::random::point_seed(p.position, id);
+            m.init_history_at(
+                &mut self.particles.history_of_mut(index)[..m.history_len()],
+                seed,
+            );
+            self.bulk.push(BulkViscosityState::default());
+            self.ids.push(self.next_id);
+            self.next_id += 1;
+        }
+        debug_assert_eq!(self.next_id, last);
+        Ok(first)
+    }
+
+    /// Removes the particles at storage indices `leaving` (ascending,
+    /// distinct) without booking them as outflow: a coupling that takes
+    /// their mass, momentum and energy over reads them first.
+    pub fn remove_particles(&mut self, leaving: &[usize]) {
+        if leaving.is_empty() {
+            return;
+        }
+        let mut next = leaving.iter().peekable();
+        let keep: Vec<usize> = (0..self.particles.len())
+            .filter(|p| {
+                if next.peek() == Some(&p) {
+                    next.next();
+                    false
+                } else {
+                    true
+                }
+            })
+            .collect();
+        self.particles.select(&keep);
+        self.permute_own(&keep);
     }
 
     /// Each particle's bulk-viscosity state (q and tr D), in particle order.
@@ -1207,6 +1299,7 @@ impl Solver for MpmSolver {
         self.particles = ps;
         self.bulk = s.bulk_viscosity;
         self.ids = s.ids;
+        self.next_id = self.ids.iter().max().map_or(0, |m| m.saturating_add(1));
         self.time = s.time;
         self.steps = s.steps;
         self.outflow = s.outflow;

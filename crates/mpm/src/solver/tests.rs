@@ -773,3 +773,63 @@ fn fbar_runs_are_bit_identical_on_one_and_two_threads_and_any_patch_split() {
         assert!(one != off.save_state().unwrap(), "{shape:?}");
     }
 }
+
+// ------------------------------------- particles added and taken by a coupling
+
+#[test]
+fn inserted_particles_get_fresh_identities_and_removed_ones_are_not_booked() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let n0 = ps.len();
+    let mut solver = MpmSolver::new(level, vec![soft()], ps, MpmOptions::default()).unwrap();
+    let p = ParticleInit {
+        position: [0.8, 0.8, 0.5],
+        velocity: [1.0, 0.0, 0.0],
+        mass: 2.0,
+        volume: 1e-3,
+        ..Default::default()
+    };
+    let first = solver.insert_particles(&[p.clone(), p.clone()]).unwrap();
+    assert_eq!(first as usize, n0);
+    assert_eq!(solver.particles().len(), n0 + 2);
+    assert_eq!(solver.particle_ids()[n0 + 1] as usize, n0 + 1);
+    let totals = solver.conservation_totals();
+    assert_eq!(totals.momentum[0], 4.0);
+    // Bad particles are refused, adding nothing.
+    let outside = ParticleInit {
+        position: [1.5, 0.5, 0.5],
+        ..p.clone()
+    };
+    assert!(matches!(
+        solver.insert_particles(&[p.clone(), outside]),
+        Err(MpmSetupError::OutsideGrid { particle, .. }) if particle == n0 + 3
+    ));
+    let massless = ParticleInit {
+        mass: 0.0,
+        ..p.clone()
+    };
+    assert!(solver.insert_particles(&[massless]).is_err());
+    assert_eq!(solver.particles().len(), n0 + 2);
+    // Removing the first of the two: not booked as outflow, and the next
+    // identity is not reused.
+    solver.remove_particles(&[n0]);
+    assert_eq!(solver.particles().len(), n0 + 1);
+    assert_eq!(solver.particle_ids()[n0] as usize, n0 + 1);
+    assert_eq!(solver.outflow_totals(), ConservationTotals::default());
+    assert_eq!(solver.conservation_totals().momentum[0], 2.0);
+    assert_eq!(
+        solver.insert_particles(std::slice::from_ref(&p)).unwrap() as usize,
+        n0 + 2
+    );
+    let dt = solver.stable_dt().unwrap();
+    solver.advance(dt).unwrap();
+}
