@@ -16,8 +16,10 @@
 //! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
 
 pub mod bridge;
+pub mod cfdmp;
 pub mod regions;
 pub mod remap;
 
+pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{remap, RadialProfile, RemapError, RemapReport, RemapTarget, Remapped};
