@@ -559,6 +559,223 @@ impl<E: GasLaw> Cfdmp<E> {
     }
 }
 
+/// Cell fields of the coupled solver: those both methods give.
+pub const FIELDS: [&str; 6] = [
+    "density",
+    "velocity_x",
+    "velocity_y",
+    "velocity_z",
+    "pressure",
+    "specific_internal_energy",
+];
+
+/// What a checkpoint holds besides the two solvers' own states.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct SavedState {
+    time: f64,
+    steps: u64,
+    active: bool,
+    activated_at: Option<f64>,
+    totals: [ConservationTotals; 2],
+    counts: [u64; 2],
+    products_as_air: f64,
+    fdm: Vec<u8>,
+    mpm: Vec<u8>,
+}
+
+impl<E: GasLaw> Cfdmp<E> {
+    /// The union of the two regions.
+    pub fn domain(&self) -> brisance_core::UniformGridGeometry {
+        let (f, m, a) = (self.regions.fdm, self.regions.mpm, self.regions.axis);
+        let mut g = f;
+        g.origin[a] = f.origin[a].min(m.origin[a]);
+        g.cells[a] = f.cells[a] + m.cells[a] - self.regions.width;
+        g
+    }
+
+    /// Whether `x` lies in the MPM region (and the MPM region runs).
+    fn in_mpm(&self, x: [f64; 3]) -> bool {
+        let a = self.regions.axis;
+        let (lo, hi) = (self.regions.mpm.origin[a], self.regions.mpm.upper()[a]);
+        self.active && x[a] >= lo && x[a] <= hi
+    }
+
+    /// Whether FDM-grid cell index `i` along the split axis lies in the FDM
+    /// region outside the MPM region (the donor cell and before).
+    fn fdm_owns(&self, i: usize) -> bool {
+        let donor = self.fdm_index(self.regions.donor_cell());
+        match self.regions.mpm_side {
+            Side::High => i <= donor,
+            Side::Low => {
+                i >= donor && i < self.fdm_index(self.regions.fdm.cells[self.regions.axis])
+            }
+        }
+    }
+}
+
+impl<E: GasLaw> Solver for Cfdmp<E> {
+    fn name(&self) -> &str {
+        "fdm-mpm"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        Cfdmp::stable_dt(self)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        Cfdmp::advance(self, dt)
+    }
+
+    /// The FDM cells outside the MPM region plus the MPM particles (with
+    /// their outflow), summed in global order.
+    fn conservation_totals(&self) -> ConservationTotals {
+        let g = self.fdm.level().geometry;
+        let a = self.regions.axis;
+        let fields = self.fdm.conservative_fields();
+        let mut t = ConservationTotals::default();
+        let rows = fields[0]
+            .iter()
+            .zip(&fields[1])
+            .zip(&fields[2])
+            .zip(&fields[3])
+            .zip(&fields[4]);
+        for (lin, ((((rho, mx), my), mz), e)) in rows.enumerate() {
+            let idx = [
+                lin % g.cells[0],
+                (lin / g.cells[0]) % g.cells[1],
+                lin / (g.cells[0] * g.cells[1]),
+            ];
+            if self.fdm_owns(idx[a]) {
+                t.mass += rho;
+                t.momentum[0] += mx;
+                t.momentum[1] += my;
+                t.momentum[2] += mz;
+                t.energy += e;
+            }
+        }
+        let v = self.regions.cell_volume();
+        let m = self.mpm.conservation_totals();
+        t.mass = t.mass * v + m.mass;
+        for d in 0..3 {
+            t.momentum[d] = t.momentum[d] * v + m.momentum[d];
+        }
+        t.energy = t.energy * v + m.energy;
+        t
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        FIELDS.to_vec()
+    }
+
+    /// On the union of the regions: the MPM's cell values in the MPM region
+    /// once it runs, the FDM's elsewhere.
+    fn cell_data(&self, fields: &[String]) -> Result<brisance_core::CellData, SolverError> {
+        if let Some(f) = fields.iter().find(|f| !FIELDS.contains(&f.as_str())) {
+            return Err(SolverError::Other(format!(
+                "unknown field `{f}`; the bridge outputs {}",
+                FIELDS.join(", ")
+            )));
+        }
+        let g = self.domain();
+        let fd = self.fdm.cell_data(fields)?;
+        let md = if self.active {
+            Some(self.mpm.cell_data(fields)?)
+        } else {
+            None
+        };
+        let mut out: Vec<(String, Vec<f64>)> = fields
+            .iter()
+            .map(|f| (f.clone(), Vec::with_capacity(g.cell_count())))
+            .collect();
+        for k in 0..g.cells[2] {
+            for j in 0..g.cells[1] {
+                for i in 0..g.cells[0] {
+                    let x = g.cell_centre([i, j, k]);
+                    let (data, geometry) = match &md {
+                        Some(m) if self.in_mpm(x) => (m, m.geometry),
+                        _ => (&fd, fd.geometry),
+                    };
+                    let c = geometry.cell_containing(x).unwrap_or([0; 3]);
+                    let n = geometry.linear_index(c);
+                    for (o, (_, v)) in out.iter_mut().zip(&data.fields) {
+                        o.1.push(v[n]);
+                    }
+                }
+            }
+        }
+        Ok(brisance_core::CellData {
+            geometry: g,
+            fields: out,
+        })
+    }
+
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        if self.in_mpm(point) {
+            self.mpm.sample(point, fields, out)
+        } else {
+            self.fdm.sample(point, fields, out)
+        }
+    }
+
+    fn particle_data(&self) -> Option<brisance_core::ParticleData> {
+        self.mpm.particle_data()
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        let cells = self.fdm.level().geometry.cell_count() as f64;
+        let particles = if self.active {
+            self.mpm.particles().len() as f64
+        } else {
+            0.0
+        };
+        (cells + particles, "cell- and particle-updates")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let t = self.totals;
+        let saved = SavedState {
+            time: self.time,
+            steps: self.steps,
+            active: self.active,
+            activated_at: self.activated_at,
+            totals: [t.into_mpm, t.into_fdm],
+            counts: [t.created, t.absorbed],
+            products_as_air: t.products_as_air,
+            fdm: self.fdm.save_state()?,
+            mpm: self.mpm.save_state()?,
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: SavedState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        self.fdm.restore_state(&s.fdm)?;
+        self.mpm.restore_state(&s.mpm)?;
+        self.time = s.time;
+        self.steps = s.steps;
+        self.active = s.active;
+        self.activated_at = s.activated_at;
+        self.totals = TransportTotals {
+            created: s.counts[0],
+            into_mpm: s.totals[0],
+            absorbed: s.counts[1],
+            into_fdm: s.totals[1],
+            products_as_air: s.products_as_air,
+        };
+        Ok(())
+    }
+}
+
 fn book(t: &mut ConservationTotals, m: f64, v: [f64; 3], e: f64) {
     t.mass += m;
     for (q, x) in t.momentum.iter_mut().zip(v) {
@@ -835,5 +1052,49 @@ mod tests {
         let m1 = c.mpm().conservation_totals().mass;
         let booked = m0 + tt.into_mpm.mass - tt.into_fdm.mass;
         assert!((m1 - booked).abs() < 1e-13 * m1, "{m1} vs {booked}");
+    }
+
+    #[test]
+    fn restart_continues_bit_identically_and_outputs_cover_the_union() {
+        let mut c = coupled();
+        while !c.is_active() || c.steps() < 200 {
+            let dt = Solver::stable_dt(&c).unwrap();
+            Solver::advance(&mut c, dt).unwrap();
+        }
+        let saved = c.save_state().unwrap();
+        let run = |c: &mut Cfdmp<IdealGas>| {
+            for _ in 0..30 {
+                let dt = Solver::stable_dt(c).unwrap();
+                Solver::advance(c, dt).unwrap();
+            }
+            let f = ["pressure".to_string(), "density".to_string()];
+            (
+                c.cell_data(&f).unwrap(),
+                c.conservation_totals(),
+                c.transport_totals(),
+            )
+        };
+        let first = run(&mut c);
+        c.restore_state(&saved).unwrap();
+        let second = run(&mut c);
+        assert_eq!(first.0, second.0);
+        assert_eq!(first.1, second.1);
+        assert_eq!(first.2, second.2);
+        // The union: 150 FDM + 55 MPM − 5 bridge cells; x = 0.35 m reads
+        // the MPM, x = 0.1 m the FDM.
+        let data = first.0;
+        assert_eq!(data.geometry.cells, [200, 1, 1]);
+        let mut mpm = Vec::new();
+        c.mpm()
+            .sample([0.351, 0.001, 0.001], &["pressure".to_string()], &mut mpm)
+            .unwrap();
+        assert_eq!(data.fields[0].1[175], mpm[0]);
+        let mut fdm = Vec::new();
+        c.fdm()
+            .sample([0.101, 0.001, 0.001], &["pressure".to_string()], &mut fdm)
+            .unwrap();
+        assert_eq!(data.fields[0].1[50], fdm[0]);
+        let e = c.cell_data(&["mass_density".to_string()]).unwrap_err();
+        assert!(e.to_string().contains("unknown field"), "{e}");
     }
 }
