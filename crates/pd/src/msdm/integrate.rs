@@ -102,8 +102,25 @@ impl MsdmLattice {
 
     fn explicit_euler(&mut self, dt: f64) {
         self.compute_forces();
-        self.move_positions(dt);
-        self.kick(dt);
+        // x ← x + uⁿΔt then u ← u + aΔt, per axis in one pass (the same
+        // operations as move_positions followed by kick).
+        let dim = self.geom.dim.count();
+        let (mass, prescribed, kind) = (&self.mass, &self.prescribed[..], &self.geom.kind);
+        for a in 0..dim {
+            let f = &self.force[a];
+            self.x[a]
+                .par_iter_mut()
+                .zip(self.u[a].par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (x, u))| {
+                    if matches!(kind[i], super::geometry::NodeKind::Solid(_)) {
+                        *x += *u * dt;
+                        if !prescribed[i] && mass[i] > 0.0 {
+                            *u += f[i] / mass[i] * dt;
+                        }
+                    }
+                });
+        }
         self.forces_current = false;
     }
 

@@ -160,6 +160,7 @@ pub struct MsdmLattice {
     pub prescribed: Vec<bool>,
     pub(crate) status: Vec<u8>,
     pub(crate) spring: Vec<SpringState>,
+    bond_force: [Vec<f64>; 3],
     /// Net force on each node at the last force evaluation, N.
     pub force: [Vec<f64>; 3],
     pub(crate) force_prev: [Vec<f64>; 3],
@@ -224,7 +225,56 @@ pub fn bond_force(
     st: SpringState,
     axial: bool,
 ) -> BondEval {
-    let len0 = (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]).sqrt();
+    bond_force_ref(law, &BondRef::new(xi, axial), r, w, st)
+}
+
+/// Materials up to which the energy update tabulates conductances.
+const MAX_TABLE_MATERIALS: usize = 8;
+
+/// Harmonic mean 2ab/(a + b) of two conductivities (0 when both are 0).
+#[inline]
+fn harmonic(a: f64, b: f64) -> f64 {
+    if a + b > 0.0 {
+        2.0 * a * b / (a + b)
+    } else {
+        0.0
+    }
+}
+
+/// The reference quantities of a bond direction (ξ, |ξ|, ê₀), formed once
+/// per direction by the force loop and per call by [`bond_force`], with
+/// the same operations, so both give the same bits.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct BondRef {
+    xi: [f64; 3],
+    len0: f64,
+    e0: [f64; 3],
+    axial: bool,
+}
+
+impl BondRef {
+    #[inline]
+    pub(crate) fn new(xi: [f64; 3], axial: bool) -> Self {
+        let len0 = (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]).sqrt();
+        Self {
+            xi,
+            len0,
+            e0: [xi[0] / len0, xi[1] / len0, xi[2] / len0],
+            axial,
+        }
+    }
+}
+
+/// [`bond_force`] from the precomputed reference quantities `b`.
+#[inline(always)]
+pub(crate) fn bond_force_ref(
+    law: &PairLaw,
+    b: &BondRef,
+    r: [f64; 3],
+    w: [f64; 3],
+    st: SpringState,
+) -> BondEval {
+    let (xi, len0, e0) = (b.xi, b.len0, b.e0);
     let len = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
     let n = if len > 0.0 {
         [r[0] / len, r[1] / len, r[2] / len]
@@ -235,8 +285,7 @@ pub fn bond_force(
     let sdot = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
     let af = law.axial(len0, s, sdot, st);
     let mut f = [af.force * n[0], af.force * n[1], af.force * n[2]];
-    let e0 = [xi[0] / len0, xi[1] / len0, xi[2] / len0];
-    let k_perp = if axial { law.k_perp * len0 } else { 0.0 };
+    let k_perp = if b.axial { law.k_perp * len0 } else { 0.0 };
     if k_perp > 0.0 {
         let eta = [r[0] - xi[0], r[1] - xi[1], r[2] - xi[2]];
         let along = eta[0] * e0[0] + eta[1] * e0[1] + eta[2] * e0[2];
@@ -401,6 +450,7 @@ impl MsdmLattice {
             prescribed: vec![false; n],
             status,
             spring: vec![SpringState::default(); n * nd],
+            bond_force: [vec![0.0; n * nd], vec![0.0; n * nd], vec![0.0; n * nd]],
             force: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             force_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             forces_current: false,
@@ -585,51 +635,76 @@ impl MsdmLattice {
     /// Evaluates the bond forces at the current (x, u) and gathers the net
     /// force on every node into [`MsdmLattice::force`] (eq 9 / 10b).
     ///
-    /// One pass over the nodes: node i adds the force of each bond it owns
-    /// and subtracts the force of each bond owned by a lower neighbour,
-    /// evaluating that bond exactly as its owner does (same inputs, same
-    /// operations), so f_ij = −f_ji to the bit, the sum order is fixed and
-    /// nothing is stored per bond. Each bond is evaluated twice, which
-    /// costs less than writing and re-reading three per-bond arrays.
+    /// Two passes over the nodes: each node evaluates the bonds it owns
+    /// into the per-bond force arrays, then gathers + for its own bonds and
+    /// − for those of its lower neighbours, in a fixed order (f_ij = −f_ji
+    /// exactly; the same bits for any number of threads). The passes are
+    /// specialised on the dimension: inactive axes, whose position and
+    /// velocity differences are exactly 0, are neither read nor stored,
+    /// and the reference quantities of each direction are formed once.
     pub fn compute_forces(&mut self) {
+        let mut bf = std::mem::take(&mut self.bond_force);
         let mut force = std::mem::take(&mut self.force);
         match self.geom.dim {
-            super::geometry::Dim::One => self.gather_forces::<1>(&mut force),
-            super::geometry::Dim::Two => self.gather_forces::<2>(&mut force),
-            super::geometry::Dim::Three => self.gather_forces::<3>(&mut force),
+            super::geometry::Dim::One => self.forces_dim::<1>(&mut bf, &mut force),
+            super::geometry::Dim::Two => self.forces_dim::<2>(&mut bf, &mut force),
+            super::geometry::Dim::Three => self.forces_dim::<3>(&mut bf, &mut force),
         }
+        self.bond_force = bf;
         self.force = force;
         self.forces_current = true;
     }
 
-    /// Force of intact bond `(i, d)` on its lower node for a `D`-dimensional
-    /// lattice: the same bits as [`MsdmLattice::eval_bond`] (the inactive
-    /// axes of positions and velocities are equal at both ends, so their
-    /// differences are exactly 0), without reading them.
-    #[inline(always)]
-    fn bond_force_on<const D: usize>(&self, i: usize, d: usize) -> [f64; 3] {
-        let dir = &self.geom.directions[d];
-        let j = (i as isize + dir.offset) as usize;
-        let h = self.geom.spacing;
-        let mut xi = [0.0; 3];
-        let mut r = [0.0; 3];
-        let mut w = [0.0; 3];
-        for a in 0..D {
-            xi[a] = f64::from(dir.step[a]) * h;
-            r[a] = self.x[a][j] - self.x[a][i];
-            w[a] = self.u[a][j] - self.u[a][i];
-        }
-        let st = if self.has_spring_state {
-            self.spring[i * self.geom.directions.len() + d]
-        } else {
-            SpringState::default()
-        };
-        bond_force(self.law(i, d), xi, r, w, st, dir.axial).f
-    }
-
-    fn gather_forces<const D: usize>(&self, force: &mut [Vec<f64>; 3]) {
+    fn forces_dim<const D: usize>(&self, bf: &mut [Vec<f64>; 3], force: &mut [Vec<f64>; 3]) {
         let nd = self.geom.directions.len();
         let n = self.len();
+        let h = self.geom.spacing;
+        // At most 3 axial + 6 face-diagonal directions.
+        let mut refs = [BondRef::default(); 9];
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            let mut xi = [0.0; 3];
+            for a in 0..3 {
+                xi[a] = f64::from(dir.step[a]) * h;
+            }
+            refs[d] = BondRef::new(xi, dir.axial);
+        }
+        let refs = &refs[..nd];
+        let status = &self.status[..];
+        {
+            let [b0, b1, b2] = bf;
+            b0.par_chunks_mut(nd)
+                .zip(b1.par_chunks_mut(nd))
+                .zip(b2.par_chunks_mut(nd))
+                .enumerate()
+                .for_each(|(i, ((c0, c1), c2))| {
+                    for d in 0..nd {
+                        if status[i * nd + d] != INTACT {
+                            continue;
+                        }
+                        let j = (i as isize + self.geom.directions[d].offset) as usize;
+                        let mut r = [0.0; 3];
+                        let mut w = [0.0; 3];
+                        for a in 0..D {
+                            r[a] = self.x[a][j] - self.x[a][i];
+                            w[a] = self.u[a][j] - self.u[a][i];
+                        }
+                        let st = if self.has_spring_state {
+                            self.spring[i * nd + d]
+                        } else {
+                            SpringState::default()
+                        };
+                        let f = bond_force_ref(self.law(i, d), &refs[d], r, w, st).f;
+                        c0[d] = f[0];
+                        if D > 1 {
+                            c1[d] = f[1];
+                        }
+                        if D > 2 {
+                            c2[d] = f[2];
+                        }
+                    }
+                });
+        }
+        let bf = &*bf;
         let [f0, f1, f2] = force;
         f0.par_iter_mut()
             .zip(f1.par_iter_mut())
@@ -640,21 +715,23 @@ impl MsdmLattice {
                     (*f0, *f1, *f2) = (0.0, 0.0, 0.0);
                     return;
                 }
+                // Components a ≥ D stay +0 (a sum of ±0 from +0 is +0).
                 let mut s = [0.0; 3];
                 for d in 0..nd {
-                    if self.status[i * nd + d] == INTACT {
-                        let f = self.bond_force_on::<D>(i, d);
-                        for a in 0..3 {
-                            s[a] += f[a];
+                    if status[i * nd + d] == INTACT {
+                        for a in 0..D {
+                            s[a] += bf[a][i * nd + d];
                         }
                     }
                 }
                 for (d, dir) in self.geom.directions.iter().enumerate() {
                     let j = i as isize - dir.offset;
-                    if j >= 0 && (j as usize) < n && self.status[j as usize * nd + d] == INTACT {
-                        let f = self.bond_force_on::<D>(j as usize, d);
-                        for a in 0..3 {
-                            s[a] -= f[a];
+                    if j >= 0 && (j as usize) < n {
+                        let b = j as usize * nd + d;
+                        if status[b] == INTACT {
+                            for a in 0..D {
+                                s[a] -= bf[a][b];
+                            }
                         }
                     }
                 }
@@ -733,6 +810,25 @@ impl MsdmLattice {
     pub fn update_volume_and_energy(&mut self, dt: f64) {
         let n = self.len();
         let [mut v_new, mut e_new, mut p_new, mut t_new] = std::mem::take(&mut self.scratch);
+        // Chemistry on at all (the sum below is +0 when every rate is 0).
+        let chem_on = self.mass_rate.iter().any(|&r| r != 0.0);
+        // Conductances per material pair, formed once per step as
+        // [`MsdmLattice::conduction`] forms them per spring (same bits).
+        let nm = self.materials.len();
+        let table = (nm <= MAX_TABLE_MATERIALS).then(|| {
+            let h = self.geom.spacing;
+            let sur = self.options.surroundings;
+            let mut pair = [0.0; MAX_TABLE_MATERIALS * MAX_TABLE_MATERIALS];
+            let mut ghost = [0.0; MAX_TABLE_MATERIALS];
+            for a in 0..nm {
+                let ka = self.materials[a].conductivity;
+                for b in 0..nm {
+                    pair[a * nm + b] = harmonic(ka, self.materials[b].conductivity) * h;
+                }
+                ghost[a] = harmonic(ka, sur.conductivity) * h;
+            }
+            (pair, ghost)
+        });
         {
             let this = &*self;
             v_new
@@ -761,12 +857,18 @@ impl MsdmLattice {
                     let mass = this.mass[i];
                     let dp = -mat.bulk_modulus() * (*v - v_old) / v_old;
                     let mut de = mat.eos.cv * mat.eos.dtemperature_dpressure(mass / v_old) * dp;
-                    let nm = this.materials.len();
                     let mut chem = 0.0;
-                    for k in 0..nm {
-                        chem += this.materials[k].enthalpy * this.mass_rate[k * n + i];
+                    if chem_on {
+                        for k in 0..nm {
+                            chem += this.materials[k].enthalpy * this.mass_rate[k * n + i];
+                        }
                     }
-                    let q = this.conduction(i);
+                    let q = match &table {
+                        Some((pair, ghost)) => {
+                            this.conduction_by(i, m, |a, b| pair[a * nm + b], |a| ghost[a])
+                        }
+                        None => this.conduction(i),
+                    };
                     de += (chem + q) * dt / mass;
                     *e = this.energy[i] + de;
                     *p = this.pressure[i] + dp;
@@ -778,8 +880,7 @@ impl MsdmLattice {
         std::mem::swap(&mut self.pressure, &mut p_new);
         std::mem::swap(&mut self.temperature, &mut t_new);
         self.scratch = [v_new, e_new, p_new, t_new];
-        let nm = self.materials.len();
-        if self.mass_rate.iter().any(|&r| r != 0.0) {
+        if chem_on {
             for k in 0..nm {
                 for i in 0..n {
                     let mk = &mut self.mass_k[k * n + i];
@@ -799,17 +900,30 @@ impl MsdmLattice {
         let Some(m) = self.material_of(i) else {
             return 0.0;
         };
-        let nd = self.geom.directions.len();
         let h = self.geom.spacing;
-        let ki = self.materials[m].conductivity;
         let sur = self.options.surroundings;
-        let harmonic = |a: f64, b: f64| {
-            if a + b > 0.0 {
-                2.0 * a * b / (a + b)
-            } else {
-                0.0
-            }
-        };
+        let k = |a: usize| self.materials[a].conductivity;
+        self.conduction_by(
+            i,
+            m,
+            |a, b| harmonic(k(a), k(b)) * h,
+            |a| harmonic(k(a), sur.conductivity) * h,
+        )
+    }
+
+    /// The sum of [`MsdmLattice::conduction`] at solid node `i` of
+    /// material `m`, with the conductance κ_ij h of a spring between
+    /// materials (a, b) from `pair` and that to a ghost from `ghost`.
+    #[inline(always)]
+    fn conduction_by(
+        &self,
+        i: usize,
+        m: usize,
+        pair: impl Fn(usize, usize) -> f64,
+        ghost: impl Fn(usize) -> f64,
+    ) -> f64 {
+        let nd = self.geom.directions.len();
+        let sur = self.options.surroundings;
         let ti = self.temperature[i];
         let mut q = 0.0;
         for (d, dir) in self.geom.directions.iter().enumerate() {
@@ -821,10 +935,9 @@ impl MsdmLattice {
                 let bond = if sign > 0 { i * nd + d } else { j * nd + d };
                 if self.status[bond] == INTACT {
                     let mj = self.material_of(j).unwrap_or(m);
-                    let kij = harmonic(ki, self.materials[mj].conductivity);
-                    q += kij * h * (self.temperature[j] - ti);
+                    q += pair(m, mj) * (self.temperature[j] - ti);
                 } else {
-                    q += harmonic(ki, sur.conductivity) * h * (sur.temperature - ti);
+                    q += ghost(m) * (sur.temperature - ti);
                 }
             }
         }
