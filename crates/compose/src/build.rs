@@ -33,6 +33,12 @@ pub struct PipelineLimits {
 /// The limits of a pipeline.
 pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
+        Pipeline::FdmMpmBridge(_) => PipelineLimits {
+            fields: &crate::bridge::FIELDS,
+            max_cfl: brisance_fdm::solver::MAX_CFL,
+            ghost: brisance_fdm::sweep::GHOST,
+            node_fields: &[],
+        },
         Pipeline::Ice(_) => PipelineLimits {
             fields: &crate::ice::FIELDS,
             max_cfl: 1.0,
@@ -203,6 +209,11 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 .map(|solver| Built::Solver(Box::new(solver)))
                 .map_err(|(path, message)| located(&path, message))
         }
+        Pipeline::FdmMpmBridge(b) => {
+            return crate::bridge::build(s, b)
+                .map(Built::Solver)
+                .map_err(|(path, message)| located(&path, message))
+        }
         Pipeline::Ice(ice) => {
             return crate::ice::build(s, ice)
                 .map(|solver| Built::Solver(Box::new(solver)))
@@ -339,6 +350,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
         Pipeline::Lattice(l) => return crate::lattice::describe(s, l),
         Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
+        Pipeline::FdmMpmBridge(b) => return crate::bridge::describe(s, b),
     };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
     format!(

@@ -157,6 +157,8 @@ pub enum Pipeline {
     Lattice(crate::lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.
     Ice(crate::ice::IceConfig),
+    /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
+    FdmMpmBridge(crate::bridge::BridgeConfig),
 }
 
 /// Options of the MPM pipeline. Every initial region becomes particles of

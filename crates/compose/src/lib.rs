@@ -7,9 +7,10 @@
 //! - [`registry`]: every named component with a one-line description.
 //! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline ([`lattice`],
-//!   [`peridynamics`] and [`ice`] hold their own pipelines).
+//!   [`peridynamics`], [`ice`] and [`bridge`] hold their own pipelines).
 //! - [`run`]: the run loop, outputs, checkpoints and restart.
 
+pub mod bridge;
 pub mod build;
 pub mod config;
 pub mod error;

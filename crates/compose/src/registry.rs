@@ -127,6 +127,12 @@ pub const ENTRIES: &[Entry] = &[
         example: "Ice(materials: [\"air\", \"products\"], cfl: 0.4, advection: VanLeer, momentum_exchange: 1e15)",
     },
     Entry {
+        family: "pipeline",
+        name: "FdmMpmBridge",
+        summary: "coupled FDM-MPM (CFDMP): FDM far field, MPM near structures, a bridge region w cells wide, activation by the shock's arrival, optional remapped 1D detonation (seed 001 §3)",
+        example: "FdmMpmBridge(fdm_region: (lower: (-0.18, 0.0, 0.0), upper: (0.12, 0.5, 0.002)), mpm_region: (lower: (0.11, 0.0, 0.0), upper: (0.16, 0.5, 0.002)), air: \"air\", products: Some(\"tnt\"), activation_pressure: 1.2e5)",
+    },
+    Entry {
         family: "load",
         name: "Traction",
         summary: "traction vector per unit area on a particle surface layer, Pa (seed 001 eq 20)",

@@ -209,6 +209,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
         Pipeline::Lattice(l) => crate::lattice::validate(s, l)?,
         Pipeline::Ice(ice) => crate::ice::validate(s, ice)?,
+        Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
         Pipeline::Mpm(mpm) => {
             if mpm.ppc == 0 || mpm.ppc > 8 {
                 return Err((
