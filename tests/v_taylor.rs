@@ -10,7 +10,13 @@ use brisance::verification::taylor::{
 
 /// The first 10 µs on a coarse grid (3 cells across the radius): the rod
 /// shortens and spreads at the wall, its mass is the generated mass, no
-/// particle leaves, and the total energy holds to a fraction of a percent.
+/// particle leaves, and the total energy only falls, by about the kinetic
+/// energy of the particles whose velocity the wall nodes stop at impact:
+/// with 2 particles per cell per direction the first two layers (z = Δx/4
+/// and 3Δx/4, inside the reach Δx + Δx/4 of the wall nodes), 2 of the 40
+/// layers of the rod, 5 % (measured 4.96 %; 2.24 % at 6 cells, first order
+/// in Δx). The wall does no work; the loss is that of the impulsive
+/// kinematic contact, as for a finite-element node layer held on a wall.
 #[test]
 fn v_taylor_reduced_first_ten_microseconds_shorten_and_spread_the_rod() {
     let test = JOHNSON_COOK_1983_OFHC_190;
@@ -31,7 +37,7 @@ fn v_taylor_reduced_first_ten_microseconds_shorten_and_spread_the_rod() {
     );
     assert!(r.kinetic_energy_ratio < 1.0);
     assert!(
-        r.energy_change.abs() < 5e-3,
+        r.energy_change < 0.0 && r.energy_change > -0.055,
         "energy change {}",
         r.energy_change
     );

@@ -4,11 +4,14 @@
 //! on the face plane and on the ghost nodes beyond it (global node index
 //! ≤ 0 on a low face, ≥ n on a high face of n cells), after the nodal
 //! velocity and acceleration are formed and before they are interpolated
-//! back to the particles:
+//! back to the particles (a held velocity component is zero; the held
+//! component of the acceleration is the change of velocity the condition
+//! makes over the step, see [`crate::grid_nodes::GridNodes::update`], so
+//! that the particles' velocity update feels the wall):
 //!
-//! - [`GridBoundary::Fixed`]: every velocity and acceleration component is
-//!   zero (a clamped, no-slip wall);
-//! - [`GridBoundary::Symmetry`]: the normal component is zero, the
+//! - [`GridBoundary::Fixed`]: every velocity component is held at zero (a
+//!   clamped, no-slip wall);
+//! - [`GridBoundary::Symmetry`]: the normal component is held at zero, the
 //!   tangential ones are free (a roller, or a plane of symmetry);
 //! - [`GridBoundary::Free`]: nothing is imposed (traction-free);
 //! - [`GridBoundary::Outflow`]: nothing is imposed on the grid, and a
@@ -40,8 +43,8 @@ pub enum GridBoundary {
 /// Face names in the order of the `[GridBoundary; 6]` arrays.
 pub const FACE_NAMES: [&str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
 
-/// Applies the face conditions to the node vectors `fields` (velocities or
-/// accelerations) on `lattice` of a grid with `cells` cells.
+/// Zeroes the held components of the node vectors `fields` (velocities) on
+/// `lattice` of a grid with `cells` cells.
 pub fn apply_grid_boundaries(
     boundaries: &[GridBoundary; 6],
     lattice: &NodeLattice,

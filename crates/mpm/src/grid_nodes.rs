@@ -94,7 +94,10 @@ pub struct GridNodes {
     pub force: Vec<[f64; 3]>,
     /// Velocity at the start of the step, v_I^n = p_I/m_I, m/s.
     pub velocity: Vec<[f64; 3]>,
-    /// Acceleration a_I = f_I/m_I after the boundary conditions, m/s².
+    /// Acceleration a_I = f_I/m_I, m/s²; on a component a face condition
+    /// holds, the velocity change the condition imposes over the step,
+    /// a_I = (0 − p_I/m_I)/Δt (see [`GridNodes::update`]), so that the
+    /// particle velocity update v_p += Δt Σ N_Ip a_I (eq 24) sees the wall.
     pub acceleration: Vec<[f64; 3]>,
     /// Velocity at the end of the step from the momentum update,
     /// v_I^{n+1} = v_I^n + a_I Δt (eq 22), after the boundary conditions,
@@ -210,9 +213,20 @@ impl GridNodes {
     }
 
     /// The node update `stage`, with the mass cut-off and the boundary
-    /// conditions applied to every velocity and acceleration formed
-    /// (parallel over x-rows of nodes; each node on its own, so the result
-    /// does not depend on the split).
+    /// conditions applied to every velocity formed (parallel over x-rows of
+    /// nodes; each node on its own, so the result does not depend on the
+    /// split).
+    ///
+    /// On a component that a face condition holds at zero, v_I^n, v_I^{n+1}
+    /// and the re-mapped velocity are zero, and the acceleration is the
+    /// change of velocity the condition makes over the step, from the
+    /// node's own p_I/m_I to zero: a_I = −(p_I/m_I)/Δt. The particles take
+    /// their velocity change from a_I (eq 24), so a particle moving into a
+    /// wall loses the normal velocity its wall nodes carried, as the nodes
+    /// did; with a_I = 0 there instead it would keep it, sitting at the
+    /// wall with its impact velocity and feeding it back to the grid at the
+    /// next P2G. (The free-slip components of a symmetry or roller face
+    /// are untouched.)
     pub fn update(&mut self, u: &NodeUpdate, stage: NodeStage) {
         let lattice = self.lattice;
         let nx = lattice.dims[0];
@@ -251,8 +265,23 @@ impl GridNodes {
                     if integrate {
                         let ft: [f64; 3] = std::array::from_fn(|c| f[i][c] + m[i] * g[c]);
                         f[i] = ft;
-                        a[i] = masked(u.per_unit_mass(ft, m[i]), mask);
-                        vn[i] = std::array::from_fn(|c| v[i][c] + a[i][c] * dt);
+                        let free = u.per_unit_mass(ft, m[i]);
+                        let held = if dt > 0.0 {
+                            u.per_unit_mass(p[i], m[i]).map(|v| -v / dt)
+                        } else {
+                            [0.0; 3]
+                        };
+                        a[i] = std::array::from_fn(|c| if mask[c] { held[c] } else { free[c] });
+                        vn[i] =
+                            std::array::from_fn(
+                                |c| {
+                                    if mask[c] {
+                                        0.0
+                                    } else {
+                                        v[i][c] + free[c] * dt
+                                    }
+                                },
+                            );
                     }
                     if remap {
                         vr[i] = masked(u.per_unit_mass(p[i], m[i]), mask);
@@ -376,12 +405,38 @@ mod tests {
                             })
                         })
                         .collect();
-                    let mut v = unit(&nodes.momentum);
-                    let mut a = unit(&f);
+                    // The held components: those the conditions zero in a
+                    // field of ones.
+                    let mut held = vec![[1.0; 3]; n];
+                    apply_grid_boundaries(&bcs, &lat, cells, &mut [&mut held]);
+                    let free_v = unit(&nodes.momentum);
+                    let free_a = unit(&f);
+                    let mut v = free_v.clone();
                     let mut vr = v.clone();
-                    apply_grid_boundaries(&bcs, &lat, cells, &mut [&mut v, &mut a, &mut vr]);
+                    apply_grid_boundaries(&bcs, &lat, cells, &mut [&mut v, &mut vr]);
+                    // Held: v^{n+1} = 0 and a = (0 − p/m)/Δt; free: a = f/m
+                    // and v^{n+1} = v^n + a Δt.
+                    let a: Vec<[f64; 3]> = (0..n)
+                        .map(|i| {
+                            std::array::from_fn(|c| {
+                                if held[i][c] == 0.0 {
+                                    -free_v[i][c] / u.dt
+                                } else {
+                                    free_a[i][c]
+                                }
+                            })
+                        })
+                        .collect();
                     let vn: Vec<[f64; 3]> = (0..n)
-                        .map(|i| std::array::from_fn(|c| v[i][c] + a[i][c] * u.dt))
+                        .map(|i| {
+                            std::array::from_fn(|c| {
+                                if held[i][c] == 0.0 {
+                                    0.0
+                                } else {
+                                    v[i][c] + a[i][c] * u.dt
+                                }
+                            })
+                        })
                         .collect();
                     assert_eq!(got.velocity, v, "{cells:?} {bcs:?}");
                     assert_eq!(got.force, f);
@@ -396,6 +451,55 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A particle moving at −v into a symmetry (roller) face, one cell of
+    /// 1 m, linear functions, at x_p = 0.25: N₀ = 0.75 on the wall node,
+    /// N₁ = 0.25. No force acts. The wall node's free velocity p₀/m₀ = −v
+    /// is stopped over the step, a₀ = v/Δt, and the particle's velocity
+    /// update Δt Σ N_I a_I = 0.75 v leaves it −0.25 v, the velocity the grid
+    /// moves it with (Σ N_I v_I^{n+1} = 0.25 × −v). With a₀ = 0 it would
+    /// keep −v at the wall.
+    #[test]
+    fn a_particle_moving_into_a_wall_loses_the_velocity_its_wall_node_had() {
+        let grid = UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [1.0; 3],
+            cells: [4, 1, 1],
+        };
+        let mut nodes = GridNodes::new(NodeLattice::new(&grid, ShapeFunction::Linear));
+        let (mass, v, dt) = (2.0, 3.0, 0.125);
+        let weights = [0.75, 0.25];
+        for (i, w) in weights.iter().enumerate() {
+            nodes.mass[i] = w * mass;
+            nodes.momentum[i] = [w * mass * -v, w * mass * 0.5, 0.0];
+        }
+        let mut bcs = [GridBoundary::Free; 6];
+        bcs[0] = GridBoundary::Symmetry;
+        let u = NodeUpdate {
+            boundaries: &bcs,
+            cells: grid.cells,
+            mass_threshold: 0.0,
+            gravity: [0.0; 3],
+            dt,
+        };
+        nodes.update(&u, NodeStage::VelocityAndIntegrate);
+        assert_eq!(nodes.velocity[0], [0.0, 0.5, 0.0]);
+        assert_eq!(nodes.velocity_new[0], [0.0, 0.5, 0.0]);
+        assert_eq!(nodes.acceleration[0], [v / dt, 0.0, 0.0]);
+        assert_eq!(nodes.acceleration[1], [0.0; 3]);
+        assert_eq!(nodes.velocity_new[1], [-v, 0.5, 0.0]);
+        let dv: f64 = (0..2)
+            .map(|i| weights[i] * nodes.acceleration[i][0] * dt)
+            .sum();
+        let pic: f64 = (0..2).map(|i| weights[i] * nodes.velocity_new[i][0]).sum();
+        assert_eq!(-v + dv, -0.25 * v);
+        assert_eq!(-v + dv, pic);
+        // The tangential velocity slides freely.
+        let dvy: f64 = (0..2)
+            .map(|i| weights[i] * nodes.acceleration[i][1] * dt)
+            .sum();
+        assert_eq!(dvy, 0.0);
     }
 
     #[test]
