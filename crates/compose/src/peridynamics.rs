@@ -64,8 +64,12 @@ fn default_true() -> bool {
 fn default_contact() -> Option<PdContactConfig> {
     Some(PdContactConfig {
         force_factor: 15.0,
-        distance_factor: 1.0,
+        distance_factor: 1.35,
+        reference_fraction: 0.9,
     })
+}
+fn default_reference_fraction() -> f64 {
+    0.9
 }
 
 /// Short-range force parameters.
@@ -74,8 +78,12 @@ fn default_contact() -> Option<PdContactConfig> {
 pub struct PdContactConfig {
     /// F_SR.
     pub force_factor: f64,
-    /// p_contact / h.
+    /// p_contact / h, the largest contact distance of a pair (default 1.35).
     pub distance_factor: f64,
+    /// A pair's contact distance is at most this fraction of its reference
+    /// separation (default 0.9; `docs/physics/pd/contact.md`).
+    #[serde(default = "default_reference_fraction")]
+    pub reference_fraction: f64,
 }
 
 /// A peridynamic material.
@@ -262,6 +270,7 @@ pub fn setup(s: &Scenario, pd: &PdConfig) -> Result<PdSetup, Problem> {
             contact: pd.contact.map(|c| ContactOptions {
                 force_factor: c.force_factor,
                 distance_factor: c.distance_factor,
+                reference_fraction: c.reference_fraction,
             }),
             body_force: pd.body_force,
             min_dt: 1.0e-15,

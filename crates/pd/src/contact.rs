@@ -1,21 +1,40 @@
 //! Short-range forces, seed 004 eq 27: a repulsion between two nodes closer
-//! than p_contact that are not joined by an intact bond — nodes of different
-//! bodies (gas and case, case and target) and nodes of one body whose bond
-//! broke (fragments). They are what lets the products push the case
-//! (seed 004, "Short-Range Forces").
+//! than their contact distance that are not joined by an intact bond —
+//! nodes of different bodies (gas and case, case and target) and nodes of
+//! one body whose bond broke (fragments). They are what lets the products
+//! push the case (seed 004, "Short-Range Forces").
 //!
 //! ```text
-//! f_ij = F_SR k_PD V_i V_j (p − p_contact) / δ,   p < p_contact,
+//! f_ij = F_SR k_PD V_i V_j (p − d_ij) / δ,   p < d_ij,
+//! d_ij = min(α |x_j − x_i|, p_contact),
 //! ```
 //!
 //! directed along the current bond, with k_PD = 18K/(πδ⁴) (eq 28). The
 //! seed prints eq 27 without the 1/δ; with k_PD in N/m⁶ and volumes in m³
 //! the product F_SR k_PD V_i V_j (p − p_contact) has units N·m, so Brisance
-//! divides the separation by the horizon (a stretch-like measure, as the
-//! short-range contact model of the Peridigm code does) to make it a force.
+//! divides the separation by the horizon to make it a force, as the EMU
+//! theory manual (Silling 2005, p 18) and its transcription in LAMMPS
+//! (`pair_style peri/pmb`; Parks, Lehoucq, Plimpton & Silling 2008,
+//! Comput. Phys. Commun. 179:777) do.
+//!
+//! The seed leaves p_contact to "the input parameters … for the material
+//! and short-range forces". Brisance takes the per-pair contact distance
+//! of EMU/LAMMPS: d_ij = min(α r_ij, p_contact) with r_ij = |x_j − x_i| the
+//! pair's *reference* separation, α = 0.9 and p_contact = 1.35 h by default.
+//! Pairs that start close (lattice neighbours across an interface) are
+//! force-free at rest with a margin (d = 0.9 r), while a node coming from
+//! further away meets a contact sphere of 1.35 h around every node, so the
+//! spheres of the nodes of a lattice face (h apart) overlap and a node
+//! cannot pass between them (with d = h it only had to come within 0.71 h
+//! of the four nodes of a face). d_ij depends on the pair only, so the
+//! force is the gradient of a fixed pair potential ½ F_SR k_PD V_i V_j
+//! (p − d_ij)²/δ and the contact conserves energy.
+//!
 //! For a pair of two materials k_PD uses the larger bulk modulus (a gas has
 //! none, so gas–case contact is as stiff as the case). Neighbours are found
-//! with a cell list of the *current* positions, rebuilt every step.
+//! with a cell list of the *current* positions x + u, rebuilt every step
+//! from the reference positions and displacements (no copy of the current
+//! positions is kept).
 
 use crate::cell_list::CellList;
 use crate::family::Families;
@@ -26,19 +45,37 @@ use crate::forces::for_each_node;
 pub struct ContactParams {
     /// F_SR, the user's force factor.
     pub force_factor: f64,
-    /// p_contact, m.
+    /// p_contact, the largest contact distance, m.
     pub contact_distance: f64,
+    /// α: a pair's contact distance is at most α times its reference
+    /// separation.
+    pub reference_fraction: f64,
     /// Horizon δ, m.
     pub horizon: f64,
+}
+
+impl ContactParams {
+    /// d_ij = min(α r, p_contact) for a pair whose reference separation
+    /// squared is `r2`, m.
+    #[inline]
+    pub fn pair_distance(&self, r2: f64) -> f64 {
+        (self.reference_fraction * r2.sqrt()).min(self.contact_distance)
+    }
+
+    /// The reach of the search, 1.5 p_contact (the largest 1.5 d_ij).
+    #[inline]
+    pub fn reach(&self) -> f64 {
+        1.5 * self.contact_distance
+    }
 }
 
 /// Read-only inputs of the contact pass.
 #[derive(Debug, Clone, Copy)]
 pub struct ContactInput<'a> {
-    /// Current positions, m.
-    pub current: &'a [[f64; 3]],
     /// Reference positions and volumes (x, V).
     pub reference: &'a [[f64; 4]],
+    /// Displacements (u, ·): the current position is x + u.
+    pub state: &'a [[f64; 4]],
     /// Body of each node.
     pub body: &'a [u32],
     /// Material of each node.
@@ -54,23 +91,44 @@ pub struct ContactInput<'a> {
     pub factor: &'a [f32],
 }
 
+/// Current position x + u of node i, m.
+#[inline(always)]
+pub fn current_position(reference: &[[f64; 4]], state: &[[f64; 4]], i: usize) -> [f64; 3] {
+    let (x, u) = (reference[i], state[i]);
+    [x[0] + u[0], x[1] + u[1], x[2] + u[2]]
+}
+
+/// Rebuilds `cells` over the current positions with cells of the search
+/// reach.
+pub fn bin_current_positions(
+    cells: &mut CellList,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    params: &ContactParams,
+) {
+    cells.rebuild(reference.len(), params.reach(), |i| {
+        current_position(reference, state, i)
+    });
+}
+
 /// The contact force per unit volume on each node (N/m³) and the contact
-/// stiffness Σ_j F_SR k_PD V_j / δ over the pairs within 1.5 p_contact
+/// stiffness Σ_j F_SR k_PD V_j / δ over the pairs closer than 1.5 d_ij
 /// (for the stable step, so that contacts that start during the next step
-/// are already counted).
+/// are already counted). `cells` must bin the current positions
+/// ([`bin_current_positions`]).
 pub fn contact_forces(
     input: &ContactInput,
     cells: &CellList,
     params: &ContactParams,
     out: &mut [([f64; 3], f64)],
 ) {
-    let pc = params.contact_distance;
-    let reach2 = (1.5 * pc) * (1.5 * pc);
+    let reach2 = params.reach() * params.reach();
     let k0 = params.force_factor * 18.0
         / (std::f64::consts::PI * params.horizon.powi(4))
         / params.horizon;
     for_each_node(out, |i, o| {
-        let yi = input.current[i];
+        let yi = current_position(input.reference, input.state, i);
+        let xi = input.reference[i];
         let mut f = [0.0; 3];
         let mut stiff = 0.0;
         let mi = input.material[i] as usize;
@@ -78,7 +136,7 @@ pub fn contact_forces(
             if j == i {
                 return;
             }
-            let yj = input.current[j];
+            let yj = current_position(input.reference, input.state, j);
             let d = [yj[0] - yi[0], yj[1] - yi[1], yj[2] - yi[2]];
             let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             if p2 >= reach2 {
@@ -95,7 +153,13 @@ pub fn contact_forces(
                     }
                 }
             }
-            let k = k0 * input.bulk_modulus[mi].max(input.bulk_modulus[mj]) * input.reference[j][3];
+            let xj = input.reference[j];
+            let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+            let pc = params.pair_distance(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+            if p2 >= 2.25 * pc * pc {
+                return;
+            }
+            let k = k0 * input.bulk_modulus[mi].max(input.bulk_modulus[mj]) * xj[3];
             stiff += k;
             let p = p2.sqrt();
             if p < pc && p > 0.0 {
@@ -108,4 +172,183 @@ pub fn contact_forces(
         });
         *o = (f, stiff);
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::family::build_families;
+
+    const H: f64 = 1.0e-3;
+    /// Bulk modulus of the solid material 0, Pa (material 1 is a gas: 0).
+    const K: f64 = 1.0e11;
+
+    fn params() -> ContactParams {
+        ContactParams {
+            force_factor: 15.0,
+            contact_distance: 1.35 * H,
+            reference_fraction: 0.9,
+            horizon: 3.0 * H,
+        }
+    }
+
+    /// F_SR k_PD V_j / δ for V_j = h³, K = 1e11 Pa, δ = 3 mm:
+    /// 15 · 18 · 1e11 · 1e-9 / (π · (3e-3)⁵) = 27000 / (π · 2.43e-13)
+    /// = 3.536776e16 N/m⁴ per unit volume of node i.
+    const STIFFNESS: f64 = 27000.0 / (std::f64::consts::PI * 2.43e-13);
+
+    /// Contact forces of nodes with the given reference positions, current
+    /// positions, bodies and materials (all of volume h³); all bonds intact
+    /// unless `broken`.
+    fn forces(
+        reference: &[[f64; 3]],
+        current: &[[f64; 3]],
+        body: &[u32],
+        material: &[u16],
+        broken: bool,
+    ) -> Vec<([f64; 3], f64)> {
+        let p = params();
+        let families = build_families(reference, body, p.horizon, H);
+        let factor = vec![if broken { 0.0 } else { 1.0 }; families.bond_count()];
+        let refs: Vec<[f64; 4]> = reference
+            .iter()
+            .map(|x| [x[0], x[1], x[2], H * H * H])
+            .collect();
+        let state: Vec<[f64; 4]> = reference
+            .iter()
+            .zip(current)
+            .map(|(x, y)| [y[0] - x[0], y[1] - x[1], y[2] - x[2], 0.0])
+            .collect();
+        let mut cells = CellList::default();
+        bin_current_positions(&mut cells, &refs, &state, &p);
+        let input = ContactInput {
+            reference: &refs,
+            state: &state,
+            body,
+            material,
+            bulk_modulus: &[K, 0.0],
+            breakable: &[true, false],
+            families: &families,
+            factor: &factor,
+        };
+        let mut out = vec![([0.0; 3], 0.0); reference.len()];
+        contact_forces(&input, &cells, &p, &mut out);
+        out
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * b.abs().max(1e-300)
+    }
+
+    #[test]
+    fn the_pair_distance_is_the_smaller_of_0_9_r_and_p_contact() {
+        let p = params();
+        // r = h: 0.9 h; r = 1.2 h: 1.08 h; r = 2h and 10h: p_contact = 1.35h.
+        assert!(close(p.pair_distance(H * H), 0.9 * H));
+        assert!(close(p.pair_distance(1.44 * H * H), 1.08 * H));
+        assert!(close(p.pair_distance(4.0 * H * H), 1.35 * H));
+        assert!(close(p.pair_distance(100.0 * H * H), 1.35 * H));
+        assert!(close(p.reach(), 2.025 * H));
+    }
+
+    /// A gas node that started 2h from a case node and has come within
+    /// h of it is pushed back by F_SR k_PD V V (h − 1.35h)/δ: per unit
+    /// volume −0.35e-3 · 3.536776e16 = −1.237872e13 N/m³ on the gas node
+    /// (the case node gets the opposite), and the pair counts once in
+    /// each node's stiffness.
+    #[test]
+    fn a_node_from_afar_meets_the_full_contact_distance() {
+        let reference = [[0.0; 3], [2.0 * H, 0.0, 0.0]];
+        let current = [[0.0; 3], [H, 0.0, 0.0]];
+        let out = forces(&reference, &current, &[0, 1], &[0, 1], false);
+        let expected = -0.35 * H * STIFFNESS;
+        assert!((expected / -1.237872e13 - 1.0).abs() < 1e-6);
+        assert!(close(out[0].0[0], expected), "{:?}", out[0]);
+        assert!(close(out[1].0[0], -expected), "{:?}", out[1]);
+        assert_eq!((out[0].0[1], out[0].0[2]), (0.0, 0.0));
+        assert!(close(out[0].1, STIFFNESS) && close(out[1].1, STIFFNESS));
+    }
+
+    /// Lattice neighbours across an interface (reference separation h)
+    /// are force-free down to 0.9 h, and at 0.8 h repel with
+    /// k (0.8h − 0.9h) = −0.1e-3 · 3.536776e16 = −3.536776e12 N/m³.
+    #[test]
+    fn lattice_neighbours_are_force_free_at_rest_and_down_to_0_9_h() {
+        let reference = [[0.0; 3], [0.0, H, 0.0]];
+        for y in [H, 0.95 * H, 0.9000001 * H] {
+            let out = forces(
+                &reference,
+                &[[0.0; 3], [0.0, y, 0.0]],
+                &[0, 1],
+                &[0, 1],
+                false,
+            );
+            assert_eq!(out[0].0, [0.0; 3], "at {y}");
+            assert_eq!(out[1].0, [0.0; 3], "at {y}");
+        }
+        let out = forces(
+            &reference,
+            &[[0.0; 3], [0.0, 0.8 * H, 0.0]],
+            &[0, 1],
+            &[0, 1],
+            false,
+        );
+        assert!(close(out[0].0[1], -0.1 * H * STIFFNESS), "{:?}", out[0]);
+        assert!(close(out[1].0[1], 0.1 * H * STIFFNESS), "{:?}", out[1]);
+    }
+
+    /// A node cannot pass through the middle of a lattice face: at the
+    /// face centre it is 0.7071 h from each of the four nodes, and a node
+    /// that came from 2h away is pushed by all four with
+    /// k (0.7071h − 1.35h) each (the old p_contact = h left 0.29 h).
+    #[test]
+    fn a_node_at_the_centre_of_a_face_is_pushed_by_all_four_corners() {
+        let mut reference = vec![];
+        for (y, z) in [(0.0, 0.0), (H, 0.0), (0.0, H), (H, H)] {
+            reference.push([0.0, y, z]);
+        }
+        reference.push([-2.0 * H, 0.5 * H, 0.5 * H]);
+        let mut current = reference.clone();
+        // The visitor is a tenth of a spacing before the face plane.
+        current[4] = [-0.1 * H, 0.5 * H, 0.5 * H];
+        let out = forces(
+            &reference,
+            &current,
+            &[0, 0, 0, 0, 1],
+            &[0, 0, 0, 0, 1],
+            false,
+        );
+        // Each corner pushes along the line joining them; the y and z
+        // parts cancel and the x parts add: 4 k (p − 1.35h)(0.1h/p) with
+        // p = √0.51 h = 0.714143 h: 4 · 3.536776e16 · (−0.635857e-3) ·
+        // 0.140028 = −1.259627e13 N/m³.
+        let p = 0.51f64.sqrt() * H;
+        let expected = 4.0 * STIFFNESS * (p - 1.35 * H) * 0.1 * H / p;
+        assert!((expected / -1.259627e13 - 1.0).abs() < 1e-6, "{expected}");
+        assert!(
+            (out[4].0[0] / expected - 1.0).abs() < 1e-12,
+            "{:?} vs {expected}",
+            out[4]
+        );
+        assert!(out[4].0[1].abs() < 1e-9 * expected.abs());
+        assert!(out[4].0[2].abs() < 1e-9 * expected.abs());
+    }
+
+    /// Same body: gas nodes never touch; solid nodes only where their
+    /// bond broke.
+    #[test]
+    fn same_body_contact_only_across_broken_solid_bonds() {
+        let reference = [[0.0; 3], [H, 0.0, 0.0]];
+        let current = [[0.0; 3], [0.5 * H, 0.0, 0.0]];
+        let gas = forces(&reference, &current, &[0, 0], &[1, 1], true);
+        assert_eq!(gas[0], ([0.0; 3], 0.0));
+        let intact = forces(&reference, &current, &[0, 0], &[0, 0], false);
+        assert_eq!(intact[0], ([0.0; 3], 0.0));
+        let broken = forces(&reference, &current, &[0, 0], &[0, 0], true);
+        assert!(
+            close(broken[0].0[0], -0.4 * H * STIFFNESS),
+            "{:?}",
+            broken[0]
+        );
+    }
 }

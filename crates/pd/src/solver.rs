@@ -20,7 +20,7 @@
 //! stiffness/density); it is recomputed every step.
 
 use crate::cell_list::CellList;
-use crate::contact::{contact_forces, ContactInput, ContactParams};
+use crate::contact::{bin_current_positions, contact_forces, ContactInput, ContactParams};
 use crate::family::{build_families, partial_volume, Families};
 use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInput, NodeForce};
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
@@ -34,21 +34,37 @@ use brisance_reaction::{
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Short-range force options (seed 004 eq 27).
+/// Until the front has run one horizon past the last explosive node (last
+/// detonation time + δ/D), the step is at most this fraction of h/D: the
+/// program-burn front crosses at most a quarter of a spacing per step, as
+/// programmed-burn hydrocodes limit the step so that the front does not
+/// skip cells. A node's gas forces switch on at the first
+/// step end past its detonation time, all at once; with the step of eq 24
+/// alone the front crossed 1.7 spacings per step in a TNT block (h = 1 mm)
+/// and the total energy grew by 8 % during the burn (2 % at half that
+/// step, 0.2 % at an eighth: an integration error).
+pub const BURN_STEP_FRACTION: f64 = 0.25;
+
+/// Short-range force options (seed 004 eq 27; the contact distance of a
+/// pair is d_ij = min(α r_ij, p_contact), see `contact.rs`). The defaults
+/// are those of the EMU code as LAMMPS `peri/pmb` transcribes them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactOptions {
     /// F_SR (default 15).
     pub force_factor: f64,
-    /// p_contact as a multiple of the spacing (default 1: lattice
-    /// neighbours of two bodies touch without force at rest).
+    /// p_contact as a multiple of the spacing (default 1.35).
     pub distance_factor: f64,
+    /// α, the largest contact distance of a pair as a fraction of its
+    /// reference separation (default 0.9: pairs are force-free at rest).
+    pub reference_fraction: f64,
 }
 
 impl Default for ContactOptions {
     fn default() -> Self {
         Self {
             force_factor: 15.0,
-            distance_factor: 1.0,
+            distance_factor: 1.35,
+            reference_fraction: 0.9,
         }
     }
 }
@@ -175,7 +191,7 @@ struct PdState {
     plastic: Vec<f32>,
     bond_out: Vec<(f64, f64, f64, f64, u32)>,
     contact: Vec<([f64; 3], f64)>,
-    gas: Vec<[f64; 2]>,
+    gas: Vec<[f64; 3]>,
 }
 
 /// Heap memory of a [`PdSolver`], summed from the capacities of its arrays.
@@ -186,8 +202,7 @@ pub struct PdMemory {
     /// Directed bonds (each bond once per node).
     pub bonds: usize,
     /// Bytes of the arrays with one entry per node: node data, row starts,
-    /// and, with contact on, the contact forces, current positions and the
-    /// contact cell list.
+    /// and, with contact on, the contact forces and the contact cell list.
     pub node_bytes: usize,
     /// Bytes of the arrays with one entry per bond: neighbour index, bond
     /// factor and plastic stretch.
@@ -237,6 +252,12 @@ pub struct PdSolver {
     /// the bond stiffness Σ c β V_j / r of a solid node (eq 22).
     node_scale: Vec<f64>,
     detonation_time: Vec<f64>,
+    /// The last finite detonation time plus δ/D, s (−∞ without explosive):
+    /// the end of the burn-limited steps.
+    burn_end: f64,
+    /// The largest step while explosive is still to detonate,
+    /// [`BURN_STEP_FRACTION`] h / D, s.
+    burn_step: f64,
     prescribed: Vec<(u32, u8, f64)>,
     families: Families,
     // Per node, evolving.
@@ -247,10 +268,9 @@ pub struct PdSolver {
     bond_out: Vec<NodeForce>,
     /// Contact force and stiffness per node; empty when contact is off.
     contact: Vec<([f64; 3], f64)>,
-    /// (X, gas stiffness) per node; empty when no material is a gas.
-    gas: Vec<[f64; 2]>,
-    /// Current positions for the contact search; empty when contact is off.
-    current: Vec<[f64; 3]>,
+    /// (X, gas stiffness, X_d) per node, X_d the expansion at the node's
+    /// detonation (0 before it); empty when no material is a gas.
+    gas: Vec<[f64; 3]>,
     // Per bond.
     factor: Vec<f32>,
     plastic: Vec<f32>,
@@ -306,6 +326,15 @@ impl PdSolver {
                     format!(
                         "expected 0 < factor < horizon_factor, got {}",
                         c.distance_factor
+                    ),
+                ));
+            }
+            if !(c.reference_fraction > 0.0 && c.reference_fraction <= 1.0) {
+                return Err(invalid(
+                    "contact.reference_fraction",
+                    format!(
+                        "expected 0 < fraction ≤ 1 (pairs force-free at rest), got {}",
+                        c.reference_fraction
                     ),
                 ));
             }
@@ -408,6 +437,7 @@ impl PdSolver {
             .map(|&m| matches!(setup.materials[m as usize], PdMaterial::Gas(_)))
             .collect();
         let mut detonation_time = vec![f64::INFINITY; n];
+        let mut burn_step = f64::INFINITY;
         if explosive.iter().any(|&e| e) {
             let spec = setup.detonation.as_ref().ok_or_else(|| {
                 invalid(
@@ -430,6 +460,7 @@ impl PdSolver {
                     "all explosive materials must share one detonation velocity",
                 ));
             }
+            burn_step = BURN_STEP_FRACTION * h / speed;
             detonation_time = match spec.method {
                 BurnMethod::Huygens => huygens_detonation_times(
                     &cloud.positions,
@@ -498,7 +529,18 @@ impl PdSolver {
             body: cloud.body,
             material: cloud.material,
             node_scale,
+            burn_end: if burn_step.is_finite() {
+                detonation_time
+                    .iter()
+                    .copied()
+                    .filter(|t| t.is_finite())
+                    .fold(f64::NEG_INFINITY, f64::max)
+                    + horizon * burn_step / (BURN_STEP_FRACTION * h)
+            } else {
+                f64::NEG_INFINITY
+            },
             detonation_time,
+            burn_step,
             prescribed,
             families,
             time: 0.0,
@@ -507,8 +549,7 @@ impl PdSolver {
             velocity: cloud.velocity,
             bond_out: vec![NodeForce::default(); n],
             contact: vec![([0.0; 3], 0.0); if contact_on { n } else { 0 }],
-            gas: vec![[1.0, 0.0]; if has_gas { n } else { 0 }],
-            current: vec![[0.0; 3]; if contact_on { n } else { 0 }],
+            gas: vec![[1.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
             plastic: vec![0.0; factor.len()],
             factor,
             cells: CellList::default(),
@@ -559,7 +600,6 @@ impl PdSolver {
             + heap(&self.bond_out)
             + heap(&self.contact)
             + heap(&self.gas)
-            + heap(&self.current)
             + cells;
         let bond_bytes = heap(&self.families.neighbours) + heap(&self.factor) + heap(&self.plastic);
         let other_bytes = heap(&self.materials)
@@ -666,11 +706,13 @@ impl PdSolver {
         std::array::from_fn(|d| b[d] + c[d] + self.options.body_force[d])
     }
 
-    /// Gas pressure P_S(X) of node i (0 before detonation and for solids), Pa.
+    /// Gas pressure P_S(X/X_d)/X_d of node i (0 before detonation and for
+    /// solids), Pa.
     pub fn pressure(&self, i: usize) -> f64 {
         match self.materials[self.material[i] as usize] {
             PdMaterial::Gas(g) if self.time >= self.detonation_time[i] => {
-                g.isentrope.pressure(self.expansion(i))
+                let [x, _, xd] = self.gas[i];
+                products_pressure(&g, x, xd).0
             }
             _ => 0.0,
         }
@@ -709,6 +751,51 @@ impl PdSolver {
         write_cmd_csv(&dir.join(cmd), &f).map_err(|e| io(cmd, e))
     }
 
+    /// Whether node i is explosive not yet reached by the detonation at the
+    /// current time (its products' forces are not applied to it).
+    pub fn is_unreacted(&self, i: usize) -> bool {
+        matches!(self.laws[self.material[i] as usize], BondLaw::Gas)
+            && self.time < self.detonation_time[i]
+    }
+
+    /// Half a velocity update, v ← v + Δt_half (f_bond + f_SR + b)/ρ₀, at
+    /// the current time. Unreacted explosive: the bond (gas) force is left
+    /// out. Seed 004 makes a node's gas forces switch on at its detonation
+    /// time and starts its products from the reference state of the volume
+    /// burn (X = 1, eqs 20–21); the detonation front outruns every signal
+    /// in the explosive ahead of it, which stays undisturbed until the
+    /// front arrives. With a horizon δ the products reach δ ahead of the
+    /// front and would push those nodes with nothing resisting (doing work
+    /// that the volume burn never accounts for, more as h falls); so the
+    /// push on an unreacted node is not applied — it keeps its velocity
+    /// (short-range forces and body forces still act on it). The products
+    /// still feel the unreacted explosive through their own half of the
+    /// pair force, as on a wall. See `docs/physics/pd/program_burn.md`.
+    fn kick(&mut self, half: f64) {
+        let body_force = self.options.body_force;
+        let density = &self.material_density;
+        let material = &self.material;
+        let bond_out = &self.bond_out;
+        let contact = &self.contact;
+        let laws = &self.laws;
+        let detonation_time = &self.detonation_time;
+        let time = self.time;
+        for_each_node(&mut self.velocity, |i, v| {
+            let m = material[i] as usize;
+            let unreacted = matches!(laws[m], BondLaw::Gas) && time < detonation_time[i];
+            let b = if unreacted {
+                [0.0; 3]
+            } else {
+                bond_out[i].force
+            };
+            let c = contact.get(i).map_or([0.0; 3], |c| c.0);
+            let rho = density[m];
+            for d in 0..3 {
+                v[d] += half * (b[d] + c[d] + body_force[d]) / rho;
+            }
+        });
+    }
+
     fn impose_velocities(&mut self) {
         for &(i, d, v) in &self.prescribed {
             self.velocity[i as usize][d as usize] = v;
@@ -725,6 +812,8 @@ impl PdSolver {
         let material = &self.material;
         let materials = &self.materials;
         let family_volume = &self.node_scale;
+        let time = self.time;
+        let detonation_time = &self.detonation_time;
         for_each_node(&mut self.gas, |i, g| {
             if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
                 let row = families.row(i);
@@ -737,27 +826,33 @@ impl PdSolver {
                     &factor[row],
                     vf,
                 );
+                // The expansion at detonation, fixed once the node has
+                // detonated (`products_pressure`).
+                let xd = if g[2] > 0.0 {
+                    g[2]
+                } else if time >= detonation_time[i] {
+                    x
+                } else {
+                    0.0
+                };
                 // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
                 // through p and through X(p) (eq 17).
-                let p = gas.isentrope.pressure(x);
+                let (p, dp) = products_pressure(&gas, x, xd);
                 let x43 = x.powf(4.0 / 3.0);
-                let dq =
-                    (gas.isentrope.dpressure_dx(x) * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
+                let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
                 let stiff = 12.0 * p.abs() * x43 / vf * s3
                     + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
-                *g = [x, stiff];
+                *g = [x, stiff, xd];
             }
         });
-        let time = self.time;
         let gas = &self.gas;
         let bond_out = &self.bond_out;
-        let detonation_time = &self.detonation_time;
         for_each_node(&mut self.state, |i, s| {
             match materials[material[i] as usize] {
                 PdMaterial::Gas(g) => {
                     s[3] = if time >= detonation_time[i] {
-                        let x = gas[i][0];
-                        6.0 * g.isentrope.pressure(x) * x.powf(4.0 / 3.0) / family_volume[i]
+                        let [x, _, xd] = gas[i];
+                        6.0 * products_pressure(&g, x, xd).0 * x.powf(4.0 / 3.0) / family_volume[i]
                     } else {
                         0.0
                     };
@@ -780,15 +875,6 @@ impl PdSolver {
 
     /// Step 4: bond and short-range forces of the current state.
     fn compute_forces(&mut self) {
-        let reference = &self.reference;
-        let state = &self.state;
-        for_each_node(&mut self.current, |i, y| {
-            *y = [
-                reference[i][0] + state[i][0],
-                reference[i][1] + state[i][1],
-                reference[i][2] + state[i][2],
-            ];
-        });
         let input = ForceInput {
             reference: &self.reference,
             state: &self.state,
@@ -807,14 +893,13 @@ impl PdSolver {
             let params = ContactParams {
                 force_factor: c.force_factor,
                 contact_distance: c.distance_factor * self.options.spacing,
+                reference_fraction: c.reference_fraction,
                 horizon: self.horizon,
             };
-            let current = &self.current;
-            self.cells
-                .rebuild(current.len(), 1.5 * params.contact_distance, |i| current[i]);
+            bin_current_positions(&mut self.cells, &self.reference, &self.state, &params);
             let input = ContactInput {
-                current: &self.current,
                 reference: &self.reference,
+                state: &self.state,
                 body: &self.body,
                 material: &self.material,
                 bulk_modulus: &self.bulk_modulus,
@@ -944,14 +1029,16 @@ impl PdSolver {
         total
     }
 
-    /// Energy stored in the products (Σ W(X_i) V_i over detonated gas
-    /// nodes) and chemical energy not yet released (W(1) V_i), J.
+    /// Energy stored in the products (Σ W(X_i/X_d,i) V_i over detonated
+    /// gas nodes, see `products_pressure`) and chemical energy not yet
+    /// released (W(1) V_i), J.
     pub fn gas_energy(&self) -> f64 {
         (0..self.node_count())
             .map(|i| match self.materials[self.material[i] as usize] {
                 PdMaterial::Gas(g) => {
-                    let x = if self.time >= self.detonation_time[i] {
-                        self.gas[i][0]
+                    let [x, _, xd] = self.gas[i];
+                    let x = if self.time >= self.detonation_time[i] && xd > 0.0 {
+                        x / xd
                     } else {
                         1.0
                     };
@@ -991,7 +1078,10 @@ impl Solver for PdSolver {
                 at = i;
             }
         }
-        let dt = dt * self.options.safety_factor;
+        let mut dt = dt * self.options.safety_factor;
+        if self.time < self.burn_end {
+            dt = dt.min(self.burn_step);
+        }
         if !(dt >= self.options.min_dt) {
             let x = self.current_position(at);
             return Err(SolverError::TimeStepCollapse {
@@ -1010,22 +1100,7 @@ impl Solver for PdSolver {
                 "peridynamics: step {dt} s must be finite and > 0"
             )));
         }
-        let body_force = self.options.body_force;
-        let density = &self.material_density;
-        let material = &self.material;
-        let bond_out = &self.bond_out;
-        let contact = &self.contact;
-        let kick = |v: &mut [[f64; 3]], half: f64| {
-            for_each_node(v, |i, v| {
-                let b = bond_out[i].force;
-                let c = contact.get(i).map_or([0.0; 3], |c| c.0);
-                let rho = density[material[i] as usize];
-                for d in 0..3 {
-                    v[d] += half * (b[d] + c[d] + body_force[d]) / rho;
-                }
-            });
-        };
-        kick(&mut self.velocity, 0.5 * dt);
+        self.kick(0.5 * dt);
         self.impose_velocities();
         let velocity = &self.velocity;
         for_each_node(&mut self.state, |i, s| {
@@ -1036,18 +1111,7 @@ impl Solver for PdSolver {
         self.time += dt;
         self.update_node_scalars();
         self.compute_forces();
-        let density = &self.material_density;
-        let material = &self.material;
-        let bond_out = &self.bond_out;
-        let contact = &self.contact;
-        for_each_node(&mut self.velocity, |i, v| {
-            let b = bond_out[i].force;
-            let c = contact.get(i).map_or([0.0; 3], |c| c.0);
-            let rho = density[material[i] as usize];
-            for d in 0..3 {
-                v[d] += 0.5 * dt * (b[d] + c[d] + body_force[d]) / rho;
-            }
-        });
+        self.kick(0.5 * dt);
         self.impose_velocities();
         self.steps += 1;
         if let Some(i) = self
@@ -1231,15 +1295,6 @@ impl Solver for PdSolver {
             .collect();
         self.contact = s.contact;
         self.gas = s.gas;
-        let reference = &self.reference;
-        let state = &self.state;
-        for_each_node(&mut self.current, |i, y| {
-            *y = [
-                reference[i][0] + state[i][0],
-                reference[i][1] + state[i][1],
-                reference[i][2] + state[i][2],
-            ];
-        });
         Ok(())
     }
 }
@@ -1248,6 +1303,33 @@ impl Solver for PdSolver {
 mod memory_tests;
 #[cfg(test)]
 mod tests;
+
+/// Pressure of a products node and its derivative in X, (P, dP/dX), Pa.
+///
+/// Seed 004 starts the products of a node from the volume-burn reference
+/// state (X = 1, P_S0; eqs 20–21) at its detonation time, so that each
+/// node releases W(1)V — its chemical energy. The discrete node may not be
+/// exactly at X = 1 then (its family has already moved with the products
+/// behind the front), and taking W(X) there would create or destroy
+/// W(X_d) − W(1) per node. Brisance measures the node's expansion from its
+/// volume at detonation: with X_d the expansion (eq 17) at that instant,
+/// the stored energy is W(X/X_d) V and, from dE/d(XV) = −P,
+///
+/// ```text
+/// P = P_S(X/X_d) / X_d,   dP/dX = P_S'(X/X_d) / X_d².
+/// ```
+///
+/// X_d = 1 gives the seed's eqs 29–30 unchanged. `xd = 0` (not yet
+/// detonated) is read as 1.
+#[inline]
+fn products_pressure(g: &crate::material::Gas, x: f64, xd: f64) -> (f64, f64) {
+    let xd = if xd > 0.0 { xd } else { 1.0 };
+    let y = x / xd;
+    (
+        g.isentrope.pressure(y) / xd,
+        g.isentrope.dpressure_dx(y) / (xd * xd),
+    )
+}
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()

@@ -1,0 +1,131 @@
+//! A tube study around `brisance_pd::cases` (the E-PD-CYL definition):
+//! runs a copper tube of a given length and spacing to a given time with
+//! chosen short-range force parameters, and prints the mid-length wall
+//! velocity, the energy budget and the products nodes outside the case.
+//!
+//! `cargo run --release -p brisance-pd --example pd_tube_study -- \
+//!    LENGTH_M END_S SPACING_M [DISTANCE_FACTOR REFERENCE_FRACTION FORCE_FACTOR]`
+
+use brisance_core::Solver;
+use brisance_pd::cases::{
+    copper_cylinder, products_through_case, steel_fragmenting_cylinder, EnergyBudget,
+};
+use brisance_pd::{ContactOptions, PdSolver};
+
+fn main() -> Result<(), String> {
+    let a: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|s| s.parse::<f64>().map_err(|e| format!("argument `{s}`: {e}")))
+        .collect::<Result<_, _>>()?;
+    let get = |i: usize, d: f64| a.get(i).copied().unwrap_or(d);
+    let (length, end, h) = (get(0, 0.06), get(1, 16.0e-6), get(2, 1.3e-3));
+    let d = ContactOptions::default();
+    let contact = ContactOptions {
+        distance_factor: get(3, d.distance_factor),
+        reference_fraction: get(4, d.reference_fraction),
+        force_factor: get(5, d.force_factor),
+    };
+    let case = if std::env::var_os("STEEL").is_some() {
+        steel_fragmenting_cylinder(h, length, 0.0, 0.0)
+    } else {
+        copper_cylinder(h, length)
+    };
+    let mut setup = case.setup().map_err(|e| e.to_string())?;
+    setup.options.contact = Some(contact);
+    let t0 = std::time::Instant::now();
+    let mut s = PdSolver::new(setup).map_err(|e| e.to_string())?;
+    let ring: Vec<usize> = (0..s.node_count())
+        .filter(|&i| {
+            let x = s.reference()[i];
+            s.materials()[i] == 0
+                && (x[2] - 0.5 * length).abs() <= h
+                && x[0].hypot(x[1]) > case.outer_radius - h
+        })
+        .collect();
+    let e0 = EnergyBudget::of(&s).total();
+    let mid = |s: &PdSolver| {
+        let mut v = 0.0;
+        for &i in &ring {
+            let y = s.current_position(i);
+            let r = y[0].hypot(y[1]);
+            let w = s.velocities()[i];
+            v += (w[0] * y[0] + w[1] * y[1]) / r;
+        }
+        v / ring.len() as f64
+    };
+    let mut steps = 0u64;
+    let every: f64 = std::env::var("EVERY")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2.0e-6);
+    let mut next = every;
+    while s.time() < end {
+        let dt = s.stable_dt().map_err(|e| e.to_string())?;
+        s.advance(dt.min(end - s.time()).max(1e-15))
+            .map_err(|e| e.to_string())?;
+        steps += 1;
+        if s.time() >= next || s.time() >= end {
+            next += every;
+            let e = EnergyBudget::of(&s);
+            let released = e0 - e.products;
+            let disorder = disordered_kinetic(&s);
+            let (through, counted) = products_through_case(&s, h, (0.15 * length, 0.85 * length));
+            println!(
+                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} %",
+                s.time() * 1e6,
+                dt,
+                mid(&s),
+                e.total() / e0,
+                100.0 * e.case_kinetic / released,
+                100.0 * e.products_kinetic / released,
+                100.0 * e.bonds / released,
+                released * 1e-3,
+                100.0 * disorder / released,
+            );
+        }
+    }
+    let f = s.fragments();
+    let case_nodes: Vec<usize> = (0..s.node_count())
+        .filter(|&i| s.materials()[i] == 0)
+        .collect();
+    let dmax = case_nodes.iter().map(|&i| s.damage(i)).fold(0.0, f64::max);
+    let dmean = case_nodes.iter().map(|&i| s.damage(i)).sum::<f64>() / case_nodes.len() as f64;
+    println!(
+        "fragments {} largest {:.4e} kg  case damage mean {dmean:.3} max {dmax:.3}",
+        f.len(),
+        f.first().map_or(0.0, |f| f.mass)
+    );
+    println!(
+        "nodes {} Gurney {:.1} m/s wall {:.1} s",
+        s.node_count(),
+        case.gurney_wall_velocity()?,
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Kinetic energy of the products nodes relative to the mass-weighted mean
+/// velocity of their gas family (self included), J.
+fn disordered_kinetic(s: &PdSolver) -> f64 {
+    let gas = |i: usize| s.materials()[i] != 0;
+    let f = s.families();
+    let mut total = 0.0;
+    for i in (0..s.node_count()).filter(|&i| gas(i)) {
+        let mut m = s.mass(i);
+        let mut p = s.velocities()[i].map(|v| v * m);
+        for k in f.row(i) {
+            let j = f.neighbours[k] as usize;
+            if gas(j) {
+                let mj = s.mass(j);
+                m += mj;
+                for d in 0..3 {
+                    p[d] += mj * s.velocities()[j][d];
+                }
+            }
+        }
+        let v = s.velocities()[i];
+        let dv: f64 = (0..3).map(|d| (v[d] - p[d] / m).powi(2)).sum();
+        total += 0.5 * s.mass(i) * dv;
+    }
+    total
+}
