@@ -6,7 +6,7 @@
 //! `docs/physics/lattice/hotspots.md`.
 
 use brisance::pd::msdm::{Dim, Geometry, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions};
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, Criterion, Throughput};
 
 /// An Estane block (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K))
 /// of `n` × `n` nodes at h = 10 µm moving at −100 m/s, axial springs with
@@ -54,4 +54,24 @@ fn lattice_step(c: &mut Criterion) {
 }
 
 criterion_group!(benches, lattice_step);
-criterion_main!(benches);
+
+/// `LATTICE_STEPS=n` runs n steps of the axial-spring lattice and exits
+/// instead of benchmarking, for instruction counts that do not depend on
+/// the machine's load (`valgrind --tool=callgrind`, the difference between
+/// two values of n).
+fn main() {
+    if let Some(steps) = std::env::var("LATTICE_STEPS")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+    {
+        let mut lat = block(432, false);
+        let dt = 0.5 * lat.explicit_stable_dt();
+        for _ in 0..steps {
+            lat.step(dt).expect("lattice step");
+        }
+        println!("{steps} steps, t = {:.6e} s", lat.time);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -31,6 +31,7 @@
 //! proportional to the number of hot voxels plus two frames of labels.
 
 use super::geometry::{Dim, NodeKind};
+use super::law::LatticeMaterial;
 use super::model::{MsdmError, MsdmLattice};
 
 const NONE: u32 = u32::MAX;
@@ -328,6 +329,207 @@ pub fn lattice_frame(
     Ok(([nx, ny], g.spacing * g.spacing))
 }
 
+/// Energetic crystal of seed 003 Table 2.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Crystal {
+    /// HMX: E = 25 325 MPa.
+    Hmx,
+    /// RDX: E = 20 200 MPa.
+    Rdx,
+    /// PETN: E = 11 800 MPa.
+    Petn,
+    /// TKX-50: E = 52 194 MPa.
+    Tkx50,
+}
+
+/// Binder variant of seed 003 Table 3 (E = 6250 MPa for all).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Binder {
+    /// Estane.
+    Estane,
+    /// Half-density Estane.
+    HalfDensity,
+    /// Density matched to HMX.
+    DensityMatched,
+    /// Impedance matched to HMX.
+    ImpedanceMatched,
+}
+
+impl Crystal {
+    /// The lattice material (elastic, no conduction).
+    pub fn material(self) -> LatticeMaterial {
+        use brisance_eos::MieGruneisenThermal as M;
+        let (name, young, eos) = match self {
+            Crystal::Hmx => ("HMX", 25_325e6, M::hmx_seed003()),
+            Crystal::Rdx => ("RDX", 20_200e6, M::rdx_seed003()),
+            Crystal::Petn => ("PETN", 11_800e6, M::petn_seed003()),
+            Crystal::Tkx50 => ("TKX-50", 52_194e6, M::tkx50_seed003()),
+        };
+        LatticeMaterial::elastic(name, young, eos)
+    }
+}
+
+impl Binder {
+    /// The lattice material (elastic, no conduction).
+    pub fn material(self) -> LatticeMaterial {
+        use brisance_eos::MieGruneisenThermal as M;
+        let (name, eos) = match self {
+            Binder::Estane => ("Estane", M::estane_seed003()),
+            Binder::HalfDensity => ("half-density Estane", M::estane_half_density()),
+            Binder::DensityMatched => ("density-matched Estane", M::estane_density_matched()),
+            Binder::ImpedanceMatched => ("impedance-matched Estane", M::estane_impedance_matched()),
+        };
+        LatticeMaterial::elastic(name, 6250e6, eos)
+    }
+}
+
+/// An impact of a random crystal/binder pack on a rigid wall (seed 003
+/// §4.1, E-HOTSPOT); see `docs/physics/lattice/hotspots.md`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactCase {
+    /// Crystal material.
+    pub crystal: Crystal,
+    /// Binder material.
+    pub binder: Binder,
+    /// Impact velocity, m/s.
+    pub velocity: f64,
+    /// Nodes per side of the square sample.
+    pub nodes: usize,
+    /// Lattice spacing h, m.
+    pub spacing: f64,
+    /// Crystal (disc) diameter, m.
+    pub diameter: f64,
+    /// Crystal area fraction.
+    pub fraction: f64,
+    /// Seed of the random pack.
+    pub pack_seed: u64,
+    /// Simulated time in units of the binder's bar-wave transit time
+    /// L/√(E/ρ) through the sample.
+    pub transits: f64,
+    /// Temperature frames written over the run.
+    pub frames: usize,
+    /// Threshold factor k: T* = mean + k · std of the heated voxels.
+    pub threshold_sigmas: f64,
+}
+
+/// What an impact produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImpactResult {
+    /// The hot spots, in order of first appearance.
+    pub hot_spots: Vec<HotSpot>,
+    /// Whether each hot spot's peak node is a crystal node.
+    pub peak_in_crystal: Vec<bool>,
+    /// Threshold temperature T*, K.
+    pub threshold: f64,
+    /// Highest temperature of the run, K.
+    pub max_temperature: f64,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Crystal area fraction of the lattice nodes.
+    pub crystal_fraction: f64,
+}
+
+/// Runs an [`ImpactCase`]: a random disc pack rasterised on the lattice
+/// (crystal material 0, binder 1), diagonal springs, every node moving at
+/// −`velocity` along x except the column at x = 0, held at rest (the rigid
+/// wall; see the page for why it is a no-slip wall here), velocity Verlet
+/// with the energy equation, T₀ = 300 K. Frames are recorded at equal time
+/// intervals; the threshold is mean + k · std over the voxels heated by more
+/// than 0.1 K, and the hot spots are detected in the stacked frames.
+pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
+    use super::geometry::Geometry;
+    use super::model::{Integrator, MsdmOptions};
+    let n = case.nodes;
+    if n < 3 || case.frames < 2 {
+        return Err(MsdmError::Invalid(format!(
+            "impact: `nodes` = {n}, `frames` = {}, expected ≥ 3 and ≥ 2",
+            case.frames
+        )));
+    }
+    let side = n as f64 * case.spacing;
+    let pack =
+        super::pack::random_disc_pack(side, side, case.diameter, case.fraction, case.pack_seed)
+            .map_err(MsdmError::Invalid)?;
+    let inside = pack.rasterise(n, n, case.spacing);
+    let crystal_fraction = inside.iter().filter(|&&c| c).count() as f64 / (n * n) as f64;
+    let geom = Geometry::new(Dim::Two, [n, n, 1], case.spacing, true, |ix, iy, _| {
+        Some(if inside[ix + n * iy] { 0 } else { 1 })
+    });
+    let binder = case.binder.material();
+    let transit = side / (binder.young / binder.eos.rho0).sqrt();
+    let mut lat = MsdmLattice::new(
+        geom,
+        vec![case.crystal.material(), binder],
+        MsdmOptions {
+            integrator: Integrator::VelocityVerlet,
+            ..MsdmOptions::default()
+        },
+    )?;
+    for iy in 0..n {
+        for ix in 0..n {
+            let i = lat.geom.index(ix + 1, iy + 1, 0);
+            if ix == 0 {
+                lat.prescribed[i] = true;
+            } else {
+                lat.u[0][i] = -case.velocity;
+            }
+        }
+    }
+    lat.mark_modified();
+    let dt = lat.explicit_stable_dt();
+    let end = case.transits * transit;
+    let steps = (end / dt).ceil() as usize;
+    let stride = (steps / case.frames).max(1);
+    let mut frames: Vec<(f64, Vec<f64>)> = Vec::new();
+    let mut frame = Vec::new();
+    for k in 1..=steps {
+        lat.step(dt)?;
+        if k % stride == 0 {
+            lattice_frame(&lat, &mut frame)?;
+            frames.push((lat.time, frame.clone()));
+        }
+    }
+    let t0 = lat.options.initial_temperature;
+    let (mut s0, mut s1, mut s2, mut tmax) = (0.0f64, 0.0f64, 0.0f64, t0);
+    for (_, f) in &frames {
+        for &t in f {
+            if t.is_finite() {
+                tmax = tmax.max(t);
+                if t - t0 > 0.1 {
+                    s0 += 1.0;
+                    s1 += t;
+                    s2 += t * t;
+                }
+            }
+        }
+    }
+    let threshold = if s0 > 1.0 {
+        let mean = s1 / s0;
+        mean + case.threshold_sigmas * ((s2 / s0 - mean * mean).max(0.0)).sqrt()
+    } else {
+        t0 + 0.1
+    };
+    let hot_spots = detect_hot_spots(
+        frames.iter().map(|(t, f)| (*t, f.as_slice())),
+        n,
+        n,
+        case.spacing * case.spacing,
+        threshold,
+    )?;
+    let peak_in_crystal = hot_spots
+        .iter()
+        .map(|h| inside[h.peak_node[0] + n * h.peak_node[1]])
+        .collect();
+    Ok(ImpactResult {
+        hot_spots,
+        peak_in_crystal,
+        threshold,
+        max_temperature: tmax,
+        steps,
+        crystal_fraction,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -510,6 +712,144 @@ mod tests {
         let h = detect_hot_spots([(0.0, f.as_slice())], 3, 2, area, 400.0).unwrap();
         assert_eq!(h.len(), 1);
         assert_eq!(h[0].peak_node, [1, 0]);
+    }
+
+    fn small_impact(velocity: f64, binder: Binder) -> ImpactCase {
+        ImpactCase {
+            crystal: Crystal::Hmx,
+            binder,
+            velocity,
+            nodes: 24,
+            spacing: 5e-6,
+            diameter: 6.0 * 5e-6,
+            fraction: 0.5,
+            pack_seed: 3,
+            transits: 0.8,
+            frames: 8,
+            threshold_sigmas: 2.0,
+        }
+    }
+
+    #[test]
+    fn impact_heats_more_at_higher_velocity_and_is_deterministic() {
+        let a = run_impact(&small_impact(50.0, Binder::Estane)).unwrap();
+        let b = run_impact(&small_impact(150.0, Binder::Estane)).unwrap();
+        assert!(a.max_temperature > 300.5, "{}", a.max_temperature);
+        assert!(b.max_temperature - 300.0 > 2.0 * (a.max_temperature - 300.0));
+        assert!(a.crystal_fraction > 0.35 && a.crystal_fraction < 0.65);
+        assert!(!a.hot_spots.is_empty());
+        assert_eq!(a.peak_in_crystal.len(), a.hot_spots.len());
+        for h in &a.hot_spots {
+            assert!(h.peak_temperature > a.threshold && h.peak_temperature <= a.max_temperature);
+        }
+        let again = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| run_impact(&small_impact(50.0, Binder::Estane)).unwrap());
+        assert_eq!(a, again);
+        let mut bad = small_impact(50.0, Binder::Estane);
+        bad.frames = 1;
+        assert!(run_impact(&bad).unwrap_err().to_string().contains("frames"));
+    }
+
+    /// E-HOTSPOT (seed 003 §4): 432 × 432 packs of HMX and RDX in Estane at
+    /// 50–250 m/s, the Gumbel model of §4.5 with 150 and 250 m/s held out,
+    /// the binder variants at 50 m/s and the PETN/TKX-50 hot-spot locations.
+    /// Writes CSV under `target/e_hotspot/`. Run with
+    /// `cargo test --release -p brisance-pd --lib -- --ignored e_hotspot --nocapture`.
+    #[test]
+    #[ignore]
+    fn e_hotspot() {
+        use crate::msdm::stats::{velocity_model, VelocitySample};
+        let base = ImpactCase {
+            crystal: Crystal::Hmx,
+            binder: Binder::Estane,
+            velocity: 50.0,
+            nodes: 432,
+            spacing: 5e-6,
+            diameter: 24.0 * 5e-6,
+            fraction: 0.6,
+            pack_seed: 2015,
+            transits: 1.0,
+            frames: 40,
+            threshold_sigmas: 3.0,
+        };
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/e_hotspot");
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut spots = String::from("crystal,binder,velocity_m_s,threshold_K,peak_K,peak_x,peak_y,peak_time_s,footprint_m2,max_area_m2,voxels,in_crystal\n");
+        let mut run = |case: ImpactCase| {
+            let t = std::time::Instant::now();
+            let r = run_impact(&case).unwrap();
+            let inc = r.peak_in_crystal.iter().filter(|&&c| c).count();
+            eprintln!(
+                "{:?}/{:?} {:5.0} m/s: {} steps, crystal fraction {:.3}, max T {:.2} K, T* {:.2} K, {} hot spots ({} peak in crystal), {:.0} s",
+                case.crystal, case.binder, case.velocity, r.steps, r.crystal_fraction, r.max_temperature,
+                r.threshold, r.hot_spots.len(), inc, t.elapsed().as_secs_f64()
+            );
+            for (h, c) in r.hot_spots.iter().zip(&r.peak_in_crystal) {
+                spots += &format!(
+                    "{:?},{:?},{},{:.4},{:.4},{},{},{:.6e},{:.6e},{:.6e},{},{}\n",
+                    case.crystal,
+                    case.binder,
+                    case.velocity,
+                    r.threshold,
+                    h.peak_temperature,
+                    h.peak_node[0],
+                    h.peak_node[1],
+                    h.peak_time,
+                    h.footprint_area,
+                    h.max_area,
+                    h.voxels,
+                    c
+                );
+            }
+            r
+        };
+        let mut samples = Vec::new();
+        for v in [50.0, 100.0, 150.0, 200.0, 250.0] {
+            let mut peaks = Vec::new();
+            for crystal in [Crystal::Hmx, Crystal::Rdx] {
+                let r = run(ImpactCase {
+                    crystal,
+                    velocity: v,
+                    ..base
+                });
+                peaks.extend(r.hot_spots.iter().map(|h| h.peak_temperature));
+            }
+            samples.push(VelocitySample { velocity: v, peaks });
+        }
+        for binder in [
+            Binder::HalfDensity,
+            Binder::DensityMatched,
+            Binder::ImpedanceMatched,
+        ] {
+            run(ImpactCase { binder, ..base });
+        }
+        for crystal in [Crystal::Petn, Crystal::Tkx50] {
+            run(ImpactCase {
+                crystal,
+                velocity: 100.0,
+                ..base
+            });
+        }
+        std::fs::write(dir.join("hot_spots.csv"), &spots).unwrap();
+        match velocity_model(&samples, &[150.0, 250.0], 10_000, 2015) {
+            Ok(m) => {
+                let mut csv = Vec::new();
+                m.write_csv(&mut csv).unwrap();
+                let mut reg = Vec::new();
+                m.write_regression_csv(&mut reg).unwrap();
+                std::fs::write(dir.join("gumbel.csv"), &csv).unwrap();
+                std::fs::write(dir.join("regression.csv"), &reg).unwrap();
+                eprintln!(
+                    "{}{}",
+                    String::from_utf8(csv).unwrap(),
+                    String::from_utf8(reg).unwrap()
+                );
+            }
+            Err(e) => eprintln!("velocity model: {e}"),
+        }
     }
 
     proptest! {
