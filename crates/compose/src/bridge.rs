@@ -15,7 +15,9 @@
 //!   region: where the last region is a material with a constitutive
 //!   `model` (other than the gases), particles of that material; where it is
 //!   a gas, air particles (material 0, a `Null` fluid with the air's ideal
-//!   gas) of that state.
+//!   gas) or, for the products, products particles (material 1, a `Null`
+//!   fluid with the products' EOS) of that state. Inflow from the FDM
+//!   becomes products particles where the donor cell is mostly products.
 //!
 //! Faces: as for `Fdm` on the FDM grid (its face inside the MPM region is
 //! an outflow past the fictitious cells) and as for `Mpm` on the MPM grid
@@ -383,6 +385,15 @@ fn build_with<'a, E: GasLaw + 'static>(
     let mut models = vec![MaterialModel::Null(NullMaterial::inviscid(
         s.materials[&cfg.air].eos().cloned().expect("validated"),
     ))];
+    // Products as MPM particles (material 1) when the FDM carries them.
+    let products_eos = cfg
+        .products
+        .as_ref()
+        .and_then(|p| s.materials[p].eos().cloned());
+    if let Some(eos) = &products_eos {
+        models.push(MaterialModel::Null(NullMaterial::inviscid(eos.clone())));
+    }
+    let first_structure = models.len();
     models.extend(
         structures
             .iter()
@@ -415,29 +426,46 @@ fn build_with<'a, E: GasLaw + 'static>(
                 else {
                     continue;
                 };
-                let init = if let Some((st, _)) = states[idx] {
-                    let e = air
-                        .specific_internal_energy(st.density, st.pressure)
-                        .map_err(|e| (format!("initial.{idx}.state"), e.to_string()))?;
+                let init = if let Some((st, y)) = states[idx] {
                     let p = st.pressure;
-                    air_mass += st.density * sub_volume;
-                    air_count += 1;
+                    let products = y > 0.5 && products_eos.is_some();
+                    let (e, material) = match (&products_eos, products) {
+                        (Some(eos), true) => (
+                            eos.specific_internal_energy(st.density, p)
+                                .map_err(|e| (format!("initial.{idx}.state"), e.to_string()))?,
+                            MaterialId(1),
+                        ),
+                        _ => {
+                            air_mass += st.density * sub_volume;
+                            air_count += 1;
+                            (
+                                air.specific_internal_energy(st.density, p)
+                                    .map_err(|e| (format!("initial.{idx}.state"), e.to_string()))?,
+                                MaterialId(0),
+                            )
+                        }
+                    };
                     ParticleInit {
                         position: x,
                         velocity: st.velocity,
                         mass: st.density * sub_volume,
                         volume: sub_volume,
                         stress: [-p, -p, -p, 0.0, 0.0, 0.0],
-                        temperature: air.temperature(st.density, e),
+                        temperature: if products {
+                            293.15
+                        } else {
+                            air.temperature(st.density, e)
+                        },
                         specific_internal_energy: e,
-                        material: MaterialId(0),
+                        material,
                         ..Default::default()
                     }
                 } else {
-                    let id = 1 + structures
-                        .iter()
-                        .position(|n| **n == r.material)
-                        .expect("validated");
+                    let id = first_structure
+                        + structures
+                            .iter()
+                            .position(|n| **n == r.material)
+                            .expect("validated");
                     let model = &models[id];
                     let t = r.state.temperature.unwrap_or(293.15);
                     let e = match (model.eos(), r.state.specific_internal_energy) {
@@ -497,6 +525,7 @@ fn build_with<'a, E: GasLaw + 'static>(
         GHOST,
         CfdmpOptions {
             air: MaterialId(0),
+            products: products_eos.as_ref().map(|_| MaterialId(1)),
             gamma: air.gamma,
             existing_mass: air_mass / air_count as f64,
             activation_pressure: cfg.activation_pressure,

@@ -46,6 +46,12 @@ use crate::regions::{BridgeRegions, Side};
 pub struct CfdmpOptions {
     /// The MPM material of air particles (created ones and donor cells).
     pub air: MaterialId,
+    /// The MPM material of detonation products, if the FDM carries them:
+    /// inflow from a donor cell with products mass fraction Y ≥ 1/2 becomes
+    /// particles of it, with the donor's specific internal energy, and the
+    /// fictitious cells' ρY is ρ times the products share of their
+    /// particles' mass. `None`: all inflow is air.
+    pub products: Option<MaterialId>,
     /// γ of the air (eq 48).
     pub gamma: f64,
     /// Mass m_e of an existing air particle (eq 45), kg.
@@ -132,6 +138,14 @@ impl<E: GasLaw> Cfdmp<E> {
                 "the bridge maps through the linear shape functions of seed 001 eq 16: use shape_function: Linear"
                     .into(),
             );
+        }
+        if let Some(p) = options.products {
+            if p.0 as usize >= mpm.materials().len() || !E::SPECIES {
+                return Err(format!(
+                    "products material {} needs an MPM material and an FDM gas law with a products species",
+                    p.0
+                ));
+            }
         }
         if options.air.0 as usize >= mpm.materials().len() {
             return Err(format!(
@@ -342,16 +356,23 @@ impl<E: GasLaw> Cfdmp<E> {
         let nodes = self.mpm.grid_nodes();
         let active: Vec<usize> = (0..3).filter(|&d| mg.cells[d] > 1).collect();
         let weight = centre_weight(active.len());
-        // Eq 33: Σ m_p e_p per MPM cell.
+        // Eq 33: Σ m_p e_p per MPM cell; with products, also the particle
+        // mass and its products part.
+        let n = mg.cell_count();
         self.energy.clear();
-        self.energy.resize(mg.cell_count(), 0.0);
+        self.energy.resize(3 * n, 0.0);
         let ps = self.mpm.particles();
         for p in 0..ps.len() {
             if let Some(c) = mg.cell_containing(ps.position[p]) {
-                self.energy[mg.linear_index(c)] += cell_internal_energy(
+                let k = mg.linear_index(c);
+                self.energy[k] += cell_internal_energy(
                     &ps.mass[p..p + 1],
                     &ps.specific_internal_energy[p..p + 1],
                 );
+                self.energy[n + k] += ps.mass[p];
+                if Some(ps.material[p]) == self.options.products {
+                    self.energy[2 * n + k] += ps.mass[p];
+                }
             }
         }
         let volume = self.regions.cell_volume();
@@ -376,9 +397,12 @@ impl<E: GasLaw> Cfdmp<E> {
                 }
             }
             let (m, p) = fictitious_mass_momentum(&mass, &mom, weight);
-            let e = self.energy[mg.linear_index(c)];
+            let k = mg.linear_index(c);
+            let e = self.energy[k];
+            let (all, products) = (self.energy[n + k], self.energy[2 * n + k]);
             if let Some(u) = fictitious_cell_state(m, p, e, volume) {
-                let v = [u[0], u[1], u[2], u[3], u[4], 0.0];
+                let y = if all > 0.0 { products / all } else { 0.0 };
+                let v = [u[0], u[1], u[2], u[3], u[4], u[0] * y];
                 self.fdm
                     .set_cell_conservative(g, v)
                     .map_err(|e| SolverError::Other(e.to_string()))?;
@@ -401,6 +425,7 @@ impl<E: GasLaw> Cfdmp<E> {
         let x_face = self.regions.interface();
         let active: [bool; 3] = std::array::from_fn(|d| fg.cells[d] > 1);
         self.created.clear();
+        self.inits.clear();
         for c in self.face_cells() {
             let (mut cd, mut cb) = (c, c);
             cd[a] = donor;
@@ -424,29 +449,45 @@ impl<E: GasLaw> Cfdmp<E> {
                     existing_mass: self.options.existing_mass,
                     dt,
                 };
+                let start = self.created.len();
                 create_particles(&inflow, fm, &mut self.created);
-                self.totals.products_as_air += yd * fm;
+                let products = self.options.products.filter(|_| yd >= 0.5);
+                let (material, pressure) = match products {
+                    Some(m) => {
+                        // The donor's own specific internal energy (eq 48
+                        // is the air's case of it).
+                        let u = self.fdm.cell_conservative(cd).unwrap_or([0.0; 6]);
+                        let e = specific_internal_energy(u[0], u[1], u[2], u[3], u[4]);
+                        for q in &mut self.created[start..] {
+                            q.specific_internal_energy = e;
+                        }
+                        (m, sd.pressure)
+                    }
+                    None => {
+                        self.totals.products_as_air += yd * fm;
+                        (self.options.air, sd.pressure)
+                    }
+                };
+                for q in &self.created[start..] {
+                    let p = pressure;
+                    self.inits.push(ParticleInit {
+                        position: q.position,
+                        velocity: q.velocity,
+                        mass: q.mass,
+                        volume: q.volume,
+                        stress: [-p, -p, -p, 0.0, 0.0, 0.0],
+                        specific_internal_energy: q.specific_internal_energy,
+                        material,
+                        ..Default::default()
+                    });
+                    book(
+                        &mut self.totals.into_mpm,
+                        q.mass,
+                        q.velocity,
+                        q.specific_internal_energy,
+                    );
+                }
             }
-        }
-        self.inits.clear();
-        for q in &self.created {
-            let p = (self.options.gamma - 1.0) * q.mass / q.volume * q.specific_internal_energy;
-            self.inits.push(ParticleInit {
-                position: q.position,
-                velocity: q.velocity,
-                mass: q.mass,
-                volume: q.volume,
-                stress: [-p, -p, -p, 0.0, 0.0, 0.0],
-                specific_internal_energy: q.specific_internal_energy,
-                material: self.options.air,
-                ..Default::default()
-            });
-            book(
-                &mut self.totals.into_mpm,
-                q.mass,
-                q.velocity,
-                q.specific_internal_energy,
-            );
         }
         self.totals.created += self.created.len() as u64;
         self.mpm
@@ -469,6 +510,7 @@ impl<E: GasLaw> Cfdmp<E> {
         for &p in &self.leaving {
             let ps = self.mpm.particles();
             let (m, v, e) = (ps.mass[p], ps.velocity[p], ps.specific_internal_energy[p]);
+            let is_products = Some(ps.material[p]) == self.options.products;
             let Some(mut g) = fg.cell_containing(ps.position[p]) else {
                 return Err(SolverError::Other(format!(
                     "bridge: particle at {:?} m left the MPM region outside the FDM grid",
@@ -478,6 +520,9 @@ impl<E: GasLaw> Cfdmp<E> {
             g[a] = donor;
             let mut u = self.fdm.cell_conservative(g).unwrap_or([0.0; 6]);
             absorb_particle(&mut u, volume, m, v, e);
+            if is_products {
+                u[5] += m / volume;
+            }
             self.fdm
                 .set_cell_conservative(g, u)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
@@ -853,6 +898,7 @@ mod tests {
             GHOST,
             CfdmpOptions {
                 air: MaterialId(0),
+                products: None,
                 gamma: air.gamma,
                 existing_mass: m,
                 activation_pressure: 1.05 * P0,
