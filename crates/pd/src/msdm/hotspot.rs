@@ -29,6 +29,10 @@
 //! (t, y, x) order and the hot spots come out in order of first
 //! appearance, the same for any frame size or data). Memory is
 //! proportional to the number of hot voxels plus two frames of labels.
+//!
+//! [`run_impact`] drives the impact problem of seed 003 §4.1 (E-HOTSPOT):
+//! a random crystal/binder pack of Tables 2–3 hitting a wall, its frames
+//! stacked and searched for hot spots (`docs/physics/lattice/hotspots.md`).
 
 use super::geometry::{Dim, NodeKind};
 use super::law::LatticeMaterial;
