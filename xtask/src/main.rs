@@ -721,9 +721,10 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 14] = [
+const CASES: [&str; 15] = [
     "sod",
     "sod-ice",
+    "ratestick",
     "smooth",
     "cj",
     "bar",
@@ -769,6 +770,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("sod-ice") {
         ice_cases::v_sod_ice(&mut body, &img)?;
+    }
+    if run("ratestick") {
+        ice_cases::e_ratestick(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;

@@ -159,18 +159,24 @@ pub fn anfo_k1_jwlpp() -> Result<(Vec<EosModel>, IceReaction), String> {
     ))
 }
 
-/// Settings of the 1D ("infinite radius") ANFO-K1 rate stick of seed 000
-/// §5.1: explosive on [0, length] moving at −`impact_velocity` onto a
-/// zero-velocity wall at x = 0.
+/// Settings of an ANFO-K1 rate stick of seed 000 §5.1: explosive along x
+/// on [0, length] moving at −`impact_velocity` onto a zero-velocity wall at
+/// x = 0. Without a radius the column is 1D (the "infinite radius" case);
+/// with one, a quarter of a cylinder of that radius in air (symmetry planes
+/// y = 0 and z = 0, outflow on the other faces), `air` of air beyond it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RateStick1d {
+pub struct RateStick {
     /// Cell size, m.
     pub h: f64,
     /// Length of the stick, m.
     pub length: f64,
+    /// Radius, m (None: 1D).
+    pub radius: Option<f64>,
+    /// Air between the stick's surface and the domain's outer faces, m.
+    pub air: f64,
     /// Impact speed onto the wall, m/s (seed: 90).
     pub impact_velocity: f64,
-    /// The two far-field gauge positions, m.
+    /// The two far-field gauge positions on the axis, m.
     pub gauges: [f64; 2],
     /// Arrival is the first time the gauge's pressure exceeds this, Pa.
     pub arrival_pressure: f64,
@@ -181,22 +187,45 @@ pub struct RateStick1d {
     pub t_max: f64,
 }
 
-impl RateStick1d {
-    /// The seed's stick (10 cm) with gauges at 5 and 9 cm.
+impl RateStick {
+    /// The seed's 1D stick (10 cm) with gauges at 6 and 9 cm.
     pub fn seed(h: f64) -> Self {
         Self {
             h,
             length: 0.1,
+            radius: None,
+            air: 0.0,
             impact_velocity: 90.0,
-            gauges: [0.05, 0.09],
-            arrival_pressure: 2.0e9,
+            gauges: [0.06, 0.09],
+            arrival_pressure: 1.0e9,
             kappa: Murnaghan::anfo_k1().kappa,
             t_max: 60e-6,
         }
     }
+
+    /// A 1D column long enough for a steady detonation: 30 cm, gauges at
+    /// 20 and 29 cm.
+    pub fn long(h: f64) -> Self {
+        Self {
+            length: 0.3,
+            gauges: [0.2, 0.29],
+            t_max: 120e-6,
+            ..Self::seed(h)
+        }
+    }
+
+    /// The seed's quarter-symmetry stick of radius `radius` (10 cm long),
+    /// in 6 mm of air, gauges at 6 and 9 cm.
+    pub fn quarter(h: f64, radius: f64) -> Self {
+        Self {
+            radius: Some(radius),
+            air: 6e-3,
+            ..Self::seed(h)
+        }
+    }
 }
 
-/// What a 1D rate stick measured.
+/// What a rate stick measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RateStickResult {
     /// Arrival times at the two gauges (None: the wave never came), s.
@@ -205,40 +234,56 @@ pub struct RateStickResult {
     pub detonation_velocity: Option<f64>,
     /// Largest pressure seen at the second gauge, Pa.
     pub peak_pressure: f64,
-    /// Largest equilibration pressure anywhere at the end of the first step
-    /// after the impact, Pa (does the impact cross the 200 MPa threshold?).
+    /// Largest pressure in the first 20 cells of the axis during the first
+    /// 1 µs (the impact), Pa.
     pub impact_pressure: f64,
     /// Fraction of the explosive mass burnt at the end.
     pub burnt_fraction: f64,
     /// Steps taken.
     pub steps: u64,
+    /// Cells of the grid.
+    pub cells: usize,
     /// Simulated time at the end, s.
     pub time: f64,
 }
 
-/// Runs the 1D rate stick (reactant + products, JWL++) until the wave has
-/// passed the second gauge or `t_max`; arrival times from gauge pressures
-/// sampled after every step.
-pub fn rate_stick_1d(cfg: &RateStick1d) -> Result<RateStickResult, String> {
+/// Runs a rate stick until the wave has passed the second gauge (and 2 µs
+/// more) or `t_max`; arrival times from the gauge pressures sampled after
+/// every step, interpolated linearly between steps.
+pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
     let (mut eos, reaction) = anfo_k1_jwlpp()?;
     if let EosModel::Murnaghan(m) = &mut eos[0] {
         m.kappa = cfg.kappa;
     }
-    let cells = (cfg.length / cfg.h).round() as usize;
-    let level = Level::new(
-        [0.0; 3],
-        [cfg.length, cfg.h, cfg.h],
-        [cells, 1, 1],
-        [1, 1, 1],
-        GHOST,
-    )
-    .map_err(|e| e.to_string())?;
+    let nx = (cfg.length / cfg.h).round() as usize;
+    let (upper, cells, n_mat) = match cfg.radius {
+        None => ([cfg.length, cfg.h, cfg.h], [nx, 1, 1], 2),
+        Some(r) => {
+            let w = r + cfg.air;
+            let nw = (w / cfg.h).round() as usize;
+            let w = nw as f64 * cfg.h;
+            ([cfg.length, w, w], [nx, nw, nw], 3)
+        }
+    };
+    if n_mat == 3 {
+        eos.push(EosModel::IdealGas(IdealGas::air()));
+    }
+    let level = Level::new([0.0; 3], upper, cells, [1, 1, 1], GHOST).map_err(|e| e.to_string())?;
     let p0 = 1.0e5;
     let t0 = 298.15;
-    let rho_r = eos[0].density(p0, t0).map_err(|e| e.to_string())?;
-    let rho_p = eos[1].density(p0, t0).map_err(|e| e.to_string())?;
+    let rho: Vec<f64> = eos
+        .iter()
+        .map(|e| e.density(p0, t0))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
     let trace = 1e-6;
     let u = -cfg.impact_velocity;
+    let side = if n_mat == 3 {
+        IceBoundary::Outflow
+    } else {
+        IceBoundary::Symmetry
+    };
+    let radius = cfg.radius.unwrap_or(f64::INFINITY);
     let mut s = IceSolver::new(
         eos,
         level,
@@ -246,41 +291,65 @@ pub fn rate_stick_1d(cfg: &RateStick1d) -> Result<RateStickResult, String> {
             IceBoundary::FixedVelocity([0.0; 3]),
             IceBoundary::Outflow,
             IceBoundary::Symmetry,
+            side.clone(),
             IceBoundary::Symmetry,
-            IceBoundary::Symmetry,
-            IceBoundary::Symmetry,
+            side,
         ],
-        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        ExchangeCoefficients::uniform(n_mat, 1e15, 0.0),
         IceOptions::default(),
-        |_| CellState {
-            pressure: p0,
-            materials: vec![mat(1.0 - trace, rho_r, u), mat(trace, rho_p, u)],
+        |x| {
+            let inside = n_mat == 2 || x[1] * x[1] + x[2] * x[2] < radius * radius;
+            let main = if inside { 0 } else { 2 };
+            let v = if inside { u } else { 0.0 };
+            CellState {
+                pressure: p0,
+                materials: (0..n_mat)
+                    .map(|k| {
+                        let th = if k == main {
+                            1.0 - (n_mat - 1) as f64 * trace
+                        } else {
+                            trace
+                        };
+                        mat(th, rho[k], v)
+                    })
+                    .collect(),
+            }
         },
     )
     .map_err(|e| e.to_string())?;
     s.set_reactions(vec![reaction]).map_err(|e| e.to_string())?;
     let mass0 = explosive_mass(&s)?;
     let fields = ["pressure".to_string()];
-    let mut arrival = [None; 2];
+    let mut arrival: [Option<f64>; 2] = [None; 2];
     let mut peak: f64 = 0.0;
-    let mut impact_pressure = f64::NAN;
+    let mut impact_pressure: f64 = 0.0;
     let mut out = Vec::new();
-    while s.time() < cfg.t_max && arrival[1].is_none() {
+    let mut last = [(0.0, p0); 2];
+    let axis = |x: f64| [x, 0.5 * cfg.h, 0.5 * cfg.h];
+    // Run on for 2 µs after the second arrival to see the peak pressure.
+    while s.time() < arrival[1].map_or(cfg.t_max, |t| (t + 2e-6).min(cfg.t_max)) {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
         s.advance(dt).map_err(|e| e.to_string())?;
-        if s.steps() == 1 {
-            let p = s.cell_data(&fields).map_err(|e| e.to_string())?;
-            impact_pressure = p.fields[0].1.iter().cloned().fold(0.0, f64::max);
+        if s.time() < 1.0e-6 {
+            for i in 0..nx.min(20) {
+                s.sample(axis((i as f64 + 0.5) * cfg.h), &fields, &mut out)
+                    .map_err(|e| e.to_string())?;
+                impact_pressure = impact_pressure.max(out[0]);
+            }
         }
         for (k, x) in cfg.gauges.iter().enumerate() {
-            s.sample([*x, 0.5 * cfg.h, 0.5 * cfg.h], &fields, &mut out)
+            s.sample(axis(*x), &fields, &mut out)
                 .map_err(|e| e.to_string())?;
             if k == 1 {
                 peak = peak.max(out[0]);
             }
+            let (t_prev, p_prev) = last[k];
             if arrival[k].is_none() && out[0] > cfg.arrival_pressure {
-                arrival[k] = Some(s.time());
+                // Linear interpolation of the crossing between two samples.
+                let w = (cfg.arrival_pressure - p_prev) / (out[0] - p_prev);
+                arrival[k] = Some(t_prev + w * (s.time() - t_prev));
             }
+            last[k] = (s.time(), out[0]);
         }
     }
     let d = match arrival {
@@ -295,15 +364,16 @@ pub fn rate_stick_1d(cfg: &RateStick1d) -> Result<RateStickResult, String> {
         impact_pressure,
         burnt_fraction: burnt,
         steps: s.steps(),
+        cells: cells.iter().product(),
         time: s.time(),
     })
 }
 
-/// (reactant mass, product mass) per unit cross-section area, kg/m².
+/// (reactant mass, product mass), kg, over the grid's cells.
 fn explosive_mass(s: &IceSolver<EosModel>) -> Result<(f64, f64), String> {
     let f = ["density_1".to_string(), "density_2".to_string()];
     let d = s.cell_data(&f).map_err(|e| e.to_string())?;
-    let h = s.level().geometry.spacing[0];
-    let sum = |k: usize| d.fields[k].1.iter().sum::<f64>() * h;
+    let vol: f64 = s.level().geometry.spacing.iter().product();
+    let sum = |k: usize| d.fields[k].1.iter().sum::<f64>() * vol;
     Ok((sum(0), sum(1)))
 }

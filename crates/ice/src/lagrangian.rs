@@ -33,6 +33,22 @@ pub fn bounded_compression(kappa: f64, p_eq: f64, p: f64) -> f64 {
     (-kappa * p_eq * (p / p_eq).ln()).exp() - 1.0
 }
 
+/// Specific internal energy change, J/kg, of a material taken from
+/// (p₀, v₀) to volume g v₀ along the isentrope p v^γ = const with its local
+/// exponent γ = 1/(κ p₀) (κ = v/c²): −∫p dv = p₀v₀ (g^{1−γ} − 1)/(γ − 1),
+/// or −p₀v₀ ln g when γ = 1. Used for materials whose linear share of the
+/// volume change exceeds ½ in magnitude, where the flow work of eq 25 at
+/// one pressure would be far off (a gas trace expanding several-fold would
+/// lose more than its internal energy).
+#[inline]
+pub fn isentropic_energy_change(p0: f64, v0: f64, g: f64, gamma: f64) -> f64 {
+    if (gamma - 1.0).abs() < 1e-9 {
+        -p0 * v0 * g.ln()
+    } else {
+        p0 * v0 * (g.powf(1.0 - gamma) - 1.0) / (gamma - 1.0)
+    }
+}
+
 /// Lagrangian momentum (ρu)^{L−}_r per unit volume (seed 000 eqs 24, 27,
 /// without reactions or deviatoric stress):
 /// ρ_r u_r − Δt θ_r ∇p* + Δt ρ_r g, kg/(m²·s).
@@ -124,6 +140,21 @@ mod tests {
         // First order: a small rise gives −κΔp.
         let y = bounded_compression(k, 1e5, 1e5 + 1.0);
         assert!((y + k).abs() < 1e-4 * k, "{y}");
+    }
+
+    #[test]
+    fn isentropic_energy_change_is_the_ideal_gas_one() {
+        // γ = 1.4 gas, p₀ = 1e5 Pa, v₀ = 1 m³/kg, e₀ = p₀v₀/(γ−1) = 2.5e5 J/kg.
+        // Expanding 5×: e = e₀ · 5^{−0.4}, so Δe = 2.5e5 (5^{−0.4} − 1).
+        let de = isentropic_energy_change(1e5, 1.0, 5.0, 1.4);
+        assert!((de - 2.5e5 * (5f64.powf(-0.4) - 1.0)).abs() < 1e-9, "{de}");
+        // Compressing to 1/10: Δe = 2.5e5 (10^{0.4} − 1) > 0.
+        let de = isentropic_energy_change(1e5, 1.0, 0.1, 1.4);
+        assert!((de - 2.5e5 * (10f64.powf(0.4) - 1.0)).abs() < 1e-9, "{de}");
+        // γ = 1: −p₀v₀ ln g; and a small change is −p₀ Δv.
+        assert!((isentropic_energy_change(2.0, 3.0, 2.0, 1.0) + 6.0 * 2f64.ln()).abs() < 1e-12);
+        let de = isentropic_energy_change(1e5, 1.0, 1.0 + 1e-6, 3.0);
+        assert!((de + 0.1).abs() < 1e-6, "{de}");
     }
 
     #[test]

@@ -35,8 +35,8 @@ use crate::equilibration::{
 use crate::exchange::{heat_exchange, momentum_exchange};
 use crate::face_velocity::face_velocity;
 use crate::lagrangian::{
-    bounded_compression, lagrangian_energy, lagrangian_momentum, lagrangian_volume,
-    thermal_expansion_term, volume_change_share, LINEAR_COMPRESSION_LIMIT,
+    bounded_compression, isentropic_energy_change, lagrangian_energy, lagrangian_momentum,
+    lagrangian_volume, thermal_expansion_term, volume_change_share, LINEAR_COMPRESSION_LIMIT,
 };
 use crate::pressure::{face_pressure, pressure_increment};
 use crate::reaction::{transfer_burnt_mass, IceReaction, Parcel};
@@ -975,8 +975,20 @@ impl<E: Eos> IceSolver<E> {
                         } else {
                             0.0
                         };
-                        pf.data[s + ENERGY][c] = cons[4] / rho - kinetic;
-                        pf.data[s + VSP][c] = cons[5] / rho;
+                        let mut e = cons[4] / rho - kinetic;
+                        let v = cons[5] / rho;
+                        if total && !(params.eos[r].temperature(1.0 / v, e) > 0.0) {
+                            // E − ½|u|² of a fast, cold material (a gas whose
+                            // kinetic energy is many times its internal
+                            // energy) can fall below its 0 K energy when ρE
+                            // and ρu are limited separately: keep the
+                            // material's temperature of the step's start
+                            // instead (docs/physics/ice/steps.md).
+                            e = params.eos[r]
+                                .specific_internal_energy_from_temperature(1.0 / v, pf.data[s + TEMP][c]);
+                        }
+                        pf.data[s + ENERGY][c] = e;
+                        pf.data[s + VSP][c] = v;
                         pf.data[s + THETA][c] = cons[5];
                     }
                 });
@@ -1198,18 +1210,23 @@ fn lagrangian_cell<E: Eos>(
     // f_r^θ.
     let mut share = [0.0; MAX_MATERIALS];
     let mut bounded = [None; MAX_MATERIALS];
+    let mut large = [None; MAX_MATERIALS];
     let mut free_share = 0.0;
     let mut bounded_volume = 0.0;
+    let p_eq = d[n * NS][c];
     for r in 0..n {
         share[r] = volume_change_share(tk[r], tk_sum);
         let x = dt * share[r] * divergence / theta[r];
-        let p_eq = d[n * NS][c];
         if x < LINEAR_COMPRESSION_LIMIT && p > p_eq && p_eq > 0.0 {
             let y = bounded_compression(tk[r] / theta[r], p_eq, p);
             bounded[r] = Some(theta[r] * y);
+            large[r] = Some(1.0 + y);
             bounded_volume += theta[r] * y;
         } else {
             free_share += share[r];
+            if x > -LINEAR_COMPRESSION_LIMIT && p_eq > 0.0 {
+                large[r] = Some(1.0 + x);
+            }
         }
     }
     let any_bounded = bounded[..n].iter().any(|b| b.is_some());
@@ -1232,21 +1249,37 @@ fn lagrangian_cell<E: Eos>(
         let m = lagrangian_momentum(rho[r], u, theta[r], grad, params.options.gravity, dt);
         vel[r] = m.map(|x| x / rho[r]);
         e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], share[r], p, divergence, dt) / rho[r];
-        if let Some(dv) = bounded[r] {
-            // The flow work of the volume the material actually loses, at
-            // the mean of the start and advanced pressures (trapezoid).
-            e[r] = d[b + ENERGY][c] - 0.5 * (d[n * NS][c] + p) * dv / rho[r];
+        if let Some(g) = large[r] {
+            // A volume change of more than half: the isentropic work of the
+            // volume the material actually gains or loses, with its local
+            // exponent γ = 1/(κ p_eq) (lagrangian::isentropic_energy_change).
+            let v = d[b + VSP][c];
+            let gamma = theta[r] / (tk[r] * p_eq);
+            e[r] = d[b + ENERGY][c] + isentropic_energy_change(p_eq, v, g, gamma);
         }
     }
     // Energy-conserving closure of steps 8–9: the cell's total energy
     // changes by the face pressure work −Δt ∇·(p* Σθ*u*) (plus gravity's
-    // work); what eqs 24–25 miss of it goes to internal energy with one
-    // specific increment for every material (as the heat of step 10), so
-    // that a trace material takes a trace of it: shares f_r^θ would give
-    // a gas trace beside a condensed phase (f ≈ 10⁻² at θ = 10⁻⁶) a specific
-    // energy change 10⁴ times the cell's.
+    // work); what eqs 24–25 miss of it goes to internal energy in
+    // proportion to each material's heat content ρ_r c_v,r T_r (one relative
+    // temperature change for all), so that a trace takes a trace of it and a
+    // removal never drives a material below 0 K while the cell has heat:
+    // shares f_r^θ would give a gas trace beside a condensed phase (f ≈ 10⁻²
+    // at θ = 10⁻⁶) a specific energy change 10⁴ times the cell's, and one
+    // specific change for all would take a cold light trace below 0 K.
     if let Some(work) = pressure_work {
-        let rho_sum: f64 = rho[..n].iter().sum();
+        let mut heat = [0.0; MAX_MATERIALS];
+        let mut heat_sum = 0.0;
+        for r in 0..n {
+            let b = r * NS;
+            let t = d[b + TEMP][c];
+            heat[r] = rho[r] * params.eos[r].cv(1.0 / d[b + VSP][c], t) * t;
+            heat_sum += heat[r];
+        }
+        if !(heat_sum > 0.0 && heat_sum.is_finite()) {
+            heat[..n].copy_from_slice(&rho[..n]);
+            heat_sum = rho[..n].iter().sum();
+        }
         let mut delta = work;
         for r in 0..n {
             let b = r * NS;
@@ -1259,7 +1292,7 @@ fn lagrangian_cell<E: Eos>(
             delta -= rho[r] * (e[r] - d[b + ENERGY][c]) + dk;
         }
         for r in 0..n {
-            e[r] += delta / rho_sum;
+            e[r] += heat[r] / heat_sum * delta / rho[r];
         }
     }
     // Step 4 (seed 000 eq 1): reaction sources at the start-of-step

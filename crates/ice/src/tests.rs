@@ -622,11 +622,40 @@ fn a_reacting_closed_box_conserves_mass_momentum_and_energy() {
 /// the wall initiates a detonation that reaches both gauges.
 #[test]
 fn reduced_rate_stick_detonates() {
-    let mut cfg = crate::cases::RateStick1d::seed(2.0e-3);
+    let mut cfg = crate::cases::RateStick::seed(2.0e-3);
     cfg.length = 0.06;
     cfg.gauges = [0.03, 0.05];
-    let r = crate::cases::rate_stick_1d(&cfg).unwrap();
+    let r = crate::cases::rate_stick(&cfg).unwrap();
     eprintln!("{r:?}");
     let d = r.detonation_velocity.expect("no detonation");
     assert!(d > 4000.0 && d < 7000.0, "{d}");
+}
+
+/// One quarter-symmetry ANFO-K1 stick at h = 1 mm, radius from the
+/// environment variable R in metres (default 12 mm); minutes in release
+/// (`R=0.004 cargo test --release -p brisance-ice rate_stick_quarter -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn rate_stick_quarter() {
+    let r = std::env::var("R").map_or(12e-3, |v| v.parse().unwrap());
+    let t = std::time::Instant::now();
+    let c = crate::cases::RateStick::quarter(1e-3, r);
+    let res = crate::cases::rate_stick(&c);
+    eprintln!("R {r:e}: {res:?} {:.1} s", t.elapsed().as_secs_f64());
+}
+
+/// The 1D sticks of E-RATESTICK at h = 1, 0.5, 0.25 mm, 10 and 30 cm
+/// (`cargo test --release -p brisance-ice rate_stick_resolutions -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn rate_stick_resolutions() {
+    for h in [1.0e-3, 0.5e-3, 0.25e-3] {
+        for c in [
+            crate::cases::RateStick::seed(h),
+            crate::cases::RateStick::long(h),
+        ] {
+            let r = crate::cases::rate_stick(&c).unwrap();
+            eprintln!("h {h:e} L {}: {r:?}", c.length);
+        }
+    }
 }
