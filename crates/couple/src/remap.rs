@@ -688,3 +688,63 @@ mod tests {
         assert!(e.contains("radius"), "{e}");
     }
 }
+
+#[cfg(test)]
+mod remapped_run {
+    use super::*;
+    use brisance_core::Solver;
+    use brisance_eos::{IdealGas, Jwl};
+    use brisance_fdm::{FdmBoundary, FdmOptions, FdmSolver, PrimitiveState, ProductsInAir};
+    use brisance_grid::Level;
+
+    /// The remapped E-BLAST2D state (BRISANCE_REMAP = path of a remap.bin)
+    /// run by the FDM alone on its grid with outflow faces, to 30 µs.
+    #[test]
+    #[ignore = "needs a remap file from `brisance remap`; run by hand"]
+    fn remapped_blast_runs_in_the_fdm_alone() {
+        let path = std::env::var("BRISANCE_REMAP").expect("set BRISANCE_REMAP");
+        let r = Remapped::load(std::path::Path::new(&path)).unwrap();
+        let g = r.geometry;
+        let level = Level::new(
+            g.origin,
+            g.upper(),
+            g.cells,
+            [1, 1, 1],
+            brisance_fdm::sweep::GHOST,
+        )
+        .unwrap();
+        let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).unwrap();
+        let ambient = PrimitiveState {
+            density: 1.225,
+            velocity: [0.0; 3],
+            pressure: 1.0e5,
+        };
+        let mut fdm = FdmSolver::new(
+            gas,
+            level,
+            [FdmBoundary::Outflow; 6],
+            FdmOptions::default(),
+            |_| ambient,
+        )
+        .unwrap();
+        fdm.set_conservative_fields(&r.fields).unwrap();
+        let mut steps = 0;
+        let result = loop {
+            if fdm.time() >= 3.0e-5 {
+                break Ok(());
+            }
+            let dt = match fdm.stable_dt() {
+                Ok(dt) => dt,
+                Err(e) => break Err(e),
+            };
+            if let Err(e) = fdm.advance(dt) {
+                break Err(e);
+            }
+            steps += 1;
+        };
+        eprintln!(
+            "FDM alone: {steps} steps to t = {:e} s: {result:?}",
+            fdm.time()
+        );
+    }
+}
