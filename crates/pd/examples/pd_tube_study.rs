@@ -118,8 +118,8 @@ fn disordered_kinetic(s: &PdSolver) -> f64 {
             if gas(j) {
                 let mj = s.mass(j);
                 m += mj;
-                for d in 0..3 {
-                    p[d] += mj * s.velocities()[j][d];
+                for (pd, vd) in p.iter_mut().zip(s.velocities()[j]) {
+                    *pd += mj * vd;
                 }
             }
         }
