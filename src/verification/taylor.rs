@@ -356,10 +356,29 @@ pub fn taylor_case(
     extra: &[String],
 ) -> Result<TaylorResult, String> {
     let scenario = taylor_scenario(cells_across_radius, end, extra)?;
-    let mut solver = taylor_solver(&scenario)?;
     let test = JOHNSON_COOK_1983_OFHC_190;
+    run_rod(
+        &scenario,
+        cells_across_radius,
+        rod_radius(),
+        test.length,
+        end,
+    )
+}
+
+/// Runs the one-rod `scenario` (radius `radius`, length `length`, m) to
+/// `end` s and measures it; `cells_across_radius` is recorded with the
+/// cell size radius/`cells_across_radius`.
+fn run_rod(
+    scenario: &Scenario,
+    cells_across_radius: usize,
+    radius: f64,
+    length: f64,
+    end: f64,
+) -> Result<TaylorResult, String> {
+    let mut solver = taylor_solver(scenario)?;
     let rho = scenario.initial[0].state.density;
-    let exact_mass = rho * std::f64::consts::PI * rod_radius().powi(2) * test.length / 4.0;
+    let exact_mass = rho * std::f64::consts::PI * radius.powi(2) * length / 4.0;
     let initial = rod_shape(solver.particles())?;
     let ke0 = kinetic_energy(solver.particles());
     let e0 = solver.conservation_totals().energy;
@@ -371,7 +390,7 @@ pub fn taylor_case(
     let max_temperature = ps.temperature.iter().copied().fold(0.0, f64::max);
     Ok(TaylorResult {
         cells_across_radius,
-        cell_size: rod_radius() / cells_across_radius as f64,
+        cell_size: radius / cells_across_radius as f64,
         particles: ps.len(),
         steps,
         end_time: solver.time(),
@@ -384,6 +403,119 @@ pub fn taylor_case(
         max_plastic_strain,
         max_temperature,
     })
+}
+
+/// The elastic, linearly hardening copper bar on a rigid frictionless wall,
+/// a standard check of impact codes (Wilkins & Guinan, J. Appl. Phys. 44
+/// (1973) 1200; the benchmark of A. Kamoulakos, *A simple benchmark for
+/// impact*, NAFEMS Benchmark (1990)): L₀ = 32.4 mm, R₀ = 3.2 mm, 227 m/s,
+/// ρ = 8930 kg/m³, E = 117 GPa, ν = 0.35, σ_y = 400 MPa, tangent modulus
+/// E_t = 100 MPa, 80 µs. No rate, no temperature: it tests the solver
+/// (kinematics, wall, shape functions, radial return) apart from the
+/// Johnson–Cook model. See `docs/physics/mpm/taylor.md` for the reference
+/// values.
+pub mod bilinear_bar {
+    /// Rod length L₀, m.
+    pub const LENGTH: f64 = 0.0324;
+    /// Rod radius R₀, m.
+    pub const RADIUS: f64 = 0.0032;
+    /// Impact velocity, m/s.
+    pub const VELOCITY: f64 = 227.0;
+    /// Density, kg/m³.
+    pub const DENSITY: f64 = 8930.0;
+    /// Young's modulus, Pa.
+    pub const YOUNG: f64 = 117.0e9;
+    /// Poisson's ratio.
+    pub const POISSON: f64 = 0.35;
+    /// Initial yield stress, Pa.
+    pub const YIELD: f64 = 400.0e6;
+    /// Tangent modulus of the uniaxial stress–strain curve, Pa.
+    pub const TANGENT: f64 = 100.0e6;
+    /// Simulated time, s.
+    pub const END: f64 = 80.0e-6;
+    /// Final length of the finite-element reference solutions, m (21.42 to
+    /// 21.47 mm quoted).
+    pub const REFERENCE_LENGTH: f64 = 21.45e-3;
+    /// Final mushroom radius of the finite-element reference solutions, m
+    /// (7.0 to 7.13 mm quoted).
+    pub const REFERENCE_RADIUS: f64 = 7.07e-3;
+
+    /// Shear modulus G = E/(2(1 + ν)), Pa.
+    pub fn shear_modulus() -> f64 {
+        YOUNG / (2.0 * (1.0 + POISSON))
+    }
+
+    /// Bulk modulus K = E/(3(1 − 2ν)), Pa.
+    pub fn bulk_modulus() -> f64 {
+        YOUNG / (3.0 * (1.0 - 2.0 * POISSON))
+    }
+
+    /// Plastic modulus H = E E_t/(E − E_t): σ_y = σ₀ + H ε_p.
+    pub fn plastic_modulus() -> f64 {
+        YOUNG * TANGENT / (YOUNG - TANGENT)
+    }
+}
+
+/// `configs/taylor3d.ron` turned into the bilinear bar
+/// ([`bilinear_bar`]) with `cells_across_radius` cells across R₀ (3 n
+/// cells across, room for a foot of 3 R₀; L₀/Δx + 2 cells along, rounded
+/// up), then the `extra` overrides. The flow stress is the Johnson–Cook
+/// form with n = 1, B = H, C = 0 and T_room = 300 K, the rod's constant
+/// temperature (no plastic heating: T* = 0 exactly); the pressure a
+/// Mie–Grüneisen EOS with C₀ = √(K/ρ) and S, Γ₀ of 10⁻⁶ (the EOS form wants
+/// them positive), which is K (1 − ρ₀/ρ) to within 10⁻⁶ of the volume
+/// strain.
+pub fn bilinear_bar_scenario(
+    cells_across_radius: usize,
+    extra: &[String],
+) -> Result<Scenario, String> {
+    use bilinear_bar as b;
+    if cells_across_radius == 0 {
+        return Err("cells_across_radius must be at least 1".into());
+    }
+    let dx = b::RADIUS / cells_across_radius as f64;
+    let across = 3 * cells_across_radius;
+    let along = (b::LENGTH / dx - 1e-9).ceil() as usize + 2;
+    let (w, h) = (across as f64 * dx, along as f64 * dx);
+    let c0 = (b::bulk_modulus() / b::DENSITY).sqrt();
+    let mut sets = vec![
+        format!("domain.cells=({across},{across},{along})"),
+        format!("domain.upper=({w:e},{w:e},{h:e})"),
+        format!("time.end={:e}", b::END),
+        format!(
+            "initial.0.region=Cylinder(base:(0.0,0.0,0.0),axis:(0.0,0.0,1.0),radius:{:e},length:{:e})",
+            b::RADIUS,
+            b::LENGTH
+        ),
+        format!("initial.0.state.velocity=(0.0,0.0,{:e})", -b::VELOCITY),
+        format!("initial.0.state.density={:e}", b::DENSITY),
+        format!("materials.copper.model.shear_modulus={:e}", b::shear_modulus()),
+        format!(
+            "materials.copper.model.flow_stress=JohnsonCook(a:{:e},b:{:e},n:1.0,c:0.0,m:1.0,eps_dot0:1.0,t_room:300.0,t_melt:1356.0)",
+            b::YIELD,
+            b::plastic_modulus()
+        ),
+        format!(
+            "materials.copper.model.pressure=Eos(MieGruneisenLinear(c0:{c0:e},s:1.0e-6,gamma0:1.0e-6,rho0:{:e},cv:383.0,t0:300.0))",
+            b::DENSITY
+        ),
+        "materials.copper.model.taylor_quinney=0.0".to_string(),
+    ];
+    sets.extend_from_slice(extra);
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
+        .map(|l| l.scenario)
+        .map_err(|e| e.to_string())
+}
+
+/// Runs the bilinear bar ([`bilinear_bar_scenario`]) and measures it as
+/// V-TAYLOR measures its rod; the mushroom radius is half the diameter.
+pub fn bilinear_bar_case(
+    cells_across_radius: usize,
+    extra: &[String],
+) -> Result<TaylorResult, String> {
+    use bilinear_bar as b;
+    let scenario = bilinear_bar_scenario(cells_across_radius, extra)?;
+    run_rod(&scenario, cells_across_radius, b::RADIUS, b::LENGTH, b::END)
 }
 
 /// Builds `configs/taylor3d.ron` at `cells_across_radius` through the
@@ -540,6 +672,41 @@ mod tests {
             let (a, b) = (direct.conservation_totals(), composed.conservation_totals());
             assert_eq!(a, b, "{extra:?}");
         }
+    }
+
+    #[test]
+    fn the_bilinear_bar_has_the_benchmark_material_and_geometry() {
+        use bilinear_bar as b;
+        // G = 117/2.7 GPa, K = 117/0.9 GPa, H = 117e9·1e8/(116.9e9).
+        assert!((b::shear_modulus() - 43.333_333_333e9).abs() < 1.0);
+        assert!((b::bulk_modulus() - 130.0e9).abs() < 1.0);
+        assert!((b::plastic_modulus() - 100.085_543_2e6).abs() < 1.0);
+        let s = bilinear_bar_scenario(8, &[]).unwrap();
+        // Δx = 0.4 mm: L₀ = 81 Δx, 83 cells along, 24 across.
+        assert_eq!(s.domain.cells, [24, 24, 83]);
+        let Some(MaterialModel::ElasticPlastic(ep)) = &s.materials["copper"].model else {
+            panic!("the bar is not ElasticPlastic");
+        };
+        assert_eq!(ep.shear_modulus, b::shear_modulus());
+        assert_eq!(ep.taylor_quinney, 0.0);
+        // σ_y = 400 MPa + H ε_p, whatever the rate, at the bar's 300 K.
+        for (eps, rate) in [(0.0, 0.0), (0.5, 1e5), (2.0, 1e3)] {
+            let want = b::YIELD + b::plastic_modulus() * eps;
+            let got = ep.flow_stress.flow_stress(eps, rate, 300.0);
+            assert!((got - want).abs() < 1e-6 * want, "{eps}: {got} vs {want}");
+        }
+        // Bulk response K (1 − ρ₀/ρ) to well within 1e-4 at 1 % compression.
+        let rho = b::DENSITY / 0.99;
+        let p = ep.pressure.pressure(0.0, 0.0, 0.0, rho, 0.0);
+        let want = b::bulk_modulus() * (1.0 - b::DENSITY / rho);
+        assert!((p - want).abs() < 1e-4 * want, "{p} vs {want}");
+        assert_eq!(s.initial[0].state.velocity, [0.0, 0.0, -b::VELOCITY]);
+        // The undeformed bar measures L₀ (81 particle pairs) and R₀ within
+        // one particle width.
+        let solver = taylor_solver(&s).unwrap();
+        let shape = rod_shape(solver.particles()).unwrap();
+        assert!((shape.length - b::LENGTH).abs() < 1e-12, "{}", shape.length);
+        assert!((0.5 * shape.diameter - b::RADIUS).abs() <= 0.5 * 0.4e-3);
     }
 
     #[test]

@@ -8,7 +8,8 @@ use std::time::Instant;
 
 use anyhow::Result;
 use brisance::verification::taylor::{
-    taylor_case, TaylorResult, CONFIG_CELLS_ACROSS_RADIUS, JOHNSON_COOK_1983_OFHC_190,
+    bilinear_bar, bilinear_bar_case, taylor_case, TaylorResult, CONFIG_CELLS_ACROSS_RADIUS,
+    JOHNSON_COOK_1983_OFHC_190,
 };
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
@@ -29,6 +30,10 @@ const TOLERANCE: f64 = 0.05;
 /// for the rod to count as at rest.
 const REST: f64 = 0.01;
 
+/// Cells across the radius of the bilinear-bar solver check (Δx = 0.4 mm,
+/// L₀ = 81 Δx).
+const BAR_CELLS: usize = 8;
+
 pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
     let test = JOHNSON_COOK_1983_OFHC_190;
     println!("V-TAYLOR: Taylor impact of an OFHC copper rod at 190 m/s, 3D MPM");
@@ -47,6 +52,14 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push((r, wall));
     }
+    let t0 = Instant::now();
+    let bar = bilinear_bar_case(BAR_CELLS, &[]).map_err(anyhow::Error::msg)?;
+    let bar_wall = t0.elapsed().as_secs_f64();
+    println!(
+        "  bilinear bar, {BAR_CELLS} cells across R: Lf {:.3} mm  Rf {:.3} mm  {bar_wall:.0} s",
+        1e3 * bar.shape.length,
+        0.5e3 * bar.shape.diameter
+    );
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -55,7 +68,7 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
     let _ = writeln!(
         md,
         "`configs/taylor3d.ron`: a rod L₀ = {:.1} mm, D₀ = {:.2} mm at {:.0} m/s onto a frictionless rigid wall \
-         (quarter rod, symmetry planes through the axis), MUSL, uGIMP, 2 particles per cell per direction, \
+         (quarter rod, symmetry planes through the axis), MUSL, contiguous-particle GIMP, 2 particles per cell per direction, \
          Courant number 0.4, t = {:.0} µs. Copper: J2 plasticity with the Johnson–Cook flow stress of Johnson & \
          Cook (1983) (A 90 MPa, B 292 MPa, n 0.31, C 0.025, m 1.09, T_melt 1356 K), no damage, Mie–Grüneisen \
          pressure (`ofhc_copper`), G 43.8 GPa, plastic heating 0.9. Reference: {}: L_f/L₀ = {}, D_f/D₀ = {}. \
@@ -108,6 +121,39 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         1e3 * test.final_length(),
         1e3 * test.final_diameter()
     );
+    {
+        use bilinear_bar as b;
+        let (lf, rf) = (bar.shape.length, 0.5 * bar.shape.diameter);
+        let _ = writeln!(
+            md,
+            "\nSolver check without the Johnson–Cook model: the elastic, linearly hardening copper bar of Wilkins & \
+             Guinan (1973) and Kamoulakos (1990) (L₀ {:.1} mm, R₀ {:.1} mm, {:.0} m/s, E {:.0} GPa, ν {}, σ_y {:.0} MPa, \
+             E_t {:.0} MPa, {:.0} µs; `bilinear_bar_case`), same solver options, {BAR_CELLS} cells across R₀. Reference: \
+             the finite-element solutions quoted for the benchmark, L_f 21.42–21.47 mm and mushroom radius 7.0–7.13 mm \
+             (errors against {:.2} and {:.2} mm).\n\n\
+             | L_f (mm) | error | mushroom radius (mm) | error | max ε_p | KE/KE₀ at end | energy change | wall time (s) |\n\
+             |---:|---:|---:|---:|---:|---:|---:|---:|\n\
+             | {:.3} | {:+.2} % | {:.3} | {:+.2} % | {:.2} | {:.2e} | {:.1e} | {:.0} |",
+            1e3 * b::LENGTH,
+            1e3 * b::RADIUS,
+            b::VELOCITY,
+            1e-9 * b::YOUNG,
+            b::POISSON,
+            1e-6 * b::YIELD,
+            1e-6 * b::TANGENT,
+            1e6 * b::END,
+            1e3 * b::REFERENCE_LENGTH,
+            1e3 * b::REFERENCE_RADIUS,
+            1e3 * lf,
+            100.0 * (lf / b::REFERENCE_LENGTH - 1.0),
+            1e3 * rf,
+            100.0 * (rf / b::REFERENCE_RADIUS - 1.0),
+            bar.max_plastic_strain,
+            bar.kinetic_energy_ratio,
+            bar.energy_change,
+            bar_wall
+        );
+    }
     let _ = writeln!(
         md,
         "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
