@@ -33,12 +33,14 @@ fn e_pd_cyl_reduced_wall_is_driven_outward_below_the_gurney_velocity() {
     );
 }
 
-/// The steel tube, 1.5 cm long at h = 1.3 mm, to 10 µs: it breaks into more than one
+/// The steel tube, 1.5 cm long at h = 1.3 mm, to 20 µs: it breaks into more than one
 /// fragment and the fragment masses add up to the case mass to round-off.
+/// (At 10 and 14 µs the case is still one piece, mean damage 0.42 at
+/// 10 µs: the products deliver no more energy than the detonation releases.)
 #[test]
 fn e_pd_frag_reduced_fragments_conserve_the_case_mass() {
     let case = steel_fragmenting_cylinder(1.3e-3, 0.015, 0.0, 0.0);
-    let (_, r) = run_fragmentation(&case, 10.0e-6).unwrap();
+    let (_, r) = run_fragmentation(&case, 20.0e-6).unwrap();
     eprintln!(
         "E-PD-FRAG reduced: {} fragments after {} steps, largest {:.3e} kg of {:.3e} kg",
         r.fragments.len(),
