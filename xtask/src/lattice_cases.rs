@@ -1,16 +1,19 @@
-//! V-OSC, V-ROD and V-IMPEDANCE (seed 003 §2.5) at full length. The case
-//! definitions are `brisance::pd::msdm::cases`, shared with the reduced
-//! unit tests in `crates/pd/src/msdm/tests.rs`.
+//! V-OSC, V-ROD and V-IMPEDANCE (seed 003 §2.5), V-REGRESS (§2.6) and
+//! E-APHTPB (ch. 3) at full length. The case definitions are `brisance::pd::msdm::cases`,
+//! shared with the reduced unit tests in `crates/pd/src/msdm/`.
 
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use brisance::pd::msdm::cases::{impedance, oscillator_error, rod};
+use brisance::pd::msdm::cases::{
+    aphtpb_burn, impedance, oscillator_error, regress_disc, regress_rotated_square, rod,
+    BurnResult, RegressResult,
+};
 use brisance::pd::msdm::Integrator;
 
-use crate::plot;
+use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::Report;
 
 /// Time steps of V-OSC, s.
@@ -230,5 +233,277 @@ pub fn v_impedance(report: &mut Report) -> Result<()> {
         report.target(what, format!("{got:.5}"), shown, rel(got, exact) <= 0.01);
     }
     let _ = writeln!(report.md);
+    Ok(())
+}
+
+/// V-REGRESS: the rotated face and the disc of seed 003 §2.6 (figs. 15–16)
+/// at 40 and 80 nodes across, with the seed's normal rule (radius 1, the
+/// default) and the wider 3-spacing normal.
+pub fn v_regress(report: &mut Report, img: &Path) -> Result<()> {
+    println!("V-REGRESS: rotated face and disc, 40 and 80 nodes across, normal radius 1 and 3");
+    let _ = writeln!(
+        report.md,
+        "## V-REGRESS — surface regression of a rotated face and a disc (lattice, seed 003 §2.6)\n\n\
+         Uniform material, Arrhenius speed r/Δt = 1 mm/s (A = 1 kg/(m²·s), Eₐ = 0, ρ₀ = 1000 kg/m³), no \
+         mechanics, step 0.05 h per step. Face: a 1 mm square rotated by 30° about the origin, only the face of \
+         normal (−sin 30°, cos 30°) exposed (the other exterior nodes are walls), run to 0.5 mm of recession. \
+         Disc: radius 0.5 mm, every exterior node fluid, run to half its radius. Surface = the exposed nodes \
+         (face: those more than 2h from the side walls); deviations along the face normal (face) or of the \
+         radius (disc) at the end. Rates between 10 % and 100 % of the run from the mean position of the \
+         exposed nodes (and from the remaining volume), over the Arrhenius speed. Normal radius 1 is the \
+         seed's rule (away from the axial fluid neighbours, the default); 3 estimates the normal over 3 \
+         spacings.\n\n\
+         | case | nodes across | normal radius | solid nodes | steps | rate / Arrhenius (nodes) | rate / Arrhenius (volume) | RMS / h | max − min / h | wall [s] |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut verdicts = Vec::new();
+    let mut shown: Option<(RegressResult, RegressResult)> = None;
+    for radius in [1.0, 3.0] {
+        for n in [40usize, 80] {
+            let t0 = Instant::now();
+            let face = regress_rotated_square(n, radius)?;
+            let wf = t0.elapsed().as_secs_f64();
+            let t0 = Instant::now();
+            let disc = regress_disc(n, radius)?;
+            let wd = t0.elapsed().as_secs_f64();
+            for (name, r, wall) in [("face, 30°", &face, wf), ("disc", &disc, wd)] {
+                let _ = writeln!(
+                    report.md,
+                    "| {name} | {n} | {radius} | {} | {} | {:.4} | {:.4} | {:.3} | {:.3} | {wall:.2} |",
+                    r.nodes,
+                    r.steps,
+                    r.rate_ratio,
+                    r.rate_ratio_volume,
+                    r.rms / r.spacing,
+                    r.spread / r.spacing
+                );
+            }
+            if n == 80 {
+                verdicts.push((radius, face.clone(), disc.clone()));
+                if radius == 1.0 {
+                    shown = Some((face, disc));
+                }
+            }
+        }
+    }
+    let _ = writeln!(
+        report.md,
+        "\n![V-REGRESS](img/v_regress.png)\n\n| figure of merit (80 nodes across) | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (radius, face, disc) in &verdicts {
+        report.target(
+            &format!("V-REGRESS face RMS deviation / h, normal radius {radius}"),
+            format!("{:.3}", face.rms / face.spacing),
+            "≤ 1",
+            face.rms <= face.spacing,
+        );
+        report.target(
+            &format!("V-REGRESS face recession rate / Arrhenius, normal radius {radius}"),
+            format!("{:.4}", face.rate_ratio),
+            "1 ± 5 %",
+            (face.rate_ratio - 1.0).abs() <= 0.05,
+        );
+        report.target(
+            &format!("V-REGRESS disc radius spread (max − min) / h, normal radius {radius}"),
+            format!("{:.3}", disc.spread / disc.spacing),
+            "≤ 1",
+            disc.spread <= disc.spacing,
+        );
+        report.target(
+            &format!("V-REGRESS disc shrink rate / Arrhenius, normal radius {radius}"),
+            format!("{:.4}", disc.rate_ratio),
+            "1 ± 5 %",
+            (disc.rate_ratio - 1.0).abs() <= 0.05,
+        );
+    }
+    let _ = writeln!(report.md);
+    if let Some((face, disc)) = shown {
+        let mm = |v: &[[f64; 2]], a: usize| v.iter().map(|p| p[a] * 1e3).collect::<Vec<f64>>();
+        let (f0x, f0y, f1x, f1y) = (
+            mm(&face.surfaces[0], 0),
+            mm(&face.surfaces[0], 1),
+            mm(&face.surfaces[1], 0),
+            mm(&face.surfaces[1], 1),
+        );
+        let (d0x, d0y, d1x, d1y) = (
+            mm(&disc.surfaces[0], 0),
+            mm(&disc.surfaces[0], 1),
+            mm(&disc.surfaces[1], 0),
+            mm(&disc.surfaces[1], 1),
+        );
+        plot::plot_panels(
+            &img.join("v_regress.png"),
+            "V-REGRESS: exposed nodes at the start and the end (80 nodes across, normal radius 1)",
+            "x [mm]",
+            &[
+                Panel {
+                    y_label: "face: y [mm]",
+                    series: vec![
+                        Series {
+                            label: "start",
+                            x: &f0x,
+                            y: &f0y,
+                            style: SeriesStyle::Points,
+                        },
+                        Series {
+                            label: "after 0.5 mm",
+                            x: &f1x,
+                            y: &f1y,
+                            style: SeriesStyle::Points,
+                        },
+                    ],
+                },
+                Panel {
+                    y_label: "disc: y [mm]",
+                    series: vec![
+                        Series {
+                            label: "start",
+                            x: &d0x,
+                            y: &d0y,
+                            style: SeriesStyle::Points,
+                        },
+                        Series {
+                            label: "half the radius gone",
+                            x: &d1x,
+                            y: &d1y,
+                            style: SeriesStyle::Points,
+                        },
+                    ],
+                },
+            ],
+        )?;
+    }
+    Ok(())
+}
+
+/// Seed 003 Table 1: surface temperature, K, and burn rates without and
+/// with TiO₂, cm/s.
+const TABLE_1: [(f64, f64, f64); 3] = [
+    (823.0, 0.3978, 0.5411),
+    (860.0, 0.6953, 0.9510),
+    (908.0, 1.3388, 1.8364),
+];
+
+/// Random packs per condition.
+const APHTPB_SEEDS: [u64; 3] = [1, 2, 3];
+
+/// E-APHTPB: the AP/HTPB pack of seed 003 §3.1 burning at 823, 860 and
+/// 908 K with and without Ω = 1.41, against Table 1.
+pub fn e_aphtpb(report: &mut Report, img: &Path) -> Result<()> {
+    println!("E-APHTPB: AP/HTPB pack, 0.24 cm, 101 x 101 nodes, 3 packs per condition");
+    let _ = writeln!(
+        report.md,
+        "## E-APHTPB — AP/HTPB propellant burn rates (lattice, seed 003 ch. 3)\n\n\
+         0.24 × 0.24 cm slice, 101 × 101 nodes (h = 24 µm, 10⁴ nodes), random packs of 200 µm AP discs at \
+         80 wt % in HTPB (periodic relaxed random packing, three seeds per condition), ρ 1950 / 920 kg/m³, \
+         Arrhenius AP A = 5.0·10⁶ kg/(m²·s), Eₐ = 92 109.6 J/mol, HTPB A = 3.0·10⁴, Eₐ = 62 800 (§3.1); \
+         Ω = 1.41 on AP for TiO₂; surface temperature held; no mechanics; only the top face exposed; \
+         seed's normal rule; 0.05 h per step. Burn rate from the mean height of the remaining propellant \
+         (remaining volume / width) at the times the pure-AP rate would have burnt 0.2 and 1.2 mm. \
+         Reference: seed 003 Table 1.\n\n\
+         | T [K] | TiO₂ | AP mass fraction | rate per pack [cm/s] | mean [cm/s] | Table 1 [cm/s] | ratio | pure AP [cm/s] | pure HTPB [cm/s] | wall [s] |\n\
+         |---:|---|---:|---|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut rows = Vec::new();
+    let mut maps: Vec<(String, BurnResult)> = Vec::new();
+    for (t, plain, cat) in TABLE_1 {
+        for (omega, reference) in [(1.0, plain), (1.41, cat)] {
+            let t0 = Instant::now();
+            let runs: Vec<BurnResult> = APHTPB_SEEDS
+                .iter()
+                .map(|&seed| aphtpb_burn(2.4e-3, 101, t, omega, seed))
+                .collect::<Result<_, _>>()?;
+            let wall = t0.elapsed().as_secs_f64();
+            let rates: Vec<f64> = runs.iter().map(|r| r.rate * 100.0).collect();
+            let mean = rates.iter().sum::<f64>() / rates.len() as f64;
+            let w = runs.iter().map(|r| r.ap_mass_fraction).sum::<f64>() / runs.len() as f64;
+            let r_gas = 8.314_462_618;
+            let ap = omega * 5.0e6 * (-92_109.6 / (r_gas * t)).exp() / 1950.0 * 100.0;
+            let htpb = 3.0e4 * (-62_800.0 / (r_gas * t)).exp() / 920.0 * 100.0;
+            let _ = writeln!(
+                report.md,
+                "| {t:.0} | {} | {w:.4} | {} | {mean:.4} | {reference:.4} | {:.3} | {ap:.4} | {htpb:.4} | {wall:.1} |",
+                if omega > 1.0 { "1.41" } else { "—" },
+                rates
+                    .iter()
+                    .map(|r| format!("{r:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(" / "),
+                mean / reference
+            );
+            rows.push((t, omega, mean / reference));
+            if let Some(first) = runs.into_iter().next() {
+                maps.push((
+                    format!("{t:.0} K{}", if omega > 1.0 { ", TiO₂" } else { "" }),
+                    first,
+                ));
+            }
+        }
+    }
+    let _ = writeln!(
+        report.md,
+        "\n![E-APHTPB](img/e_aphtpb.png)\n\nPropellant at the second time (pack 1): AP grey, HTPB black, \
+         burnt white.\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (t, omega, ratio) in rows {
+        report.target(
+            &format!(
+                "E-APHTPB burn rate / Table 1, {t:.0} K{}",
+                if omega > 1.0 { ", TiO₂" } else { "" }
+            ),
+            format!("{ratio:.3}"),
+            "1 ± 10 %",
+            (ratio - 1.0).abs() <= 0.10,
+        );
+    }
+    let _ = writeln!(report.md);
+    draw_burn_maps(&img.join("e_aphtpb.png"), &maps)?;
+    Ok(())
+}
+
+/// The burnt packs side by side: AP grey, HTPB black, burnt white.
+fn draw_burn_maps(path: &Path, maps: &[(String, BurnResult)]) -> Result<()> {
+    use plotters::prelude::*;
+    plot::register_font()?;
+    let px = 3u32;
+    let cols = 3usize;
+    let rows_n = maps.len().div_ceil(cols);
+    let (nx, ny) = maps.first().map_or((1, 1), |(_, r)| (r.n[0], r.n[1]));
+    let cell_w = nx as u32 * px + 20;
+    let cell_h = ny as u32 * px + 40;
+    let root = BitMapBackend::new(path, (cell_w * cols as u32, cell_h * rows_n as u32))
+        .into_drawing_area();
+    root.fill(&WHITE)
+        .map_err(|e| anyhow::anyhow!("clearing {}: {e}", path.display()))?;
+    for (k, (label, r)) in maps.iter().enumerate() {
+        let (cx, cy) = (
+            ((k % cols) as u32 * cell_w) as i32,
+            ((k / cols) as u32 * cell_h) as i32,
+        );
+        root.draw(&Text::new(
+            label.clone(),
+            (cx + 10, cy + 8),
+            ("sans-serif", 18).into_font(),
+        ))
+        .map_err(|e| anyhow::anyhow!("drawing a label: {e}"))?;
+        for iy in 0..r.n[1] {
+            for ix in 0..r.n[0] {
+                let colour = match r.materials[ix + r.n[0] * iy] {
+                    0 => RGBColor(150, 150, 150),
+                    1 => RGBColor(0, 0, 0),
+                    _ => continue,
+                };
+                let x0 = cx + 10 + (ix as u32 * px) as i32;
+                let y0 = cy + 30 + ((r.n[1] - 1 - iy) as u32 * px) as i32;
+                root.draw(&Rectangle::new(
+                    [(x0, y0), (x0 + px as i32, y0 + px as i32)],
+                    colour.filled(),
+                ))
+                .map_err(|e| anyhow::anyhow!("drawing a node: {e}"))?;
+            }
+        }
+    }
+    root.present()
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     Ok(())
 }

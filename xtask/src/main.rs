@@ -721,7 +721,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 15] = [
+const CASES: [&str; 17] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -735,6 +735,8 @@ const CASES: [&str; 15] = [
     "osc",
     "rod",
     "impedance",
+    "regress",
+    "aphtpb",
     "mpm-throughput",
     "throughput",
 ];
@@ -803,6 +805,12 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("impedance") {
         lattice_cases::v_impedance(&mut body)?;
+    }
+    if run("regress") {
+        lattice_cases::v_regress(&mut body, &img)?;
+    }
+    if run("aphtpb") {
+        lattice_cases::e_aphtpb(&mut body, &img)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;

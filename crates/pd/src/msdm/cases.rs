@@ -270,3 +270,356 @@ pub fn impedance(width: usize, v0: f64) -> Result<ImpedanceResult, MsdmError> {
         steps,
     })
 }
+
+/// Arrhenius speed of the V-REGRESS material, m/s (A = 1 kg/(m²·s),
+/// Eₐ = 0, ρ₀ = 1000 kg/m³).
+pub const REGRESS_SPEED: f64 = 1e-3;
+
+/// What a V-REGRESS run measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegressResult {
+    /// Solid nodes at the start.
+    pub nodes: usize,
+    /// Lattice spacing h, m.
+    pub spacing: f64,
+    /// Regression steps taken.
+    pub steps: usize,
+    /// Recession rate of the exposed nodes (mean normal position for the
+    /// face, mean radius for the disc) between 10 % and 100 % of the run,
+    /// over the Arrhenius speed.
+    pub rate_ratio: f64,
+    /// The same from the remaining volume.
+    pub rate_ratio_volume: f64,
+    /// RMS deviation of the exposed nodes from their mean (normal distance
+    /// for the face, radius for the disc) at the end, m.
+    pub rms: f64,
+    /// Largest minus smallest of the same, m.
+    pub spread: f64,
+    /// Mean of the same at the end, m (face: recession along the normal;
+    /// disc: radius).
+    pub mean: f64,
+    /// The same from the remaining volume (face: (V₀ − V)/(L h); disc:
+    /// √(V/(π h))), m.
+    pub mean_from_volume: f64,
+    /// Exposed node positions at the start and at the end, m.
+    pub surfaces: [Vec<[f64; 2]>; 2],
+}
+
+fn regress_lattice(
+    geom: Geometry,
+    radius: f64,
+    wall: impl FnMut(usize) -> bool,
+) -> Result<MsdmLattice, MsdmError> {
+    use super::regress::{Arrhenius, SurfaceRegression};
+    let mat = LatticeMaterial::elastic("fuel", 1e9, inert_eos(1000.0, 1000.0));
+    let opts = MsdmOptions {
+        thermal: false,
+        ..MsdmOptions::default()
+    };
+    let mut lat = MsdmLattice::new(geom, vec![mat], opts)?;
+    lat.mechanics = false;
+    let law = Arrhenius {
+        pre_exponential: 1000.0 * REGRESS_SPEED,
+        activation_energy: 0.0,
+        catalytic_factor: 1.0,
+    };
+    let mut reg = SurfaceRegression::new(&lat, vec![Some(law)], radius, 0.05)?;
+    reg.set_walls(&lat, wall);
+    lat.set_regression(reg)?;
+    Ok(lat)
+}
+
+/// Exposed solid nodes of a lattice with regression.
+fn exposed_nodes(lat: &MsdmLattice) -> Vec<usize> {
+    let reg = lat.regression.as_ref().expect("regression on");
+    (0..lat.len())
+        .filter(|&i| lat.geom.is_solid(i) && reg.exposed(lat, i))
+        .collect()
+}
+
+fn total_volume(lat: &MsdmLattice) -> f64 {
+    lat.regression
+        .as_ref()
+        .map_or(0.0, |r| r.remaining.iter().sum())
+}
+
+fn mean_rms_spread(v: &[f64]) -> (f64, f64, f64) {
+    let n = v.len().max(1) as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let rms = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (mean, rms, hi - lo)
+}
+
+/// A probe reading: time and two measures.
+type Probe = (f64, [f64; 2]);
+
+/// Runs a regression to `t_end` at its stable step, recording `probe` at
+/// `t1` (the first step ending at or after it); returns the steps and the
+/// probe values at `t1` and at the end with their times.
+fn run_regression(
+    lat: &mut MsdmLattice,
+    t1: f64,
+    t_end: f64,
+    probe: impl Fn(&MsdmLattice) -> [f64; 2],
+) -> Result<(usize, [Probe; 2]), MsdmError> {
+    let dt = lat.regression_dt();
+    let mut first = None;
+    let mut steps = 0;
+    while lat.time < t_end * (1.0 - 1e-12) {
+        lat.step(dt.min(t_end - lat.time))?;
+        steps += 1;
+        if first.is_none() && lat.time >= t1 {
+            first = Some((lat.time, probe(lat)));
+        }
+    }
+    let first = first.unwrap_or((lat.time, probe(lat)));
+    Ok((steps, [first, (lat.time, probe(lat))]))
+}
+
+/// V-REGRESS, face (seed 003 §2.6, fig. 15): a square of side 1 mm and
+/// `n` nodes per side rotated by 30° about the origin, only the face whose
+/// normal is (−sin 30°, cos 30°) exposed to fluid (the other exterior
+/// nodes are walls), regressed by half its side at 1 mm/s with the normal
+/// estimated over `radius` spacings. Surface statistics over the exposed
+/// nodes more than 2h from the side walls.
+pub fn regress_rotated_square(n: usize, radius: f64) -> Result<RegressResult, MsdmError> {
+    let side = 1e-3;
+    let h = side / n as f64;
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let local = |p: [f64; 3]| [c * p[0] + s * p[1], -s * p[0] + c * p[1]];
+    let normal = [-s, c];
+    let origin = [-side * s - h, -h, 0.0];
+    let extent = side * (s + c) + 2.0 * h;
+    let nb = (extent / h).ceil() as usize + 1;
+    let tol = 1e-9 * h;
+    let geom = Geometry::new(Dim::Two, [nb, nb, 1], h, false, |ix, iy, _| {
+        let q = local([origin[0] + ix as f64 * h, origin[1] + iy as f64 * h, 0.0]);
+        (q[0] >= -tol && q[0] <= side + tol && q[1] >= -tol && q[1] <= side + tol).then_some(0)
+    })
+    .with_origin(origin);
+    let g = geom.clone();
+    let mut lat = regress_lattice(geom, radius, |i| {
+        let q = local(g.reference_position(i));
+        !(q[1] > side && q[0] >= 0.0 && q[0] <= side)
+    })?;
+    let nodes = (0..lat.len()).filter(|&i| lat.geom.is_solid(i)).count();
+    let v0 = total_volume(&lat);
+    let depth = lat.geom.out_of_plane();
+    let inner = move |l: &MsdmLattice| -> Vec<f64> {
+        exposed_nodes(l)
+            .into_iter()
+            .filter(|&i| {
+                let q = local(l.geom.reference_position(i));
+                q[0] >= 2.0 * h && q[0] <= side - 2.0 * h
+            })
+            .map(|i| normal[0] * l.x[0][i] + normal[1] * l.x[1][i])
+            .collect()
+    };
+    let probe = move |l: &MsdmLattice| {
+        [
+            (v0 - total_volume(l)) / (side * depth),
+            side - mean_rms_spread(&inner(l)).0,
+        ]
+    };
+    let surface = |l: &MsdmLattice| -> Vec<[f64; 2]> {
+        exposed_nodes(l)
+            .into_iter()
+            .map(|i| [l.x[0][i], l.x[1][i]])
+            .collect()
+    };
+    let start = surface(&lat);
+    let t_end = 0.5 * side / REGRESS_SPEED;
+    let (steps, [(t1, p1), (t2, p2)]) = run_regression(&mut lat, 0.1 * t_end, t_end, probe)?;
+    let (mean, rms, spread) = mean_rms_spread(&inner(&lat));
+    Ok(RegressResult {
+        nodes,
+        spacing: h,
+        steps,
+        rate_ratio: (p2[1] - p1[1]) / (t2 - t1) / REGRESS_SPEED,
+        rate_ratio_volume: (p2[0] - p1[0]) / (t2 - t1) / REGRESS_SPEED,
+        rms,
+        spread,
+        // Initial face at normal distance `side` from the origin.
+        mean: side - mean,
+        mean_from_volume: p2[0],
+        surfaces: [start, surface(&lat)],
+    })
+}
+
+/// V-REGRESS, disc (seed 003 §2.6, fig. 16): a disc of radius 0.5 mm and
+/// `n` nodes per diameter, every exterior node fluid, regressed to half its
+/// radius at 1 mm/s with the normal estimated over `radius` spacings.
+pub fn regress_disc(n: usize, radius: f64) -> Result<RegressResult, MsdmError> {
+    let r0 = 0.5e-3;
+    let h = 2.0 * r0 / n as f64;
+    let nb = n + 3;
+    let origin = [
+        -(nb as f64 - 1.0) * 0.5 * h,
+        -(nb as f64 - 1.0) * 0.5 * h,
+        0.0,
+    ];
+    let geom = Geometry::new(Dim::Two, [nb, nb, 1], h, false, |ix, iy, _| {
+        let p = [origin[0] + ix as f64 * h, origin[1] + iy as f64 * h];
+        (p[0] * p[0] + p[1] * p[1] <= r0 * r0 * (1.0 + 1e-12)).then_some(0)
+    })
+    .with_origin(origin);
+    let mut lat = regress_lattice(geom, radius, |_| false)?;
+    let nodes = (0..lat.len()).filter(|&i| lat.geom.is_solid(i)).count();
+    let depth = lat.geom.out_of_plane();
+    let radii = |l: &MsdmLattice| -> Vec<f64> {
+        exposed_nodes(l)
+            .into_iter()
+            .map(|i| l.x[0][i].hypot(l.x[1][i]))
+            .collect()
+    };
+    let probe = move |l: &MsdmLattice| {
+        [
+            (total_volume(l) / (std::f64::consts::PI * depth)).sqrt(),
+            mean_rms_spread(&radii(l)).0,
+        ]
+    };
+    let surface = |l: &MsdmLattice| -> Vec<[f64; 2]> {
+        exposed_nodes(l)
+            .into_iter()
+            .map(|i| [l.x[0][i], l.x[1][i]])
+            .collect()
+    };
+    let start = surface(&lat);
+    let t_end = 0.5 * r0 / REGRESS_SPEED;
+    let (steps, [(t1, p1), (t2, p2)]) = run_regression(&mut lat, 0.1 * t_end, t_end, probe)?;
+    let (mean, rms, spread) = mean_rms_spread(&radii(&lat));
+    Ok(RegressResult {
+        nodes,
+        spacing: h,
+        steps,
+        rate_ratio: (p1[1] - p2[1]) / (t2 - t1) / REGRESS_SPEED,
+        rate_ratio_volume: (p1[0] - p2[0]) / (t2 - t1) / REGRESS_SPEED,
+        rms,
+        spread,
+        mean,
+        mean_from_volume: p2[0],
+        surfaces: [start, surface(&lat)],
+    })
+}
+
+/// Arrhenius parameters of seed 003 §3.1: AP (A, Eₐ).
+pub const AP_ARRHENIUS: (f64, f64) = (5.0e6, 92_109.6);
+/// Arrhenius parameters of seed 003 §3.1: HTPB (A, Eₐ).
+pub const HTPB_ARRHENIUS: (f64, f64) = (3.0e4, 62_800.0);
+/// Densities of AP and HTPB, kg/m³.
+pub const AP_HTPB_DENSITY: (f64, f64) = (1950.0, 920.0);
+
+/// What an E-APHTPB burn measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BurnResult {
+    /// Burn rate from the mean height of the remaining propellant
+    /// (remaining volume over width × depth) at `times`, m/s.
+    pub rate: f64,
+    /// Burn rate from the mean height of the topmost solid node of each
+    /// column at `times`, m/s.
+    pub rate_surface: f64,
+    /// AP mass fraction of the nodes.
+    pub ap_mass_fraction: f64,
+    /// The two times, s.
+    pub times: [f64; 2],
+    /// Steps taken.
+    pub steps: usize,
+    /// Nodes along x and y.
+    pub n: [usize; 2],
+    /// Material of each node of the solid block at the end (0 AP, 1 HTPB,
+    /// −1 burnt), row-major from the bottom row.
+    pub materials: Vec<i8>,
+}
+
+/// E-APHTPB (seed 003 ch. 3): a `side` × `side` slice of `n` × `n` nodes,
+/// 200 µm AP discs at 80 wt % in HTPB (random pack `seed`), burning from the
+/// top face at the surface temperature `temperature` with the catalytic
+/// factor `omega` on AP, no mechanics. The mean heights are taken when the
+/// AP rate would have burnt 0.2 mm and 1.2 mm (scaled to the slice).
+pub fn aphtpb_burn(
+    side: f64,
+    n: usize,
+    temperature: f64,
+    omega: f64,
+    seed: u64,
+) -> Result<BurnResult, MsdmError> {
+    use super::pack::{area_fraction, node_mass_fraction, random_disc_pack};
+    use super::regress::{Arrhenius, SurfaceRegression};
+    let h = side / (n - 1) as f64;
+    let (rho_ap, rho_htpb) = AP_HTPB_DENSITY;
+    let phi = area_fraction(0.8, rho_ap, rho_htpb);
+    let pack =
+        random_disc_pack(side + h, side + h, 2.0e-4, phi, seed).map_err(MsdmError::Invalid)?;
+    let inside = pack.rasterise(n, n, h);
+    let geom = Geometry::new(Dim::Two, [n, n, 1], h, false, |ix, iy, _| {
+        Some(if inside[ix + n * iy] { 0 } else { 1 })
+    });
+    let mats = vec![
+        LatticeMaterial::elastic("ap", 20e9, inert_eos(rho_ap, 2500.0)),
+        LatticeMaterial::elastic("htpb", 1e9, inert_eos(rho_htpb, 1600.0)),
+    ];
+    let opts = MsdmOptions {
+        thermal: false,
+        initial_temperature: temperature,
+        ..MsdmOptions::default()
+    };
+    let mut lat = MsdmLattice::new(geom, mats, opts)?;
+    lat.mechanics = false;
+    let ap = Arrhenius {
+        pre_exponential: AP_ARRHENIUS.0,
+        activation_energy: AP_ARRHENIUS.1,
+        catalytic_factor: omega,
+    };
+    let htpb = Arrhenius {
+        pre_exponential: HTPB_ARRHENIUS.0,
+        activation_energy: HTPB_ARRHENIUS.1,
+        catalytic_factor: 1.0,
+    };
+    let mut reg = SurfaceRegression::new(&lat, vec![Some(ap), Some(htpb)], 1.0, 0.05)?;
+    let top = lat.geom.n[1] - 1;
+    let g = lat.geom.clone();
+    reg.set_walls(&lat, |i| g.coords(i)[1] != top);
+    lat.set_regression(reg)?;
+    let ap_mass_fraction = node_mass_fraction(&lat, 0);
+    let width_depth = side * lat.geom.out_of_plane();
+    let heights = |l: &MsdmLattice| -> [f64; 2] {
+        let v: f64 = l
+            .regression
+            .as_ref()
+            .map_or(0.0, |r| r.remaining.iter().sum());
+        let mut tops = 0.0;
+        for ix in 0..n {
+            let mut y = 0.0f64;
+            for iy in (0..n).rev() {
+                let i = l.geom.solid_index(ix, iy, 0);
+                if l.geom.is_solid(i) {
+                    y = l.x[1][i];
+                    break;
+                }
+            }
+            tops += y;
+        }
+        [v / width_depth, tops / n as f64]
+    };
+    let speed = ap.speed(rho_ap, temperature);
+    let t1 = 0.2 * side / 2.4 / speed;
+    let t2 = 1.2 * side / 2.4 / speed;
+    let (steps, [(ta, ha), (tb, hb)]) = run_regression(&mut lat, t1, t2, heights)?;
+    let materials = (0..n * n)
+        .map(|k| {
+            let i = lat.geom.solid_index(k % n, k / n, 0);
+            lat.material_of(i).map_or(-1, |m| m as i8)
+        })
+        .collect();
+    Ok(BurnResult {
+        rate: (ha[0] - hb[0]) / (tb - ta),
+        rate_surface: (ha[1] - hb[1]) / (tb - ta),
+        ap_mass_fraction,
+        times: [ta, tb],
+        steps,
+        n: [n, n],
+        materials,
+    })
+}
