@@ -9,7 +9,18 @@
 //! 1 − (N − 1)·10⁻⁶ and every other material as a trace of volume fraction
 //! 10⁻⁶ at the region's density, velocity and pressure (the rule of the
 //! crate's two-material Sod tube, `brisance_ice::cases::sod_two`). The
-//! region's pressure is found from its state with its material's EOS.
+//! region's pressure is found from its state with its material's EOS. A
+//! trace material that has no state of positive temperature at the
+//! region's density and pressure (JWL++ products at the density of
+//! unreacted explosive and 1 atm) takes its own density at the region's
+//! pressure and temperature instead.
+//!
+//! `reactions` lists the reactions of step 4 (seed 000 eq 1), each
+//! `(reactant: "...", product: "...", model: JwlPlusPlus(g: ..., b: ...))`
+//! between two of `materials`; `heat_of_reaction` (J/kg) may be left out
+//! when the reactant is `Murnaghan` and the product `JwlCTerm` with the same
+//! ρ₀, and is then the JWL++ detonation energy of the products
+//! (`brisance_reaction::jwlpp::detonation_energy`).
 //!
 //! Faces: `Outflow` → zero-gradient outflow, `Reflective` → symmetry plane
 //! (slip wall), `Wall` → a fixed wall of velocity 0, `Periodic` → periodic;
@@ -19,8 +30,8 @@ use brisance_core::Eos;
 use brisance_eos::EosModel;
 use brisance_grid::Level;
 use brisance_ice::{
-    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver, MaterialState,
-    GHOST, MAX_MATERIALS,
+    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
+    JwlPlusPlus, MaterialState, GHOST, MAX_MATERIALS,
 };
 use serde::{Deserialize, Serialize};
 
@@ -56,6 +67,105 @@ pub struct IceConfig {
     /// Conserve total energy (default true; see docs/physics/ice/steps.md).
     #[serde(default = "default_true")]
     pub conserve_total_energy: bool,
+    /// Reactions between the materials (step 4; default none).
+    #[serde(default)]
+    pub reactions: Vec<IceReactionConfig>,
+}
+
+/// One reaction of the Ice pipeline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IceReactionConfig {
+    /// The reactant (one of `pipeline.materials`).
+    pub reactant: String,
+    /// The product (one of `pipeline.materials`).
+    pub product: String,
+    /// The rate law.
+    pub model: IceReactionModel,
+    /// Chemical energy released per kilogram burnt, J/kg (default: the
+    /// JWL++ detonation energy of a `Murnaghan` → `JwlCTerm` pair).
+    #[serde(default)]
+    pub heat_of_reaction: Option<f64>,
+}
+
+/// The reaction models the Ice pipeline can name.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum IceReactionModel {
+    /// JWL++ (seed 000 §4.1.1 eqs 35–37).
+    JwlPlusPlus(JwlPlusPlus),
+}
+
+/// The solver's reactions of `cfg`, checked; errors carry the field path.
+fn reactions(s: &Scenario, cfg: &IceConfig) -> Result<Vec<IceReaction>, Problem> {
+    let eos = material_eos(s, cfg)?;
+    let mut out: Vec<IceReaction> = Vec::new();
+    for (k, r) in cfg.reactions.iter().enumerate() {
+        let path = |f: &str| format!("pipeline.reactions.{k}.{f}");
+        let index = |f: &str, name: &str| {
+            cfg.materials.iter().position(|m| m == name).ok_or_else(|| {
+                (
+                    path(f),
+                    format!(
+                        "`{name}` is not in pipeline.materials ({})",
+                        cfg.materials.join(", ")
+                    ),
+                )
+            })
+        };
+        let (a, b) = (
+            index("reactant", &r.reactant)?,
+            index("product", &r.product)?,
+        );
+        if a == b {
+            return Err((path("product"), "the product is the reactant".into()));
+        }
+        if out.iter().any(|o| o.reactant == a) {
+            return Err((
+                path("reactant"),
+                format!(
+                    "`{}` is already the reactant of another reaction",
+                    r.reactant
+                ),
+            ));
+        }
+        let IceReactionModel::JwlPlusPlus(rate) = r.model;
+        rate.validate()
+            .map_err(|e| (path("model"), e.to_string()))?;
+        let heat = match r.heat_of_reaction {
+            Some(q) => {
+                if !(q >= 0.0 && q.is_finite()) {
+                    return Err((path("heat_of_reaction"), format!("{q} must be finite and ≥ 0")));
+                }
+                q
+            }
+            None => match (&eos[a], &eos[b]) {
+                (EosModel::Murnaghan(m), EosModel::JwlCTerm(j)) => {
+                    brisance_reaction_energy(m, j).map_err(|e| (path("heat_of_reaction"), e))?
+                }
+                _ => {
+                    return Err((
+                        path("heat_of_reaction"),
+                        "give heat_of_reaction (J/kg): it has a default only for a Murnaghan reactant and JwlCTerm products".into(),
+                    ))
+                }
+            },
+        };
+        out.push(IceReaction {
+            reactant: a,
+            product: b,
+            rate,
+            heat_of_reaction: heat,
+        });
+    }
+    Ok(out)
+}
+
+/// JWL++ detonation energy of a Murnaghan → JwlCTerm pair, J/kg.
+fn brisance_reaction_energy(
+    m: &brisance_eos::Murnaghan,
+    j: &brisance_eos::JwlCTerm,
+) -> Result<f64, String> {
+    brisance_ice::reaction::detonation_energy(m, j)
 }
 
 fn default_cfl() -> f64 {
@@ -159,6 +269,7 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
         }
     }
     material_eos(s, cfg)?;
+    reactions(s, cfg)?;
     if !(cfg.cfl > 0.0 && cfg.cfl <= 1.0) {
         return Err((
             "pipeline.cfl".into(),
@@ -259,17 +370,35 @@ pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Probl
             let p = primitive_state(&eos[m], &r.state)
                 .map_err(|e| (format!("initial.{i}.state"), e))?;
             let trace = TRACE_FRACTION;
+            let t_region = eos[m].temperature(
+                p.density,
+                eos[m]
+                    .specific_internal_energy(p.density, p.pressure)
+                    .map_err(|e| (format!("initial.{i}.state"), e.to_string()))?,
+            );
             let materials = (0..n)
-                .map(|k| MaterialState {
-                    volume_fraction: if k == m {
-                        1.0 - (n - 1) as f64 * trace
+                .map(|k| {
+                    let density = if k == m {
+                        p.density
                     } else {
-                        trace
-                    },
-                    density: p.density,
-                    velocity: p.velocity,
+                        trace_density(&eos[k], p.density, p.pressure, t_region).map_err(|e| {
+                            (
+                                format!("initial.{i}.state"),
+                                format!("trace of `{}`: {e}", cfg.materials[k]),
+                            )
+                        })?
+                    };
+                    Ok(MaterialState {
+                        volume_fraction: if k == m {
+                            1.0 - (n - 1) as f64 * trace
+                        } else {
+                            trace
+                        },
+                        density,
+                        velocity: p.velocity,
+                    })
                 })
-                .collect();
+                .collect::<Result<Vec<_>, Problem>>()?;
             Ok(CellState {
                 pressure: p.pressure,
                 materials,
@@ -303,8 +432,26 @@ pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Probl
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);
-    IceSolver::new(eos, level, boundaries, exchange, options, init)
-        .map_err(|e| ("pipeline".into(), e.to_string()))
+    let reactions = reactions(s, cfg)?;
+    let mut solver = IceSolver::new(eos, level, boundaries, exchange, options, init)
+        .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
+    solver
+        .set_reactions(reactions)
+        .map_err(|e| ("pipeline.reactions".to_string(), e.to_string()))?;
+    Ok(solver)
+}
+
+/// Density of a trace material in a region of density `rho`, pressure `p`
+/// and temperature `t`: the region's density when the material has a state
+/// of positive temperature there, else its own density at (p, t).
+fn trace_density(eos: &EosModel, rho: f64, p: f64, t: f64) -> Result<f64, String> {
+    if let Ok(e) = eos.specific_internal_energy(rho, p) {
+        let temp = eos.temperature(rho, e);
+        if temp > 0.0 && temp.is_finite() {
+            return Ok(rho);
+        }
+    }
+    eos.density(p, t).map_err(|e| e.to_string())
 }
 
 /// One paragraph for `check`.
@@ -387,6 +534,70 @@ mod tests {
         assert!(diff <= 1e-12, "max |ρ − ρ_crate| = {diff}");
         // x = 0.755, between contact (0.685) and shock (0.850).
         assert!((rho[75] - 0.26557).abs() < 5e-3, "rho = {}", rho[75]);
+    }
+
+    const STICK: &str = include_str!("../../../configs/ratestick_1d.ron");
+
+    /// configs/ratestick_1d.ron at h = 2 mm (50 cells): the 90 m/s impact
+    /// on the wall starts a detonation that burns the explosive behind it
+    /// and reaches x = 6 cm by 15 µs (D_CJ = 5899 m/s).
+    #[test]
+    fn ratestick_config_detonates() {
+        let loaded =
+            load_str("ratestick_1d.ron", STICK, &["domain.cells=(50,1,1)".into()]).unwrap();
+        let mut solver = build_solver(&loaded.scenario).unwrap();
+        while solver.time() < 1.5e-5 {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
+        }
+        let d = solver
+            .cell_data(&["volume_fraction_1".into(), "pressure".into()])
+            .unwrap();
+        let theta = d.field("volume_fraction_1").unwrap();
+        let p = d.field("pressure").unwrap();
+        let burnt = theta.iter().take_while(|&&t| t < 0.5).count();
+        let p_max = p.iter().cloned().fold(0.0, f64::max);
+        eprintln!("burnt cells {burnt} of 50, p max {p_max:e}");
+        // 15 µs at ~5 km/s after a ~3 µs start: 5–7 cm burnt.
+        assert!((20..=40).contains(&burnt), "{burnt}");
+        assert!(p_max > 5e9, "{p_max:e}");
+    }
+
+    /// A reaction naming a material outside the pipeline, or products
+    /// without a default heat of reaction, is reported at its field.
+    #[test]
+    fn bad_reactions_name_the_field() {
+        let bad = STICK.replace("reactant: \"anfo\"", "reactant: \"tnt\"");
+        let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.reactions.0.reactant"),
+            "{err}"
+        );
+        let bad = STICK.replace("g: 3.5083e-7", "g: -1.0");
+        let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.reactions.0.model"),
+            "{err}"
+        );
+        let bad = STICK.replace("product: \"products\"", "product: \"anfo\"");
+        let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.reactions.0.product"),
+            "{err}"
+        );
+        let bad = STICK.replace(
+            "\"products\": (eos: JwlCTerm(a: 2.9867e11, b: 4.11706e9, c: 7.206147e8, r1: 4.95, r2: 1.15, omega: 0.35, rho0: 1160.0, cv: 862.0689655172414)),",
+            "\"products\": (eos: IdealGas(gamma: 1.4, cv: 717.6, rho0: 1.2)),",
+        );
+        let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.reactions.0.heat_of_reaction"),
+            "{err}"
+        );
     }
 
     /// Unknown names and a material without EOS are reported at their field.

@@ -30,7 +30,15 @@
 //! equilibration (the choice of Uintah's JWL++ model; see
 //! `docs/physics/reaction/jwlpp.md`).
 
+use brisance_eos::{JwlCTerm, Murnaghan};
 use brisance_reaction::jwlpp::JwlPlusPlus;
+
+/// Chemical energy of a JWL++ reactant → products pair, J/kg
+/// ([`brisance_reaction::jwlpp::detonation_energy`]), the message naming
+/// what is wrong.
+pub fn detonation_energy(reactant: &Murnaghan, products: &JwlCTerm) -> Result<f64, String> {
+    brisance_reaction::jwlpp::detonation_energy(reactant, products).map_err(|e| e.to_string())
+}
 
 /// One reaction between two of the solver's materials.
 #[derive(Debug, Clone, Copy, PartialEq)]
