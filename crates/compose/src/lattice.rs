@@ -11,10 +11,18 @@
 //! damping, plasticity, fracture); the Mie–Grüneisen EOS of seed 003
 //! eqs 12–14 is the scenario material's `MieGruneisenThermal` EOS (e.g. the
 //! library's `hmx_crystal`, `estane`).
+//!
+//! A material with an `arrhenius` law regresses where it meets the fluid
+//! (seed 003 §2.4, `brisance_pd::msdm::regress`); `regression` says which
+//! exterior nodes are fluid. A `pack` replaces the material of the solid
+//! nodes by a crystal/binder image (PGM, one node per pixel) or a random
+//! pack of discs (`brisance_pd::msdm::pack`).
 
 use std::collections::BTreeMap;
 
 use brisance_eos::EosModel;
+use brisance_pd::msdm::pack::{area_fraction, random_disc_pack, read_pgm, GrayImage};
+use brisance_pd::msdm::regress::{Arrhenius, SurfaceRegression};
 use brisance_pd::msdm::{
     Damping, Dim, Geometry, Hysteretic, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions,
     Plasticity, Surroundings,
@@ -64,6 +72,88 @@ pub struct LatticeConfig {
     /// Prescribed node velocities.
     #[serde(default)]
     pub boundaries: Vec<LatticeBoundaryConfig>,
+    /// Momentum equation on (default true). Off, the lattice only
+    /// regresses (the propellant burns of seed 003 §3.1); `thermal` must
+    /// then be false.
+    #[serde(default = "default_true")]
+    pub mechanics: bool,
+    /// Surface regression settings (used when a material has `arrhenius`;
+    /// default: every exterior node is fluid, the seed's normal rule).
+    #[serde(default)]
+    pub regression: Option<RegressionConfig>,
+    /// Heterogeneous pack replacing the material of the solid nodes.
+    #[serde(default)]
+    pub pack: Option<PackConfig>,
+}
+
+/// Surface regression settings (seed 003 §2.4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegressionConfig {
+    /// Regions whose exterior nodes are fluid; the other exterior nodes are
+    /// inert walls. Default: every exterior node is fluid.
+    #[serde(default)]
+    pub fluid: Option<Vec<Region>>,
+    /// Radius of the surface-normal estimate in spacings (default 1: the
+    /// seed's rule, away from the axial fluid neighbours).
+    #[serde(default = "default_normal_radius")]
+    pub normal_radius: f64,
+    /// Largest regression per step in spacings (default 0.05).
+    #[serde(default = "default_step_fraction")]
+    pub step_fraction: f64,
+}
+
+impl Default for RegressionConfig {
+    fn default() -> Self {
+        Self {
+            fluid: None,
+            normal_radius: default_normal_radius(),
+            step_fraction: default_step_fraction(),
+        }
+    }
+}
+
+fn default_normal_radius() -> f64 {
+    1.0
+}
+fn default_step_fraction() -> f64 {
+    0.05
+}
+
+/// A heterogeneous pack (2D): the material of every solid node from an
+/// image pixel or from a random pack of discs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum PackConfig {
+    /// A PGM image (`P5` or `P2`) with one pixel per node of the domain
+    /// (width × height = the node counts along x × y; row 0 at the top):
+    /// `crystal` where the grey level is at least `threshold`, `binder`
+    /// elsewhere. `path` is relative to the working directory.
+    Image {
+        /// Image file.
+        path: String,
+        /// Grey level from which a pixel is crystal.
+        threshold: u16,
+        /// Material of the bright pixels.
+        crystal: String,
+        /// Material of the dark pixels.
+        binder: String,
+    },
+    /// Discs of one diameter at a mass fraction, placed at random in the
+    /// domain's x–y box taken as periodic (RocPack-like; see
+    /// `docs/physics/lattice/packs.md`).
+    RandomDiscs {
+        /// Disc diameter, m.
+        diameter: f64,
+        /// Mass fraction of the particles, in (0, 1).
+        mass_fraction: f64,
+        /// Material of the discs.
+        particle: String,
+        /// Material between the discs.
+        binder: String,
+        /// Seed of the random stream.
+        seed: u64,
+    },
 }
 
 /// Lattice parameters of a material (seed 003 §2.1); its EOS is the
@@ -94,6 +184,9 @@ pub struct LatticeMaterialConfig {
     /// Chemical enthalpy h_k, J/kg (default 0).
     #[serde(default)]
     pub enthalpy: f64,
+    /// Arrhenius pyrolysis law (seed 003 §2.4; default: inert).
+    #[serde(default)]
+    pub arrhenius: Option<Arrhenius>,
 }
 
 /// The lattice material `name`: the pipeline's parameters with the
@@ -135,6 +228,10 @@ fn lattice_material(
     };
     mat.validate()
         .map_err(|e| (format!("pipeline.materials.{name}"), e))?;
+    if let Some(a) = &m.arrhenius {
+        let field = format!("pipeline.materials.{name}.arrhenius");
+        a.validate(&field).map_err(|e| (field, e))?;
+    }
     Ok(mat)
 }
 
@@ -208,6 +305,75 @@ pub fn validate(s: &Scenario, cfg: &LatticeConfig) -> Result<(), Problem> {
     for (name, m) in &cfg.materials {
         lattice_material(s, name, m)?;
     }
+    if !cfg.mechanics && cfg.thermal {
+        return Err((
+            "pipeline.mechanics".into(),
+            "`mechanics: false` needs `thermal: false` (the energy equation uses the mechanical \
+             volume update)"
+                .into(),
+        ));
+    }
+    if let Some(r) = &cfg.regression {
+        if !(1.0..=16.0).contains(&r.normal_radius) {
+            return Err((
+                "pipeline.regression.normal_radius".into(),
+                format!("{} spacings, expected a value in [1, 16]", r.normal_radius),
+            ));
+        }
+        if !(r.step_fraction > 0.0 && r.step_fraction <= 1.0) {
+            return Err((
+                "pipeline.regression.step_fraction".into(),
+                format!("{}, expected a value in (0, 1]", r.step_fraction),
+            ));
+        }
+    }
+    if let Some(p) = &cfg.pack {
+        if cfg.dimension != Dim::Two {
+            return Err((
+                "pipeline.pack".into(),
+                format!("packs are 2D; `dimension` is {:?}", cfg.dimension),
+            ));
+        }
+        let (names, field): (Vec<&String>, &str) = match p {
+            PackConfig::Image {
+                crystal, binder, ..
+            } => (vec![crystal, binder], "Image"),
+            PackConfig::RandomDiscs {
+                particle,
+                binder,
+                diameter,
+                mass_fraction,
+                ..
+            } => {
+                if !(*mass_fraction > 0.0 && *mass_fraction < 1.0) {
+                    return Err((
+                        "pipeline.pack.mass_fraction".into(),
+                        format!("{mass_fraction}, expected a value in (0, 1)"),
+                    ));
+                }
+                if !(*diameter > 0.0 && diameter.is_finite()) {
+                    return Err((
+                        "pipeline.pack.diameter".into(),
+                        format!("{diameter} m, expected a finite value > 0"),
+                    ));
+                }
+                (vec![particle, binder], "RandomDiscs")
+            }
+        };
+        for (k, name) in names.into_iter().enumerate() {
+            if !cfg.materials.contains_key(name) {
+                let which = match (field, k) {
+                    ("Image", 0) => "crystal",
+                    ("RandomDiscs", 0) => "particle",
+                    _ => "binder",
+                };
+                return Err((
+                    format!("pipeline.pack.{which}"),
+                    format!("`{name}` has no entry in pipeline.materials"),
+                ));
+            }
+        }
+    }
     for (i, r) in s.initial.iter().enumerate() {
         if !cfg.materials.contains_key(&r.material) {
             return Err((
@@ -253,12 +419,12 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
         p
     };
     let region_of = |p: [f64; 3]| s.initial.iter().position(|r| r.region.contains(p));
+    let index_of = |name: &str| names.iter().position(|m| *m == name).unwrap_or(0) as u16;
+    let pack = pack_materials(s, cfg, n, &index_of)?;
     let geom = Geometry::new(cfg.dimension, n, h, cfg.diagonals, |ix, iy, iz| {
-        region_of(position(ix, iy, iz)).map(|r| {
-            names
-                .iter()
-                .position(|m| **m == s.initial[r].material)
-                .unwrap_or(0) as u16
+        region_of(position(ix, iy, iz)).map(|r| match &pack {
+            Some(m) => m[ix + n[0] * iy],
+            None => index_of(&s.initial[r].material),
         })
     })
     .with_origin(position(0, 0, 0));
@@ -274,6 +440,22 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
     };
     let mut lat = MsdmLattice::new(geom, materials, options)
         .map_err(|e| ("pipeline".into(), e.to_string()))?;
+    lat.mechanics = cfg.mechanics;
+    let laws: Vec<Option<Arrhenius>> = cfg.materials.values().map(|m| m.arrhenius).collect();
+    if laws.iter().any(Option::is_some) {
+        let rc = cfg.regression.clone().unwrap_or_default();
+        let mut reg = SurfaceRegression::new(&lat, laws, rc.normal_radius, rc.step_fraction)
+            .map_err(|e| ("pipeline.regression".to_string(), e.to_string()))?;
+        if let Some(fluid) = &rc.fluid {
+            let g = lat.geom.clone();
+            reg.set_walls(&lat, |i| {
+                let p = g.reference_position(i);
+                !fluid.iter().any(|r| r.contains(p))
+            });
+        }
+        lat.set_regression(reg)
+            .map_err(|e| ("pipeline.regression".to_string(), e.to_string()))?;
+    }
     // Initial velocities and prescribed nodes.
     for i in 0..lat.len() {
         if !lat.geom.is_solid(i) {
@@ -296,18 +478,112 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
     Ok(lat)
 }
 
+/// Material index of every node of the `n[0]` × `n[1]` solid block from
+/// the pack, row-major from the bottom row (`None` without a pack).
+fn pack_materials(
+    s: &Scenario,
+    cfg: &LatticeConfig,
+    n: [usize; 3],
+    index_of: &dyn Fn(&str) -> u16,
+) -> Result<Option<Vec<u16>>, Problem> {
+    let Some(pack) = &cfg.pack else {
+        return Ok(None);
+    };
+    match pack {
+        PackConfig::Image {
+            path,
+            threshold,
+            crystal,
+            binder,
+        } => {
+            let bytes = std::fs::read(path).map_err(|e| {
+                (
+                    "pipeline.pack.path".to_string(),
+                    format!("cannot read `{path}`: {e}"),
+                )
+            })?;
+            let img: GrayImage =
+                read_pgm(&bytes).map_err(|e| ("pipeline.pack.path".to_string(), e))?;
+            if img.width != n[0] || img.height != n[1] {
+                return Err((
+                    "pipeline.pack.path".into(),
+                    format!(
+                        "`{path}` is {} × {} pixels, the lattice {} × {} nodes (one node per pixel: \
+                         domain extent / spacing + 1)",
+                        img.width, img.height, n[0], n[1]
+                    ),
+                ));
+            }
+            let (c, b) = (index_of(crystal), index_of(binder));
+            let mut m = Vec::with_capacity(n[0] * n[1]);
+            for iy in 0..n[1] {
+                for ix in 0..n[0] {
+                    m.push(if img.at_lattice(ix, iy) >= *threshold {
+                        c
+                    } else {
+                        b
+                    });
+                }
+            }
+            Ok(Some(m))
+        }
+        PackConfig::RandomDiscs {
+            diameter,
+            mass_fraction,
+            particle,
+            binder,
+            seed,
+        } => {
+            let rho = |name: &str| -> Result<f64, Problem> {
+                match s.materials.get(name).and_then(|c| c.eos()) {
+                    Some(EosModel::MieGruneisenThermal(e)) => Ok(e.rho0),
+                    _ => Err((
+                        format!("materials.{name}.eos"),
+                        "a pack material needs a `MieGruneisenThermal` EOS".into(),
+                    )),
+                }
+            };
+            let phi = area_fraction(*mass_fraction, rho(particle)?, rho(binder)?);
+            let width = (n[0] - 1) as f64 * cfg.spacing;
+            let height = (n[1] - 1) as f64 * cfg.spacing;
+            // The periodic box is the node span plus one spacing, so the
+            // pattern repeats with the lattice period.
+            let disc = random_disc_pack(
+                width + cfg.spacing,
+                height + cfg.spacing,
+                *diameter,
+                phi,
+                *seed,
+            )
+            .map_err(|e| ("pipeline.pack".to_string(), e))?;
+            let inside = disc.rasterise(n[0], n[1], cfg.spacing);
+            let (p, b) = (index_of(particle), index_of(binder));
+            Ok(Some(
+                inside.iter().map(|&k| if k { p } else { b }).collect(),
+            ))
+        }
+    }
+}
+
 /// One paragraph for `check`.
 pub fn describe(s: &Scenario, cfg: &LatticeConfig) -> String {
     let n = node_counts(s, cfg);
     format!(
         "scenario `{}`: Lattice pipeline (mass–spring–damper lattice, seed 003), {:?}, spacing {} m, \
-         {n:?} nodes, {:?}, diagonals {}, energy equation {}\n  materials: {}\n  time: to {} s",
+         {n:?} nodes, {:?}, diagonals {}, energy equation {}, mechanics {}, surface regression {}, pack {}\n  materials: {}\n  time: to {} s",
         s.name,
         cfg.dimension,
         cfg.spacing,
         cfg.integrator,
         cfg.diagonals,
         cfg.thermal,
+        cfg.mechanics,
+        cfg.materials.values().any(|m| m.arrhenius.is_some()),
+        match &cfg.pack {
+            None => "none",
+            Some(PackConfig::Image { .. }) => "image",
+            Some(PackConfig::RandomDiscs { .. }) => "random discs",
+        },
         cfg.materials
             .keys()
             .map(|k| format!("`{k}`"))
@@ -375,5 +651,109 @@ mod tests {
             );
         }
         assert!((direct.energy - iterative.energy).abs() <= 1e-8 * direct.energy.abs());
+    }
+
+    /// The burning-propellant example: the random AP pack has the 80 wt %
+    /// AP of its configuration to the pixelation error, only the top face
+    /// regresses, and the regression conserves mass (burnt + remaining).
+    #[test]
+    fn propellant_pack_loads_and_regresses_from_the_top() {
+        use brisance_core::Solver;
+        use brisance_pd::msdm::pack::node_mass_fraction;
+        let text = include_str!("../../../configs/lattice_burn.ron");
+        let loaded = load_str("lattice_burn.ron", text, &[]).unwrap();
+        let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+            panic!("not a lattice");
+        };
+        let mut lat = super::build(&loaded.scenario, cfg).unwrap();
+        // Materials are in name order: ap = 0, htpb = 1.
+        let w = node_mass_fraction(&lat, 0);
+        assert!((w - 0.8).abs() < 0.03, "AP mass fraction {w}");
+        let m0: f64 = lat.mass.iter().sum();
+        let dt = lat.stable_dt().unwrap();
+        // step_fraction 0.05 h at the faster AP speed at 860 K.
+        let ap = cfg.materials["ap"].arrhenius.unwrap();
+        assert!((dt - 0.05 * 2.4e-5 / ap.speed(1950.0, 860.0)).abs() < 1e-12 * dt);
+        let top = lat.geom.n[1] - 3;
+        let bottom_y = lat.x[1][lat.geom.solid_index(50, 0, 0)];
+        for _ in 0..30 {
+            lat.advance(dt).unwrap();
+        }
+        let reg = lat.regression.as_ref().unwrap();
+        assert!(reg.consumed_mass > 0.0);
+        let m1: f64 = lat.mass.iter().sum();
+        assert!((m1 + reg.consumed_mass - m0).abs() < 1e-12 * m0);
+        // The top row has moved, the bottom row has not.
+        let i = lat.geom.solid_index(50, top, 0);
+        assert!(lat.x[1][i] < top as f64 * 2.4e-5);
+        assert_eq!(lat.x[1][lat.geom.solid_index(50, 0, 0)], bottom_y);
+        // Field-naming errors.
+        let bad = text.replace("particle: \"ap\"", "particle: \"apx\"");
+        let err = load_str("lattice_burn.ron", &bad, &[]).unwrap_err();
+        assert!(err.to_string().contains("pipeline.pack.particle"), "{err}");
+        let bad = text.replace("pre_exponential: 5.0e6", "pre_exponential: -5.0e6");
+        let err = load_str("lattice_burn.ron", &bad, &[]).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("materials.ap.arrhenius.pre_exponential"),
+            "{err}"
+        );
+        let bad = text.replace("thermal: false", "thermal: true");
+        let err = load_str("lattice_burn.ron", &bad, &[]).unwrap_err();
+        assert!(err.to_string().contains("pipeline.mechanics"), "{err}");
+        let bad = text.replace("normal_radius: 1.0", "normal_radius: 0.5");
+        let err = load_str("lattice_burn.ron", &bad, &[]).unwrap_err();
+        assert!(err.to_string().contains("normal_radius"), "{err}");
+        let bad = text.replace("mass_fraction: 0.8", "mass_fraction: 1.2");
+        let err = load_str("lattice_burn.ron", &bad, &[]).unwrap_err();
+        assert!(
+            err.to_string().contains("pipeline.pack.mass_fraction"),
+            "{err}"
+        );
+        let bad = text.replace(
+            "activation_energy: 62800.0",
+            "activation_energy: 62800.0, omega: 2.0",
+        );
+        assert!(load_str("lattice_burn.ron", &bad, &[]).is_err());
+    }
+
+    /// An image pack: one node per pixel, bright pixels crystal; the mass
+    /// fraction is exact (a 3 × 3 image with a bright centre: the crystal
+    /// node has the full dual cell, 4 edge nodes ½ and 4 corners ¼), and a
+    /// size mismatch names `pipeline.pack.path`.
+    #[test]
+    fn image_pack_is_one_node_per_pixel() {
+        use brisance_pd::msdm::pack::node_mass_fraction;
+        let dir = std::env::temp_dir().join(format!("lattice_pack_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("centre.pgm");
+        std::fs::write(&path, b"P2 3 3 255\n0 0 0\n0 255 0\n0 0 0\n").unwrap();
+        let text = include_str!("../../../configs/lattice_burn.ron")
+            .replace(
+                "pack: RandomDiscs(diameter: 2.0e-4, mass_fraction: 0.8, particle: \"ap\", binder: \"htpb\", seed: 17)",
+                &format!(
+                    "pack: Image(path: {:?}, threshold: 128, crystal: \"ap\", binder: \"htpb\")",
+                    path.display().to_string()
+                ),
+            )
+            .replace("upper: (2.4e-3, 2.4e-3, 2.4e-5)", "upper: (4.8e-5, 4.8e-5, 2.4e-5)");
+        let loaded = load_str("lattice_burn.ron", &text, &[]).unwrap();
+        let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+            panic!("not a lattice");
+        };
+        let lat = super::build(&loaded.scenario, cfg).unwrap();
+        assert_eq!(lat.material_of(lat.geom.solid_index(1, 1, 0)), Some(0));
+        assert_eq!(lat.material_of(lat.geom.solid_index(0, 1, 0)), Some(1));
+        // 1950 · 1 / (1950 · 1 + 920 · 3).
+        let w = node_mass_fraction(&lat, 0);
+        assert!((w - 1950.0 / (1950.0 + 2760.0)).abs() < 1e-14, "{w}");
+        let wrong = text.replace(
+            "upper: (4.8e-5, 4.8e-5, 2.4e-5)",
+            "upper: (7.2e-5, 4.8e-5, 2.4e-5)",
+        );
+        let loaded = load_str("lattice_burn.ron", &wrong, &[]).unwrap();
+        let err = crate::build::build_solver(&loaded.scenario).err().unwrap();
+        assert!(err.to_string().contains("pipeline.pack.path"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
