@@ -760,4 +760,44 @@ mod tests {
         // Burnt nodes are marked.
         assert!(cat.materials.contains(&-1));
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        /// Whatever the block, normal radius and step: mass is only moved
+        /// from the nodes to the consumed tally (to round-off), volumes stay
+        /// non-negative, solid nodes only disappear, and nodes only move
+        /// away from the fluid (down, with fluid above only).
+        #[test]
+        fn regression_conserves_mass_and_only_removes(
+            nx in 2usize..7,
+            ny in 2usize..7,
+            radius in 1.0f64..4.0,
+            steps in 1usize..40,
+            fraction in 0.01f64..0.5,
+            all_fluid in proptest::bool::ANY,
+        ) {
+            let mut lat = block(nx, ny, radius, all_fluid);
+            let m0: f64 = lat.mass.iter().sum();
+            let y0 = lat.x[1].clone();
+            let dt = fraction * H / 1e-3;
+            let mut solid = (0..lat.len()).filter(|&i| lat.geom.is_solid(i)).count();
+            for _ in 0..steps {
+                lat.step(dt).unwrap();
+                let now = (0..lat.len()).filter(|&i| lat.geom.is_solid(i)).count();
+                proptest::prop_assert!(now <= solid);
+                solid = now;
+            }
+            let reg = lat.regression.as_ref().unwrap();
+            let m1: f64 = lat.mass.iter().sum();
+            proptest::prop_assert!((m1 + reg.consumed_mass - m0).abs() <= 1e-12 * m0);
+            proptest::prop_assert!(reg.remaining.iter().all(|&v| v >= 0.0));
+            if !all_fluid {
+                for i in 0..lat.len() {
+                    if lat.geom.is_solid(i) {
+                        proptest::prop_assert!(lat.x[1][i] <= y0[i]);
+                    }
+                }
+            }
+        }
+    }
 }
