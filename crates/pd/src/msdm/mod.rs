@@ -12,6 +12,8 @@
 //!   energy equation (eqs 10c, 11–15).
 //! - [`integrate`]: explicit Euler, velocity Verlet, implicit Euler and
 //!   implicit RK2 (§2.3, eqs 16–22).
+//! - [`regress`]: surface regression at Arrhenius rates (§2.4).
+//! - [`pack`]: crystal/binder images and random disc packs (§3.1, §4.1).
 //! - [`solver`]: the lattice behind the core `Solver` trait.
 //! - [`sparse`]: the sparse matrix and iterative solver of the implicit
 //!   steps.
