@@ -602,11 +602,8 @@ fn a_reacting_closed_box_conserves_mass_momentum_and_energy() {
     let dm = (t1.mass - t0.mass) / t0.mass;
     let de = (t1.energy - t0.energy) / t0.energy;
     let after = m_prod(&s);
-    let rho_total: f64 = 20.0 * 1200.0;
     eprintln!(
-        "dm {dm:e} de {de:e} product mass fraction {:.4} -> {:.4} at t = {:e} s, momentum {:?}",
-        before / rho_total,
-        after / rho_total,
+        "dm {dm:e} de {de:e} Σρ_products {before:e} -> {after:e} kg/m³ at t = {:e} s, momentum {:?}",
         s.time(),
         t1.momentum
     );
