@@ -255,14 +255,74 @@ fn default_safety() -> f64 {
 }
 
 /// Prescribed velocity of the solid nodes in a region (reference
-/// positions); the velocity is held for the whole run.
+/// positions); the velocity is held for the whole run, on every axis or
+/// only on the axes listed in `axes`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LatticeBoundaryConfig {
     /// Region.
     pub region: Region,
-    /// Velocity, m/s (`(0, 0, 0)` fixes the nodes).
+    /// Velocity, m/s (`(0, 0, 0)` fixes the nodes). Only the components of
+    /// the held axes are used.
     pub velocity: [f64; 3],
+    /// Held axes, e.g. `Some(["x"])` for a slip wall normal to x (u_x
+    /// held, the other components free). Default: every axis (no slip).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<Vec<String>>,
+}
+
+impl LatticeBoundaryConfig {
+    /// The held axes as a bit mask (bit a for axis a) for a lattice of
+    /// `dim` axes; `index` is the boundary's position in
+    /// `pipeline.boundaries`, used in the error's field path.
+    pub fn held_mask(&self, index: usize, dim: usize) -> Result<u8, Problem> {
+        let field = format!("pipeline.boundaries.{index}.axes");
+        for (a, v) in self.velocity.iter().enumerate() {
+            if !v.is_finite() {
+                return Err((
+                    format!("pipeline.boundaries.{index}.velocity"),
+                    format!("component {a} is {v}, expected a finite value"),
+                ));
+            }
+        }
+        let all = ((1u16 << dim) - 1) as u8;
+        let Some(axes) = &self.axes else {
+            return Ok(all);
+        };
+        if axes.is_empty() {
+            return Err((
+                field,
+                "empty list: name at least one of \"x\", \"y\", \"z\" (or leave `axes` out \
+                 to hold every axis)"
+                    .into(),
+            ));
+        }
+        let mut mask = 0u8;
+        for name in axes {
+            let a = match name.as_str() {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                _ => {
+                    return Err((
+                        field,
+                        format!("`{name}` is not an axis, expected \"x\", \"y\" or \"z\""),
+                    ))
+                }
+            };
+            if a >= dim {
+                return Err((
+                    field,
+                    format!("axis `{name}` is not one of the lattice's {dim} axes"),
+                ));
+            }
+            if mask & (1 << a) != 0 {
+                return Err((field, format!("axis `{name}` is listed twice")));
+            }
+            mask |= 1 << a;
+        }
+        Ok(mask)
+    }
 }
 
 /// Nodes per axis covering [lower, upper] at spacing h.
@@ -374,6 +434,9 @@ pub fn validate(s: &Scenario, cfg: &LatticeConfig) -> Result<(), Problem> {
             }
         }
     }
+    for (i, b) in cfg.boundaries.iter().enumerate() {
+        b.held_mask(i, cfg.dimension.count())?;
+    }
     for (i, r) in s.initial.iter().enumerate() {
         if !cfg.materials.contains_key(&r.material) {
             return Err((
@@ -467,9 +530,16 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
                 lat.u[a][i] = s.initial[r].state.velocity[a];
             }
         }
-        if let Some(b) = cfg.boundaries.iter().find(|b| b.region.contains(p)) {
+        if let Some((k, b)) = cfg
+            .boundaries
+            .iter()
+            .enumerate()
+            .find(|(_, b)| b.region.contains(p))
+        {
+            let mask = b.held_mask(k, d)?;
             lat.prescribed[i] = true;
-            for a in 0..d {
+            lat.held_axes[i] = mask;
+            for a in (0..d).filter(|a| mask & (1 << a) != 0) {
                 lat.u[a][i] = b.velocity[a];
             }
         }
@@ -619,6 +689,89 @@ mod tests {
         let bad = text.replace("\"hmx\": (young", "\"hmx_typo\": (young");
         let err = load_str("lattice_impact.ron", &bad, &[]).unwrap_err();
         assert!(err.to_string().contains("material"), "{err}");
+    }
+
+    /// `axes` of a boundary: the masks by hand, the errors naming the
+    /// field, and a built slip wall that holds u_x = 0 and leaves u_y to
+    /// the initial state (0), where a no-slip wall sets the boundary's 5 m/s.
+    #[test]
+    fn boundary_axes_hold_only_the_listed_components() {
+        use super::LatticeBoundaryConfig;
+        let b = |axes: Option<&[&str]>| LatticeBoundaryConfig {
+            region: crate::config::Region::Box {
+                min: [0.0; 3],
+                max: [1.0; 3],
+            },
+            velocity: [0.0, 5.0, 0.0],
+            axes: axes.map(|v| v.iter().map(|s| s.to_string()).collect()),
+        };
+        assert_eq!(b(None).held_mask(0, 2), Ok(0b011));
+        assert_eq!(b(None).held_mask(0, 3), Ok(0b111));
+        assert_eq!(b(Some(&["x"])).held_mask(0, 2), Ok(0b001));
+        assert_eq!(b(Some(&["z", "y"])).held_mask(0, 3), Ok(0b110));
+        for (axes, why) in [
+            (&[][..], "empty"),
+            (&["w"][..], "`w` is not an axis"),
+            (&["z"][..], "not one of the lattice's 2 axes"),
+            (&["x", "x"][..], "listed twice"),
+        ] {
+            let (field, msg) = b(Some(axes)).held_mask(3, 2).unwrap_err();
+            assert_eq!(field, "pipeline.boundaries.3.axes");
+            assert!(msg.contains(why), "{msg}");
+        }
+        let mut nan = b(None);
+        nan.velocity[1] = f64::NAN;
+        assert_eq!(
+            nan.held_mask(1, 2).unwrap_err().0,
+            "pipeline.boundaries.1.velocity"
+        );
+
+        let text = include_str!("../../../configs/lattice_impact.ron");
+        let wall = "velocity: (0.0, 0.0, 0.0)),";
+        assert!(text.contains(wall));
+        let build = |with: &str, integrator: &str| {
+            let t = text.replace(wall, with);
+            let sets = [format!("pipeline.integrator={integrator}")];
+            let loaded = load_str("lattice_impact.ron", &t, &sets).map_err(|e| e.to_string())?;
+            let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+                return Err("not a lattice".to_string());
+            };
+            super::build(&loaded.scenario, cfg).map_err(|(f, m)| format!("{f}: {m}"))
+        };
+        let slip = build(
+            "velocity: (0.0, 5.0, 0.0), axes: [\"x\"]),",
+            "VelocityVerlet",
+        )
+        .unwrap();
+        let noslip = build("velocity: (0.0, 5.0, 0.0)),", "VelocityVerlet").unwrap();
+        let i = slip.geom.index(1, 2, 0);
+        assert!(slip.prescribed[i] && noslip.prescribed[i]);
+        assert_eq!(
+            (slip.held_axes[i], slip.u[0][i], slip.u[1][i]),
+            (0b001, 0.0, 0.0)
+        );
+        assert_eq!(
+            (noslip.held_axes[i], noslip.u[0][i], noslip.u[1][i]),
+            (0b011, 0.0, 5.0)
+        );
+        let mut slip = slip;
+        for _ in 0..5 {
+            let dt = slip.explicit_stable_dt();
+            slip.step(dt).unwrap();
+        }
+        assert_eq!(slip.u[0][i], 0.0);
+        let bad = build(
+            "velocity: (0.0, 0.0, 0.0), axes: [\"q\"]),",
+            "VelocityVerlet",
+        );
+        assert!(bad.unwrap_err().to_string().contains("boundaries.0.axes"));
+        let mut imp = build(
+            "velocity: (0.0, 0.0, 0.0), axes: [\"x\"]),",
+            "ImplicitEuler",
+        )
+        .unwrap();
+        let dt = imp.explicit_stable_dt();
+        assert!(imp.step(dt).unwrap_err().to_string().contains("held_axes"));
     }
 
     /// The implicit integrator runs the example with either linear solver,

@@ -435,8 +435,8 @@ pub struct ImpactResult {
 
 /// Runs an [`ImpactCase`]: a random disc pack rasterised on the lattice
 /// (crystal material 0, binder 1), diagonal springs, every node moving at
-/// −`velocity` along x except the column at x = 0, held at rest (the rigid
-/// wall; see the page for why it is a no-slip wall here), velocity Verlet
+/// −`velocity` along x except the column at x = 0, whose normal velocity
+/// u_x is held at zero (a rigid slip wall: u_y is free), velocity Verlet
 /// with the energy equation, T₀ = 300 K. Frames are recorded at equal time
 /// intervals; the threshold is mean + k · std over the voxels heated by more
 /// than 0.1 K, and the hot spots are detected in the stacked frames.
@@ -473,7 +473,9 @@ pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
         for ix in 0..n {
             let i = lat.geom.index(ix + 1, iy + 1, 0);
             if ix == 0 {
+                // Slip wall: only the normal velocity u_x = 0 is held.
                 lat.prescribed[i] = true;
+                lat.held_axes[i] = 0b001;
             } else {
                 lat.u[0][i] = -case.velocity;
             }

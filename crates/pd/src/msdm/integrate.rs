@@ -87,10 +87,10 @@ impl MsdmLattice {
         for a in 0..dim {
             let (u, f) = (&mut self.u[a], &self.force[a]);
             let mass = &self.mass;
-            let prescribed: &[bool] = &self.prescribed;
+            let (prescribed, held) = (&self.prescribed[..], &self.held_axes[..]);
             let kind = &self.geom.kind;
             u.par_iter_mut().enumerate().for_each(|(i, ui)| {
-                if !prescribed[i]
+                if !(prescribed[i] && held[i] & (1 << a) != 0)
                     && matches!(kind[i], super::geometry::NodeKind::Solid(_))
                     && mass[i] > 0.0
                 {
@@ -106,6 +106,7 @@ impl MsdmLattice {
         // operations as move_positions followed by kick).
         let dim = self.geom.dim.count();
         let (mass, prescribed, kind) = (&self.mass, &self.prescribed[..], &self.geom.kind);
+        let held = &self.held_axes[..];
         for a in 0..dim {
             let f = &self.force[a];
             self.x[a]
@@ -115,7 +116,7 @@ impl MsdmLattice {
                 .for_each(|(i, (x, u))| {
                     if matches!(kind[i], super::geometry::NodeKind::Solid(_)) {
                         *x += *u * dt;
-                        if !prescribed[i] && mass[i] > 0.0 {
+                        if !(prescribed[i] && held[i] & (1 << a) != 0) && mass[i] > 0.0 {
                             *u += f[i] / mass[i] * dt;
                         }
                     }
@@ -147,10 +148,10 @@ impl MsdmLattice {
             for a in 0..dim {
                 let (u, f, f0) = (&mut self.u[a], &self.force[a], &self.force_prev[a]);
                 let mass = &self.mass;
-                let prescribed: &[bool] = &self.prescribed;
+                let (prescribed, held) = (&self.prescribed[..], &self.held_axes[..]);
                 let kind = &self.geom.kind;
                 u.par_iter_mut().enumerate().for_each(|(i, ui)| {
-                    if !prescribed[i]
+                    if !(prescribed[i] && held[i] & (1 << a) != 0)
                         && matches!(kind[i], super::geometry::NodeKind::Solid(_))
                         && mass[i] > 0.0
                     {
@@ -168,6 +169,17 @@ impl MsdmLattice {
     /// One linearised implicit step; `theta` = 1 for Euler (eq 21), ½ for
     /// RK2 (eq 22).
     fn implicit(&mut self, dt: f64, theta: f64) -> Result<super::sparse::SolveStats, MsdmError> {
+        let all = super::model::ALL_AXES;
+        let dim_mask = (1u8 << self.geom.dim.count()) - 1;
+        if let Some(i) = (0..self.len())
+            .find(|&i| self.prescribed[i] && self.held_axes[i] & dim_mask != all & dim_mask)
+        {
+            return Err(MsdmError::Invalid(format!(
+                "lattice: node {i} holds only some axes (`held_axes` = {:#05b}); per-axis \
+                 prescription needs an explicit `integrator` (explicit_euler or velocity_verlet)",
+                self.held_axes[i]
+            )));
+        }
         self.compute_forces();
         let ndof = self.number_dofs();
         let dim = self.geom.dim.count();

@@ -16,6 +16,9 @@ use super::geometry::{dual_volume, Geometry, NodeKind};
 use super::law::{LatticeMaterial, PairLaw, SpringState};
 use super::sparse::{bicgstab, solve_direct, CsrMatrix, SolveStats, SolverWork};
 
+/// Every axis held: the default of [`MsdmLattice::held_axes`].
+pub const ALL_AXES: u8 = 0b111;
+
 /// Errors of the lattice model; messages name the offending field.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MsdmError {
@@ -158,6 +161,12 @@ pub struct MsdmLattice {
     pub body: [Vec<f64>; 3],
     /// Nodes whose velocity is prescribed (held at its current value).
     pub prescribed: Vec<bool>,
+    /// Axes held on each prescribed node, bit a for axis a ([`ALL_AXES`] by
+    /// default). A node with `prescribed[i]` and `held_axes[i] = 0b001` is
+    /// a slip wall normal to x: u_x is held, u_y and u_z move freely.
+    /// Ignored where `prescribed[i]` is false. Per-axis prescription is
+    /// supported by the explicit integrators; the implicit ones refuse it.
+    pub held_axes: Vec<u8>,
     pub(crate) status: Vec<u8>,
     pub(crate) spring: Vec<SpringState>,
     bond_force: [Vec<f64>; 3],
@@ -448,6 +457,7 @@ impl MsdmLattice {
             mass_rate: vec![0.0; nm * n],
             body: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             prescribed: vec![false; n],
+            held_axes: vec![ALL_AXES; n],
             status,
             spring: vec![SpringState::default(); n * nd],
             bond_force: [vec![0.0; n * nd], vec![0.0; n * nd], vec![0.0; n * nd]],
@@ -942,6 +952,13 @@ impl MsdmLattice {
             }
         }
         q
+    }
+
+    /// Whether node `i`'s velocity component `a` is held (prescribed with
+    /// axis `a` in its [`MsdmLattice::held_axes`]).
+    #[inline]
+    pub fn is_held(&self, i: usize, a: usize) -> bool {
+        self.prescribed[i] && self.held_axes[i] & (1 << a) != 0
     }
 
     /// Free degrees of freedom: solid nodes without a prescribed velocity.

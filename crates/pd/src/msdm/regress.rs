@@ -433,6 +433,7 @@ impl MsdmLattice {
         self.energy[i] = 0.0;
         self.temperature[i] = self.options.surroundings.temperature;
         self.prescribed[i] = false;
+        self.held_axes[i] = super::model::ALL_AXES;
         for a in 0..3 {
             self.u[a][i] = 0.0;
             self.force[a][i] = 0.0;

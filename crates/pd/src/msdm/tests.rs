@@ -629,3 +629,47 @@ fn implicit_steps_stay_bounded_beyond_the_explicit_limit() {
     assert!((rk2 - 1.0).abs() < 1e-2, "implicit RK2 energy ratio {rk2}");
     assert!(solves_e > 0 && solves_r > 0);
 }
+
+#[test]
+fn slip_node_holds_only_its_normal_velocity() {
+    // 2 × 2 nodes, h = 1 mm, unstretched springs. Node a = (0, 0) fully
+    // held (default `held_axes`), node b = (1, 0) held along x only (a slip
+    // wall normal to x) with u = (0.5, 0) m/s and body force (2, 3) N. One
+    // explicit Euler step: forces at xⁿ are the body forces alone, so u_x
+    // stays 0.5 (held), u_y = 3 Δt / m, and Δx = uⁿ Δt = (0.5 Δt, 0).
+    let geom = Geometry::new(Dim::Two, [2, 2, 1], 1.0e-3, false, |_, _, _| Some(0));
+    let mut lat = MsdmLattice::new(
+        geom,
+        vec![material(1.0e9)],
+        MsdmOptions {
+            integrator: Integrator::ExplicitEuler,
+            thermal: false,
+            ..MsdmOptions::default()
+        },
+    )
+    .unwrap();
+    let (a, b) = (lat.geom.solid_index(0, 0, 0), lat.geom.solid_index(1, 0, 0));
+    lat.prescribed[a] = true;
+    lat.prescribed[b] = true;
+    lat.held_axes[b] = 0b001;
+    assert!(lat.is_held(a, 0) && lat.is_held(a, 1));
+    assert!(lat.is_held(b, 0) && !lat.is_held(b, 1));
+    lat.u[0][b] = 0.5;
+    lat.body[0][b] = 2.0;
+    lat.body[1][b] = 3.0;
+    lat.body[1][a] = 3.0;
+    let m = lat.mass[b];
+    assert!(m > 0.0);
+    let (xa, xb, yb) = (lat.x[0][a], lat.x[0][b], lat.x[1][b]);
+    let dt = 1e-6;
+    lat.step(dt).unwrap();
+    assert_eq!(lat.u[0][b], 0.5);
+    assert!(rel(lat.u[1][b], 3.0 * dt / m) < 1e-12, "{}", lat.u[1][b]);
+    assert!(rel(lat.x[0][b] - xb, 0.5 * dt) < 1e-9);
+    assert_eq!(lat.x[1][b], yb);
+    assert_eq!((lat.u[0][a], lat.u[1][a], lat.x[0][a]), (0.0, 0.0, xa));
+    // The implicit integrators refuse a partly held node, naming the field.
+    lat.options.integrator = Integrator::ImplicitEuler;
+    let e = lat.step(dt).unwrap_err().to_string();
+    assert!(e.contains("held_axes") && e.contains("integrator"), "{e}");
+}
