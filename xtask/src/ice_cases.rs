@@ -511,6 +511,144 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
     Ok(())
 }
 
+/// V-WATER-AIR-ICE section: the stiffened-gas water–air tube
+/// (`brisance::ice::water_air`) against its exact solution at 100, 200 and
+/// 400 cells; a run that stops is reported with the solver's message.
+pub fn v_water_air_ice(report: &mut Report, img: &Path) -> Result<()> {
+    use brisance::ice::water_air::{water_air, water_air_exact, WaterAir};
+    println!("V-WATER-AIR-ICE: water (stiffened gas) | air shock tube, t = 240 µs");
+    let exact = water_air_exact().map_err(anyhow::Error::msg)?;
+    let shock_speed = exact.shock_speeds()[1].unwrap_or(f64::NAN);
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## V-WATER-AIR-ICE — water–air shock tube with multi-material ICE\n"
+    );
+    let _ = writeln!(
+        md,
+        "Water (stiffened gas γ 4.4, p∞ 6 × 10⁸ Pa, 1000 kg/m³, 10⁹ Pa) on x < 0.7 m, air (γ 1.4, 50 kg/m³, \
+         10⁵ Pa) beyond, t = 240 µs (Saurel & Abgrall 1999; Murrone & Guillard 2005); traces 10⁻⁶, K = 10¹⁵, \
+         van Leer, CFL 0.4. Exact solution (two stiffened gases, Newton on p*): p* = {:.4e} Pa, u* = {:.2} m/s, \
+         air shock at {:.2} m/s. Measures and tolerances: docs/physics/ice/water_air.md.\n",
+        exact.p_star, exact.u_star, shock_speed
+    );
+    let _ = writeln!(
+        md,
+        "| cells | outcome | L1(ρ) (kg/m²) | L1(ρ)/∫ρ | shock x (m) / exact | contact x (m) / exact | equilibration max / mean iterations | max \\|1 − Σθ\\| | steps | wall (s) |\n|---:|---|---:|---:|---|---|---|---:|---:|---:|"
+    );
+    let mut outcomes = Vec::new();
+    for cells in [100usize, 200, 400] {
+        let start = Instant::now();
+        let r = water_air(&WaterAir::standard(cells));
+        let wall = start.elapsed().as_secs_f64();
+        match &r {
+            Ok(r) => {
+                println!(
+                    "  {cells:>4} cells  L1(ρ) {:.4e} ({:.2} %)  shock {:.4} (exact {:.4})  contact {:.4} (exact {:.4})  iterations max {} mean {:.2}  {wall:.1} s",
+                    r.l1_density,
+                    100.0 * r.l1_density_relative,
+                    r.shock_position,
+                    r.shock_position_exact,
+                    r.contact_position,
+                    r.contact_position_exact,
+                    r.max_iterations,
+                    r.mean_iterations
+                );
+                let _ = writeln!(
+                    md,
+                    "| {cells} | completed | {:.4e} | {:.2} % | {:.4} / {:.4} | {:.4} / {:.4} | {} / {:.2} | {:.1e} | {} | {wall:.1} |",
+                    r.l1_density,
+                    100.0 * r.l1_density_relative,
+                    r.shock_position,
+                    r.shock_position_exact,
+                    r.contact_position,
+                    r.contact_position_exact,
+                    r.max_iterations,
+                    r.mean_iterations,
+                    r.max_residual,
+                    r.steps
+                );
+            }
+            Err(e) => {
+                println!("  {cells:>4} cells  stopped: {e}");
+                let _ = writeln!(
+                    md,
+                    "| {cells} | stopped: {e} | – | – | – | – | – | – | – | {wall:.1} |"
+                );
+            }
+        }
+        outcomes.push((cells, r));
+    }
+    let _ = writeln!(
+        md,
+        "\n| check | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (cells, r) in &outcomes {
+        let h = 1.0 / *cells as f64;
+        match r {
+            Err(_) => report.target(
+                &format!("V-WATER-AIR-ICE {cells} cells: run completes"),
+                "stopped".into(),
+                "completes",
+                false,
+            ),
+            Ok(r) => {
+                let limit = if *cells >= 400 { 0.02 } else { 0.05 };
+                report.target(
+                    &format!("V-WATER-AIR-ICE {cells} cells: L1(ρ)/∫ρ"),
+                    format!("{:.2} %", 100.0 * r.l1_density_relative),
+                    &format!("≤ {:.0} %", 100.0 * limit),
+                    r.l1_density_relative <= limit,
+                );
+                let ds = (r.shock_position - r.shock_position_exact).abs() / h;
+                report.target(
+                    &format!("V-WATER-AIR-ICE {cells} cells: air shock position error"),
+                    format!("{ds:.2} cells"),
+                    "≤ 2 cells",
+                    ds <= 2.0,
+                );
+                let dc = (r.contact_position - r.contact_position_exact).abs() / h;
+                report.target(
+                    &format!("V-WATER-AIR-ICE {cells} cells: contact position error"),
+                    format!("{dc:.2} cells"),
+                    "≤ 2 cells",
+                    dc <= 2.0,
+                );
+            }
+        }
+    }
+    let _ = writeln!(report.md);
+    if let Some((cells, Ok(r))) = outcomes.iter().rev().find(|(_, r)| r.is_ok()) {
+        let col = |k: usize| r.profile.iter().map(|row| row[k]).collect::<Vec<f64>>();
+        let (x, rho, rho_e) = (col(0), col(1), col(5));
+        let title = format!("V-WATER-AIR-ICE: density at t = 240 µs, {cells} cells");
+        plot::plot_panels(
+            &img.join("v_water_air_ice.png"),
+            &title,
+            "x (m)",
+            &[Panel {
+                y_label: "density (kg/m³)",
+                series: vec![
+                    Series {
+                        label: "exact",
+                        x: &x,
+                        y: &rho_e,
+                        style: SeriesStyle::Line,
+                    },
+                    Series {
+                        label: "ICE van Leer",
+                        x: &x,
+                        y: &rho,
+                        style: SeriesStyle::Points,
+                    },
+                ],
+            }],
+        )?;
+        let _ = writeln!(report.md, "![V-WATER-AIR-ICE](img/v_water_air_ice.png)\n");
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -721,10 +721,11 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 17] = [
+const CASES: [&str; 18] = [
     "sod",
     "sod-ice",
     "ratestick",
+    "water-air-ice",
     "smooth",
     "cj",
     "bar",
@@ -775,6 +776,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("ratestick") {
         ice_cases::e_ratestick(&mut body, &img)?;
+    }
+    if run("water-air-ice") {
+        ice_cases::v_water_air_ice(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;

@@ -433,14 +433,32 @@ pub struct ImpactResult {
     pub crystal_fraction: f64,
 }
 
-/// Runs an [`ImpactCase`]: a random disc pack rasterised on the lattice
-/// (crystal material 0, binder 1), diagonal springs, every node moving at
-/// −`velocity` along x except the column at x = 0, whose normal velocity
-/// u_x is held at zero (a rigid slip wall: u_y is free), velocity Verlet
-/// with the energy equation, T₀ = 300 K. Frames are recorded at equal time
-/// intervals; the threshold is mean + k · std over the voxels heated by more
-/// than 0.1 K, and the hot spots are detected in the stacked frames.
-pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
+/// The temperature frames of an impact, before hot-spot detection.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImpactFrames {
+    /// Nodes per side.
+    pub nodes: usize,
+    /// Lattice spacing h, m.
+    pub spacing: f64,
+    /// (time, temperature per node, row-major, exterior NaN) per frame.
+    pub frames: Vec<(f64, Vec<f64>)>,
+    /// Whether each node is crystal.
+    pub inside: Vec<bool>,
+    /// Initial temperature T₀, K.
+    pub initial_temperature: f64,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Crystal area fraction of the lattice nodes.
+    pub crystal_fraction: f64,
+}
+
+/// Simulates an [`ImpactCase`]: a random disc pack rasterised on the
+/// lattice (crystal material 0, binder 1), diagonal springs, every node
+/// moving at −`velocity` along x except the column at x = 0, whose normal
+/// velocity u_x is held at zero (a rigid slip wall: u_y is free; seed 003
+/// §4.1), the other sides free, velocity Verlet with the energy equation,
+/// T₀ = 300 K. Frames are recorded at equal time intervals.
+pub fn simulate_impact(case: &ImpactCase) -> Result<ImpactFrames, MsdmError> {
     use super::geometry::Geometry;
     use super::model::{Integrator, MsdmOptions};
     let n = case.nodes;
@@ -495,13 +513,29 @@ pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
             frames.push((lat.time, frame.clone()));
         }
     }
-    let t0 = lat.options.initial_temperature;
-    let (mut s0, mut s1, mut s2, mut tmax) = (0.0f64, 0.0f64, 0.0f64, t0);
-    for (_, f) in &frames {
-        for &t in f {
-            if t.is_finite() {
-                tmax = tmax.max(t);
-                if t - t0 > 0.1 {
+    Ok(ImpactFrames {
+        nodes: n,
+        spacing: case.spacing,
+        frames,
+        inside,
+        initial_temperature: lat.options.initial_temperature,
+        steps,
+        crystal_fraction,
+    })
+}
+
+/// The threshold T* = mean + k · std over the voxels heated by more than
+/// 0.1 K in all frames of all `runs` together (T₀ + 0.1 K when fewer than
+/// two are). Pooling runs gives one threshold per impact velocity shared by
+/// several crystals, as seed 003 §4.3 does for HMX and RDX. The seed picks
+/// T* by hand (fig. 24); this automatic rule is this project's stand-in.
+pub fn heated_threshold(runs: &[&ImpactFrames], k: f64) -> f64 {
+    let t0 = runs.first().map_or(300.0, |r| r.initial_temperature);
+    let (mut s0, mut s1, mut s2) = (0.0f64, 0.0f64, 0.0f64);
+    for r in runs {
+        for (_, f) in &r.frames {
+            for &t in f {
+                if t.is_finite() && t - r.initial_temperature > 0.1 {
                     s0 += 1.0;
                     s1 += t;
                     s2 += t * t;
@@ -509,31 +543,53 @@ pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
             }
         }
     }
-    let threshold = if s0 > 1.0 {
+    if s0 > 1.0 {
         let mean = s1 / s0;
-        mean + case.threshold_sigmas * ((s2 / s0 - mean * mean).max(0.0)).sqrt()
+        mean + k * ((s2 / s0 - mean * mean).max(0.0)).sqrt()
     } else {
         t0 + 0.1
-    };
+    }
+}
+
+/// Detects the hot spots of `run` above `threshold` (K) in its stacked
+/// frames and classes each peak node as crystal or binder.
+pub fn detect_impact(run: &ImpactFrames, threshold: f64) -> Result<ImpactResult, MsdmError> {
+    let n = run.nodes;
+    let mut tmax = run.initial_temperature;
+    for (_, f) in &run.frames {
+        for &t in f {
+            if t.is_finite() {
+                tmax = tmax.max(t);
+            }
+        }
+    }
     let hot_spots = detect_hot_spots(
-        frames.iter().map(|(t, f)| (*t, f.as_slice())),
+        run.frames.iter().map(|(t, f)| (*t, f.as_slice())),
         n,
         n,
-        case.spacing * case.spacing,
+        run.spacing * run.spacing,
         threshold,
     )?;
     let peak_in_crystal = hot_spots
         .iter()
-        .map(|h| inside[h.peak_node[0] + n * h.peak_node[1]])
+        .map(|h| run.inside[h.peak_node[0] + n * h.peak_node[1]])
         .collect();
     Ok(ImpactResult {
         hot_spots,
         peak_in_crystal,
         threshold,
         max_temperature: tmax,
-        steps,
-        crystal_fraction,
+        steps: run.steps,
+        crystal_fraction: run.crystal_fraction,
     })
+}
+
+/// Runs an [`ImpactCase`] ([`simulate_impact`]) and detects its hot spots
+/// above its own [`heated_threshold`] with k = `threshold_sigmas`.
+pub fn run_impact(case: &ImpactCase) -> Result<ImpactResult, MsdmError> {
+    let run = simulate_impact(case)?;
+    let threshold = heated_threshold(&[&run], case.threshold_sigmas);
+    detect_impact(&run, threshold)
 }
 
 #[cfg(test)]
@@ -736,6 +792,39 @@ mod tests {
         }
     }
 
+    fn frames_of(temps: &[f64]) -> ImpactFrames {
+        ImpactFrames {
+            nodes: 2,
+            spacing: 1e-3,
+            frames: vec![(0.0, temps.to_vec())],
+            inside: vec![true, false, false, false],
+            initial_temperature: 300.0,
+            steps: 1,
+            crystal_fraction: 0.5,
+        }
+    }
+
+    #[test]
+    fn heated_threshold_pools_runs_by_hand() {
+        // Heated (> T₀ + 0.1 K): 301 and 303; mean 302, std 1; k = 2 → 304.
+        let a = frames_of(&[300.0, 301.0, 303.0, f64::NAN]);
+        assert_eq!(heated_threshold(&[&a], 2.0), 304.0);
+        // Pooled with 305 and 307: mean 304, variance (9+1+1+9)/4 = 5.
+        let b = frames_of(&[307.0, 300.05, 300.0, 305.0]);
+        let t = heated_threshold(&[&a, &b], 1.0);
+        assert!((t - (304.0 + 5f64.sqrt())).abs() < 1e-12, "{t}");
+        // Nothing heated: T₀ + 0.1 K.
+        assert_eq!(heated_threshold(&[&frames_of(&[300.0; 4])], 3.0), 300.1);
+        // Detection at a given threshold: 307 (node (0, 0), crystal) and 305
+        // (node (1, 1), binder) touch only diagonally: two hot spots.
+        let r = detect_impact(&b, 304.0).unwrap();
+        assert_eq!(r.hot_spots.len(), 2);
+        assert_eq!(r.max_temperature, 307.0);
+        let mut crystal = r.peak_in_crystal.clone();
+        crystal.sort();
+        assert_eq!(crystal, vec![false, true]);
+    }
+
     #[test]
     fn impact_heats_more_at_higher_velocity_and_is_deterministic() {
         let a = run_impact(&small_impact(50.0, Binder::Estane)).unwrap();
@@ -784,9 +873,13 @@ mod tests {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/e_hotspot");
         std::fs::create_dir_all(&dir).unwrap();
         let mut spots = String::from("crystal,binder,velocity_m_s,threshold_K,peak_K,peak_x,peak_y,peak_time_s,footprint_m2,max_area_m2,voxels,in_crystal\n");
-        let mut run = |case: ImpactCase| {
-            let t = std::time::Instant::now();
-            let r = run_impact(&case).unwrap();
+        // One threshold per velocity shared by HMX and RDX (seed 003 §4.3);
+        // the other runs get their own.
+        let mut run = |case: ImpactCase,
+                       frames: &ImpactFrames,
+                       threshold: f64,
+                       t: std::time::Instant| {
+            let r = detect_impact(frames, threshold).unwrap();
             let inc = r.peak_in_crystal.iter().filter(|&&c| c).count();
             eprintln!(
                 "{:?}/{:?} {:5.0} m/s: {} steps, crystal fraction {:.3}, max T {:.2} K, T* {:.2} K, {} hot spots ({} peak in crystal), {:.0} s",
@@ -814,13 +907,19 @@ mod tests {
         };
         let mut samples = Vec::new();
         for v in [50.0, 100.0, 150.0, 200.0, 250.0] {
+            let cases = [Crystal::Hmx, Crystal::Rdx].map(|crystal| ImpactCase {
+                crystal,
+                velocity: v,
+                ..base
+            });
+            let t = std::time::Instant::now();
+            let frames: Vec<ImpactFrames> =
+                cases.iter().map(|c| simulate_impact(c).unwrap()).collect();
+            let pooled =
+                heated_threshold(&frames.iter().collect::<Vec<_>>(), base.threshold_sigmas);
             let mut peaks = Vec::new();
-            for crystal in [Crystal::Hmx, Crystal::Rdx] {
-                let r = run(ImpactCase {
-                    crystal,
-                    velocity: v,
-                    ..base
-                });
+            for (case, f) in cases.into_iter().zip(&frames) {
+                let r = run(case, f, pooled, t);
                 peaks.extend(r.hot_spots.iter().map(|h| h.peak_temperature));
             }
             samples.push(VelocitySample { velocity: v, peaks });
@@ -830,14 +929,20 @@ mod tests {
             Binder::DensityMatched,
             Binder::ImpedanceMatched,
         ] {
-            run(ImpactCase { binder, ..base });
+            let t = std::time::Instant::now();
+            let case = ImpactCase { binder, ..base };
+            let f = simulate_impact(&case).unwrap();
+            run(case, &f, heated_threshold(&[&f], case.threshold_sigmas), t);
         }
         for crystal in [Crystal::Petn, Crystal::Tkx50] {
-            run(ImpactCase {
+            let t = std::time::Instant::now();
+            let case = ImpactCase {
                 crystal,
                 velocity: 100.0,
                 ..base
-            });
+            };
+            let f = simulate_impact(&case).unwrap();
+            run(case, &f, heated_threshold(&[&f], case.threshold_sigmas), t);
         }
         std::fs::write(dir.join("hot_spots.csv"), &spots).unwrap();
         match velocity_model(&samples, &[150.0, 250.0], 10_000, 2015) {
