@@ -721,7 +721,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 18] = [
+const CASES: [&str; 19] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -738,6 +738,7 @@ const CASES: [&str; 18] = [
     "impedance",
     "regress",
     "aphtpb",
+    "hotspot",
     "mpm-throughput",
     "throughput",
 ];
@@ -815,6 +816,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("aphtpb") {
         lattice_cases::e_aphtpb(&mut body, &img)?;
+    }
+    if run("hotspot") {
+        lattice_cases::e_hotspot(&mut body)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;
