@@ -510,7 +510,7 @@ fn draw_burn_maps(path: &Path, maps: &[(String, BurnResult)]) -> Result<()> {
 
 /// Nodes per side of the E-HOTSPOT validation run (the full 432 × 432 of
 /// seed 003 §4.1 is the ignored test `hotspot::tests::e_hotspot`).
-const HOTSPOT_NODES: usize = 192;
+const HOTSPOT_NODES: usize = 288;
 
 /// Seed 003 Table 4: (velocity m/s, μ K, β K) of the Gumbel MLE.
 const TABLE_4: [(f64, f64, f64); 3] = [
