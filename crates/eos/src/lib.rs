@@ -14,6 +14,8 @@
 //!   [`mie_gruneisen_cubic`] (seed 001 eqs 65–66),
 //!   [`mie_gruneisen_linear`] (seed 000 eq 40),
 //!   [`mie_gruneisen_thermal`] (seed 003 eqs 12–14).
+//! - [`stiffened_gas`]: the stiffened gas (Le Métayer, Massoni & Saurel
+//!   2004) of the water–air shock tube.
 //! - [`threshold`]: the solid low-pressure threshold (seed 000 §3.1).
 //!
 //! Registry and tools:
@@ -30,6 +32,7 @@ pub mod mie_gruneisen_linear;
 pub mod mie_gruneisen_thermal;
 pub mod model;
 pub mod murnaghan;
+pub mod stiffened_gas;
 pub mod threshold;
 pub mod tools;
 
@@ -41,4 +44,5 @@ pub use mie_gruneisen_linear::MieGruneisenLinear;
 pub use mie_gruneisen_thermal::MieGruneisenThermal;
 pub use model::{EosModel, SolidEos};
 pub use murnaghan::Murnaghan;
+pub use stiffened_gas::StiffenedGas;
 pub use threshold::SolidThreshold;

@@ -21,8 +21,9 @@
 //! - [`advection`]: step 12, van Leer compatible fluxes (seed 000 ref 15)
 //!   and first-order donor cell.
 //! - [`boundary`]: symmetry, outflow, fixed velocity, fixed state.
-//! - [`stiffened`], [`riemann`], [`water_air`]: the stiffened-gas EOS, the
-//!   exact two-stiffened-gas Riemann solution and the water–air tube.
+//! - [`riemann`], [`water_air`]: the exact two-stiffened-gas Riemann
+//!   solution and the water–air tube (the stiffened gas is
+//!   `brisance_eos::StiffenedGas`).
 //! - [`solver`]: the [`IceSolver`], the step sequence, the CFL time step and
 //!   the `Solver` implementation.
 //!
@@ -43,7 +44,6 @@ pub mod pressure;
 pub mod reaction;
 pub mod riemann;
 pub mod solver;
-pub mod stiffened;
 pub mod water_air;
 
 pub use advection::Advection;

@@ -12,9 +12,9 @@ use brisance_grid::Level;
 
 use crate::riemann::{ExactRiemann, RiemannSide};
 use crate::solver::GHOST;
-use crate::stiffened::StiffenedGas;
 use crate::MaterialState;
 use crate::{Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver};
+use brisance_eos::StiffenedGas;
 
 /// Settings of the water–air tube.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,4 +1,4 @@
-//! Stiffened-gas EOS of the water–air shock tube (V-WATER-AIR-ICE).
+//! Stiffened-gas EOS (the water of the water–air shock tube, V-WATER-AIR-ICE).
 //!
 //! p = (γ − 1) ρ e − γ p∞,  e = c_v T + p∞/ρ,
 //! so that the thermal EOS is p + p∞ = (γ − 1) ρ c_v T (Le Métayer, Massoni
@@ -7,9 +7,10 @@
 //! thermal EOS v(p, T) of eq 7 and its derivatives (eq 20):
 //! ρ(p, T) = (p + p∞)/((γ − 1) c_v T), κ = 1/(p + p∞), α = 1/T.
 //!
-//! The model lives with the ICE cases (it is not a registry EOS): it is the
-//! EOS of the classical water–air shock tube (Saurel & Abgrall 1999;
-//! Murrone & Guillard 2005) whose exact solution [`crate::riemann`] gives.
+//! It is the EOS of the classical water–air shock tube (Saurel & Abgrall
+//! 1999; Murrone & Guillard 2005), whose exact solution
+//! `brisance_ice::riemann` gives. It is not yet a registry model
+//! ([`crate::EosModel`]), so a scenario file cannot name it.
 
 use brisance_core::{Eos, EosError};
 
@@ -181,7 +182,7 @@ mod tests {
     #[test]
     fn zero_p_inf_is_the_ideal_gas() {
         let a = StiffenedGas::air();
-        let g = brisance_eos::IdealGas::air();
+        let g = crate::IdealGas::air();
         for (rho, e) in [(1.2, 2.0e5), (50.0, 5.0e3), (0.1, 1.0e7)] {
             assert_eq!(a.pressure(rho, e), g.pressure(rho, e));
             assert_eq!(a.temperature(rho, e), g.temperature(rho, e));
