@@ -329,6 +329,14 @@ fn regress_lattice(
     Ok(lat)
 }
 
+/// (x, y) of the exposed nodes: the surface drawn in the V-REGRESS plots.
+fn exposed_positions(lat: &MsdmLattice) -> Vec<[f64; 2]> {
+    exposed_nodes(lat)
+        .into_iter()
+        .map(|i| [lat.x[0][i], lat.x[1][i]])
+        .collect()
+}
+
 /// Exposed solid nodes of a lattice with regression.
 fn exposed_nodes(lat: &MsdmLattice) -> Vec<usize> {
     let reg = lat.regression.as_ref().expect("regression on");
@@ -423,13 +431,7 @@ pub fn regress_rotated_square(n: usize, radius: f64) -> Result<RegressResult, Ms
             side - mean_rms_spread(&inner(l)).0,
         ]
     };
-    let surface = |l: &MsdmLattice| -> Vec<[f64; 2]> {
-        exposed_nodes(l)
-            .into_iter()
-            .map(|i| [l.x[0][i], l.x[1][i]])
-            .collect()
-    };
-    let start = surface(&lat);
+    let start = exposed_positions(&lat);
     let t_end = 0.5 * side / REGRESS_SPEED;
     let (steps, [(t1, p1), (t2, p2)]) = run_regression(&mut lat, 0.1 * t_end, t_end, probe)?;
     let (mean, rms, spread) = mean_rms_spread(&inner(&lat));
@@ -444,7 +446,7 @@ pub fn regress_rotated_square(n: usize, radius: f64) -> Result<RegressResult, Ms
         // Initial face at normal distance `side` from the origin.
         mean: side - mean,
         mean_from_volume: p2[0],
-        surfaces: [start, surface(&lat)],
+        surfaces: [start, exposed_positions(&lat)],
     })
 }
 
@@ -480,13 +482,7 @@ pub fn regress_disc(n: usize, radius: f64) -> Result<RegressResult, MsdmError> {
             mean_rms_spread(&radii(l)).0,
         ]
     };
-    let surface = |l: &MsdmLattice| -> Vec<[f64; 2]> {
-        exposed_nodes(l)
-            .into_iter()
-            .map(|i| [l.x[0][i], l.x[1][i]])
-            .collect()
-    };
-    let start = surface(&lat);
+    let start = exposed_positions(&lat);
     let t_end = 0.5 * r0 / REGRESS_SPEED;
     let (steps, [(t1, p1), (t2, p2)]) = run_regression(&mut lat, 0.1 * t_end, t_end, probe)?;
     let (mean, rms, spread) = mean_rms_spread(&radii(&lat));
@@ -500,7 +496,7 @@ pub fn regress_disc(n: usize, radius: f64) -> Result<RegressResult, MsdmError> {
         spread,
         mean,
         mean_from_volume: p2[0],
-        surfaces: [start, surface(&lat)],
+        surfaces: [start, exposed_positions(&lat)],
     })
 }
 
