@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use anyhow::Result;
 use brisance::verification::taylor::{
-    bilinear_bar, bilinear_bar_case, taylor_case, TaylorResult, CONFIG_CELLS_ACROSS_RADIUS,
-    JOHNSON_COOK_1983_OFHC_190,
+    bilinear_bar, bilinear_bar_case, taylor_case, TaylorResult, TaylorTest,
+    CONFIG_CELLS_ACROSS_RADIUS, JOHNSON_COOK_1983_OFHC_190,
 };
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
@@ -34,6 +34,103 @@ const REST: f64 = 0.01;
 /// L₀ = 81 Δx).
 const BAR_CELLS: usize = 8;
 
+/// Cells across the radius for Johnson & Cook's two slower copper tests
+/// (L_f moves by 0.05 % between 6 and 12 cells at 190 m/s).
+const SLOWER_CELLS: usize = 6;
+
+/// Johnson & Cook's (1983) other two OFHC copper cylinder-impact tests, the
+/// same rod as the 190 m/s one: L_f/L₀ and D_f/D₀ as tabulated in the same
+/// compilation (Banerjee, `HighRateExptData`, `TaylorData/MATLAB/plotOFHCCu.m`,
+/// `zerilliData`; the profiles are digitised from Johnson & Cook 1983, p. 546,
+/// `profileCuJohnson130.m`, `profileCuJohnson146.m`).
+const JOHNSON_COOK_1983_OFHC_SLOWER: [TaylorTest; 2] = [
+    TaylorTest {
+        length: 0.0254,
+        diameter: 0.00762,
+        velocity: 130.0,
+        final_length_ratio: 0.770,
+        final_diameter_ratio: 1.30,
+        source: "Johnson & Cook (1983), 130 m/s; Banerjee's compilation",
+    },
+    TaylorTest {
+        length: 0.0254,
+        diameter: 0.00762,
+        velocity: 146.0,
+        final_length_ratio: 0.736,
+        final_diameter_ratio: 1.40,
+        source: "Johnson & Cook (1983), 146 m/s; Banerjee's compilation",
+    },
+];
+
+/// The Johnson–Cook code-to-code check: the Taylor rod of the DynELA
+/// documentation (O. Pantalé, DynELA v4 finite-element code, chapter
+/// "DynELA impact sample cases", section "Taylor impact sample";
+/// repository `pantale/DynELA-v.-4.0`, `Documentation/Samples-Impacts.tex`),
+/// computed there with DynELA and with Abaqus/Explicit: a 42CrMo4 steel
+/// rod with the full Johnson–Cook flow stress (rate and thermal terms,
+/// plastic heating), the bilinear bar's geometry (L₀ 32.4 mm, R₀ 3.2 mm) on
+/// a frictionless rigid wall at 287 m/s, 80 µs.
+mod jc_steel {
+    /// Impact velocity, m/s.
+    pub const VELOCITY: f64 = 287.0;
+    /// Density, kg/m³.
+    pub const DENSITY: f64 = 7830.0;
+    /// Young's modulus, Pa.
+    pub const YOUNG: f64 = 206.9e9;
+    /// Poisson's ratio.
+    pub const POISSON: f64 = 0.3;
+    /// Johnson–Cook A, B (Pa), n, C, m.
+    pub const A: f64 = 806.0e6;
+    pub const B: f64 = 614.0e6;
+    pub const N: f64 = 0.168;
+    pub const C: f64 = 0.0089;
+    pub const M: f64 = 1.1;
+    /// Reference strain rate, 1/s.
+    pub const EPS_DOT0: f64 = 1.0;
+    /// Reference (room) and melt temperatures: 20 °C and 1540 °C, K.
+    pub const T_ROOM: f64 = 293.15;
+    pub const T_MELT: f64 = 1813.15;
+    /// Specific heat, J/(kg·K).
+    pub const SPECIFIC_HEAT: f64 = 460.0;
+    /// Taylor–Quinney factor.
+    pub const TAYLOR_QUINNEY: f64 = 0.9;
+    /// Published results: (code, L_f mm, D_f mm, max ε_p, max T °C).
+    pub const PUBLISHED: [(&str, f64, f64, f64, f64); 4] = [
+        ("Abaqus/Explicit, 3D", 26.55, 11.22, 1.84, 597.01),
+        ("DynELA, 3D", 26.52, 11.18, 1.84, 597.10),
+        ("Abaqus/Explicit, axisymmetric", 26.56, 11.16, 1.81, 590.96),
+        ("DynELA, axisymmetric", 26.52, 11.15, 1.78, 582.34),
+    ];
+    /// Cells across R₀ (Δx = 0.4 mm).
+    pub const CELLS: usize = 8;
+
+    /// Overrides that turn the bilinear bar into this rod: linear elastic
+    /// pressure K = E/(3(1 − 2ν)) (a Mie–Grüneisen form with C₀ = √(K/ρ)
+    /// and vanishing S and Γ₀, as the bilinear bar), G = E/(2(1 + ν)), the
+    /// Johnson–Cook flow stress, heating 0.9 through c_p.
+    pub fn overrides() -> Vec<String> {
+        let bulk = YOUNG / (3.0 * (1.0 - 2.0 * POISSON));
+        let shear = YOUNG / (2.0 * (1.0 + POISSON));
+        let c0 = (bulk / DENSITY).sqrt();
+        vec![
+            format!("initial.0.state.velocity=(0.0,0.0,{:e})", -VELOCITY),
+            format!("initial.0.state.density={DENSITY:e}"),
+            format!("initial.0.state.temperature={T_ROOM:e}"),
+            format!("materials.copper.model.shear_modulus={shear:e}"),
+            format!(
+                "materials.copper.model.flow_stress=JohnsonCook(a:{A:e},b:{B:e},n:{N:e},c:{C:e},m:{M:e},\
+                 eps_dot0:{EPS_DOT0:e},t_room:{T_ROOM:e},t_melt:{T_MELT:e})"
+            ),
+            format!(
+                "materials.copper.model.pressure=Eos(MieGruneisenLinear(c0:{c0:e},s:1.0e-6,gamma0:1.0e-6,\
+                 rho0:{DENSITY:e},cv:{SPECIFIC_HEAT:e},t0:{T_ROOM:e}))"
+            ),
+            format!("materials.copper.model.taylor_quinney={TAYLOR_QUINNEY:e}"),
+            format!("materials.copper.model.specific_heat={SPECIFIC_HEAT:e}"),
+        ]
+    }
+}
+
 pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
     let test = JOHNSON_COOK_1983_OFHC_190;
     println!("V-TAYLOR: Taylor impact of an OFHC copper rod at 190 m/s, 3D MPM");
@@ -52,6 +149,28 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push((r, wall));
     }
+    let mut slower: Vec<(TaylorTest, TaylorResult)> = Vec::new();
+    for test in JOHNSON_COOK_1983_OFHC_SLOWER {
+        let velocity = format!("initial.0.state.velocity=(0.0,0.0,{:e})", -test.velocity);
+        let r = taylor_case(SLOWER_CELLS, END_TIME, &[velocity]).map_err(anyhow::Error::msg)?;
+        println!(
+            "  {:.0} m/s, {SLOWER_CELLS} cells across R: Lf {:.3} mm  Df {:.3} mm",
+            test.velocity,
+            1e3 * r.shape.length,
+            1e3 * r.shape.diameter
+        );
+        slower.push((test, r));
+    }
+    let t0 = Instant::now();
+    let steel =
+        bilinear_bar_case(jc_steel::CELLS, &jc_steel::overrides()).map_err(anyhow::Error::msg)?;
+    let steel_wall = t0.elapsed().as_secs_f64();
+    println!(
+        "  Johnson-Cook steel rod, {} cells across R: Lf {:.3} mm  Df {:.3} mm  {steel_wall:.0} s",
+        jc_steel::CELLS,
+        1e3 * steel.shape.length,
+        1e3 * steel.shape.diameter
+    );
     let t0 = Instant::now();
     let bar = bilinear_bar_case(BAR_CELLS, &[]).map_err(anyhow::Error::msg)?;
     let bar_wall = t0.elapsed().as_secs_f64();
@@ -152,6 +271,66 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
             bar.kinetic_energy_ratio,
             bar.energy_change,
             bar_wall
+        );
+    }
+    {
+        use jc_steel as s;
+        let (lf, df) = (1e3 * steel.shape.length, 1e3 * steel.shape.diameter);
+        let (_, l_ref, d_ref, _, _) = s::PUBLISHED[0];
+        let _ = writeln!(
+            md,
+            "\nSolver check of the Johnson–Cook path (rate term, plastic heating) against Abaqus/Explicit and DynELA: \
+             the 42CrMo4 steel rod of the DynELA documentation (O. Pantalé, DynELA v4, \"DynELA impact sample cases\", \
+             Taylor impact sample; `pantale/DynELA-v.-4.0`, `Documentation/Samples-Impacts.tex`), the bilinear bar's \
+             rod (L₀ 32.4 mm, R₀ 3.2 mm) at {:.0} m/s on a frictionless rigid wall, 80 µs; E {:.1} GPa, ν {}, ρ {:.0} kg/m³, \
+             Johnson–Cook A {:.0} MPa, B {:.0} MPa, n {}, C {}, m {}, ε̇₀ {} s⁻¹, T_room 20 °C, T_melt 1540 °C, c_p {:.0} J/(kg·K), \
+             Taylor–Quinney {}; same solver options as V-TAYLOR, {} cells across R₀ (errors against Abaqus/Explicit 3D). \
+             T in °C.\n\n\
+             | code | L_f (mm) | error | D_f (mm) | error | D₀ as measured (mm) | max ε_p | max T (°C) |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|\n\
+             | this MPM | {lf:.3} | {:+.2} % | {df:.3} | {:+.2} % | {:.3} | {:.2} | {:.0} |",
+            s::VELOCITY,
+            1e-9 * s::YOUNG,
+            s::POISSON,
+            s::DENSITY,
+            1e-6 * s::A,
+            1e-6 * s::B,
+            s::N,
+            s::C,
+            s::M,
+            s::EPS_DOT0,
+            s::SPECIFIC_HEAT,
+            s::TAYLOR_QUINNEY,
+            s::CELLS,
+            100.0 * (lf / l_ref - 1.0),
+            100.0 * (df / d_ref - 1.0),
+            1e3 * steel.initial_diameter,
+            steel.max_plastic_strain,
+            steel.max_temperature - 273.15
+        );
+        for (code, l, d, e, t) in s::PUBLISHED {
+            let _ = writeln!(md, "| {code} | {l:.2} | | {d:.2} | | | {e:.2} | {t:.0} |");
+        }
+    }
+    let _ = writeln!(
+        md,
+        "\nJohnson & Cook's two slower copper tests with the same rod and model ({SLOWER_CELLS} cells across R; \
+         L_f/L₀ and D_f/D₀ from the same compilation as the 190 m/s test):\n\n\
+         | velocity (m/s) | L_f (mm) | test (mm) | error | D_f (mm) | test (mm) | error | KE/KE₀ at end |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (test, r) in &slower {
+        let _ = writeln!(
+            md,
+            "| {:.0} | {:.3} | {:.2} | {:+.2} % | {:.3} | {:.2} | {:+.2} % | {:.2e} |",
+            test.velocity,
+            1e3 * r.shape.length,
+            1e3 * test.final_length(),
+            100.0 * (r.shape.length / test.final_length() - 1.0),
+            1e3 * r.shape.diameter,
+            1e3 * test.final_diameter(),
+            100.0 * (r.shape.diameter / test.final_diameter() - 1.0),
+            r.kinetic_energy_ratio
         );
     }
     let _ = writeln!(
