@@ -111,10 +111,14 @@ impl Murnaghan {
     /// Elastic compression energy e_c(ρ) = −∫_{v₀}^{v} p dv, J/kg.
     #[inline]
     pub fn compression_energy(&self, rho: f64) -> f64 {
-        let eta = rho / self.rho0;
+        self.compression_energy_from((rho / self.rho0).powf(self.n - 1.0), rho)
+    }
+
+    /// e_c(ρ) from η^{n−1} = (ρ/ρ₀)^{n−1}, for callers that have the power.
+    #[inline]
+    fn compression_energy_from(&self, eta_n1: f64, rho: f64) -> f64 {
         let n = self.n;
-        ((eta.powf(n - 1.0) - 1.0) / ((n - 1.0) * self.rho0) + 1.0 / rho - 1.0 / self.rho0)
-            / (n * self.kappa)
+        ((eta_n1 - 1.0) / ((n - 1.0) * self.rho0) + 1.0 / rho - 1.0 / self.rho0) / (n * self.kappa)
     }
 
     fn out_of_range(detail: String) -> EosError {
@@ -166,14 +170,26 @@ impl Eos for Murnaghan {
                 "pressure p = {p} Pa must be finite"
             )));
         }
-        let pm = self.pressure(rho, 0.0);
+        // One power serves the check and the energy: the pressure from
+        // η^{n−1}·η is within an ulp or two of `pressure`'s η^n, far inside
+        // the 10⁻⁹ tolerance.
+        let eta = rho / self.rho0;
+        let eta_n1 = eta.powf(self.n - 1.0);
+        let pm = (eta_n1 * eta - 1.0) / (self.n * self.kappa);
         let tol = 1e-9 * (p.abs().max(pm.abs()) + 1.0 / (self.n * self.kappa));
         if (p - pm).abs() > tol {
             return Err(Self::out_of_range(format!(
                 "pressure depends on density only: at ρ = {rho} kg/m³ it is {pm} Pa, not {p} Pa"
             )));
         }
-        Ok(self.compression_energy(rho))
+        Ok(self.compression_energy_from(eta_n1, rho))
+    }
+
+    /// c² = ∂p/∂ρ, since ∂p/∂e = 0 (the default's second term vanishes; this
+    /// spares its power for p).
+    #[inline]
+    fn sound_speed_squared(&self, rho: f64, e: f64) -> f64 {
+        self.dp_drho(rho, e)
     }
 
     /// T = T_ref + (e − e_c(ρ))/c_v.
@@ -191,6 +207,26 @@ impl Eos for Murnaghan {
 
     /// ρ = ρ₀(1 + nκp)^{1/n}, independent of T.
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
+        Ok(self.rho0 * self.tension_base(p, t)?.powf(1.0 / self.n))
+    }
+
+    /// κ_T = κ/(1 + nκp).
+    fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError> {
+        Ok(self.kappa / self.tension_base(p, t)?)
+    }
+
+    /// α = 0 (p does not depend on T).
+    fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
+        self.tension_base(p, t)?;
+        Ok(0.0)
+    }
+}
+
+impl Murnaghan {
+    /// 1 + nκp, after checking that (p, T) is a state ρ(p, T) exists for
+    /// (finite p above the tension limit −1/(nκ), finite T > 0); shared by
+    /// ρ(p, T) and κ_T so that κ_T needs no power.
+    fn tension_base(&self, p: f64, t: f64) -> Result<f64, EosError> {
         if !(p.is_finite() && t.is_finite() && t > 0.0) {
             return Err(Self::out_of_range(format!(
                 "ρ(p, T) needs finite p and T > 0, got p = {p} Pa, T = {t} K"
@@ -203,19 +239,7 @@ impl Eos for Murnaghan {
                 -1.0 / (self.n * self.kappa)
             )));
         }
-        Ok(self.rho0 * base.powf(1.0 / self.n))
-    }
-
-    /// κ_T = κ/(1 + nκp).
-    fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.density(p, t)?;
-        Ok(self.kappa / (1.0 + self.n * self.kappa * p))
-    }
-
-    /// α = 0 (p does not depend on T).
-    fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.density(p, t)?;
-        Ok(0.0)
+        Ok(base)
     }
 }
 
@@ -271,7 +295,57 @@ mod tests {
     #[test]
     fn density_below_the_tension_limit_is_an_error() {
         let m = Murnaghan::anfo_k1();
-        assert!(m.density(-1.0 / (7.4 * 3.9e-10) * 1.01, 300.0).is_err());
+        let p = -1.0 / (7.4 * 3.9e-10) * 1.01;
+        assert!(m.density(p, 300.0).is_err());
+        assert!(m.isothermal_compressibility(p, 300.0).is_err());
+        assert!(m.thermal_expansivity(p, 300.0).is_err());
+        assert!(m.isothermal_compressibility(1.0e9, 0.0).is_err());
+        assert!(m.isothermal_compressibility(f64::NAN, 300.0).is_err());
+    }
+
+    #[test]
+    fn sound_speed_is_the_default_formula_with_one_power() {
+        // c² = ∂p/∂ρ + (p/ρ²)·∂p/∂e with ∂p/∂e = 0; at ρ₀,
+        // c₀² = 1/(ρ₀κ) = 1/(1160·3.9e-10) = 2.2104e6 m²/s².
+        let m = Murnaghan::anfo_k1();
+        assert!((m.sound_speed_squared(1160.0, 0.0) - 1.0 / (1160.0 * 3.9e-10)).abs() < 1e-6);
+        for rho in [600.0, 1160.0, 1500.0, 3000.0] {
+            let default =
+                m.dp_drho(rho, 0.0) + m.pressure(rho, 0.0) / (rho * rho) * m.dp_de(rho, 0.0);
+            assert_eq!(m.sound_speed_squared(rho, 0.0), default);
+        }
+    }
+
+    #[test]
+    fn energy_from_pressure_is_the_compression_energy() {
+        let m = Murnaghan::anfo_k1();
+        for rho in [600.0, 1160.0, 1500.0, 3000.0] {
+            let e = m
+                .specific_internal_energy(rho, m.pressure(rho, 0.0))
+                .unwrap();
+            assert_eq!(e, m.compression_energy(rho));
+        }
+    }
+
+    #[test]
+    fn compressibility_at_one_gigapascal_matches_hand_value() {
+        // ANFO-K1 at 1 GPa: 1 + nκp = 1 + 7.4·3.9e-10·1e9 = 3.886,
+        // κ_T = 3.9e-10/3.886 = 1.003602e-10 Pa⁻¹, ρ = 1160·3.886^{1/7.4}
+        // = 1160·e^{ln(3.886)/7.4} = 1160·1.20133 = 1393.54 kg/m³; κ_T is
+        // (1/ρ)dρ/dp of that density.
+        let m = Murnaghan::anfo_k1();
+        let kappa = m.isothermal_compressibility(1.0e9, 300.0).unwrap();
+        assert!(
+            (kappa - 1.003602e-10).abs() < 1e-6 * 1.003602e-10,
+            "{kappa}"
+        );
+        let rho = m.density(1.0e9, 300.0).unwrap();
+        assert!((rho - 1393.54).abs() < 0.01, "{rho}");
+        let h = 1.0e3;
+        let fd = (m.density(1.0e9 + h, 300.0).unwrap() - m.density(1.0e9 - h, 300.0).unwrap())
+            / (2.0 * h * rho);
+        assert!((fd / kappa - 1.0).abs() < 1e-6, "{fd} vs {kappa}");
+        assert_eq!(m.thermal_expansivity(1.0e9, 300.0).unwrap(), 0.0);
     }
 
     #[test]

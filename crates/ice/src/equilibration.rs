@@ -72,7 +72,7 @@ pub struct EquilibrationError {
     pub state: String,
 }
 
-/// f(p) = 1 − Σ ρ_r v_r(p, T_r) and f'(p) = Σ θ_r κ_r, writing v_r and θ_r.
+/// f(p) = 1 − Σ ρ_r v_r(p, T_r), writing v_r and θ_r.
 fn residual<E: Eos>(
     eos: &[E],
     rho: &[f64],
@@ -80,22 +80,31 @@ fn residual<E: Eos>(
     p: f64,
     vsp: &mut [f64],
     theta: &mut [f64],
-) -> Result<(f64, f64), String> {
+) -> Result<f64, String> {
     let mut sum = 0.0;
-    let mut dsum = 0.0;
     for r in 0..eos.len() {
         let rho_micro = eos[r]
             .density(p, temp[r])
             .map_err(|e| format!("material {}: {e}", r + 1))?;
-        let kappa = eos[r]
-            .isothermal_compressibility(p, temp[r])
-            .map_err(|e| format!("material {}: {e}", r + 1))?;
         vsp[r] = 1.0 / rho_micro;
         theta[r] = rho[r] * vsp[r];
         sum += theta[r];
+    }
+    Ok(1.0 - sum)
+}
+
+/// f'(p) = Σ θ_r κ_r at the pressure `theta` was computed at. Only a
+/// Newton step needs it, so a cell whose guess already meets the tolerance
+/// (most cells in a step) never evaluates κ.
+fn residual_slope<E: Eos>(eos: &[E], temp: &[f64], p: f64, theta: &[f64]) -> Result<f64, String> {
+    let mut dsum = 0.0;
+    for r in 0..eos.len() {
+        let kappa = eos[r]
+            .isothermal_compressibility(p, temp[r])
+            .map_err(|e| format!("material {}: {e}", r + 1))?;
         dsum += theta[r] * kappa;
     }
-    Ok((1.0 - sum, dsum))
+    Ok(dsum)
 }
 
 fn describe(rho: &[f64], temp: &[f64]) -> String {
@@ -142,8 +151,7 @@ pub fn equilibration_pressure<E: Eos>(
     } else {
         1.0e5
     };
-    let (mut f, mut df) =
-        residual(eos, rho, temp, p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
+    let mut f = residual(eos, rho, temp, p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
     // Bracket: f(lo) < 0 < f(hi); 0 and ∞ mean "not found yet".
     let mut lo = 0.0_f64;
     let mut hi = f64::INFINITY;
@@ -175,34 +183,37 @@ pub fn equilibration_pressure<E: Eos>(
                 },
             ));
         }
-        let newton = if df > 0.0 { p - f / df } else { f64::NAN };
-        let next = if bracketed {
-            if bisect_next || !(newton > lo && newton < hi) {
-                (lo * hi).sqrt()
-            } else {
-                newton
-            }
-        } else if f < 0.0 {
-            // The root lies above p.
-            if newton > p {
-                newton.min(10.0 * p)
-            } else {
-                10.0 * p
-            }
-        } else if newton > 0.0 && newton < p {
-            newton.max(0.1 * p)
+        let next = if bracketed && bisect_next {
+            (lo * hi).sqrt()
         } else {
-            0.1 * p
+            let df = residual_slope(eos, temp, p, theta).map_err(|e| fail(it, f, p, e))?;
+            let newton = if df > 0.0 { p - f / df } else { f64::NAN };
+            if bracketed {
+                if newton > lo && newton < hi {
+                    newton
+                } else {
+                    (lo * hi).sqrt()
+                }
+            } else if f < 0.0 {
+                // The root lies above p.
+                if newton > p {
+                    newton.min(10.0 * p)
+                } else {
+                    10.0 * p
+                }
+            } else if newton > 0.0 && newton < p {
+                newton.max(0.1 * p)
+            } else {
+                0.1 * p
+            }
         };
         if !(next > 0.0 && next.is_finite()) {
             return Err(fail(it, f, p, "no positive pressure fills the cell".into()));
         }
-        let (f_new, df_new) =
-            residual(eos, rho, temp, next, vsp, theta).map_err(|e| fail(it, f, next, e))?;
+        let f_new = residual(eos, rho, temp, next, vsp, theta).map_err(|e| fail(it, f, next, e))?;
         bisect_next = f_new.abs() > 0.5 * f.abs();
         p = next;
         f = f_new;
-        df = df_new;
     }
     if f.abs() <= settings.tolerance {
         return Ok((
@@ -306,6 +317,104 @@ mod tests {
         assert!((th[0] + th[1] - 1.0).abs() <= 1e-12);
         assert!((th[0] - 0.7).abs() < 1e-9);
         assert!(rep.iterations > 0 && rep.iterations < 100, "{rep:?}");
+    }
+
+    /// An ideal gas that counts its κ evaluations.
+    #[derive(Debug)]
+    struct CountingGas {
+        gas: IdealGas,
+        kappa_calls: std::sync::atomic::AtomicUsize,
+    }
+
+    impl Eos for CountingGas {
+        fn name(&self) -> &'static str {
+            "counting_gas"
+        }
+        fn reference_density(&self) -> f64 {
+            self.gas.reference_density()
+        }
+        fn pressure(&self, rho: f64, e: f64) -> f64 {
+            self.gas.pressure(rho, e)
+        }
+        fn dp_drho(&self, rho: f64, e: f64) -> f64 {
+            self.gas.dp_drho(rho, e)
+        }
+        fn dp_de(&self, rho: f64, e: f64) -> f64 {
+            self.gas.dp_de(rho, e)
+        }
+        fn specific_internal_energy(
+            &self,
+            rho: f64,
+            p: f64,
+        ) -> Result<f64, brisance_core::EosError> {
+            self.gas.specific_internal_energy(rho, p)
+        }
+        fn temperature(&self, rho: f64, e: f64) -> f64 {
+            self.gas.temperature(rho, e)
+        }
+        fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64 {
+            self.gas.specific_internal_energy_from_temperature(rho, t)
+        }
+        fn cv(&self, rho: f64, t: f64) -> f64 {
+            self.gas.cv(rho, t)
+        }
+        fn density(&self, p: f64, t: f64) -> Result<f64, brisance_core::EosError> {
+            self.gas.density(p, t)
+        }
+        fn isothermal_compressibility(
+            &self,
+            p: f64,
+            t: f64,
+        ) -> Result<f64, brisance_core::EosError> {
+            self.kappa_calls
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.gas.isothermal_compressibility(p, t)
+        }
+        fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, brisance_core::EosError> {
+            self.gas.thermal_expansivity(p, t)
+        }
+    }
+
+    /// κ is evaluated for Newton steps only: not at all when the guess
+    /// already fills the cell, once per material per Newton step otherwise.
+    #[test]
+    fn compressibility_is_evaluated_only_for_newton_steps() {
+        let eos = [
+            CountingGas {
+                gas: IdealGas::new(1.4, 1000.0, 1.0),
+                kappa_calls: 0.into(),
+            },
+            CountingGas {
+                gas: IdealGas::new(1.67, 500.0, 1.0),
+                kappa_calls: 0.into(),
+            },
+        ];
+        let (rho, temp) = ([0.5, 0.2], [300.0, 600.0]);
+        let (mut v, mut th) = ([0.0; 2], [0.0; 2]);
+        let settings = EquilibrationSettings::default();
+        let calls = |eos: &[CountingGas; 2]| {
+            eos.each_ref()
+                .map(|g| g.kappa_calls.load(std::sync::atomic::Ordering::Relaxed))
+        };
+        // Dalton's pressure 100 200 Pa (see the test above) as the guess.
+        let (p, rep) =
+            equilibration_pressure(&eos, &rho, &temp, 100_200.0, &settings, &mut v, &mut th)
+                .unwrap();
+        assert_eq!(p, 100_200.0);
+        assert_eq!(rep.iterations, 0);
+        assert_eq!(calls(&eos), [0, 0]);
+        // From 10⁵ Pa (f = 1 − 1.002 = −0.002) Newton steps converge; each
+        // asks every material for κ once, and the final residual
+        // evaluation asks for none.
+        let (p, rep) =
+            equilibration_pressure(&eos, &rho, &temp, 1.0e5, &settings, &mut v, &mut th).unwrap();
+        assert!((p - 100_200.0).abs() < 1e-9 * p, "p = {p}");
+        let newton_steps = calls(&eos)[0];
+        assert_eq!(calls(&eos), [newton_steps, newton_steps]);
+        assert!(
+            newton_steps >= 1 && newton_steps <= rep.iterations,
+            "{rep:?}"
+        );
     }
 
     #[test]
