@@ -417,3 +417,62 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
     );
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use brisance::constitutive::flow_stress::FlowStress;
+    use brisance::constitutive::MaterialModel;
+    use brisance::core::Material;
+    use brisance::verification::taylor::bilinear_bar_scenario;
+
+    #[test]
+    fn jc_steel_overrides_make_the_published_rod() {
+        let s = bilinear_bar_scenario(2, &jc_steel::overrides()).unwrap();
+        let state = &s.initial[0].state;
+        assert_eq!(state.velocity, [0.0, 0.0, -287.0]);
+        assert_eq!(state.density, 7830.0);
+        assert_eq!(state.temperature, Some(293.15));
+        let model = s.materials["copper"].model.clone().unwrap();
+        let MaterialModel::ElasticPlastic(ep) = &model else {
+            panic!("not elastic-plastic: {model:?}");
+        };
+        assert_eq!(
+            ep.flow_stress,
+            FlowStress::JohnsonCook {
+                a: 806.0e6,
+                b: 614.0e6,
+                n: 0.168,
+                c: 0.0089,
+                m: 1.1,
+                eps_dot0: 1.0,
+                t_room: 293.15,
+                t_melt: 1813.15,
+            }
+        );
+        // G = E/(2(1 + ν)) = 206.9/2.6 GPa.
+        assert!((ep.shear_modulus / 79.576_923e9 - 1.0).abs() < 1e-7);
+        assert_eq!(ep.taylor_quinney, 0.9);
+        assert_eq!(ep.specific_heat, 460.0);
+        // Linear pressure K (1 − ρ₀/ρ), K = E/(3(1 − 2ν)) = 172.4167 GPa, at
+        // 1 % compression and zero energy: 1.7071 GPa to the 10⁻⁶ of the
+        // vanishing S and Γ₀.
+        let eos = model.eos().unwrap();
+        let rho = 7830.0 / 0.99;
+        let p = eos.pressure(rho, 0.0);
+        let k = 206.9e9 / 1.2;
+        assert!((p / (k * 0.01) - 1.0).abs() < 1e-5, "p = {p}");
+    }
+
+    #[test]
+    fn slower_tests_are_the_same_rod_at_130_and_146_m_s() {
+        let fast = JOHNSON_COOK_1983_OFHC_190;
+        for (t, v) in JOHNSON_COOK_1983_OFHC_SLOWER.iter().zip([130.0, 146.0]) {
+            assert_eq!((t.length, t.diameter), (fast.length, fast.diameter));
+            assert_eq!(t.velocity, v);
+        }
+        // 0.770 × 25.4 mm and 1.30 × 7.62 mm.
+        assert!((JOHNSON_COOK_1983_OFHC_SLOWER[0].final_length() - 19.558e-3).abs() < 1e-9);
+        assert!((JOHNSON_COOK_1983_OFHC_SLOWER[0].final_diameter() - 9.906e-3).abs() < 1e-9);
+    }
+}
