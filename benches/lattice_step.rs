@@ -5,36 +5,15 @@
 //! nodes per step); the target of issue 6 is ≥ 30e6. Measured figures:
 //! `docs/physics/lattice/hotspots.md`.
 
-use brisance::pd::msdm::{Dim, Geometry, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions};
+use brisance::pd::msdm::{cases::estane_step_block, MsdmLattice};
 use criterion::{criterion_group, Criterion, Throughput};
 
-/// An Estane block (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K))
-/// of `n` × `n` nodes at h = 10 µm moving at −100 m/s, axial springs with
-/// the perpendicular corrective force of eq 10b.
+/// The Estane block of `brisance_pd::msdm::cases::estane_step_block`
+/// (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K), h = 10 µm,
+/// −100 m/s, axial springs with the perpendicular corrective force of
+/// eq 10b, explicit Euler with the energy equation).
 fn block(n: usize, diagonals: bool) -> MsdmLattice {
-    let geom = Geometry::new(Dim::Two, [n, n, 1], 1.0e-5, diagonals, |_, _, _| Some(0));
-    let mut mat = LatticeMaterial::elastic(
-        "estane",
-        6.25e9,
-        brisance::eos::MieGruneisenThermal::estane_seed003(),
-    );
-    mat.conductivity = 0.2;
-    mat.perpendicular_modulus = 1.0e9;
-    let mut lat = MsdmLattice::new(
-        geom,
-        vec![mat],
-        MsdmOptions {
-            integrator: Integrator::ExplicitEuler,
-            ..MsdmOptions::default()
-        },
-    )
-    .expect("benchmark lattice builds");
-    for i in 0..lat.len() {
-        if lat.geom.is_solid(i) {
-            lat.u[0][i] = -100.0;
-        }
-    }
-    lat
+    estane_step_block(n, diagonals).expect("benchmark lattice builds")
 }
 
 fn lattice_step(c: &mut Criterion) {

@@ -619,3 +619,30 @@ pub fn aphtpb_burn(
         materials,
     })
 }
+
+/// The lattice of the explicit-step throughput target (issue: ≥ 30e6
+/// node-updates/s, criterion bench `lattice_step`): an Estane block
+/// (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K)) of `n` × `n`
+/// nodes at h = 10 µm moving at −100 m/s along x, axial springs with the
+/// perpendicular corrective force of eq 10b (E⊥ = 1 GPa) and optionally
+/// the diagonal springs, explicit Euler with the energy equation.
+pub fn estane_step_block(n: usize, diagonals: bool) -> Result<MsdmLattice, MsdmError> {
+    let geom = Geometry::new(Dim::Two, [n, n, 1], 1.0e-5, diagonals, |_, _, _| Some(0));
+    let mut mat = LatticeMaterial::elastic("estane", 6.25e9, MieGruneisenThermal::estane_seed003());
+    mat.conductivity = 0.2;
+    mat.perpendicular_modulus = 1.0e9;
+    let mut lat = MsdmLattice::new(
+        geom,
+        vec![mat],
+        MsdmOptions {
+            integrator: Integrator::ExplicitEuler,
+            ..MsdmOptions::default()
+        },
+    )?;
+    for i in 0..lat.len() {
+        if lat.geom.is_solid(i) {
+            lat.u[0][i] = -100.0;
+        }
+    }
+    Ok(lat)
+}

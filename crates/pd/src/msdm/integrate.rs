@@ -101,28 +101,9 @@ impl MsdmLattice {
     }
 
     fn explicit_euler(&mut self, dt: f64) {
-        self.compute_forces();
-        // x ← x + uⁿΔt then u ← u + aΔt, per axis in one pass (the same
-        // operations as move_positions followed by kick).
-        let dim = self.geom.dim.count();
-        let (mass, prescribed, kind) = (&self.mass, &self.prescribed[..], &self.geom.kind);
-        let held = &self.held_axes[..];
-        for a in 0..dim {
-            let f = &self.force[a];
-            self.x[a]
-                .par_iter_mut()
-                .zip(self.u[a].par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (x, u))| {
-                    if matches!(kind[i], super::geometry::NodeKind::Solid(_)) {
-                        *x += *u * dt;
-                        if !(prescribed[i] && held[i] & (1 << a) != 0) && mass[i] > 0.0 {
-                            *u += f[i] / mass[i] * dt;
-                        }
-                    }
-                });
-        }
-        self.forces_current = false;
+        // Forces at (xⁿ, uⁿ), then x ← x + uⁿΔt and u ← u + aΔt per node in
+        // the gather pass of the forces.
+        self.forces_and_update(Some(dt));
     }
 
     fn velocity_verlet(&mut self, dt: f64) {

@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::geometry::{dual_volume, Geometry, NodeKind};
+use super::geometry::{dual_volume, dual_volume_2d, Geometry, NodeKind};
 use super::law::{LatticeMaterial, PairLaw, SpringState};
 use super::sparse::{bicgstab, solve_direct, CsrMatrix, SolveStats, SolverWork};
 
@@ -653,57 +653,110 @@ impl MsdmLattice {
     /// velocity differences are exactly 0, are neither read nor stored,
     /// and the reference quantities of each direction are formed once.
     pub fn compute_forces(&mut self) {
+        self.forces_and_update(None);
+    }
+
+    /// [`MsdmLattice::compute_forces`], and with `euler = Some(dt)` also
+    /// the explicit Euler update of eqs 16–17 (x ← x + uⁿΔt, then
+    /// u ← u + f/m Δt on the free axes of solid nodes of positive mass) of
+    /// each node right after its net force is gathered, in the same pass.
+    /// The node updates only its own entries and the bond pass has read
+    /// every position and velocity before, so this is the same arithmetic
+    /// as a separate update pass.
+    pub(crate) fn forces_and_update(&mut self, euler: Option<f64>) {
         let mut bf = std::mem::take(&mut self.bond_force);
         let mut force = std::mem::take(&mut self.force);
+        let mut x = std::mem::take(&mut self.x);
+        let mut u = std::mem::take(&mut self.u);
         match self.geom.dim {
-            super::geometry::Dim::One => self.forces_dim::<1>(&mut bf, &mut force),
-            super::geometry::Dim::Two => self.forces_dim::<2>(&mut bf, &mut force),
-            super::geometry::Dim::Three => self.forces_dim::<3>(&mut bf, &mut force),
+            super::geometry::Dim::One => {
+                self.forces_dim::<1>(&mut x, &mut u, &mut bf, &mut force, euler)
+            }
+            super::geometry::Dim::Two => {
+                self.forces_dim::<2>(&mut x, &mut u, &mut bf, &mut force, euler)
+            }
+            super::geometry::Dim::Three => {
+                self.forces_dim::<3>(&mut x, &mut u, &mut bf, &mut force, euler)
+            }
         }
         self.bond_force = bf;
         self.force = force;
-        self.forces_current = true;
+        self.x = x;
+        self.u = u;
+        self.forces_current = euler.is_none();
     }
 
-    fn forces_dim<const D: usize>(&self, bf: &mut [Vec<f64>; 3], force: &mut [Vec<f64>; 3]) {
+    /// The two passes of [`MsdmLattice::forces_and_update`] on the
+    /// positions `x` and velocities `u` (taken out of `self` for the call).
+    fn forces_dim<const D: usize>(
+        &self,
+        x: &mut [Vec<f64>; 3],
+        u: &mut [Vec<f64>; 3],
+        bf: &mut [Vec<f64>; 3],
+        force: &mut [Vec<f64>; 3],
+        euler: Option<f64>,
+    ) {
         let nd = self.geom.directions.len();
         let n = self.len();
         let h = self.geom.spacing;
         // At most 3 axial + 6 face-diagonal directions.
         let mut refs = [BondRef::default(); 9];
+        let mut offsets = [0isize; 9];
         for (d, dir) in self.geom.directions.iter().enumerate() {
             let mut xi = [0.0; 3];
             for a in 0..3 {
                 xi[a] = f64::from(dir.step[a]) * h;
             }
             refs[d] = BondRef::new(xi, dir.axial);
+            offsets[d] = dir.offset;
         }
         let refs = &refs[..nd];
+        let offsets = &offsets[..nd];
         let status = &self.status[..];
+        let kind = &self.geom.kind[..];
+        let nm = self.materials.len();
+        let laws = &self.laws[..];
+        let single = nm == 1;
+        let has_state = self.has_spring_state;
+        let spring = &self.spring[..];
         {
+            let (xr, ur) = (&*x, &*u);
             let [b0, b1, b2] = bf;
             b0.par_chunks_mut(nd)
                 .zip(b1.par_chunks_mut(nd))
                 .zip(b2.par_chunks_mut(nd))
                 .enumerate()
                 .for_each(|(i, ((c0, c1), c2))| {
+                    let NodeKind::Solid(mi) = kind[i] else {
+                        return;
+                    };
                     for d in 0..nd {
                         if status[i * nd + d] != INTACT {
                             continue;
                         }
-                        let j = (i as isize + self.geom.directions[d].offset) as usize;
+                        let j = (i as isize + offsets[d]) as usize;
                         let mut r = [0.0; 3];
                         let mut w = [0.0; 3];
                         for a in 0..D {
-                            r[a] = self.x[a][j] - self.x[a][i];
-                            w[a] = self.u[a][j] - self.u[a][i];
+                            r[a] = xr[a][j] - xr[a][i];
+                            w[a] = ur[a][j] - ur[a][i];
                         }
-                        let st = if self.has_spring_state {
-                            self.spring[i * nd + d]
+                        let st = if has_state {
+                            spring[i * nd + d]
                         } else {
                             SpringState::default()
                         };
-                        let f = bond_force_ref(self.law(i, d), &refs[d], r, w, st).f;
+                        // An intact spring joins two solid nodes.
+                        let law = if single {
+                            &laws[0]
+                        } else {
+                            let mj = match kind[j] {
+                                NodeKind::Solid(m) => usize::from(m),
+                                NodeKind::Exterior => 0,
+                            };
+                            &laws[usize::from(mi) * nm + mj]
+                        };
+                        let f = bond_force_ref(law, &refs[d], r, w, st).f;
                         c0[d] = f[0];
                         if D > 1 {
                             c1[d] = f[1];
@@ -715,39 +768,70 @@ impl MsdmLattice {
                 });
         }
         let bf = &*bf;
+        let body = &self.body;
+        let (mass, prescribed, held) = (&self.mass[..], &self.prescribed[..], &self.held_axes[..]);
+        // Fixed chunks of nodes: each node's arithmetic does not depend on
+        // the chunking, so neither do the bits.
+        const CHUNK: usize = 512;
         let [f0, f1, f2] = force;
-        f0.par_iter_mut()
-            .zip(f1.par_iter_mut())
-            .zip(f2.par_iter_mut())
+        let [x0, x1, x2] = x;
+        let [u0, u1, u2] = u;
+        f0.par_chunks_mut(CHUNK)
+            .zip(f1.par_chunks_mut(CHUNK))
+            .zip(f2.par_chunks_mut(CHUNK))
+            .zip(x0.par_chunks_mut(CHUNK))
+            .zip(x1.par_chunks_mut(CHUNK))
+            .zip(x2.par_chunks_mut(CHUNK))
+            .zip(u0.par_chunks_mut(CHUNK))
+            .zip(u1.par_chunks_mut(CHUNK))
+            .zip(u2.par_chunks_mut(CHUNK))
             .enumerate()
-            .for_each(|(i, ((f0, f1), f2))| {
-                if !self.geom.is_solid(i) {
-                    (*f0, *f1, *f2) = (0.0, 0.0, 0.0);
-                    return;
-                }
-                // Components a ≥ D stay +0 (a sum of ±0 from +0 is +0).
-                let mut s = [0.0; 3];
-                for d in 0..nd {
-                    if status[i * nd + d] == INTACT {
-                        for a in 0..D {
-                            s[a] += bf[a][i * nd + d];
+            .for_each(|(c, ((((((((f0, f1), f2), x0), x1), x2), u0), u1), u2))| {
+                let fc = [f0, f1, f2];
+                let xc = [x0, x1, x2];
+                let uc = [u0, u1, u2];
+                for k in 0..fc[0].len() {
+                    let i = c * CHUNK + k;
+                    if !matches!(kind[i], NodeKind::Solid(_)) {
+                        for a in 0..3 {
+                            fc[a][k] = 0.0;
+                        }
+                        continue;
+                    }
+                    // Components a ≥ D stay +0 (a sum of ±0 from +0 is +0).
+                    let mut s = [0.0; 3];
+                    for d in 0..nd {
+                        if status[i * nd + d] == INTACT {
+                            for a in 0..D {
+                                s[a] += bf[a][i * nd + d];
+                            }
                         }
                     }
-                }
-                for (d, dir) in self.geom.directions.iter().enumerate() {
-                    let j = i as isize - dir.offset;
-                    if j >= 0 && (j as usize) < n {
-                        let b = j as usize * nd + d;
-                        if status[b] == INTACT {
-                            for a in 0..D {
-                                s[a] -= bf[a][b];
+                    for d in 0..nd {
+                        let j = i as isize - offsets[d];
+                        if j >= 0 && (j as usize) < n {
+                            let b = j as usize * nd + d;
+                            if status[b] == INTACT {
+                                for a in 0..D {
+                                    s[a] -= bf[a][b];
+                                }
+                            }
+                        }
+                    }
+                    let mut f = [0.0; 3];
+                    for a in 0..3 {
+                        f[a] = body[a][i] + s[a];
+                        fc[a][k] = f[a];
+                    }
+                    if let Some(dt) = euler {
+                        for a in 0..D {
+                            xc[a][k] += uc[a][k] * dt;
+                            if !(prescribed[i] && held[i] & (1 << a) != 0) && mass[i] > 0.0 {
+                                uc[a][k] += f[a] / mass[i] * dt;
                             }
                         }
                     }
                 }
-                *f0 = self.body[0][i] + s[0];
-                *f1 = self.body[1][i] + s[1];
-                *f2 = self.body[2][i] + s[2];
             });
     }
 
@@ -839,6 +923,17 @@ impl MsdmLattice {
             }
             (pair, ghost)
         });
+        // The axial directions (index, linear offset), in direction order.
+        let mut axial = [(0usize, 0isize); 3];
+        let mut n_axial = 0;
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            if dir.axial {
+                axial[n_axial] = (d, dir.offset);
+                n_axial += 1;
+            }
+        }
+        let axial = &axial[..n_axial];
+        let two = self.geom.dim == super::geometry::Dim::Two;
         {
             let this = &*self;
             v_new
@@ -855,7 +950,11 @@ impl MsdmLattice {
                         *t = this.temperature[i];
                         return;
                     };
-                    *v = dual_volume(&this.geom, &this.x, i);
+                    *v = if two {
+                        dual_volume_2d(&this.geom, &this.x[0], &this.x[1], i)
+                    } else {
+                        dual_volume(&this.geom, &this.x, i)
+                    };
                     if !this.options.thermal {
                         *e = this.energy[i];
                         *p = this.pressure[i];
@@ -875,7 +974,7 @@ impl MsdmLattice {
                     }
                     let q = match &table {
                         Some((pair, ghost)) => {
-                            this.conduction_by(i, m, |a, b| pair[a * nm + b], |a| ghost[a])
+                            this.conduction_by(i, m, axial, |a, b| pair[a * nm + b], |a| ghost[a])
                         }
                         None => this.conduction(i),
                     };
@@ -913,9 +1012,18 @@ impl MsdmLattice {
         let h = self.geom.spacing;
         let sur = self.options.surroundings;
         let k = |a: usize| self.materials[a].conductivity;
+        let mut axial = [(0usize, 0isize); 3];
+        let mut n_axial = 0;
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            if dir.axial {
+                axial[n_axial] = (d, dir.offset);
+                n_axial += 1;
+            }
+        }
         self.conduction_by(
             i,
             m,
+            &axial[..n_axial],
             |a, b| harmonic(k(a), k(b)) * h,
             |a| harmonic(k(a), sur.conductivity) * h,
         )
@@ -923,12 +1031,15 @@ impl MsdmLattice {
 
     /// The sum of [`MsdmLattice::conduction`] at solid node `i` of
     /// material `m`, with the conductance κ_ij h of a spring between
-    /// materials (a, b) from `pair` and that to a ghost from `ghost`.
+    /// materials (a, b) from `pair` and that to a ghost from `ghost`;
+    /// `axial` lists the axial directions (index, linear offset) in
+    /// direction order.
     #[inline(always)]
     fn conduction_by(
         &self,
         i: usize,
         m: usize,
+        axial: &[(usize, isize)],
         pair: impl Fn(usize, usize) -> f64,
         ghost: impl Fn(usize) -> f64,
     ) -> f64 {
@@ -936,12 +1047,9 @@ impl MsdmLattice {
         let sur = self.options.surroundings;
         let ti = self.temperature[i];
         let mut q = 0.0;
-        for (d, dir) in self.geom.directions.iter().enumerate() {
-            if !dir.axial {
-                continue;
-            }
+        for &(d, offset) in axial {
             for sign in [1isize, -1] {
-                let j = (i as isize + sign * dir.offset) as usize;
+                let j = (i as isize + sign * offset) as usize;
                 let bond = if sign > 0 { i * nd + d } else { j * nd + d };
                 if self.status[bond] == INTACT {
                     let mj = self.material_of(j).unwrap_or(m);

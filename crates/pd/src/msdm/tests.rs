@@ -220,6 +220,102 @@ fn same_bits_for_one_and_two_threads() {
     }
 }
 
+/// FNV-1a over the bits of the state after a run: positions, velocities,
+/// forces, temperatures, pressures, volumes, energies and spring status.
+fn state_digest(lat: &MsdmLattice) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |v: u64| {
+        for b in v.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for a in 0..3 {
+        lat.x[a].iter().for_each(|v| eat(v.to_bits()));
+        lat.u[a].iter().for_each(|v| eat(v.to_bits()));
+        lat.force[a].iter().for_each(|v| eat(v.to_bits()));
+    }
+    for f in [&lat.temperature, &lat.pressure, &lat.volume, &lat.energy] {
+        f.iter().for_each(|v| eat(v.to_bits()));
+    }
+    lat.status.iter().for_each(|&s| eat(u64::from(s)));
+    h
+}
+
+/// The specialised passes of the step (2D dual volume, fused force gather
+/// and explicit update, 2D conduction) give the same bits as the general
+/// passes they replaced: digests of 30 steps of 1D, 2D (with and without
+/// diagonals) and 3D blocks with two materials, fracture, plasticity,
+/// Kelvin–Voigt dashpots, f⊥, a held node and conduction to ghosts,
+/// recorded with the general passes.
+#[test]
+fn optimised_step_gives_the_recorded_bits() {
+    let mut digests = Vec::new();
+    for (dim, diagonals) in [
+        (Dim::One, false),
+        (Dim::Two, false),
+        (Dim::Two, true),
+        (Dim::Three, true),
+    ] {
+        for integ in [
+            Integrator::ExplicitEuler,
+            Integrator::VelocityVerlet,
+            Integrator::ImplicitEuler,
+        ] {
+            let proto = block(dim, 11, integ, true);
+            let mut mats = proto.materials.clone();
+            mats[1].fracture_strain = Some(2e-3);
+            let mut opts = proto.options;
+            opts.surroundings.conductivity = 0.05;
+            let n = proto.geom.n;
+            let solid = [
+                n[0] - 2,
+                n[1].saturating_sub(2).max(1),
+                n[2].saturating_sub(2).max(1),
+            ];
+            let geom = Geometry::new(dim, solid, 1.0e-3, diagonals, |ix, _, _| {
+                Some(u16::from(ix >= 2))
+            });
+            let mut lat = MsdmLattice::new(geom, mats, opts).unwrap();
+            let mut heat = 300.0;
+            for i in 0..lat.len() {
+                if lat.geom.is_solid(i) {
+                    for a in 0..dim.count() {
+                        lat.x[a][i] = proto.x[a][i];
+                        lat.u[a][i] = proto.u[a][i];
+                    }
+                    heat += 7.0;
+                    lat.temperature[i] = heat;
+                    lat.energy[i] = heat * lat.materials[0].eos.cv;
+                }
+            }
+            let held = lat.geom.solid_index(0, 0, 0);
+            lat.prescribed[held] = true;
+            lat.mark_modified();
+            let dt = 0.5 * lat.explicit_stable_dt();
+            for _ in 0..30 {
+                lat.step(dt).unwrap();
+            }
+            digests.push(state_digest(&lat));
+        }
+    }
+    // 1D, 2D, 2D with diagonals, 3D; explicit Euler, Verlet, implicit Euler.
+    let recorded: [u64; 12] = [
+        0x09b38571a436c827,
+        0x89d05259230efe40,
+        0x0b398ade97b25f1e,
+        0x098589ca3d57b62e,
+        0x6155c1224afb59a6,
+        0x6d4b22a21a435deb,
+        0xa08ba3992caa1730,
+        0x2d51ddf68c5c6e19,
+        0x9e6f32a883c54989,
+        0xdc15d4b28b9d4b2d,
+        0x740850315656bbc7,
+        0xf06766b25f43bd89,
+    ];
+    assert_eq!(digests, recorded, "{digests:#x?}");
+}
+
 #[test]
 fn jacobian_matches_finite_differences() {
     let mut m = material(2.0e9);
@@ -589,6 +685,36 @@ fn throughput_432_squared() {
             rayon::current_num_threads()
         );
     }
+}
+
+/// `LATTICE_STEPS=n` (default 2) explicit steps of the 432 × 432 block of
+/// the `lattice_step` bench, for instruction counts that do not depend on
+/// the machine's load (`valgrind --tool=callgrind` on the release test
+/// binary with `--ignored --exact msdm::tests::lattice_step_instructions`,
+/// the difference of two values of n).
+#[test]
+#[ignore]
+fn lattice_step_instructions() {
+    let steps = std::env::var("LATTICE_STEPS")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+        .unwrap_or(2);
+    let n = std::env::var("LATTICE_N")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+        .unwrap_or(432);
+    let mut lat = estane_step_block(n, false).unwrap();
+    let dt = 0.5 * lat.explicit_stable_dt();
+    let t0 = std::time::Instant::now();
+    for _ in 0..steps {
+        lat.step(dt).unwrap();
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    eprintln!(
+        "{steps} steps of {n}², t = {:.6e} s, {:.3e} node-updates/s",
+        lat.time,
+        (n * n * steps) as f64 / wall
+    );
 }
 
 #[test]
