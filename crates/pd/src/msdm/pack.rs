@@ -132,6 +132,91 @@ pub fn read_pgm(bytes: &[u8]) -> Result<GrayImage, String> {
     })
 }
 
+/// The eight bytes every PNG file starts with.
+const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+
+/// Reads a PNG image as grey levels (the `png` crate's decoder): grey
+/// images of 1, 2, 4, 8 or 16 bits and palette images are expanded to 8
+/// (or 16) bits; an alpha channel is ignored; colour pixels become their
+/// Rec. 601 luma, round((299 R + 587 G + 114 B)/1000), so a grey image
+/// saved as RGB keeps its levels. `max_value` is 255, or 65535 for 16-bit
+/// images. The first frame of an animated PNG is read.
+pub fn read_png(bytes: &[u8]) -> Result<GrayImage, String> {
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| format!("PNG: cannot read the header: {e}"))?;
+    let mut buf = vec![0u8; reader.output_buffer_size()];
+    let info = reader
+        .next_frame(&mut buf)
+        .map_err(|e| format!("PNG: cannot decode the pixels: {e}"))?;
+    let (width, height) = (info.width as usize, info.height as usize);
+    if width == 0 || height == 0 {
+        return Err(format!("PNG: the image is {width} × {height} pixels"));
+    }
+    let channels = match info.color_type {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => {
+            return Err("PNG: a palette image was not expanded to colour".into());
+        }
+    };
+    let wide = match info.bit_depth {
+        png::BitDepth::Eight => false,
+        png::BitDepth::Sixteen => true,
+        d => return Err(format!("PNG: bit depth {d:?} was not expanded to 8 bits")),
+    };
+    let bytes_per_sample = if wide { 2 } else { 1 };
+    let sample = |row: &[u8], k: usize| -> u32 {
+        if wide {
+            u32::from(u16::from_be_bytes([row[2 * k], row[2 * k + 1]]))
+        } else {
+            u32::from(row[k])
+        }
+    };
+    let mut pixels = Vec::with_capacity(width * height);
+    for row in buf[..info.buffer_size()].chunks_exact(info.line_size) {
+        let row = &row[..width * channels * bytes_per_sample];
+        for x in 0..width {
+            let k = x * channels;
+            let level = if channels >= 3 {
+                let (r, g, b) = (sample(row, k), sample(row, k + 1), sample(row, k + 2));
+                (299 * r + 587 * g + 114 * b + 500) / 1000
+            } else {
+                sample(row, k)
+            };
+            pixels.push(level as u16);
+        }
+    }
+    Ok(GrayImage {
+        width,
+        height,
+        max_value: if wide { u16::MAX } else { 255 },
+        pixels,
+    })
+}
+
+/// Reads a crystal/binder image, PNG (recognised by its signature) or PGM
+/// (`P5`/`P2`, see [`read_pgm`]).
+pub fn read_image(bytes: &[u8]) -> Result<GrayImage, String> {
+    if bytes.starts_with(&PNG_SIGNATURE) {
+        read_png(bytes)
+    } else {
+        read_pgm(bytes)
+    }
+}
+
+/// Reads the crystal/binder image file `path` (PNG or PGM, see
+/// [`read_image`]); every error names the file.
+pub fn read_image_file(path: &std::path::Path) -> Result<GrayImage, String> {
+    let bytes =
+        std::fs::read(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    read_image(&bytes).map_err(|e| format!("`{}`: {e}", path.display()))
+}
+
 /// A 2D lattice with one node per pixel: material `crystal` where the
 /// grey level is at least `threshold`, `binder` elsewhere.
 pub fn image_geometry(
@@ -489,6 +574,139 @@ mod tests {
         let mut wide = b"P5 2 1 1000\n".to_vec();
         wide.extend_from_slice(&[0x03, 0xE8, 0x00, 0x05]);
         assert_eq!(read_pgm(&wide).unwrap().pixels, vec![1000, 5]);
+    }
+
+    /// A PNG of `width` × `height` pixels from the `png` crate's encoder.
+    fn encode_png(
+        width: u32,
+        height: u32,
+        color: png::ColorType,
+        depth: png::BitDepth,
+        data: &[u8],
+    ) -> Vec<u8> {
+        let mut out = Vec::new();
+        {
+            let mut enc = png::Encoder::new(&mut out, width, height);
+            enc.set_color(color);
+            enc.set_depth(depth);
+            let mut w = enc.write_header().unwrap();
+            w.write_image_data(data).unwrap();
+        }
+        out
+    }
+
+    #[test]
+    fn png_reads_grey_wide_colour_and_low_bit_images() {
+        use png::{BitDepth, ColorType};
+        // 3 × 2 grey, row 0 on top.
+        let grey = encode_png(
+            3,
+            2,
+            ColorType::Grayscale,
+            BitDepth::Eight,
+            &[0, 128, 255, 7, 8, 9],
+        );
+        let img = read_png(&grey).unwrap();
+        assert_eq!((img.width, img.height, img.max_value), (3, 2, 255));
+        assert_eq!(img.pixels, vec![0, 128, 255, 7, 8, 9]);
+        // The lattice's y points up: node (0, 0) is the bottom-left pixel.
+        assert_eq!(img.at_lattice(0, 0), 7);
+        assert_eq!(img.at_lattice(2, 1), 255);
+        // The same image as PGM reads to the same pixels.
+        let pgm = read_image(b"P2 3 2 255\n0 128 255\n7 8 9\n").unwrap();
+        assert_eq!(read_image(&grey).unwrap(), pgm);
+        // 16-bit big-endian samples.
+        let wide = encode_png(
+            2,
+            1,
+            ColorType::Grayscale,
+            BitDepth::Sixteen,
+            &[0x03, 0xe8, 0, 5],
+        );
+        let img = read_png(&wide).unwrap();
+        assert_eq!((img.max_value, img.pixels.clone()), (65535, vec![1000, 5]));
+        // RGB: grey stays grey, colour becomes its luma
+        // (299·200 + 587·100 + 114·50 + 500)/1000 = 124.
+        let rgb = encode_png(
+            2,
+            1,
+            ColorType::Rgb,
+            BitDepth::Eight,
+            &[90, 90, 90, 200, 100, 50],
+        );
+        assert_eq!(read_png(&rgb).unwrap().pixels, vec![90, 124]);
+        // Grey with alpha: the alpha is ignored.
+        let ga = encode_png(
+            2,
+            1,
+            ColorType::GrayscaleAlpha,
+            BitDepth::Eight,
+            &[10, 0, 20, 255],
+        );
+        assert_eq!(read_png(&ga).unwrap().pixels, vec![10, 20]);
+        // 1-bit black/white (0b1010_0000: pixels 1, 0, 1) expands to 0/255.
+        let bw = encode_png(3, 1, ColorType::Grayscale, BitDepth::One, &[0b1010_0000]);
+        assert_eq!(read_png(&bw).unwrap().pixels, vec![255, 0, 255]);
+    }
+
+    #[test]
+    fn png_pack_sets_the_materials_by_threshold() {
+        // The 3 × 3 image of the PGM mass-fraction test as a PNG: one
+        // crystal pixel in the middle.
+        let png = encode_png(
+            3,
+            3,
+            png::ColorType::Grayscale,
+            png::BitDepth::Eight,
+            &[0, 0, 0, 0, 200, 0, 0, 0, 0],
+        );
+        let img = read_image(&png).unwrap();
+        let g = image_geometry(&img, 1.0, 128, 0, 1, false);
+        let centre = g.solid_index(1, 1, 0);
+        assert_eq!(g.kind[centre], super::super::geometry::NodeKind::Solid(0));
+        let solid: Vec<_> = (0..g.len()).filter(|&i| g.is_solid(i)).collect();
+        assert_eq!(solid.len(), 9);
+        let crystal = solid
+            .iter()
+            .filter(|&&i| g.kind[i] == super::super::geometry::NodeKind::Solid(0))
+            .count();
+        assert_eq!(crystal, 1);
+    }
+
+    #[test]
+    fn bad_png_and_missing_files_are_reported_with_their_name() {
+        use png::{BitDepth, ColorType};
+        let good = encode_png(2, 2, ColorType::Grayscale, BitDepth::Eight, &[1, 2, 3, 4]);
+        // Truncated after the signature and part of the header.
+        let err = read_image(&good[..12]).unwrap_err();
+        assert!(err.starts_with("PNG: cannot read the header"), "{err}");
+        // Pixel data cut short.
+        let err = read_image(&good[..good.len() - 20]).unwrap_err();
+        assert!(err.starts_with("PNG:"), "{err}");
+        let dir = std::env::temp_dir().join(format!("brisance-pack-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let bad = dir.join("crystals.png");
+        std::fs::write(&bad, &good[..12]).unwrap();
+        let err = read_image_file(&bad).unwrap_err();
+        assert!(
+            err.contains("crystals.png") && err.contains("PNG:"),
+            "{err}"
+        );
+        let ok = dir.join("ok.png");
+        std::fs::write(&ok, &good).unwrap();
+        assert_eq!(read_image_file(&ok).unwrap().pixels, vec![1, 2, 3, 4]);
+        let missing = dir.join("missing.png");
+        let err = read_image_file(&missing).unwrap_err();
+        assert!(
+            err.contains("cannot read") && err.contains("missing.png"),
+            "{err}"
+        );
+        // A PGM through the same entry point, its errors named too.
+        let pgm = dir.join("bad.pgm");
+        std::fs::write(&pgm, b"P2 2 x 9\n").unwrap();
+        let err = read_image_file(&pgm).unwrap_err();
+        assert!(err.contains("bad.pgm") && err.contains("height"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
