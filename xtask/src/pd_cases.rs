@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::Result;
 use brisance::pd::cases::{
     copper_cylinder, products_through_case, run_cylinder, run_fragmentation,
-    steel_fragmenting_cylinder, EnergyBudget,
+    steel_fragmenting_cylinder, EnergyBudget, ProductsMotion,
 };
 use brisance::pd::{cumulative_mass_distribution, write_cmd_csv, write_fragments_csv};
 
@@ -79,6 +79,25 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         100.0 * e.bonds / released,
         e.total() / h.initial_energy,
         100.0 * case.metal_to_charge() / (case.metal_to_charge() + 0.5),
+    );
+    let m = ProductsMotion::of(&s);
+    let _ = writeln!(
+        report.md,
+        "\nThe products' kinetic energy at 45 µs, as shares of the released energy: axial (½ m v_z²) {:.0} %, \
+         transverse {:.0} %; node-scale (non-affine: about the least-squares affine velocity field of each node's \
+         products family) {:.1} %; about the family mean velocity alone (which counts the resolved gradient across \
+         a horizon too) {:.0} %. Axial momentum: products {:.2} N s, all nodes {:.2} N s (the explosive ahead of \
+         the front is held, docs/physics/pd/program_burn.md). Products artificial viscosity: {}.",
+        100.0 * m.axial / released,
+        100.0 * m.transverse / released,
+        100.0 * m.non_affine / released,
+        100.0 * m.about_family_mean / released,
+        m.products_momentum_z,
+        m.total_momentum_z,
+        match s.gas_viscosity() {
+            Some(v) => format!("on (α = {}, β = {})", v.linear, v.quadratic),
+            None => "off (the default, docs/physics/pd/gas.md)".into(),
+        },
     );
     let t_us: Vec<f64> = h.time.iter().map(|t| t * 1e6).collect();
     let u_mm: Vec<f64> = h.radial_displacement.iter().map(|u| u * 1e3).collect();

@@ -284,6 +284,117 @@ impl EnergyBudget {
     }
 }
 
+/// The products' kinetic energy split (J) and the axial momentum (N s) of
+/// a tube run (material 0 the case, the tube along z).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ProductsMotion {
+    /// Σ ½ m v_z² over the products nodes.
+    pub axial: f64,
+    /// Σ ½ m (v_x² + v_y²) over the products nodes.
+    pub transverse: f64,
+    /// Σ ½ m |v_i − v_fit(y_i)|² over the products nodes, v_fit the
+    /// mass-weighted least-squares affine velocity field v̄ + L (y − ȳ) of
+    /// the node's family of products nodes (itself included, current
+    /// positions y): the node-scale motion no resolved velocity gradient
+    /// explains.
+    pub non_affine: f64,
+    /// Σ ½ m |v_i − v̄|² with v̄ the family's mean velocity alone: counts a
+    /// resolved gradient across the horizon as node-scale motion too.
+    pub about_family_mean: f64,
+    /// Σ m v_z over the products nodes.
+    pub products_momentum_z: f64,
+    /// Σ m v_z over all nodes.
+    pub total_momentum_z: f64,
+}
+
+impl ProductsMotion {
+    /// The split of the solver's current state.
+    pub fn of(s: &PdSolver) -> Self {
+        let gas = |i: usize| s.materials()[i] != 0;
+        let f = s.families();
+        let mut out = Self::default();
+        for i in 0..s.node_count() {
+            let v = s.velocities()[i];
+            let m = s.mass(i);
+            out.total_momentum_z += m * v[2];
+            if !gas(i) {
+                continue;
+            }
+            out.products_momentum_z += m * v[2];
+            out.axial += 0.5 * m * v[2] * v[2];
+            out.transverse += 0.5 * m * (v[0] * v[0] + v[1] * v[1]);
+            let members = || {
+                std::iter::once(i).chain(
+                    f.row(i)
+                        .map(|k| f.neighbours[k] as usize)
+                        .filter(|&j| gas(j)),
+                )
+            };
+            let (mut mass, mut ym, mut vm) = (0.0, [0.0; 3], [0.0; 3]);
+            for j in members() {
+                let w = s.mass(j);
+                let (y, vj) = (s.current_position(j), s.velocities()[j]);
+                mass += w;
+                for d in 0..3 {
+                    ym[d] += w * y[d];
+                    vm[d] += w * vj[d];
+                }
+            }
+            for d in 0..3 {
+                ym[d] /= mass;
+                vm[d] /= mass;
+            }
+            // Moments A = Σ w dy dyᵀ, B = Σ w dv dyᵀ; L = B A⁻¹.
+            let (mut a, mut b) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
+            for j in members() {
+                let w = s.mass(j);
+                let (y, vj) = (s.current_position(j), s.velocities()[j]);
+                for r in 0..3 {
+                    for c in 0..3 {
+                        a[r][c] += w * (y[r] - ym[r]) * (y[c] - ym[c]);
+                        b[r][c] += w * (vj[r] - vm[r]) * (y[c] - ym[c]);
+                    }
+                }
+            }
+            let yi = s.current_position(i);
+            let dyi = [yi[0] - ym[0], yi[1] - ym[1], yi[2] - ym[2]];
+            let mut fit = vm;
+            if let Some(inv) = inverse3(&a) {
+                for d in 0..3 {
+                    for c in 0..3 {
+                        let l: f64 = (0..3).map(|k| b[d][k] * inv[k][c]).sum();
+                        fit[d] += l * dyi[c];
+                    }
+                }
+            }
+            out.non_affine += 0.5 * m * (0..3).map(|d| (v[d] - fit[d]).powi(2)).sum::<f64>();
+            out.about_family_mean += 0.5 * m * (0..3).map(|d| (v[d] - vm[d]).powi(2)).sum::<f64>();
+        }
+        out
+    }
+}
+
+/// The inverse of a 3 × 3 matrix by cofactors (None when singular relative
+/// to the size of its entries).
+fn inverse3(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !(det.abs() > 1e-12 * scale * scale * scale) {
+        return None;
+    }
+    let mut inv = [[0.0; 3]; 3];
+    for (r, row) in inv.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            let (r1, r2) = ((c + 1) % 3, (c + 2) % 3);
+            let (c1, c2) = ((r + 1) % 3, (r + 2) % 3);
+            *v = (a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1]) / det;
+        }
+    }
+    Some(inv)
+}
+
 /// Products nodes that have gone through the case: those whose current
 /// distance from the axis exceeds that of every case node in their axial
 /// slab of one spacing and the two slabs beside it, counted over the nodes whose
@@ -478,6 +589,44 @@ mod tests {
         let case = copper_cylinder(1.3e-3, 5.2e-3);
         let s = PdSolver::new(case.setup().unwrap()).unwrap();
         (case, s)
+    }
+
+    /// An affine velocity field v = v₀ + L x has no non-affine part; it
+    /// has a part about the family mean (the gradient across the horizon),
+    /// and the axial and transverse parts are ½ m v_z² and ½ m (v_x² +
+    /// v_y²). One node kicked by 10 m/s along x on top of a uniform field
+    /// adds non-affine energy below ½ m 10² (the fit takes some of it).
+    #[test]
+    fn products_motion_separates_affine_flow_from_node_scale_motion() {
+        let (_, mut s) = slice();
+        s.set_velocities(|x| [100.0 + 2.0e4 * x[0], -3.0e4 * x[2], 50.0 + 1.0e4 * x[1]]);
+        let m = ProductsMotion::of(&s);
+        let (mut ax, mut tr, mut pz) = (0.0, 0.0, 0.0);
+        for i in (0..s.node_count()).filter(|&i| s.materials()[i] == 1) {
+            let v = s.velocities()[i];
+            ax += 0.5 * s.mass(i) * v[2] * v[2];
+            tr += 0.5 * s.mass(i) * (v[0] * v[0] + v[1] * v[1]);
+            pz += s.mass(i) * v[2];
+        }
+        assert!((m.axial - ax).abs() <= 1e-12 * ax && (m.transverse - tr).abs() <= 1e-12 * tr);
+        assert!((m.products_momentum_z - pz).abs() <= 1e-12 * pz.abs());
+        assert!(m.non_affine < 1e-20 * (ax + tr), "{m:?}");
+        assert!(m.about_family_mean > 1e-6 * (ax + tr), "{m:?}");
+        let k = (0..s.node_count())
+            .find(|&i| s.materials()[i] == 1)
+            .unwrap();
+        let xk = s.reference()[k];
+        s.set_velocities(|x| {
+            let here = x[0] == xk[0] && x[1] == xk[1] && x[2] == xk[2];
+            [if here { 10.0 } else { 0.0 }, 0.0, 5.0]
+        });
+        let m = ProductsMotion::of(&s);
+        let half_m_dv2 = 0.5 * s.mass(k) * 100.0;
+        assert!(
+            m.non_affine > 0.1 * half_m_dv2 && m.non_affine < 1.5 * half_m_dv2,
+            "{} vs {half_m_dv2}",
+            m.non_affine
+        );
     }
 
     #[test]

@@ -14,6 +14,8 @@
 //! - [`forces`]: the bond-force kernels of eq 9 (solids, eq 8; gases,
 //!   eqs 17–19).
 //! - [`contact`]: short-range forces (eq 27).
+//! - [`viscosity`]: the products' pairwise artificial viscosity, its heat
+//!   returned to the products.
 //! - [`fragments`]: fragments as connected components, CMD output.
 //! - [`solver`]: [`PdSolver`], the time integration (eq 10 in velocity
 //!   form), stable step (eqs 24–26), program burn, behind the core
@@ -33,6 +35,7 @@ pub mod material;
 pub mod msdm;
 pub mod solver;
 pub mod surface;
+pub mod viscosity;
 
 pub use brisance_reaction::{DetonationPoint, ProductsIsentrope};
 pub use family::{build_families, partial_volume, Families};
@@ -48,3 +51,4 @@ pub use solver::{
     BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,
     PdSolver,
 };
+pub use viscosity::GasViscosity;

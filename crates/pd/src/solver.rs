@@ -26,11 +26,13 @@ use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInp
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec};
 use crate::material::{micromodulus, PdMaterial, ProportionalKind};
+use crate::viscosity::{viscous_forces, GasViscosity, ViscousInput, ViscousNode, ViscousOut};
 use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
 use brisance_grid::Shape;
 use brisance_reaction::{
     huygens_detonation_times, straight_line_detonation_times, DetonationPoint,
 };
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -191,7 +193,8 @@ struct PdState {
     plastic: Vec<f32>,
     bond_out: Vec<(f64, f64, f64, f64, u32)>,
     contact: Vec<([f64; 3], f64)>,
-    gas: Vec<[f64; 3]>,
+    gas: Vec<[f64; 4]>,
+    viscous: Vec<ViscousOut>,
 }
 
 /// Heap memory of a [`PdSolver`], summed from the capacities of its arrays.
@@ -268,9 +271,24 @@ pub struct PdSolver {
     bond_out: Vec<NodeForce>,
     /// Contact force and stiffness per node; empty when contact is off.
     contact: Vec<([f64; 3], f64)>,
-    /// (X, gas stiffness, X_d) per node, X_d the expansion at the node's
-    /// detonation (0 before it); empty when no material is a gas.
-    gas: Vec<[f64; 3]>,
+    /// (X, gas stiffness, X_d, ΔC) per node, X_d the expansion at the
+    /// node's detonation (0 before it), ΔC the heat the artificial
+    /// viscosity returned to its products (`products_pressure`); empty when
+    /// no material is a gas.
+    gas: Vec<[f64; 4]>,
+    /// Artificial viscosity of the products (None: off).
+    viscosity: Option<GasViscosity>,
+    /// Per node (a, ρ, c, ρ₀) for the viscous pass; empty when it is off.
+    viscous_node: Vec<ViscousNode>,
+    /// Viscous force, heating, damping and stiffness per node; empty when
+    /// the viscosity is off.
+    viscous: Vec<ViscousOut>,
+    /// Heat per unit volume of the last half kick's viscous work; empty
+    /// when the viscosity is off.
+    kick_heat: Vec<f64>,
+    /// Whether the products' force on explosive not yet detonated is left
+    /// out (`program_burn.md`).
+    hold_unreacted: bool,
     // Per bond.
     factor: Vec<f32>,
     plastic: Vec<f32>,
@@ -549,7 +567,12 @@ impl PdSolver {
             velocity: cloud.velocity,
             bond_out: vec![NodeForce::default(); n],
             contact: vec![([0.0; 3], 0.0); if contact_on { n } else { 0 }],
-            gas: vec![[1.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
+            gas: vec![[1.0, 0.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
+            viscosity: None,
+            hold_unreacted: true,
+            viscous_node: Vec::new(),
+            viscous: Vec::new(),
+            kick_heat: Vec::new(),
             plastic: vec![0.0; factor.len()],
             factor,
             cells: CellList::default(),
@@ -561,9 +584,59 @@ impl PdSolver {
         solver.detonation_time.shrink_to_fit();
         solver.prescribed.shrink_to_fit();
         solver.impose_velocities();
-        solver.update_node_scalars();
-        solver.compute_forces();
+        solver.set_gas_viscosity(None)?;
         Ok(solver)
+    }
+
+    /// Sets the products' artificial viscosity (`viscosity.rs`; None: off,
+    /// the default of [`PdSolver::new`], chosen from the measurements in
+    /// `docs/physics/pd/gas.md`) and evaluates the forces of the current
+    /// state again. Nothing is allocated when no material is a gas.
+    pub fn set_gas_viscosity(
+        &mut self,
+        viscosity: Option<GasViscosity>,
+    ) -> Result<(), PdSetupError> {
+        if let Some(v) = viscosity {
+            v.validate().map_err(|e| invalid("gas_viscosity", e))?;
+        }
+        let n = self.node_count();
+        let on = viscosity.is_some() && !self.gas.is_empty();
+        self.viscosity = if on { viscosity } else { None };
+        self.viscous_node = vec![[0.0; 4]; if on { n } else { 0 }];
+        self.viscous = vec![ViscousOut::default(); if on { n } else { 0 }];
+        self.kick_heat = vec![0.0; if on { n } else { 0 }];
+        self.update_node_scalars();
+        self.compute_forces();
+        Ok(())
+    }
+
+    /// Whether the products' force on explosive not yet detonated is left
+    /// out (true, the default) or applied as eq 19 gives it (false: the
+    /// pair force stays odd, eq 2, so momentum is conserved through the
+    /// burn). See `docs/physics/pd/program_burn.md`.
+    pub fn set_hold_unreacted(&mut self, hold: bool) {
+        self.hold_unreacted = hold;
+    }
+
+    /// The products' artificial viscosity (None: off).
+    pub fn gas_viscosity(&self) -> Option<GasViscosity> {
+        self.viscosity
+    }
+
+    /// Heat the artificial viscosity has returned to the products, J:
+    /// Σ_i (ΔC_i/ω) (X_i/X_d,i)^{−ω} V_i, the part of `gas_energy` above
+    /// the isentropes the nodes detonated on.
+    pub fn viscous_heat(&self) -> f64 {
+        (0..self.gas.len())
+            .map(|i| match self.materials[self.material[i] as usize] {
+                PdMaterial::Gas(g) if self.gas[i][3] != 0.0 => {
+                    let [x, _, xd, heat] = self.gas[i];
+                    let w = heat_exponent(&g);
+                    heat / w * (x / xd).powf(-w) * self.reference[i][3]
+                }
+                _ => 0.0,
+            })
+            .sum()
     }
 
     /// Number of nodes.
@@ -600,6 +673,9 @@ impl PdSolver {
             + heap(&self.bond_out)
             + heap(&self.contact)
             + heap(&self.gas)
+            + heap(&self.viscous_node)
+            + heap(&self.viscous)
+            + heap(&self.kick_heat)
             + cells;
         let bond_bytes = heap(&self.families.neighbours) + heap(&self.factor) + heap(&self.plastic);
         let other_bytes = heap(&self.materials)
@@ -646,6 +722,8 @@ impl PdSolver {
             *v = field([x[0], x[1], x[2]]);
         }
         self.impose_velocities();
+        // The viscous force depends on the velocities.
+        self.viscous_pass();
     }
 
     /// Body index per node.
@@ -711,8 +789,8 @@ impl PdSolver {
     pub fn pressure(&self, i: usize) -> f64 {
         match self.materials[self.material[i] as usize] {
             PdMaterial::Gas(g) if self.time >= self.detonation_time[i] => {
-                let [x, _, xd] = self.gas[i];
-                products_pressure(&g, x, xd).0
+                let [x, _, xd, heat] = self.gas[i];
+                products_pressure(&g, x, xd, heat).0
             }
             _ => 0.0,
         }
@@ -771,27 +849,75 @@ impl PdSolver {
     /// (short-range forces and body forces still act on it). The products
     /// still feel the unreacted explosive through their own half of the
     /// pair force, as on a wall. See `docs/physics/pd/program_burn.md`.
+    ///
+    /// With the products' artificial viscosity on, its force f_v joins the
+    /// bond force, and the kinetic energy it removed in this half kick is
+    /// added to the node's products as heat at its current expansion
+    /// (`products_pressure`). The kick changes a node's kinetic energy by
+    /// exactly V Δt_half f·v̄ (v̄ the mean of the velocities before and
+    /// after it, f the total force per unit volume), so the viscous share
+    /// is V Δt_half f_v·v̄ and the heat per unit volume
+    /// dq = −Δt_half f_v·v̄: the viscosity conserves the total energy to
+    /// round-off whatever the step. (A node pushed by an approaching
+    /// neighbour gains kinetic energy and loses that much heat; the pair
+    /// together always dissipates, see `viscosity.rs`.)
     fn kick(&mut self, half: f64) {
         let body_force = self.options.body_force;
         let density = &self.material_density;
         let material = &self.material;
         let bond_out = &self.bond_out;
         let contact = &self.contact;
+        let viscous = &self.viscous;
         let laws = &self.laws;
         let detonation_time = &self.detonation_time;
         let time = self.time;
-        for_each_node(&mut self.velocity, |i, v| {
+        let hold = self.hold_unreacted;
+        let update = |i: usize, v: &mut [f64; 3]| {
             let m = material[i] as usize;
-            let unreacted = matches!(laws[m], BondLaw::Gas) && time < detonation_time[i];
-            let b = if unreacted {
+            let unreacted = hold && matches!(laws[m], BondLaw::Gas) && time < detonation_time[i];
+            let mut b = if unreacted {
                 [0.0; 3]
             } else {
                 bond_out[i].force
             };
+            if let Some(q) = viscous.get(i) {
+                for (bd, qd) in b.iter_mut().zip(q.force) {
+                    *bd += qd;
+                }
+            }
             let c = contact.get(i).map_or([0.0; 3], |c| c.0);
             let rho = density[m];
             for d in 0..3 {
                 v[d] += half * (b[d] + c[d] + body_force[d]) / rho;
+            }
+        };
+        if self.viscous.is_empty() {
+            for_each_node(&mut self.velocity, update);
+            return;
+        }
+        self.velocity
+            .par_iter_mut()
+            .zip(self.kick_heat.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, (v, dq))| {
+                let before = *v;
+                update(i, v);
+                let f = viscous[i].force;
+                *dq = -half * (0..3).map(|d| f[d] * 0.5 * (before[d] + v[d])).sum::<f64>();
+            });
+        let materials = &self.materials;
+        let kick_heat = &self.kick_heat;
+        for_each_node(&mut self.gas, |i, g| {
+            let dq = kick_heat[i];
+            if dq == 0.0 || g[2] <= 0.0 {
+                return;
+            }
+            if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
+                // W gains (ΔC/ω) y^{−ω}: ΔC grows by ω y^ω dq at fixed y.
+                let w = heat_exponent(&gas);
+                let y = g[0] / g[2];
+                g[3] += w * y.powf(w) * dq;
             }
         });
     }
@@ -837,22 +963,44 @@ impl PdSolver {
                 };
                 // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
                 // through p and through X(p) (eq 17).
-                let (p, dp) = products_pressure(&gas, x, xd);
+                let (p, dp) = products_pressure(&gas, x, xd, g[3]);
                 let x43 = x.powf(4.0 / 3.0);
                 let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
                 let stiff = 12.0 * p.abs() * x43 / vf * s3
                     + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
-                *g = [x, stiff, xd];
+                *g = [x, stiff, xd, g[3]];
             }
         });
         let gas = &self.gas;
+        if !self.viscous_node.is_empty() {
+            // The viscous pass's node data: a = 6 X^{4/3}/V, ρ = ρ₀/X and
+            // the sound speed c² = dP/dρ = −X² (dP/dX)/ρ₀ of detonated
+            // products (eq 25's density); a = 0 elsewhere.
+            for_each_node(&mut self.viscous_node, |i, o| {
+                *o = match materials[material[i] as usize] {
+                    PdMaterial::Gas(g) if time >= detonation_time[i] => {
+                        let [x, _, xd, heat] = gas[i];
+                        let dp = products_pressure(&g, x, xd, heat).1;
+                        let c2 = (-x * x * dp / g.density).max(0.0);
+                        [
+                            6.0 * x.powf(4.0 / 3.0) / family_volume[i],
+                            g.density / x,
+                            c2.sqrt(),
+                            g.density,
+                        ]
+                    }
+                    _ => [0.0; 4],
+                };
+            });
+        }
         let bond_out = &self.bond_out;
         for_each_node(&mut self.state, |i, s| {
             match materials[material[i] as usize] {
                 PdMaterial::Gas(g) => {
                     s[3] = if time >= detonation_time[i] {
-                        let [x, _, xd] = gas[i];
-                        6.0 * products_pressure(&g, x, xd).0 * x.powf(4.0 / 3.0) / family_volume[i]
+                        let [x, _, xd, heat] = gas[i];
+                        6.0 * products_pressure(&g, x, xd, heat).0 * x.powf(4.0 / 3.0)
+                            / family_volume[i]
                     } else {
                         0.0
                     };
@@ -909,6 +1057,26 @@ impl PdSolver {
             };
             contact_forces(&input, &self.cells, &params, &mut self.contact);
         }
+        self.viscous_pass();
+    }
+
+    /// The products' artificial viscosity at the current positions and
+    /// velocities (nothing when it is off).
+    fn viscous_pass(&mut self) {
+        if let Some(params) = self.viscosity {
+            let input = ViscousInput {
+                reference: &self.reference,
+                state: &self.state,
+                velocity: &self.velocity,
+                offsets: &self.families.offsets,
+                neighbours: &self.families.neighbours,
+                factor: &self.factor,
+                node: &self.viscous_node,
+                spacing: self.options.spacing,
+                params,
+            };
+            viscous_forces(&input, &mut self.viscous);
+        }
     }
 
     /// Stable step of node i without the safety factor (eq 24), s:
@@ -916,15 +1084,30 @@ impl PdSolver {
     /// The gas pairwise force (eq 26) uses the density ρ₀/X of eq 25; the
     /// short-range forces act on the node's own inertia, ρ₀ (its mass ρ₀V
     /// does not change as the gas expands).
+    ///
+    /// The products' artificial viscosity adds the stiffness its pair
+    /// pressure q has through r/p² (like P in eq 26, density ρ₀/X) and a
+    /// damping rate γ (`ViscousOut::damping`); for the central difference
+    /// with damping the stable step of ẍ + γẋ + ω²x = 0 is
+    /// (2/ω)(√(1 + ζ²) − ζ), ζ = γ/(2ω) (Belytschko, Liu & Moran 2000,
+    /// Nonlinear Finite Elements, §6.2.4), written here as
+    /// 2/(√(ω² + γ²/4) + γ/2), which is 2/γ when ω = 0.
     fn node_dt(&self, i: usize) -> f64 {
         let rho = self.material_density[self.material[i] as usize];
         let mut omega2 = self.contact.get(i).map_or(0.0, |c| c.1) / rho;
+        let mut gamma = 0.0;
         match self.laws[self.material[i] as usize] {
             BondLaw::Solid { .. } => omega2 += self.node_scale[i] / rho,
-            BondLaw::Gas => omega2 += self.gas[i][1] * self.gas[i][0] / rho,
+            BondLaw::Gas => {
+                omega2 += self.gas[i][1] * self.gas[i][0] / rho;
+                if let Some(v) = self.viscous.get(i) {
+                    omega2 += v.stiffness * self.gas[i][0] / rho;
+                    gamma = v.damping;
+                }
+            }
         }
-        if omega2 > 0.0 {
-            (2.0 / omega2).sqrt()
+        if omega2 > 0.0 || gamma > 0.0 {
+            2.0 / ((omega2 + 0.25 * gamma * gamma).sqrt() + 0.5 * gamma)
         } else {
             f64::INFINITY
         }
@@ -977,6 +1160,7 @@ impl PdSolver {
                 .collect(),
             contact: self.contact.clone(),
             gas: self.gas.clone(),
+            viscous: self.viscous.clone(),
         }
     }
 
@@ -1030,19 +1214,27 @@ impl PdSolver {
     }
 
     /// Energy stored in the products (Σ W(X_i/X_d,i) V_i over detonated
-    /// gas nodes, see `products_pressure`) and chemical energy not yet
-    /// released (W(1) V_i), J.
+    /// gas nodes, with the viscous heat (ΔC_i/ω)(X_i/X_d,i)^{−ω} V_i, see
+    /// `products_pressure`) and chemical energy not yet released
+    /// (W(1) V_i), J.
     pub fn gas_energy(&self) -> f64 {
         (0..self.node_count())
             .map(|i| match self.materials[self.material[i] as usize] {
                 PdMaterial::Gas(g) => {
-                    let [x, _, xd] = self.gas[i];
-                    let x = if self.time >= self.detonation_time[i] && xd > 0.0 {
+                    let [x, _, xd, heat] = self.gas[i];
+                    let y = if self.time >= self.detonation_time[i] && xd > 0.0 {
                         x / xd
                     } else {
                         1.0
                     };
-                    g.isentrope.energy(x) * self.reference[i][3]
+                    let w = g.isentrope.energy(y)
+                        + if heat != 0.0 {
+                            let e = heat_exponent(&g);
+                            heat / e * y.powf(-e)
+                        } else {
+                            0.0
+                        };
+                    w * self.reference[i][3]
                 }
                 _ => 0.0,
             })
@@ -1293,8 +1485,18 @@ impl Solver for PdSolver {
                 intact: k,
             })
             .collect();
+        if s.viscous.len() != self.viscous.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has the products' artificial viscosity {}, the scenario {}",
+                if s.viscous.is_empty() { "off" } else { "on" },
+                if self.viscous.is_empty() { "off" } else { "on" },
+            )));
+        }
         self.contact = s.contact;
         self.gas = s.gas;
+        // The viscous pass's node data are formed again from the restored
+        // state before they are next read (`update_node_scalars`).
+        self.viscous = s.viscous;
         Ok(())
     }
 }
@@ -1321,14 +1523,46 @@ mod tests;
 ///
 /// X_d = 1 gives the seed's eqs 29–30 unchanged. `xd = 0` (not yet
 /// detonated) is read as 1.
+///
+/// **Viscous heat.** The products' artificial viscosity (`viscosity.rs`)
+/// returns the energy it dissipates to the node as internal energy. The
+/// JWL isentropes (eq 30) of one product gas differ only in C, the
+/// coefficient of the Grüneisen term: JWL is P = f(v) + ω e/v, so on an
+/// isentrope de/dv = −P gives e = e_ref(v) + (C/ω) v^{−ω} with C set by
+/// the entropy (Lee, Hornig & Kury 1968, UCRL-50422; Menikoff 2015,
+/// LA-UR-15-29536, "JWL equation of state", §3). The ideal gas of eq 29 is
+/// the same with ω = γ − 1 and A = B = 0. Heat dq per unit reference
+/// volume added at fixed y = X/X_d moves the node to the isentrope with
+/// C + ΔC, ΔC += ω y^ω dq, so that
+///
+/// ```text
+/// W = W_S(y) + (ΔC/ω) y^{−ω},   P = [P_S(y) + ΔC y^{−(ω+1)}] / X_d,
+/// dP/dX = [P_S'(y) − (ω + 1) ΔC y^{−(ω+2)}] / X_d²,
+/// ```
+///
+/// still with P = −dW/dy / X_d. `heat` is ΔC (0 without viscosity).
 #[inline]
-fn products_pressure(g: &crate::material::Gas, x: f64, xd: f64) -> (f64, f64) {
+fn products_pressure(g: &crate::material::Gas, x: f64, xd: f64, heat: f64) -> (f64, f64) {
     let xd = if xd > 0.0 { xd } else { 1.0 };
     let y = x / xd;
-    (
-        g.isentrope.pressure(y) / xd,
-        g.isentrope.dpressure_dx(y) / (xd * xd),
-    )
+    let (mut p, mut dp) = (g.isentrope.pressure(y), g.isentrope.dpressure_dx(y));
+    if heat != 0.0 {
+        let w = heat_exponent(g);
+        let t = heat * y.powf(-(w + 1.0));
+        p += t;
+        dp -= (w + 1.0) * t / y;
+    }
+    (p / xd, dp / (xd * xd))
+}
+
+/// ω of the products' Grüneisen term: ω of JWL (eq 30), γ − 1 of the ideal
+/// gas (eq 29); see `products_pressure`.
+#[inline]
+fn heat_exponent(g: &crate::material::Gas) -> f64 {
+    match g.isentrope {
+        brisance_reaction::ProductsIsentrope::IdealGas { gamma, .. } => gamma - 1.0,
+        brisance_reaction::ProductsIsentrope::Jwl { omega, .. } => omega,
+    }
 }
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
