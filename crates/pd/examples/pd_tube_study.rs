@@ -5,12 +5,20 @@
 //!
 //! `cargo run --release -p brisance-pd --example pd_tube_study -- \
 //!    LENGTH_M END_S SPACING_M [DISTANCE_FACTOR REFERENCE_FRACTION FORCE_FACTOR]`
+//!
+//! Environment: `VISC=α,β` turns on the products' artificial viscosity;
+//! `PUSH=1` applies the products' force to explosive not yet detonated;
+//! `STEEL=1` runs the steel tube of E-PD-FRAG; `EVERY=s` sets the print
+//! interval. The products' kinetic energy is split into axial,
+//! transverse, about the family mean and non-affine parts
+//! (`cases::ProductsMotion`).
 
 use brisance_core::Solver;
 use brisance_pd::cases::{
     copper_cylinder, products_through_case, steel_fragmenting_cylinder, EnergyBudget,
+    ProductsMotion,
 };
-use brisance_pd::{ContactOptions, PdSolver};
+use brisance_pd::{ContactOptions, GasViscosity, PdSolver};
 
 fn main() -> Result<(), String> {
     let a: Vec<f64> = std::env::args()
@@ -34,6 +42,19 @@ fn main() -> Result<(), String> {
     setup.options.contact = Some(contact);
     let t0 = std::time::Instant::now();
     let mut s = PdSolver::new(setup).map_err(|e| e.to_string())?;
+    // PUSH=1: the products push unreacted explosive (eq 19 as printed).
+    if std::env::var_os("PUSH").is_some() {
+        s.set_hold_unreacted(false);
+    }
+    // VISC=α,β: with the products' artificial viscosity (off by default).
+    if let Ok(v) = std::env::var("VISC") {
+        let c: Vec<f64> = v.split(',').filter_map(|x| x.parse().ok()).collect();
+        s.set_gas_viscosity(Some(GasViscosity {
+            linear: c.first().copied().unwrap_or(1.0),
+            quadratic: c.get(1).copied().unwrap_or(2.0),
+        }))
+        .map_err(|e| e.to_string())?;
+    }
     let ring: Vec<usize> = (0..s.node_count())
         .filter(|&i| {
             let x = s.reference()[i];
@@ -68,10 +89,13 @@ fn main() -> Result<(), String> {
             next += every;
             let e = EnergyBudget::of(&s);
             let released = e0 - e.products;
-            let disorder = disordered_kinetic(&s);
+            let motion = ProductsMotion::of(&s);
+            let (disorder, nonaffine) = (motion.about_family_mean, motion.non_affine);
+            let (axial, transverse) = (motion.axial, motion.transverse);
+            let (pz_products, pz) = (motion.products_momentum_z, motion.total_momentum_z);
             let (through, counted) = products_through_case(&s, h, (0.15 * length, 0.85 * length));
             println!(
-                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} %",
+                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s",
                 s.time() * 1e6,
                 dt,
                 mid(&s),
@@ -81,6 +105,12 @@ fn main() -> Result<(), String> {
                 100.0 * e.bonds / released,
                 released * 1e-3,
                 100.0 * disorder / released,
+                100.0 * nonaffine / released,
+                100.0 * s.viscous_heat() / released,
+                100.0 * axial / released,
+                100.0 * transverse / released,
+                pz_products,
+                pz,
             );
         }
     }
@@ -102,30 +132,4 @@ fn main() -> Result<(), String> {
         t0.elapsed().as_secs_f64()
     );
     Ok(())
-}
-
-/// Kinetic energy of the products nodes relative to the mass-weighted mean
-/// velocity of their gas family (self included), J.
-fn disordered_kinetic(s: &PdSolver) -> f64 {
-    let gas = |i: usize| s.materials()[i] != 0;
-    let f = s.families();
-    let mut total = 0.0;
-    for i in (0..s.node_count()).filter(|&i| gas(i)) {
-        let mut m = s.mass(i);
-        let mut p = s.velocities()[i].map(|v| v * m);
-        for k in f.row(i) {
-            let j = f.neighbours[k] as usize;
-            if gas(j) {
-                let mj = s.mass(j);
-                m += mj;
-                for (pd, vd) in p.iter_mut().zip(s.velocities()[j]) {
-                    *pd += mj * vd;
-                }
-            }
-        }
-        let v = s.velocities()[i];
-        let dv: f64 = (0..3).map(|d| (v[d] - p[d] / m).powi(2)).sum();
-        total += 0.5 * s.mass(i) * dv;
-    }
-    total
 }
