@@ -41,6 +41,13 @@ pub struct FdmOptions {
     pub viscosity: ArtificialViscosity,
     /// Smallest time step before the run is stopped as collapsed, s.
     pub min_dt: f64,
+    /// Positivity fallback of the sweep: a cell whose Lax–Wendroff update
+    /// would leave a non-positive density or internal energy is updated
+    /// with the local Lax–Friedrichs (Rusanov) flux at both its faces
+    /// instead (conservative, first order there only; the FDM–MPM bridge
+    /// turns it on, `docs/physics/couple/bridge.md`). Off by default: the
+    /// scheme of seed 001 as printed, which stops at such a cell.
+    pub positivity_fallback: bool,
 }
 
 impl Default for FdmOptions {
@@ -49,6 +56,7 @@ impl Default for FdmOptions {
             cfl: 0.8,
             viscosity: ArtificialViscosity::Adaptive,
             min_dt: 1e-14,
+            positivity_fallback: false,
         }
     }
 }
@@ -241,6 +249,12 @@ impl<E: GasLaw> FdmSolver<E> {
         self.steps
     }
 
+    /// Turns the positivity fallback of the sweep on or off
+    /// ([`FdmOptions::positivity_fallback`]).
+    pub fn set_positivity_fallback(&mut self, on: bool) {
+        self.options.positivity_fallback = on;
+    }
+
     /// The gas law.
     pub fn gas(&self) -> &E {
         &self.eos
@@ -304,6 +318,7 @@ impl<E: GasLaw> FdmSolver<E> {
             .fill_axis(&self.level, &self.set, &self.bcs, &mut self.fields, axis);
         let lambda = dt_sweep / self.level.geometry.spacing[axis];
         let (eos, visc) = (&self.eos, self.options.viscosity);
+        let fallback = self.options.positivity_fallback;
         // Work items: (patch, slab). x and y sweeps slab by k-planes, z
         // sweeps by j-planes; slabs of one patch write disjoint cells.
         let slab_axis = if axis == 2 { 1 } else { 2 };
@@ -355,19 +370,43 @@ impl<E: GasLaw> FdmSolver<E> {
                             };
                             // SAFETY: x lines of distinct (j, k) are disjoint.
                             ok &= unsafe {
-                                sweep_slab::<0, E>(eos, visc, lambda, &ptrs, &line, &mut scratch)
+                                sweep_slab::<0, E>(
+                                    eos,
+                                    visc,
+                                    fallback,
+                                    lambda,
+                                    &ptrs,
+                                    &line,
+                                    &mut scratch,
+                                )
                             };
                         }
                         ok
                     } else if axis == 1 {
                         // SAFETY: distinct k-planes are disjoint.
                         unsafe {
-                            sweep_slab::<1, E>(eos, visc, lambda, &ptrs, &shape, &mut scratch)
+                            sweep_slab::<1, E>(
+                                eos,
+                                visc,
+                                fallback,
+                                lambda,
+                                &ptrs,
+                                &shape,
+                                &mut scratch,
+                            )
                         }
                     } else {
                         // SAFETY: distinct j-planes are disjoint.
                         unsafe {
-                            sweep_slab::<2, E>(eos, visc, lambda, &ptrs, &shape, &mut scratch)
+                            sweep_slab::<2, E>(
+                                eos,
+                                visc,
+                                fallback,
+                                lambda,
+                                &ptrs,
+                                &shape,
+                                &mut scratch,
+                            )
                         }
                     }
                 })
