@@ -139,19 +139,183 @@ pub fn equilibration_pressure<E: Eos>(
     vsp: &mut [f64],
     theta: &mut [f64],
 ) -> Result<(f64, EquilibrationReport), EquilibrationError> {
+    solve_eq7(
+        guess,
+        settings,
+        vsp,
+        theta,
+        |p, vsp, theta| residual(eos, rho, temp, p, vsp, theta),
+        |p, _vsp, theta| residual_slope(eos, temp, p, theta),
+        || describe(rho, temp),
+    )
+}
+
+/// Seed 000 eq 7 with each material held at its specific internal energy
+/// e_r instead of its temperature: the pressure p at which the volumes
+/// v_r(p, e_r), from the mechanical EOS p_r(1/v_r, e_r) = p, fill the cell.
+///
+/// This is the equilibration for a solver that carries e_r through step 2
+/// (as [`crate::IceSolver`] does, so that the step conserves energy
+/// exactly): after it every material's own EOS gives p_r(ρ_r, e_r) = p,
+/// and T_r = T_r(ρ_r, e_r) is whatever the caloric EOS says there. For ideal
+/// gases (e = c_v T) it is [`equilibration_pressure`] exactly; for a
+/// material whose energy at fixed T depends on density (stiffened gas
+/// e = c_v T + p∞/ρ, Murnaghan, JWL) the isothermal v_r(p, T_r) of eq 7
+/// would leave (v_r, e_r) off the pressure p, and an expanding liquid at a
+/// temperature where e_r < p∞/ρ_r, with no sound speed
+/// (docs/physics/ice/water_air.md).
+///
+/// v_r(p, e_r) is found per material by Newton's method on ρ ↦ p_r(ρ, e_r)
+/// − p (increasing in ρ where ∂p/∂ρ|ₑ > 0), bracketed, with bisection for
+/// any step that leaves the bracket; it starts from the specific volume
+/// `vsp[r]` holds on entry (the cell's last one; ρ₀ if that is not a
+/// positive finite number) and then from its own last answer. The outer
+/// iteration on p is [`equilibration_pressure`]'s, with f'(p) = Σ θ_r κ_e,r,
+/// κ_e = 1/(ρ ∂p/∂ρ|ₑ). `energy[r]` in J/kg. Allocation-free unless it fails.
+pub fn equilibration_pressure_at_fixed_energy<E: Eos>(
+    eos: &[E],
+    rho: &[f64],
+    energy: &[f64],
+    guess: f64,
+    settings: &EquilibrationSettings,
+    vsp: &mut [f64],
+    theta: &mut [f64],
+) -> Result<(f64, EquilibrationReport), EquilibrationError> {
+    solve_eq7(
+        guess,
+        settings,
+        vsp,
+        theta,
+        |p, vsp, theta| {
+            let mut sum = 0.0;
+            for r in 0..eos.len() {
+                let rho_micro = density_at_energy(&eos[r], p, energy[r], 1.0 / vsp[r])
+                    .map_err(|e| format!("material {}: {e}", r + 1))?;
+                vsp[r] = 1.0 / rho_micro;
+                theta[r] = rho[r] * vsp[r];
+                sum += theta[r];
+            }
+            Ok(1.0 - sum)
+        },
+        |_p, vsp, theta| {
+            let mut dsum = 0.0;
+            for r in 0..eos.len() {
+                let rho_micro = 1.0 / vsp[r];
+                let d = eos[r].dp_drho(rho_micro, energy[r]);
+                if !(d > 0.0 && d.is_finite()) {
+                    return Err(format!(
+                        "material {}: ∂p/∂ρ|ₑ = {d:e} at ρ = {rho_micro:e} kg/m³, e = {:e} J/kg",
+                        r + 1,
+                        energy[r]
+                    ));
+                }
+                dsum += theta[r] / (rho_micro * d);
+            }
+            Ok(dsum)
+        },
+        || describe_energy(rho, energy),
+    )
+}
+
+/// The largest number of Newton/bisection steps of [`density_at_energy`].
+const DENSITY_AT_ENERGY_MAX_ITERATIONS: usize = 200;
+
+/// ρ with p(ρ, e) = p, by Newton's method from `start` safeguarded with a
+/// bracket [lo, hi] (f(lo) < 0 < f(hi)); while one side is unknown a step
+/// that leaves the known side doubles or halves ρ instead.
+fn density_at_energy<E: Eos>(eos: &E, p: f64, e: f64, start: f64) -> Result<f64, String> {
+    if !(p.is_finite() && e.is_finite()) {
+        return Err(format!(
+            "ρ(p, e) needs finite p and e, got p = {p:e} Pa, e = {e:e} J/kg"
+        ));
+    }
+    let mut rho = if start.is_finite() && start > 0.0 {
+        start
+    } else {
+        eos.reference_density()
+    };
+    let mut lo = 0.0_f64;
+    let mut hi = f64::INFINITY;
+    for _ in 0..DENSITY_AT_ENERGY_MAX_ITERATIONS {
+        let f = eos.pressure(rho, e) - p;
+        if f == 0.0 {
+            return Ok(rho);
+        }
+        if f > 0.0 {
+            hi = rho;
+        } else {
+            lo = rho;
+        }
+        if lo > 0.0 && hi.is_finite() && hi - lo <= 4.0 * f64::EPSILON * hi {
+            return Ok(rho);
+        }
+        let d = eos.dp_drho(rho, e);
+        let newton = rho - f / d;
+        let next = if d > 0.0 && newton > lo && newton < hi {
+            newton
+        } else if lo > 0.0 && hi.is_finite() {
+            0.5 * (lo + hi)
+        } else if hi.is_finite() {
+            0.5 * rho
+        } else {
+            2.0 * rho
+        };
+        if (next - rho).abs() <= 4.0 * f64::EPSILON * rho {
+            return Ok(next);
+        }
+        if !(next.is_finite() && next > 0.0) {
+            break;
+        }
+        rho = next;
+    }
+    Err(format!(
+        "no density gives p = {p:e} Pa at e = {e:e} J/kg (last ρ = {rho:e} kg/m³, p(ρ, e) = {:e} Pa)",
+        eos.pressure(rho, e)
+    ))
+}
+
+fn describe_energy(rho: &[f64], energy: &[f64]) -> String {
+    let mut s = String::new();
+    for r in 0..rho.len() {
+        use std::fmt::Write as _;
+        let _ = write!(
+            s,
+            "{}material {}: ρ = {:e} kg/m³, e = {:e} J/kg",
+            if r > 0 { "; " } else { "" },
+            r + 1,
+            rho[r],
+            energy[r]
+        );
+    }
+    s
+}
+
+/// The Newton iteration on eq 7 shared by both equilibrations: `fill(p,
+/// vsp, theta)` writes v_r and θ_r at p and returns f(p) = 1 − Σθ_r,
+/// `slope(p, vsp, theta)` returns f'(p) at the state `fill` left (called
+/// only for a Newton step), `state()` spells the cell out for an error.
+fn solve_eq7(
+    guess: f64,
+    settings: &EquilibrationSettings,
+    vsp: &mut [f64],
+    theta: &mut [f64],
+    mut fill: impl FnMut(f64, &mut [f64], &mut [f64]) -> Result<f64, String>,
+    mut slope: impl FnMut(f64, &[f64], &[f64]) -> Result<f64, String>,
+    state: impl Fn() -> String,
+) -> Result<(f64, EquilibrationReport), EquilibrationError> {
     let fail = |iterations, residual, pressure, reason: String| EquilibrationError {
         iterations,
         residual,
         pressure,
         reason,
-        state: describe(rho, temp),
+        state: state(),
     };
     let mut p = if guess > 0.0 && guess.is_finite() {
         guess
     } else {
         1.0e5
     };
-    let mut f = residual(eos, rho, temp, p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
+    let mut f = fill(p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
     // Bracket: f(lo) < 0 < f(hi); 0 and ∞ mean "not found yet".
     let mut lo = 0.0_f64;
     let mut hi = f64::INFINITY;
@@ -186,7 +350,7 @@ pub fn equilibration_pressure<E: Eos>(
         let next = if bracketed && bisect_next {
             (lo * hi).sqrt()
         } else {
-            let df = residual_slope(eos, temp, p, theta).map_err(|e| fail(it, f, p, e))?;
+            let df = slope(p, vsp, theta).map_err(|e| fail(it, f, p, e))?;
             let newton = if df > 0.0 { p - f / df } else { f64::NAN };
             if bracketed {
                 if newton > lo && newton < hi {
@@ -210,7 +374,7 @@ pub fn equilibration_pressure<E: Eos>(
         if !(next > 0.0 && next.is_finite()) {
             return Err(fail(it, f, p, "no positive pressure fills the cell".into()));
         }
-        let f_new = residual(eos, rho, temp, next, vsp, theta).map_err(|e| fail(it, f, next, e))?;
+        let f_new = fill(next, vsp, theta).map_err(|e| fail(it, f, next, e))?;
         bisect_next = f_new.abs() > 0.5 * f.abs();
         p = next;
         f = f_new;
@@ -230,7 +394,7 @@ pub fn equilibration_pressure<E: Eos>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use brisance_eos::{EosModel, IdealGas, Murnaghan};
+    use brisance_eos::{EosModel, IdealGas, Murnaghan, StiffenedGas};
 
     /// Two ideal gases: p = Σ ρ_r (γ_r − 1) c_v,r T_r (Dalton), θ_r the
     /// partial-pressure ratios.
@@ -417,6 +581,160 @@ mod tests {
         );
     }
 
+    /// Ideal gases (e = c_v T): the fixed-energy equilibration is the
+    /// thermal one, Dalton's 100 200 Pa.
+    #[test]
+    fn fixed_energy_equilibration_of_ideal_gases_is_daltons() {
+        let eos = [
+            IdealGas::new(1.4, 1000.0, 1.0),
+            IdealGas::new(1.67, 500.0, 1.0),
+        ];
+        let (rho, energy) = ([0.5, 0.2], [1000.0 * 300.0, 500.0 * 600.0]);
+        for guess in [1.0e-3, 1.0e5, 1.0e12] {
+            let (mut v, mut th) = ([1.0, 1.0], [0.0; 2]);
+            let (p, rep) = equilibration_pressure_at_fixed_energy(
+                &eos,
+                &rho,
+                &energy,
+                guess,
+                &EquilibrationSettings::default(),
+                &mut v,
+                &mut th,
+            )
+            .unwrap();
+            assert!(
+                (p - 100_200.0).abs() <= 1e-9 * 100_200.0,
+                "guess {guess}: p = {p}"
+            );
+            assert!((th[0] - 60_000.0 / 100_200.0).abs() < 1e-11);
+            assert!(rep.residual.abs() <= 1e-12);
+        }
+    }
+
+    /// Water advected into an air cell (docs/physics/ice/water_air.md):
+    /// 10⁻³ of the cell is water with e = 1.07 × 10⁶ J/kg, the energy it had
+    /// at 1000 kg/m³ and 10⁹ Pa (294 K), the rest air at 2 kg/m³ and
+    /// e = 2.5 × 10⁵ J/kg. Hand solution at p = 2 × 10⁵ Pa: air
+    /// ρ = p/((γ−1)e) = 2e5/(0.4·2.5e5) = 2 kg/m³; water
+    /// ρ = (p + γp∞)/((γ−1)e) = (2e5 + 4.4·6e8)/(3.4·1 070 400) = 725.46 kg/m³.
+    /// The isothermal equilibration at T = 294 K puts the water at
+    /// (p + p∞)/((γ−1)c_vT) = 375.3 kg/m³, where its own EOS gives
+    /// p = −1.2 × 10⁹ Pa (e < p∞/ρ: no temperature, no sound speed); the
+    /// fixed-energy one leaves it at 2 × 10⁵ Pa and
+    /// T = (e − p∞/ρ)/c_v = (1 070 400 − 6e8/725.46)/1600 = 152.1 K.
+    #[test]
+    fn fixed_energy_equilibration_keeps_expanding_water_on_its_eos() {
+        let eos = [StiffenedGas::water(), StiffenedGas::air()];
+        let e_w = StiffenedGas::water().specific_internal_energy_from_temperature(1000.0, 294.0);
+        assert!((e_w - (1600.0 * 294.0 + 6.0e5)).abs() < 1e-6);
+        let rho_w = (2.0e5 + 4.4 * 6.0e8) / (3.4 * e_w);
+        assert!((rho_w - 725.46).abs() < 0.01, "{rho_w}");
+        let rho = [1.0e-3 * rho_w, 0.999 * 2.0];
+        let energy = [e_w, 2.5e5];
+        let (mut v, mut th) = ([1.0e-3, 0.5], [0.0; 2]);
+        let (p, rep) = equilibration_pressure_at_fixed_energy(
+            &eos,
+            &rho,
+            &energy,
+            1.0e9,
+            &EquilibrationSettings::default(),
+            &mut v,
+            &mut th,
+        )
+        .unwrap();
+        assert!((p / 2.0e5 - 1.0).abs() < 1e-9, "p = {p}, {rep:?}");
+        assert!((th[0] - 1.0e-3).abs() < 1e-12, "{th:?}");
+        assert!((1.0 / v[0] / rho_w - 1.0).abs() < 1e-9);
+        assert!((1.0 / v[1] - 2.0).abs() < 1e-9);
+        for r in 0..2 {
+            let pr = eos[r].pressure(1.0 / v[r], energy[r]);
+            assert!((pr / p - 1.0).abs() < 1e-9, "material {r}: {pr}");
+            assert!(eos[r].sound_speed(1.0 / v[r], energy[r]) > 0.0);
+        }
+        let t_w = eos[0].temperature(1.0 / v[0], e_w);
+        assert!(
+            (t_w - (e_w - 6.0e8 / rho_w) / 1600.0).abs() < 1e-6 && (t_w - 152.08).abs() < 0.01,
+            "{t_w}"
+        );
+        // The isothermal equilibration of the same cell.
+        let temp = [294.0, eos[1].temperature(2.0, 2.5e5)];
+        let (p_t, _) = equilibration_pressure(
+            &eos,
+            &rho,
+            &temp,
+            1.0e9,
+            &EquilibrationSettings::default(),
+            &mut v,
+            &mut th,
+        )
+        .unwrap();
+        let rho_t = 1.0 / v[0];
+        assert!((rho_t / ((p_t + 6.0e8) / (3.4 * 1600.0 * 294.0)) - 1.0).abs() < 1e-9);
+        assert!(
+            eos[0].pressure(rho_t, e_w) < -1.0e9,
+            "{}",
+            eos[0].pressure(rho_t, e_w)
+        );
+        assert!(eos[0].temperature(rho_t, e_w) < 0.0);
+    }
+
+    /// ANFO-K1 reactant, its JWL C-term products and air at fixed
+    /// energies: every material ends on its own EOS at the shared pressure.
+    #[test]
+    fn fixed_energy_equilibration_of_the_rate_stick_materials() {
+        let eos = [
+            EosModel::Murnaghan(Murnaghan::anfo_k1()),
+            EosModel::JwlCTerm(brisance_eos::JwlCTerm::anfo_k1()),
+            EosModel::IdealGas(IdealGas::air()),
+        ];
+        let p_true = 2.0e8;
+        let t = [300.0, 2500.0, 900.0];
+        let rho_m: Vec<f64> = (0..3)
+            .map(|r| eos[r].density(p_true, t[r]).unwrap())
+            .collect();
+        let energy: Vec<f64> = (0..3)
+            .map(|r| eos[r].specific_internal_energy_from_temperature(rho_m[r], t[r]))
+            .collect();
+        let theta_true = [0.5, 0.3, 0.2];
+        let rho: Vec<f64> = (0..3).map(|r| theta_true[r] * rho_m[r]).collect();
+        let (mut v, mut th) = ([f64::NAN; 3], [0.0; 3]);
+        let (p, rep) = equilibration_pressure_at_fixed_energy(
+            &eos,
+            &rho,
+            &energy,
+            1.0e5,
+            &EquilibrationSettings::default(),
+            &mut v,
+            &mut th,
+        )
+        .unwrap();
+        assert!((p / p_true - 1.0).abs() < 1e-9, "p = {p}, {rep:?}");
+        for r in 0..3 {
+            assert!((th[r] - theta_true[r]).abs() < 1e-9, "{th:?}");
+            assert!((eos[r].pressure(1.0 / v[r], energy[r]) / p - 1.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn fixed_energy_failure_names_the_energies() {
+        // An ideal gas with e < 0 has no density at any positive pressure.
+        let eos = [IdealGas::new(1.4, 1000.0, 1.0)];
+        let (mut v, mut th) = ([1.0], [0.0]);
+        let err = equilibration_pressure_at_fixed_energy(
+            &eos,
+            &[1.0],
+            &[-5.0],
+            1.0e5,
+            &EquilibrationSettings::default(),
+            &mut v,
+            &mut th,
+        )
+        .unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("e = -5e0 J/kg"), "{msg}");
+        assert!(msg.contains("material 1"), "{msg}");
+    }
+
     #[test]
     fn failure_carries_the_cell_state() {
         let eos = [IdealGas::new(1.4, 1000.0, 1.0)];
@@ -458,7 +776,7 @@ mod tests {
 #[cfg(test)]
 mod proptests {
     use super::*;
-    use brisance_eos::IdealGas;
+    use brisance_eos::{IdealGas, StiffenedGas};
     use proptest::prelude::*;
 
     proptest! {
@@ -484,6 +802,55 @@ mod proptests {
             prop_assert!(rep.iterations <= 100);
             let sum: f64 = th[..n].iter().sum();
             prop_assert!((sum - 1.0).abs() < 1e-9);
+        }
+
+        /// Mixtures of stiffened and ideal gases at fixed energies, built
+        /// around a known state (p, θ_r, e_r) with
+        /// ρ_r = θ_r (p + γp∞)/((γ−1)e_r): from any guess the pressure and
+        /// volume fractions come back, and every material sits on its own
+        /// EOS at that pressure.
+        #[test]
+        fn fixed_energy_mixtures_sit_on_their_own_eos(
+            n in 1usize..=4,
+            gamma in proptest::collection::vec(1.1f64..5.0, 4),
+            log_p_inf in proptest::collection::vec(-1.0f64..9.0, 4),
+            weight in proptest::collection::vec(1e-6f64..1.0, 4),
+            log_e in proptest::collection::vec(4.0f64..7.0, 4),
+            log_p in 3.0f64..10.0,
+            log_guess in 0.0f64..10.0,
+        ) {
+            let eos: Vec<StiffenedGas> = (0..n)
+                .map(|r| StiffenedGas {
+                    gamma: gamma[r],
+                    p_inf: if log_p_inf[r] < 0.0 { 0.0 } else { 10f64.powf(log_p_inf[r]) },
+                    cv: 1000.0,
+                    rho0: 1000.0,
+                })
+                .collect();
+            let p_true = 10f64.powf(log_p);
+            let total: f64 = weight[..n].iter().sum();
+            let energy: Vec<f64> = (0..n).map(|r| 10f64.powf(log_e[r])).collect();
+            let rho: Vec<f64> = (0..n)
+                .map(|r| {
+                    weight[r] / total * (p_true + eos[r].gamma * eos[r].p_inf)
+                        / ((eos[r].gamma - 1.0) * energy[r])
+                })
+                .collect();
+            let (mut v, mut th) = ([1.0e-3; 4], [0.0; 4]);
+            let (p, rep) = equilibration_pressure_at_fixed_energy(
+                &eos, &rho, &energy, 10f64.powf(log_guess),
+                &EquilibrationSettings::default(), &mut v[..n], &mut th[..n],
+            ).unwrap();
+            prop_assert!(rep.residual.abs() <= 1e-12, "{:?}", rep);
+            // A residual of 1e-12 in Σθ fixes p only to about 1e-12 of
+            // the stiffest material's p + γp∞.
+            let stiff = (0..n).map(|r| eos[r].gamma * eos[r].p_inf).fold(0.0, f64::max);
+            prop_assert!((p - p_true).abs() < 1e-9 * (p_true + stiff), "{} vs {}", p, p_true);
+            for r in 0..n {
+                prop_assert!((th[r] - weight[r] / total).abs() < 1e-9);
+                let pr = eos[r].pressure(1.0 / v[r], energy[r]);
+                prop_assert!((pr - p).abs() <= 1e-9 * (p + eos[r].p_inf), "{} vs {}", pr, p);
+            }
         }
     }
 }
