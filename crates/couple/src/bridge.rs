@@ -82,6 +82,63 @@ pub fn fictitious_cell_state(
     ])
 }
 
+/// One side of the Riemann problem at the end of the FDM region: the
+/// density, the velocity along the normal from the FDM region into the
+/// MPM region, the pressure and the sound speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalState {
+    /// Density, kg/m³.
+    pub density: f64,
+    /// Velocity along the normal into the MPM region, m/s.
+    pub velocity: f64,
+    /// Pressure, Pa.
+    pub pressure: f64,
+    /// Sound speed, m/s.
+    pub sound_speed: f64,
+}
+
+/// Whether the fictitious cells must take the FDM region's own outflow
+/// state rather than the MPM's (eqs 31–36): true when every wave of the
+/// Riemann problem between the last FDM-region cell `fdm` and the MPM's
+/// fictitious state `mpm` moves into the MPM region, so that nothing the
+/// MPM holds can reach the FDM region (supersonic outflow; imposing the
+/// MPM state there over-specifies the boundary of the FDM region). The
+/// speed of the wave facing the FDM region is S = u − c q with the
+/// pressure p* of the primitive-variable Riemann solver (Toro, *Riemann
+/// Solvers and Numerical Methods for Fluid Dynamics*, 3rd ed., eq 9.20),
+/// p* = ½(p_F + p_M) − ⅛(u_M − u_F)(ρ_F + ρ_M)(c_F + c_M) clipped at 0,
+/// and q = √(1 + (γ + 1)/(2γ)(p*/p_F − 1)) for a shock (p* > p_F), 1 for
+/// a rarefaction (eq 10.59), γ = ρ_F c_F²/p_F the FDM cell's isentropic
+/// exponent. A state that is not physical (non-positive density, pressure
+/// or sound speed, not finite) gives false: the paper's rule stands.
+pub fn fdm_outflow_is_supersonic(fdm: &NormalState, mpm: &NormalState) -> bool {
+    let ok = |s: &NormalState| {
+        s.density > 0.0
+            && s.pressure > 0.0
+            && s.sound_speed > 0.0
+            && s.density.is_finite()
+            && s.pressure.is_finite()
+            && s.sound_speed.is_finite()
+            && s.velocity.is_finite()
+    };
+    if !(ok(fdm) && ok(mpm)) {
+        return false;
+    }
+    let p_star = (0.5 * (fdm.pressure + mpm.pressure)
+        - 0.125
+            * (mpm.velocity - fdm.velocity)
+            * (fdm.density + mpm.density)
+            * (fdm.sound_speed + mpm.sound_speed))
+        .max(0.0);
+    let q = if p_star > fdm.pressure {
+        let gamma = fdm.density * fdm.sound_speed * fdm.sound_speed / fdm.pressure;
+        (1.0 + (gamma + 1.0) / (2.0 * gamma) * (p_star / fdm.pressure - 1.0)).sqrt()
+    } else {
+        1.0
+    };
+    fdm.velocity - fdm.sound_speed * q >= 0.0
+}
+
 /// An FDM cell centre acting as a particle in the P2G of the interface
 /// nodes (seed 001 §3.3): mass ρ_c V_c, velocity v_c, volume V_c and
 /// stress −p_c I, so that the particle sums of eqs 18, 19, 21 give the
@@ -336,6 +393,68 @@ mod tests {
         let u = fictitious_cell_state(m, p, e, 0.5).unwrap();
         assert_eq!(u, [4.0, 4.0, 6.0, 0.0, 20.5]);
         assert_eq!(fictitious_cell_state(0.0, [0.0; 3], 1.0, 1.0), None);
+    }
+
+    #[test]
+    fn supersonic_outflow_ignores_a_downstream_state_it_cannot_feel() {
+        // Products at Mach 5.8 leaving the FDM region into ambient air:
+        // PVRS p* = ½(3e6 + 1e5) − ⅛(0 − 2900)(17 + 1.2)(500 + 340)
+        // = 1.55e6 + 5.5419e6 = 7.0919e6 > p_F; γ = 17·500²/3e6 = 1.41667,
+        // q = √(1 + 0.85294·(p*/3e6 − 1)) = 1.47084, S = 2900 − 735 > 0:
+        // the FDM keeps its own outflow.
+        let fdm = NormalState {
+            density: 17.0,
+            velocity: 2900.0,
+            pressure: 3.0e6,
+            sound_speed: 500.0,
+        };
+        let ambient = NormalState {
+            density: 1.2,
+            velocity: 0.0,
+            pressure: 1.0e5,
+            sound_speed: 340.0,
+        };
+        assert!(fdm_outflow_is_supersonic(&fdm, &ambient));
+        // A shock reflected by a wall (u = 0, p = 1e8) faces it: p* =
+        // 5.15e7 + 0.125·2900·217·1500 = 1.6949e8, q = √(1 + 0.85294·55.50)
+        // = 6.9524, S = 2900 − 3476 < 0: the MPM's state is imposed.
+        let reflected = NormalState {
+            density: 200.0,
+            velocity: 0.0,
+            pressure: 1.0e8,
+            sound_speed: 1000.0,
+        };
+        assert!(!fdm_outflow_is_supersonic(&fdm, &reflected));
+        // The same stream as both states: S = u − c = 2400 > 0.
+        assert!(fdm_outflow_is_supersonic(&fdm, &fdm));
+        // Subsonic outflow (u < c) and inflow: the paper's rule.
+        let slow = NormalState {
+            velocity: 499.0,
+            ..fdm
+        };
+        assert!(!fdm_outflow_is_supersonic(&slow, &slow));
+        let back = NormalState {
+            velocity: -2900.0,
+            ..fdm
+        };
+        assert!(!fdm_outflow_is_supersonic(&back, &ambient));
+        // Exactly sonic with equal states: S = 0 counts as outflow.
+        let sonic = NormalState {
+            velocity: 500.0,
+            ..fdm
+        };
+        assert!(fdm_outflow_is_supersonic(&sonic, &sonic));
+        // A non-physical MPM state leaves the paper's rule in place.
+        let empty = NormalState {
+            pressure: 0.0,
+            ..ambient
+        };
+        assert!(!fdm_outflow_is_supersonic(&fdm, &empty));
+        let nan = NormalState {
+            sound_speed: f64::NAN,
+            ..ambient
+        };
+        assert!(!fdm_outflow_is_supersonic(&fdm, &nan));
     }
 
     #[test]

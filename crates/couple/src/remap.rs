@@ -698,7 +698,9 @@ mod remapped_run {
     use brisance_grid::Level;
 
     /// The remapped E-BLAST2D state (BRISANCE_REMAP = path of a remap.bin)
-    /// run by the FDM alone on its grid with outflow faces, to 30 µs.
+    /// run by the FDM alone on its grid with outflow faces and the
+    /// positivity fallback the bridge uses, to 30 µs (or BRISANCE_END
+    /// seconds).
     #[test]
     #[ignore = "needs a remap file from `brisance remap`; run by hand"]
     fn remapped_blast_runs_in_the_fdm_alone() {
@@ -723,14 +725,21 @@ mod remapped_run {
             gas,
             level,
             [FdmBoundary::Outflow; 6],
-            FdmOptions::default(),
+            FdmOptions {
+                positivity_fallback: true,
+                ..Default::default()
+            },
             |_| ambient,
         )
         .unwrap();
         fdm.set_conservative_fields(&r.fields).unwrap();
+        let end: f64 = std::env::var("BRISANCE_END")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(3.0e-5);
         let mut steps = 0;
         let result = loop {
-            if fdm.time() >= 3.0e-5 {
+            if fdm.time() >= end {
                 break Ok(());
             }
             let dt = match fdm.stable_dt() {
