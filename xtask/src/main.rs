@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod bridge_cases;
 mod ice_cases;
 mod lattice_cases;
 mod mpm_throughput;
@@ -721,7 +722,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 19] = [
+const CASES: [&str; 20] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -739,6 +740,7 @@ const CASES: [&str; 19] = [
     "regress",
     "aphtpb",
     "hotspot",
+    "blast2d",
     "mpm-throughput",
     "throughput",
 ];
@@ -819,6 +821,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("hotspot") {
         lattice_cases::e_hotspot(&mut body)?;
+    }
+    if run("blast2d") {
+        bridge_cases::e_blast2d(&mut body, &img)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;

@@ -1,0 +1,355 @@
+//! E-BLAST2D (issue 9, seed 001 §5.2): a 50 mm TNT charge (2D, a
+//! cylinder) at (0, 250) mm detonates in air and loads a concrete slab
+//! through the FDM–MPM bridge (`configs/blast2d.ron`,
+//! docs/physics/couple/bridge.md).
+//!
+//! The case makes the detonation remap with `brisance remap` (the command
+//! in the config's header), runs the bridge with w = 5 and, for the width
+//! study of seed 001 Fig. 11, with w = 2 and 8 (the MPM region's low face
+//! moved, the FDM region and its remap unchanged), and compares the
+//! pressure histories of the two gauges at the same distance from the
+//! charge, gauge 1 (−125, 250) mm in the FDM region and gauge 2
+//! (125, 250) mm in the MPM region: arrival within 2 % and peak within 5 %
+//! (the issue's targets; seed 001 gives the two histories only as a
+//! figure, "in good agreement").
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{bail, Context, Result};
+use brisance::compose::{load_file, run, RunOptions};
+
+use crate::plot::{self, Panel, Series, SeriesStyle};
+use crate::{workspace_root, Report};
+
+/// Run time of the bridge runs, s after the remap time (12 µs after
+/// initiation): the blast reaches both gauges at about 6 µs, the products
+/// follow, and the slab's reflection reaches gauge 2 before this.
+const END_TIME: f64 = 4.0e-5;
+
+/// Ambient pressure of the air (ρ 1.225 kg/m³, e 2.0685e5 J/kg, γ 1.4), Pa.
+const AMBIENT: f64 = 0.4 * 1.225 * 2.0685e5;
+
+/// Window after the blast front within which its peak is taken, s: the
+/// blast wave's own peak, before the products and the slab's reflection
+/// reach the gauges.
+const PEAK_WINDOW: f64 = 3.0e-6;
+
+/// The `brisance remap` arguments of `configs/blast2d.ron`'s header.
+const REMAP: [&str; 18] = [
+    "remap",
+    "--symmetry",
+    "cylindrical",
+    "--charge-radius",
+    "0.05",
+    "--radius-1d",
+    "0.11",
+    "--cells-1d",
+    "880",
+    "--time",
+    "1.2e-5",
+    "--lower=-0.18,0,0",
+    "--upper=0.12,0.5,0.002",
+    "--cells",
+    "150,250,1",
+    "--centre=0,0.25,0",
+    "--out",
+    "out/blast2d_remap",
+];
+
+/// A gauge's pressure history.
+struct History {
+    time: Vec<f64>,
+    pressure: Vec<f64>,
+}
+
+fn read_gauge(path: &Path) -> Result<History> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut h = History {
+        time: Vec::new(),
+        pressure: Vec::new(),
+    };
+    for (k, line) in text.lines().enumerate().skip(1) {
+        let mut cols = line.split(',');
+        let (Some(t), Some(p)) = (cols.next(), cols.next()) else {
+            bail!("{} line {}: expected time,pressure", path.display(), k + 1);
+        };
+        h.time.push(t.trim().parse()?);
+        h.pressure.push(p.trim().parse()?);
+    }
+    Ok(h)
+}
+
+/// The blast front at a gauge: (arrival, peak). The peak is the largest
+/// pressure within [`PEAK_WINDOW`] of the first sample above twice the
+/// ambient pressure; the arrival is the time the pressure first reaches
+/// half-way from ambient to that peak (linear between samples).
+fn arrival_and_peak(h: &History) -> Option<(f64, f64)> {
+    let first = h.pressure.iter().position(|&p| p > 2.0 * AMBIENT)?;
+    let t0 = h.time[first];
+    let peak = h
+        .time
+        .iter()
+        .zip(&h.pressure)
+        .skip(first)
+        .take_while(|(&t, _)| t <= t0 + PEAK_WINDOW)
+        .map(|(_, &p)| p)
+        .fold(f64::MIN, f64::max);
+    let half = AMBIENT + 0.5 * (peak - AMBIENT);
+    let i = h.pressure.iter().position(|&p| p >= half)?;
+    if i == 0 {
+        return Some((h.time[0], peak));
+    }
+    let f = (half - h.pressure[i - 1]) / (h.pressure[i] - h.pressure[i - 1]);
+    Some((h.time[i - 1] + f * (h.time[i] - h.time[i - 1]), peak))
+}
+
+/// One bridge run and what it measured.
+struct BridgeRun {
+    width: usize,
+    steps: u64,
+    final_time: f64,
+    wall_seconds: f64,
+    completed: bool,
+    stop_reason: Option<String>,
+    gauge1: History,
+    gauge2: History,
+}
+
+fn run_bridge(root: &Path, width: usize) -> Result<BridgeRun> {
+    // The MPM region starts at 120 mm − w · 2 mm.
+    let lower = 0.12 - 0.002 * width as f64;
+    let remap = root.join("out/blast2d_remap/remap.bin");
+    let sets = vec![
+        format!("time.end={END_TIME:e}"),
+        format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
+        format!("pipeline.remap=Some(\"{}\")", remap.display()),
+        "outputs.interval=1.0".to_string(),
+    ];
+    let loaded = load_file(&root.join("configs/blast2d.ron"), &sets)
+        .map_err(|e| anyhow::anyhow!("configs/blast2d.ron does not load: {e}"))?;
+    let out = root.join(format!("out/xtask_blast2d_w{width}"));
+    let summary = run(
+        &loaded,
+        &RunOptions {
+            out_dir: out.clone(),
+            restart: None,
+            progress: false,
+        },
+    )
+    .map_err(|e| anyhow::anyhow!("blast2d w = {width}: {e}"))?;
+    Ok(BridgeRun {
+        width,
+        steps: summary.steps,
+        final_time: summary.final_time,
+        wall_seconds: summary.wall_seconds,
+        completed: summary.completed,
+        stop_reason: summary.stop_reason,
+        gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,
+        gauge2: read_gauge(&out.join("gauges/gauge2.csv"))?,
+    })
+}
+
+/// Makes the remap with `brisance remap` and returns its printed report.
+fn make_remap(root: &Path) -> Result<String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(root)
+        .args(["run", "--release", "--quiet", "--bin", "brisance", "--"])
+        .args(REMAP)
+        .output()
+        .context("cannot run brisance remap")?;
+    if !out.status.success() {
+        bail!(
+            "brisance remap failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+fn pct(a: f64, b: f64) -> f64 {
+    100.0 * (a - b) / b
+}
+
+pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
+    println!("E-BLAST2D: TNT cylinder, air blast onto a concrete slab through the FDM-MPM bridge");
+    let root: PathBuf = workspace_root();
+    let remap = make_remap(&root)?;
+    let remap_line = remap
+        .lines()
+        .find(|l| l.starts_with("relative change"))
+        .unwrap_or("relative change: not printed")
+        .to_string();
+    println!("  remap: {remap_line}");
+    let mut runs = Vec::new();
+    for width in [5usize, 2, 8] {
+        let r = run_bridge(&root, width)?;
+        println!(
+            "  w = {width}: {} steps to {:.2} µs in {:.0} s{}",
+            r.steps,
+            r.final_time * 1e6,
+            r.wall_seconds,
+            r.stop_reason
+                .as_deref()
+                .map(|s| format!(" — stopped: {s}"))
+                .unwrap_or_default()
+        );
+        runs.push(r);
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## E-BLAST2D — TNT air blast onto a concrete slab through the FDM–MPM bridge (2D)\n"
+    );
+    let _ = writeln!(
+        md,
+        "`configs/blast2d.ron` (seed 001 §5.2): 50 mm TNT charge at (0, 250) mm, FDM region (−180, 120) × (0, 500) mm, \
+         MPM region (110, 160) × (0, 500) mm (bridge w = 5), 2 mm cells, flow-out faces, a 20 mm concrete slab at \
+         x = 140–160 mm. The FDM region starts from the 1D detonation at 12 µs remapped onto it (`brisance remap`, \
+         {remap_line}); times below are after that. Each run ends at {:.0} µs. Gauge 1 (−125, 250) mm lies in the \
+         FDM region, gauge 2 (125, 250) mm in the MPM region, at the same distance from the charge. Arrival: the \
+         time the pressure first reaches half-way from ambient to the blast peak; peak: the largest pressure \
+         within {:.0} µs of the first sample above twice ambient (the blast wave, before the products and the \
+         slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). Wall time on this \
+         shared 2-CPU machine under the other work's load.\n",
+        END_TIME * 1e6,
+        PEAK_WINDOW * 1e6,
+    );
+    let _ = writeln!(
+        md,
+        "| w | steps | reached (µs) | wall (s) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut measured = Vec::new();
+    for r in &runs {
+        let a = arrival_and_peak(&r.gauge1);
+        let b = arrival_and_peak(&r.gauge2);
+        let cell = |x: Option<(f64, f64)>, k: usize| match x {
+            Some(v) => format!("{:.3}", if k == 0 { v.0 * 1e6 } else { v.1 * 1e-6 }),
+            None => "—".into(),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} |",
+            r.width,
+            r.steps,
+            r.final_time * 1e6,
+            r.wall_seconds,
+            cell(a, 0),
+            cell(b, 0),
+            cell(a, 1),
+            cell(b, 1)
+        );
+        measured.push((a, b));
+    }
+    for r in runs.iter().filter(|r| !r.completed) {
+        let _ = writeln!(
+            md,
+            "\nw = {} stopped at {:.2} µs: {}",
+            r.width,
+            r.final_time * 1e6,
+            r.stop_reason.as_deref().unwrap_or("no reason given")
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n![E-BLAST2D gauges](img/e_blast2d.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (r, (a, b)) in runs.iter().zip(&measured) {
+        report.target(
+            &format!("E-BLAST2D w = {} reaches {:.0} µs", r.width, END_TIME * 1e6),
+            format!("{:.2} µs", r.final_time * 1e6),
+            &format!("{:.0} µs", END_TIME * 1e6),
+            r.completed,
+        );
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                let (da, dp) = (pct(b.0, a.0), pct(b.1, a.1));
+                report.target(
+                    &format!("E-BLAST2D w = {} arrival, gauge 2 vs gauge 1", r.width),
+                    format!("{da:+.2} %"),
+                    "within 2 %",
+                    da.abs() <= 2.0,
+                );
+                report.target(
+                    &format!("E-BLAST2D w = {} peak, gauge 2 vs gauge 1", r.width),
+                    format!("{dp:+.2} %"),
+                    "within 5 %",
+                    dp.abs() <= 5.0,
+                );
+            }
+            _ => report.target(
+                &format!("E-BLAST2D w = {} blast at both gauges", r.width),
+                "not seen".into(),
+                "both gauges",
+                false,
+            ),
+        }
+    }
+    let series: Vec<(String, Vec<f64>, Vec<f64>)> = runs
+        .iter()
+        .flat_map(|r| {
+            [(1, &r.gauge1), (2, &r.gauge2)].map(|(k, h)| {
+                (
+                    format!("w = {}, gauge {k}", r.width),
+                    h.time.iter().map(|t| t * 1e6).collect(),
+                    h.pressure.iter().map(|p| p * 1e-6).collect(),
+                )
+            })
+        })
+        .collect();
+    let panels: Vec<Panel> = runs
+        .iter()
+        .enumerate()
+        .map(|(i, r)| Panel {
+            y_label: match r.width {
+                5 => "pressure, w = 5 [MPa]",
+                2 => "pressure, w = 2 [MPa]",
+                _ => "pressure, w = 8 [MPa]",
+            },
+            series: series[2 * i..2 * i + 2]
+                .iter()
+                .map(|(label, x, y)| Series {
+                    label,
+                    x,
+                    y,
+                    style: SeriesStyle::Line,
+                })
+                .collect(),
+        })
+        .collect();
+    plot::plot_panels(
+        &img.join("e_blast2d.png"),
+        "E-BLAST2D: gauge 1 (FDM, -125 mm) and gauge 2 (MPM, +125 mm)",
+        "time after the remap [µs]",
+        &panels,
+    )?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arrival_is_the_half_rise_and_the_peak_stays_in_its_window() {
+        // Ambient until 1 µs, 2·p0 + 4e6 at 2 µs (peak of the front, the
+        // window runs to 5 µs), a larger later pulse at 6 µs (outside it).
+        let p0 = AMBIENT;
+        let h = History {
+            time: vec![0.0, 1.0e-6, 2.0e-6, 3.0e-6, 6.0e-6],
+            pressure: vec![p0, p0, p0 + 4.0e6, p0 + 1.0e6, p0 + 9.0e6],
+        };
+        let (t, peak) = arrival_and_peak(&h).unwrap();
+        assert_eq!(peak, p0 + 4.0e6);
+        // Half-way p0 + 2e6 is reached half-way between 1 and 2 µs.
+        assert!((t - 1.5e-6).abs() < 1e-18, "{t}");
+        let flat = History {
+            time: vec![0.0, 1.0],
+            pressure: vec![p0, p0],
+        };
+        assert!(arrival_and_peak(&flat).is_none());
+    }
+}
