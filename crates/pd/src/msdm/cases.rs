@@ -507,6 +507,17 @@ pub const HTPB_ARRHENIUS: (f64, f64) = (3.0e4, 62_800.0);
 /// Densities of AP and HTPB, kg/m³.
 pub const AP_HTPB_DENSITY: (f64, f64) = (1950.0, 920.0);
 
+/// Density of the 80 wt % AP/HTPB propellant by ideal mixing,
+/// 1/(0.8/ρ_AP + 0.2/ρ_HTPB) = 1593.3 kg/m³: the ρ₀ of the regression
+/// r = A exp(−Eₐ/RT) Δt/ρ₀ (seed 003 §2.4) under the reading that ρ₀ is
+/// the propellant's density (see `docs/physics/lattice/validation.md`,
+/// E-APHTPB: Table 1 exceeds the pure-AP speed at ρ_AP = 1950 kg/m³, which
+/// no pack with the components' own densities can).
+pub fn propellant_density() -> f64 {
+    let (rho_ap, rho_htpb) = AP_HTPB_DENSITY;
+    1.0 / (0.8 / rho_ap + 0.2 / rho_htpb)
+}
+
 /// What an E-APHTPB burn measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BurnResult {
@@ -541,6 +552,20 @@ pub fn aphtpb_burn(
     omega: f64,
     seed: u64,
 ) -> Result<BurnResult, MsdmError> {
+    aphtpb_burn_with(side, n, temperature, omega, seed, AP_HTPB_DENSITY)
+}
+
+/// [`aphtpb_burn`] with the densities (AP, HTPB) of the Arrhenius
+/// regression r = A exp(−Eₐ/RT) Δt/ρ₀ given; the pack's mass fraction
+/// still uses [`AP_HTPB_DENSITY`].
+pub fn aphtpb_burn_with(
+    side: f64,
+    n: usize,
+    temperature: f64,
+    omega: f64,
+    seed: u64,
+    densities: (f64, f64),
+) -> Result<BurnResult, MsdmError> {
     use super::pack::{area_fraction, node_mass_fraction, random_disc_pack};
     use super::regress::{Arrhenius, SurfaceRegression};
     let h = side / (n - 1) as f64;
@@ -553,8 +578,8 @@ pub fn aphtpb_burn(
         Some(if inside[ix + n * iy] { 0 } else { 1 })
     });
     let mats = vec![
-        LatticeMaterial::elastic("ap", 20e9, inert_eos(rho_ap, 2500.0)),
-        LatticeMaterial::elastic("htpb", 1e9, inert_eos(rho_htpb, 1600.0)),
+        LatticeMaterial::elastic("ap", 20e9, inert_eos(densities.0, 2500.0)),
+        LatticeMaterial::elastic("htpb", 1e9, inert_eos(densities.1, 1600.0)),
     ];
     let opts = MsdmOptions {
         thermal: false,
@@ -578,7 +603,24 @@ pub fn aphtpb_burn(
     let g = lat.geom.clone();
     reg.set_walls(&lat, |i| g.coords(i)[1] != top);
     lat.set_regression(reg)?;
-    let ap_mass_fraction = node_mass_fraction(&lat, 0);
+    // The pack's AP mass fraction at the components' own densities,
+    // whatever density the regression uses.
+    let ap_mass_fraction = if densities == AP_HTPB_DENSITY {
+        node_mass_fraction(&lat, 0)
+    } else {
+        let (mut ap, mut all) = (0.0, 0.0);
+        for i in 0..lat.len() {
+            match lat.material_of(i) {
+                Some(0) => {
+                    ap += rho_ap * lat.volume[i];
+                    all += rho_ap * lat.volume[i];
+                }
+                Some(_) => all += rho_htpb * lat.volume[i],
+                None => {}
+            }
+        }
+        ap / all
+    };
     let width_depth = side * lat.geom.out_of_plane();
     let heights = |l: &MsdmLattice| -> [f64; 2] {
         let v: f64 = l

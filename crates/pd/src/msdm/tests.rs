@@ -799,3 +799,35 @@ fn slip_node_holds_only_its_normal_velocity() {
     let e = lat.step(dt).unwrap_err().to_string();
     assert!(e.contains("held_axes") && e.contains("integrator"), "{e}");
 }
+
+/// E-APHTPB reduced (1.2 mm, 51 nodes, 908 K): the bound behind the
+/// density reading of the report. With the components' own densities the
+/// pack burns below the pure-AP Arrhenius speed (Table 1 is above it);
+/// with the propellant density for both the AP speed rises by
+/// 1950/1593.3 and the HTPB speed falls by 920/1593.3, and the pack burns
+/// between the two, above the own-density rate. The AP mass fraction is the
+/// same for both readings.
+#[test]
+fn aphtpb_density_readings_bound_the_rate() {
+    let t = 908.0;
+    let speed =
+        |a: (f64, f64), rho: f64| a.0 * (-a.1 / (super::regress::GAS_CONSTANT * t)).exp() / rho;
+    let mix = propellant_density();
+    assert!((mix - 1593.3).abs() < 0.05, "{mix}");
+    let own = aphtpb_burn(1.2e-3, 51, t, 1.0, 1).unwrap();
+    let prop = aphtpb_burn_with(1.2e-3, 51, t, 1.0, 1, (mix, mix)).unwrap();
+    let ap_own = speed(AP_ARRHENIUS, AP_HTPB_DENSITY.0);
+    assert!(own.rate < ap_own, "{} vs AP {ap_own}", own.rate);
+    assert!(
+        prop.rate > own.rate
+            && prop.rate < speed(AP_ARRHENIUS, mix)
+            && prop.rate > speed(HTPB_ARRHENIUS, mix),
+        "{} vs {}",
+        prop.rate,
+        own.rate
+    );
+    assert_eq!(
+        own.ap_mass_fraction.to_bits(),
+        prop.ap_mass_fraction.to_bits()
+    );
+}
