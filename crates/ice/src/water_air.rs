@@ -221,9 +221,11 @@ mod tests {
     /// It stops in the first steps today (docs/physics/ice/water_air.md:
     /// the equilibration keeps e_r and takes T_r from the old specific
     /// volume, and the water advected into the first air cell then has
-    /// T_r(ρ_r, e_r) < 0 at the equilibrated density).
+    /// T_r(ρ_r, e_r) < 0 at the equilibrated density). It runs once the
+    /// solver's step 2 calls `equilibration_pressure_at_fixed_energy`
+    /// (trial numbers in docs/physics/ice/water_air.md).
     #[test]
-    #[ignore = "fails: the ICE equilibration stops in the first air cell (docs/physics/ice/water_air.md)"]
+    #[ignore = "fails: the ICE equilibration stops in the first air cell until the solver uses the fixed-energy equilibration (docs/physics/ice/water_air.md)"]
     fn reduced_water_air_tube_tracks_the_exact_solution() {
         let r = water_air(&WaterAir::standard(100)).unwrap();
         let h = 0.01;
