@@ -12,6 +12,8 @@
 //! - [`constitutive`]: stress-update models for solids and particle fluids.
 //! - [`mpm`]: the explicit material point method.
 //! - [`pd`]: bond-based peridynamics with the detonation model of seed 004.
+//! - [`couple`]: the coupled steps — ICE–MPM (seed 000 §3.3) and the
+//!   FDM–MPM bridge (seed 001 §3).
 //! - [`reaction`]: program burn and the detonation-products isentrope.
 //! - [`io`]: VTK, CSV, summary and checkpoint writers.
 //! - [`compose`]: the RON scenario schema, registry and run loop.
@@ -20,6 +22,7 @@
 pub use brisance_compose as compose;
 pub use brisance_constitutive as constitutive;
 pub use brisance_core as core;
+pub use brisance_couple as couple;
 pub use brisance_eos as eos;
 pub use brisance_fdm as fdm;
 pub use brisance_grid as grid;

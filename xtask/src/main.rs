@@ -8,6 +8,7 @@
 
 mod bridge_cases;
 mod ice_cases;
+mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
 mod pd_cases;
@@ -722,11 +723,12 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 20] = [
+const CASES: [&str; 21] = [
     "sod",
     "sod-ice",
     "ratestick",
     "water-air-ice",
+    "piston",
     "smooth",
     "cj",
     "bar",
@@ -782,6 +784,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("water-air-ice") {
         ice_cases::v_water_air_ice(&mut body, &img)?;
+    }
+    if run("piston") {
+        ice_mpm_cases::v_ice_mpm(&mut body)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;

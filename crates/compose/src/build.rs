@@ -45,6 +45,12 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: brisance_ice::GHOST,
             node_fields: &[],
         },
+        Pipeline::IceMpm(_) => PipelineLimits {
+            fields: &crate::ice::FIELDS,
+            max_cfl: 1.0,
+            ghost: brisance_ice::GHOST,
+            node_fields: &MpmSolver::NODE_FIELDS,
+        },
         Pipeline::Lattice(_) => PipelineLimits {
             fields: &brisance_pd::msdm::MsdmLattice::FIELDS,
             max_cfl: 1.0,
@@ -94,7 +100,7 @@ pub fn primitive_state<E: Eos>(eos: &E, s: &StateConfig) -> Result<PrimitiveStat
     })
 }
 
-fn located(path: &str, message: String) -> ConfigError {
+pub(crate) fn located(path: &str, message: String) -> ConfigError {
     ConfigError {
         file: String::new(),
         position: None,
@@ -116,6 +122,13 @@ pub enum Built {
         /// One set per particle gauge.
         particle_gauges: Vec<ParticleSet>,
     },
+    /// The coupled ICE–MPM solver and the particle sets of its gauges.
+    IceMpm {
+        /// The solver.
+        solver: Box<brisance_couple::IceMpm>,
+        /// One set per particle gauge (of the solid's particles).
+        particle_gauges: Vec<ParticleSet>,
+    },
 }
 
 impl std::ops::Deref for Built {
@@ -124,6 +137,7 @@ impl std::ops::Deref for Built {
         match self {
             Built::Solver(s) => s.as_ref(),
             Built::Mpm { solver, .. } => solver.as_ref(),
+            Built::IceMpm { solver, .. } => solver.as_ref(),
         }
     }
 }
@@ -133,6 +147,7 @@ impl std::ops::DerefMut for Built {
         match self {
             Built::Solver(s) => s.as_mut(),
             Built::Mpm { solver, .. } => solver.as_mut(),
+            Built::IceMpm { solver, .. } => solver.as_mut(),
         }
     }
 }
@@ -143,6 +158,7 @@ impl Built {
         match self {
             Built::Solver(s) => s,
             Built::Mpm { solver, .. } => solver,
+            Built::IceMpm { solver, .. } => solver,
         }
     }
 
@@ -161,6 +177,13 @@ impl Built {
                 particle_gauges,
             } if k < particle_gauges.len() => {
                 particle_gauges[k].sample(solver, quantities, out);
+                true
+            }
+            Built::IceMpm {
+                solver,
+                particle_gauges,
+            } if k < particle_gauges.len() => {
+                particle_gauges[k].sample(solver.mpm(), quantities, out);
                 true
             }
             _ => false,
@@ -214,6 +237,7 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 .map(Built::Solver)
                 .map_err(|(path, message)| located(&path, message))
         }
+        Pipeline::IceMpm(c) => return crate::ice_mpm::build(s, c),
         Pipeline::Ice(ice) => {
             return crate::ice::build(s, ice)
                 .map(|solver| Built::Solver(Box::new(solver)))
@@ -350,6 +374,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
         Pipeline::Lattice(l) => return crate::lattice::describe(s, l),
         Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
+        Pipeline::IceMpm(c) => return crate::ice_mpm::describe(s, c),
         Pipeline::FdmMpmBridge(b) => return crate::bridge::describe(s, b),
     };
     let dims = d.cells.iter().filter(|&&c| c > 1).count();
@@ -405,6 +430,20 @@ fn bc_name(b: &BoundaryConfig) -> &'static str {
 /// selects the particles that start in its region (and material); an empty
 /// selection is an error naming the gauge.
 fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
+    let (solver, particle_gauges) = mpm_parts(s, mpm)?;
+    Ok(Built::Mpm {
+        solver: Box::new(solver),
+        particle_gauges,
+    })
+}
+
+/// The MPM solver of scenario `s` (every initial region of a material with
+/// a constitutive model becomes particles) and the particle sets of its
+/// gauges.
+pub(crate) fn mpm_parts(
+    s: &Scenario,
+    mpm: &MpmConfig,
+) -> Result<(MpmSolver, Vec<ParticleSet>), ConfigError> {
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, 1)
         .map_err(|e| located("domain.patches", e.to_string()))?;
@@ -623,10 +662,7 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
             ),
             other => located("pipeline", other.to_string()),
         })?;
-    Ok(Built::Mpm {
-        solver: Box::new(solver),
-        particle_gauges,
-    })
+    Ok((solver, particle_gauges))
 }
 
 fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {

@@ -157,6 +157,8 @@ pub enum Pipeline {
     Lattice(crate::lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.
     Ice(crate::ice::IceConfig),
+    /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
+    IceMpm(crate::ice_mpm::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
     FdmMpmBridge(crate::bridge::BridgeConfig),
 }

@@ -340,6 +340,18 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
 
 /// Builds the solver.
 pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Problem> {
+    build_with_traces(s, cfg, false)
+}
+
+/// Builds the solver; with `own_density` every trace material takes its
+/// own density at the region's pressure and temperature (the IceMpm
+/// pipeline, whose solid and gases must not trace each other's density),
+/// else the rule of the module doc.
+pub(crate) fn build_with_traces(
+    s: &Scenario,
+    cfg: &IceConfig,
+    own_density: bool,
+) -> Result<IceSolver<EosModel>, Problem> {
     validate(s, cfg)?;
     let eos = material_eos(s, cfg)?;
     let n = eos.len();
@@ -380,6 +392,13 @@ pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Probl
                 .map(|k| {
                     let density = if k == m {
                         p.density
+                    } else if own_density {
+                        eos[k].density(p.pressure, t_region).map_err(|e| {
+                            (
+                                format!("initial.{i}.state"),
+                                format!("trace of `{}`: {e}", cfg.materials[k]),
+                            )
+                        })?
                     } else {
                         trace_density(&eos[k], p.density, p.pressure, t_region).map_err(|e| {
                             (

@@ -15,6 +15,7 @@ pub mod build;
 pub mod config;
 pub mod error;
 pub mod ice;
+pub mod ice_mpm;
 pub mod lattice;
 pub mod library;
 pub mod load;

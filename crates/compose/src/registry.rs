@@ -128,6 +128,12 @@ pub const ENTRIES: &[Entry] = &[
     },
     Entry {
         family: "pipeline",
+        name: "IceMpm",
+        summary: "ICE fluids and one MPM solid on one grid: one equilibration pressure, momentum and heat exchange in every cell, solid stress from σ + p I (seed 000 §3.3)",
+        example: "IceMpm(ice: (materials: [\"air\"]), solid: \"steel\", mpm: (shape_function: Linear, scheme: Musl, ppc: 2))",
+    },
+    Entry {
+        family: "pipeline",
         name: "FdmMpmBridge",
         summary: "coupled FDM-MPM (CFDMP): FDM far field, MPM near structures, a bridge region w cells wide, activation by the shock's arrival, optional remapped 1D detonation (seed 001 §3)",
         example: "FdmMpmBridge(fdm_region: (lower: (-0.18, 0.0, 0.0), upper: (0.12, 0.5, 0.002)), mpm_region: (lower: (0.11, 0.0, 0.0), upper: (0.16, 0.5, 0.002)), air: \"air\", products: Some(\"tnt\"), activation_pressure: 1.2e5)",

@@ -209,6 +209,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
         Pipeline::Lattice(l) => crate::lattice::validate(s, l)?,
         Pipeline::Ice(ice) => crate::ice::validate(s, ice)?,
+        Pipeline::IceMpm(c) => crate::ice_mpm::validate(s, c)?,
         Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
         Pipeline::Mpm(mpm) => {
             if mpm.ppc == 0 || mpm.ppc > 8 {
@@ -444,10 +445,10 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     let mut names = std::collections::BTreeSet::new();
     for (i, g) in o.particle_gauges.iter().enumerate() {
         let path = format!("outputs.particle_gauges.{i}");
-        if !matches!(s.pipeline, Pipeline::Mpm(_)) {
+        if !matches!(s.pipeline, Pipeline::Mpm(_) | Pipeline::IceMpm(_)) {
             return Err((
                 path,
-                "particle gauges follow particles: they need the Mpm pipeline".into(),
+                "particle gauges follow particles: they need the Mpm or IceMpm pipeline".into(),
             ));
         }
         if !file_safe(&g.name) || !names.insert(g.name.clone()) {

@@ -11,15 +11,20 @@
 //!   FDM cells on the MPM interface nodes (eqs 37–39), and the transport of
 //!   mass, momentum and energy by created and absorbed particles
 //!   (eqs 40–51).
+//! - [`ice_mpm`]: the ICE–MPM step of seed 000 §3.3 — Eulerian fluids and
+//!   a Lagrangian solid on one grid, one equilibration pressure, momentum
+//!   and heat exchange in every cell.
 //!
 //! Choices the paper leaves open are written down in
 //! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
 
 pub mod bridge;
 pub mod cfdmp;
+pub mod ice_mpm;
 pub mod regions;
 pub mod remap;
 
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals};
+pub use ice_mpm::{IceMpm, IceMpmError};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{remap, RadialProfile, RemapError, RemapReport, RemapTarget, Remapped};

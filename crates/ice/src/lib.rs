@@ -55,7 +55,7 @@ pub use equilibration::{
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::IceReaction;
-pub use solver::{EquilibrationStats, IceOptions, IceSolver, GHOST};
+pub use solver::{EquilibrationStats, IceOptions, IceSolver, LagrangianCells, GHOST};
 
 #[cfg(test)]
 mod tests;

@@ -124,6 +124,23 @@ struct SavedState {
     fields: Vec<Vec<f64>>,
 }
 
+/// The cell state of a Lagrangian material from its particles (step 1 of
+/// seed 000 §3.3), one value per cell in global order (x fastest).
+#[derive(Debug, Clone, Copy)]
+pub struct LagrangianCells<'a> {
+    /// Mass per cell volume, kg/m³ (> 0: a trace where no particle is).
+    pub mass_density: &'a [f64],
+    /// Velocity, m/s.
+    pub velocity: &'a [[f64; 3]],
+    /// Specific volume of the material itself, m³/kg; `None`: its
+    /// equation of state's at the cell's last equilibration pressure and
+    /// the given temperature (Uintah's MPMICE, whose solid specific volume
+    /// is its constitutive model's at the cell pressure).
+    pub specific_volume: Option<&'a [f64]>,
+    /// Temperature, K.
+    pub temperature: &'a [f64],
+}
+
 /// Statistics of the last equilibration sweep over the grid.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct EquilibrationStats {
@@ -179,6 +196,24 @@ fn for_faces(p: &Patch, axis: usize, mut f: impl FnMut(usize)) {
     }
 }
 
+/// Calls `f(global linear cell index, patch data, local index)` for every
+/// interior cell of `fields`, patches in parallel.
+fn for_each_cell_global(
+    level: &Level,
+    fields: &mut [PatchFields],
+    f: impl Fn(usize, &mut [Vec<f64>], usize) + Sync,
+) {
+    let geometry = level.geometry;
+    fields
+        .par_iter_mut()
+        .zip(level.patches.par_iter())
+        .for_each(|(pf, patch)| {
+            for_interior(patch, |c| {
+                f(geometry.linear_index(global_of(patch, c)), &mut pf.data, c);
+            })
+        });
+}
+
 fn global_of(p: &Patch, n: usize) -> [usize; 3] {
     let d = p.dims();
     p.global_of_local([n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])])
@@ -194,6 +229,11 @@ struct Params<'a, E: Eos> {
     options: IceOptions,
     spacing: [f64; 3],
     active: [bool; 3],
+    /// Materials whose state is carried by particles (the coupled pipeline,
+    /// see [`IceSolver::set_lagrangian`]).
+    lagrangian: [bool; MAX_MATERIALS],
+    /// Whether any material is Lagrangian.
+    coupled: bool,
 }
 
 fn make_params<'a, E: Eos>(
@@ -202,6 +242,7 @@ fn make_params<'a, E: Eos>(
     exchange: &'a ExchangeCoefficients,
     options: IceOptions,
     level: &Level,
+    lagrangian: &[bool],
 ) -> Params<'a, E> {
     Params {
         eos,
@@ -212,6 +253,8 @@ fn make_params<'a, E: Eos>(
         options,
         spacing: level.geometry.spacing,
         active: std::array::from_fn(|d| level.is_active(d)),
+        lagrangian: std::array::from_fn(|r| lagrangian.get(r).copied().unwrap_or(false)),
+        coupled: lagrangian.iter().any(|&l| l),
     }
 }
 
@@ -239,6 +282,11 @@ pub struct IceSolver<E: Eos> {
     time: f64,
     steps: u64,
     last_equilibration: EquilibrationStats,
+    /// Per material: whether particles carry it ([`IceSolver::set_lagrangian`]).
+    lagrangian: Vec<bool>,
+    /// Mass, momentum and energy the coupled equilibration gave the
+    /// Eulerian materials since the start ([`IceSolver::rescaled_totals`]).
+    rescaled: ConservationTotals,
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -347,6 +395,8 @@ impl<E: Eos> IceSolver<E> {
             time: 0.0,
             steps: 0,
             last_equilibration: EquilibrationStats::default(),
+            lagrangian: vec![false; n],
+            rescaled: ConservationTotals::default(),
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -468,6 +518,7 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         equilibrate_cell(&params, &mut vals).map_err(|e| e.1)?;
         let mut lag = vec![0.0; n * NL];
@@ -497,6 +548,14 @@ impl<E: Eos> IceSolver<E> {
                     r.reactant + 1
                 )));
             }
+        }
+        if let Some(k) = reactions
+            .iter()
+            .position(|r| self.is_lagrangian(r.reactant) || self.is_lagrangian(r.product))
+        {
+            return Err(IceError::Invalid(format!(
+                "ice: reactions[{k}]: a material carried by particles cannot be a reactant or product"
+            )));
         }
         self.reactions = reactions;
         Ok(())
@@ -532,6 +591,262 @@ impl<E: Eos> IceSolver<E> {
         &self.options
     }
 
+    /// Declares which materials particles carry (seed 000 §3.3, the ICE–MPM
+    /// pipeline): `mask[r]` true makes material r Lagrangian. Its cell
+    /// state is then imported from the particles before each equilibration
+    /// ([`IceSolver::import_lagrangian`]); the Lagrangian step adds only
+    /// the pressure gradient and the exchange to it, advection leaves it,
+    /// and the conservation totals leave it to the particles. With any
+    /// Lagrangian material the volume fractions of step 2 are shares of
+    /// the materials' total volume. A Lagrangian material may take no part
+    /// in a reaction here.
+    pub fn set_lagrangian(&mut self, mask: &[bool]) -> Result<(), IceError> {
+        let n = self.eos.len();
+        if mask.len() != n {
+            return Err(IceError::Invalid(format!(
+                "ice: {} Lagrangian flags given for {n} materials",
+                mask.len()
+            )));
+        }
+        if mask.iter().all(|&l| l) {
+            return Err(IceError::Invalid(
+                "ice: at least one material must be Eulerian".into(),
+            ));
+        }
+        for (k, rx) in self.reactions.iter().enumerate() {
+            if mask[rx.reactant] || mask[rx.product] {
+                return Err(IceError::Invalid(format!(
+                    "ice: reactions[{k}]: a material carried by particles cannot be a reactant or product"
+                )));
+            }
+        }
+        self.lagrangian = mask.to_vec();
+        Ok(())
+    }
+
+    /// What the coupled equilibration (step 2 with Lagrangian materials)
+    /// has added to the Eulerian materials since the start — mass,
+    /// momentum and total energy, the fluid's state at its rescaled mass —
+    /// so that the coupled pipeline's bookkeeping can close. Zero unless
+    /// a material is Lagrangian.
+    pub fn rescaled_totals(&self) -> ConservationTotals {
+        self.rescaled
+    }
+
+    /// Whether particles carry material `r`.
+    pub fn is_lagrangian(&self, r: usize) -> bool {
+        self.lagrangian.get(r).copied().unwrap_or(false)
+    }
+
+    /// Step 1 of seed 000 §3.3 for a Lagrangian material `r`: its cell
+    /// state from the particles (in global cell order, x fastest), with
+    /// the internal energy and sound speed its equation of state gives at
+    /// that specific volume and temperature. Run
+    /// [`IceSolver::compute_equilibration_pressure`] after it.
+    pub fn import_lagrangian(
+        &mut self,
+        r: usize,
+        cells: &LagrangianCells<'_>,
+    ) -> Result<(), SolverError> {
+        let count = self.level.geometry.cell_count();
+        if !self.is_lagrangian(r) {
+            return Err(SolverError::Other(format!(
+                "ice: material {} is not Lagrangian",
+                r + 1
+            )));
+        }
+        if [
+            cells.mass_density.len(),
+            cells.velocity.len(),
+            cells.specific_volume.map_or(count, |v| v.len()),
+            cells.temperature.len(),
+        ]
+        .iter()
+        .any(|&l| l != count)
+        {
+            return Err(SolverError::Other(format!(
+                "ice: Lagrangian cell arrays must hold {count} cells"
+            )));
+        }
+        let time = self.time;
+        let geometry = self.level.geometry;
+        let bad = (0..count).find(|&g| {
+            let (rho, v, t) = (
+                cells.mass_density[g],
+                cells.specific_volume.map_or(1.0, |v| v[g]),
+                cells.temperature[g],
+            );
+            !(rho > 0.0 && rho.is_finite() && v > 0.0 && v.is_finite() && t > 0.0 && t.is_finite())
+                || cells.velocity[g].iter().any(|u| !u.is_finite())
+        });
+        if let Some(g) = bad {
+            let nc = geometry.cells;
+            let cell = [g % nc[0], (g / nc[0]) % nc[1], g / (nc[0] * nc[1])];
+            return Err(SolverError::NonPhysicalState {
+                time,
+                cell,
+                centre: geometry.cell_centre(cell),
+                detail: format!(
+                    "material {} from the particles: density {:e} kg/m³, specific volume {:?} m³/kg, \
+                     temperature {:e} K, velocity {:?} m/s",
+                    r + 1,
+                    cells.mass_density[g],
+                    cells.specific_volume.map(|v| v[g]),
+                    cells.temperature[g],
+                    cells.velocity[g]
+                ),
+            });
+        }
+        let eos = &self.eos[r];
+        let b = r * NS;
+        let pidx = self.eos.len() * NS;
+        for_each_cell_global(&self.level, &mut self.state, |g, d, c| {
+            let t = cells.temperature[g];
+            let v = match cells.specific_volume {
+                Some(v) => v[g],
+                None => match eos.density(d[pidx][c], t) {
+                    Ok(rho) if rho > 0.0 && rho.is_finite() => 1.0 / rho,
+                    _ => d[b + VSP][c],
+                },
+            };
+            let e = eos.specific_internal_energy_from_temperature(1.0 / v, t);
+            d[b + RHO][c] = cells.mass_density[g];
+            for a in 0..3 {
+                d[b + VEL + a][c] = cells.velocity[g][a];
+            }
+            d[b + ENERGY][c] = e;
+            d[b + VSP][c] = v;
+            d[b + THETA][c] = cells.mass_density[g] * v;
+            d[b + TEMP][c] = t;
+            d[b + SOUND][c] = eos.sound_speed(1.0 / v, e);
+        });
+        Ok(())
+    }
+
+    /// Fits the Eulerian materials around the Lagrangian ones at the start
+    /// of a coupled run: in each cell the Eulerian materials' volume
+    /// fractions are scaled (their own densities kept) to fill 1 − θ_L,
+    /// θ_L the Lagrangian materials' volume fraction from the particles
+    /// (global cell order), and never below `trace` each; then re-
+    /// equilibrates. Without it a cell whose centre lies inside the solid
+    /// but which the particles fill only in part would hold a trace of
+    /// fluid where the fluid must fill the rest.
+    pub fn fit_eulerian_volume(
+        &mut self,
+        lagrangian_fraction: &[f64],
+        trace: f64,
+    ) -> Result<(), SolverError> {
+        assert_eq!(lagrangian_fraction.len(), self.level.geometry.cell_count());
+        let n = self.eos.len();
+        let lag = self.lagrangian.clone();
+        for_each_cell_global(&self.level, &mut self.state, |g, d, c| {
+            let room = (1.0 - lagrangian_fraction[g]).max(0.0);
+            let fluid: f64 = (0..n)
+                .filter(|&r| !lag[r])
+                .map(|r| d[r * NS + THETA][c])
+                .sum();
+            if !(fluid > 0.0) {
+                return;
+            }
+            for r in (0..n).filter(|&r| !lag[r]) {
+                let b = r * NS;
+                let theta = (d[b + THETA][c] * room / fluid).max(trace);
+                d[b + RHO][c] = theta / d[b + VSP][c];
+                d[b + THETA][c] = theta;
+            }
+        });
+        self.compute_equilibration_pressure()
+    }
+
+    /// Sets the velocity of Lagrangian material `r` (global cell order) to
+    /// the grid's after the particles' internal and body forces, the
+    /// velocity the Lagrangian step (eqs 24, 27) starts from.
+    pub fn set_lagrangian_velocity(&mut self, r: usize, velocity: &[[f64; 3]]) {
+        assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
+        assert_eq!(velocity.len(), self.level.geometry.cell_count());
+        let b = r * NS;
+        for_each_cell_global(&self.level, &mut self.state, |g, d, c| {
+            for a in 0..3 {
+                d[b + VEL + a][c] = velocity[g][a];
+            }
+        });
+    }
+
+    /// After [`IceSolver::compute_lagrangian_values`]: the cell-centred
+    /// changes of Lagrangian material `r` over steps 8–10 (global cell
+    /// order) — the velocity change of the pressure gradient and the
+    /// momentum exchange, and the temperature change of the heat exchange
+    /// and of the kinetic energy the exchange dissipated — for step 13.
+    pub fn lagrangian_increments(&self, r: usize, dv: &mut [[f64; 3]], dtemp: &mut [f64]) {
+        assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
+        let count = self.level.geometry.cell_count();
+        assert!(dv.len() == count && dtemp.len() == count);
+        let geometry = self.level.geometry;
+        let eos = &self.eos[r];
+        self.level.for_each_cell_in_order(|g, pid, c| {
+            let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
+            let (b, bl) = (r * NS, r * NL);
+            let k = geometry.linear_index(g);
+            for a in 0..3 {
+                dv[k][a] = l[bl + L_VEL + a][c] - d[b + VEL + a][c];
+            }
+            let rho_micro = 1.0 / d[b + VSP][c];
+            dtemp[k] = eos.temperature(rho_micro, l[bl + L_ENERGY][c]) - d[b + TEMP][c];
+        });
+    }
+
+    /// The mass-weighted velocity and temperature of the Eulerian
+    /// materials of every cell, in global order: the state a Lagrangian
+    /// material takes as a trace where no particle is, so that the
+    /// exchange moves nothing there.
+    pub fn eulerian_mixture(&self, velocity: &mut [[f64; 3]], temperature: &mut [f64]) {
+        let geometry = self.level.geometry;
+        assert!(velocity.len() == geometry.cell_count() && temperature.len() == velocity.len());
+        let n = self.eos.len();
+        self.level.for_each_cell_in_order(|g, pid, c| {
+            let d = &self.state[pid].data;
+            let k = geometry.linear_index(g);
+            let (mut m, mut mu, mut mt) = (0.0, [0.0; 3], 0.0);
+            for r in (0..n).filter(|&r| !self.lagrangian[r]) {
+                let rho = d[r * NS + RHO][c];
+                m += rho;
+                for a in 0..3 {
+                    mu[a] += rho * d[r * NS + VEL + a][c];
+                }
+                mt += rho * d[r * NS + TEMP][c];
+            }
+            velocity[k] = mu.map(|x| x / m);
+            temperature[k] = mt / m;
+        });
+    }
+
+    /// The time-advanced pressure p = p_eq + Δp of step 5 (eq 21), per
+    /// cell in global order, into `out`.
+    pub fn advanced_pressure(&self, out: &mut [f64]) {
+        let geometry = self.level.geometry;
+        assert_eq!(out.len(), geometry.cell_count());
+        self.level.for_each_cell_in_order(|g, pid, c| {
+            out[geometry.linear_index(g)] = self.press[pid].data[0][c];
+        });
+    }
+
+    /// The equilibration pressure of step 2 per cell in global order.
+    pub fn equilibration_pressure_field(&self, out: &mut [f64]) {
+        let geometry = self.level.geometry;
+        assert_eq!(out.len(), geometry.cell_count());
+        let n = self.eos.len();
+        self.level.for_each_cell_in_order(|g, pid, c| {
+            out[geometry.linear_index(g)] = self.state[pid].data[n * NS][c];
+        });
+    }
+
+    /// Ends a step the coupled pipeline drove through the step functions:
+    /// time and step count advance by one step of Δt = `dt`.
+    pub fn finish_coupled_step(&mut self, dt: f64) {
+        self.time += dt;
+        self.steps += 1;
+    }
+
     /// Fills the ghosts of the state group and applies moving walls.
     fn fill_state_ghosts(&mut self) {
         self.halo.fill_all(
@@ -560,16 +875,19 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         let time = self.time;
         let geometry = self.level.geometry;
-        let results: Vec<(EquilibrationStats, Failure)> = self
+        type Rescaled = Vec<(usize, ConservationTotals)>;
+        let results: Vec<(EquilibrationStats, Failure, Rescaled)> = self
             .state
             .par_iter_mut()
             .zip(self.level.patches.par_iter())
             .map(|(pf, patch)| {
                 let mut stats = EquilibrationStats::default();
                 let mut fail: Failure = None;
+                let mut rescaled = Vec::new();
                 let n = params.eos.len();
                 let mut vals = [0.0; MAX_MATERIALS * NS + 1];
                 for_interior(patch, |c| {
@@ -582,6 +900,25 @@ impl<E: Eos> IceSolver<E> {
                             stats.max_iterations = stats.max_iterations.max(rep.iterations);
                             stats.max_residual = stats.max_residual.max(rep.residual.abs());
                             stats.total_iterations += rep.iterations as u64;
+                            if params.coupled {
+                                let mut t = ConservationTotals::default();
+                                for r in (0..n).filter(|&r| !params.lagrangian[r]) {
+                                    let b = r * NS;
+                                    let dm = vals[b + RHO] - pf.data[b + RHO][c];
+                                    let u: [f64; 3] = std::array::from_fn(|a| vals[b + VEL + a]);
+                                    t.mass += dm;
+                                    for a in 0..3 {
+                                        t.momentum[a] += dm * u[a];
+                                    }
+                                    t.energy += dm
+                                        * (vals[b + ENERGY]
+                                            + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+                                }
+                                if t.mass != 0.0 {
+                                    let g = geometry.linear_index(global_of(patch, c));
+                                    rescaled.push((g, t));
+                                }
+                            }
                             for f in 0..m {
                                 pf.data[f][c] = vals[f];
                             }
@@ -595,18 +932,33 @@ impl<E: Eos> IceSolver<E> {
                         }
                     }
                 });
-                (stats, fail)
+                (stats, fail, rescaled)
             })
             .collect();
         let mut stats = EquilibrationStats::default();
         let mut fail = None;
-        for (s, f) in results {
+        let mut rescaled: Vec<(usize, ConservationTotals)> = Vec::new();
+        for (s, f, r) in results {
             stats.max_iterations = stats.max_iterations.max(s.max_iterations);
             stats.max_residual = stats.max_residual.max(s.max_residual);
             stats.total_iterations += s.total_iterations;
             fail = first_failure(fail, f);
+            rescaled.extend(r);
         }
         self.last_equilibration = stats;
+        if fail.is_none() && !rescaled.is_empty() {
+            // Summed in global cell order: the same bits for any split.
+            rescaled.sort_unstable_by_key(|x| x.0);
+            let vol: f64 = geometry.spacing.iter().product();
+            let t = &mut self.rescaled;
+            for (_, d) in &rescaled {
+                t.mass += d.mass * vol;
+                for a in 0..3 {
+                    t.momentum[a] += d.momentum[a] * vol;
+                }
+                t.energy += d.energy * vol;
+            }
+        }
         match fail {
             None => Ok(()),
             Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
@@ -631,6 +983,7 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         let boundaries = &self.boundaries;
         let cells = self.level.geometry.cells;
@@ -719,6 +1072,7 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         self.press
             .par_iter_mut()
@@ -792,6 +1146,7 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         let geometry = self.level.geometry;
         let fail = self
@@ -875,6 +1230,7 @@ impl<E: Eos> IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         let geometry = self.level.geometry;
         let fail = self
@@ -891,6 +1247,10 @@ impl<E: Eos> IceSolver<E> {
                 let scheme = params.options.advection;
                 for_interior(patch, |c| {
                     for r in 0..n {
+                        if params.lagrangian[r] {
+                            // Particles carry it (the coupled pipeline).
+                            continue;
+                        }
                         let b = r * NL;
                         let total = params.options.conserve_total_energy;
                         // The carried energy is e, or e + ½|u|² when total
@@ -1140,6 +1500,19 @@ fn equilibrate_cell<E: Eos>(
         rho[r] = vals[b + RHO];
         temp[r] = params.eos[r].temperature(1.0 / vals[b + VSP], vals[b + ENERGY]);
     }
+    if params.coupled {
+        // Seed 000 §3.3 step 2: with particles carrying some materials, the
+        // materials' total volume Σ M_r v_r need not be the cell's, and the
+        // volume fractions are each material's share of that total: the
+        // pressures equilibrate at the total material volume, θ_r summing
+        // to 1 (the macroscopic densities the solve sees are ρ_r / Σ ρ_s v_s).
+        let total: f64 = (0..n).map(|r| rho[r] * vals[r * NS + VSP]).sum();
+        if total > 0.0 && total.is_finite() {
+            for x in &mut rho[..n] {
+                *x /= total;
+            }
+        }
+    }
     let (p, rep) = equilibration_pressure(
         params.eos,
         &rho[..n],
@@ -1166,6 +1539,17 @@ fn equilibrate_cell<E: Eos>(
         }
         vals[b + VSP] = vsp[r];
         vals[b + THETA] = theta[r];
+        if params.coupled && !params.lagrangian[r] {
+            // The fluid's mass becomes the new volume fraction at the new
+            // specific volume, ρ_r = θ_r/v_r (Uintah's MPMICE, rho_CC_new =
+            // θ ρ_micro): where the particles' projected volume moved by
+            // more than the fluid fluxes made room for, the fluid keeps its
+            // pressure and gives up (or takes) the mass of the difference,
+            // instead of a trace of it being compressed many-fold. The
+            // change is booked in the conservation totals of the coupled
+            // pipeline (docs/physics/couple/ice_mpm.md).
+            vals[b + RHO] = theta[r] / vsp[r];
+        }
         vals[b + TEMP] = params.eos[r].temperature(rho_micro, e);
         vals[b + SOUND] = c;
     }
@@ -1246,6 +1630,18 @@ fn lagrangian_cell<E: Eos>(
     for r in 0..n {
         let b = r * NS;
         let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+        if params.lagrangian[r] {
+            // A material carried by particles: its velocity here is the
+            // grid's after the particles' internal and body forces (set by
+            // the coupled pipeline), to which the cell adds the pressure
+            // gradient −θ_r∇p* (eq 24); its internal energy is the
+            // particles' (their stress power), changed here by the exchange
+            // only.
+            let m = lagrangian_momentum(rho[r], u, theta[r], grad, [0.0; 3], dt);
+            vel[r] = m.map(|x| x / rho[r]);
+            e[r] = d[b + ENERGY][c];
+            continue;
+        }
         let m = lagrangian_momentum(rho[r], u, theta[r], grad, params.options.gravity, dt);
         vel[r] = m.map(|x| x / rho[r]);
         e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], share[r], p, divergence, dt) / rho[r];
@@ -1270,23 +1666,36 @@ fn lagrangian_cell<E: Eos>(
     if let Some(work) = pressure_work {
         let mut heat = [0.0; MAX_MATERIALS];
         let mut heat_sum = 0.0;
+        // Materials carried by particles take no share: their internal
+        // energy is the particles'; the kinetic energy the pressure gradient
+        // gives them is part of the face work and is taken out of it.
         for r in 0..n {
+            if params.lagrangian[r] {
+                continue;
+            }
             let b = r * NS;
             let t = d[b + TEMP][c];
             heat[r] = rho[r] * params.eos[r].cv(1.0 / d[b + VSP][c], t) * t;
             heat_sum += heat[r];
         }
         if !(heat_sum > 0.0 && heat_sum.is_finite()) {
-            heat[..n].copy_from_slice(&rho[..n]);
-            heat_sum = rho[..n].iter().sum();
+            for r in 0..n {
+                heat[r] = if params.lagrangian[r] { 0.0 } else { rho[r] };
+            }
+            heat_sum = heat[..n].iter().sum();
         }
         let mut delta = work;
         for r in 0..n {
             let b = r * NS;
             let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
             let mut dk = 0.0;
+            let g = if params.lagrangian[r] {
+                [0.0; 3]
+            } else {
+                params.options.gravity
+            };
             for a in 0..3 {
-                delta += dt * rho[r] * params.options.gravity[a] * 0.5 * (u[a] + vel[r][a]);
+                delta += dt * rho[r] * g[a] * 0.5 * (u[a] + vel[r][a]);
                 dk += 0.5 * rho[r] * (vel[r][a] - u[a]) * (vel[r][a] + u[a]);
             }
             delta -= rho[r] * (e[r] - d[b + ENERGY][c]) + dk;
@@ -1369,6 +1778,21 @@ fn lagrangian_cell<E: Eos>(
         out[r][L_VEL..L_VEL + 3].copy_from_slice(&vel[r]);
         out[r][L_ENERGY] = e[r];
         out[r][L_VSP] = theta_l / rho[r];
+        if params.lagrangian[r] {
+            // The particles carry its volume; only the exchange's changes
+            // are read back.
+            out[r][L_VSP] = d[r * NS + VSP][c];
+            if !(e[r].is_finite() && vel[r].iter().all(|u| u.is_finite())) {
+                return Err(format!(
+                    "material {} (particles): specific internal energy {:e} J/kg, velocity {:?} m/s \
+                     after the exchange (steps 8–10, p = {p:e} Pa)",
+                    r + 1,
+                    e[r],
+                    vel[r]
+                ));
+            }
+            continue;
+        }
         if !(theta_l > 0.0 && e[r].is_finite() && vel[r].iter().all(|u| u.is_finite())) {
             return Err(format!(
                 "material {}: Lagrangian volume fraction {theta_l:e}, specific internal energy {:e} J/kg, \
@@ -1461,6 +1885,7 @@ impl<E: Eos> Solver for IceSolver<E> {
             &self.exchange,
             self.options,
             &self.level,
+            &self.lagrangian,
         );
         let n = self.eos.len();
         let max_rate = self
@@ -1540,6 +1965,10 @@ impl<E: Eos> Solver for IceSolver<E> {
         self.level.for_each_cell_in_order(|_, pid, c| {
             let d = &self.state[pid].data;
             for r in 0..n {
+                if self.lagrangian[r] {
+                    // Counted on the particles that carry it.
+                    continue;
+                }
                 let b = r * NS;
                 let rho = d[b + RHO][c];
                 let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];

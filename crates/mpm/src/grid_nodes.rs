@@ -292,6 +292,45 @@ impl GridNodes {
 }
 
 impl GridNodes {
+    /// Adds the velocity change `dv` (one per stored node) to v_I^{n+1}
+    /// and `dv`/Δt to a_I — the coupled pipeline's cell-centred momentum
+    /// changes returned to the nodes as accelerations (seed 000 §3.3 step
+    /// 13) — on the nodes above the mass cut-off and on the components no
+    /// face condition holds, so the conditions stay met.
+    pub fn add_velocity_change(&mut self, dv: &[[f64; 3]], u: &NodeUpdate) {
+        assert_eq!(dv.len(), self.mass.len(), "one velocity change per node");
+        let lattice = self.lattice;
+        let nx = lattice.dims[0];
+        let dt = u.dt;
+        (
+            self.mass.par_chunks(nx),
+            dv.par_chunks(nx),
+            self.acceleration.par_chunks_mut(nx),
+            self.velocity_new.par_chunks_mut(nx),
+        )
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(row, (m, dv, a, vn))| {
+                let first = lattice.node(row * nx);
+                let my = u.face_mask(1, first[1]);
+                let mz = u.face_mask(2, first[2]);
+                for i in 0..nx {
+                    if !(m[i] > u.mass_threshold && m[i] > 0.0) {
+                        continue;
+                    }
+                    let mx = u.face_mask(0, first[0] + i as isize);
+                    for c in 0..3 {
+                        if !(mx[c] || my[c] || mz[c]) {
+                            vn[i][c] += dv[i][c];
+                            a[i][c] += dv[i][c] / dt;
+                        }
+                    }
+                }
+            });
+    }
+}
+
+impl GridNodes {
     /// Work done on the grid in one step of Δt = `dt` by the external nodal
     /// forces: the surface tractions `surface_forces` ((node, force) pairs
     /// of [`crate::traction::surface_node_forces`], seed 001 eq 20) and the

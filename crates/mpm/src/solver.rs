@@ -199,6 +199,10 @@ struct Workspace {
     bins: ParticleBins,
     /// The ΔF̄ buffers (empty unless the option is on).
     average: PatchAverage,
+    /// The coupled step's σ_p + p I (empty unless it runs).
+    shifted_stress: Vec<[f64; 6]>,
+    /// The coupled step's nodal velocity changes (empty unless it runs).
+    node_change: Vec<[f64; 3]>,
 }
 
 /// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
@@ -432,6 +436,8 @@ impl MpmSolver {
                 nodes: GridNodes::new(map.lattice),
                 bins,
                 average: PatchAverage::default(),
+                shifted_stress: Vec::new(),
+                node_change: Vec::new(),
             },
             bulk,
             next_id: ids.len() as u32,
@@ -1307,6 +1313,9 @@ impl Solver for MpmSolver {
         Ok(())
     }
 }
+
+mod coupled;
+pub use coupled::GridCoupling;
 
 #[cfg(test)]
 mod tests;

@@ -107,7 +107,7 @@ pub struct Transfer<'a> {
 
 impl StepParams<'_> {
     /// What the node updates need.
-    fn node_update(&self) -> NodeUpdate<'_> {
+    pub(crate) fn node_update(&self) -> NodeUpdate<'_> {
         NodeUpdate {
             boundaries: self.boundaries,
             cells: self.grid.cells,

@@ -1,0 +1,371 @@
+//! Coupling cases of the ICE–MPM step, built in code: air (γ = 1.4) and
+//! steel on one grid — a gas-filled box at rest, a block floating in a
+//! uniform stream, a piston driving a shock into air. The tests and
+//! `cargo xtask validate --only piston` run them.
+
+use super::*;
+use brisance_constitutive::{Hypoelastic, MaterialModel, ObjectiveRate, PressureModel};
+use brisance_core::Eos;
+use brisance_eos::{IdealGas, Murnaghan, SolidEos, SolidThreshold};
+use brisance_grid::Level;
+use brisance_ice::{
+    CellState, ExchangeCoefficients, IceBoundary, IceOptions, MaterialState, GHOST,
+};
+use brisance_mpm::{
+    fill_shape, FillSpec, GridBoundary, MaterialId, MpmOptions, Shape, ShapeFunction, UpdateScheme,
+};
+
+/// Steel as the particles see it (K = 160 GPa, G = 80 GPa, hypoelastic)
+/// and as the fluid frame sees it (Murnaghan with the same K at ρ₀, n = 4,
+/// under the low-pressure threshold).
+pub const STEEL_RHO: f64 = 7850.0;
+pub const STEEL_K: f64 = 160e9;
+pub const P0: f64 = 101_325.0;
+pub const T0: f64 = 300.0;
+
+pub fn steel_eos() -> EosModel {
+    EosModel::SolidThreshold(SolidThreshold::with_threshold(
+        SolidEos::Murnaghan(Murnaghan {
+            n: 4.0,
+            kappa: 1.0 / STEEL_K,
+            rho0: STEEL_RHO,
+            cv: 460.0,
+            t_ref: T0,
+        }),
+        P0,
+    ))
+}
+
+pub fn air() -> EosModel {
+    EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.225))
+}
+
+/// Air density at (P0, T0).
+pub fn air_density() -> f64 {
+    P0 / (0.4 * 717.5 * T0)
+}
+
+pub struct Setup {
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+    pub cells: [usize; 3],
+    /// The solid block(s).
+    pub solids: Vec<([f64; 3], [f64; 3])>,
+    pub solid_velocity: [f64; 3],
+    pub gas_velocity: [f64; 3],
+    pub ice_faces: [IceBoundary; 6],
+    pub mpm_faces: [GridBoundary; 6],
+}
+
+/// Builds the case (panics on a bad setup: the cases are fixed).
+pub fn build(s: &Setup) -> IceMpm {
+    let (ice, mpm) = build_frames(s);
+    IceMpm::new(ice, mpm, 1).expect("the coupling cases are consistent")
+}
+
+/// The case's two frames before coupling: the ICE solver (air and steel,
+/// steel Eulerian) and the MPM solver of the steel particles — the
+/// standalone steps the coupled one is compared with.
+pub fn build_frames(s: &Setup) -> (IceSolver<EosModel>, MpmSolver) {
+    let level = Level::new(s.lower, s.upper, s.cells, [1, 1, 1], GHOST).unwrap();
+    let solids = s.solids.clone();
+    let inside = move |x: [f64; 3]| {
+        solids
+            .iter()
+            .any(|(lo, hi)| (0..3).all(|d| x[d] >= lo[d] && x[d] <= hi[d]))
+    };
+    let rho_air = air_density();
+    let rho_steel = steel_eos().density(P0, T0).unwrap();
+    let eps = 1e-6;
+    let (gv, sv) = (s.gas_velocity, s.solid_velocity);
+    let ice = IceSolver::new(
+        vec![air(), steel_eos()],
+        level.clone(),
+        s.ice_faces.clone(),
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |x| {
+            let solid = inside(x);
+            CellState {
+                pressure: P0,
+                materials: vec![
+                    MaterialState {
+                        volume_fraction: if solid { eps } else { 1.0 - eps },
+                        density: rho_air,
+                        velocity: if solid { sv } else { gv },
+                    },
+                    MaterialState {
+                        volume_fraction: if solid { 1.0 - eps } else { eps },
+                        density: rho_steel,
+                        velocity: if solid { sv } else { gv },
+                    },
+                ],
+            }
+        },
+    )
+    .unwrap();
+    let mut particles = Particles::default();
+    for (lo, hi) in &s.solids {
+        fill_shape(
+            &mut particles,
+            &level.geometry,
+            &FillSpec {
+                shape: Shape::Box { min: *lo, max: *hi },
+                ppc: 2,
+                density: rho_steel,
+                material: MaterialId(0),
+                velocity: s.solid_velocity,
+                temperature: T0,
+                specific_internal_energy: 0.0,
+            },
+        )
+        .unwrap();
+    }
+    let steel = MaterialModel::Hypoelastic(Hypoelastic {
+        shear_modulus: 80e9,
+        pressure: PressureModel::Linear {
+            bulk_modulus: STEEL_K,
+        },
+        rate: ObjectiveRate::Jaumann,
+    });
+    let mpm = MpmSolver::new(
+        level,
+        vec![steel],
+        particles,
+        MpmOptions {
+            shape: ShapeFunction::Linear,
+            scheme: UpdateScheme::Musl,
+            boundaries: s.mpm_faces,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    (ice, mpm)
+}
+
+/// Runs to `t_end`; returns the step count.
+pub fn run(s: &mut IceMpm, t_end: f64) -> Result<usize, SolverError> {
+    let mut steps = 0;
+    while s.time() < t_end * (1.0 - 1e-12) {
+        let dt = s.stable_dt()?.min(t_end - s.time());
+        s.advance(dt)?;
+        steps += 1;
+    }
+    Ok(steps)
+}
+
+/// The largest particle speed and the largest cell (mixture) speed, m/s.
+pub fn max_speed(s: &IceMpm) -> (f64, f64) {
+    let ps = s.mpm().particles();
+    let solid = ps
+        .velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0, f64::max);
+    let d = s
+        .cell_data(&["velocity_x".into(), "velocity_y".into()])
+        .unwrap();
+    let (u, v) = (
+        d.field("velocity_x").unwrap(),
+        d.field("velocity_y").unwrap(),
+    );
+    let gas = u
+        .iter()
+        .zip(v)
+        .map(|(a, b)| (a * a + b * b).sqrt())
+        .fold(0.0, f64::max);
+    (solid, gas)
+}
+
+/// The exact piston-driven shock in a γ-law gas: shock speed and pressure
+/// behind it for a piston at `up` into gas (ρ₀, p₀).
+pub fn piston_shock(gamma: f64, rho0: f64, p0: f64, up: f64) -> (f64, f64) {
+    let c0 = (gamma * p0 / rho0).sqrt();
+    let a = (gamma + 1.0) / 4.0 * up;
+    let s = a + (a * a + c0 * c0).sqrt();
+    (s, p0 + rho0 * s * up)
+}
+
+/// What the piston case measures.
+#[derive(Debug)]
+pub struct PistonMeasure {
+    /// Mean pressure over the middle half between piston face and shock, Pa.
+    pub plateau: f64,
+    /// Exact plateau pressure, Pa.
+    pub plateau_exact: f64,
+    /// plateau / exact − 1.
+    pub plateau_error: f64,
+    /// Shock position, m.
+    pub shock: f64,
+    /// Exact shock position, m.
+    pub shock_exact: f64,
+    /// (shock − exact)/Δx.
+    pub shock_error_cells: f64,
+    /// Mean particle velocity of the piston, m/s.
+    pub piston_velocity: f64,
+}
+
+/// Measures the piston case at time `t` (piston face initially at `x0`,
+/// speed `up`).
+pub fn piston_measure(s: &IceMpm, x0: f64, up: f64, t: f64) -> PistonMeasure {
+    let (speed, p_exact) = piston_shock(1.4, air_density(), P0, up);
+    let g = s.ice().level().geometry;
+    let d = s.cell_data(&["pressure".into()]).unwrap();
+    let p = d.field("pressure").unwrap();
+    let ps = s.mpm().particles();
+    let face = ps.position.iter().map(|x| x[0]).fold(f64::MIN, f64::max);
+    let piston_velocity = ps.velocity.iter().map(|v| v[0]).sum::<f64>() / ps.len() as f64;
+    let shock_exact = x0 + speed * t;
+    // Plateau: mean over the middle half between the piston face and the
+    // exact shock.
+    let (a, b) = (
+        face + 0.25 * (shock_exact - face),
+        face + 0.75 * (shock_exact - face),
+    );
+    let cells: Vec<usize> = (0..g.cells[0])
+        .filter(|&i| {
+            let x = g.cell_centre([i, 0, 0])[0];
+            x > a && x < b
+        })
+        .collect();
+    let plateau = cells.iter().map(|&i| p[i]).sum::<f64>() / cells.len() as f64;
+    let level = 0.5 * (P0 + plateau);
+    let i = (1..g.cells[0])
+        .rev()
+        .find(|&i| p[i - 1] >= level && p[i] < level)
+        .unwrap_or(0);
+    let xa = g.cell_centre([i - 1, 0, 0])[0];
+    let shock = xa + g.spacing[0] * (p[i - 1] - level) / (p[i - 1] - p[i]);
+    PistonMeasure {
+        plateau,
+        plateau_exact: p_exact,
+        plateau_error: plateau / p_exact - 1.0,
+        shock,
+        shock_exact,
+        shock_error_cells: (shock - shock_exact) / g.spacing[0],
+        piston_velocity,
+    }
+}
+
+/// The piston case: a 1 cm steel piston at 100 m/s driving a shock into
+/// air at rest in a 1D tube 0.2 m long with cells of `h` (m), measured at
+/// t = 100 µs.
+pub fn piston(h: f64) -> Result<PistonMeasure, SolverError> {
+    let up = 100.0;
+    let x0 = 0.06;
+    let cells = (0.2 / h).round() as usize;
+    let mut s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [0.2, h, h],
+        cells: [cells, 1, 1],
+        solids: vec![([x0 - 0.01, 0.0, 0.0], [x0, h, h])],
+        solid_velocity: [up, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+        mpm_faces: [GridBoundary::Free; 6],
+    });
+    let t = 1e-4;
+    run(&mut s, t)?;
+    Ok(piston_measure(&s, x0, up, t))
+}
+
+/// The box-at-rest case: a closed 2D steel box (walls two 1 mm cells
+/// thick, 20 × 20 cells, symmetry faces) with air inside and out at one
+/// atmosphere, all at rest; after `steps` steps, the largest particle
+/// speed and the largest cell speed, m/s.
+pub fn box_at_rest(steps: usize) -> Result<(f64, f64), SolverError> {
+    let h = 1e-3;
+    let walls = vec![
+        ([4.0 * h, 4.0 * h, 0.0], [16.0 * h, 6.0 * h, h]),
+        ([4.0 * h, 14.0 * h, 0.0], [16.0 * h, 16.0 * h, h]),
+        ([4.0 * h, 6.0 * h, 0.0], [6.0 * h, 14.0 * h, h]),
+        ([14.0 * h, 6.0 * h, 0.0], [16.0 * h, 14.0 * h, h]),
+    ];
+    let mut s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [20.0 * h, 20.0 * h, h],
+        cells: [20, 20, 1],
+        solids: walls,
+        solid_velocity: [0.0; 3],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Symmetry),
+        mpm_faces: [GridBoundary::Symmetry; 6],
+    });
+    for _ in 0..steps {
+        let dt = s.stable_dt()?;
+        s.advance(dt)?;
+    }
+    Ok(max_speed(&s))
+}
+
+/// The floating-block case: a 4 × 4 mm steel block and the air around it
+/// moving together at 20 m/s (24 × 12 cells of 1 mm, outflow faces); after
+/// `steps` steps, the largest deviation from (20, 0, 0) m/s of any particle
+/// and of any cell, m/s.
+pub fn floating_block(steps: usize) -> Result<(f64, f64), SolverError> {
+    let h = 1e-3;
+    let u = [20.0, 0.0, 0.0];
+    let mut s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [24.0 * h, 12.0 * h, h],
+        cells: [24, 12, 1],
+        solids: vec![([8.0 * h, 4.0 * h, 0.0], [12.0 * h, 8.0 * h, h])],
+        solid_velocity: u,
+        gas_velocity: u,
+        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+        mpm_faces: [GridBoundary::Free; 6],
+    });
+    for _ in 0..steps {
+        let dt = s.stable_dt()?;
+        s.advance(dt)?;
+    }
+    let ps = s.mpm().particles();
+    let solid = ps
+        .velocity
+        .iter()
+        .map(|v| (v[0] - u[0]).abs().max(v[1].abs()))
+        .fold(0.0, f64::max);
+    let d = s.cell_data(&["velocity_x".into(), "velocity_y".into()])?;
+    let (vx, vy) = (
+        d.field("velocity_x").unwrap_or(&[]),
+        d.field("velocity_y").unwrap_or(&[]),
+    );
+    let gas = vx
+        .iter()
+        .zip(vy)
+        .map(|(a, b)| (a - u[0]).abs().max(b.abs()))
+        .fold(0.0, f64::max);
+    Ok((solid, gas))
+}
+
+/// The closed piston tube: a 1 cm steel piston at 100 m/s in an 8 cm air
+/// tube of 1 mm cells with walls at both ends, `steps` steps. Returns the
+/// relative closure of the mass bookkeeping, the energy change over the
+/// piston's initial kinetic energy, and the mass the equilibration moved
+/// over the air's mass.
+pub fn closed_tube(steps: usize) -> Result<(f64, f64, f64), SolverError> {
+    let h = 1e-3;
+    let mut s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [0.08, h, h],
+        cells: [80, 1, 1],
+        solids: vec![([0.03, 0.0, 0.0], [0.04, h, h])],
+        solid_velocity: [100.0, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Symmetry),
+        mpm_faces: [GridBoundary::Symmetry; 6],
+    });
+    let before = s.conservation_totals();
+    let kinetic = 0.5 * (STEEL_RHO * 0.01 * h * h) * 100.0 * 100.0;
+    for _ in 0..steps {
+        let dt = s.stable_dt()?;
+        s.advance(dt)?;
+    }
+    let after = s.conservation_totals();
+    let air_mass = air_density() * 0.07 * h * h;
+    Ok((
+        (after.mass - before.mass) / before.mass,
+        (after.energy - before.energy) / kinetic,
+        s.rescaled_totals().mass / air_mass,
+    ))
+}

@@ -1,0 +1,442 @@
+//! The ICE–MPM pipeline of seed 000 §3.3: Eulerian fluids (ICE) and a
+//! Lagrangian solid (MPM particles) on one grid, sharing one equilibration
+//! pressure and exchanging momentum and heat in every cell.
+//!
+//! One [`Solver::advance`] is the seed's step list:
+//!
+//! | step | where |
+//! |---|---|
+//! | 1 particles → nodes (eq 12) → cells (eq 18) | [`MpmSolver::advance_coupled`], [`steps::nodes_to_cells`], [`steps::particles_to_cell_state`] |
+//! | 2 equilibration pressure, θ as shares of the materials' volume | [`IceSolver::compute_equilibration_pressure`] |
+//! | 3 face velocities with face exchange (eq 19) | [`IceSolver::compute_face_centred_velocities`] |
+//! | 4 reactions (fluid reactants) | inside [`IceSolver::compute_lagrangian_values`] |
+//! | 5 Δp (eqs 20–21) | [`IceSolver::compute_pressure_increment`] |
+//! | 6 face pressure (eq 22) | inside [`IceSolver::compute_lagrangian_values`] |
+//! | 7 particle stresses (eq 13); internal force from σ + p I (eq 14) | [`MpmSolver::advance_coupled`] |
+//! | 8–11 cell sources, Lagrangian values, exchange, specific volume | [`IceSolver::compute_lagrangian_values`] |
+//! | 12 advect fluids | [`IceSolver::advect_fluids`] |
+//! | 13 cell changes → nodes | [`steps::cells_to_nodes`] |
+//! | 14 particles updated (eqs 16–17) | [`MpmSolver::advance_coupled`] |
+//!
+//! The solid is one ICE material flagged Lagrangian
+//! ([`IceSolver::set_lagrangian`]) whose state in each cell is imported
+//! from the particles before the equilibration. Where no particle is near,
+//! it is a trace of volume fraction [`TRACE_FRACTION`] at its reference
+//! density with the velocity and temperature of the cell's fluids, so that
+//! the exchange moves nothing there. Choices the seed leaves open are in
+//! `docs/physics/couple/ice_mpm.md`.
+
+pub mod cases;
+pub mod steps;
+
+use brisance_core::{
+    CellData, ConservationTotals, NodeData, ParticleData, Solver, SolverError, UniformGridGeometry,
+};
+use brisance_eos::EosModel;
+use brisance_ice::{IceSolver, LagrangianCells};
+use brisance_mpm::{GridCoupling, GridNodes, MpmSolver, Particles};
+use serde::{Deserialize, Serialize};
+
+/// Volume fraction of the solid in cells where no particle is.
+pub const TRACE_FRACTION: f64 = 1e-6;
+
+/// Why an [`IceMpm`] cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("ICE–MPM: {0}")]
+pub struct IceMpmError(pub String);
+
+/// The per-cell and per-node arrays of a coupled step.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    cell_mass: Vec<f64>,
+    cell_velocity: Vec<[f64; 3]>,
+    cell_state: Vec<Option<(f64, f64)>>,
+    node_sums: Vec<[f64; 3]>,
+    mass_density: Vec<f64>,
+    specific_volume: Vec<f64>,
+    temperature: Vec<f64>,
+    fluid_velocity: Vec<[f64; 3]>,
+    fluid_temperature: Vec<f64>,
+    trace: Vec<bool>,
+    pressure: Vec<f64>,
+    cell_change: Vec<[f64; 3]>,
+    temperature_change: Vec<f64>,
+}
+
+impl Scratch {
+    fn sized(cells: usize) -> Self {
+        Self {
+            cell_mass: vec![0.0; cells],
+            cell_velocity: vec![[0.0; 3]; cells],
+            cell_state: vec![None; cells],
+            node_sums: Vec::new(),
+            mass_density: vec![0.0; cells],
+            specific_volume: vec![0.0; cells],
+            temperature: vec![0.0; cells],
+            fluid_velocity: vec![[0.0; 3]; cells],
+            fluid_temperature: vec![0.0; cells],
+            trace: vec![false; cells],
+            pressure: vec![0.0; cells],
+            cell_change: vec![[0.0; 3]; cells],
+            temperature_change: vec![0.0; cells],
+        }
+    }
+}
+
+/// The fluid frame as the MPM step sees it (the hooks of
+/// [`GridCoupling`]).
+struct FluidFrame<'a> {
+    ice: &'a mut IceSolver<EosModel>,
+    solid: usize,
+    grid: UniformGridGeometry,
+    reference_volume: f64,
+    s: &'a mut Scratch,
+}
+
+impl FluidFrame<'_> {
+    /// Step 1: the solid's cell state from the nodes (mass, velocity, eq
+    /// 18) and the particles (specific volume, temperature), with the trace
+    /// state where the solid is absent.
+    fn project_particles_to_cells(&mut self, nodes: &GridNodes, particles: &Particles) {
+        let g = &self.grid;
+        let s = &mut *self.s;
+        steps::nodes_to_cells(
+            g,
+            &nodes.lattice,
+            &nodes.mass,
+            &nodes.velocity,
+            &mut s.cell_mass,
+            &mut s.cell_velocity,
+        );
+        steps::particles_to_cell_state(
+            g,
+            &nodes.lattice,
+            &particles.position,
+            &particles.mass,
+            &particles.volume,
+            &particles.temperature,
+            &mut s.node_sums,
+            &mut s.cell_state,
+        );
+        self.ice
+            .eulerian_mixture(&mut s.fluid_velocity, &mut s.fluid_temperature);
+        let cell_volume: f64 = g.spacing.iter().product();
+        let v_ref = self.reference_volume;
+        for k in 0..g.cell_count() {
+            let rho = s.cell_mass[k] / cell_volume;
+            let (v, t) = s.cell_state[k].unwrap_or((v_ref, s.fluid_temperature[k]));
+            let trace = !(rho * v > TRACE_FRACTION);
+            s.trace[k] = trace;
+            if trace {
+                s.mass_density[k] = TRACE_FRACTION / v_ref;
+                s.specific_volume[k] = v_ref;
+                s.temperature[k] = s.fluid_temperature[k];
+                s.cell_velocity[k] = s.fluid_velocity[k];
+            } else {
+                s.mass_density[k] = rho;
+                s.specific_volume[k] = v;
+                s.temperature[k] = t;
+            }
+        }
+    }
+}
+
+impl GridCoupling for FluidFrame<'_> {
+    fn before_forces(
+        &mut self,
+        nodes: &GridNodes,
+        particles: &Particles,
+        dt: f64,
+    ) -> Result<(), SolverError> {
+        self.project_particles_to_cells(nodes, particles);
+        let s = &*self.s;
+        self.ice.import_lagrangian(
+            self.solid,
+            &LagrangianCells {
+                mass_density: &s.mass_density,
+                velocity: &s.cell_velocity,
+                specific_volume: None,
+                temperature: &s.temperature,
+            },
+        )?;
+        self.ice.compute_equilibration_pressure()?;
+        self.ice.compute_face_centred_velocities(dt);
+        self.ice.compute_pressure_increment(dt);
+        self.ice.advanced_pressure(&mut self.s.pressure);
+        Ok(())
+    }
+
+    fn pressure_at(&self, x: [f64; 3]) -> f64 {
+        steps::interpolate_cell_field(&self.grid, &self.s.pressure, x)
+    }
+
+    fn after_forces(
+        &mut self,
+        nodes: &GridNodes,
+        dt: f64,
+        dv: &mut [[f64; 3]],
+    ) -> Result<(), SolverError> {
+        let g = &self.grid;
+        let s = &mut *self.s;
+        steps::nodes_to_cells(
+            g,
+            &nodes.lattice,
+            &nodes.mass,
+            &nodes.velocity_new,
+            &mut s.cell_mass,
+            &mut s.cell_velocity,
+        );
+        for k in 0..g.cell_count() {
+            if s.trace[k] {
+                s.cell_velocity[k] = s.fluid_velocity[k];
+            }
+        }
+        self.ice
+            .set_lagrangian_velocity(self.solid, &s.cell_velocity);
+        self.ice.compute_lagrangian_values(dt)?;
+        self.ice
+            .lagrangian_increments(self.solid, &mut s.cell_change, &mut s.temperature_change);
+        steps::cells_to_nodes(g, &nodes.lattice, &s.cell_change, dv);
+        Ok(())
+    }
+
+    fn temperature_change(&self, x: [f64; 3]) -> f64 {
+        steps::cell_value_at(&self.grid, &self.s.temperature_change, x)
+    }
+}
+
+/// The coupled ICE–MPM solver.
+#[derive(Debug)]
+pub struct IceMpm {
+    ice: IceSolver<EosModel>,
+    mpm: MpmSolver,
+    solid: usize,
+    reference_volume: f64,
+    scratch: Scratch,
+}
+
+/// A checkpoint: both frames'.
+#[derive(Serialize, Deserialize)]
+struct SavedState {
+    ice: Vec<u8>,
+    mpm: Vec<u8>,
+}
+
+impl IceMpm {
+    /// Couples `ice` (whose material `solid` is the particles' material on
+    /// the fluid side: its EOS gives the solid's pressure in step 2, and
+    /// it must not react) with `mpm` on the same grid. The solid's
+    /// reference specific volume (of its trace) is the particles' initial
+    /// V/m.
+    pub fn new(
+        mut ice: IceSolver<EosModel>,
+        mpm: MpmSolver,
+        solid: usize,
+    ) -> Result<Self, IceMpmError> {
+        let n = ice.material_count();
+        if solid >= n {
+            return Err(IceMpmError(format!(
+                "solid material index {solid} is not one of the {n} ICE materials"
+            )));
+        }
+        let (gi, gm) = (ice.level().geometry, mpm.level().geometry);
+        if gi.cells != gm.cells || gi.origin != gm.origin || gi.spacing != gm.spacing {
+            return Err(IceMpmError(
+                "the ICE and MPM grids must be the same grid".into(),
+            ));
+        }
+        if mpm.materials().len() != 1 {
+            return Err(IceMpmError(format!(
+                "{} particle materials given; the pipeline carries one Lagrangian material",
+                mpm.materials().len()
+            )));
+        }
+        let ps = mpm.particles();
+        if ps.is_empty() {
+            return Err(IceMpmError("the solid has no particles".into()));
+        }
+        let (m, v): (f64, f64) = ps
+            .mass
+            .iter()
+            .zip(&ps.initial_volume)
+            .fold((0.0, 0.0), |a, (m, v)| (a.0 + m, a.1 + v));
+        let mask: Vec<bool> = (0..n).map(|r| r == solid).collect();
+        ice.set_lagrangian(&mask)
+            .map_err(|e| IceMpmError(e.to_string()))?;
+        let cells = gi.cell_count();
+        let mut coupled = Self {
+            ice,
+            mpm,
+            solid,
+            reference_volume: v / m,
+            scratch: Scratch::sized(cells),
+        };
+        coupled
+            .fit_fluids_around_solid()
+            .map_err(|e| IceMpmError(format!("initial state: {e}")))?;
+        // The particles start in equilibrium with their cells' pressure
+        // (their stress is the material's own; a solid in a 1 atm gas
+        // carries −1 atm I).
+        let mut p = vec![0.0; cells];
+        coupled.ice.equilibration_pressure_field(&mut p);
+        coupled
+            .mpm
+            .preload_pressure(|x| steps::cell_value_at(&gi, &p, x));
+        Ok(coupled)
+    }
+
+    /// Before the first step: the solid's volume fraction as step 1 will
+    /// see it (nodal mass by eq 12, cells by eq 18, the particles'
+    /// specific volume), and the fluids fitted around it
+    /// ([`IceSolver::fit_eulerian_volume`]), so that the first
+    /// equilibration finds the materials' volumes summing to the cell's.
+    fn fit_fluids_around_solid(&mut self) -> Result<(), SolverError> {
+        let grid = self.mpm.level().geometry;
+        let nodes = self.mpm.project_to_nodes()?.clone();
+        let mut frame = FluidFrame {
+            ice: &mut self.ice,
+            solid: self.solid,
+            grid,
+            reference_volume: self.reference_volume,
+            s: &mut self.scratch,
+        };
+        frame.project_particles_to_cells(&nodes, self.mpm.particles());
+        let s = &self.scratch;
+        let theta: Vec<f64> = (0..grid.cell_count())
+            .map(|k| s.mass_density[k] * s.specific_volume[k])
+            .collect();
+        self.ice.fit_eulerian_volume(&theta, TRACE_FRACTION)
+    }
+
+    /// The fluid frame.
+    pub fn ice(&self) -> &IceSolver<EosModel> {
+        &self.ice
+    }
+
+    /// The particle frame.
+    pub fn mpm(&self) -> &MpmSolver {
+        &self.mpm
+    }
+
+    /// Index of the solid among the ICE materials.
+    pub fn solid(&self) -> usize {
+        self.solid
+    }
+
+    /// Mass, momentum and energy the coupled equilibration has given the
+    /// fluids since the start (negative: taken), the term that closes the
+    /// bookkeeping of [`Solver::conservation_totals`].
+    pub fn rescaled_totals(&self) -> ConservationTotals {
+        self.ice.rescaled_totals()
+    }
+
+    /// Particles advanced per step (the second throughput unit).
+    pub fn particles_per_step(&self) -> usize {
+        self.mpm.particles().len()
+    }
+}
+
+impl Solver for IceMpm {
+    fn name(&self) -> &str {
+        "ice_mpm"
+    }
+
+    fn time(&self) -> f64 {
+        self.mpm.time()
+    }
+
+    /// The smaller of the fluid frame's CFL step and the particles'.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        Ok(self.ice.stable_dt()?.min(self.mpm.stable_dt()?))
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        let _span = tracing::trace_span!("ice_mpm_step", dt).entered();
+        let mut frame = FluidFrame {
+            ice: &mut self.ice,
+            solid: self.solid,
+            grid: self.mpm.level().geometry,
+            reference_volume: self.reference_volume,
+            s: &mut self.scratch,
+        };
+        // Steps 1–11, 13 and 14 (the module doc's table).
+        self.mpm.advance_coupled(dt, &mut frame)?;
+        // Step 12.
+        self.ice.advect_fluids(dt)?;
+        self.ice.finish_coupled_step(dt);
+        Ok(())
+    }
+
+    /// The fluids' totals (ICE, the solid's trace left out) plus the
+    /// particles' (with what left through outflow faces), less what the
+    /// coupled equilibration gave the fluids
+    /// ([`IceSolver::rescaled_totals`]): a closed bookkeeping, whose
+    /// rescale term [`IceMpm::rescaled_totals`] reports apart.
+    fn conservation_totals(&self) -> ConservationTotals {
+        let (a, b, r) = (
+            self.ice.conservation_totals(),
+            self.mpm.conservation_totals(),
+            self.ice.rescaled_totals(),
+        );
+        ConservationTotals {
+            mass: a.mass + b.mass - r.mass,
+            momentum: std::array::from_fn(|d| a.momentum[d] + b.momentum[d] - r.momentum[d]),
+            energy: a.energy + b.energy - r.energy,
+        }
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        self.ice.cell_field_names()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
+        self.ice.cell_data(fields)
+    }
+
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        self.ice.sample(point, fields, out)
+    }
+
+    fn particle_data(&self) -> Option<ParticleData> {
+        self.mpm.particle_data()
+    }
+
+    fn node_field_names(&self) -> Vec<&'static str> {
+        self.mpm.node_field_names()
+    }
+
+    fn node_data(&self, fields: &[String]) -> Result<Option<NodeData>, SolverError> {
+        self.mpm.node_data(fields)
+    }
+
+    fn external_work(&self) -> Option<f64> {
+        self.mpm.external_work()
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        self.ice.work_per_step()
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let saved = SavedState {
+            ice: self.ice.save_state()?,
+            mpm: self.mpm.save_state()?,
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let saved: SavedState =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        self.ice.restore_state(&saved.ice)?;
+        self.mpm.restore_state(&saved.mpm)
+    }
+}
+
+#[cfg(test)]
+mod tests;

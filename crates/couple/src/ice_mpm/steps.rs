@@ -1,0 +1,422 @@
+//! The grid transfers of the ICE–MPM step (seed 000 §3.3), each a function
+//! of its arrays alone.
+//!
+//! Nodes are the cell corners of the shared grid: node (i, j, k) of global
+//! index i ∈ 0..=n along an active axis of n cells; along an inactive axis
+//! (a 1D or 2D model) the single node 0 is the whole thickness. Cell c's
+//! corners are the nodes c and c + 1 along each active axis.
+//!
+//! **Corner weights (eq 18).** w_ic = ½ per active axis (⅛ in 3D), doubled
+//! along an axis where the node lies on a face of the domain. The seed
+//! doubles them on symmetry planes "to achieve the desired effect"; the
+//! effect is that a node on a face collects particle mass from one side
+//! only, so a cell full of solid at a face has the mass of a full cell.
+//! That holds on every face a particle cannot cross, so the doubling is
+//! applied on all six (docs/physics/couple/ice_mpm.md).
+//!
+//! **Step 13 is the adjoint of eq 18.** The velocity change of node I is
+//! Δv_I = Σ_c w_Ic Δu_c with the same weights, so that the momentum the
+//! nodes receive, Σ_I m_I Δv_I = Σ_c Δu_c Σ_I w_Ic m_I = Σ_c M_c Δu_c, is
+//! exactly the cell-centred momentum change of the solid.
+
+use brisance_core::UniformGridGeometry;
+use brisance_mpm::NodeLattice;
+use rayon::prelude::*;
+
+/// The corners of cell `c` (global node indices) with their weights w_ic
+/// (eq 18, doubled on domain faces); `count` of the 8 slots are used.
+#[derive(Debug, Clone, Copy)]
+pub struct Corners {
+    /// Global node index of each corner.
+    pub node: [[isize; 3]; 8],
+    /// w_ic.
+    pub weight: [f64; 8],
+    /// Number of corners: 2 per active axis.
+    pub count: usize,
+}
+
+/// Whether axis `d` of `grid` is active (more than one cell).
+#[inline]
+fn active(grid: &UniformGridGeometry, d: usize) -> bool {
+    grid.cells[d] > 1
+}
+
+/// The weight factor along axis `d` of global node index `i`: ½ on an
+/// active axis, 1 on a face of the domain, 1 on an inactive axis.
+#[inline]
+fn axis_weight(grid: &UniformGridGeometry, d: usize, i: isize) -> f64 {
+    if !active(grid, d) || i == 0 || i == grid.cells[d] as isize {
+        1.0
+    } else {
+        0.5
+    }
+}
+
+/// The corners of cell `c` and their weights (eq 18).
+pub fn corners(grid: &UniformGridGeometry, c: [usize; 3]) -> Corners {
+    let mut out = Corners {
+        node: [[0; 3]; 8],
+        weight: [0.0; 8],
+        count: 0,
+    };
+    let span = |d: usize| if active(grid, d) { 2 } else { 1 };
+    for k in 0..span(2) {
+        for j in 0..span(1) {
+            for i in 0..span(0) {
+                let node = [
+                    c[0] as isize + i as isize,
+                    c[1] as isize + j as isize,
+                    c[2] as isize + k as isize,
+                ];
+                let node = std::array::from_fn(|d| if active(grid, d) { node[d] } else { 0 });
+                out.node[out.count] = node;
+                out.weight[out.count] = (0..3).map(|d| axis_weight(grid, d, node[d])).product();
+                out.count += 1;
+            }
+        }
+    }
+    out
+}
+
+/// The cell of global linear index `k` (x fastest).
+#[inline]
+pub fn cell_of(grid: &UniformGridGeometry, k: usize) -> [usize; 3] {
+    let n = grid.cells;
+    [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])]
+}
+
+/// Step 1, eq 18: the solid's cell mass M_c = Σ_i w_ic m_i (kg) and
+/// mass-weighted velocity u_c = Σ_i w_ic m_i u_i / M_c (m/s; zero where
+/// M_c = 0) from the nodal mass and velocity, cells in parallel.
+pub fn nodes_to_cells(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    node_mass: &[f64],
+    node_velocity: &[[f64; 3]],
+    cell_mass: &mut [f64],
+    cell_velocity: &mut [[f64; 3]],
+) {
+    cell_mass
+        .par_iter_mut()
+        .zip(cell_velocity.par_iter_mut())
+        .enumerate()
+        .for_each(|(k, (m, u))| {
+            let cs = corners(grid, cell_of(grid, k));
+            let (mut mass, mut mom) = (0.0, [0.0; 3]);
+            for s in 0..cs.count {
+                let i = lattice
+                    .index(cs.node[s])
+                    .expect("cell corners lie in the node lattice");
+                let wm = cs.weight[s] * node_mass[i];
+                mass += wm;
+                for d in 0..3 {
+                    mom[d] += wm * node_velocity[i][d];
+                }
+            }
+            *m = mass;
+            *u = if mass > 0.0 {
+                mom.map(|x| x / mass)
+            } else {
+                [0.0; 3]
+            };
+        });
+}
+
+/// Step 1 for the solid's specific volume and temperature: each
+/// particle's mass, volume and m·T go to its nearest node (sums in particle
+/// order, so the bits do not depend on the thread count), and each cell
+/// gathers them with the weights of eq 18: v_c = Σ w V / Σ w m (m³/kg) and
+/// T_c = Σ w m T / Σ w m (K). A cell none of whose corners received a
+/// particle gets `None` (the caller gives it the trace state).
+#[allow(clippy::too_many_arguments)]
+pub fn particles_to_cell_state(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    position: &[[f64; 3]],
+    mass: &[f64],
+    volume: &[f64],
+    temperature: &[f64],
+    node_sums: &mut Vec<[f64; 3]>,
+    cell_state: &mut [Option<(f64, f64)>],
+) {
+    node_sums.clear();
+    node_sums.resize(lattice.len(), [0.0; 3]);
+    for p in 0..position.len() {
+        let node: [isize; 3] = std::array::from_fn(|d| {
+            if active(grid, d) {
+                let s = ((position[p][d] - grid.origin[d]) / grid.spacing[d]).round() as isize;
+                s.clamp(0, grid.cells[d] as isize)
+            } else {
+                0
+            }
+        });
+        if let Some(i) = lattice.index(node) {
+            let sums = &mut node_sums[i];
+            sums[0] += mass[p];
+            sums[1] += volume[p];
+            sums[2] += mass[p] * temperature[p];
+        }
+    }
+    let node_sums = &*node_sums;
+    cell_state.par_iter_mut().enumerate().for_each(|(k, out)| {
+        let cs = corners(grid, cell_of(grid, k));
+        let mut s = [0.0; 3];
+        for c in 0..cs.count {
+            if let Some(i) = lattice.index(cs.node[c]) {
+                for q in 0..3 {
+                    s[q] += cs.weight[c] * node_sums[i][q];
+                }
+            }
+        }
+        *out = (s[0] > 0.0).then(|| (s[1] / s[0], s[2] / s[0]));
+    });
+}
+
+/// Step 13: the velocity change of every node, Δv_I = Σ_c w_Ic Δu_c over
+/// the cells that have node I as a corner, with the weights of eq 18 (its
+/// adjoint: momentum-conserving). Nodes outside the domain's corners get
+/// zero. Nodes in parallel.
+pub fn cells_to_nodes(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    cell_change: &[[f64; 3]],
+    node_change: &mut [[f64; 3]],
+) {
+    node_change
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(idx, dv)| {
+            let node = lattice.node(idx);
+            *dv = [0.0; 3];
+            let mut range = [[0isize; 2]; 3];
+            for d in 0..3 {
+                if active(grid, d) {
+                    let n = grid.cells[d] as isize;
+                    if node[d] < 0 || node[d] > n {
+                        return;
+                    }
+                    range[d] = [(node[d] - 1).max(0), node[d].min(n - 1)];
+                }
+            }
+            let w: f64 = (0..3).map(|d| axis_weight(grid, d, node[d])).product();
+            for k in range[2][0]..=range[2][1] {
+                for j in range[1][0]..=range[1][1] {
+                    for i in range[0][0]..=range[0][1] {
+                        let c = grid.linear_index([i as usize, j as usize, k as usize]);
+                        for d in 0..3 {
+                            dv[d] += w * cell_change[c][d];
+                        }
+                    }
+                }
+            }
+        });
+}
+
+/// A cell-centred field at point `x` by trilinear interpolation between
+/// cell centres, held constant beyond the outermost centres (the
+/// zero-gradient extension): the mixture pressure at a particle.
+pub fn interpolate_cell_field(grid: &UniformGridGeometry, field: &[f64], x: [f64; 3]) -> f64 {
+    let mut lo = [0usize; 3];
+    let mut frac = [0.0; 3];
+    for d in 0..3 {
+        let n = grid.cells[d];
+        if n <= 1 {
+            continue;
+        }
+        let s = ((x[d] - grid.origin[d]) / grid.spacing[d] - 0.5).clamp(0.0, (n - 1) as f64);
+        let i = (s.floor() as usize).min(n - 2);
+        lo[d] = i;
+        frac[d] = s - i as f64;
+    }
+    let mut value = 0.0;
+    for k in 0..2usize {
+        for j in 0..2usize {
+            for i in 0..2usize {
+                let off = [i, j, k];
+                let mut w = 1.0;
+                let mut c = [0usize; 3];
+                for d in 0..3 {
+                    if grid.cells[d] <= 1 {
+                        if off[d] == 1 {
+                            w = 0.0;
+                        }
+                        continue;
+                    }
+                    c[d] = lo[d] + off[d];
+                    w *= if off[d] == 1 { frac[d] } else { 1.0 - frac[d] };
+                }
+                if w != 0.0 {
+                    value += w * field[grid.linear_index(c)];
+                }
+            }
+        }
+    }
+    value
+}
+
+/// The value of a cell-centred field in the cell containing `x` (the
+/// nearest cell for a point outside the grid).
+pub fn cell_value_at(grid: &UniformGridGeometry, field: &[f64], x: [f64; 3]) -> f64 {
+    let c: [usize; 3] = std::array::from_fn(|d| {
+        let s = ((x[d] - grid.origin[d]) / grid.spacing[d]).floor();
+        (s.max(0.0) as usize).min(grid.cells[d] - 1)
+    });
+    field[grid.linear_index(c)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use brisance_mpm::ShapeFunction;
+    use proptest::prelude::*;
+
+    fn grid(cells: [usize; 3]) -> UniformGridGeometry {
+        UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [0.5, 0.25, 1.0],
+            cells,
+        }
+    }
+
+    #[test]
+    fn interior_weights_are_an_eighth_and_face_nodes_count_double() {
+        let g = grid([4, 4, 4]);
+        let cs = corners(&g, [1, 1, 1]);
+        assert_eq!(cs.count, 8);
+        assert!(cs.weight.iter().all(|&w| w == 0.125));
+        let cs = corners(&g, [0, 1, 1]);
+        // Four corners on the x = 0 face.
+        let on_face: Vec<f64> = (0..8)
+            .filter(|&s| cs.node[s][0] == 0)
+            .map(|s| cs.weight[s])
+            .collect();
+        assert_eq!(on_face, vec![0.25; 4]);
+        // A 2D grid: 4 corners of weight 1/4 inside.
+        let g2 = grid([4, 4, 1]);
+        let cs = corners(&g2, [1, 2, 0]);
+        assert_eq!(cs.count, 4);
+        assert!(cs.weight[..4].iter().all(|&w| w == 0.25));
+        assert!(cs.node[..4].iter().all(|n| n[2] == 0));
+    }
+
+    /// A uniformly filled block whose nodes carry the linear-shape masses
+    /// (full inside, half on a face, a quarter on an edge): eq 18 with the
+    /// face doubling gives every cell the full cell mass.
+    #[test]
+    fn a_full_block_gives_full_cells_up_to_the_faces() {
+        let g = grid([3, 2, 1]);
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        let m_cell = 2.0;
+        let mut mass = vec![0.0; lat.len()];
+        for (idx, m) in mass.iter_mut().enumerate() {
+            let n = lat.node(idx);
+            let f = |d: usize| {
+                if n[d] == 0 || n[d] == g.cells[d] as isize {
+                    0.5
+                } else {
+                    1.0
+                }
+            };
+            *m = m_cell * f(0) * f(1);
+        }
+        let vel = vec![[1.0, -2.0, 0.5]; lat.len()];
+        let mut cm = vec![0.0; g.cell_count()];
+        let mut cu = vec![[0.0; 3]; g.cell_count()];
+        nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+        for k in 0..g.cell_count() {
+            assert!((cm[k] - m_cell).abs() < 1e-14, "cell {k}: {}", cm[k]);
+            assert_eq!(cu[k], [1.0, -2.0, 0.5]);
+        }
+    }
+
+    /// Step 13 conserves momentum: Σ_I m_I Δv_I = Σ_c M_c Δu_c with M_c
+    /// from the same nodes by eq 18, for random masses and changes.
+    #[test]
+    fn cell_changes_reach_the_nodes_with_their_momentum() {
+        proptest!(|(seed in 0u64..1000)| {
+            let g = grid([3, 4, 2]);
+            let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+            let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            let mut rnd = || {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                ((x >> 11) as f64) / ((1u64 << 53) as f64)
+            };
+            let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
+            let vel = vec![[0.0; 3]; lat.len()];
+            let mut cm = vec![0.0; g.cell_count()];
+            let mut cu = vec![[0.0; 3]; g.cell_count()];
+            nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+            let du: Vec<[f64; 3]> = (0..g.cell_count()).map(|_| [rnd() - 0.5, rnd(), -rnd()]).collect();
+            let mut dv = vec![[0.0; 3]; lat.len()];
+            cells_to_nodes(&g, &lat, &du, &mut dv);
+            for d in 0..3 {
+                let cells: f64 = (0..g.cell_count()).map(|k| cm[k] * du[k][d]).sum();
+                let nodes: f64 = (0..lat.len()).map(|i| mass[i] * dv[i][d]).sum();
+                prop_assert!((cells - nodes).abs() <= 1e-12 * cells.abs().max(1.0));
+            }
+        });
+    }
+
+    /// A uniform cell change reaches every node whole, on faces and edges.
+    #[test]
+    fn a_uniform_change_is_reproduced_at_every_node() {
+        for cells in [[3, 4, 2], [5, 3, 1], [6, 1, 1]] {
+            let g = grid(cells);
+            let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+            let du = vec![[0.5, -1.0, 2.0]; g.cell_count()];
+            let mut dv = vec![[0.0; 3]; lat.len()];
+            cells_to_nodes(&g, &lat, &du, &mut dv);
+            for v in dv {
+                for d in 0..3 {
+                    assert!((v[d] - du[0][d]).abs() < 1e-14, "{cells:?}: {v:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn interpolation_reproduces_linear_fields_inside_and_holds_outside() {
+        let g = grid([4, 3, 2]);
+        let f = |x: [f64; 3]| 2.0 + 3.0 * x[0] - x[1] + 0.5 * x[2];
+        let field: Vec<f64> = (0..g.cell_count())
+            .map(|k| f(g.cell_centre(cell_of(&g, k))))
+            .collect();
+        for x in [[0.7, 0.3, 0.9], [1.5, 0.55, 1.2], [0.25, 0.125, 0.5]] {
+            let v = interpolate_cell_field(&g, &field, x);
+            assert!((v - f(x)).abs() < 1e-12, "{x:?}: {v} vs {}", f(x));
+        }
+        // Beyond the last centre in x (x > 1.75) the value is held.
+        let v = interpolate_cell_field(&g, &field, [1.95, 0.3, 0.9]);
+        assert!((v - f([1.75, 0.3, 0.9])).abs() < 1e-12);
+        assert_eq!(
+            cell_value_at(&g, &field, [1.9, 0.7, 1.5]),
+            field[g.linear_index([3, 2, 1])]
+        );
+    }
+
+    #[test]
+    fn nearest_node_state_gives_specific_volume_and_temperature() {
+        let g = grid([2, 2, 1]);
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        // Two particles near node (1, 1): m 1 and 3 kg, V 0.1 and 0.5 m³,
+        // T 300 and 500 K.
+        let pos = [[0.45, 0.24, 0.5], [0.55, 0.26, 0.5]];
+        let mut sums = Vec::new();
+        let mut state = vec![None; 4];
+        particles_to_cell_state(
+            &g,
+            &lat,
+            &pos,
+            &[1.0, 3.0],
+            &[0.1, 0.5],
+            &[300.0, 500.0],
+            &mut sums,
+            &mut state,
+        );
+        for s in state {
+            let (v, t) = s.unwrap();
+            assert!((v - 0.6 / 4.0).abs() < 1e-15);
+            assert!((t - 1800.0 / 4.0).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,87 @@
+//! Coupling checks of the ICE–MPM step: a gas-filled box at rest, a block
+//! floating in a uniform stream, a piston driving a shock into air, and the
+//! bookkeeping of mass and energy across both frames.
+
+use super::cases::*;
+use brisance_ice::IceBoundary;
+use brisance_mpm::GridBoundary;
+
+/// A closed 2D steel box (walls two cells thick) with air inside and out,
+/// everything at rest at one atmosphere: after 60 steps no particle and no
+/// cell moves faster than 1 mm/s (measured: see the assertion message).
+/// The bound is 1/300 of the acoustic velocity p₀/(ρc) = 0.24 m/s of air
+/// that a one-atmosphere imbalance would drive.
+#[test]
+fn a_gas_filled_box_at_rest_stays_at_rest() {
+    let (solid, gas) = box_at_rest(60).unwrap();
+    assert!(
+        solid < 1e-3 && gas < 1e-3,
+        "spurious speeds: solid {solid:e} m/s, gas {gas:e} m/s"
+    );
+}
+
+/// A steel block and the air around it moving together at 20 m/s keep
+/// that velocity: after 40 steps every particle's and every cell's x
+/// velocity is 20 m/s, and the others zero, within 1 cm/s (0.05 % of the
+/// stream). Measured: 1.5 mm/s on the particles, 4.5 mm/s in the air —
+/// the noise of the particles crossing cells (docs/physics/couple/ice_mpm.md).
+#[test]
+fn a_block_floating_in_a_uniform_stream_keeps_its_velocity() {
+    let (worst_solid, worst_gas) = floating_block(40).unwrap();
+    assert!(
+        worst_solid < 1e-2 && worst_gas < 1e-2,
+        "deviation from 20 m/s: solid {worst_solid:e}, gas {worst_gas:e} m/s"
+    );
+}
+
+/// The reduced piston case: a 1 cm steel piston at 100 m/s in a 1D air
+/// tube of 1 mm cells. After 100 µs the shock (where p crosses the mean of
+/// p₀ and the plateau) is within one cell of the exact position and the
+/// piston, 6500 times heavier per area than the air it has swept, still
+/// moves at 100 m/s within 0.5 %. The plateau pressure is reported, not
+/// asserted, here: 4.5 % above the exact 1.498 bar at this resolution
+/// (`cargo xtask validate --only piston` measures it under refinement).
+#[test]
+fn a_piston_drives_the_exact_shock() {
+    let h = 1e-3;
+    let up = 100.0;
+    let x0 = 0.06;
+    let mut s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [0.2, h, h],
+        cells: [200, 1, 1],
+        solids: vec![([x0 - 0.01, 0.0, 0.0], [x0, h, h])],
+        solid_velocity: [up, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+        mpm_faces: [GridBoundary::Free; 6],
+    });
+    let t = 1e-4;
+    run(&mut s, t).unwrap();
+    let m = piston_measure(&s, x0, up, t);
+    assert!(
+        m.shock_error_cells.abs() < 1.0 && (m.piston_velocity / up - 1.0).abs() < 5e-3,
+        "{m:?}"
+    );
+    assert!(m.plateau > P0 && m.plateau_exact > P0 && m.shock > x0 && m.shock_exact > x0);
+}
+
+/// A closed tube (walls at both ends) with a steel piston at 100 m/s in
+/// air: the bookkeeping of both frames, with the mass the coupled
+/// equilibration moves in or out of the fluid booked, closes to round-off
+/// for mass, and the total energy (fluid internal + kinetic, particles'
+/// internal + kinetic) drifts by less than 0.5 % of the piston's kinetic
+/// energy in 200 steps. The booked rescale itself stays below 1 % of the
+/// air's mass (the assertion message gives the measured numbers).
+#[test]
+fn mass_and_energy_close_across_both_frames() {
+    let (mass, energy, rescaled) = closed_tube(200).unwrap();
+    assert!(
+        mass.abs() <= 1e-12,
+        "mass closure {mass:e} (rescale {rescaled:e} of the air)"
+    );
+    assert!(
+        energy.abs() < 5e-3 && rescaled.abs() < 1e-2,
+        "energy drift {energy:e} of the piston's kinetic energy, rescale {rescaled:e} of the air's mass"
+    );
+}
