@@ -1091,7 +1091,9 @@ impl PdSolver {
     /// with damping the stable step of ẍ + γẋ + ω²x = 0 is
     /// (2/ω)(√(1 + ζ²) − ζ), ζ = γ/(2ω) (Belytschko, Liu & Moran 2000,
     /// Nonlinear Finite Elements, §6.2.4), written here as
-    /// 2/(√(ω² + γ²/4) + γ/2), which is 2/γ when ω = 0.
+    /// 2/(√(ω² + γ²/4) + γ/2), which is 2/γ when ω = 0. Eq 24's
+    /// √(2ρ/ΣC) is that limit without damping for ω² = 2ΣC/ρ, so the
+    /// undamped step is exactly eq 24's.
     fn node_dt(&self, i: usize) -> f64 {
         let rho = self.material_density[self.material[i] as usize];
         let mut omega2 = self.contact.get(i).map_or(0.0, |c| c.1) / rho;
@@ -1106,8 +1108,12 @@ impl PdSolver {
                 }
             }
         }
-        if omega2 > 0.0 || gamma > 0.0 {
-            2.0 / ((omega2 + 0.25 * gamma * gamma).sqrt() + 0.5 * gamma)
+        // Eq 24 is √(2/S) with S = omega2 here, i.e. 2/ω with the
+        // oscillator's ω² = 2S; with damping 2/(√(ω² + γ²/4) + γ/2).
+        if gamma > 0.0 {
+            2.0 / ((2.0 * omega2 + 0.25 * gamma * gamma).sqrt() + 0.5 * gamma)
+        } else if omega2 > 0.0 {
+            (2.0 / omega2).sqrt()
         } else {
             f64::INFINITY
         }
