@@ -103,3 +103,205 @@ pub fn v_ice_mpm(report: &mut Report) -> Result<()> {
     let _ = writeln!(report.md);
     Ok(())
 }
+
+/// Axial position of the wall gauge, m.
+const GAUGE_Z: f64 = 0.075;
+
+/// E-CYLINDER: configs/cylinder_icempm.ron (the seed 000 §5.2 copper
+/// cylinder test, reduced): the mean radial velocity of the outer-wall
+/// particles that start within 1 mm of z = 7.5 cm, time-shifted to the
+/// detonation's arrival there (products volume fraction on the axis above
+/// 1/2), and its terminal value against the Gurney estimate.
+pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
+    use brisance::compose::build::{build, Built};
+    use brisance::compose::load_str;
+    use brisance::core::Solver;
+    use brisance::eos::tools::gurney::CYLINDER_TEST_RELATIVE_VOLUME;
+    use brisance::eos::tools::{
+        cj_on_jwl_cterm_isentrope, cylinder_wall_velocity, gurney_estimate,
+    };
+    use brisance::eos::JwlCTerm;
+
+    println!("E-CYLINDER: copper cylinder test on the IceMpm pipeline (reduced)");
+    let text = include_str!("../../configs/cylinder_icempm.ron");
+    let loaded = load_str("cylinder_icempm.ron", text, &[])
+        .map_err(|e| anyhow!("configs/cylinder_icempm.ron: {e}"))?;
+    let s = &loaded.scenario;
+    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+        return Err(anyhow!(
+            "configs/cylinder_icempm.ron is not an IceMpm pipeline"
+        ));
+    };
+    let mut solver = solver;
+    let t_end = s.time.end;
+    // The outer-wall particles at the gauge, by identity.
+    let (r_in, r_out) = (0.0254, 0.0306);
+    let h = s
+        .domain
+        .cells
+        .iter()
+        .zip(0..3)
+        .map(|(n, d)| (s.domain.upper[d] - s.domain.lower[d]) / *n as f64)
+        .fold(0.0, f64::max);
+    let ps = solver.mpm().particles();
+    let ids = solver.mpm().particle_ids();
+    let r_max = (0..ps.len())
+        .map(|p| ps.position[p][0].hypot(ps.position[p][1]))
+        .fold(0.0, f64::max);
+    let gauge: std::collections::BTreeSet<u32> = (0..ps.len())
+        .filter(|&p| {
+            let x = ps.position[p];
+            x[0].hypot(x[1]) > r_max - 0.5 * h && (x[2] - GAUGE_Z).abs() < 1e-3
+        })
+        .map(|p| ids[p])
+        .collect();
+    if gauge.is_empty() {
+        return Err(anyhow!("no outer-wall particle at the gauge"));
+    }
+    let radial = |m: &brisance::mpm::MpmSolver| -> f64 {
+        let (ps, ids) = (m.particles(), m.particle_ids());
+        let (mut sum, mut n) = (0.0, 0);
+        for (p, id) in ids.iter().enumerate() {
+            if gauge.contains(id) {
+                let (x, v) = (ps.position[p], ps.velocity[p]);
+                let r = x[0].hypot(x[1]);
+                sum += (x[0] * v[0] + x[1] * v[1]) / r;
+                n += 1;
+            }
+        }
+        if n > 0 {
+            sum / n as f64
+        } else {
+            f64::NAN
+        }
+    };
+    let axis = [0.5 * h, 0.5 * h, GAUGE_Z];
+    let start = Instant::now();
+    let mut times = Vec::new();
+    let mut speeds = Vec::new();
+    let mut arrival = None;
+    let mut sample = Vec::new();
+    let mut steps = 0usize;
+    let mut failure = None;
+    while solver.time() < t_end * (1.0 - 1e-12) {
+        let dt = match solver.stable_dt() {
+            Ok(dt) => dt.min(t_end - solver.time()),
+            Err(e) => {
+                failure = Some(e.to_string());
+                break;
+            }
+        };
+        if let Err(e) = solver.advance(dt) {
+            failure = Some(e.to_string());
+            break;
+        }
+        steps += 1;
+        if arrival.is_none() {
+            solver.sample(axis, &["volume_fraction_2".into()], &mut sample)?;
+            if sample[0] > 0.5 {
+                arrival = Some(solver.time());
+            }
+        }
+        times.push(solver.time());
+        speeds.push(radial(solver.mpm()));
+    }
+    let wall = start.elapsed().as_secs_f64();
+    // Gurney: QM-100 products on their principal isentrope to V = 7, the
+    // reduced tube's metal-to-charge ratio.
+    let products: JwlCTerm = match s.materials.get("products").and_then(|m| m.eos()) {
+        Some(brisance::eos::EosModel::JwlCTerm(j)) => *j,
+        _ => {
+            return Err(anyhow!(
+                "configs/cylinder_icempm.ron: `products` is not JwlCTerm"
+            ))
+        }
+    };
+    let cj = cj_on_jwl_cterm_isentrope(&products).map_err(|e| anyhow!("CJ: {e}"))?;
+    let g = gurney_estimate(&products, &cj, CYLINDER_TEST_RELATIVE_VOLUME, 1e-11)
+        .map_err(|e| anyhow!("Gurney: {e}"))?;
+    let m_over_c = 8930.0 * (r_out * r_out - r_in * r_in) / (products.rho0 * r_in * r_in);
+    let gurney = cylinder_wall_velocity(g.gurney_velocity, m_over_c).map_err(|e| anyhow!("{e}"))?;
+    let t0 = arrival.unwrap_or(f64::NAN);
+    let terminal = if failure.is_none() {
+        // Mean over the last 10 % of the record.
+        let k = speeds.len() - speeds.len() / 10;
+        speeds[k..].iter().sum::<f64>() / (speeds.len() - k) as f64
+    } else {
+        f64::NAN
+    };
+    println!(
+        "  {steps} steps in {wall:.0} s, arrival at z = 7.5 cm {t0:e} s, terminal {terminal:.0} m/s, Gurney {gurney:.0} m/s, failure {failure:?}"
+    );
+    // Plot v_r against t − t_arrival.
+    let shifted: Vec<f64> = times.iter().map(|t| (t - t0) * 1e6).collect();
+    let png = img.join("e_cylinder.png");
+    if arrival.is_some() {
+        use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
+        let g = vec![gurney; shifted.len()];
+        plot_panels(
+            &png,
+            "E-CYLINDER: outer wall at z = 7.5 cm (IceMpm, reduced)",
+            "t − t_arrival [µs]",
+            &[Panel {
+                y_label: "radial velocity [m/s]",
+                series: vec![
+                    Series {
+                        label: "IceMpm",
+                        x: &shifted,
+                        y: &speeds,
+                        style: SeriesStyle::Line,
+                    },
+                    Series {
+                        label: "Gurney estimate",
+                        x: &shifted,
+                        y: &g,
+                        style: SeriesStyle::Line,
+                    },
+                ],
+            }],
+        )?;
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## E-CYLINDER — copper cylinder test, IceMpm (seed 000 §5.2)\n"
+    );
+    let _ = writeln!(
+        md,
+        "configs/cylinder_icempm.ron: OFHC copper tube r 25.4–30.6 mm (ρ 8930, K 117 GPa, G 43.8 GPa, \
+         σy 70 MPa) filled with QM-100 (JWL++), air outside, quarter symmetry, 6 mm booster of products \
+         at 10 GPa at z = 0. **Reduced:** 10 cm of tube at h = 2 mm (the seed: 35 cm at 0.5 mm; the wall \
+         is 2.6 cells thick here), gauge at z = 7.5 cm instead of 25 cm. {steps} steps to {:.1} µs, {wall:.0} s \
+         wall (2 cores, shared).{}\n",
+        solver.time() * 1e6,
+        failure
+            .as_ref()
+            .map_or(String::new(), |f| format!(" **The run stopped:** {f}"))
+    );
+    let _ = writeln!(
+        md,
+        "Detonation arrival at the gauge (products θ > ½ on the axis): {}. Gurney: √(2E_G) = {:.0} m/s at \
+         V = 7 on the QM-100 principal isentrope, M/C = {m_over_c:.2}, open-ended cylinder: {gurney:.0} m/s. \
+         The LLNL shot K260-581 of seed 000 fig. 5 is not tabulated in the seed and no published QM-100 \
+         cylinder velocity was found to compare with; only the Gurney estimate is used.\n",
+        arrival.map_or("not reached".into(), |t| format!("{:.2} µs", t * 1e6)),
+        g.gurney_velocity
+    );
+    if arrival.is_some() {
+        let _ = writeln!(md, "![E-CYLINDER wall velocity](img/e_cylinder.png)\n");
+    }
+    let _ = writeln!(md, "| check | measured | target | |\n|---|---:|---:|---|");
+    let err = terminal / gurney - 1.0;
+    report.target(
+        "E-CYLINDER terminal wall velocity vs Gurney",
+        if terminal.is_finite() {
+            format!("{terminal:.0} m/s ({:+.1} %)", 100.0 * err)
+        } else {
+            "run stopped".into()
+        },
+        "±10 %",
+        terminal.is_finite() && err.abs() <= 0.10,
+    );
+    let _ = writeln!(report.md);
+    Ok(())
+}

@@ -723,12 +723,13 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 21] = [
+const CASES: [&str; 22] = [
     "sod",
     "sod-ice",
     "ratestick",
     "water-air-ice",
     "piston",
+    "cylinder",
     "smooth",
     "cj",
     "bar",
@@ -787,6 +788,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;
+    }
+    if run("cylinder") {
+        ice_mpm_cases::e_cylinder(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;

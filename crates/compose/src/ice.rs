@@ -344,9 +344,10 @@ pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Probl
 }
 
 /// Builds the solver; with `own_density` every trace material takes its
-/// own density at the region's pressure and temperature (the IceMpm
-/// pipeline, whose solid and gases must not trace each other's density),
-/// else the rule of the module doc.
+/// own density at the region's pressure and temperature, or at 300 K where
+/// it has none at the region's temperature (the IceMpm pipeline, whose
+/// solid and gases must not trace each other's density), else the rule of
+/// the module doc.
 pub(crate) fn build_with_traces(
     s: &Scenario,
     cfg: &IceConfig,
@@ -393,12 +394,17 @@ pub(crate) fn build_with_traces(
                     let density = if k == m {
                         p.density
                     } else if own_density {
-                        eos[k].density(p.pressure, t_region).map_err(|e| {
-                            (
-                                format!("initial.{i}.state"),
-                                format!("trace of `{}`: {e}", cfg.materials[k]),
-                            )
-                        })?
+                        // At the region's temperature, else (a solid trace
+                        // in hot products) at room temperature.
+                        eos[k]
+                            .density(p.pressure, t_region)
+                            .or_else(|_| eos[k].density(p.pressure, 300.0))
+                            .map_err(|e| {
+                                (
+                                    format!("initial.{i}.state"),
+                                    format!("trace of `{}`: {e}", cfg.materials[k]),
+                                )
+                            })?
                     } else {
                         trace_density(&eos[k], p.density, p.pressure, t_region).map_err(|e| {
                             (

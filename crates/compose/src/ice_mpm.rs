@@ -218,3 +218,29 @@ mod tests {
         assert!(text.contains("pipeline.solid"), "{text}");
     }
 }
+
+#[cfg(test)]
+mod cylinder_tests {
+    use crate::build::build;
+    use crate::load_str;
+
+    const CYLINDER: &str = include_str!("../../../configs/cylinder_icempm.ron");
+
+    /// configs/cylinder_icempm.ron builds (four materials, the copper tube
+    /// as particles) and takes its first steps with a positive, finite
+    /// pressure everywhere and the booster's pressure at the tube's end.
+    #[test]
+    fn the_cylinder_config_builds_and_steps() {
+        let loaded = load_str("cylinder_icempm.ron", CYLINDER, &[]).unwrap();
+        let mut built = build(&loaded.scenario).unwrap();
+        for _ in 0..3 {
+            let dt = built.stable_dt().unwrap();
+            built.advance(dt).unwrap();
+        }
+        let p = built.cell_data(&["pressure".into()]).unwrap();
+        let p = p.field("pressure").unwrap();
+        assert!(p.iter().all(|x| *x > 0.0 && x.is_finite()));
+        // The booster's 10 GPa is there at the start of the tube.
+        assert!(p[0] > 1e9, "p at the booster {} Pa", p[0]);
+    }
+}

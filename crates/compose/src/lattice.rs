@@ -15,13 +15,13 @@
 //! A material with an `arrhenius` law regresses where it meets the fluid
 //! (seed 003 §2.4, `brisance_pd::msdm::regress`); `regression` says which
 //! exterior nodes are fluid. A `pack` replaces the material of the solid
-//! nodes by a crystal/binder image (PGM, one node per pixel) or a random
+//! nodes by a crystal/binder image (PGM or PNG, one node per pixel) or a random
 //! pack of discs (`brisance_pd::msdm::pack`).
 
 use std::collections::BTreeMap;
 
 use brisance_eos::EosModel;
-use brisance_pd::msdm::pack::{area_fraction, random_disc_pack, read_pgm, GrayImage};
+use brisance_pd::msdm::pack::{area_fraction, random_disc_pack, read_image, GrayImage};
 use brisance_pd::msdm::regress::{Arrhenius, SurfaceRegression};
 use brisance_pd::msdm::{
     Damping, Dim, Geometry, Hysteretic, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions,
@@ -125,7 +125,7 @@ fn default_step_fraction() -> f64 {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum PackConfig {
-    /// A PGM image (`P5` or `P2`) with one pixel per node of the domain
+    /// A PGM (`P5` or `P2`) or PNG image with one pixel per node of the domain
     /// (width × height = the node counts along x × y; row 0 at the top):
     /// `crystal` where the grey level is at least `threshold`, `binder`
     /// elsewhere. `path` is relative to the working directory.
@@ -573,7 +573,7 @@ fn pack_materials(
                 )
             })?;
             let img: GrayImage =
-                read_pgm(&bytes).map_err(|e| ("pipeline.pack.path".to_string(), e))?;
+                read_image(&bytes).map_err(|e| ("pipeline.pack.path".to_string(), e))?;
             if img.width != n[0] || img.height != n[1] {
                 return Err((
                     "pipeline.pack.path".into(),

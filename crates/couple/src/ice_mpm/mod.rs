@@ -22,8 +22,9 @@
 //! ([`IceSolver::set_lagrangian`]) whose state in each cell is imported
 //! from the particles before the equilibration. Where no particle is near,
 //! it is a trace of volume fraction [`TRACE_FRACTION`] at its reference
-//! density with the velocity and temperature of the cell's fluids, so that
-//! the exchange moves nothing there. Choices the seed leaves open are in
+//! density and temperature (the particles' initial means) with the
+//! velocity of the cell's fluids, so that the momentum exchange moves
+//! nothing there. Choices the seed leaves open are in
 //! `docs/physics/couple/ice_mpm.md`.
 
 pub mod cases;
@@ -90,6 +91,7 @@ struct FluidFrame<'a> {
     solid: usize,
     grid: UniformGridGeometry,
     reference_volume: f64,
+    reference_temperature: f64,
     s: &'a mut Scratch,
 }
 
@@ -124,13 +126,13 @@ impl FluidFrame<'_> {
         let v_ref = self.reference_volume;
         for k in 0..g.cell_count() {
             let rho = s.cell_mass[k] / cell_volume;
-            let (v, t) = s.cell_state[k].unwrap_or((v_ref, s.fluid_temperature[k]));
+            let (v, t) = s.cell_state[k].unwrap_or((v_ref, self.reference_temperature));
             let trace = !(rho * v > TRACE_FRACTION);
             s.trace[k] = trace;
             if trace {
                 s.mass_density[k] = TRACE_FRACTION / v_ref;
                 s.specific_volume[k] = v_ref;
-                s.temperature[k] = s.fluid_temperature[k];
+                s.temperature[k] = self.reference_temperature;
                 s.cell_velocity[k] = s.fluid_velocity[k];
             } else {
                 s.mass_density[k] = rho;
@@ -212,6 +214,7 @@ pub struct IceMpm {
     mpm: MpmSolver,
     solid: usize,
     reference_volume: f64,
+    reference_temperature: f64,
     scratch: Scratch,
 }
 
@@ -255,11 +258,13 @@ impl IceMpm {
         if ps.is_empty() {
             return Err(IceMpmError("the solid has no particles".into()));
         }
-        let (m, v): (f64, f64) = ps
-            .mass
-            .iter()
-            .zip(&ps.initial_volume)
-            .fold((0.0, 0.0), |a, (m, v)| (a.0 + m, a.1 + v));
+        let (m, v, mt) = (0..ps.len()).fold((0.0, 0.0, 0.0), |a, p| {
+            (
+                a.0 + ps.mass[p],
+                a.1 + ps.initial_volume[p],
+                a.2 + ps.mass[p] * ps.temperature[p],
+            )
+        });
         let mask: Vec<bool> = (0..n).map(|r| r == solid).collect();
         ice.set_lagrangian(&mask)
             .map_err(|e| IceMpmError(e.to_string()))?;
@@ -269,6 +274,7 @@ impl IceMpm {
             mpm,
             solid,
             reference_volume: v / m,
+            reference_temperature: mt / m,
             scratch: Scratch::sized(cells),
         };
         coupled
@@ -298,6 +304,7 @@ impl IceMpm {
             solid: self.solid,
             grid,
             reference_volume: self.reference_volume,
+            reference_temperature: self.reference_temperature,
             s: &mut self.scratch,
         };
         frame.project_particles_to_cells(&nodes, self.mpm.particles());
@@ -357,6 +364,7 @@ impl Solver for IceMpm {
             solid: self.solid,
             grid: self.mpm.level().geometry,
             reference_volume: self.reference_volume,
+            reference_temperature: self.reference_temperature,
             s: &mut self.scratch,
         };
         // Steps 1–11, 13 and 14 (the module doc's table).
