@@ -703,16 +703,10 @@ impl MpmSolver {
         })
     }
 
-    /// One explicit step of Δt = `dt` (see the module doc): bin, transfer,
-    /// update the stresses, remove the particles that left.
-    fn step(&mut self, dt: f64) -> Result<(), SolverError> {
-        self.sort_particles()?;
-        if self.options.anti_locking == AntiLocking::FBar {
-            let grid = &self.level.geometry;
-            if let Err(e) = self.work.average.assign(grid, &self.particles.position) {
-                return Err(self.particle_error(e.index, e.to_string()));
-            }
-        }
+    /// The nodal forces of the surface tractions at the current time, in
+    /// the reused buffer (hand it back to `self.surface_forces` after the
+    /// step).
+    fn take_surface_forces(&mut self) -> Result<Vec<(usize, [f64; 3])>, SolverError> {
         let mut surface_forces = std::mem::take(&mut self.surface_forces);
         if let Err((p, why)) = traction::surface_node_forces(
             &self.loads,
@@ -724,18 +718,30 @@ impl MpmSolver {
         ) {
             return Err(self.particle_error(p, why));
         }
+        Ok(surface_forces)
+    }
+
+    /// One explicit step of Δt = `dt` (see the module doc): bin, transfer,
+    /// update the stresses, remove the particles that left.
+    fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.sort_particles()?;
+        if self.options.anti_locking == AntiLocking::FBar {
+            let grid = &self.level.geometry;
+            if let Err(e) = self.work.average.assign(grid, &self.particles.position) {
+                return Err(self.particle_error(e.index, e.to_string()));
+            }
+        }
+        let surface_forces = self.take_surface_forces()?;
         let grid = self.level.geometry;
         let params = StepParams {
-            grid: &grid,
-            shape: self.options.shape,
-            scheme: self.options.scheme,
-            gravity: self.options.gravity,
-            boundaries: &self.options.boundaries,
-            mass_threshold: self.options.mass_cutoff * self.reference_particle_mass,
-            materials: &self.materials,
-            dt,
-            bulk_viscosity: self.viscosity_params(),
             surface_forces: &surface_forces,
+            ..step_params(
+                &self.options,
+                &self.materials,
+                self.reference_particle_mass,
+                &grid,
+                dt,
+            )
         };
         let work = &mut self.work;
         let t = step::Transfer {
@@ -970,6 +976,33 @@ impl MpmSolver {
                 })
             })
             .collect()
+    }
+}
+
+/// The parameters of a step of Δt = `dt` on `grid` (a copy of the
+/// level's geometry), without surface forces; free of `self` so that the
+/// step can borrow the work arrays mutably beside it.
+fn step_params<'a>(
+    options: &'a MpmOptions,
+    materials: &'a [MaterialModel],
+    reference_particle_mass: f64,
+    grid: &'a brisance_core::UniformGridGeometry,
+    dt: f64,
+) -> StepParams<'a> {
+    StepParams {
+        grid,
+        shape: options.shape,
+        scheme: options.scheme,
+        gravity: options.gravity,
+        boundaries: &options.boundaries,
+        mass_threshold: options.mass_cutoff * reference_particle_mass,
+        materials,
+        dt,
+        bulk_viscosity: options.bulk_viscosity.map(|model| ViscosityParams {
+            model,
+            length: viscosity_length(grid),
+        }),
+        surface_forces: &[],
     }
 }
 

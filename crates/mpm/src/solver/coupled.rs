@@ -109,18 +109,13 @@ impl MpmSolver {
     pub fn project_to_nodes(&mut self) -> Result<&GridNodes, SolverError> {
         self.sort_particles()?;
         let grid = self.level.geometry;
-        let params = StepParams {
-            grid: &grid,
-            shape: self.options.shape,
-            scheme: self.options.scheme,
-            gravity: self.options.gravity,
-            boundaries: &self.options.boundaries,
-            mass_threshold: self.options.mass_cutoff * self.reference_particle_mass,
-            materials: &self.materials,
-            dt: 0.0,
-            bulk_viscosity: None,
-            surface_forces: &[],
-        };
+        let params = step_params(
+            &self.options,
+            &self.materials,
+            self.reference_particle_mass,
+            &grid,
+            0.0,
+        );
         let t = Transfer {
             map: &self.work.map,
             bins: &self.work.bins,
@@ -135,29 +130,17 @@ impl MpmSolver {
         coupling: &mut impl GridCoupling,
     ) -> Result<(), SolverError> {
         self.sort_particles()?;
-        let mut surface_forces = std::mem::take(&mut self.surface_forces);
-        if let Err((p, why)) = traction::surface_node_forces(
-            &self.loads,
-            self.time,
-            &self.work.map,
-            &self.particles,
-            &self.ids,
-            &mut surface_forces,
-        ) {
-            return Err(self.particle_error(p, why));
-        }
+        let surface_forces = self.take_surface_forces()?;
         let grid = self.level.geometry;
         let params = StepParams {
-            grid: &grid,
-            shape: self.options.shape,
-            scheme: self.options.scheme,
-            gravity: self.options.gravity,
-            boundaries: &self.options.boundaries,
-            mass_threshold: self.options.mass_cutoff * self.reference_particle_mass,
-            materials: &self.materials,
-            dt,
-            bulk_viscosity: self.viscosity_params(),
             surface_forces: &surface_forces,
+            ..step_params(
+                &self.options,
+                &self.materials,
+                self.reference_particle_mass,
+                &grid,
+                dt,
+            )
         };
         let work = &mut self.work;
         let t = Transfer {
