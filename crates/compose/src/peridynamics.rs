@@ -50,6 +50,12 @@ pub struct PdConfig {
     /// Program burn (needed when a region is an explosive).
     #[serde(default)]
     pub detonation: Option<PdDetonationConfig>,
+    /// Pair viscosity between approaching products nodes, its work returned
+    /// as heat (`brisance_pd::GasViscosity`, docs/physics/pd/gas.md):
+    /// `gas_viscosity: (linear: 1.0, quadratic: 2.0)`; default none (measured not to
+    /// help the cylinder test).
+    #[serde(default)]
+    pub gas_viscosity: Option<brisance_pd::GasViscosity>,
 }
 
 fn default_horizon_factor() -> f64 {
@@ -346,7 +352,11 @@ pub fn validate(s: &Scenario, pd: &PdConfig) -> Result<(), Problem> {
 /// Builds the peridynamic solver.
 pub fn build(s: &Scenario, pd: &PdConfig) -> Result<PdSolver, Problem> {
     let setup = setup(s, pd)?;
-    PdSolver::new(setup).map_err(|e| ("pipeline".to_string(), e.to_string()))
+    let mut solver = PdSolver::new(setup).map_err(|e| ("pipeline".to_string(), e.to_string()))?;
+    solver
+        .set_gas_viscosity(pd.gas_viscosity)
+        .map_err(|e| ("pipeline.gas_viscosity".to_string(), e.to_string()))?;
+    Ok(solver)
 }
 
 /// One paragraph for `check`.
@@ -401,6 +411,30 @@ mod tests {
         let text = include_str!("../../../configs/pd_fragment.ron");
         let e = load_str("bad.ron", text, &["initial.1.material=\"stele\"".into()]).unwrap_err();
         assert!(e.to_string().contains("initial.1.material"), "{e}");
+    }
+
+    /// `gas_viscosity` reaches the solver from the config, and a negative
+    /// coefficient is refused naming the field.
+    #[test]
+    fn gas_viscosity_is_read_and_checked() {
+        let text = include_str!("../../../configs/pd_cylinder.ron");
+        let ok = "pipeline.gas_viscosity=(linear: 1.0, quadratic: 2.0)";
+        let loaded = load_str("v.ron", text, &[ok.into()]).unwrap();
+        let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+            panic!("not a Peridynamics pipeline");
+        };
+        assert_eq!(
+            pd.gas_viscosity,
+            Some(brisance_pd::GasViscosity {
+                linear: 1.0,
+                quadratic: 2.0
+            })
+        );
+        let bad = "pipeline.gas_viscosity=(linear: -1.0, quadratic: 2.0)";
+        let e = load_str("v.ron", text, &[bad.into()])
+            .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))
+            .unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.gas_viscosity"), "{e}");
     }
 
     /// Cell fields and line-outs have no grid to live on: asking for them
