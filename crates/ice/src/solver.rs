@@ -214,6 +214,23 @@ fn for_each_cell_global(
         });
 }
 
+/// Fills `out` (one entry per cell, global order, x fastest) with
+/// `f(patch id, local index)`, cells in parallel: each entry depends on
+/// its own cell only, so the bits do not depend on the thread count.
+fn par_gather<T: Send>(level: &Level, out: &mut [T], f: impl Fn(usize, usize) -> T + Sync) {
+    let n = level.geometry.cells;
+    out.par_iter_mut()
+        .with_min_len(1024)
+        .enumerate()
+        .for_each(|(k, o)| {
+            let g = [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])];
+            let (pid, c) = level
+                .locate(g)
+                .expect("every cell of the domain has a patch");
+            *o = f(pid, c);
+        });
+}
+
 fn global_of(p: &Patch, n: usize) -> [usize; 3] {
     let d = p.dims();
     p.global_of_local([n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])])
@@ -781,17 +798,17 @@ impl<E: Eos> IceSolver<E> {
         assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
         let count = self.level.geometry.cell_count();
         assert!(dv.len() == count && dtemp.len() == count);
-        let geometry = self.level.geometry;
         let eos = &self.eos[r];
-        self.level.for_each_cell_in_order(|g, pid, c| {
+        par_gather(&self.level, dv, |pid, c| {
             let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
             let (b, bl) = (r * NS, r * NL);
-            let k = geometry.linear_index(g);
-            for a in 0..3 {
-                dv[k][a] = l[bl + L_VEL + a][c] - d[b + VEL + a][c];
-            }
+            std::array::from_fn(|a| l[bl + L_VEL + a][c] - d[b + VEL + a][c])
+        });
+        par_gather(&self.level, dtemp, |pid, c| {
+            let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
+            let (b, bl) = (r * NS, r * NL);
             let rho_micro = 1.0 / d[b + VSP][c];
-            dtemp[k] = eos.temperature(rho_micro, l[bl + L_ENERGY][c]) - d[b + TEMP][c];
+            eos.temperature(rho_micro, l[bl + L_ENERGY][c]) - d[b + TEMP][c]
         });
     }
 
@@ -803,21 +820,35 @@ impl<E: Eos> IceSolver<E> {
         let geometry = self.level.geometry;
         assert!(velocity.len() == geometry.cell_count() && temperature.len() == velocity.len());
         let n = self.eos.len();
-        self.level.for_each_cell_in_order(|g, pid, c| {
-            let d = &self.state[pid].data;
-            let k = geometry.linear_index(g);
-            let (mut m, mut mu, mut mt) = (0.0, [0.0; 3], 0.0);
-            for r in (0..n).filter(|&r| !self.lagrangian[r]) {
-                let rho = d[r * NS + RHO][c];
-                m += rho;
-                for a in 0..3 {
-                    mu[a] += rho * d[r * NS + VEL + a][c];
+        let cells = geometry.cells;
+        let level = &self.level;
+        velocity
+            .par_iter_mut()
+            .zip(temperature.par_iter_mut())
+            .with_min_len(1024)
+            .enumerate()
+            .for_each(|(k, (vel, temp))| {
+                let g = [
+                    k % cells[0],
+                    (k / cells[0]) % cells[1],
+                    k / (cells[0] * cells[1]),
+                ];
+                let (pid, c) = level
+                    .locate(g)
+                    .expect("every cell of the domain has a patch");
+                let d = &self.state[pid].data;
+                let (mut m, mut mu, mut mt) = (0.0, [0.0; 3], 0.0);
+                for r in (0..n).filter(|&r| !self.lagrangian[r]) {
+                    let rho = d[r * NS + RHO][c];
+                    m += rho;
+                    for a in 0..3 {
+                        mu[a] += rho * d[r * NS + VEL + a][c];
+                    }
+                    mt += rho * d[r * NS + TEMP][c];
                 }
-                mt += rho * d[r * NS + TEMP][c];
-            }
-            velocity[k] = mu.map(|x| x / m);
-            temperature[k] = mt / m;
-        });
+                *vel = mu.map(|x| x / m);
+                *temp = mt / m;
+            });
     }
 
     /// The time-advanced pressure p = p_eq + Δp of step 5 (eq 21), per
@@ -825,9 +856,7 @@ impl<E: Eos> IceSolver<E> {
     pub fn advanced_pressure(&self, out: &mut [f64]) {
         let geometry = self.level.geometry;
         assert_eq!(out.len(), geometry.cell_count());
-        self.level.for_each_cell_in_order(|g, pid, c| {
-            out[geometry.linear_index(g)] = self.press[pid].data[0][c];
-        });
+        par_gather(&self.level, out, |pid, c| self.press[pid].data[0][c]);
     }
 
     /// The equilibration pressure of step 2 per cell in global order.
@@ -835,9 +864,7 @@ impl<E: Eos> IceSolver<E> {
         let geometry = self.level.geometry;
         assert_eq!(out.len(), geometry.cell_count());
         let n = self.eos.len();
-        self.level.for_each_cell_in_order(|g, pid, c| {
-            out[geometry.linear_index(g)] = self.state[pid].data[n * NS][c];
-        });
+        par_gather(&self.level, out, |pid, c| self.state[pid].data[n * NS][c]);
     }
 
     /// Ends a step the coupled pipeline drove through the step functions:

@@ -36,6 +36,7 @@ use brisance_core::{
 use brisance_eos::EosModel;
 use brisance_ice::{IceSolver, LagrangianCells};
 use brisance_mpm::{GridCoupling, GridNodes, MpmSolver, Particles};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Volume fraction of the solid in cells where no particle is.
@@ -124,22 +125,34 @@ impl FluidFrame<'_> {
             .eulerian_mixture(&mut s.fluid_velocity, &mut s.fluid_temperature);
         let cell_volume: f64 = g.spacing.iter().product();
         let v_ref = self.reference_volume;
-        for k in 0..g.cell_count() {
-            let rho = s.cell_mass[k] / cell_volume;
-            let (v, t) = s.cell_state[k].unwrap_or((v_ref, self.reference_temperature));
-            let trace = !(rho * v > TRACE_FRACTION);
-            s.trace[k] = trace;
-            if trace {
-                s.mass_density[k] = TRACE_FRACTION / v_ref;
-                s.specific_volume[k] = v_ref;
-                s.temperature[k] = self.reference_temperature;
-                s.cell_velocity[k] = s.fluid_velocity[k];
-            } else {
-                s.mass_density[k] = rho;
-                s.specific_volume[k] = v;
-                s.temperature[k] = t;
-            }
-        }
+        let t_ref = self.reference_temperature;
+        (
+            s.cell_mass.par_iter(),
+            s.cell_state.par_iter(),
+            s.fluid_velocity.par_iter(),
+            s.trace.par_iter_mut(),
+            s.mass_density.par_iter_mut(),
+            s.specific_volume.par_iter_mut(),
+            s.temperature.par_iter_mut(),
+            s.cell_velocity.par_iter_mut(),
+        )
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(m, state, uf, trace, rho_out, v_out, t_out, u_out)| {
+                let rho = m / cell_volume;
+                let (v, t) = state.unwrap_or((v_ref, t_ref));
+                *trace = !(rho * v > TRACE_FRACTION);
+                if *trace {
+                    *rho_out = TRACE_FRACTION / v_ref;
+                    *v_out = v_ref;
+                    *t_out = t_ref;
+                    *u_out = *uf;
+                } else {
+                    *rho_out = rho;
+                    *v_out = v;
+                    *t_out = t;
+                }
+            });
     }
 }
 
@@ -188,11 +201,15 @@ impl GridCoupling for FluidFrame<'_> {
             &mut s.cell_mass,
             &mut s.cell_velocity,
         );
-        for k in 0..g.cell_count() {
-            if s.trace[k] {
-                s.cell_velocity[k] = s.fluid_velocity[k];
-            }
-        }
+        s.cell_velocity
+            .par_iter_mut()
+            .zip(s.trace.par_iter().zip(s.fluid_velocity.par_iter()))
+            .with_min_len(1024)
+            .for_each(|(u, (trace, uf))| {
+                if *trace {
+                    *u = *uf;
+                }
+            });
         self.ice
             .set_lagrangian_velocity(self.solid, &s.cell_velocity);
         self.ice.compute_lagrangian_values(dt)?;
