@@ -70,6 +70,11 @@ pub struct IceConfig {
     /// Reactions between the materials (step 4; default none).
     #[serde(default)]
     pub reactions: Vec<IceReactionConfig>,
+    /// Step 2 at fixed specific internal energies instead of along the
+    /// isotherms (default false; see docs/physics/ice/water_air.md: needed
+    /// for stiffened gases, about a third more per step).
+    #[serde(default)]
+    pub fixed_energy_equilibration: bool,
 }
 
 /// One reaction of the Ice pipeline.
@@ -454,6 +459,7 @@ pub(crate) fn build_with_traces(
         cfl: cfg.cfl,
         advection: cfg.advection,
         conserve_total_energy: cfg.conserve_total_energy,
+        fixed_energy_equilibration: cfg.fixed_energy_equilibration,
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);

@@ -86,6 +86,15 @@ pub struct IceOptions {
     /// numerical dissipation removes stays as heat — which correct shock
     /// jumps need. `false` follows eqs 25 and step 12 literally.
     pub conserve_total_energy: bool,
+    /// Step 2 holds each material's specific internal energy fixed and
+    /// solves eq 7 with its own pressure law p_r(v_r, e_r)
+    /// ([`crate::equilibration::equilibration_pressure_at_fixed_energy`]),
+    /// instead of moving it along its isotherm at the temperature of its
+    /// old state and keeping e_r. For ideal gases the two agree; for a
+    /// stiffened gas or a solid they do not, and the isothermal form can
+    /// leave a material off its own EOS (docs/physics/ice/water_air.md).
+    /// Off by default: it costs about a third more per step.
+    pub fixed_energy_equilibration: bool,
 }
 
 impl Default for IceOptions {
@@ -97,6 +106,7 @@ impl Default for IceOptions {
             min_dt: 1e-14,
             equilibration: EquilibrationSettings::default(),
             conserve_total_energy: true,
+            fixed_energy_equilibration: false,
         }
     }
 }
@@ -1540,15 +1550,32 @@ fn equilibrate_cell<E: Eos>(
             }
         }
     }
-    let (p, rep) = equilibration_pressure(
-        params.eos,
-        &rho[..n],
-        &temp[..n],
-        vals[n * NS],
-        &params.options.equilibration,
-        &mut vsp[..n],
-        &mut theta[..n],
-    )
+    let (p, rep) = if params.options.fixed_energy_equilibration {
+        let mut energy = [0.0; MAX_MATERIALS];
+        for r in 0..n {
+            energy[r] = vals[r * NS + ENERGY];
+            vsp[r] = vals[r * NS + VSP];
+        }
+        crate::equilibration::equilibration_pressure_at_fixed_energy(
+            params.eos,
+            &rho[..n],
+            &energy[..n],
+            vals[n * NS],
+            &params.options.equilibration,
+            &mut vsp[..n],
+            &mut theta[..n],
+        )
+    } else {
+        equilibration_pressure(
+            params.eos,
+            &rho[..n],
+            &temp[..n],
+            vals[n * NS],
+            &params.options.equilibration,
+            &mut vsp[..n],
+            &mut theta[..n],
+        )
+    }
     .map_err(|e| (0, e.to_string()))?;
     for r in 0..n {
         let b = r * NS;
