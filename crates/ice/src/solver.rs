@@ -822,43 +822,24 @@ impl<E: Eos> IceSolver<E> {
         });
     }
 
-    /// The mass-weighted velocity and temperature of the Eulerian
-    /// materials of every cell, in global order: the state a Lagrangian
-    /// material takes as a trace where no particle is, so that the
-    /// exchange moves nothing there.
-    pub fn eulerian_mixture(&self, velocity: &mut [[f64; 3]], temperature: &mut [f64]) {
-        let geometry = self.level.geometry;
-        assert!(velocity.len() == geometry.cell_count() && temperature.len() == velocity.len());
+    /// The mass-weighted velocity of the Eulerian materials of every cell,
+    /// in global order: the velocity a Lagrangian material takes as a trace
+    /// where no particle is, so that the exchange moves nothing there.
+    pub fn eulerian_velocity(&self, velocity: &mut [[f64; 3]]) {
+        assert_eq!(velocity.len(), self.level.geometry.cell_count());
         let n = self.eos.len();
-        let cells = geometry.cells;
-        let level = &self.level;
-        velocity
-            .par_iter_mut()
-            .zip(temperature.par_iter_mut())
-            .with_min_len(1024)
-            .enumerate()
-            .for_each(|(k, (vel, temp))| {
-                let g = [
-                    k % cells[0],
-                    (k / cells[0]) % cells[1],
-                    k / (cells[0] * cells[1]),
-                ];
-                let (pid, c) = level
-                    .locate(g)
-                    .expect("every cell of the domain has a patch");
-                let d = &self.state[pid].data;
-                let (mut m, mut mu, mut mt) = (0.0, [0.0; 3], 0.0);
-                for r in (0..n).filter(|&r| !self.lagrangian[r]) {
-                    let rho = d[r * NS + RHO][c];
-                    m += rho;
-                    for a in 0..3 {
-                        mu[a] += rho * d[r * NS + VEL + a][c];
-                    }
-                    mt += rho * d[r * NS + TEMP][c];
+        par_gather(&self.level, velocity, |pid, c| {
+            let d = &self.state[pid].data;
+            let (mut m, mut mu) = (0.0, [0.0; 3]);
+            for r in (0..n).filter(|&r| !self.lagrangian[r]) {
+                let rho = d[r * NS + RHO][c];
+                m += rho;
+                for a in 0..3 {
+                    mu[a] += rho * d[r * NS + VEL + a][c];
                 }
-                *vel = mu.map(|x| x / m);
-                *temp = mt / m;
-            });
+            }
+            mu.map(|x| x / m)
+        });
     }
 
     /// The time-advanced pressure p = p_eq + Δp of step 5 (eq 21), per

@@ -665,10 +665,7 @@ impl MpmSolver {
 
     /// The viscosity parameters of a step, if the option is on.
     fn viscosity_params(&self) -> Option<ViscosityParams> {
-        self.options.bulk_viscosity.map(|model| ViscosityParams {
-            model,
-            length: viscosity_length(&self.level.geometry),
-        })
+        viscosity_params(&self.options, &self.level.geometry)
     }
 
     /// Every [`RESORT_INTERVAL`] steps, sorts the particles by cell (a
@@ -998,12 +995,20 @@ fn step_params<'a>(
         mass_threshold: options.mass_cutoff * reference_particle_mass,
         materials,
         dt,
-        bulk_viscosity: options.bulk_viscosity.map(|model| ViscosityParams {
-            model,
-            length: viscosity_length(grid),
-        }),
+        bulk_viscosity: viscosity_params(options, grid),
         surface_forces: &[],
     }
+}
+
+/// The bulk-viscosity parameters of a step on `grid`, if the option is on.
+fn viscosity_params(
+    options: &MpmOptions,
+    grid: &brisance_core::UniformGridGeometry,
+) -> Option<ViscosityParams> {
+    options.bulk_viscosity.map(|model| ViscosityParams {
+        model,
+        length: viscosity_length(grid),
+    })
 }
 
 /// m (e + |v|²/2), J.

@@ -58,7 +58,6 @@ struct Scratch {
     specific_volume: Vec<f64>,
     temperature: Vec<f64>,
     fluid_velocity: Vec<[f64; 3]>,
-    fluid_temperature: Vec<f64>,
     trace: Vec<bool>,
     pressure: Vec<f64>,
     cell_change: Vec<[f64; 3]>,
@@ -76,7 +75,6 @@ impl Scratch {
             specific_volume: vec![0.0; cells],
             temperature: vec![0.0; cells],
             fluid_velocity: vec![[0.0; 3]; cells],
-            fluid_temperature: vec![0.0; cells],
             trace: vec![false; cells],
             pressure: vec![0.0; cells],
             cell_change: vec![[0.0; 3]; cells],
@@ -121,8 +119,7 @@ impl FluidFrame<'_> {
             &mut s.node_sums,
             &mut s.cell_state,
         );
-        self.ice
-            .eulerian_mixture(&mut s.fluid_velocity, &mut s.fluid_temperature);
+        self.ice.eulerian_velocity(&mut s.fluid_velocity);
         let cell_volume: f64 = g.spacing.iter().product();
         let v_ref = self.reference_volume;
         let t_ref = self.reference_temperature;
