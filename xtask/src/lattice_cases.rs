@@ -9,7 +9,8 @@ use std::time::Instant;
 use anyhow::Result;
 use brisance::pd::msdm::cases::{
     aphtpb_burn_with, impedance, oscillator_error, propellant_density, regress_disc,
-    regress_rotated_square, rod, BurnResult, RegressResult, AP_HTPB_DENSITY,
+    regress_rotated_square, regress_rotated_square_with, rod, staircase_rate, BurnResult,
+    RegressResult, AP_HTPB_DENSITY,
 };
 use brisance::pd::msdm::Integrator;
 
@@ -237,10 +238,13 @@ pub fn v_impedance(report: &mut Report) -> Result<()> {
 }
 
 /// V-REGRESS: the rotated face and the disc of seed 003 §2.6 (figs. 15–16)
-/// at 40 and 80 nodes across, with the seed's normal rule (radius 1, the
-/// default) and the wider 3-spacing normal.
+/// at 40, 80 and 160 nodes across, with the seed's normal rule (radius 1,
+/// the default) and the wider 3-spacing normal; then the face at angles
+/// from 0° to 45° under the seed's rule beside the staircase rate.
 pub fn v_regress(report: &mut Report, img: &Path) -> Result<()> {
-    println!("V-REGRESS: rotated face and disc, 40 and 80 nodes across, normal radius 1 and 3");
+    println!(
+        "V-REGRESS: rotated face and disc, 40, 80 and 160 nodes across, normal radius 1 and 3"
+    );
     let _ = writeln!(
         report.md,
         "## V-REGRESS — surface regression of a rotated face and a disc (lattice, seed 003 §2.6)\n\n\
@@ -259,7 +263,7 @@ pub fn v_regress(report: &mut Report, img: &Path) -> Result<()> {
     let mut verdicts = Vec::new();
     let mut shown: Option<(RegressResult, RegressResult)> = None;
     for radius in [1.0, 3.0] {
-        for n in [40usize, 80] {
+        for n in [40usize, 80, 160] {
             let t0 = Instant::now();
             let face = regress_rotated_square(n, radius)?;
             let wf = t0.elapsed().as_secs_f64();
@@ -285,6 +289,29 @@ pub fn v_regress(report: &mut Report, img: &Path) -> Result<()> {
                 }
             }
         }
+    }
+    // The seed's rule on a straight front at angle φ: every column's top
+    // node is a face node (layer h) or a corner (layer h/√2), so the front
+    // recedes at (1 + (√2 − 1) tan φ)/√(1 + tan² φ) of the Arrhenius speed
+    // (docs/physics/lattice/regression.md).
+    let _ = writeln!(
+        report.md,
+        "\nThe seed's normal rule on a straight front (face of the same square rotated by φ, 80 nodes across, \
+         normal radius 1) beside the staircase rate (1 + (√2 − 1) tan φ)/√(1 + tan² φ) that the rule gives \
+         when every column's top node is a face node (layer h) or a corner (layer h/√2):\n\n\
+         | φ [°] | rate / Arrhenius (nodes) | rate / Arrhenius (volume) | staircase rate | RMS / h |\n\
+         |---:|---:|---:|---:|---:|"
+    );
+    for angle in [0.0, 7.125, 14.036, 22.5, 30.0, 36.87, 45.0] {
+        let f = regress_rotated_square_with(80, 1.0, angle, 0.05)?;
+        let _ = writeln!(
+            report.md,
+            "| {angle} | {:.4} | {:.4} | {:.4} | {:.3} |",
+            f.rate_ratio,
+            f.rate_ratio_volume,
+            staircase_rate(angle),
+            f.rms / f.spacing
+        );
     }
     let _ = writeln!(
         report.md,

@@ -27,9 +27,18 @@ struct LatticeState {
     /// Node kinds (material, or −1 for exterior): regression converts
     /// solid nodes.
     kind: Vec<i32>,
-    /// Regression: fluid flags, burnable volumes, consumed mass, converted
-    /// count.
-    regression: Option<(Vec<bool>, Vec<f64>, f64, usize)>,
+    /// Surface regression, if on.
+    regression: Option<RegressionState>,
+}
+
+/// The evolving state of a surface regression, for checkpoints.
+#[derive(Serialize, Deserialize)]
+struct RegressionState {
+    fluid: Vec<bool>,
+    remaining: Vec<f64>,
+    carry: Vec<f64>,
+    consumed_mass: f64,
+    converted: usize,
 }
 
 impl MsdmLattice {
@@ -192,13 +201,12 @@ impl Solver for MsdmLattice {
                     NodeKind::Exterior => -1,
                 })
                 .collect(),
-            regression: self.regression.as_ref().map(|r| {
-                (
-                    r.fluid.clone(),
-                    r.remaining.clone(),
-                    r.consumed_mass,
-                    r.converted,
-                )
+            regression: self.regression.as_ref().map(|r| RegressionState {
+                fluid: r.fluid.clone(),
+                remaining: r.remaining.clone(),
+                carry: r.carry.clone(),
+                consumed_mass: r.consumed_mass,
+                converted: r.converted,
             }),
         };
         bincode::serialize(&s).map_err(|e| SolverError::Checkpoint(e.to_string()))
@@ -232,12 +240,21 @@ impl Solver for MsdmLattice {
                 self.len()
             )));
         }
+        let n = self.len();
         match (&mut self.regression, s.regression) {
-            (Some(r), Some((fluid, remaining, consumed, converted))) => {
-                r.fluid = fluid;
-                r.remaining = remaining;
-                r.consumed_mass = consumed;
-                r.converted = converted;
+            (Some(r), Some(state)) => {
+                if state.carry.len() != n || state.fluid.len() != n || state.remaining.len() != n {
+                    return Err(SolverError::Checkpoint(format!(
+                        "checkpoint has regression state for {} nodes, the lattice {}",
+                        state.fluid.len(),
+                        n
+                    )));
+                }
+                r.fluid = state.fluid;
+                r.remaining = state.remaining;
+                r.carry = state.carry;
+                r.consumed_mass = state.consumed_mass;
+                r.converted = state.converted;
             }
             (None, None) => {}
             _ => {
