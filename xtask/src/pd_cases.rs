@@ -86,8 +86,9 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         "\nThe products' kinetic energy at 45 µs, as shares of the released energy: axial (½ m v_z²) {:.0} %, \
          transverse {:.0} %; node-scale (non-affine: about the least-squares affine velocity field of each node's \
          products family) {:.1} %; about the family mean velocity alone (which counts the resolved gradient across \
-         a horizon too) {:.0} %. Axial momentum: products {:.2} N s, all nodes {:.2} N s (the explosive ahead of \
-         the front is held, docs/physics/pd/program_burn.md). Products artificial viscosity: {}.",
+         a horizon too) {:.0} %. Axial momentum: products {:.2} N s, all nodes {:.2e} N s (0 to round-off: the \
+         explosive ahead of the front is a Murnaghan solid the products push, docs/physics/pd/program_burn.md). \
+         Products artificial viscosity: {}.",
         100.0 * m.axial / released,
         100.0 * m.transverse / released,
         100.0 * m.non_affine / released,

@@ -15,7 +15,7 @@ use brisance_eos::Jwl;
 use brisance_pd::{
     BodySpec, BurnMethod, ContactOptions, DetonationPoint, DetonationSpec, Dimension, Gas,
     PdBoundary, PdMaterial, PdOptions, PdSetup, PdSolver, ProductsIsentrope, Proportional,
-    ProportionalKind,
+    ProportionalKind, Reactant,
 };
 use serde::{Deserialize, Serialize};
 
@@ -125,6 +125,11 @@ pub enum PdMaterialConfig {
         /// Detonation velocity for program burn, m/s.
         #[serde(default)]
         detonation_velocity: Option<f64>,
+        /// The unreacted explosive's Murnaghan response before its
+        /// detonation time, `(n: ..., kappa: ...)` (omit for none: the
+        /// products then do not push the explosive ahead of the front).
+        #[serde(default)]
+        reactant: Option<Reactant>,
     },
     /// An explosive with ideal-gas products (seed 004 eq 29).
     IdealGasExplosive {
@@ -137,6 +142,11 @@ pub enum PdMaterialConfig {
         /// Detonation velocity for program burn, m/s.
         #[serde(default)]
         detonation_velocity: Option<f64>,
+        /// The unreacted explosive's Murnaghan response before its
+        /// detonation time, `(n: ..., kappa: ...)` (omit for none: the
+        /// products then do not push the explosive ahead of the front).
+        #[serde(default)]
+        reactant: Option<Reactant>,
     },
 }
 
@@ -195,13 +205,18 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
         PdMaterialConfig::JwlExplosive {
             jwl,
             detonation_velocity,
+            reactant,
         } => {
             let (isentrope, cj) =
                 ProductsIsentrope::from_jwl(jwl).map_err(|e| err("jwl", e.to_string()))?;
+            if let Some(r) = reactant {
+                r.validate().map_err(|e| err("reactant", e))?;
+            }
             let g = Gas {
                 density: jwl.rho0,
                 detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
                 isentrope,
+                reactant: *reactant,
             };
             PdMaterial::Gas(g)
                 .validate()
@@ -213,13 +228,18 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
             density,
             heat,
             detonation_velocity,
+            reactant,
         } => {
             let (isentrope, cj) = ProductsIsentrope::ideal_gas(*gamma, *density, *heat)
                 .map_err(|e| (path.to_string(), e.to_string()))?;
+            if let Some(r) = reactant {
+                r.validate().map_err(|e| err("reactant", e))?;
+            }
             let g = Gas {
                 density: *density,
                 detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
                 isentrope,
+                reactant: *reactant,
             };
             PdMaterial::Gas(g)
                 .validate()
@@ -435,6 +455,31 @@ mod tests {
             .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))
             .unwrap_err();
         assert_eq!(e.field.as_deref(), Some("pipeline.gas_viscosity"), "{e}");
+    }
+
+    /// The explosive's `reactant` reaches the solver from the config, and
+    /// an invalid one is refused naming the field.
+    #[test]
+    fn reactant_is_read_and_checked() {
+        let text = include_str!("../../../configs/pd_cylinder.ron");
+        let loaded = load_str("r.ron", text, &[]).unwrap();
+        let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+            panic!("not a Peridynamics pipeline");
+        };
+        let Some(super::PdMaterialConfig::JwlExplosive { reactant, .. }) = pd.materials.get("tnt")
+        else {
+            panic!("no JWL explosive `tnt`");
+        };
+        assert_eq!(*reactant, Some(brisance_pd::Reactant::tnt()));
+        let bad = "pipeline.materials.tnt.reactant=(n: 0.5, kappa: 1.0e-10)";
+        let e = load_str("r.ron", text, &[bad.into()])
+            .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))
+            .unwrap_err();
+        assert_eq!(
+            e.field.as_deref(),
+            Some("pipeline.materials.tnt.reactant"),
+            "{e}"
+        );
     }
 
     /// Cell fields and line-outs have no grid to live on: asking for them

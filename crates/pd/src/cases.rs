@@ -12,7 +12,7 @@
 //! reference state (seed 004 eqs 20–21, 30).
 
 use crate::lattice::BodySpec;
-use crate::material::{Gas, PdMaterial, Proportional, ProportionalKind};
+use crate::material::{Gas, PdMaterial, Proportional, ProportionalKind, Reactant};
 use crate::solver::{BurnMethod, DetonationSpec, PdOptions, PdSetup, PdSetupError, PdSolver};
 use crate::Fragment;
 use brisance_core::Solver;
@@ -98,6 +98,7 @@ pub fn tnt_products() -> Result<Gas, PdSetupError> {
         density: Jwl::tnt().rho0,
         detonation_velocity: cj.detonation_velocity,
         isentrope,
+        reactant: Some(Reactant::tnt()),
     })
 }
 

@@ -45,7 +45,7 @@ pub use fragments::{
 };
 pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec, NodeCloud};
 pub use material::{
-    micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind,
+    micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind, Reactant,
 };
 pub use solver::{
     BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,

@@ -132,6 +132,78 @@ pub struct Gas {
     pub detonation_velocity: f64,
     /// The products isentrope P_S(X).
     pub isentrope: ProductsIsentrope,
+    /// The unreacted explosive's response before its detonation time
+    /// (None: none; the products then do not push explosive ahead of the
+    /// front, `docs/physics/pd/program_burn.md`).
+    #[serde(default)]
+    pub reactant: Option<Reactant>,
+}
+
+/// The unreacted explosive as a peridynamic gas of the Murnaghan equation
+/// of state (seed 000 eq 33, the JWL++ reactant; seed 004 is silent on the
+/// explosive ahead of the front), written in the expansion X of seed 004
+/// eq 17 (X = v/v₀ = ρ₀/ρ):
+///
+/// ```text
+/// P_u(X) = (X^{−n} − 1)/(nκ),
+/// W_u(X) = −∫₁^X P_u dX' = [(X^{1−n} − 1)/(n − 1) + X − 1]/(nκ)
+/// ```
+///
+/// per unit reference volume. It goes through the same pair force as the
+/// products (eqs 18–19 hold for any P(X)), so the products' push on the
+/// explosive ahead of the front is resisted and the pair force stays odd
+/// (eq 2). X = 1 is force-free; tension (X > 1) gives the bounded
+/// P_u → −1/(nκ).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Reactant {
+    /// n = dK/dP, dimensionless (> 1).
+    pub n: f64,
+    /// κ = 1/K₀, compressibility at zero pressure, 1/Pa.
+    pub kappa: f64,
+}
+
+impl Reactant {
+    /// Cast TNT from its shock Hugoniot U_s = c₀ + s u_p, c₀ = 2390 m/s,
+    /// s = 2.05 (LASL Shock Hugoniot Data, Marsh 1980, TNT at
+    /// 1.614 g/cm³): K₀ = ρ₀c₀² at the JWL set's ρ₀ = 1630 kg/m³
+    /// (9.311 GPa) and n = 4s − 1 = 7.2, the Murnaghan slope with the same
+    /// first-order Hugoniot (K' = 4s − 1).
+    pub fn tnt() -> Self {
+        Self {
+            n: 7.2,
+            kappa: 1.0 / (1630.0 * 2390.0 * 2390.0),
+        }
+    }
+
+    /// P_u(X), Pa.
+    pub fn pressure(&self, x: f64) -> f64 {
+        (x.powf(-self.n) - 1.0) / (self.n * self.kappa)
+    }
+
+    /// dP_u/dX, Pa.
+    pub fn dpressure_dx(&self, x: f64) -> f64 {
+        -x.powf(-self.n - 1.0) / self.kappa
+    }
+
+    /// W_u(X), J per m³ of reference volume.
+    pub fn energy(&self, x: f64) -> f64 {
+        ((x.powf(1.0 - self.n) - 1.0) / (self.n - 1.0) + x - 1.0) / (self.n * self.kappa)
+    }
+
+    /// Checks the parameters (errors name the field).
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.n > 1.0 && self.n.is_finite()) {
+            return Err(format!(
+                "`reactant.n` = {}: expected a finite value > 1",
+                self.n
+            ));
+        }
+        if !(self.kappa > 0.0 && self.kappa.is_finite()) {
+            return Err(format!("`reactant.kappa` = {}: expected > 0", self.kappa));
+        }
+        Ok(())
+    }
 }
 
 /// A material of the peridynamic solver.
@@ -177,6 +249,9 @@ impl PdMaterial {
                 }
                 if !(g.isentrope.reference_pressure() > 0.0) {
                     return Err("products isentrope has no positive reference pressure".into());
+                }
+                if let Some(r) = g.reactant {
+                    r.validate()?;
                 }
                 Ok(())
             }
@@ -238,6 +313,71 @@ mod tests {
         assert!((k / 7.073_553_026e21 - 1.0).abs() < 1e-9, "{k}");
         let m = micromodulus(&copper(), crate::Dimension::One, 0.03, 1e-4);
         assert!((m - 2.0 * copper().youngs_modulus() / (1e-4 * 9e-4)).abs() < 1.0);
+    }
+
+    #[test]
+    fn tnt_reactant_by_hand() {
+        let r = Reactant::tnt();
+        // K₀ = 1630 · 2390² = 9.310723e9 Pa, n = 7.2.
+        assert!((1.0 / r.kappa - 9.310_723e9).abs() < 1.0);
+        assert_eq!(r.n, 7.2);
+        assert_eq!(r.pressure(1.0), 0.0);
+        assert_eq!(r.energy(1.0), 0.0);
+        // X = 0.8: (0.8^−7.2 − 1)/(7.2 κ) = (4.987... − 1) K₀/7.2.
+        let k0 = 1.0 / r.kappa;
+        let p = (0.8f64.powf(-7.2) - 1.0) * k0 / 7.2;
+        assert!((r.pressure(0.8) / p - 1.0).abs() < 1e-14);
+        assert!((r.dpressure_dx(1.0) + k0).abs() < 1e-3);
+        // W = [(0.8^−6.2 − 1)/6.2 − 0.2] K₀/7.2.
+        let w = ((0.8f64.powf(-6.2) - 1.0) / 6.2 - 0.2) * k0 / 7.2;
+        assert!((r.energy(0.8) / w - 1.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn reactant_energy_is_minus_the_integral_of_its_pressure() {
+        let r = Reactant::tnt();
+        for x in [0.7, 0.9, 1.1, 1.5] {
+            let h = 1e-6;
+            let dw = (r.energy(x + h) - r.energy(x - h)) / (2.0 * h);
+            assert!((dw + r.pressure(x)).abs() < 1e-6 * (1.0 / r.kappa), "{x}");
+            let dp = (r.pressure(x + h) - r.pressure(x - h)) / (2.0 * h);
+            assert!((dp / r.dpressure_dx(x) - 1.0).abs() < 1e-6, "{x}");
+        }
+    }
+
+    #[test]
+    fn reactant_matches_the_eos_crate_murnaghan() {
+        // Seed 000 eq 33 in ρ: p(ρ) with ρ = ρ₀/X; e_c(ρ) ρ₀ = W_u(X).
+        use brisance_core::Eos;
+        let r = Reactant::tnt();
+        let m = brisance_eos::Murnaghan {
+            n: r.n,
+            kappa: r.kappa,
+            rho0: 1630.0,
+            cv: 1000.0,
+            t_ref: 300.0,
+        };
+        for x in [0.75, 0.95, 1.2] {
+            let rho = 1630.0 / x;
+            let p = m.pressure(rho, m.compression_energy(rho));
+            assert!((p - r.pressure(x)).abs() < 1e-9 * (1.0 / r.kappa), "{x}");
+            let w = m.compression_energy(rho) * 1630.0;
+            assert!((w - r.energy(x)).abs() < 1e-9 * (1.0 / r.kappa), "{x}");
+        }
+    }
+
+    #[test]
+    fn invalid_reactant_names_the_field() {
+        let r = Reactant {
+            n: 0.5,
+            kappa: 1e-10,
+        };
+        assert!(r.validate().unwrap_err().contains("reactant.n"));
+        let r = Reactant {
+            n: 7.0,
+            kappa: -1.0,
+        };
+        assert!(r.validate().unwrap_err().contains("reactant.kappa"));
     }
 
     #[test]

@@ -289,6 +289,8 @@ pub struct PdSolver {
     /// Whether the products' force on explosive not yet detonated is left
     /// out (`program_burn.md`).
     hold_unreacted: bool,
+    /// Per material: a gas with a reactant (never held).
+    has_reactant: Vec<bool>,
     // Per bond.
     factor: Vec<f32>,
     plastic: Vec<f32>,
@@ -527,6 +529,11 @@ impl PdSolver {
         }
         let has_gas = laws.iter().any(|l| matches!(l, BondLaw::Gas));
         let contact_on = o.contact.is_some();
+        let has_reactant = setup
+            .materials
+            .iter()
+            .map(|m| matches!(m, PdMaterial::Gas(g) if g.reactant.is_some()))
+            .collect();
         let mut solver = Self {
             material_density: setup.materials.iter().map(PdMaterial::density).collect(),
             bulk_modulus: setup
@@ -570,6 +577,7 @@ impl PdSolver {
             gas: vec![[1.0, 0.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
             viscosity: None,
             hold_unreacted: true,
+            has_reactant,
             viscous_node: Vec::new(),
             viscous: Vec::new(),
             kick_heat: Vec::new(),
@@ -682,6 +690,7 @@ impl PdSolver {
             + heap(&self.laws)
             + heap(&self.bulk_modulus)
             + heap(&self.breakable)
+            + heap(&self.has_reactant)
             + heap(&self.material_density)
             + heap(&self.prescribed);
         PdMemory {
@@ -784,13 +793,13 @@ impl PdSolver {
         std::array::from_fn(|d| b[d] + c[d] + self.options.body_force[d])
     }
 
-    /// Gas pressure P_S(X/X_d)/X_d of node i (0 before detonation and for
-    /// solids), Pa.
+    /// Gas pressure P_S(X/X_d)/X_d of node i; before detonation the
+    /// reactant's P_u(X) (0 without a reactant); 0 for solids. Pa.
     pub fn pressure(&self, i: usize) -> f64 {
         match self.materials[self.material[i] as usize] {
-            PdMaterial::Gas(g) if self.time >= self.detonation_time[i] => {
+            PdMaterial::Gas(g) if self.time >= self.detonation_time[i] || g.reactant.is_some() => {
                 let [x, _, xd, heat] = self.gas[i];
-                products_pressure(&g, x, xd, heat).0
+                node_pressure(&g, x, xd, heat).0
             }
             _ => 0.0,
         }
@@ -872,9 +881,13 @@ impl PdSolver {
         let detonation_time = &self.detonation_time;
         let time = self.time;
         let hold = self.hold_unreacted;
+        let has_reactant = &self.has_reactant;
         let update = |i: usize, v: &mut [f64; 3]| {
             let m = material[i] as usize;
-            let unreacted = hold && matches!(laws[m], BondLaw::Gas) && time < detonation_time[i];
+            let unreacted = hold
+                && matches!(laws[m], BondLaw::Gas)
+                && time < detonation_time[i]
+                && !has_reactant[m];
             let mut b = if unreacted {
                 [0.0; 3]
             } else {
@@ -961,14 +974,24 @@ impl PdSolver {
                 } else {
                     0.0
                 };
+                // Detonating now: the compression energy the reactant
+                // holds, W_u(X_d) per unit reference volume, passes to the
+                // products as heat at y = 1 (ΔC = ω W_u), so the switch
+                // keeps the node's energy.
+                let mut heat = g[3];
+                if g[2] <= 0.0 && xd > 0.0 {
+                    if let Some(r) = gas.reactant {
+                        heat += heat_exponent(&gas) * r.energy(xd);
+                    }
+                }
                 // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
                 // through p and through X(p) (eq 17).
-                let (p, dp) = products_pressure(&gas, x, xd, g[3]);
+                let (p, dp) = node_pressure(&gas, x, xd, heat);
                 let x43 = x.powf(4.0 / 3.0);
                 let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
                 let stiff = 12.0 * p.abs() * x43 / vf * s3
                     + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
-                *g = [x, stiff, xd, g[3]];
+                *g = [x, stiff, xd, heat];
             }
         });
         let gas = &self.gas;
@@ -997,9 +1020,11 @@ impl PdSolver {
         for_each_node(&mut self.state, |i, s| {
             match materials[material[i] as usize] {
                 PdMaterial::Gas(g) => {
-                    s[3] = if time >= detonation_time[i] {
-                        let [x, _, xd, heat] = gas[i];
-                        6.0 * products_pressure(&g, x, xd, heat).0 * x.powf(4.0 / 3.0)
+                    // Before detonation: the reactant's P_u(X), or 0
+                    // without one (`node_pressure`).
+                    let [x, _, xd, heat] = gas[i];
+                    s[3] = if time >= detonation_time[i] || g.reactant.is_some() {
+                        6.0 * node_pressure(&g, x, xd, heat).0 * x.powf(4.0 / 3.0)
                             / family_volume[i]
                     } else {
                         0.0
@@ -1233,7 +1258,12 @@ impl PdSolver {
                     } else {
                         1.0
                     };
+                    let reactant = match g.reactant {
+                        Some(r) if xd <= 0.0 => r.energy(x),
+                        _ => 0.0,
+                    };
                     let w = g.isentrope.energy(y)
+                        + reactant
                         + if heat != 0.0 {
                             let e = heat_exponent(&g);
                             heat / e * y.powf(-e)
@@ -1559,6 +1589,21 @@ fn products_pressure(g: &crate::material::Gas, x: f64, xd: f64, heat: f64) -> (f
         dp -= (w + 1.0) * t / y;
     }
     (p / xd, dp / (xd * xd))
+}
+
+/// Pressure and dP/dX of an explosive node: the products'
+/// (`products_pressure`) once it has detonated (X_d > 0), the reactant's
+/// P_u(X) before (0 without a reactant).
+#[inline]
+fn node_pressure(g: &crate::material::Gas, x: f64, xd: f64, heat: f64) -> (f64, f64) {
+    if xd > 0.0 {
+        products_pressure(g, x, xd, heat)
+    } else {
+        match g.reactant {
+            Some(r) => (r.pressure(x), r.dpressure_dx(x)),
+            None => (0.0, 0.0),
+        }
+    }
 }
 
 /// ω of the products' Grüneisen term: ω of JWL (eq 30), γ − 1 of the ideal

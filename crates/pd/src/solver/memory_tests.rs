@@ -51,11 +51,11 @@ fn a_micro_elastic_block_takes_146_bytes_per_node_and_12_per_bond() {
     assert_eq!(m.bond_bytes, 12 * b);
     assert!(m.bytes_per_node() <= 200.0, "{}", m.bytes_per_node());
     assert!(m.bytes_per_bond() <= 12.0);
-    // One material: its parameters, law, bulk modulus, breakable flag and
-    // density.
+    // One material: its parameters, law, bulk modulus, breakable flag,
+    // reactant flag and density.
     assert_eq!(
         m.other_bytes,
-        std::mem::size_of::<PdMaterial>() + std::mem::size_of::<BondLaw>() + 8 + 1 + 8
+        std::mem::size_of::<PdMaterial>() + std::mem::size_of::<BondLaw>() + 8 + 1 + 1 + 8
     );
     assert_eq!(m.total(), m.node_bytes + m.bond_bytes + m.other_bytes);
 }
