@@ -1592,6 +1592,11 @@ fn equilibrate_cell<E: Eos>(
     Ok(rep)
 }
 
+#[inline]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 /// Steps 8–11 on one interior cell: returns, per material, the Lagrangian
 /// (ρ, u, e, v).
 #[allow(clippy::too_many_arguments)]
@@ -1689,21 +1694,75 @@ fn lagrangian_cell<E: Eos>(
             e[r] = d[b + ENERGY][c] + isentropic_energy_change(p_eq, v, g, gamma);
         }
     }
-    // Energy-conserving closure of steps 8–9: the cell's total energy
-    // changes by the face pressure work −Δt ∇·(p* Σθ*u*) (plus gravity's
-    // work); what eqs 24–25 miss of it goes to internal energy in
-    // proportion to each material's heat content ρ_r c_v,r T_r (one relative
-    // temperature change for all), so that a trace takes a trace of it and a
-    // removal never drives a material below 0 K while the cell has heat:
-    // shares f_r^θ would give a gas trace beside a condensed phase (f ≈ 10⁻²
-    // at θ = 10⁻⁶) a specific energy change 10⁴ times the cell's, and one
-    // specific change for all would take a cold light trace below 0 K.
+    // The cell's total energy ρ(e + ½|u|²) at the step's start, and the
+    // work gravity does over the Lagrangian step: with the face pressure
+    // work they make the energy balance the closure below restores.
+    let mut energy_start = 0.0;
+    let mut gravity_work = 0.0;
+    for r in 0..n {
+        let b = r * NS;
+        let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+        energy_start += rho[r] * (d[b + ENERGY][c] + 0.5 * dot(u, u));
+        if !params.lagrangian[r] {
+            for a in 0..3 {
+                gravity_work += dt * rho[r] * params.options.gravity[a] * 0.5 * (u[a] + vel[r][a]);
+            }
+        }
+    }
+    // Step 4 (seed 000 eq 1): reaction sources at the start-of-step
+    // equilibration pressure, moved exactly from reactant to product with
+    // the reactant's Lagrangian momentum and energy and its specific volume
+    // (crate::reaction). θ is carried from here on with the moved volume.
+    let theta_start = theta;
+    let mut heat_released = 0.0;
+    if !params.reactions.is_empty() {
+        let p_eq = d[n * NS][c];
+        for rx in params.reactions {
+            let (a, b) = (rx.reactant, rx.product);
+            let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
+            if burnt > 0.0 {
+                let parcel = |r: usize| Parcel {
+                    rho: rho[r],
+                    velocity: vel[r],
+                    energy: e[r],
+                    volume: theta[r],
+                };
+                let (mut pa, mut pb) = (parcel(a), parcel(b));
+                transfer_burnt_mass(&mut pa, &mut pb, burnt, rx.heat_of_reaction);
+                heat_released += burnt * rx.heat_of_reaction;
+                for (r, x) in [(a, pa), (b, pb)] {
+                    rho[r] = x.rho;
+                    vel[r] = x.velocity;
+                    e[r] = x.energy;
+                    theta[r] = x.volume;
+                }
+            }
+        }
+    }
+    let rho_sum: f64 = rho[..n].iter().sum();
+    // Step 10: momentum exchange.
+    let dissipated = momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]);
     if let Some(work) = pressure_work {
+        // Energy-conserving closure of steps 8–10: the cell's total energy
+        // changes by the face pressure work −Δt ∇·(p* Σθ*u*), gravity's
+        // work and the reactions' heat; what eqs 24–25, the reactions and
+        // the exchange leave of it (the kinetic energy the exchange
+        // dissipated included) goes to the internal energy of the Eulerian
+        // materials in proportion to their heat content ρ_r c_v,r T_r (one
+        // relative temperature change for all), so that a trace takes a
+        // trace of it and a removal never drives a material below 0 K
+        // while the cell has heat. The balance is taken after the exchange:
+        // before it a light trace's velocity −Δt v_r ∇p* can be 10⁵ m/s
+        // (v_r of a gas beside a dense phase), and a debit of that kinetic
+        // energy by one rule and its return as dissipation by another moved
+        // energy between materials — into a Lagrangian solid, which takes
+        // no share here, at 10⁹ J/m³ a step at the E-CYLINDER's inner wall
+        // (docs/physics/ice/steps.md). Materials carried by particles keep
+        // the particles' internal energy; their kinetic energy is in the
+        // balance, and so is the flow work of their share of the cell's
+        // volume change, booked as theirs.
         let mut heat = [0.0; MAX_MATERIALS];
         let mut heat_sum = 0.0;
-        // Materials carried by particles take no share: their internal
-        // energy is the particles'; the kinetic energy the pressure gradient
-        // gives them is part of the face work and is taken out of it.
         for r in 0..n {
             if params.lagrangian[r] {
                 continue;
@@ -1719,59 +1778,29 @@ fn lagrangian_cell<E: Eos>(
             }
             heat_sum = heat[..n].iter().sum();
         }
-        let mut delta = work;
+        let energy_end: f64 = (0..n)
+            .map(|r| rho[r] * (e[r] + 0.5 * dot(vel[r], vel[r])))
+            .sum();
+        // A Lagrangian material's share of the flow work (eq 25,
+        // −Δt f_s^θ p ∇·Σθ*u*) is its particles' business: their stress
+        // power already holds the p dV of the solid's volume change. Left
+        // in the balance it went to the fluids — a fluid trace inside a
+        // copper wall that expands took the wall's whole p dV and cooled
+        // below 0 K (docs/physics/ice/steps.md).
+        let solid_flow_work: f64 = (0..n)
+            .filter(|&r| params.lagrangian[r])
+            .map(|r| -dt * share[r] * p * divergence)
+            .sum();
+        let delta =
+            work + gravity_work + heat_released - (energy_end - energy_start) - solid_flow_work;
         for r in 0..n {
-            let b = r * NS;
-            let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
-            let mut dk = 0.0;
-            let g = if params.lagrangian[r] {
-                [0.0; 3]
-            } else {
-                params.options.gravity
-            };
-            for a in 0..3 {
-                delta += dt * rho[r] * g[a] * 0.5 * (u[a] + vel[r][a]);
-                dk += 0.5 * rho[r] * (vel[r][a] - u[a]) * (vel[r][a] + u[a]);
-            }
-            delta -= rho[r] * (e[r] - d[b + ENERGY][c]) + dk;
-        }
-        for r in 0..n {
-            e[r] += heat[r] / heat_sum * delta / rho[r];
-        }
-    }
-    // Step 4 (seed 000 eq 1): reaction sources at the start-of-step
-    // equilibration pressure, moved exactly from reactant to product with
-    // the reactant's Lagrangian momentum and energy and its specific volume
-    // (crate::reaction). θ is carried from here on with the moved volume.
-    let theta_start = theta;
-    if !params.reactions.is_empty() {
-        let p_eq = d[n * NS][c];
-        for rx in params.reactions {
-            let (a, b) = (rx.reactant, rx.product);
-            let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
-            if burnt > 0.0 {
-                let parcel = |r: usize| Parcel {
-                    rho: rho[r],
-                    velocity: vel[r],
-                    energy: e[r],
-                    volume: theta[r],
-                };
-                let (mut pa, mut pb) = (parcel(a), parcel(b));
-                transfer_burnt_mass(&mut pa, &mut pb, burnt, rx.heat_of_reaction);
-                for (r, x) in [(a, pa), (b, pb)] {
-                    rho[r] = x.rho;
-                    vel[r] = x.velocity;
-                    e[r] = x.energy;
-                    theta[r] = x.volume;
-                }
+            if heat[r] > 0.0 {
+                e[r] += heat[r] / heat_sum * delta / rho[r];
             }
         }
-    }
-    let rho_sum: f64 = rho[..n].iter().sum();
-    // Step 10: momentum exchange, dissipated kinetic energy back to heat
-    // with one specific increment for every material.
-    let dissipated = momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]);
-    if dissipated != 0.0 {
+    } else if dissipated != 0.0 {
+        // Without the closure the dissipated kinetic energy goes back to
+        // heat with one specific increment for every material.
         let de = dissipated / rho_sum;
         for x in &mut e[..n] {
             *x += de;
