@@ -292,11 +292,59 @@ impl GridNodes {
 }
 
 impl GridNodes {
+    /// The coupled ICE–MPM step's velocities on light nodes (seed 000 §3.3
+    /// step 1): after [`GridNodes::update`] of `stage`, every node with
+    /// 0 < m_I ≤ `mass_threshold` gets p_I/m_I (with the face conditions)
+    /// instead of zero in the velocity that stage forms — v_I^n for
+    /// [`NodeStage::Velocity`] (and [`NodeStage::VelocityAndIntegrate`],
+    /// whose v_I^{n+1} = v_I^n, the cut-off leaving such a node's
+    /// acceleration zero), the re-mapped velocity for [`NodeStage::Remap`].
+    ///
+    /// The cut-off is there for a_I = f_I/m_I, which a light node makes
+    /// arbitrarily large; p_I/m_I is a weighted mean of the particles'
+    /// velocities and stays bounded. In the coupled step a light node's
+    /// mass enters the cell mass of eq 18 (M_c = Σ_I w_Ic m_I), so its
+    /// velocity must be the particles' too: zeroed, it gave the leading
+    /// cell of a moving solid a velocity near zero against the gas beside
+    /// it (a full-speed slip the momentum exchange then removed from the
+    /// gas), and the particle next to it a velocity gradient (0 − v)/Δx.
+    pub fn light_node_velocities(&mut self, u: &NodeUpdate, stage: NodeStage) {
+        let (mass, momentum, lattice) = (&self.mass, &self.momentum, self.lattice);
+        let set = |v: &mut Vec<[f64; 3]>| {
+            let nx = lattice.dims[0];
+            v.par_chunks_mut(nx).enumerate().for_each(|(row, v)| {
+                let first = lattice.node(row * nx);
+                let my = u.face_mask(1, first[1]);
+                let mz = u.face_mask(2, first[2]);
+                for (i, v) in v.iter_mut().enumerate() {
+                    let (m, q) = (mass[row * nx + i], momentum[row * nx + i]);
+                    if m > 0.0 && !(m > u.mass_threshold) {
+                        let mx = u.face_mask(0, first[0] + i as isize);
+                        let mask = std::array::from_fn(|c| mx[c] || my[c] || mz[c]);
+                        *v = masked(q.map(|q| q / m), mask);
+                    }
+                }
+            });
+        };
+        match stage {
+            NodeStage::Velocity => set(&mut self.velocity),
+            NodeStage::VelocityAndIntegrate => {
+                set(&mut self.velocity);
+                set(&mut self.velocity_new);
+            }
+            NodeStage::Integrate => {}
+            NodeStage::Remap => set(&mut self.velocity_remap),
+        }
+    }
+
     /// Adds the velocity change `dv` (one per stored node) to v_I^{n+1}
     /// and `dv`/Δt to a_I — the coupled pipeline's cell-centred momentum
     /// changes returned to the nodes as accelerations (seed 000 §3.3 step
-    /// 13) — on the nodes above the mass cut-off and on the components no
-    /// face condition holds, so the conditions stay met.
+    /// 13) — on every node with mass, light ones included (their velocity
+    /// is p_I/m_I in the coupled step, [`GridNodes::light_node_velocities`],
+    /// and Δv_I = Σ_c w_Ic Δu_c is a weighted mean of bounded cell changes),
+    /// so that the nodes receive exactly the momentum Σ_c M_c Δu_c, and on
+    /// the components no face condition holds, so the conditions stay met.
     pub fn add_velocity_change(&mut self, dv: &[[f64; 3]], u: &NodeUpdate) {
         assert_eq!(dv.len(), self.mass.len(), "one velocity change per node");
         let lattice = self.lattice;
@@ -315,7 +363,7 @@ impl GridNodes {
                 let my = u.face_mask(1, first[1]);
                 let mz = u.face_mask(2, first[2]);
                 for i in 0..nx {
-                    if !(m[i] > u.mass_threshold && m[i] > 0.0) {
+                    if !(m[i] > 0.0) {
                         continue;
                     }
                     let mx = u.face_mask(0, first[0] + i as isize);
