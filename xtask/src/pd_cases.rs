@@ -80,6 +80,23 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         e.total() / h.initial_energy,
         100.0 * case.metal_to_charge() / (case.metal_to_charge() + 0.5),
     );
+    // The largest sampled wall velocity and when (the wall at mid-length
+    // slows after it: docs/physics/pd/validation.md).
+    let (k_peak, v_peak) =
+        h.radial_velocity
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |b, (k, v)| if v > b.1 { (k, v) } else { b },
+            );
+    let _ = writeln!(
+        report.md,
+        "\nLargest sampled mid-length wall velocity: {v_peak:.0} m/s at {:.1} µs ({:+.1} % against Gurney).",
+        h.time[k_peak] * 1e6,
+        100.0 * (v_peak / gurney - 1.0)
+    );
     let m = ProductsMotion::of(&s);
     let _ = writeln!(
         report.md,

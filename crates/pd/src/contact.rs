@@ -31,7 +31,15 @@
 //! (p − d_ij)²/δ and the contact conserves energy.
 //!
 //! For a pair of two materials k_PD uses the larger bulk modulus (a gas has
-//! none, so gas–case contact is as stiff as the case). Neighbours are found
+//! none, so gas–case contact is as stiff as the case). With
+//! `PdSolver::set_products_contact(true)` (off by default) an explosive
+//! given with a reactant has its K₀ = 1/κ, and then the nodes of one
+//! charge repel each other too, bonded or not: eq 19 alone lets two of
+//! them come arbitrarily close (its force on a pair grows with the
+//! pressure at the nodes' expansion, which is low in expanded products),
+//! and the seed gives short-range forces the job of preventing "bonds from
+//! compressing indefinitely". Lattice neighbours start force-free
+//! (d = 0.9 h). Neighbours are found
 //! with a cell list of the *current* positions x + u, rebuilt every step
 //! from the reference positions and displacements (no copy of the current
 //! positions is kept).
@@ -144,14 +152,19 @@ pub fn contact_forces(
             }
             let mj = input.material[j] as usize;
             if input.body[i] == input.body[j] {
-                if !input.breakable[mi] {
+                if input.breakable[mi] {
+                    if let Some(k) = input.families.find(i, j) {
+                        if input.factor[k] != 0.0 {
+                            return;
+                        }
+                    }
+                } else if input.bulk_modulus[mi] == 0.0 {
                     return;
                 }
-                if let Some(k) = input.families.find(i, j) {
-                    if input.factor[k] != 0.0 {
-                        return;
-                    }
-                }
+                // Otherwise a gas with a contact modulus (an explosive
+                // with a reactant): every pair of its nodes, bonded or
+                // not — eq 19 alone lets two of them come arbitrarily
+                // close.
             }
             let xj = input.reference[j];
             let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
@@ -207,6 +220,18 @@ mod tests {
         material: &[u16],
         broken: bool,
     ) -> Vec<([f64; 3], f64)> {
+        forces_with_gas_modulus(reference, current, body, material, broken, 0.0)
+    }
+
+    /// As `forces`, the gas (material 1) with contact modulus `gas_k`.
+    fn forces_with_gas_modulus(
+        reference: &[[f64; 3]],
+        current: &[[f64; 3]],
+        body: &[u32],
+        material: &[u16],
+        broken: bool,
+        gas_k: f64,
+    ) -> Vec<([f64; 3], f64)> {
         let p = params();
         let families = build_families(reference, body, p.horizon, H);
         let factor = vec![if broken { 0.0 } else { 1.0 }; families.bond_count()];
@@ -226,7 +251,7 @@ mod tests {
             state: &state,
             body,
             material,
-            bulk_modulus: &[K, 0.0],
+            bulk_modulus: &[K, gas_k],
             breakable: &[true, false],
             families: &families,
             factor: &factor,
@@ -267,6 +292,26 @@ mod tests {
         assert!(close(out[1].0[0], -expected), "{:?}", out[1]);
         assert_eq!((out[0].0[1], out[0].0[2]), (0.0, 0.0));
         assert!(close(out[0].1, STIFFNESS) && close(out[1].1, STIFFNESS));
+    }
+
+    /// Two bonded nodes of one gas body: no short-range force without a
+    /// contact modulus (the products of an explosive given without a
+    /// reactant); with the reactant's K₀ = 1e10 Pa they repel like any
+    /// pair once closer than 0.9 h: at 0.5 h, k (0.5h − 0.9h) with k =
+    /// 3.536776e16 · 0.1 = 3.536776e15 N/m⁴, i.e. −1.414710e12 N/m³.
+    #[test]
+    fn nodes_of_one_gas_body_repel_only_with_a_contact_modulus() {
+        let reference = [[0.0; 3], [H, 0.0, 0.0]];
+        let current = [[0.0; 3], [0.5 * H, 0.0, 0.0]];
+        let none = forces_with_gas_modulus(&reference, &current, &[0, 0], &[1, 1], false, 0.0);
+        assert_eq!(none, vec![([0.0; 3], 0.0); 2]);
+        let out = forces_with_gas_modulus(&reference, &current, &[0, 0], &[1, 1], false, 1.0e10);
+        let k = STIFFNESS * 1.0e10 / K;
+        let expected = k * (0.5 * H - 0.9 * H);
+        assert!((expected / -1.414_710e12 - 1.0).abs() < 1e-6, "{expected}");
+        assert!(close(out[0].0[0], expected), "{:?}", out[0]);
+        assert!(close(out[1].0[0], -expected), "{:?}", out[1]);
+        assert!(close(out[0].1, k));
     }
 
     /// Lattice neighbours across an interface (reference separation h)

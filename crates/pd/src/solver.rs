@@ -626,6 +626,22 @@ impl PdSolver {
         self.hold_unreacted = hold;
     }
 
+    /// Short-range forces (eq 27) between the nodes of one explosive charge
+    /// given with a reactant, with its K₀ = 1/κ in k_PD (`contact.rs`);
+    /// off by default (then products nodes of one charge have none). Has
+    /// no effect without contact or on explosives without a reactant.
+    /// Evaluates the forces of the current state again.
+    pub fn set_products_contact(&mut self, on: bool) {
+        for (k, m) in self.bulk_modulus.iter_mut().zip(&self.materials) {
+            *k = match m {
+                PdMaterial::Gas(g) if on => g.reactant.map_or(0.0, |r| 1.0 / r.kappa),
+                _ => m.contact_bulk_modulus(),
+            };
+        }
+        self.update_node_scalars();
+        self.compute_forces();
+    }
+
     /// The products' artificial viscosity (None: off).
     pub fn gas_viscosity(&self) -> Option<GasViscosity> {
         self.viscosity

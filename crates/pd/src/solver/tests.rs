@@ -513,6 +513,46 @@ fn with_a_reactant_the_products_push_unreacted_explosive_and_momentum_is_kept() 
     assert!(held.conservation_totals().momentum[0] < -0.4 * momentum_scale(&held));
 }
 
+/// Short-range forces among the nodes of one charge (off by default): a
+/// TNT block with a reactant, not yet detonated, stays force-free at rest with
+/// them on (lattice neighbours are h apart, their contact distance 0.9 h).
+/// The repulsion itself is tested in `contact.rs`.
+#[test]
+fn products_contact_keeps_the_rest_state_force_free() {
+    let h = 1.0e-3;
+    let setup = |material: PdMaterial| PdSetup {
+        options: PdOptions {
+            spacing: h,
+            ..PdOptions::default()
+        },
+        materials: vec![material],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0; 3],
+                max: [4.0 * h, 4.0 * h, 4.0 * h],
+            },
+            material: 0,
+            velocity: [0.0; 3],
+        }],
+        boundaries: vec![],
+        // Lit long after the test: every node stays unreacted.
+        detonation: Some(DetonationSpec {
+            points: vec![DetonationPoint {
+                position: [0.5 * h, 0.5 * h, 0.5 * h],
+                time: 1.0,
+            }],
+            method: BurnMethod::StraightLine,
+        }),
+    };
+    let mut s = PdSolver::new(setup(tnt_gas_with_reactant())).unwrap();
+    s.set_products_contact(true);
+    for i in 0..s.node_count() {
+        assert_eq!(s.force_density(i), [0.0; 3], "node {i}");
+    }
+    s.advance(1.0e-8).unwrap();
+    assert!(s.velocities().iter().all(|v| *v == [0.0; 3]));
+}
+
 /// A TNT block with a reactant beside a copper plate (two bodies in
 /// contact), lit at one end, with no boundary acting: the total momentum
 /// stays 0 to round-off through the burn (the products push the explosive
