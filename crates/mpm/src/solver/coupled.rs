@@ -5,7 +5,9 @@
 //! [`crate::step`] (USL or MUSL) with the Eulerian frame called at the two
 //! points where the seed's step list needs it:
 //!
-//! 1. P2G of mass and momentum (eq 12), v_I^n = p_I/m_I; then
+//! 1. P2G of mass and momentum (eq 12), v_I^n = p_I/m_I on every node with
+//!    mass, those below the mass cut-off included (their mass enters the
+//!    cells of eq 18: [`GridNodes::light_node_velocities`]); then
 //!    [`GridCoupling::before_forces`] — the nodes to cell centres (eq 18),
 //!    the equilibration pressure, face velocities and the advanced pressure
 //!    p (steps 1–6).
@@ -13,17 +15,18 @@
 //!    applies the mixture pressure to the solid as −θ_s ∇p* at the cell
 //!    centres (eq 24), so the nodes carry only the divergence of the
 //!    solid's stress in excess of it, ∇·θ_r(σ_r − σ) with σ = −p I; then
-//!    f_I += m_I g, a_I = f_I/m_I and v*_I = v_I^n + a_I Δt (eq 15).
+//!    f_I += m_I g, a_I = f_I/m_I and v*_I = v_I^n + a_I Δt (eq 15), with
+//!    a_I = 0 on the nodes below the cut-off.
 //! 3. [`GridCoupling::after_forces`] — the cell-centred Lagrangian values,
 //!    momentum and heat exchange (steps 8–10) — returns the velocity
 //!    change Δv_I of every node, which is added to v*_I and, as Δv_I/Δt,
-//!    to a_I (step 13), on the nodes above the mass cut-off and the
-//!    components no face condition holds.
+//!    to a_I (step 13), on every node with mass and the components no face
+//!    condition holds.
 //! 4. G2P (eqs 16–17) and the stress update from the grid velocity
-//!    gradient (eq 13, step 7), the temperature change of the heat
-//!    exchange at each particle ([`GridCoupling::temperature_change`]),
-//!    and the removal of particles that left through outflow faces
-//!    (step 14).
+//!    gradient (eq 13, step 7; MUSL re-maps v_I^{n+1} on light nodes too),
+//!    the temperature change of the heat exchange at each particle
+//!    ([`GridCoupling::temperature_change`]), and the removal of particles
+//!    that left through outflow faces (step 14).
 //!
 //! Advection of the fluids (step 12) is the pipeline's, after this step.
 
@@ -34,8 +37,9 @@ use crate::step::{G2pParts, NodeVelocity, Transfer};
 /// What the Eulerian frame does inside [`MpmSolver::advance_coupled`].
 pub trait GridCoupling: Sync + Send {
     /// Steps 1–6 of seed 000 §3.3: `nodes` holds the particles' lumped
-    /// mass m_I and velocity v_I^n (eq 12, after the cut-off and the
-    /// boundary conditions); `particles` are those of the start of the step.
+    /// mass m_I and velocity v_I^n = p_I/m_I (eq 12, on every node with
+    /// mass, after the boundary conditions); `particles` are those of the
+    /// start of the step.
     fn before_forces(
         &mut self,
         nodes: &GridNodes,
