@@ -1561,7 +1561,20 @@ fn equilibrate_cell<E: Eos>(
     for r in 0..n {
         let b = r * NS;
         let rho_micro = 1.0 / vsp[r];
-        let e = vals[b + ENERGY];
+        let mut e = vals[b + ENERGY];
+        let mut t_new = params.eos[r].temperature(rho_micro, e);
+        if !(t_new > 0.0) && temp[r] > 0.0 {
+            // A cold trace (a few K, after its own expansion where a solid
+            // leaves the cell) compressed at fixed e by the new pressure
+            // falls below its 0 K energy (its cold energy rises). It keeps
+            // the temperature the equilibration found its volume at
+            // instead — the temperature Uintah's equilibration holds — at
+            // the price of energy conservation in that cell, like the
+            // cold-fast fallback of step 12 (docs/physics/ice/steps.md).
+            t_new = temp[r];
+            e = params.eos[r].specific_internal_energy_from_temperature(rho_micro, t_new);
+            vals[b + ENERGY] = e;
+        }
         let c = params.eos[r].sound_speed(rho_micro, e);
         if !(c > 0.0 && c.is_finite()) {
             return Err((
@@ -1585,7 +1598,7 @@ fn equilibrate_cell<E: Eos>(
             // pipeline (docs/physics/couple/ice_mpm.md).
             vals[b + RHO] = theta[r] / vsp[r];
         }
-        vals[b + TEMP] = params.eos[r].temperature(rho_micro, e);
+        vals[b + TEMP] = t_new;
         vals[b + SOUND] = c;
     }
     vals[n * NS] = p;
@@ -2124,5 +2137,69 @@ impl<E: Eos> Solver for IceSolver<E> {
         self.time = saved.time;
         self.steps = saved.steps;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod cold_trace_tests {
+    use super::*;
+    use brisance_eos::{EosModel, IdealGas, Murnaghan};
+
+    /// Step 2 on one cell: a Murnaghan trace at 1 K (θ = 10⁻³, near ρ₀)
+    /// beside air compressed to 2.6·10⁸ Pa. Compressed at fixed e its cold
+    /// energy rises by p²κ/(2ρ) ≈ 2.7 kJ/kg, which would put it at about
+    /// −0.8 K; it keeps the 1 K the equilibration found its volume at, with
+    /// e = e(ρ_new, 1 K), and the air's state is the plain one.
+    #[test]
+    fn a_cold_trace_compressed_in_step_2_keeps_its_temperature() {
+        let trace = Murnaghan {
+            n: 7.0,
+            kappa: 1e-10,
+            rho0: 1260.0,
+            cv: 1500.0,
+            t_ref: 298.0,
+        };
+        let air = IdealGas::new(1.4, 717.5, 1.0);
+        let eos = vec![EosModel::IdealGas(air), EosModel::Murnaghan(trace)];
+        let level = Level::new([0.0; 3], [1.0; 3], [1, 1, 1], [1, 1, 1], GHOST).unwrap();
+        let exchange = ExchangeCoefficients::uniform(2, 1e15, 0.0);
+        let params = make_params(&eos, &[], &exchange, IceOptions::default(), &level, &[]);
+        let mut vals = vec![0.0; 2 * NS + 1];
+        let (rho_air, t_air) = (3000.0, 300.0);
+        vals[RHO] = 0.999 * rho_air;
+        vals[VSP] = 1.0 / rho_air;
+        vals[ENERGY] = 717.5 * t_air;
+        vals[THETA] = 0.999;
+        let rho_t = 1260.0;
+        vals[NS + RHO] = 1e-3 * rho_t;
+        vals[NS + VSP] = 1.0 / rho_t;
+        vals[NS + ENERGY] = trace.specific_internal_energy_from_temperature(rho_t, 1.0);
+        vals[NS + THETA] = 1e-3;
+        vals[2 * NS] = 1e5;
+        equilibrate_cell(&params, &mut vals).unwrap();
+        let p = vals[2 * NS];
+        assert!(p > 2.5e8 && p < 2.7e8, "p = {p:e}");
+        let rho_new = 1.0 / vals[NS + VSP];
+        assert!(rho_new > 1.02 * rho_t, "trace compressed: {rho_new}");
+        // Fixed e would have taken it below 0 K:
+        let fixed_e = trace.temperature(
+            rho_new,
+            trace.specific_internal_energy_from_temperature(rho_t, 1.0),
+        );
+        assert!(fixed_e < 0.0, "{fixed_e}");
+        assert!(
+            (vals[NS + TEMP] - 1.0).abs() < 1e-9,
+            "T = {}",
+            vals[NS + TEMP]
+        );
+        let e = trace.specific_internal_energy_from_temperature(rho_new, 1.0);
+        assert!(
+            (vals[NS + ENERGY] - e).abs() <= 1e-9 * e.abs(),
+            "{} {e}",
+            vals[NS + ENERGY]
+        );
+        // The air: e kept, T = e/c_v.
+        assert_eq!(vals[ENERGY], 717.5 * t_air);
+        assert!((vals[TEMP] - t_air).abs() < 1e-9);
     }
 }
