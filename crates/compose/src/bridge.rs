@@ -92,6 +92,21 @@ pub struct BridgeConfig {
     /// FDM cells on the donor side of the interface watched for it.
     #[serde(default = "default_activation_cells")]
     pub activation_cells: usize,
+    /// Smallest mass of a particle created by the inflow, as a fraction of
+    /// an initial air particle's (eqs 45–46): a face's inflow waits in
+    /// transit until its 4 or more particles weigh at least this much
+    /// each. 0 is the paper's rule (particles every step, at least 4 per
+    /// face however small the inflow).
+    #[serde(default = "default_min_particle_mass")]
+    pub min_particle_mass: f64,
+    /// Size the inflow's particles like the initial ones (default true):
+    /// m_e (eq 45) at a face is the larger of an initial air particle's
+    /// mass and the donor density times an initial particle's volume.
+    /// false: m_e is the air particle's mass everywhere (the paper's
+    /// rule), which makes ρ/ρ₀ times as many particles of compressed air
+    /// and products.
+    #[serde(default = "default_true")]
+    pub inflow_particle_volume: bool,
 }
 
 fn default_ppc() -> usize {
@@ -102,6 +117,12 @@ fn default_mpm_cfl() -> f64 {
 }
 fn default_activation_cells() -> usize {
     3
+}
+fn default_true() -> bool {
+    true
+}
+fn default_min_particle_mass() -> f64 {
+    0.25
 }
 
 /// Output fields.
@@ -208,6 +229,12 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
         return Err((
             "pipeline.activation_pressure".into(),
             format!("{} Pa must be positive", cfg.activation_pressure),
+        ));
+    }
+    if !(0.0..=1.0).contains(&cfg.min_particle_mass) {
+        return Err((
+            "pipeline.min_particle_mass".into(),
+            format!("{} must lie in [0, 1]", cfg.min_particle_mass),
         ));
     }
     if let ViscosityConfig::Constant(eta) = cfg.viscosity {
@@ -530,10 +557,144 @@ fn build_with<'a, E: GasLaw + 'static>(
             existing_mass: air_mass / air_count as f64,
             activation_pressure: cfg.activation_pressure,
             activation_cells: cfg.activation_cells,
+            min_particle_mass: cfg.min_particle_mass,
+            existing_volume: if cfg.inflow_particle_volume {
+                sub_volume
+            } else {
+                0.0
+            },
         },
     )
     .map_err(|m| ("pipeline".to_string(), m))?;
     Ok(Box::new(coupled))
+}
+
+/// Gas particles of the `Mpm` pipeline from a detonation remapped by
+/// `brisance remap` (`pipeline: Mpm(remap: (file: ..., air: ...,
+/// products: ...))`): the pure-MPM counterpart of the bridge's `remap`,
+/// so both methods start from the same state (seed 001 §5.2 compares them).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmRemapConfig {
+    /// The remap file (path relative to the working directory). Its grid
+    /// has the domain's cell size and lies on the domain's cells; it may
+    /// cover only part of the domain.
+    pub file: String,
+    /// Material (a `Null` fluid, the air's ideal gas) of particles in cells
+    /// that are mostly air.
+    pub air: String,
+    /// Material (a `Null` fluid, the products' JWL) of particles in cells
+    /// whose products mass fraction exceeds 1/2.
+    pub products: String,
+}
+
+/// A loaded [`MpmRemapConfig`]: which particles it replaces and their
+/// state.
+pub(crate) struct GasRemap {
+    remap: Remapped,
+    air: (MaterialId, EosModel),
+    products: (MaterialId, EosModel),
+}
+
+impl GasRemap {
+    /// Loads the file and checks it against the domain `grid`; `names` and
+    /// `models` are the MPM materials in their numbering. Errors name the
+    /// field.
+    pub(crate) fn new(
+        cfg: &MpmRemapConfig,
+        names: &[&String],
+        models: &[MaterialModel],
+        grid: &brisance_core::UniformGridGeometry,
+    ) -> Result<Self, Problem> {
+        let fluid = |name: &str, field: &str| -> Result<(MaterialId, EosModel), Problem> {
+            let id = names.iter().position(|n| n.as_str() == name);
+            match id.map(|i| (i, &models[i])) {
+                Some((i, MaterialModel::Null(m))) => Ok((MaterialId(i as u16), m.eos.clone())),
+                _ => Err((
+                    format!("pipeline.remap.{field}"),
+                    format!("`{name}` must be a material with a `Null` fluid model"),
+                )),
+            }
+        };
+        let air = fluid(&cfg.air, "air")?;
+        let products = fluid(&cfg.products, "products")?;
+        let remap = Remapped::load(std::path::Path::new(&cfg.file))
+            .map_err(|e| ("pipeline.remap.file".to_string(), e.to_string()))?;
+        let g = remap.geometry;
+        for d in 0..3 {
+            let h = grid.spacing[d];
+            let offset = (g.origin[d] - grid.origin[d]) / h;
+            let fits = (g.spacing[d] - h).abs() <= 1e-6 * h
+                && (offset - offset.round()).abs() <= 1e-6
+                && offset.round() >= 0.0
+                && offset.round() as usize + g.cells[d] <= grid.cells[d];
+            if !fits {
+                return Err((
+                    "pipeline.remap.file".into(),
+                    format!(
+                        "{}: its grid ({:?} cells of {:?} m from {:?}) does not lie on the domain's cells ({:?} of {:?} m from {:?})",
+                        cfg.file, g.cells, g.spacing, g.origin, grid.cells, grid.spacing, grid.origin
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            remap,
+            air,
+            products,
+        })
+    }
+
+    /// Whether particles of `material` (the air or the products) take the
+    /// remapped state where the remap covers them.
+    pub(crate) fn replaces(&self, material: MaterialId) -> bool {
+        material == self.air.0 || material == self.products.0
+    }
+
+    /// The particle at `x` of volume `volume` (m³) from the remapped cell
+    /// containing it, `None` outside the remap's grid. Its density,
+    /// velocity and specific internal energy are the cell's
+    /// (ρ, ρu/ρ, E/ρ − ½|u|²), so the particles of a cell carry its mass,
+    /// momentum and energy exactly; it is a products particle where the
+    /// cell's products fraction ρY/ρ exceeds 1/2 (as the bridge's inflow),
+    /// its stress −p I and temperature from that material's EOS.
+    pub(crate) fn particle(
+        &self,
+        x: [f64; 3],
+        volume: f64,
+    ) -> Result<Option<ParticleInit>, String> {
+        let g = &self.remap.geometry;
+        let Some(c) = g.cell_containing(x) else {
+            return Ok(None);
+        };
+        let n = g.linear_index(c);
+        let f = |k: usize| self.remap.fields[k][n];
+        let rho = f(0);
+        let velocity = [f(1) / rho, f(2) / rho, f(3) / rho];
+        let e = f(4) / rho - 0.5 * velocity.iter().map(|v| v * v).sum::<f64>();
+        if !(rho > 0.0 && e.is_finite()) {
+            return Err(format!(
+                "remapped cell {c:?}: density {rho} kg/m³ and specific internal energy {e} J/kg are not a gas state"
+            ));
+        }
+        let (material, eos) = if f(5) / rho > 0.5 {
+            &self.products
+        } else {
+            &self.air
+        };
+        let p = eos.pressure(rho, e);
+        Ok(Some(ParticleInit {
+            position: x,
+            velocity,
+            mass: rho * volume,
+            volume,
+            stress: [-p, -p, -p, 0.0, 0.0, 0.0],
+            temperature: eos.temperature(rho, e),
+            specific_internal_energy: e,
+            material: *material,
+            ..Default::default()
+        }))
+    }
 }
 
 /// A one-paragraph description (for `check`).
@@ -638,9 +799,189 @@ mod tests {
         let e = err("activation_pressure: 1.1e5", "activation_pressure: -1.0");
         assert!(e.contains("pipeline.activation_pressure"), "{e}");
         let e = err(
+            "activation_pressure: 1.1e5",
+            "activation_pressure: 1.1e5, min_particle_mass: 1.5",
+        );
+        assert!(e.contains("pipeline.min_particle_mass"), "{e}");
+        let e = err(
             "upper: (0.06, 0.02, 0.002), cells: (30",
             "upper: (0.08, 0.02, 0.002), cells: (40",
         );
         assert!(e.contains("union"), "{e}");
+    }
+
+    /// A 4 × 2 domain of 1 mm cells, the remap `file` on its cells
+    /// x = 1..3 (all y), air and TNT products as `Null` fluids, concrete
+    /// from the library.
+    fn pure_mpm(file: &str, air: &str) -> String {
+        format!(
+            r#"Scenario(
+        name: "gas_remap",
+        domain: (lower: (0.0, 0.0, 0.0), upper: (0.004, 0.002, 0.001), cells: (4, 2, 1)),
+        time: (end: 1.0e-6, cfl: 0.4),
+        materials: {{
+            "air": (model: Null(eos: IdealGas(gamma: 1.4, cv: 717.6, rho0: 1.225))),
+            "tnt": (model: Null(eos: Jwl(a: 3.712e11, b: 3.21e9, r1: 4.15, r2: 0.95, omega: 0.3, e0: 6.993e9, rho0: 1630.0, cv: 613.4969325153374))),
+            "concrete": (library: "concrete_48mpa"),
+        }},
+        pipeline: Mpm(ppc: 2, remap: (file: "{file}", air: "{air}", products: "tnt")),
+        initial: [
+            (region: Everywhere, material: "air", state: (density: 1.225, specific_internal_energy: 2.0685e5)),
+            (region: Box(min: (0.003, 0.0, 0.0), max: (0.004, 0.001, 0.001)), material: "concrete", state: (density: 2440.0, temperature: 293.15)),
+        ],
+        outputs: (fields: ["density"], vtk: false),
+    )"#
+        )
+    }
+
+    /// Writes a remap of 2 × 2 cells of 1 mm from `origin`: cell (0, 0)
+    /// air (ρ 2, ρu (4, −2, 0), E 10), (1, 0) products (ρ 1000, E 4e9,
+    /// ρY 800), (0, 1) half products (ρ 1, E 3, ρY 0.5: air), (1, 1) air at
+    /// rest (ρ 4, E 8).
+    fn write_remap(tag: &str, origin: [f64; 3]) -> std::path::PathBuf {
+        use brisance_couple::remap::{RemapReport, RemapTotals};
+        let fields = vec![
+            vec![2.0, 1000.0, 1.0, 4.0],
+            vec![4.0, 0.0, 0.0, 0.0],
+            vec![-2.0, 0.0, 0.0, 0.0],
+            vec![0.0; 4],
+            vec![10.0, 4.0e9, 3.0, 8.0],
+            vec![0.0, 800.0, 0.5, 0.0],
+        ];
+        let r = super::Remapped {
+            geometry: brisance_core::UniformGridGeometry {
+                origin,
+                spacing: [0.001; 3],
+                cells: [2, 2, 1],
+            },
+            fields,
+            report: RemapReport {
+                charge: RemapTotals::default(),
+                ambient: RemapTotals::default(),
+                grid_mass: 0.0,
+                grid_momentum: [0.0; 3],
+                grid_energy: 0.0,
+                grid_products: 0.0,
+                subsamples: 1,
+                radius: 0.0,
+                symmetry_planes: 0,
+                merged_shells: 0,
+                max_correction: 0.0,
+            },
+        };
+        let path = std::env::temp_dir().join(format!(
+            "brisance_gas_remap_{}_{tag}.bin",
+            std::process::id()
+        ));
+        r.save(&path).unwrap();
+        path
+    }
+
+    #[test]
+    fn mpm_gas_particles_take_the_remapped_cells_and_conserve_them() {
+        use brisance_mpm::MaterialId;
+        let path = write_remap("ok", [0.001, 0.0, 0.0]);
+        let loaded = load_str(
+            "gas_remap.ron",
+            &pure_mpm(&path.display().to_string(), "air"),
+            &[],
+        )
+        .unwrap();
+        let built = crate::build::build(&loaded.scenario).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let crate::build::Built::Mpm { solver, .. } = built else {
+            panic!("an Mpm scenario builds the MPM solver");
+        };
+        let p = solver.particles();
+        // 8 cells × 4 particles; materials numbered by name: air 0,
+        // concrete 1, tnt 2.
+        assert_eq!(p.len(), 32);
+        let v = 1.0e-9 / 4.0;
+        // Per remapped cell: (cell x, cell y, material, ρ, u, e).
+        let want = [
+            (1, 0, 0, 2.0, [2.0, -1.0, 0.0], 2.5),
+            (2, 0, 2, 1000.0, [0.0; 3], 4.0e6),
+            (1, 1, 0, 1.0, [0.0; 3], 3.0),
+            (2, 1, 0, 4.0, [0.0; 3], 2.0),
+        ];
+        for (i, j, m, rho, u, e) in want {
+            let inside: Vec<usize> = (0..p.len())
+                .filter(|&k| {
+                    let x = p.position[k];
+                    (x[0] * 1e3).floor() as usize == i && (x[1] * 1e3).floor() as usize == j
+                })
+                .collect();
+            assert_eq!(inside.len(), 4);
+            for &k in &inside {
+                assert_eq!(p.material[k], MaterialId(m));
+                assert_eq!(p.mass[k], rho * v);
+                assert_eq!(p.velocity[k], u);
+                assert_eq!(p.specific_internal_energy[k], e);
+            }
+            // The cell's mass and total energy E V: 4 m (e + ½|u|²).
+            let mass: f64 = inside.iter().map(|&k| p.mass[k]).sum();
+            assert!((mass - rho * 1e-9).abs() <= 1e-15 * rho * 1e-9);
+            let energy: f64 = inside
+                .iter()
+                .map(|&k| p.mass[k] * (e + 0.5 * u.iter().map(|c| c * c).sum::<f64>()))
+                .sum();
+            let total = rho * (e + 0.5 * u.iter().map(|c| c * c).sum::<f64>()) * 1e-9;
+            assert!((energy - total).abs() <= 1e-15 * total, "{energy} {total}");
+        }
+        // The air particle of cell (1, 0): p = 0.4 ρ e = 2 Pa.
+        let k = (0..p.len())
+            .find(|&k| p.velocity[k] == [2.0, -1.0, 0.0])
+            .unwrap();
+        assert!((p.stress[k][0] + 2.0).abs() < 1e-14, "{:?}", p.stress[k]);
+        assert_eq!(p.stress[k][0], p.stress[k][1]);
+        // Outside the remap: the initial regions (air at x < 1 mm, the
+        // concrete's cell keeps its material).
+        for k in 0..p.len() {
+            let x = p.position[k];
+            if x[0] < 0.001 {
+                assert_eq!((p.material[k], p.mass[k]), (MaterialId(0), 1.225 * v));
+                assert_eq!(p.specific_internal_energy[k], 2.0685e5);
+            }
+            if x[0] > 0.003 && x[1] < 0.001 {
+                assert_eq!(p.material[k], MaterialId(1));
+            }
+        }
+    }
+
+    #[test]
+    fn a_bad_mpm_remap_is_named() {
+        let build_err = |path: &std::path::Path, air: &str| {
+            let loaded = load_str(
+                "gas_remap.ron",
+                &pure_mpm(&path.display().to_string(), air),
+                &[],
+            )
+            .unwrap();
+            match crate::build::build(&loaded.scenario) {
+                Ok(_) => panic!("built with {} and air `{air}`", path.display()),
+                Err(e) => e.to_string(),
+            }
+        };
+        let shifted = write_remap("shifted", [0.0015, 0.0, 0.0]);
+        let e = build_err(&shifted, "air");
+        assert!(
+            e.contains("pipeline.remap.file") && e.contains("does not lie on"),
+            "{e}"
+        );
+        let outside = write_remap("outside", [0.003, 0.0, 0.0]);
+        let e = build_err(&outside, "air");
+        assert!(e.contains("does not lie on"), "{e}");
+        let e = build_err(&outside, "concrete");
+        assert!(
+            e.contains("pipeline.remap.air") && e.contains("Null"),
+            "{e}"
+        );
+        std::fs::remove_file(&shifted).unwrap();
+        std::fs::remove_file(&outside).unwrap();
+        let e = build_err(&shifted, "air");
+        assert!(
+            e.contains("pipeline.remap.file") && e.contains("cannot read"),
+            "{e}"
+        );
     }
 }

@@ -508,6 +508,12 @@ pub(crate) fn mpm_parts(
     let per_axis: [usize; 3] = std::array::from_fn(|a| if active[a] { ppc } else { 1 });
     let sub_volume =
         grid.spacing.iter().product::<f64>() / per_axis.iter().product::<usize>() as f64;
+    let remap = mpm
+        .remap
+        .as_ref()
+        .map(|r| crate::bridge::GasRemap::new(r, &names, &models, &grid))
+        .transpose()
+        .map_err(|(path, message)| located(&path, message))?;
     let mut particles = Particles::new(stride);
     let history = vec![0.0; stride];
     for k in 0..d.cells[2] {
@@ -528,7 +534,13 @@ pub(crate) fn mpm_parts(
                             else {
                                 continue;
                             };
-                            let init = ParticleInit {
+                            let remapped = match &remap {
+                                Some(g) if g.replaces(material) => g
+                                    .particle(x, sub_volume)
+                                    .map_err(|m| located("pipeline.remap.file", m))?,
+                                _ => None,
+                            };
+                            let init = remapped.unwrap_or(ParticleInit {
                                 position: x,
                                 velocity: r.state.velocity,
                                 mass: r.state.density * sub_volume,
@@ -537,7 +549,7 @@ pub(crate) fn mpm_parts(
                                 specific_internal_energy: energy,
                                 material,
                                 ..Default::default()
-                            };
+                            });
                             particles
                                 .push(&init, &history)
                                 .map_err(|e| located("initial", e.to_string()))?;

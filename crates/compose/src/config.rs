@@ -196,6 +196,11 @@ pub struct MpmConfig {
     /// Prescribed tractions on particle surfaces (seed 001 eq 20).
     #[serde(default)]
     pub surface_loads: Vec<SurfaceLoadConfig>,
+    /// Gas particles from a `brisance remap` file: particles of its `air`
+    /// and `products` materials inside the remap's grid take their cell's
+    /// remapped state (docs/physics/couple/bridge.md, pure MPM).
+    #[serde(default)]
+    pub remap: Option<crate::bridge::MpmRemapConfig>,
 }
 
 /// A prescribed traction or pressure on the particles that start in

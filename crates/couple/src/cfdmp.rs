@@ -60,6 +60,35 @@ pub struct CfdmpOptions {
     pub activation_pressure: f64,
     /// Cells on the FDM side of the interface watched for activation.
     pub activation_cells: usize,
+    /// Smallest mass of a created particle as a fraction of m_e (eqs
+    /// 45–46): a face's inflow waits, booked as in transit, until the
+    /// s ≥ 4 particles it makes would each weigh at least this much
+    /// (`Pending`). 0 is the paper's rule, particles every step with
+    /// inflow, at least 4 per face however small f_m is.
+    pub min_particle_mass: f64,
+    /// Volume V_e of an initial particle, m³: m_e (eq 45) at a face is then
+    /// max(`existing_mass`, ρ_donor V_e), so that compressed air and the
+    /// dense products enter as particles of the initial particles' size
+    /// rather than as ρ/ρ₀ times as many air-mass particles. 0: m_e is
+    /// `existing_mass` everywhere (the paper's rule).
+    pub existing_volume: f64,
+}
+
+/// Inflow of one interface face not yet made into particles (sums over
+/// the steps since its last particles), so that a small f_m does not make
+/// particles far lighter than the existing ones.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct Pending {
+    /// Σ f_m, kg.
+    pub mass: f64,
+    /// Σ f_p (eq 44), kg·m/s.
+    pub momentum: [f64; 3],
+    /// Σ f_m (e + |v_f|²/2), the total energy the particles will carry, J.
+    pub energy: f64,
+    /// The part of Σ f_m from donor cells of products (Y ≥ 1/2), kg.
+    pub products: f64,
+    /// Σ v_n Δt, the length the inflow filled, m.
+    pub length: f64,
 }
 
 /// Running totals of the transport.
@@ -104,6 +133,8 @@ pub struct Cfdmp<E: GasLaw> {
     totals: TransportTotals,
     fdm_seconds: f64,
     mpm_seconds: f64,
+    /// Inflow in transit per interface face (`face_cells` order).
+    pending: Vec<Pending>,
     /// Reused buffers.
     energy: Vec<f64>,
     created: Vec<NewParticle>,
@@ -160,6 +191,18 @@ impl<E: GasLaw> Cfdmp<E> {
         if !(options.gamma > 1.0) {
             return Err(format!("gamma = {} must be > 1", options.gamma));
         }
+        if !(0.0..=1.0).contains(&options.min_particle_mass) {
+            return Err(format!(
+                "min_particle_mass = {} must lie in [0, 1]",
+                options.min_particle_mass
+            ));
+        }
+        if !(options.existing_volume >= 0.0 && options.existing_volume.is_finite()) {
+            return Err(format!(
+                "existing_volume = {} m³ must be non-negative",
+                options.existing_volume
+            ));
+        }
         if !(options.existing_mass > 0.0) {
             return Err(format!(
                 "existing_mass = {} kg must be positive",
@@ -191,11 +234,13 @@ impl<E: GasLaw> Cfdmp<E> {
             totals: TransportTotals::default(),
             fdm_seconds: 0.0,
             mpm_seconds: 0.0,
+            pending: Vec::new(),
             energy: Vec::new(),
             created: Vec::new(),
             inits: Vec::new(),
             leaving: Vec::new(),
         };
+        s.pending = vec![Pending::default(); s.face_cells().len()];
         let cells = s.fictitious_cells();
         s.fictitious_initial = cells
             .iter()
@@ -234,7 +279,10 @@ impl<E: GasLaw> Cfdmp<E> {
         self.totals
     }
 
-    /// Wall seconds spent in the FDM and the MPM parts.
+    /// Wall seconds spent in the FDM and the MPM parts: the FDM step
+    /// (step 8) and the FDM-only steps before activation count as FDM; the
+    /// MPM step with the donor cells (steps 2–6, 9–13), the fictitious
+    /// cells (step 7) and the transport (step 14) count as MPM.
     pub fn split_seconds(&self) -> (f64, f64) {
         (self.fdm_seconds, self.mpm_seconds)
     }
@@ -479,68 +527,108 @@ impl<E: GasLaw> Cfdmp<E> {
         let active: [bool; 3] = std::array::from_fn(|d| fg.cells[d] > 1);
         self.created.clear();
         self.inits.clear();
-        for c in self.face_cells() {
+        for (f, c) in self.face_cells().into_iter().enumerate() {
             let (mut cd, mut cb) = (c, c);
             cd[a] = donor;
             cb[a] = bridge;
             let (sd, yd) = self.primitive(cd);
             let (sb, _) = self.primitive(cb);
             let face = interface_state(&sd, &sb);
-            let (fm, _) = interface_fluxes(&face, a, side, area, dt);
+            let (fm, fp) = interface_fluxes(&face, a, side, area, dt);
             if fm > 0.0 {
-                let mut centre = fg.cell_centre(c);
-                centre[a] = x_face;
-                let inflow = FaceInflow {
-                    face_centre: centre,
-                    spacing: fg.spacing,
-                    active,
-                    axis: a,
-                    side,
-                    face,
-                    donor: sd,
-                    gamma: self.options.gamma,
-                    existing_mass: self.options.existing_mass,
-                    dt,
+                let products = self.options.products.is_some() && yd >= 0.5;
+                // The new particles' specific internal energy: eq 48 for
+                // air, the donor's own for products.
+                let e = if products {
+                    let u = self.fdm.cell_conservative(cd).unwrap_or([0.0; 6]);
+                    specific_internal_energy(u[0], u[1], u[2], u[3], u[4])
+                } else {
+                    self.totals.products_as_air += yd * fm;
+                    sd.pressure / ((self.options.gamma - 1.0) * sd.density)
                 };
-                let start = self.created.len();
-                create_particles(&inflow, fm, &mut self.created);
-                let products = self.options.products.filter(|_| yd >= 0.5);
-                let (material, pressure) = match products {
-                    Some(m) => {
-                        // The donor's own specific internal energy (eq 48
-                        // is the air's case of it).
-                        let u = self.fdm.cell_conservative(cd).unwrap_or([0.0; 6]);
-                        let e = specific_internal_energy(u[0], u[1], u[2], u[3], u[4]);
-                        for q in &mut self.created[start..] {
-                            q.specific_internal_energy = e;
-                        }
-                        (m, sd.pressure)
-                    }
-                    None => {
-                        self.totals.products_as_air += yd * fm;
-                        (self.options.air, sd.pressure)
-                    }
-                };
-                for q in &self.created[start..] {
-                    let p = pressure;
-                    self.inits.push(ParticleInit {
-                        position: q.position,
-                        velocity: q.velocity,
-                        mass: q.mass,
-                        volume: q.volume,
-                        stress: [-p, -p, -p, 0.0, 0.0, 0.0],
-                        specific_internal_energy: q.specific_internal_energy,
-                        material,
-                        ..Default::default()
-                    });
-                    book(
-                        &mut self.totals.into_mpm,
-                        q.mass,
-                        q.velocity,
-                        q.specific_internal_energy,
-                    );
+                let v2: f64 = face.velocity.iter().map(|v| v * v).sum();
+                let q = &mut self.pending[f];
+                q.mass += fm;
+                for (m, p) in q.momentum.iter_mut().zip(fp) {
+                    *m += p;
                 }
+                q.energy += fm * (e + 0.5 * v2);
+                if products {
+                    q.products += fm;
+                }
+                q.length += (side.sign() * face.velocity[a] * dt).min(fg.spacing[a]);
             }
+            let q = self.pending[f];
+            let existing_mass = self
+                .options
+                .existing_mass
+                .max(sd.density * self.options.existing_volume);
+            if q.mass <= 0.0 || q.mass < 4.0 * self.options.min_particle_mass * existing_mass {
+                continue;
+            }
+            // The face's inflow so far as one batch: its mean velocity and
+            // the specific internal energy that keeps its total energy
+            // (eq 48's, plus the kinetic energy the mean velocity drops).
+            let v = q.momentum.map(|p| p / q.mass);
+            let vn = side.sign() * v[a];
+            if !(vn > 0.0) {
+                continue;
+            }
+            let e = q.energy / q.mass - 0.5 * v.iter().map(|x| x * x).sum::<f64>();
+            let mut centre = fg.cell_centre(c);
+            centre[a] = x_face;
+            let inflow = FaceInflow {
+                face_centre: centre,
+                spacing: fg.spacing,
+                active,
+                axis: a,
+                side,
+                face: Primitive {
+                    velocity: v,
+                    ..face
+                },
+                donor: sd,
+                gamma: self.options.gamma,
+                existing_mass,
+                // Eq 47 over the length the batch filled, the tangential
+                // drift kept within a quarter cell (inside the face's
+                // cell).
+                dt: (0..3)
+                    .filter(|&d| d != a && active[d] && v[d] != 0.0)
+                    .fold(q.length.min(fg.spacing[a]) / vn, |t, d| {
+                        t.min(0.25 * fg.spacing[d] / v[d].abs())
+                    }),
+            };
+            let start = self.created.len();
+            create_particles(&inflow, q.mass, &mut self.created);
+            let material = match self.options.products {
+                Some(m) if 2.0 * q.products >= q.mass => m,
+                _ => self.options.air,
+            };
+            let p = self.fdm.gas().gas_pressure(
+                sd.density,
+                e,
+                if material == self.options.air {
+                    0.0
+                } else {
+                    1.0
+                },
+            );
+            for n in &mut self.created[start..] {
+                n.specific_internal_energy = e;
+                self.inits.push(ParticleInit {
+                    position: n.position,
+                    velocity: n.velocity,
+                    mass: n.mass,
+                    volume: n.volume,
+                    stress: [-p, -p, -p, 0.0, 0.0, 0.0],
+                    specific_internal_energy: e,
+                    material,
+                    ..Default::default()
+                });
+                book(&mut self.totals.into_mpm, n.mass, n.velocity, e);
+            }
+            self.pending[f] = Pending::default();
         }
         self.totals.created += self.created.len() as u64;
         self.mpm
@@ -657,6 +745,33 @@ impl<E: GasLaw> Cfdmp<E> {
     }
 }
 
+/// The file [`Cfdmp`]'s end-of-run hook writes into the output directory:
+/// the FDM/MPM split of the wall time ([`time_split_json`]).
+pub const TIME_SPLIT_FILE: &str = "time_split.json";
+
+/// The FDM/MPM split as a JSON object: `fdm_seconds` and `mpm_seconds`
+/// ([`Cfdmp::split_seconds`]), the `steps` taken and the time the MPM
+/// region started (`activated_at`, s, `null` if it never did).
+pub fn time_split_json(
+    (fdm_seconds, mpm_seconds): (f64, f64),
+    steps: u64,
+    activated_at: Option<f64>,
+) -> String {
+    let num = |x: f64| {
+        if x.is_finite() {
+            format!("{x:?}")
+        } else {
+            "null".into()
+        }
+    };
+    format!(
+        "{{\n  \"fdm_seconds\": {},\n  \"mpm_seconds\": {},\n  \"steps\": {steps},\n  \"activated_at\": {}\n}}\n",
+        num(fdm_seconds),
+        num(mpm_seconds),
+        activated_at.map_or_else(|| "null".into(), num)
+    )
+}
+
 /// Cell fields of the coupled solver: those both methods give.
 pub const FIELDS: [&str; 6] = [
     "density",
@@ -677,6 +792,7 @@ struct SavedState {
     totals: [ConservationTotals; 2],
     counts: [u64; 3],
     products_as_air: f64,
+    pending: Vec<Pending>,
     fdm: Vec<u8>,
     mpm: Vec<u8>,
 }
@@ -762,6 +878,14 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             t.momentum[d] = t.momentum[d] * v + m.momentum[d];
         }
         t.energy = t.energy * v + m.energy;
+        // The inflow in transit (`Pending`).
+        for q in &self.pending {
+            t.mass += q.mass;
+            for d in 0..3 {
+                t.momentum[d] += q.momentum[d];
+            }
+            t.energy += q.energy;
+        }
         t
     }
 
@@ -828,6 +952,15 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         self.mpm.particle_data()
     }
 
+    /// Writes [`TIME_SPLIT_FILE`], the FDM/MPM split of the run's wall
+    /// time.
+    fn finish(&mut self, out_dir: &std::path::Path) -> Result<(), SolverError> {
+        let path = out_dir.join(TIME_SPLIT_FILE);
+        let text = time_split_json(self.split_seconds(), self.steps, self.activated_at);
+        std::fs::write(&path, text)
+            .map_err(|e| SolverError::Other(format!("cannot write {}: {e}", path.display())))
+    }
+
     fn work_per_step(&self) -> (f64, &'static str) {
         let cells = self.fdm.level().geometry.cell_count() as f64;
         let particles = if self.active {
@@ -848,6 +981,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             totals: [t.into_mpm, t.into_fdm],
             counts: [t.created, t.absorbed, t.supersonic_outflow],
             products_as_air: t.products_as_air,
+            pending: self.pending.clone(),
             fdm: self.fdm.save_state()?,
             mpm: self.mpm.save_state()?,
         };
@@ -859,6 +993,14 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
         self.fdm.restore_state(&s.fdm)?;
         self.mpm.restore_state(&s.mpm)?;
+        if s.pending.len() != self.pending.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "the checkpoint has {} interface faces, this bridge {}",
+                s.pending.len(),
+                self.pending.len()
+            )));
+        }
+        self.pending = s.pending;
         self.time = s.time;
         self.steps = s.steps;
         self.active = s.active;
@@ -925,6 +1067,11 @@ mod tests {
 
     /// The coupled 1D tube: FDM (0, 0.3) m, MPM (0.29, 0.4) m, w = 5.
     fn coupled() -> Cfdmp<IdealGas> {
+        coupled_with(0.25)
+    }
+
+    /// [`coupled`] with the given `min_particle_mass`.
+    fn coupled_with(min_particle_mass: f64) -> Cfdmp<IdealGas> {
         let regions = BridgeRegions::from_boxes(
             RegionBox {
                 lower: [0.0; 3],
@@ -957,6 +1104,8 @@ mod tests {
                 existing_mass: m,
                 activation_pressure: 1.05 * P0,
                 activation_cells: 3,
+                min_particle_mass,
+                existing_volume: 0.0,
             },
         )
         .unwrap()
@@ -1234,6 +1383,8 @@ mod tests {
                 // Below the stream's pressure: the MPM runs from step 1.
                 activation_pressure: 0.5 * P0,
                 activation_cells: 3,
+                min_particle_mass: 0.25,
+                existing_volume: 0.0,
             },
         )
         .unwrap()
@@ -1305,5 +1456,81 @@ mod tests {
         assert_eq!(data.fields[0].1[50], fdm[0]);
         let e = c.cell_data(&["mass_density".to_string()]).unwrap_err();
         assert!(e.to_string().contains("unknown field"), "{e}");
+    }
+
+    #[test]
+    fn the_time_split_is_json_with_every_part_named() {
+        assert_eq!(
+            time_split_json((1.5, 0.25), 12, Some(3.0e-6)),
+            "{\n  \"fdm_seconds\": 1.5,\n  \"mpm_seconds\": 0.25,\n  \"steps\": 12,\n  \"activated_at\": 3e-6\n}\n"
+        );
+        assert!(time_split_json((0.0, 0.0), 0, None).contains("\"activated_at\": null"));
+        assert!(time_split_json((f64::NAN, 1.0), 0, None).contains("\"fdm_seconds\": null"));
+    }
+
+    #[test]
+    fn finish_writes_the_split_of_a_run() {
+        let mut c = coupled();
+        while !c.is_active() {
+            let dt = Solver::stable_dt(&c).unwrap();
+            Solver::advance(&mut c, dt).unwrap();
+        }
+        for _ in 0..3 {
+            let dt = Solver::stable_dt(&c).unwrap();
+            Solver::advance(&mut c, dt).unwrap();
+        }
+        let (fdm, mpm) = c.split_seconds();
+        assert!(fdm > 0.0 && mpm > 0.0, "{fdm} {mpm}");
+        let dir = std::env::temp_dir().join(format!("brisance_split_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        c.finish(&dir).unwrap();
+        let text = std::fs::read_to_string(dir.join(TIME_SPLIT_FILE)).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(
+            text,
+            time_split_json((fdm, mpm), c.steps(), c.activated_at())
+        );
+        assert!(
+            text.contains(&format!("\"steps\": {}", c.steps())),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn inflow_batches_make_fewer_particles_of_at_least_half_m_e() {
+        // Threshold 4 m_e: every batch holds at least 4 m_e, so its
+        // s = 4⌈M/4m_e⌉ particles weigh M/s ≥ m_e/2 each.
+        let m_e = RHO0 * H * H * H / 2.0;
+        let run = |min: f64| {
+            let mut c = coupled_with(min);
+            let first = c.mpm().particles().len() as u32;
+            while c.time() < 5.5e-4 {
+                let dt = Solver::stable_dt(&c).unwrap();
+                Solver::advance(&mut c, dt).unwrap();
+            }
+            let ps = c.mpm().particles();
+            let ids = c.mpm().particle_ids();
+            let lightest = (0..ps.len())
+                .filter(|&p| ids[p] >= first)
+                .map(|p| ps.mass[p])
+                .fold(f64::INFINITY, f64::min);
+            let in_transit: f64 = c.pending.iter().map(|q| q.mass).sum();
+            assert_eq!(c.pending.len(), 1, "one face in the 1D tube");
+            (c.transport_totals(), lightest, in_transit)
+        };
+        let (paper, paper_lightest, none) = run(0.0);
+        let (batched, lightest, in_transit) = run(1.0);
+        assert_eq!(none, 0.0);
+        assert!(paper.created > 0 && batched.created > 0);
+        assert!(
+            batched.created < paper.created,
+            "{} vs {}",
+            batched.created,
+            paper.created
+        );
+        assert!(lightest >= 0.5 * m_e, "{lightest} {m_e}");
+        assert!(paper_lightest < 0.5 * m_e, "{paper_lightest} {m_e}");
+        // What waits is less than one batch.
+        assert!(in_transit < 4.0 * m_e, "{in_transit}");
     }
 }
