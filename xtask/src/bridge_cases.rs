@@ -12,6 +12,15 @@
 //! (125, 250) mm in the MPM region: arrival within 2 % and peak within 5 %
 //! (the issue's targets; seed 001 gives the two histories only as a
 //! figure, "in good agreement").
+//!
+//! It then runs the same problem as pure MPM (`configs/blast2d_mpm.ron`,
+//! the whole domain as particles from the same remap) over the same time
+//! and compares wall times (seed 001 §5.2: 181 min pure MPM against 50 min
+//! bridge; target: the bridge ≥ 3× faster), the gauges and their
+//! oscillation after the blast (seed 001 Fig. 12), and the bridge w = 5
+//! once more with the paper's inflow rule (`min_particle_mass: 0`,
+//! `inflow_particle_volume: false`) for its cost. Each bridge run reports
+//! its FDM/MPM split of the wall time (`time_split.json`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -108,7 +117,10 @@ fn arrival_and_peak(h: &History) -> Option<(f64, f64)> {
 
 /// One bridge run and what it measured.
 struct BridgeRun {
+    label: String,
     width: usize,
+    /// FDM and MPM wall seconds (`time_split.json`).
+    split: Option<(f64, f64)>,
     steps: u64,
     final_time: f64,
     wall_seconds: f64,
@@ -118,19 +130,42 @@ struct BridgeRun {
     gauge2: History,
 }
 
-fn run_bridge(root: &Path, width: usize) -> Result<BridgeRun> {
+/// A number of the flat JSON object written by the bridge
+/// (`"key": value`), `None` when absent or `null`.
+fn json_number(text: &str, key: &str) -> Option<f64> {
+    let rest = &text[text.find(&format!("\"{key}\":"))? + key.len() + 3..];
+    let end = rest.find([',', '\n', '}']).unwrap_or(rest.len());
+    rest[..end].trim().parse().ok()
+}
+
+fn read_split(out: &Path) -> Option<(f64, f64)> {
+    let text = std::fs::read_to_string(out.join("time_split.json")).ok()?;
+    Some((
+        json_number(&text, "fdm_seconds")?,
+        json_number(&text, "mpm_seconds")?,
+    ))
+}
+
+/// The bridge with width `width`; `paper_inflow` takes the paper's rule for
+/// the inflow particles (every step, m_e the air particle's mass).
+fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun> {
     // The MPM region starts at 120 mm − w · 2 mm.
     let lower = 0.12 - 0.002 * width as f64;
     let remap = root.join("out/blast2d_remap/remap.bin");
-    let sets = vec![
+    let mut sets = vec![
         format!("time.end={END_TIME:e}"),
         format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
         format!("pipeline.remap=Some(\"{}\")", remap.display()),
         "outputs.interval=1.0".to_string(),
     ];
+    if paper_inflow {
+        sets.push("pipeline.min_particle_mass=0.0".into());
+        sets.push("pipeline.inflow_particle_volume=false".into());
+    }
     let loaded = load_file(&root.join("configs/blast2d.ron"), &sets)
         .map_err(|e| anyhow::anyhow!("configs/blast2d.ron does not load: {e}"))?;
-    let out = root.join(format!("out/xtask_blast2d_w{width}"));
+    let tag = if paper_inflow { "_paper" } else { "" };
+    let out = root.join(format!("out/xtask_blast2d_w{width}{tag}"));
     let summary = run(
         &loaded,
         &RunOptions {
@@ -141,7 +176,12 @@ fn run_bridge(root: &Path, width: usize) -> Result<BridgeRun> {
     )
     .map_err(|e| anyhow::anyhow!("blast2d w = {width}: {e}"))?;
     Ok(BridgeRun {
+        label: format!(
+            "{width}{}",
+            if paper_inflow { ", paper's inflow" } else { "" }
+        ),
         width,
+        split: read_split(&out),
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
@@ -150,6 +190,61 @@ fn run_bridge(root: &Path, width: usize) -> Result<BridgeRun> {
         gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,
         gauge2: read_gauge(&out.join("gauges/gauge2.csv"))?,
     })
+}
+
+/// The pure-MPM run of the same problem (`configs/blast2d_mpm.ron`) over
+/// the same time.
+fn run_pure_mpm(root: &Path) -> Result<BridgeRun> {
+    let remap = root.join("out/blast2d_remap/remap.bin");
+    let sets = vec![
+        format!("time.end={END_TIME:e}"),
+        format!("pipeline.remap.file=\"{}\"", remap.display()),
+        "outputs.interval=1.0".to_string(),
+    ];
+    let loaded = load_file(&root.join("configs/blast2d_mpm.ron"), &sets)
+        .map_err(|e| anyhow::anyhow!("configs/blast2d_mpm.ron does not load: {e}"))?;
+    let out = root.join("out/xtask_blast2d_mpm");
+    let summary = run(
+        &loaded,
+        &RunOptions {
+            out_dir: out.clone(),
+            restart: None,
+            progress: false,
+        },
+    )
+    .map_err(|e| anyhow::anyhow!("blast2d pure MPM: {e}"))?;
+    Ok(BridgeRun {
+        label: "pure MPM".into(),
+        width: 0,
+        split: None,
+        steps: summary.steps,
+        final_time: summary.final_time,
+        wall_seconds: summary.wall_seconds,
+        completed: summary.completed,
+        stop_reason: summary.stop_reason,
+        gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,
+        gauge2: read_gauge(&out.join("gauges/gauge2.csv"))?,
+    })
+}
+
+/// Oscillation of a gauge after its blast peak: over the samples from
+/// [`PEAK_WINDOW`] after the first above twice ambient to the end, the
+/// total variation Σ|p_{k+1} − p_k| per µs divided by the blast peak
+/// (1/µs), and the share of those samples below half the ambient pressure
+/// (an empty cell: the MPM's particles have left it).
+fn oscillation(h: &History) -> Option<(f64, f64)> {
+    let (_, peak) = arrival_and_peak(h)?;
+    let first = h.pressure.iter().position(|&p| p > 2.0 * AMBIENT)?;
+    let t0 = h.time[first] + PEAK_WINDOW;
+    let k0 = h.time.iter().position(|&t| t > t0)?;
+    let p = &h.pressure[k0..];
+    let span = h.time[h.time.len() - 1] - h.time[k0];
+    if p.len() < 2 || span <= 0.0 {
+        return None;
+    }
+    let tv: f64 = p.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
+    let empty = p.iter().filter(|&&x| x < 0.5 * AMBIENT).count() as f64 / p.len() as f64;
+    Some((tv / (span * 1e6) / peak, empty))
 }
 
 /// Makes the remap with `brisance remap` and returns its printed report.
@@ -186,12 +281,13 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
     println!("  remap: {remap_line}");
     let mut runs = Vec::new();
     for width in [5usize, 2, 8] {
-        let r = run_bridge(&root, width)?;
+        let r = run_bridge(&root, width, false)?;
         println!(
-            "  w = {width}: {} steps to {:.2} µs in {:.0} s{}",
+            "  w = {width}: {} steps to {:.2} µs in {:.0} s (FDM/MPM {:?} s){}",
             r.steps,
             r.final_time * 1e6,
             r.wall_seconds,
+            r.split,
             r.stop_reason
                 .as_deref()
                 .map(|s| format!(" — stopped: {s}"))
@@ -199,6 +295,21 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push(r);
     }
+    let paper = run_bridge(&root, 5, true)?;
+    println!(
+        "  w = 5, paper's inflow: {} steps to {:.2} µs in {:.0} s (FDM/MPM {:?} s)",
+        paper.steps,
+        paper.final_time * 1e6,
+        paper.wall_seconds,
+        paper.split
+    );
+    let mpm = run_pure_mpm(&root)?;
+    println!(
+        "  pure MPM: {} steps to {:.2} µs in {:.0} s",
+        mpm.steps,
+        mpm.final_time * 1e6,
+        mpm.wall_seconds
+    );
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -213,17 +324,24 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
          FDM region, gauge 2 (125, 250) mm in the MPM region, at the same distance from the charge. Arrival: the \
          time the pressure first reaches half-way from ambient to the blast peak; peak: the largest pressure \
          within {:.0} µs of the first sample above twice ambient (the blast wave, before the products and the \
-         slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). Wall time on this \
-         shared 2-CPU machine under the other work's load.\n",
+         slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). The bridge runs \
+         create inflow particles sized like the initial ones and wait for a batch of at least 4 × ¼ m_e \
+         (`min_particle_mass: 0.25`, `inflow_particle_volume: true`, docs/physics/couple/bridge.md); the row \
+         \"5, paper's inflow\" takes the paper's rule (every step, at least 4 particles per face, m_e the air \
+         particle's mass). \"pure MPM\" is `configs/blast2d_mpm.ron`: the whole domain as particles of `Null` \
+         fluids with the same EOS, from the same remap, the same slab and gauges, same MPM options. FDM/MPM: \
+         the bridge's split of its wall time (`time_split.json`; the transport and the fictitious cells count \
+         as MPM). Wall times on this shared 2-CPU machine under the other work's load, the runs one after the \
+         other.\n",
         END_TIME * 1e6,
         PEAK_WINDOW * 1e6,
     );
     let _ = writeln!(
         md,
-        "| w | steps | reached (µs) | wall (s) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| w | steps | reached (µs) | wall (s) | FDM / MPM (s) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let mut measured = Vec::new();
-    for r in &runs {
+    for r in runs.iter().chain([&paper, &mpm]) {
         let a = arrival_and_peak(&r.gauge1);
         let b = arrival_and_peak(&r.gauge2);
         let cell = |x: Option<(f64, f64)>, k: usize| match x {
@@ -232,11 +350,13 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} |",
-            r.width,
+            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} | {} |",
+            r.label,
             r.steps,
             r.final_time * 1e6,
             r.wall_seconds,
+            r.split
+                .map_or("—".into(), |(f, m)| format!("{f:.0} / {m:.0}")),
             cell(a, 0),
             cell(b, 0),
             cell(a, 1),
@@ -244,18 +364,43 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         );
         measured.push((a, b));
     }
-    for r in runs.iter().filter(|r| !r.completed) {
+    for r in runs.iter().chain([&paper, &mpm]).filter(|r| !r.completed) {
         let _ = writeln!(
             md,
-            "\nw = {} stopped at {:.2} µs: {}",
-            r.width,
+            "\n{} stopped at {:.2} µs: {}",
+            r.label,
             r.final_time * 1e6,
             r.stop_reason.as_deref().unwrap_or("no reason given")
         );
     }
     let _ = writeln!(
         md,
-        "\n![E-BLAST2D gauges](img/e_blast2d.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+        "\nOscillation after the blast peak (from {:.0} µs after the first sample above twice ambient to the end): \
+         total variation of the pressure per µs over the blast peak, and the share of samples below half the \
+         ambient pressure (an empty cell).\n\n| run | gauge 1 variation (1/µs) | gauge 1 empty | gauge 2 variation (1/µs) | gauge 2 empty |\n|---|---:|---:|---:|---:|",
+        PEAK_WINDOW * 1e6
+    );
+    let osc = |h: &History| match oscillation(h) {
+        Some((tv, empty)) => (
+            format!("{tv:.3}"),
+            format!("{:.1} %", 100.0 * empty),
+            Some(tv),
+        ),
+        None => ("—".into(), "—".into(), None),
+    };
+    let mut osc_gauge2 = Vec::new();
+    for r in runs.iter().take(1).chain([&paper, &mpm]) {
+        let (a, b) = (osc(&r.gauge1), osc(&r.gauge2));
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} |",
+            r.label, a.0, a.1, b.0, b.1
+        );
+        osc_gauge2.push(b.2);
+    }
+    let _ = writeln!(
+        md,
+        "\n![E-BLAST2D gauges](img/e_blast2d.png)\n\n![E-BLAST2D bridge and pure MPM](img/e_blast2d_mpm.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
     );
     for (r, (a, b)) in runs.iter().zip(&measured) {
         report.target(
@@ -287,6 +432,31 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
                 false,
             ),
         }
+    }
+    // Speed: the bridge (w = 5) against pure MPM over the same time.
+    let both = runs[0].completed && mpm.completed;
+    for b in [&runs[0], &paper] {
+        let ratio = mpm.wall_seconds / b.wall_seconds;
+        report.target(
+            &format!(
+                "E-BLAST2D speed, pure MPM / bridge (w = {}) wall time",
+                b.label
+            ),
+            format!(
+                "{ratio:.2}× ({:.0} s / {:.0} s)",
+                mpm.wall_seconds, b.wall_seconds
+            ),
+            "≥ 3× (seed 3.6×)",
+            both && b.completed && ratio >= 3.0,
+        );
+    }
+    if let (Some(Some(bridge)), Some(Some(pure))) = (osc_gauge2.first(), osc_gauge2.last()) {
+        report.target(
+            "E-BLAST2D gauge 2 oscillation, bridge (w = 5) vs pure MPM",
+            format!("{bridge:.3} vs {pure:.3} /µs"),
+            "below pure MPM (seed Fig. 12)",
+            bridge < pure,
+        );
     }
     let series: Vec<(String, Vec<f64>, Vec<f64>)> = runs
         .iter()
@@ -326,6 +496,48 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         "time after the remap [µs]",
         &panels,
     )?;
+    // Bridge w = 5 against pure MPM, gauge by gauge.
+    let curve = |r: &BridgeRun, k: usize| {
+        let h = if k == 1 { &r.gauge1 } else { &r.gauge2 };
+        (
+            format!(
+                "{}, gauge {k}",
+                if r.width == 0 {
+                    "pure MPM"
+                } else {
+                    "bridge w = 5"
+                }
+            ),
+            h.time.iter().map(|t| t * 1e6).collect::<Vec<f64>>(),
+            h.pressure.iter().map(|p| p * 1e-6).collect::<Vec<f64>>(),
+        )
+    };
+    let pairs: Vec<_> = [1, 2]
+        .map(|k| [curve(&runs[0], k), curve(&mpm, k)])
+        .into_iter()
+        .collect();
+    let panels: Vec<Panel> = pairs
+        .iter()
+        .zip(["pressure, gauge 1 [MPa]", "pressure, gauge 2 [MPa]"])
+        .map(|(pair, y_label)| Panel {
+            y_label,
+            series: pair
+                .iter()
+                .map(|(label, x, y)| Series {
+                    label,
+                    x,
+                    y,
+                    style: SeriesStyle::Line,
+                })
+                .collect(),
+        })
+        .collect();
+    plot::plot_panels(
+        &img.join("e_blast2d_mpm.png"),
+        "E-BLAST2D: bridge (w = 5) and pure MPM",
+        "time after the remap [µs]",
+        &panels,
+    )?;
     Ok(())
 }
 
@@ -351,5 +563,31 @@ mod tests {
             pressure: vec![p0, p0],
         };
         assert!(arrival_and_peak(&flat).is_none());
+    }
+
+    #[test]
+    fn oscillation_is_the_variation_after_the_peak_window() {
+        // Blast at 1 µs (peak p0 + 4e6 inside the 3 µs window), then from
+        // 5 µs: p0, 0, p0 + 1e6, p0 over 3 µs.
+        let p0 = AMBIENT;
+        let h = History {
+            time: vec![0.0, 1.0e-6, 2.0e-6, 5.0e-6, 6.0e-6, 7.0e-6, 8.0e-6],
+            pressure: vec![p0, p0 + 4.0e6, p0, p0, 0.0, p0 + 1.0e6, p0],
+        };
+        let (tv, empty) = oscillation(&h).unwrap();
+        // Σ|Δp| = p0 + (p0 + 1e6) + 1e6 over 3 µs, over the peak.
+        let want = (2.0 * p0 + 2.0e6) / 3.0 / (p0 + 4.0e6);
+        assert!((tv - want).abs() < 1e-15, "{tv} {want}");
+        assert_eq!(empty, 0.25);
+    }
+
+    #[test]
+    fn the_split_is_read_from_the_bridges_json() {
+        let text = "{\n  \"fdm_seconds\": 1.5,\n  \"mpm_seconds\": 2e-3,\n  \"steps\": 4,\n  \"activated_at\": null\n}\n";
+        assert_eq!(json_number(text, "fdm_seconds"), Some(1.5));
+        assert_eq!(json_number(text, "mpm_seconds"), Some(2e-3));
+        assert_eq!(json_number(text, "steps"), Some(4.0));
+        assert_eq!(json_number(text, "activated_at"), None);
+        assert_eq!(json_number(text, "wall"), None);
     }
 }
