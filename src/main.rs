@@ -350,6 +350,9 @@ fn main() -> ExitCode {
                         s.relative_energy_change,
                         out_dir.display()
                     );
+                    if let Some(line) = wall_split_line(&s.wall_split, s.wall_seconds) {
+                        println!("{line}");
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
@@ -358,5 +361,59 @@ fn main() -> ExitCode {
                 }
             }
         }
+    }
+}
+
+/// The summary's line on a coupled method's split of its wall time, e.g.
+/// `  wall split: fdm 33.0 s (42 %), mpm 46.0 s (58 %)` (shares of the
+/// whole run's wall time); `None` for a method with one part.
+fn wall_split_line(parts: &[brisance::io::WallPart], wall_seconds: f64) -> Option<String> {
+    if parts.is_empty() {
+        return None;
+    }
+    let items: Vec<String> = parts
+        .iter()
+        .map(|p| {
+            if wall_seconds > 0.0 {
+                format!(
+                    "{} {:.1} s ({:.0} %)",
+                    p.part,
+                    p.seconds,
+                    100.0 * p.seconds / wall_seconds
+                )
+            } else {
+                format!("{} {:.1} s", p.part, p.seconds)
+            }
+        })
+        .collect();
+    Some(format!("  wall split: {}", items.join(", ")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wall_split_line;
+    use brisance::io::WallPart;
+
+    #[test]
+    fn the_wall_split_line_names_each_part_with_its_share() {
+        let parts = [
+            WallPart {
+                part: "fdm".into(),
+                seconds: 33.0,
+            },
+            WallPart {
+                part: "mpm".into(),
+                seconds: 46.0,
+            },
+        ];
+        assert_eq!(
+            wall_split_line(&parts, 100.0).as_deref(),
+            Some("  wall split: fdm 33.0 s (33 %), mpm 46.0 s (46 %)")
+        );
+        assert_eq!(
+            wall_split_line(&parts, 0.0).as_deref(),
+            Some("  wall split: fdm 33.0 s, mpm 46.0 s")
+        );
+        assert_eq!(wall_split_line(&[], 10.0), None);
     }
 }

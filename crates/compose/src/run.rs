@@ -327,6 +327,15 @@ impl Runner<'_> {
             threads: rayon::current_num_threads(),
             completed,
             stop_reason,
+            wall_split: self
+                .solver
+                .wall_split()
+                .into_iter()
+                .map(|(part, seconds)| io::WallPart {
+                    part: part.to_string(),
+                    seconds,
+                })
+                .collect(),
         }
     }
 }

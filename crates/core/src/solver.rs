@@ -77,6 +77,13 @@ pub trait Solver: Send {
         None
     }
 
+    /// Wall-clock seconds spent so far in each named part of a method made
+    /// of several (the FDM and the MPM of a bridge, for instance), for the
+    /// run summary; empty (the default) for a method with one part.
+    fn wall_split(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
     /// Writes the method's own output files (those that are neither cell
     /// fields, particles nor gauges: fragment tables, for instance) into the
     /// run's output directory `out_dir`, for field output number `index`.

@@ -832,6 +832,12 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         "fdm-mpm"
     }
 
+    /// [`Cfdmp::split_seconds`] as the parts `fdm` and `mpm`.
+    fn wall_split(&self) -> Vec<(&'static str, f64)> {
+        let (fdm, mpm) = self.split_seconds();
+        vec![("fdm", fdm), ("mpm", mpm)]
+    }
+
     fn time(&self) -> f64 {
         self.time
     }
@@ -1481,6 +1487,8 @@ mod tests {
         }
         let (fdm, mpm) = c.split_seconds();
         assert!(fdm > 0.0 && mpm > 0.0, "{fdm} {mpm}");
+        // The run summary's split is the same pair, named.
+        assert_eq!(Solver::wall_split(&c), vec![("fdm", fdm), ("mpm", mpm)]);
         let dir = std::env::temp_dir().join(format!("brisance_split_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         c.finish(&dir).unwrap();

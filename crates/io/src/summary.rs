@@ -42,6 +42,19 @@ pub struct RunSummary {
     pub completed: bool,
     /// Why the run stopped early, when it did.
     pub stop_reason: Option<String>,
+    /// Wall seconds in each named part of a method made of several (e.g.
+    /// `fdm` and `mpm` of the bridge); empty for a method with one part.
+    #[serde(default)]
+    pub wall_split: Vec<WallPart>,
+}
+
+/// Wall-clock seconds one named part of a coupled method took.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WallPart {
+    /// The part's name, e.g. `fdm`.
+    pub part: String,
+    /// Wall-clock seconds spent in it, s.
+    pub seconds: f64,
 }
 
 /// `(final_ - initial) / |initial|`; 0 when both are 0 (and ±infinity when
@@ -99,6 +112,16 @@ mod tests {
             threads: 2,
             completed: false,
             stop_reason: Some("wall-clock limit".to_string()),
+            wall_split: vec![
+                WallPart {
+                    part: "fdm".to_string(),
+                    seconds: 4.25,
+                },
+                WallPart {
+                    part: "mpm".to_string(),
+                    seconds: 8.0,
+                },
+            ],
         }
     }
 
