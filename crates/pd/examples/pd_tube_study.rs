@@ -7,9 +7,13 @@
 //!    LENGTH_M END_S SPACING_M [DISTANCE_FACTOR REFERENCE_FRACTION FORCE_FACTOR]`
 //!
 //! Environment: `VISC=α,β` turns on the products' artificial viscosity;
-//! `PUSH=1` applies the products' force to explosive not yet detonated;
+//! `PUSH=1` applies the products' force to explosive not yet detonated
+//! (it matters only for an explosive without a `reactant`; the cases' TNT
+//! has one, so its unreacted nodes are a Murnaghan solid and never held);
 //! `STEEL=1` runs the steel tube of E-PD-FRAG; `EVERY=s` sets the print
-//! interval. The products' kinetic energy is split into axial,
+//! interval. The "viscous heat" column is `PdSolver::viscous_heat`, which
+//! also counts the reactant's compression energy handed to the products at
+//! detonation. The products' kinetic energy is split into axial,
 //! transverse, about the family mean and non-affine parts
 //! (`cases::ProductsMotion`).
 

@@ -647,9 +647,11 @@ impl PdSolver {
         self.viscosity
     }
 
-    /// Heat the artificial viscosity has returned to the products, J:
-    /// Σ_i (ΔC_i/ω) (X_i/X_d,i)^{−ω} V_i, the part of `gas_energy` above
-    /// the isentropes the nodes detonated on.
+    /// Heat added to the products above the isentropes the nodes detonated
+    /// on, J: Σ_i (ΔC_i/ω) (X_i/X_d,i)^{−ω} V_i, the part of `gas_energy`
+    /// that the artificial viscosity returned plus, for an explosive with a
+    /// reactant, the compression energy its unreacted nodes held when they
+    /// detonated.
     pub fn viscous_heat(&self) -> f64 {
         (0..self.gas.len())
             .map(|i| match self.materials[self.material[i] as usize] {
