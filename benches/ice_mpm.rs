@@ -12,6 +12,10 @@
 //! Throughput is in cell-updates per second (32³ per step); the particle
 //! count is printed. `ICE_MPM_STEPS=n` runs n coupled steps and prints
 //! cell-updates and particle-steps per second instead of benchmarking.
+//! `ICE_MPM_PROFILE=coupled|ice|mpm:n` builds one of the three cases and
+//! runs n of its steps with the bench's Δt, nothing else: the difference
+//! of the instruction counts (`valgrind --tool=callgrind`) of n and 0
+//! steps is the cost of n steps, free of the set-up.
 
 use brisance::core::Solver;
 use brisance::ice::IceBoundary;
@@ -85,7 +89,45 @@ fn ice_mpm_step(c: &mut Criterion) {
 
 criterion_group!(benches, ice_mpm_step);
 
+/// `ICE_MPM_PROFILE=case:n`: n steps of one case (see the module doc).
+fn profile(spec: &str) {
+    let (case, n) = spec.split_once(':').unwrap_or((spec, "1"));
+    let n: usize = n.parse().expect("ICE_MPM_PROFILE=case:n, n a count");
+    let dt = coupled().stable_dt().expect("dt");
+    match case {
+        "coupled" => {
+            let mut s = coupled();
+            for _ in 0..n {
+                s.advance(dt).expect("coupled step");
+            }
+            // The state's bits, to check that a change left them alone.
+            let bytes = s.save_state().expect("state");
+            let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+                (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+            });
+            println!("coupled after {n} steps: state hash {hash:016x}");
+        }
+        "ice" => {
+            let mut s = build_frames(&setup()).0;
+            for _ in 0..n {
+                s.advance(dt).expect("ice step");
+            }
+        }
+        "mpm" => {
+            let mut s = build_frames(&setup()).1;
+            for _ in 0..n {
+                s.advance(dt).expect("mpm step");
+            }
+        }
+        _ => panic!("ICE_MPM_PROFILE: case {case} is not coupled, ice or mpm"),
+    }
+}
+
 fn main() {
+    if let Ok(spec) = std::env::var("ICE_MPM_PROFILE") {
+        profile(&spec);
+        return;
+    }
     if let Some(steps) = std::env::var("ICE_MPM_STEPS")
         .ok()
         .and_then(|s| s.parse::<usize>().ok())

@@ -6,7 +6,7 @@
 //!
 //! | step | where |
 //! |---|---|
-//! | 1 particles → nodes (eq 12) → cells (eq 18) | [`MpmSolver::advance_coupled`], [`steps::nodes_to_cells`], [`steps::particles_to_cell_state`] |
+//! | 1 particles → nodes (eq 12) → cells (eq 18) | [`MpmSolver::advance_coupled`], [`steps::project_to_cells`] |
 //! | 2 equilibration pressure, θ as shares of the materials' volume | [`IceSolver::compute_equilibration_pressure`] |
 //! | 3 face velocities with face exchange (eq 19) | [`IceSolver::compute_face_centred_velocities`] |
 //! | 4 reactions (fluid reactants) | inside [`IceSolver::compute_lagrangian_values`] |
@@ -101,22 +101,20 @@ impl FluidFrame<'_> {
     fn project_particles_to_cells(&mut self, nodes: &GridNodes, particles: &Particles) {
         let g = &self.grid;
         let s = &mut *self.s;
-        steps::nodes_to_cells(
+        steps::project_to_cells(
             g,
             &nodes.lattice,
             &nodes.mass,
             &nodes.velocity,
+            steps::ParticleState {
+                position: &particles.position,
+                mass: &particles.mass,
+                volume: &particles.volume,
+                temperature: &particles.temperature,
+            },
+            &mut s.node_sums,
             &mut s.cell_mass,
             &mut s.cell_velocity,
-        );
-        steps::particles_to_cell_state(
-            g,
-            &nodes.lattice,
-            &particles.position,
-            &particles.mass,
-            &particles.volume,
-            &particles.temperature,
-            &mut s.node_sums,
             &mut s.cell_state,
         );
         self.ice.eulerian_velocity(&mut s.fluid_velocity);

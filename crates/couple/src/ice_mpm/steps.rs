@@ -85,6 +85,98 @@ pub fn cell_of(grid: &UniformGridGeometry, k: usize) -> [usize; 3] {
     [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])]
 }
 
+/// The corners of every cell as storage indices of a node lattice, with
+/// their weights (eq 18): the table [`corners`] gives cell by cell,
+/// without building it (the same nodes, the same order, the same weights —
+/// products of ½ and 1, exact in any order).
+#[derive(Debug, Clone, Copy)]
+struct CornerWalk {
+    cells: [usize; 3],
+    span: [usize; 3],
+    stride: [usize; 3],
+    first: [isize; 3],
+}
+
+impl CornerWalk {
+    fn new(grid: &UniformGridGeometry, lattice: &NodeLattice) -> Self {
+        let dims = lattice.dims;
+        Self {
+            cells: grid.cells,
+            span: std::array::from_fn(|d| if active(grid, d) { 2 } else { 1 }),
+            stride: [1, dims[0], dims[0] * dims[1]],
+            first: lattice.first,
+        }
+    }
+
+    /// Calls `f(storage index, w_ic)` for each corner of cell `k` (global
+    /// linear index), in the order of [`corners`] (x fastest).
+    #[inline(always)]
+    fn visit(&self, k: usize, mut f: impl FnMut(usize, f64)) {
+        let n = self.cells;
+        let c = [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])];
+        let mut base = 0usize;
+        let mut w = [[1.0f64; 2]; 3];
+        for d in 0..3 {
+            if self.span[d] == 2 {
+                // Cell c's corners along d are the nodes c and c + 1; a
+                // node on a face of the domain (0 or n) weighs 1, else ½.
+                base += (c[d] as isize - self.first[d]) as usize * self.stride[d];
+                w[d] = [
+                    if c[d] == 0 { 1.0 } else { 0.5 },
+                    if c[d] + 1 == n[d] { 1.0 } else { 0.5 },
+                ];
+            } else {
+                base += (-self.first[d]) as usize * self.stride[d];
+            }
+        }
+        for kk in 0..self.span[2] {
+            for jj in 0..self.span[1] {
+                for ii in 0..self.span[0] {
+                    let idx =
+                        base + ii * self.stride[0] + jj * self.stride[1] + kk * self.stride[2];
+                    f(idx, w[0][ii] * w[1][jj] * w[2][kk]);
+                }
+            }
+        }
+    }
+}
+
+/// Eq 18 at cell `k`: (M_c, u_c) from the nodal mass and velocity.
+#[inline(always)]
+fn cell_mass_velocity(
+    walk: &CornerWalk,
+    k: usize,
+    node_mass: &[f64],
+    node_velocity: &[[f64; 3]],
+) -> (f64, [f64; 3]) {
+    let (mut mass, mut mom) = (0.0, [0.0; 3]);
+    walk.visit(k, |i, w| {
+        let wm = w * node_mass[i];
+        mass += wm;
+        for d in 0..3 {
+            mom[d] += wm * node_velocity[i][d];
+        }
+    });
+    let u = if mass > 0.0 {
+        mom.map(|x| x / mass)
+    } else {
+        [0.0; 3]
+    };
+    (mass, u)
+}
+
+/// The solid's (v_c, T_c) at cell `k` from the nearest-node sums.
+#[inline(always)]
+fn cell_state_at(walk: &CornerWalk, k: usize, node_sums: &[[f64; 3]]) -> Option<(f64, f64)> {
+    let mut s = [0.0; 3];
+    walk.visit(k, |i, w| {
+        for q in 0..3 {
+            s[q] += w * node_sums[i][q];
+        }
+    });
+    (s[0] > 0.0).then(|| (s[1] / s[0], s[2] / s[0]))
+}
+
 /// Step 1, eq 18: the solid's cell mass M_c = Σ_i w_ic m_i (kg) and
 /// mass-weighted velocity u_c = Σ_i w_ic m_i u_i / M_c (m/s; zero where
 /// M_c = 0) from the nodal mass and velocity, cells in parallel.
@@ -96,40 +188,21 @@ pub fn nodes_to_cells(
     cell_mass: &mut [f64],
     cell_velocity: &mut [[f64; 3]],
 ) {
+    let walk = CornerWalk::new(grid, lattice);
     cell_mass
         .par_iter_mut()
         .zip(cell_velocity.par_iter_mut())
         .enumerate()
+        .with_min_len(1024)
         .for_each(|(k, (m, u))| {
-            let cs = corners(grid, cell_of(grid, k));
-            let (mut mass, mut mom) = (0.0, [0.0; 3]);
-            for s in 0..cs.count {
-                let i = lattice
-                    .index(cs.node[s])
-                    .expect("cell corners lie in the node lattice");
-                let wm = cs.weight[s] * node_mass[i];
-                mass += wm;
-                for d in 0..3 {
-                    mom[d] += wm * node_velocity[i][d];
-                }
-            }
-            *m = mass;
-            *u = if mass > 0.0 {
-                mom.map(|x| x / mass)
-            } else {
-                [0.0; 3]
-            };
+            (*m, *u) = cell_mass_velocity(&walk, k, node_mass, node_velocity);
         });
 }
 
-/// Step 1 for the solid's specific volume and temperature: each
-/// particle's mass, volume and m·T go to its nearest node (sums in particle
-/// order, so the bits do not depend on the thread count), and each cell
-/// gathers them with the weights of eq 18: v_c = Σ w V / Σ w m (m³/kg) and
-/// T_c = Σ w m T / Σ w m (K). A cell none of whose corners received a
-/// particle gets `None` (the caller gives it the trace state).
-#[allow(clippy::too_many_arguments)]
-pub fn particles_to_cell_state(
+/// The nearest-node sums of [`particles_to_cell_state`]: each particle's
+/// mass, volume and m·T added to its nearest node, in particle order (so
+/// the bits do not depend on the thread count).
+fn nearest_node_sums(
     grid: &UniformGridGeometry,
     lattice: &NodeLattice,
     position: &[[f64; 3]],
@@ -137,7 +210,6 @@ pub fn particles_to_cell_state(
     volume: &[f64],
     temperature: &[f64],
     node_sums: &mut Vec<[f64; 3]>,
-    cell_state: &mut [Option<(f64, f64)>],
 ) {
     node_sums.clear();
     node_sums.resize(lattice.len(), [0.0; 3]);
@@ -157,19 +229,94 @@ pub fn particles_to_cell_state(
             sums[2] += mass[p] * temperature[p];
         }
     }
+}
+
+/// Step 1 for the solid's specific volume and temperature: each
+/// particle's mass, volume and m·T go to its nearest node (sums in particle
+/// order, so the bits do not depend on the thread count), and each cell
+/// gathers them with the weights of eq 18: v_c = Σ w V / Σ w m (m³/kg) and
+/// T_c = Σ w m T / Σ w m (K). A cell none of whose corners received a
+/// particle gets `None` (the caller gives it the trace state).
+#[allow(clippy::too_many_arguments)]
+pub fn particles_to_cell_state(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    position: &[[f64; 3]],
+    mass: &[f64],
+    volume: &[f64],
+    temperature: &[f64],
+    node_sums: &mut Vec<[f64; 3]>,
+    cell_state: &mut [Option<(f64, f64)>],
+) {
+    nearest_node_sums(
+        grid,
+        lattice,
+        position,
+        mass,
+        volume,
+        temperature,
+        node_sums,
+    );
+    let walk = CornerWalk::new(grid, lattice);
     let node_sums = &*node_sums;
-    cell_state.par_iter_mut().enumerate().for_each(|(k, out)| {
-        let cs = corners(grid, cell_of(grid, k));
-        let mut s = [0.0; 3];
-        for c in 0..cs.count {
-            if let Some(i) = lattice.index(cs.node[c]) {
-                for q in 0..3 {
-                    s[q] += cs.weight[c] * node_sums[i][q];
-                }
-            }
-        }
-        *out = (s[0] > 0.0).then(|| (s[1] / s[0], s[2] / s[0]));
-    });
+    cell_state
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(k, out)| *out = cell_state_at(&walk, k, node_sums));
+}
+
+/// The particle data [`project_to_cells`] reads (the start of the step's).
+#[derive(Debug, Clone, Copy)]
+pub struct ParticleState<'a> {
+    /// Positions, m.
+    pub position: &'a [[f64; 3]],
+    /// Masses, kg.
+    pub mass: &'a [f64],
+    /// Volumes, m³.
+    pub volume: &'a [f64],
+    /// Temperatures, K.
+    pub temperature: &'a [f64],
+}
+
+/// Step 1 in one pass over the cells: [`nodes_to_cells`] and
+/// [`particles_to_cell_state`] together (each cell's corners visited once
+/// for both), with the same bits as the two apart.
+#[allow(clippy::too_many_arguments)]
+pub fn project_to_cells(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    node_mass: &[f64],
+    node_velocity: &[[f64; 3]],
+    particles: ParticleState<'_>,
+    node_sums: &mut Vec<[f64; 3]>,
+    cell_mass: &mut [f64],
+    cell_velocity: &mut [[f64; 3]],
+    cell_state: &mut [Option<(f64, f64)>],
+) {
+    nearest_node_sums(
+        grid,
+        lattice,
+        particles.position,
+        particles.mass,
+        particles.volume,
+        particles.temperature,
+        node_sums,
+    );
+    let walk = CornerWalk::new(grid, lattice);
+    let node_sums = &*node_sums;
+    (
+        cell_mass.par_iter_mut(),
+        cell_velocity.par_iter_mut(),
+        cell_state.par_iter_mut(),
+    )
+        .into_par_iter()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(k, (m, u, state))| {
+            (*m, *u) = cell_mass_velocity(&walk, k, node_mass, node_velocity);
+            *state = cell_state_at(&walk, k, node_sums);
+        });
 }
 
 /// Step 13: the velocity change of every node, Δv_I = Σ_c w_Ic Δu_c over
@@ -392,6 +539,157 @@ mod tests {
             cell_value_at(&g, &field, [1.9, 0.7, 1.5]),
             field[g.linear_index([3, 2, 1])]
         );
+    }
+
+    /// Random nodal fields and particles on `g` (a fixed LCG from `seed`).
+    #[allow(clippy::type_complexity)]
+    fn random_case(
+        g: &UniformGridGeometry,
+        lat: &NodeLattice,
+        seed: u64,
+    ) -> (
+        Vec<f64>,
+        Vec<[f64; 3]>,
+        Vec<[f64; 3]>,
+        Vec<f64>,
+        Vec<f64>,
+        Vec<f64>,
+    ) {
+        let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+        let mut rnd = || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((x >> 11) as f64) / ((1u64 << 53) as f64)
+        };
+        // Some nodes empty, so that some cells have no mass.
+        let mass: Vec<f64> = (0..lat.len())
+            .map(|_| if rnd() < 0.3 { 0.0 } else { rnd() })
+            .collect();
+        let vel: Vec<[f64; 3]> = (0..lat.len())
+            .map(|_| [rnd() - 0.5, rnd(), -rnd()])
+            .collect();
+        let np = 3 * g.cell_count();
+        let upper: [f64; 3] = std::array::from_fn(|d| g.cells[d] as f64 * g.spacing[d]);
+        let pos: Vec<[f64; 3]> = (0..np)
+            .map(|_| std::array::from_fn(|d| 0.6 * upper[d] * rnd()))
+            .collect();
+        let pm: Vec<f64> = (0..np).map(|_| 0.5 + rnd()).collect();
+        let pv: Vec<f64> = (0..np).map(|_| 0.1 + rnd()).collect();
+        let pt: Vec<f64> = (0..np).map(|_| 300.0 + 100.0 * rnd()).collect();
+        (mass, vel, pos, pm, pv, pt)
+    }
+
+    /// The cell passes visit the corners of [`corners`] in its order with
+    /// its weights: the same bits as eq 18 summed from that table, on 3D,
+    /// 2D and 1D grids; the fused pass gives the bits of the two apart.
+    #[test]
+    fn the_cell_passes_sum_eq_18_over_the_corner_table_bit_for_bit() {
+        for cells in [[5, 4, 3], [6, 3, 1], [7, 1, 1]] {
+            let g = grid(cells);
+            let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+            let (mass, vel, pos, pm, pv, pt) = random_case(&g, &lat, 7);
+            let nc = g.cell_count();
+            let (mut cm, mut cu) = (vec![0.0; nc], vec![[0.0; 3]; nc]);
+            nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+            let mut sums = Vec::new();
+            let mut state = vec![None; nc];
+            particles_to_cell_state(&g, &lat, &pos, &pm, &pv, &pt, &mut sums, &mut state);
+            for k in 0..nc {
+                let cs = corners(&g, cell_of(&g, k));
+                let (mut m, mut mom, mut s) = (0.0, [0.0; 3], [0.0; 3]);
+                for c in 0..cs.count {
+                    let i = lat.index(cs.node[c]).unwrap();
+                    let wm = cs.weight[c] * mass[i];
+                    m += wm;
+                    for d in 0..3 {
+                        mom[d] += wm * vel[i][d];
+                        s[d] += cs.weight[c] * sums[i][d];
+                    }
+                }
+                let u = if m > 0.0 {
+                    mom.map(|x| x / m)
+                } else {
+                    [0.0; 3]
+                };
+                assert_eq!(cm[k].to_bits(), m.to_bits(), "{cells:?} cell {k}");
+                assert_eq!(cu[k].map(f64::to_bits), u.map(f64::to_bits));
+                let st = (s[0] > 0.0).then(|| (s[1] / s[0], s[2] / s[0]));
+                assert_eq!(state[k], st, "{cells:?} cell {k}");
+            }
+            assert!(state.iter().any(|s| s.is_none()) && state.iter().any(|s| s.is_some()));
+            let (mut fm, mut fu, mut fs) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
+            let mut fsums = Vec::new();
+            project_to_cells(
+                &g,
+                &lat,
+                &mass,
+                &vel,
+                ParticleState {
+                    position: &pos,
+                    mass: &pm,
+                    volume: &pv,
+                    temperature: &pt,
+                },
+                &mut fsums,
+                &mut fm,
+                &mut fu,
+                &mut fs,
+            );
+            assert_eq!(
+                fm.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                cm.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+            assert_eq!(fu, cu);
+            assert_eq!(fs, state);
+        }
+    }
+
+    /// Step 1 and step 13 give the same bits on 1 and 2 threads.
+    #[test]
+    fn the_transfers_give_the_same_bits_on_one_and_two_threads() {
+        let g = grid([24, 20, 9]);
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        let (mass, vel, pos, pm, pv, pt) = random_case(&g, &lat, 11);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let nc = g.cell_count();
+                let (mut m, mut u, mut st) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
+                let mut sums = Vec::new();
+                project_to_cells(
+                    &g,
+                    &lat,
+                    &mass,
+                    &vel,
+                    ParticleState {
+                        position: &pos,
+                        mass: &pm,
+                        volume: &pv,
+                        temperature: &pt,
+                    },
+                    &mut sums,
+                    &mut m,
+                    &mut u,
+                    &mut st,
+                );
+                let mut dv = vec![[0.0; 3]; lat.len()];
+                cells_to_nodes(&g, &lat, &u, &mut dv);
+                let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
+                    v.iter().map(|x| x.map(f64::to_bits)).collect()
+                };
+                (
+                    m.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    bits(&u),
+                    st,
+                    bits(&dv),
+                )
+            })
+        };
+        assert_eq!(run(1), run(2));
     }
 
     #[test]
