@@ -225,19 +225,29 @@ fn for_each_cell_global(
 }
 
 /// Fills `out` (one entry per cell, global order, x fastest) with
-/// `f(patch id, local index)`, cells in parallel: each entry depends on
-/// its own cell only, so the bits do not depend on the thread count.
+/// `f(patch id, local index)`, rows of cells in parallel: each entry
+/// depends on its own cell only, so the bits do not depend on the thread
+/// count. The owning patch is looked up once per run of a row inside one
+/// patch (the local index then steps by one along x), not once per cell.
 fn par_gather<T: Send>(level: &Level, out: &mut [T], f: impl Fn(usize, usize) -> T + Sync) {
     let n = level.geometry.cells;
-    out.par_iter_mut()
-        .with_min_len(1024)
+    out.par_chunks_mut(n[0])
+        .with_min_len((1024 / n[0]).max(1))
         .enumerate()
-        .for_each(|(k, o)| {
-            let g = [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])];
-            let (pid, c) = level
-                .locate(g)
-                .expect("every cell of the domain has a patch");
-            *o = f(pid, c);
+        .for_each(|(row, o)| {
+            let (j, k) = (row % n[1], row / n[1]);
+            let mut i = 0;
+            while i < n[0] {
+                let (pid, c) = level
+                    .locate([i, j, k])
+                    .expect("every cell of the domain has a patch");
+                let p = &level.patches[pid];
+                let end = p.lo[0] + p.size[0];
+                for (m, o) in o[i..end].iter_mut().enumerate() {
+                    *o = f(pid, c + m);
+                }
+                i = end;
+            }
         });
 }
 
@@ -2201,5 +2211,39 @@ mod cold_trace_tests {
         // The air: e kept, T = e/c_v.
         assert_eq!(vals[ENERGY], 717.5 * t_air);
         assert!((vals[TEMP] - t_air).abs() < 1e-9);
+    }
+}
+
+#[cfg(test)]
+mod gather_tests {
+    use super::*;
+
+    /// The row-wise gather hands every global cell its own patch and
+    /// local index, whatever the patch split (patches of unequal sizes
+    /// along x included) and on 1 or 2 threads.
+    #[test]
+    fn par_gather_maps_every_cell_to_its_own_patch_cell() {
+        for layout in [[1, 1, 1], [3, 2, 1], [2, 1, 2], [3, 2, 2]] {
+            let cells = [7, 5, 4];
+            // 7 cells along x in 3 patches: runs of unequal length.
+            let level = Level::new([0.0; 3], [1.0; 3], cells, layout, 2).unwrap();
+            let count = level.geometry.cell_count();
+            for threads in [1, 2] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut out = vec![usize::MAX; count];
+                pool.install(|| {
+                    par_gather(&level, &mut out, |pid, c| {
+                        level
+                            .geometry
+                            .linear_index(global_of(&level.patches[pid], c))
+                    })
+                });
+                let want: Vec<usize> = (0..count).collect();
+                assert_eq!(out, want, "layout {layout:?}, {threads} threads");
+            }
+        }
     }
 }
