@@ -677,9 +677,13 @@ impl<E: Eos> IceSolver<E> {
 
     /// Step 1 of seed 000 §3.3 for a Lagrangian material `r`: its cell
     /// state from the particles (in global cell order, x fastest), with
-    /// the internal energy and sound speed its equation of state gives at
-    /// that specific volume and temperature. Run
-    /// [`IceSolver::compute_equilibration_pressure`] after it.
+    /// the internal energy its equation of state gives at that specific
+    /// volume and temperature. Run
+    /// [`IceSolver::compute_equilibration_pressure`] after it: it sets
+    /// every material's sound speed in every cell from the equilibrated
+    /// state (the sound speed at the imported state, which nothing reads
+    /// before that, is not computed here; until then the material keeps
+    /// its previous one).
     pub fn import_lagrangian(
         &mut self,
         r: usize,
@@ -755,7 +759,6 @@ impl<E: Eos> IceSolver<E> {
             d[b + VSP][c] = v;
             d[b + THETA][c] = cells.mass_density[g] * v;
             d[b + TEMP][c] = t;
-            d[b + SOUND][c] = eos.sound_speed(1.0 / v, e);
         });
         Ok(())
     }
