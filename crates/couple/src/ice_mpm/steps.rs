@@ -108,10 +108,10 @@ impl CornerWalk {
         }
     }
 
-    /// Calls `f(storage index, w_ic)` for each corner of cell `k` (global
-    /// linear index), in the order of [`corners`] (x fastest).
+    /// Cell `k` (global linear index): the storage index of its first
+    /// corner and the weights of its corners along each axis.
     #[inline(always)]
-    fn visit(&self, k: usize, mut f: impl FnMut(usize, f64)) {
+    fn cell(&self, k: usize) -> CellCorners {
         let n = self.cells;
         let c = [k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1])];
         let mut base = 0usize;
@@ -129,11 +129,19 @@ impl CornerWalk {
                 base += (-self.first[d]) as usize * self.stride[d];
             }
         }
+        CellCorners { base, w }
+    }
+
+    /// Calls `f(storage index, w_ic)` for each corner of `cell`, in the
+    /// order of [`corners`] (x fastest).
+    #[inline(always)]
+    fn visit(&self, cell: &CellCorners, mut f: impl FnMut(usize, f64)) {
+        let w = &cell.w;
         for kk in 0..self.span[2] {
             for jj in 0..self.span[1] {
                 for ii in 0..self.span[0] {
                     let idx =
-                        base + ii * self.stride[0] + jj * self.stride[1] + kk * self.stride[2];
+                        cell.base + ii * self.stride[0] + jj * self.stride[1] + kk * self.stride[2];
                     f(idx, w[0][ii] * w[1][jj] * w[2][kk]);
                 }
             }
@@ -141,16 +149,23 @@ impl CornerWalk {
     }
 }
 
-/// Eq 18 at cell `k`: (M_c, u_c) from the nodal mass and velocity.
+/// One cell's corners for [`CornerWalk::visit`].
+#[derive(Debug, Clone, Copy)]
+struct CellCorners {
+    base: usize,
+    w: [[f64; 2]; 3],
+}
+
+/// Eq 18 at one cell: (M_c, u_c) from the nodal mass and velocity.
 #[inline(always)]
 fn cell_mass_velocity(
     walk: &CornerWalk,
-    k: usize,
+    cell: &CellCorners,
     node_mass: &[f64],
     node_velocity: &[[f64; 3]],
 ) -> (f64, [f64; 3]) {
     let (mut mass, mut mom) = (0.0, [0.0; 3]);
-    walk.visit(k, |i, w| {
+    walk.visit(cell, |i, w| {
         let wm = w * node_mass[i];
         mass += wm;
         for d in 0..3 {
@@ -165,11 +180,15 @@ fn cell_mass_velocity(
     (mass, u)
 }
 
-/// The solid's (v_c, T_c) at cell `k` from the nearest-node sums.
+/// The solid's (v_c, T_c) at one cell from the nearest-node sums.
 #[inline(always)]
-fn cell_state_at(walk: &CornerWalk, k: usize, node_sums: &[[f64; 3]]) -> Option<(f64, f64)> {
+fn cell_state_at(
+    walk: &CornerWalk,
+    cell: &CellCorners,
+    node_sums: &[[f64; 3]],
+) -> Option<(f64, f64)> {
     let mut s = [0.0; 3];
-    walk.visit(k, |i, w| {
+    walk.visit(cell, |i, w| {
         for q in 0..3 {
             s[q] += w * node_sums[i][q];
         }
@@ -195,7 +214,7 @@ pub fn nodes_to_cells(
         .enumerate()
         .with_min_len(1024)
         .for_each(|(k, (m, u))| {
-            (*m, *u) = cell_mass_velocity(&walk, k, node_mass, node_velocity);
+            (*m, *u) = cell_mass_velocity(&walk, &walk.cell(k), node_mass, node_velocity);
         });
 }
 
@@ -263,7 +282,7 @@ pub fn particles_to_cell_state(
         .par_iter_mut()
         .enumerate()
         .with_min_len(1024)
-        .for_each(|(k, out)| *out = cell_state_at(&walk, k, node_sums));
+        .for_each(|(k, out)| *out = cell_state_at(&walk, &walk.cell(k), node_sums));
 }
 
 /// The particle data [`project_to_cells`] reads (the start of the step's).
@@ -314,8 +333,9 @@ pub fn project_to_cells(
         .enumerate()
         .with_min_len(1024)
         .for_each(|(k, (m, u, state))| {
-            (*m, *u) = cell_mass_velocity(&walk, k, node_mass, node_velocity);
-            *state = cell_state_at(&walk, k, node_sums);
+            let cell = walk.cell(k);
+            (*m, *u) = cell_mass_velocity(&walk, &cell, node_mass, node_velocity);
+            *state = cell_state_at(&walk, &cell, node_sums);
         });
 }
 
