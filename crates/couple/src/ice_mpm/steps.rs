@@ -218,7 +218,7 @@ pub fn nodes_to_cells(
         });
 }
 
-/// The nearest-node sums of [`particles_to_cell_state`]: each particle's
+/// The nearest-node sums of [`project_to_cells`]: each particle's
 /// mass, volume and m·T added to its nearest node, in particle order (so
 /// the bits do not depend on the thread count).
 fn nearest_node_sums(
@@ -250,41 +250,6 @@ fn nearest_node_sums(
     }
 }
 
-/// Step 1 for the solid's specific volume and temperature: each
-/// particle's mass, volume and m·T go to its nearest node (sums in particle
-/// order, so the bits do not depend on the thread count), and each cell
-/// gathers them with the weights of eq 18: v_c = Σ w V / Σ w m (m³/kg) and
-/// T_c = Σ w m T / Σ w m (K). A cell none of whose corners received a
-/// particle gets `None` (the caller gives it the trace state).
-#[allow(clippy::too_many_arguments)]
-pub fn particles_to_cell_state(
-    grid: &UniformGridGeometry,
-    lattice: &NodeLattice,
-    position: &[[f64; 3]],
-    mass: &[f64],
-    volume: &[f64],
-    temperature: &[f64],
-    node_sums: &mut Vec<[f64; 3]>,
-    cell_state: &mut [Option<(f64, f64)>],
-) {
-    nearest_node_sums(
-        grid,
-        lattice,
-        position,
-        mass,
-        volume,
-        temperature,
-        node_sums,
-    );
-    let walk = CornerWalk::new(grid, lattice);
-    let node_sums = &*node_sums;
-    cell_state
-        .par_iter_mut()
-        .enumerate()
-        .with_min_len(1024)
-        .for_each(|(k, out)| *out = cell_state_at(&walk, &walk.cell(k), node_sums));
-}
-
 /// The particle data [`project_to_cells`] reads (the start of the step's).
 #[derive(Debug, Clone, Copy)]
 pub struct ParticleState<'a> {
@@ -298,9 +263,14 @@ pub struct ParticleState<'a> {
     pub temperature: &'a [f64],
 }
 
-/// Step 1 in one pass over the cells: [`nodes_to_cells`] and
-/// [`particles_to_cell_state`] together (each cell's corners visited once
-/// for both), with the same bits as the two apart.
+/// Step 1 in one pass over the cells (each cell's corners visited once):
+/// the solid's cell mass and velocity as [`nodes_to_cells`] gives them
+/// (same bits), and its specific volume and temperature. For the latter
+/// each particle's mass, volume and m·T go to its nearest node (sums in
+/// particle order, so the bits do not depend on the thread count), and
+/// each cell gathers them with the weights of eq 18: v_c = Σ w V / Σ w m
+/// (m³/kg) and T_c = Σ w m T / Σ w m (K). A cell none of whose corners
+/// received a particle gets `None` (the caller gives it the trace state).
 #[allow(clippy::too_many_arguments)]
 pub fn project_to_cells(
     grid: &UniformGridGeometry,
@@ -602,7 +572,7 @@ mod tests {
 
     /// The cell passes visit the corners of [`corners`] in its order with
     /// its weights: the same bits as eq 18 summed from that table, on 3D,
-    /// 2D and 1D grids; the fused pass gives the bits of the two apart.
+    /// 2D and 1D grids, for the nodal pass alone and the fused one.
     #[test]
     fn the_cell_passes_sum_eq_18_over_the_corner_table_bit_for_bit() {
         for cells in [[5, 4, 3], [6, 3, 1], [7, 1, 1]] {
@@ -612,9 +582,24 @@ mod tests {
             let nc = g.cell_count();
             let (mut cm, mut cu) = (vec![0.0; nc], vec![[0.0; 3]; nc]);
             nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+            let (mut fm, mut fu, mut state) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
             let mut sums = Vec::new();
-            let mut state = vec![None; nc];
-            particles_to_cell_state(&g, &lat, &pos, &pm, &pv, &pt, &mut sums, &mut state);
+            project_to_cells(
+                &g,
+                &lat,
+                &mass,
+                &vel,
+                ParticleState {
+                    position: &pos,
+                    mass: &pm,
+                    volume: &pv,
+                    temperature: &pt,
+                },
+                &mut sums,
+                &mut fm,
+                &mut fu,
+                &mut state,
+            );
             for k in 0..nc {
                 let cs = corners(&g, cell_of(&g, k));
                 let (mut m, mut mom, mut s) = (0.0, [0.0; 3], [0.0; 3]);
@@ -638,30 +623,11 @@ mod tests {
                 assert_eq!(state[k], st, "{cells:?} cell {k}");
             }
             assert!(state.iter().any(|s| s.is_none()) && state.iter().any(|s| s.is_some()));
-            let (mut fm, mut fu, mut fs) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
-            let mut fsums = Vec::new();
-            project_to_cells(
-                &g,
-                &lat,
-                &mass,
-                &vel,
-                ParticleState {
-                    position: &pos,
-                    mass: &pm,
-                    volume: &pv,
-                    temperature: &pt,
-                },
-                &mut fsums,
-                &mut fm,
-                &mut fu,
-                &mut fs,
-            );
             assert_eq!(
                 fm.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
                 cm.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
             );
             assert_eq!(fu, cu);
-            assert_eq!(fs, state);
         }
     }
 
@@ -720,15 +686,21 @@ mod tests {
         // T 300 and 500 K.
         let pos = [[0.45, 0.24, 0.5], [0.55, 0.26, 0.5]];
         let mut sums = Vec::new();
-        let mut state = vec![None; 4];
-        particles_to_cell_state(
+        let (mut m, mut u, mut state) = (vec![0.0; 4], vec![[0.0; 3]; 4], vec![None; 4]);
+        project_to_cells(
             &g,
             &lat,
-            &pos,
-            &[1.0, 3.0],
-            &[0.1, 0.5],
-            &[300.0, 500.0],
+            &vec![0.0; lat.len()],
+            &vec![[0.0; 3]; lat.len()],
+            ParticleState {
+                position: &pos,
+                mass: &[1.0, 3.0],
+                volume: &[0.1, 0.5],
+                temperature: &[300.0, 500.0],
+            },
             &mut sums,
+            &mut m,
+            &mut u,
             &mut state,
         );
         for s in state {
