@@ -46,15 +46,7 @@ pub fn copper_cylinder(spacing: f64, length: f64) -> TubeCase {
         length,
         inner_radius: 0.0127,
         outer_radius: 0.0127 + 0.0026,
-        metal: Proportional {
-            density: 8930.0,
-            sound_speed: 3602.0,
-            yield_strength: 324.0e6,
-            critical_stretch: 2.0,
-            kind: ProportionalKind::MicroElastic,
-            damage_stretch_coefficient: 0.0,
-            minimum_stretch_coefficient: 0.0,
-        },
+        metal: Proportional::seed_004_copper(),
         spacing,
     }
 }

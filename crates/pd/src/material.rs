@@ -67,6 +67,21 @@ pub struct Proportional {
 }
 
 impl Proportional {
+    /// The copper case of seed 004's cylinder test: ρ 8930 kg/m³, bulk
+    /// sound speed 3602 m/s, yield 324 MPa, critical stretch 2.0,
+    /// micro-elastic as the seed's "proportional model", no damage terms.
+    pub fn seed_004_copper() -> Self {
+        Self {
+            density: 8930.0,
+            sound_speed: 3602.0,
+            yield_strength: 324.0e6,
+            critical_stretch: 2.0,
+            kind: ProportionalKind::MicroElastic,
+            damage_stretch_coefficient: 0.0,
+            minimum_stretch_coefficient: 0.0,
+        }
+    }
+
     /// Bulk modulus K = ρ c_b², Pa.
     pub fn bulk_modulus(&self) -> f64 {
         self.density * self.sound_speed * self.sound_speed
@@ -285,15 +300,7 @@ mod tests {
     use super::*;
 
     fn copper() -> Proportional {
-        Proportional {
-            density: 8930.0,
-            sound_speed: 3602.0,
-            yield_strength: 324.0e6,
-            critical_stretch: 2.0,
-            kind: ProportionalKind::MicroElastic,
-            damage_stretch_coefficient: 0.0,
-            minimum_stretch_coefficient: 0.0,
-        }
+        Proportional::seed_004_copper()
     }
 
     #[test]

@@ -562,15 +562,7 @@ fn products_contact_keeps_the_rest_state_force_free() {
 #[test]
 fn momentum_of_a_detonating_charge_and_its_case_is_conserved_to_round_off() {
     let h = 1.0e-3;
-    let copper = PdMaterial::Proportional(Proportional {
-        density: 8930.0,
-        sound_speed: 3602.0,
-        yield_strength: 324.0e6,
-        critical_stretch: 2.0,
-        kind: ProportionalKind::MicroElastic,
-        damage_stretch_coefficient: 0.0,
-        minimum_stretch_coefficient: 0.0,
-    });
+    let copper = PdMaterial::Proportional(Proportional::seed_004_copper());
     let mut s = PdSolver::new(PdSetup {
         options: PdOptions {
             spacing: h,
