@@ -3,7 +3,7 @@
 //! 1 mm cells, run to 100 µs.
 //!
 //! Until the coupled MPM step gave nodes below the mass cut-off their
-//! particles' velocity (`GridNodes::light_node_velocities`), the leading
+//! particles' velocity (`NodeUpdate::light_nodes_move`), the leading
 //! cell of the piston took a solid velocity near zero whenever its front
 //! particle had just crossed a node, the momentum exchange braked the gas
 //! there by a third of its speed in one step, and the mixed cell at the

@@ -118,6 +118,15 @@ pub struct NodeUpdate<'a> {
     pub cells: [usize; 3],
     /// Nodes at or below this mass (kg) get zero velocity and acceleration.
     pub mass_threshold: f64,
+    /// Whether a node with 0 < m_I ≤ `mass_threshold` keeps the velocity
+    /// p_I/m_I (its acceleration still cut off): the coupled ICE–MPM step
+    /// (seed 000 §3.3 step 1), where such a node's mass enters the cell
+    /// mass of eq 18, M_c = Σ_I w_Ic m_I, so its velocity must be the
+    /// particles' too. Zeroed, it gave the leading cell of a moving solid
+    /// a velocity near zero against the gas beside it (a full-speed slip
+    /// the momentum exchange then removed from the gas), and the particle
+    /// next to it a velocity gradient (0 − v)/Δx. Off in standalone MPM.
+    pub light_nodes_move: bool,
     /// Body force per unit mass, m/s².
     pub gravity: [f64; 3],
     /// Time step, s.
@@ -146,6 +155,17 @@ impl NodeUpdate<'_> {
             [q[0] / m, q[1] / m, q[2] / m]
         } else {
             [0.0; 3]
+        }
+    }
+
+    /// The node velocity `p/m`: [`Self::per_unit_mass`], except that a
+    /// light node (0 < m ≤ threshold) keeps p/m when `light_nodes_move`.
+    #[inline(always)]
+    fn velocity(&self, p: [f64; 3], m: f64) -> [f64; 3] {
+        if self.light_nodes_move && m > 0.0 {
+            [p[0] / m, p[1] / m, p[2] / m]
+        } else {
+            self.per_unit_mass(p, m)
         }
     }
 
@@ -260,7 +280,7 @@ impl GridNodes {
                     let mx = u.face_mask(0, first[0] + i as isize);
                     let mask: [bool; 3] = std::array::from_fn(|c| mx[c] || yz[c]);
                     if vel {
-                        v[i] = masked(u.per_unit_mass(p[i], m[i]), mask);
+                        v[i] = masked(u.velocity(p[i], m[i]), mask);
                     }
                     if integrate {
                         let ft: [f64; 3] = std::array::from_fn(|c| f[i][c] + m[i] * g[c]);
@@ -284,7 +304,7 @@ impl GridNodes {
                             );
                     }
                     if remap {
-                        vr[i] = masked(u.per_unit_mass(p[i], m[i]), mask);
+                        vr[i] = masked(u.velocity(p[i], m[i]), mask);
                     }
                 }
             });
@@ -292,56 +312,11 @@ impl GridNodes {
 }
 
 impl GridNodes {
-    /// The coupled ICE–MPM step's velocities on light nodes (seed 000 §3.3
-    /// step 1): after [`GridNodes::update`] of `stage`, every node with
-    /// 0 < m_I ≤ `mass_threshold` gets p_I/m_I (with the face conditions)
-    /// instead of zero in the velocity that stage forms — v_I^n for
-    /// [`NodeStage::Velocity`] (and [`NodeStage::VelocityAndIntegrate`],
-    /// whose v_I^{n+1} = v_I^n, the cut-off leaving such a node's
-    /// acceleration zero), the re-mapped velocity for [`NodeStage::Remap`].
-    ///
-    /// The cut-off is there for a_I = f_I/m_I, which a light node makes
-    /// arbitrarily large; p_I/m_I is a weighted mean of the particles'
-    /// velocities and stays bounded. In the coupled step a light node's
-    /// mass enters the cell mass of eq 18 (M_c = Σ_I w_Ic m_I), so its
-    /// velocity must be the particles' too: zeroed, it gave the leading
-    /// cell of a moving solid a velocity near zero against the gas beside
-    /// it (a full-speed slip the momentum exchange then removed from the
-    /// gas), and the particle next to it a velocity gradient (0 − v)/Δx.
-    pub fn light_node_velocities(&mut self, u: &NodeUpdate, stage: NodeStage) {
-        let (mass, momentum, lattice) = (&self.mass, &self.momentum, self.lattice);
-        let set = |v: &mut Vec<[f64; 3]>| {
-            let nx = lattice.dims[0];
-            v.par_chunks_mut(nx).enumerate().for_each(|(row, v)| {
-                let first = lattice.node(row * nx);
-                let my = u.face_mask(1, first[1]);
-                let mz = u.face_mask(2, first[2]);
-                for (i, v) in v.iter_mut().enumerate() {
-                    let (m, q) = (mass[row * nx + i], momentum[row * nx + i]);
-                    if m > 0.0 && !(m > u.mass_threshold) {
-                        let mx = u.face_mask(0, first[0] + i as isize);
-                        let mask = std::array::from_fn(|c| mx[c] || my[c] || mz[c]);
-                        *v = masked(q.map(|q| q / m), mask);
-                    }
-                }
-            });
-        };
-        match stage {
-            NodeStage::Velocity => set(&mut self.velocity),
-            NodeStage::VelocityAndIntegrate => {
-                set(&mut self.velocity);
-                set(&mut self.velocity_new);
-            }
-            NodeStage::Integrate => {}
-            NodeStage::Remap => set(&mut self.velocity_remap),
-        }
-    }
-
     /// Adds the velocity change `dv` (one per stored node) to v_I^{n+1}
     /// and `dv`/Δt to a_I — the coupled pipeline's cell-centred momentum
     /// changes returned to the nodes as accelerations (seed 000 §3.3 step
     /// 13) — on every node with mass, light ones included (their velocity
-    /// is p_I/m_I in the coupled step, [`GridNodes::light_node_velocities`],
+    /// is p_I/m_I in the coupled step, [`NodeUpdate::light_nodes_move`],
     /// and Δv_I = Σ_c w_Ic Δu_c is a weighted mean of bounded cell changes),
     /// so that the nodes receive exactly the momentum Σ_c M_c Δu_c, and on
     /// the components no face condition holds, so the conditions stay met.
@@ -467,6 +442,7 @@ mod tests {
                         boundaries: &bcs,
                         cells,
                         mass_threshold: 0.05,
+                        light_nodes_move: false,
                         gravity: [0.5, -9.75, 0.25],
                         dt: 0.125,
                     };
@@ -567,6 +543,7 @@ mod tests {
             boundaries: &bcs,
             cells: grid.cells,
             mass_threshold: 0.0,
+            light_nodes_move: false,
             gravity: [0.0; 3],
             dt,
         };

@@ -534,6 +534,7 @@ impl MpmSolver {
             boundaries: &self.options.boundaries,
             cells: self.level.geometry.cells,
             mass_threshold: threshold,
+            light_nodes_move: false,
             gravity: self.options.gravity,
             dt: 0.0,
         };
@@ -993,6 +994,7 @@ fn step_params<'a>(
         gravity: options.gravity,
         boundaries: &options.boundaries,
         mass_threshold: options.mass_cutoff * reference_particle_mass,
+        light_nodes_move: false,
         materials,
         dt,
         bulk_viscosity: viscosity_params(options, grid),

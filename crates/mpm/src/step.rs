@@ -71,6 +71,9 @@ pub struct StepParams<'a> {
     /// Nodes lighter than this (kg) get zero velocity and acceleration:
     /// `mass_cutoff` × the reference particle mass.
     pub mass_threshold: f64,
+    /// Light nodes keep p_I/m_I ([`NodeUpdate::light_nodes_move`]): the
+    /// coupled ICE–MPM step only.
+    pub light_nodes_move: bool,
     /// Constitutive models, indexed by [`MaterialId`].
     pub materials: &'a [MaterialModel],
     /// Time step, s.
@@ -112,6 +115,7 @@ impl StepParams<'_> {
             boundaries: self.boundaries,
             cells: self.grid.cells,
             mass_threshold: self.mass_threshold,
+            light_nodes_move: self.light_nodes_move,
             gravity: self.gravity,
             dt: self.dt,
         }
@@ -806,6 +810,7 @@ mod tests {
                 gravity: [0.0; 3],
                 boundaries: &boundaries,
                 mass_threshold: 0.0,
+                light_nodes_move: false,
                 materials: &materials,
                 dt: 2e-8,
                 bulk_viscosity: None,

@@ -7,7 +7,7 @@
 //!
 //! 1. P2G of mass and momentum (eq 12), v_I^n = p_I/m_I on every node with
 //!    mass, those below the mass cut-off included (their mass enters the
-//!    cells of eq 18: [`GridNodes::light_node_velocities`]); then
+//!    cells of eq 18: [`crate::grid_nodes::NodeUpdate::light_nodes_move`]); then
 //!    [`GridCoupling::before_forces`] — the nodes to cell centres (eq 18),
 //!    the equilibration pressure, face velocities and the advanced pressure
 //!    p (steps 1–6).
@@ -31,7 +31,6 @@
 //! Advection of the fluids (step 12) is the pipeline's, after this step.
 
 use super::*;
-use crate::grid_nodes::NodeStage;
 use crate::step::{G2pParts, NodeVelocity, Transfer};
 
 /// What the Eulerian frame does inside [`MpmSolver::advance_coupled`].
@@ -114,21 +113,21 @@ impl MpmSolver {
     pub fn project_to_nodes(&mut self) -> Result<&GridNodes, SolverError> {
         self.sort_particles()?;
         let grid = self.level.geometry;
-        let params = step_params(
-            &self.options,
-            &self.materials,
-            self.reference_particle_mass,
-            &grid,
-            0.0,
-        );
+        let params = StepParams {
+            light_nodes_move: true,
+            ..step_params(
+                &self.options,
+                &self.materials,
+                self.reference_particle_mass,
+                &grid,
+                0.0,
+            )
+        };
         let t = Transfer {
             map: &self.work.map,
             bins: &self.work.bins,
         };
         step::p2g_velocity(&t, &self.particles, &mut self.work.nodes, &params);
-        self.work
-            .nodes
-            .light_node_velocities(&params.node_update(), NodeStage::Velocity);
         Ok(&self.work.nodes)
     }
 
@@ -142,6 +141,7 @@ impl MpmSolver {
         let grid = self.level.geometry;
         let params = StepParams {
             surface_forces: &surface_forces,
+            light_nodes_move: true,
             ..step_params(
                 &self.options,
                 &self.materials,
@@ -159,9 +159,8 @@ impl MpmSolver {
         let ps = &mut self.particles;
         // 1. Mass and momentum to the nodes; the fluid frame's steps 1–6.
         // Light nodes (below the mass cut-off) keep p_I/m_I: their mass
-        // enters the cells of eq 18 (GridNodes::light_node_velocities).
+        // enters the cells of eq 18 (NodeUpdate::light_nodes_move).
         step::p2g_velocity(&t, ps, nodes, &params);
-        nodes.light_node_velocities(&params.node_update(), NodeStage::Velocity);
         coupling.before_forces(nodes, ps, dt)?;
         // 2. Internal force from σ_p + p I, and the momentum update.
         let shifted = &mut work.shifted_stress;
@@ -206,7 +205,6 @@ impl MpmSolver {
                     gradient: Some(NodeVelocity::Remapped),
                 };
                 step::g2p_velocity_and_remap(&t, ps, nodes, &params);
-                nodes.light_node_velocities(&params.node_update(), NodeStage::Remap);
                 step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
             }
         };
