@@ -1368,15 +1368,14 @@ impl<E: Eos> IceSolver<E> {
                         };
                         let mut e = cons[4] / rho - kinetic;
                         let v = cons[5] / rho;
-                        if total && !(params.eos[r].temperature(1.0 / v, e) > 0.0) {
+                        if total {
                             // E − ½|u|² of a fast, cold material (a gas whose
                             // kinetic energy is many times its internal
                             // energy) can fall below its 0 K energy when ρE
                             // and ρu are limited separately: keep the
                             // material's temperature of the step's start
-                            // instead (docs/physics/ice/steps.md).
-                            e = params.eos[r]
-                                .specific_internal_energy_from_temperature(1.0 / v, pf.data[s + TEMP][c]);
+                            // instead.
+                            e = kept_warm(&params.eos[r], 1.0 / v, e, pf.data[s + TEMP][c]).0;
                         }
                         pf.data[s + ENERGY][c] = e;
                         pf.data[s + VSP][c] = v;
@@ -1517,6 +1516,22 @@ const MATERIAL_VELOCITY_X: [&str; MAX_MATERIALS] = [
 /// temperatures from (v_r, e_r), the equilibration pressure, then v_r, θ_r,
 /// T_r and c_r at the new pressure with e_r kept (so energy is
 /// untouched).
+/// The cold-material rule of steps 2 and 12 (docs/physics/ice/steps.md):
+/// `(e, T(ρ, e))` where that temperature is positive, otherwise the energy
+/// at the temperature `t_keep` the material is held at, `(e(ρ, t_keep),
+/// t_keep)` — at the price of energy conservation in that cell.
+fn kept_warm<E: Eos>(eos: &E, rho: f64, e: f64, t_keep: f64) -> (f64, f64) {
+    let t = eos.temperature(rho, e);
+    if t > 0.0 {
+        (e, t)
+    } else {
+        (
+            eos.specific_internal_energy_from_temperature(rho, t_keep),
+            t_keep,
+        )
+    }
+}
+
 fn equilibrate_cell<E: Eos>(
     params: &Params<'_, E>,
     vals: &mut [f64],
@@ -1574,20 +1589,18 @@ fn equilibrate_cell<E: Eos>(
     for r in 0..n {
         let b = r * NS;
         let rho_micro = 1.0 / vsp[r];
-        let mut e = vals[b + ENERGY];
-        let mut t_new = params.eos[r].temperature(rho_micro, e);
-        if !(t_new > 0.0) && temp[r] > 0.0 {
-            // A cold trace (a few K, after its own expansion where a solid
-            // leaves the cell) compressed at fixed e by the new pressure
-            // falls below its 0 K energy (its cold energy rises). It keeps
-            // the temperature the equilibration found its volume at
-            // instead — the temperature Uintah's equilibration holds — at
-            // the price of energy conservation in that cell, like the
-            // cold-fast fallback of step 12 (docs/physics/ice/steps.md).
-            t_new = temp[r];
-            e = params.eos[r].specific_internal_energy_from_temperature(rho_micro, t_new);
-            vals[b + ENERGY] = e;
-        }
+        // A cold trace (a few K, after its own expansion where a solid
+        // leaves the cell) compressed at fixed e by the new pressure can
+        // fall below its 0 K energy (its cold energy rises). It keeps the
+        // temperature the equilibration found its volume at instead — the
+        // temperature Uintah's equilibration holds.
+        let (e, t_new) = if temp[r] > 0.0 {
+            kept_warm(&params.eos[r], rho_micro, vals[b + ENERGY], temp[r])
+        } else {
+            let e = vals[b + ENERGY];
+            (e, params.eos[r].temperature(rho_micro, e))
+        };
+        vals[b + ENERGY] = e;
         let c = params.eos[r].sound_speed(rho_micro, e);
         if !(c > 0.0 && c.is_finite()) {
             return Err((
