@@ -12,6 +12,7 @@ mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
 mod pd_cases;
+mod plate_cases;
 mod plot;
 mod splice;
 mod taylor;
@@ -723,7 +724,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 22] = [
+const CASES: [&str; 23] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -744,6 +745,7 @@ const CASES: [&str; 22] = [
     "aphtpb",
     "hotspot",
     "blast2d",
+    "plate",
     "mpm-throughput",
     "throughput",
 ];
@@ -833,6 +835,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("blast2d") {
         bridge_cases::e_blast2d(&mut body, &img)?;
+    }
+    if run("plate") {
+        plate_cases::e_plate(&mut body, &img)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;
