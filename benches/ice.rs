@@ -165,6 +165,12 @@ fn main() {
             st.max_iterations,
             st.total_iterations as f64 / (n * n * n) as f64
         );
+        // The state's totals to the last bit, to compare builds.
+        let tot = s.conservation_totals();
+        println!(
+            "totals: mass {:e}, momentum {:e} {:e} {:e}, energy {:e}",
+            tot.mass, tot.momentum[0], tot.momentum[1], tot.momentum[2], tot.energy
+        );
         return;
     }
     benches();

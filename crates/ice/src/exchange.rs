@@ -29,6 +29,10 @@ use crate::equilibration::MAX_MATERIALS;
 /// Solves (W + Δt L) q = W q⁻ in place for `C` components per material,
 /// where L_rs = −coef_rs θ_r θ_s (r ≠ s) and L_rr = Σ_{s≠r} coef_rs θ_r θ_s.
 /// `coef` is N×N row-major and symmetric.
+///
+/// Two and three materials (the usual cases) run a copy compiled for that
+/// count, whose loops the compiler unrolls and whose indices it checks
+/// once; the arithmetic, and so every bit of the result, is the same.
 fn solve_exchange<const C: usize>(
     w: &[f64],
     theta: &[f64],
@@ -36,8 +40,25 @@ fn solve_exchange<const C: usize>(
     dt: f64,
     q: &mut [[f64; C]],
 ) {
-    let n = w.len();
+    match w.len() {
+        2 => solve_exchange_n::<C, 2>(w, theta, coef, dt, q),
+        3 => solve_exchange_n::<C, 3>(w, theta, coef, dt, q),
+        _ => solve_exchange_n::<C, 0>(w, theta, coef, dt, q),
+    }
+}
+
+/// [`solve_exchange`] for `N` materials (`N` = 0: any count, `w.len()`).
+#[inline]
+fn solve_exchange_n<const C: usize, const N: usize>(
+    w: &[f64],
+    theta: &[f64],
+    coef: &[f64],
+    dt: f64,
+    q: &mut [[f64; C]],
+) {
+    let n = if N > 0 { N } else { w.len() };
     debug_assert!(n <= MAX_MATERIALS && theta.len() == n && q.len() == n);
+    let (w, theta, coef, q) = (&w[..n], &theta[..n], &coef[..n * n], &mut q[..n]);
     if n < 2 || (0..n).all(|r| (0..n).all(|s| r == s || coef[r * n + s] == 0.0)) {
         return;
     }

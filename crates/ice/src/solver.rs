@@ -28,7 +28,7 @@ use brisance_grid::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::advection::{donor_carried, donor_slab, Advection};
+use crate::advection::{donor_carried, donor_volume_slab, Advection};
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
@@ -122,6 +122,14 @@ struct PatchScratch {
     /// Σ_r θ*_r u*_r on the low face of each cell per axis, m/s (the
     /// volume flux of eq 20, kept for the energy-conserving work).
     volume_flux: [Vec<f64>; 3],
+    /// Face fluxes of one material along one axis (step 5: one per axis;
+    /// step 12: mass, momentum, energy and volume), stored at the cell on
+    /// the face's high side: each face is evaluated once and differenced
+    /// by the two cells it bounds.
+    flux: [Vec<f64>; 6],
+    /// The carried energy of one material per cell (e, or e + ½|u|² when
+    /// total energy is advected), so that it is formed once per cell.
+    carried_energy: Vec<f64>,
 }
 
 /// A checkpoint: the interior state fields in global order.
@@ -188,22 +196,109 @@ fn for_interior(p: &Patch, mut f: impl FnMut(usize)) {
     }
 }
 
-/// Calls `f(n)` for every cell whose low face along `axis` bounds an
-/// interior cell: interior cells plus the first ghost cell on the high
-/// side.
+/// A field array of one patch that the cells of a parallel pass read and
+/// write through, each storage index from one task only (the pass's own
+/// cell or face), so that one patch's cells can run on several threads.
+#[derive(Clone, Copy)]
+struct Disjoint<'a> {
+    ptr: *mut f64,
+    len: usize,
+    _array: std::marker::PhantomData<&'a mut [f64]>,
+}
+
+// SAFETY: a `Disjoint` is only handed to the tasks of one pass, which
+// touch disjoint indices (see `read` and `write`), while the array's
+// mutable borrow `'a` keeps every other access out.
+unsafe impl Send for Disjoint<'_> {}
+unsafe impl Sync for Disjoint<'_> {}
+
+impl<'a> Disjoint<'a> {
+    fn new(v: &'a mut [f64]) -> Self {
+        Self {
+            ptr: v.as_mut_ptr(),
+            len: v.len(),
+            _array: std::marker::PhantomData,
+        }
+    }
+
+    /// A stand-in for unused slots of fixed-size arrays (length 0).
+    fn empty() -> Self {
+        Self {
+            ptr: std::ptr::NonNull::dangling().as_ptr(),
+            len: 0,
+            _array: std::marker::PhantomData,
+        }
+    }
+
+    /// The value at `i`. Only the task that owns index `i` in the pass
+    /// may call it, or any task when no task writes `i` in the pass.
+    #[inline]
+    fn read(self, i: usize) -> f64 {
+        assert!(i < self.len);
+        // SAFETY: in bounds; no other task writes index i during the pass.
+        unsafe { *self.ptr.add(i) }
+    }
+
+    /// Writes `x` at `i`; only the task that owns index `i` in the pass.
+    #[inline]
+    fn write(self, i: usize, x: f64) {
+        assert!(i < self.len);
+        // SAFETY: in bounds; index i belongs to this task alone.
+        unsafe { *self.ptr.add(i) = x }
+    }
+}
+
+/// The storage indices of the interior cells of `p` in one k-plane (`k`
+/// a local index), in order, passed to `f`.
 #[inline]
-fn for_faces(p: &Patch, axis: usize, mut f: impl FnMut(usize)) {
+fn for_plane(p: &Patch, k: usize, hi: [usize; 2], mut f: impl FnMut(usize)) {
+    let g = p.ghost;
+    for j in g[1]..hi[1] {
+        let base = p.local_index([g[0], j, k]);
+        for i in 0..hi[0] - g[0] {
+            f(base + i);
+        }
+    }
+}
+
+/// [`for_interior`] with the k-planes of the patch on rayon's threads;
+/// `fold` accumulates each plane's result from `init()`, and `combine`
+/// joins them (it must not depend on the order, e.g. a max, a sum of
+/// integers or [`first_failure`], for the bits to be the same on any
+/// number of threads).
+fn par_interior<A: Send>(
+    p: &Patch,
+    init: impl Fn() -> A + Sync + Send,
+    fold: impl Fn(&mut A, usize) + Sync + Send,
+    combine: impl Fn(A, A) -> A + Sync + Send,
+) -> A {
+    let g = p.ghost;
+    let hi = [g[0] + p.size[0], g[1] + p.size[1]];
+    (g[2]..g[2] + p.size[2])
+        .into_par_iter()
+        .map(|k| {
+            let mut acc = init();
+            for_plane(p, k, hi, |c| fold(&mut acc, c));
+            acc
+        })
+        .reduce(&init, combine)
+}
+
+/// [`par_interior`] without a result.
+fn par_cells(p: &Patch, f: impl Fn(usize) + Sync + Send) {
+    par_interior(p, || (), |_, c| f(c), |_, _| ());
+}
+
+/// Every face whose low side bounds an interior cell along `axis` (the
+/// interior cells plus the first ghost cell on the high side) as its
+/// high-side storage index, k-planes on rayon's threads.
+fn par_faces(p: &Patch, axis: usize, f: impl Fn(usize) + Sync + Send) {
     let g = p.ghost;
     let mut hi = [g[0] + p.size[0], g[1] + p.size[1], g[2] + p.size[2]];
     hi[axis] += 1;
-    for k in g[2]..hi[2] {
-        for j in g[1]..hi[1] {
-            let base = p.local_index([g[0], j, k]);
-            for i in 0..hi[0] - g[0] {
-                f(base + i);
-            }
-        }
-    }
+    (g[2]..hi[2])
+        .into_par_iter()
+        .for_each(|k| for_plane(p, k, [hi[0], hi[1]], &f));
 }
 
 /// Calls `f(global linear cell index, patch data, local index)` for every
@@ -416,6 +511,8 @@ impl<E: Eos> IceSolver<E> {
                         }
                     }),
                     volume_flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
+                    flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
+                    carried_energy: vec![0.0; p.allocated_cells()],
                 })
                 .collect(),
             level,
@@ -899,6 +996,8 @@ impl<E: Eos> IceSolver<E> {
     /// Step 2 (seed 000 eq 7): the equilibration pressure of every cell,
     /// with new specific volumes, volume fractions, temperatures and sound
     /// speeds. A cell that fails stops the run with its state.
+    // Kept out of line so that profiles attribute each step's cost.
+    #[inline(never)]
     pub fn compute_equilibration_pressure(&mut self) -> Result<(), SolverError> {
         let params = make_params(
             &self.eos,
@@ -916,54 +1015,73 @@ impl<E: Eos> IceSolver<E> {
             .par_iter_mut()
             .zip(self.level.patches.par_iter())
             .map(|(pf, patch)| {
-                let mut stats = EquilibrationStats::default();
-                let mut fail: Failure = None;
-                let mut rescaled = Vec::new();
+                type Acc = (EquilibrationStats, Failure, Rescaled);
                 let n = params.eos.len();
-                let mut vals = [0.0; MAX_MATERIALS * NS + 1];
-                for_interior(patch, |c| {
-                    let m = n * NS + 1;
-                    for f in 0..m {
-                        vals[f] = pf.data[f][c];
-                    }
-                    match equilibrate_cell(&params, &mut vals[..m]) {
-                        Ok(rep) => {
-                            stats.max_iterations = stats.max_iterations.max(rep.iterations);
-                            stats.max_residual = stats.max_residual.max(rep.residual.abs());
-                            stats.total_iterations += rep.iterations as u64;
-                            if params.coupled {
-                                let mut t = ConservationTotals::default();
-                                for r in (0..n).filter(|&r| !params.lagrangian[r]) {
-                                    let b = r * NS;
-                                    let dm = vals[b + RHO] - pf.data[b + RHO][c];
-                                    let u: [f64; 3] = std::array::from_fn(|a| vals[b + VEL + a]);
-                                    t.mass += dm;
-                                    for a in 0..3 {
-                                        t.momentum[a] += dm * u[a];
+                let m = n * NS + 1;
+                let mut fields = [Disjoint::empty(); MAX_MATERIALS * NS + 1];
+                for (w, f) in fields.iter_mut().zip(pf.data.iter_mut()) {
+                    *w = Disjoint::new(f);
+                }
+                let fields = &fields[..m];
+                par_interior(
+                    patch,
+                    || -> Acc { (EquilibrationStats::default(), None, Vec::new()) },
+                    |(stats, fail, rescaled), c| {
+                        let mut vals = [0.0; MAX_MATERIALS * NS + 1];
+                        for f in 0..m {
+                            vals[f] = fields[f].read(c);
+                        }
+                        match equilibrate_cell(&params, &mut vals[..m]) {
+                            Ok(rep) => {
+                                stats.max_iterations = stats.max_iterations.max(rep.iterations);
+                                stats.max_residual = stats.max_residual.max(rep.residual.abs());
+                                stats.total_iterations += rep.iterations as u64;
+                                if params.coupled {
+                                    let mut t = ConservationTotals::default();
+                                    for r in (0..n).filter(|&r| !params.lagrangian[r]) {
+                                        let b = r * NS;
+                                        let dm = vals[b + RHO] - fields[b + RHO].read(c);
+                                        let u: [f64; 3] =
+                                            std::array::from_fn(|a| vals[b + VEL + a]);
+                                        t.mass += dm;
+                                        for a in 0..3 {
+                                            t.momentum[a] += dm * u[a];
+                                        }
+                                        t.energy += dm
+                                            * (vals[b + ENERGY]
+                                                + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
                                     }
-                                    t.energy += dm
-                                        * (vals[b + ENERGY]
-                                            + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+                                    if t.mass != 0.0 {
+                                        let g = geometry.linear_index(global_of(patch, c));
+                                        rescaled.push((g, t));
+                                    }
                                 }
-                                if t.mass != 0.0 {
-                                    let g = geometry.linear_index(global_of(patch, c));
-                                    rescaled.push((g, t));
+                                for f in 0..m {
+                                    fields[f].write(c, vals[f]);
                                 }
                             }
-                            for f in 0..m {
-                                pf.data[f][c] = vals[f];
+                            Err((_, msg)) => {
+                                let g = global_of(patch, c);
+                                *fail = first_failure(
+                                    fail.take(),
+                                    Some((geometry.linear_index(g), g, msg)),
+                                );
                             }
                         }
-                        Err((_, msg)) => {
-                            let g = global_of(patch, c);
-                            fail = first_failure(
-                                fail.take(),
-                                Some((geometry.linear_index(g), g, msg)),
-                            );
-                        }
-                    }
-                });
-                (stats, fail, rescaled)
+                    },
+                    |(s1, f1, mut r1), (s2, f2, r2)| {
+                        r1.extend(r2);
+                        (
+                            EquilibrationStats {
+                                max_iterations: s1.max_iterations.max(s2.max_iterations),
+                                max_residual: s1.max_residual.max(s2.max_residual),
+                                total_iterations: s1.total_iterations + s2.total_iterations,
+                            },
+                            first_failure(f1, f2),
+                            r1,
+                        )
+                    },
+                )
             })
             .collect();
         let mut stats = EquilibrationStats::default();
@@ -1006,6 +1124,8 @@ impl<E: Eos> IceSolver<E> {
     /// on the face (the seed's "same manner as step 10"), with face volume
     /// fractions and densities the means of the two cells'. On symmetry
     /// and fixed-velocity faces u* is the wall's normal velocity.
+    // Kept out of line so that profiles attribute each step's cost.
+    #[inline(never)]
     pub fn compute_face_centred_velocities(&mut self, dt: f64) {
         self.fill_state_ghosts();
         let params = make_params(
@@ -1033,7 +1153,11 @@ impl<E: Eos> IceSolver<E> {
                     }
                     let dx = params.spacing[a];
                     let g = params.options.gravity[a];
-                    let fv = &mut sc.face_velocity[a];
+                    let mut fv = [Disjoint::empty(); MAX_MATERIALS];
+                    for (w, f) in fv.iter_mut().zip(sc.face_velocity[a].iter_mut()) {
+                        *w = Disjoint::new(f);
+                    }
+                    let fv = &fv[..n];
                     // Wall faces of this patch along a.
                     let lo_wall = if patch.lo[a] == 0 {
                         boundaries[2 * a].wall_velocity().map(|w| w[a])
@@ -1046,7 +1170,7 @@ impl<E: Eos> IceSolver<E> {
                         None
                     };
                     let dims = patch.dims();
-                    for_faces(patch, a, |c| {
+                    par_faces(patch, a, |c| {
                         let l = c - st[a];
                         let la = (c / st[a]) % dims[a];
                         let wall = if la == patch.ghost[a] {
@@ -1057,8 +1181,8 @@ impl<E: Eos> IceSolver<E> {
                             None
                         };
                         if let Some(w) = wall {
-                            for v in fv.iter_mut() {
-                                v[c] = w;
+                            for v in fv {
+                                v.write(c, w);
                             }
                             return;
                         }
@@ -1085,7 +1209,7 @@ impl<E: Eos> IceSolver<E> {
                         }
                         momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
                         for r in 0..n {
-                            fv[r][c] = u[r][0];
+                            fv[r].write(c, u[r][0]);
                         }
                     });
                 }
@@ -1096,6 +1220,8 @@ impl<E: Eos> IceSolver<E> {
     /// Σ_r ∇·(θ*_r u*_r), with θ* carried by the advection scheme of step 12
     /// so the pressure sees the volume the advection will move, and the
     /// time-advanced pressure p = p_eq + Δp.
+    // Kept out of line so that profiles attribute each step's cost.
+    #[inline(never)]
     pub fn compute_pressure_increment(&mut self, dt: f64) {
         let params = make_params(
             &self.eos,
@@ -1115,45 +1241,67 @@ impl<E: Eos> IceSolver<E> {
                 let st = patch.strides();
                 let d = &pf.data;
                 let scheme = params.options.advection;
-                for_interior(patch, |c| {
-                    let mut div = 0.0;
+                let PatchScratch {
+                    divergence,
+                    face_velocity,
+                    volume_flux,
+                    flux,
+                    ..
+                } = sc;
+                let divergence = Disjoint::new(divergence);
+                let pressure = Disjoint::new(&mut pr.data[0]);
+                let (fa, vf): ([Disjoint; 3], [Disjoint; 3]) = {
+                    let (mut f, mut v) = (flux.iter_mut(), volume_flux.iter_mut());
+                    (
+                        std::array::from_fn(|_| Disjoint::new(f.next().expect("flux array"))),
+                        std::array::from_fn(|_| Disjoint::new(v.next().expect("volume flux"))),
+                    )
+                };
+                // Material by material: each face's volume flux θ*_r u*_r
+                // once (stored at the face's high-side cell), then each cell
+                // differences its two faces. The sums run over r, then the
+                // axes, in the same order for every cell and patch split.
+                for r in 0..n {
+                    let b = r * NS;
+                    for a in 0..3 {
+                        if !params.active[a] {
+                            continue;
+                        }
+                        let lam = dt / params.spacing[a];
+                        let fv = &face_velocity[a][r];
+                        let (fa, vf) = (fa[a], vf[a]);
+                        let q = |f: usize| move |i: usize| d[b + f][i];
+                        par_faces(patch, a, |m| {
+                            let courant = fv[m] * lam;
+                            let donor = if courant > 0.0 { m - st[a] } else { m };
+                            let (slab, v) =
+                                donor_volume_slab(scheme, courant, q(RHO), q(VSP), donor, st[a]);
+                            let f = courant * slab.mean_density * v;
+                            fa.write(m, f);
+                            vf.write(m, if r == 0 { 0.0 } else { vf.read(m) } + f / lam);
+                        });
+                    }
+                    par_cells(patch, |c| {
+                        let mut div = if r == 0 { 0.0 } else { divergence.read(c) };
+                        for a in 0..3 {
+                            if params.active[a] {
+                                div += (fa[a].read(c + st[a]) - fa[a].read(c)) / dt;
+                            }
+                        }
+                        divergence.write(c, div);
+                    });
+                }
+                par_cells(patch, |c| {
                     let mut theta_kappa = 0.0;
-                    let mut w_lo = [0.0; 3];
-                    let mut w_hi = [0.0; 3];
                     for r in 0..n {
                         let b = r * NS;
-                        for a in 0..3 {
-                            if !params.active[a] {
-                                continue;
-                            }
-                            let lam = dt / params.spacing[a];
-                            let fv = &sc.face_velocity[a][r];
-                            let flux = |m: usize| {
-                                let courant = fv[m] * lam;
-                                let donor = if courant > 0.0 { m - st[a] } else { m };
-                                let q = |f: usize| move |i: usize| d[b + f][i];
-                                let slab = donor_slab(scheme, courant, q(RHO), donor, st[a]);
-                                courant
-                                    * slab.mean_density
-                                    * donor_carried(scheme, q(VSP), donor, st[a], &slab)
-                            };
-                            let (lo, hi) = (flux(c), flux(c + st[a]));
-                            div += (hi - lo) / dt;
-                            w_lo[a] += lo / lam;
-                            w_hi[a] += hi / lam;
-                        }
                         let v = d[b + VSP][c];
                         let cs = d[b + SOUND][c];
                         theta_kappa += d[b + THETA][c] * v / (cs * cs);
                     }
-                    sc.divergence[c] = div;
-                    for a in 0..3 {
-                        if params.active[a] {
-                            sc.volume_flux[a][c] = w_lo[a];
-                            sc.volume_flux[a][c + st[a]] = w_hi[a];
-                        }
-                    }
-                    pr.data[0][c] = d[n * NS][c] + pressure_increment(dt, 0.0, div, theta_kappa);
+                    let div = if n == 0 { 0.0 } else { divergence.read(c) };
+                    let dp = pressure_increment(dt, 0.0, div, theta_kappa);
+                    pressure.write(c, d[n * NS][c] + dp);
                 });
             });
     }
@@ -1164,6 +1312,8 @@ impl<E: Eos> IceSolver<E> {
     /// heat exchange (eqs 29–30) with the dissipated kinetic energy
     /// returned to internal energy, and the Lagrangian material volume
     /// (eqs 31–32).
+    // Kept out of line so that profiles attribute each step's cost.
+    #[inline(never)]
     pub fn compute_lagrangian_values(&mut self, dt: f64) -> Result<(), SolverError> {
         self.halo.fill_all(
             &self.level,
@@ -1188,46 +1338,54 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
             .map(|((((lg, pr), sc), pf), patch)| {
-                let mut fail: Failure = None;
                 let n = params.eos.len();
                 let st = patch.strides();
                 let d = &pf.data;
                 let p = &pr.data[0];
+                let mut out = [Disjoint::empty(); MAX_MATERIALS * NL];
+                for (w, f) in out.iter_mut().zip(lg.data.iter_mut()) {
+                    *w = Disjoint::new(f);
+                }
                 let rho_cell = |i: usize| (0..n).map(|r| d[r * NS + RHO][i]).sum::<f64>();
-                for_interior(patch, |c| {
-                    let rho_c = rho_cell(c);
-                    let mut grad = [0.0; 3];
-                    let mut work = 0.0;
-                    for a in 0..3 {
-                        if params.active[a] {
-                            let (lo, hi) = (c - st[a], c + st[a]);
-                            let (rl, rh) = (rho_cell(lo), rho_cell(hi));
-                            let p_hi = face_pressure(p[c], rho_c, p[hi], rh);
-                            let p_lo = face_pressure(p[lo], rl, p[c], rho_c);
-                            grad[a] = (p_hi - p_lo) / params.spacing[a];
-                            let w = &sc.volume_flux[a];
-                            work -= dt * (p_hi * w[hi] - p_lo * w[c]) / params.spacing[a];
-                        }
-                    }
-                    let work = params.options.conserve_total_energy.then_some(work);
-                    match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, work, dt) {
-                        Ok(out) => {
-                            for r in 0..n {
-                                for f in 0..NL {
-                                    lg.data[r * NL + f][c] = out[r][f];
-                                }
+                par_interior(
+                    patch,
+                    || None,
+                    |fail: &mut Failure, c| {
+                        let rho_c = rho_cell(c);
+                        let mut grad = [0.0; 3];
+                        let mut work = 0.0;
+                        for a in 0..3 {
+                            if params.active[a] {
+                                let (lo, hi) = (c - st[a], c + st[a]);
+                                let (rl, rh) = (rho_cell(lo), rho_cell(hi));
+                                let p_hi = face_pressure(p[c], rho_c, p[hi], rh);
+                                let p_lo = face_pressure(p[lo], rl, p[c], rho_c);
+                                grad[a] = (p_hi - p_lo) / params.spacing[a];
+                                let w = &sc.volume_flux[a];
+                                work -= dt * (p_hi * w[hi] - p_lo * w[c]) / params.spacing[a];
                             }
                         }
-                        Err(msg) => {
-                            let g = global_of(patch, c);
-                            fail = first_failure(
-                                fail.take(),
-                                Some((geometry.linear_index(g), g, msg)),
-                            );
+                        let work = params.options.conserve_total_energy.then_some(work);
+                        match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, work, dt)
+                        {
+                            Ok(values) => {
+                                for r in 0..n {
+                                    for f in 0..NL {
+                                        out[r * NL + f].write(c, values[r][f]);
+                                    }
+                                }
+                            }
+                            Err(msg) => {
+                                let g = global_of(patch, c);
+                                *fail = first_failure(
+                                    fail.take(),
+                                    Some((geometry.linear_index(g), g, msg)),
+                                );
+                            }
                         }
-                    }
-                });
-                fail
+                    },
+                    first_failure,
+                )
             })
             .reduce(|| None, first_failure);
         match fail {
@@ -1244,6 +1402,8 @@ impl<E: Eos> IceSolver<E> {
     /// Step 12: advects every material's mass, momentum, internal energy
     /// and volume with its face velocities, van Leer compatible fluxes or
     /// donor cell (see [`crate::advection`]), and writes the new state.
+    // Kept out of line so that profiles attribute each step's cost.
+    #[inline(never)]
     pub fn advect_fluids(&mut self, dt: f64) -> Result<(), SolverError> {
         self.halo
             .fill_all(&self.level, &self.lag_set, &self.lag_bcs, &mut self.lag);
@@ -1268,7 +1428,7 @@ impl<E: Eos> IceSolver<E> {
             .state
             .par_iter_mut()
             .zip(self.lag.par_iter())
-            .zip(self.scratch.par_iter())
+            .zip(self.scratch.par_iter_mut())
             .zip(self.level.patches.par_iter())
             .map(|(((pf, lg), sc), patch)| {
                 let mut fail: Failure = None;
@@ -1276,112 +1436,158 @@ impl<E: Eos> IceSolver<E> {
                 let st = patch.strides();
                 let l = &lg.data;
                 let scheme = params.options.advection;
-                for_interior(patch, |c| {
-                    for r in 0..n {
-                        if params.lagrangian[r] {
-                            // Particles carry it (the coupled pipeline).
-                            continue;
-                        }
-                        let b = r * NL;
-                        let total = params.options.conserve_total_energy;
-                        // The carried energy is e, or e + ½|u|² when total
-                        // energy is advected.
-                        let q = |f: usize, i: usize| {
-                            let v = l[b + f][i];
-                            if total && f == L_ENERGY {
-                                let (x, y, z) = (l[b + L_VEL][i], l[b + L_VEL + 1][i], l[b + L_VEL + 2][i]);
-                                v + 0.5 * (x * x + y * y + z * z)
-                            } else {
-                                v
-                            }
-                        };
-                        // Conserved per unit volume: ρ, ρu (3), ρe (or ρE), ρv.
-                        let rho_l = q(L_RHO, c);
-                        let mut cons = [
-                            rho_l,
-                            rho_l * q(L_VEL, c),
-                            rho_l * q(L_VEL + 1, c),
-                            rho_l * q(L_VEL + 2, c),
-                            rho_l * q(L_ENERGY, c),
-                            rho_l * q(L_VSP, c),
-                        ];
-                        for a in 0..3 {
-                            if !params.active[a] {
-                                continue;
-                            }
-                            let lam = dt / params.spacing[a];
-                            let fv = &sc.face_velocity[a][r];
-                            // Flux (per unit volume) through the low face of m.
-                            let flux = |m: usize| -> [f64; 6] {
-                                let courant = fv[m] * lam;
-                                if courant == 0.0 {
-                                    return [0.0; 6];
-                                }
-                                let donor = if courant > 0.0 { m - st[a] } else { m };
-                                let field = |f: usize| move |i: usize| q(f, i);
-                                let slab =
-                                    donor_slab(scheme, courant, field(L_RHO), donor, st[a]);
-                                let mass = courant * slab.mean_density;
-                                let carried = |f: usize| {
-                                    mass * donor_carried(scheme, field(f), donor, st[a], &slab)
-                                };
-                                [
-                                    mass,
-                                    carried(L_VEL),
-                                    carried(L_VEL + 1),
-                                    carried(L_VEL + 2),
-                                    carried(L_ENERGY),
-                                    carried(L_VSP),
-                                ]
-                            };
-                            let (f_lo, f_hi) = (flux(c), flux(c + st[a]));
-                            for k in 0..6 {
-                                cons[k] += f_lo[k] - f_hi[k];
-                            }
-                        }
-                        let rho = cons[0];
-                        if !(rho > 0.0 && rho.is_finite()) {
-                            let g = global_of(patch, c);
-                            fail = first_failure(
-                                fail.take(),
-                                Some((
-                                    geometry.linear_index(g),
-                                    g,
-                                    format!(
-                                        "material {} density {rho:e} kg/m³ after advection (step 12)",
-                                        r + 1
-                                    ),
-                                )),
-                            );
-                            continue;
-                        }
-                        let s = r * NS;
-                        pf.data[s + RHO][c] = rho;
-                        for k in 0..3 {
-                            pf.data[s + VEL + k][c] = cons[1 + k] / rho;
-                        }
-                        let kinetic = if total {
-                            let u = [cons[1] / rho, cons[2] / rho, cons[3] / rho];
-                            0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-                        } else {
-                            0.0
-                        };
-                        let mut e = cons[4] / rho - kinetic;
-                        let v = cons[5] / rho;
-                        if total {
-                            // E − ½|u|² of a fast, cold material (a gas whose
-                            // kinetic energy is many times its internal
-                            // energy) can fall below its 0 K energy when ρE
-                            // and ρu are limited separately: keep the
-                            // material's temperature of the step's start
-                            // instead.
-                            e = kept_warm(&params.eos[r], 1.0 / v, e, pf.data[s + TEMP][c]).0;
-                        }
-                        pf.data[s + ENERGY][c] = e;
-                        pf.data[s + VSP][c] = v;
-                        pf.data[s + THETA][c] = cons[5];
+                let total = params.options.conserve_total_energy;
+                let PatchScratch {
+                    face_velocity,
+                    flux,
+                    carried_energy,
+                    ..
+                } = sc;
+                let mut state = [Disjoint::empty(); MAX_MATERIALS * NS + 1];
+                for (w, f) in state.iter_mut().zip(pf.data.iter_mut()) {
+                    *w = Disjoint::new(f);
+                }
+                let fx: [Disjoint; 6] = {
+                    let mut it = flux.iter_mut();
+                    std::array::from_fn(|_| Disjoint::new(it.next().expect("six flux arrays")))
+                };
+                // Conserved per unit volume: ρ, ρu (3), ρe (or ρE), ρv,
+                // accumulated in the state's own fields.
+                const CONS: [usize; 6] = [RHO, VEL, VEL + 1, VEL + 2, ENERGY, THETA];
+                for r in 0..n {
+                    if params.lagrangian[r] {
+                        // Particles carry it (the coupled pipeline).
+                        continue;
                     }
-                });
+                    let b = r * NL;
+                    let s = r * NS;
+                    let cons: [Disjoint; 6] = std::array::from_fn(|k| state[s + CONS[k]]);
+                    // The carried energy is e, or e + ½|u|² when total
+                    // energy is advected, formed once per cell.
+                    carried_energy
+                        .par_chunks_mut(4096)
+                        .enumerate()
+                        .for_each(|(chunk, ce)| {
+                            for (m, x) in ce.iter_mut().enumerate() {
+                                let i = chunk * 4096 + m;
+                                let v = l[b + L_ENERGY][i];
+                                *x = if total {
+                                    let (x, y, z) =
+                                        (l[b + L_VEL][i], l[b + L_VEL + 1][i], l[b + L_VEL + 2][i]);
+                                    v + 0.5 * (x * x + y * y + z * z)
+                                } else {
+                                    v
+                                };
+                            }
+                        });
+                    let ce = &*carried_energy;
+                    let field = |k: usize| {
+                        move |i: usize| match k {
+                            0 => l[b + L_RHO][i],
+                            1..=3 => l[b + L_VEL + k - 1][i],
+                            4 => ce[i],
+                            _ => l[b + L_VSP][i],
+                        }
+                    };
+                    par_cells(patch, |c| {
+                        let rho_l = l[b + L_RHO][c];
+                        cons[0].write(c, rho_l);
+                        for k in 1..6 {
+                            cons[k].write(c, rho_l * field(k)(c));
+                        }
+                    });
+                    for a in 0..3 {
+                        if !params.active[a] {
+                            continue;
+                        }
+                        let lam = dt / params.spacing[a];
+                        let fv = &face_velocity[a][r];
+                        // Flux (per unit volume) through the low face of m,
+                        // each face once.
+                        par_faces(patch, a, |m| {
+                            let courant = fv[m] * lam;
+                            if courant == 0.0 {
+                                for f in fx {
+                                    f.write(m, 0.0);
+                                }
+                                return;
+                            }
+                            let donor = if courant > 0.0 { m - st[a] } else { m };
+                            let (slab, v) = donor_volume_slab(
+                                scheme,
+                                courant,
+                                field(0),
+                                field(5),
+                                donor,
+                                st[a],
+                            );
+                            let mass = courant * slab.mean_density;
+                            fx[0].write(m, mass);
+                            for k in 1..5 {
+                                fx[k].write(
+                                    m,
+                                    mass * donor_carried(scheme, field(k), donor, st[a], &slab),
+                                );
+                            }
+                            fx[5].write(m, mass * v);
+                        });
+                        par_cells(patch, |c| {
+                            for k in 0..6 {
+                                let x = cons[k].read(c) + (fx[k].read(c) - fx[k].read(c + st[a]));
+                                cons[k].write(c, x);
+                            }
+                        });
+                    }
+                    let failed = par_interior(
+                        patch,
+                        || None,
+                        |fail: &mut Failure, c| {
+                            let cons: [f64; 6] = std::array::from_fn(|k| cons[k].read(c));
+                            let rho = cons[0];
+                            if !(rho > 0.0 && rho.is_finite()) {
+                                let g = global_of(patch, c);
+                                *fail = first_failure(
+                                    fail.take(),
+                                    Some((
+                                        geometry.linear_index(g),
+                                        g,
+                                        format!(
+                                            "material {} density {rho:e} kg/m³ after advection (step 12)",
+                                            r + 1
+                                        ),
+                                    )),
+                                );
+                                return;
+                            }
+                            for k in 0..3 {
+                                state[s + VEL + k].write(c, cons[1 + k] / rho);
+                            }
+                            let kinetic = if total {
+                                let u = [cons[1] / rho, cons[2] / rho, cons[3] / rho];
+                                0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+                            } else {
+                                0.0
+                            };
+                            let mut e = cons[4] / rho - kinetic;
+                            let v = cons[5] / rho;
+                            if total {
+                                // E − ½|u|² of a fast, cold material (a gas
+                                // whose kinetic energy is many times its
+                                // internal energy) can fall below its 0 K
+                                // energy when ρE and ρu are limited
+                                // separately: keep the material's
+                                // temperature of the step's start instead.
+                                let t_keep = state[s + TEMP].read(c);
+                                e = kept_warm(&params.eos[r], 1.0 / v, e, t_keep).0;
+                            }
+                            state[s + ENERGY].write(c, e);
+                            state[s + VSP].write(c, v);
+                            state[s + THETA].write(c, cons[5]);
+                        },
+                        first_failure,
+                    );
+                    fail = first_failure(fail, failed);
+                }
                 fail
             })
             .reduce(|| None, first_failure);
@@ -1997,27 +2203,33 @@ impl<E: Eos> Solver for IceSolver<E> {
             .zip(self.level.patches.par_iter())
             .map(|(pf, patch)| {
                 let d = &pf.data;
-                let mut max_rate = 0.0_f64;
-                for_interior(patch, |c| {
-                    let mut rate = 0.0;
-                    for a in 0..3 {
-                        if !params.active[a] {
-                            continue;
-                        }
-                        let mut s = 0.0_f64;
-                        for r in 0..n {
-                            s = s.max(d[r * NS + VEL + a][c].abs() + d[r * NS + SOUND][c]);
-                        }
-                        rate += s / params.spacing[a];
-                    }
-                    // NaN propagates as "not finite" through max below.
-                    max_rate = if rate.is_nan() {
+                let max_of = |a: f64, b: f64| {
+                    if a.is_nan() || b.is_nan() {
                         f64::NAN
                     } else {
-                        max_rate.max(rate)
-                    };
-                });
-                max_rate
+                        a.max(b)
+                    }
+                };
+                par_interior(
+                    patch,
+                    || 0.0_f64,
+                    |max_rate, c| {
+                        let mut rate = 0.0;
+                        for a in 0..3 {
+                            if !params.active[a] {
+                                continue;
+                            }
+                            let mut s = 0.0_f64;
+                            for r in 0..n {
+                                s = s.max(d[r * NS + VEL + a][c].abs() + d[r * NS + SOUND][c]);
+                            }
+                            rate += s / params.spacing[a];
+                        }
+                        // NaN propagates as "not finite" through max below.
+                        *max_rate = max_of(*max_rate, rate);
+                    },
+                    max_of,
+                )
             })
             .reduce(
                 || 0.0,

@@ -398,10 +398,10 @@ fn two_material_sod_has_no_pressure_spike_and_a_narrow_contact() {
     assert!(md.width_cells > m.width_cells, "{md:?}");
 }
 
-/// The compressive option (superbee on each material's density) keeps the
-/// two-material contact within three cells at 200 cells (measured 2.77,
-/// against 4.72 with van Leer); its pressure excursion at the contact is
-/// larger (1.03 % against 0.02 %).
+/// The compressive option (THINC volume fractions in interface cells)
+/// keeps the two-material contact within three cells (measured 1.50 at 200
+/// cells, against 4.74 with van Leer) with the pressure within 1 % of the
+/// plateau around it (measured 0.14 %).
 #[test]
 fn compressive_advection_keeps_the_contact_within_three_cells() {
     let s = sod_two(200, Advection::Compressive, 0.2);
@@ -409,7 +409,7 @@ fn compressive_advection_keeps_the_contact_within_three_cells() {
     assert!(m.width_cells <= 3.0, "{m:?}");
     let v = sod_two(200, Advection::VanLeer, 0.2);
     assert!(m.width_cells < contact_width(&v).unwrap().width_cells);
-    assert!(m.pressure_excursion < 0.02, "{m:?}");
+    assert!(m.pressure_excursion <= 0.01, "{m:?}");
 }
 
 /// Throughput of a full step for three materials on a 3D box (release:
