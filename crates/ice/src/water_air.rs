@@ -224,7 +224,10 @@ mod tests {
     /// With the fixed-energy equilibration (`IceOptions::
     /// fixed_energy_equilibration`, which this case turns on) the tube runs;
     /// it fails the shock bound: the air shock lags the exact one by about
-    /// 2.5 cells at this resolution (V-WATER-AIR-ICE in docs/validation.md).
+    /// 2.5 cells at this resolution (V-WATER-AIR-ICE in docs/validation.md):
+    /// an offset formed while the shocked air layer is thinner than the
+    /// smeared contact, not a wrong shock speed
+    /// (docs/physics/ice/water_air.md, "Why the air shock lags two cells").
     #[test]
     #[ignore = "fails: the air shock lags the exact one by about 2.5 cells against the 2-cell bound (docs/validation.md, V-WATER-AIR-ICE)"]
     fn reduced_water_air_tube_tracks_the_exact_solution() {
