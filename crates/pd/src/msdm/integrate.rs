@@ -32,6 +32,7 @@ impl MsdmLattice {
             )));
         }
         let mut report = StepReport::default();
+        self.clear_stencil_flags();
         if !self.mechanics {
             if self.options.thermal {
                 return Err(MsdmError::Invalid(

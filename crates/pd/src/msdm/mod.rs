@@ -38,6 +38,7 @@ pub mod regress;
 pub mod solver;
 pub mod sparse;
 pub mod stats;
+mod stencil;
 
 pub use geometry::{dual_volume, Dim, Direction, Geometry, NodeKind};
 pub use law::{Damping, Hysteretic, LatticeMaterial, PairLaw, Plasticity, SpringState};

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use super::geometry::{dual_volume, dual_volume_2d, Geometry, NodeKind};
 use super::law::{LatticeMaterial, PairLaw, SpringState};
 use super::sparse::{bicgstab, solve_direct, CsrMatrix, SolveStats, SolverWork};
+use super::stencil;
 
 /// Every axis held: the default of [`MsdmLattice::held_axes`].
 pub const ALL_AXES: u8 = 0b111;
@@ -189,6 +190,17 @@ pub struct MsdmLattice {
     /// §3.1 ("the momentum equation is not solved"); the energy equation
     /// must then be off too.
     pub mechanics: bool,
+    /// Per-node flags of the row-stencil passes ([`super::stencil`]).
+    pub(crate) flags: Vec<u8>,
+    /// Bond forces of the row-stencil bond pass, by row.
+    pub(crate) row_bonds: Vec<f64>,
+    /// Whether `flags` were filled in this step, with no change of the
+    /// node kinds or bond status since (cleared at the start and end of
+    /// each step and by a commit that changes the spring state).
+    flags_fresh: bool,
+    /// Take the general passes even where the row-stencil passes apply
+    /// (the tests compare the two).
+    pub(crate) general_passes: bool,
 }
 
 /// The kinematics and force of one spring.
@@ -473,6 +485,10 @@ impl MsdmLattice {
             work: SolverWork::default(),
             regression: None,
             mechanics: true,
+            flags: Vec::new(),
+            row_bonds: Vec::new(),
+            flags_fresh: false,
+            general_passes: false,
             x,
             geom,
         };
@@ -510,6 +526,7 @@ impl MsdmLattice {
     /// from the previous step are recomputed.
     pub fn mark_modified(&mut self) {
         self.forces_current = false;
+        self.flags_fresh = false;
     }
 
     /// Whether any spring law has a parallel dashpot (velocity-dependent
@@ -664,6 +681,11 @@ impl MsdmLattice {
     /// every position and velocity before, so this is the same arithmetic
     /// as a separate update pass.
     pub(crate) fn forces_and_update(&mut self, euler: Option<f64>) {
+        if self.stencil_applies() && !self.has_spring_state {
+            self.forces_stencil(euler);
+            self.forces_current = euler.is_none();
+            return;
+        }
         let mut bf = std::mem::take(&mut self.bond_force);
         let mut force = std::mem::take(&mut self.force);
         let mut x = std::mem::take(&mut self.x);
@@ -835,6 +857,159 @@ impl MsdmLattice {
             });
     }
 
+    /// Whether the row-stencil passes of [`super::stencil`] apply: a 2D
+    /// lattice of one material (the force pass also needs springs without
+    /// internal state).
+    fn stencil_applies(&self) -> bool {
+        !self.general_passes
+            && self.geom.dim == super::geometry::Dim::Two
+            && self.materials.len() == 1
+            && self.geom.directions.len() <= stencil::MAX_DIRS
+            && self.geom.n[0] >= 3
+            && self.geom.n[1] >= 3
+    }
+
+    /// Forgets the per-node flags of the row-stencil passes (at the start
+    /// of a step: the kinds, status, masses or held axes may have changed
+    /// since they were filled).
+    pub(crate) fn clear_stencil_flags(&mut self) {
+        self.flags_fresh = false;
+    }
+
+    /// The box shape of a 2D lattice.
+    fn box2(&self) -> stencil::Box2 {
+        stencil::Box2 {
+            nx: self.geom.n[0],
+            ny: self.geom.n[1],
+        }
+    }
+
+    /// Fills the per-node flags of the row-stencil passes.
+    fn fill_flags(&mut self) {
+        let n = self.len();
+        let mut flags = std::mem::take(&mut self.flags);
+        flags.resize(n, 0);
+        stencil::node_flags(
+            self.box2(),
+            self.geom.directions.len(),
+            &self.geom.kind,
+            &self.status,
+            &self.prescribed,
+            &self.held_axes,
+            &self.mass,
+            &mut flags,
+        );
+        self.flags = flags;
+        self.flags_fresh = true;
+    }
+
+    /// [`MsdmLattice::forces_and_update`] by the row-stencil passes of
+    /// [`super::stencil`] (same bits).
+    fn forces_stencil(&mut self, euler: Option<f64>) {
+        debug_assert!(self.stencil_applies() && !self.has_spring_state);
+        let b = self.box2();
+        let n = self.len();
+        let nd = self.geom.directions.len();
+        let h = self.geom.spacing;
+        let law = &self.laws[0];
+        // No plastic yield and no Maxwell arm without spring state.
+        debug_assert!(!law.yield_strain.is_finite() && law.k_arm == 0.0);
+        let mut dirs = [stencil::Dir2::default(); stencil::MAX_DIRS];
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            let mut xi = [0.0; 3];
+            for a in 0..3 {
+                xi[a] = f64::from(dir.step[a]) * h;
+            }
+            let r = BondRef::new(xi, dir.axial);
+            dirs[d] = stencil::Dir2 {
+                sx: dir.step[0] as isize,
+                sy: dir.step[1] as isize,
+                xi: [xi[0], xi[1]],
+                len0: r.len0,
+                e0: r.e0,
+                k: law.k_inf * r.len0,
+                k1: law.k_arm * r.len0,
+                c: law.c_par * r.len0,
+                kp: if dir.axial { law.k_perp * r.len0 } else { 0.0 },
+            };
+        }
+        let dirs = &dirs[..nd];
+        self.fill_flags();
+        if self.row_bonds.len() != n * nd * 2 {
+            self.row_bonds = vec![0.0; n * nd * 2];
+        }
+        let [x0, x1, _] = &mut self.x;
+        let [u0, u1, _] = &mut self.u;
+        stencil::bond_pass(b, dirs, &self.flags, x0, x1, u0, u1, &mut self.row_bonds);
+        let (x, u) = ([&mut x0[..], &mut x1[..]], [&mut u0[..], &mut u1[..]]);
+        let [f0, f1, f2] = &mut self.force;
+        stencil::gather_pass(
+            b,
+            dirs,
+            &self.flags,
+            &self.row_bonds,
+            [&self.body[0], &self.body[1], &self.body[2]],
+            &self.mass,
+            x,
+            u,
+            [f0, f1, f2],
+            euler,
+        );
+    }
+
+    /// [`MsdmLattice::update_volume_and_energy`] by the row-stencil pass of
+    /// [`super::stencil`] (same bits).
+    fn volume_energy_stencil(&mut self, dt: f64, chem_on: bool) {
+        let n = self.len();
+        let mat = &self.materials[0];
+        let h = self.geom.spacing;
+        let sur = self.options.surroundings;
+        let th = stencil::Thermal {
+            neg_bulk: -mat.bulk_modulus(),
+            cv: mat.eos.cv,
+            gamma: mat.eos.gamma,
+            pair: harmonic(mat.conductivity, mat.conductivity) * h,
+            ghost: harmonic(mat.conductivity, sur.conductivity) * h,
+            t_sur: sur.temperature,
+            enthalpy: mat.enthalpy,
+            dt,
+            spacing: h,
+            on: self.options.thermal,
+        };
+        if !self.flags_fresh {
+            self.fill_flags();
+        }
+        self.flags_fresh = false;
+        let [mut v_new, mut e_new, mut p_new, mut t_new] = std::mem::take(&mut self.scratch);
+        stencil::energy_pass(
+            self.box2(),
+            &th,
+            &self.flags,
+            [&self.x[0], &self.x[1]],
+            &self.temperature,
+            &self.volume,
+            &self.mass,
+            &self.energy,
+            &self.pressure,
+            chem_on.then_some(&self.mass_rate[..n]),
+            [&mut v_new, &mut e_new, &mut p_new, &mut t_new],
+        );
+        std::mem::swap(&mut self.volume, &mut v_new);
+        std::mem::swap(&mut self.energy, &mut e_new);
+        std::mem::swap(&mut self.pressure, &mut p_new);
+        std::mem::swap(&mut self.temperature, &mut t_new);
+        self.scratch = [v_new, e_new, p_new, t_new];
+        if chem_on {
+            for i in 0..n {
+                let mk = &mut self.mass_k[i];
+                *mk = (*mk + self.mass_rate[i] * dt).max(0.0);
+            }
+            for i in 0..n {
+                self.mass[i] = (0..1).map(|k| self.mass_k[k * n + i]).sum();
+            }
+        }
+    }
+
     /// Commits the spring state at the end of a step of length `dt`:
     /// plastic return mapping, dashpot relaxation, and fracture when the
     /// tensile strain exceeds the fracture strain (irreversible). Returns
@@ -884,6 +1059,7 @@ impl MsdmLattice {
         self.spring = spring;
         if changed {
             self.forces_current = false;
+            self.flags_fresh = false;
         }
         (broken, changed)
     }
@@ -903,9 +1079,13 @@ impl MsdmLattice {
     /// surroundings' temperature and conductivity.
     pub fn update_volume_and_energy(&mut self, dt: f64) {
         let n = self.len();
-        let [mut v_new, mut e_new, mut p_new, mut t_new] = std::mem::take(&mut self.scratch);
         // Chemistry on at all (the sum below is +0 when every rate is 0).
         let chem_on = self.mass_rate.iter().any(|&r| r != 0.0);
+        if self.stencil_applies() {
+            self.volume_energy_stencil(dt, chem_on);
+            return;
+        }
+        let [mut v_new, mut e_new, mut p_new, mut t_new] = std::mem::take(&mut self.scratch);
         // Conductances per material pair, formed once per step as
         // [`MsdmLattice::conduction`] forms them per spring (same bits).
         let nm = self.materials.len();
