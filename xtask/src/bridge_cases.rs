@@ -19,7 +19,7 @@
 //! bridge; target: the bridge ≥ 3× faster), the gauges and their
 //! oscillation after the blast (seed 001 Fig. 12), and the bridge w = 5
 //! once more with the paper's inflow rule (`min_particle_mass: 0`,
-//! `inflow_particle_volume: false`) for its cost. Each bridge run reports
+//! `inflow_particle_volume: false`, `inflow_deposit: false`) for its cost. Each bridge run reports
 //! its FDM/MPM split of the wall time (`time_split.json`).
 
 use std::fmt::Write as _;
@@ -121,6 +121,9 @@ struct BridgeRun {
     width: usize,
     /// FDM and MPM wall seconds (`time_split.json`).
     split: Option<(f64, f64)>,
+    /// MPM particles at the end and their mean over the MPM steps
+    /// (`time_split.json`).
+    particles: Option<(f64, f64)>,
     steps: u64,
     final_time: f64,
     wall_seconds: f64,
@@ -136,6 +139,15 @@ fn json_number(text: &str, key: &str) -> Option<f64> {
     let rest = &text[text.find(&format!("\"{key}\":"))? + key.len() + 3..];
     let end = rest.find([',', '\n', '}']).unwrap_or(rest.len());
     rest[..end].trim().parse().ok()
+}
+
+fn read_particles(out: &Path) -> Option<(f64, f64)> {
+    let text = std::fs::read_to_string(out.join("time_split.json")).ok()?;
+    let steps = json_number(&text, "steps")?;
+    Some((
+        json_number(&text, "particles")?,
+        json_number(&text, "particle_steps")? / steps.max(1.0),
+    ))
 }
 
 fn read_split(out: &Path) -> Option<(f64, f64)> {
@@ -161,6 +173,7 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
     if paper_inflow {
         sets.push("pipeline.min_particle_mass=0.0".into());
         sets.push("pipeline.inflow_particle_volume=false".into());
+        sets.push("pipeline.inflow_deposit=false".into());
     }
     let loaded = load_file(&root.join("configs/blast2d.ron"), &sets)
         .map_err(|e| anyhow::anyhow!("configs/blast2d.ron does not load: {e}"))?;
@@ -182,6 +195,7 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
         ),
         width,
         split: read_split(&out),
+        particles: read_particles(&out),
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
@@ -217,6 +231,7 @@ fn run_pure_mpm(root: &Path) -> Result<BridgeRun> {
         label: "pure MPM".into(),
         width: 0,
         split: None,
+        particles: None,
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
@@ -325,10 +340,12 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
          time the pressure first reaches half-way from ambient to the blast peak; peak: the largest pressure \
          within {:.0} µs of the first sample above twice ambient (the blast wave, before the products and the \
          slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). The bridge runs \
-         create inflow particles sized like the initial ones and wait for a batch of at least 4 × ¼ m_e \
-         (`min_particle_mass: 0.25`, `inflow_particle_volume: true`, docs/physics/couple/bridge.md); the row \
+         deposit each step's inflow into the air or products particles within half a cell of the interface in \
+         its face's first bridge cell, and create particles sized like the initial ones only where there are \
+         none (`inflow_deposit: true`, `inflow_particle_volume: true`, docs/physics/couple/bridge.md); the row \
          \"5, paper's inflow\" takes the paper's rule (every step, at least 4 particles per face, m_e the air \
-         particle's mass). \"pure MPM\" is `configs/blast2d_mpm.ron`: the whole domain as particles of `Null` \
+         particle's mass). Particles: the MPM's particles at the end, and the particles it stepped per step \
+         of the run (donor cells included). \"pure MPM\" is `configs/blast2d_mpm.ron`: the whole domain as particles of `Null` \
          fluids with the same EOS, from the same remap, the same slab and gauges, same MPM options. FDM/MPM: \
          the bridge's split of its wall time (`time_split.json`; the transport and the fictitious cells count \
          as MPM). Wall times on this shared 2-CPU machine under the other work's load, the runs one after the \
@@ -338,7 +355,7 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
     );
     let _ = writeln!(
         md,
-        "| w | steps | reached (µs) | wall (s) | FDM / MPM (s) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| w | steps | reached (µs) | wall (s) | FDM / MPM (s) | particles (end / mean) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let mut measured = Vec::new();
     for r in runs.iter().chain([&paper, &mpm]) {
@@ -350,13 +367,15 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} | {} | {} |",
             r.label,
             r.steps,
             r.final_time * 1e6,
             r.wall_seconds,
             r.split
                 .map_or("—".into(), |(f, m)| format!("{f:.0} / {m:.0}")),
+            r.particles
+                .map_or("—".into(), |(e, m)| format!("{e:.0} / {m:.0}")),
             cell(a, 0),
             cell(b, 0),
             cell(a, 1),

@@ -107,6 +107,15 @@ pub struct BridgeConfig {
     /// and products.
     #[serde(default = "default_true")]
     pub inflow_particle_volume: bool,
+    /// Deposit a face's inflow into the air or products particles already
+    /// in its first bridge cell (default true), creating particles only
+    /// where that cell holds none of the inflow's material, at once: the
+    /// inflow is inside the MPM region the step it crosses the interface
+    /// (docs/physics/couple/bridge.md). false: `min_particle_mass` batches
+    /// (or, with `min_particle_mass: 0.0` and `inflow_particle_volume:
+    /// false`, the paper's rule).
+    #[serde(default = "default_true")]
+    pub inflow_deposit: bool,
 }
 
 fn default_ppc() -> usize {
@@ -563,6 +572,7 @@ fn build_with<'a, E: GasLaw + 'static>(
             } else {
                 0.0
             },
+            deposit: cfg.inflow_deposit,
         },
     )
     .map_err(|m| ("pipeline".to_string(), m))?;

@@ -35,9 +35,10 @@ use brisance_fdm::{FdmSolver, GasLaw};
 use brisance_mpm::{MaterialId, MpmSolver, ParticleInit};
 
 use crate::bridge::{
-    absorb_particle, cell_internal_energy, centre_weight, create_particles, fdm_cell_as_particle,
-    fdm_outflow_is_supersonic, fictitious_cell_state, fictitious_mass_momentum, interface_fluxes,
-    interface_state, FaceInflow, NewParticle, NormalState, Primitive,
+    absorb_particle, cell_internal_energy, centre_weight, create_particles, deposit_into_particle,
+    fdm_cell_as_particle, fdm_outflow_is_supersonic, fictitious_cell_state,
+    fictitious_mass_momentum, interface_fluxes, interface_state, Deposit, FaceInflow, NewParticle,
+    NormalState, Primitive,
 };
 use crate::regions::{BridgeRegions, Side};
 
@@ -72,6 +73,14 @@ pub struct CfdmpOptions {
     /// rather than as ρ/ρ₀ times as many air-mass particles. 0: m_e is
     /// `existing_mass` everywhere (the paper's rule).
     pub existing_volume: f64,
+    /// Deposit a face's inflow into the fluid particles of the same
+    /// material already in its first bridge cell (mass-weighted shares of
+    /// its mass, momentum and total energy), and create particles (eqs
+    /// 45–48) only where that cell holds none, at once, without waiting
+    /// for `min_particle_mass`: the inflow is inside the MPM region the
+    /// step it crosses the interface ([`deposit_into_particle`]). false:
+    /// the batches of `min_particle_mass` (or the paper's rule).
+    pub deposit: bool,
 }
 
 /// Inflow of one interface face not yet made into particles (sums over
@@ -109,6 +118,8 @@ pub struct TransportTotals {
     /// the FDM region's own outflow state because its outflow was
     /// supersonic against the MPM's state (`fdm_outflow_is_supersonic`).
     pub supersonic_outflow: u64,
+    /// Particles that received a deposit of inflow (`CfdmpOptions::deposit`).
+    pub deposited: u64,
 }
 
 /// The coupled solver.
@@ -135,11 +146,32 @@ pub struct Cfdmp<E: GasLaw> {
     mpm_seconds: f64,
     /// Inflow in transit per interface face (`face_cells` order).
     pending: Vec<Pending>,
+    /// Tangential FDM-grid cells of one layer normal to the split axis
+    /// ([`Cfdmp::face_cells`]).
+    faces: Vec<[usize; 3]>,
+    /// The fictitious cells, layer by layer ([`Cfdmp::fictitious_cells`]).
+    fictitious: Vec<[usize; 3]>,
+    /// Identities of this step's donor particles, [first, first + count):
+    /// they stay in the MPM after its step until the transport removes
+    /// them with the absorbed particles, in one pass.
+    donors: (u32, u32),
+    /// Σ over the MPM steps of the particles stepped.
+    particle_steps: u64,
     /// Reused buffers.
     energy: Vec<f64>,
     created: Vec<NewParticle>,
     inits: Vec<ParticleInit>,
     leaving: Vec<usize>,
+    states: Vec<Option<[f64; 6]>>,
+    /// Per face, the fluid particles in its first bridge cell:
+    /// `members[start[f]..start[f + 1]]` (storage indices, ascending).
+    start: Vec<usize>,
+    members: Vec<usize>,
+    pairs: Vec<(usize, usize)>,
+    /// Particles on the FDM side of the interface, donors excepted.
+    outside: Vec<usize>,
+    /// Storage indices of the donor particles.
+    donor_slots: Vec<usize>,
 }
 
 impl<E: GasLaw> Cfdmp<E> {
@@ -239,9 +271,21 @@ impl<E: GasLaw> Cfdmp<E> {
             created: Vec::new(),
             inits: Vec::new(),
             leaving: Vec::new(),
+            faces: Vec::new(),
+            fictitious: Vec::new(),
+            donors: (0, 0),
+            particle_steps: 0,
+            states: Vec::new(),
+            start: Vec::new(),
+            members: Vec::new(),
+            pairs: Vec::new(),
+            outside: Vec::new(),
+            donor_slots: Vec::new(),
         };
-        s.pending = vec![Pending::default(); s.face_cells().len()];
-        let cells = s.fictitious_cells();
+        s.faces = s.face_cells();
+        s.fictitious = s.fictitious_cells();
+        s.pending = vec![Pending::default(); s.faces.len()];
+        let cells = s.fictitious.clone();
         s.fictitious_initial = cells
             .iter()
             .map(|&g| s.fdm.cell_conservative(g).unwrap_or([0.0; 6]))
@@ -285,6 +329,17 @@ impl<E: GasLaw> Cfdmp<E> {
     /// cells (step 7) and the transport (step 14) count as MPM.
     pub fn split_seconds(&self) -> (f64, f64) {
         (self.fdm_seconds, self.mpm_seconds)
+    }
+
+    /// The particle counts so far.
+    pub fn particle_counts(&self) -> ParticleCounts {
+        ParticleCounts {
+            particles: self.mpm.particles().len() as u64,
+            particle_steps: self.particle_steps,
+            created: self.totals.created,
+            deposited: self.totals.deposited,
+            absorbed: self.totals.absorbed,
+        }
     }
 
     /// Time, s.
@@ -370,7 +425,8 @@ impl<E: GasLaw> Cfdmp<E> {
         let volume = self.regions.cell_volume();
         let geometry = self.fdm.level().geometry;
         self.inits.clear();
-        for mut c in self.face_cells() {
+        for f in 0..self.faces.len() {
+            let mut c = self.faces[f];
             c[a] = donor;
             let (s, _) = self.primitive(c);
             let cp = fdm_cell_as_particle(
@@ -395,14 +451,33 @@ impl<E: GasLaw> Cfdmp<E> {
             .mpm
             .insert_particles(&self.inits)
             .map_err(|e| SolverError::Other(format!("bridge donor particles: {e}")))?;
+        self.donors = (first, self.inits.len() as u32);
+        self.particle_steps += self.mpm.particles().len() as u64;
         let result = self.mpm.advance(dt);
+        if result.is_err() {
+            self.remove_donors();
+        }
+        result
+    }
+
+    /// Whether the particle of identity `id` is one of this step's donor
+    /// cells.
+    fn is_donor(&self, id: u32) -> bool {
+        id >= self.donors.0 && id - self.donors.0 < self.donors.1
+    }
+
+    /// Removes this step's donor particles (if the transport did not).
+    fn remove_donors(&mut self) {
+        if self.donors.1 == 0 {
+            return;
+        }
         self.leaving.clear();
         let ids = self.mpm.particle_ids();
-        self.leaving.extend(
-            (0..ids.len()).filter(|&p| ids[p] >= first && ids[p] < first + self.inits.len() as u32),
-        );
+        let (first, count) = self.donors;
+        self.leaving
+            .extend((0..ids.len()).filter(|&p| ids[p] >= first && ids[p] - first < count));
         self.mpm.remove_particles(&self.leaving);
-        result
+        self.donors = (0, 0);
     }
 
     /// Step 7: the fictitious cells from the MPM nodes (eqs 31–32, with
@@ -434,16 +509,16 @@ impl<E: GasLaw> Cfdmp<E> {
             }
         }
         let volume = self.regions.cell_volume();
-        let cells = self.fictitious_cells();
+        let cells = &self.fictitious;
         let corners = 1usize << active.len();
-        let mut mass = Vec::with_capacity(corners);
-        let mut mom = Vec::with_capacity(corners);
-        let mut states = Vec::with_capacity(cells.len());
-        for &g in &cells {
+        let mut mass = [0.0; 8];
+        let mut mom = [[0.0; 3]; 8];
+        let states = &mut self.states;
+        states.clear();
+        for &g in cells {
             let mut c = g;
             c[a] = (g[a] as isize + self.mpm_shift) as usize;
-            mass.clear();
-            mom.clear();
+            let mut used = 0;
             for corner in 0..corners {
                 let mut node = [c[0] as isize, c[1] as isize, c[2] as isize];
                 for (bit, &d) in active.iter().enumerate() {
@@ -451,18 +526,27 @@ impl<E: GasLaw> Cfdmp<E> {
                 }
                 if let Some(n) = nodes.lattice.index(node) {
                     let m = nodes.mass[n];
-                    mass.push(m);
-                    mom.push(nodes.velocity_new[n].map(|v| v * m));
+                    mass[used] = m;
+                    mom[used] = nodes.velocity_new[n].map(|v| v * m);
+                    used += 1;
                 }
             }
-            let (m, p) = fictitious_mass_momentum(&mass, &mom, weight);
+            let (m, p) = fictitious_mass_momentum(&mass[..used], &mom[..used], weight);
             let k = mg.linear_index(c);
             let e = self.energy[k];
             let (all, products) = (self.energy[n + k], self.energy[2 * n + k]);
-            states.push(fictitious_cell_state(m, p, e, volume).map(|u| {
-                let y = if all > 0.0 { products / all } else { 0.0 };
-                [u[0], u[1], u[2], u[3], u[4], u[0] * y]
-            }));
+            // Eq 33 needs particles: a cell whose nodes carry mass from
+            // particles of the cells around it but that holds none itself
+            // would get no internal energy (p = 0); it keeps its state like
+            // a cell without nodal mass.
+            states.push(if all > 0.0 {
+                fictitious_cell_state(m, p, e, volume).map(|u| {
+                    let y = products / all;
+                    [u[0], u[1], u[2], u[3], u[4], u[0] * y]
+                })
+            } else {
+                None
+            });
         }
         // Per line normal to the interface: the MPM's states (eqs 34–36),
         // unless the FDM region's outflow there is supersonic against them
@@ -476,10 +560,11 @@ impl<E: GasLaw> Cfdmp<E> {
         };
         let sign = self.regions.mpm_side.sign();
         for line in 0..lines {
+            let cells = &self.fictitious;
             let mut inner = cells[line];
             inner[a] = last;
             let own = self.fdm.cell_conservative(inner).unwrap_or([0.0; 6]);
-            let outer = match states[line] {
+            let outer = match self.states[line] {
                 Some(u) => u,
                 None => self.fdm.cell_conservative(cells[line]).unwrap_or([0.0; 6]),
             };
@@ -501,10 +586,14 @@ impl<E: GasLaw> Cfdmp<E> {
             }
             for l in 0..self.layers {
                 let k = l * lines + line;
-                let value = if supersonic { Some(own) } else { states[k] };
+                let value = if supersonic {
+                    Some(own)
+                } else {
+                    self.states[k]
+                };
                 if let Some(v) = value {
                     self.fdm
-                        .set_cell_conservative(cells[k], v)
+                        .set_cell_conservative(self.fictitious[k], v)
                         .map_err(|e| SolverError::Other(e.to_string()))?;
                 }
             }
@@ -513,9 +602,12 @@ impl<E: GasLaw> Cfdmp<E> {
     }
 
     /// Step 14: at every interface face, the interface state and fluxes
-    /// (eqs 40–44), new particles for an inflow (eqs 45–48), and the
-    /// particles that crossed to the FDM side absorbed by the cell they
-    /// entered (eqs 49–51).
+    /// (eqs 40–44); the inflow deposited into the fluid particles of the
+    /// face's first bridge cell (`CfdmpOptions::deposit`) or made into new
+    /// particles (eqs 45–48); and the particles that crossed to the FDM
+    /// side absorbed by the cell they entered (eqs 49–51). The particles
+    /// that took a deposit are replaced by their new state, and the donor
+    /// particles of the MPM step removed, in the same pass.
     pub fn transport(&mut self, dt: f64) -> Result<(), SolverError> {
         let a = self.regions.axis;
         let side = self.regions.mpm_side;
@@ -527,7 +619,12 @@ impl<E: GasLaw> Cfdmp<E> {
         let active: [bool; 3] = std::array::from_fn(|d| fg.cells[d] > 1);
         self.created.clear();
         self.inits.clear();
-        for (f, c) in self.face_cells().into_iter().enumerate() {
+        // Storage indices of the particles to take out (deposits, absorbed
+        // particles, donors), gathered before any particle moves.
+        self.leaving.clear();
+        self.scan_particles(x_face);
+        for f in 0..self.faces.len() {
+            let c = self.faces[f];
             let (mut cd, mut cb) = (c, c);
             cd[a] = donor;
             cb[a] = bridge;
@@ -559,11 +656,76 @@ impl<E: GasLaw> Cfdmp<E> {
                 q.length += (side.sign() * face.velocity[a] * dt).min(fg.spacing[a]);
             }
             let q = self.pending[f];
+            if q.mass <= 0.0 {
+                continue;
+            }
+            let material = match self.options.products {
+                Some(m) if 2.0 * q.products >= q.mass => m,
+                _ => self.options.air,
+            };
+            let y = if material == self.options.air {
+                0.0
+            } else {
+                1.0
+            };
             let existing_mass = self
                 .options
                 .existing_mass
                 .max(sd.density * self.options.existing_volume);
-            if q.mass <= 0.0 || q.mass < 4.0 * self.options.min_particle_mass * existing_mass {
+            if self.options.deposit {
+                // Into the particles of the same material in the face's
+                // first bridge cell, by shares of their mass.
+                let ps = self.mpm.particles();
+                let list = &self.members[self.start[f]..self.start[f + 1]];
+                let reach = 0.5 * fg.spacing[a];
+                let takes = |p: usize| {
+                    ps.material[p] == material && (ps.position[p][a] - x_face).abs() <= reach
+                };
+                let total: f64 = list
+                    .iter()
+                    .filter(|&&p| takes(p))
+                    .map(|&p| ps.mass[p])
+                    .sum();
+                if total > 0.0 {
+                    for &p in list.iter().filter(|&&p| takes(p)) {
+                        let w = ps.mass[p] / total;
+                        let (dm, dp, de) = (q.mass * w, q.momentum.map(|x| x * w), q.energy * w);
+                        let d = deposit_into_particle(
+                            Deposit {
+                                mass: ps.mass[p],
+                                velocity: ps.velocity[p],
+                                specific_internal_energy: ps.specific_internal_energy[p],
+                                volume: ps.volume[p],
+                            },
+                            dm,
+                            dp,
+                            de,
+                            sd.density,
+                        );
+                        let pressure = self.fdm.gas().gas_pressure(
+                            d.mass / d.volume,
+                            d.specific_internal_energy,
+                            y,
+                        );
+                        self.inits.push(ParticleInit {
+                            position: ps.position[p],
+                            velocity: d.velocity,
+                            mass: d.mass,
+                            volume: d.volume,
+                            stress: [-pressure, -pressure, -pressure, 0.0, 0.0, 0.0],
+                            temperature: ps.temperature[p],
+                            specific_internal_energy: d.specific_internal_energy,
+                            material,
+                            ..Default::default()
+                        });
+                        self.leaving.push(p);
+                        book_parts(&mut self.totals.into_mpm, dm, dp, de);
+                        self.totals.deposited += 1;
+                    }
+                    self.pending[f] = Pending::default();
+                    continue;
+                }
+            } else if q.mass < 4.0 * self.options.min_particle_mass * existing_mass {
                 continue;
             }
             // The face's inflow so far as one batch: its mean velocity and
@@ -601,19 +763,7 @@ impl<E: GasLaw> Cfdmp<E> {
             };
             let start = self.created.len();
             create_particles(&inflow, q.mass, &mut self.created);
-            let material = match self.options.products {
-                Some(m) if 2.0 * q.products >= q.mass => m,
-                _ => self.options.air,
-            };
-            let p = self.fdm.gas().gas_pressure(
-                sd.density,
-                e,
-                if material == self.options.air {
-                    0.0
-                } else {
-                    1.0
-                },
-            );
+            let p = self.fdm.gas().gas_pressure(sd.density, e, y);
             for n in &mut self.created[start..] {
                 n.specific_internal_energy = e;
                 self.inits.push(ParticleInit {
@@ -631,25 +781,11 @@ impl<E: GasLaw> Cfdmp<E> {
             self.pending[f] = Pending::default();
         }
         self.totals.created += self.created.len() as u64;
-        self.mpm
-            .insert_particles(&self.inits)
-            .map_err(|e| SolverError::Other(format!("bridge inflow particles: {e}")))?;
-        // Absorption: particles on the FDM side of the interface.
-        self.leaving.clear();
-        let ps = self.mpm.particles();
-        for p in 0..ps.len() {
-            let x = ps.position[p][a];
-            let outside = match side {
-                Side::High => x < x_face,
-                Side::Low => x > x_face,
-            };
-            if outside {
-                self.leaving.push(p);
-            }
-        }
+        // Absorption: particles on the FDM side of the interface (the
+        // donor particles excepted), found by `scan_particles`.
         let volume = self.regions.cell_volume();
-        for &p in &self.leaving {
-            let ps = self.mpm.particles();
+        let ps = self.mpm.particles();
+        for &p in &self.outside {
             let (m, v, e) = (ps.mass[p], ps.velocity[p], ps.specific_internal_energy[p]);
             let is_products = Some(ps.material[p]) == self.options.products;
             let Some(mut g) = fg.cell_containing(ps.position[p]) else {
@@ -669,9 +805,85 @@ impl<E: GasLaw> Cfdmp<E> {
                 .map_err(|e| SolverError::Other(e.to_string()))?;
             book(&mut self.totals.into_fdm, m, v, e);
         }
-        self.totals.absorbed += self.leaving.len() as u64;
+        self.totals.absorbed += self.outside.len() as u64;
+        // One removal: the deposits' old states, the absorbed particles and
+        // this step's donors; then one insertion of the new states and the
+        // created particles.
+        self.leaving.extend_from_slice(&self.outside);
+        self.leaving.extend_from_slice(&self.donor_slots);
+        self.leaving.sort_unstable();
         self.mpm.remove_particles(&self.leaving);
+        self.donors = (0, 0);
+        self.mpm
+            .insert_particles(&self.inits)
+            .map_err(|e| SolverError::Other(format!("bridge inflow particles: {e}")))?;
         Ok(())
+    }
+
+    /// One pass over the particles before the transport changes any:
+    /// the donor particles (`donor_slots`), the particles on the FDM side
+    /// of the interface `x_face` (`outside`, to be absorbed) and, with
+    /// `deposit`, per face the fluid particles of its first bridge cell
+    /// (`members[start[f]..start[f + 1]]`), all as ascending storage
+    /// indices.
+    fn scan_particles(&mut self, x_face: f64) {
+        let a = self.regions.axis;
+        let side = self.regions.mpm_side;
+        let mg = self.mpm.level().geometry;
+        let fg = self.fdm.level().geometry;
+        let bridge = self.fdm_index(self.regions.first_bridge_cell()) as isize + self.mpm_shift;
+        let deposit = self.options.deposit;
+        let ps = self.mpm.particles();
+        let ids = self.mpm.particle_ids();
+        self.outside.clear();
+        self.donor_slots.clear();
+        self.pairs.clear();
+        for (p, &id) in ids.iter().enumerate() {
+            if self.is_donor(id) {
+                self.donor_slots.push(p);
+                continue;
+            }
+            let x = ps.position[p];
+            let out = match side {
+                Side::High => x[a] < x_face,
+                Side::Low => x[a] > x_face,
+            };
+            if out {
+                self.outside.push(p);
+                continue;
+            }
+            if !deposit
+                || !(ps.material[p] == self.options.air
+                    || Some(ps.material[p]) == self.options.products)
+            {
+                continue;
+            }
+            let Some(c) = mg.cell_containing(x) else {
+                continue;
+            };
+            if c[a] as isize != bridge {
+                continue;
+            }
+            // The face's index in `faces` (x fastest, the axis index 0).
+            let mut t = c;
+            t[a] = 0;
+            let mut n = fg.cells;
+            n[a] = 1;
+            self.pairs.push((t[0] + n[0] * (t[1] + n[1] * t[2]), p));
+        }
+        // Group by face, storage order kept within a face.
+        self.pairs.sort_by_key(|&(f, _)| f);
+        let faces = self.faces.len();
+        self.start.clear();
+        self.start.resize(faces + 1, 0);
+        self.members.clear();
+        for &(f, p) in &self.pairs {
+            self.start[f + 1] += 1;
+            self.members.push(p);
+        }
+        for f in 0..faces {
+            self.start[f + 1] += self.start[f];
+        }
     }
 
     /// Whether an FDM cell within `activation_cells` of the interface
@@ -689,7 +901,8 @@ impl<E: GasLaw> Cfdmp<E> {
             if i < 0 || i >= n {
                 break;
             }
-            for mut c in self.face_cells() {
+            for &c in &self.faces {
+                let mut c = c;
                 c[a] = self.fdm_index(i as usize);
                 if self.primitive(c).0.pressure >= self.options.activation_pressure {
                     return true;
@@ -702,11 +915,7 @@ impl<E: GasLaw> Cfdmp<E> {
     /// Resets the fictitious cells to their initial state (before
     /// activation).
     fn hold_fictitious_cells(&mut self) -> Result<(), SolverError> {
-        for (g, u) in self
-            .fictitious_cells()
-            .into_iter()
-            .zip(self.fictitious_initial.clone())
-        {
+        for (&g, &u) in self.fictitious.iter().zip(&self.fictitious_initial) {
             self.fdm
                 .set_cell_conservative(g, u)
                 .map_err(|e| SolverError::Other(e.to_string()))?;
@@ -750,12 +959,14 @@ impl<E: GasLaw> Cfdmp<E> {
 pub const TIME_SPLIT_FILE: &str = "time_split.json";
 
 /// The FDM/MPM split as a JSON object: `fdm_seconds` and `mpm_seconds`
-/// ([`Cfdmp::split_seconds`]), the `steps` taken and the time the MPM
-/// region started (`activated_at`, s, `null` if it never did).
+/// ([`Cfdmp::split_seconds`]), the `steps` taken, the time the MPM
+/// region started (`activated_at`, s, `null` if it never did), and the
+/// particle counts of [`ParticleCounts`].
 pub fn time_split_json(
     (fdm_seconds, mpm_seconds): (f64, f64),
     steps: u64,
     activated_at: Option<f64>,
+    counts: ParticleCounts,
 ) -> String {
     let num = |x: f64| {
         if x.is_finite() {
@@ -765,11 +976,31 @@ pub fn time_split_json(
         }
     };
     format!(
-        "{{\n  \"fdm_seconds\": {},\n  \"mpm_seconds\": {},\n  \"steps\": {steps},\n  \"activated_at\": {}\n}}\n",
+        "{{\n  \"fdm_seconds\": {},\n  \"mpm_seconds\": {},\n  \"steps\": {steps},\n  \"activated_at\": {},\n  \"particles\": {},\n  \"particle_steps\": {},\n  \"created\": {},\n  \"deposited\": {},\n  \"absorbed\": {}\n}}\n",
         num(fdm_seconds),
         num(mpm_seconds),
-        activated_at.map_or_else(|| "null".into(), num)
+        activated_at.map_or_else(|| "null".into(), num),
+        counts.particles,
+        counts.particle_steps,
+        counts.created,
+        counts.deposited,
+        counts.absorbed,
     )
+}
+
+/// The particle counts of a run, for [`time_split_json`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ParticleCounts {
+    /// MPM particles at the end.
+    pub particles: u64,
+    /// Σ over the MPM steps of the particles stepped (donors included).
+    pub particle_steps: u64,
+    /// Particles created by the inflow.
+    pub created: u64,
+    /// Deposits of inflow into existing particles.
+    pub deposited: u64,
+    /// Particles absorbed by the FDM.
+    pub absorbed: u64,
 }
 
 /// Cell fields of the coupled solver: those both methods give.
@@ -790,7 +1021,7 @@ struct SavedState {
     active: bool,
     activated_at: Option<f64>,
     totals: [ConservationTotals; 2],
-    counts: [u64; 3],
+    counts: [u64; 4],
     products_as_air: f64,
     pending: Vec<Pending>,
     fdm: Vec<u8>,
@@ -805,6 +1036,58 @@ impl<E: GasLaw> Cfdmp<E> {
         g.origin[a] = f.origin[a].min(m.origin[a]);
         g.cells[a] = f.cells[a] + m.cells[a] - self.regions.width;
         g
+    }
+
+    /// The MPM's cell value of `fields` in the cell containing `point`:
+    /// the mass-weighted mean over its particles that `MpmSolver`'s
+    /// `sample` gives (density m/V, velocity, the material's pressure
+    /// −tr σ/3 − q, specific internal energy; 0 in an empty cell), summed in
+    /// the same particle order, so the same bits, over that cell's
+    /// particles alone rather than over a whole-grid field per gauge and
+    /// step.
+    fn sample_mpm(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let grid = self.mpm.level().geometry;
+        let cell = grid.cell_containing(point).ok_or_else(|| {
+            SolverError::Other(format!(
+                "MPM sample point {point:?} m lies outside the grid"
+            ))
+        })?;
+        out.clear();
+        for f in fields {
+            let k = FIELDS.iter().position(|n| n == f).ok_or_else(|| {
+                SolverError::Other(format!(
+                    "unknown field `{f}`; the bridge outputs {}",
+                    FIELDS.join(", ")
+                ))
+            })?;
+            let ps = self.mpm.particles();
+            let bulk = self.mpm.bulk_viscosity();
+            let (mut mass, mut sum) = (0.0, 0.0);
+            for (p, b) in bulk.iter().enumerate() {
+                if grid.cell_containing(ps.position[p]) != Some(cell) {
+                    continue;
+                }
+                let m = ps.mass[p];
+                mass += m;
+                let q = match k {
+                    0 => m / ps.volume[p],
+                    1..=3 => ps.velocity[p][k - 1],
+                    4 => {
+                        let s = &ps.stress[p];
+                        -(s[0] + s[1] + s[2]) / 3.0 - b.q
+                    }
+                    _ => ps.specific_internal_energy[p],
+                };
+                sum += m * q;
+            }
+            out.push(if mass > 0.0 { sum / mass } else { 0.0 });
+        }
+        Ok(())
     }
 
     /// Whether `x` lies in the MPM region (and the MPM region runs).
@@ -948,7 +1231,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError> {
         if self.in_mpm(point) {
-            self.mpm.sample(point, fields, out)
+            self.sample_mpm(point, fields, out)
         } else {
             self.fdm.sample(point, fields, out)
         }
@@ -962,7 +1245,12 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
     /// time.
     fn finish(&mut self, out_dir: &std::path::Path) -> Result<(), SolverError> {
         let path = out_dir.join(TIME_SPLIT_FILE);
-        let text = time_split_json(self.split_seconds(), self.steps, self.activated_at);
+        let text = time_split_json(
+            self.split_seconds(),
+            self.steps,
+            self.activated_at,
+            self.particle_counts(),
+        );
         std::fs::write(&path, text)
             .map_err(|e| SolverError::Other(format!("cannot write {}: {e}", path.display())))
     }
@@ -985,7 +1273,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             active: self.active,
             activated_at: self.activated_at,
             totals: [t.into_mpm, t.into_fdm],
-            counts: [t.created, t.absorbed, t.supersonic_outflow],
+            counts: [t.created, t.absorbed, t.supersonic_outflow, t.deposited],
             products_as_air: t.products_as_air,
             pending: self.pending.clone(),
             fdm: self.fdm.save_state()?,
@@ -1018,9 +1306,19 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             into_fdm: s.totals[1],
             products_as_air: s.products_as_air,
             supersonic_outflow: s.counts[2],
+            deposited: s.counts[3],
         };
         Ok(())
     }
+}
+
+/// Books mass `m`, momentum `p` and total energy `energy` as they are.
+fn book_parts(t: &mut ConservationTotals, m: f64, p: [f64; 3], energy: f64) {
+    t.mass += m;
+    for (q, x) in t.momentum.iter_mut().zip(p) {
+        *q += x;
+    }
+    t.energy += energy;
 }
 
 fn book(t: &mut ConservationTotals, m: f64, v: [f64; 3], e: f64) {
@@ -1078,6 +1376,11 @@ mod tests {
 
     /// [`coupled`] with the given `min_particle_mass`.
     fn coupled_with(min_particle_mass: f64) -> Cfdmp<IdealGas> {
+        coupled_inflow(min_particle_mass, false)
+    }
+
+    /// [`coupled`] with the given inflow rule.
+    fn coupled_inflow(min_particle_mass: f64, deposit: bool) -> Cfdmp<IdealGas> {
         let regions = BridgeRegions::from_boxes(
             RegionBox {
                 lower: [0.0; 3],
@@ -1112,6 +1415,7 @@ mod tests {
                 activation_cells: 3,
                 min_particle_mass,
                 existing_volume: 0.0,
+                deposit,
             },
         )
         .unwrap()
@@ -1391,6 +1695,7 @@ mod tests {
                 activation_cells: 3,
                 min_particle_mass: 0.25,
                 existing_volume: 0.0,
+                deposit: false,
             },
         )
         .unwrap()
@@ -1466,12 +1771,20 @@ mod tests {
 
     #[test]
     fn the_time_split_is_json_with_every_part_named() {
+        let counts = ParticleCounts {
+            particles: 7,
+            particle_steps: 70,
+            created: 4,
+            deposited: 3,
+            absorbed: 1,
+        };
         assert_eq!(
-            time_split_json((1.5, 0.25), 12, Some(3.0e-6)),
-            "{\n  \"fdm_seconds\": 1.5,\n  \"mpm_seconds\": 0.25,\n  \"steps\": 12,\n  \"activated_at\": 3e-6\n}\n"
+            time_split_json((1.5, 0.25), 12, Some(3.0e-6), counts),
+            "{\n  \"fdm_seconds\": 1.5,\n  \"mpm_seconds\": 0.25,\n  \"steps\": 12,\n  \"activated_at\": 3e-6,\n  \"particles\": 7,\n  \"particle_steps\": 70,\n  \"created\": 4,\n  \"deposited\": 3,\n  \"absorbed\": 1\n}\n"
         );
-        assert!(time_split_json((0.0, 0.0), 0, None).contains("\"activated_at\": null"));
-        assert!(time_split_json((f64::NAN, 1.0), 0, None).contains("\"fdm_seconds\": null"));
+        let none = ParticleCounts::default();
+        assert!(time_split_json((0.0, 0.0), 0, None, none).contains("\"activated_at\": null"));
+        assert!(time_split_json((f64::NAN, 1.0), 0, None, none).contains("\"fdm_seconds\": null"));
     }
 
     #[test]
@@ -1496,7 +1809,7 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(
             text,
-            time_split_json((fdm, mpm), c.steps(), c.activated_at())
+            time_split_json((fdm, mpm), c.steps(), c.activated_at(), c.particle_counts())
         );
         assert!(
             text.contains(&format!("\"steps\": {}", c.steps())),
@@ -1540,5 +1853,58 @@ mod tests {
         assert!(paper_lightest < 0.5 * m_e, "{paper_lightest} {m_e}");
         // What waits is less than one batch.
         assert!(in_transit < 4.0 * m_e, "{in_transit}");
+    }
+
+    #[test]
+    fn deposited_inflow_is_in_the_mpm_region_the_step_it_arrives() {
+        // The deposit rule: after every step nothing is in transit, and the
+        // MPM's mass, momentum and energy change by exactly what the
+        // transport booked plus what the MPM step itself did; the mass,
+        // which the MPM step keeps, to round-off.
+        let mut c = coupled_inflow(0.25, true);
+        let m0 = c.mpm().conservation_totals().mass;
+        let first = c.mpm().particles().len() as u32;
+        let mut steps_with_inflow = 0;
+        while c.time() < 5.5e-4 {
+            let dt = Solver::stable_dt(&c).unwrap();
+            let before = c.transport_totals().into_mpm.mass;
+            Solver::advance(&mut c, dt).unwrap();
+            if c.transport_totals().into_mpm.mass > before {
+                steps_with_inflow += 1;
+            }
+            assert!(c.pending.iter().all(|q| q.mass == 0.0), "{:?}", c.pending);
+            let tt = c.transport_totals();
+            let m1 = c.mpm().conservation_totals().mass;
+            let booked = m0 + tt.into_mpm.mass - tt.into_fdm.mass;
+            assert!((m1 - booked).abs() < 1e-13 * m1, "{m1} vs {booked}");
+        }
+        let tt = c.transport_totals();
+        assert!(steps_with_inflow > 10, "{steps_with_inflow}");
+        // Inflow went into existing particles far more often than into new
+        // ones, and the new ones grew by the deposits that followed.
+        assert!(tt.deposited > 0 && tt.created > 0, "{tt:?}");
+        assert!(tt.deposited > tt.created, "{tt:?}");
+        let (paper, _, _) = {
+            let mut p = coupled_with(0.0);
+            while p.time() < 5.5e-4 {
+                let dt = Solver::stable_dt(&p).unwrap();
+                Solver::advance(&mut p, dt).unwrap();
+            }
+            (p.transport_totals(), 0, 0)
+        };
+        assert!(
+            tt.created < paper.created,
+            "{} vs {}",
+            tt.created,
+            paper.created
+        );
+        let ps = c.mpm().particles();
+        let ids = c.mpm().particle_ids();
+        let m_e = RHO0 * H * H * H / 2.0;
+        let heaviest = (0..ps.len())
+            .filter(|&p| ids[p] >= first)
+            .map(|p| ps.mass[p])
+            .fold(0.0, f64::max);
+        assert!(heaviest > m_e, "{heaviest} {m_e}");
     }
 }

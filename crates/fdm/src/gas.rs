@@ -29,6 +29,7 @@
 //! `docs/physics/fdm_mixture.md` gives the measured size of that error.
 
 use brisance_core::{Eos, EosError};
+use brisance_eos::{EosModel, IdealGas, Jwl, JwlCTerm};
 
 /// What the FDM kernels need from the gas: pressure, sound speed and
 /// temperature as functions of (ρ, e, Y), Y the products mass fraction.
@@ -47,6 +48,17 @@ pub trait GasLaw: Send + Sync + std::fmt::Debug {
 
     /// Temperature T(ρ, e, Y), K.
     fn gas_temperature(&self, rho: f64, e: f64, y: f64) -> f64;
+
+    /// (p, c) of one state: [`GasLaw::gas_pressure`] and
+    /// [`GasLaw::gas_sound_speed`], the same bits, for a law that can share
+    /// the work of the two.
+    #[inline(always)]
+    fn gas_pressure_and_sound_speed(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
+        (
+            self.gas_pressure(rho, e, y),
+            self.gas_sound_speed(rho, e, y),
+        )
+    }
 
     /// The specific internal energy that gives pressure `p` at density `rho`
     /// and mass fraction `y`.
@@ -81,20 +93,177 @@ impl<E: Eos> GasLaw for E {
 /// density (module docs). Both laws must be affine in e at fixed ρ
 /// (JWL, ideal gas, linear Mie–Grüneisen); [`ProductsInAir::new`] checks it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ProductsInAir<P: Eos, A: Eos> {
+pub struct ProductsInAir<P: AffineLaw, A: AffineLaw> {
     /// Detonation products.
     pub products: P,
     /// Ambient gas.
     pub air: A,
 }
 
-/// (P_k, K_k, ∂P_k/∂ρ, ∂K_k/∂ρ) of an affine-in-e law at density ρ.
-#[inline(always)]
-fn affine<E: Eos>(eos: &E, rho: f64) -> (f64, f64) {
-    (eos.pressure(rho, 0.0), eos.dp_de(rho, 0.0))
+/// The coefficients of a law affine in e at density ρ,
+/// p(ρ, e) = P(ρ) + K(ρ) e, and their slopes in ρ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Affine {
+    /// P = p(ρ, 0), Pa.
+    pub p: f64,
+    /// K = ∂p/∂e|ρ, kg/m³.
+    pub k: f64,
+    /// ∂p/∂ρ|ₑ at e = 0, m²/s².
+    pub dp: f64,
+    /// ∂K/∂ρ, as ∂p/∂ρ|ₑ₌₁ − ∂p/∂ρ|ₑ₌₀ (exact for an affine law).
+    pub dk: f64,
 }
 
-impl<P: Eos, A: Eos> ProductsInAir<P, A> {
+/// A component law of [`ProductsInAir`]: (P, K) and their slopes at a
+/// density. The defaults ask the [`Eos`] for p(ρ, 0), ∂p/∂e, ∂p/∂ρ|ₑ₌₀ and
+/// ∂p/∂ρ|ₑ₌₁; JWL and the ideal gas give the same numbers, bit for bit,
+/// from one evaluation of their two exponentials (the mixture's pressure
+/// and sound speed took ten JWL evaluations, twenty `exp` calls, per
+/// state before).
+pub trait AffineLaw: Eos {
+    /// (P, K) at density `rho`.
+    #[inline(always)]
+    fn affine(&self, rho: f64) -> (f64, f64) {
+        (self.pressure(rho, 0.0), self.dp_de(rho, 0.0))
+    }
+
+    /// (P, K, ∂P/∂ρ, ∂K/∂ρ) at density `rho`.
+    #[inline(always)]
+    fn affine_slopes(&self, rho: f64) -> Affine {
+        let dp = self.dp_drho(rho, 0.0);
+        Affine {
+            p: self.pressure(rho, 0.0),
+            k: self.dp_de(rho, 0.0),
+            dp,
+            dk: self.dp_drho(rho, 1.0) - dp,
+        }
+    }
+}
+
+impl AffineLaw for IdealGas {
+    /// P = (γ − 1)ρ·0, K = (γ − 1)ρ, the expressions of [`IdealGas`].
+    #[inline(always)]
+    fn affine(&self, rho: f64) -> (f64, f64) {
+        ((self.gamma - 1.0) * rho * 0.0, (self.gamma - 1.0) * rho)
+    }
+
+    #[inline(always)]
+    fn affine_slopes(&self, rho: f64) -> Affine {
+        let (p, k) = AffineLaw::affine(self, rho);
+        let dp = (self.gamma - 1.0) * 0.0;
+        Affine {
+            p,
+            k,
+            dp,
+            dk: (self.gamma - 1.0) * 1.0 - dp,
+        }
+    }
+}
+
+/// Arguments below this give e^x = 0 in the JWL isentrope: the flush of
+/// `brisance_eos::jwl` (its `EXP_FLUSH`), repeated so that the numbers here
+/// are the same bits as the [`Eos`] methods of [`Jwl`].
+const JWL_EXP_FLUSH: f64 = -708.0;
+
+/// e^x flushed to 0 below [`JWL_EXP_FLUSH`], as `brisance_eos::jwl` does.
+#[inline(always)]
+fn jwl_exp(x: f64) -> f64 {
+    if x < JWL_EXP_FLUSH {
+        0.0
+    } else {
+        exp_not_speculated(x)
+    }
+}
+
+/// `x.exp()` behind a call the optimiser may not hoist above the branch
+/// of [`jwl_exp`] (the intrinsic is speculatable).
+#[inline(never)]
+fn exp_not_speculated(x: f64) -> f64 {
+    x.exp()
+}
+
+/// [`Affine`] of the JWL form p = p_c(V) + ωρ(e − e_c(V)) (seed 001 eq 54)
+/// with its two exponentials evaluated once: the expressions of
+/// `brisance_eos::jwl::JwlCold` (`total_pressure`, `dp_drho`), term by term.
+#[inline(always)]
+fn jwl_affine(a: f64, b: f64, r1: f64, r2: f64, omega: f64, rho0: f64, rho: f64) -> Affine {
+    let v = rho0 / rho;
+    let ea = jwl_exp(-r1 * v);
+    let eb = jwl_exp(-r2 * v);
+    let p_c = a * ea + b * eb;
+    let e_c = (a / r1 * ea + b / r2 * eb) / rho0;
+    let dp_c = v / rho * (a * r1 * ea + b * r2 * eb);
+    let de_c = p_c / (rho * rho);
+    let p = p_c + omega * rho * (0.0 - e_c);
+    let d0 = dp_c + omega * (0.0 - e_c) - omega * rho * de_c;
+    let d1 = dp_c + omega * (1.0 - e_c) - omega * rho * de_c;
+    Affine {
+        p,
+        k: omega * rho,
+        dp: d0,
+        dk: d1 - d0,
+    }
+}
+
+impl AffineLaw for Jwl {
+    /// P = p_c + ωρ(0 − e_c), K = ωρ: `JwlCold::total_pressure` at e = 0.
+    #[inline(always)]
+    fn affine(&self, rho: f64) -> (f64, f64) {
+        let (a, b, r1, r2, omega, rho0) = (self.a, self.b, self.r1, self.r2, self.omega, self.rho0);
+        let v = rho0 / rho;
+        let ea = jwl_exp(-r1 * v);
+        let eb = jwl_exp(-r2 * v);
+        let p_c = a * ea + b * eb;
+        let e_c = (a / r1 * ea + b / r2 * eb) / rho0;
+        (p_c + omega * rho * (0.0 - e_c), omega * rho)
+    }
+
+    #[inline(always)]
+    fn affine_slopes(&self, rho: f64) -> Affine {
+        jwl_affine(self.a, self.b, self.r1, self.r2, self.omega, self.rho0, rho)
+    }
+}
+
+/// The C terms cancel in (ρ, e) → p; the defaults.
+impl AffineLaw for JwlCTerm {}
+
+impl AffineLaw for EosModel {
+    #[inline(always)]
+    fn affine(&self, rho: f64) -> (f64, f64) {
+        match self {
+            Self::IdealGas(g) => AffineLaw::affine(g, rho),
+            Self::Jwl(j) => AffineLaw::affine(j, rho),
+            _ => (self.pressure(rho, 0.0), self.dp_de(rho, 0.0)),
+        }
+    }
+
+    #[inline(always)]
+    fn affine_slopes(&self, rho: f64) -> Affine {
+        match self {
+            Self::IdealGas(g) => g.affine_slopes(rho),
+            Self::Jwl(j) => j.affine_slopes(rho),
+            _ => {
+                let dp = self.dp_drho(rho, 0.0);
+                Affine {
+                    p: self.pressure(rho, 0.0),
+                    k: self.dp_de(rho, 0.0),
+                    dp,
+                    dk: self.dp_drho(rho, 1.0) - dp,
+                }
+            }
+        }
+    }
+}
+
+/// The pressure-equilibrium rule (module docs) from the components'
+/// (P, K): p and S = Y/K_P + (1 − Y)/K_A.
+#[inline(always)]
+fn mixture_pressure(pp: f64, kp: f64, pa: f64, ka: f64, e: f64, y: f64) -> (f64, f64) {
+    let s = y / kp + (1.0 - y) / ka;
+    ((e + y * pp / kp + (1.0 - y) * pa / ka) / s, s)
+}
+
+impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
     /// The mixture of `products` and `air`. Fails (naming the component)
     /// if a law is not affine in e at its reference density, where the
     /// closed-form pressure-equilibrium rule would not hold.
@@ -128,25 +297,37 @@ impl<P: Eos, A: Eos> ProductsInAir<P, A> {
     /// the conservative variables there to keep an equal-density species
     /// interface isobaric. The solver clips the stored ρY to [0, ρ] after
     /// each update.
+    ///
+    /// A component of zero mass fraction (Y = 0 or Y = 1 exactly, the
+    /// stored state away from the contact) is not evaluated: its terms
+    /// enter multiplied by 0, so (P, K) = (0, 1) in its place gives the
+    /// same bits as its own finite values.
     #[inline(always)]
     fn pressure_and_s(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
-        let (pp, kp) = affine(&self.products, rho);
-        let (pa, ka) = affine(&self.air, rho);
-        let s = y / kp + (1.0 - y) / ka;
-        ((e + y * pp / kp + (1.0 - y) * pa / ka) / s, s)
+        let (pp, kp) = if y == 0.0 {
+            (0.0, 1.0)
+        } else {
+            self.products.affine(rho)
+        };
+        let (pa, ka) = if y == 1.0 {
+            (0.0, 1.0)
+        } else {
+            self.air.affine(rho)
+        };
+        mixture_pressure(pp, kp, pa, ka, e, y)
     }
 
     /// Specific energies (e_P, e_A) of the components at the equilibrium
     /// pressure.
     pub fn component_energies(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
         let (p, _) = self.pressure_and_s(rho, e, y);
-        let (pp, kp) = affine(&self.products, rho);
-        let (pa, ka) = affine(&self.air, rho);
+        let (pp, kp) = self.products.affine(rho);
+        let (pa, ka) = self.air.affine(rho);
         ((p - pp) / kp, (p - pa) / ka)
     }
 }
 
-impl<P: Eos, A: Eos> GasLaw for ProductsInAir<P, A> {
+impl<P: AffineLaw, A: AffineLaw> GasLaw for ProductsInAir<P, A> {
     const SPECIES: bool = true;
 
     #[inline]
@@ -159,16 +340,35 @@ impl<P: Eos, A: Eos> GasLaw for ProductsInAir<P, A> {
     /// change of ∂p_k/∂ρ with e, exact for affine laws).
     #[inline]
     fn gas_sound_speed(&self, rho: f64, e: f64, y: f64) -> f64 {
-        let (p, s) = self.pressure_and_s(rho, e, y);
-        let term = |eos: &dyn Eos| {
-            let (pk, kk) = (eos.pressure(rho, 0.0), eos.dp_de(rho, 0.0));
-            let dpk = eos.dp_drho(rho, 0.0);
-            let dkk = eos.dp_drho(rho, 1.0) - dpk;
-            dpk / kk - (pk - p) * dkk / (kk * kk)
+        self.gas_pressure_and_sound_speed(rho, e, y).1
+    }
+
+    /// Both from one evaluation of each component's [`Affine`].
+    #[inline]
+    fn gas_pressure_and_sound_speed(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
+        // A component of zero mass fraction is skipped as in
+        // `pressure_and_s`: its term enters multiplied by 0.
+        let unit = Affine {
+            p: 0.0,
+            k: 1.0,
+            dp: 0.0,
+            dk: 0.0,
         };
-        let dp_drho = (y * term(&self.products) + (1.0 - y) * term(&self.air)) / s;
+        let pr = if y == 0.0 {
+            unit
+        } else {
+            self.products.affine_slopes(rho)
+        };
+        let ai = if y == 1.0 {
+            unit
+        } else {
+            self.air.affine_slopes(rho)
+        };
+        let (p, s) = mixture_pressure(pr.p, pr.k, ai.p, ai.k, e, y);
+        let term = |c: &Affine| c.dp / c.k - (c.p - p) * c.dk / (c.k * c.k);
+        let dp_drho = (y * term(&pr) + (1.0 - y) * term(&ai)) / s;
         let c2 = dp_drho + p / (rho * rho * s);
-        c2.max(0.0).sqrt()
+        (p, c2.max(0.0).sqrt())
     }
 
     /// Components in pressure but not thermal equilibrium: the reported T is
@@ -199,8 +399,8 @@ impl<P: Eos, A: Eos> GasLaw for ProductsInAir<P, A> {
                 ),
             });
         }
-        let (pp, kp) = affine(&self.products, rho);
-        let (pa, ka) = affine(&self.air, rho);
+        let (pp, kp) = self.products.affine(rho);
+        let (pa, ka) = self.air.affine(rho);
         Ok(y * (p - pp) / kp + (1.0 - y) * (p - pa) / ka)
     }
 }

@@ -84,6 +84,12 @@ struct SavedState {
     fields: Vec<Vec<f64>>,
 }
 
+/// x lines per work item of an x sweep.
+const X_LINES: usize = 8;
+
+/// Cells across the sweep per work item of a y or z sweep.
+const CROSS_CELLS: usize = 64;
+
 thread_local! {
     static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
 }
@@ -100,7 +106,7 @@ pub struct FdmSolver<E: GasLaw> {
     fields: Vec<PatchFields>,
     exchange: InProcessExchange,
     /// Reused list of (patch, slab, pointers) work items of a sweep.
-    work_items: Vec<(usize, usize, PatchPtrs)>,
+    work_items: Vec<(usize, usize, usize, PatchPtrs)>,
     options: FdmOptions,
     time: f64,
     steps: u64,
@@ -319,23 +325,38 @@ impl<E: GasLaw> FdmSolver<E> {
         let lambda = dt_sweep / self.level.geometry.spacing[axis];
         let (eos, visc) = (&self.eos, self.options.viscosity);
         let fallback = self.options.positivity_fallback;
-        // Work items: (patch, slab). x and y sweeps slab by k-planes, z
-        // sweeps by j-planes; slabs of one patch write disjoint cells.
+        // Work items: (patch, slab, chunk). x and y sweeps slab by
+        // k-planes, z sweeps by j-planes; within a slab, an x sweep's lines
+        // are taken X_LINES at a time and a y or z sweep's columns
+        // CROSS_CELLS at a time, so that a 2D grid (a single k-plane) still
+        // spreads over the threads. Items write disjoint cells, and every
+        // cell's arithmetic is the same whatever the chunk, so the result
+        // is the same bits for any thread count.
         let slab_axis = if axis == 2 { 1 } else { 2 };
+        // Lines across which an item spans: j for x sweeps, i otherwise.
+        let (across, chunk) = if axis == 0 {
+            (1, X_LINES)
+        } else {
+            (0, CROSS_CELLS)
+        };
         // The list is rebuilt in place, so a warmed-up step allocates nothing.
         let mut items = std::mem::take(&mut self.work_items);
         items.clear();
         for (id, f) in self.fields.iter_mut().enumerate() {
             let ptrs = PatchPtrs::new(&mut f.data);
-            let n = self.level.patches[id].size[slab_axis];
-            items.extend((0..n).map(|s| (id, s, ptrs)));
+            let size = self.level.patches[id].size;
+            let n = size[slab_axis];
+            let chunks = size[across].div_ceil(chunk);
+            items.extend((0..n).flat_map(|s| (0..chunks).map(move |c| (id, s, c, ptrs))));
         }
         let level = &self.level;
         let all_ok = items
             .par_iter()
-            .map(|&(id, slab, ptrs)| {
+            .map(|&(id, slab, c, ptrs)| {
                 let p = &level.patches[id];
                 let (g, d, st) = (p.ghost, p.dims(), p.strides());
+                let lo = c * chunk;
+                let hi = (lo + chunk).min(p.size[across]);
                 let shape = match axis {
                     0 => SlabShape {
                         dims_a: d[0],
@@ -348,22 +369,22 @@ impl<E: GasLaw> FdmSolver<E> {
                         dims_a: d[1],
                         ghost: g[1],
                         stride_a: st[1],
-                        base: p.local_index([g[0], 0, g[2] + slab]),
-                        width: p.size[0],
+                        base: p.local_index([g[0] + lo, 0, g[2] + slab]),
+                        width: hi - lo,
                     },
                     _ => SlabShape {
                         dims_a: d[2],
                         ghost: g[2],
                         stride_a: st[2],
-                        base: p.local_index([g[0], g[1] + slab, 0]),
-                        width: p.size[0],
+                        base: p.local_index([g[0] + lo, g[1] + slab, 0]),
+                        width: hi - lo,
                     },
                 };
                 SCRATCH.with(|s| {
                     let mut scratch = s.borrow_mut();
                     if axis == 0 {
                         let mut ok = true;
-                        for j in 0..p.size[1] {
+                        for j in lo..hi {
                             let line = SlabShape {
                                 base: p.local_index([0, g[1] + j, g[2] + slab]),
                                 ..shape
@@ -580,9 +601,8 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                             let m = [mx[n], my[n], mz[n]];
                             let e = specific_internal_energy(rho, m[0], m[1], m[2], en[n]);
                             let y = if E::SPECIES { ry[n] / rho } else { 0.0 };
-                            let p = self.eos.gas_pressure(rho, e, y);
+                            let (p, c) = self.eos.gas_pressure_and_sound_speed(rho, e, y);
                             ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
-                            let c = self.eos.gas_sound_speed(rho, e, y);
                             for ((&on, dx), mom) in active.iter().zip(spacing).zip(m) {
                                 if on {
                                     min_t = min_t.min(dx / ((mom / rho).abs() + c));

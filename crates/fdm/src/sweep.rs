@@ -303,7 +303,7 @@ fn cells_kernel<G: GasLaw>(
         let inv = 1.0 / rho;
         let e = (en[k] - 0.5 * (mx[k] * mx[k] + my[k] * my[k] + mz[k] * mz[k]) * inv) * inv;
         let y = if G::SPECIES { ry_0[k] * inv } else { 0.0 };
-        let p = eos.gas_pressure(rho, e, y);
+        let (p, c) = eos.gas_pressure_and_sound_speed(rho, e, y);
         ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
         let theta = switch_theta(rho_m[k], rho, rho_p[k]);
         th[k] = if G::SPECIES {
@@ -316,7 +316,7 @@ fn cells_kernel<G: GasLaw>(
         } else {
             theta
         };
-        nv[k] = lambda * eos.gas_sound_speed(rho, e, y);
+        nv[k] = lambda * c;
     }
     ok
 }
