@@ -246,6 +246,25 @@ impl<'a> Disjoint<'a> {
         // SAFETY: in bounds; index i belongs to this task alone.
         unsafe { *self.ptr.add(i) = x }
     }
+
+    /// The values at `start..start + len`, to read: bounds checked once
+    /// for the run. No task may write them during the pass.
+    #[inline]
+    fn slice(self, start: usize, len: usize) -> &'a [f64] {
+        assert!(start <= self.len && len <= self.len - start);
+        // SAFETY: in bounds; nothing writes these indices during the pass.
+        unsafe { std::slice::from_raw_parts(self.ptr.add(start), len) }
+    }
+
+    /// The values at `start..start + len`, to write: only the task that
+    /// owns all of these indices in the pass, which reads and writes them
+    /// through this slice alone.
+    #[inline]
+    fn slice_mut(self, start: usize, len: usize) -> &'a mut [f64] {
+        assert!(start <= self.len && len <= self.len - start);
+        // SAFETY: in bounds; the indices belong to this task alone.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(start), len) }
+    }
 }
 
 /// The storage indices of the interior cells of `p` in one k-plane (`k`
@@ -282,6 +301,18 @@ fn par_interior<A: Send>(
             acc
         })
         .reduce(&init, combine)
+}
+
+/// The interior rows (runs of cells along x) of `p` as `f(storage index
+/// of the row's first cell, row length)`, k-planes on rayon's threads, so
+/// that a pass can work on contiguous slices with one bounds check per row.
+fn par_rows(p: &Patch, f: impl Fn(usize, usize) + Sync + Send) {
+    let g = p.ghost;
+    (g[2]..g[2] + p.size[2]).into_par_iter().for_each(|k| {
+        for j in g[1]..g[1] + p.size[1] {
+            f(p.local_index([g[0], j, k]), p.size[0]);
+        }
+    });
 }
 
 /// [`par_interior`] without a result.
@@ -1170,6 +1201,13 @@ impl<E: Eos> IceSolver<E> {
                         None
                     };
                     let dims = patch.dims();
+                    // Per material: ρ, u_a, v, θ as slices, taken once.
+                    let mat = |f: usize| -> [&[f64]; MAX_MATERIALS] {
+                        std::array::from_fn(|r| if r < n { &d[r * NS + f][..] } else { &[][..] })
+                    };
+                    let (rho_s, vel_s, vsp_s, th_s) =
+                        (mat(RHO), mat(VEL + a), mat(VSP), mat(THETA));
+                    let pe = &d[pidx][..];
                     par_faces(patch, a, |c| {
                         let l = c - st[a];
                         let la = (c / st[a]) % dims[a];
@@ -1189,23 +1227,24 @@ impl<E: Eos> IceSolver<E> {
                         let mut u = [[0.0; 1]; MAX_MATERIALS];
                         let mut rho_f = [0.0; MAX_MATERIALS];
                         let mut th_f = [0.0; MAX_MATERIALS];
+                        let (p_l, p_c) = (pe[l], pe[c]);
                         for r in 0..n {
-                            let b = r * NS;
+                            let (rho, th) = (rho_s[r], th_s[r]);
                             u[r][0] = face_velocity(
-                                d[b + RHO][l],
-                                d[b + VEL + a][l],
-                                d[b + VSP][l],
-                                d[pidx][l],
-                                d[b + RHO][c],
-                                d[b + VEL + a][c],
-                                d[b + VSP][c],
-                                d[pidx][c],
+                                rho[l],
+                                vel_s[r][l],
+                                vsp_s[r][l],
+                                p_l,
+                                rho[c],
+                                vel_s[r][c],
+                                vsp_s[r][c],
+                                p_c,
                                 dt,
                                 dx,
                                 g,
                             );
-                            rho_f[r] = 0.5 * (d[b + RHO][l] + d[b + RHO][c]);
-                            th_f[r] = 0.5 * (d[b + THETA][l] + d[b + THETA][c]);
+                            rho_f[r] = 0.5 * (rho[l] + rho[c]);
+                            th_f[r] = 0.5 * (th[l] + th[c]);
                         }
                         momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
                         for r in 0..n {
@@ -1346,7 +1385,9 @@ impl<E: Eos> IceSolver<E> {
                 for (w, f) in out.iter_mut().zip(lg.data.iter_mut()) {
                     *w = Disjoint::new(f);
                 }
-                let rho_cell = |i: usize| (0..n).map(|r| d[r * NS + RHO][i]).sum::<f64>();
+                let rho_s: [&[f64]; MAX_MATERIALS] =
+                    std::array::from_fn(|r| if r < n { &d[r * NS + RHO][..] } else { &[][..] });
+                let rho_cell = |i: usize| (0..n).map(|r| rho_s[r][i]).sum::<f64>();
                 par_interior(
                     patch,
                     || None,
@@ -1462,38 +1503,54 @@ impl<E: Eos> IceSolver<E> {
                     let b = r * NL;
                     let s = r * NS;
                     let cons: [Disjoint; 6] = std::array::from_fn(|k| state[s + CONS[k]]);
-                    // The carried energy is e, or e + ½|u|² when total
-                    // energy is advected, formed once per cell.
+                    // The Lagrangian fields of material r as slices, taken
+                    // once per pass (no double index per access). The
+                    // carried energy is e, or e + ½|u|² when total energy
+                    // is advected, formed once per cell.
+                    let lf: [&[f64]; 5] = [
+                        &l[b + L_RHO],
+                        &l[b + L_VEL],
+                        &l[b + L_VEL + 1],
+                        &l[b + L_VEL + 2],
+                        &l[b + L_ENERGY],
+                    ];
+                    let l_vsp: &[f64] = &l[b + L_VSP];
                     carried_energy
                         .par_chunks_mut(4096)
                         .enumerate()
                         .for_each(|(chunk, ce)| {
-                            for (m, x) in ce.iter_mut().enumerate() {
-                                let i = chunk * 4096 + m;
-                                let v = l[b + L_ENERGY][i];
-                                *x = if total {
-                                    let (x, y, z) =
-                                        (l[b + L_VEL][i], l[b + L_VEL + 1][i], l[b + L_VEL + 2][i]);
-                                    v + 0.5 * (x * x + y * y + z * z)
-                                } else {
-                                    v
-                                };
+                            let o = chunk * 4096;
+                            let e = &lf[4][o..o + ce.len()];
+                            if total {
+                                let ux = &lf[1][o..o + ce.len()];
+                                let uy = &lf[2][o..o + ce.len()];
+                                let uz = &lf[3][o..o + ce.len()];
+                                for ((((x, &v), &x1), &y1), &z1) in
+                                    ce.iter_mut().zip(e).zip(ux).zip(uy).zip(uz)
+                                {
+                                    *x = v + 0.5 * (x1 * x1 + y1 * y1 + z1 * z1);
+                                }
+                            } else {
+                                ce.copy_from_slice(e);
                             }
                         });
                     let ce = &*carried_energy;
+                    // Carried per unit mass: ρ (for the slab), u (3), the
+                    // carried energy, v.
+                    let carried: [&[f64]; 6] = [lf[0], lf[1], lf[2], lf[3], ce, l_vsp];
                     let field = |k: usize| {
-                        move |i: usize| match k {
-                            0 => l[b + L_RHO][i],
-                            1..=3 => l[b + L_VEL + k - 1][i],
-                            4 => ce[i],
-                            _ => l[b + L_VSP][i],
-                        }
+                        let x = carried[k];
+                        move |i: usize| x[i]
                     };
-                    par_cells(patch, |c| {
-                        let rho_l = l[b + L_RHO][c];
-                        cons[0].write(c, rho_l);
+                    par_rows(patch, |c, len| {
+                        let rho_l = &carried[0][c..c + len];
+                        cons[0].slice_mut(c, len).copy_from_slice(rho_l);
                         for k in 1..6 {
-                            cons[k].write(c, rho_l * field(k)(c));
+                            let x = &carried[k][c..c + len];
+                            for ((q, &r), &x) in cons[k].slice_mut(c, len).iter_mut().zip(rho_l).zip(x)
+                            {
+                                *q = r * x;
+                            }
                         }
                     });
                     for a in 0..3 {
@@ -1531,10 +1588,15 @@ impl<E: Eos> IceSolver<E> {
                             }
                             fx[5].write(m, mass * v);
                         });
-                        par_cells(patch, |c| {
+                        par_rows(patch, |c, len| {
                             for k in 0..6 {
-                                let x = cons[k].read(c) + (fx[k].read(c) - fx[k].read(c + st[a]));
-                                cons[k].write(c, x);
+                                let lo = fx[k].slice(c, len);
+                                let hi = fx[k].slice(c + st[a], len);
+                                for ((q, &lo), &hi) in
+                                    cons[k].slice_mut(c, len).iter_mut().zip(lo).zip(hi)
+                                {
+                                    *q += lo - hi;
+                                }
                             }
                         });
                     }
@@ -1856,6 +1918,11 @@ fn lagrangian_cell<E: Eos>(
     dt: f64,
 ) -> Result<[[f64; NL]; MAX_MATERIALS], String> {
     let n = params.eos.len();
+    // The cell's state values, gathered once (one double index each).
+    let mut sv = [0.0; MAX_MATERIALS * NS + 1];
+    for (x, f) in sv.iter_mut().zip(&d[..n * NS + 1]) {
+        *x = f[c];
+    }
     let mut rho = [0.0; MAX_MATERIALS];
     let mut theta = [0.0; MAX_MATERIALS];
     let mut tk = [0.0; MAX_MATERIALS];
@@ -1864,10 +1931,10 @@ fn lagrangian_cell<E: Eos>(
     let mut tk_sum = 0.0;
     for r in 0..n {
         let b = r * NS;
-        rho[r] = d[b + RHO][c];
-        theta[r] = d[b + THETA][c];
-        let cs = d[b + SOUND][c];
-        tk[r] = theta[r] * d[b + VSP][c] / (cs * cs);
+        rho[r] = sv[b + RHO];
+        theta[r] = sv[b + THETA];
+        let cs = sv[b + SOUND];
+        tk[r] = theta[r] * sv[b + VSP] / (cs * cs);
         tk_sum += tk[r];
     }
     // Shares f_r^θ of the cell's volume change (eq 10). A material whose
@@ -1882,7 +1949,7 @@ fn lagrangian_cell<E: Eos>(
     let mut large = [None; MAX_MATERIALS];
     let mut free_share = 0.0;
     let mut bounded_volume = 0.0;
-    let p_eq = d[n * NS][c];
+    let p_eq = sv[n * NS];
     for r in 0..n {
         share[r] = volume_change_share(tk[r], tk_sum);
         let x = dt * share[r] * divergence / theta[r];
@@ -1914,7 +1981,7 @@ fn lagrangian_cell<E: Eos>(
     }
     for r in 0..n {
         let b = r * NS;
-        let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+        let u = [sv[b + VEL], sv[b + VEL + 1], sv[b + VEL + 2]];
         if params.lagrangian[r] {
             // A material carried by particles: its velocity here is the
             // grid's after the particles' internal and body forces (set by
@@ -1924,19 +1991,19 @@ fn lagrangian_cell<E: Eos>(
             // only.
             let m = lagrangian_momentum(rho[r], u, theta[r], grad, [0.0; 3], dt);
             vel[r] = m.map(|x| x / rho[r]);
-            e[r] = d[b + ENERGY][c];
+            e[r] = sv[b + ENERGY];
             continue;
         }
         let m = lagrangian_momentum(rho[r], u, theta[r], grad, params.options.gravity, dt);
         vel[r] = m.map(|x| x / rho[r]);
-        e[r] = lagrangian_energy(rho[r], d[b + ENERGY][c], share[r], p, divergence, dt) / rho[r];
+        e[r] = lagrangian_energy(rho[r], sv[b + ENERGY], share[r], p, divergence, dt) / rho[r];
         if let Some(g) = large[r] {
             // A volume change of more than half: the isentropic work of the
             // volume the material actually gains or loses, with its local
             // exponent γ = 1/(κ p_eq) (lagrangian::isentropic_energy_change).
-            let v = d[b + VSP][c];
+            let v = sv[b + VSP];
             let gamma = theta[r] / (tk[r] * p_eq);
-            e[r] = d[b + ENERGY][c] + isentropic_energy_change(p_eq, v, g, gamma);
+            e[r] = sv[b + ENERGY] + isentropic_energy_change(p_eq, v, g, gamma);
         }
     }
     // The cell's total energy ρ(e + ½|u|²) at the step's start, and the
@@ -1946,8 +2013,8 @@ fn lagrangian_cell<E: Eos>(
     let mut gravity_work = 0.0;
     for r in 0..n {
         let b = r * NS;
-        let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
-        energy_start += rho[r] * (d[b + ENERGY][c] + 0.5 * dot(u, u));
+        let u = [sv[b + VEL], sv[b + VEL + 1], sv[b + VEL + 2]];
+        energy_start += rho[r] * (sv[b + ENERGY] + 0.5 * dot(u, u));
         if !params.lagrangian[r] {
             for a in 0..3 {
                 gravity_work += dt * rho[r] * params.options.gravity[a] * 0.5 * (u[a] + vel[r][a]);
@@ -1961,7 +2028,7 @@ fn lagrangian_cell<E: Eos>(
     let theta_start = theta;
     let mut heat_released = 0.0;
     if !params.reactions.is_empty() {
-        let p_eq = d[n * NS][c];
+        let p_eq = sv[n * NS];
         for rx in params.reactions {
             let (a, b) = (rx.reactant, rx.product);
             let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
@@ -2013,8 +2080,8 @@ fn lagrangian_cell<E: Eos>(
                 continue;
             }
             let b = r * NS;
-            let t = d[b + TEMP][c];
-            heat[r] = rho[r] * params.eos[r].cv(1.0 / d[b + VSP][c], t) * t;
+            let t = sv[b + TEMP];
+            heat[r] = rho[r] * params.eos[r].cv(1.0 / sv[b + VSP], t) * t;
             heat_sum += heat[r];
         }
         if !(heat_sum > 0.0 && heat_sum.is_finite()) {
@@ -2057,7 +2124,7 @@ fn lagrangian_cell<E: Eos>(
         let mut rho_cv = [0.0; MAX_MATERIALS];
         let mut cv = [0.0; MAX_MATERIALS];
         for r in 0..n {
-            let rho_micro = 1.0 / d[r * NS + VSP][c];
+            let rho_micro = 1.0 / sv[r * NS + VSP];
             temp[r][0] = params.eos[r].temperature(rho_micro, e[r]);
             cv[r] = params.eos[r].cv(rho_micro, temp[r][0]);
             rho_cv[r] = rho[r] * cv[r];
@@ -2090,7 +2157,7 @@ fn lagrangian_cell<E: Eos>(
         if params.lagrangian[r] {
             // The particles carry its volume; only the exchange's changes
             // are read back.
-            out[r][L_VSP] = d[r * NS + VSP][c];
+            out[r][L_VSP] = sv[r * NS + VSP];
             if !(e[r].is_finite() && vel[r].iter().all(|u| u.is_finite())) {
                 return Err(format!(
                     "material {} (particles): specific internal energy {:e} J/kg, velocity {:?} m/s \
