@@ -261,6 +261,42 @@ pub(crate) struct PlateRun {
     pub(crate) resident_growth: Option<f64>,
     pub(crate) peak_resident: Option<f64>,
     pub(crate) remap_line: String,
+    /// At a stop: the gas particles (air and products) with a negative
+    /// specific internal energy.
+    pub(crate) cold_gas: Option<ColdGas>,
+}
+
+/// Gas particles with e < 0: how many, the lowest e and where it is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ColdGas {
+    pub(crate) count: usize,
+    pub(crate) lowest: f64,
+    pub(crate) at: [f64; 3],
+}
+
+/// The gas particles (materials 0 and 1) with a negative specific
+/// internal energy; `None` when there is none.
+pub(crate) fn cold_gas(
+    positions: &[[f64; 3]],
+    material: &[f64],
+    energy: &[f64],
+) -> Option<ColdGas> {
+    let mut found: Option<ColdGas> = None;
+    for ((x, m), e) in positions.iter().zip(material).zip(energy) {
+        if *m < STEEL && *e < 0.0 {
+            let c = found.get_or_insert(ColdGas {
+                count: 0,
+                lowest: *e,
+                at: *x,
+            });
+            c.count += 1;
+            if *e < c.lowest {
+                c.lowest = *e;
+                c.at = *x;
+            }
+        }
+    }
+    found
 }
 
 fn peak_resident_bytes() -> Option<f64> {
@@ -333,6 +369,23 @@ pub(crate) fn run_case(
         }
     }
     let wall = start.elapsed().as_secs_f64();
+    let cold = match (&stop, solver.particle_data()) {
+        (Some(_), Some(data)) => {
+            let field = |name: &str| {
+                data.fields
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map(|(_, v)| v.clone())
+                    .unwrap_or_default()
+            };
+            cold_gas(
+                &data.positions,
+                &field("material"),
+                &field("specific_internal_energy"),
+            )
+        }
+        _ => None,
+    };
     let resident_growth = match (rss0, resident_bytes()) {
         (Some(a), Some(b)) => Some(b - a),
         _ => None,
@@ -361,6 +414,7 @@ pub(crate) fn run_case(
         resident_growth,
         peak_resident: peak_resident_bytes(),
         remap_line,
+        cold_gas: cold,
     })
 }
 
@@ -533,7 +587,21 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
             r.remap_line,
             r.particles_sampled,
             match &r.stop {
-                Some(s) => format!("the run stopped at {:.1} µs: {s}", r.final_time * 1e6),
+                Some(s) => format!(
+                    "the run stopped at {:.1} µs: {s}; at the stop {}",
+                    r.final_time * 1e6,
+                    match r.cold_gas {
+                        Some(c) => format!(
+                            "{} gas particles of the MPM have a negative specific internal energy, the lowest {:.3e} J/kg at ({:.1}, {:.1}, {:.1}) mm",
+                            c.count,
+                            c.lowest,
+                            c.at[0] * 1e3,
+                            c.at[1] * 1e3,
+                            c.at[2] * 1e3
+                        ),
+                        None => "no gas particle of the MPM has a negative specific internal energy".into(),
+                    }
+                ),
                 None if r.peak_reached => format!(
                     "the centre's velocity turned negative at {:.1} µs",
                     r.final_time * 1e6
@@ -684,5 +752,21 @@ mod tests {
         let (_, centre, n) = centre_of(&data.positions, material, vz, CELL, f64::INFINITY).unwrap();
         assert_eq!(n, 2, "one particle per cell, two cells through the plate");
         assert!((centre - v0).abs() < 0.01 * v0, "{centre}");
+    }
+
+    #[test]
+    fn cold_gas_counts_the_gas_particles_below_zero_and_finds_the_lowest() {
+        let x = [[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+        // Air −1, products −5, steel −9 (not gas), air +1.
+        let found = cold_gas(&x, &[0.0, 1.0, 2.0, 0.0], &[-1.0, -5.0, -9.0, 1.0]).unwrap();
+        assert_eq!(
+            found,
+            ColdGas {
+                count: 2,
+                lowest: -5.0,
+                at: [1.0, 0.0, 0.0]
+            }
+        );
+        assert!(cold_gas(&x, &[0.0; 4], &[1.0; 4]).is_none());
     }
 }
