@@ -134,6 +134,89 @@ pub struct Particles {
     /// Whether the particle has failed (irreversible).
     pub failed: Vec<bool>,
     history_stride: usize,
+    scratch: PermuteScratch,
+}
+
+/// The buffers [`Particles::permute`] writes the reordered arrays into,
+/// one per element type: each array is gathered into the buffer of its
+/// type and swapped with it, so the buffer then holds the old array's
+/// storage for the next array of that type, and a sort allocates nothing
+/// once the buffers have grown to the particle count. Not part of the
+/// state: a clone starts with empty buffers and equality ignores them.
+#[derive(Default)]
+struct PermuteScratch {
+    vector: Vec<[f64; 3]>,
+    scalar: Vec<f64>,
+    tensor: Vec<[f64; 9]>,
+    voigt: Vec<[f64; 6]>,
+    material: Vec<MaterialId>,
+    flag: Vec<bool>,
+}
+
+impl Clone for PermuteScratch {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl PartialEq for PermuteScratch {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for PermuteScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PermuteScratch")
+    }
+}
+
+/// Gathers `v[perm[i]]` into `scratch` (which keeps its capacity: no
+/// allocation once it holds `perm.len()` elements) and swaps it with `v`.
+pub(crate) fn permute_into<T: Copy + Send + Sync>(
+    v: &mut Vec<T>,
+    perm: &[usize],
+    scratch: &mut Vec<T>,
+) {
+    scratch.clear();
+    scratch.par_extend(perm.par_iter().with_min_len(4096).map(|&p| v[p]));
+    std::mem::swap(v, scratch);
+}
+
+/// Removes, in place, the elements of blocks `leaving` (increasing block
+/// indices, a repeated one removed once; a block is `stride` consecutive
+/// elements):
+/// the blocks after each removed one move down over it with one
+/// `copy_within` per run, so the others keep their relative order and no
+/// memory is allocated or freed.
+pub(crate) fn remove_blocks<T: Copy>(v: &mut Vec<T>, leaving: &[usize], stride: usize) {
+    let Some(&first) = leaving.first() else {
+        return;
+    };
+    let mut write = first * stride;
+    for (k, &p) in leaving.iter().enumerate() {
+        if leaving.get(k + 1) == Some(&p) {
+            continue;
+        }
+        let start = (p + 1) * stride;
+        let end = leaving.get(k + 1).map_or(v.len(), |&q| q * stride);
+        v.copy_within(start..end, write);
+        write += end - start;
+    }
+    v.truncate(write);
+}
+
+/// Keeps, in place, only the blocks `keep` (strictly increasing block
+/// indices), in that order: block i becomes old block `keep[i]`. Since
+/// `keep[i] ≥ i`, copying forward never overwrites a block still to be
+/// read.
+fn keep_blocks<T: Copy>(v: &mut Vec<T>, keep: &[usize], stride: usize) {
+    for (i, &p) in keep.iter().enumerate() {
+        if i != p {
+            v.copy_within(p * stride..(p + 1) * stride, i * stride);
+        }
+    }
+    v.truncate(keep.len() * stride);
 }
 
 impl Particles {
@@ -180,6 +263,32 @@ impl Particles {
     /// Appends one particle with the history block `history` (its length
     /// must equal the stride) and returns its index.
     pub fn push(&mut self, p: &ParticleInit, history: &[f64]) -> Result<usize, ParticleError> {
+        let index = self.check(p)?;
+        if history.len() != self.history_stride {
+            return Err(ParticleError::HistoryLength {
+                index,
+                got: history.len(),
+                stride: self.history_stride,
+            });
+        }
+        self.push_state(p);
+        self.history.extend_from_slice(history);
+        Ok(index)
+    }
+
+    /// Appends one particle with a history block of zeros and returns its
+    /// index (as [`Particles::push`], without a history slice to build).
+    pub fn push_zero_history(&mut self, p: &ParticleInit) -> Result<usize, ParticleError> {
+        let index = self.check(p)?;
+        self.push_state(p);
+        self.history
+            .resize(self.history.len() + self.history_stride, 0.0);
+        Ok(index)
+    }
+
+    /// Checks the state of a particle to be pushed; returns the index it
+    /// will get.
+    fn check(&self, p: &ParticleInit) -> Result<usize, ParticleError> {
         let index = self.len();
         let invalid = |what: String| ParticleError::InvalidState { index, what };
         if p.position.iter().chain(&p.velocity).any(|v| !v.is_finite()) {
@@ -194,13 +303,11 @@ impl Particles {
         if !(p.volume > 0.0) || !p.volume.is_finite() {
             return Err(invalid(format!("volume {} m³ must be positive", p.volume)));
         }
-        if history.len() != self.history_stride {
-            return Err(ParticleError::HistoryLength {
-                index,
-                got: history.len(),
-                stride: self.history_stride,
-            });
-        }
+        Ok(index)
+    }
+
+    /// Appends every array but the history of a checked particle.
+    fn push_state(&mut self, p: &ParticleInit) {
         self.position.push(p.position);
         self.velocity.push(p.velocity);
         self.mass.push(p.mass);
@@ -212,9 +319,7 @@ impl Particles {
         self.specific_internal_energy
             .push(p.specific_internal_energy);
         self.material.push(p.material);
-        self.history.extend_from_slice(history);
         self.failed.push(false);
-        Ok(index)
     }
 
     /// The history block of particle `p`.
@@ -315,40 +420,91 @@ impl Particles {
         Ok(perm)
     }
 
-    /// Keeps only the particles `keep` (increasing indices), in that order:
-    /// new particle i is old particle `keep[i]`.
+    /// Keeps only the particles `keep` (strictly increasing indices), in
+    /// that order: new particle i is old particle `keep[i]`. In place: no
+    /// array is reallocated.
+    ///
+    /// # Panics
+    /// If `keep` is not strictly increasing or names a particle past the
+    /// end (a caller's bug, not user input).
     pub fn select(&mut self, keep: &[usize]) {
-        self.permute(keep);
+        assert!(
+            keep.windows(2).all(|w| w[0] < w[1]) && keep.last().is_none_or(|&p| p < self.len()),
+            "Particles::select: indices must be strictly increasing and below {}",
+            self.len()
+        );
+        keep_blocks(&mut self.position, keep, 1);
+        keep_blocks(&mut self.velocity, keep, 1);
+        keep_blocks(&mut self.mass, keep, 1);
+        keep_blocks(&mut self.initial_volume, keep, 1);
+        keep_blocks(&mut self.volume, keep, 1);
+        keep_blocks(&mut self.deformation_gradient, keep, 1);
+        keep_blocks(&mut self.stress, keep, 1);
+        keep_blocks(&mut self.temperature, keep, 1);
+        keep_blocks(&mut self.specific_internal_energy, keep, 1);
+        keep_blocks(&mut self.material, keep, 1);
+        keep_blocks(&mut self.failed, keep, 1);
+        keep_blocks(&mut self.history, keep, self.history_stride);
+    }
+
+    /// Removes the particles `leaving` (increasing indices; one given
+    /// twice is removed once); the others keep their relative order, as with [`Particles::select`] of
+    /// the complement. In place: each array's runs of kept particles move
+    /// down with one `copy_within` each, and no array is reallocated, so
+    /// the capacity stays for the particles pushed next.
+    ///
+    /// # Panics
+    /// If `leaving` is not increasing or names a particle past the end (a
+    /// caller's bug, not user input).
+    pub fn remove_sorted(&mut self, leaving: &[usize]) {
+        assert!(
+            leaving.windows(2).all(|w| w[0] <= w[1])
+                && leaving.last().is_none_or(|&p| p < self.len()),
+            "Particles::remove_sorted: indices must be increasing and below {}",
+            self.len()
+        );
+        remove_blocks(&mut self.position, leaving, 1);
+        remove_blocks(&mut self.velocity, leaving, 1);
+        remove_blocks(&mut self.mass, leaving, 1);
+        remove_blocks(&mut self.initial_volume, leaving, 1);
+        remove_blocks(&mut self.volume, leaving, 1);
+        remove_blocks(&mut self.deformation_gradient, leaving, 1);
+        remove_blocks(&mut self.stress, leaving, 1);
+        remove_blocks(&mut self.temperature, leaving, 1);
+        remove_blocks(&mut self.specific_internal_energy, leaving, 1);
+        remove_blocks(&mut self.material, leaving, 1);
+        remove_blocks(&mut self.failed, leaving, 1);
+        remove_blocks(&mut self.history, leaving, self.history_stride);
     }
 
     /// Reorders every array so that new particle i is old particle
-    /// `perm[i]`. `perm` is a permutation of 0..len, or (through
-    /// [`Particles::select`]) a subset of it.
+    /// `perm[i]` (a permutation of 0..len). Each array is gathered into a
+    /// reused buffer of the set and swapped with it (see
+    /// `PermuteScratch`): no allocation once the buffers have grown.
     pub fn permute(&mut self, perm: &[usize]) {
-        fn apply<T: Copy + Send + Sync>(v: &mut Vec<T>, perm: &[usize]) {
-            *v = perm.par_iter().with_min_len(4096).map(|&p| v[p]).collect();
-        }
-        apply(&mut self.position, perm);
-        apply(&mut self.velocity, perm);
-        apply(&mut self.mass, perm);
-        apply(&mut self.initial_volume, perm);
-        apply(&mut self.volume, perm);
-        apply(&mut self.deformation_gradient, perm);
-        apply(&mut self.stress, perm);
-        apply(&mut self.temperature, perm);
-        apply(&mut self.specific_internal_energy, perm);
-        apply(&mut self.material, perm);
-        apply(&mut self.failed, perm);
+        let sc = &mut self.scratch;
+        permute_into(&mut self.position, perm, &mut sc.vector);
+        permute_into(&mut self.velocity, perm, &mut sc.vector);
+        permute_into(&mut self.mass, perm, &mut sc.scalar);
+        permute_into(&mut self.initial_volume, perm, &mut sc.scalar);
+        permute_into(&mut self.volume, perm, &mut sc.scalar);
+        permute_into(&mut self.deformation_gradient, perm, &mut sc.tensor);
+        permute_into(&mut self.stress, perm, &mut sc.voigt);
+        permute_into(&mut self.temperature, perm, &mut sc.scalar);
+        permute_into(&mut self.specific_internal_energy, perm, &mut sc.scalar);
+        permute_into(&mut self.material, perm, &mut sc.material);
+        permute_into(&mut self.failed, perm, &mut sc.flag);
         let s = self.history_stride;
         if s > 0 {
-            let old = std::mem::take(&mut self.history);
-            let mut history = vec![0.0; perm.len() * s];
-            history
-                .par_chunks_mut(s)
+            let h = &mut sc.scalar;
+            h.clear();
+            h.resize(perm.len() * s, 0.0);
+            let old = &self.history;
+            h.par_chunks_mut(s)
                 .zip(perm.par_iter())
                 .with_min_len(4096)
                 .for_each(|(h, &p)| h.copy_from_slice(&old[p * s..(p + 1) * s]));
-            self.history = history;
+            std::mem::swap(&mut self.history, h);
         }
     }
 }
@@ -460,6 +616,138 @@ mod tests {
             !ps.is_sorted_by_cell(&g),
             "a particle outside is not sorted"
         );
+    }
+
+    /// `count` particles whose every array holds values made from the index
+    /// k, so a test can say which old particle sits where.
+    fn numbered(count: usize) -> Particles {
+        let mut ps = Particles::new(2);
+        for k in 0..count {
+            let f = k as f64;
+            let mut p = particle([0.5 + f, 0.25 * f, 0.5], 1.0 + f);
+            p.velocity = [f, -f, 2.0 * f];
+            p.volume = 0.5 + f;
+            p.deformation_gradient = [f; 9];
+            p.stress = [-f; 6];
+            p.temperature = 300.0 + f;
+            p.specific_internal_energy = 1e3 * f;
+            p.material = MaterialId(k as u16);
+            ps.push(&p, &[10.0 * f, 10.0 * f + 1.0]).unwrap();
+            ps.volume[k] = 0.25 + f;
+            ps.failed[k] = k == 3 || k == 5;
+        }
+        ps
+    }
+
+    /// Whether new particle i of `ps` holds exactly old particle `old[i]`
+    /// of a set made by `numbered`.
+    fn assert_holds(ps: &Particles, old: &[usize]) {
+        assert_eq!(ps.len(), old.len());
+        assert_eq!(ps.history.len(), 2 * old.len());
+        let fresh = numbered(7);
+        for (i, &k) in old.iter().enumerate() {
+            assert_eq!(ps.position[i], fresh.position[k]);
+            assert_eq!(ps.velocity[i], fresh.velocity[k]);
+            assert_eq!(ps.mass[i], 1.0 + k as f64);
+            assert_eq!(ps.initial_volume[i], 0.5 + k as f64);
+            assert_eq!(ps.volume[i], 0.25 + k as f64);
+            assert_eq!(ps.deformation_gradient[i], [k as f64; 9]);
+            assert_eq!(ps.stress[i], [-(k as f64); 6]);
+            assert_eq!(ps.temperature[i], 300.0 + k as f64);
+            assert_eq!(ps.specific_internal_energy[i], 1e3 * k as f64);
+            assert_eq!(ps.material[i], MaterialId(k as u16));
+            assert_eq!(ps.history_of(i), &[10.0 * k as f64, 10.0 * k as f64 + 1.0]);
+            assert_eq!(ps.failed[i], k == 3 || k == 5);
+        }
+    }
+
+    #[test]
+    fn remove_sorted_keeps_the_others_in_order_in_place() {
+        let mut ps = numbered(7);
+        let position = ps.position.as_ptr();
+        let history = ps.history.as_ptr();
+        ps.remove_sorted(&[0, 2, 3, 6]);
+        assert_holds(&ps, &[1, 4, 5]);
+        assert_eq!(ps.position.as_ptr(), position, "no reallocation");
+        assert_eq!(ps.history.as_ptr(), history, "no reallocation");
+        assert!(ps.mass.capacity() >= 7, "the capacity stays");
+
+        let mut ps = numbered(7);
+        ps.remove_sorted(&[]);
+        assert_holds(&ps, &[0, 1, 2, 3, 4, 5, 6]);
+        ps.remove_sorted(&[4, 4, 5]);
+        assert_holds(&ps, &[0, 1, 2, 3, 6]);
+        ps.remove_sorted(&[0, 1, 2, 3, 4]);
+        assert!(ps.is_empty() && ps.history.is_empty());
+    }
+
+    #[test]
+    #[should_panic(expected = "increasing")]
+    fn remove_sorted_rejects_unsorted_indices() {
+        numbered(4).remove_sorted(&[2, 1]);
+    }
+
+    #[test]
+    #[should_panic(expected = "below 4")]
+    fn remove_sorted_rejects_an_index_past_the_end() {
+        numbered(4).remove_sorted(&[1, 4]);
+    }
+
+    #[test]
+    fn select_keeps_the_given_particles_in_place() {
+        let mut ps = numbered(7);
+        let stress = ps.stress.as_ptr();
+        ps.select(&[1, 2, 5]);
+        assert_holds(&ps, &[1, 2, 5]);
+        assert_eq!(ps.stress.as_ptr(), stress);
+        let mut other = numbered(7);
+        other.remove_sorted(&[0, 3, 4, 6]);
+        assert_eq!(
+            ps, other,
+            "select and remove_sorted of the complement agree"
+        );
+    }
+
+    #[test]
+    fn permute_reorders_every_array_and_reuses_its_buffers() {
+        let mut ps = numbered(7);
+        let perm = [6, 0, 5, 1, 4, 2, 3];
+        ps.permute(&perm);
+        assert_holds(&ps, &perm);
+        // The buffers now hold the old arrays' storage; permuting back
+        // allocates nothing and restores the set.
+        let mut back = [0; 7];
+        for (i, &p) in perm.iter().enumerate() {
+            back[p] = i;
+        }
+        let before = [
+            ps.scratch.vector.as_ptr() as usize,
+            ps.position.as_ptr() as usize,
+            ps.velocity.as_ptr() as usize,
+        ];
+        ps.permute(&back);
+        assert_holds(&ps, &[0, 1, 2, 3, 4, 5, 6]);
+        let mut after = [
+            ps.scratch.vector.as_ptr() as usize,
+            ps.position.as_ptr() as usize,
+            ps.velocity.as_ptr() as usize,
+        ];
+        let mut before = before;
+        before.sort_unstable();
+        after.sort_unstable();
+        assert_eq!(before, after, "the 3-vector arrays trade three buffers");
+        assert_eq!(ps, numbered(7), "the buffers are not part of equality");
+    }
+
+    #[test]
+    fn push_zero_history_checks_and_appends_zeros() {
+        let mut ps = numbered(2);
+        let e = ps.push_zero_history(&particle([0.5; 3], -1.0)).unwrap_err();
+        assert!(e.to_string().contains("mass"));
+        assert_eq!(ps.len(), 2);
+        assert_eq!(ps.push_zero_history(&particle([0.5; 3], 1.0)), Ok(2));
+        assert_eq!(ps.history_of(2), &[0.0, 0.0]);
+        assert_eq!(ps.history.len(), 6);
     }
 
     #[test]

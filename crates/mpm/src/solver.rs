@@ -203,6 +203,10 @@ struct Workspace {
     shifted_stress: Vec<[f64; 6]>,
     /// The coupled step's nodal velocity changes (empty unless it runs).
     node_change: Vec<[f64; 3]>,
+    /// The buffers the sort gathers the bulk-viscosity states and
+    /// identities into (see [`MpmSolver::permute_own`]).
+    bulk_scratch: Vec<BulkViscosityState>,
+    id_scratch: Vec<u32>,
 }
 
 /// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
@@ -438,6 +442,8 @@ impl MpmSolver {
                 average: PatchAverage::default(),
                 shifted_stress: Vec::new(),
                 node_change: Vec::new(),
+                bulk_scratch: Vec::new(),
+                id_scratch: Vec::new(),
             },
             bulk,
             next_id: ids.len() as u32,
@@ -557,10 +563,20 @@ impl MpmSolver {
     }
 
     /// Reorders the per-particle arrays the solver keeps beside
-    /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`.
+    /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`,
+    /// through reused buffers (no allocation once they have grown).
     fn permute_own(&mut self, perm: &[usize]) {
-        self.bulk = perm.iter().map(|&p| self.bulk[p]).collect();
-        self.ids = perm.iter().map(|&p| self.ids[p]).collect();
+        crate::particles::permute_into(&mut self.bulk, perm, &mut self.work.bulk_scratch);
+        crate::particles::permute_into(&mut self.ids, perm, &mut self.work.id_scratch);
+    }
+
+    /// Removes the particles `leaving` (increasing indices) from
+    /// [`Particles`] and the arrays kept beside it, in place: the others
+    /// keep their relative order and the arrays their capacity.
+    fn remove_sorted(&mut self, leaving: &[usize]) {
+        self.particles.remove_sorted(leaving);
+        crate::particles::remove_blocks(&mut self.bulk, leaving, 1);
+        crate::particles::remove_blocks(&mut self.ids, leaving, 1);
     }
 
     /// Adds particles during a run (matter a coupling brings into the MPM
@@ -570,6 +586,9 @@ impl MpmSolver {
     /// material.
     pub fn insert_particles(&mut self, new: &[ParticleInit]) -> Result<u32, MpmSetupError> {
         let grid = self.level.geometry;
+        self.particles.reserve(new.len());
+        self.bulk.reserve(new.len());
+        self.ids.reserve(new.len());
         for (i, p) in new.iter().enumerate() {
             let particle = self.particles.len() + i;
             if p.material.0 as usize >= self.materials.len() {
@@ -605,12 +624,10 @@ impl MpmSolver {
         let last = u32::try_from(self.next_id as usize + new.len())
             .map_err(|_| MpmSetupError::TooManyParticles { count })?;
         let first = self.next_id;
-        let stride = self.particles.history_stride();
-        let zeros = vec![0.0; stride];
         for p in new {
             let index = self
                 .particles
-                .push(p, &zeros)
+                .push_zero_history(p)
                 .map_err(|e| MpmSetupError::Shape {
                     particle: self.particles.len(),
                     detail: e.to_string(),
@@ -632,24 +649,14 @@ impl MpmSolver {
 
     /// Removes the particles at storage indices `leaving` (ascending,
     /// distinct) without booking them as outflow: a coupling that takes
-    /// their mass, momentum and energy over reads them first.
+    /// their mass, momentum and energy over reads them first. The others
+    /// keep their relative order; in place, without allocating (see
+    /// [`Particles::remove_sorted`]).
+    ///
+    /// # Panics
+    /// If `leaving` is not increasing or names a particle past the end.
     pub fn remove_particles(&mut self, leaving: &[usize]) {
-        if leaving.is_empty() {
-            return;
-        }
-        let mut next = leaving.iter().peekable();
-        let keep: Vec<usize> = (0..self.particles.len())
-            .filter(|p| {
-                if next.peek() == Some(&p) {
-                    next.next();
-                    false
-                } else {
-                    true
-                }
-            })
-            .collect();
-        self.particles.select(&keep);
-        self.permute_own(&keep);
+        self.remove_sorted(leaving);
     }
 
     /// Each particle's bulk-viscosity state (q and tr D), in particle order.
@@ -907,19 +914,7 @@ impl MpmSolver {
             }
             self.outflow.energy += particle_energy(m, v, ps.specific_internal_energy[p]);
         }
-        let mut next = leaving.iter().peekable();
-        let keep: Vec<usize> = (0..ps.len())
-            .filter(|p| {
-                if next.peek() == Some(&p) {
-                    next.next();
-                    false
-                } else {
-                    true
-                }
-            })
-            .collect();
-        self.particles.select(&keep);
-        self.permute_own(&keep);
+        self.remove_sorted(&leaving);
         Ok(())
     }
 
@@ -960,6 +955,47 @@ impl MpmSolver {
             }
         }
         sums
+    }
+
+    /// The fields `names` of cell `c` alone, into `out`: the sums of
+    /// [`MpmSolver::cell_fields`] for that cell, over the same particles
+    /// in the same order, so the same bits, without the whole-grid arrays.
+    fn cell_value(&self, c: usize, names: &[usize], out: &mut Vec<f64>) {
+        let grid = &self.level.geometry;
+        out.clear();
+        out.resize(names.len(), 0.0);
+        let mut mass = 0.0;
+        let ps = &self.particles;
+        for p in 0..ps.len() {
+            let Some(cp) = grid.cell_containing(ps.position[p]) else {
+                continue;
+            };
+            if grid.linear_index(cp) != c {
+                continue;
+            }
+            let m = ps.mass[p];
+            mass += m;
+            for (sum, &f) in out.iter_mut().zip(names) {
+                let q = match f {
+                    0 => m / ps.volume[p],
+                    1..=3 => ps.velocity[p][f - 1],
+                    4 => self.material_pressure(p),
+                    5 => ps.specific_internal_energy[p],
+                    _ => 1.0,
+                };
+                *sum += m * q;
+            }
+        }
+        let cell_volume: f64 = grid.spacing.iter().product();
+        for (sum, &f) in out.iter_mut().zip(names) {
+            *sum = if f == 6 {
+                mass / cell_volume
+            } else if mass > 0.0 {
+                *sum / mass
+            } else {
+                0.0
+            };
+        }
     }
 
     fn field_indices(fields: &[String]) -> Result<Vec<usize>, SolverError> {
@@ -1198,9 +1234,7 @@ impl Solver for MpmSolver {
             ))
         })?;
         let c = grid.linear_index(cell);
-        let values = self.cell_fields(&idx);
-        out.clear();
-        out.extend(values.iter().map(|v| v[c]));
+        self.cell_value(c, &idx, out);
         Ok(())
     }
 
