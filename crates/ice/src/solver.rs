@@ -1320,23 +1320,34 @@ impl<E: Eos> IceSolver<E> {
                             vf.write(m, if r == 0 { 0.0 } else { vf.read(m) } + f / lam);
                         });
                     }
-                    par_cells(patch, |c| {
-                        let mut div = if r == 0 { 0.0 } else { divergence.read(c) };
+                    // Row by row on contiguous slices; each cell's sum
+                    // runs over the axes in order, as cell by cell.
+                    par_rows(patch, |c, len| {
+                        let div = divergence.slice_mut(c, len);
+                        if r == 0 {
+                            div.fill(0.0);
+                        }
                         for a in 0..3 {
                             if params.active[a] {
-                                div += (fa[a].read(c + st[a]) - fa[a].read(c)) / dt;
+                                let lo = fa[a].slice(c, len);
+                                let hi = fa[a].slice(c + st[a], len);
+                                for ((q, &lo), &hi) in div.iter_mut().zip(lo).zip(hi) {
+                                    *q += (hi - lo) / dt;
+                                }
                             }
                         }
-                        divergence.write(c, div);
                     });
                 }
+                let mat = |f: usize| -> [&[f64]; MAX_MATERIALS] {
+                    std::array::from_fn(|r| if r < n { &d[r * NS + f][..] } else { &[][..] })
+                };
+                let (vsp_s, sound_s, th_s) = (mat(VSP), mat(SOUND), mat(THETA));
                 par_cells(patch, |c| {
                     let mut theta_kappa = 0.0;
                     for r in 0..n {
-                        let b = r * NS;
-                        let v = d[b + VSP][c];
-                        let cs = d[b + SOUND][c];
-                        theta_kappa += d[b + THETA][c] * v / (cs * cs);
+                        let v = vsp_s[r][c];
+                        let cs = sound_s[r][c];
+                        theta_kappa += th_s[r][c] * v / (cs * cs);
                     }
                     let div = if n == 0 { 0.0 } else { divergence.read(c) };
                     let dp = pressure_increment(dt, 0.0, div, theta_kappa);
