@@ -728,3 +728,103 @@ pub fn estane_step_block(n: usize, diagonals: bool) -> Result<MsdmLattice, MsdmE
     }
     Ok(lat)
 }
+
+/// V-STIFF soft springs between the held node and the stiff block.
+pub const STIFF_SOFT_SPRINGS: usize = 4;
+/// V-STIFF nodes in the stiff block.
+pub const STIFF_BLOCK_NODES: usize = 16;
+/// V-STIFF initial velocity of the block, m/s.
+pub const STIFF_V0: f64 = 1.0;
+
+/// V-STIFF: a chain (h = 1 m, ρ = 1 kg/m³, so interior nodes of 1 kg) of
+/// [`STIFF_SOFT_SPRINGS`] soft springs (E = 1 Pa, k = 1 N/m, Kelvin–Voigt
+/// η = 0.1 Pa·s) from a held node to a block of [`STIFF_BLOCK_NODES`]
+/// stiff nodes (E = `ratio` Pa, Kelvin–Voigt η = √ratio Pa·s, which
+/// critically damps the block's shortest mode: λ = −2c/m, twice). The
+/// slow mode is the block oscillating on the soft springs (ω ≈
+/// 1/√(4·16.5) ≈ 0.123 rad/s, period ≈ 51 s); the stiff block's modes
+/// bound explicit steps (explicit Euler: Δt ≤ 2m/(2c) = 1/√ratio). The
+/// initial velocity is the slow mode's quasi-static shape: a linear ramp
+/// 0 → [`STIFF_V0`] along the soft springs and [`STIFF_V0`] on the block.
+pub fn stiff_chain(integrator: Integrator, ratio: f64) -> Result<MsdmLattice, MsdmError> {
+    let s = STIFF_SOFT_SPRINGS;
+    let n = s + 1 + STIFF_BLOCK_NODES;
+    let geom = Geometry::new(Dim::One, [n, 1, 1], 1.0, false, |k, _, _| {
+        Some(u16::from(k > s))
+    });
+    let mut soft = LatticeMaterial::elastic("stiff-case soft", 1.0, inert_eos(1.0, 100.0));
+    soft.damping = super::law::Damping::KelvinVoigt { viscosity: 0.1 };
+    let mut stiff = LatticeMaterial::elastic(
+        "stiff-case stiff",
+        ratio,
+        inert_eos(1.0, 100.0 * ratio.sqrt()),
+    );
+    stiff.damping = super::law::Damping::KelvinVoigt {
+        viscosity: ratio.sqrt(),
+    };
+    let mut lat = MsdmLattice::new(geom, vec![soft, stiff], mechanical(integrator))?;
+    for k in 0..n {
+        let i = lat.geom.solid_index(k, 0, 0);
+        lat.u[0][i] = STIFF_V0 * (k as f64 / s as f64).min(1.0);
+    }
+    lat.prescribed[lat.geom.solid_index(0, 0, 0)] = true;
+    Ok(lat)
+}
+
+/// One V-STIFF run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StiffRun {
+    /// Steps taken.
+    pub steps: usize,
+    /// Displacement of the block's end node at `t_end`, m (non-finite or
+    /// huge when the integrator is unstable).
+    pub tip: f64,
+    /// Largest |tip displacement| over the run, m.
+    pub peak: f64,
+    /// Wall time of the stepping loop, s.
+    pub wall_seconds: f64,
+    /// Accumulated implicit timing (zero for explicit integrators).
+    pub timing: super::model::ImplicitTiming,
+}
+
+/// Runs V-STIFF ([`stiff_chain`]) with `integrator` at step `dt` to
+/// `t_end` (rounded to a whole number of steps). Stops early, with a
+/// non-finite `tip`, when the motion exceeds 10⁶ times the initial
+/// velocity's reach v₀·t_end (an unstable explicit step).
+pub fn stiff_run(
+    integrator: Integrator,
+    ratio: f64,
+    dt: f64,
+    t_end: f64,
+) -> Result<StiffRun, MsdmError> {
+    let mut lat = stiff_chain(integrator, ratio)?;
+    let tip_node = lat
+        .geom
+        .solid_index(STIFF_SOFT_SPRINGS + STIFF_BLOCK_NODES, 0, 0);
+    let x0 = lat.x[0][tip_node];
+    let steps = (t_end / dt).round() as usize;
+    let bound = 1e6 * STIFF_V0 * t_end;
+    let mut peak = 0.0f64;
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        lat.step(dt)?;
+        let d = lat.x[0][tip_node] - x0;
+        peak = peak.max(d.abs());
+        if !(d.abs() <= bound) {
+            return Ok(StiffRun {
+                steps,
+                tip: f64::INFINITY,
+                peak: f64::INFINITY,
+                wall_seconds: start.elapsed().as_secs_f64(),
+                timing: lat.implicit_timing(),
+            });
+        }
+    }
+    Ok(StiffRun {
+        steps,
+        tip: lat.x[0][tip_node] - x0,
+        peak,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        timing: lat.implicit_timing(),
+    })
+}

@@ -48,16 +48,8 @@ impl MsdmLattice {
         match self.options.integrator {
             Integrator::ExplicitEuler => self.explicit_euler(dt),
             Integrator::VelocityVerlet => self.velocity_verlet(dt),
-            Integrator::ImplicitEuler => {
-                let t0 = Instant::now();
-                report.solve = Some(self.implicit(dt, 1.0)?);
-                report.solve_seconds = t0.elapsed().as_secs_f64();
-            }
-            Integrator::ImplicitRk2 => {
-                let t0 = Instant::now();
-                report.solve = Some(self.implicit(dt, 0.5)?);
-                report.solve_seconds = t0.elapsed().as_secs_f64();
-            }
+            Integrator::ImplicitEuler => self.implicit(dt, 1.0, &mut report)?,
+            Integrator::ImplicitRk2 => self.implicit(dt, 0.5, &mut report)?,
         }
         let (broken, _) = self.commit_springs(dt);
         report.broken = broken;
@@ -149,8 +141,12 @@ impl MsdmLattice {
     }
 
     /// One linearised implicit step; `theta` = 1 for Euler (eq 21), ½ for
-    /// RK2 (eq 22).
-    fn implicit(&mut self, dt: f64, theta: f64) -> Result<super::sparse::SolveStats, MsdmError> {
+    /// RK2 (eq 22). Fills the solver statistics and the wall times of
+    /// `report` and adds the times to [`MsdmLattice::implicit_timing`]
+    /// (three clock reads and no allocation; the results do not depend on
+    /// them).
+    fn implicit(&mut self, dt: f64, theta: f64, report: &mut StepReport) -> Result<(), MsdmError> {
+        let t_start = Instant::now();
         let all = super::model::ALL_AXES;
         let dim_mask = (1u8 << self.geom.dim.count()) - 1;
         if let Some(i) = (0..self.len())
@@ -167,6 +163,7 @@ impl MsdmLattice {
         let dim = self.geom.dim.count();
         let mut ku = std::mem::take(&mut self.rhs);
         ku.resize(ndof, 0.0);
+        let t_assemble = Instant::now();
         self.assemble(1.0, theta * dt, theta * theta * dt * dt, &mut ku);
         // rhs = Δt (fⁿ + θ Δt K uⁿ)
         for i in 0..self.len() {
@@ -180,7 +177,9 @@ impl MsdmLattice {
             }
         }
         self.rhs = ku;
+        let t_solve = Instant::now();
         let stats = self.solve()?;
+        let t_solved = Instant::now();
         for i in 0..self.len() {
             let di = self.dof[i];
             for a in 0..dim {
@@ -194,6 +193,28 @@ impl MsdmLattice {
             }
         }
         self.forces_current = false;
-        Ok(stats)
+        let t_end = Instant::now();
+        let (assemble, solve, total) = (t_solve - t_assemble, t_solved - t_solve, t_end - t_start);
+        self.timing.steps += 1;
+        self.timing.assemble += assemble;
+        self.timing.solve += solve;
+        self.timing.total += total;
+        report.solve = Some(stats);
+        report.assemble_seconds = assemble.as_secs_f64();
+        report.linear_solve_seconds = solve.as_secs_f64();
+        report.solve_seconds = total.as_secs_f64();
+        Ok(())
+    }
+
+    /// Wall time of the implicit steps since the lattice was built or the
+    /// last [`MsdmLattice::reset_implicit_timing`]: assembly, linear solve
+    /// and the whole implicit update, accumulated.
+    pub fn implicit_timing(&self) -> super::model::ImplicitTiming {
+        self.timing
+    }
+
+    /// Zeroes the accumulated [`MsdmLattice::implicit_timing`].
+    pub fn reset_implicit_timing(&mut self) {
+        self.timing = super::model::ImplicitTiming::default();
     }
 }

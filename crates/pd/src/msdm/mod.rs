@@ -43,8 +43,8 @@ mod stencil;
 pub use geometry::{dual_volume, Dim, Direction, Geometry, NodeKind};
 pub use law::{Damping, Hysteretic, LatticeMaterial, PairLaw, Plasticity, SpringState};
 pub use model::{
-    bond_force, bond_jacobian, BondEval, Integrator, LinearSolver, MsdmError, MsdmLattice,
-    MsdmOptions, StepReport, Surroundings,
+    bond_force, bond_jacobian, BondEval, ImplicitTiming, Integrator, LinearSolver, MsdmError,
+    MsdmLattice, MsdmOptions, StepReport, Surroundings,
 };
 #[cfg(test)]
 mod tests;

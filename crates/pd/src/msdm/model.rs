@@ -120,8 +120,30 @@ pub struct StepReport {
     pub broken: usize,
     /// Linear-solver statistics of an implicit step.
     pub solve: Option<SolveStats>,
-    /// Wall time of the linear solve (assembly included), s.
+    /// Wall time of the whole implicit update (force evaluation, assembly,
+    /// linear solve and the update of x and u), s; 0 for explicit steps.
     pub solve_seconds: f64,
+    /// Wall time of the Jacobian and right-hand-side assembly of an
+    /// implicit step (part of `solve_seconds`), s.
+    pub assemble_seconds: f64,
+    /// Wall time of the linear solve alone of an implicit step (part of
+    /// `solve_seconds`), s.
+    pub linear_solve_seconds: f64,
+}
+
+/// Wall time of the implicit steps, accumulated over the steps since the
+/// lattice was built or [`MsdmLattice::reset_implicit_timing`] was called
+/// (read with [`MsdmLattice::implicit_timing`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ImplicitTiming {
+    /// Implicit steps counted.
+    pub steps: u64,
+    /// Whole implicit updates (force evaluation, assembly, solve, update).
+    pub total: std::time::Duration,
+    /// Assembly of the matrix and of the right-hand side.
+    pub assemble: std::time::Duration,
+    /// Linear solves (sparse LU or BiCGSTAB).
+    pub solve: std::time::Duration,
 }
 
 /// A mass–spring–damper lattice (seed 003 ch. 2).
@@ -182,6 +204,7 @@ pub struct MsdmLattice {
     pub(crate) delta: Vec<f64>,
     pub(crate) dof: Vec<usize>,
     pub(crate) work: SolverWork,
+    pub(crate) timing: ImplicitTiming,
     /// Surface regression (seed 003 §2.4), if on; see
     /// [`MsdmLattice::set_regression`].
     pub regression: Option<super::regress::SurfaceRegression>,
@@ -483,6 +506,7 @@ impl MsdmLattice {
             delta: Vec::new(),
             dof: vec![usize::MAX; n],
             work: SolverWork::default(),
+            timing: ImplicitTiming::default(),
             regression: None,
             mechanics: true,
             flags: Vec::new(),

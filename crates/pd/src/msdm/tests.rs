@@ -950,3 +950,87 @@ fn aphtpb_density_readings_bound_the_rate() {
         prop.ap_mass_fraction.to_bits()
     );
 }
+
+/// V-STIFF error against wall time, printed as a table (release:
+/// `cargo test --release -p brisance-pd stiff_crossover -- --ignored
+/// --nocapture`; STIFF_RATIO sets the stiffness ratio, default 1e4).
+#[test]
+#[ignore]
+fn stiff_crossover_table() {
+    let ratio: f64 = std::env::var("STIFF_RATIO")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1e4);
+    let t_end = 50.0;
+    let limit = 1.0 / ratio.sqrt();
+    let reference = stiff_run(Integrator::VelocityVerlet, ratio, 0.02 * limit, t_end).unwrap();
+    let check = stiff_run(Integrator::VelocityVerlet, ratio, 0.04 * limit, t_end).unwrap();
+    println!(
+        "ratio {ratio:e}, t_end {t_end} s, explicit Euler limit 1/sqrt(ratio) = {limit:e} s; \
+         reference tip {:.9e} m (Verlet at 0.02 limit; 0.04 limit differs by {:.1e} of the peak {:.4e} m)",
+        reference.tip,
+        (check.tip - reference.tip).abs() / reference.peak,
+        reference.peak
+    );
+    println!("| integrator | Δt/limit | steps | rel. error | wall ms | assembly ms | solve ms |");
+    let fac = [
+        0.25, 0.5, 0.9, 1.0, 1.1, 2.0, 5.0, 10.0, 30.0, 100.0, 300.0, 1000.0,
+    ];
+    for integ in [
+        Integrator::ExplicitEuler,
+        Integrator::ImplicitEuler,
+        Integrator::ImplicitRk2,
+    ] {
+        for f in fac {
+            // Best of 3 wall times.
+            let mut best: Option<StiffRun> = None;
+            for _ in 0..3 {
+                let r = stiff_run(integ, ratio, f * limit, t_end).unwrap();
+                if best.is_none_or(|b| r.wall_seconds < b.wall_seconds) {
+                    best = Some(r);
+                }
+            }
+            let r = best.unwrap();
+            let err = (r.tip - reference.tip).abs() / reference.peak;
+            println!(
+                "| {integ:?} | {f} | {} | {err:.3e} | {:.3} | {:.3} | {:.3} |",
+                r.steps,
+                1e3 * r.wall_seconds,
+                1e3 * r.timing.assemble.as_secs_f64(),
+                1e3 * r.timing.solve.as_secs_f64()
+            );
+        }
+    }
+}
+
+#[test]
+fn stiff_chain_implicit_euler_is_stable_at_ten_times_the_explicit_limit() {
+    // V-STIFF reduced to t ∈ [0, 5] s at stiffness ratio 1e4 (explicit
+    // Euler limit 1/√ratio = 0.01 s, measured: 1.0× stable, 1.1× not).
+    let (ratio, t_end) = (1e4, 5.0);
+    let dt = 10.0 * 0.01;
+    let explicit = stiff_run(Integrator::ExplicitEuler, ratio, dt, t_end).unwrap();
+    assert!(
+        !explicit.tip.is_finite(),
+        "explicit Euler tip {}",
+        explicit.tip
+    );
+    assert_eq!(explicit.timing, ImplicitTiming::default());
+    let reference = stiff_run(Integrator::VelocityVerlet, ratio, 0.002, t_end).unwrap();
+    let implicit = stiff_run(Integrator::ImplicitEuler, ratio, dt, t_end).unwrap();
+    let err = (implicit.tip - reference.tip).abs() / reference.peak;
+    assert!(err < 0.03, "implicit Euler error {err}");
+    // Timing: one record per step, the parts inside the whole.
+    let t = implicit.timing;
+    assert_eq!(t.steps, 50);
+    assert!(t.assemble > std::time::Duration::ZERO && t.solve > std::time::Duration::ZERO);
+    assert!(t.assemble + t.solve <= t.total, "{t:?}");
+    // Per-step report fields.
+    let mut lat = stiff_chain(Integrator::ImplicitRk2, ratio).unwrap();
+    let r = lat.step(dt).unwrap();
+    assert!(r.assemble_seconds > 0.0 && r.linear_solve_seconds > 0.0);
+    assert!(r.assemble_seconds + r.linear_solve_seconds <= r.solve_seconds);
+    assert_eq!(lat.implicit_timing().steps, 1);
+    lat.reset_implicit_timing();
+    assert_eq!(lat.implicit_timing(), ImplicitTiming::default());
+}
