@@ -443,9 +443,10 @@ const DENSITY_MAX_ITERATIONS: usize = 100;
 const EXP_FLUSH: f64 = -708.0;
 
 /// e^x for the decaying exponentials of the JWL isentrope, with arguments
-/// below [`EXP_FLUSH`] flushed to 0.
+/// below [`EXP_FLUSH`] flushed to 0. Public so that solvers which evaluate
+/// the JWL terms themselves (the FDM's mixture law) take the same bits.
 #[inline]
-fn decaying_exp(x: f64) -> f64 {
+pub fn decaying_exp(x: f64) -> f64 {
     if x < EXP_FLUSH {
         0.0
     } else {

@@ -29,6 +29,9 @@
 //! `docs/physics/fdm_mixture.md` gives the measured size of that error.
 
 use brisance_core::{Eos, EosError};
+// e^x flushed to 0 for very negative x: the function of `brisance_eos::jwl`,
+// so that the JWL terms here are the same bits as the `Eos` methods of `Jwl`.
+use brisance_eos::jwl::decaying_exp as jwl_exp;
 use brisance_eos::{EosModel, IdealGas, Jwl, JwlCTerm};
 
 /// What the FDM kernels need from the gas: pressure, sound speed and
@@ -158,28 +161,6 @@ impl AffineLaw for IdealGas {
             dk: (self.gamma - 1.0) * 1.0 - dp,
         }
     }
-}
-
-/// Arguments below this give e^x = 0 in the JWL isentrope: the flush of
-/// `brisance_eos::jwl` (its `EXP_FLUSH`), repeated so that the numbers here
-/// are the same bits as the [`Eos`] methods of [`Jwl`].
-const JWL_EXP_FLUSH: f64 = -708.0;
-
-/// e^x flushed to 0 below [`JWL_EXP_FLUSH`], as `brisance_eos::jwl` does.
-#[inline(always)]
-fn jwl_exp(x: f64) -> f64 {
-    if x < JWL_EXP_FLUSH {
-        0.0
-    } else {
-        exp_not_speculated(x)
-    }
-}
-
-/// `x.exp()` behind a call the optimiser may not hoist above the branch
-/// of [`jwl_exp`] (the intrinsic is speculatable).
-#[inline(never)]
-fn exp_not_speculated(x: f64) -> f64 {
-    x.exp()
 }
 
 /// [`Affine`] of the JWL form p = p_c(V) + ωρ(e − e_c(V)) (seed 001 eq 54)
