@@ -932,26 +932,13 @@ impl MpmSolver {
             let m = ps.mass[p];
             mass[c] += m;
             for (k, &f) in names.iter().enumerate() {
-                let q = match f {
-                    0 => m / ps.volume[p],
-                    1..=3 => ps.velocity[p][f - 1],
-                    4 => self.material_pressure(p),
-                    5 => ps.specific_internal_energy[p],
-                    _ => 1.0,
-                };
-                sums[k][c] += m * q;
+                sums[k][c] += m * self.cell_field_quantity(p, f);
             }
         }
         let cell_volume: f64 = grid.spacing.iter().product();
         for (k, &f) in names.iter().enumerate() {
             for c in 0..n {
-                sums[k][c] = if f == 6 {
-                    mass[c] / cell_volume
-                } else if mass[c] > 0.0 {
-                    sums[k][c] / mass[c]
-                } else {
-                    0.0
-                };
+                sums[k][c] = cell_field_value(f, sums[k][c], mass[c], cell_volume);
             }
         }
         sums
@@ -976,25 +963,27 @@ impl MpmSolver {
             let m = ps.mass[p];
             mass += m;
             for (sum, &f) in out.iter_mut().zip(names) {
-                let q = match f {
-                    0 => m / ps.volume[p],
-                    1..=3 => ps.velocity[p][f - 1],
-                    4 => self.material_pressure(p),
-                    5 => ps.specific_internal_energy[p],
-                    _ => 1.0,
-                };
-                *sum += m * q;
+                *sum += m * self.cell_field_quantity(p, f);
             }
         }
         let cell_volume: f64 = grid.spacing.iter().product();
         for (sum, &f) in out.iter_mut().zip(names) {
-            *sum = if f == 6 {
-                mass / cell_volume
-            } else if mass > 0.0 {
-                *sum / mass
-            } else {
-                0.0
-            };
+            *sum = cell_field_value(f, *sum, mass, cell_volume);
+        }
+    }
+
+    /// The quantity of cell field `f` (an index into [`CELL_FIELDS`]) that
+    /// particle `p` carries, to be mass-weighted: density m/V, a velocity
+    /// component, pressure, specific internal energy, or 1 (mass density).
+    #[inline]
+    fn cell_field_quantity(&self, p: usize, f: usize) -> f64 {
+        let ps = &self.particles;
+        match f {
+            0 => ps.mass[p] / ps.volume[p],
+            1..=3 => ps.velocity[p][f - 1],
+            4 => self.material_pressure(p),
+            5 => ps.specific_internal_energy[p],
+            _ => 1.0,
         }
     }
 
@@ -1047,6 +1036,20 @@ fn viscosity_params(
         model,
         length: viscosity_length(grid),
     })
+}
+
+/// The value of cell field `f` from the cell's mass-weighted sum `sum`
+/// and its particle mass `mass`: the mass density mass/V_cell for field 6,
+/// the mass-weighted mean otherwise (0 in an empty cell).
+#[inline]
+fn cell_field_value(f: usize, sum: f64, mass: f64, cell_volume: f64) -> f64 {
+    if f == 6 {
+        mass / cell_volume
+    } else if mass > 0.0 {
+        sum / mass
+    } else {
+        0.0
+    }
 }
 
 /// m (e + |v|²/2), J.
