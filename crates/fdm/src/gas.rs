@@ -133,13 +133,20 @@ pub trait AffineLaw: Eos {
     /// (P, K, ∂P/∂ρ, ∂K/∂ρ) at density `rho`.
     #[inline(always)]
     fn affine_slopes(&self, rho: f64) -> Affine {
-        let dp = self.dp_drho(rho, 0.0);
-        Affine {
-            p: self.pressure(rho, 0.0),
-            k: self.dp_de(rho, 0.0),
-            dp,
-            dk: self.dp_drho(rho, 1.0) - dp,
-        }
+        affine_slopes_from_eos(self, rho)
+    }
+}
+
+/// (P, K, ∂P/∂ρ, ∂K/∂ρ) at density `rho` from the [`Eos`] methods alone,
+/// for laws without a fused evaluation.
+#[inline(always)]
+fn affine_slopes_from_eos<E: Eos + ?Sized>(eos: &E, rho: f64) -> Affine {
+    let dp = eos.dp_drho(rho, 0.0);
+    Affine {
+        p: eos.pressure(rho, 0.0),
+        k: eos.dp_de(rho, 0.0),
+        dp,
+        dk: eos.dp_drho(rho, 1.0) - dp,
     }
 }
 
@@ -223,15 +230,7 @@ impl AffineLaw for EosModel {
         match self {
             Self::IdealGas(g) => g.affine_slopes(rho),
             Self::Jwl(j) => j.affine_slopes(rho),
-            _ => {
-                let dp = self.dp_drho(rho, 0.0);
-                Affine {
-                    p: self.pressure(rho, 0.0),
-                    k: self.dp_de(rho, 0.0),
-                    dp,
-                    dk: self.dp_drho(rho, 1.0) - dp,
-                }
-            }
+            _ => affine_slopes_from_eos(self, rho),
         }
     }
 }
