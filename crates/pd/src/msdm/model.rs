@@ -1018,20 +1018,7 @@ impl MsdmLattice {
             chem_on.then_some(&self.mass_rate[..n]),
             [&mut v_new, &mut e_new, &mut p_new, &mut t_new],
         );
-        std::mem::swap(&mut self.volume, &mut v_new);
-        std::mem::swap(&mut self.energy, &mut e_new);
-        std::mem::swap(&mut self.pressure, &mut p_new);
-        std::mem::swap(&mut self.temperature, &mut t_new);
-        self.scratch = [v_new, e_new, p_new, t_new];
-        if chem_on {
-            for i in 0..n {
-                let mk = &mut self.mass_k[i];
-                *mk = (*mk + self.mass_rate[i] * dt).max(0.0);
-            }
-            for i in 0..n {
-                self.mass[i] = (0..1).map(|k| self.mass_k[k * n + i]).sum();
-            }
-        }
+        self.commit_thermal_state([v_new, e_new, p_new, t_new], chem_on, 1, dt);
     }
 
     /// Commits the spring state at the end of a step of length `dt`:
@@ -1188,12 +1175,27 @@ impl MsdmLattice {
                     *t = *e / mat.eos.cv;
                 });
         }
+        self.commit_thermal_state([v_new, e_new, p_new, t_new], chem_on, nm, dt);
+    }
+
+    /// Makes the new volume, energy, pressure and temperature the state
+    /// (the old arrays become the scratch of the next step) and, with the
+    /// chemistry on, advances the `nm` component masses by their rates over
+    /// `dt` (never below 0) and sums them into the node masses.
+    fn commit_thermal_state(
+        &mut self,
+        [mut v_new, mut e_new, mut p_new, mut t_new]: [Vec<f64>; 4],
+        chem_on: bool,
+        nm: usize,
+        dt: f64,
+    ) {
         std::mem::swap(&mut self.volume, &mut v_new);
         std::mem::swap(&mut self.energy, &mut e_new);
         std::mem::swap(&mut self.pressure, &mut p_new);
         std::mem::swap(&mut self.temperature, &mut t_new);
         self.scratch = [v_new, e_new, p_new, t_new];
         if chem_on {
+            let n = self.len();
             for k in 0..nm {
                 for i in 0..n {
                     let mk = &mut self.mass_k[k * n + i];
