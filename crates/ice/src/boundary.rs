@@ -5,7 +5,21 @@
 //! - [`IceBoundary::Symmetry`]: mirror (scalars copied, the normal velocity
 //!   negated); the face velocity of eq 19 is set to zero on the face.
 //! - [`IceBoundary::Outflow`]: zero gradient (ghosts copy the boundary
-//!   cell), so waves leave with little reflection.
+//!   cell), so waves leave with little reflection, and matter may only
+//!   leave: the face velocity u* of eq 19 on the face is kept from
+//!   pointing into the domain ([`outflow_face_velocity`]). Zero gradient
+//!   alone copies the boundary cell's velocity into the ghost, so where
+//!   the flow at the face turns inwards it feeds that cell's state back
+//!   in (a QM-100 detonation column with outflow ends gained 4.8 % mass
+//!   and 26.9 % energy in 12 µs). The rule is the "diode" boundary of the
+//!   FLASH code (Fryxell et al. 2000, ApJS 131, 273; FLASH User's Guide
+//!   4.x, Grid boundary conditions: zero gradient with the normal velocity
+//!   in the guard cells set to zero where it points into the domain),
+//!   applied here to u*, which is what carries every ICE flux: advection
+//!   (step 12), the volume flux of eq 20 and the face-pressure work of
+//!   the energy closure. Where the flow turns inwards the face acts as a
+//!   wall for that step (no flux, no work) and the cell sees its pressure
+//!   p* on the face.
 //! - [`IceBoundary::FixedVelocity`]: a wall moving at a given velocity
 //!   (zero for the rate stick's wall): mirrored scalars, ghost velocity
 //!   2u_w − u_mirror, face velocity u_w·n on the face.
@@ -20,7 +34,8 @@ use crate::CellState;
 pub enum IceBoundary {
     /// Symmetry plane / slip wall.
     Symmetry,
-    /// Zero-gradient outflow.
+    /// Zero-gradient outflow that lets nothing in (the face velocity is
+    /// never directed into the domain).
     Outflow,
     /// A wall moving with this velocity, m/s.
     FixedVelocity([f64; 3]),
@@ -38,5 +53,45 @@ impl IceBoundary {
             Self::FixedVelocity(u) => Some(*u),
             _ => None,
         }
+    }
+}
+
+/// The face velocity u* (eq 19, after the face exchange) on an outflow
+/// face whose outward normal is `outward` (−1 on a low face, +1 on a high
+/// face): u* where it points out of the domain or is zero, else 0, so no
+/// volume, mass, momentum or energy is carried in (the "diode" outflow of
+/// FLASH, see the module notes).
+pub fn outflow_face_velocity(u_star: f64, outward: f64) -> f64 {
+    if u_star * outward < 0.0 {
+        0.0
+    } else {
+        u_star
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_outflow_face_passes_outward_velocities_and_stops_inward_ones() {
+        // High face (outward +x): 3 m/s leaves, −3 m/s would enter.
+        assert_eq!(outflow_face_velocity(3.0, 1.0), 3.0);
+        assert_eq!(outflow_face_velocity(-3.0, 1.0), 0.0);
+        // Low face (outward −x): the other way round.
+        assert_eq!(outflow_face_velocity(-2.5, -1.0), -2.5);
+        assert_eq!(outflow_face_velocity(2.5, -1.0), 0.0);
+        assert_eq!(outflow_face_velocity(0.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn only_walls_have_a_wall_velocity() {
+        assert_eq!(IceBoundary::Symmetry.wall_velocity(), Some([0.0; 3]));
+        assert_eq!(
+            IceBoundary::FixedVelocity([1.0, 2.0, 3.0]).wall_velocity(),
+            Some([1.0, 2.0, 3.0])
+        );
+        assert_eq!(IceBoundary::Outflow.wall_velocity(), None);
+        assert_eq!(IceBoundary::Periodic.wall_velocity(), None);
     }
 }

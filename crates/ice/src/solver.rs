@@ -29,6 +29,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::advection::{donor_carried, donor_volume_slab, Advection};
+use crate::boundary::outflow_face_velocity;
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
@@ -1200,6 +1201,13 @@ impl<E: Eos> IceSolver<E> {
                     } else {
                         None
                     };
+                    // Outflow faces of this patch along a: the outward
+                    // normal's sign, so u* is kept non-inward (boundary.rs).
+                    let lo_out = (patch.lo[a] == 0 && boundaries[2 * a] == IceBoundary::Outflow)
+                        .then_some(-1.0);
+                    let hi_out = (patch.lo[a] + patch.size[a] == cells[a]
+                        && boundaries[2 * a + 1] == IceBoundary::Outflow)
+                        .then_some(1.0);
                     let dims = patch.dims();
                     // Per material: ρ, u_a, v, θ as slices, taken once.
                     let mat = |f: usize| -> [&[f64]; MAX_MATERIALS] {
@@ -1211,12 +1219,12 @@ impl<E: Eos> IceSolver<E> {
                     par_faces(patch, a, |c| {
                         let l = c - st[a];
                         let la = (c / st[a]) % dims[a];
-                        let wall = if la == patch.ghost[a] {
-                            lo_wall
+                        let (wall, outward) = if la == patch.ghost[a] {
+                            (lo_wall, lo_out)
                         } else if la == patch.ghost[a] + patch.size[a] {
-                            hi_wall
+                            (hi_wall, hi_out)
                         } else {
-                            None
+                            (None, None)
                         };
                         if let Some(w) = wall {
                             for v in fv {
@@ -1248,7 +1256,11 @@ impl<E: Eos> IceSolver<E> {
                         }
                         momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
                         for r in 0..n {
-                            fv[r].write(c, u[r][0]);
+                            let u = match outward {
+                                Some(sign) => outflow_face_velocity(u[r][0], sign),
+                                None => u[r][0],
+                            };
+                            fv[r].write(c, u);
                         }
                     });
                 }
