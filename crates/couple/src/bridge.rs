@@ -82,6 +82,144 @@ pub fn fictitious_cell_state(
     ])
 }
 
+/// What the particles of one MPM cell hold, for its fictitious cell
+/// ([`fictitious_source`]): sums over the particles in the cell, the fluid
+/// ones (air and products) apart from the structure's.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CellParticles {
+    /// Σ m_p of the fluid particles, kg.
+    pub fluid_mass: f64,
+    /// Σ m_p v_p of the fluid particles, kg·m/s.
+    pub fluid_momentum: [f64; 3],
+    /// Σ m_p e_p of the fluid particles (eq 33), J.
+    pub fluid_energy: f64,
+    /// Σ m_p of the products particles, kg.
+    pub products_mass: f64,
+    /// Σ m_p of the structure particles, kg.
+    pub structure_mass: f64,
+    /// Σ m_p v_p along the split axis of the structure particles, kg·m/s.
+    pub structure_momentum: f64,
+}
+
+/// How a fictitious cell is set (docs/physics/couple/bridge.md,
+/// "Fictitious cells without fluid, and next to a structure").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FictitiousSource {
+    /// The MPM's state (ρ, ρv, E, ρY).
+    Mpm([f64; 6]),
+    /// No material in the MPM cell: the state of the cell inside it along
+    /// the line normal to the interface (zero gradient, transmissive).
+    ZeroGradient,
+    /// Structure and no fluid in the MPM cell: a reflecting wall moving at
+    /// this velocity along the split axis, m/s.
+    Wall(f64),
+}
+
+/// The source of a fictitious cell from its MPM cell's particles `cell`
+/// and, for eqs 31–32, the mass and momentum `nodal` of its corner nodes.
+/// `structure_near`: a structure particle lies in the cell or one of its
+/// 3^d neighbours, i.e. some corner node carries structure mass.
+///
+/// - Fluid in the cell, no structure near: eqs 31–36 (`nodal`, the fluid's
+///   Σ m_p e_p), ρY = ρ · products share of the fluid mass — the paper's
+///   rule.
+/// - Fluid in the cell, structure near: the corner nodes' mass and momentum
+///   are partly the structure's (one velocity field), which eqs 31–32
+///   would hand to the gas; eqs 34–36 take the fluid particles' own sums
+///   (mass, momentum, eq 33 energy) instead.
+/// - No fluid, structure: a reflecting wall at the structure particles'
+///   mean velocity along the axis.
+/// - Neither (void, or gas particles that have left the cell): zero
+///   gradient.
+///
+/// A cell whose nodes carry no mass (eqs 34–36 undefined) is zero
+/// gradient too.
+pub fn fictitious_source(
+    cell: &CellParticles,
+    structure_near: bool,
+    nodal: (f64, [f64; 3]),
+    volume: f64,
+) -> FictitiousSource {
+    let with_products = |u: [f64; 5], fluid: f64| {
+        let y = cell.products_mass / fluid;
+        FictitiousSource::Mpm([u[0], u[1], u[2], u[3], u[4], u[0] * y])
+    };
+    if cell.fluid_mass > 0.0 {
+        let (m, p) = if structure_near {
+            (cell.fluid_mass, cell.fluid_momentum)
+        } else {
+            nodal
+        };
+        match fictitious_cell_state(m, p, cell.fluid_energy, volume) {
+            Some(u) => with_products(u, cell.fluid_mass),
+            None => FictitiousSource::ZeroGradient,
+        }
+    } else if cell.structure_mass > 0.0 {
+        FictitiousSource::Wall(cell.structure_momentum / cell.structure_mass)
+    } else {
+        FictitiousSource::ZeroGradient
+    }
+}
+
+/// The mirror image of the conservative state `u` (ρ, ρv, E, ρY) in a wall
+/// normal to `axis` moving at `wall_velocity` along it: v_a → 2w − v_a,
+/// ρ, the tangential velocity, e and Y kept (the reflective boundary of
+/// Toro, *Riemann Solvers and Numerical Methods for Fluid Dynamics*, 3rd
+/// ed., §6.3.3, for a moving wall).
+pub fn mirror_state(u: [f64; 6], axis: usize, wall_velocity: f64) -> [f64; 6] {
+    let rho = u[0];
+    let v = u[1 + axis] / rho;
+    let w = 2.0 * wall_velocity - v;
+    let mut out = u;
+    out[1 + axis] = rho * w;
+    out[4] = u[4] + 0.5 * rho * (w * w - v * v);
+    out
+}
+
+/// The states of the fictitious cells of one line normal to the interface,
+/// layer 0 (next to the FDM region) first, from their `sources` and the
+/// FDM-region cells `inner` of the line (`inner[0]` the last one, next to
+/// layer 0, `inner[1]` the one before, …): an MPM state as given; zero
+/// gradient the state of the layer inside it (of `inner[0]` for layer 0);
+/// from the first wall layer l₀ on, every layer l the mirror image
+/// ([`mirror_state`]) of the cell at the same distance on the other side of
+/// the wall's inner face (layer 2l₀ − 1 − l, or `inner[l − 2l₀]` past layer
+/// 0; the deepest of `inner` where the line is shorter).
+pub fn resolve_fictitious_line(
+    inner: &[[f64; 6]],
+    sources: &[FictitiousSource],
+    axis: usize,
+    out: &mut [[f64; 6]],
+) {
+    let mut wall: Option<(usize, f64)> = None;
+    for l in 0..sources.len() {
+        if wall.is_none() {
+            if let FictitiousSource::Wall(w) = sources[l] {
+                wall = Some((l, w));
+            }
+        }
+        out[l] = match (wall, sources[l]) {
+            (Some((l0, w)), _) => {
+                let s = 2 * l0 as isize - 1 - l as isize;
+                let image = if s >= 0 {
+                    out[s as usize]
+                } else {
+                    inner[((-s - 1) as usize).min(inner.len() - 1)]
+                };
+                mirror_state(image, axis, w)
+            }
+            (None, FictitiousSource::Mpm(u)) => u,
+            (None, _) => {
+                if l == 0 {
+                    inner[0]
+                } else {
+                    out[l - 1]
+                }
+            }
+        };
+    }
+}
+
 /// One side of the Riemann problem at the end of the FDM region: the
 /// density, the velocity along the normal from the FDM region into the
 /// MPM region, the pressure and the sound speed.
@@ -435,6 +573,119 @@ mod tests {
         let u = fictitious_cell_state(m, p, e, 0.5).unwrap();
         assert_eq!(u, [4.0, 4.0, 6.0, 0.0, 20.5]);
         assert_eq!(fictitious_cell_state(0.0, [0.0; 3], 1.0, 1.0), None);
+    }
+
+    #[test]
+    fn fictitious_sources_follow_what_the_mpm_cell_holds() {
+        // Air and products particles: Σm = 2, Σmv = (4, 0, −2), Σme = 6,
+        // products 0.5; the nodes give m = 4, p = (8, 0, 0). V = 0.5.
+        let full = CellParticles {
+            fluid_mass: 2.0,
+            fluid_momentum: [4.0, 0.0, -2.0],
+            fluid_energy: 6.0,
+            products_mass: 0.5,
+            ..Default::default()
+        };
+        let nodal = (4.0, [8.0, 0.0, 0.0]);
+        // Away from a structure, eqs 31–36: ρ = 8, ρv = (16, 0, 0),
+        // E = (6 + ½·4·4)/0.5 = 28, ρY = 8 · 0.25 = 2.
+        assert_eq!(
+            fictitious_source(&full, false, nodal, 0.5),
+            FictitiousSource::Mpm([8.0, 16.0, 0.0, 0.0, 28.0, 2.0])
+        );
+        // Next to one, the particles' own sums: ρ = 4, v = (2, 0, −1),
+        // E = (6 + ½·2·5)/0.5 = 22, ρY = 1.
+        let near = CellParticles {
+            structure_mass: 30.0,
+            ..full
+        };
+        assert_eq!(
+            fictitious_source(&near, true, nodal, 0.5),
+            FictitiousSource::Mpm([4.0, 8.0, 0.0, -4.0, 22.0, 1.0])
+        );
+        // Only structure: a wall at its mean velocity 90/30 = 3 m/s.
+        let steel = CellParticles {
+            structure_mass: 30.0,
+            structure_momentum: 90.0,
+            ..Default::default()
+        };
+        assert_eq!(
+            fictitious_source(&steel, true, nodal, 0.5),
+            FictitiousSource::Wall(3.0)
+        );
+        // Nothing in the cell (its nodes may carry the neighbours' mass),
+        // or fluid whose nodes carry none: zero gradient.
+        let empty = CellParticles::default();
+        assert_eq!(
+            fictitious_source(&empty, false, nodal, 0.5),
+            FictitiousSource::ZeroGradient
+        );
+        assert_eq!(
+            fictitious_source(&full, false, (0.0, [0.0; 3]), 0.5),
+            FictitiousSource::ZeroGradient
+        );
+    }
+
+    #[test]
+    fn a_mirror_state_reverses_the_normal_velocity_about_the_wall() {
+        // ρ = 2, v = (3, 4, −5), E = 100, ρY = 1; wall along z at 1 m/s:
+        // v_z → 2 − (−5) = 7, E → 100 + ½·2·(49 − 25) = 124.
+        let u = [2.0, 6.0, 8.0, -10.0, 100.0, 1.0];
+        assert_eq!(mirror_state(u, 2, 1.0), [2.0, 6.0, 8.0, 14.0, 124.0, 1.0]);
+        // A wall at rest: v_x → −3, E unchanged.
+        assert_eq!(mirror_state(u, 0, 0.0), [2.0, -6.0, 8.0, -10.0, 100.0, 1.0]);
+    }
+
+    #[test]
+    fn fictitious_lines_resolve_layer_by_layer() {
+        let cell = |x: f64| [x, 2.0 * x, 0.0, 0.0, 10.0 * x, 0.0];
+        let inner = [cell(1.0), cell(2.0)];
+        let (a, b) = (cell(5.0), cell(7.0));
+        let mut out = [[0.0; 6]; 4];
+        use FictitiousSource::{Mpm, Wall, ZeroGradient as Zg};
+        // Zero gradient copies the layer inside it, or the last FDM cell.
+        resolve_fictitious_line(&inner, &[Zg, Mpm(a), Zg, Zg], 0, &mut out);
+        assert_eq!(out, [inner[0], a, a, a]);
+        resolve_fictitious_line(&inner, &[Mpm(a), Mpm(b), Zg, Mpm(a)], 0, &mut out);
+        assert_eq!(out, [a, b, b, a]);
+        // A wall at layer 1 mirrors layer 0, then the FDM cells, whatever
+        // the layers past it hold.
+        resolve_fictitious_line(&inner, &[Mpm(a), Wall(0.5), Mpm(b), Zg], 0, &mut out);
+        assert_eq!(
+            out,
+            [
+                a,
+                mirror_state(a, 0, 0.5),
+                mirror_state(inner[0], 0, 0.5),
+                mirror_state(inner[1], 0, 0.5)
+            ]
+        );
+        // A wall at layer 0 past a line of two FDM cells: the deepest
+        // repeats.
+        resolve_fictitious_line(&inner, &[Wall(0.0), Zg, Mpm(a), Mpm(b)], 0, &mut out);
+        let m = |u| mirror_state(u, 0, 0.0);
+        assert_eq!(out, [m(inner[0]), m(inner[1]), m(inner[1]), m(inner[1])]);
+    }
+
+    proptest! {
+        #[test]
+        fn a_mirror_state_keeps_density_and_internal_energy(
+            rho in 0.01f64..1.0e3,
+            v in proptest::array::uniform3(-3.0e3f64..3.0e3),
+            e in 1.0e3f64..1.0e7,
+            w in -1.0e3f64..1.0e3,
+            axis in 0usize..3,
+        ) {
+            let ke = 0.5 * rho * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            let u = [rho, rho * v[0], rho * v[1], rho * v[2], rho * e + ke, 0.3 * rho];
+            let m = mirror_state(u, axis, w);
+            prop_assert_eq!(m[0], rho);
+            prop_assert_eq!(m[5], u[5]);
+            let vm = [m[1] / rho, m[2] / rho, m[3] / rho];
+            let em = (m[4] - 0.5 * rho * (vm[0] * vm[0] + vm[1] * vm[1] + vm[2] * vm[2])) / rho;
+            prop_assert!((em - e).abs() <= 1e-9 * (e + (ke / rho)));
+            prop_assert!((vm[axis] + v[axis] - 2.0 * w).abs() <= 1e-9 * (1.0 + v[axis].abs() + w.abs()));
+        }
     }
 
     #[test]

@@ -35,10 +35,10 @@ use brisance_fdm::{FdmSolver, GasLaw};
 use brisance_mpm::{MaterialId, MpmSolver, ParticleInit};
 
 use crate::bridge::{
-    absorb_particle, cell_internal_energy, centre_weight, create_particles, deposit_into_particle,
-    fdm_cell_as_particle, fdm_outflow_is_supersonic, fictitious_cell_state,
-    fictitious_mass_momentum, interface_fluxes, interface_state, Deposit, FaceInflow, NewParticle,
-    NormalState, Primitive,
+    absorb_particle, centre_weight, create_particles, deposit_into_particle, fdm_cell_as_particle,
+    fdm_outflow_is_supersonic, fictitious_mass_momentum, fictitious_source, interface_fluxes,
+    interface_state, resolve_fictitious_line, CellParticles, Deposit, FaceInflow, FictitiousSource,
+    NewParticle, NormalState, Primitive,
 };
 use crate::regions::{BridgeRegions, Side};
 
@@ -120,6 +120,12 @@ pub struct TransportTotals {
     pub supersonic_outflow: u64,
     /// Particles that received a deposit of inflow (`CfdmpOptions::deposit`).
     pub deposited: u64,
+    /// Fictitious cells (steps × cells) whose MPM cell held no material
+    /// and that took the state inside them (zero gradient).
+    pub zero_gradient: u64,
+    /// Fictitious cells (steps × cells) whose MPM cell held only structure
+    /// (a reflecting wall).
+    pub wall: u64,
 }
 
 /// The coupled solver.
@@ -158,11 +164,17 @@ pub struct Cfdmp<E: GasLaw> {
     /// Σ over the MPM steps of the particles stepped.
     particle_steps: u64,
     /// Reused buffers.
-    energy: Vec<f64>,
+    /// Per-step particle sums of the MPM cells around the fictitious
+    /// layers, the fictitious cells' sources and their states (step 7).
+    cells: Vec<CellParticles>,
+    sources: Vec<FictitiousSource>,
+    values: Vec<[f64; 6]>,
+    line_inner: Vec<[f64; 6]>,
+    line_sources: Vec<FictitiousSource>,
+    line_out: Vec<[f64; 6]>,
     created: Vec<NewParticle>,
     inits: Vec<ParticleInit>,
     leaving: Vec<usize>,
-    states: Vec<Option<[f64; 6]>>,
     /// Per face, the fluid particles in its first bridge cell:
     /// `members[start[f]..start[f + 1]]` (storage indices, ascending).
     start: Vec<usize>,
@@ -267,7 +279,12 @@ impl<E: GasLaw> Cfdmp<E> {
             fdm_seconds: 0.0,
             mpm_seconds: 0.0,
             pending: Vec::new(),
-            energy: Vec::new(),
+            cells: Vec::new(),
+            sources: Vec::new(),
+            values: Vec::new(),
+            line_inner: Vec::new(),
+            line_sources: Vec::new(),
+            line_out: Vec::new(),
             created: Vec::new(),
             inits: Vec::new(),
             leaving: Vec::new(),
@@ -275,7 +292,6 @@ impl<E: GasLaw> Cfdmp<E> {
             fictitious: Vec::new(),
             donors: (0, 0),
             particle_steps: 0,
-            states: Vec::new(),
             start: Vec::new(),
             members: Vec::new(),
             pairs: Vec::new(),
@@ -482,40 +498,63 @@ impl<E: GasLaw> Cfdmp<E> {
 
     /// Step 7: the fictitious cells from the MPM nodes (eqs 31–32, with
     /// the momentum of the update, eq 22) and the internal energy of the
-    /// particles in them (eq 33), eqs 34–36.
+    /// particles in them (eq 33), eqs 34–36, where their MPM cell holds
+    /// fluid particles away from a structure; from the fluid particles'
+    /// own sums next to a structure; zero gradient where the MPM cell holds
+    /// no material, a reflecting wall where it holds only structure
+    /// ([`fictitious_source`], [`resolve_fictitious_line`]). Every
+    /// fictitious cell gets a state, kept in `values` for the FDM step.
     pub fn update_fictitious_cells(&mut self) -> Result<(), SolverError> {
         let a = self.regions.axis;
         let mg = self.mpm.level().geometry;
         let nodes = self.mpm.grid_nodes();
         let active: Vec<usize> = (0..3).filter(|&d| mg.cells[d] > 1).collect();
         let weight = centre_weight(active.len());
-        // Eq 33: Σ m_p e_p per MPM cell; with products, also the particle
-        // mass and its products part.
-        let n = mg.cell_count();
-        self.energy.clear();
-        self.energy.resize(3 * n, 0.0);
+        // The particle sums of the MPM cells of the fictitious layers and
+        // of one layer either side (for `structure_near`), one slab of
+        // `faces` cells per layer.
+        let lines = self.faces.len();
+        let first = self.fictitious_mpm_index(0);
+        let last = self.fictitious_mpm_index(self.layers.max(1) - 1);
+        let lo = first.min(last) - 1;
+        let slabs = self.layers + 2;
+        self.cells.clear();
+        self.cells.resize(slabs * lines, CellParticles::default());
+        let fluid = |m: MaterialId| m == self.options.air || Some(m) == self.options.products;
         let ps = self.mpm.particles();
         for p in 0..ps.len() {
-            if let Some(c) = mg.cell_containing(ps.position[p]) {
-                let k = mg.linear_index(c);
-                self.energy[k] += cell_internal_energy(
-                    &ps.mass[p..p + 1],
-                    &ps.specific_internal_energy[p..p + 1],
-                );
-                self.energy[n + k] += ps.mass[p];
-                if Some(ps.material[p]) == self.options.products {
-                    self.energy[2 * n + k] += ps.mass[p];
+            let Some(c) = mg.cell_containing(ps.position[p]) else {
+                continue;
+            };
+            let s = c[a] as isize - lo;
+            if s < 0 || s >= slabs as isize {
+                continue;
+            }
+            let k = s as usize * lines + self.line_of(c);
+            let q = &mut self.cells[k];
+            let m = ps.mass[p];
+            if fluid(ps.material[p]) {
+                // Eq 33, summed particle by particle.
+                q.fluid_energy += m * ps.specific_internal_energy[p];
+                q.fluid_mass += m;
+                for d in 0..3 {
+                    q.fluid_momentum[d] += m * ps.velocity[p][d];
                 }
+                if Some(ps.material[p]) == self.options.products {
+                    q.products_mass += m;
+                }
+            } else {
+                q.structure_mass += m;
+                q.structure_momentum += m * ps.velocity[p][a];
             }
         }
         let volume = self.regions.cell_volume();
-        let cells = &self.fictitious;
         let corners = 1usize << active.len();
         let mut mass = [0.0; 8];
         let mut mom = [[0.0; 3]; 8];
-        let states = &mut self.states;
-        states.clear();
-        for &g in cells {
+        let fg = self.fdm.level().geometry;
+        self.sources.clear();
+        for &g in &self.fictitious {
             let mut c = g;
             c[a] = (g[a] as isize + self.mpm_shift) as usize;
             let mut used = 0;
@@ -531,43 +570,67 @@ impl<E: GasLaw> Cfdmp<E> {
                     used += 1;
                 }
             }
-            let (m, p) = fictitious_mass_momentum(&mass[..used], &mom[..used], weight);
-            let k = mg.linear_index(c);
-            let e = self.energy[k];
-            let (all, products) = (self.energy[n + k], self.energy[2 * n + k]);
-            // Eq 33 needs particles: a cell whose nodes carry mass from
-            // particles of the cells around it but that holds none itself
-            // would get no internal energy (p = 0); it keeps its state like
-            // a cell without nodal mass.
-            states.push(if all > 0.0 {
-                fictitious_cell_state(m, p, e, volume).map(|u| {
-                    let y = products / all;
-                    [u[0], u[1], u[2], u[3], u[4], u[0] * y]
-                })
-            } else {
-                None
-            });
+            let nodal = fictitious_mass_momentum(&mass[..used], &mom[..used], weight);
+            let s = (c[a] as isize - lo) as usize;
+            let here = self.cells[s * lines + self.line_of(c)];
+            // A structure particle in the cell or a neighbour: some corner
+            // node carries structure mass.
+            let mut near = false;
+            for dk in -1isize..=1 {
+                for dj in -1isize..=1 {
+                    for di in -1isize..=1 {
+                        let n = [c[0] as isize + di, c[1] as isize + dj, c[2] as isize + dk];
+                        let ok = (0..3).all(|d| {
+                            if d == a {
+                                true
+                            } else {
+                                n[d] >= 0 && (n[d] as usize) < fg.cells[d]
+                            }
+                        });
+                        if !ok {
+                            continue;
+                        }
+                        let sn = (n[a] - lo) as usize;
+                        let t = [n[0] as usize, n[1] as usize, n[2] as usize];
+                        near |= self.cells[sn * lines + self.line_of(t)].structure_mass > 0.0;
+                    }
+                }
+            }
+            self.sources
+                .push(fictitious_source(&here, near, nodal, volume));
         }
-        // Per line normal to the interface: the MPM's states (eqs 34–36),
-        // unless the FDM region's outflow there is supersonic against them
-        // (`fdm_outflow_is_supersonic`): then every fictitious layer takes
-        // the last FDM-region cell's state (zero gradient, the FDM's own
-        // outflow face).
-        let lines = cells.len() / self.layers.max(1);
-        let last = match self.regions.mpm_side {
-            Side::High => self.fdm_index(self.regions.fdm.cells[a] - 1),
-            Side::Low => self.fdm_index(0),
-        };
+        // Per line normal to the interface: the layers from their sources
+        // (`resolve_fictitious_line`), unless the FDM region's outflow
+        // there is supersonic against them (`fdm_outflow_is_supersonic`):
+        // then every fictitious layer takes the last FDM-region cell's
+        // state (zero gradient, the FDM's own outflow face).
+        let n = self.regions.fdm.cells[a];
         let sign = self.regions.mpm_side.sign();
+        let layers = self.layers;
+        self.values.clear();
+        self.values.resize(self.fictitious.len(), [0.0; 6]);
+        let mut inner = std::mem::take(&mut self.line_inner);
+        let mut sources = std::mem::take(&mut self.line_sources);
+        let mut out = std::mem::take(&mut self.line_out);
+        inner.clear();
+        inner.resize(layers.min(n), [0.0; 6]);
+        sources.clear();
+        sources.resize(layers, FictitiousSource::ZeroGradient);
+        out.clear();
+        out.resize(layers, [0.0; 6]);
         for line in 0..lines {
-            let cells = &self.fictitious;
-            let mut inner = cells[line];
-            inner[a] = last;
-            let own = self.fdm.cell_conservative(inner).unwrap_or([0.0; 6]);
-            let outer = match self.states[line] {
-                Some(u) => u,
-                None => self.fdm.cell_conservative(cells[line]).unwrap_or([0.0; 6]),
-            };
+            for (j, u) in inner.iter_mut().enumerate() {
+                let mut g = self.fictitious[line];
+                g[a] = match self.regions.mpm_side {
+                    Side::High => self.fdm_index(n - 1 - j),
+                    Side::Low => self.fdm_index(j),
+                };
+                *u = self.fdm.cell_conservative(g).unwrap_or([0.0; 6]);
+            }
+            for (l, q) in sources.iter_mut().enumerate() {
+                *q = self.sources[l * lines + line];
+            }
+            resolve_fictitious_line(&inner, &sources, a, &mut out);
             let normal = |u: &[f64; 6]| {
                 let rho = u[0];
                 let e = specific_internal_energy(rho, u[1], u[2], u[3], u[4]);
@@ -580,25 +643,54 @@ impl<E: GasLaw> Cfdmp<E> {
                     sound_speed: gas.gas_sound_speed(rho, e, y),
                 }
             };
-            let supersonic = fdm_outflow_is_supersonic(&normal(&own), &normal(&outer));
+            let supersonic = fdm_outflow_is_supersonic(&normal(&inner[0]), &normal(&out[0]));
             if supersonic {
                 self.totals.supersonic_outflow += 1;
             }
-            for l in 0..self.layers {
+            for (l, &state) in out.iter().enumerate() {
                 let k = l * lines + line;
-                let value = if supersonic {
-                    Some(own)
-                } else {
-                    self.states[k]
-                };
-                if let Some(v) = value {
-                    self.fdm
-                        .set_cell_conservative(self.fictitious[k], v)
-                        .map_err(|e| SolverError::Other(e.to_string()))?;
+                self.values[k] = if supersonic { inner[0] } else { state };
+                match self.sources[k] {
+                    FictitiousSource::Mpm(_) => {}
+                    FictitiousSource::ZeroGradient => self.totals.zero_gradient += 1,
+                    FictitiousSource::Wall(_) => self.totals.wall += 1,
                 }
             }
         }
+        (self.line_inner, self.line_sources, self.line_out) = (inner, sources, out);
+        self.set_fictitious_values()
+    }
+
+    /// Writes the fictitious cells' states of step 7 (`values`) into the
+    /// FDM grid: before the FDM step, and again after it, so that the
+    /// sweeps' own values there (which the bridge does not use) are never
+    /// what the FDM's next start-of-step check and CFL limit see.
+    fn set_fictitious_values(&mut self) -> Result<(), SolverError> {
+        for (&g, &u) in self.fictitious.iter().zip(&self.values) {
+            self.fdm
+                .set_cell_conservative(g, u)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
+        }
         Ok(())
+    }
+
+    /// MPM-grid index along the split axis of fictitious layer `l`.
+    fn fictitious_mpm_index(&self, l: usize) -> isize {
+        let lines = self.faces.len();
+        let g = self.fictitious[l * lines];
+        g[self.regions.axis] as isize + self.mpm_shift
+    }
+
+    /// Index in `faces` of the line through cell `c` (x fastest, the axis
+    /// index ignored).
+    fn line_of(&self, c: [usize; 3]) -> usize {
+        let a = self.regions.axis;
+        let g = self.fdm.level().geometry;
+        let mut t = c;
+        t[a] = 0;
+        let mut n = g.cells;
+        n[a] = 1;
+        t[0] + n[0] * (t[1] + n[1] * t[2])
     }
 
     /// Step 14: at every interface face, the interface state and fluxes
@@ -944,6 +1036,7 @@ impl<E: GasLaw> Cfdmp<E> {
         let t1 = Instant::now();
         self.mpm_seconds += (t1 - t).as_secs_f64();
         self.fdm.advance(dt)?;
+        self.set_fictitious_values()?;
         let t2 = Instant::now();
         self.fdm_seconds += (t2 - t1).as_secs_f64();
         self.transport(dt)?;
@@ -1021,7 +1114,7 @@ struct SavedState {
     active: bool,
     activated_at: Option<f64>,
     totals: [ConservationTotals; 2],
-    counts: [u64; 4],
+    counts: [u64; 6],
     products_as_air: f64,
     pending: Vec<Pending>,
     fdm: Vec<u8>,
@@ -1273,7 +1366,14 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             active: self.active,
             activated_at: self.activated_at,
             totals: [t.into_mpm, t.into_fdm],
-            counts: [t.created, t.absorbed, t.supersonic_outflow, t.deposited],
+            counts: [
+                t.created,
+                t.absorbed,
+                t.supersonic_outflow,
+                t.deposited,
+                t.zero_gradient,
+                t.wall,
+            ],
             products_as_air: t.products_as_air,
             pending: self.pending.clone(),
             fdm: self.fdm.save_state()?,
@@ -1307,6 +1407,8 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             products_as_air: s.products_as_air,
             supersonic_outflow: s.counts[2],
             deposited: s.counts[3],
+            zero_gradient: s.counts[4],
+            wall: s.counts[5],
         };
         Ok(())
     }
@@ -1381,6 +1483,11 @@ mod tests {
 
     /// [`coupled`] with the given inflow rule.
     fn coupled_inflow(min_particle_mass: f64, deposit: bool) -> Cfdmp<IdealGas> {
+        coupled_of(min_particle_mass, deposit, 1)
+    }
+
+    /// [`coupled_inflow`] with `materials` MPM materials, air the first.
+    fn coupled_of(min_particle_mass: f64, deposit: bool, materials: usize) -> Cfdmp<IdealGas> {
         let regions = BridgeRegions::from_boxes(
             RegionBox {
                 lower: [0.0; 3],
@@ -1398,7 +1505,13 @@ mod tests {
         let fdm = fdm_on(fg.origin, fg.upper(), fg.cells, FdmBoundary::Outflow);
         let (mg, _) = regions.mpm_grid();
         let first = regions.mpm.origin[0];
-        let mpm = mpm_tube(mg, first, regions.mpm.upper()[0], GridBoundary::Outflow);
+        let mpm = mpm_tube_of(
+            mg,
+            first,
+            regions.mpm.upper()[0],
+            GridBoundary::Outflow,
+            materials,
+        );
         let m = RHO0 * H * H * H / 2.0;
         let air = IdealGas::air();
         Cfdmp::new(
@@ -1430,6 +1543,18 @@ mod tests {
         to: f64,
         x_low: GridBoundary,
     ) -> MpmSolver {
+        mpm_tube_of(g, from, to, x_low, 1)
+    }
+
+    /// [`mpm_tube`] with `materials` copies of the air model (material 0
+    /// the particles').
+    fn mpm_tube_of(
+        g: brisance_core::UniformGridGeometry,
+        from: f64,
+        to: f64,
+        x_low: GridBoundary,
+        materials: usize,
+    ) -> MpmSolver {
         let level = Level::new(g.origin, g.upper(), g.cells, [1, 1, 1], 0).unwrap();
         let air = IdealGas::air();
         let mut ps = Particles::new(0);
@@ -1457,7 +1582,7 @@ mod tests {
         }
         MpmSolver::new(
             level,
-            vec![MaterialModel::Null(NullMaterial::air())],
+            vec![MaterialModel::Null(NullMaterial::air()); materials],
             ps,
             MpmOptions {
                 boundaries: [
@@ -1489,6 +1614,138 @@ mod tests {
         let i = p.iter().position(|&x| x >= half).unwrap();
         let f = (half - p[i - 1]) / (p[i] - p[i - 1]);
         (t[i - 1] + f * (t[i] - t[i - 1]), peak)
+    }
+
+    /// After one MPM step of the tube, the storage indices of the
+    /// particles in the MPM cell of fictitious layer `l`, and the FDM cell
+    /// and MPM cell index of each layer.
+    fn layer_cells(c: &Cfdmp<IdealGas>) -> Vec<([usize; 3], usize)> {
+        (0..c.layers)
+            .map(|l| {
+                let g = c.fictitious[l];
+                (g, (g[0] as isize + c.mpm_shift) as usize)
+            })
+            .collect()
+    }
+
+    fn particles_in(c: &Cfdmp<IdealGas>, cell: usize) -> Vec<usize> {
+        let mg = c.mpm.level().geometry;
+        let ps = c.mpm.particles();
+        (0..ps.len())
+            .filter(|&p| mg.cell_containing(ps.position[p]).map(|q| q[0]) == Some(cell))
+            .collect()
+    }
+
+    /// Eqs 31–36 by hand for the 1D tube's MPM cell `cell`: the two corner
+    /// nodes (N = ½) and the particles in the cell.
+    fn eqs_31_36(c: &Cfdmp<IdealGas>, cell: usize) -> [f64; 5] {
+        let nodes = c.mpm.grid_nodes();
+        let (mut m, mut p) = ([0.0; 2], [[0.0; 3]; 2]);
+        for k in 0..2 {
+            let n = nodes.lattice.index([(cell + k) as isize, 0, 0]).unwrap();
+            m[k] = nodes.mass[n];
+            p[k] = nodes.velocity_new[n].map(|v| v * m[k]);
+        }
+        let (mc, pc) = fictitious_mass_momentum(&m, &p, 0.5);
+        let ps = c.mpm.particles();
+        let mut e = 0.0;
+        for q in particles_in(c, cell) {
+            e += ps.mass[q] * ps.specific_internal_energy[q];
+        }
+        crate::bridge::fictitious_cell_state(mc, pc, e, H * H * H).unwrap()
+    }
+
+    fn conservative5(c: &Cfdmp<IdealGas>, g: [usize; 3]) -> [f64; 5] {
+        let u = c.fdm.cell_conservative(g).unwrap();
+        [u[0], u[1], u[2], u[3], u[4]]
+    }
+
+    #[test]
+    fn an_empty_mpm_cell_gives_its_fictitious_cell_the_state_inside_it() {
+        let mut c = coupled();
+        let dt = c.mpm.stable_dt().unwrap().min(c.fdm.stable_dt().unwrap());
+        c.mpm_step(dt).unwrap();
+        let cells = layer_cells(&c);
+        // Empty the MPM cell of layer 2 (the gas has left it).
+        let gone = particles_in(&c, cells[2].1);
+        assert_eq!(gone.len(), 2);
+        c.mpm.remove_particles(&gone);
+        // What the FDM sweep left there is not kept.
+        c.fdm
+            .set_cell_conservative(cells[2].0, [1.0, 0.0, 0.0, 0.0, -5.0, 0.0])
+            .unwrap();
+        c.update_fictitious_cells().unwrap();
+        // Full cells: eqs 31–36 exactly, as before.
+        for l in [0, 1, 3] {
+            assert_eq!(
+                conservative5(&c, cells[l].0),
+                eqs_31_36(&c, cells[l].1),
+                "layer {l}"
+            );
+        }
+        // The empty one: layer 1's state (zero gradient), bit for bit.
+        assert_eq!(conservative5(&c, cells[2].0), conservative5(&c, cells[1].0));
+        let t = c.transport_totals();
+        assert_eq!((t.zero_gradient, t.wall, t.supersonic_outflow), (1, 0, 0));
+        // The FDM step leaves the fictitious cells as step 7 set them.
+        c.active = true;
+        let set: Vec<_> = cells.iter().map(|&(g, _)| conservative5(&c, g)).collect();
+        c.fdm.advance(dt).unwrap();
+        assert_ne!(conservative5(&c, cells[3].0), set[3]);
+        c.set_fictitious_values().unwrap();
+        for (l, &(g, _)) in cells.iter().enumerate() {
+            assert_eq!(conservative5(&c, g), set[l], "layer {l}");
+        }
+    }
+
+    #[test]
+    fn a_structure_in_the_fictitious_layers_is_a_reflecting_wall() {
+        let mut c = coupled_of(0.25, false, 2);
+        let dt = c.mpm.stable_dt().unwrap().min(c.fdm.stable_dt().unwrap());
+        c.mpm_step(dt).unwrap();
+        let cells = layer_cells(&c);
+        // Layer 2's MPM cell: its air replaced by one particle of
+        // material 1 (a structure) moving at 3 m/s.
+        let gone = particles_in(&c, cells[2].1);
+        c.mpm.remove_particles(&gone);
+        let mg = c.mpm.level().geometry;
+        let x = mg.cell_centre([cells[2].1, 0, 0]);
+        c.mpm
+            .insert_particles(&[ParticleInit {
+                position: x,
+                velocity: [3.0, 0.0, 0.0],
+                mass: 1.0e-3,
+                volume: H * H * H,
+                material: MaterialId(1),
+                ..Default::default()
+            }])
+            .unwrap();
+        c.update_fictitious_cells().unwrap();
+        let u = |l: usize| conservative5(&c, cells[l].0);
+        // Layer 0: no structure in its neighbours, eqs 31–36.
+        assert_eq!(u(0), eqs_31_36(&c, cells[0].1));
+        // Layer 1: next to the structure, the air particles' own sums.
+        let ps = c.mpm.particles();
+        let (mut m, mut p, mut e) = (0.0, [0.0; 3], 0.0);
+        for q in particles_in(&c, cells[1].1) {
+            e += ps.mass[q] * ps.specific_internal_energy[q];
+            m += ps.mass[q];
+            for (pd, v) in p.iter_mut().zip(ps.velocity[q]) {
+                *pd += ps.mass[q] * v;
+            }
+        }
+        let own = crate::bridge::fictitious_cell_state(m, p, e, H * H * H).unwrap();
+        assert_eq!(u(1), own);
+        // Layers 2 and 3: the mirror images of layers 1 and 0 in a wall
+        // moving at 3 m/s.
+        let mirror = |v: [f64; 5]| {
+            let w = crate::bridge::mirror_state([v[0], v[1], v[2], v[3], v[4], 0.0], 0, 3.0);
+            [w[0], w[1], w[2], w[3], w[4]]
+        };
+        assert_eq!(u(2), mirror(u(1)));
+        assert_eq!(u(3), mirror(u(0)));
+        let t = c.transport_totals();
+        assert_eq!((t.zero_gradient, t.wall), (0, 1));
     }
 
     #[test]
