@@ -1183,11 +1183,15 @@ impl<E: GasLaw> Cfdmp<E> {
         Ok(())
     }
 
-    /// Whether `x` lies in the MPM region (and the MPM region runs).
+    /// Whether the MPM gives the output at `x`: `x` lies in the MPM region
+    /// and the MPM region runs, or, before activation, `x` lies past the
+    /// FDM grid (its fictitious cells), where the MPM's initial state is
+    /// the only state there is.
     fn in_mpm(&self, x: [f64; 3]) -> bool {
         let a = self.regions.axis;
         let (lo, hi) = (self.regions.mpm.origin[a], self.regions.mpm.upper()[a]);
-        self.active && x[a] >= lo && x[a] <= hi
+        let inside = x[a] >= lo && x[a] <= hi;
+        inside && (self.active || self.fdm.level().geometry.cell_containing(x).is_none())
     }
 
     /// Whether FDM-grid cell index `i` along the split axis lies in the FDM
@@ -1276,7 +1280,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
     }
 
     /// On the union of the regions: the MPM's cell values in the MPM region
-    /// once it runs, the FDM's elsewhere.
+    /// once it runs (before, past the FDM grid), the FDM's elsewhere.
     fn cell_data(&self, fields: &[String]) -> Result<brisance_core::CellData, SolverError> {
         if let Some(f) = fields.iter().find(|f| !FIELDS.contains(&f.as_str())) {
             return Err(SolverError::Other(format!(
@@ -1286,11 +1290,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         }
         let g = self.domain();
         let fd = self.fdm.cell_data(fields)?;
-        let md = if self.active {
-            Some(self.mpm.cell_data(fields)?)
-        } else {
-            None
-        };
+        let md = self.mpm.cell_data(fields)?;
         let mut out: Vec<(String, Vec<f64>)> = fields
             .iter()
             .map(|f| (f.clone(), Vec::with_capacity(g.cell_count())))
@@ -1299,9 +1299,10 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             for j in 0..g.cells[1] {
                 for i in 0..g.cells[0] {
                     let x = g.cell_centre([i, j, k]);
-                    let (data, geometry) = match &md {
-                        Some(m) if self.in_mpm(x) => (m, m.geometry),
-                        _ => (&fd, fd.geometry),
+                    let (data, geometry) = if self.in_mpm(x) {
+                        (&md, md.geometry)
+                    } else {
+                        (&fd, fd.geometry)
                     };
                     let c = geometry.cell_containing(x).unwrap_or([0; 3]);
                     let n = geometry.linear_index(c);
@@ -1746,6 +1747,39 @@ mod tests {
         assert_eq!(u(3), mirror(u(0)));
         let t = c.transport_totals();
         assert_eq!((t.zero_gradient, t.wall), (0, 1));
+    }
+
+    #[test]
+    fn before_activation_the_mpm_region_past_the_fdm_grid_reads_the_mpm() {
+        let c = coupled();
+        assert!(!c.is_active());
+        // x = 0.35 m: in the MPM region, past the fictitious cells (0.308
+        // m), where the FDM grid has no cell. The MPM's air particles
+        // start at p = P0, q = 0: −tr σ/3 = P0 exactly.
+        assert_eq!(sample(&c, 0.35), P0);
+        // A fictitious cell stays the FDM's.
+        let mut fdm = Vec::new();
+        c.fdm
+            .sample(
+                [0.305, 0.5 * H, 0.5 * H],
+                &["pressure".to_string()],
+                &mut fdm,
+            )
+            .unwrap();
+        assert_eq!(sample(&c, 0.305), fdm[0]);
+        // The cell data: the cell at 0.351 m from the MPM, P0.
+        let d = c.cell_data(&["pressure".to_string()]).unwrap();
+        let i = d
+            .geometry
+            .cell_containing([0.351, 0.5 * H, 0.5 * H])
+            .unwrap();
+        assert_eq!(d.fields[0].1[d.geometry.linear_index(i)], P0);
+        // The shock tube's driver, x < 0.1 m, from the FDM: 5 bar.
+        let i = d
+            .geometry
+            .cell_containing([0.05, 0.5 * H, 0.5 * H])
+            .unwrap();
+        assert_eq!(d.fields[0].1[d.geometry.linear_index(i)], 5.0e5);
     }
 
     #[test]
