@@ -21,7 +21,8 @@ use crate::EosError;
 ///   inversion round-trips), and `temperature` inverts
 ///   `specific_internal_energy_from_temperature`.
 /// - `isothermal_compressibility` and `thermal_expansivity` agree with finite
-///   differences of `density(p, T)`.
+///   differences of `density(p, T)`, and `density_and_derivatives` returns
+///   the three of them.
 /// - `gruneisen(ρ, e)` is the model's Γ and equals `(1/ρ) ∂p/∂e|ρ`.
 /// - Out-of-range input (ρ ≤ 0, NaN) is an error from `check_state`,
 ///   `specific_internal_energy` and `density`, never a NaN that flows on.
@@ -109,4 +110,21 @@ pub trait Eos: Send + Sync + std::fmt::Debug {
 
     /// Thermal expansivity α = (1/v) ∂v/∂T|_p = −(1/ρ) ∂ρ/∂T|_p, 1/K.
     fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError>;
+
+    /// `(density(p, T), isothermal_compressibility(p, T),
+    /// thermal_expansivity(p, T))` from one call: ρ kg/m³, κ 1/Pa, α 1/K.
+    ///
+    /// The ICE equilibration (seed 000 eq 7) needs all three at the same
+    /// (p, T); a model whose ρ(p, T) is an iterative inversion overrides this
+    /// to invert once and evaluate κ and α at that ρ. An override must
+    /// return exactly (to the bit) what the three methods return, and the
+    /// first of their errors. The default calls the three methods.
+    #[inline]
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        Ok((
+            self.density(p, t)?,
+            self.isothermal_compressibility(p, t)?,
+            self.thermal_expansivity(p, t)?,
+        ))
+    }
 }
