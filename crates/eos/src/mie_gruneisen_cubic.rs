@@ -179,18 +179,7 @@ impl Eos for MieGruneisenCubic {
 
     /// Solves p(ρ, c_v(T − T₀)) = p on the valid window by bracketed Newton.
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        check_pressure_temperature(NAME, p, t)?;
-        let e = self.cv * (t - self.t0);
-        let k0 = self.rho0 * self.c0 * self.c0;
-        let guess = self.rho0 * (1.0 + (p - self.gamma * self.rho0 * e) / k0);
-        solve_density(
-            NAME,
-            |rho| (self.pressure(rho, e), self.dp_drho(rho, e)),
-            p,
-            MIN_RELATIVE_DENSITY * self.rho0,
-            MAX_RELATIVE_DENSITY * self.rho0,
-            guess,
-        )
+        self.density_counted(p, t).map(|(rho, _)| rho)
     }
 
     /// κ = 1/(ρ ∂p/∂ρ|_T); along an isotherm e is fixed, so ∂p/∂ρ|_T = ∂p/∂ρ|ₑ.
@@ -205,6 +194,39 @@ impl Eos for MieGruneisenCubic {
         let rho = self.density(p, t)?;
         let e = self.cv * (t - self.t0);
         Ok(self.gamma * self.cv / self.dp_drho(rho, e))
+    }
+
+    /// One inversion for ρ, then κ and α at it by the formulas of
+    /// [`Eos::isothermal_compressibility`] and [`Eos::thermal_expansivity`]
+    /// (the same operations, so the same bits).
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        let rho = self.density(p, t)?;
+        let slope = self.dp_drho(rho, self.cv * (t - self.t0));
+        Ok((rho, 1.0 / (rho * slope), self.gamma * self.cv / slope))
+    }
+}
+
+impl MieGruneisenCubic {
+    /// ρ(p, T) and the number of pressure evaluations the bracketed Newton
+    /// solve took.
+    pub(crate) fn density_counted(&self, p: f64, t: f64) -> Result<(f64, usize), EosError> {
+        check_pressure_temperature(NAME, p, t)?;
+        let e = self.cv * (t - self.t0);
+        let k0 = self.rho0 * self.c0 * self.c0;
+        let guess = self.rho0 * (1.0 + (p - self.gamma * self.rho0 * e) / k0);
+        // `pressure` and `dp_drho` with their shared reference curve
+        // evaluated once (the same operations, so the same bits).
+        solve_density(
+            NAME,
+            |rho| {
+                let (f, df) = self.reference(rho);
+                (f + self.gamma * rho * e, df + self.gamma * e)
+            },
+            p,
+            MIN_RELATIVE_DENSITY * self.rho0,
+            MAX_RELATIVE_DENSITY * self.rho0,
+            guess,
+        )
     }
 }
 

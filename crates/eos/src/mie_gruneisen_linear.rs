@@ -218,20 +218,11 @@ impl Eos for MieGruneisenLinear {
         self.cv
     }
 
-    /// Solves p(ρ, c_v(T − T₀)) = p on the valid window by bracketed Newton.
+    /// Solves p(ρ, c_v(T − T₀)) = p on the valid window: the closed-form
+    /// root of [`MieGruneisenLinear::compression_at`] polished by one
+    /// bracketed Newton step (the shared Mie–Grüneisen solver).
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        check_pressure_temperature(NAME, p, t)?;
-        let e = self.cv * (t - self.t0);
-        let k0 = self.rho0 * self.c0 * self.c0;
-        let guess = self.rho0 * (1.0 + (p - self.gamma0 * self.rho0 * e) / k0);
-        solve_density(
-            NAME,
-            |rho| (self.pressure(rho, e), self.dp_drho(rho, e)),
-            p,
-            MIN_RELATIVE_DENSITY * self.rho0,
-            MAX_RELATIVE_DENSITY * self.rho0,
-            guess,
-        )
+        self.density_counted(p, t).map(|(rho, _)| rho)
     }
 
     /// κ = 1/(ρ ∂p/∂ρ|_T), and ∂p/∂ρ|_T = ∂p/∂ρ|ₑ because e = c_v(T − T₀).
@@ -244,6 +235,67 @@ impl Eos for MieGruneisenLinear {
     fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
         let rho = self.density(p, t)?;
         Ok(self.gamma0 * self.rho0 * self.cv / (rho * self.dp_drho(rho, 0.0)))
+    }
+
+    /// One inversion for ρ, then κ and α at it by the formulas of
+    /// [`Eos::isothermal_compressibility`] and [`Eos::thermal_expansivity`]
+    /// (the same operations, so the same bits).
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        let rho = self.density(p, t)?;
+        let rho_slope = rho * self.dp_drho(rho, 0.0);
+        Ok((
+            rho,
+            1.0 / rho_slope,
+            self.gamma0 * self.rho0 * self.cv / rho_slope,
+        ))
+    }
+}
+
+impl MieGruneisenLinear {
+    /// The compression χ = 1 − ρ₀/ρ at which the reference part of the
+    /// pressure, p_H(χ)(1 − Γ₀χ/2), equals `p_ref`, in closed form.
+    ///
+    /// With K₀ = ρ₀C₀², K₀χ(1 − Γ₀χ/2) = p_ref (1 − Sχ)² is the quadratic
+    /// (p_ref S² + K₀Γ₀/2) χ² − (K₀ + 2 p_ref S) χ + p_ref = 0, whose
+    /// discriminant is K₀ (K₀ + 2 p_ref (2S − Γ₀)). Its root through χ = 0
+    /// at p_ref = 0 — the branch the valid window lies on, where p rises
+    /// with ρ — is, in the form without cancellation,
+    ///
+    /// χ = 2 p_ref / (K₀ + 2 p_ref S + √(K₀ (K₀ + 2 p_ref (2S − Γ₀)))).
+    ///
+    /// `None` where the discriminant is negative or the denominator not
+    /// positive (no root on that branch: far outside the window).
+    #[inline]
+    pub fn compression_at(&self, p_ref: f64) -> Option<f64> {
+        let k0 = self.rho0 * self.c0 * self.c0;
+        let disc = k0 * (k0 + 2.0 * p_ref * (2.0 * self.s - self.gamma0));
+        let den = k0 + 2.0 * p_ref * self.s + disc.sqrt();
+        (disc >= 0.0 && den > 0.0).then(|| 2.0 * p_ref / den)
+    }
+
+    /// ρ(p, T) and the number of pressure evaluations it took: the closed
+    /// form of [`Self::compression_at`] starts the bracketed Newton solver, whose first
+    /// Newton step is then round-off (one evaluation in all). Where the
+    /// closed form has no root the start is the window's midpoint and the
+    /// bracketed iteration reports the error.
+    pub(crate) fn density_counted(&self, p: f64, t: f64) -> Result<(f64, usize), EosError> {
+        check_pressure_temperature(NAME, p, t)?;
+        let e = self.cv * (t - self.t0);
+        let thermal = self.gamma0 * self.rho0 * e;
+        let guess = self
+            .compression_at(p - thermal)
+            .map_or(f64::NAN, |chi| self.rho0 / (1.0 - chi));
+        solve_density(
+            NAME,
+            |rho| {
+                let (p_ref, slope) = self.reference(rho);
+                (p_ref + thermal, slope)
+            },
+            p,
+            MIN_RELATIVE_DENSITY * self.rho0,
+            MAX_RELATIVE_DENSITY * self.rho0,
+            guess,
+        )
     }
 }
 

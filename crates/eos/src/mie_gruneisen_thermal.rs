@@ -268,18 +268,7 @@ impl Eos for MieGruneisenThermal {
 
     /// Solves P(ρ, c_v T) = P on the valid window by bracketed Newton.
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        check_pressure_temperature(NAME, p, t)?;
-        let e = self.cv * t;
-        let k0 = self.rho0 * self.c0 * self.c0;
-        let guess = self.rho0 * (1.0 + (p - self.pressure(self.rho0, e)) / k0);
-        solve_density(
-            NAME,
-            |rho| (self.pressure(rho, e), self.dp_drho(rho, e)),
-            p,
-            MIN_RELATIVE_DENSITY * self.rho0,
-            MAX_RELATIVE_DENSITY * self.rho0,
-            guess,
-        )
+        self.density_counted(p, t).map(|(rho, _)| rho)
     }
 
     /// κ = 1/(ρ ∂P/∂ρ|_T), and ∂P/∂ρ|_T = ∂P/∂ρ|ₑ because e = c_v T.
@@ -292,6 +281,40 @@ impl Eos for MieGruneisenThermal {
     fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
         let rho = self.density(p, t)?;
         Ok(self.gamma * self.cv / self.dp_drho(rho, self.cv * t))
+    }
+
+    /// One inversion for ρ, then κ and α at it by the formulas of
+    /// [`Eos::isothermal_compressibility`] and [`Eos::thermal_expansivity`]
+    /// (the same operations, so the same bits).
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        let rho = self.density(p, t)?;
+        let slope = self.dp_drho(rho, self.cv * t);
+        Ok((rho, 1.0 / (rho * slope), self.gamma * self.cv / slope))
+    }
+}
+
+impl MieGruneisenThermal {
+    /// ρ(p, T) and the number of pressure evaluations the bracketed Newton
+    /// solve took.
+    pub(crate) fn density_counted(&self, p: f64, t: f64) -> Result<(f64, usize), EosError> {
+        check_pressure_temperature(NAME, p, t)?;
+        let e = self.cv * t;
+        let k0 = self.rho0 * self.c0 * self.c0;
+        let guess = self.rho0 * (1.0 + (p - self.pressure(self.rho0, e)) / k0);
+        // `pressure` and `dp_drho` with their shared reference curve
+        // evaluated once (the same operations, so the same bits).
+        let de = e - self.e0();
+        solve_density(
+            NAME,
+            |rho| {
+                let (f, df) = self.reference(rho);
+                (self.gamma * rho * de + f, self.gamma * de + df)
+            },
+            p,
+            MIN_RELATIVE_DENSITY * self.rho0,
+            MAX_RELATIVE_DENSITY * self.rho0,
+            guess,
+        )
     }
 }
 

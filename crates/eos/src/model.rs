@@ -68,6 +68,9 @@ macro_rules! dispatch_eos {
             fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
                 match self { $(Self::$variant(m) => m.thermal_expansivity(p, t),)* }
             }
+            fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+                match self { $(Self::$variant(m) => m.density_and_derivatives(p, t),)* }
+            }
         }
 
         impl $enum {

@@ -216,6 +216,16 @@ impl<E: Eos> Eos for SolidThreshold<E> {
         self.solid
             .thermal_expansivity(self.to_solid_pressure(p).0, t)
     }
+
+    /// The wrapped model's fused inversion at q, κ scaled by dq/dp: one
+    /// solve, the same bits as the three methods when the wrapped model's
+    /// fused method gives its own three.
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        Self::check_positive_pressure(p)?;
+        let (q, dq_dp) = self.to_solid_pressure(p);
+        let (rho, kappa, alpha) = self.solid.density_and_derivatives(q, t)?;
+        Ok((rho, kappa * dq_dp, alpha))
+    }
 }
 
 #[cfg(test)]
