@@ -14,6 +14,7 @@ mod mpm_throughput;
 mod pd_cases;
 mod plate_cases;
 mod plot;
+mod slab_cases;
 mod splice;
 mod taylor;
 
@@ -724,7 +725,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 23] = [
+const CASES: [&str; 24] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -746,6 +747,7 @@ const CASES: [&str; 23] = [
     "hotspot",
     "blast2d",
     "plate",
+    "slab",
     "mpm-throughput",
     "throughput",
 ];
@@ -838,6 +840,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("plate") {
         plate_cases::e_plate(&mut body, &img)?;
+    }
+    if run("slab") {
+        slab_cases::e_slab(&mut body, &img)?;
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;
