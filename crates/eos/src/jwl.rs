@@ -417,6 +417,23 @@ impl JwlCold {
         let s = self.density_and_slope(name, p, t)?;
         Ok(self.omega * self.cv / s.dp_drho)
     }
+
+    /// ρ, κ_T and α from one inversion: the same operations as
+    /// [`Self::density`], [`Self::isothermal_compressibility`] and
+    /// [`Self::thermal_expansivity`], so the same bits.
+    pub fn density_and_derivatives(
+        &self,
+        name: &'static str,
+        p: f64,
+        t: f64,
+    ) -> Result<(f64, f64, f64), EosError> {
+        let s = self.density_and_slope(name, p, t)?;
+        Ok((
+            s.rho,
+            1.0 / (s.rho * s.dp_drho),
+            self.omega * self.cv / s.dp_drho,
+        ))
+    }
 }
 
 /// ρ(p, T) of the JWL forms with the isothermal slope there.
@@ -548,6 +565,14 @@ macro_rules! impl_jwl_form_eos {
             fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, brisance_core::EosError> {
                 self.cold().thermal_expansivity($name, p, t)
             }
+
+            fn density_and_derivatives(
+                &self,
+                p: f64,
+                t: f64,
+            ) -> Result<(f64, f64, f64), brisance_core::EosError> {
+                self.cold().density_and_derivatives($name, p, t)
+            }
         }
     };
 }
@@ -637,6 +662,35 @@ mod tests {
         j.r2 = -1.0;
         let msg = j.validate().unwrap_err();
         assert!(msg.contains("r2"), "{msg}");
+    }
+
+    #[test]
+    fn fused_density_and_derivatives_equal_the_three_calls_to_the_bit() {
+        // One inversion serves ρ, κ_T and α; over p ∈ [10³, 10¹¹] Pa and
+        // T ∈ [10², 10⁴] K for both forms, and the error for p ≤ 0.
+        let forms: [&dyn Eos; 3] = [
+            &Jwl::tnt(),
+            &crate::JwlCTerm::anfo_k1(),
+            &crate::JwlCTerm::qm100(),
+        ];
+        for eos in forms {
+            for i in 0..=16 {
+                for j in 0..=4 {
+                    let p = 10f64.powf(3.0 + 0.5 * f64::from(i));
+                    let t = 10f64.powf(2.0 + 0.5 * f64::from(j));
+                    let (rho, kappa, alpha) = eos.density_and_derivatives(p, t).unwrap();
+                    assert_eq!(rho.to_bits(), eos.density(p, t).unwrap().to_bits());
+                    let k = eos.isothermal_compressibility(p, t).unwrap();
+                    assert_eq!(kappa.to_bits(), k.to_bits());
+                    let a = eos.thermal_expansivity(p, t).unwrap();
+                    assert_eq!(alpha.to_bits(), a.to_bits());
+                }
+            }
+            assert_eq!(
+                eos.density_and_derivatives(-1.0, 300.0).unwrap_err(),
+                eos.density(-1.0, 300.0).unwrap_err()
+            );
+        }
     }
 
     #[test]
