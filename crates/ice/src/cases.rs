@@ -289,7 +289,9 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
         level,
         [
             IceBoundary::FixedVelocity([0.0; 3]),
-            IceBoundary::Outflow,
+            // The stick continues beyond its far end and moves in through
+            // it (boundary.rs).
+            IceBoundary::ZeroGradient,
             IceBoundary::Symmetry,
             side.clone(),
             IceBoundary::Symmetry,

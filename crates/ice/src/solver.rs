@@ -571,7 +571,9 @@ impl<E: Eos> IceSolver<E> {
                 IceBoundary::Symmetry | IceBoundary::FixedVelocity(_) => {
                     (FaceBc::Reflective, FaceBc::Reflective, FaceBc::Reflective)
                 }
-                IceBoundary::Outflow => (FaceBc::Outflow, FaceBc::Outflow, FaceBc::Outflow),
+                IceBoundary::Outflow | IceBoundary::ZeroGradient => {
+                    (FaceBc::Outflow, FaceBc::Outflow, FaceBc::Outflow)
+                }
                 IceBoundary::Periodic => (FaceBc::Periodic, FaceBc::Periodic, FaceBc::Periodic),
                 IceBoundary::FixedState(cs) => {
                     let (sv, lv, pv) = solver.fixed_values(cs).map_err(|e| {

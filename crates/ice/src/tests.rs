@@ -948,3 +948,30 @@ mod outflow_proptests {
         }
     }
 }
+
+/// The far end of the rate stick: a column moving at 50 m/s into the
+/// domain through a `ZeroGradient` face is fed with its own state and stays
+/// uniform (the exact solution); through an `Outflow` face nothing comes
+/// in, so the column draws away from the face in a rarefaction.
+#[test]
+fn a_zero_gradient_face_feeds_the_column_and_an_outflow_face_does_not() {
+    use IceBoundary::{Outflow, ZeroGradient};
+    let (rho, u, p) = (1.2, -50.0, 1.0e5);
+    let mut fed = column(20, [Outflow, ZeroGradient], |_| (rho, u, p));
+    let mut closed = column(20, [Outflow, Outflow], |_| (rho, u, p));
+    let before = all_fields(&fed);
+    for _ in 0..10 {
+        fed.advance(1.0e-5).unwrap();
+        closed.advance(1.0e-5).unwrap();
+    }
+    for ((name, a), (_, b)) in before.iter().zip(&all_fields(&fed)) {
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x - y).abs() <= 1e-12 * x.abs().max(1e-3),
+                "{name}: {x} -> {y}"
+            );
+        }
+    }
+    let d = closed.cell_data(&["density".into()]).unwrap();
+    assert!(d.field("density").unwrap()[19] < 0.99 * rho);
+}
