@@ -74,6 +74,91 @@ fn eos_pressure(c: &mut Criterion) {
     group.finish();
 }
 
+/// The copper of the E-CYLINDER ICE–MPM run (configs/cylinder_icempm.ron):
+/// Mie–Grüneisen on the linear Uₛ–uₚ Hugoniot under the one-atmosphere
+/// solid threshold, through the registry enum as the ICE solver sees it.
+fn cylinder_copper() -> EosModel {
+    EosModel::SolidThreshold(SolidThreshold::new(SolidEos::MieGruneisenLinear(
+        MieGruneisenLinear {
+            c0: 3619.7,
+            s: 1.489,
+            gamma0: 2.02,
+            rho0: 8930.0,
+            cv: 383.0,
+            t0: 300.0,
+        },
+    )))
+}
+
+/// ρ(p, T) inversions per second of the E-CYLINDER copper: `density` alone,
+/// the three calls the ICE equilibration makes at one (p, T) (`density`,
+/// `isothermal_compressibility`, `thermal_expansivity`), and the fused
+/// `density_and_derivatives` that answers all three from one inversion.
+/// Two sets of 1024 states: `ambient` cycles the eight (p, T) pairs that
+/// make up 65 % of the run's copper solves (1 atm and T within round-off
+/// of 300 K, sampled from a 2 µs run), `spread` covers 1 kPa to 10 GPa
+/// (log-spaced, below and above the threshold) at 300 to 1500 K.
+fn eos_density_inversion(c: &mut Criterion) {
+    let copper = cylinder_copper();
+    let n = 1024;
+    let hot = [
+        (101_325.0, 299.999_999_999_988_9),
+        (101_338.600_180_481_56, 299.999_999_999_988_9),
+        (101_324.999_998_941_48, 299.999_999_999_988_9),
+        (101_324.999_996_751_62, 299.999_999_999_988_9),
+        (101_338.304_379_088_66, 300.0),
+        (101_325.000_001_605_24, 299.999_999_999_988_9),
+        (101_338.436_150_204_72, 300.0),
+        (101_338.418_287_095_57, 299.999_999_999_988_9),
+    ];
+    let ambient: Vec<(f64, f64)> = (0..n).map(|k| hot[k % hot.len()]).collect();
+    let spread: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            let f = k as f64 / n as f64;
+            let g = ((k * 37) % n) as f64 / n as f64;
+            (10f64.powf(3.0 + 7.0 * f), 300.0 + 1200.0 * g)
+        })
+        .collect();
+    let mut group = c.benchmark_group("eos_density_inversion");
+    group.throughput(Throughput::Elements(n as u64));
+    for (set, states) in [("ambient", &ambient), ("spread", &spread)] {
+        group.bench_with_input(BenchmarkId::new("density", set), states, |b, states| {
+            b.iter(|| {
+                states
+                    .iter()
+                    .map(|&(p, t)| copper.density(black_box(p), black_box(t)).unwrap_or(0.0))
+                    .sum::<f64>()
+            })
+        });
+        group.bench_with_input(BenchmarkId::new("three_calls", set), states, |b, states| {
+            b.iter(|| {
+                states
+                    .iter()
+                    .map(|&(p, t)| {
+                        let (p, t) = (black_box(p), black_box(t));
+                        copper.density(p, t).unwrap_or(0.0)
+                            + copper.isothermal_compressibility(p, t).unwrap_or(0.0)
+                            + copper.thermal_expansivity(p, t).unwrap_or(0.0)
+                    })
+                    .sum::<f64>()
+            })
+        });
+        group.bench_with_input(BenchmarkId::new("fused", set), states, |b, states| {
+            b.iter(|| {
+                states
+                    .iter()
+                    .map(|&(p, t)| {
+                        copper
+                            .density_and_derivatives(black_box(p), black_box(t))
+                            .map_or(0.0, |(rho, kappa, alpha)| rho + kappa + alpha)
+                    })
+                    .sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+}
+
 /// One explicit MPM step (MUSL) of a 3D elastic-plastic copper block with
 /// 2 x 2 x 2 particles per cell: particle-steps per second, for linear and
 /// quadratic B-spline shape functions.
@@ -318,6 +403,7 @@ criterion_group!(
     benches,
     fdm_lax_wendroff,
     eos_pressure,
+    eos_density_inversion,
     mpm_step,
     mpm_kernels,
     pd_bond_forces
