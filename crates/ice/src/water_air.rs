@@ -225,8 +225,9 @@ mod tests {
     /// fixed_energy_equilibration`, which this case turns on) the tube runs;
     /// it fails the shock bound: the air shock lags the exact one by about
     /// 2.5 cells at this resolution (V-WATER-AIR-ICE in docs/validation.md):
-    /// an offset formed while the shocked air layer is thinner than the
-    /// smeared contact, not a wrong shock speed
+    /// the air in the smeared contact is four to seven times too dense,
+    /// because step 12's separately limited total energy and velocity drain
+    /// its internal energy where its kinetic energy is 10–30 times larger
     /// (docs/physics/ice/water_air.md, "Why the air shock lags two cells").
     #[test]
     #[ignore = "fails: the air shock lags the exact one by about 2.5 cells against the 2-cell bound (docs/validation.md, V-WATER-AIR-ICE)"]
