@@ -149,6 +149,11 @@ impl Eos for IdealGas {
         self.density(p, t)?;
         Ok(1.0 / t)
     }
+
+    /// (ρ, 1/p, 1/T) with the state checked once.
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        Ok((self.density(p, t)?, 1.0 / p, 1.0 / t))
+    }
 }
 
 #[cfg(test)]

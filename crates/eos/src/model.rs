@@ -153,6 +153,7 @@ impl EosModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{JwlCTerm, MieGruneisenCubic, MieGruneisenThermal};
 
     fn ron() -> ron::Options {
         ron::Options::default().with_default_extension(
@@ -184,6 +185,50 @@ mod tests {
             .unwrap_err();
         assert!(err.to_string().contains("IdealGas"), "{err}");
         assert_eq!(EosModel::VARIANTS.len(), 8);
+    }
+
+    #[test]
+    fn every_variant_fuses_density_and_derivatives_to_the_bit() {
+        // Each model's density_and_derivatives against its three separate
+        // calls, through the registry, at states inside and outside each
+        // model's domain (errors must be the first separate call's).
+        let models = [
+            EosModel::IdealGas(IdealGas::air()),
+            EosModel::Jwl(Jwl::tnt()),
+            EosModel::JwlCTerm(JwlCTerm::qm100()),
+            EosModel::Murnaghan(Murnaghan::anfo_k1()),
+            EosModel::MieGruneisenCubic(MieGruneisenCubic::steel_seed001()),
+            EosModel::MieGruneisenLinear(MieGruneisenLinear::ofhc_copper()),
+            EosModel::MieGruneisenThermal(MieGruneisenThermal::hmx_seed003()),
+            EosModel::SolidThreshold(SolidThreshold::new(SolidEos::MieGruneisenLinear(
+                MieGruneisenLinear::ofhc_copper(),
+            ))),
+        ];
+        assert_eq!(models.len(), EosModel::VARIANTS.len());
+        for m in &models {
+            for p in [-3e9, -1.0, 0.0, 1.0, 101_325.0, 1e8, 1e10, 1e12, f64::NAN] {
+                for t in [0.0, 1.0, 300.0, 3000.0, 1e5] {
+                    let fused = m.density_and_derivatives(p, t);
+                    let separate = m.density(p, t).and_then(|rho| {
+                        Ok((
+                            rho,
+                            m.isothermal_compressibility(p, t)?,
+                            m.thermal_expansivity(p, t)?,
+                        ))
+                    });
+                    match (&fused, &separate) {
+                        (Ok(a), Ok(b)) => assert!(
+                            a.0.to_bits() == b.0.to_bits()
+                                && a.1.to_bits() == b.1.to_bits()
+                                && a.2.to_bits() == b.2.to_bits(),
+                            "{}: {a:?} vs {b:?} at p = {p}, T = {t}",
+                            m.variant()
+                        ),
+                        _ => assert_eq!(fused, separate, "{} at p = {p}, T = {t}", m.variant()),
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -220,6 +220,12 @@ impl Eos for Murnaghan {
         self.tension_base(p, t)?;
         Ok(0.0)
     }
+
+    /// (ρ, κ_T, 0) from one tension base 1 + nκp.
+    fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
+        let base = self.tension_base(p, t)?;
+        Ok((self.rho0 * base.powf(1.0 / self.n), self.kappa / base, 0.0))
+    }
 }
 
 impl Murnaghan {
