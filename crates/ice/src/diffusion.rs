@@ -17,9 +17,15 @@
 //! tangential derivatives on a face are the mean of the two cells' centred
 //! differences. See docs/physics/ice/diffusion.md.
 
+use brisance_core::{Eos, Solver, SolverError};
+use brisance_eos::{IdealGas, Murnaghan};
+use brisance_grid::Level;
 use serde::{Deserialize, Serialize};
 
-use crate::IceError;
+use crate::{
+    CellState, ExchangeCoefficients, IceBoundary, IceError, IceOptions, IceSolver, MaterialState,
+    GHOST,
+};
 
 /// Transport coefficients of one material. Both default to 0, which skips
 /// the material in the diffusion pass.
@@ -182,6 +188,154 @@ impl TimeStepLimits {
             TimeStepLimit::Convective
         }
     }
+}
+
+/// One run of a decaying-wave case ([`shear_wave`], [`temperature_wave`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WaveRun {
+    /// Cells along x.
+    pub cells: usize,
+    /// Measured decay rate over the exact one, minus 1.
+    pub rate_error: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// The first step's Δt, s.
+    pub dt: f64,
+    /// The limit that set it.
+    pub binding: TimeStepLimit,
+    /// Relative change of the total energy over the run.
+    pub energy_change: f64,
+}
+
+/// Amplitude of the sin(2πx) part of cell values `f` on [0, 1].
+pub fn sine_amplitude(f: &[f64]) -> f64 {
+    let n = f.len();
+    let mean = f.iter().sum::<f64>() / n as f64;
+    let k = 2.0 * std::f64::consts::PI;
+    2.0 / n as f64
+        * f.iter()
+            .enumerate()
+            .map(|(i, v)| (v - mean) * (k * (i as f64 + 0.5) / n as f64).sin())
+            .sum::<f64>()
+}
+
+/// Wave number of the cases, k = 2π on [0, 1].
+pub const WAVE_NUMBER: f64 = 2.0 * std::f64::consts::PI;
+/// End time of the cases.
+pub const WAVE_END: f64 = 0.1;
+
+fn periodic_tube<E: Eos>(
+    eos: E,
+    cells: usize,
+    state: impl Fn([f64; 3]) -> CellState + Sync,
+    transport: MaterialTransport,
+) -> Result<IceSolver<E>, IceError> {
+    let level = Level::new([0.0; 3], [1.0, 0.1, 0.1], [cells, 1, 1], [1, 1, 1], GHOST)
+        .map_err(|e| IceError::Invalid(e.to_string()))?;
+    let mut s = IceSolver::new(
+        vec![eos],
+        level,
+        std::array::from_fn(|_| IceBoundary::Periodic),
+        ExchangeCoefficients::uniform(1, 0.0, 0.0),
+        IceOptions::default(),
+        state,
+    )?;
+    s.set_transport(vec![transport])?;
+    Ok(s)
+}
+
+fn run_wave<E: Eos>(
+    mut s: IceSolver<E>,
+    cells: usize,
+    exact_rate: f64,
+    amplitude: f64,
+    field: &str,
+) -> Result<WaveRun, SolverError> {
+    let limits = s.time_step_limits()?;
+    let e0 = s.conservation_totals().energy;
+    crate::cases::run_to(&mut s, WAVE_END)?;
+    let e1 = s.conservation_totals().energy;
+    let data = s.cell_data(&[field.to_string()])?;
+    let f = data.field(field).expect("the field asked for");
+    let rate = -(sine_amplitude(f) / amplitude).ln() / WAVE_END;
+    Ok(WaveRun {
+        cells,
+        rate_error: rate / exact_rate - 1.0,
+        steps: s.steps(),
+        dt: limits.stable,
+        binding: limits.binding(),
+        energy_change: (e1 - e0) / e0,
+    })
+}
+
+/// The decaying shear wave u_y = U sin(kx) e^{−νk²t} (k = 2π) in a periodic
+/// tube of a γ = 1.4 gas (ρ = 1, p = 1, c_v = 1), μ = 0.05 (ν = 0.05),
+/// U = 10⁻³ (the viscous heating is negligible), to t = 0.1 at the
+/// solver's own Δt (cfl 0.4).
+pub fn shear_wave(cells: usize) -> Result<WaveRun, SolverError> {
+    let (mu, u0) = (0.05, 1e-3);
+    let k = WAVE_NUMBER;
+    let s = periodic_tube(
+        IdealGas::new(1.4, 1.0, 1.0),
+        cells,
+        |x| CellState {
+            pressure: 1.0,
+            materials: vec![MaterialState {
+                volume_fraction: 1.0,
+                density: 1.0,
+                velocity: [0.0, u0 * (k * x[0]).sin(), 0.0],
+            }],
+        },
+        MaterialTransport {
+            viscosity: mu,
+            thermal_conductivity: 0.0,
+        },
+    )
+    .map_err(|e| SolverError::Other(e.to_string()))?;
+    run_wave(s, cells, mu * k * k, u0, "velocity_y")
+}
+
+/// The Murnaghan solid of the temperature wave: ρ₀ = 1, κ = 1 (c₀ = 1),
+/// n = 7, c_v = 1000, T_ref = 1 K. Its pressure depends on ρ alone (no
+/// thermal expansion), so heat conducts at constant volume and
+/// ρ c_v ∂T/∂t = k ∇²T holds exactly.
+pub fn wave_solid() -> Murnaghan {
+    Murnaghan {
+        n: 7.0,
+        kappa: 1.0,
+        rho0: 1.0,
+        cv: 1000.0,
+        t_ref: 1.0,
+    }
+}
+
+/// The decaying temperature wave T = T₀ + ΔT sin(kx) e^{−αk²t}
+/// (α = k/(ρ c_v) = 0.05, T₀ = 300 K, ΔT = 10 K) in a periodic tube of
+/// [`wave_solid`] at ρ = 1.01, to t = 0.1 at the solver's own Δt (cfl 0.4).
+pub fn temperature_wave(cells: usize) -> Result<WaveRun, SolverError> {
+    let m = wave_solid();
+    let rho = 1.01;
+    let (alpha, t0, dtemp) = (0.05, 300.0, 10.0);
+    let k = WAVE_NUMBER;
+    let mut s = periodic_tube(
+        m,
+        cells,
+        |_| CellState {
+            pressure: m.pressure(rho, 0.0),
+            materials: vec![MaterialState {
+                volume_fraction: 1.0,
+                density: rho,
+                velocity: [0.0; 3],
+            }],
+        },
+        MaterialTransport {
+            viscosity: 0.0,
+            thermal_conductivity: alpha * rho * m.cv,
+        },
+    )
+    .map_err(|e| SolverError::Other(e.to_string()))?;
+    s.set_temperature(0, |x| t0 + dtemp * (k * x[0]).sin())?;
+    run_wave(s, cells, alpha * k * k, dtemp, "temperature")
 }
 
 #[cfg(test)]

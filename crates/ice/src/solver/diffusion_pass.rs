@@ -12,8 +12,8 @@ use brisance_core::{Eos, Solver, SolverError};
 use rayon::prelude::*;
 
 use super::{
-    par_cells, par_faces, par_interior, Disjoint, IceSolver, L_ENERGY, L_RHO, L_VEL, NL, NS, TEMP,
-    THETA, VEL, VSP,
+    par_cells, par_faces, par_interior, Disjoint, IceSolver, ENERGY, L_ENERGY, L_RHO, L_VEL, NL,
+    NS, TEMP, THETA, VEL, VSP,
 };
 use crate::diffusion::{
     apply_increment, conduction_time_step, face_coefficient, inverse_spacing_squared, stress_row,
@@ -290,6 +290,30 @@ impl<E: Eos> IceSolver<E> {
     pub(super) fn diffusive_time_step(&self) -> f64 {
         let (v, k) = self.diffusive_time_steps();
         v.min(k)
+    }
+
+    /// Sets material `r`'s temperature to `temperature(cell centre)` at its
+    /// present specific volume (the energy from its EOS), then
+    /// re-equilibrates (step 2): an initial temperature field that a
+    /// [`crate::CellState`] (a pressure and densities) cannot give, as for a
+    /// material whose pressure does not depend on its temperature.
+    pub fn set_temperature(
+        &mut self,
+        r: usize,
+        temperature: impl Fn([f64; 3]) -> f64 + Sync,
+    ) -> Result<(), SolverError> {
+        assert!(r < self.eos.len(), "material {r} out of range");
+        let eos = &self.eos[r];
+        let geometry = self.level.geometry;
+        let nc = geometry.cells;
+        let b = r * NS;
+        super::for_each_cell_global(&self.level, &mut self.state, |g, d, c| {
+            let cell = [g % nc[0], (g / nc[0]) % nc[1], g / (nc[0] * nc[1])];
+            let t = temperature(geometry.cell_centre(cell));
+            d[b + ENERGY][c] =
+                eos.specific_internal_energy_from_temperature(1.0 / d[b + VSP][c], t);
+        });
+        self.compute_equilibration_pressure()
     }
 
     /// The stable time step and the viscous and conduction limits, so that

@@ -2,13 +2,13 @@
 //! exact or hand-computed values.
 
 use brisance_core::{Eos, Solver};
-use brisance_eos::{IdealGas, Murnaghan};
+use brisance_eos::IdealGas;
 use brisance_grid::Level;
 use proptest::prelude::*;
 
 use super::super::{for_interior, global_of, IceSolver, ENERGY, GHOST, L_ENERGY, L_RHO, L_VEL};
 use super::super::{NL, NS, RHO, TEMP, THETA, VEL};
-use crate::cases::run_to;
+use crate::diffusion::{shear_wave, temperature_wave};
 use crate::{
     CellState, ExchangeCoefficients, IceBoundary, IceOptions, MaterialState, MaterialTransport,
     TimeStepLimit,
@@ -187,47 +187,13 @@ fn couette_profile_has_no_net_force_and_the_exact_wall_stress() {
     }
 }
 
-/// Amplitude of the sin(2πx) part of `f` on `n` cells of [0, 1].
-fn sine_amplitude(f: &[f64]) -> f64 {
-    let n = f.len();
-    let mean = f.iter().sum::<f64>() / n as f64;
-    2.0 / n as f64
-        * f.iter()
-            .enumerate()
-            .map(|(i, v)| {
-                (v - mean) * (2.0 * std::f64::consts::PI * (i as f64 + 0.5) / n as f64).sin()
-            })
-            .sum::<f64>()
-}
-
-/// The decaying shear wave u_y = U sin(kx) e^{−νk²t} in a periodic gas
-/// tube (ν = μ/ρ = 0.05, k = 2π, U = 10⁻³ so that the viscous heating is
-/// negligible): the measured decay rate against νk², and the limit that
-/// set Δt.
-fn shear_wave_rate_error(cells: usize) -> (f64, TimeStepLimit) {
-    let (mu, u0, t_end) = (0.05, 1e-3, 0.1);
-    let k = 2.0 * std::f64::consts::PI;
-    let mut s = solver(
-        vec![gas()],
-        [cells, 1, 1],
-        [1, 1, 1],
-        std::array::from_fn(|_| IceBoundary::Periodic),
-        0.0,
-        0.4,
-        |x| one(1.0, 1.0, [0.0, u0 * (k * x[0]).sin(), 0.0]),
-    );
-    s.set_transport(vec![transport(mu, 0.0)]).unwrap();
-    let binding = s.time_step_limits().unwrap().binding();
-    run_to(&mut s, t_end).unwrap();
-    let uy = gather(&s, |d, _, c| d[VEL + 1][c]);
-    let rate = -(sine_amplitude(&uy) / u0).ln() / t_end;
-    (rate / (mu * k * k) - 1.0, binding)
-}
-
+/// The decaying shear wave of [`shear_wave`] (u_y = U sin(kx) e^{−νk²t})
+/// at 32 and 64 cells: the decay rate against νk², second order.
 #[test]
 fn the_shear_wave_decays_at_nu_k_squared_with_second_order_convergence() {
-    let (e32, b32) = shear_wave_rate_error(32);
-    let (e64, b64) = shear_wave_rate_error(64);
+    let (r32, r64) = (shear_wave(32).unwrap(), shear_wave(64).unwrap());
+    let (e32, b32) = (r32.rate_error, r32.binding);
+    let (e64, b64) = (r64.rate_error, r64.binding);
     eprintln!("shear wave: rate error {e32:e} (32 cells), {e64:e} (64 cells)");
     assert_eq!((b32, b64), (TimeStepLimit::Viscous, TimeStepLimit::Viscous));
     assert!(e32.abs() < 5e-4, "{e32:e}");
@@ -236,56 +202,14 @@ fn the_shear_wave_decays_at_nu_k_squared_with_second_order_convergence() {
     assert!((order - 2.0).abs() < 0.15, "order {order}");
 }
 
-/// A Murnaghan solid with ρ₀ = 1, κ = 1 (c₀ = 1), c_v = 1000: no thermal
-/// expansion (p depends on ρ alone), so heat conducts at constant volume and
-/// the temperature obeys ρ c_v ∂T/∂t = k ∇²T exactly.
-fn solid() -> Murnaghan {
-    Murnaghan {
-        n: 7.0,
-        kappa: 1.0,
-        rho0: 1.0,
-        cv: 1000.0,
-        t_ref: 1.0,
-    }
-}
-
-/// The decaying temperature wave T = T₀ + ΔT sin(kx) e^{−αk²t},
-/// α = k/(ρ c_v) = 0.05, in a periodic tube of the solid: the decay-rate
-/// error, the relative change of the total energy, and the binding limit.
-fn temperature_wave(cells: usize) -> (f64, f64, TimeStepLimit) {
-    let m = solid();
-    let rho = 1.01;
-    let p = m.pressure(rho, 0.0);
-    let (alpha, t0, dtemp, t_end) = (0.05, 300.0, 10.0, 0.1);
-    let conductivity = alpha * rho * m.cv;
-    let k = 2.0 * std::f64::consts::PI;
-    let mut s = solver(
-        vec![m],
-        [cells, 1, 1],
-        [1, 1, 1],
-        std::array::from_fn(|_| IceBoundary::Periodic),
-        0.0,
-        0.4,
-        |_| one(p, rho, [0.0; 3]),
-    );
-    edit_state(&mut s, |x, v| {
-        v[ENERGY] = m.specific_internal_energy_from_temperature(rho, t0 + dtemp * (k * x[0]).sin());
-    });
-    s.compute_equilibration_pressure().unwrap();
-    s.set_transport(vec![transport(0.0, conductivity)]).unwrap();
-    let binding = s.time_step_limits().unwrap().binding();
-    let e0 = s.conservation_totals().energy;
-    run_to(&mut s, t_end).unwrap();
-    let e1 = s.conservation_totals().energy;
-    let temp = gather(&s, |d, _, c| d[TEMP][c]);
-    let rate = -(sine_amplitude(&temp) / dtemp).ln() / t_end;
-    (rate / (alpha * k * k) - 1.0, (e1 - e0) / e0, binding)
-}
-
+/// The decaying temperature wave of [`temperature_wave`]
+/// (T = T₀ + ΔT sin(kx) e^{−αk²t}, α = k/(ρc_v)) at 32 and 64 cells: the
+/// decay rate against αk², second order, and the total energy kept.
 #[test]
 fn the_temperature_wave_decays_at_alpha_k_squared_with_second_order_convergence() {
-    let (e32, de32, b32) = temperature_wave(32);
-    let (e64, de64, b64) = temperature_wave(64);
+    let (r32, r64) = (temperature_wave(32).unwrap(), temperature_wave(64).unwrap());
+    let (e32, de32, b32) = (r32.rate_error, r32.energy_change, r32.binding);
+    let (e64, de64, b64) = (r64.rate_error, r64.energy_change, r64.binding);
     eprintln!(
         "temperature wave: rate error {e32:e} (32 cells), {e64:e} (64 cells); energy change {de32:e}, {de64:e}"
     );
