@@ -8,6 +8,7 @@
 
 mod bridge_cases;
 mod ice_cases;
+mod ice_diffusion;
 mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
@@ -730,6 +731,7 @@ const CASES: [&str; 24] = [
     "sod-ice",
     "ratestick",
     "water-air-ice",
+    "ice-diffusion",
     "piston",
     "cylinder",
     "smooth",
@@ -789,6 +791,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("water-air-ice") {
         ice_cases::v_water_air_ice(&mut body, &img)?;
+    }
+    if run("ice-diffusion") {
+        ice_diffusion::v_ice_diffusion(&mut body)?;
     }
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;

@@ -22,6 +22,11 @@
 //! ρ₀, and is then the JWL++ detonation energy of the products
 //! (`brisance_reaction::jwlpp::detonation_energy`).
 //!
+//! `transport` gives materials a Newtonian viscosity and a thermal
+//! conductivity (seed 000 eqs 2–3, docs/physics/ice/diffusion.md), keyed by
+//! material: `transport: {"air": (viscosity: 1.8e-5, thermal_conductivity:
+//! 0.026)}`; a material left out, or a field left out, is 0 (no pass).
+//!
 //! Faces: `Outflow` → zero-gradient outflow, `Reflective` → symmetry plane
 //! (slip wall), `Wall` → a fixed wall of velocity 0, `Periodic` → periodic;
 //! `Fixed` states are not supported by this pipeline.
@@ -31,7 +36,7 @@ use brisance_eos::EosModel;
 use brisance_grid::Level;
 use brisance_ice::{
     Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
-    JwlPlusPlus, MaterialState, GHOST, MAX_MATERIALS,
+    JwlPlusPlus, MaterialState, MaterialTransport, GHOST, MAX_MATERIALS,
 };
 use serde::{Deserialize, Serialize};
 
@@ -75,6 +80,11 @@ pub struct IceConfig {
     /// for stiffened gases, about a third more per step).
     #[serde(default)]
     pub fixed_energy_equilibration: bool,
+    /// Viscosity (Pa·s) and thermal conductivity (W/(m·K)) per material,
+    /// keyed by material name (default none: all 0; seed 000 eqs 2–3,
+    /// docs/physics/ice/diffusion.md).
+    #[serde(default)]
+    pub transport: std::collections::BTreeMap<String, MaterialTransport>,
 }
 
 /// One reaction of the Ice pipeline.
@@ -289,6 +299,28 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
             return Err((path.into(), format!("{v} must be finite and ≥ 0")));
         }
     }
+    for (name, t) in &cfg.transport {
+        if !cfg.materials.contains(name) {
+            return Err((
+                format!("pipeline.transport.{name}"),
+                format!(
+                    "`{name}` is not in pipeline.materials ({})",
+                    cfg.materials.join(", ")
+                ),
+            ));
+        }
+        for (field, v) in [
+            ("viscosity", t.viscosity),
+            ("thermal_conductivity", t.thermal_conductivity),
+        ] {
+            if !(v >= 0.0 && v.is_finite()) {
+                return Err((
+                    format!("pipeline.transport.{name}.{field}"),
+                    format!("{v} must be finite and ≥ 0"),
+                ));
+            }
+        }
+    }
     for (face, bc) in s.boundaries.faces() {
         if matches!(bc, BoundaryConfig::Fixed(_)) {
             return Err((
@@ -469,6 +501,16 @@ pub(crate) fn build_with_traces(
     solver
         .set_reactions(reactions)
         .map_err(|e| ("pipeline.reactions".to_string(), e.to_string()))?;
+    if !cfg.transport.is_empty() {
+        let transport = cfg
+            .materials
+            .iter()
+            .map(|m| cfg.transport.get(m).copied().unwrap_or_default())
+            .collect();
+        solver
+            .set_transport(transport)
+            .map_err(|e| ("pipeline.transport".to_string(), e.to_string()))?;
+    }
     Ok(solver)
 }
 
@@ -658,5 +700,48 @@ mod tests {
         )
         .unwrap_err();
         assert_eq!(err.field.as_deref(), Some("materials.steel.eos"), "{err}");
+    }
+
+    /// `transport` reaches the solver per material (a field left out is
+    /// 0), and a bad entry is reported at its field.
+    #[test]
+    fn transport_reaches_the_solver_and_bad_values_name_the_field() {
+        let with = |t: &str| {
+            SOD.replace(
+                "pipeline: Ice(materials: [\"gas\"]),",
+                &format!("pipeline: Ice(materials: [\"gas\"], transport: {t}),"),
+            )
+        };
+        let cfg = with("{\"gas\": (viscosity: 0.01, thermal_conductivity: 0.02)}");
+        let loaded = load_str("sod_ice.ron", &cfg, &["domain.cells=(20,1,1)".into()]).unwrap();
+        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+            panic!("an Ice pipeline");
+        };
+        let solver = super::build(&loaded.scenario, ice).unwrap();
+        assert_eq!(solver.transport().len(), 1);
+        assert_eq!(solver.transport()[0].viscosity, 0.01);
+        assert_eq!(solver.transport()[0].thermal_conductivity, 0.02);
+        let limits = solver.time_step_limits().unwrap();
+        assert!(limits.viscous.is_finite() && limits.conduction.is_finite());
+        let cfg = with("{\"gas\": (thermal_conductivity: 0.5)}");
+        let loaded = load_str("sod_ice.ron", &cfg, &[]).unwrap();
+        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+            panic!("an Ice pipeline");
+        };
+        assert_eq!(ice.transport["gas"].viscosity, 0.0);
+        for (t, field) in [
+            ("{\"air\": (viscosity: 1.0)}", "pipeline.transport.air"),
+            (
+                "{\"gas\": (viscosity: -1.0)}",
+                "pipeline.transport.gas.viscosity",
+            ),
+            (
+                "{\"gas\": (thermal_conductivity: inf)}",
+                "pipeline.transport.gas.thermal_conductivity",
+            ),
+        ] {
+            let err = load_str("sod_ice.ron", &with(t), &[]).unwrap_err();
+            assert_eq!(err.field.as_deref(), Some(field), "{err}");
+        }
     }
 }

@@ -87,6 +87,12 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             ),
         ));
     }
+    if cfg.ice.transport.contains_key(&cfg.solid) {
+        return Err((
+            format!("pipeline.ice.transport.{}", cfg.solid),
+            "the solid's stress and heat flux are its particles'; give transport for the fluids only".into(),
+        ));
+    }
     if solid.eos().is_none() {
         return Err((
             format!("materials.{}.eos", cfg.solid),

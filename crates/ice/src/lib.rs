@@ -21,6 +21,8 @@
 //! - [`advection`]: step 12, van Leer compatible fluxes (seed 000 ref 15)
 //!   and first-order donor cell.
 //! - [`boundary`]: symmetry, outflow, fixed velocity, fixed state.
+//! - [`diffusion`]: the optional Newtonian viscous stress and heat
+//!   conduction of eqs 2–3 (step 8), per material.
 //! - [`riemann`], [`water_air`]: the exact two-stiffened-gas Riemann
 //!   solution and the water–air tube (the stiffened gas is
 //!   `brisance_eos::StiffenedGas`).
@@ -35,6 +37,7 @@
 pub mod advection;
 pub mod boundary;
 pub mod cases;
+pub mod diffusion;
 pub mod equilibration;
 pub mod exchange;
 pub mod face_velocity;
@@ -49,6 +52,7 @@ pub mod water_air;
 pub use advection::Advection;
 pub use boundary::IceBoundary;
 pub use brisance_reaction::jwlpp::JwlPlusPlus;
+pub use diffusion::{MaterialTransport, TimeStepLimit, TimeStepLimits};
 pub use equilibration::{
     equilibration_pressure, EquilibrationError, EquilibrationReport, EquilibrationSettings,
     MAX_MATERIALS,

@@ -43,6 +43,9 @@ use crate::pressure::{face_pressure, pressure_increment};
 use crate::reaction::{transfer_burnt_mass, IceReaction, Parcel};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 
+// Viscous stress and heat conduction (seed 000 eqs 2–3).
+mod diffusion_pass;
+
 /// Ghost layers the solver needs (van Leer differences of a donor that is
 /// itself a ghost cell).
 pub const GHOST: usize = 2;
@@ -451,6 +454,8 @@ pub struct IceSolver<E: Eos> {
     /// Mass, momentum and energy the coupled equilibration gave the
     /// Eulerian materials since the start ([`IceSolver::rescaled_totals`]).
     rescaled: ConservationTotals,
+    /// Viscosities and conductivities ([`IceSolver::set_transport`]).
+    transport: diffusion_pass::Transport,
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -563,6 +568,7 @@ impl<E: Eos> IceSolver<E> {
             last_equilibration: EquilibrationStats::default(),
             lagrangian: vec![false; n],
             rescaled: ConservationTotals::default(),
+            transport: Default::default(),
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -1455,7 +1461,10 @@ impl<E: Eos> IceSolver<E> {
             })
             .reduce(|| None, first_failure);
         match fail {
-            None => Ok(()),
+            None => {
+                self.compute_diffusion_sources(dt);
+                Ok(())
+            }
             Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
                 time: self.time,
                 cell,
@@ -2339,6 +2348,12 @@ impl<E: Eos> Solver for IceSolver<E> {
             f64::INFINITY
         } else {
             f64::NAN
+        };
+        // The viscous and conduction limits (diffusion_pass); NaN stays NaN.
+        let dt = if dt.is_nan() {
+            dt
+        } else {
+            dt.min(self.diffusive_time_step())
         };
         if !(dt >= self.options.min_dt) {
             return Err(SolverError::TimeStepCollapse {
