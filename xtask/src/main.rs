@@ -8,6 +8,7 @@
 
 mod bridge_cases;
 mod ice_cases;
+mod ice_implicit;
 mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
@@ -724,11 +725,12 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 23] = [
+const CASES: [&str; 24] = [
     "sod",
     "sod-ice",
     "ratestick",
     "water-air-ice",
+    "ice-implicit",
     "piston",
     "cylinder",
     "smooth",
@@ -787,6 +789,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("water-air-ice") {
         ice_cases::v_water_air_ice(&mut body, &img)?;
+    }
+    if run("ice-implicit") {
+        ice_implicit::v_ice_implicit(&mut body, &img)?;
     }
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;
