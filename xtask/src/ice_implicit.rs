@@ -321,20 +321,20 @@ pub fn v_ice_implicit(report: &mut Report, img: &Path) -> Result<()> {
     let worst = d30.iter().copied().fold(0.0, f64::max);
     report.target(
         "V-ICE-IMPLICIT largest L1 difference of ρ, u, p, T at 30 Δt_ac",
-        format!("{:.2} %", 100.0 * worst),
+        format!("{:.3} %", 100.0 * worst),
         "≤ 1 % (Mach 0.01)",
         worst <= 0.01,
     );
     report.target(
         "V-ICE-IMPLICIT L1(p) difference at 30 Δt_ac over the pressure rise",
-        format!("{:.2} %", 100.0 * rise30),
+        format!("{:.3} %", 100.0 * rise30),
         "≤ 1 %",
         rise30 <= 0.01,
     );
     let p_err = (mean(&runs[1].fields[2]) - p_exact).abs() / (p_exact - P0);
     report.target(
         "V-ICE-IMPLICIT mean p at 30 Δt_ac vs quasi-static, over the rise",
-        format!("{:.2} %", 100.0 * p_err),
+        format!("{:.4} %", 100.0 * p_err),
         "≤ 1 % (O(Mach))",
         p_err <= 0.01,
     );
