@@ -9,6 +9,7 @@
 mod bridge_cases;
 mod ice_cases;
 mod ice_diffusion;
+mod ice_implicit;
 mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
@@ -726,12 +727,13 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 24] = [
+const CASES: [&str; 26] = [
     "sod",
     "sod-ice",
     "ratestick",
     "water-air-ice",
     "ice-diffusion",
+    "ice-implicit",
     "piston",
     "cylinder",
     "smooth",
@@ -794,6 +796,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("ice-diffusion") {
         ice_diffusion::v_ice_diffusion(&mut body)?;
+    }
+    if run("ice-implicit") {
+        ice_implicit::v_ice_implicit(&mut body, &img)?;
     }
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;

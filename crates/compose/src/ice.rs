@@ -36,7 +36,7 @@ use brisance_eos::EosModel;
 use brisance_grid::Level;
 use brisance_ice::{
     Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
-    JwlPlusPlus, MaterialState, MaterialTransport, GHOST, MAX_MATERIALS,
+    JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve, GHOST, MAX_MATERIALS,
 };
 use serde::{Deserialize, Serialize};
 
@@ -85,6 +85,12 @@ pub struct IceConfig {
     /// docs/physics/ice/diffusion.md).
     #[serde(default)]
     pub transport: std::collections::BTreeMap<String, MaterialTransport>,
+    /// Pressure of steps 3 and 5: `Explicit` (default; Δt at the
+    /// sound-speed CFL) or `Implicit(tolerance: 1e-10, max_iterations: 20)`
+    /// (both fields optional; Δt at the material-velocity CFL; see
+    /// docs/physics/ice/implicit_pressure.md).
+    #[serde(default)]
+    pub pressure: PressureSolve,
 }
 
 /// One reaction of the Ice pipeline.
@@ -321,6 +327,16 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
             }
         }
     }
+    if let PressureSolve::Implicit(p) = cfg.pressure {
+        p.validate().map_err(|e| {
+            let field = if e.contains("`max_iterations`") {
+                "max_iterations"
+            } else {
+                "tolerance"
+            };
+            (format!("pipeline.pressure.{field}"), e)
+        })?;
+    }
     for (face, bc) in s.boundaries.faces() {
         if matches!(bc, BoundaryConfig::Fixed(_)) {
             return Err((
@@ -492,6 +508,7 @@ pub(crate) fn build_with_traces(
         advection: cfg.advection,
         conserve_total_energy: cfg.conserve_total_energy,
         fixed_energy_equilibration: cfg.fixed_energy_equilibration,
+        pressure: cfg.pressure,
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);
@@ -533,7 +550,8 @@ pub fn describe(s: &Scenario, cfg: &IceConfig) -> String {
     let eos = material_eos(s, cfg).unwrap_or_default();
     format!(
         "scenario `{}`: Ice pipeline (multi-material ICE, seed 000 §3.3), {} x {} x {} cells, \
-         {:?} advection, cfl {}, K {} kg/(m³·s), H {} W/(m³·K), total-energy closure {}\n  \
+         {:?} advection, cfl {}, K {} kg/(m³·s), H {} W/(m³·K), total-energy closure {}, \
+         pressure {:?}\n  \
          materials: {}\n  time: to {} s",
         s.name,
         d.cells[0],
@@ -544,6 +562,7 @@ pub fn describe(s: &Scenario, cfg: &IceConfig) -> String {
         cfg.momentum_exchange,
         cfg.heat_exchange,
         cfg.conserve_total_energy,
+        cfg.pressure,
         cfg.materials
             .iter()
             .zip(eos.iter().map(|e| e.name()).chain(std::iter::repeat("?")))
@@ -671,6 +690,52 @@ mod tests {
             Some("pipeline.reactions.0.heat_of_reaction"),
             "{err}"
         );
+    }
+
+    /// `pressure: Implicit(...)` reaches the solver's options (fields
+    /// left out take their defaults); bad settings name their field.
+    #[test]
+    fn implicit_pressure_is_reachable_from_the_config() {
+        use brisance_ice::{ImplicitPressure, PressureSolve};
+        let with = |p: &str| {
+            SOD.replace(
+                "pipeline: Ice(materials: [\"gas\"]),",
+                &format!("pipeline: Ice(materials: [\"gas\"], pressure: {p}),"),
+            )
+        };
+        let cfg = with("Implicit(tolerance: 1e-9)");
+        let loaded = load_str("sod_ice.ron", &cfg, &["domain.cells=(20,1,1)".into()]).unwrap();
+        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+            panic!("an Ice pipeline");
+        };
+        assert_eq!(
+            ice.pressure,
+            PressureSolve::Implicit(ImplicitPressure {
+                tolerance: 1e-9,
+                max_iterations: 20
+            })
+        );
+        let solver = super::build(&loaded.scenario, ice).unwrap();
+        assert_eq!(solver.options().pressure, ice.pressure);
+        let mut solver = build_solver(&loaded.scenario).unwrap();
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt.min(1e-3)).unwrap();
+        for (p, field) in [
+            ("Implicit(tolerance: -1.0)", "pipeline.pressure.tolerance"),
+            (
+                "Implicit(max_iterations: 0)",
+                "pipeline.pressure.max_iterations",
+            ),
+        ] {
+            let err = load_str("sod_ice.ron", &with(p), &[]).unwrap_err();
+            assert_eq!(err.field.as_deref(), Some(field), "{err}");
+        }
+        assert!(load_str("sod_ice.ron", &with("Implicit(tol: 1.0)"), &[]).is_err());
+        let default = load_str("sod_ice.ron", SOD, &[]).unwrap();
+        let crate::config::Pipeline::Ice(ice) = &default.scenario.pipeline else {
+            panic!("an Ice pipeline");
+        };
+        assert_eq!(ice.pressure, PressureSolve::Explicit);
     }
 
     /// Unknown names and a material without EOS are reported at their field.

@@ -123,6 +123,12 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             format!("no initial region is of the solid `{}`", cfg.solid),
         ));
     }
+    if cfg.ice.pressure != brisance_ice::PressureSolve::Explicit {
+        return Err((
+            "pipeline.ice.pressure".into(),
+            "the coupled step runs the explicit pressure only; use `Explicit`".into(),
+        ));
+    }
     let (si, ice) = ice_scenario(s, cfg);
     crate::ice::validate(&si, &ice).map_err(|e| under("ice", e))?;
     Ok(())

@@ -26,6 +26,9 @@
 //! - [`riemann`], [`water_air`]: the exact two-stiffened-gas Riemann
 //!   solution and the water–air tube (the stiffened gas is
 //!   `brisance_eos::StiffenedGas`).
+//! - [`solver::implicit`]: the implicit-pressure variant of steps 3 and 5
+//!   (end of §3.3), a pressure Helmholtz equation solved with faer and
+//!   iterated with the face velocities.
 //! - [`solver`]: the [`IceSolver`], the step sequence, the CFL time step and
 //!   the `Solver` implementation.
 //!
@@ -59,6 +62,7 @@ pub use equilibration::{
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::IceReaction;
+pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
 pub use solver::{EquilibrationStats, IceOptions, IceSolver, LagrangianCells, GHOST};
 
 #[cfg(test)]

@@ -45,6 +45,8 @@ use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 
 // Viscous stress and heat conduction (seed 000 eqs 2–3).
 mod diffusion_pass;
+pub mod implicit;
+use implicit::PressureSolve;
 
 /// Ghost layers the solver needs (van Leer differences of a donor that is
 /// itself a ghost cell).
@@ -99,6 +101,10 @@ pub struct IceOptions {
     /// leave a material off its own EOS (docs/physics/ice/water_air.md).
     /// Off by default: it costs about a third more per step.
     pub fixed_energy_equilibration: bool,
+    /// Steps 3 and 5 explicit (eqs 19–21 as printed, Δt at the sound-speed
+    /// CFL) or implicit in the pressure ([`implicit`], Δt at the
+    /// material-velocity CFL). Explicit by default.
+    pub pressure: PressureSolve,
 }
 
 impl Default for IceOptions {
@@ -111,6 +117,7 @@ impl Default for IceOptions {
             equilibration: EquilibrationSettings::default(),
             conserve_total_energy: true,
             fixed_energy_equilibration: false,
+            pressure: PressureSolve::Explicit,
         }
     }
 }
@@ -456,6 +463,8 @@ pub struct IceSolver<E: Eos> {
     rescaled: ConservationTotals,
     /// Viscosities and conductivities ([`IceSolver::set_transport`]).
     transport: diffusion_pass::Transport,
+    /// Work arrays and statistics of the implicit pressure solve.
+    implicit: implicit::ImplicitWorkspace,
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -498,6 +507,10 @@ impl<E: Eos> IceSolver<E> {
                 "ice: field `cfl` = {}, expected a value in (0, 1]",
                 options.cfl
             )));
+        }
+        if let PressureSolve::Implicit(s) = options.pressure {
+            s.validate()
+                .map_err(|e| IceError::Invalid(format!("ice: field `pressure`: {e}")))?;
         }
         if options.gravity.iter().any(|g| !g.is_finite()) {
             return Err(IceError::Invalid(
@@ -569,6 +582,7 @@ impl<E: Eos> IceSolver<E> {
             lagrangian: vec![false; n],
             rescaled: ConservationTotals::default(),
             transport: Default::default(),
+            implicit: Default::default(),
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -781,6 +795,11 @@ impl<E: Eos> IceSolver<E> {
                 "ice: {} Lagrangian flags given for {n} materials",
                 mask.len()
             )));
+        }
+        if mask.iter().any(|&l| l) && self.options.pressure != PressureSolve::Explicit {
+            return Err(IceError::Invalid(
+                "ice: field `pressure`: the implicit pressure is not available with materials carried by particles".into(),
+            ));
         }
         if mask.iter().all(|&l| l) {
             return Err(IceError::Invalid(
@@ -2288,7 +2307,14 @@ impl<E: Eos> Solver for IceSolver<E> {
     /// Δt = cfl / max over cells of Σ_d max_r (|u_r,d| + c_r)/Δx_d: the
     /// unsplit face fluxes move at most a fraction cfl of a cell's content
     /// per step, and pressure waves cross at most that fraction of a cell.
+    /// With the implicit pressure c_r is left out (pressure waves are
+    /// implicit) and moving walls count with their velocity.
     fn stable_dt(&self) -> Result<f64, SolverError> {
+        let acoustic = if self.options.pressure == PressureSolve::Explicit {
+            1.0
+        } else {
+            0.0
+        };
         let params = make_params(
             &self.eos,
             &self.reactions,
@@ -2322,7 +2348,9 @@ impl<E: Eos> Solver for IceSolver<E> {
                             }
                             let mut s = 0.0_f64;
                             for r in 0..n {
-                                s = s.max(d[r * NS + VEL + a][c].abs() + d[r * NS + SOUND][c]);
+                                s = s.max(
+                                    d[r * NS + VEL + a][c].abs() + acoustic * d[r * NS + SOUND][c],
+                                );
                             }
                             rate += s / params.spacing[a];
                         }
@@ -2342,6 +2370,11 @@ impl<E: Eos> Solver for IceSolver<E> {
                     }
                 },
             );
+        let max_rate = if acoustic == 0.0 {
+            max_rate.max(self.wall_rate())
+        } else {
+            max_rate
+        };
         let dt = if max_rate > 0.0 {
             self.options.cfl / max_rate
         } else if max_rate == 0.0 {
@@ -2370,8 +2403,13 @@ impl<E: Eos> Solver for IceSolver<E> {
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
-        self.compute_face_centred_velocities(dt);
-        self.compute_pressure_increment(dt);
+        match self.options.pressure {
+            PressureSolve::Explicit => {
+                self.compute_face_centred_velocities(dt);
+                self.compute_pressure_increment(dt);
+            }
+            PressureSolve::Implicit(s) => self.compute_implicit_pressure(dt, s)?,
+        }
         self.compute_lagrangian_values(dt)?;
         self.advect_fluids(dt)?;
         self.time += dt;
