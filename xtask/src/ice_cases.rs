@@ -351,6 +351,38 @@ fn run_stick(label: &str, cfg: &brisance::ice::cases::RateStick) -> Result<Stick
 /// Set BRISANCE_RATESTICK_3D=0 to skip them.
 const QUARTER_RADII: [f64; 5] = [4e-3, 6e-3, 8e-3, 12e-3, 20e-3];
 
+/// The finer cell of the quarter sticks that fit in the validate run, m.
+const FINE_H: f64 = 0.5e-3;
+
+/// Largest quarter-stick grid run at `FINE_H`, cells. The cost of a stick
+/// grows as cells × steps ∝ h⁻⁴: the 1 mm R = 4 mm stick (10 000 cells,
+/// 1026 steps, 27 s) becomes 80 000 cells and about 2000 steps at 0.5 mm,
+/// some 7 minutes on this 2-core machine, which the validate run can take
+/// once; R = 6 mm (115 200 cells) would add about 12 minutes more and
+/// R = 8, 12, 20 mm 20 to 80 minutes each, so they stay at 1 mm only.
+const FINE_CELL_BUDGET: usize = 100_000;
+
+/// Cells of the quarter-stick grid of `brisance::ice::cases::rate_stick`
+/// for cell size `h` and radius `radius` (both m): the stick's length over
+/// h along the axis, times (radius + air)/h squared across, each rounded
+/// as the solver rounds them.
+fn quarter_cells(h: f64, radius: f64) -> usize {
+    let c = brisance::ice::cases::RateStick::quarter(h, radius);
+    let nx = (c.length / h).round() as usize;
+    let nw = ((radius + c.air) / h).round() as usize;
+    nx * nw * nw
+}
+
+/// The radii of `QUARTER_RADII` whose quarter stick at `FINE_H` fits in
+/// `FINE_CELL_BUDGET` cells.
+fn fine_radii() -> Vec<f64> {
+    QUARTER_RADII
+        .iter()
+        .copied()
+        .filter(|&r| quarter_cells(FINE_H, r) <= FINE_CELL_BUDGET)
+        .collect()
+}
+
 /// The LLNL ANFO-K1 rate-stick measurements, (1/R in 1/mm, D in m/s): the
 /// experimental points of seed 000 Fig. 3 (P. C. Souers, S. Anderson,
 /// J. Mercer, E. McGuire, P. Vitello, "JWL++: a simple reactive flow code
@@ -432,7 +464,8 @@ fn quadratic_fit(points: &[(f64, f64)]) -> Option<[f64; 3]> {
 
 /// E-RATESTICK section of the report: the ANFO-K1 JWL++ rate stick of
 /// seed 000 §5.1 in 1D ("infinite radius") at h = 1, 0.5, 0.25 mm, and
-/// quarter-symmetry sticks in air at h = 1 mm.
+/// quarter-symmetry sticks in air at h = 1 mm, and at h = 0.5 mm for the
+/// radii whose grid fits in `FINE_CELL_BUDGET`.
 pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
     use brisance::eos::JwlCTerm;
     use brisance::ice::cases::RateStick;
@@ -451,18 +484,34 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
         long.push(run_stick("1D, 30 cm column", &RateStick::long(h))?);
     }
     let mut quarter = Vec::new();
+    let mut fine = Vec::new();
+    let fine_r = fine_radii();
     if std::env::var("BRISANCE_RATESTICK_3D").map_or(true, |v| v != "0") {
-        for &r in &QUARTER_RADII {
+        let runs = QUARTER_RADII
+            .iter()
+            .map(|&r| (1e-3, r))
+            .chain(fine_r.iter().map(|&r| (FINE_H, r)));
+        for (h, r) in runs {
             let label = format!("quarter stick R = {:.0} mm", r * 1e3);
-            match run_stick(&label, &RateStick::quarter(1e-3, r)) {
-                Ok(run) => quarter.push(Ok(run)),
+            let out = match run_stick(&label, &RateStick::quarter(h, r)) {
+                Ok(run) => Ok(run),
                 Err(e) => {
-                    println!("  {label}: {e}");
-                    quarter.push(Err((label, r, e.to_string())));
+                    println!("  {label}, h {:.2} mm: {e}", h * 1e3);
+                    Err((label, h, e.to_string()))
                 }
+            };
+            if h == 1e-3 {
+                quarter.push(out);
+            } else {
+                fine.push(out);
             }
         }
     }
+    let fine_list = fine_r
+        .iter()
+        .map(|r| format!("{:.0}", r * 1e3))
+        .collect::<Vec<_>>()
+        .join(", ");
 
     let md = &mut report.md;
     let _ = writeln!(
@@ -487,7 +536,10 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
          overshoots the Hugoniot state (up to 405 MPa at h = 0.25 mm), so the initiation is numerical \
          (as it must be in the seed's set-up with this κ; κ = 3.9 × 10⁻¹¹ would give 511 MPa). The \
          quarter sticks (radius R in 6 mm of air, symmetry planes y = 0 and z = 0) are 3D runs of \
-         minutes each; `BRISANCE_RATESTICK_3D=0` leaves them out.\n"
+         minutes each at h = 1 mm; `BRISANCE_RATESTICK_3D=0` leaves them out. At h = 0.5 mm a stick costs \
+         16 times as much (8 times the cells, twice the steps), so only the grids of at most {FINE_CELL_BUDGET} \
+         cells are rerun there (R = {fine_list} mm; R = 6 mm is 115 200 cells and R = 20 mm 540 800): the \
+         others would take 12 to 80 minutes each on this 2-core machine.\n"
     );
     let _ = writeln!(
         md,
@@ -517,17 +569,18 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
     for r in &long {
         row(md, r, RateStick::long(r.h).gauges);
     }
-    for q in &quarter {
+    for q in quarter.iter().chain(&fine) {
         match q {
             Ok(r) => row(
                 md,
                 r,
                 RateStick::quarter(r.h, r.radius.unwrap_or(0.0)).gauges,
             ),
-            Err((label, _, e)) => {
+            Err((label, h, e)) => {
                 let _ = writeln!(
                     md,
-                    "| {label} | 1.00 | 6, 9 | failed: {e} | — | — | — | — | — | — |"
+                    "| {label} | {:.2} | 6, 9 | failed: {e} | — | — | — | — | — | — |",
+                    h * 1e3
                 );
             }
         }
@@ -543,14 +596,14 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
          0.0004 to {x_max:.3} 1/mm, tens of m/s of reading error), summarised by their least-squares \
          parabola in 1/R{}; and seed 000's own computed points from the same digitisation (one of its three \
          resolutions, not named there). No target is set: the seed judges its agreement by inspection.\n\n\
-         | R (mm) | 1/R (1/mm) | D (m/s) | LLNL parabola (m/s) | difference | seed 000 Fig. 3 (its R) |\n\
-         |---:|---:|---:|---:|---:|---|",
+         | R (mm) | h (mm) | 1/R (1/mm) | D (m/s) | LLNL parabola (m/s) | difference | seed 000 Fig. 3 (its R) |\n\
+         |---:|---:|---:|---:|---:|---:|---|",
         fit.map_or(String::from(" (no fit)"), |c| format!(
             ", D = {:.0} {:+.0}·(1/R) {:+.0}·(1/R)² m/s",
             c[0], c[1], c[2]
         ))
     );
-    for r in quarter.iter().filter_map(|q| q.as_ref().ok()) {
+    for r in quarter.iter().chain(&fine).filter_map(|q| q.as_ref().ok()) {
         let radius = r.radius.unwrap_or(f64::NAN) * 1e3;
         let x = 1.0 / radius;
         let d = r.result.detonation_velocity;
@@ -565,7 +618,8 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
             .unwrap_or_else(|| "—".into());
         let _ = writeln!(
             report.md,
-            "| {radius:.0} | {x:.4} | {} | {} | {} | {seed} |",
+            "| {radius:.0} | {:.2} | {x:.4} | {} | {} | {} | {seed} |",
+            r.h * 1e3,
             d.map_or("no detonation".into(), |d| format!("{d:.0}")),
             reference.map_or("outside the data".into(), |v| format!("{v:.0}")),
             match (d, reference) {
@@ -622,6 +676,15 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
         .iter()
         .map(|r| r.result.detonation_velocity.unwrap_or(f64::NAN))
         .collect();
+    let fine_ok: Vec<&StickRun> = fine.iter().filter_map(|q| q.as_ref().ok()).collect();
+    let inv_r_fine: Vec<f64> = fine_ok
+        .iter()
+        .map(|r| 1.0 / (r.radius.unwrap_or(1.0) * 1e3))
+        .collect();
+    let d_fine: Vec<f64> = fine_ok
+        .iter()
+        .map(|r| r.result.detonation_velocity.unwrap_or(f64::NAN))
+        .collect();
     let zero = vec![0.0; long.len()];
     let d_1d: Vec<f64> = long
         .iter()
@@ -662,6 +725,14 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
             label: "quarter sticks, h = 1 mm",
             x: &inv_r,
             y: &d_q,
+            style: SeriesStyle::Points,
+        });
+    }
+    if !inv_r_fine.is_empty() {
+        series.push(Series {
+            label: "quarter sticks, h = 0.5 mm",
+            x: &inv_r_fine,
+            y: &d_fine,
             style: SeriesStyle::Points,
         });
     }
@@ -857,6 +928,21 @@ mod tests {
 #[cfg(test)]
 mod rate_stick_tests {
     use super::*;
+
+    #[test]
+    fn quarter_cells_counts_the_rate_stick_grid() {
+        // 10 cm / 1 mm = 100 along the axis, (4 + 6) mm / 1 mm = 10 across.
+        assert_eq!(quarter_cells(1e-3, 4e-3), 100 * 10 * 10);
+        // At 0.5 mm: 200 × 20 × 20, and 200 × 24 × 24 for R = 6 mm.
+        assert_eq!(quarter_cells(0.5e-3, 4e-3), 80_000);
+        assert_eq!(quarter_cells(0.5e-3, 6e-3), 115_200);
+        assert_eq!(quarter_cells(0.5e-3, 20e-3), 200 * 52 * 52);
+    }
+
+    #[test]
+    fn only_the_four_millimetre_stick_fits_at_half_a_millimetre() {
+        assert_eq!(fine_radii(), vec![4e-3]);
+    }
 
     #[test]
     fn the_parabola_fit_recovers_an_exact_parabola_and_refuses_two_points() {
