@@ -76,10 +76,8 @@ pub struct MpmOptions {
     pub gravity: [f64; 3],
     /// Face conditions x−, x+, y−, y+, z−, z+.
     pub boundaries: [GridBoundary; 6],
-    /// Nodes whose mass is below `mass_cutoff` × the reference particle
-    /// mass get zero velocity and acceleration (≥ 0). The reference is the
-    /// mean particle mass, at construction, of the lightest material
-    /// ([`reference_particle_mass`]; docs/physics/mpm/solver.md).
+    /// Nodes whose mass is below `mass_cutoff` × the mean particle mass at
+    /// construction get zero velocity and acceleration (≥ 0).
     pub mass_cutoff: f64,
     /// Smallest acceptable time step, s.
     pub min_dt: f64,
@@ -424,7 +422,7 @@ impl MpmSolver {
             let seed = brisance_constitutive::random::point_seed(particles.position[p], id);
             m.init_history_at(&mut particles.history_of_mut(p)[..len], seed);
         }
-        let reference_particle_mass = reference_particle_mass(&particles, materials.len());
+        let reference_particle_mass = particles.total_mass() / particles.len() as f64;
         let bulk = vec![BulkViscosityState::default(); particles.len()];
         let ids: Vec<u32> = (0..particles.len() as u32).collect();
         Ok(Self {
@@ -1004,42 +1002,6 @@ impl MpmSolver {
     }
 }
 
-/// The particle mass the node cut-off `mass_cutoff` is relative to: the
-/// smallest, over the materials that have particles, of that material's
-/// mean particle mass (Σ m_p / n, summed in particle order). With one
-/// material this is the mean particle mass, the same bits as
-/// Σ m_p / n over all particles. With materials of very different density
-/// (steel and air in the blast-on-plate cases) the all-particle mean is
-/// set by the heavy one, and a cut-off relative to it froze nodes holding
-/// a few light gas particles next to moving ones; relative to the lightest
-/// material, a node is cut only when it holds a small fraction of one
-/// light particle (docs/physics/mpm/solver.md, "Node mass cut-off").
-/// Zero for no particles.
-pub fn reference_particle_mass(particles: &Particles, n_materials: usize) -> f64 {
-    let mut sum = vec![0.0_f64; n_materials];
-    let mut count = vec![0_usize; n_materials];
-    for (m, id) in particles.mass.iter().zip(&particles.material) {
-        let k = id.0 as usize;
-        if k >= sum.len() {
-            sum.resize(k + 1, 0.0);
-            count.resize(k + 1, 0);
-        }
-        sum[k] += m;
-        count[k] += 1;
-    }
-    let lightest = sum
-        .iter()
-        .zip(&count)
-        .filter(|(_, &n)| n > 0)
-        .map(|(s, &n)| s / n as f64)
-        .fold(f64::INFINITY, f64::min);
-    if lightest.is_finite() {
-        lightest
-    } else {
-        0.0
-    }
-}
-
 /// The parameters of a step of Δt = `dt` on `grid` (a copy of the
 /// level's geometry), without surface forces; free of `self` so that the
 /// step can borrow the work arrays mutably beside it.
@@ -1437,6 +1399,3 @@ mod tests;
 
 #[cfg(test)]
 mod output_tests;
-
-#[cfg(test)]
-mod cutoff_tests;
