@@ -817,10 +817,7 @@ impl MpmSolver {
         };
         self.surface_forces = surface_forces;
         if let Some(f) = failure {
-            return Err(self.particle_error(
-                f.index,
-                format!("{} (J = det F = {:e})", f.reason, f.jacobian),
-            ));
+            return Err(self.particle_error(f.index, f.describe()));
         }
         self.external_work +=
             self.work

@@ -95,6 +95,25 @@ pub struct ParticleFailure {
     pub jacobian: f64,
     /// What went wrong.
     pub reason: &'static str,
+    /// tr(L) Δt of the refused update: the volumetric strain increment
+    /// (below −1 the linear update inverts the volume itself).
+    pub trace_l_dt: f64,
+    /// max |L_ij| Δt of the refused update: above about 1 the step was
+    /// far too long for the velocity differences across the particle.
+    pub max_l_dt: f64,
+    /// max |F_ij| of the particle's F before the refused update.
+    pub max_f_old: f64,
+}
+
+impl ParticleFailure {
+    /// The failure's reason with J and the velocity-gradient increment
+    /// that produced it, for the run's diagnostic.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} (J = det F = {:e}; tr(L) Δt = {:e}, max |L_ij| Δt = {:e}; max |F_ij| before = {:e})",
+            self.reason, self.jacobian, self.trace_l_dt, self.max_l_dt, self.max_f_old
+        )
+    }
 }
 
 /// The kernels' view of one step: the grid map and the particles' bins
@@ -517,6 +536,11 @@ impl ParticleChunk<'_> {
                     index: self.first + i,
                     jacobian,
                     reason,
+                    trace_l_dt: l.trace() * params.dt,
+                    max_l_dt: l.amax() * params.dt,
+                    max_f_old: self.deformation_gradient[i]
+                        .iter()
+                        .fold(0.0, |m: f64, x| m.max(x.abs())),
                 });
             }
         }
@@ -621,9 +645,36 @@ pub struct ParticleState<'a> {
     pub bulk_viscosity: &'a mut BulkViscosityState,
 }
 
+/// Largest entry of a fluid particle's isochoric deformation J^{−1/3} F
+/// that is kept; beyond it F is re-initialised to J^{1/3} I (see
+/// [`fluid_deformation_is_distorted`]).
+pub const FLUID_DISTORTION_LIMIT: f64 = 100.0;
+
+/// Whether a fluid particle's F has drifted so far from a pure volume
+/// change that it should be re-initialised to J^{1/3} I: any entry of
+/// J^{−1/3} F beyond [`FLUID_DISTORTION_LIMIT`] (then det F, a sum of
+/// products up to 10⁶ times J, has lost six of its sixteen digits). A
+/// fluid has no memory of shape: only J enters its stress, and only the
+/// cpGIMP domain reads the rest of F, which for a fluid point sheared into
+/// a filament no longer describes a region of the flow. Fluid MPM keeps
+/// only the volumetric part of a fluid point's deformation (Stomakhin et
+/// al. 2014, "Augmented MPM for phase-change and varied materials", ACM
+/// TOG 33(4): F_E projected to J^{1/3} I every step; Hu et al. 2018,
+/// "A moving least squares material point method", ACM TOG 37(4): J alone
+/// for fluids); here the projection is made only past the limit, so that
+/// cpGIMP keeps a fluid point's stretched domain while it means one. In one-dimensional
+/// flows, F = diag(J, 1, 1), the limit is reached only at J < 10⁻⁶ or
+/// J > 10³, so such runs keep their stretched cpGIMP domains.
+pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
+    let limit = FLUID_DISTORTION_LIMIT * j.cbrt();
+    f.iter().any(|x| !(x.abs() <= limit))
+}
+
 /// One particle's update over Δt from its velocity gradient L:
 ///
-/// 1. F ← (I + L Δt) F; J = det F must be positive and finite;
+/// 1. F ← (I + L Δt) F; J = det F must be positive and finite (for a
+///    fluid, J = det(I + L Δt) Vⁿ/V⁰, and F is re-initialised to J^{1/3} I
+///    once its isochoric part is distorted, [`fluid_deformation_is_distorted`]);
 /// 2. V = J V⁰ and ρ = m/V = ρ₀/J (seed 001 eqs 12, 29);
 /// 3. σ from [`Material::update_stress`] (the Jaumann rate of eq 30 or the
 ///    model's own objective rate) at the new density;
@@ -657,12 +708,28 @@ pub fn update_particle_stress(
     viscosity: Option<ViscosityParams>,
 ) -> Result<(), (f64, &'static str)> {
     let f_old = Mat3::from_row_slice(&state.deformation_gradient[..]);
-    let f_new = (Mat3::identity() + l * dt) * f_old;
-    let j = f_new.determinant();
+    let increment = Mat3::identity() + l * dt;
+    let mut f_new = increment * f_old;
+    let v_old = *state.volume;
+    let fluid = matches!(material, MaterialModel::Null(_));
+    let j = if fluid {
+        // A fluid's F has no elastic meaning and, in a vortical flow, its
+        // isochoric part grows without bound; det F then comes from the
+        // difference of products many orders of magnitude larger than
+        // itself and loses every digit (E-PLATE: J = −0.2 from a step with
+        // |L_ij Δt| < 0.007). J is carried instead by the product rule
+        // det(F + L Δt F) = det(I + L Δt) · Jⁿ with Jⁿ = Vⁿ/V⁰, the
+        // volume-only update of fluid material points.
+        v_old / initial_volume * increment.determinant()
+    } else {
+        f_new.determinant()
+    };
     if !(j > 0.0) || !j.is_finite() {
         return Err((j, "det F is not positive"));
     }
-    let v_old = *state.volume;
+    if fluid && fluid_deformation_is_distorted(&f_new, j) {
+        f_new = Mat3::identity() * j.cbrt();
+    }
     let v_new = j * initial_volume;
     let rho = mass / v_new;
     // The stored stress: the material's minus the viscous pressure.
@@ -849,5 +916,98 @@ mod tests {
                 assert_ne!(a.stress, ps0.stress);
             }
         }
+    }
+
+    // ----------------------------------------- fluid points: J, not det F
+
+    /// A gas point (γ = 1.4 ideal gas) with deformation `f`, volume `v`
+    /// and initial volume `v0`, updated with `l` over `dt`: the result and
+    /// the state after it.
+    fn update_gas(
+        f: [f64; 9],
+        v: f64,
+        v0: f64,
+        l: &Mat3,
+        dt: f64,
+    ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
+        use brisance_constitutive::NullMaterial;
+        let m = MaterialModel::Null(NullMaterial::air());
+        let (mut stress, mut f, mut volume) = ([-1e5, -1e5, -1e5, 0.0, 0.0, 0.0], f, v);
+        let (mut t, mut e, mut failed) = (300.0, 2.5e5, false);
+        let mut history = vec![0.0; m.history_len()];
+        let mut bulk = BulkViscosityState::default();
+        let state = ParticleState {
+            stress: &mut stress,
+            deformation_gradient: &mut f,
+            volume: &mut volume,
+            temperature: &mut t,
+            specific_internal_energy: &mut e,
+            failed: &mut failed,
+            history: &mut history,
+            bulk_viscosity: &mut bulk,
+        };
+        let r = update_particle_stress(&m, MaterialId(0), state, l, 1.2e-3, v0, dt, None);
+        (r, f, volume)
+    }
+
+    #[test]
+    fn a_sheared_gas_point_takes_its_volume_from_the_product_rule_not_det_f() {
+        // F = [[1 + ab, a, 0], [b, 1, 0], [0, 0, 1]] has det F = 1 exactly,
+        // but with a = b = 1e8 the entry 1 + ab rounds to ab and the
+        // determinant evaluates to 0: the old update refused this point.
+        let (a, b) = (1e8, 1e8);
+        let f = [1.0 + a * b, a, 0.0, b, 1.0, 0.0, 0.0, 0.0, 1.0];
+        assert!(!(Mat3::from_row_slice(&f).determinant() > 0.0));
+        // A small compression, L = diag(−0.1, 0, 0.05) /s over Δt = 0.1 s:
+        // det(I + L Δt) = 0.99 · 1 · 1.005 = 0.99495; Vⁿ = V⁰ = 1e-3 m³.
+        let l = Mat3::new(-0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05);
+        let (r, f_new, v_new) = update_gas(f, 1e-3, 1e-3, &l, 0.1);
+        assert_eq!(r, Ok(()));
+        assert!((v_new - 0.99495e-3).abs() < 1e-18, "{v_new}");
+        // The distorted F is re-initialised to J^{1/3} I.
+        let c = 0.99495_f64.cbrt();
+        for (k, x) in f_new.iter().enumerate() {
+            let want = if k % 4 == 0 { c } else { 0.0 };
+            assert!((x - want).abs() < 1e-15, "F[{k}] = {x}, want {want}");
+        }
+    }
+
+    #[test]
+    fn a_gas_point_keeps_its_volume_history_and_a_moderate_f() {
+        // Vⁿ = 2 V⁰ (J = 2) with F = diag(2, 1, 1): L = [[0, 0.5, 0],
+        // [0, −0.2, 0], [0, 0, 0]] /s over Δt = 0.1 s gives
+        // I + L Δt = [[1, 0.05, 0], [0, 0.98, 0], [0, 0, 1]], det 0.98,
+        // J = 1.96, V = 1.96 V⁰ and F = (I + L Δt) F = [[2, 0.05, 0],
+        // [0, 0.98, 0], [0, 0, 1]], kept (no entry beyond 100 J^{1/3}).
+        let l = Mat3::new(0.0, 0.5, 0.0, 0.0, -0.2, 0.0, 0.0, 0.0, 0.0);
+        let f = [2.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let (r, f_new, v_new) = update_gas(f, 2e-3, 1e-3, &l, 0.1);
+        assert_eq!(r, Ok(()));
+        assert!((v_new - 1.96e-3).abs() < 1e-18, "{v_new}");
+        let want = [2.0, 0.05, 0.0, 0.0, 0.98, 0.0, 0.0, 0.0, 1.0];
+        for (x, w) in f_new.iter().zip(want) {
+            assert!((x - w).abs() < 1e-15, "{f_new:?}");
+        }
+    }
+
+    #[test]
+    fn a_gas_point_whose_volume_would_invert_in_one_step_is_still_refused() {
+        // tr(L) Δt = −1.5 along x: det(I + L Δt) = −0.5 < 0.
+        let l = Mat3::new(-15.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (r, _, _) = update_gas(crate::particles::IDENTITY, 1e-3, 1e-3, &l, 0.1);
+        let (j, reason) = r.unwrap_err();
+        assert_eq!(reason, "det F is not positive");
+        assert!((j + 0.5).abs() < 1e-15, "{j}");
+    }
+
+    #[test]
+    fn fluid_distortion_limit_is_relative_to_the_volume() {
+        let j: f64 = 8.0; // J^{1/3} = 2: entries up to 200 pass.
+        let ok = Mat3::new(200.0, 0.0, 0.0, 0.0, 0.04, 0.0, 0.0, 0.0, 1.0);
+        let bad = Mat3::new(200.5, 0.0, 0.0, 0.0, 0.04, 0.0, 0.0, 0.0, 1.0);
+        assert!(!fluid_deformation_is_distorted(&ok, j));
+        assert!(fluid_deformation_is_distorted(&bad, j));
+        let nan = Mat3::new(f64::NAN, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
+        assert!(fluid_deformation_is_distorted(&nan, 1.0));
     }
 }
