@@ -253,3 +253,41 @@ fn truncated_or_garbage_checkpoint_is_refused_naming_the_file() {
     assert!(line.contains(&missing.display().to_string()), "{line}");
     assert!(!out.exists());
 }
+
+#[test]
+fn restart_of_a_scenario_with_library_materials_continues() {
+    // The same tube with the gas taken from the material library: the
+    // checkpoint's scenario must be compared after the library is resolved.
+    let dir = tempfile::tempdir().unwrap();
+    let text = fs::read_to_string(SOD).unwrap().replace(
+        r#""gas": (eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0)),"#,
+        r#""gas": (library: "air"),"#,
+    );
+    assert!(text.contains(r#"(library: "air")"#), "sod.ron changed");
+    let config = dir.path().join("sod_air.ron");
+    fs::write(&config, text).unwrap();
+    let run = |out: &Path, extra: &[&str]| {
+        Command::new(BIN)
+            .env_remove("BRISANCE_LOG")
+            .arg("run")
+            .arg(&config)
+            .arg("--out")
+            .arg(out)
+            .arg("--quiet")
+            .args(SETS)
+            .args(extra)
+            .output()
+            .expect("the brisance binary runs")
+    };
+    let a = dir.path().join("A");
+    assert_success(&run(&a, &[]));
+    let mut checkpoints: Vec<PathBuf> = fs::read_dir(a.join("checkpoints"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    checkpoints.sort();
+    let middle = checkpoints[checkpoints.len() / 2].clone();
+    let b = dir.path().join("B");
+    assert_success(&run(&b, &["--restart", middle.to_str().unwrap()]));
+    assert_same_bytes(&a, &b, Path::new("conservation.csv"));
+}

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::build::{build, Built};
 use crate::config::Scenario;
 use crate::error::{ConfigError, RunError};
-use crate::load::{ron_options, LoadedScenario};
+use crate::load::LoadedScenario;
 use crate::ron_path;
 
 /// How to run.
@@ -388,12 +388,17 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
     };
     if let Some(path) = &opts.restart {
         let ck = io::read_checkpoint(path)?;
-        let old: Scenario = ron_options().from_str(&ck.scenario_ron).map_err(|e| {
-            RunError::Checkpoint(format!(
-                "{}: its scenario does not parse: {e}",
-                path.display()
-            ))
-        })?;
+        // The checkpoint holds the scenario's text after `--set`; it is
+        // loaded as the run's own was (library materials resolved), so
+        // that the two compare as the same problem.
+        let old = crate::load_str(&path.display().to_string(), &ck.scenario_ron, &[])
+            .map_err(|e| {
+                RunError::Checkpoint(format!(
+                    "{}: its scenario does not load: {e}",
+                    path.display()
+                ))
+            })?
+            .scenario;
         same_problem(&old, scenario).map_err(|why| {
             RunError::Checkpoint(format!(
                 "{} was written for another problem: {why}",
