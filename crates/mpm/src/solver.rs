@@ -562,6 +562,18 @@ impl MpmSolver {
         &self.ids
     }
 
+    /// Entry `k` of particle `p`'s damage variables
+    /// ([`MaterialModel::damage`]), 0 when its model has fewer.
+    fn damage_entry(&self, p: usize, k: usize) -> f64 {
+        let ps = &self.particles;
+        let model = &self.materials[ps.material[p].0 as usize];
+        model
+            .damage(ps.history_of(p))
+            .get(k)
+            .copied()
+            .unwrap_or(0.0)
+    }
+
     /// Reorders the per-particle arrays the solver keeps beside
     /// [`Particles`] as [`Particles::permute`] did: new i is old `perm[i]`,
     /// through reused buffers (no allocation once they have grown).
@@ -1277,6 +1289,17 @@ impl Solver for MpmSolver {
                 col(&|i| if p.failed[i] { 1.0 } else { 0.0 }),
             ),
             ("bulk_viscosity".to_string(), col(&|i| self.bulk[i].q)),
+            // The model's damage variables (Johnson–Cook D; HJC's D_c and
+            // D_t): the first as `damage`, the second as `tensile_damage`,
+            // 0 for a model without them.
+            ("damage".to_string(), col(&|i| self.damage_entry(i, 0))),
+            (
+                "tensile_damage".to_string(),
+                col(&|i| self.damage_entry(i, 1)),
+            ),
+            // The particle's identity (`particle_ids`): follows a point
+            // through sorting, removals and insertions.
+            ("id".to_string(), col(&|i| f64::from(self.ids[i]))),
         ];
         Some(brisance_core::ParticleData {
             positions: p.position.clone(),

@@ -915,3 +915,62 @@ fn removal_and_insertion_each_step_keep_order_and_storage_on_any_thread_count() 
     };
     assert!(state(1) == state(2));
 }
+
+#[test]
+fn particle_data_gives_each_models_damage_and_the_particle_identity() {
+    use brisance_constitutive::{elastic_plastic, hjc, ElasticPlastic, Hjc};
+    let level = dyadic_level();
+    let metal = MaterialModel::ElasticPlastic(ElasticPlastic::ofhc_copper_seed000());
+    let concrete = MaterialModel::Hjc(Hjc::concrete_25mpa_seed001());
+    let stride = metal.history_len().max(concrete.history_len());
+    let mut ps = Particles::new(stride);
+    fill(
+        &mut ps,
+        &level,
+        [0.0; 3],
+        [0.25, 0.25, 1.0],
+        8930.0,
+        [0.0; 3],
+        0,
+    );
+    let n_metal = ps.len();
+    fill(
+        &mut ps,
+        &level,
+        [0.5, 0.5, 0.0],
+        [0.75, 0.75, 1.0],
+        2400.0,
+        [0.0; 3],
+        1,
+    );
+    fill(
+        &mut ps,
+        &level,
+        [0.75, 0.0, 0.0],
+        [1.0, 0.25, 1.0],
+        1024.0,
+        [0.0; 3],
+        2,
+    );
+    let materials = vec![metal, concrete, soft()];
+    let mut s = MpmSolver::new(level, materials, ps, MpmOptions::default()).unwrap();
+    // Known damage in one particle of each damaged model.
+    let (m, c) = (1, n_metal + 2);
+    s.particles.history_of_mut(m)[elastic_plastic::DAMAGE_INDEX] = 0.25;
+    s.particles.history_of_mut(c)[hjc::COMPRESSION_DAMAGE_INDEX] = 0.5;
+    s.particles.history_of_mut(c)[hjc::TENSILE_DAMAGE_INDEX] = 0.75;
+    let data = s.particle_data().unwrap();
+    let col = |n: &str| data.fields.iter().find(|f| f.0 == n).unwrap().1.clone();
+    let (damage, tensile, id) = (col("damage"), col("tensile_damage"), col("id"));
+    for p in 0..s.particles.len() {
+        let (d, t) = match p {
+            _ if p == m => (0.25, 0.0),
+            _ if p == c => (0.5, 0.75),
+            _ => (0.0, 0.0),
+        };
+        assert_eq!((damage[p], tensile[p]), (d, t), "particle {p}");
+        assert_eq!(id[p], f64::from(s.particle_ids()[p]));
+    }
+    // Identities are those of creation order before any step.
+    assert!(id.iter().enumerate().all(|(p, &i)| i == p as f64));
+}
