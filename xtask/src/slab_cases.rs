@@ -8,16 +8,19 @@
 //! 2 and 20 kg runs are the 4 kg config with their own remap), advances it
 //! to the config's end time and measures on the particles:
 //!
-//! - the crushing diameter: the concrete particles of the top face layer
-//!   (within [`FACE_LAYER`] particle spacings of the top face) binned by
-//!   their distance from the charge's axis, one particle spacing per ring;
-//!   the crushed zone is the rings, counted from the axis, in which at
-//!   least half the particles have failed (HJC damage 1); its diameter is
-//!   twice the outer radius of the last such ring
+//! - the crushing diameter: the concrete particles that started in the top
+//!   face layer (within [`FACE_LAYER`] particle spacings of the top face;
+//!   followed by identity, so the layer does not empty as the face is
+//!   pushed down) binned by their initial distance from the charge's axis,
+//!   one particle spacing per ring; the crushed zone is the rings, counted
+//!   from the axis, in which at least half the particles are crushed (HJC
+//!   compressive damage D_c ≥ 1; tensile failure does not count); its
+//!   diameter is twice the outer radius of the last such ring
 //!   ([`crushing_diameter`]). The diameter of a disc with the area of all
-//!   failed top-face particles is reported beside it;
-//! - the back-face failure map: failed and intact particles of the bottom
-//!   layer, drawn with the top face's in `docs/img/e_slab_faces.png`.
+//!   crushed top-face particles is reported beside it;
+//! - the back-face tensile damage map: particles of the initial bottom
+//!   layer with D_t ≥ 1 and below, drawn with the top face's in
+//!   `docs/img/e_slab_faces.png`.
 //!
 //! Both are compared with the test (250 and 300 mm for 4 and 10 kg) and
 //! with seed 001 eq 67, ln(3.63 D/h) = 0.1838 W^{1/3}/h, within 20 %.
@@ -310,15 +313,42 @@ fn peak_resident_bytes() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
-/// The particle fields the measurement needs: positions, material, failed.
+/// The particle fields the measurement needs. Layers are selected and
+/// rings drawn on each particle's *initial* position (found through its
+/// identity), so a face pushed down keeps its layer; `crushed` is HJC's
+/// compressive damage D_c ≥ 1, `tensile` its tensile damage D_t ≥ 1 (1 or
+/// 0), `failed` the model's failed flag (either).
 struct Sample {
-    positions: Vec<[f64; 3]>,
+    initial: Vec<[f64; 3]>,
     material: Vec<f64>,
     failed: Vec<f64>,
+    crushed: Vec<f64>,
+    tensile: Vec<f64>,
     pressure: Vec<f64>,
 }
 
-fn sample(solver: &dyn Solver) -> Result<Sample> {
+/// Initial positions by particle identity.
+type Initial = std::collections::HashMap<u32, [f64; 3]>;
+
+/// The initial positions of the particles, by identity.
+fn initial_positions(solver: &dyn Solver) -> Result<Initial> {
+    let data = solver
+        .particle_data()
+        .ok_or_else(|| anyhow!("the bridge gives no particle data"))?;
+    let id = data
+        .fields
+        .iter()
+        .find(|(n, _)| n == "id")
+        .ok_or_else(|| anyhow!("particle field id missing"))?;
+    Ok(id
+        .1
+        .iter()
+        .map(|&i| i as u32)
+        .zip(data.positions.iter().copied())
+        .collect())
+}
+
+fn sample(solver: &dyn Solver, initial: &Initial) -> Result<Sample> {
     let mut data = solver
         .particle_data()
         .ok_or_else(|| anyhow!("the bridge gives no particle data"))?;
@@ -332,10 +362,24 @@ fn sample(solver: &dyn Solver) -> Result<Sample> {
     let material = field("material")?;
     let failed = field("failed")?;
     let pressure = field("pressure")?;
+    let at_least_one = |v: Vec<f64>| {
+        v.into_iter()
+            .map(|d| f64::from(u8::from(d >= 1.0)))
+            .collect()
+    };
+    let crushed = at_least_one(field("damage")?);
+    let tensile = at_least_one(field("tensile_damage")?);
+    // Particles made after the start (inflow air) have no initial place.
+    let initial = field("id")?
+        .iter()
+        .map(|&i| initial.get(&(i as u32)).copied().unwrap_or([f64::NAN; 3]))
+        .collect();
     Ok(Sample {
-        positions: data.positions,
+        initial,
         material,
         failed,
+        crushed,
+        tensile,
         pressure,
     })
 }
@@ -362,9 +406,9 @@ pub(crate) fn axis_pressure(
 
 fn front_of(s: &Sample) -> Crushing {
     crushing_diameter(
-        &s.positions,
+        &s.initial,
         &s.material,
-        &s.failed,
+        &s.crushed,
         f64::NEG_INFINITY,
         TOP + FACE_LAYER * SPACING,
         SPACING,
@@ -390,6 +434,7 @@ pub(crate) fn run_case(
     let start = Instant::now();
     let mut solver =
         build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
+    let initial = initial_positions(solver.as_ref())?;
     let mut history = vec![(0.0, 0.0, 0usize, 0.0)];
     let mut peak_pressure = (0.0f64, 0.0);
     let mut stop = None;
@@ -408,7 +453,7 @@ pub(crate) fn run_case(
         }
         steps += 1;
         if steps.is_multiple_of(SAMPLE_EVERY) {
-            let s = sample(solver.as_ref())?;
+            let s = sample(solver.as_ref(), &initial)?;
             let front = front_of(&s);
             let failed = s
                 .material
@@ -417,7 +462,7 @@ pub(crate) fn run_case(
                 .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
                 .count();
             let p = axis_pressure(
-                &s.positions,
+                &s.initial,
                 &s.material,
                 &s.pressure,
                 TOP + FACE_LAYER * SPACING,
@@ -441,25 +486,25 @@ pub(crate) fn run_case(
         }
     }
     let wall = start.elapsed().as_secs_f64();
-    let s = sample(solver.as_ref())?;
+    let s = sample(solver.as_ref(), &initial)?;
     let front = front_of(&s);
     let back_lo = BACK - FACE_LAYER * SPACING;
     let back = crushing_diameter(
-        &s.positions,
+        &s.initial,
         &s.material,
-        &s.failed,
+        &s.tensile,
         back_lo,
         f64::INFINITY,
         SPACING,
     );
     let front_map = face_map(
-        &s.positions,
+        &s.initial,
         &s.material,
-        &s.failed,
+        &s.crushed,
         f64::NEG_INFINITY,
         TOP + FACE_LAYER * SPACING,
     );
-    let back_map = face_map(&s.positions, &s.material, &s.failed, back_lo, f64::INFINITY);
+    let back_map = face_map(&s.initial, &s.material, &s.tensile, back_lo, f64::INFINITY);
     let concrete_total = s.material.iter().filter(|m| **m == CONCRETE).count();
     let failed_total = s
         .material
@@ -591,18 +636,21 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
          no erosion. FDM region (0, 0, −180) .. (400, 400, 460) mm, MPM region (0, 0, 410) .. (400, 400, 700) mm, \
          bridge w = 5, **10 mm cells** (reduced resolution: 2 particles per cell per direction, 5 mm particles, \
          30 through the thickness), MPM Courant 0.4, bulk viscosity on. The 2 and 20 kg runs use the 4 kg config \
-         with their own remap. Crushing diameter: top-face layer (concrete particles within 10 mm of the top \
-         face, two particles deep), rings 5 mm wide about the axis; the crushed zone runs from the axis to the first ring in which \
-         fewer than half the particles have failed; D = twice its outer radius; \"area D\" is the diameter of \
-         the disc with the area of the failed top-face particles within 200 mm of the axis (each 5 × 5 mm). Axis \
-         pressure: mean pressure of the top-layer concrete particles within 10 mm of the axis, every 5 steps; \
+         with their own remap. Crushing diameter: the concrete particles that started in the top-face layer \
+         (within 10 mm of the top face, two particles deep; followed by particle identity), rings 5 mm wide \
+         about the axis by initial position; the crushed zone runs from the axis to the first ring in which \
+         fewer than half the particles are crushed (HJC compressive damage D_c ≥ 1; tensile failure does not \
+         count); D = twice its outer radius; \"area D\" is the diameter of the disc with the area of the \
+         crushed top-face particles within 200 mm of the axis (each 5 × 5 mm). Back face: particles of the \
+         initial bottom layer with tensile damage D_t ≥ 1. Axis pressure: mean pressure of the initial \
+         top-layer concrete particles within 10 mm of the axis, every 5 steps; \
          impulse: its time integral over the run. Tolerance, set before the runs: within 20 % \
          of the test (250 / 300 mm) and of eq 67. Wall times on the shared 2-CPU machine under the other work's \
          load; memory: growth of this process's resident set over the build and run, and its peak so far.\n"
     );
     let _ = writeln!(
         md,
-        "| W (kg TNT) | D measured (mm) | area D (mm) | test (mm) | eq 67 (mm) | peak axis pressure (MPa) at (µs) | axis impulse (kPa·s) | back face failed / particles | failed concrete particles | end (µs) | steps | wall (s) | FDM / MPM (s) | memory growth / peak (MB) |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| W (kg TNT) | D measured (mm) | area D (mm) | test (mm) | eq 67 (mm) | peak axis pressure (MPa) at (µs) | axis impulse (kPa·s) | back face D_t ≥ 1 / particles | failed concrete particles | end (µs) | steps | wall (s) | FDM / MPM (s) | memory growth / peak (MB) |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for c in &SLAB_CASES {
         let eq = eq67_diameter(c.charge, HEIGHT) * 1e3;
@@ -815,8 +863,8 @@ fn draw_faces(path: &Path, runs: &[SlabRun]) -> Result<()> {
     let dot = (SPACING * px_per_m / 2.0).ceil() as i32;
     for (k, r) in runs.iter().enumerate() {
         for (col, (name, map)) in [
-            ("top face (crushing)", &r.front_map),
-            ("back face", &r.back_map),
+            ("top face, crushed (D_c ≥ 1)", &r.front_map),
+            ("back face, D_t ≥ 1", &r.back_map),
         ]
         .into_iter()
         .enumerate()
@@ -824,11 +872,7 @@ fn draw_faces(path: &Path, runs: &[SlabRun]) -> Result<()> {
             let (cx, cy) = (col as i32 * cell_w, k as i32 * cell_h);
             let failed = map.iter().filter(|p| p.2).count();
             root.draw(&Text::new(
-                format!(
-                    "{}: {name}, {failed} of {} failed",
-                    r.case.label(),
-                    map.len()
-                ),
+                format!("{}: {name}: {failed} of {}", r.case.label(), map.len()),
                 (cx + pad, cy + 12),
                 ("sans-serif", 16).into_font(),
             ))
@@ -1023,9 +1067,10 @@ mod tests {
                 let dt = solver.stable_dt().unwrap();
                 solver.advance(dt).unwrap();
             }
-            let s = sample(solver.as_ref()).unwrap();
+            let initial = initial_positions(solver.as_ref()).unwrap();
+            let s = sample(solver.as_ref(), &initial).unwrap();
             let concrete: Vec<&[f64; 3]> = s
-                .positions
+                .initial
                 .iter()
                 .zip(&s.material)
                 .filter(|(_, m)| **m == CONCRETE)
@@ -1035,7 +1080,7 @@ mod tests {
             // 505, 515, ..., 645 (15 layers of 40 × 40).
             assert_eq!(concrete.len(), 40 * 40 * 15, "{config}");
             assert!(concrete.iter().all(|x| x[2] > TOP && x[2] < BACK));
-            let c = crushing_diameter(&s.positions, &s.material, &s.failed, 0.5, 0.51, 0.01);
+            let c = crushing_diameter(&s.initial, &s.material, &s.crushed, 0.5, 0.51, 0.01);
             assert_eq!(
                 (c.particles, c.failed, c.diameter),
                 (1600, 0, 0.0),
