@@ -99,12 +99,7 @@ fn a_particle_gauge_follows_a_translating_block_and_survives_a_restart() {
     assert!(still.iter().all(|r| r[1..].iter().all(|v| v.abs() < 1e-12)));
 
     // Restart from a checkpoint in the middle: the same gauge file.
-    let mut checkpoints: Vec<_> = fs::read_dir(a.join("checkpoints"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    checkpoints.sort();
-    let middle = checkpoints[checkpoints.len() / 2].clone();
+    let middle = crate::restart::middle_checkpoint(&a);
     let b = dir.path().join("B");
     run(
         &loaded,

@@ -22,10 +22,15 @@ const SETS: [&str; 4] = [
 
 /// Runs `brisance run configs/sod.ron --out <out> --quiet <SETS> <extra...>`.
 fn run_sod(out: &Path, extra: &[&str]) -> Output {
+    run_config(Path::new(SOD), out, extra)
+}
+
+/// Runs `brisance run <config> --out <out> --quiet <SETS> <extra...>`.
+fn run_config(config: &Path, out: &Path, extra: &[&str]) -> Output {
     Command::new(BIN)
         .env_remove("BRISANCE_LOG")
         .arg("run")
-        .arg(SOD)
+        .arg(config)
         .arg("--out")
         .arg(out)
         .arg("--quiet")
@@ -62,7 +67,13 @@ fn single_error_line(out: &Output) -> String {
 fn reference_run(dir: &Path) -> (PathBuf, PathBuf) {
     let a = dir.join("A");
     assert_success(&run_sod(&a, &[]));
-    let mut checkpoints: Vec<PathBuf> = fs::read_dir(a.join("checkpoints"))
+    let middle = middle_checkpoint(&a);
+    (a, middle)
+}
+
+/// The checkpoint in the middle of those a run wrote under `out`.
+pub(crate) fn middle_checkpoint(out: &Path) -> PathBuf {
+    let mut checkpoints: Vec<PathBuf> = fs::read_dir(out.join("checkpoints"))
         .expect("the run wrote checkpoints")
         .map(|e| e.unwrap().path())
         .collect();
@@ -71,8 +82,7 @@ fn reference_run(dir: &Path) -> (PathBuf, PathBuf) {
         checkpoints.len() >= 2,
         "need a checkpoint before the end: {checkpoints:?}"
     );
-    let middle = checkpoints[checkpoints.len() / 2].clone();
-    (a, middle)
+    checkpoints[checkpoints.len() / 2].clone()
 }
 
 /// Every file under `dir`, as paths relative to `root`, sorted.
@@ -266,28 +276,14 @@ fn restart_of_a_scenario_with_library_materials_continues() {
     assert!(text.contains(r#"(library: "air")"#), "sod.ron changed");
     let config = dir.path().join("sod_air.ron");
     fs::write(&config, text).unwrap();
-    let run = |out: &Path, extra: &[&str]| {
-        Command::new(BIN)
-            .env_remove("BRISANCE_LOG")
-            .arg("run")
-            .arg(&config)
-            .arg("--out")
-            .arg(out)
-            .arg("--quiet")
-            .args(SETS)
-            .args(extra)
-            .output()
-            .expect("the brisance binary runs")
-    };
     let a = dir.path().join("A");
-    assert_success(&run(&a, &[]));
-    let mut checkpoints: Vec<PathBuf> = fs::read_dir(a.join("checkpoints"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    checkpoints.sort();
-    let middle = checkpoints[checkpoints.len() / 2].clone();
+    assert_success(&run_config(&config, &a, &[]));
+    let middle = middle_checkpoint(&a);
     let b = dir.path().join("B");
-    assert_success(&run(&b, &["--restart", middle.to_str().unwrap()]));
+    assert_success(&run_config(
+        &config,
+        &b,
+        &["--restart", middle.to_str().unwrap()],
+    ));
     assert_same_bytes(&a, &b, Path::new("conservation.csv"));
 }
