@@ -140,6 +140,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     };
     let mut solver = solver;
     let t_end = s.time.end;
+    let energy_start = brisance::core::Solver::conservation_totals(solver.as_ref()).energy;
     // The outer-wall particles at the gauge, by identity.
     let (r_in, r_out) = (0.0254, 0.0306);
     let h = s
@@ -318,6 +319,32 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
         f64::NAN
     };
     let slice_end = slice_speeds.last().copied().unwrap_or(f64::NAN);
+    // Step 2's cold-material rule: its firings and the energy it added,
+    // per material (the pipeline's fluids, then the solid).
+    let names: Vec<String> = match &s.pipeline {
+        brisance::compose::config::Pipeline::IceMpm(c) => c
+            .ice
+            .materials
+            .iter()
+            .cloned()
+            .chain([c.solid.clone()])
+            .collect(),
+        _ => Vec::new(),
+    };
+    let warm = solver
+        .ice()
+        .kept_warm_totals()
+        .iter()
+        .enumerate()
+        .map(|(r, k)| {
+            let name = names.get(r).map_or("?", String::as_str);
+            format!("{name} {} cell-steps, {:+.3e} J", k.firings, k.energy)
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    println!(
+        "  step 2 cold-material rule (kept_warm): {warm}; initial total energy {energy_start:.4e} J"
+    );
     let terminal = if failure.is_none() {
         // Mean over the last 10 % of the record.
         let k = speeds.len() - speeds.len() / 10;
@@ -402,7 +429,9 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
         "Diagnostics (docs/physics/couple/ice_mpm_cylinder_audit.md): detonation velocity on the axis, \
          least squares over the arrivals at z = {:.0}–{:.0} cm, {:.0} m/s against D_CJ = {:.0} m/s of the QM-100 \
          products ({:+.1} %); the whole wall at the gauge (particles starting within h/2 of z = {:.1} cm) \
-         ends at a kinetic-energy mean radial velocity of {slice_end:.0} m/s{}.\n",
+         ends at a kinetic-energy mean radial velocity of {slice_end:.0} m/s{}. Step 2's cold-material \
+         rule (`kept_warm`, docs/physics/ice/steps.md) fired over the run: {warm} (initial total energy of \
+         the quarter model {energy_start:.4e} J).\n",
         fronts.first().map_or(f64::NAN, |f| f.0 * 100.0),
         fronts.last().map_or(f64::NAN, |f| f.0 * 100.0),
         detonation_velocity,

@@ -181,6 +181,31 @@ pub struct EquilibrationStats {
     pub total_iterations: u64,
 }
 
+/// What step 2's cold-material rule ([`kept_warm`]) did to one material:
+/// the cells in which it replaced the material's specific internal energy
+/// by the energy at its held temperature, and the energy that added.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct KeptWarmTotals {
+    /// Cell-steps in which the rule fired.
+    pub firings: u64,
+    /// Energy it added (negative: removed), J: Σ ρ_r Δe_r V_cell.
+    pub energy: f64,
+}
+
+/// Step 2's cold-material rule in one cell: per material, whether it
+/// fired and ρ_r Δe_r (J/m³).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct KeptWarmCell {
+    fired: [bool; MAX_MATERIALS],
+    energy_density: [f64; MAX_MATERIALS],
+}
+
+impl KeptWarmCell {
+    fn any(&self) -> bool {
+        self.fired.iter().any(|&f| f)
+    }
+}
+
 /// The first failing cell of a pass: (global linear index, global cell,
 /// description).
 type Failure = Option<(usize, [usize; 3], String)>;
@@ -461,6 +486,9 @@ pub struct IceSolver<E: Eos> {
     /// Mass, momentum and energy the coupled equilibration gave the
     /// Eulerian materials since the start ([`IceSolver::rescaled_totals`]).
     rescaled: ConservationTotals,
+    /// Per material, what step 2's cold-material rule did since the start
+    /// ([`IceSolver::kept_warm_totals`]).
+    kept_warm: [KeptWarmTotals; MAX_MATERIALS],
     /// Viscosities and conductivities ([`IceSolver::set_transport`]).
     transport: diffusion_pass::Transport,
     /// Work arrays and statistics of the implicit pressure solve.
@@ -581,6 +609,7 @@ impl<E: Eos> IceSolver<E> {
             last_equilibration: EquilibrationStats::default(),
             lagrangian: vec![false; n],
             rescaled: ConservationTotals::default(),
+            kept_warm: [KeptWarmTotals::default(); MAX_MATERIALS],
             transport: Default::default(),
             implicit: Default::default(),
         };
@@ -826,6 +855,15 @@ impl<E: Eos> IceSolver<E> {
         self.rescaled
     }
 
+    /// Per material, the cell-steps in which step 2's cold-material rule
+    /// fired and the energy it added since the start of this process (not
+    /// carried by checkpoints): the rule trades energy conservation for a
+    /// positive temperature (docs/physics/ice/steps.md), and this is its
+    /// price.
+    pub fn kept_warm_totals(&self) -> &[KeptWarmTotals] {
+        &self.kept_warm[..self.eos.len()]
+    }
+
     /// Whether particles carry material `r`.
     pub fn is_lagrangian(&self, r: usize) -> bool {
         self.lagrangian.get(r).copied().unwrap_or(false)
@@ -1069,12 +1107,13 @@ impl<E: Eos> IceSolver<E> {
         let time = self.time;
         let geometry = self.level.geometry;
         type Rescaled = Vec<(usize, ConservationTotals)>;
-        let results: Vec<(EquilibrationStats, Failure, Rescaled)> = self
+        type Warm = Vec<(usize, KeptWarmCell)>;
+        let results: Vec<(EquilibrationStats, Failure, Rescaled, Warm)> = self
             .state
             .par_iter_mut()
             .zip(self.level.patches.par_iter())
             .map(|(pf, patch)| {
-                type Acc = (EquilibrationStats, Failure, Rescaled);
+                type Acc = (EquilibrationStats, Failure, Rescaled, Warm);
                 let n = params.eos.len();
                 let m = n * NS + 1;
                 let mut fields = [Disjoint::empty(); MAX_MATERIALS * NS + 1];
@@ -1084,14 +1123,18 @@ impl<E: Eos> IceSolver<E> {
                 let fields = &fields[..m];
                 par_interior(
                     patch,
-                    || -> Acc { (EquilibrationStats::default(), None, Vec::new()) },
-                    |(stats, fail, rescaled), c| {
+                    || -> Acc { (EquilibrationStats::default(), None, Vec::new(), Vec::new()) },
+                    |(stats, fail, rescaled, warm), c| {
                         let mut vals = [0.0; MAX_MATERIALS * NS + 1];
                         for f in 0..m {
                             vals[f] = fields[f].read(c);
                         }
                         match equilibrate_cell(&params, &mut vals[..m]) {
-                            Ok(rep) => {
+                            Ok((rep, kept)) => {
+                                if kept.any() {
+                                    let g = geometry.linear_index(global_of(patch, c));
+                                    warm.push((g, kept));
+                                }
                                 stats.max_iterations = stats.max_iterations.max(rep.iterations);
                                 stats.max_residual = stats.max_residual.max(rep.residual.abs());
                                 stats.total_iterations += rep.iterations as u64;
@@ -1128,8 +1171,9 @@ impl<E: Eos> IceSolver<E> {
                             }
                         }
                     },
-                    |(s1, f1, mut r1), (s2, f2, r2)| {
+                    |(s1, f1, mut r1, mut w1), (s2, f2, r2, w2)| {
                         r1.extend(r2);
+                        w1.extend(w2);
                         (
                             EquilibrationStats {
                                 max_iterations: s1.max_iterations.max(s2.max_iterations),
@@ -1138,6 +1182,7 @@ impl<E: Eos> IceSolver<E> {
                             },
                             first_failure(f1, f2),
                             r1,
+                            w1,
                         )
                     },
                 )
@@ -1146,14 +1191,33 @@ impl<E: Eos> IceSolver<E> {
         let mut stats = EquilibrationStats::default();
         let mut fail = None;
         let mut rescaled: Vec<(usize, ConservationTotals)> = Vec::new();
-        for (s, f, r) in results {
+        let mut warm: Vec<(usize, KeptWarmCell)> = Vec::new();
+        for (s, f, r, w) in results {
             stats.max_iterations = stats.max_iterations.max(s.max_iterations);
             stats.max_residual = stats.max_residual.max(s.max_residual);
             stats.total_iterations += s.total_iterations;
             fail = first_failure(fail, f);
             rescaled.extend(r);
+            warm.extend(w);
         }
         self.last_equilibration = stats;
+        if fail.is_none() && !warm.is_empty() {
+            // Summed in global cell order: the same bits for any split.
+            warm.sort_unstable_by_key(|x| x.0);
+            let vol: f64 = geometry.spacing.iter().product();
+            for (_, k) in &warm {
+                for (t, (&fired, &e)) in self
+                    .kept_warm
+                    .iter_mut()
+                    .zip(k.fired.iter().zip(&k.energy_density))
+                {
+                    if fired {
+                        t.firings += 1;
+                        t.energy += e * vol;
+                    }
+                }
+            }
+        }
         if fail.is_none() && !rescaled.is_empty() {
             // Summed in global cell order: the same bits for any split.
             rescaled.sort_unstable_by_key(|x| x.0);
@@ -1856,7 +1920,7 @@ fn kept_warm<E: Eos>(eos: &E, rho: f64, e: f64, t_keep: f64) -> (f64, f64) {
 fn equilibrate_cell<E: Eos>(
     params: &Params<'_, E>,
     vals: &mut [f64],
-) -> Result<EquilibrationReport, (usize, String)> {
+) -> Result<(EquilibrationReport, KeptWarmCell), (usize, String)> {
     let n = params.eos.len();
     let mut rho = [0.0; MAX_MATERIALS];
     let mut temp = [0.0; MAX_MATERIALS];
@@ -1907,6 +1971,7 @@ fn equilibrate_cell<E: Eos>(
         )
     }
     .map_err(|e| (0, e.to_string()))?;
+    let mut kept = KeptWarmCell::default();
     for r in 0..n {
         let b = r * NS;
         let rho_micro = 1.0 / vsp[r];
@@ -1921,6 +1986,11 @@ fn equilibrate_cell<E: Eos>(
             let e = vals[b + ENERGY];
             (e, params.eos[r].temperature(rho_micro, e))
         };
+        if e != vals[b + ENERGY] {
+            kept.fired[r] = true;
+            // Per unit mass now; times the material's density below.
+            kept.energy_density[r] = e - vals[b + ENERGY];
+        }
         vals[b + ENERGY] = e;
         let c = params.eos[r].sound_speed(rho_micro, e);
         if !(c > 0.0 && c.is_finite()) {
@@ -1947,9 +2017,10 @@ fn equilibrate_cell<E: Eos>(
         }
         vals[b + TEMP] = t_new;
         vals[b + SOUND] = c;
+        kept.energy_density[r] *= vals[b + RHO];
     }
     vals[n * NS] = p;
-    Ok(rep)
+    Ok((rep, kept))
 }
 
 #[inline]
@@ -2559,7 +2630,8 @@ mod cold_trace_tests {
         vals[NS + ENERGY] = trace.specific_internal_energy_from_temperature(rho_t, 1.0);
         vals[NS + THETA] = 1e-3;
         vals[2 * NS] = 1e5;
-        equilibrate_cell(&params, &mut vals).unwrap();
+        let e_old = vals[NS + ENERGY];
+        let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();
         let p = vals[2 * NS];
         assert!(p > 2.5e8 && p < 2.7e8, "p = {p:e}");
         let rho_new = 1.0 / vals[NS + VSP];
@@ -2584,6 +2656,99 @@ mod cold_trace_tests {
         // The air: e kept, T = e/c_v.
         assert_eq!(vals[ENERGY], 717.5 * t_air);
         assert!((vals[TEMP] - t_air).abs() < 1e-9);
+        // The rule fired for the trace alone, adding ρ_trace (e − e_old)
+        // per unit volume (uncoupled: the trace keeps its mass, 1.26 kg/m³).
+        assert_eq!(kept.fired[..2], [false, true]);
+        assert_eq!(kept.energy_density[0], 0.0);
+        let added = 1e-3 * rho_t * (vals[NS + ENERGY] - e_old);
+        assert!(added > 0.0, "{added}");
+        assert_eq!(kept.energy_density[1], added);
+    }
+
+    /// The solver books the rule's firings and energy per material: the
+    /// same cell through `compute_equilibration_pressure` on a 2 × 1 × 1
+    /// grid of 1 m³ cells adds twice the one-cell energy, two firings.
+    #[test]
+    fn the_solver_books_the_cold_rule_per_material() {
+        let trace = Murnaghan {
+            n: 7.0,
+            kappa: 1e-10,
+            rho0: 1260.0,
+            cv: 1500.0,
+            t_ref: 298.0,
+        };
+        let air = IdealGas::new(1.4, 717.5, 1.0);
+        let eos = vec![EosModel::IdealGas(air), EosModel::Murnaghan(trace)];
+        let level = Level::new([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], [1, 1, 1], GHOST).unwrap();
+        let exchange = ExchangeCoefficients::uniform(2, 1e15, 0.0);
+        // Built at a common pressure, then given the test's cell state.
+        let init = |_| CellState {
+            pressure: 1e5,
+            materials: vec![
+                crate::material::MaterialState {
+                    volume_fraction: 0.999,
+                    density: 1.2,
+                    velocity: [0.0; 3],
+                },
+                crate::material::MaterialState {
+                    volume_fraction: 1e-3,
+                    // Murnaghan at 1e5 Pa: ρ₀ (1 + nκp)^{1/n}.
+                    density: 1260.0 * (1.0 + 7.0 * 1e-10 * 1e5_f64).powf(1.0 / 7.0),
+                    velocity: [0.0; 3],
+                },
+            ],
+        };
+        let mut s = IceSolver::new(
+            eos,
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            exchange,
+            IceOptions::default(),
+            init,
+        )
+        .unwrap();
+        let (rho_air, rho_t) = (3000.0, 1260.0);
+        let e_t = trace.specific_internal_energy_from_temperature(rho_t, 1.0);
+        for pf in &mut s.state {
+            let cells = pf.data[0].len();
+            for c in 0..cells {
+                pf.data[RHO][c] = 0.999 * rho_air;
+                pf.data[VSP][c] = 1.0 / rho_air;
+                pf.data[ENERGY][c] = 717.5 * 300.0;
+                pf.data[THETA][c] = 0.999;
+                pf.data[NS + RHO][c] = 1e-3 * rho_t;
+                pf.data[NS + VSP][c] = 1.0 / rho_t;
+                pf.data[NS + ENERGY][c] = e_t;
+                pf.data[NS + THETA][c] = 1e-3;
+                pf.data[2 * NS][c] = 1e5;
+            }
+        }
+        assert_eq!(s.kept_warm_totals(), [KeptWarmTotals::default(); 2]);
+        s.compute_equilibration_pressure().unwrap();
+        let t = s.kept_warm_totals();
+        assert_eq!((t[0].firings, t[0].energy), (0, 0.0));
+        assert_eq!(t[1].firings, 2);
+        // One cell by hand, as the test above.
+        let params = make_params(
+            &s.eos,
+            &[],
+            &s.exchange,
+            IceOptions::default(),
+            &s.level,
+            &[],
+        );
+        let mut vals = vec![0.0; 2 * NS + 1];
+        vals[RHO] = 0.999 * rho_air;
+        vals[VSP] = 1.0 / rho_air;
+        vals[ENERGY] = 717.5 * 300.0;
+        vals[THETA] = 0.999;
+        vals[NS + RHO] = 1e-3 * rho_t;
+        vals[NS + VSP] = 1.0 / rho_t;
+        vals[NS + ENERGY] = e_t;
+        vals[NS + THETA] = 1e-3;
+        vals[2 * NS] = 1e5;
+        let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();
+        assert_eq!(t[1].energy, kept.energy_density[1] + kept.energy_density[1]);
     }
 }
 
