@@ -14,7 +14,7 @@
 //!   pushed down) binned by their initial distance from the charge's axis,
 //!   one particle spacing per ring; the crushed zone is the rings, counted
 //!   from the axis, in which at least half the particles are crushed (HJC
-//!   compressive damage D_c ≥ 1; tensile failure does not count); its
+//!   damage D reached 1 under compression, [`DamageOnset`]); its
 //!   diameter is twice the outer radius of the last such ring
 //!   ([`crushing_diameter`]). The diameter of a disc with the area of all
 //!   crushed top-face particles is reported beside it;
@@ -315,9 +315,10 @@ fn peak_resident_bytes() -> Option<f64> {
 
 /// The particle fields the measurement needs. Layers are selected and
 /// rings drawn on each particle's *initial* position (found through its
-/// identity), so a face pushed down keeps its layer; `crushed` is HJC's
-/// compressive damage D_c ≥ 1, `tensile` its tensile damage D_t ≥ 1 (1 or
-/// 0), `failed` the model's failed flag (either).
+/// identity), so a face pushed down keeps its layer; `crushed` marks the
+/// particles whose HJC damage D reached 1 under compression (see
+/// [`DamageOnset`]), `tensile` those whose tensile damage D_t reached 1
+/// (1 or 0), `failed` the model's failed flag (any of them).
 struct Sample {
     initial: Vec<[f64; 3]>,
     material: Vec<f64>,
@@ -325,6 +326,35 @@ struct Sample {
     crushed: Vec<f64>,
     tensile: Vec<f64>,
     pressure: Vec<f64>,
+}
+
+/// Per particle identity, whether its HJC damage D was first seen at 1
+/// under compression (p > 0) — crushing — or not. HJC's D also grows on
+/// the tension continuation of its pressure curve (ε_f = EF_min there,
+/// docs/physics/constitutive/hjc.md), so D ≥ 1 alone does not tell a
+/// crushed particle from one torn in tension; the pressure at the sample
+/// where D is first seen at 1 (every [`SAMPLE_EVERY`] steps) does. A failed
+/// particle keeps only its compressive pressure, so one that failed in
+/// tension reads p = 0 there.
+type DamageOnset = std::collections::HashMap<u32, bool>;
+
+/// 1 for each particle whose damage D is at 1 and was first seen there
+/// under compression, else 0; records the onset of each newly damaged
+/// particle in `onset`.
+fn crushed_flags(
+    ids: &[f64],
+    damage: &[f64],
+    pressure: &[f64],
+    onset: &mut DamageOnset,
+) -> Vec<f64> {
+    ids.iter()
+        .zip(damage)
+        .zip(pressure)
+        .map(|((&i, &d), &p)| {
+            let compressed = d >= 1.0 && *onset.entry(i as u32).or_insert(p > 0.0);
+            f64::from(u8::from(compressed))
+        })
+        .collect()
 }
 
 /// Initial positions by particle identity.
@@ -348,7 +378,7 @@ fn initial_positions(solver: &dyn Solver) -> Result<Initial> {
         .collect())
 }
 
-fn sample(solver: &dyn Solver, initial: &Initial) -> Result<Sample> {
+fn sample(solver: &dyn Solver, initial: &Initial, onset: &mut DamageOnset) -> Result<Sample> {
     let mut data = solver
         .particle_data()
         .ok_or_else(|| anyhow!("the bridge gives no particle data"))?;
@@ -367,10 +397,12 @@ fn sample(solver: &dyn Solver, initial: &Initial) -> Result<Sample> {
             .map(|d| f64::from(u8::from(d >= 1.0)))
             .collect()
     };
-    let crushed = at_least_one(field("damage")?);
+    let damage = field("damage")?;
     let tensile = at_least_one(field("tensile_damage")?);
+    let ids = field("id")?;
+    let crushed = crushed_flags(&ids, &damage, &pressure, onset);
     // Particles made after the start (inflow air) have no initial place.
-    let initial = field("id")?
+    let initial = ids
         .iter()
         .map(|&i| initial.get(&(i as u32)).copied().unwrap_or([f64::NAN; 3]))
         .collect();
@@ -435,6 +467,7 @@ pub(crate) fn run_case(
     let mut solver =
         build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
     let initial = initial_positions(solver.as_ref())?;
+    let mut onset = DamageOnset::new();
     let mut history = vec![(0.0, 0.0, 0usize, 0.0)];
     let mut peak_pressure = (0.0f64, 0.0);
     let mut stop = None;
@@ -453,7 +486,7 @@ pub(crate) fn run_case(
         }
         steps += 1;
         if steps.is_multiple_of(SAMPLE_EVERY) {
-            let s = sample(solver.as_ref(), &initial)?;
+            let s = sample(solver.as_ref(), &initial, &mut onset)?;
             let front = front_of(&s);
             let failed = s
                 .material
@@ -486,7 +519,7 @@ pub(crate) fn run_case(
         }
     }
     let wall = start.elapsed().as_secs_f64();
-    let s = sample(solver.as_ref(), &initial)?;
+    let s = sample(solver.as_ref(), &initial, &mut onset)?;
     let front = front_of(&s);
     let back_lo = BACK - FACE_LAYER * SPACING;
     let back = crushing_diameter(
@@ -639,8 +672,8 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
          with their own remap. Crushing diameter: the concrete particles that started in the top-face layer \
          (within 10 mm of the top face, two particles deep; followed by particle identity), rings 5 mm wide \
          about the axis by initial position; the crushed zone runs from the axis to the first ring in which \
-         fewer than half the particles are crushed (HJC compressive damage D_c ≥ 1; tensile failure does not \
-         count); D = twice its outer radius; \"area D\" is the diameter of the disc with the area of the \
+         fewer than half the particles are crushed (HJC damage D first seen at 1 while the particle's pressure is \
+         positive, sampled every 5 steps; D reached in tension does not count); D = twice its outer radius; \"area D\" is the diameter of the disc with the area of the \
          crushed top-face particles within 200 mm of the axis (each 5 × 5 mm). Back face: particles of the \
          initial bottom layer with tensile damage D_t ≥ 1. Axis pressure: mean pressure of the initial \
          top-layer concrete particles within 10 mm of the axis, every 5 steps; \
@@ -863,7 +896,7 @@ fn draw_faces(path: &Path, runs: &[SlabRun]) -> Result<()> {
     let dot = (SPACING * px_per_m / 2.0).ceil() as i32;
     for (k, r) in runs.iter().enumerate() {
         for (col, (name, map)) in [
-            ("top face, crushed (D_c ≥ 1)", &r.front_map),
+            ("top face, crushed (D = 1 under p > 0)", &r.front_map),
             ("back face, D_t ≥ 1", &r.back_map),
         ]
         .into_iter()
@@ -916,6 +949,22 @@ fn draw_faces(path: &Path, runs: &[SlabRun]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn crushing_is_damage_first_seen_at_one_under_compression() {
+        let mut onset = DamageOnset::new();
+        // Particle 7 reaches D = 1 at p = 30 MPa: crushed, and stays so when
+        // its pressure later falls to 0. Particle 8 reaches D = 1 at p = 0
+        // (torn in tension): never crushed, even when compressed later.
+        // Particle 9 is damaged but below 1: not classified yet.
+        let ids = [7.0, 8.0, 9.0];
+        let first = crushed_flags(&ids, &[1.0, 1.0, 0.9], &[3e7, 0.0, 5e7], &mut onset);
+        assert_eq!(first, [1.0, 0.0, 0.0]);
+        let later = crushed_flags(&ids, &[1.0, 1.0, 1.0], &[0.0, 4e7, -1e6], &mut onset);
+        assert_eq!(later, [1.0, 0.0, 0.0]);
+        assert_eq!(onset.len(), 3);
+        assert_eq!((onset[&7], onset[&8], onset[&9]), (true, false, false));
+    }
 
     #[test]
     fn eq67_gives_the_seed_formula() {
@@ -1068,7 +1117,7 @@ mod tests {
                 solver.advance(dt).unwrap();
             }
             let initial = initial_positions(solver.as_ref()).unwrap();
-            let s = sample(solver.as_ref(), &initial).unwrap();
+            let s = sample(solver.as_ref(), &initial, &mut DamageOnset::new()).unwrap();
             let concrete: Vec<&[f64; 3]> = s
                 .initial
                 .iter()
