@@ -2599,6 +2599,41 @@ mod cold_trace_tests {
     use super::*;
     use brisance_eos::{EosModel, IdealGas, Murnaghan};
 
+    /// The QM-100-like Murnaghan reactant of the cold trace.
+    fn trace() -> Murnaghan {
+        Murnaghan {
+            n: 7.0,
+            kappa: 1e-10,
+            rho0: 1260.0,
+            cv: 1500.0,
+            t_ref: 298.0,
+        }
+    }
+
+    /// Air (γ 1.4) and the trace.
+    fn air_and_trace() -> Vec<EosModel> {
+        let air = IdealGas::new(1.4, 717.5, 1.0);
+        vec![EosModel::IdealGas(air), EosModel::Murnaghan(trace())]
+    }
+
+    /// Air at 3000 kg/m³ and 300 K (θ 0.999) beside the trace at ρ₀ and
+    /// 1 K (θ 10⁻³), a start pressure of 10⁵ Pa: the state-group values of
+    /// one cell.
+    fn cold_trace_cell() -> Vec<f64> {
+        let mut vals = vec![0.0; 2 * NS + 1];
+        let (rho_air, rho_t) = (3000.0, 1260.0);
+        vals[RHO] = 0.999 * rho_air;
+        vals[VSP] = 1.0 / rho_air;
+        vals[ENERGY] = 717.5 * 300.0;
+        vals[THETA] = 0.999;
+        vals[NS + RHO] = 1e-3 * rho_t;
+        vals[NS + VSP] = 1.0 / rho_t;
+        vals[NS + ENERGY] = trace().specific_internal_energy_from_temperature(rho_t, 1.0);
+        vals[NS + THETA] = 1e-3;
+        vals[2 * NS] = 1e5;
+        vals
+    }
+
     /// Step 2 on one cell: a Murnaghan trace at 1 K (θ = 10⁻³, near ρ₀)
     /// beside air compressed to 2.6·10⁸ Pa. Compressed at fixed e its cold
     /// energy rises by p²κ/(2ρ) ≈ 2.7 kJ/kg, which would put it at about
@@ -2606,30 +2641,12 @@ mod cold_trace_tests {
     /// e = e(ρ_new, 1 K), and the air's state is the plain one.
     #[test]
     fn a_cold_trace_compressed_in_step_2_keeps_its_temperature() {
-        let trace = Murnaghan {
-            n: 7.0,
-            kappa: 1e-10,
-            rho0: 1260.0,
-            cv: 1500.0,
-            t_ref: 298.0,
-        };
-        let air = IdealGas::new(1.4, 717.5, 1.0);
-        let eos = vec![EosModel::IdealGas(air), EosModel::Murnaghan(trace)];
+        let (trace, eos) = (trace(), air_and_trace());
         let level = Level::new([0.0; 3], [1.0; 3], [1, 1, 1], [1, 1, 1], GHOST).unwrap();
         let exchange = ExchangeCoefficients::uniform(2, 1e15, 0.0);
         let params = make_params(&eos, &[], &exchange, IceOptions::default(), &level, &[]);
-        let mut vals = vec![0.0; 2 * NS + 1];
-        let (rho_air, t_air) = (3000.0, 300.0);
-        vals[RHO] = 0.999 * rho_air;
-        vals[VSP] = 1.0 / rho_air;
-        vals[ENERGY] = 717.5 * t_air;
-        vals[THETA] = 0.999;
-        let rho_t = 1260.0;
-        vals[NS + RHO] = 1e-3 * rho_t;
-        vals[NS + VSP] = 1.0 / rho_t;
-        vals[NS + ENERGY] = trace.specific_internal_energy_from_temperature(rho_t, 1.0);
-        vals[NS + THETA] = 1e-3;
-        vals[2 * NS] = 1e5;
+        let mut vals = cold_trace_cell();
+        let (rho_t, t_air) = (1260.0, 300.0);
         let e_old = vals[NS + ENERGY];
         let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();
         let p = vals[2 * NS];
@@ -2670,15 +2687,7 @@ mod cold_trace_tests {
     /// grid of 1 m³ cells adds twice the one-cell energy, two firings.
     #[test]
     fn the_solver_books_the_cold_rule_per_material() {
-        let trace = Murnaghan {
-            n: 7.0,
-            kappa: 1e-10,
-            rho0: 1260.0,
-            cv: 1500.0,
-            t_ref: 298.0,
-        };
-        let air = IdealGas::new(1.4, 717.5, 1.0);
-        let eos = vec![EosModel::IdealGas(air), EosModel::Murnaghan(trace)];
+        let eos = air_and_trace();
         let level = Level::new([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], [1, 1, 1], GHOST).unwrap();
         let exchange = ExchangeCoefficients::uniform(2, 1e15, 0.0);
         // Built at a common pressure, then given the test's cell state.
@@ -2707,20 +2716,10 @@ mod cold_trace_tests {
             init,
         )
         .unwrap();
-        let (rho_air, rho_t) = (3000.0, 1260.0);
-        let e_t = trace.specific_internal_energy_from_temperature(rho_t, 1.0);
+        let cell = cold_trace_cell();
         for pf in &mut s.state {
-            let cells = pf.data[0].len();
-            for c in 0..cells {
-                pf.data[RHO][c] = 0.999 * rho_air;
-                pf.data[VSP][c] = 1.0 / rho_air;
-                pf.data[ENERGY][c] = 717.5 * 300.0;
-                pf.data[THETA][c] = 0.999;
-                pf.data[NS + RHO][c] = 1e-3 * rho_t;
-                pf.data[NS + VSP][c] = 1.0 / rho_t;
-                pf.data[NS + ENERGY][c] = e_t;
-                pf.data[NS + THETA][c] = 1e-3;
-                pf.data[2 * NS][c] = 1e5;
+            for (field, &v) in pf.data.iter_mut().zip(&cell) {
+                field.fill(v);
             }
         }
         assert_eq!(s.kept_warm_totals(), [KeptWarmTotals::default(); 2]);
@@ -2737,16 +2736,7 @@ mod cold_trace_tests {
             &s.level,
             &[],
         );
-        let mut vals = vec![0.0; 2 * NS + 1];
-        vals[RHO] = 0.999 * rho_air;
-        vals[VSP] = 1.0 / rho_air;
-        vals[ENERGY] = 717.5 * 300.0;
-        vals[THETA] = 0.999;
-        vals[NS + RHO] = 1e-3 * rho_t;
-        vals[NS + VSP] = 1.0 / rho_t;
-        vals[NS + ENERGY] = e_t;
-        vals[NS + THETA] = 1e-3;
-        vals[2 * NS] = 1e5;
+        let mut vals = cold_trace_cell();
         let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();
         assert_eq!(t[1].energy, kept.energy_density[1] + kept.energy_density[1]);
     }
