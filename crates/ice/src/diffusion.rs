@@ -22,10 +22,7 @@ use brisance_eos::{IdealGas, Murnaghan};
 use brisance_grid::Level;
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    CellState, ExchangeCoefficients, IceBoundary, IceError, IceOptions, IceSolver, MaterialState,
-    GHOST,
-};
+use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError, IceOptions, IceSolver, GHOST};
 
 /// Transport coefficients of one material. Both default to 0, which skips
 /// the material in the diffusion pass.
@@ -278,14 +275,7 @@ pub fn shear_wave(cells: usize) -> Result<WaveRun, SolverError> {
     let s = periodic_tube(
         IdealGas::new(1.4, 1.0, 1.0),
         cells,
-        |x| CellState {
-            pressure: 1.0,
-            materials: vec![MaterialState {
-                volume_fraction: 1.0,
-                density: 1.0,
-                velocity: [0.0, u0 * (k * x[0]).sin(), 0.0],
-            }],
-        },
+        |x| CellState::single(1.0, 1.0, [0.0, u0 * (k * x[0]).sin(), 0.0]),
         MaterialTransport {
             viscosity: mu,
             thermal_conductivity: 0.0,
@@ -320,14 +310,7 @@ pub fn temperature_wave(cells: usize) -> Result<WaveRun, SolverError> {
     let mut s = periodic_tube(
         m,
         cells,
-        |_| CellState {
-            pressure: m.pressure(rho, 0.0),
-            materials: vec![MaterialState {
-                volume_fraction: 1.0,
-                density: rho,
-                velocity: [0.0; 3],
-            }],
-        },
+        |_| CellState::single(m.pressure(rho, 0.0), rho, [0.0; 3]),
         MaterialTransport {
             viscosity: 0.0,
             thermal_conductivity: alpha * rho * m.cv,

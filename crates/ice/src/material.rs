@@ -34,6 +34,21 @@ pub struct CellState {
     pub materials: Vec<MaterialState>,
 }
 
+impl CellState {
+    /// A cell filled by one material (θ = 1) of density `density` moving at
+    /// `velocity`, at `pressure`.
+    pub fn single(pressure: f64, density: f64, velocity: [f64; 3]) -> Self {
+        Self {
+            pressure,
+            materials: vec![MaterialState {
+                volume_fraction: 1.0,
+                density,
+                velocity,
+            }],
+        }
+    }
+}
+
 /// Momentum and heat exchange coefficients K_rs and H_rs (seed 000 eqs 2,
 /// 3, 29, 30), N×N row-major, symmetric, zero diagonal.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -100,6 +115,20 @@ impl ExchangeCoefficients {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_single_material_cell_fills_the_cell() {
+        let c = CellState::single(2e5, 1.5, [1.0, -2.0, 0.5]);
+        assert_eq!(c.pressure, 2e5);
+        assert_eq!(
+            c.materials,
+            [MaterialState {
+                volume_fraction: 1.0,
+                density: 1.5,
+                velocity: [1.0, -2.0, 0.5],
+            }]
+        );
+    }
 
     #[test]
     fn uniform_coefficients_are_symmetric_with_zero_diagonal() {

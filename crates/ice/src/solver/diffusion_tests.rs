@@ -54,17 +54,6 @@ fn solver<E: Eos + Clone>(
     .unwrap()
 }
 
-fn one(p: f64, rho: f64, u: [f64; 3]) -> CellState {
-    CellState {
-        pressure: p,
-        materials: vec![MaterialState {
-            volume_fraction: 1.0,
-            density: rho,
-            velocity: u,
-        }],
-    }
-}
-
 /// Calls `f(centre, state values of the cell)` for every interior cell and
 /// writes the values back (tests only: serial).
 fn edit_state<E: Eos>(s: &mut IceSolver<E>, f: impl Fn([f64; 3], &mut [f64])) {
@@ -148,7 +137,7 @@ fn couette_profile_has_no_net_force_and_the_exact_wall_stress() {
             bcs.clone(),
             0.0,
             0.4,
-            |x| one(1.0, 1.0, [u_wall * x[1], 0.0, 0.0]),
+            |x| CellState::single(1.0, 1.0, [u_wall * x[1], 0.0, 0.0]),
         )
     };
     let mut plain = make();
@@ -240,7 +229,7 @@ fn the_time_step_takes_the_diffusive_limits() {
         std::array::from_fn(|_| IceBoundary::Periodic),
         0.0,
         0.5,
-        |_| one(1.0, 2.0, [0.0; 3]),
+        |_| CellState::single(1.0, 2.0, [0.0; 3]),
     );
     // c = √(γp/ρ) = √0.7: convective cfl/(2c/Δx).
     let convective = 0.5 / (2.0 * 0.7f64.sqrt() * cells as f64);
@@ -271,7 +260,7 @@ fn bad_transport_is_refused_with_the_field_named() {
         std::array::from_fn(|_| IceBoundary::Periodic),
         0.0,
         0.4,
-        |_| one(1.0, 1.0, [0.0; 3]),
+        |_| CellState::single(1.0, 1.0, [0.0; 3]),
     );
     let e = s
         .set_transport(vec![transport(-1.0, 0.0)])

@@ -4,24 +4,13 @@ use brisance_eos::IdealGas;
 use brisance_grid::Level;
 
 use crate::solver::GHOST;
-use crate::{CellState, ExchangeCoefficients, IceOptions, MaterialState};
+use crate::{CellState, ExchangeCoefficients, IceOptions};
 
 const P0: f64 = 1e5;
 const RHO0: f64 = 1.2;
 
 fn air() -> IdealGas {
     IdealGas::new(1.4, 717.5, RHO0)
-}
-
-fn state(p: f64, rho: f64, u: [f64; 3]) -> CellState {
-    CellState {
-        pressure: p,
-        materials: vec![MaterialState {
-            volume_fraction: 1.0,
-            density: rho,
-            velocity: u,
-        }],
-    }
 }
 
 fn implicit(tolerance: f64, max_iterations: usize) -> IceOptions {
@@ -121,7 +110,7 @@ fn assembled_matrix_of_a_small_uniform_grid() {
         [0.3, 0.2, 0.1],
         b,
         IceOptions::default(),
-        |_| state(P0, RHO0, [0.0; 3]),
+        |_| CellState::single(P0, RHO0, [0.0; 3]),
     );
     let dt = 1e-3;
     let a = assembled(&mut s, dt);
@@ -163,14 +152,14 @@ fn assembled_matrix_of_a_small_uniform_grid() {
 #[test]
 fn a_fixed_state_face_is_a_dirichlet_term() {
     let mut b = walls();
-    b[1] = IceBoundary::FixedState(state(P0, RHO0, [0.0; 3]));
+    b[1] = IceBoundary::FixedState(CellState::single(P0, RHO0, [0.0; 3]));
     let mut s = gas(
         [3, 1, 1],
         [1, 1, 1],
         [0.3, 0.1, 0.1],
         b,
         IceOptions::default(),
-        |_| state(P0, RHO0, [0.0; 3]),
+        |_| CellState::single(P0, RHO0, [0.0; 3]),
     );
     let dt = 1e-3;
     let a = assembled(&mut s, dt);
@@ -195,7 +184,7 @@ fn pressure_for_a_prescribed_divergence_is_solved_exactly() {
         [0.2, 0.1, 0.1],
         walls(),
         implicit(1e-13, 5),
-        |_| state(P0, RHO0, [u, 0.0, 0.0]),
+        |_| CellState::single(P0, RHO0, [u, 0.0, 0.0]),
     );
     let (dt, dx) = (1e-3, 0.1);
     s.compute_implicit_pressure(
@@ -238,7 +227,7 @@ fn implicit_matches_explicit_at_the_explicit_limit() {
         b[1] = IceBoundary::Periodic;
         let mut s = gas([64, 1, 1], [1, 1, 1], [1.0, 0.1, 0.1], b, options, |x| {
             let p = P0 * (1.0 + 1e-3 * (-((x[0] - 0.5) / 0.08).powi(2)).exp());
-            state(p, RHO0 * (p / P0).powf(1.0 / 1.4), [0.0; 3])
+            CellState::single(p, RHO0 * (p / P0).powf(1.0 / 1.4), [0.0; 3])
         });
         for _ in 0..steps {
             s.advance(dt).unwrap();
@@ -253,7 +242,7 @@ fn implicit_matches_explicit_at_the_explicit_limit() {
         [1.0, 0.1, 0.1],
         walls(),
         IceOptions::default(),
-        |_| state(P0, RHO0, [0.0; 3]),
+        |_| CellState::single(P0, RHO0, [0.0; 3]),
     );
     let dt = probe.stable_dt().unwrap();
     let mut rel = Vec::new();
@@ -283,7 +272,7 @@ fn mass_is_conserved_and_the_analysis_kept() {
         implicit(1e-10, 20),
         |x| {
             let t = 1.0 + 0.5 * (-((x[0] - 0.4) / 0.1).powi(2)).exp();
-            state(
+            CellState::single(
                 P0,
                 RHO0 / t,
                 [3.0 * (std::f64::consts::PI * x[0]).sin(), 0.0, 0.0],
@@ -297,7 +286,7 @@ fn mass_is_conserved_and_the_analysis_kept() {
             [1.0, 0.1, 0.1],
             walls(),
             IceOptions::default(),
-            |_| state(P0, RHO0, [0.0; 3]),
+            |_| CellState::single(P0, RHO0, [0.0; 3]),
         );
         e.stable_dt().unwrap()
     };
@@ -339,7 +328,7 @@ fn bits_do_not_depend_on_threads_or_patches() {
                 |x| {
                     let t =
                         1.0 + 0.3 * (-((x[0] - 0.4).powi(2) + (x[1] - 0.3).powi(2)) / 0.02).exp();
-                    state(P0, RHO0 / t, [1.0, 2.0 * (6.0 * x[0]).sin(), 0.0])
+                    CellState::single(P0, RHO0 / t, [1.0, 2.0 * (6.0 * x[0]).sin(), 0.0])
                 },
             );
             for _ in 0..3 {
@@ -361,7 +350,7 @@ fn non_convergence_stops_the_run_naming_the_step() {
         [1.0, 0.1, 0.1],
         walls(),
         implicit(1e-300, 1),
-        |x| state(P0, RHO0, [(6.0 * x[0]).sin(), 0.0, 0.0]),
+        |x| CellState::single(P0, RHO0, [(6.0 * x[0]).sin(), 0.0, 0.0]),
     );
     let err = s.advance(1e-3).unwrap_err().to_string();
     assert!(
@@ -378,7 +367,7 @@ fn implicit_time_step_follows_the_material_velocity() {
         let mut b = walls();
         b[0] = IceBoundary::FixedVelocity([wall, 0.0, 0.0]);
         gas([10, 1, 1], [1, 1, 1], [1.0, 0.1, 0.1], b, options, |_| {
-            state(P0, RHO0, [2.0, 0.0, 0.0])
+            CellState::single(P0, RHO0, [2.0, 0.0, 0.0])
         })
     };
     let dt = make(implicit(1e-10, 20), 0.0).stable_dt().unwrap();
@@ -404,7 +393,7 @@ fn invalid_settings_name_the_field() {
             walls(),
             ExchangeCoefficients::uniform(1, 0.0, 0.0),
             opt,
-            |_| state(P0, RHO0, [0.0; 3]),
+            |_| CellState::single(P0, RHO0, [0.0; 3]),
         )
         .unwrap_err()
         .to_string();
