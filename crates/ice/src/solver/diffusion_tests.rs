@@ -388,30 +388,24 @@ fn two_materials_diffuse_with_the_volume_fraction_mean() {
     });
     s.fill_state_ghosts();
     copy_state_to_lag(&mut s);
-    let before = gather(&s, |_, l, c| {
-        (0..2)
-            .map(|r| {
-                (
-                    l[r * NL + L_RHO][c],
-                    l[r * NL + L_VEL + 1][c],
-                    l[r * NL + L_ENERGY][c],
-                )
-            })
-            .collect::<Vec<_>>()
-    });
+    // Per cell and material: the Lagrangian (ρ, u_y, e).
+    let lagrangian = |s: &IceSolver<_>| {
+        gather(s, |_, l, c| {
+            (0..2)
+                .map(|r| {
+                    (
+                        l[r * NL + L_RHO][c],
+                        l[r * NL + L_VEL + 1][c],
+                        l[r * NL + L_ENERGY][c],
+                    )
+                })
+                .collect::<Vec<_>>()
+        })
+    };
+    let before = lagrangian(&s);
     let dt = 1e-3;
     s.compute_diffusion_sources(dt);
-    let after = gather(&s, |_, l, c| {
-        (0..2)
-            .map(|r| {
-                (
-                    l[r * NL + L_RHO][c],
-                    l[r * NL + L_VEL + 1][c],
-                    l[r * NL + L_ENERGY][c],
-                )
-            })
-            .collect::<Vec<_>>()
-    });
+    let after = lagrangian(&s);
     let dx = 1.0 / cells as f64;
     let q = 4.0 * (k * dx / 2.0).sin().powi(2) / (dx * dx);
     let mu_mix = theta[0] * coeff[0].viscosity + theta[1] * coeff[1].viscosity;
