@@ -1,6 +1,6 @@
 //! E-PLATE (issue 9, seed 001 §5.4, Tables 1–2): circular RHA plates under
 //! a bare spherical TNT air blast (Neuberger, Peles & Rittel 2007), through
-//! the 3D FDM–MPM bridge (`configs/plate_case{1,4}.ron`,
+//! the 3D FDM–MPM bridge (`configs/plate_case{1..6}.ron`,
 //! docs/physics/couple/plate.md).
 //!
 //! For each case run here the driver makes the 1D spherical detonation and
@@ -17,9 +17,14 @@
 //! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset; the
 //! rows of each finished case are spliced into docs/validation.md at once.
 //!
-//! Cases 2, 3, 5 and 6 (scale 2 and full scale: 2×, 4× the size, 8× and
-//! 64× the cells at the same cell size) are listed with the seed's values
-//! and not run: they do not fit the budget of the shared machine.
+//! Cases 2, 3, 5 and 6 (scale 2 and full scale) are cases 1 and 4 with
+//! every length and time multiplied by k = 2 and 4 (Hopkinson–Cranz
+//! scaling; Table 1's charges are k³ times the scale-4 ones to 0.2 %).
+//! Their configs keep the cells per plate thickness, so 5 mm cells become
+//! 10 and 20 mm and a run costs about what the scale-4 run costs; δ/t then
+//! differs from the scale-4 case's only through what does not scale: the
+//! strain-rate term of Johnson–Cook (rates are 1/k) and the charge mass's
+//! 0.2 % mismatch.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -44,8 +49,11 @@ const REMAP_MARGIN: f64 = 0.16e-6;
 const STEEL: f64 = 2.0;
 /// Steps between two samples of the plate's centre.
 const SAMPLE_EVERY: u64 = 4;
-/// Cell size of the configs, m.
+/// Cell size of the scale-4 configs, m; a case's is [`PlateCase::cell`].
 const CELL: f64 = 0.005;
+/// Plate thickness of the scale-4 cases, m: the length a case's geometry
+/// is scaled by ([`PlateCase::length_scale`]).
+const SCALE4_THICKNESS: f64 = 0.01;
 
 /// One case of seed 001 Table 1 with its Table 2 values.
 #[derive(Debug, Clone, Copy)]
@@ -66,8 +74,8 @@ pub(crate) struct PlateCase {
     pub(crate) cfdmp: f64,
     /// Seed 001's LS-DYNA δ/t.
     pub(crate) lsdyna: Option<f64>,
-    /// The config, for the cases run here.
-    pub(crate) config: Option<&'static str>,
+    /// The config.
+    pub(crate) config: &'static str,
 }
 
 impl PlateCase {
@@ -77,9 +85,20 @@ impl PlateCase {
     }
 
     /// Time of the remap after initiation: the burn of a centre-initiated
-    /// sphere is complete at r_c / D, s.
+    /// sphere is complete at r_c / D; the margin scales with the case, s.
     pub(crate) fn remap_time(&self) -> f64 {
-        self.charge_radius() / TNT_DETONATION_VELOCITY + REMAP_MARGIN
+        self.charge_radius() / TNT_DETONATION_VELOCITY + REMAP_MARGIN * self.length_scale()
+    }
+
+    /// k = t / 10 mm: 1 for the scale-4 cases, 2 at scale 2, 4 at full
+    /// scale. The config's lengths and times are the scale-4 ones times k.
+    pub(crate) fn length_scale(&self) -> f64 {
+        self.thickness / SCALE4_THICKNESS
+    }
+
+    /// Cell size of the case's config, m (2 cells per plate thickness).
+    pub(crate) fn cell(&self) -> f64 {
+        CELL * self.length_scale()
     }
 }
 
@@ -95,7 +114,7 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: Some(2.60),
         cfdmp: 2.69,
         lsdyna: Some(2.59),
-        config: Some("configs/plate_case1.ron"),
+        config: "configs/plate_case1.ron",
     },
     PlateCase {
         id: 2,
@@ -107,7 +126,7 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: Some(2.70),
         cfdmp: 2.71,
         lsdyna: Some(2.62),
-        config: None,
+        config: "configs/plate_case2.ron",
     },
     PlateCase {
         id: 3,
@@ -119,7 +138,7 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: None,
         cfdmp: 2.68,
         lsdyna: None,
-        config: None,
+        config: "configs/plate_case3.ron",
     },
     PlateCase {
         id: 4,
@@ -131,7 +150,7 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: Some(4.85),
         cfdmp: 5.2,
         lsdyna: Some(4.98),
-        config: Some("configs/plate_case4.ron"),
+        config: "configs/plate_case4.ron",
     },
     PlateCase {
         id: 5,
@@ -143,7 +162,7 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: Some(5.35),
         cfdmp: 5.45,
         lsdyna: Some(5.24),
-        config: None,
+        config: "configs/plate_case5.ron",
     },
     PlateCase {
         id: 6,
@@ -155,25 +174,27 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
         experiment: None,
         cfdmp: 5.625,
         lsdyna: None,
-        config: None,
+        config: "configs/plate_case6.ron",
     },
 ];
 
 /// Makes a case's remap (what `brisance remap` with the arguments of the
 /// config's header does: the 1D spherical detonation with program burn,
-/// remapped onto the FDM region within 59.5 mm of the centre) in this
+/// remapped onto the FDM region within 59.5 k mm of the centre) in this
 /// process, and writes `remap.bin` into `out`; returns the relative
 /// changes of the charge's mass, energy and products over the remap.
 pub(crate) fn make_remap(case: &PlateCase, out: &Path) -> Result<String> {
     use brisance::couple::remap::{remap, RadialProfile, RemapTarget};
     use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
-    let setup = DetonationSetup::tnt_in_air(Symmetry::Spherical, case.charge_radius(), 0.08, 800);
+    let k = case.length_scale();
+    let setup =
+        DetonationSetup::tnt_in_air(Symmetry::Spherical, case.charge_radius(), 0.08 * k, 800);
     let mut run = RadialDetonation::new(setup).map_err(|e| anyhow!("{e}"))?;
     run.run_until(case.remap_time())
         .map_err(|e| anyhow!("{e}"))?;
     let profile = RadialProfile::from_detonation(&run).map_err(|e| anyhow!("{e}"))?;
     let cells = [54, 54, 28];
-    let (lower, upper) = ([0.0, 0.0, -0.06], [0.27, 0.27, 0.08]);
+    let (lower, upper) = ([0.0, 0.0, -0.06 * k], [0.27 * k, 0.27 * k, 0.08 * k]);
     let target = RemapTarget {
         geometry: brisance::core::UniformGridGeometry {
             origin: lower,
@@ -181,7 +202,7 @@ pub(crate) fn make_remap(case: &PlateCase, out: &Path) -> Result<String> {
             cells,
         },
         centre: [0.0; 3],
-        radius: Some(0.0595),
+        radius: Some(0.0595 * k),
         subsamples: None,
     };
     let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
@@ -220,7 +241,7 @@ pub(crate) fn centre_of(
     (n > 0).then(|| (z / n as f64, v / n as f64, n))
 }
 
-fn sample_centre(solver: &dyn Solver) -> Result<(f64, f64, usize)> {
+fn sample_centre(solver: &dyn Solver, cell: f64) -> Result<(f64, f64, usize)> {
     let data = solver
         .particle_data()
         .ok_or_else(|| anyhow!("the bridge gives no particle data"))?;
@@ -231,12 +252,12 @@ fn sample_centre(solver: &dyn Solver) -> Result<(f64, f64, usize)> {
             .map(|(_, v)| v.as_slice())
             .ok_or_else(|| anyhow!("particle field {name} missing"))
     };
-    // The ring starts at r = D/2 and z = 110 mm: x, y < h keeps it out.
+    // The ring starts at r = D/2 and z = 110 k mm: x, y < h keeps it out.
     centre_of(
         &data.positions,
         field("material")?,
         field("velocity_z")?,
-        CELL,
+        cell,
         f64::INFINITY,
     )
     .ok_or_else(|| anyhow!("no steel particle near the plate's centre"))
@@ -315,9 +336,7 @@ pub(crate) fn run_case(
     out: &Path,
     remap_line: String,
 ) -> Result<PlateRun> {
-    let config = case
-        .config
-        .ok_or_else(|| anyhow!("case {} has no config", case.id))?;
+    let config = case.config;
     let loaded =
         load_file(&root.join(config), sets).map_err(|e| anyhow!("{config} does not load: {e}"))?;
     let end = loaded.scenario.time.end;
@@ -327,7 +346,7 @@ pub(crate) fn run_case(
     let start = Instant::now();
     let mut solver =
         build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
-    let (z0, _, n0) = sample_centre(solver.as_ref())?;
+    let (z0, _, n0) = sample_centre(solver.as_ref(), case.cell())?;
     let mut history = vec![(0.0, 0.0, 0.0)];
     let (mut peak, mut peak_time, mut peak_reached, mut stop) = (0.0f64, 0.0, false, None);
     let mut steps = 0u64;
@@ -346,7 +365,7 @@ pub(crate) fn run_case(
         }
         steps += 1;
         if steps.is_multiple_of(SAMPLE_EVERY) {
-            let (z, v, _) = sample_centre(solver.as_ref())?;
+            let (z, v, _) = sample_centre(solver.as_ref(), case.cell())?;
             let d = z - z0;
             history.push((solver.time(), d, v));
             if d > peak {
@@ -426,7 +445,8 @@ pub(crate) fn within_ten_percent(measured: f64, experiment: f64) -> bool {
 pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-PLATE: RHA plates under a spherical TNT air blast through the 3D FDM-MPM bridge");
     let root: PathBuf = workspace_root();
-    // Case 4 first: the largest deflection, the one the budget must reach.
+    // Case 4 first: the largest deflection, the one the budget must reach;
+    // then its scaled copies, then case 1's series.
     // PLATE_CASES (e.g. `PLATE_CASES=1`) runs a subset.
     let ids: Vec<u8> = match std::env::var("PLATE_CASES") {
         Ok(list) => list
@@ -434,15 +454,12 @@ pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
             .map(|c| c.trim().parse::<u8>())
             .collect::<Result<_, _>>()
             .context("PLATE_CASES takes case numbers, e.g. 4,1")?,
-        Err(_) => vec![4, 1],
+        Err(_) => vec![4, 5, 6, 1, 2, 3],
     };
     let mut prepared = Vec::new();
     for id in ids {
-        let Some(case) = PLATE_CASES
-            .iter()
-            .find(|c| c.id == id && c.config.is_some())
-        else {
-            bail!("PLATE_CASES: case {id} has no config (cases 1 and 4 have)");
+        let Some(case) = PLATE_CASES.iter().find(|c| c.id == id) else {
+            bail!("PLATE_CASES: there is no case {id} (cases 1 to 6)");
         };
         let remap_dir = root.join(format!("out/plate_case{id}_remap"));
         let remap_line = make_remap(case, &remap_dir)?;
@@ -495,19 +512,25 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
     );
     let _ = writeln!(
         md,
-        "`configs/plate_case{{1,4}}.ron` (seed 001 §5.4, Tables 1–2; Neuberger, Peles & Rittel 2007; \
+        "`configs/plate_case{{1..6}}.ron` (seed 001 §5.4, Tables 1–2; Neuberger, Peles & Rittel 2007; \
          docs/physics/couple/plate.md): quarter model (x = 0 and y = 0 symmetry planes through the charge \
-         centre), plate t = 10 mm, D = 0.5 m at z = 100–110 mm, charge centre at the origin. Johnson–Cook + \
-         Mie–Grüneisen RHA of seed 001 §4.5 (`rha_steel`). FDM region (0, 0, −60) .. (270, 270, 80) mm, MPM \
-         region (0, 0, 60) .. (270, 270, 170) mm, bridge w = 4, **5 mm cells** (reduced resolution: the plate is \
-         2 cells, 4 particles, thick; 2 particles per cell per direction), MPM Courant 0.4, bulk viscosity on. \
-         Clamp: outside r = D/2 the plate is bonded to an RHA ring 60 mm thick behind it, held by the fixed \
-         MPM face z = 170 mm; void behind the plate inside r = D/2. Each FDM region starts from the 1D \
-         spherical detonation remapped at r_c/D + 0.16 µs. The run stops when the centre's velocity (mean over \
-         the plate particles with x, y < 5 mm) is negative in two samples running (4 steps apart) after it has moved 0.5 t; δ is the largest \
-         centre displacement. Wall times on the shared 2-CPU machine under the other work's load; memory: \
-         growth of this process's resident set over the build and run, and its peak so far. FDM / MPM: the \
-         bridge's split of the wall time (`time_split.json`).\n"
+         centre), charge centre at the origin. Johnson–Cook + Mie–Grüneisen RHA of seed 001 §4.5 \
+         (`rha_steel`). Scale-4 cases (1, 4): plate t = 10 mm, D = 0.5 m at z = 100–110 mm, FDM region \
+         (0, 0, −60) .. (270, 270, 80) mm, MPM region (0, 0, 60) .. (270, 270, 170) mm, bridge w = 4, \
+         **5 mm cells** (reduced resolution: the plate is 2 cells, 4 particles, thick; 2 particles per cell \
+         per direction), MPM Courant 0.4, bulk viscosity on. Scale 2 (cases 2, 5) and full scale (3, 6): \
+         the same configs with every length and time multiplied by k = 2 and 4 (Hopkinson–Cranz; the \
+         charges of Table 1 are k³ times the scale-4 ones to 0.2 %), so **10 and 20 mm cells**, the same \
+         cells per thickness and the same grid of 54 × 54 × 46 cells: what δ/t changes across a series \
+         comes from what does not scale, the strain-rate term of Johnson–Cook (rates are 1/k) and the \
+         0.2 %. Clamp: outside r = D/2 the plate is bonded to an RHA ring 6 t thick behind it, held by the \
+         fixed MPM face; void behind the plate inside r = D/2. Each FDM region starts from the 1D \
+         spherical detonation (800 cells over 80 k mm) remapped at r_c/D + 0.16 k µs. The run stops when \
+         the centre's velocity (mean over the plate particles with x, y < one cell) is negative in two \
+         samples running (4 steps apart) after it has moved 0.5 t; δ is the largest centre displacement. \
+         Wall times on the shared 2-CPU machine; memory: growth of this process's resident set over the \
+         build and run, and its peak so far. FDM / MPM: the bridge's split of the wall time \
+         (`time_split.json`).\n"
     );
     let _ = writeln!(
         md,
@@ -565,20 +588,39 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
             }
         }
     }
-    let _ = writeln!(
-        md,
-        "\nNot run here: {}. Cases 2, 3, 5 and 6 (scale 2 and full scale) need 8× and 64× the cells of cases \
-         1 and 4 at the same 5 mm cells, beyond this machine's budget; at the same cells per thickness they \
-         are the scale-4 runs scaled (δ/t would differ only through the strain-rate term of eq 64 and the \
-         blast's non-scaling). A case with a config left out by `PLATE_CASES` did not fit the session's \
-         time on the shared machine.",
-        PLATE_CASES
+    let not_run: Vec<String> = PLATE_CASES
+        .iter()
+        .filter(|c| runs.iter().all(|r| r.case.id != c.id))
+        .map(|c| c.id.to_string())
+        .collect();
+    if !not_run.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nNot run here: {}. A case left out by `PLATE_CASES` did not fit the session's time on the \
+             shared machine.",
+            not_run.join(", ")
+        );
+    }
+    // Each scaled case against its scale-4 case: the scale effect this
+    // model gives (the seed's CFDMP: 2.69 / 2.71 / 2.68 and 5.2 / 5.45 / 5.625).
+    for series in [[1u8, 2, 3], [4, 5, 6]] {
+        let ratio = |id: u8| {
+            let base = runs.iter().find(|r| r.case.id == series[0])?;
+            let r = runs.iter().find(|r| r.case.id == id)?;
+            Some((r.peak / r.case.thickness) / (base.peak / base.case.thickness))
+        };
+        let parts: Vec<String> = series[1..]
             .iter()
-            .filter(|c| runs.iter().all(|r| r.case.id != c.id))
-            .map(|c| c.id.to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+            .filter_map(|&id| ratio(id).map(|x| format!("case {id} / case {}: {x:.3}", series[0])))
+            .collect();
+        if !parts.is_empty() {
+            let _ = writeln!(
+                md,
+                "\nScale effect, δ/t over the scale-4 case's: {}.",
+                parts.join("; ")
+            );
+        }
+    }
     for r in runs {
         let _ = writeln!(
             md,
@@ -634,8 +676,17 @@ fn plot_histories(img: &Path, runs: &[PlateRun]) -> Result<()> {
         .iter()
         .map(|r| {
             (
-                format!("case {} (experiment {:?})", r.case.id, r.case.experiment),
-                r.history.iter().map(|h| h.0 * 1e6).collect(),
+                match r.case.experiment {
+                    Some(e) => format!("case {} (experiment {e:.2})", r.case.id),
+                    None => format!(
+                        "case {} (full scale, seed CFDMP {:.2})",
+                        r.case.id, r.case.cfdmp
+                    ),
+                },
+                r.history
+                    .iter()
+                    .map(|h| h.0 * 1e6 / r.case.length_scale())
+                    .collect(),
                 r.history.iter().map(|h| h.1 / r.case.thickness).collect(),
             )
         })
@@ -655,7 +706,7 @@ fn plot_histories(img: &Path, runs: &[PlateRun]) -> Result<()> {
     plot::plot_panels(
         &img.join("e_plate.png"),
         "E-PLATE: plate-centre deflection over thickness",
-        "time after the remap [µs]",
+        "time after the remap / k [µs] (k = 1, 2, 4 at scale 4, 2, 1)",
         &panels,
     )
 }
@@ -673,6 +724,70 @@ mod tests {
         assert!((c4.remap_time() - (7.837_55e-6 + 0.16e-6)).abs() < 1e-10);
         let c1 = &PLATE_CASES[0];
         assert!((c1.charge_radius() - 0.040_925_1).abs() < 1e-7);
+    }
+
+    /// The scale-4 case a case is the scaled copy of.
+    fn base_of(case: &PlateCase) -> &'static PlateCase {
+        let id = if case.id <= 3 { 1 } else { 4 };
+        PLATE_CASES.iter().find(|c| c.id == id).unwrap()
+    }
+
+    #[test]
+    fn the_cases_of_a_series_are_the_scale_4_case_scaled() {
+        for case in &PLATE_CASES {
+            let base = base_of(case);
+            let k = case.length_scale();
+            assert_eq!(k, f64::from(4 / case.scale), "case {}", case.id);
+            assert!((case.diameter - k * base.diameter).abs() < 1e-12);
+            assert!((case.standoff - k * base.standoff).abs() < 1e-12);
+            assert!((case.cell() - k * CELL).abs() < 1e-15);
+            // Table 1's charges: k³ W to 0.2 % (3.75 against 3.744 kg).
+            let w = case.charge / (k.powi(3) * base.charge);
+            assert!((w - 1.0).abs() < 2.5e-3, "case {}: {w}", case.id);
+        }
+    }
+
+    /// Every number of a scaled config is its scale-4 config's number, or
+    /// that number times k (a length or a time): a typed-in config that
+    /// does not scale fails here. Comment lines and the lines naming the
+    /// case are left out.
+    #[test]
+    fn the_scaled_configs_are_the_scale_4_configs_with_lengths_and_times_times_k() {
+        let numbers = |path: &str| -> Vec<f64> {
+            let text = std::fs::read_to_string(workspace_root().join(path)).unwrap();
+            text.lines()
+                .filter(|l| !l.trim_start().starts_with("//") && !l.contains("plate_case"))
+                .flat_map(|l| {
+                    l.split(|c: char| !(c.is_ascii_digit() || ".eE+-".contains(c)))
+                        .filter_map(|t| t.parse::<f64>().ok())
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        for case in PLATE_CASES.iter().filter(|c| c.scale != 4) {
+            let (k, base) = (case.length_scale(), base_of(case));
+            let (a, b) = (numbers(base.config), numbers(case.config));
+            assert_eq!(a.len(), b.len(), "{}", case.config);
+            assert!(a.len() > 40, "{}: {} numbers", case.config, a.len());
+            let mut scaled = 0;
+            for (x, y) in a.iter().zip(&b) {
+                let same = x == y;
+                let times_k = (y - k * x).abs() <= 1e-12 * (k * x).abs();
+                assert!(
+                    same || times_k,
+                    "{}: {y} against {x} (k = {k})",
+                    case.config
+                );
+                scaled += usize::from(!same);
+            }
+            // The non-zero lengths and the time: domain 4, end time 1, FDM
+            // and MPM regions 4 + 4, the air and plate boxes 4 + 4, the
+            // ring 4 (base z, radii, length), the gauge 3.
+            assert_eq!(scaled, 28, "{}", case.config);
+            let loaded = load_file(&workspace_root().join(case.config), &[]).unwrap();
+            assert_eq!(loaded.scenario.domain.cells, [54, 54, 46]);
+            assert!((loaded.scenario.time.end - k * 1.5e-3).abs() < 1e-15);
+        }
     }
 
     #[test]
