@@ -43,6 +43,23 @@ use crate::pressure::{face_pressure, pressure_increment};
 use crate::reaction::{transfer_burnt_mass, IceReaction, Parcel};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 
+/// The solver's [`Params`] from the fields they read. A macro rather
+/// than a method: a method would borrow the whole solver, and the passes
+/// mutate other fields (state, scratch, press, lag) while they hold the
+/// params.
+macro_rules! solver_params {
+    ($s:expr) => {
+        make_params(
+            &$s.eos,
+            &$s.reactions,
+            &$s.exchange,
+            $s.options,
+            &$s.level,
+            &$s.lagrangian,
+        )
+    };
+}
+
 // Viscous stress and heat conduction (seed 000 eqs 2–3).
 mod diffusion_pass;
 pub mod implicit;
@@ -729,14 +746,7 @@ impl<E: Eos> IceSolver<E> {
     fn fixed_values(&self, cs: &CellState) -> Result<(Vec<f64>, Vec<f64>, f64), String> {
         let n = self.eos.len();
         let mut vals = Self::material_values(&self.eos, cs)?;
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         equilibrate_cell(&params, &mut vals).map_err(|e| e.1)?;
         let mut lag = vec![0.0; n * NL];
         for r in 0..n {
@@ -1096,14 +1106,7 @@ impl<E: Eos> IceSolver<E> {
     // Kept out of line so that profiles attribute each step's cost.
     #[inline(never)]
     pub fn compute_equilibration_pressure(&mut self) -> Result<(), SolverError> {
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let time = self.time;
         let geometry = self.level.geometry;
         type Rescaled = Vec<(usize, ConservationTotals)>;
@@ -1251,14 +1254,7 @@ impl<E: Eos> IceSolver<E> {
     #[inline(never)]
     pub fn compute_face_centred_velocities(&mut self, dt: f64) {
         self.fill_state_ghosts();
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let boundaries = &self.boundaries;
         let cells = self.level.geometry.cells;
         self.scratch
@@ -1365,14 +1361,7 @@ impl<E: Eos> IceSolver<E> {
     // Kept out of line so that profiles attribute each step's cost.
     #[inline(never)]
     pub fn compute_pressure_increment(&mut self, dt: f64) {
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         self.press
             .par_iter_mut()
             .zip(self.scratch.par_iter_mut())
@@ -1474,14 +1463,7 @@ impl<E: Eos> IceSolver<E> {
             &self.press_bcs,
             &mut self.press,
         );
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let geometry = self.level.geometry;
         let fail = self
             .lag
@@ -1573,14 +1555,7 @@ impl<E: Eos> IceSolver<E> {
             NL,
             L_VEL,
         );
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let geometry = self.level.geometry;
         let fail = self
             .state
@@ -2386,14 +2361,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         } else {
             0.0
         };
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let n = self.eos.len();
         let max_rate = self
             .state

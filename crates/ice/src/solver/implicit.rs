@@ -482,14 +482,7 @@ impl<E: Eos> IceSolver<E> {
     /// them).
     fn gather_coefficients(&self, ws: &mut ImplicitWorkspace, dt: f64) {
         let n = self.eos.len();
-        let params = make_params(
-            &self.eos,
-            &self.reactions,
-            &self.exchange,
-            self.options,
-            &self.level,
-            &self.lagrangian,
-        );
+        let params = solver_params!(self);
         let count = self.level.geometry.cell_count();
         par_gather(&self.level, &mut ws.kappa, |pid, c| {
             let d = &self.state[pid].data;
