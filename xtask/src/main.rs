@@ -6,6 +6,7 @@
 //!   [`CASES`]) and splices their sections into the existing report.
 //! - `cargo xtask bench`: runs the criterion benchmarks (`benches/`).
 
+mod bridge3d;
 mod bridge_cases;
 mod ice_cases;
 mod ice_diffusion;

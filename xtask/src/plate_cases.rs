@@ -28,21 +28,16 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context, Result};
-use brisance::compose::build::build_solver;
-use brisance::compose::load_file;
 use brisance::core::Solver;
 
+use crate::bridge3d::{self, splice_now, CaseRun, Finished, SphericalRemap};
 use crate::plot::{self, Panel, Series, SeriesStyle};
-use crate::{resident_bytes, workspace_root, Report};
+use crate::{workspace_root, Report};
 
-/// TNT density, kg/m³ (configs/materials/tnt.ron).
-const TNT_DENSITY: f64 = 1630.0;
-/// TNT detonation velocity, m/s (configs/materials/tnt.ron).
-const TNT_DETONATION_VELOCITY: f64 = 6930.0;
-/// Time after the burn completes at which the 1D detonation is remapped, s.
+/// Time after the burn completes at which the 1D detonation is remapped,
+/// for the scale-4 cases, s.
 const REMAP_MARGIN: f64 = 0.16e-6;
 /// Material index of the plate's steel in the bridge's MPM: air 0,
 /// products 1, then the structures in name order (`rha` only).
@@ -81,13 +76,13 @@ pub(crate) struct PlateCase {
 impl PlateCase {
     /// Radius of the bare spherical charge, m.
     pub(crate) fn charge_radius(&self) -> f64 {
-        (3.0 * self.charge / (4.0 * std::f64::consts::PI * TNT_DENSITY)).cbrt()
+        bridge3d::charge_radius(self.charge)
     }
 
     /// Time of the remap after initiation: the burn of a centre-initiated
     /// sphere is complete at r_c / D; the margin scales with the case, s.
     pub(crate) fn remap_time(&self) -> f64 {
-        self.charge_radius() / TNT_DETONATION_VELOCITY + REMAP_MARGIN * self.length_scale()
+        bridge3d::remap_time(self.charge, REMAP_MARGIN * self.length_scale())
     }
 
     /// k = t / 10 mm: 1 for the scale-4 cases, 2 at scale 2, 4 at full
@@ -184,40 +179,18 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
 /// process, and writes `remap.bin` into `out`; returns the relative
 /// changes of the charge's mass, energy and products over the remap.
 pub(crate) fn make_remap(case: &PlateCase, out: &Path) -> Result<String> {
-    use brisance::couple::remap::{remap, RadialProfile, RemapTarget};
-    use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
     let k = case.length_scale();
-    let setup =
-        DetonationSetup::tnt_in_air(Symmetry::Spherical, case.charge_radius(), 0.08 * k, 800);
-    let mut run = RadialDetonation::new(setup).map_err(|e| anyhow!("{e}"))?;
-    run.run_until(case.remap_time())
-        .map_err(|e| anyhow!("{e}"))?;
-    let profile = RadialProfile::from_detonation(&run).map_err(|e| anyhow!("{e}"))?;
-    let cells = [54, 54, 28];
-    let (lower, upper) = ([0.0, 0.0, -0.06 * k], [0.27 * k, 0.27 * k, 0.08 * k]);
-    let target = RemapTarget {
-        geometry: brisance::core::UniformGridGeometry {
-            origin: lower,
-            spacing: std::array::from_fn(|d| (upper[d] - lower[d]) / cells[d] as f64),
-            cells,
-        },
-        centre: [0.0; 3],
-        radius: Some(0.0595 * k),
-        subsamples: None,
-    };
-    let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    mapped
-        .save(&out.join("remap.bin"))
-        .map_err(|e| anyhow!("{e}"))?;
-    let r = mapped.report;
-    let rel = |grid: f64, amb: f64, charge: f64| (grid - amb - charge) / charge;
-    Ok(format!(
-        "relative change: mass {:.3e}, energy {:.3e}, products {:.3e}",
-        rel(r.grid_mass, r.ambient.mass, r.charge.mass),
-        rel(r.grid_energy, r.ambient.energy, r.charge.energy),
-        rel(r.grid_products, r.ambient.products, r.charge.products),
-    ))
+    SphericalRemap {
+        charge_radius: case.charge_radius(),
+        time: case.remap_time(),
+        radius_1d: 0.08 * k,
+        cells_1d: 800,
+        lower: [0.0, 0.0, -0.06 * k],
+        upper: [0.27 * k, 0.27 * k, 0.08 * k],
+        cells: [54, 54, 28],
+        radius: 0.0595 * k,
+    }
+    .write(out)
 }
 
 /// The plate's centre: mean z position and z velocity of the steel
@@ -275,12 +248,8 @@ pub(crate) struct PlateRun {
     pub(crate) peak_reached: bool,
     pub(crate) stop: Option<String>,
     pub(crate) steps: u64,
-    pub(crate) final_time: f64,
-    pub(crate) wall: f64,
-    pub(crate) split: Vec<(&'static str, f64)>,
+    pub(crate) finished: Finished,
     pub(crate) particles_sampled: usize,
-    pub(crate) resident_growth: Option<f64>,
-    pub(crate) peak_resident: Option<f64>,
     pub(crate) remap_line: String,
     /// At a stop: the gas particles (air and products) with a negative
     /// specific internal energy.
@@ -320,13 +289,6 @@ pub(crate) fn cold_gas(
     found
 }
 
-fn peak_resident_bytes() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
-}
-
 /// Runs one case from its config with `sets` overrides, following the
 /// plate's centre until the peak deflection is past or the end time.
 pub(crate) fn run_case(
@@ -336,58 +298,34 @@ pub(crate) fn run_case(
     out: &Path,
     remap_line: String,
 ) -> Result<PlateRun> {
-    let config = case.config;
-    let loaded =
-        load_file(&root.join(config), sets).map_err(|e| anyhow!("{config} does not load: {e}"))?;
-    let end = loaded.scenario.time.end;
-    let max_steps = loaded.scenario.time.max_steps.unwrap_or(u64::MAX);
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let rss0 = resident_bytes();
-    let start = Instant::now();
-    let mut solver =
-        build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
-    let (z0, _, n0) = sample_centre(solver.as_ref(), case.cell())?;
+    let mut run = CaseRun::build(root, case.config, sets, out)?;
+    let (z0, _, n0) = sample_centre(run.solver.as_ref(), case.cell())?;
     let mut history = vec![(0.0, 0.0, 0.0)];
-    let (mut peak, mut peak_time, mut peak_reached, mut stop) = (0.0f64, 0.0, false, None);
-    let mut steps = 0u64;
+    let (mut peak, mut peak_time, mut peak_reached) = (0.0f64, 0.0, false);
     let mut falling = 0u32;
-    while solver.time() < end && steps < max_steps {
-        let dt = match solver.stable_dt() {
-            Ok(dt) => dt.min(end - solver.time()),
-            Err(e) => {
-                stop = Some(e.to_string());
-                break;
-            }
-        };
-        if let Err(e) = solver.advance(dt) {
-            stop = Some(e.to_string());
-            break;
+    run.step(SAMPLE_EVERY, |solver, steps, _| {
+        let (z, v, _) = sample_centre(solver, case.cell())?;
+        let d = z - z0;
+        history.push((solver.time(), d, v));
+        if d > peak {
+            peak = d;
+            peak_time = solver.time();
         }
-        steps += 1;
-        if steps.is_multiple_of(SAMPLE_EVERY) {
-            let (z, v, _) = sample_centre(solver.as_ref(), case.cell())?;
-            let d = z - z0;
-            history.push((solver.time(), d, v));
-            if d > peak {
-                peak = d;
-                peak_time = solver.time();
-            }
-            if steps.is_multiple_of(25 * SAMPLE_EVERY) {
-                println!(
-                    "    case {}: step {steps}, t = {:.1} µs, δ/t = {:.3}, v = {v:.1} m/s",
-                    case.id,
-                    solver.time() * 1e6,
-                    d / case.thickness
-                );
-            }
-            falling = if v < 0.0 { falling + 1 } else { 0 };
-            if peak > 0.5 * case.thickness && falling >= 2 {
-                peak_reached = true;
-                break;
-            }
+        if steps.is_multiple_of(25 * SAMPLE_EVERY) {
+            println!(
+                "    case {}: step {steps}, t = {:.1} µs, δ/t = {:.3}, v = {v:.1} m/s",
+                case.id,
+                solver.time() * 1e6,
+                d / case.thickness
+            );
         }
-    }
-    let wall = start.elapsed().as_secs_f64();
+        falling = if v < 0.0 { falling + 1 } else { 0 };
+        peak_reached = peak > 0.5 * case.thickness && falling >= 2;
+        Ok(peak_reached)
+    })?;
+    let wall = run.elapsed();
+    let solver = &run.solver;
+    let stop = run.stop.clone();
     let cold = match (&stop, solver.particle_data()) {
         (Some(_), Some(data)) => {
             let field = |name: &str| {
@@ -405,12 +343,8 @@ pub(crate) fn run_case(
         }
         _ => None,
     };
-    let resident_growth = match (rss0, resident_bytes()) {
-        (Some(a), Some(b)) => Some(b - a),
-        _ => None,
-    };
-    solver
-        .finish(out)
+    let finished = run
+        .finish(out, wall)
         .map_err(|e| anyhow!("case {}: {e}", case.id))?;
     let mut csv = String::from("time,centre_deflection,centre_velocity\n");
     for (t, d, v) in &history {
@@ -425,13 +359,9 @@ pub(crate) fn run_case(
         peak_time,
         peak_reached,
         stop,
-        steps,
-        final_time: solver.time(),
-        wall,
-        split: solver.wall_split(),
+        steps: run.steps,
+        finished,
         particles_sampled: n0,
-        resident_growth,
-        peak_resident: peak_resident_bytes(),
         remap_line,
         cold_gas: cold,
     })
@@ -478,26 +408,16 @@ pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
             r.peak / case.thickness,
             r.peak_time * 1e6,
             r.steps,
-            r.final_time * 1e6,
-            r.wall,
-            r.split,
+            r.finished.final_time * 1e6,
+            r.finished.wall,
+            r.finished.split,
             r.stop
                 .as_deref()
                 .map(|s| format!(" — stopped: {s}"))
                 .unwrap_or_default()
         );
         runs.push(r);
-        // The rows so far go into the report at once: a later case that
-        // does not finish does not lose this one's.
-        let mut partial = Report {
-            md: String::new(),
-            failures: Vec::new(),
-        };
-        write_section(&mut partial, &runs)?;
-        let path = root.join("docs/validation.md");
-        let existing = std::fs::read_to_string(&path).unwrap_or_default();
-        std::fs::write(&path, crate::splice::splice(&existing, &partial.md, ""))
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        splice_now(&root, |partial| write_section(partial, &runs))?;
     }
     write_section(report, &runs)?;
     plot_histories(img, &runs)?;
@@ -542,7 +462,8 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
         match r {
             Some(r) => {
                 let split = |name: &str| {
-                    r.split
+                    r.finished
+                        .split
                         .iter()
                         .find(|(n, _)| *n == name)
                         .map_or("—".into(), |(_, s)| format!("{s:.0}"))
@@ -564,11 +485,11 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
                     opt(c.lsdyna),
                     r.peak_time * 1e6,
                     r.steps,
-                    r.wall,
+                    r.finished.wall,
                     split("fdm"),
                     split("mpm"),
-                    mb(r.resident_growth),
-                    mb(r.peak_resident),
+                    mb(r.finished.resident_growth),
+                    mb(r.finished.peak_resident),
                 );
             }
             None => {
@@ -631,7 +552,7 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
             match &r.stop {
                 Some(s) => format!(
                     "the run stopped at {:.1} µs: {s}; at the stop {}",
-                    r.final_time * 1e6,
+                    r.finished.final_time * 1e6,
                     match r.cold_gas {
                         Some(c) => format!(
                             "{} gas particles of the MPM have a negative specific internal energy, the lowest {:.3e} J/kg at ({:.1}, {:.1}, {:.1}) mm",
@@ -646,9 +567,9 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
                 ),
                 None if r.peak_reached => format!(
                     "the centre's velocity turned negative at {:.1} µs",
-                    r.final_time * 1e6
+                    r.finished.final_time * 1e6
                 ),
-                None => format!("the run reached its end time {:.1} µs", r.final_time * 1e6),
+                None => format!("the run reached its end time {:.1} µs", r.finished.final_time * 1e6),
             }
         );
     }
@@ -714,6 +635,8 @@ fn plot_histories(img: &Path, runs: &[PlateRun]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use brisance::compose::build::build_solver;
+    use brisance::compose::load_file;
 
     #[test]
     fn charge_radii_and_remap_times_follow_the_tnt_density() {
@@ -867,6 +790,38 @@ mod tests {
         let (_, centre, n) = centre_of(&data.positions, material, vz, CELL, f64::INFINITY).unwrap();
         assert_eq!(n, 2, "one particle per cell, two cells through the plate");
         assert!((centre - v0).abs() < 0.01 * v0, "{centre}");
+    }
+
+    /// The driver's loop on a few steps of case 1 (no remap, one particle
+    /// per cell, MPM at once): it stops at the step limit with one sample
+    /// every SAMPLE_EVERY steps, and writes the centre's history.
+    #[test]
+    fn run_case_samples_the_centre_and_writes_its_history() {
+        let out = std::env::temp_dir().join(format!("xtask_plate_run_case_{}", std::process::id()));
+        let sets: Vec<String> = vec![
+            "pipeline.remap=None".into(),
+            "pipeline.ppc=1".into(),
+            "pipeline.activation_pressure=1.0e5".into(),
+            format!("time.max_steps=Some({})", 2 * SAMPLE_EVERY),
+        ];
+        let r = run_case(
+            &workspace_root(),
+            &PLATE_CASES[0],
+            &sets,
+            &out,
+            "none".into(),
+        )
+        .unwrap();
+        assert_eq!(
+            (r.steps, r.history.len(), r.stop.as_deref()),
+            (2 * SAMPLE_EVERY, 3, None)
+        );
+        assert!(!r.peak_reached);
+        assert_eq!(r.particles_sampled, 2);
+        assert!(r.finished.final_time > 0.0 && r.finished.wall > 0.0);
+        let csv = std::fs::read_to_string(out.join("centre.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 4);
+        let _ = std::fs::remove_dir_all(&out);
     }
 
     #[test]

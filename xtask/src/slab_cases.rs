@@ -30,20 +30,14 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context, Result};
-use brisance::compose::build::build_solver;
-use brisance::compose::load_file;
 use brisance::core::Solver;
 
+use crate::bridge3d::{self, splice_now, CaseRun, Finished, SphericalRemap};
 use crate::plot::{self, Panel, Series, SeriesStyle};
-use crate::{resident_bytes, workspace_root, Report};
+use crate::{workspace_root, Report};
 
-/// TNT density, kg/m³ (configs/materials/tnt.ron).
-const TNT_DENSITY: f64 = 1630.0;
-/// TNT detonation velocity, m/s (configs/materials/tnt.ron).
-const TNT_DETONATION_VELOCITY: f64 = 6930.0;
 /// Time after the burn completes at which the 1D detonation is remapped, s.
 const REMAP_MARGIN: f64 = 0.16e-6;
 /// 1D cell size of the detonation run, m (as E-PLATE's: 0.1 mm).
@@ -100,13 +94,13 @@ pub(crate) struct SlabCase {
 impl SlabCase {
     /// Radius of the bare spherical charge, m.
     pub(crate) fn charge_radius(&self) -> f64 {
-        (3.0 * self.charge / (4.0 * std::f64::consts::PI * TNT_DENSITY)).cbrt()
+        bridge3d::charge_radius(self.charge)
     }
 
     /// Time of the remap after initiation: the burn of a centre-initiated
     /// sphere is complete at r_c / D, s.
     pub(crate) fn remap_time(&self) -> f64 {
-        self.charge_radius() / TNT_DETONATION_VELOCITY + REMAP_MARGIN
+        bridge3d::remap_time(self.charge, REMAP_MARGIN)
     }
 
     /// Outer radius of the 1D run, m: 1.5 r_c.
@@ -160,43 +154,26 @@ pub(crate) const SLAB_CASES: [SlabCase; 4] = [
 /// writes `remap.bin` into `out`; returns the relative changes of the
 /// charge's mass, energy and products over the remap.
 pub(crate) fn make_remap(case: &SlabCase, out: &Path) -> Result<String> {
-    use brisance::couple::remap::{remap, RadialProfile, RemapTarget};
-    use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
     let r1 = case.radius_1d();
     let cells_1d = (r1 / CELL_1D).ceil() as usize;
-    let setup =
-        DetonationSetup::tnt_in_air(Symmetry::Spherical, case.charge_radius(), r1, cells_1d);
-    let mut run = RadialDetonation::new(setup).map_err(|e| anyhow!("{e}"))?;
-    run.run_until(case.remap_time())
-        .map_err(|e| anyhow!("{e}"))?;
-    let profile = RadialProfile::from_detonation(&run).map_err(|e| anyhow!("{e}"))?;
-    let target = RemapTarget {
-        geometry: brisance::core::UniformGridGeometry {
-            origin: FDM_LOWER,
-            spacing: std::array::from_fn(|d| (FDM_UPPER[d] - FDM_LOWER[d]) / FDM_CELLS[d] as f64),
-            cells: FDM_CELLS,
-        },
-        centre: [0.0; 3],
-        radius: Some(case.remap_radius()),
-        subsamples: None,
-    };
-    let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    mapped
-        .save(&out.join("remap.bin"))
-        .map_err(|e| anyhow!("{e}"))?;
-    let r = mapped.report;
-    let rel = |grid: f64, amb: f64, charge: f64| (grid - amb - charge) / charge;
+    let changes = SphericalRemap {
+        charge_radius: case.charge_radius(),
+        time: case.remap_time(),
+        radius_1d: r1,
+        cells_1d,
+        lower: FDM_LOWER,
+        upper: FDM_UPPER,
+        cells: FDM_CELLS,
+        radius: case.remap_radius(),
+    }
+    .write(out)?;
     Ok(format!(
-        "1D: r_c {:.1} mm, {} cells to {:.0} mm, remapped at {:.2} µs within {:.1} mm; relative change: mass {:.3e}, energy {:.3e}, products {:.3e}",
+        "1D: r_c {:.1} mm, {} cells to {:.0} mm, remapped at {:.2} µs within {:.1} mm; {changes}",
         case.charge_radius() * 1e3,
         cells_1d,
         r1 * 1e3,
         case.remap_time() * 1e6,
         case.remap_radius() * 1e3,
-        rel(r.grid_mass, r.ambient.mass, r.charge.mass),
-        rel(r.grid_energy, r.ambient.energy, r.charge.energy),
-        rel(r.grid_products, r.ambient.products, r.charge.products),
     ))
 }
 
@@ -298,19 +275,8 @@ pub(crate) struct SlabRun {
     pub(crate) concrete_total: usize,
     pub(crate) stop: Option<String>,
     pub(crate) steps: u64,
-    pub(crate) final_time: f64,
-    pub(crate) wall: f64,
-    pub(crate) split: Vec<(&'static str, f64)>,
-    pub(crate) resident_growth: Option<f64>,
-    pub(crate) peak_resident: Option<f64>,
+    pub(crate) finished: Finished,
     pub(crate) remap_line: String,
-}
-
-fn peak_resident_bytes() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
 }
 
 /// The particle fields the measurement needs. Layers are selected and
@@ -456,69 +422,46 @@ pub(crate) fn run_case(
     out: &Path,
     remap_line: String,
 ) -> Result<SlabRun> {
-    let config = case.config;
-    let loaded =
-        load_file(&root.join(config), sets).map_err(|e| anyhow!("{config} does not load: {e}"))?;
-    let end = loaded.scenario.time.end;
-    let max_steps = loaded.scenario.time.max_steps.unwrap_or(u64::MAX);
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let rss0 = resident_bytes();
-    let start = Instant::now();
-    let mut solver =
-        build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
-    let initial = initial_positions(solver.as_ref())?;
+    let mut run = CaseRun::build(root, case.config, sets, out)?;
+    let initial = initial_positions(run.solver.as_ref())?;
     let mut onset = DamageOnset::new();
     let mut history = vec![(0.0, 0.0, 0usize, 0.0)];
     let mut peak_pressure = (0.0f64, 0.0);
-    let mut stop = None;
-    let mut steps = 0u64;
-    while solver.time() < end && steps < max_steps {
-        let dt = match solver.stable_dt() {
-            Ok(dt) => dt.min(end - solver.time()),
-            Err(e) => {
-                stop = Some(e.to_string());
-                break;
-            }
-        };
-        if let Err(e) = solver.advance(dt) {
-            stop = Some(e.to_string());
-            break;
+    run.step(SAMPLE_EVERY, |solver, steps, elapsed| {
+        let s = sample(solver, &initial, &mut onset)?;
+        let front = front_of(&s);
+        let failed = s
+            .material
+            .iter()
+            .zip(&s.failed)
+            .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
+            .count();
+        let p = axis_pressure(
+            &s.initial,
+            &s.material,
+            &s.pressure,
+            TOP + FACE_LAYER * SPACING,
+            CELL,
+        )
+        .unwrap_or(f64::NAN);
+        if p > peak_pressure.0 {
+            peak_pressure = (p, solver.time());
         }
-        steps += 1;
-        if steps.is_multiple_of(SAMPLE_EVERY) {
-            let s = sample(solver.as_ref(), &initial, &mut onset)?;
-            let front = front_of(&s);
-            let failed = s
-                .material
-                .iter()
-                .zip(&s.failed)
-                .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
-                .count();
-            let p = axis_pressure(
-                &s.initial,
-                &s.material,
-                &s.pressure,
-                TOP + FACE_LAYER * SPACING,
-                CELL,
-            )
-            .unwrap_or(f64::NAN);
-            if p > peak_pressure.0 {
-                peak_pressure = (p, solver.time());
-            }
-            history.push((solver.time(), front.diameter, failed, p));
-            if steps.is_multiple_of(20 * SAMPLE_EVERY) {
-                println!(
-                    "    {}: step {steps}, t = {:.1} µs, crushing D = {:.0} mm, {failed} failed, axis p {:.1} MPa, {:.0} s",
-                    case.label(),
-                    solver.time() * 1e6,
-                    front.diameter * 1e3,
-                    p / 1e6,
-                    start.elapsed().as_secs_f64()
-                );
-            }
+        history.push((solver.time(), front.diameter, failed, p));
+        if steps.is_multiple_of(20 * SAMPLE_EVERY) {
+            println!(
+                "    {}: step {steps}, t = {:.1} µs, crushing D = {:.0} mm, {failed} failed, axis p {:.1} MPa, {:.0} s",
+                case.label(),
+                solver.time() * 1e6,
+                front.diameter * 1e3,
+                p / 1e6,
+                elapsed
+            );
         }
-    }
-    let wall = start.elapsed().as_secs_f64();
+        Ok(false)
+    })?;
+    let wall = run.elapsed();
+    let solver = &run.solver;
     let s = sample(solver.as_ref(), &initial, &mut onset)?;
     let front = front_of(&s);
     let back_lo = BACK - FACE_LAYER * SPACING;
@@ -545,12 +488,9 @@ pub(crate) fn run_case(
         .zip(&s.failed)
         .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
         .count();
-    let resident_growth = match (rss0, resident_bytes()) {
-        (Some(a), Some(b)) => Some(b - a),
-        _ => None,
-    };
-    solver
-        .finish(out)
+    let stop = run.stop.clone();
+    let finished = run
+        .finish(out, wall)
         .map_err(|e| anyhow!("{}: {e}", case.label()))?;
     let mut csv = String::from("time,crushing_diameter,failed_concrete_particles,axis_pressure\n");
     for (t, d, n, p) in &history {
@@ -569,12 +509,8 @@ pub(crate) fn run_case(
         failed_total,
         concrete_total,
         stop,
-        steps,
-        final_time: solver.time(),
-        wall,
-        split: solver.wall_split(),
-        resident_growth,
-        peak_resident: peak_resident_bytes(),
+        steps: run.steps,
+        finished,
         remap_line,
     })
 }
@@ -627,9 +563,9 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
             r.back.failed,
             r.back.particles,
             r.steps,
-            r.final_time * 1e6,
-            r.wall,
-            r.split,
+            r.finished.final_time * 1e6,
+            r.finished.wall,
+            r.finished.split,
             r.stop
                 .as_deref()
                 .map(|s| format!(" — stopped: {s}"))
@@ -637,15 +573,7 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push(r);
         runs.sort_by(|a, b| a.case.charge.total_cmp(&b.case.charge));
-        let mut partial = Report {
-            md: String::new(),
-            failures: Vec::new(),
-        };
-        write_section(&mut partial, &runs)?;
-        let path = root.join("docs/validation.md");
-        let existing = std::fs::read_to_string(&path).unwrap_or_default();
-        std::fs::write(&path, crate::splice::splice(&existing, &partial.md, ""))
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        splice_now(&root, |partial| write_section(partial, &runs))?;
         plot_diameters(img, &runs)?;
         draw_faces(&img.join("e_slab_faces.png"), &runs)?;
     }
@@ -693,7 +621,8 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
         match runs.iter().find(|r| r.case.charge == c.charge) {
             Some(r) => {
                 let split = |name: &str| {
-                    r.split
+                    r.finished
+                        .split
                         .iter()
                         .find(|(n, _)| *n == name)
                         .map_or("—".into(), |(_, s)| format!("{s:.0}"))
@@ -713,13 +642,13 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
                     r.back.particles,
                     r.failed_total,
                     r.concrete_total,
-                    r.final_time * 1e6,
+                    r.finished.final_time * 1e6,
                     r.steps,
-                    r.wall,
+                    r.finished.wall,
                     split("fdm"),
                     split("mpm"),
-                    mb(r.resident_growth),
-                    mb(r.peak_resident),
+                    mb(r.finished.resident_growth),
+                    mb(r.finished.peak_resident),
                 );
             }
             None => {
@@ -738,8 +667,14 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
             r.case.label(),
             r.remap_line,
             match &r.stop {
-                Some(s) => format!("the run stopped at {:.1} µs: {s}", r.final_time * 1e6),
-                None => format!("the run reached its end time {:.1} µs", r.final_time * 1e6),
+                Some(s) => format!(
+                    "the run stopped at {:.1} µs: {s}",
+                    r.finished.final_time * 1e6
+                ),
+                None => format!(
+                    "the run reached its end time {:.1} µs",
+                    r.finished.final_time * 1e6
+                ),
             }
         );
     }
@@ -949,6 +884,8 @@ fn draw_faces(path: &Path, runs: &[SlabRun]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use brisance::compose::build::build_solver;
+    use brisance::compose::load_file;
 
     #[test]
     fn crushing_is_damage_first_seen_at_one_under_compression() {
@@ -1095,6 +1032,39 @@ mod tests {
         assert!(!within_tolerance(0.301, 0.25));
         assert!(within_tolerance(0.24, 0.30));
         assert!(!within_tolerance(0.239, 0.30));
+    }
+
+    /// The driver's loop on a few steps of the 4 kg config (no remap, one
+    /// particle per cell, MPM at once): it stops at the step limit with one
+    /// sample every SAMPLE_EVERY steps, nothing crushed, and writes the
+    /// history.
+    #[test]
+    fn run_case_samples_the_slab_and_writes_its_history() {
+        let out = std::env::temp_dir().join(format!("xtask_slab_run_case_{}", std::process::id()));
+        let sets: Vec<String> = vec![
+            "pipeline.remap=None".into(),
+            "pipeline.ppc=1".into(),
+            "pipeline.activation_pressure=1.0e5".into(),
+            format!("time.max_steps=Some({})", 2 * SAMPLE_EVERY),
+        ];
+        let r = run_case(
+            &workspace_root(),
+            &SLAB_CASES[1],
+            &sets,
+            &out,
+            "none".into(),
+        )
+        .unwrap();
+        assert_eq!(
+            (r.steps, r.history.len(), r.stop.as_deref()),
+            (2 * SAMPLE_EVERY, 3, None)
+        );
+        assert_eq!((r.front.failed, r.front.diameter), (0, 0.0));
+        assert_eq!(r.concrete_total, 40 * 40 * 15);
+        assert!(r.finished.final_time > 0.0 && r.finished.wall > 0.0);
+        let csv = std::fs::read_to_string(out.join("crushing.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 4);
+        let _ = std::fs::remove_dir_all(&out);
     }
 
     /// Both configs parse and build, and a few bridge steps run with the

@@ -1,0 +1,231 @@
+//! What the 3D bridge cases with a bare spherical TNT charge share
+//! (E-PLATE, `plate_cases.rs`; E-SLAB, `slab_cases.rs`): the charge's
+//! radius and remap time, the 1D spherical detonation remapped onto the
+//! FDM region (what `brisance remap` does, docs/physics/couple/remap.md),
+//! the step loop that samples the run as it goes, and the splice of a
+//! section's rows into docs/validation.md after each case.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{anyhow, Context, Result};
+use brisance::compose::build::build_solver;
+use brisance::compose::load_file;
+use brisance::core::Solver;
+
+use crate::{resident_bytes, Report};
+
+/// TNT density, kg/m³ (configs/materials/tnt.ron).
+const TNT_DENSITY: f64 = 1630.0;
+/// TNT detonation velocity, m/s (configs/materials/tnt.ron).
+const TNT_DETONATION_VELOCITY: f64 = 6930.0;
+
+/// Radius of a bare spherical charge of `mass` kg TNT, m.
+pub(crate) fn charge_radius(mass: f64) -> f64 {
+    (3.0 * mass / (4.0 * std::f64::consts::PI * TNT_DENSITY)).cbrt()
+}
+
+/// Time of the remap after initiation: the burn of a centre-initiated
+/// sphere is complete at r_c / D; `margin` after that, s.
+pub(crate) fn remap_time(mass: f64, margin: f64) -> f64 {
+    charge_radius(mass) / TNT_DETONATION_VELOCITY + margin
+}
+
+/// A 1D spherical TNT detonation with program burn (`DetonationSetup::tnt_in_air`)
+/// run to `time` and remapped onto a uniform grid within `radius` of the
+/// origin.
+pub(crate) struct SphericalRemap {
+    pub(crate) charge_radius: f64,
+    pub(crate) time: f64,
+    /// Outer radius of the 1D run, m, and its cells.
+    pub(crate) radius_1d: f64,
+    pub(crate) cells_1d: usize,
+    /// The FDM region and its cells.
+    pub(crate) lower: [f64; 3],
+    pub(crate) upper: [f64; 3],
+    pub(crate) cells: [usize; 3],
+    pub(crate) radius: f64,
+}
+
+impl SphericalRemap {
+    /// Runs the detonation, remaps it and writes `remap.bin` into `out`;
+    /// returns the line "relative change: mass …, energy …, products …"
+    /// of the charge's totals over the remap.
+    pub(crate) fn write(&self, out: &Path) -> Result<String> {
+        use brisance::couple::remap::{remap, RadialProfile, RemapTarget};
+        use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
+        let setup = DetonationSetup::tnt_in_air(
+            Symmetry::Spherical,
+            self.charge_radius,
+            self.radius_1d,
+            self.cells_1d,
+        );
+        let mut run = RadialDetonation::new(setup).map_err(|e| anyhow!("{e}"))?;
+        run.run_until(self.time).map_err(|e| anyhow!("{e}"))?;
+        let profile = RadialProfile::from_detonation(&run).map_err(|e| anyhow!("{e}"))?;
+        let (lower, upper, cells) = (self.lower, self.upper, self.cells);
+        let target = RemapTarget {
+            geometry: brisance::core::UniformGridGeometry {
+                origin: lower,
+                spacing: std::array::from_fn(|d| (upper[d] - lower[d]) / cells[d] as f64),
+                cells,
+            },
+            centre: [0.0; 3],
+            radius: Some(self.radius),
+            subsamples: None,
+        };
+        let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        mapped
+            .save(&out.join("remap.bin"))
+            .map_err(|e| anyhow!("{e}"))?;
+        let r = mapped.report;
+        let rel = |grid: f64, amb: f64, charge: f64| (grid - amb - charge) / charge;
+        Ok(format!(
+            "relative change: mass {:.3e}, energy {:.3e}, products {:.3e}",
+            rel(r.grid_mass, r.ambient.mass, r.charge.mass),
+            rel(r.grid_energy, r.ambient.energy, r.charge.energy),
+            rel(r.grid_products, r.ambient.products, r.charge.products),
+        ))
+    }
+}
+
+/// A case's solver built from its config, stepped by [`CaseRun::step`].
+pub(crate) struct CaseRun {
+    pub(crate) solver: Box<dyn Solver>,
+    end: f64,
+    max_steps: u64,
+    pub(crate) steps: u64,
+    /// Why the run stopped early (a solver error), if it did.
+    pub(crate) stop: Option<String>,
+    start: Instant,
+    rss0: Option<f64>,
+}
+
+/// What [`CaseRun::finish`] measured.
+pub(crate) struct Finished {
+    pub(crate) final_time: f64,
+    /// Wall time of the build and the steps, s.
+    pub(crate) wall: f64,
+    pub(crate) split: Vec<(&'static str, f64)>,
+    pub(crate) resident_growth: Option<f64>,
+    pub(crate) peak_resident: Option<f64>,
+}
+
+impl CaseRun {
+    /// Loads `config` (relative to `root`) with the `sets` overrides,
+    /// creates `out` and builds the solver; the wall clock and the
+    /// resident-memory baseline start here.
+    pub(crate) fn build(root: &Path, config: &str, sets: &[String], out: &Path) -> Result<Self> {
+        let loaded = load_file(&root.join(config), sets)
+            .map_err(|e| anyhow!("{config} does not load: {e}"))?;
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        let rss0 = resident_bytes();
+        let start = Instant::now();
+        let solver =
+            build_solver(&loaded.scenario).map_err(|e| anyhow!("{config} does not build: {e}"))?;
+        Ok(Self {
+            solver,
+            end: loaded.scenario.time.end,
+            max_steps: loaded.scenario.time.max_steps.unwrap_or(u64::MAX),
+            steps: 0,
+            stop: None,
+            start,
+            rss0,
+        })
+    }
+
+    /// Seconds since [`CaseRun::build`] started.
+    pub(crate) fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    /// Steps at the solver's stable Δt up to the config's end time or step
+    /// limit, calling `each(solver, steps, seconds since the build)` after
+    /// every `every` steps; it returns whether to stop. A solver error ends the loop and is kept
+    /// in [`CaseRun::stop`]; an error of `each` is returned.
+    pub(crate) fn step(
+        &mut self,
+        every: u64,
+        mut each: impl FnMut(&dyn Solver, u64, f64) -> Result<bool>,
+    ) -> Result<()> {
+        while self.solver.time() < self.end && self.steps < self.max_steps {
+            let dt = match self.solver.stable_dt() {
+                Ok(dt) => dt.min(self.end - self.solver.time()),
+                Err(e) => {
+                    self.stop = Some(e.to_string());
+                    break;
+                }
+            };
+            if let Err(e) = self.solver.advance(dt) {
+                self.stop = Some(e.to_string());
+                break;
+            }
+            self.steps += 1;
+            if self.steps.is_multiple_of(every)
+                && each(self.solver.as_ref(), self.steps, self.elapsed())?
+            {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// Measures the run (`wall`: the build and the steps, as the caller
+    /// took it with [`CaseRun::elapsed`] before its own end-of-run
+    /// sampling) and writes the solver's end-of-run outputs into `out`.
+    pub(crate) fn finish(&mut self, out: &Path, wall: f64) -> Result<Finished> {
+        let resident_growth = match (self.rss0, resident_bytes()) {
+            (Some(a), Some(b)) => Some(b - a),
+            _ => None,
+        };
+        self.solver.finish(out).map_err(|e| anyhow!("{e}"))?;
+        Ok(Finished {
+            final_time: self.solver.time(),
+            wall,
+            split: self.solver.wall_split(),
+            resident_growth,
+            peak_resident: peak_resident_bytes(),
+        })
+    }
+}
+
+/// Writes `section`'s rows for the runs so far into docs/validation.md
+/// under `root` at once, so that a later case that does not finish does
+/// not lose them.
+pub(crate) fn splice_now(
+    root: &Path,
+    section: impl FnOnce(&mut Report) -> Result<()>,
+) -> Result<()> {
+    let mut partial = Report {
+        md: String::new(),
+        failures: Vec::new(),
+    };
+    section(&mut partial)?;
+    let path = root.join("docs/validation.md");
+    let existing = std::fs::read_to_string(&path).unwrap_or_default();
+    std::fs::write(&path, crate::splice::splice(&existing, &partial.md, ""))
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Peak resident memory of this process so far, bytes (Linux `VmHWM`).
+pub(crate) fn peak_resident_bytes() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn charge_radius_and_remap_time_follow_the_tnt_density() {
+        // (3 · 1.094 / (4π · 1630))^(1/3) = 0.0543142 m; / 6930 m/s = 7.8376 µs.
+        assert!((charge_radius(1.094) - 0.054_314_2).abs() < 1e-7);
+        assert!((remap_time(1.094, 0.16e-6) - (7.837_55e-6 + 0.16e-6)).abs() < 1e-10);
+        // 4 kg: (3 · 4 / (4π · 1630))^(1/3) = 0.0836748 m.
+        assert!((charge_radius(4.0) - 0.083_674_8).abs() < 1e-7);
+    }
+}
