@@ -160,7 +160,9 @@ struct PatchScratch {
     carried_energy: Vec<f64>,
 }
 
-/// A checkpoint: the interior state fields in global order.
+/// A checkpoint: the interior state fields in global order, and the
+/// running totals of the coupled equilibration's rescaling and of step 2's
+/// cold-material rule, so that a restarted run books from where it was.
 #[derive(Serialize, Deserialize)]
 struct SavedState {
     time: f64,
@@ -168,6 +170,9 @@ struct SavedState {
     cells: [usize; 3],
     materials: usize,
     fields: Vec<Vec<f64>>,
+    rescaled: ConservationTotals,
+    /// Per material (firings, energy).
+    kept_warm: Vec<(u64, f64)>,
 }
 
 /// The cell state of a Lagrangian material from its particles (step 1 of
@@ -2530,6 +2535,12 @@ impl<E: Eos> Solver for IceSolver<E> {
             cells: self.level.geometry.cells,
             materials: self.eos.len(),
             fields,
+            rescaled: self.rescaled,
+            kept_warm: self
+                .kept_warm_totals()
+                .iter()
+                .map(|t| (t.firings, t.energy))
+                .collect(),
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -2542,6 +2553,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         if saved.cells != cells
             || saved.materials != self.eos.len()
             || saved.fields.len() != nf
+            || saved.kept_warm.len() != self.eos.len()
             || saved
                 .fields
                 .iter()
@@ -2558,6 +2570,10 @@ impl<E: Eos> Solver for IceSolver<E> {
         self.level.scatter_fields(&mut self.state, &saved.fields);
         self.time = saved.time;
         self.steps = saved.steps;
+        self.rescaled = saved.rescaled;
+        for (t, &(firings, energy)) in self.kept_warm.iter_mut().zip(&saved.kept_warm) {
+            *t = KeptWarmTotals { firings, energy };
+        }
         Ok(())
     }
 }
@@ -2707,6 +2723,17 @@ mod cold_trace_tests {
         let mut vals = cold_trace_cell();
         let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();
         assert_eq!(t[1].energy, kept.energy_density[1] + kept.energy_density[1]);
+        // A checkpoint carries the totals: a fresh solver restored from it
+        // reports them.
+        let (saved, totals) = (s.save_state().unwrap(), s.kept_warm_totals().to_vec());
+        s.kept_warm = [KeptWarmTotals::default(); MAX_MATERIALS];
+        s.rescaled = ConservationTotals {
+            mass: 1.0,
+            ..Default::default()
+        };
+        s.restore_state(&saved).unwrap();
+        assert_eq!(s.kept_warm_totals(), &totals[..]);
+        assert_eq!(s.rescaled_totals(), ConservationTotals::default());
     }
 }
 
