@@ -1114,7 +1114,9 @@ struct SavedState {
     active: bool,
     activated_at: Option<f64>,
     totals: [ConservationTotals; 2],
-    counts: [u64; 6],
+    /// created, absorbed, supersonic_outflow, deposited, zero_gradient,
+    /// wall, and the particle-steps so far.
+    counts: [u64; 7],
     products_as_air: f64,
     pending: Vec<Pending>,
     fdm: Vec<u8>,
@@ -1374,6 +1376,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
                 t.deposited,
                 t.zero_gradient,
                 t.wall,
+                self.particle_steps,
             ],
             products_as_air: t.products_as_air,
             pending: self.pending.clone(),
@@ -1411,6 +1414,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             zero_gradient: s.counts[4],
             wall: s.counts[5],
         };
+        self.particle_steps = s.counts[6];
         Ok(())
     }
 }
@@ -2037,11 +2041,15 @@ mod tests {
             )
         };
         let first = run(&mut c);
+        let steps_first = c.particle_counts().particle_steps;
         c.restore_state(&saved).unwrap();
         let second = run(&mut c);
         assert_eq!(first.0, second.0);
         assert_eq!(first.1, second.1);
         assert_eq!(first.2, second.2);
+        // The particle-steps count (the run summary's throughput) goes on
+        // from the checkpoint's, not from where the first run ended.
+        assert_eq!(c.particle_counts().particle_steps, steps_first);
         // The union: 150 FDM + 55 MPM − 5 bridge cells; x = 0.35 m reads
         // the MPM, x = 0.1 m the FDM.
         let data = first.0;
