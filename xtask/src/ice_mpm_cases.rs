@@ -331,19 +331,21 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
             .collect(),
         _ => Vec::new(),
     };
-    let warm = solver
-        .ice()
-        .kept_warm_totals()
-        .iter()
-        .enumerate()
-        .map(|(r, k)| {
-            let name = names.get(r).map_or("?", String::as_str);
-            format!("{name} {} cell-steps, {:+.3e} J", k.firings, k.energy)
-        })
-        .collect::<Vec<_>>()
-        .join("; ");
+    let booked = |totals: &[brisance::ice::KeptWarmTotals]| {
+        totals
+            .iter()
+            .enumerate()
+            .map(|(r, k)| {
+                let name = names.get(r).map_or("?", String::as_str);
+                format!("{name} {} cell-steps, {:+.3e} J", k.firings, k.energy)
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let warm = booked(solver.ice().kept_warm_totals());
+    let warm12 = booked(solver.ice().kept_warm_advection_totals());
     println!(
-        "  step 2 cold-material rule (kept_warm): {warm}; initial total energy {energy_start:.4e} J"
+        "  cold-material rule (kept_warm): step 2 {warm}; step 12 {warm12}; initial total energy {energy_start:.4e} J"
     );
     let terminal = if failure.is_none() {
         // Mean over the last 10 % of the record.
@@ -430,8 +432,8 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
          least squares over the arrivals at z = {:.0}–{:.0} cm, {:.0} m/s against D_CJ = {:.0} m/s of the QM-100 \
          products ({:+.1} %); the whole wall at the gauge (particles starting within h/2 of z = {:.1} cm) \
          ends at a kinetic-energy mean radial velocity of {slice_end:.0} m/s{}. Step 2's cold-material \
-         rule (`kept_warm`, docs/physics/ice/steps.md) fired over the run: {warm} (initial total energy of \
-         the quarter model {energy_start:.4e} J).\n",
+         rule (`kept_warm`, docs/physics/ice/steps.md) fired over the run: {warm}; step 12's: {warm12} \
+         (initial total energy of the quarter model {energy_start:.4e} J).\n",
         fronts.first().map_or(f64::NAN, |f| f.0 * 100.0),
         fronts.last().map_or(f64::NAN, |f| f.0 * 100.0),
         detonation_velocity,

@@ -63,7 +63,9 @@ pub use equilibration::{
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::IceReaction;
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
-pub use solver::{EquilibrationStats, IceOptions, IceSolver, LagrangianCells, GHOST};
+pub use solver::{
+    EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, GHOST,
+};
 
 #[cfg(test)]
 mod tests;
