@@ -208,6 +208,22 @@ pub(crate) fn splice_now(
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
+/// The overrides the reduced tests of a case's config use: no remap, one
+/// particle per cell, the MPM started at once (activation below ambient),
+/// and at most `max_steps` steps if given.
+#[cfg(test)]
+pub(crate) fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
+    let mut sets: Vec<String> = vec![
+        "pipeline.remap=None".into(),
+        "pipeline.ppc=1".into(),
+        "pipeline.activation_pressure=1.0e5".into(),
+    ];
+    if let Some(n) = max_steps {
+        sets.push(format!("time.max_steps=Some({n})"));
+    }
+    sets
+}
+
 /// Peak resident memory of this process so far, bytes (Linux `VmHWM`).
 pub(crate) fn peak_resident_bytes() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;

@@ -798,12 +798,7 @@ mod tests {
     #[test]
     fn run_case_samples_the_centre_and_writes_its_history() {
         let out = std::env::temp_dir().join(format!("xtask_plate_run_case_{}", std::process::id()));
-        let sets: Vec<String> = vec![
-            "pipeline.remap=None".into(),
-            "pipeline.ppc=1".into(),
-            "pipeline.activation_pressure=1.0e5".into(),
-            format!("time.max_steps=Some({})", 2 * SAMPLE_EVERY),
-        ];
+        let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
         let r = run_case(
             &workspace_root(),
             &PLATE_CASES[0],

@@ -1041,12 +1041,7 @@ mod tests {
     #[test]
     fn run_case_samples_the_slab_and_writes_its_history() {
         let out = std::env::temp_dir().join(format!("xtask_slab_run_case_{}", std::process::id()));
-        let sets: Vec<String> = vec![
-            "pipeline.remap=None".into(),
-            "pipeline.ppc=1".into(),
-            "pipeline.activation_pressure=1.0e5".into(),
-            format!("time.max_steps=Some({})", 2 * SAMPLE_EVERY),
-        ];
+        let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
         let r = run_case(
             &workspace_root(),
             &SLAB_CASES[1],
@@ -1073,11 +1068,7 @@ mod tests {
     /// intact, fill 0.5–0.65 m, and the top layer is 40 × 40 particles.
     #[test]
     fn the_slab_configs_build_and_step() {
-        let sets: Vec<String> = vec![
-            "pipeline.remap=None".into(),
-            "pipeline.ppc=1".into(),
-            "pipeline.activation_pressure=1.0e5".into(),
-        ];
+        let sets = crate::bridge3d::reduced_sets(None);
         let root = workspace_root();
         for config in ["configs/slab_4kg.ron", "configs/slab_10kg.ron"] {
             let loaded = load_file(&root.join(config), &sets).unwrap();
