@@ -10,6 +10,8 @@
 //! `PUSH=1` applies the products' force to explosive not yet detonated
 //! (it matters only for an explosive without a `reactant`; the cases' TNT
 //! has one, so its unreacted nodes are a Murnaghan solid and never held);
+//! `PCONTACT=1` turns on eq 27 between the nodes of the charge
+//! (`PdSolver::set_products_contact`); `LINE=1` lights the charge along its axis at t = 0 (radial flow only);
 //! `STEEL=1` runs the steel tube of E-PD-FRAG; `EVERY=s` sets the print
 //! interval. The "viscous heat" column is `PdSolver::viscous_heat`, which
 //! also counts the reactant's compression energy handed to the products at
@@ -44,11 +46,30 @@ fn main() -> Result<(), String> {
     };
     let mut setup = case.setup().map_err(|e| e.to_string())?;
     setup.options.contact = Some(contact);
+    // LINE=1: the charge lit along its whole axis at t = 0 (straight-line
+    // burn from points one spacing apart): the products expand radially,
+    // with no axial flow away from the ends.
+    if std::env::var_os("LINE").is_some() {
+        if let Some(d) = setup.detonation.as_mut() {
+            let n = (length / h).ceil() as usize;
+            d.points = (0..=n)
+                .map(|k| brisance_pd::DetonationPoint {
+                    position: [0.0, 0.0, (k as f64 * h).min(length)],
+                    time: 0.0,
+                })
+                .collect();
+            d.method = brisance_pd::BurnMethod::StraightLine;
+        }
+    }
     let t0 = std::time::Instant::now();
     let mut s = PdSolver::new(setup).map_err(|e| e.to_string())?;
     // PUSH=1: the products push unreacted explosive (eq 19 as printed).
     if std::env::var_os("PUSH").is_some() {
         s.set_hold_unreacted(false);
+    }
+    // PCONTACT=1: eq 27 between the nodes of the charge too.
+    if std::env::var_os("PCONTACT").is_some() {
+        s.set_products_contact(true);
     }
     // VISC=α,β: with the products' artificial viscosity (off by default).
     if let Ok(v) = std::env::var("VISC") {
@@ -129,8 +150,13 @@ fn main() -> Result<(), String> {
         f.len(),
         f.first().map_or(0.0, |f| f.mass)
     );
+    // The same open-cylinder relation with the energy the model's own
+    // products give from X = 1 to X = 7 (the volume-burn isentrope).
+    let products = brisance_pd::cases::tnt_products().map_err(|e| e.to_string())?;
+    let w = (products.isentrope.energy(1.0) - products.isentrope.energy(7.0)) / products.density;
+    let own = (2.0 * w).sqrt() / (case.metal_to_charge() + 0.5).sqrt();
     println!(
-        "nodes {} Gurney {:.1} m/s wall {:.1} s",
+        "nodes {} Gurney {:.1} m/s (volume-burn isentrope X 1 to 7: {own:.1} m/s) wall {:.1} s",
         s.node_count(),
         case.gurney_wall_velocity()?,
         t0.elapsed().as_secs_f64()
