@@ -294,6 +294,17 @@ struct Sample {
     pressure: Vec<f64>,
 }
 
+impl Sample {
+    /// The concrete particles with the model's failed flag set.
+    fn failed_concrete(&self) -> usize {
+        self.material
+            .iter()
+            .zip(&self.failed)
+            .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
+            .count()
+    }
+}
+
 /// Per particle identity, whether its HJC damage D was first seen at 1
 /// under compression (p > 0) — crushing — or not. HJC's D also grows on
 /// the tension continuation of its pressure curve (ε_f = EF_min there,
@@ -430,12 +441,7 @@ pub(crate) fn run_case(
     run.step(SAMPLE_EVERY, |solver, steps, elapsed| {
         let s = sample(solver, &initial, &mut onset)?;
         let front = front_of(&s);
-        let failed = s
-            .material
-            .iter()
-            .zip(&s.failed)
-            .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
-            .count();
+        let failed = s.failed_concrete();
         let p = axis_pressure(
             &s.initial,
             &s.material,
@@ -482,12 +488,7 @@ pub(crate) fn run_case(
     );
     let back_map = face_map(&s.initial, &s.material, &s.tensile, back_lo, f64::INFINITY);
     let concrete_total = s.material.iter().filter(|m| **m == CONCRETE).count();
-    let failed_total = s
-        .material
-        .iter()
-        .zip(&s.failed)
-        .filter(|(m, f)| **m == CONCRETE && **f != 0.0)
-        .count();
+    let failed_total = s.failed_concrete();
     let stop = run.stop.clone();
     let finished = run
         .finish(out, wall)

@@ -154,7 +154,8 @@ fn main() -> Result<(), String> {
     // products give from X = 1 to X = 7 (the volume-burn isentrope).
     let products = brisance_pd::cases::tnt_products().map_err(|e| e.to_string())?;
     let w = (products.isentrope.energy(1.0) - products.isentrope.energy(7.0)) / products.density;
-    let own = (2.0 * w).sqrt() / (case.metal_to_charge() + 0.5).sqrt();
+    let own = brisance_eos::tools::cylinder_wall_velocity((2.0 * w).sqrt(), case.metal_to_charge())
+        .map_err(|e| e.to_string())?;
     println!(
         "nodes {} Gurney {:.1} m/s (volume-burn isentrope X 1 to 7: {own:.1} m/s) wall {:.1} s",
         s.node_count(),
