@@ -140,10 +140,6 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
     if !(a.time > 0.0 && a.time.is_finite()) {
         return Err(format!("--time = {} s must be positive", a.time));
     }
-    let setup = DetonationSetup::tnt_in_air(symmetry, a.charge_radius, a.radius_1d, a.cells_1d);
-    let mut run = RadialDetonation::new(setup).map_err(|e| e.to_string())?;
-    run.run_until(a.time).map_err(|e| e.to_string())?;
-    let profile = RadialProfile::from_detonation(&run).map_err(|e| e.to_string())?;
     for (name, len) in [
         ("--lower", a.lower.len()),
         ("--upper", a.upper.len()),
@@ -169,6 +165,11 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
             ));
         }
     }
+    // The grid arguments are checked above, before the 1D run.
+    let setup = DetonationSetup::tnt_in_air(symmetry, a.charge_radius, a.radius_1d, a.cells_1d);
+    let mut run = RadialDetonation::new(setup).map_err(|e| e.to_string())?;
+    run.run_until(a.time).map_err(|e| e.to_string())?;
+    let profile = RadialProfile::from_detonation(&run).map_err(|e| e.to_string())?;
     let geometry = brisance::core::UniformGridGeometry {
         origin: lower,
         spacing: std::array::from_fn(|d| (upper[d] - lower[d]) / cells[d] as f64),

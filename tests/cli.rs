@@ -472,3 +472,215 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
     assert!(out.join("sod.pvd").is_file());
     assert!(out.join("conservation.csv").is_file());
 }
+
+// ---------------------------------------------------------------------------
+// `brisance remap` and the blast scenario it feeds.
+
+/// Runs `brisance remap` with the given arguments.
+fn remap(args: &[&str]) -> Output {
+    brisance()
+        .arg("remap")
+        .args(args)
+        .output()
+        .expect("the brisance binary runs")
+}
+
+/// The relative changes `brisance remap` prints for the charge's mass,
+/// energy and products mass.
+fn remap_changes(text: &str) -> [f64; 3] {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("relative change:"))
+        .unwrap_or_else(|| panic!("no relative-change line in {text}"));
+    let values: Vec<f64> = line
+        .split(',')
+        .map(|part| part.split_whitespace().last().unwrap().parse().unwrap())
+        .collect();
+    [values[0], values[1], values[2]]
+}
+
+#[test]
+fn remap_writes_the_initial_state_and_keeps_the_charge() {
+    // A 10 mm cylindrical TNT charge detonated on 60 cells of 0.5 mm and
+    // remapped onto a 2D quarter grid of 1 mm cells.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("remap");
+    let output = remap(&[
+        "--symmetry",
+        "cylindrical",
+        "--charge-radius",
+        "0.01",
+        "--radius-1d",
+        "0.03",
+        "--cells-1d",
+        "60",
+        "--time",
+        "3e-6",
+        "--lower=0,0,0",
+        "--upper=0.04,0.04,0.001",
+        "--cells",
+        "40,40,1",
+        "--centre=0,0,0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("1D cylindrical detonation"), "{text}");
+    // The charge's mass, energy and products mass over the remap.
+    for (name, change) in ["mass", "energy", "products"]
+        .iter()
+        .zip(remap_changes(&text))
+    {
+        assert!(change.abs() < 1e-12, "{name}: {change:e}\n{text}");
+    }
+    assert_eq!(
+        file_names(&out),
+        ["profile.csv", "remap.bin", "remap.vti"],
+        "{text}"
+    );
+    assert_eq!(
+        first_line(&out.join("profile.csv")),
+        "radius,density,velocity,pressure,products_mass_fraction"
+    );
+    // 60 radial cells, one line each.
+    let rows = fs::read_to_string(out.join("profile.csv"))
+        .unwrap()
+        .lines()
+        .count();
+    assert_eq!(rows, 61);
+    let vti = fs::read_to_string(out.join("remap.vti")).unwrap();
+    assert!(
+        vti.contains("WholeExtent=\"0 40 0 40 0 1\""),
+        "{}",
+        &vti[..vti.len().min(300)]
+    );
+}
+
+#[test]
+fn remap_with_a_malformed_grid_fails_before_running_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("remap");
+    let output = remap(&[
+        "--symmetry",
+        "spherical",
+        "--charge-radius",
+        "0.01",
+        "--radius-1d",
+        "0.03",
+        "--cells-1d",
+        "60",
+        "--time",
+        "3e-6",
+        "--lower=0,0",
+        "--upper=0.04,0.04,0.04",
+        "--cells",
+        "8,8,8",
+        "--centre=0,0,0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(
+        err.contains("--lower takes three comma-separated values, got 2"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
+    // configs/blast2d.ron on the strip 150 <= y <= 350 mm through the
+    // charge's centre (100 rows instead of 250), from its own remap (within
+    // 100 mm of the centre, inside the strip), to 10 us:
+    // the blast reaches the MPM region, which starts, and gauge 2 in it
+    // sees the shock.
+    let dir = tempfile::tempdir().unwrap();
+    let remapped = dir.path().join("remap");
+    let output = remap(&[
+        "--symmetry",
+        "cylindrical",
+        "--charge-radius",
+        "0.05",
+        "--radius-1d",
+        "0.11",
+        "--cells-1d",
+        "440",
+        "--time",
+        "1.2e-5",
+        "--lower=-0.18,0.15,0",
+        "--upper=0.12,0.35,0.002",
+        "--cells",
+        "150,100,1",
+        "--centre=0,0.25,0",
+        "--radius",
+        "0.1",
+        "--out",
+        remapped.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d.ron");
+    let out = dir.path().join("out");
+    let remap_set = format!(
+        "pipeline.remap=Some(\"{}\")",
+        remapped.join("remap.bin").display()
+    );
+    let output = run(
+        &config,
+        &out,
+        &[
+            "--set",
+            "domain.lower=(-0.18, 0.15, 0.0)",
+            "--set",
+            "domain.upper=(0.16, 0.35, 0.002)",
+            "--set",
+            "domain.cells=(170, 100, 1)",
+            "--set",
+            "pipeline.fdm_region=(lower: (-0.18, 0.15, 0.0), upper: (0.12, 0.35, 0.002))",
+            "--set",
+            "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
+            "--set",
+            &remap_set,
+            "--set",
+            "time.end=1e-5",
+            "--set",
+            "outputs.interval=1.0",
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let s = read_json(&out.join("summary.json"));
+    assert_eq!(s["completed"], Value::Bool(true), "{s}");
+    let split = read_json(&out.join("time_split.json"));
+    let activated = split["activated_at"]
+        .as_f64()
+        .expect("the MPM region started");
+    assert!(activated > 0.0 && activated < 1e-5, "{split}");
+    assert!(split["mpm_seconds"].as_f64().unwrap() > 0.0, "{split}");
+    assert!(
+        split["created"].as_u64().unwrap() + split["deposited"].as_u64().unwrap() > 0,
+        "{split}"
+    );
+    // Gauge 2, in the MPM region, 125 mm from the charge's centre: ambient
+    // first, then the blast (tens of bar at this distance).
+    let gauge = fs::read_to_string(out.join("gauges").join("gauge2.csv")).unwrap();
+    let p: Vec<f64> = gauge
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    // The config's air: p = (γ − 1) ρ e = 0.4 × 1.225 × 2.0685e5 Pa.
+    let ambient = 0.4 * 1.225 * 2.0685e5;
+    assert!(
+        (p[0] - ambient).abs() < 1e-6 * ambient,
+        "{} {ambient}",
+        p[0]
+    );
+    let peak = p.iter().copied().fold(0.0, f64::max);
+    eprintln!(
+        "gauge 2: {} samples, peak {peak:.4e} Pa; activated at {activated:e} s",
+        p.len()
+    );
+    assert!(peak > 1.0e6, "gauge 2 peak {peak} Pa");
+}

@@ -2206,4 +2206,182 @@ mod tests {
             .fold(0.0, f64::max);
         assert!(heaviest > m_e, "{heaviest} {m_e}");
     }
+
+    /// The FDM region's own cells (fictitious cells excepted) as totals.
+    fn fdm_owned_totals(c: &Cfdmp<IdealGas>) -> ConservationTotals {
+        let mut t = Solver::conservation_totals(c);
+        let m = c.mpm().conservation_totals();
+        t.mass -= m.mass;
+        for d in 0..3 {
+            t.momentum[d] -= m.momentum[d];
+        }
+        t.energy -= m.energy;
+        for q in &c.pending {
+            t.mass -= q.mass;
+            for d in 0..3 {
+                t.momentum[d] -= q.momentum[d];
+            }
+            t.energy -= q.energy;
+        }
+        t
+    }
+
+    /// The MPM region's particles without this step's donor cells.
+    fn mpm_totals_without_donors(c: &Cfdmp<IdealGas>) -> ConservationTotals {
+        let mut t = c.mpm().conservation_totals();
+        let ps = c.mpm().particles();
+        let ids = c.mpm().particle_ids();
+        for p in (0..ps.len()).filter(|&p| c.is_donor(ids[p])) {
+            let mut d = ConservationTotals::default();
+            book(
+                &mut d,
+                ps.mass[p],
+                ps.velocity[p],
+                ps.specific_internal_energy[p],
+            );
+            t.mass -= d.mass;
+            for k in 0..3 {
+                t.momentum[k] -= d.momentum[k];
+            }
+            t.energy -= d.energy;
+        }
+        t
+    }
+
+    fn difference(a: ConservationTotals, b: ConservationTotals) -> [f64; 5] {
+        [
+            a.mass - b.mass,
+            a.momentum[0] - b.momentum[0],
+            a.momentum[1] - b.momentum[1],
+            a.momentum[2] - b.momentum[2],
+            a.energy - b.energy,
+        ]
+    }
+
+    #[test]
+    fn the_transport_moves_mass_momentum_and_energy_between_the_frames_to_round_off() {
+        // Step 14 alone, on the coupled tube through the shock's arrival,
+        // with both inflow rules: the MPM region changes by exactly the
+        // inflow it booked less the particles the FDM absorbed, the FDM
+        // region by exactly what it absorbed, in mass, every momentum
+        // component and energy (`Cfdmp::advance`'s sequence, written out so
+        // that the totals can be taken just before the transport).
+        for deposit in [false, true] {
+            let mut c = coupled_inflow(0.25, deposit);
+            let (mut transports, mut moved) = (0, [0u64; 2]);
+            while c.time() < 1.2e-3 {
+                let dt = c.stable_dt().unwrap();
+                if !c.is_active() {
+                    c.advance(dt).unwrap();
+                    continue;
+                }
+                c.mpm_step(dt).unwrap();
+                c.update_fictitious_cells().unwrap();
+                c.fdm.advance(dt).unwrap();
+                c.set_fictitious_values().unwrap();
+                let (mpm0, fdm0, tt0) = (
+                    mpm_totals_without_donors(&c),
+                    fdm_owned_totals(&c),
+                    c.transport_totals(),
+                );
+                c.transport(dt).unwrap();
+                c.time += dt;
+                c.steps += 1;
+                let tt = c.transport_totals();
+                let into_mpm = difference(tt.into_mpm, tt0.into_mpm);
+                let into_fdm = difference(tt.into_fdm, tt0.into_fdm);
+                let d_mpm = difference(c.mpm().conservation_totals(), mpm0);
+                let d_fdm = difference(fdm_owned_totals(&c), fdm0);
+                // Scales: the region's own totals (momentum by the mass
+                // times the largest speed in the tube, 500 m/s).
+                let m = mpm0.mass.max(fdm0.mass);
+                let scale = [
+                    m,
+                    500.0 * m,
+                    500.0 * m,
+                    500.0 * m,
+                    mpm0.energy.max(fdm0.energy),
+                ];
+                for k in 0..5 {
+                    let tol = 1e-13 * scale[k];
+                    let expected = into_mpm[k] - into_fdm[k];
+                    assert!(
+                        (d_mpm[k] - expected).abs() <= tol,
+                        "deposit {deposit}, t {}: MPM component {k} changed by {} against {expected} booked",
+                        c.time,
+                        d_mpm[k]
+                    );
+                    assert!(
+                        (d_fdm[k] - into_fdm[k]).abs() <= tol,
+                        "deposit {deposit}, t {}: FDM component {k} changed by {} against {} absorbed",
+                        c.time,
+                        d_fdm[k],
+                        into_fdm[k]
+                    );
+                }
+                transports += 1;
+                moved[0] += u64::from(into_mpm[0] > 0.0);
+                moved[1] += u64::from(into_fdm[0] > 0.0);
+            }
+            // The check saw traffic both ways.
+            eprintln!(
+                "deposit {deposit}: {transports} transports, inflow in {}, absorption in {}",
+                moved[0], moved[1]
+            );
+            assert!(transports > 50, "{transports}");
+            assert!(
+                moved[0] > 10 && moved[1] > 0,
+                "deposit {deposit}: {moved:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_mpm_region_starts_the_step_the_shock_reaches_the_watched_cells() {
+        // Before activation the coupled FDM is the tube's FDM (its
+        // fictitious cells held at the undisturbed state the shock has not
+        // reached): a pure FDM tube stepped with the same steps reads the
+        // pressure of the watched cells (the donor cell and the two before
+        // it) independently. The MPM region must start at the end of the
+        // first step where one of them reaches 1.05 P0, and not before;
+        // until then its particles do not move.
+        let mut c = coupled();
+        let mut reference = fdm_on([0.0; 3], [0.4, H, H], [200, 1, 1], FdmBoundary::Reflective);
+        let positions = c.mpm().particles().position.clone();
+        let donor_x =
+            c.fdm()
+                .level()
+                .geometry
+                .cell_centre([c.fdm_index(c.regions().donor_cell()), 0, 0])[0];
+        let watched: Vec<f64> = (0..3).map(|k| donor_x - k as f64 * H).collect();
+        let mut steps = 0;
+        loop {
+            assert!(!c.is_active());
+            assert_eq!(c.activated_at(), None);
+            let dt = c.stable_dt().unwrap();
+            c.advance(dt).unwrap();
+            reference.advance(dt).unwrap();
+            steps += 1;
+            let reached = watched
+                .iter()
+                .any(|&x| sample(&reference, x) >= c.options.activation_pressure);
+            assert_eq!(c.is_active(), reached, "step {steps}, t {}", c.time());
+            if reached {
+                assert_eq!(c.activated_at(), Some(c.time()));
+                break;
+            }
+            assert_eq!(c.mpm().particles().position, positions);
+            assert_eq!(c.mpm().time(), 0.0);
+            assert!(steps < 10_000);
+        }
+        // The shock of the 5:1 tube (about 530 m/s) runs the 0.184 m from
+        // the diaphragm to the first watched cell in about 350 µs.
+        let t = c.activated_at().unwrap();
+        assert!((2.5e-4..4.5e-4).contains(&t), "{t}");
+        // After it, the step is the smaller of the two CFL limits.
+        let f = c.fdm().stable_dt().unwrap();
+        let m = c.mpm().stable_dt().unwrap();
+        assert_eq!(c.stable_dt().unwrap(), f.min(m));
+        assert!(m != f);
+    }
 }
