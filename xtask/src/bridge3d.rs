@@ -115,11 +115,13 @@ pub(crate) struct Finished {
 impl CaseRun {
     /// Loads `config` (relative to `root`) with the `sets` overrides,
     /// creates `out` and builds the solver; the wall clock and the
-    /// resident-memory baseline start here.
+    /// resident-memory baseline and peak start here.
     pub(crate) fn build(root: &Path, config: &str, sets: &[String], out: &Path) -> Result<Self> {
         let loaded = load_file(&root.join(config), sets)
             .map_err(|e| anyhow!("{config} does not load: {e}"))?;
         std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        // The case's own peak, not the process's so far.
+        reset_peak_resident();
         let rss0 = resident_bytes();
         let start = Instant::now();
         let solver =
@@ -224,7 +226,16 @@ pub(crate) fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
     sets
 }
 
-/// Peak resident memory of this process so far, bytes (Linux `VmHWM`).
+/// Resets this process's peak resident memory (`VmHWM`) to its current
+/// resident set (Linux: `5` into `/proc/self/clear_refs`), so that
+/// [`peak_resident_bytes`] gives the peak of what follows; false where the
+/// kernel does not allow it (the peak is then the process's so far).
+pub(crate) fn reset_peak_resident() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// Peak resident memory of this process since the start or the last
+/// [`reset_peak_resident`], bytes (Linux `VmHWM`).
 pub(crate) fn peak_resident_bytes() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;

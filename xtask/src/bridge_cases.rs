@@ -127,6 +127,11 @@ struct BridgeRun {
     steps: u64,
     final_time: f64,
     wall_seconds: f64,
+    /// Peak resident memory of the run (the process's peak reset before
+    /// it), bytes.
+    peak_resident: Option<f64>,
+    /// Time the MPM region started (`time_split.json`), s.
+    activated_at: Option<f64>,
     completed: bool,
     stop_reason: Option<String>,
     gauge1: History,
@@ -179,6 +184,7 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
         .map_err(|e| anyhow::anyhow!("configs/blast2d.ron does not load: {e}"))?;
     let tag = if paper_inflow { "_paper" } else { "" };
     let out = root.join(format!("out/xtask_blast2d_w{width}{tag}"));
+    crate::bridge3d::reset_peak_resident();
     let summary = run(
         &loaded,
         &RunOptions {
@@ -199,6 +205,10 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
+        peak_resident: crate::bridge3d::peak_resident_bytes(),
+        activated_at: std::fs::read_to_string(out.join("time_split.json"))
+            .ok()
+            .and_then(|t| json_number(&t, "activated_at")),
         completed: summary.completed,
         stop_reason: summary.stop_reason,
         gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,
@@ -218,6 +228,7 @@ fn run_pure_mpm(root: &Path) -> Result<BridgeRun> {
     let loaded = load_file(&root.join("configs/blast2d_mpm.ron"), &sets)
         .map_err(|e| anyhow::anyhow!("configs/blast2d_mpm.ron does not load: {e}"))?;
     let out = root.join("out/xtask_blast2d_mpm");
+    crate::bridge3d::reset_peak_resident();
     let summary = run(
         &loaded,
         &RunOptions {
@@ -235,6 +246,8 @@ fn run_pure_mpm(root: &Path) -> Result<BridgeRun> {
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
+        peak_resident: crate::bridge3d::peak_resident_bytes(),
+        activated_at: None,
         completed: summary.completed,
         stop_reason: summary.stop_reason,
         gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,
@@ -348,14 +361,16 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
          of the run (donor cells included). \"pure MPM\" is `configs/blast2d_mpm.ron`: the whole domain as particles of `Null` \
          fluids with the same EOS, from the same remap, the same slab and gauges, same MPM options. FDM/MPM: \
          the bridge's split of its wall time (`time_split.json`; the transport and the fictitious cells count \
-         as MPM). Wall times on this shared 2-CPU machine under the other work's load, the runs one after the \
+         as MPM); MPM from: the time the MPM region started (the pressure within 3 cells of the interface \
+         reached the config's activation pressure; FDM alone before). Memory: the peak resident set of each run \
+         (the process's peak reset before it). Wall times on this shared 2-CPU machine, the runs one after the \
          other.\n",
         END_TIME * 1e6,
         PEAK_WINDOW * 1e6,
     );
     let _ = writeln!(
         md,
-        "| w | steps | reached (µs) | wall (s) | FDM / MPM (s) | particles (end / mean) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| w | steps | reached (µs) | wall (s) | FDM / MPM (s) | MPM from (µs) | memory (MB) | particles (end / mean) | gauge 1 arrival (µs) | gauge 2 arrival (µs) | gauge 1 peak (MPa) | gauge 2 peak (MPa) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let mut measured = Vec::new();
     for r in runs.iter().chain([&paper, &mpm]) {
@@ -367,13 +382,17 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {:.2} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.label,
             r.steps,
             r.final_time * 1e6,
             r.wall_seconds,
             r.split
                 .map_or("—".into(), |(f, m)| format!("{f:.0} / {m:.0}")),
+            r.activated_at
+                .map_or("—".into(), |t| format!("{:.2}", t * 1e6)),
+            r.peak_resident
+                .map_or("—".into(), |b| format!("{:.0}", b / 1.0e6)),
             r.particles
                 .map_or("—".into(), |(e, m)| format!("{e:.0} / {m:.0}")),
             cell(a, 0),
