@@ -1056,6 +1056,42 @@ impl<E: Eos> IceSolver<E> {
         });
     }
 
+    /// Adds momentum `dp` (kg·m/s per cell, global order) to the Eulerian
+    /// materials' Lagrangian values of each cell — after
+    /// [`IceSolver::compute_lagrangian_values`], before
+    /// [`IceSolver::advect_fluids`] — shared in proportion to their
+    /// Lagrangian mass, so that each takes the same velocity change
+    /// dp / Σ_r m_r and the cell's fluids gain exactly dp. The coupled
+    /// pipeline returns there what a Lagrangian material's trace took from
+    /// them in steps 8–10 (the trace is not a body: no particle receives
+    /// it). A cell whose Eulerian materials hold no mass is left as it is.
+    pub fn add_eulerian_momentum(&mut self, dp: &[[f64; 3]]) {
+        let geometry = self.level.geometry;
+        assert_eq!(dp.len(), geometry.cell_count());
+        let volume: f64 = geometry.spacing.iter().product();
+        let n = self.eos.len();
+        let lag = self.lagrangian.clone();
+        for_each_cell_global(&self.level, &mut self.lag, |g, l, c| {
+            if dp[g] == [0.0; 3] {
+                return;
+            }
+            let mass: f64 = (0..n)
+                .filter(|&r| !lag[r])
+                .map(|r| l[r * NL + L_RHO][c])
+                .sum::<f64>()
+                * volume;
+            if !(mass > 0.0) {
+                return;
+            }
+            let du = dp[g].map(|x| x / mass);
+            for r in (0..n).filter(|&r| !lag[r]) {
+                for a in 0..3 {
+                    l[r * NL + L_VEL + a][c] += du[a];
+                }
+            }
+        });
+    }
+
     /// The mass-weighted velocity of the Eulerian materials of every cell,
     /// in global order: the velocity a Lagrangian material takes as a trace
     /// where no particle is, so that the exchange moves nothing there.

@@ -62,6 +62,9 @@ struct Scratch {
     pressure: Vec<f64>,
     cell_change: Vec<[f64; 3]>,
     temperature_change: Vec<f64>,
+    /// Per cell, the momentum a trace of the solid took in steps 8–10
+    /// beyond what its nodes receive, returned to the fluids.
+    trace_momentum: Vec<[f64; 3]>,
 }
 
 impl Scratch {
@@ -79,6 +82,7 @@ impl Scratch {
             pressure: vec![0.0; cells],
             cell_change: vec![[0.0; 3]; cells],
             temperature_change: vec![0.0; cells],
+            trace_momentum: vec![[0.0; 3]; cells],
         }
     }
 }
@@ -210,6 +214,26 @@ impl GridCoupling for FluidFrame<'_> {
         self.ice.compute_lagrangian_values(dt)?;
         self.ice
             .lagrangian_increments(self.solid, &mut s.cell_change, &mut s.temperature_change);
+        // A trace of the solid (no particle near: step 1) took momentum
+        // from the fluids in steps 8–10 that no node receives (its nodal
+        // mass M_c, often 0, is not the trace's): it goes back to the
+        // cell's fluids, so the total momentum of both frames is kept.
+        let volume: f64 = g.spacing.iter().product();
+        s.trace_momentum
+            .par_iter_mut()
+            .zip(s.trace.par_iter())
+            .zip(s.mass_density.par_iter().zip(s.cell_mass.par_iter()))
+            .zip(s.cell_change.par_iter())
+            .with_min_len(1024)
+            .for_each(|(((dp, trace), (rho, m)), du)| {
+                *dp = if *trace {
+                    let excess = rho * volume - m;
+                    du.map(|x| excess * x)
+                } else {
+                    [0.0; 3]
+                };
+            });
+        self.ice.add_eulerian_momentum(&s.trace_momentum);
         steps::cells_to_nodes(g, &nodes.lattice, &s.cell_change, dv);
         Ok(())
     }
