@@ -28,11 +28,17 @@
 //! φ the node's damage (broken fraction of its bonds) and s_min the
 //! smallest stretch among its intact bonds at the previous step. Seed 004
 //! (footnote c) used a "damage stretch coefficient" α_D and a "minimum
-//! stretch coefficient" α_min for its steel and says only that they raise
-//! the critical stretch as damage grows or in compression; the minimum-
-//! stretch form is that of Silling & Askari (2005, seed 004 ref 3,
-//! s₀ = s₀₀ − α s_min, α = 0.25 there), here only allowed to raise s_c;
-//! the damage-stretch form (linear in φ) is Brisance's choice. Both default
+//! stretch coefficient" α_min for its steel and says only that these
+//! models "increase the critical [stretch] as damage increases or in
+//! compression, respectively"; it gives no formula and cites no paper for
+//! either (the footnote carries no reference number). So no source is
+//! cited here for the damage-stretch term: its form, linear in φ, is
+//! Brisance's choice. The minimum-stretch form is that of Silling &
+//! Askari, "A meshfree method based on the peridynamic model of solid
+//! mechanics", Computers and Structures 83, 1526–1535, 2005 (seed 004
+//! ref 3, which the seed cites for the accuracy of eq 10 and the stability
+//! condition, not in the footnote): s₀ = s₀₀ − α s_min, α = 0.25 there,
+//! here only allowed to raise s_c. Both coefficients default
 //! to 0 (plain critical stretch).
 
 use brisance_reaction::ProductsIsentrope;
@@ -60,9 +66,15 @@ pub struct Proportional {
     pub critical_stretch: f64,
     /// Micro-elastic or micro-plastic.
     pub kind: ProportionalKind,
-    /// Damage-stretch coefficient α_D (≥ 0).
+    /// Damage-stretch coefficient α_D (≥ 0): the node's critical stretch is
+    /// s_c0 (1 + α_D φ), φ its damage. Seed 004 footnote c names the model
+    /// without a formula or a reference; the linear form is Brisance's
+    /// choice (module docs).
     pub damage_stretch_coefficient: f64,
-    /// Minimum-stretch coefficient α_min (≥ 0).
+    /// Minimum-stretch coefficient α_min (≥ 0): the node's critical stretch
+    /// gains −α_min min(s_min, 0), s_min the smallest stretch of its intact
+    /// bonds (the form of Silling & Askari 2005, seed 004 ref 3; the seed's
+    /// footnote c names the model without a reference).
     pub minimum_stretch_coefficient: f64,
 }
 

@@ -961,6 +961,15 @@ impl PdSolver {
 
     /// Step 3: effective critical stretch of solid nodes, gas expansion
     /// (eq 17) and the gas coefficient 6 P X^{4/3}/V of eq 19.
+    ///
+    /// A solid node's critical stretch is
+    /// s_c = s_c0 (1 + α_D φ) − α_min min(s_min, 0), with φ its damage and
+    /// s_min the smallest stretch of its intact bonds, both from the last
+    /// force pass: the damage-stretch and minimum-stretch coefficient
+    /// models of seed 004 footnote c, which names them without a formula
+    /// or a reference. The minimum-stretch term is the form of Silling &
+    /// Askari 2005 (seed 004 ref 3); the linear damage term is Brisance's
+    /// choice, with no source (`material.rs`, `bond_based.md`).
     fn update_node_scalars(&mut self) {
         let reference = &self.reference;
         let state = &self.state;

@@ -917,3 +917,369 @@ fn the_undamped_stable_step_is_eq_24() {
         * s.options.safety_factor;
     assert_eq!(s.stable_dt().unwrap(), want);
 }
+
+/// A free micro-elastic block (4 × 3 × 3 nodes, contact on) under a
+/// uniform body force b (eq 9): every node gets the same acceleration b/ρ,
+/// so the displacements stay equal to the bit, no bond is stretched and
+/// the velocity is (b/ρ) t and the displacement ½ (b/ρ) t² (velocity
+/// Verlet is exact for a constant acceleration), to round-off.
+#[test]
+fn a_free_block_under_a_body_force_accelerates_at_b_over_rho_unstretched() {
+    let h = 1.0e-3;
+    let b = [2.0e6, -1.0e6, 0.5e6];
+    let rho = 7850.0;
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            body_force: b,
+            ..PdOptions::default()
+        },
+        materials: vec![steel(ProportionalKind::MicroElastic, 0.01)],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0; 3],
+                max: [4.0 * h, 3.0 * h, 3.0 * h],
+            },
+            material: 0,
+            velocity: [0.0; 3],
+        }],
+        boundaries: vec![],
+        detonation: None,
+    })
+    .unwrap();
+    assert_eq!(s.node_count(), 36);
+    for _ in 0..10 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let t = s.time();
+    let (v0, u0) = (s.velocities()[0], s.displacement(0));
+    for d in 0..3 {
+        let a = b[d] / rho;
+        assert!((v0[d] - a * t).abs() <= 1e-13 * (a * t).abs(), "{v0:?}");
+        let u = 0.5 * a * t * t;
+        assert!((u0[d] - u).abs() <= 1e-12 * u.abs(), "{u0:?} vs {u}");
+    }
+    for i in 0..s.node_count() {
+        assert_eq!(s.velocities()[i], v0, "node {i}");
+        assert_eq!(s.displacement(i), u0, "node {i}");
+        // Unstretched bonds: no bond or contact force, only b.
+        assert_eq!(s.bond_out[i].force, [0.0; 3], "node {i}");
+        assert_eq!(s.bond_out[i].min_stretch, 0.0, "node {i}");
+        assert_eq!(s.force_density(i), b, "node {i}");
+        assert_eq!(s.damage(i), 0.0);
+    }
+}
+
+/// An 8 × 3 × 3 steel bar thrown at (3, −2, 5) m/s and pulled by a body
+/// force, its first two node planes (x < 2h) fixed (velocity 0): the fixed
+/// nodes are at rest from the start and stay exactly at their reference
+/// positions at every step, while the rest of the bar moves.
+#[test]
+fn fixed_nodes_stay_exactly_at_their_reference_positions() {
+    let h = 1.0e-3;
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            body_force: [1.0e8, 2.0e8, 0.0],
+            ..PdOptions::default()
+        },
+        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0; 3],
+                max: [8.0 * h, 3.0 * h, 3.0 * h],
+            },
+            material: 0,
+            velocity: [3.0, -2.0, 5.0],
+        }],
+        boundaries: vec![PdBoundary {
+            region: Shape::Box {
+                min: [-h, -h, -h],
+                max: [2.0 * h, 4.0 * h, 4.0 * h],
+            },
+            velocity: [Some(0.0); 3],
+        }],
+        detonation: None,
+    })
+    .unwrap();
+    let fixed: Vec<usize> = (0..s.node_count())
+        .filter(|&i| s.reference()[i][0] < 2.0 * h)
+        .collect();
+    assert_eq!(fixed.len(), 18);
+    for &i in &fixed {
+        assert_eq!(s.velocities()[i], [0.0; 3]);
+    }
+    for _ in 0..20 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+        for &i in &fixed {
+            assert_eq!(s.displacement(i), [0.0; 3], "node {i}");
+            assert_eq!(s.velocities()[i], [0.0; 3], "node {i}");
+            let x = s.reference()[i];
+            assert_eq!(s.current_position(i), [x[0], x[1], x[2]]);
+        }
+    }
+    // The free end (x = 7.5h) has moved in every direction.
+    for i in (0..s.node_count()).filter(|&i| s.reference()[i][0] > 7.0 * h) {
+        let u = s.displacement(i);
+        assert!(u.iter().all(|&c| c.abs() > 1.0e-7), "node {i}: {u:?}");
+    }
+}
+
+/// A prescribed velocity component is imposed exactly and the others stay
+/// free: the last two node planes of a bar fixed at its first two move at
+/// v_x = 2.5 m/s (velocity to the bit after every step, u_x = v_x t to
+/// round-off), while a body force along y moves them in y.
+#[test]
+fn a_prescribed_velocity_component_is_imposed_exactly() {
+    let h = 1.0e-3;
+    let vx = 2.5;
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            body_force: [0.0, 1.0e8, 0.0],
+            ..PdOptions::default()
+        },
+        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0; 3],
+                max: [8.0 * h, 3.0 * h, 3.0 * h],
+            },
+            material: 0,
+            velocity: [0.0; 3],
+        }],
+        boundaries: vec![
+            PdBoundary {
+                region: Shape::Box {
+                    min: [-h, -h, -h],
+                    max: [2.0 * h, 4.0 * h, 4.0 * h],
+                },
+                velocity: [Some(0.0); 3],
+            },
+            PdBoundary {
+                region: Shape::Box {
+                    min: [6.0 * h, -h, -h],
+                    max: [9.0 * h, 4.0 * h, 4.0 * h],
+                },
+                velocity: [Some(vx), None, None],
+            },
+        ],
+        detonation: None,
+    })
+    .unwrap();
+    let driven: Vec<usize> = (0..s.node_count())
+        .filter(|&i| s.reference()[i][0] > 6.0 * h)
+        .collect();
+    assert_eq!(driven.len(), 18);
+    for _ in 0..20 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+        let t = s.time();
+        for &i in &driven {
+            assert_eq!(s.velocities()[i][0], vx, "node {i}");
+            let u = s.displacement(i)[0];
+            assert!(
+                (u - vx * t).abs() <= 1e-13 * vx * t,
+                "node {i}: {u} vs {}",
+                vx * t
+            );
+        }
+    }
+    // y and z are free: the bar's lateral contraction under the pull and
+    // the body force along y move the driven nodes (a free node would
+    // move by ½ (b/ρ) t² = 5.3e-8 m in y).
+    let mean_y = driven.iter().map(|&i| s.displacement(i)[1]).sum::<f64>() / 18.0;
+    eprintln!("mean y displacement of the driven nodes {mean_y:e} m");
+    assert!(mean_y > 1.0e-8, "{mean_y}");
+    for &i in &driven {
+        let v = s.velocities()[i];
+        assert!(v[1] != 0.0, "node {i}: {v:?}");
+    }
+}
+
+/// A 1D steel bar of five nodes (x = 0.5h … 4.5h, δ = 3h) with s_c0 =
+/// 0.05, α_D = 0.5, α_min = 0.25; the bond 2–4 is broken and node 3 moved
+/// by −0.01 h, so the bonds 2–3, 1–3 and 0–3 have stretches −0.01,
+/// −0.01/2 and −0.01/3, and the bond 3–4 +0.01. The node value
+/// s_c = s_c0 (1 + α_D φ) − α_min min(s_min, 0) (`update_node_scalars`;
+/// seed 004 footnote c), s_min the smallest stretch of the node's intact
+/// bonds, is
+/// * node 0 (bonds to 1, 2, 3; φ = 0, s_min = −0.01/3):
+///   0.05 + 0.25 · 0.01/3 = 0.0508333…;
+/// * node 1 (bonds to 0, 2, 3, 4; φ = 0, s_min = −0.005): 0.05125;
+/// * node 2 (bonds to 0, 1, 3, 4; φ = 1/4, s_min = −0.01):
+///   0.05 · 1.125 + 0.25 · 0.01 = 0.05875;
+/// * node 3 (bonds to 0, 1, 2, 4; φ = 0, s_min = −0.01): 0.0525;
+/// * node 4 (bonds to 1, 2, 3; φ = 1/3, s_min = 0: its stretched bond
+///   does not lower it): 0.05 (1 + 0.5/3) = 0.0583333….
+///
+/// Stretches are carried in f32, hence the 1e-8 tolerance.
+fn bar_with_a_broken_and_a_compressed_bond() -> PdSolver {
+    let h = 1.0e-3;
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            dimension: Dimension::One,
+            cross_section: 1.0e-6,
+            contact: None,
+            ..PdOptions::default()
+        },
+        materials: vec![PdMaterial::Proportional(Proportional {
+            density: 7850.0,
+            sound_speed: 3212.0,
+            yield_strength: f64::INFINITY,
+            critical_stretch: 0.05,
+            kind: ProportionalKind::MicroElastic,
+            damage_stretch_coefficient: 0.5,
+            minimum_stretch_coefficient: 0.25,
+        })],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0, -h, -h],
+                max: [5.0 * h, h, h],
+            },
+            material: 0,
+            velocity: [0.0; 3],
+        }],
+        boundaries: vec![],
+        detonation: None,
+    })
+    .unwrap();
+    assert_eq!(s.node_count(), 5);
+    let rows: Vec<usize> = (0..5).map(|i| s.families().row(i).len()).collect();
+    assert_eq!(rows, [3, 4, 4, 4, 3]);
+    for (i, j) in [(2, 4), (4, 2)] {
+        let k = s.families().find(i, j).unwrap();
+        s.factor[k] = 0.0;
+    }
+    s.state[3][0] = -0.01 * h;
+    // The force pass counts the intact bonds and the smallest stretch; the
+    // next step's node pass turns them into s_c.
+    s.compute_forces();
+    s.update_node_scalars();
+    s
+}
+
+#[test]
+fn the_effective_critical_stretch_by_hand() {
+    let s = bar_with_a_broken_and_a_compressed_bond();
+    let want: [f64; 5] = [
+        0.05 + 0.25 * 0.01 / 3.0,
+        0.05 + 0.25 * 0.005,
+        0.05 * (1.0 + 0.5 * 0.25) + 0.25 * 0.01,
+        0.05 + 0.25 * 0.01,
+        0.05 * (1.0 + 0.5 / 3.0),
+    ];
+    assert!((want[2] - 0.05875).abs() < 1e-15);
+    for (i, w) in want.iter().enumerate() {
+        let sc = s.state[i][3];
+        assert!((sc - w).abs() < 1e-8, "node {i}: s_c = {sc}, by hand {w}");
+    }
+}
+
+/// The damage written with the nodes: the particle output carries a
+/// `damage` field, one value per node, equal to the broken fraction by
+/// hand (the bar above: 1 of node 2's 4 bonds, 1 of node 4's 3).
+#[test]
+fn particle_output_carries_the_node_damage() {
+    let s = bar_with_a_broken_and_a_compressed_bond();
+    let data = s.particle_data().unwrap();
+    assert_eq!(data.positions.len(), 5);
+    let (_, damage) = data
+        .fields
+        .iter()
+        .find(|(name, _)| name == "damage")
+        .expect("a `damage` field");
+    let want = [0.0, 0.0, 0.25, 0.0, 1.0 / 3.0];
+    assert_eq!(damage.len(), 5);
+    for i in 0..5 {
+        assert!((damage[i] - want[i]).abs() < 1e-15, "{damage:?}");
+        assert_eq!(damage[i], s.damage(i));
+    }
+}
+
+/// Two bodies of two steel nodes each (h = 1 mm, δ = 3h, no surface
+/// correction), B thrown at A at 100 m/s. Each node's one bond gives
+/// S_bond = c h³/h with c = 18K/(πδ⁴) = 5.728730e21 N/m⁶ (eq 28, K = ρc_b²
+/// = 8.0988e10 Pa), so apart the step is 0.8 √(2ρ/S_bond) = 1.324374e-6 s
+/// (eq 24). Once the facing nodes are within the contact distance
+/// (1.35h, eq 27) their pair adds S_contact = F_SR c h³/δ = 5 S_bond, and
+/// the step is 0.8 √(2ρ/(6 S_bond)) = 5.406734e-7 s, √6 shorter. Without
+/// contact the same approach leaves the step at 1.324374e-6 s.
+fn contact_step(contact: bool) -> (f64, f64, f64) {
+    let h = 1.0e-3;
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            surface_correction: false,
+            contact: contact.then(ContactOptions::default),
+            ..PdOptions::default()
+        },
+        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
+        bodies: vec![
+            BodySpec {
+                shape: Shape::Box {
+                    min: [0.0; 3],
+                    max: [2.0 * h, h, h],
+                },
+                material: 0,
+                velocity: [0.0; 3],
+            },
+            BodySpec {
+                shape: Shape::Box {
+                    min: [4.0 * h, 0.0, 0.0],
+                    max: [6.0 * h, h, h],
+                },
+                material: 0,
+                velocity: [-100.0, 0.0, 0.0],
+            },
+        ],
+        boundaries: vec![],
+        detonation: None,
+    })
+    .unwrap();
+    assert_eq!(s.node_count(), 4);
+    let first = s.stable_dt().unwrap();
+    let gap = |s: &PdSolver| s.current_position(2)[0] - s.current_position(1)[0];
+    while gap(&s) >= 1.35 * h {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    // Exactly one pair across the bodies within 1.5 × 1.35h (the reach
+    // of the step's contact term): nodes 1 and 2.
+    let near = [(0, 2), (0, 3), (1, 2), (1, 3)]
+        .iter()
+        .filter(|&&(i, j)| distance(s.current_position(i), s.current_position(j)) < 2.025 * h)
+        .count();
+    assert_eq!(near, 1, "gap {}", gap(&s));
+    (first, s.stable_dt().unwrap(), gap(&s))
+}
+
+#[test]
+fn a_contact_pair_shortens_the_stable_step_to_the_hand_value() {
+    let h: f64 = 1.0e-3;
+    let rho = 7850.0;
+    let c = 18.0 * rho * 3212.0 * 3212.0 / (std::f64::consts::PI * (3.0 * h).powi(4));
+    assert!((c / 5.728730e21 - 1.0).abs() < 1e-6);
+    let s_bond = c * h * h;
+    let apart = 0.8 * (2.0 * rho / s_bond).sqrt();
+    let touching = 0.8 * (2.0 * rho / (6.0 * s_bond)).sqrt();
+    assert!((apart / 1.324374e-6 - 1.0).abs() < 1e-6);
+    assert!((touching / 5.406734e-7 - 1.0).abs() < 1e-6);
+    let (first, with, gap) = contact_step(true);
+    assert!(gap < 1.35 * h && gap > 0.9 * h, "{gap}");
+    assert!((first / apart - 1.0).abs() < 1e-14, "{first} vs {apart}");
+    assert!(
+        (with / touching - 1.0).abs() < 1e-14,
+        "{with} vs {touching}"
+    );
+    let (first, without, _) = contact_step(false);
+    assert!((first / apart - 1.0).abs() < 1e-14, "{first} vs {apart}");
+    assert!(
+        (without / apart - 1.0).abs() < 1e-14,
+        "{without} vs {apart}"
+    );
+    assert!(with < without);
+}
