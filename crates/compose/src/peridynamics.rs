@@ -433,6 +433,180 @@ mod tests {
         assert!(e.to_string().contains("initial.1.material"), "{e}");
     }
 
+    /// The numbers of a shape, for comparisons to a relative 1e-12 (the
+    /// configs write the steel tube's outer radius 0.015875 m as one
+    /// decimal, the cases as 0.0127 + 0.003175).
+    fn shape_numbers(shape: &brisance_grid::Shape) -> (u8, Vec<f64>) {
+        use brisance_grid::Shape;
+        match shape {
+            Shape::Cylinder {
+                base,
+                axis,
+                radius,
+                length,
+            } => (0, [&base[..], &axis[..], &[*radius, *length]].concat()),
+            Shape::Shell {
+                base,
+                axis,
+                inner_radius,
+                outer_radius,
+                length,
+            } => (
+                1,
+                [
+                    &base[..],
+                    &axis[..],
+                    &[*inner_radius, *outer_radius, *length],
+                ]
+                .concat(),
+            ),
+            other => panic!("not a tube shape: {other:?}"),
+        }
+    }
+
+    /// Whether the config's setup is the case's: the same spacing, options,
+    /// detonation and bodies (each with the same material), whatever the
+    /// order of the materials.
+    fn assert_same_case(name: &str, a: &brisance_pd::PdSetup, b: &brisance_pd::PdSetup) {
+        assert_eq!(a.options, b.options, "{name}: options");
+        assert_eq!(a.detonation, b.detonation, "{name}: detonation");
+        assert_eq!(a.boundaries, b.boundaries, "{name}: boundaries");
+        assert_eq!(a.bodies.len(), b.bodies.len(), "{name}: bodies");
+        for body in &a.bodies {
+            let (kind, x) = shape_numbers(&body.shape);
+            let twin = b
+                .bodies
+                .iter()
+                .find(|c| {
+                    let (k, y) = shape_numbers(&c.shape);
+                    k == kind
+                        && x.iter()
+                            .zip(&y)
+                            .all(|(p, q)| (p - q).abs() <= 1e-12 * p.abs().max(q.abs()))
+                })
+                .unwrap_or_else(|| panic!("{name}: no body of the case is {:?}", body.shape));
+            assert_eq!(body.velocity, twin.velocity, "{name}");
+            assert_eq!(
+                a.materials[usize::from(body.material)],
+                b.materials[usize::from(twin.material)],
+                "{name}: material of {:?}",
+                body.shape
+            );
+        }
+    }
+
+    /// The scenario files are the validation's cases: the reduced and the
+    /// full configs of E-PD-CYL and E-PD-FRAG give the setups of
+    /// `brisance_pd::cases` at their lengths, and end where the validation
+    /// reads them (45 µs and 40 µs for the full tubes).
+    #[test]
+    fn pd_configs_are_the_cases_the_validation_runs() {
+        use brisance_pd::cases::{copper_cylinder, steel_fragmenting_cylinder};
+        let h = 1.3e-3;
+        for (name, text, case, end) in [
+            (
+                "pd_cylinder.ron",
+                include_str!("../../../configs/pd_cylinder.ron"),
+                copper_cylinder(h, 0.03),
+                12.0e-6,
+            ),
+            (
+                "pd_cylinder_full.ron",
+                include_str!("../../../configs/pd_cylinder_full.ron"),
+                copper_cylinder(h, 0.258),
+                45.0e-6,
+            ),
+            (
+                "pd_fragment.ron",
+                include_str!("../../../configs/pd_fragment.ron"),
+                steel_fragmenting_cylinder(h, 0.02, 0.0, 0.0),
+                15.0e-6,
+            ),
+            (
+                "pd_fragment_full.ron",
+                include_str!("../../../configs/pd_fragment_full.ron"),
+                steel_fragmenting_cylinder(h, 0.10795, 0.0, 0.0),
+                40.0e-6,
+            ),
+        ] {
+            let loaded = load_str(name, text, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+                panic!("{name}: not a Peridynamics pipeline");
+            };
+            let setup = super::setup(&loaded.scenario, pd).unwrap();
+            assert_same_case(name, &setup, &case.setup().unwrap());
+            assert_eq!(loaded.scenario.time.end, end, "{name}");
+        }
+    }
+
+    /// The reduced configs run to their end through the run loop: the
+    /// copper tube's wall gauge moves outward, never back, and stays below
+    /// the Gurney velocity; the steel tube's fragments (written at the
+    /// end) hold the case's mass.
+    #[test]
+    fn reduced_pd_configs_run_to_their_end() {
+        let dir = std::env::temp_dir().join(format!("brisance_pd_configs_{}", std::process::id()));
+        let run_config = |name: &str, text: &str| {
+            let loaded = load_str(name, text, &[]).unwrap();
+            let out = dir.join(name);
+            let summary = crate::run(
+                &loaded,
+                &crate::RunOptions {
+                    out_dir: out.clone(),
+                    restart: None,
+                    progress: false,
+                },
+            )
+            .unwrap();
+            assert!(summary.completed, "{name}: {summary:?}");
+            assert_eq!(summary.final_time, loaded.scenario.time.end, "{name}");
+            out
+        };
+        let rows = |path: std::path::PathBuf| -> Vec<Vec<f64>> {
+            std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+                .lines()
+                .skip(1)
+                .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+                .collect()
+        };
+        let out = run_config(
+            "pd_cylinder.ron",
+            include_str!("../../../configs/pd_cylinder.ron"),
+        );
+        // time, radial_displacement, velocity_x of the node nearest the
+        // gauge point on the outer wall (x axis: v_x is radial there).
+        let wall = rows(out.join("gauges").join("wall.csv"));
+        let gurney = brisance_pd::cases::copper_cylinder(1.3e-3, 0.03)
+            .gurney_wall_velocity()
+            .unwrap();
+        let last = wall.last().unwrap();
+        assert!(last[1] > 0.5e-3, "wall displacement {:?}", last);
+        for w in wall.windows(2) {
+            assert!(w[1][1] >= w[0][1] - 1e-6, "{:?}", w);
+        }
+        assert!(last[2] > 0.0 && last[2] < gurney, "{last:?} {gurney}");
+        let out = run_config(
+            "pd_fragment.ron",
+            include_str!("../../../configs/pd_fragment.ron"),
+        );
+        // rank, mass, nodes, vx, vy, vz, speed
+        let fragments = rows(out.join("fragments.csv"));
+        let total: f64 = fragments.iter().map(|f| f[1]).sum();
+        let nodes: f64 = fragments.iter().map(|f| f[2]).sum();
+        // Every steel node is in a fragment, each of mass ρ h³.
+        let case = brisance_pd::cases::steel_fragmenting_cylinder(1.3e-3, 0.02, 0.0, 0.0);
+        let solver = brisance_pd::PdSolver::new(case.setup().unwrap()).unwrap();
+        let steel = solver.materials().iter().filter(|&&m| m == 0).count();
+        assert_eq!(nodes, steel as f64);
+        let case_mass = 7850.0 * 1.3e-3f64.powi(3) * steel as f64;
+        assert!(
+            (total - case_mass).abs() <= 1e-12 * case_mass,
+            "{total} {case_mass}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// `gas_viscosity` reaches the solver from the config, and a negative
     /// coefficient is refused naming the field.
     #[test]
