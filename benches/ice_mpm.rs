@@ -18,27 +18,15 @@
 //! steps is the cost of n steps, free of the set-up.
 
 use brisance::core::Solver;
-use brisance::ice::IceBoundary;
-use brisance::mpm::GridBoundary;
-use brisance_couple::ice_mpm::cases::{build, build_frames, Setup};
+use brisance_couple::ice_mpm::cases::{build, build_frames, moving_cube, Setup};
 use brisance_couple::IceMpm;
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 
 const N: usize = 32;
 
+/// The bench's case (`cases::moving_cube`).
 fn setup() -> Setup {
-    let h = 1e-3;
-    let (a, b) = (10.0 * h, 22.0 * h);
-    Setup {
-        lower: [0.0; 3],
-        upper: [N as f64 * h; 3],
-        cells: [N; 3],
-        solids: vec![([a, a, a], [b, b, b])],
-        solid_velocity: [50.0, 0.0, 0.0],
-        gas_velocity: [0.0; 3],
-        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
-        mpm_faces: [GridBoundary::Free; 6],
-    }
+    moving_cube()
 }
 
 /// The coupled case after a few steps, so the air already moves.

@@ -57,6 +57,26 @@ pub struct Setup {
     pub mpm_faces: [GridBoundary; 6],
 }
 
+/// The case of the criterion bench `ice_mpm_step` (benches/ice_mpm.rs)
+/// and of the step-cost check of `cargo xtask validate --only piston`: a
+/// 12 mm steel cube (1 mm cells, 2³ particles per cell) at 50 m/s through
+/// still air in a box of 32³ cells with outflow faces.
+pub fn moving_cube() -> Setup {
+    const N: usize = 32;
+    let h = 1e-3;
+    let (a, b) = (10.0 * h, 22.0 * h);
+    Setup {
+        lower: [0.0; 3],
+        upper: [N as f64 * h; 3],
+        cells: [N; 3],
+        solids: vec![([a, a, a], [b, b, b])],
+        solid_velocity: [50.0, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+        mpm_faces: [GridBoundary::Free; 6],
+    }
+}
+
 /// Builds the case (panics on a bad setup: the cases are fixed).
 pub fn build(s: &Setup) -> IceMpm {
     let (ice, mpm) = build_frames(s);
