@@ -163,30 +163,16 @@ fn step_cost() -> Result<(f64, f64, f64, usize)> {
         }
         Ok(t / STEPS as f64)
     };
-    let coupled = best(Box::new(|| {
-        let mut s = warm()?;
+    let timed = |s: &mut dyn Solver| -> Result<f64> {
         let t = Instant::now();
         for _ in 0..STEPS {
             s.advance(dt).map_err(|e| anyhow!("{e}"))?;
         }
         Ok(t.elapsed().as_secs_f64())
-    }))?;
-    let ice_alone = best(Box::new(|| {
-        let mut s = cases::build_frames(&setup()).0;
-        let t = Instant::now();
-        for _ in 0..STEPS {
-            s.advance(dt).map_err(|e| anyhow!("{e}"))?;
-        }
-        Ok(t.elapsed().as_secs_f64())
-    }))?;
-    let mpm_alone = best(Box::new(|| {
-        let mut s = cases::build_frames(&setup()).1;
-        let t = Instant::now();
-        for _ in 0..STEPS {
-            s.advance(dt).map_err(|e| anyhow!("{e}"))?;
-        }
-        Ok(t.elapsed().as_secs_f64())
-    }))?;
+    };
+    let coupled = best(Box::new(|| timed(&mut warm()?)))?;
+    let ice_alone = best(Box::new(|| timed(&mut cases::build_frames(&setup()).0)))?;
+    let mpm_alone = best(Box::new(|| timed(&mut cases::build_frames(&setup()).1)))?;
     Ok((coupled, ice_alone, mpm_alone, particles))
 }
 

@@ -359,6 +359,23 @@ pub fn floating_block(steps: usize) -> Result<(f64, f64), SolverError> {
     Ok((solid, gas))
 }
 
+/// The closed piston tube of [`closed_tube`]: 8 cm of air in 1 mm cells,
+/// walls at both ends, a 1 cm steel piston at x = 3–4 cm moving at
+/// 100 m/s.
+pub fn closed_tube_setup() -> Setup {
+    let h = 1e-3;
+    Setup {
+        lower: [0.0; 3],
+        upper: [0.08, h, h],
+        cells: [80, 1, 1],
+        solids: vec![([0.03, 0.0, 0.0], [0.04, h, h])],
+        solid_velocity: [100.0, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Symmetry),
+        mpm_faces: [GridBoundary::Symmetry; 6],
+    }
+}
+
 /// What [`closed_tube`] measures.
 #[derive(Clone, Copy, Debug)]
 pub struct ClosedTube {
@@ -383,16 +400,7 @@ pub struct ClosedTube {
 /// then that of the start.
 pub fn closed_tube(steps: usize) -> Result<ClosedTube, SolverError> {
     let h = 1e-3;
-    let mut s = build(&Setup {
-        lower: [0.0; 3],
-        upper: [0.08, h, h],
-        cells: [80, 1, 1],
-        solids: vec![([0.03, 0.0, 0.0], [0.04, h, h])],
-        solid_velocity: [100.0, 0.0, 0.0],
-        gas_velocity: [0.0; 3],
-        ice_faces: std::array::from_fn(|_| IceBoundary::Symmetry),
-        mpm_faces: [GridBoundary::Symmetry; 6],
-    });
+    let mut s = build(&closed_tube_setup());
     let before = s.conservation_totals();
     let piston_mass = STEEL_RHO * 0.01 * h * h;
     let kinetic = 0.5 * piston_mass * 100.0 * 100.0;

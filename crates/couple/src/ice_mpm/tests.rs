@@ -108,19 +108,7 @@ fn mass_momentum_and_energy_close_across_both_frames() {
 #[test]
 fn the_fluid_frame_alone_keeps_the_closed_tube_s_momentum() {
     use brisance_core::Solver;
-    use brisance_ice::IceBoundary;
-    use brisance_mpm::GridBoundary;
-    let h = 1e-3;
-    let (mut ice, _) = build_frames(&Setup {
-        lower: [0.0; 3],
-        upper: [0.08, h, h],
-        cells: [80, 1, 1],
-        solids: vec![([0.03, 0.0, 0.0], [0.04, h, h])],
-        solid_velocity: [100.0, 0.0, 0.0],
-        gas_velocity: [0.0; 3],
-        ice_faces: std::array::from_fn(|_| IceBoundary::Symmetry),
-        mpm_faces: [GridBoundary::Symmetry; 6],
-    });
+    let (mut ice, _) = build_frames(&closed_tube_setup());
     let before = ice.conservation_totals().momentum[0];
     for _ in 0..200 {
         let dt = ice.stable_dt().unwrap();

@@ -918,6 +918,37 @@ fn the_undamped_stable_step_is_eq_24() {
     assert_eq!(s.stable_dt().unwrap(), want);
 }
 
+/// A steel box of `cells` spacings (h = 1 mm) under body force `b`,
+/// started at `velocity`, with the given critical stretch and boundaries.
+fn steel_box(
+    cells: [f64; 3],
+    b: [f64; 3],
+    critical_stretch: f64,
+    velocity: [f64; 3],
+    boundaries: Vec<PdBoundary>,
+) -> PdSolver {
+    let h = 1.0e-3;
+    PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            body_force: b,
+            ..PdOptions::default()
+        },
+        materials: vec![steel(ProportionalKind::MicroElastic, critical_stretch)],
+        bodies: vec![BodySpec {
+            shape: Shape::Box {
+                min: [0.0; 3],
+                max: cells.map(|c| c * h),
+            },
+            material: 0,
+            velocity,
+        }],
+        boundaries,
+        detonation: None,
+    })
+    .unwrap()
+}
+
 /// A free micro-elastic block (4 × 3 × 3 nodes, contact on) under a
 /// uniform body force b (eq 9): every node gets the same acceleration b/ρ,
 /// so the displacements stay equal to the bit, no bond is stretched and
@@ -925,28 +956,9 @@ fn the_undamped_stable_step_is_eq_24() {
 /// Verlet is exact for a constant acceleration), to round-off.
 #[test]
 fn a_free_block_under_a_body_force_accelerates_at_b_over_rho_unstretched() {
-    let h = 1.0e-3;
     let b = [2.0e6, -1.0e6, 0.5e6];
     let rho = 7850.0;
-    let mut s = PdSolver::new(PdSetup {
-        options: PdOptions {
-            spacing: h,
-            body_force: b,
-            ..PdOptions::default()
-        },
-        materials: vec![steel(ProportionalKind::MicroElastic, 0.01)],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [4.0 * h, 3.0 * h, 3.0 * h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
-        boundaries: vec![],
-        detonation: None,
-    })
-    .unwrap();
+    let mut s = steel_box([4.0, 3.0, 3.0], b, 0.01, [0.0; 3], vec![]);
     assert_eq!(s.node_count(), 36);
     for _ in 0..10 {
         let dt = s.stable_dt().unwrap();
@@ -978,31 +990,19 @@ fn a_free_block_under_a_body_force_accelerates_at_b_over_rho_unstretched() {
 #[test]
 fn fixed_nodes_stay_exactly_at_their_reference_positions() {
     let h = 1.0e-3;
-    let mut s = PdSolver::new(PdSetup {
-        options: PdOptions {
-            spacing: h,
-            body_force: [1.0e8, 2.0e8, 0.0],
-            ..PdOptions::default()
-        },
-        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [8.0 * h, 3.0 * h, 3.0 * h],
-            },
-            material: 0,
-            velocity: [3.0, -2.0, 5.0],
-        }],
-        boundaries: vec![PdBoundary {
+    let mut s = steel_box(
+        [8.0, 3.0, 3.0],
+        [1.0e8, 2.0e8, 0.0],
+        f64::INFINITY,
+        [3.0, -2.0, 5.0],
+        vec![PdBoundary {
             region: Shape::Box {
                 min: [-h, -h, -h],
                 max: [2.0 * h, 4.0 * h, 4.0 * h],
             },
             velocity: [Some(0.0); 3],
         }],
-        detonation: None,
-    })
-    .unwrap();
+    );
     let fixed: Vec<usize> = (0..s.node_count())
         .filter(|&i| s.reference()[i][0] < 2.0 * h)
         .collect();
@@ -1035,22 +1035,12 @@ fn fixed_nodes_stay_exactly_at_their_reference_positions() {
 fn a_prescribed_velocity_component_is_imposed_exactly() {
     let h = 1.0e-3;
     let vx = 2.5;
-    let mut s = PdSolver::new(PdSetup {
-        options: PdOptions {
-            spacing: h,
-            body_force: [0.0, 1.0e8, 0.0],
-            ..PdOptions::default()
-        },
-        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [8.0 * h, 3.0 * h, 3.0 * h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
-        boundaries: vec![
+    let mut s = steel_box(
+        [8.0, 3.0, 3.0],
+        [0.0, 1.0e8, 0.0],
+        f64::INFINITY,
+        [0.0; 3],
+        vec![
             PdBoundary {
                 region: Shape::Box {
                     min: [-h, -h, -h],
@@ -1066,9 +1056,7 @@ fn a_prescribed_velocity_component_is_imposed_exactly() {
                 velocity: [Some(vx), None, None],
             },
         ],
-        detonation: None,
-    })
-    .unwrap();
+    );
     let driven: Vec<usize> = (0..s.node_count())
         .filter(|&i| s.reference()[i][0] > 6.0 * h)
         .collect();
