@@ -476,11 +476,31 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
 // ---------------------------------------------------------------------------
 // `brisance remap` and the blast scenario it feeds.
 
-/// Runs `brisance remap` with the given arguments.
-fn remap(args: &[&str]) -> Output {
+/// Runs `brisance remap` of a TNT charge of `symmetry`: the 1D run
+/// `[charge radius, 1D radius, 1D cells, time]`, the target grid
+/// `[lower, upper, cells, centre]` (comma-separated triples), into `out`,
+/// with `extra` arguments.
+fn remap(symmetry: &str, one_d: [&str; 4], grid: [&str; 4], out: &Path, extra: &[&str]) -> Output {
+    let [charge, radius, cells_1d, time] = one_d;
+    let [lower, upper, cells, centre] = grid;
     brisance()
         .arg("remap")
-        .args(args)
+        .args(["--symmetry", symmetry, "--charge-radius", charge])
+        .args([
+            "--radius-1d",
+            radius,
+            "--cells-1d",
+            cells_1d,
+            "--time",
+            time,
+        ])
+        .arg(format!("--lower={lower}"))
+        .arg(format!("--upper={upper}"))
+        .args(["--cells", cells])
+        .arg(format!("--centre={centre}"))
+        .arg("--out")
+        .arg(out)
+        .args(extra)
         .output()
         .expect("the brisance binary runs")
 }
@@ -505,25 +525,13 @@ fn remap_writes_the_initial_state_and_keeps_the_charge() {
     // remapped onto a 2D quarter grid of 1 mm cells.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("remap");
-    let output = remap(&[
-        "--symmetry",
+    let output = remap(
         "cylindrical",
-        "--charge-radius",
-        "0.01",
-        "--radius-1d",
-        "0.03",
-        "--cells-1d",
-        "60",
-        "--time",
-        "3e-6",
-        "--lower=0,0,0",
-        "--upper=0.04,0.04,0.001",
-        "--cells",
-        "40,40,1",
-        "--centre=0,0,0",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        ["0.01", "0.03", "60", "3e-6"],
+        ["0,0,0", "0.04,0.04,0.001", "40,40,1", "0,0,0"],
+        &out,
+        &[],
+    );
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let text = stdout(&output);
     assert!(text.contains("1D cylindrical detonation"), "{text}");
@@ -561,25 +569,13 @@ fn remap_writes_the_initial_state_and_keeps_the_charge() {
 fn remap_with_a_malformed_grid_fails_before_running_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("remap");
-    let output = remap(&[
-        "--symmetry",
+    let output = remap(
         "spherical",
-        "--charge-radius",
-        "0.01",
-        "--radius-1d",
-        "0.03",
-        "--cells-1d",
-        "60",
-        "--time",
-        "3e-6",
-        "--lower=0,0",
-        "--upper=0.04,0.04,0.04",
-        "--cells",
-        "8,8,8",
-        "--centre=0,0,0",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        ["0.01", "0.03", "60", "3e-6"],
+        ["0,0", "0.04,0.04,0.04", "8,8,8", "0,0,0"],
+        &out,
+        &[],
+    );
     assert_eq!(output.status.code(), Some(1));
     let err = stderr(&output);
     assert!(
@@ -599,27 +595,13 @@ fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
     // sees the shock.
     let dir = tempfile::tempdir().unwrap();
     let remapped = dir.path().join("remap");
-    let output = remap(&[
-        "--symmetry",
+    let output = remap(
         "cylindrical",
-        "--charge-radius",
-        "0.05",
-        "--radius-1d",
-        "0.11",
-        "--cells-1d",
-        "440",
-        "--time",
-        "1.2e-5",
-        "--lower=-0.18,0.15,0",
-        "--upper=0.12,0.35,0.002",
-        "--cells",
-        "150,100,1",
-        "--centre=0,0.25,0",
-        "--radius",
-        "0.1",
-        "--out",
-        remapped.to_str().unwrap(),
-    ]);
+        ["0.05", "0.11", "440", "1.2e-5"],
+        ["-0.18,0.15,0", "0.12,0.35,0.002", "150,100,1", "0,0.25,0"],
+        &remapped,
+        &["--radius", "0.1"],
+    );
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d.ron");
     let out = dir.path().join("out");
