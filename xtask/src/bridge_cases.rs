@@ -146,20 +146,21 @@ fn json_number(text: &str, key: &str) -> Option<f64> {
     rest[..end].trim().parse().ok()
 }
 
-fn read_particles(out: &Path) -> Option<(f64, f64)> {
-    let text = std::fs::read_to_string(out.join("time_split.json")).ok()?;
-    let steps = json_number(&text, "steps")?;
+/// The MPM's particles at the end and their mean over the steps, from the
+/// text of `time_split.json`.
+fn particles_of(text: &str) -> Option<(f64, f64)> {
+    let steps = json_number(text, "steps")?;
     Some((
-        json_number(&text, "particles")?,
-        json_number(&text, "particle_steps")? / steps.max(1.0),
+        json_number(text, "particles")?,
+        json_number(text, "particle_steps")? / steps.max(1.0),
     ))
 }
 
-fn read_split(out: &Path) -> Option<(f64, f64)> {
-    let text = std::fs::read_to_string(out.join("time_split.json")).ok()?;
+/// The FDM and MPM wall seconds, from the text of `time_split.json`.
+fn split_of(text: &str) -> Option<(f64, f64)> {
     Some((
-        json_number(&text, "fdm_seconds")?,
-        json_number(&text, "mpm_seconds")?,
+        json_number(text, "fdm_seconds")?,
+        json_number(text, "mpm_seconds")?,
     ))
 }
 
@@ -194,21 +195,22 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
         },
     )
     .map_err(|e| anyhow::anyhow!("blast2d w = {width}: {e}"))?;
+    let time_split = std::fs::read_to_string(out.join("time_split.json")).ok();
     Ok(BridgeRun {
         label: format!(
             "{width}{}",
             if paper_inflow { ", paper's inflow" } else { "" }
         ),
         width,
-        split: read_split(&out),
-        particles: read_particles(&out),
+        split: time_split.as_deref().and_then(split_of),
+        particles: time_split.as_deref().and_then(particles_of),
         steps: summary.steps,
         final_time: summary.final_time,
         wall_seconds: summary.wall_seconds,
         peak_resident: crate::bridge3d::peak_resident_bytes(),
-        activated_at: std::fs::read_to_string(out.join("time_split.json"))
-            .ok()
-            .and_then(|t| json_number(&t, "activated_at")),
+        activated_at: time_split
+            .as_deref()
+            .and_then(|t| json_number(t, "activated_at")),
         completed: summary.completed,
         stop_reason: summary.stop_reason,
         gauge1: read_gauge(&out.join("gauges/gauge1.csv"))?,

@@ -156,13 +156,13 @@ fn step_cost() -> Result<(f64, f64, f64, usize)> {
     let dt = s0.stable_dt().map_err(|e| anyhow!("{e}"))?;
     let particles = s0.particles_per_step();
     const STEPS: usize = 5;
-    let best = |mut one: Box<dyn FnMut() -> Result<f64>>| -> Result<f64> {
+    fn best(mut one: impl FnMut() -> Result<f64>) -> Result<f64> {
         let mut t = f64::INFINITY;
         for _ in 0..3 {
             t = t.min(one()?);
         }
         Ok(t / STEPS as f64)
-    };
+    }
     let timed = |s: &mut dyn Solver| -> Result<f64> {
         let t = Instant::now();
         for _ in 0..STEPS {
@@ -170,9 +170,9 @@ fn step_cost() -> Result<(f64, f64, f64, usize)> {
         }
         Ok(t.elapsed().as_secs_f64())
     };
-    let coupled = best(Box::new(|| timed(&mut warm()?)))?;
-    let ice_alone = best(Box::new(|| timed(&mut cases::build_frames(&setup()).0)))?;
-    let mpm_alone = best(Box::new(|| timed(&mut cases::build_frames(&setup()).1)))?;
+    let coupled = best(|| timed(&mut warm()?))?;
+    let ice_alone = best(|| timed(&mut cases::build_frames(&setup()).0))?;
+    let mpm_alone = best(|| timed(&mut cases::build_frames(&setup()).1))?;
     Ok((coupled, ice_alone, mpm_alone, particles))
 }
 

@@ -2211,17 +2211,9 @@ mod tests {
     fn fdm_owned_totals(c: &Cfdmp<IdealGas>) -> ConservationTotals {
         let mut t = Solver::conservation_totals(c);
         let m = c.mpm().conservation_totals();
-        t.mass -= m.mass;
-        for d in 0..3 {
-            t.momentum[d] -= m.momentum[d];
-        }
-        t.energy -= m.energy;
+        book_parts(&mut t, -m.mass, m.momentum.map(|x| -x), -m.energy);
         for q in &c.pending {
-            t.mass -= q.mass;
-            for d in 0..3 {
-                t.momentum[d] -= q.momentum[d];
-            }
-            t.energy -= q.energy;
+            book_parts(&mut t, -q.mass, q.momentum.map(|x| -x), -q.energy);
         }
         t
     }
@@ -2232,18 +2224,13 @@ mod tests {
         let ps = c.mpm().particles();
         let ids = c.mpm().particle_ids();
         for p in (0..ps.len()).filter(|&p| c.is_donor(ids[p])) {
-            let mut d = ConservationTotals::default();
+            // A particle of mass −m takes its mass, momentum and energy out.
             book(
-                &mut d,
-                ps.mass[p],
+                &mut t,
+                -ps.mass[p],
                 ps.velocity[p],
                 ps.specific_internal_energy[p],
             );
-            t.mass -= d.mass;
-            for k in 0..3 {
-                t.momentum[k] -= d.momentum[k];
-            }
-            t.energy -= d.energy;
         }
         t
     }

@@ -1070,7 +1070,7 @@ impl<E: Eos> IceSolver<E> {
         assert_eq!(dp.len(), geometry.cell_count());
         let volume: f64 = geometry.spacing.iter().product();
         let n = self.eos.len();
-        let lag = self.lagrangian.clone();
+        let lag = &self.lagrangian;
         for_each_cell_global(&self.level, &mut self.lag, |g, l, c| {
             if dp[g] == [0.0; 3] {
                 return;
