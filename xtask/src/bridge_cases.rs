@@ -173,6 +173,7 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
     let mut sets = vec![
         format!("time.end={END_TIME:e}"),
         format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
+        format!("pipeline.w=Some({width})"),
         format!("pipeline.remap=Some(\"{}\")", remap.display()),
         "outputs.interval=1.0".to_string(),
     ];

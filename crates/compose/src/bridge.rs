@@ -4,8 +4,9 @@
 //!
 //! The scenario's domain is the union of `fdm_region` and `mpm_region`,
 //! two boxes on the domain's cells that differ along one axis and overlap
-//! there by the bridge width w. Initial regions are read per point, the
-//! last region containing it winning:
+//! there by the bridge width w, the config's `w` (default 5): boxes whose
+//! overlap is not w cells are refused. Initial regions are read per point,
+//! the last region containing it winning:
 //!
 //! - FDM cells take the state of the last region of a gas (`air`, or the
 //!   `products` with mass fraction 1) containing their centre; a `remap`
@@ -64,6 +65,11 @@ pub struct BridgeConfig {
     /// The MPM region; it overlaps one end of the FDM region by whole cells
     /// (the bridge).
     pub mpm_region: BoxConfig,
+    /// Bridge width w, cells (default 5): the overlap of `fdm_region` and
+    /// `mpm_region` along the split axis must be exactly w cells, or the
+    /// config is refused. It checks the boxes and changes nothing else.
+    #[serde(default)]
+    pub w: Option<usize>,
     /// The air (a key of `materials` with an `IdealGas`): the FDM gas and
     /// the MPM fluid.
     pub air: String,
@@ -118,6 +124,9 @@ pub struct BridgeConfig {
     pub inflow_deposit: bool,
 }
 
+/// Bridge width when `w` is omitted, cells (the issue's default).
+pub const DEFAULT_BRIDGE_WIDTH: usize = 5;
+
 fn default_ppc() -> usize {
     2
 }
@@ -142,7 +151,22 @@ fn spacing(s: &Scenario) -> [f64; 3] {
     std::array::from_fn(|a| (d.upper[a] - d.lower[a]) / d.cells[a] as f64)
 }
 
+/// `x` rounded to 1e-12 (for coordinates in messages: 0.11 + 0.01 shows
+/// as 0.12).
+fn tidy(x: f64) -> f64 {
+    (x * 1e12).round() / 1e12
+}
+
 fn regions(s: &Scenario, cfg: &BridgeConfig) -> Result<BridgeRegions, Problem> {
+    let w = cfg.w.unwrap_or(DEFAULT_BRIDGE_WIDTH);
+    if w == 0 {
+        return Err((
+            "pipeline.w".into(),
+            format!(
+                "w = 0: the bridge must be at least one cell wide (omit w for the default {DEFAULT_BRIDGE_WIDTH})"
+            ),
+        ));
+    }
     let b = |c: &BoxConfig| RegionBox {
         lower: c.lower,
         upper: c.upper,
@@ -177,7 +201,68 @@ fn regions(s: &Scenario, cfg: &BridgeConfig) -> Result<BridgeRegions, Problem> {
             ),
         ));
     }
+    if r.width != w {
+        return Err(("pipeline.w".into(), width_mismatch(s, cfg, &r, w)));
+    }
     Ok(r)
+}
+
+/// The message for boxes that overlap by `r.width` cells where the config
+/// asks for `w`: both widths, and the moves of the interface-side face of
+/// either box (the MPM box's first: it keeps the FDM grid, and with it a
+/// remap file) that give w cells while keeping the boxes a valid bridge
+/// on the same domain.
+fn width_mismatch(s: &Scenario, cfg: &BridgeConfig, r: &BridgeRegions, w: usize) -> String {
+    let a = r.axis;
+    let axis = ["x", "y", "z"][a];
+    let h = spacing(s)[a];
+    let b = |c: &BoxConfig| RegionBox {
+        lower: c.lower,
+        upper: c.upper,
+    };
+    let (fdm, mpm) = (b(&cfg.fdm_region), b(&cfg.mpm_region));
+    let span = w as f64 * h;
+    // (region, face, new coordinate, the moved boxes).
+    let moves = match r.mpm_side {
+        Side::High => {
+            let (mut m, mut f) = (mpm, fdm);
+            m.lower[a] = fdm.upper[a] - span;
+            f.upper[a] = mpm.lower[a] + span;
+            [
+                ("mpm_region", "lower", m.lower[a], fdm, m),
+                ("fdm_region", "upper", f.upper[a], f, mpm),
+            ]
+        }
+        Side::Low => {
+            let (mut m, mut f) = (mpm, fdm);
+            m.upper[a] = fdm.lower[a] + span;
+            f.lower[a] = mpm.upper[a] - span;
+            [
+                ("mpm_region", "upper", m.upper[a], fdm, m),
+                ("fdm_region", "lower", f.lower[a], f, mpm),
+            ]
+        }
+    };
+    let valid: Vec<String> = moves
+        .iter()
+        .filter(|(_, _, _, f, m)| {
+            BridgeRegions::from_boxes(*f, *m, spacing(s), brisance_fdm::sweep::GHOST)
+                .is_ok_and(|moved| moved.width == w)
+        })
+        .map(|(region, face, at, _, _)| format!("{region}'s {face} {axis} to {}", tidy(*at)))
+        .collect();
+    let fix = match valid.as_slice() {
+        [] => String::new(),
+        [one] => format!("move {one} or "),
+        [first, second, ..] => format!("move {first} (or {second}) or "),
+    };
+    format!(
+        "the fdm_region and mpm_region overlap by {} {} ({} m) along {axis} but w = {w}; {fix}set w: Some({})",
+        r.width,
+        if r.width == 1 { "cell" } else { "cells" },
+        tidy(r.width as f64 * h),
+        r.width
+    )
 }
 
 fn air_gas(s: &Scenario, cfg: &BridgeConfig) -> Result<brisance_eos::IdealGas, Problem> {
@@ -818,6 +903,157 @@ mod tests {
             "upper: (0.08, 0.02, 0.002), cells: (40",
         );
         assert!(e.contains("union"), "{e}");
+    }
+
+    const BLAST2D: &str = include_str!("../../../configs/blast2d.ron");
+
+    /// `text` with `w: {w},` before its `air`.
+    fn with_w(text: &str, w: &str) -> String {
+        let air = "air: \"air\",\n";
+        assert!(text.contains(air));
+        text.replace(air, &format!("w: {w},\n            {air}"))
+    }
+
+    #[test]
+    fn the_default_bridge_width_is_5_and_fits_the_blast2d_geometry() {
+        // configs/blast2d.ron omits w: FDM to 120 mm, MPM from 110 mm,
+        // 2 mm cells.
+        assert!(!BLAST2D.contains("w: "));
+        let loaded = load_str("blast2d.ron", BLAST2D, &[]).unwrap();
+        let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+            panic!("blast2d.ron is a bridge");
+        };
+        assert_eq!(b.w, None);
+        let described = crate::build::describe(&loaded.scenario);
+        assert!(described.contains("w = 5 cells along x"), "{described}");
+        // Written out, the same.
+        let set = ["pipeline.w=Some(5)".to_string()];
+        let explicit = load_str("blast2d.ron", BLAST2D, &set).unwrap();
+        let crate::config::Pipeline::FdmMpmBridge(e) = &explicit.scenario.pipeline else {
+            unreachable!()
+        };
+        assert_eq!(e.w, Some(5));
+        assert_eq!(super::DEFAULT_BRIDGE_WIDTH, 5);
+    }
+
+    #[test]
+    fn an_explicit_bridge_width_that_matches_the_overlap_is_accepted() {
+        // TUBE's boxes overlap by 5 cells.
+        load_str("bridge2d.ron", &with_w(TUBE, "Some(5)"), &[]).unwrap();
+        // IMPLICIT_SOME: `w: 5` is the same.
+        load_str("bridge2d.ron", &with_w(TUBE, "5"), &[]).unwrap();
+        // 8 cells: the MPM region from 24 mm.
+        let text = with_w(
+            &TUBE.replace("lower: (0.03, 0.0, 0.0)", "lower: (0.024, 0.0, 0.0)"),
+            "Some(8)",
+        );
+        let loaded = load_str("bridge2d.ron", &text, &[]).unwrap();
+        let described = crate::build::describe(&loaded.scenario);
+        assert!(described.contains("w = 8 cells along x"), "{described}");
+        // xtask's E-BLAST2D width study: w = 2 and 8 by --set.
+        for (lower, w) in [("0.116", 2), ("0.104", 8)] {
+            let sets = [
+                format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
+                format!("pipeline.w=Some({w})"),
+            ];
+            let loaded = load_str("blast2d.ron", BLAST2D, &sets).unwrap();
+            let described = crate::build::describe(&loaded.scenario);
+            assert!(
+                described.contains(&format!("w = {w} cells along x")),
+                "{described}"
+            );
+            // Without w the default 5 refuses the moved box.
+            let e = load_str("blast2d.ron", BLAST2D, &sets[..1]).unwrap_err();
+            assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_bridge_width_that_does_not_match_the_overlap_is_named() {
+        // The MPM region from 32 mm: 4 cells of overlap, default w = 5.
+        let text = TUBE.replace("lower: (0.03, 0.0, 0.0)", "lower: (0.032, 0.0, 0.0)");
+        let e = load_str("bridge2d.ron", &text, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+        assert!(e.position.is_some(), "{e}");
+        assert_eq!(
+            e.message,
+            "the fdm_region and mpm_region overlap by 4 cells (0.008 m) along x but w = 5; \
+             move mpm_region's lower x to 0.03 (or fdm_region's upper x to 0.042) or set w: Some(4)"
+        );
+        assert!(e.to_string().contains("`pipeline.w`"), "{e}");
+        // An explicit w, and no move that keeps a valid bridge (20 cells
+        // would swallow the FDM region).
+        let e = load_str("bridge2d.ron", &with_w(TUBE, "Some(20)"), &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+        assert_eq!(
+            e.message,
+            "the fdm_region and mpm_region overlap by 5 cells (0.01 m) along x but w = 20; set w: Some(5)"
+        );
+        // Mirrored: the MPM region on the low side, (0, 30) mm, the FDM
+        // region (20, 60) mm.
+        let text = TUBE
+            .replace(
+                "fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.04, 0.02, 0.002))",
+                "fdm_region: (lower: (0.02, 0.0, 0.0), upper: (0.06, 0.02, 0.002))",
+            )
+            .replace(
+                "mpm_region: (lower: (0.03, 0.0, 0.0), upper: (0.06, 0.02, 0.002))",
+                "mpm_region: (lower: (0.0, 0.0, 0.0), upper: (0.03, 0.02, 0.002)), w: Some(3)",
+            );
+        let e = load_str("bridge2d.ron", &text, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+        assert_eq!(
+            e.message,
+            "the fdm_region and mpm_region overlap by 5 cells (0.01 m) along x but w = 3; \
+             move mpm_region's upper x to 0.026 (or fdm_region's lower x to 0.024) or set w: Some(5)"
+        );
+        // Following either suggestion loads.
+        for (from, to) in [
+            (
+                "upper: (0.03, 0.02, 0.002)), w",
+                "upper: (0.026, 0.02, 0.002)), w",
+            ),
+            ("lower: (0.02, 0.0, 0.0)", "lower: (0.024, 0.0, 0.0)"),
+        ] {
+            assert!(text.contains(from), "{from}");
+            load_str("bridge2d.ron", &text.replace(from, to), &[]).unwrap();
+        }
+    }
+
+    /// Every bridge config in configs/ states its width or has the
+    /// default's overlap (the plate cases are w = 4).
+    #[test]
+    fn every_bridge_config_has_the_overlap_its_w_says() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+        let mut bridges = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap_or_default();
+            if path.extension().is_some_and(|e| e == "ron") && text.contains("FdmMpmBridge(") {
+                let loaded = crate::load_file(&path, &[])
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+                    panic!("{} is a bridge", path.display());
+                };
+                let w = b.w.unwrap_or(super::DEFAULT_BRIDGE_WIDTH);
+                let described = crate::build::describe(&loaded.scenario);
+                assert!(
+                    described.contains(&format!("w = {w} cells")),
+                    "{}: {described}",
+                    path.display()
+                );
+                bridges += 1;
+            }
+        }
+        assert!(bridges >= 9, "{bridges}");
+    }
+
+    #[test]
+    fn a_zero_bridge_width_is_refused() {
+        let e = load_str("bridge2d.ron", &with_w(TUBE, "Some(0)"), &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+        assert!(e.message.contains("w = 0"), "{e}");
+        assert!(e.position.is_some(), "{e}");
     }
 
     /// A 4 × 2 domain of 1 mm cells, the remap `file` on its cells
