@@ -61,7 +61,7 @@ pub use equilibration::{
     MAX_MATERIALS,
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
-pub use reaction::IceReaction;
+pub use reaction::{BurntMass, IceReaction};
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
 pub use solver::{
     EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, GHOST,

@@ -97,6 +97,22 @@ pub struct Parcel {
     pub volume: f64,
 }
 
+/// What burning particles of a solid reactant gave one cell over a step
+/// ([`crate::IceSolver::add_burnt_particles`]): mass, kg; momentum,
+/// kg·m/s; total energy (internal + kinetic + heat of reaction, in the
+/// product's reference), J; volume, m³.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BurntMass {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Momentum, kg·m/s.
+    pub momentum: [f64; 3],
+    /// Total energy, J.
+    pub energy: f64,
+    /// Volume, m³.
+    pub volume: f64,
+}
+
 /// Moves `burnt` (kg per m³ of cell, 0 ≤ burnt < reactant.rho) from
 /// `reactant` to `product` with the reactant's momentum, internal energy
 /// and specific volume, and adds `heat` × burnt of chemical energy to the

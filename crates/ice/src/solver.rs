@@ -40,7 +40,7 @@ use crate::lagrangian::{
     lagrangian_volume, thermal_expansion_term, volume_change_share, LINEAR_COMPRESSION_LIMIT,
 };
 use crate::pressure::{face_pressure, pressure_increment};
-use crate::reaction::{transfer_burnt_mass, IceReaction, Parcel};
+use crate::reaction::{transfer_burnt_mass, BurntMass, IceReaction, Parcel};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 
 /// The solver's [`Params`] from the fields they read. A macro rather
@@ -786,12 +786,9 @@ impl<E: Eos> IceSolver<E> {
                 )));
             }
         }
-        if let Some(k) = reactions
-            .iter()
-            .position(|r| self.is_lagrangian(r.reactant) || self.is_lagrangian(r.product))
-        {
+        if let Some(k) = reactions.iter().position(|r| self.is_lagrangian(r.product)) {
             return Err(IceError::Invalid(format!(
-                "ice: reactions[{k}]: a material carried by particles cannot be a reactant or product"
+                "ice: reactions[{k}]: the product cannot be a material carried by particles"
             )));
         }
         self.reactions = reactions;
@@ -835,8 +832,9 @@ impl<E: Eos> IceSolver<E> {
     /// the pressure gradient and the exchange to it, advection leaves it,
     /// and the conservation totals leave it to the particles. With any
     /// Lagrangian material the volume fractions of step 2 are shares of
-    /// the materials' total volume. A Lagrangian material may take no part
-    /// in a reaction here.
+    /// the materials' total volume. A Lagrangian material may be a
+    /// reactant (its particles burn: [`IceSolver::lagrangian_burn_fraction`],
+    /// [`IceSolver::add_burnt_particles`]), never a product.
     pub fn set_lagrangian(&mut self, mask: &[bool]) -> Result<(), IceError> {
         let n = self.eos.len();
         if mask.len() != n {
@@ -856,9 +854,9 @@ impl<E: Eos> IceSolver<E> {
             ));
         }
         for (k, rx) in self.reactions.iter().enumerate() {
-            if mask[rx.reactant] || mask[rx.product] {
+            if mask[rx.product] {
                 return Err(IceError::Invalid(format!(
-                    "ice: reactions[{k}]: a material carried by particles cannot be a reactant or product"
+                    "ice: reactions[{k}]: the product cannot be a material carried by particles"
                 )));
             }
         }
@@ -1092,6 +1090,82 @@ impl<E: Eos> IceSolver<E> {
         });
     }
 
+    /// Step 4 for reaction `k` (of [`IceSolver::reactions`]) whose reactant
+    /// particles carry: the fraction of the reactant's mass in each cell
+    /// (global order) that burns over Δt = `dt`, Γ Δt / ρ_r with the JWL++
+    /// rate at the cell's equilibration pressure and the reactant's and
+    /// product's densities of step 2 — the burnt mass an Eulerian reactant
+    /// of the same state would lose in [`IceSolver::compute_lagrangian_values`]
+    /// (at most the rate's `max_burn_fraction`). Run after
+    /// [`IceSolver::compute_equilibration_pressure`]. The coupled pipeline
+    /// takes that fraction of each particle's mass, volume, momentum and
+    /// energy (seed 000 step 4: "decrementing particle mass carries its
+    /// momentum and energy") and hands the product what the particles lost
+    /// through [`IceSolver::add_burnt_particles`].
+    ///
+    /// `volume` receives the reactant's specific volume of step 2 (m³/kg,
+    /// its EOS at the equilibration pressure): the volume the burnt mass
+    /// held in this frame, which the product is born with.
+    pub fn lagrangian_burn_fraction(&self, k: usize, dt: f64, out: &mut [f64], volume: &mut [f64]) {
+        let rx = self.reactions[k];
+        assert!(
+            self.is_lagrangian(rx.reactant),
+            "reaction {k}'s reactant is not Lagrangian"
+        );
+        let count = self.level.geometry.cell_count();
+        assert!(out.len() == count && volume.len() == count);
+        let n = self.eos.len();
+        let (a, b) = (rx.reactant * NS + RHO, rx.product * NS + RHO);
+        par_gather(&self.level, out, |pid, c| {
+            let d = &self.state[pid].data;
+            let rho_r = d[a][c];
+            if !(rho_r > 0.0) {
+                return 0.0;
+            }
+            rx.rate.burnt_density(d[n * NS][c], rho_r, d[b][c], dt) / rho_r
+        });
+        let v = rx.reactant * NS + VSP;
+        par_gather(&self.level, volume, |pid, c| self.state[pid].data[v][c]);
+    }
+
+    /// Adds to Eulerian material `product`'s Lagrangian values — after
+    /// [`IceSolver::compute_lagrangian_values`], before
+    /// [`IceSolver::advect_fluids`] — what burning particles gave each cell
+    /// (global order): mass (kg), momentum (kg·m/s), total energy (J: the
+    /// particles' internal and kinetic energy plus the heat of reaction,
+    /// in the product's reference) and volume (m³, the burnt solid's, at
+    /// which the product is born: Σ v Γ = 0 in eq 20, as for a fluid
+    /// reactant). The product's density, velocity, specific energy and
+    /// specific volume become the mass-weighted mixture of the two, so the
+    /// cell gains exactly what the particles lost. A cell with nothing
+    /// burnt is left as it is.
+    pub fn add_burnt_particles(&mut self, product: usize, burnt: &[BurntMass]) {
+        assert!(!self.is_lagrangian(product), "the product must be Eulerian");
+        let geometry = self.level.geometry;
+        assert_eq!(burnt.len(), geometry.cell_count());
+        let volume: f64 = geometry.spacing.iter().product();
+        let bl = product * NL;
+        for_each_cell_global(&self.level, &mut self.lag, |g, l, c| {
+            let src = &burnt[g];
+            if !(src.mass > 0.0) {
+                return;
+            }
+            let rho = l[bl + L_RHO][c];
+            let u = [l[bl + L_VEL][c], l[bl + L_VEL + 1][c], l[bl + L_VEL + 2][c]];
+            let drho = src.mass / volume;
+            let rho_new = rho + drho;
+            let mom: [f64; 3] = std::array::from_fn(|a| rho * u[a] + src.momentum[a] / volume);
+            let u_new = mom.map(|m| m / rho_new);
+            let total = rho * (l[bl + L_ENERGY][c] + 0.5 * dot(u, u)) + src.energy / volume;
+            l[bl + L_RHO][c] = rho_new;
+            for a in 0..3 {
+                l[bl + L_VEL + a][c] = u_new[a];
+            }
+            l[bl + L_ENERGY][c] = total / rho_new - 0.5 * dot(u_new, u_new);
+            l[bl + L_VSP][c] = (rho * l[bl + L_VSP][c] + src.volume / volume) / rho_new;
+        });
+    }
+
     /// The mass-weighted velocity of the Eulerian materials of every cell,
     /// in global order: the velocity a Lagrangian material takes as a trace
     /// where no particle is, so that the exchange moves nothing there.
@@ -1109,6 +1183,20 @@ impl<E: Eos> IceSolver<E> {
                 }
             }
             mu.map(|x| x / m)
+        });
+    }
+
+    /// The Eulerian materials' mass density Σ_r ρ_r of every cell (kg/m³,
+    /// global order).
+    pub fn eulerian_density(&self, density: &mut [f64]) {
+        assert_eq!(density.len(), self.level.geometry.cell_count());
+        let n = self.eos.len();
+        par_gather(&self.level, density, |pid, c| {
+            let d = &self.state[pid].data;
+            (0..n)
+                .filter(|&r| !self.lagrangian[r])
+                .map(|r| d[r * NS + RHO][c])
+                .sum()
         });
     }
 
@@ -2212,6 +2300,14 @@ fn lagrangian_cell<E: Eos>(
         let p_eq = sv[n * NS];
         for rx in params.reactions {
             let (a, b) = (rx.reactant, rx.product);
+            if params.lagrangian[a] {
+                // Particles carry the reactant: they burn in the coupled
+                // pipeline's step 14 at the fraction
+                // `IceSolver::lagrangian_burn_fraction` gives, and the
+                // product takes what they lose before advection
+                // (`IceSolver::add_burnt_particles`).
+                continue;
+            }
             let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
             if burnt > 0.0 {
                 let parcel = |r: usize| Parcel {
@@ -2561,7 +2657,12 @@ impl<E: Eos> Solver for IceSolver<E> {
                     rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
             }
             // Chemical energy of the reactants, in the products' reference.
-            for rx in &self.reactions {
+            // A reactant carried by particles is counted on them.
+            for rx in self
+                .reactions
+                .iter()
+                .filter(|rx| !self.lagrangian[rx.reactant])
+            {
                 t.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
             }
         });
