@@ -803,6 +803,7 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;
+        ice_mpm_cases::v_ice_mpm_solids(&mut body)?;
     }
     if run("cylinder") {
         ice_mpm_cases::e_cylinder(&mut body, &img)?;

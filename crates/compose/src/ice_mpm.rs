@@ -1,4 +1,4 @@
-//! The `IceMpm` pipeline: Eulerian fluids (ICE) and one Lagrangian solid
+//! The `IceMpm` pipeline: Eulerian fluids (ICE) and Lagrangian solids
 //! (MPM particles) on one grid, coupled by the step of seed 000 §3.3
 //! (`brisance_couple::ice_mpm`).
 //!
@@ -13,8 +13,13 @@
 //! `ice` is an `Ice` pipeline over the fluids (every option of that
 //! pipeline, paths `pipeline.ice.*`). `solid` names a scenario material
 //! with both an `eos` (its pressure in the equilibration, normally a
-//! `SolidThreshold`) and a constitutive `model`; it becomes material
-//! N + 1 of the ICE output fields (`volume_fraction_k`, `density_k`, …).
+//! `SolidThreshold`) and a constitutive `model`, or a list of them
+//! (`solid: ["copper", "pbx"]`); they become materials N + 1, N + 2, … of
+//! the ICE output fields (`volume_fraction_k`, `density_k`, …), in the
+//! order given. Several solids share the nodes' one velocity field
+//! (single-velocity contact). A solid may be the reactant of one of
+//! `ice.reactions` (its particles burn into the fluid product); it cannot
+//! be a product.
 //! `mpm` is an `Mpm` pipeline for its particles (paths `pipeline.mpm.*`;
 //! USL or MUSL, no anti-locking). Initial regions of `solid` become
 //! particles; the others fill the cells, and the fluids are fitted around
@@ -37,10 +42,34 @@ type Problem = (String, String);
 pub struct IceMpmConfig {
     /// The fluids and the ICE options.
     pub ice: IceConfig,
-    /// The Lagrangian material (EOS and constitutive model).
-    pub solid: String,
+    /// The Lagrangian material(s) (EOS and constitutive model each).
+    pub solid: Solids,
     /// The particle options.
     pub mpm: MpmConfig,
+}
+
+/// One Lagrangian material or several.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Solids {
+    /// `solid: "copper"`.
+    One(String),
+    /// `solid: ["copper", "pbx"]`.
+    Many(Vec<String>),
+}
+
+impl Solids {
+    /// The names, in the order given.
+    pub fn names(&self) -> &[String] {
+        match self {
+            Solids::One(n) => std::slice::from_ref(n),
+            Solids::Many(v) => v,
+        }
+    }
+
+    fn contains(&self, name: &str) -> bool {
+        self.names().iter().any(|n| n == name)
+    }
 }
 
 /// `(path, message)` with `pipeline.` re-rooted at `pipeline.<sub>.`.
@@ -52,58 +81,47 @@ fn under(sub: &str, (path, message): Problem) -> Problem {
     (path, message)
 }
 
-/// The scenario the ICE side sees: the fluids and the solid (last).
+/// The scenario the ICE side sees: the fluids and the solids (last, in
+/// the order given).
 fn ice_scenario(s: &Scenario, cfg: &IceMpmConfig) -> (Scenario, IceConfig) {
     let mut ice = cfg.ice.clone();
-    ice.materials.push(cfg.solid.clone());
+    ice.materials.extend(cfg.solid.names().iter().cloned());
     let mut si = s.clone();
     si.pipeline = Pipeline::Ice(ice.clone());
     (si, ice)
 }
 
-/// The scenario the particle side sees: the solid and its regions only.
+/// The scenario the particle side sees: the solids and their regions only.
 fn mpm_scenario(s: &Scenario, cfg: &IceMpmConfig) -> Scenario {
     let mut sm = s.clone();
-    sm.materials.retain(|name, _| *name == cfg.solid);
-    sm.initial.retain(|r| r.material == cfg.solid);
+    sm.materials.retain(|name, _| cfg.solid.contains(name));
+    sm.initial.retain(|r| cfg.solid.contains(&r.material));
     sm.pipeline = Pipeline::Mpm(cfg.mpm.clone());
     sm
 }
 
 /// Checks the pipeline; errors carry the field path.
 pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
-    let solid = s.materials.get(&cfg.solid).ok_or_else(|| {
-        (
-            "pipeline.solid".to_string(),
-            format!("`{}` is not a scenario material", cfg.solid),
-        )
-    })?;
-    if cfg.ice.materials.contains(&cfg.solid) {
-        return Err((
-            "pipeline.solid".into(),
-            format!(
-                "`{}` is also in pipeline.ice.materials; list only the fluids there",
-                cfg.solid
-            ),
-        ));
+    let names = cfg.solid.names();
+    if names.is_empty() {
+        return Err(("pipeline.solid".into(), "name at least one solid".into()));
     }
-    if cfg.ice.transport.contains_key(&cfg.solid) {
-        return Err((
-            format!("pipeline.ice.transport.{}", cfg.solid),
-            "the solid's stress and heat flux are its particles'; give transport for the fluids only".into(),
-        ));
+    for (k, name) in names.iter().enumerate() {
+        if names[..k].contains(name) {
+            return Err(("pipeline.solid".into(), format!("`{name}` is named twice")));
+        }
+        validate_solid(s, cfg, name)?;
     }
-    if solid.eos().is_none() {
-        return Err((
-            format!("materials.{}.eos", cfg.solid),
-            "the solid needs an `eos` for its pressure in the equilibration".into(),
-        ));
-    }
-    if solid.model.is_none() {
-        return Err((
-            format!("materials.{}.model", cfg.solid),
-            "the solid needs a constitutive `model`".into(),
-        ));
+    for (k, r) in cfg.ice.reactions.iter().enumerate() {
+        if cfg.solid.contains(&r.product) {
+            return Err((
+                format!("pipeline.ice.reactions.{k}.product"),
+                format!(
+                    "`{}` is a solid carried by particles; a product must be a fluid",
+                    r.product
+                ),
+            ));
+        }
     }
     if cfg.mpm.scheme == UpdateScheme::Usf {
         return Err((
@@ -117,12 +135,6 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             "the coupled step has no anti-locking option; use `Off`".into(),
         ));
     }
-    if !s.initial.iter().any(|r| r.material == cfg.solid) {
-        return Err((
-            "initial".into(),
-            format!("no initial region is of the solid `{}`", cfg.solid),
-        ));
-    }
     if cfg.ice.pressure != brisance_ice::PressureSolve::Explicit {
         return Err((
             "pipeline.ice.pressure".into(),
@@ -131,6 +143,47 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
     }
     let (si, ice) = ice_scenario(s, cfg);
     crate::ice::validate(&si, &ice).map_err(|e| under("ice", e))?;
+    Ok(())
+}
+
+/// The checks of one solid.
+fn validate_solid(s: &Scenario, cfg: &IceMpmConfig, name: &str) -> Result<(), Problem> {
+    let solid = s.materials.get(name).ok_or_else(|| {
+        (
+            "pipeline.solid".to_string(),
+            format!("`{name}` is not a scenario material"),
+        )
+    })?;
+    if cfg.ice.materials.iter().any(|m| m == name) {
+        return Err((
+            "pipeline.solid".into(),
+            format!("`{name}` is also in pipeline.ice.materials; list only the fluids there"),
+        ));
+    }
+    if cfg.ice.transport.contains_key(name) {
+        return Err((
+            format!("pipeline.ice.transport.{name}"),
+            "the solid's stress and heat flux are its particles'; give transport for the fluids only".into(),
+        ));
+    }
+    if solid.eos().is_none() {
+        return Err((
+            format!("materials.{name}.eos"),
+            "the solid needs an `eos` for its pressure in the equilibration".into(),
+        ));
+    }
+    if solid.model.is_none() {
+        return Err((
+            format!("materials.{name}.model"),
+            "the solid needs a constitutive `model`".into(),
+        ));
+    }
+    if !s.initial.iter().any(|r| r.material == name) {
+        return Err((
+            "initial".into(),
+            format!("no initial region is of the solid `{name}`"),
+        ));
+    }
     Ok(())
 }
 
@@ -148,8 +201,17 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
         }
         e
     })?;
-    let solver = IceMpm::new(ice, mpm, cfg.ice.materials.len())
-        .map_err(|e| located(("pipeline".into(), e.to_string())))?;
+    // Particle materials are numbered in name order (mpm_parts); the
+    // solids are ICE materials N + 1, … in the order given.
+    let mut sorted: Vec<&String> = cfg.solid.names().iter().collect();
+    sorted.sort();
+    let fluids = cfg.ice.materials.len();
+    let solids: Vec<usize> = sorted
+        .iter()
+        .map(|n| fluids + cfg.solid.names().iter().position(|m| m == *n).unwrap_or(0))
+        .collect();
+    let solver =
+        IceMpm::new(ice, mpm, &solids).map_err(|e| located(("pipeline".into(), e.to_string())))?;
     Ok(Built::IceMpm {
         solver: Box::new(solver),
         particle_gauges,
@@ -161,7 +223,7 @@ pub fn describe(s: &Scenario, cfg: &IceMpmConfig) -> String {
     let d = &s.domain;
     format!(
         "scenario `{}`: IceMpm pipeline (ICE–MPM, seed 000 §3.3), {} x {} x {} cells, \
-         fluids {}, solid `{}` as particles ({:?}, {:?}, {} per cell per direction), \
+         fluids {}, solid {} as particles ({:?}, {:?}, {} per cell per direction), \
          K {} kg/(m³·s)\n  time: to {} s",
         s.name,
         d.cells[0],
@@ -173,7 +235,12 @@ pub fn describe(s: &Scenario, cfg: &IceMpmConfig) -> String {
             .map(|m| format!("`{m}`"))
             .collect::<Vec<_>>()
             .join(", "),
-        cfg.solid,
+        cfg.solid
+            .names()
+            .iter()
+            .map(|m| format!("`{m}`"))
+            .collect::<Vec<_>>()
+            .join(", "),
         cfg.mpm.shape_function,
         cfg.mpm.scheme,
         cfg.mpm.ppc,
@@ -254,5 +321,134 @@ mod cylinder_tests {
         assert!(p.iter().all(|x| *x > 0.0 && x.is_finite()));
         // The booster's 10 GPa is there at the start of the tube.
         assert!(p[0] > 1e9, "p at the booster {} Pa", p[0]);
+    }
+}
+
+#[cfg(test)]
+mod solids_tests {
+    use crate::build::{build, Built};
+    use crate::load_str;
+
+    const PISTON: &str = include_str!("../../../configs/piston_icempm.ron");
+
+    /// The piston config with the piston split into two materials of the
+    /// same steel (`solid: ["steel", "steel_b"]`).
+    fn two_steels() -> String {
+        PISTON
+            .replace(
+                "solid: \"steel\",",
+                "solid: [\"steel_b\", \"steel\"],",
+            )
+            .replace(
+                "    },\n    pipeline:",
+                "        \"steel_b\": (\n            eos: SolidThreshold(solid: Murnaghan(n: 4.0, kappa: 6.25e-12, rho0: 7850.0, cv: 460.0, t_ref: 300.0), threshold_pressure: 101325.0),\n            model: Hypoelastic(shear_modulus: 80.0e9, pressure: Linear(bulk_modulus: 160.0e9), rate: Jaumann),\n        ),\n    },\n    pipeline:",
+            )
+            .replace(
+                "(region: Box(min: (0.05, -1.0, -1.0), max: (0.06, 1.0, 1.0)), material: \"steel\",",
+                "(region: Box(min: (0.05, -1.0, -1.0), max: (0.055, 1.0, 1.0)), material: \"steel\", state: (density: 7850.00497, velocity: (100.0, 0.0, 0.0), temperature: 300.0)),\n        (region: Box(min: (0.055, -1.0, -1.0), max: (0.06, 1.0, 1.0)), material: \"steel_b\",",
+            )
+    }
+
+    /// Two solids from a list build as materials 2 and 3 of the output
+    /// fields in the order given (`volume_fraction_2` is steel_b's, listed
+    /// first, the front half of the piston),
+    /// and the piston of two materials moves at 100 m/s after 50 steps.
+    #[test]
+    fn a_list_of_solids_builds_in_the_order_given_and_runs() {
+        let text = two_steels();
+        let loaded = load_str("two_steels.ron", &text, &[]).unwrap();
+        let mut built = build(&loaded.scenario).unwrap();
+        let Built::IceMpm { solver, .. } = &built else {
+            panic!("not an IceMpm pipeline");
+        };
+        assert_eq!(solver.solids(), vec![2, 1]);
+        for _ in 0..50 {
+            let dt = built.stable_dt().unwrap();
+            built.advance(dt).unwrap();
+        }
+        let f = built
+            .cell_data(&["volume_fraction_2".into(), "volume_fraction_3".into()])
+            .unwrap();
+        let (a, b) = (
+            f.field("volume_fraction_2").unwrap(),
+            f.field("volume_fraction_3").unwrap(),
+        );
+        // Cell 57 (57–58 mm; the piston has moved 0.4 mm) is steel_b
+        // (material 2), cell 51 steel (material 3).
+        assert!(a[57] > 0.9 && b[51] > 0.9, "{} {}", a[57], b[51]);
+        assert!(a[51] < 1e-5 && b[57] < 1e-5, "{} {}", a[51], b[57]);
+        let mut v = Vec::new();
+        assert!(built.sample_particle_gauge(0, &[brisance_mpm::SetQuantity::MeanVelocity], &mut v));
+        assert!((v[0] / 100.0 - 1.0).abs() < 5e-3, "piston at {} m/s", v[0]);
+    }
+
+    /// A solid named twice, or a solid as a reaction's product, is refused
+    /// at its field.
+    #[test]
+    fn bad_solid_lists_name_the_field() {
+        let twice = two_steels().replace(
+            "solid: [\"steel_b\", \"steel\"],",
+            "solid: [\"steel\", \"steel\"],",
+        );
+        let e = load_str("twice.ron", &twice, &[]).unwrap_err().to_string();
+        assert!(e.contains("pipeline.solid") && e.contains("twice"), "{e}");
+        let product = BURNING
+            .replace("product: \"products\"", "product: \"pbx\"")
+            .replace("reactant: \"pbx\"", "reactant: \"products\"");
+        let e = load_str("product.ron", &product, &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("pipeline.ice.reactions.0.product"), "{e}");
+    }
+
+    /// A QM-100 block as particles (the library's Murnaghan reactant with
+    /// a hypoelastic model) in its products at 1 GPa, JWL++ reaction.
+    const BURNING: &str = r#"Scenario(
+    name: "burning_block",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (0.04, 0.001, 0.001), cells: (40, 1, 1)),
+    boundaries: (x_low: Reflective, x_high: Reflective),
+    time: (end: 1.0e-6),
+    materials: {
+        "products": (library: "qm100_products"),
+        "pbx": (
+            library: "qm100_reactant",
+            model: Hypoelastic(shear_modulus: 1.0e9, pressure: Linear(bulk_modulus: 0.98e9), rate: Jaumann),
+        ),
+    },
+    pipeline: IceMpm(
+        ice: (
+            materials: ["products"],
+            reactions: [(reactant: "pbx", product: "products", model: JwlPlusPlus(g: 9.1e-5, b: 1.0))],
+        ),
+        solid: "pbx",
+        mpm: (shape_function: Linear, scheme: Musl, ppc: 2),
+    ),
+    initial: [
+        (region: Everywhere, material: "products", state: (density: 500.0, pressure: 1.0e9)),
+        (region: Box(min: (0.017, -1.0, -1.0), max: (0.023, 1.0, 1.0)), material: "pbx", state: (density: 1700.0424, temperature: 298.15)),
+    ],
+)"#;
+
+    /// The burning block runs from a config: the reactant particles lose
+    /// mass every step, and the mass of both frames is kept to round-off.
+    #[test]
+    fn a_solid_reactant_burns_from_a_config() {
+        let loaded = load_str("burning.ron", BURNING, &[]).unwrap();
+        let mut built = build(&loaded.scenario).unwrap();
+        let m0 = built.conservation_totals().mass;
+        let reactant = |b: &Built| match b {
+            Built::IceMpm { solver, .. } => solver.mpm().particles().mass.iter().sum::<f64>(),
+            _ => unreachable!(),
+        };
+        let r0 = reactant(&built);
+        for _ in 0..10 {
+            let r = reactant(&built);
+            let dt = built.stable_dt().unwrap();
+            built.advance(dt).unwrap();
+            assert!(reactant(&built) < r);
+        }
+        assert!(reactant(&built) < 0.99 * r0);
+        let m = built.conservation_totals().mass;
+        assert!((m - m0).abs() <= 1e-13 * m0, "{m:e} vs {m0:e}");
     }
 }

@@ -12,7 +12,7 @@
 //!   mass, momentum and energy by created and absorbed particles
 //!   (eqs 40–51).
 //! - [`ice_mpm`]: the ICE–MPM step of seed 000 §3.3 — Eulerian fluids and
-//!   a Lagrangian solid on one grid, one equilibration pressure, momentum
+//!   Lagrangian solids on one grid, one equilibration pressure, momentum
 //!   and heat exchange in every cell.
 //!
 //! Choices the paper leaves open are written down in

@@ -203,6 +203,8 @@ struct Workspace {
     shifted_stress: Vec<[f64; 6]>,
     /// The coupled step's nodal velocity changes (empty unless it runs).
     node_change: Vec<[f64; 3]>,
+    /// The particles the coupled step's fluid frame consumed whole.
+    consumed: Vec<usize>,
     /// The buffers the sort gathers the bulk-viscosity states and
     /// identities into (see [`MpmSolver::permute_own`]).
     bulk_scratch: Vec<BulkViscosityState>,
@@ -442,6 +444,7 @@ impl MpmSolver {
                 average: PatchAverage::default(),
                 shifted_stress: Vec::new(),
                 node_change: Vec::new(),
+                consumed: Vec::new(),
                 bulk_scratch: Vec::new(),
                 id_scratch: Vec::new(),
             },

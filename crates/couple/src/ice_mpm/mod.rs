@@ -1,5 +1,5 @@
-//! The ICE–MPM pipeline of seed 000 §3.3: Eulerian fluids (ICE) and a
-//! Lagrangian solid (MPM particles) on one grid, sharing one equilibration
+//! The ICE–MPM pipeline of seed 000 §3.3: Eulerian fluids (ICE) and
+//! Lagrangian solids (MPM particles) on one grid, sharing one equilibration
 //! pressure and exchanging momentum and heat in every cell.
 //!
 //! One [`Solver::advance`] is the seed's step list:
@@ -9,7 +9,8 @@
 //! | 1 particles → nodes (eq 12) → cells (eq 18) | [`MpmSolver::advance_coupled`], [`steps::project_to_cells`] |
 //! | 2 equilibration pressure, θ as shares of the materials' volume | [`IceSolver::compute_equilibration_pressure`] |
 //! | 3 face velocities with face exchange (eq 19) | [`IceSolver::compute_face_centred_velocities`] |
-//! | 4 reactions (fluid reactants) | inside [`IceSolver::compute_lagrangian_values`] |
+//! | 4 reactions: fluid reactants | inside [`IceSolver::compute_lagrangian_values`] |
+//! | 4 reactions: solid reactants | [`IceSolver::lagrangian_burn_fraction`] after step 2; the particles' loss after step 14 (`FluidFrame::consume_particles`), given to the product by [`IceSolver::add_burnt_particles`] |
 //! | 5 Δp (eqs 20–21) | [`IceSolver::compute_pressure_increment`] |
 //! | 6 face pressure (eq 22) | inside [`IceSolver::compute_lagrangian_values`] |
 //! | 7 particle stresses (eq 13); internal force from σ + p I (eq 14) | [`MpmSolver::advance_coupled`] |
@@ -18,71 +19,143 @@
 //! | 13 cell changes → nodes | [`steps::cells_to_nodes`] |
 //! | 14 particles updated (eqs 16–17) | [`MpmSolver::advance_coupled`] |
 //!
-//! The solid is one ICE material flagged Lagrangian
+//! Each solid (particle material) is one ICE material flagged Lagrangian
 //! ([`IceSolver::set_lagrangian`]) whose state in each cell is imported
-//! from the particles before the equilibration. Where no particle is near,
+//! from its particles before the equilibration; several solids share the
+//! nodes' one velocity field. Where none of a solid's particles is near,
 //! it is a trace of volume fraction [`TRACE_FRACTION`] at its reference
-//! density and temperature (the particles' initial means) with the
-//! velocity of the cell's fluids, so that the momentum exchange moves
-//! nothing there. Choices the seed leaves open are in
-//! `docs/physics/couple/ice_mpm.md`.
+//! density and temperature (its particles' initial means) moving with what
+//! the cell holds, so that the momentum exchange moves nothing there.
+//! Choices the seed leaves open are in `docs/physics/couple/ice_mpm.md`.
 
 pub mod cases;
 pub mod steps;
+pub mod tubes;
 
 use brisance_core::{
     CellData, ConservationTotals, NodeData, ParticleData, Solver, SolverError, UniformGridGeometry,
 };
 use brisance_eos::EosModel;
-use brisance_ice::{IceSolver, LagrangianCells};
-use brisance_mpm::{GridCoupling, GridNodes, MpmSolver, Particles};
+use brisance_ice::{BurntMass, IceSolver, LagrangianCells};
+use brisance_mpm::{GridCoupling, GridNodes, MaterialId, MpmSolver, Particles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Volume fraction of the solid in cells where no particle is.
 pub const TRACE_FRACTION: f64 = 1e-6;
 
+/// A burning particle whose mass falls below this fraction of its
+/// material's mean initial particle mass burns whole and is removed.
+pub const BURNT_OUT_FRACTION: f64 = 1e-6;
+
 /// Why an [`IceMpm`] cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("ICE–MPM: {0}")]
 pub struct IceMpmError(pub String);
 
-/// The per-cell and per-node arrays of a coupled step.
+/// One Lagrangian material's cell fields of a coupled step.
 #[derive(Debug, Clone, Default)]
-struct Scratch {
-    cell_mass: Vec<f64>,
-    cell_velocity: Vec<[f64; 3]>,
-    cell_state: Vec<Option<(f64, f64)>>,
-    node_sums: Vec<[f64; 3]>,
+struct SolidCells {
+    /// Its share M_c,s of the cell mass of eq 18, kg.
+    mass: Vec<f64>,
+    state: Vec<Option<(f64, f64)>>,
     mass_density: Vec<f64>,
     specific_volume: Vec<f64>,
     temperature: Vec<f64>,
-    fluid_velocity: Vec<[f64; 3]>,
+    velocity: Vec<[f64; 3]>,
     trace: Vec<bool>,
-    pressure: Vec<f64>,
-    cell_change: Vec<[f64; 3]>,
+    change: Vec<[f64; 3]>,
     temperature_change: Vec<f64>,
-    /// Per cell, the momentum a trace of the solid took in steps 8–10
-    /// beyond what its nodes receive, returned to the fluids.
-    trace_momentum: Vec<[f64; 3]>,
 }
 
-impl Scratch {
+impl SolidCells {
     fn sized(cells: usize) -> Self {
         Self {
-            cell_mass: vec![0.0; cells],
-            cell_velocity: vec![[0.0; 3]; cells],
-            cell_state: vec![None; cells],
-            node_sums: Vec::new(),
+            mass: vec![0.0; cells],
+            state: vec![None; cells],
             mass_density: vec![0.0; cells],
             specific_volume: vec![0.0; cells],
             temperature: vec![0.0; cells],
-            fluid_velocity: vec![[0.0; 3]; cells],
+            velocity: vec![[0.0; 3]; cells],
             trace: vec![false; cells],
+            change: vec![[0.0; 3]; cells],
+            temperature_change: vec![0.0; cells],
+        }
+    }
+}
+
+/// A Lagrangian material: particle material k is ICE material `ice`.
+#[derive(Debug, Clone, Copy)]
+struct Solid {
+    ice: usize,
+    /// The trace's specific volume and temperature (the particles' initial
+    /// means).
+    reference_volume: f64,
+    reference_temperature: f64,
+    /// Mean initial particle mass, kg (the burnt-out threshold's scale).
+    particle_mass: f64,
+}
+
+/// A reaction whose reactant particles carry (seed 000 step 4 on the
+/// particles).
+#[derive(Debug, Clone)]
+struct ParticleBurn {
+    /// Index among the ICE reactions.
+    reaction: usize,
+    /// The reactant's particle material.
+    material: MaterialId,
+    /// The product (ICE material).
+    product: usize,
+    /// Heat of reaction, J/kg.
+    heat: f64,
+    /// Reactant mass not burnt since the start (left through outflow faces
+    /// included), kg: its chemical energy is in the totals.
+    unburnt: f64,
+    /// Per cell, the fraction of the reactant's mass burning this step.
+    fraction: Vec<f64>,
+    /// Per cell, the reactant's specific volume of step 2, m³/kg.
+    specific_volume: Vec<f64>,
+    /// Per cell, what the particles lost this step.
+    burnt: Vec<BurntMass>,
+}
+
+/// The per-cell and per-node arrays of a coupled step.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    /// M_c of all particles (eq 18), kg.
+    cell_mass: Vec<f64>,
+    /// The particles' cell velocity u_c (eq 18), one field for all.
+    cell_velocity: Vec<[f64; 3]>,
+    node_sums: Vec<[f64; 3]>,
+    fluid_velocity: Vec<[f64; 3]>,
+    /// The fluids' mass density (with several solids only), kg/m³.
+    fluid_density: Vec<f64>,
+    pressure: Vec<f64>,
+    /// Per cell, the velocity change the nodes receive (step 13): the
+    /// solids' mass-weighted mean.
+    cell_change: Vec<[f64; 3]>,
+    /// Per cell, the momentum a trace of a solid took in steps 8–10
+    /// beyond what its nodes receive, returned to the fluids.
+    trace_momentum: Vec<[f64; 3]>,
+    solids: Vec<SolidCells>,
+}
+
+impl Scratch {
+    fn sized(cells: usize, solids: usize) -> Self {
+        Self {
+            cell_mass: vec![0.0; cells],
+            cell_velocity: vec![[0.0; 3]; cells],
+            node_sums: Vec::new(),
+            fluid_velocity: vec![[0.0; 3]; cells],
+            fluid_density: if solids > 1 {
+                vec![0.0; cells]
+            } else {
+                Vec::new()
+            },
             pressure: vec![0.0; cells],
             cell_change: vec![[0.0; 3]; cells],
-            temperature_change: vec![0.0; cells],
             trace_momentum: vec![[0.0; 3]; cells],
+            solids: (0..solids).map(|_| SolidCells::sized(cells)).collect(),
         }
     }
 }
@@ -91,67 +164,191 @@ impl Scratch {
 /// [`GridCoupling`]).
 struct FluidFrame<'a> {
     ice: &'a mut IceSolver<EosModel>,
-    solid: usize,
+    solids: &'a [Solid],
+    burns: &'a mut [ParticleBurn],
     grid: UniformGridGeometry,
-    reference_volume: f64,
-    reference_temperature: f64,
     s: &'a mut Scratch,
 }
 
 impl FluidFrame<'_> {
-    /// Step 1: the solid's cell state from the nodes (mass, velocity, eq
-    /// 18) and the particles (specific volume, temperature), with the trace
-    /// state where the solid is absent.
+    /// Step 1: each solid's cell state from the nodes (mass, velocity, eq
+    /// 18; with several solids, each its share of the mass:
+    /// [`steps::materials_to_cells`]) and its particles (specific volume,
+    /// temperature), with the trace state where it is absent.
     fn project_particles_to_cells(&mut self, nodes: &GridNodes, particles: &Particles) {
         let g = &self.grid;
         let s = &mut *self.s;
+        let state = steps::ParticleState {
+            position: &particles.position,
+            mass: &particles.mass,
+            volume: &particles.volume,
+            temperature: &particles.temperature,
+            material: &particles.material,
+        };
+        let single = self.solids.len() == 1;
         steps::project_to_cells(
             g,
             &nodes.lattice,
             &nodes.mass,
             &nodes.velocity,
-            steps::ParticleState {
-                position: &particles.position,
-                mass: &particles.mass,
-                volume: &particles.volume,
-                temperature: &particles.temperature,
-            },
+            state,
             &mut s.node_sums,
             &mut s.cell_mass,
             &mut s.cell_velocity,
-            &mut s.cell_state,
+            &mut s.solids[0].state,
         );
+        if single {
+            s.solids[0].mass.copy_from_slice(&s.cell_mass);
+        } else {
+            let mut mass: Vec<Vec<f64>> = s
+                .solids
+                .iter_mut()
+                .map(|c| std::mem::take(&mut c.mass))
+                .collect();
+            let mut st: Vec<Vec<Option<(f64, f64)>>> = s
+                .solids
+                .iter_mut()
+                .map(|c| std::mem::take(&mut c.state))
+                .collect();
+            steps::materials_to_cells(
+                g,
+                &nodes.lattice,
+                state,
+                self.solids.len(),
+                &s.cell_mass,
+                &mut s.node_sums,
+                &mut mass,
+                &mut st,
+            );
+            for ((c, m), x) in s.solids.iter_mut().zip(mass).zip(st) {
+                c.mass = m;
+                c.state = x;
+            }
+        }
         self.ice.eulerian_velocity(&mut s.fluid_velocity);
         let cell_volume: f64 = g.spacing.iter().product();
-        let v_ref = self.reference_volume;
-        let t_ref = self.reference_temperature;
-        (
-            s.cell_mass.par_iter(),
-            s.cell_state.par_iter(),
-            s.fluid_velocity.par_iter(),
-            s.trace.par_iter_mut(),
-            s.mass_density.par_iter_mut(),
-            s.specific_volume.par_iter_mut(),
-            s.temperature.par_iter_mut(),
-            s.cell_velocity.par_iter_mut(),
-        )
-            .into_par_iter()
+        for (solid, c) in self.solids.iter().zip(s.solids.iter_mut()) {
+            let v_ref = solid.reference_volume;
+            let t_ref = solid.reference_temperature;
+            (
+                c.mass.par_iter(),
+                c.state.par_iter(),
+                (s.fluid_velocity.par_iter(), s.cell_velocity.par_iter()),
+                c.trace.par_iter_mut(),
+                c.mass_density.par_iter_mut(),
+                c.specific_volume.par_iter_mut(),
+                c.temperature.par_iter_mut(),
+                c.velocity.par_iter_mut(),
+            )
+                .into_par_iter()
+                .with_min_len(1024)
+                .for_each(
+                    |(m, state, (uf, uc), trace, rho_out, v_out, t_out, u_out)| {
+                        let rho = m / cell_volume;
+                        let (v, t) = state.unwrap_or((v_ref, t_ref));
+                        *trace = !(rho * v > TRACE_FRACTION);
+                        if *trace {
+                            *rho_out = TRACE_FRACTION / v_ref;
+                            *v_out = v_ref;
+                            *t_out = t_ref;
+                            *u_out = *uf;
+                        } else {
+                            *rho_out = rho;
+                            *v_out = v;
+                            *t_out = t;
+                            *u_out = *uc;
+                        }
+                    },
+                );
+        }
+        if !single {
+            self.ice.eulerian_density(&mut s.fluid_density);
+            s.mix_trace_velocities(cell_volume);
+        }
+    }
+
+    /// Steps 8–10 done: the velocity change the nodes receive in each cell
+    /// (step 13) — with one solid its own, with several their
+    /// mass-weighted mean Σ_s M_c,s Δu_s / M_c (one velocity field) — and
+    /// the momentum a trace took that no node receives, (ρ_s V − M_c,s)
+    /// Δu_s, returned to the cell's fluids: the momentum of both frames is
+    /// kept.
+    fn combine_solid_changes(&mut self) {
+        let volume: f64 = self.grid.spacing.iter().product();
+        let s = &mut *self.s;
+        s.trace_momentum.fill([0.0; 3]);
+        for c in &s.solids {
+            s.trace_momentum
+                .par_iter_mut()
+                .zip(c.trace.par_iter())
+                .zip(c.mass_density.par_iter().zip(c.mass.par_iter()))
+                .zip(c.change.par_iter())
+                .with_min_len(1024)
+                .for_each(|(((dp, trace), (rho, m)), du)| {
+                    if *trace {
+                        let excess = rho * volume - m;
+                        for d in 0..3 {
+                            dp[d] += excess * du[d];
+                        }
+                    }
+                });
+        }
+        if s.solids.len() == 1 {
+            s.cell_change.copy_from_slice(&s.solids[0].change);
+            return;
+        }
+        let solids = &s.solids;
+        s.cell_change
+            .par_iter_mut()
+            .zip(s.cell_mass.par_iter())
+            .enumerate()
             .with_min_len(1024)
-            .for_each(|(m, state, uf, trace, rho_out, v_out, t_out, u_out)| {
-                let rho = m / cell_volume;
-                let (v, t) = state.unwrap_or((v_ref, t_ref));
-                *trace = !(rho * v > TRACE_FRACTION);
-                if *trace {
-                    *rho_out = TRACE_FRACTION / v_ref;
-                    *v_out = v_ref;
-                    *t_out = t_ref;
-                    *u_out = *uf;
+            .for_each(|(k, (du, m))| {
+                *du = if *m > 0.0 {
+                    let sum = solids.iter().fold([0.0; 3], |acc: [f64; 3], c| {
+                        std::array::from_fn(|d| acc[d] + c.mass[k] * c.change[k][d])
+                    });
+                    sum.map(|x| x / m)
                 } else {
-                    *rho_out = rho;
-                    *v_out = v;
-                    *t_out = t;
-                }
+                    solids[0].change[k]
+                };
             });
+    }
+}
+
+impl Scratch {
+    /// With several solids, a solid's trace takes the mass-weighted
+    /// velocity of what the cell holds — its fluids and the solids present
+    /// there (at the particles' cell velocity u_c) — not the fluids' alone:
+    /// in a cell full of another solid the fluids are traces too, and a
+    /// trace moving with them would be dragged to the solid's speed by the
+    /// exchange and hand that momentum to them.
+    fn mix_trace_velocities(&mut self, cell_volume: f64) {
+        for s in 0..self.solids.len() {
+            let mut velocity = std::mem::take(&mut self.solids[s].velocity);
+            let this = &*self;
+            velocity
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(|(k, u)| {
+                    if !this.solids[s].trace[k] {
+                        return;
+                    }
+                    let present: f64 = (0..this.solids.len())
+                        .filter(|&r| r != s && !this.solids[r].trace[k])
+                        .map(|r| this.solids[r].mass[k] / cell_volume)
+                        .sum();
+                    if present > 0.0 {
+                        let rho_f = this.fluid_density[k];
+                        let (uf, uc) = (this.fluid_velocity[k], this.cell_velocity[k]);
+                        *u = std::array::from_fn(|d| {
+                            (rho_f * uf[d] + present * uc[d]) / (rho_f + present)
+                        });
+                    }
+                });
+            self.solids[s].velocity = velocity;
+        }
     }
 }
 
@@ -163,17 +360,29 @@ impl GridCoupling for FluidFrame<'_> {
         dt: f64,
     ) -> Result<(), SolverError> {
         self.project_particles_to_cells(nodes, particles);
-        let s = &*self.s;
-        self.ice.import_lagrangian(
-            self.solid,
-            &LagrangianCells {
-                mass_density: &s.mass_density,
-                velocity: &s.cell_velocity,
-                specific_volume: None,
-                temperature: &s.temperature,
-            },
-        )?;
+        for (solid, c) in self.solids.iter().zip(&self.s.solids) {
+            self.ice.import_lagrangian(
+                solid.ice,
+                &LagrangianCells {
+                    mass_density: &c.mass_density,
+                    velocity: &c.velocity,
+                    specific_volume: None,
+                    temperature: &c.temperature,
+                },
+            )?;
+        }
         self.ice.compute_equilibration_pressure()?;
+        // Step 4 for reactants the particles carry: the fraction of their
+        // mass each cell burns this step (taken from the particles in
+        // `consume_particles`).
+        for b in self.burns.iter_mut() {
+            self.ice.lagrangian_burn_fraction(
+                b.reaction,
+                dt,
+                &mut b.fraction,
+                &mut b.specific_volume,
+            );
+        }
         self.ice.compute_face_centred_velocities(dt);
         self.ice.compute_pressure_increment(dt);
         self.ice.advanced_pressure(&mut self.s.pressure);
@@ -190,56 +399,133 @@ impl GridCoupling for FluidFrame<'_> {
         dt: f64,
         dv: &mut [[f64; 3]],
     ) -> Result<(), SolverError> {
-        let g = &self.grid;
-        let s = &mut *self.s;
-        steps::nodes_to_cells(
-            g,
-            &nodes.lattice,
-            &nodes.mass,
-            &nodes.velocity_new,
-            &mut s.cell_mass,
-            &mut s.cell_velocity,
-        );
-        s.cell_velocity
-            .par_iter_mut()
-            .zip(s.trace.par_iter().zip(s.fluid_velocity.par_iter()))
-            .with_min_len(1024)
-            .for_each(|(u, (trace, uf))| {
-                if *trace {
-                    *u = *uf;
-                }
-            });
-        self.ice
-            .set_lagrangian_velocity(self.solid, &s.cell_velocity);
+        let g = self.grid;
+        {
+            let s = &mut *self.s;
+            steps::nodes_to_cells(
+                &g,
+                &nodes.lattice,
+                &nodes.mass,
+                &nodes.velocity_new,
+                &mut s.cell_mass,
+                &mut s.cell_velocity,
+            );
+            for c in s.solids.iter_mut() {
+                c.velocity
+                    .par_iter_mut()
+                    .zip(c.trace.par_iter())
+                    .zip(s.cell_velocity.par_iter().zip(s.fluid_velocity.par_iter()))
+                    .with_min_len(1024)
+                    .for_each(|((u, trace), (uc, uf))| {
+                        *u = if *trace { *uf } else { *uc };
+                    });
+            }
+            if s.solids.len() > 1 {
+                let volume: f64 = g.spacing.iter().product();
+                s.mix_trace_velocities(volume);
+            }
+            for (solid, c) in self.solids.iter().zip(&s.solids) {
+                self.ice.set_lagrangian_velocity(solid.ice, &c.velocity);
+            }
+        }
         self.ice.compute_lagrangian_values(dt)?;
-        self.ice
-            .lagrangian_increments(self.solid, &mut s.cell_change, &mut s.temperature_change);
-        // A trace of the solid (no particle near: step 1) took momentum
-        // from the fluids in steps 8–10 that no node receives (its nodal
-        // mass M_c, often 0, is not the trace's): it goes back to the
-        // cell's fluids, so the total momentum of both frames is kept.
-        let volume: f64 = g.spacing.iter().product();
-        s.trace_momentum
-            .par_iter_mut()
-            .zip(s.trace.par_iter())
-            .zip(s.mass_density.par_iter().zip(s.cell_mass.par_iter()))
-            .zip(s.cell_change.par_iter())
-            .with_min_len(1024)
-            .for_each(|(((dp, trace), (rho, m)), du)| {
-                *dp = if *trace {
-                    let excess = rho * volume - m;
-                    du.map(|x| excess * x)
-                } else {
-                    [0.0; 3]
-                };
-            });
-        self.ice.add_eulerian_momentum(&s.trace_momentum);
-        steps::cells_to_nodes(g, &nodes.lattice, &s.cell_change, dv);
+        for (solid, c) in self.solids.iter().zip(self.s.solids.iter_mut()) {
+            self.ice
+                .lagrangian_increments(solid.ice, &mut c.change, &mut c.temperature_change);
+        }
+        self.combine_solid_changes();
+        self.ice.add_eulerian_momentum(&self.s.trace_momentum);
+        steps::cells_to_nodes(&g, &nodes.lattice, &self.s.cell_change, dv);
         Ok(())
     }
 
-    fn temperature_change(&self, x: [f64; 3]) -> f64 {
-        steps::cell_value_at(&self.grid, &self.s.temperature_change, x)
+    fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64 {
+        steps::cell_value_at(
+            &self.grid,
+            &self.s.solids[material.0 as usize].temperature_change,
+            x,
+        )
+    }
+
+    /// Step 4 on the particles. Cell c burns the fraction φ_c of the
+    /// reactant's cell mass M_c = Σ_p W_pc m_p (step 1 with linear shape
+    /// functions: [`steps::particle_cell_weights`]), so particle p gives
+    /// cell c the mass W_pc φ_c m_p and loses Σ_c W_pc φ_c m_p, with its
+    /// velocity, specific internal energy and specific volume unchanged —
+    /// its momentum, energy and volume fall in proportion — and the
+    /// product of each cell gains exactly what the particles gave it plus
+    /// the heat of reaction ([`IceSolver::add_burnt_particles`]). A
+    /// particle left with less than [`BURNT_OUT_FRACTION`] of its
+    /// material's mean initial particle mass burns whole (its cells' shares
+    /// scaled up) and is removed. Positions are those after the update;
+    /// particles in order, so the sums do not depend on the thread count.
+    fn consume_particles(
+        &mut self,
+        particles: &mut Particles,
+        consumed: &mut Vec<usize>,
+    ) -> Result<(), SolverError> {
+        if self.burns.is_empty() {
+            return Ok(());
+        }
+        let g = self.grid;
+        let mut shares: Vec<(usize, f64)> = Vec::with_capacity(27);
+        for b in self.burns.iter_mut() {
+            b.burnt.fill(BurntMass::default());
+            let floor = BURNT_OUT_FRACTION * self.solids[b.material.0 as usize].particle_mass;
+            let mut total = 0.0;
+            for p in 0..particles.len() {
+                if particles.material[p] != b.material {
+                    continue;
+                }
+                let m = particles.mass[p];
+                shares.clear();
+                let mut loss = 0.0;
+                steps::particle_cell_weights(&g, particles.position[p], |k, w| {
+                    let dm = w * b.fraction[k] * m;
+                    if dm > 0.0 {
+                        shares.push((k, dm));
+                        loss += dm;
+                    }
+                });
+                if !(loss > 0.0) {
+                    continue;
+                }
+                let whole = m - loss < floor;
+                if whole {
+                    let scale = m / loss;
+                    for x in &mut shares {
+                        x.1 *= scale;
+                    }
+                    loss = m;
+                }
+                let v = particles.velocity[p];
+                let ke = 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                let energy = particles.specific_internal_energy[p] + ke + b.heat;
+                for &(k, dm) in &shares {
+                    let src = &mut b.burnt[k];
+                    src.mass += dm;
+                    for (q, vd) in src.momentum.iter_mut().zip(v) {
+                        *q += dm * vd;
+                    }
+                    src.energy += dm * energy;
+                    src.volume += dm * b.specific_volume[k];
+                }
+                total += loss;
+                if whole {
+                    consumed.push(p);
+                } else {
+                    let keep = (m - loss) / m;
+                    particles.mass[p] = m - loss;
+                    particles.volume[p] *= keep;
+                    particles.initial_volume[p] *= keep;
+                }
+            }
+            b.unburnt -= total;
+            self.ice.add_burnt_particles(b.product, &b.burnt);
+        }
+        consumed.sort_unstable();
+        consumed.dedup();
+        Ok(())
     }
 }
 
@@ -248,34 +534,42 @@ impl GridCoupling for FluidFrame<'_> {
 pub struct IceMpm {
     ice: IceSolver<EosModel>,
     mpm: MpmSolver,
-    solid: usize,
-    reference_volume: f64,
-    reference_temperature: f64,
+    solids: Vec<Solid>,
+    burns: Vec<ParticleBurn>,
     scratch: Scratch,
 }
 
-/// A checkpoint: both frames'.
+/// A checkpoint: both frames', and the reactant mass not burnt yet.
 #[derive(Serialize, Deserialize)]
 struct SavedState {
     ice: Vec<u8>,
     mpm: Vec<u8>,
+    unburnt: Vec<f64>,
 }
 
 impl IceMpm {
-    /// Couples `ice` (whose material `solid` is the particles' material on
-    /// the fluid side: its EOS gives the solid's pressure in step 2, and
-    /// it must not react) with `mpm` on the same grid. The solid's
-    /// reference specific volume (of its trace) is the particles' initial
-    /// V/m.
+    /// Couples `ice` with `mpm` on the same grid; particle material k is
+    /// ICE material `solids[k]` (its EOS gives that solid's pressure in
+    /// step 2). Several particle materials share the nodes' one velocity
+    /// field (Uintah's single-velocity contact) and are separate materials
+    /// on the fluid side. A solid may be the reactant of an ICE reaction
+    /// (its particles burn into the Eulerian product), never the product.
+    /// A solid's trace state is its particles' initial mean V/m and
+    /// temperature.
     pub fn new(
         mut ice: IceSolver<EosModel>,
         mpm: MpmSolver,
-        solid: usize,
+        solids: &[usize],
     ) -> Result<Self, IceMpmError> {
         let n = ice.material_count();
-        if solid >= n {
+        if let Some(&r) = solids.iter().find(|&&r| r >= n) {
             return Err(IceMpmError(format!(
-                "solid material index {solid} is not one of the {n} ICE materials"
+                "solid material index {r} is not one of the {n} ICE materials"
+            )));
+        }
+        if (1..solids.len()).any(|k| solids[..k].contains(&solids[k])) {
+            return Err(IceMpmError(format!(
+                "solid material indices {solids:?} name an ICE material twice"
             )));
         }
         let (gi, gm) = (ice.level().geometry, mpm.level().geometry);
@@ -284,34 +578,70 @@ impl IceMpm {
                 "the ICE and MPM grids must be the same grid".into(),
             ));
         }
-        if mpm.materials().len() != 1 {
+        if mpm.materials().len() != solids.len() || solids.is_empty() {
             return Err(IceMpmError(format!(
-                "{} particle materials given; the pipeline carries one Lagrangian material",
-                mpm.materials().len()
+                "{} particle materials given for {} Lagrangian ICE materials",
+                mpm.materials().len(),
+                solids.len()
             )));
         }
         let ps = mpm.particles();
-        if ps.is_empty() {
-            return Err(IceMpmError("the solid has no particles".into()));
+        let mut sums = vec![(0.0, 0.0, 0.0, 0usize); solids.len()];
+        for p in 0..ps.len() {
+            let a = &mut sums[ps.material[p].0 as usize];
+            a.0 += ps.mass[p];
+            a.1 += ps.initial_volume[p];
+            a.2 += ps.mass[p] * ps.temperature[p];
+            a.3 += 1;
         }
-        let (m, v, mt) = (0..ps.len()).fold((0.0, 0.0, 0.0), |a, p| {
-            (
-                a.0 + ps.mass[p],
-                a.1 + ps.initial_volume[p],
-                a.2 + ps.mass[p] * ps.temperature[p],
-            )
-        });
-        let mask: Vec<bool> = (0..n).map(|r| r == solid).collect();
+        if let Some(k) = sums.iter().position(|a| a.3 == 0) {
+            return Err(IceMpmError(format!(
+                "the solid {} (ICE material {}) has no particles",
+                k,
+                solids[k] + 1
+            )));
+        }
+        let solid_list: Vec<Solid> = solids
+            .iter()
+            .zip(&sums)
+            .map(|(&r, &(m, v, mt, count))| Solid {
+                ice: r,
+                reference_volume: v / m,
+                reference_temperature: mt / m,
+                particle_mass: m / count as f64,
+            })
+            .collect();
+        let mut mask = vec![false; n];
+        for &r in solids {
+            mask[r] = true;
+        }
         ice.set_lagrangian(&mask)
             .map_err(|e| IceMpmError(e.to_string()))?;
         let cells = gi.cell_count();
+        let burns = ice
+            .reactions()
+            .iter()
+            .enumerate()
+            .filter_map(|(k, rx)| {
+                let s = solids.iter().position(|&r| r == rx.reactant)?;
+                Some(ParticleBurn {
+                    reaction: k,
+                    material: MaterialId(s as u16),
+                    product: rx.product,
+                    heat: rx.heat_of_reaction,
+                    unburnt: sums[s].0,
+                    fraction: vec![0.0; cells],
+                    specific_volume: vec![0.0; cells],
+                    burnt: vec![BurntMass::default(); cells],
+                })
+            })
+            .collect();
         let mut coupled = Self {
             ice,
             mpm,
-            solid,
-            reference_volume: v / m,
-            reference_temperature: mt / m,
-            scratch: Scratch::sized(cells),
+            solids: solid_list,
+            burns,
+            scratch: Scratch::sized(cells, solids.len()),
         };
         coupled
             .fit_fluids_around_solid()
@@ -327,7 +657,7 @@ impl IceMpm {
         Ok(coupled)
     }
 
-    /// Before the first step: the solid's volume fraction as step 1 will
+    /// Before the first step: the solids' volume fraction as step 1 will
     /// see it (nodal mass by eq 12, cells by eq 18, the particles'
     /// specific volume), and the fluids fitted around it
     /// ([`IceSolver::fit_eulerian_volume`]), so that the first
@@ -337,16 +667,20 @@ impl IceMpm {
         let nodes = self.mpm.project_to_nodes()?.clone();
         let mut frame = FluidFrame {
             ice: &mut self.ice,
-            solid: self.solid,
+            solids: &self.solids,
+            burns: &mut self.burns,
             grid,
-            reference_volume: self.reference_volume,
-            reference_temperature: self.reference_temperature,
             s: &mut self.scratch,
         };
         frame.project_particles_to_cells(&nodes, self.mpm.particles());
         let s = &self.scratch;
         let theta: Vec<f64> = (0..grid.cell_count())
-            .map(|k| s.mass_density[k] * s.specific_volume[k])
+            .map(|k| {
+                s.solids
+                    .iter()
+                    .map(|c| c.mass_density[k] * c.specific_volume[k])
+                    .sum()
+            })
             .collect();
         self.ice.fit_eulerian_volume(&theta, TRACE_FRACTION)
     }
@@ -361,9 +695,9 @@ impl IceMpm {
         &self.mpm
     }
 
-    /// Index of the solid among the ICE materials.
-    pub fn solid(&self) -> usize {
-        self.solid
+    /// Index among the ICE materials of particle material k.
+    pub fn solids(&self) -> Vec<usize> {
+        self.solids.iter().map(|s| s.ice).collect()
     }
 
     /// Mass, momentum and energy the coupled equilibration has given the
@@ -376,6 +710,13 @@ impl IceMpm {
     /// Particles advanced per step (the second throughput unit).
     pub fn particles_per_step(&self) -> usize {
         self.mpm.particles().len()
+    }
+
+    /// Per reaction whose reactant particles carry: the reactant mass not
+    /// burnt since the start (what left through outflow faces included),
+    /// kg.
+    pub fn unburnt_reactant(&self) -> Vec<f64> {
+        self.burns.iter().map(|b| b.unburnt).collect()
     }
 }
 
@@ -397,10 +738,9 @@ impl Solver for IceMpm {
         let _span = tracing::trace_span!("ice_mpm_step", dt).entered();
         let mut frame = FluidFrame {
             ice: &mut self.ice,
-            solid: self.solid,
+            solids: &self.solids,
+            burns: &mut self.burns,
             grid: self.mpm.level().geometry,
-            reference_volume: self.reference_volume,
-            reference_temperature: self.reference_temperature,
             s: &mut self.scratch,
         };
         // Steps 1–11, 13 and 14 (the module doc's table).
@@ -411,8 +751,9 @@ impl Solver for IceMpm {
         Ok(())
     }
 
-    /// The fluids' totals (ICE, the solid's trace left out) plus the
-    /// particles' (with what left through outflow faces), less what the
+    /// The fluids' totals (ICE, the solids' traces left out) plus the
+    /// particles' (with what left through outflow faces) and the chemical
+    /// energy of the reactant particles not burnt yet, less what the
     /// coupled equilibration gave the fluids
     /// ([`IceSolver::rescaled_totals`]): a closed bookkeeping, whose
     /// rescale term [`IceMpm::rescaled_totals`] reports apart.
@@ -422,10 +763,11 @@ impl Solver for IceMpm {
             self.mpm.conservation_totals(),
             self.ice.rescaled_totals(),
         );
+        let chemical: f64 = self.burns.iter().map(|x| x.unburnt * x.heat).sum();
         ConservationTotals {
             mass: a.mass + b.mass - r.mass,
             momentum: std::array::from_fn(|d| a.momentum[d] + b.momentum[d] - r.momentum[d]),
-            energy: a.energy + b.energy - r.energy,
+            energy: a.energy + b.energy + chemical - r.energy,
         }
     }
 
@@ -470,6 +812,7 @@ impl Solver for IceMpm {
         let saved = SavedState {
             ice: self.ice.save_state()?,
             mpm: self.mpm.save_state()?,
+            unburnt: self.unburnt_reactant(),
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -477,11 +820,24 @@ impl Solver for IceMpm {
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
         let saved: SavedState =
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        if saved.unburnt.len() != self.burns.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "the checkpoint holds {} burning reactants, the run {}",
+                saved.unburnt.len(),
+                self.burns.len()
+            )));
+        }
         self.ice.restore_state(&saved.ice)?;
-        self.mpm.restore_state(&saved.mpm)
+        self.mpm.restore_state(&saved.mpm)?;
+        for (b, u) in self.burns.iter_mut().zip(saved.unburnt) {
+            b.unburnt = u;
+        }
+        Ok(())
     }
 }
 
+#[cfg(test)]
+mod solids_tests;
 #[cfg(test)]
 mod tests;
 

@@ -20,7 +20,7 @@
 //! exactly the cell-centred momentum change of the solid.
 
 use brisance_core::UniformGridGeometry;
-use brisance_mpm::NodeLattice;
+use brisance_mpm::{MaterialId, NodeLattice};
 use rayon::prelude::*;
 
 /// The corners of cell `c` (global node indices) with their weights w_ic
@@ -261,6 +261,8 @@ pub struct ParticleState<'a> {
     pub volume: &'a [f64],
     /// Temperatures, K.
     pub temperature: &'a [f64],
+    /// Materials (read by [`materials_to_cells`] only).
+    pub material: &'a [MaterialId],
 }
 
 /// Step 1 in one pass over the cells (each cell's corners visited once):
@@ -309,6 +311,79 @@ pub fn project_to_cells(
         });
 }
 
+/// Step 1 with several particle materials sharing the nodes (one velocity
+/// field, Uintah's single-velocity contact): after [`project_to_cells`]
+/// has given the cell mass M_c of all particles, each material s gets its
+/// share M_c,s = M_c · Σ_i w_ic m_i,s / Σ_i w_ic m_i of it, the sums those
+/// of each particle's mass at its nearest node (equal shares where no
+/// corner received a particle), and its own (v_c, T_c) from its own
+/// particles' nearest-node sums as in [`project_to_cells`]. The shares sum
+/// to M_c up to round-off. `node_sums` holds `materials` sums per node.
+#[allow(clippy::too_many_arguments)]
+pub fn materials_to_cells(
+    grid: &UniformGridGeometry,
+    lattice: &NodeLattice,
+    particles: ParticleState<'_>,
+    materials: usize,
+    cell_mass: &[f64],
+    node_sums: &mut Vec<[f64; 3]>,
+    material_mass: &mut [Vec<f64>],
+    material_state: &mut [Vec<Option<(f64, f64)>>],
+) {
+    assert!(material_mass.len() == materials && material_state.len() == materials);
+    node_sums.clear();
+    node_sums.resize(lattice.len() * materials, [0.0; 3]);
+    for p in 0..particles.position.len() {
+        let node: [isize; 3] = std::array::from_fn(|d| {
+            if active(grid, d) {
+                let s = ((particles.position[p][d] - grid.origin[d]) / grid.spacing[d]).round()
+                    as isize;
+                s.clamp(0, grid.cells[d] as isize)
+            } else {
+                0
+            }
+        });
+        if let Some(i) = lattice.index(node) {
+            let sums = &mut node_sums[i * materials + particles.material[p].0 as usize];
+            sums[0] += particles.mass[p];
+            sums[1] += particles.volume[p];
+            sums[2] += particles.mass[p] * particles.temperature[p];
+        }
+    }
+    let walk = CornerWalk::new(grid, lattice);
+    let node_sums = &*node_sums;
+    for (s, (mass, state)) in material_mass
+        .iter_mut()
+        .zip(material_state.iter_mut())
+        .enumerate()
+    {
+        (mass.par_iter_mut(), state.par_iter_mut())
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(k, (m, st))| {
+                let cell = walk.cell(k);
+                let (mut own, mut all) = ([0.0; 3], 0.0);
+                walk.visit(&cell, |i, w| {
+                    let base = i * materials;
+                    for q in 0..3 {
+                        own[q] += w * node_sums[base + s][q];
+                    }
+                    for r in 0..materials {
+                        all += w * node_sums[base + r][0];
+                    }
+                });
+                let share = if all > 0.0 {
+                    own[0] / all
+                } else {
+                    1.0 / materials as f64
+                };
+                *m = cell_mass[k] * share;
+                *st = (own[0] > 0.0).then(|| (own[1] / own[0], own[2] / own[0]));
+            });
+    }
+}
+
 /// Step 13: the velocity change of every node, Δv_I = Σ_c w_Ic Δu_c over
 /// the cells that have node I as a corner, with the weights of eq 18 (its
 /// adjoint: momentum-conserving). Nodes outside the domain's corners get
@@ -347,6 +422,65 @@ pub fn cells_to_nodes(
                 }
             }
         });
+}
+
+/// The cells a particle at `x` reaches through the linear (tent) shape
+/// functions of its cell's corner nodes and the corner weights of eq 18:
+/// W_pc = Σ_i w_ic N_i(x), up to three cells per active axis, weights
+/// summing to 1 — the share of the particle's mass step 1 puts in cell c
+/// with linear shape functions. Calls `f(cell index, W_pc)` for each cell
+/// with a positive weight, x fastest.
+pub fn particle_cell_weights(
+    grid: &UniformGridGeometry,
+    x: [f64; 3],
+    mut f: impl FnMut(usize, f64),
+) {
+    // Per axis: (first cell, weights of cells first, first + 1, first + 2).
+    let mut first = [0usize; 3];
+    let mut w = [[0.0f64; 3]; 3];
+    let mut span = [1usize; 3];
+    for d in 0..3 {
+        let n = grid.cells[d];
+        if n <= 1 {
+            w[d][0] = 1.0;
+            continue;
+        }
+        let s = ((x[d] - grid.origin[d]) / grid.spacing[d]).clamp(0.0, n as f64);
+        let i0 = (s.floor() as usize).min(n - 1);
+        let t = s - i0 as f64;
+        // Node i0 (weight 1 − t) and node i0 + 1 (weight t); node i gives
+        // cells i − 1 and i half each, a node on a face its one cell all.
+        let node = |i: usize| -> [(usize, f64); 2] {
+            if i == 0 {
+                [(0, 1.0), (0, 0.0)]
+            } else if i == n {
+                [(n - 1, 1.0), (n - 1, 0.0)]
+            } else {
+                [(i - 1, 0.5), (i, 0.5)]
+            }
+        };
+        let lo = i0.saturating_sub(1);
+        first[d] = lo;
+        span[d] = 3;
+        for (i, weight) in [(i0, 1.0 - t), (i0 + 1, t)] {
+            for (c, wc) in node(i) {
+                w[d][c - lo] += weight * wc;
+            }
+        }
+    }
+    for k in 0..span[2] {
+        for j in 0..span[1] {
+            for i in 0..span[0] {
+                let weight = w[0][i] * w[1][j] * w[2][k];
+                if weight > 0.0 {
+                    f(
+                        grid.linear_index([first[0] + i, first[1] + j, first[2] + k]),
+                        weight,
+                    );
+                }
+            }
+        }
+    }
 }
 
 /// A cell-centred field at point `x` by trilinear interpolation between
@@ -594,6 +728,7 @@ mod tests {
                     mass: &pm,
                     volume: &pv,
                     temperature: &pt,
+                    material: &[],
                 },
                 &mut sums,
                 &mut fm,
@@ -656,6 +791,7 @@ mod tests {
                         mass: &pm,
                         volume: &pv,
                         temperature: &pt,
+                        material: &[],
                     },
                     &mut sums,
                     &mut m,
@@ -697,6 +833,7 @@ mod tests {
                 mass: &[1.0, 3.0],
                 volume: &[0.1, 0.5],
                 temperature: &[300.0, 500.0],
+                material: &[],
             },
             &mut sums,
             &mut m,
@@ -708,5 +845,160 @@ mod tests {
             assert!((v - 0.6 / 4.0).abs() < 1e-15);
             assert!((t - 1800.0 / 4.0).abs() < 1e-12);
         }
+    }
+
+    /// Two materials near node (1, 1) of a 2 × 2 grid (every cell has it
+    /// as a corner): material 0 of 1 kg (V 0.1 m³, 300 K), material 1 of
+    /// 3 kg (0.5 m³, 500 K). Each cell of mass M_c gives material 0 a
+    /// quarter of it and material 1 three quarters, and each material its
+    /// own V/m and T.
+    #[test]
+    fn materials_share_the_cell_mass_by_their_nearest_node_mass() {
+        let g = grid([2, 2, 1]);
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        let pos = [[0.45, 0.24, 0.5], [0.55, 0.26, 0.5]];
+        let cell_mass = [8.0, 4.0, 2.0, 1.0];
+        let mut sums = Vec::new();
+        let mut mass = vec![vec![0.0; 4]; 2];
+        let mut state = vec![vec![None; 4]; 2];
+        materials_to_cells(
+            &g,
+            &lat,
+            ParticleState {
+                position: &pos,
+                mass: &[1.0, 3.0],
+                volume: &[0.1, 0.5],
+                temperature: &[300.0, 500.0],
+                material: &[MaterialId(0), MaterialId(1)],
+            },
+            2,
+            &cell_mass,
+            &mut sums,
+            &mut mass,
+            &mut state,
+        );
+        for k in 0..4 {
+            assert_eq!(mass[0][k], cell_mass[k] * 0.25);
+            assert_eq!(mass[1][k], cell_mass[k] * 0.75);
+            assert_eq!(state[0][k], Some((0.1, 300.0)));
+            let (v, t) = state[1][k].unwrap();
+            assert!((v - 0.5 / 3.0).abs() < 1e-15 && (t - 500.0).abs() < 1e-12);
+        }
+    }
+
+    /// Where no corner received a particle the materials share the cell's
+    /// mass equally and have no state of their own.
+    #[test]
+    fn without_nearby_particles_the_shares_are_equal() {
+        let g = grid([4, 1, 1]);
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        let mut sums = Vec::new();
+        let mut mass = vec![vec![0.0; 4]; 3];
+        let mut state = vec![vec![None; 4]; 3];
+        materials_to_cells(
+            &g,
+            &lat,
+            ParticleState {
+                position: &[[0.1, 0.1, 0.5]],
+                mass: &[2.0],
+                volume: &[0.1],
+                temperature: &[300.0],
+                material: &[MaterialId(2)],
+            },
+            3,
+            &[1.0, 0.0, 0.0, 3.0],
+            &mut sums,
+            &mut mass,
+            &mut state,
+        );
+        // Cell 0 has the particle at its corner node 0: all material 2.
+        assert_eq!([mass[0][0], mass[1][0], mass[2][0]], [0.0, 0.0, 1.0]);
+        // Cell 3 has none: thirds.
+        for m in &mass {
+            assert_eq!(m[3], 1.0);
+            assert_eq!(m[1], 0.0);
+        }
+        assert!(state[2][0].is_some() && state[2][3].is_none() && state[0][0].is_none());
+    }
+
+    /// W_pc by hand on a 4-cell axis of 0.5 m cells (cells 0..3, nodes
+    /// 0..4): a particle at x = 0.6 m (s = 1.2: node 1 weight 0.8, node 2
+    /// weight 0.2) gives cell 0 ½·0.8 = 0.4, cell 1 ½·0.8 + ½·0.2 = 0.5,
+    /// cell 2 ½·0.2 = 0.1; at x = 0.1 m (node 0 weight 0.8, a face node,
+    /// all to cell 0; node 1 weight 0.2) cell 0 0.9, cell 1 0.1.
+    #[test]
+    fn particle_cell_weights_by_hand() {
+        let g = grid([4, 1, 1]);
+        let collect = |x: f64| {
+            let mut w = vec![0.0; 4];
+            particle_cell_weights(&g, [x, 0.1, 0.5], |c, v| w[c] += v);
+            w
+        };
+        let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-15);
+        assert!(
+            close(&collect(0.6), &[0.4, 0.5, 0.1, 0.0]),
+            "{:?}",
+            collect(0.6)
+        );
+        assert!(
+            close(&collect(0.1), &[0.9, 0.1, 0.0, 0.0]),
+            "{:?}",
+            collect(0.1)
+        );
+        assert!(
+            close(&collect(1.95), &[0.0, 0.0, 0.05, 0.95]),
+            "{:?}",
+            collect(1.95)
+        );
+    }
+
+    /// The weights of any point of a 3D grid are positive, at most 27
+    /// cells, and sum to 1; and they are eq 18's projection of the tent
+    /// functions: Σ_c W_pc f_c = Σ_i N_i(x) Σ_c w_ic f_c for any cell field.
+    #[test]
+    fn particle_cell_weights_sum_to_one_and_are_eq_18_of_the_tents() {
+        let g = grid([5, 4, 3]);
+        proptest!(|(x in 0.0..2.5f64, y in 0.0..1.0f64, z in 0.0..3.0f64)| {
+            let field = |c: usize| (c as f64 * 0.37).sin();
+            let mut weights = Vec::new();
+            particle_cell_weights(&g, [x, y, z], |c, w| weights.push((c, w)));
+            prop_assert!(weights.len() <= 27 && weights.iter().all(|x| x.1 > 0.0));
+            let sum: f64 = weights.iter().map(|x| x.1).sum();
+            prop_assert!((sum - 1.0).abs() < 1e-14);
+            let dot: f64 = weights.iter().map(|&(c, w)| w * field(c)).sum();
+            // Tents of the corner nodes of the containing cell.
+            let s = [x / 0.5, y / 0.25, z / 1.0];
+            let mut expect = 0.0;
+            let n_cells = g.cells;
+            let i0: [usize; 3] = std::array::from_fn(|d| (s[d].floor() as usize).min(n_cells[d] - 1));
+            for k in 0..2 { for j in 0..2 { for i in 0..2 {
+                let node = [i0[0] + i, i0[1] + j, i0[2] + k];
+                let tent: f64 = (0..3).map(|d| {
+                    let t = s[d] - i0[d] as f64;
+                    if node[d] == i0[d] { 1.0 - t } else { t }
+                }).product();
+                let c = corners_of_node(&g, node);
+                expect += tent * c.iter().map(|&(cell, w)| w * field(cell)).sum::<f64>();
+            }}}
+            prop_assert!((dot - expect).abs() < 1e-13, "{} vs {}", dot, expect);
+        });
+    }
+
+    /// The cells around node `node` with its eq 18 weights w_ic.
+    fn corners_of_node(g: &UniformGridGeometry, node: [usize; 3]) -> Vec<(usize, f64)> {
+        let mut out = Vec::new();
+        for k in 0..g.cells[2] {
+            for j in 0..g.cells[1] {
+                for i in 0..g.cells[0] {
+                    let c = corners(g, [i, j, k]);
+                    for q in 0..c.count {
+                        if c.node[q] == node.map(|x| x as isize) {
+                            out.push((g.linear_index([i, j, k]), c.weight[q]));
+                        }
+                    }
+                }
+            }
+        }
+        out
     }
 }

@@ -25,8 +25,11 @@
 //! 4. G2P (eqs 16–17) and the stress update from the grid velocity
 //!    gradient (eq 13, step 7; MUSL re-maps v_I^{n+1} on light nodes too),
 //!    the temperature change of the heat exchange at each particle
-//!    ([`GridCoupling::temperature_change`]), and the removal of particles
-//!    that left through outflow faces (step 14).
+//!    ([`GridCoupling::temperature_change`]), the particles' loss of mass
+//!    to the fluids where a solid reactant burns
+//!    ([`GridCoupling::consume_particles`], step 4's source applied to the
+//!    particles), and the removal of particles that left through outflow
+//!    faces (step 14).
 //!
 //! Advection of the fluids (step 12) is the pipeline's, after this step.
 
@@ -62,8 +65,23 @@ pub trait GridCoupling: Sync + Send {
     ) -> Result<(), SolverError>;
 
     /// The temperature change of the heat exchange at point `x` over the
-    /// step, K.
-    fn temperature_change(&self, x: [f64; 3]) -> f64;
+    /// step for a particle of `material`, K.
+    fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64;
+
+    /// After G2P and the heat exchange: the Eulerian frame may take mass
+    /// from the particles (a solid reactant burning into a fluid product,
+    /// seed 000 step 4), changing their mass, volumes and whatever else it
+    /// books, and lists in `consumed` (ascending) the particles it took
+    /// whole; the solver removes those without booking them anywhere (the
+    /// frame has). Nothing by default.
+    fn consume_particles(
+        &mut self,
+        particles: &mut Particles,
+        consumed: &mut Vec<usize>,
+    ) -> Result<(), SolverError> {
+        let _ = (particles, consumed);
+        Ok(())
+    }
 }
 
 impl MpmSolver {
@@ -217,10 +235,17 @@ impl MpmSolver {
             let ps = &mut self.particles;
             ps.temperature
                 .par_iter_mut()
-                .zip(ps.position.par_iter())
+                .zip(ps.position.par_iter().zip(ps.material.par_iter()))
                 .with_min_len(1024)
-                .for_each(|(temp, x)| *temp += c.temperature_change(*x));
+                .for_each(|(temp, (x, m))| *temp += c.temperature_change(*x, *m));
         }
+        let mut consumed = std::mem::take(&mut self.work.consumed);
+        consumed.clear();
+        coupling.consume_particles(&mut self.particles, &mut consumed)?;
+        if !consumed.is_empty() {
+            self.remove_sorted(&consumed);
+        }
+        self.work.consumed = consumed;
         self.external_work +=
             self.work
                 .nodes
@@ -271,7 +296,7 @@ mod tests {
             dv.fill(self.dv);
             Ok(())
         }
-        fn temperature_change(&self, _: [f64; 3]) -> f64 {
+        fn temperature_change(&self, _: [f64; 3], _: MaterialId) -> f64 {
             0.0
         }
     }
