@@ -426,8 +426,9 @@ pub struct DetonationColumn {
     pub arrival: [f64; 2],
     /// Detonation velocity between the gauges, m/s.
     pub detonation_velocity: f64,
-    /// Fraction of the reactant mass burnt at the end.
-    pub burnt_fraction: f64,
+    /// Fraction of the reactant mass burnt at the end (the Eulerian run's;
+    /// `None` for particles, whose solver is behind the `Solver` trait here).
+    pub burnt_fraction: Option<f64>,
     /// Steps taken.
     pub steps: usize,
 }
@@ -572,13 +573,7 @@ pub fn detonation_column(h: f64, particles: bool) -> Result<DetonationColumn, So
         }
         prev = Some((t, now));
     }
-    let burnt_fraction = if particles {
-        // The ICE solver sits inside the coupled one: the reactant's
-        // particles tell.
-        f64::NAN
-    } else {
-        1.0 - reactant_mass(solver.as_ref()) / m0
-    };
+    let burnt_fraction = (!particles).then(|| 1.0 - reactant_mass(solver.as_ref()) / m0);
     Ok(DetonationColumn {
         arrival,
         detonation_velocity: (gauges[1] - gauges[0]) / (arrival[1] - arrival[0]),

@@ -138,6 +138,10 @@ struct Scratch {
     /// beyond what its nodes receive, returned to the fluids.
     trace_momentum: Vec<[f64; 3]>,
     solids: Vec<SolidCells>,
+    /// The outer vectors step 1 lends the solids' arrays through (several
+    /// solids only).
+    mass_buffers: Vec<Vec<f64>>,
+    state_buffers: Vec<Vec<Option<(f64, f64)>>>,
 }
 
 impl Scratch {
@@ -156,6 +160,8 @@ impl Scratch {
             cell_change: vec![[0.0; 3]; cells],
             trace_momentum: vec![[0.0; 3]; cells],
             solids: (0..solids).map(|_| SolidCells::sized(cells)).collect(),
+            mass_buffers: Vec::with_capacity(solids),
+            state_buffers: Vec::with_capacity(solids),
         }
     }
 }
@@ -186,30 +192,36 @@ impl FluidFrame<'_> {
             material: &particles.material,
         };
         let single = self.solids.len() == 1;
-        steps::project_to_cells(
-            g,
-            &nodes.lattice,
-            &nodes.mass,
-            &nodes.velocity,
-            state,
-            &mut s.node_sums,
-            &mut s.cell_mass,
-            &mut s.cell_velocity,
-            &mut s.solids[0].state,
-        );
         if single {
+            steps::project_to_cells(
+                g,
+                &nodes.lattice,
+                &nodes.mass,
+                &nodes.velocity,
+                state,
+                &mut s.node_sums,
+                &mut s.cell_mass,
+                &mut s.cell_velocity,
+                &mut s.solids[0].state,
+            );
             s.solids[0].mass.copy_from_slice(&s.cell_mass);
         } else {
-            let mut mass: Vec<Vec<f64>> = s
-                .solids
-                .iter_mut()
-                .map(|c| std::mem::take(&mut c.mass))
-                .collect();
-            let mut st: Vec<Vec<Option<(f64, f64)>>> = s
-                .solids
-                .iter_mut()
-                .map(|c| std::mem::take(&mut c.state))
-                .collect();
+            steps::nodes_to_cells(
+                g,
+                &nodes.lattice,
+                &nodes.mass,
+                &nodes.velocity,
+                &mut s.cell_mass,
+                &mut s.cell_velocity,
+            );
+            // The solids' mass and state arrays lent to the projection
+            // (buffers kept between steps: no allocation).
+            s.mass_buffers.clear();
+            s.state_buffers.clear();
+            for c in s.solids.iter_mut() {
+                s.mass_buffers.push(std::mem::take(&mut c.mass));
+                s.state_buffers.push(std::mem::take(&mut c.state));
+            }
             steps::materials_to_cells(
                 g,
                 &nodes.lattice,
@@ -217,10 +229,14 @@ impl FluidFrame<'_> {
                 self.solids.len(),
                 &s.cell_mass,
                 &mut s.node_sums,
-                &mut mass,
-                &mut st,
+                &mut s.mass_buffers,
+                &mut s.state_buffers,
             );
-            for ((c, m), x) in s.solids.iter_mut().zip(mass).zip(st) {
+            for (c, (m, x)) in s
+                .solids
+                .iter_mut()
+                .zip(s.mass_buffers.drain(..).zip(s.state_buffers.drain(..)))
+            {
                 c.mass = m;
                 c.state = x;
             }
@@ -448,8 +464,11 @@ impl GridCoupling for FluidFrame<'_> {
     }
 
     /// Step 4 on the particles. Cell c burns the fraction φ_c of the
-    /// reactant's cell mass M_c = Σ_p W_pc m_p (step 1 with linear shape
-    /// functions: [`steps::particle_cell_weights`]), so particle p gives
+    /// reactant's mass the particles give it through linear shape functions
+    /// and the corner weights of eq 18, Σ_p W_pc m_p
+    /// ([`steps::particle_cell_weights`], at the positions after the
+    /// update; step 1's own M_c for one solid of linear shape functions
+    /// whose particles did not move), so particle p gives
     /// cell c the mass W_pc φ_c m_p and loses Σ_c W_pc φ_c m_p, with its
     /// velocity, specific internal energy and specific volume unchanged —
     /// its momentum, energy and volume fall in proportion — and the
@@ -468,7 +487,7 @@ impl GridCoupling for FluidFrame<'_> {
             return Ok(());
         }
         let g = self.grid;
-        let mut shares: Vec<(usize, f64)> = Vec::with_capacity(27);
+        let mut shares = [(0usize, 0.0f64); 27];
         for b in self.burns.iter_mut() {
             b.burnt.fill(BurntMass::default());
             let floor = BURNT_OUT_FRACTION * self.solids[b.material.0 as usize].particle_mass;
@@ -478,22 +497,24 @@ impl GridCoupling for FluidFrame<'_> {
                     continue;
                 }
                 let m = particles.mass[p];
-                shares.clear();
+                let mut count = 0;
                 let mut loss = 0.0;
                 steps::particle_cell_weights(&g, particles.position[p], |k, w| {
                     let dm = w * b.fraction[k] * m;
                     if dm > 0.0 {
-                        shares.push((k, dm));
+                        shares[count] = (k, dm);
+                        count += 1;
                         loss += dm;
                     }
                 });
+                let shares = &mut shares[..count];
                 if !(loss > 0.0) {
                     continue;
                 }
                 let whole = m - loss < floor;
                 if whole {
                     let scale = m / loss;
-                    for x in &mut shares {
+                    for x in shares.iter_mut() {
                         x.1 *= scale;
                     }
                     loss = m;
@@ -501,7 +522,7 @@ impl GridCoupling for FluidFrame<'_> {
                 let v = particles.velocity[p];
                 let ke = 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
                 let energy = particles.specific_internal_energy[p] + ke + b.heat;
-                for &(k, dm) in &shares {
+                for &(k, dm) in shares.iter() {
                     let src = &mut b.burnt[k];
                     src.mass += dm;
                     for (q, vd) in src.momentum.iter_mut().zip(v) {
@@ -818,8 +839,12 @@ impl Solver for IceMpm {
     }
 
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
-        let saved: SavedState =
-            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let saved: SavedState = bincode::deserialize(bytes).map_err(|e| {
+            SolverError::Checkpoint(format!(
+                "not an ICE–MPM checkpoint of this version (one written before the pipeline \
+                 carried the unburnt reactant of burning particles cannot be read): {e}"
+            ))
+        })?;
         if saved.unburnt.len() != self.burns.len() {
             return Err(SolverError::Checkpoint(format!(
                 "the checkpoint holds {} burning reactants, the run {}",

@@ -312,13 +312,17 @@ pub fn project_to_cells(
 }
 
 /// Step 1 with several particle materials sharing the nodes (one velocity
-/// field, Uintah's single-velocity contact): after [`project_to_cells`]
-/// has given the cell mass M_c of all particles, each material s gets its
-/// share M_c,s = M_c · Σ_i w_ic m_i,s / Σ_i w_ic m_i of it, the sums those
-/// of each particle's mass at its nearest node (equal shares where no
-/// corner received a particle), and its own (v_c, T_c) from its own
-/// particles' nearest-node sums as in [`project_to_cells`]. The shares sum
-/// to M_c up to round-off. `node_sums` holds `materials` sums per node.
+/// field, Uintah's single-velocity contact): given the cell mass M_c of all
+/// particles (eq 18 of the nodal mass), each material s gets the share
+/// M_c,s = M_c · Σ_{p∈s} W_pc m_p / Σ_p W_pc m_p, W_pc the share of its
+/// mass a particle puts in cell c through linear shape functions and the
+/// corner weights of eq 18 ([`particle_cell_weights`]; with linear shape
+/// functions Σ_p W_pc m_p is M_c itself), so a solid none of whose
+/// particles reaches a cell gets none of it; equal shares only where no
+/// particle reaches the cell that way (wider shape functions). Each
+/// material's (v_c, T_c) comes from its own particles' nearest-node sums
+/// as in [`project_to_cells`]. The shares sum to M_c up to round-off; sums
+/// in particle order. `node_sums` holds `materials` sums per node.
 #[allow(clippy::too_many_arguments)]
 pub fn materials_to_cells(
     grid: &UniformGridGeometry,
@@ -333,52 +337,57 @@ pub fn materials_to_cells(
     assert!(material_mass.len() == materials && material_state.len() == materials);
     node_sums.clear();
     node_sums.resize(lattice.len() * materials, [0.0; 3]);
+    for m in material_mass.iter_mut() {
+        m.fill(0.0);
+    }
     for p in 0..particles.position.len() {
+        let s = particles.material[p].0 as usize;
         let node: [isize; 3] = std::array::from_fn(|d| {
             if active(grid, d) {
-                let s = ((particles.position[p][d] - grid.origin[d]) / grid.spacing[d]).round()
+                let x = ((particles.position[p][d] - grid.origin[d]) / grid.spacing[d]).round()
                     as isize;
-                s.clamp(0, grid.cells[d] as isize)
+                x.clamp(0, grid.cells[d] as isize)
             } else {
                 0
             }
         });
         if let Some(i) = lattice.index(node) {
-            let sums = &mut node_sums[i * materials + particles.material[p].0 as usize];
+            let sums = &mut node_sums[i * materials + s];
             sums[0] += particles.mass[p];
             sums[1] += particles.volume[p];
             sums[2] += particles.mass[p] * particles.temperature[p];
         }
+        let m = particles.mass[p];
+        let own = &mut material_mass[s];
+        particle_cell_weights(grid, particles.position[p], |c, w| own[c] += w * m);
+    }
+    // Each material's linear-weight mass becomes its share of M_c.
+    let cells = cell_mass.len();
+    for c in 0..cells {
+        let all: f64 = material_mass.iter().map(|m| m[c]).sum();
+        for m in material_mass.iter_mut() {
+            m[c] = if all > 0.0 {
+                cell_mass[c] * (m[c] / all)
+            } else {
+                cell_mass[c] / materials as f64
+            };
+        }
     }
     let walk = CornerWalk::new(grid, lattice);
     let node_sums = &*node_sums;
-    for (s, (mass, state)) in material_mass
-        .iter_mut()
-        .zip(material_state.iter_mut())
-        .enumerate()
-    {
-        (mass.par_iter_mut(), state.par_iter_mut())
-            .into_par_iter()
+    for (s, state) in material_state.iter_mut().enumerate() {
+        state
+            .par_iter_mut()
             .enumerate()
             .with_min_len(1024)
-            .for_each(|(k, (m, st))| {
+            .for_each(|(k, st)| {
                 let cell = walk.cell(k);
-                let (mut own, mut all) = ([0.0; 3], 0.0);
+                let mut own = [0.0; 3];
                 walk.visit(&cell, |i, w| {
-                    let base = i * materials;
                     for q in 0..3 {
-                        own[q] += w * node_sums[base + s][q];
-                    }
-                    for r in 0..materials {
-                        all += w * node_sums[base + r][0];
+                        own[q] += w * node_sums[i * materials + s][q];
                     }
                 });
-                let share = if all > 0.0 {
-                    own[0] / all
-                } else {
-                    1.0 / materials as f64
-                };
-                *m = cell_mass[k] * share;
                 *st = (own[0] > 0.0).then(|| (own[1] / own[0], own[2] / own[0]));
             });
     }
@@ -848,12 +857,13 @@ mod tests {
     }
 
     /// Two materials near node (1, 1) of a 2 × 2 grid (every cell has it
-    /// as a corner): material 0 of 1 kg (V 0.1 m³, 300 K), material 1 of
-    /// 3 kg (0.5 m³, 500 K). Each cell of mass M_c gives material 0 a
-    /// quarter of it and material 1 three quarters, and each material its
-    /// own V/m and T.
+    /// as a corner): material 0 of 1 kg (V 0.1 m³, 300 K) at (0.45, 0.24),
+    /// material 1 of 3 kg (0.5 m³, 500 K) at (0.55, 0.26). Each cell of mass
+    /// M_c gives each material its linear-weight share of it — by hand,
+    /// with the cells' weights W_pc of each particle — and each material
+    /// its own V/m and T.
     #[test]
-    fn materials_share_the_cell_mass_by_their_nearest_node_mass() {
+    fn materials_share_the_cell_mass_by_their_linear_weights() {
         let g = grid([2, 2, 1]);
         let lat = NodeLattice::new(&g, ShapeFunction::Linear);
         let pos = [[0.45, 0.24, 0.5], [0.55, 0.26, 0.5]];
@@ -877,48 +887,73 @@ mod tests {
             &mut mass,
             &mut state,
         );
+        // Along x (0.5 m cells, 2 cells: nodes 0, 1, 2 with 0 and 2 on
+        // faces): x = 0.45 is s = 0.9, node 0 weight 0.1 (all to cell 0),
+        // node 1 weight 0.9 (half to each): cells 0.55, 0.45. x = 0.55:
+        // s = 1.1, cells 0.45, 0.55. Along y (0.25 m cells): y = 0.24 is
+        // s = 0.96: cells 0.52, 0.48; y = 0.26, s = 1.04: 0.48, 0.52.
+        let w0 = [0.55 * 0.52, 0.45 * 0.52, 0.55 * 0.48, 0.45 * 0.48];
+        let w1 = [0.45 * 0.48, 0.55 * 0.48, 0.45 * 0.52, 0.55 * 0.52];
         for k in 0..4 {
-            assert_eq!(mass[0][k], cell_mass[k] * 0.25);
-            assert_eq!(mass[1][k], cell_mass[k] * 0.75);
+            let (a, b) = (1.0 * w0[k], 3.0 * w1[k]);
+            assert!(
+                (mass[0][k] - cell_mass[k] * a / (a + b)).abs() < 1e-14,
+                "{k}"
+            );
+            assert!(
+                (mass[1][k] - cell_mass[k] * b / (a + b)).abs() < 1e-14,
+                "{k}"
+            );
+            assert!((mass[0][k] + mass[1][k] - cell_mass[k]).abs() < 1e-14);
             assert_eq!(state[0][k], Some((0.1, 300.0)));
             let (v, t) = state[1][k].unwrap();
             assert!((v - 0.5 / 3.0).abs() < 1e-15 && (t - 500.0).abs() < 1e-12);
         }
     }
 
-    /// Where no corner received a particle the materials share the cell's
-    /// mass equally and have no state of their own.
+    /// A solid none of whose particles reaches a cell gets none of its
+    /// mass, even where the cell's corners hold no particle at their
+    /// nearest node: one particle of material 2 at s = 1.5 (x = 0.75 m,
+    /// nearest node 2) reaches cells 0–2 through nodes 1 and 2, and cell 0
+    /// (corners 0 and 1) is all material 2 — the nearest-node shares gave
+    /// it a third to each absent material. Cell 3, which no particle
+    /// reaches, splits its mass equally.
     #[test]
-    fn without_nearby_particles_the_shares_are_equal() {
+    fn an_absent_solid_takes_no_share() {
         let g = grid([4, 1, 1]);
         let lat = NodeLattice::new(&g, ShapeFunction::Linear);
         let mut sums = Vec::new();
         let mut mass = vec![vec![0.0; 4]; 3];
         let mut state = vec![vec![None; 4]; 3];
+        let cell_mass = [1.0, 2.0, 1.0, 3.0];
         materials_to_cells(
             &g,
             &lat,
             ParticleState {
-                position: &[[0.1, 0.1, 0.5]],
+                position: &[[0.75, 0.1, 0.5]],
                 mass: &[2.0],
                 volume: &[0.1],
                 temperature: &[300.0],
                 material: &[MaterialId(2)],
             },
             3,
-            &[1.0, 0.0, 0.0, 3.0],
+            &cell_mass,
             &mut sums,
             &mut mass,
             &mut state,
         );
-        // Cell 0 has the particle at its corner node 0: all material 2.
-        assert_eq!([mass[0][0], mass[1][0], mass[2][0]], [0.0, 0.0, 1.0]);
-        // Cell 3 has none: thirds.
+        for k in 0..3 {
+            assert_eq!(
+                [mass[0][k], mass[1][k], mass[2][k]],
+                [0.0, 0.0, cell_mass[k]],
+                "cell {k}"
+            );
+        }
         for m in &mass {
             assert_eq!(m[3], 1.0);
-            assert_eq!(m[1], 0.0);
         }
-        assert!(state[2][0].is_some() && state[2][3].is_none() && state[0][0].is_none());
+        assert!(state[2][0].is_none() && state[2][1].is_some() && state[2][2].is_some());
+        assert!(state[2][3].is_none() && state[0][1].is_none());
     }
 
     /// W_pc by hand on a 4-cell axis of 0.5 m cells (cells 0..3, nodes
