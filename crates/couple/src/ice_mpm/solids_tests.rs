@@ -14,25 +14,27 @@ fn step(s: &mut IceMpm, steps: usize) {
 }
 
 /// A piston made of two materials of the same steel drives the exact
-/// piston shock with the checks of the one-material piston
-/// (`tests::a_piston_drives_the_exact_shock` and
-/// `tests/ice_mpm_piston.rs`): at 100 µs the shock is within one cell of
-/// the exact position, the plateau within 1 % of the exact 1.498 bar and
-/// the piston at 100 m/s within 0.5 %; and the piston's velocity is the
-/// one-material piston's within 1e-4. Measured: plateau +0.43 % (one
-/// material: +0.09 %), shock +0.17 cells (+0.10). The difference is the
-/// second solid's trace in every air cell, not the interface: a second
-/// solid placed as a small block far behind the piston gives the same
-/// +0.43 %, and an extra Eulerian steel trace +0.16 %
-/// (docs/physics/couple/ice_mpm.md).
+/// piston shock as the one-material piston does: at 100 µs the shock is
+/// within one cell of the exact position, the plateau within 1 % of the
+/// exact 1.498 bar and the piston at 100 m/s within 0.5 % (the checks of
+/// `tests::a_piston_drives_the_exact_shock` and `tests/ice_mpm_piston.rs`),
+/// and against the one-material run the plateau agrees within 10⁻⁴ of its
+/// rise, the shock within a hundredth of a cell and the piston's velocity
+/// within 10⁻⁶. Measured: 1.1·10⁻⁵ of the rise, 5·10⁻⁵ cell, 2.6·10⁻⁷.
+/// (With the cell mass shared by nearest-node mass instead of the linear
+/// weights, an absent solid took a share of the piston's leading cells and
+/// the plateau was +0.43 % against +0.09 %.)
 #[test]
 fn a_piston_of_two_materials_drives_the_exact_shock() {
     let (one, two) = two_material_piston().unwrap();
+    let rise = one.plateau - P0;
     assert!(
         two.shock_error_cells.abs() < 1.0
             && two.plateau_error.abs() < 0.01
             && (two.piston_velocity / 100.0 - 1.0).abs() < 5e-3
-            && (two.piston_velocity / one.piston_velocity - 1.0).abs() < 1e-4,
+            && (two.plateau - one.plateau).abs() <= 1e-4 * rise
+            && (two.shock_error_cells - one.shock_error_cells).abs() <= 1e-2
+            && (two.piston_velocity / one.piston_velocity - 1.0).abs() < 1e-6,
         "one material {one:?}\ntwo materials {two:?}"
     );
 }
