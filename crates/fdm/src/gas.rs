@@ -15,24 +15,47 @@
 //!
 //! p = (e + Y P_P/K_P + (1 − Y) P_A/K_A) / (Y/K_P + (1 − Y)/K_A).
 //!
+//! It is evaluated as p = ρ N/D with N = e + Y ψ_P + (1 − Y) ψ_A and
+//! D = Y ι_P + (1 − Y) ι_A, where ψ_k = P_k/K_k and ι_k = ρ/K_k (1/Γ_k):
+//! for JWL ψ = p_c/(ωρ) − e_c and ι = 1/ω, for the ideal gas ψ = 0 and
+//! ι = 1/(γ − 1). With their constants formed once and 1/ρ from the
+//! caller, a pressure costs one division and the products' two
+//! exponentials, where the form above took eight divisions.
+//!
 //! This is the inverse-Grüneisen mixing of Shyue (J. Comput. Phys. 171,
 //! 2001, "A fluid-mixture type algorithm for compressible multicomponent
 //! flow with Mie–Grüneisen equation of state"), 1/Γ and P/Γ averaged, with
 //! the mass fraction in place of Shyue's volume fraction (the two agree where
-//! the components have equal densities). It reduces exactly to each
-//! component's own law at Y = 0 and Y = 1, and it keeps a contact between
-//! components of equal density at uniform velocity and pressure exactly
-//! isobaric under any conservative linear scheme (the pressure of a convex
+//! the components have equal densities). It reduces to each component's
+//! own law at Y = 0 and Y = 1 (to round-off), and it keeps a contact
+//! between components of equal density at uniform velocity and pressure
+//! isobaric (to round-off) under any conservative linear scheme (the pressure of a convex
 //! combination of the two states is the common pressure). Where the density
 //! jumps across a species interface a fully conservative mass-fraction scheme
 //! cannot stay isobaric with any rule (Abgrall, J. Comput. Phys. 125, 1996);
 //! `docs/physics/fdm_mixture.md` gives the measured size of that error.
 
 use brisance_core::{Eos, EosError};
-// e^x flushed to 0 for very negative x: the function of `brisance_eos::jwl`,
-// so that the JWL terms here are the same bits as the `Eos` methods of `Jwl`.
-use brisance_eos::jwl::decaying_exp as jwl_exp;
+use brisance_eos::jwl::decaying_exp;
 use brisance_eos::{EosModel, IdealGas, Jwl, JwlCTerm};
+
+/// Below this argument the JWL terms' exponentials are flushed to 0 in the
+/// mixture: e^{−100} ≈ 3.7 × 10⁻⁴⁴, so a dropped term of ψ is below
+/// 10⁻³⁰ J/kg for any JWL set (A, B < 10¹³ Pa, V < 10⁴), more than 2⁵³
+/// times smaller than any specific energy it is added to, and the result
+/// is the same bits. In an expanded products cloud (V ≳ 25 for R₁, V ≳ 100
+/// for R₂) this spares the `exp` calls that were the kernels' largest cost.
+const MIX_EXP_FLUSH: f64 = -100.0;
+
+/// e^x for the JWL terms of the mixture, 0 below [`MIX_EXP_FLUSH`].
+#[inline(always)]
+fn jwl_exp(x: f64) -> f64 {
+    if x < MIX_EXP_FLUSH {
+        0.0
+    } else {
+        decaying_exp(x)
+    }
+}
 
 /// What the FDM kernels need from the gas: pressure, sound speed and
 /// temperature as functions of (ρ, e, Y), Y the products mass fraction.
@@ -61,6 +84,27 @@ pub trait GasLaw: Send + Sync + std::fmt::Debug {
             self.gas_pressure(rho, e, y),
             self.gas_sound_speed(rho, e, y),
         )
+    }
+
+    /// [`GasLaw::gas_pressure`] given also `inv_rho` = `1.0 / rho`, which
+    /// the kernels have already formed: the same bits, one division less
+    /// for a law that needs 1/ρ.
+    #[inline(always)]
+    fn gas_pressure_inv(&self, rho: f64, _inv_rho: f64, e: f64, y: f64) -> f64 {
+        self.gas_pressure(rho, e, y)
+    }
+
+    /// [`GasLaw::gas_pressure_and_sound_speed`] given also `inv_rho` =
+    /// `1.0 / rho`; the same bits.
+    #[inline(always)]
+    fn gas_pressure_and_sound_speed_inv(
+        &self,
+        rho: f64,
+        _inv_rho: f64,
+        e: f64,
+        y: f64,
+    ) -> (f64, f64) {
+        self.gas_pressure_and_sound_speed(rho, e, y)
     }
 
     /// The specific internal energy that gives pressure `p` at density `rho`
@@ -101,147 +145,195 @@ pub struct ProductsInAir<P: AffineLaw, A: AffineLaw> {
     pub products: P,
     /// Ambient gas.
     pub air: A,
+    /// The products' constants of the mixture terms, formed once.
+    products_form: MixForm,
+    /// The air's constants of the mixture terms, formed once.
+    air_form: MixForm,
 }
 
-/// The coefficients of a law affine in e at density ρ,
-/// p(ρ, e) = P(ρ) + K(ρ) e, and their slopes in ρ.
+/// The mixture terms of a law affine in e at density ρ,
+/// p(ρ, e) = P(ρ) + K(ρ) e: ψ = P/K (J/kg), ι = ρ/K (dimensionless, 1/Γ
+/// for a Grüneisen form), and their density slopes times ρ.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Affine {
-    /// P = p(ρ, 0), Pa.
-    pub p: f64,
-    /// K = ∂p/∂e|ρ, kg/m³.
-    pub k: f64,
-    /// ∂p/∂ρ|ₑ at e = 0, m²/s².
-    pub dp: f64,
-    /// ∂K/∂ρ, as ∂p/∂ρ|ₑ₌₁ − ∂p/∂ρ|ₑ₌₀ (exact for an affine law).
-    pub dk: f64,
+pub struct MixTerms {
+    /// ψ = P/K, J/kg.
+    pub psi: f64,
+    /// ι = ρ/K.
+    pub iota: f64,
+    /// ρ dψ/dρ, J/kg.
+    pub rho_dpsi: f64,
+    /// ρ dι/dρ.
+    pub rho_diota: f64,
 }
 
-/// A component law of [`ProductsInAir`]: (P, K) and their slopes at a
-/// density. The defaults ask the [`Eos`] for p(ρ, 0), ∂p/∂e, ∂p/∂ρ|ₑ₌₀ and
-/// ∂p/∂ρ|ₑ₌₁; JWL and the ideal gas give the same numbers, bit for bit,
-/// from one evaluation of their two exponentials (the mixture's pressure
-/// and sound speed took ten JWL evaluations, twenty `exp` calls, per
-/// state before).
+/// How a component law gives its [`MixTerms`]: in closed form from
+/// constants formed once (JWL, ideal gas), or from its [`Eos`] methods.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MixForm {
+    /// JWL (seed 001 eq 54): ψ = A e^{−R₁V}(V/(ωρ₀) − 1/(R₁ρ₀)) +
+    /// B e^{−R₂V}(V/(ωρ₀) − 1/(R₂ρ₀)), ι = 1/ω, V = ρ₀/ρ.
+    Jwl(JwlMix),
+    /// Ideal gas: ψ = 0, ι = 1/(γ − 1).
+    IdealGas {
+        /// 1/(γ − 1).
+        iota: f64,
+    },
+    /// Any other affine law: P = p(ρ, 0), K = ∂p/∂e, and their slopes
+    /// from ∂p/∂ρ at e = 0 and e = 1.
+    Generic,
+}
+
+/// The constants of [`MixForm::Jwl`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JwlMix {
+    /// A/(ωρ₀), m³/kg·Pa.
+    a_v: f64,
+    /// A/(R₁ρ₀), J/kg.
+    a_0: f64,
+    /// B/(ωρ₀).
+    b_v: f64,
+    /// B/(R₂ρ₀), J/kg.
+    b_0: f64,
+    r1: f64,
+    r2: f64,
+    rho0: f64,
+    /// 1/ω.
+    iota: f64,
+}
+
+impl JwlMix {
+    /// The constants of `jwl`.
+    pub fn new(jwl: &Jwl) -> Self {
+        let (a, b, r1, r2, omega, rho0) = (jwl.a, jwl.b, jwl.r1, jwl.r2, jwl.omega, jwl.rho0);
+        Self {
+            a_v: a / (omega * rho0),
+            a_0: a / (r1 * rho0),
+            b_v: b / (omega * rho0),
+            b_0: b / (r2 * rho0),
+            r1,
+            r2,
+            rho0,
+            iota: 1.0 / omega,
+        }
+    }
+
+    /// (ψ, ι) at 1/ρ = `inv_rho`: p_c/(ωρ) − e_c with p_c = A e^{−R₁V} +
+    /// B e^{−R₂V} and e_c = (A/R₁ e^{−R₁V} + B/R₂ e^{−R₂V})/ρ₀, no division.
+    #[inline(always)]
+    fn terms(&self, inv_rho: f64) -> (f64, f64) {
+        let v = self.rho0 * inv_rho;
+        let ea = jwl_exp(-self.r1 * v);
+        let eb = jwl_exp(-self.r2 * v);
+        (
+            ea * (self.a_v * v - self.a_0) + eb * (self.b_v * v - self.b_0),
+            self.iota,
+        )
+    }
+
+    /// [`MixTerms`] at 1/ρ = `inv_rho`: ρ dψ/dρ = −V dψ/dV, ι constant.
+    #[inline(always)]
+    fn slopes(&self, inv_rho: f64) -> MixTerms {
+        let v = self.rho0 * inv_rho;
+        let ea = jwl_exp(-self.r1 * v);
+        let eb = jwl_exp(-self.r2 * v);
+        let (ta, tb) = (self.a_v * v - self.a_0, self.b_v * v - self.b_0);
+        let dpsi_dv = ea * (self.a_v - self.r1 * ta) + eb * (self.b_v - self.r2 * tb);
+        MixTerms {
+            psi: ea * ta + eb * tb,
+            iota: self.iota,
+            rho_dpsi: -v * dpsi_dv,
+            rho_diota: 0.0,
+        }
+    }
+}
+
+/// A component law of [`ProductsInAir`]: the form in which it gives its
+/// mixture terms. The default asks the [`Eos`] methods at each state; JWL
+/// and the ideal gas give closed forms with their constants formed once,
+/// so that a mixture pressure costs one division and at most two `exp`.
 pub trait AffineLaw: Eos {
-    /// (P, K) at density `rho`.
-    #[inline(always)]
-    fn affine(&self, rho: f64) -> (f64, f64) {
-        (self.pressure(rho, 0.0), self.dp_de(rho, 0.0))
-    }
-
-    /// (P, K, ∂P/∂ρ, ∂K/∂ρ) at density `rho`.
-    #[inline(always)]
-    fn affine_slopes(&self, rho: f64) -> Affine {
-        affine_slopes_from_eos(self, rho)
-    }
-}
-
-/// (P, K, ∂P/∂ρ, ∂K/∂ρ) at density `rho` from the [`Eos`] methods alone,
-/// for laws without a fused evaluation.
-#[inline(always)]
-fn affine_slopes_from_eos<E: Eos + ?Sized>(eos: &E, rho: f64) -> Affine {
-    let dp = eos.dp_drho(rho, 0.0);
-    Affine {
-        p: eos.pressure(rho, 0.0),
-        k: eos.dp_de(rho, 0.0),
-        dp,
-        dk: eos.dp_drho(rho, 1.0) - dp,
+    /// The form of this law's [`MixTerms`].
+    fn mix_form(&self) -> MixForm {
+        MixForm::Generic
     }
 }
 
 impl AffineLaw for IdealGas {
-    /// P = (γ − 1)ρ·0, K = (γ − 1)ρ, the expressions of [`IdealGas`].
-    #[inline(always)]
-    fn affine(&self, rho: f64) -> (f64, f64) {
-        ((self.gamma - 1.0) * rho * 0.0, (self.gamma - 1.0) * rho)
-    }
-
-    #[inline(always)]
-    fn affine_slopes(&self, rho: f64) -> Affine {
-        let (p, k) = AffineLaw::affine(self, rho);
-        let dp = (self.gamma - 1.0) * 0.0;
-        Affine {
-            p,
-            k,
-            dp,
-            dk: (self.gamma - 1.0) * 1.0 - dp,
+    fn mix_form(&self) -> MixForm {
+        MixForm::IdealGas {
+            iota: 1.0 / (self.gamma - 1.0),
         }
-    }
-}
-
-/// [`Affine`] of the JWL form p = p_c(V) + ωρ(e − e_c(V)) (seed 001 eq 54)
-/// with its two exponentials evaluated once: the expressions of
-/// `brisance_eos::jwl::JwlCold` (`total_pressure`, `dp_drho`), term by term.
-#[inline(always)]
-fn jwl_affine(a: f64, b: f64, r1: f64, r2: f64, omega: f64, rho0: f64, rho: f64) -> Affine {
-    let v = rho0 / rho;
-    let ea = jwl_exp(-r1 * v);
-    let eb = jwl_exp(-r2 * v);
-    let p_c = a * ea + b * eb;
-    let e_c = (a / r1 * ea + b / r2 * eb) / rho0;
-    let dp_c = v / rho * (a * r1 * ea + b * r2 * eb);
-    let de_c = p_c / (rho * rho);
-    let p = p_c + omega * rho * (0.0 - e_c);
-    let d0 = dp_c + omega * (0.0 - e_c) - omega * rho * de_c;
-    let d1 = dp_c + omega * (1.0 - e_c) - omega * rho * de_c;
-    Affine {
-        p,
-        k: omega * rho,
-        dp: d0,
-        dk: d1 - d0,
     }
 }
 
 impl AffineLaw for Jwl {
-    /// P = p_c + ωρ(0 − e_c), K = ωρ: `JwlCold::total_pressure` at e = 0.
-    #[inline(always)]
-    fn affine(&self, rho: f64) -> (f64, f64) {
-        let (a, b, r1, r2, omega, rho0) = (self.a, self.b, self.r1, self.r2, self.omega, self.rho0);
-        let v = rho0 / rho;
-        let ea = jwl_exp(-r1 * v);
-        let eb = jwl_exp(-r2 * v);
-        let p_c = a * ea + b * eb;
-        let e_c = (a / r1 * ea + b / r2 * eb) / rho0;
-        (p_c + omega * rho * (0.0 - e_c), omega * rho)
-    }
-
-    #[inline(always)]
-    fn affine_slopes(&self, rho: f64) -> Affine {
-        jwl_affine(self.a, self.b, self.r1, self.r2, self.omega, self.rho0, rho)
+    fn mix_form(&self) -> MixForm {
+        MixForm::Jwl(JwlMix::new(self))
     }
 }
 
-/// The C terms cancel in (ρ, e) → p; the defaults.
+/// The C terms cancel in (ρ, e) → p; the [`Eos`] methods.
 impl AffineLaw for JwlCTerm {}
 
 impl AffineLaw for EosModel {
-    #[inline(always)]
-    fn affine(&self, rho: f64) -> (f64, f64) {
+    fn mix_form(&self) -> MixForm {
         match self {
-            Self::IdealGas(g) => AffineLaw::affine(g, rho),
-            Self::Jwl(j) => AffineLaw::affine(j, rho),
-            _ => (self.pressure(rho, 0.0), self.dp_de(rho, 0.0)),
-        }
-    }
-
-    #[inline(always)]
-    fn affine_slopes(&self, rho: f64) -> Affine {
-        match self {
-            Self::IdealGas(g) => g.affine_slopes(rho),
-            Self::Jwl(j) => j.affine_slopes(rho),
-            _ => affine_slopes_from_eos(self, rho),
+            Self::IdealGas(g) => g.mix_form(),
+            Self::Jwl(j) => j.mix_form(),
+            _ => MixForm::Generic,
         }
     }
 }
 
-/// The pressure-equilibrium rule (module docs) from the components'
-/// (P, K): p and S = Y/K_P + (1 − Y)/K_A.
+/// (ψ, ι) of `law` in `form` at density `rho` (1/ρ = `inv_rho`).
 #[inline(always)]
-fn mixture_pressure(pp: f64, kp: f64, pa: f64, ka: f64, e: f64, y: f64) -> (f64, f64) {
-    let s = y / kp + (1.0 - y) / ka;
-    ((e + y * pp / kp + (1.0 - y) * pa / ka) / s, s)
+fn mix_terms<E: Eos>(form: &MixForm, law: &E, rho: f64, inv_rho: f64) -> (f64, f64) {
+    match form {
+        MixForm::Jwl(j) => j.terms(inv_rho),
+        MixForm::IdealGas { iota } => (0.0, *iota),
+        MixForm::Generic => {
+            let (p, k) = (law.pressure(rho, 0.0), law.dp_de(rho, 0.0));
+            (p / k, rho / k)
+        }
+    }
 }
+
+/// [`MixTerms`] of `law` in `form` at density `rho` (1/ρ = `inv_rho`).
+#[inline(always)]
+fn mix_slopes<E: Eos>(form: &MixForm, law: &E, rho: f64, inv_rho: f64) -> MixTerms {
+    match form {
+        MixForm::Jwl(j) => j.slopes(inv_rho),
+        MixForm::IdealGas { iota } => MixTerms {
+            psi: 0.0,
+            iota: *iota,
+            rho_dpsi: 0.0,
+            rho_diota: 0.0,
+        },
+        MixForm::Generic => {
+            // P' = ∂p/∂ρ|ₑ₌₀ and K' = ∂p/∂ρ|ₑ₌₁ − P' (exact for an affine
+            // law); ρψ' = ι(P' − ψK'), ρι' = ι − ι²K'.
+            let (p, k) = (law.pressure(rho, 0.0), law.dp_de(rho, 0.0));
+            let dp = law.dp_drho(rho, 0.0);
+            let dk = law.dp_drho(rho, 1.0) - dp;
+            let (psi, iota) = (p / k, rho / k);
+            MixTerms {
+                psi,
+                iota,
+                rho_dpsi: iota * (dp - psi * dk),
+                rho_diota: iota - iota * iota * dk,
+            }
+        }
+    }
+}
+
+/// The terms of a component of zero mass fraction: they enter multiplied
+/// by 0, so any finite values give the same bits.
+const ABSENT: MixTerms = MixTerms {
+    psi: 0.0,
+    iota: 1.0,
+    rho_dpsi: 0.0,
+    rho_diota: 0.0,
+};
 
 impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
     /// The mixture of `products` and `air`. Fails (naming the component)
@@ -266,10 +358,16 @@ impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
                 ));
             }
         }
-        Ok(Self { products, air })
+        Ok(Self {
+            products_form: products.mix_form(),
+            air_form: air.mix_form(),
+            products,
+            air,
+        })
     }
 
-    /// Pressure and the mass-weighted inverse stiffness S = Y/K_P + (1−Y)/K_A.
+    /// The mixture's N = e + Y ψ_P + (1 − Y) ψ_A and
+    /// D = Y ι_P + (1 − Y) ι_A; p = ρ N/D.
     ///
     /// Y is used as given, not clamped to [0, 1]: the intermediate
     /// (smoothed and half-step) states of the Lax–Wendroff step may carry Y
@@ -278,77 +376,92 @@ impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
     /// interface isobaric. The solver clips the stored ρY to [0, ρ] after
     /// each update.
     ///
-    /// A component of zero mass fraction (Y = 0 or Y = 1 exactly, the
-    /// stored state away from the contact) is not evaluated: its terms
-    /// enter multiplied by 0, so (P, K) = (0, 1) in its place gives the
-    /// same bits as its own finite values.
+    /// A component of zero mass fraction (Y = 0 or Y = 1 exactly) is not
+    /// evaluated: its terms enter multiplied by 0.
     #[inline(always)]
-    fn pressure_and_s(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
-        let (pp, kp) = if y == 0.0 {
-            (0.0, 1.0)
+    fn numerator_denominator(&self, rho: f64, inv_rho: f64, e: f64, y: f64) -> (f64, f64) {
+        let (pp, ip) = if y == 0.0 {
+            (ABSENT.psi, ABSENT.iota)
         } else {
-            self.products.affine(rho)
+            mix_terms(&self.products_form, &self.products, rho, inv_rho)
         };
-        let (pa, ka) = if y == 1.0 {
-            (0.0, 1.0)
+        let (pa, ia) = if y == 1.0 {
+            (ABSENT.psi, ABSENT.iota)
         } else {
-            self.air.affine(rho)
+            mix_terms(&self.air_form, &self.air, rho, inv_rho)
         };
-        mixture_pressure(pp, kp, pa, ka, e, y)
+        (e + y * pp + (1.0 - y) * pa, y * ip + (1.0 - y) * ia)
     }
 
     /// Specific energies (e_P, e_A) of the components at the equilibrium
-    /// pressure.
+    /// pressure: e_k = (p − P_k)/K_k = (p/ρ) ι_k − ψ_k.
     pub fn component_energies(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
-        let (p, _) = self.pressure_and_s(rho, e, y);
-        let (pp, kp) = self.products.affine(rho);
-        let (pa, ka) = self.air.affine(rho);
-        ((p - pp) / kp, (p - pa) / ka)
+        let inv = 1.0 / rho;
+        let p = self.gas_pressure_inv(rho, inv, e, y);
+        let (pp, ip) = mix_terms(&self.products_form, &self.products, rho, inv);
+        let (pa, ia) = mix_terms(&self.air_form, &self.air, rho, inv);
+        let p_over_rho = p * inv;
+        (p_over_rho * ip - pp, p_over_rho * ia - pa)
     }
 }
 
 impl<P: AffineLaw, A: AffineLaw> GasLaw for ProductsInAir<P, A> {
     const SPECIES: bool = true;
 
-    #[inline]
+    #[inline(always)]
     fn gas_pressure(&self, rho: f64, e: f64, y: f64) -> f64 {
-        self.pressure_and_s(rho, e, y).0
+        self.gas_pressure_inv(rho, 1.0 / rho, e, y)
     }
 
-    /// c² = ∂p/∂ρ|_{e,Y} + (p/ρ²) ∂p/∂e|_{ρ,Y}, with ∂p/∂e = 1/S and
-    /// ∂p/∂ρ = Σ Y_k [P_k'/K_k − (P_k − p) K_k'/K_k²] / S (K_k' from the
-    /// change of ∂p_k/∂ρ with e, exact for affine laws).
-    #[inline]
+    #[inline(always)]
     fn gas_sound_speed(&self, rho: f64, e: f64, y: f64) -> f64 {
-        self.gas_pressure_and_sound_speed(rho, e, y).1
+        self.gas_pressure_and_sound_speed_inv(rho, 1.0 / rho, e, y)
+            .1
     }
 
-    /// Both from one evaluation of each component's [`Affine`].
-    #[inline]
+    #[inline(always)]
     fn gas_pressure_and_sound_speed(&self, rho: f64, e: f64, y: f64) -> (f64, f64) {
-        // A component of zero mass fraction is skipped as in
-        // `pressure_and_s`: its term enters multiplied by 0.
-        let unit = Affine {
-            p: 0.0,
-            k: 1.0,
-            dp: 0.0,
-            dk: 0.0,
-        };
+        self.gas_pressure_and_sound_speed_inv(rho, 1.0 / rho, e, y)
+    }
+
+    /// p = ρ N/D (module docs): one division, and the products' two
+    /// exponentials where Y > 0.
+    #[inline(always)]
+    fn gas_pressure_inv(&self, rho: f64, inv_rho: f64, e: f64, y: f64) -> f64 {
+        let (n, d) = self.numerator_denominator(rho, inv_rho, e, y);
+        rho * (n / d)
+    }
+
+    /// c² = ∂p/∂ρ|_{e,Y} + (p/ρ²) ∂p/∂e|_{ρ,Y}. With p = ρN/D and r = N/D:
+    /// ∂p/∂e = ρ/D and ∂p/∂ρ = (N + ρN' − r ρD')/D, so
+    /// c² = (N + ρN' + r(1 − ρD'))/D, ρN' = Σ Y_k ρψ_k', ρD' = Σ Y_k ρι_k'.
+    #[inline(always)]
+    fn gas_pressure_and_sound_speed_inv(
+        &self,
+        rho: f64,
+        inv_rho: f64,
+        e: f64,
+        y: f64,
+    ) -> (f64, f64) {
         let pr = if y == 0.0 {
-            unit
+            ABSENT
         } else {
-            self.products.affine_slopes(rho)
+            mix_slopes(&self.products_form, &self.products, rho, inv_rho)
         };
         let ai = if y == 1.0 {
-            unit
+            ABSENT
         } else {
-            self.air.affine_slopes(rho)
+            mix_slopes(&self.air_form, &self.air, rho, inv_rho)
         };
-        let (p, s) = mixture_pressure(pr.p, pr.k, ai.p, ai.k, e, y);
-        let term = |c: &Affine| c.dp / c.k - (c.p - p) * c.dk / (c.k * c.k);
-        let dp_drho = (y * term(&pr) + (1.0 - y) * term(&ai)) / s;
-        let c2 = dp_drho + p / (rho * rho * s);
-        (p, c2.max(0.0).sqrt())
+        // The same expressions as `numerator_denominator`, so p is the same
+        // bits as `gas_pressure_inv`.
+        let n = e + y * pr.psi + (1.0 - y) * ai.psi;
+        let d = y * pr.iota + (1.0 - y) * ai.iota;
+        let r = n / d;
+        let rho_dn = y * pr.rho_dpsi + (1.0 - y) * ai.rho_dpsi;
+        let rho_dd = y * pr.rho_diota + (1.0 - y) * ai.rho_diota;
+        let c2 = (n + rho_dn + r * (1.0 - rho_dd)) / d;
+        (rho * r, c2.max(0.0).sqrt())
     }
 
     /// Components in pressure but not thermal equilibrium: the reported T is
@@ -369,7 +482,7 @@ impl<P: AffineLaw, A: AffineLaw> GasLaw for ProductsInAir<P, A> {
         (cp * tp + ca * ta) / (cp + ca)
     }
 
-    /// e = Y (p − P_P)/K_P + (1 − Y)(p − P_A)/K_A.
+    /// e = (p/ρ) D − Σ Y_k ψ_k, the inverse of p = ρ N/D.
     fn gas_energy(&self, rho: f64, p: f64, y: f64) -> Result<f64, EosError> {
         if !(rho.is_finite() && rho > 0.0 && p.is_finite() && (0.0..=1.0).contains(&y)) {
             return Err(EosError::OutOfRange {
@@ -379,9 +492,10 @@ impl<P: AffineLaw, A: AffineLaw> GasLaw for ProductsInAir<P, A> {
                 ),
             });
         }
-        let (pp, kp) = self.products.affine(rho);
-        let (pa, ka) = self.air.affine(rho);
-        Ok(y * (p - pp) / kp + (1.0 - y) * (p - pa) / ka)
+        let inv = 1.0 / rho;
+        let (pp, ip) = mix_terms(&self.products_form, &self.products, rho, inv);
+        let (pa, ia) = mix_terms(&self.air_form, &self.air, rho, inv);
+        Ok(p * inv * (y * ip + (1.0 - y) * ia) - (y * pp + (1.0 - y) * pa))
     }
 }
 
@@ -475,6 +589,26 @@ mod tests {
             prop_assert!((y * ep + (1.0 - y) * ea - e).abs() < 1e-9 * e.abs().max(ep.abs()).max(ea.abs()));
             let pa = IdealGas::air().pressure(rho, ea);
             prop_assert!((pa - p).abs() < 1e-8 * p.abs().max(1.0));
+        }
+
+        /// The closed forms of JWL and the ideal gas and the generic form
+        /// (ψ, ι and their slopes from the `Eos` methods) are the same law:
+        /// pressure, sound speed and energy inversion agree to round-off.
+        #[test]
+        fn closed_and_generic_forms_agree(rho in 0.5..2500.0f64, e in 1.0e5..8.0e6f64, y in 0.0..1.0f64) {
+            let closed = mix();
+            let generic = ProductsInAir {
+                products_form: MixForm::Generic,
+                air_form: MixForm::Generic,
+                ..closed
+            };
+            let (p, c) = closed.gas_pressure_and_sound_speed(rho, e, y);
+            let (pg, cg) = generic.gas_pressure_and_sound_speed(rho, e, y);
+            let scale = p.abs().max(1e5);
+            prop_assert!((p - pg).abs() < 1e-11 * scale, "{} vs {}", p, pg);
+            prop_assert!((c - cg).abs() < 1e-9 * c.max(1.0), "{} vs {}", c, cg);
+            let eg = generic.gas_energy(rho, p, y).unwrap();
+            prop_assert!((eg - e).abs() < 1e-9 * e, "{} vs {}", eg, e);
         }
 
         /// The sound speed is √(∂p/∂ρ|s) at frozen Y: compare with a centred

@@ -579,18 +579,23 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         let spacing = self.level.geometry.spacing;
         let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
         // (min over cells, all cells physical); min is exact, so the
-        // reduction order cannot change the result.
+        // reduction order cannot change the result. Rows of a patch are
+        // spread over the threads too, so that a single-patch grid (a 2D
+        // run) does not scan its cells on one thread.
         let (min_t, all_ok) = self
             .level
             .patches
             .par_iter()
             .zip(self.fields.par_iter())
             .map(|(p, f)| {
-                let mut min_t = f64::INFINITY;
-                let mut ok = true;
                 let d = &f.data;
-                for k in 0..p.size[2] {
-                    for j in 0..p.size[1] {
+                (0..p.size[1] * p.size[2])
+                    .into_par_iter()
+                    .with_min_len(8)
+                    .map(|row_id| {
+                        let (j, k) = (row_id % p.size[1], row_id / p.size[1]);
+                        let mut min_t = f64::INFINITY;
+                        let mut ok = true;
                         let start = p.local_index([p.ghost[0], p.ghost[1] + j, p.ghost[2] + k]);
                         let row = |f: usize| &d[f][start..start + p.size[0]];
                         let (r, mx, my, mz, en) =
@@ -609,9 +614,9 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                                 }
                             }
                         }
-                    }
-                }
-                (min_t, ok)
+                        (min_t, ok)
+                    })
+                    .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1))
             })
             .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1));
         if !all_ok {

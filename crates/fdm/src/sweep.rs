@@ -254,7 +254,7 @@ fn flux<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> ([f64
     let inv = 1.0 / rho;
     let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
     let y = if G::SPECIES { ry * inv } else { 0.0 };
-    let p = eos.gas_pressure(rho, e, y);
+    let p = eos.gas_pressure_inv(rho, inv, e, y);
     let vn = u[1 + AXIS] * inv;
     let mut f = [
         u[1 + AXIS],
@@ -303,7 +303,7 @@ fn cells_kernel<G: GasLaw>(
         let inv = 1.0 / rho;
         let e = (en[k] - 0.5 * (mx[k] * mx[k] + my[k] * my[k] + mz[k] * mz[k]) * inv) * inv;
         let y = if G::SPECIES { ry_0[k] * inv } else { 0.0 };
-        let (p, c) = eos.gas_pressure_and_sound_speed(rho, e, y);
+        let (p, c) = eos.gas_pressure_and_sound_speed_inv(rho, inv, e, y);
         ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
         let theta = switch_theta(rho_m[k], rho, rho_p[k]);
         th[k] = if G::SPECIES {
