@@ -24,7 +24,9 @@ pub mod contracts;
 pub use eos::Eos;
 pub use error::{EosError, SolverError};
 pub use material::{Material, StressUpdate, StressUpdateInput};
-pub use output::{CellData, ConservationTotals, NodeData, ParticleData, UniformGridGeometry};
+pub use output::{
+    AxisWindow, CellData, ConservationTotals, NodeData, ParticleData, UniformGridGeometry,
+};
 pub use reaction::{ReactionModel, ReactionState};
 pub use solver::Solver;
 pub use tensor::{Mat3, Vec3};

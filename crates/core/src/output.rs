@@ -13,6 +13,34 @@ pub struct ConservationTotals {
     pub energy: f64,
 }
 
+/// A range of coordinates along one axis that holds every point whose
+/// cell index along it lies in a given range [i0, i1], with a whole cell to
+/// spare either side. It refuses only coordinates that
+/// [`UniformGridGeometry::cell_containing`] certainly places outside that
+/// range, so a scan over particles can skip the far ones with two
+/// comparisons and let the exact (three-division) test decide the rest:
+/// the same particles as the exact test alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisWindow {
+    lo: f64,
+    hi: f64,
+}
+
+impl AxisWindow {
+    /// False only where `x` lies more than a cell outside the range (and
+    /// for NaN, which `cell_containing` refuses too).
+    #[inline(always)]
+    pub fn admits(&self, x: f64) -> bool {
+        x >= self.lo && x <= self.hi
+    }
+
+    /// Whether every window of `windows` admits its coordinate of `x`.
+    #[inline(always)]
+    pub fn admit_all(windows: &[AxisWindow; 3], x: [f64; 3]) -> bool {
+        windows[0].admits(x[0]) && windows[1].admits(x[1]) && windows[2].admits(x[2])
+    }
+}
+
 /// A uniform Cartesian grid: `cells[d]` cells of width `spacing[d]` starting
 /// at `origin` (the low corner of cell (0, 0, 0)).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -49,6 +77,22 @@ impl UniformGridGeometry {
             c[d] = (s.floor() as usize).min(self.cells[d] - 1);
         }
         Some(c)
+    }
+
+    /// A cheap prefilter for "the cell of coordinate `x[d]` has index
+    /// i0 ≤ i ≤ i1 along `d`" ([`AxisWindow`]).
+    pub fn axis_window(&self, d: usize, i0: isize, i1: isize) -> AxisWindow {
+        let (o, h) = (self.origin[d], self.spacing[d]);
+        AxisWindow {
+            lo: o + (i0 - 1) as f64 * h,
+            hi: o + (i1 + 2) as f64 * h,
+        }
+    }
+
+    /// The [`AxisWindow`]s of cell `c` along every direction: a point
+    /// outside any of them is certainly not in `c`.
+    pub fn cell_windows(&self, c: [usize; 3]) -> [AxisWindow; 3] {
+        std::array::from_fn(|d| self.axis_window(d, c[d] as isize, c[d] as isize))
     }
 
     /// Linear index of global cell (i, j, k), x fastest.

@@ -29,7 +29,7 @@
 
 use std::time::Instant;
 
-use brisance_core::{ConservationTotals, Solver, SolverError};
+use brisance_core::{AxisWindow, ConservationTotals, Solver, SolverError};
 use brisance_fdm::state::specific_internal_energy;
 use brisance_fdm::{FdmSolver, GasLaw};
 use brisance_mpm::{MaterialId, MpmSolver, ParticleInit};
@@ -522,7 +522,11 @@ impl<E: GasLaw> Cfdmp<E> {
         self.cells.resize(slabs * lines, CellParticles::default());
         let fluid = |m: MaterialId| m == self.options.air || Some(m) == self.options.products;
         let ps = self.mpm.particles();
+        let window = mg.axis_window(a, lo, lo + slabs as isize - 1);
         for p in 0..ps.len() {
+            if !window.admits(ps.position[p][a]) {
+                continue;
+            }
             let Some(c) = mg.cell_containing(ps.position[p]) else {
                 continue;
             };
@@ -930,6 +934,7 @@ impl<E: GasLaw> Cfdmp<E> {
         self.outside.clear();
         self.donor_slots.clear();
         self.pairs.clear();
+        let window = mg.axis_window(a, bridge, bridge);
         for (p, &id) in ids.iter().enumerate() {
             if self.is_donor(id) {
                 self.donor_slots.push(p);
@@ -947,6 +952,7 @@ impl<E: GasLaw> Cfdmp<E> {
             if !deposit
                 || !(ps.material[p] == self.options.air
                     || Some(ps.material[p]) == self.options.products)
+                || !window.admits(x[a])
             {
                 continue;
             }
@@ -1153,6 +1159,7 @@ impl<E: GasLaw> Cfdmp<E> {
             ))
         })?;
         out.clear();
+        let windows = grid.cell_windows(cell);
         for f in fields {
             let k = FIELDS.iter().position(|n| n == f).ok_or_else(|| {
                 SolverError::Other(format!(
@@ -1164,7 +1171,8 @@ impl<E: GasLaw> Cfdmp<E> {
             let bulk = self.mpm.bulk_viscosity();
             let (mut mass, mut sum) = (0.0, 0.0);
             for (p, b) in bulk.iter().enumerate() {
-                if grid.cell_containing(ps.position[p]) != Some(cell) {
+                let x = ps.position[p];
+                if !AxisWindow::admit_all(&windows, x) || grid.cell_containing(x) != Some(cell) {
                     continue;
                 }
                 let m = ps.mass[p];
@@ -1419,7 +1427,6 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
     }
 }
 
-/// Books mass `m`, momentum `p` and total energy `energy` as they are.
 fn book_parts(t: &mut ConservationTotals, m: f64, p: [f64; 3], energy: f64) {
     t.mass += m;
     for (q, x) in t.momentum.iter_mut().zip(p) {

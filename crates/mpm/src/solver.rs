@@ -58,7 +58,7 @@ use crate::transfer::{BinError, GridMap, P2gSums, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, ParticleInit, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
-use brisance_core::{CellData, ConservationTotals, Material, Solver, SolverError};
+use brisance_core::{AxisWindow, CellData, ConservationTotals, Material, Solver, SolverError};
 use brisance_grid::Level;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -956,16 +956,21 @@ impl MpmSolver {
         sums
     }
 
-    /// The fields `names` of cell `c` alone, into `out`: the sums of
+    /// The fields `names` of cell `cell` alone, into `out`: the sums of
     /// [`MpmSolver::cell_fields`] for that cell, over the same particles
     /// in the same order, so the same bits, without the whole-grid arrays.
-    fn cell_value(&self, c: usize, names: &[usize], out: &mut Vec<f64>) {
+    fn cell_value(&self, cell: [usize; 3], names: &[usize], out: &mut Vec<f64>) {
         let grid = &self.level.geometry;
         out.clear();
         out.resize(names.len(), 0.0);
         let mut mass = 0.0;
         let ps = &self.particles;
+        let c = grid.linear_index(cell);
+        let windows = grid.cell_windows(cell);
         for p in 0..ps.len() {
+            if !AxisWindow::admit_all(&windows, ps.position[p]) {
+                continue;
+            }
             let Some(cp) = grid.cell_containing(ps.position[p]) else {
                 continue;
             };
@@ -1248,8 +1253,7 @@ impl Solver for MpmSolver {
                 "MPM sample point {point:?} m lies outside the grid"
             ))
         })?;
-        let c = grid.linear_index(cell);
-        self.cell_value(c, &idx, out);
+        self.cell_value(cell, &idx, out);
         Ok(())
     }
 

@@ -666,6 +666,22 @@ pub const FLUID_DISTORTION_LIMIT: f64 = 100.0;
 /// flows, F = diag(J, 1, 1), the limit is reached only at J < 10⁻⁶ or
 /// J > 10³, so such runs keep their stretched cpGIMP domains.
 pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
+    // Every entry with |x|³ < (1 − 10⁻⁶) 10⁶ J lies below 100 J^{1/3}
+    // whatever the rounding of the cube, of the product and of `cbrt`
+    // (each a few ulp), so the common undistorted point is settled without
+    // the cube root; NaN, overflow, and J too small for the cubes to be
+    // trusted (below 10⁻²⁰⁰) take the exact test.
+    const CUBE: f64 =
+        (1.0 - 1e-6) * FLUID_DISTORTION_LIMIT * FLUID_DISTORTION_LIMIT * FLUID_DISTORTION_LIMIT;
+    if j >= 1e-200 {
+        let bound = CUBE * j;
+        if f.iter().all(|x| {
+            let a = x.abs();
+            a * a * a < bound
+        }) {
+            return false;
+        }
+    }
     let limit = FLUID_DISTORTION_LIMIT * j.cbrt();
     f.iter().any(|x| !(x.abs() <= limit))
 }
@@ -1009,5 +1025,28 @@ mod tests {
         assert!(fluid_deformation_is_distorted(&bad, j));
         let nan = Mat3::new(f64::NAN, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
         assert!(fluid_deformation_is_distorted(&nan, 1.0));
+    }
+
+    proptest::proptest! {
+        /// The cube-root-free shortcut gives the exact test's answer,
+        /// entries drawn about the limit 100 J^{1/3} (within a few ulp
+        /// of it too) over 300 decades of J.
+        #[test]
+        fn distortion_shortcut_agrees_with_the_cube_root_test(
+            log_j in -300.0..300.0f64,
+            ratio in 0.0..2.0f64,
+            ulps in -4i64..4,
+            at in 0usize..9,
+        ) {
+            let j = 10f64.powf(log_j);
+            let limit = FLUID_DISTORTION_LIMIT * j.cbrt();
+            let near = f64::from_bits((limit.to_bits() as i64 + ulps) as u64);
+            for x in [ratio * limit, near] {
+                let mut f = Mat3::identity() * (0.5 * j.cbrt());
+                f[at] = x;
+                let exact = f.iter().any(|v| !(v.abs() <= limit));
+                proptest::prop_assert_eq!(fluid_deformation_is_distorted(&f, j), exact);
+            }
+        }
     }
 }
