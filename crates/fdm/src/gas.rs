@@ -40,10 +40,13 @@ use brisance_eos::jwl::decaying_exp;
 use brisance_eos::{EosModel, IdealGas, Jwl, JwlCTerm};
 
 /// Below this argument the JWL terms' exponentials are flushed to 0 in the
-/// mixture: e^{−100} ≈ 3.7 × 10⁻⁴⁴, so a dropped term of ψ is below
-/// 10⁻³⁰ J/kg for any JWL set (A, B < 10¹³ Pa, V < 10⁴), more than 2⁵³
-/// times smaller than any specific energy it is added to, and the result
-/// is the same bits. In an expanded products cloud (V ≳ 25 for R₁, V ≳ 100
+/// mixture: e^{−100} ≈ 3.7 × 10⁻⁴⁴, so a dropped term of ψ,
+/// e^{−RV} A V/(ωρ₀) with V > 100/R, is below 10⁻²⁸ J/kg and its density
+/// slope (R V times it, R < 10) below 10⁻²³ J/kg for any JWL set (A, B < 10¹³ Pa,
+/// ωρ₀ > 100 kg/m³, V < 10⁴). Added to a specific energy |e| > 10⁻⁶ J/kg
+/// (every physical state) that is less than half an ulp, so N, D, p and c
+/// are the same bits (ψ alone may differ in its last bits where both
+/// exponentials are kept). In an expanded products cloud (V ≳ 25 for R₁, V ≳ 100
 /// for R₂) this spares the `exp` calls that were the kernels' largest cost.
 const MIX_EXP_FLUSH: f64 = -100.0;
 
@@ -141,10 +144,10 @@ impl<E: Eos> GasLaw for E {
 /// (JWL, ideal gas, linear Mie–Grüneisen); [`ProductsInAir::new`] checks it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProductsInAir<P: AffineLaw, A: AffineLaw> {
-    /// Detonation products.
-    pub products: P,
+    /// Detonation products (private: the forms below are formed from it).
+    products: P,
     /// Ambient gas.
-    pub air: A,
+    air: A,
     /// The products' constants of the mixture terms, formed once.
     products_form: MixForm,
     /// The air's constants of the mixture terms, formed once.
@@ -364,6 +367,16 @@ impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
             products,
             air,
         })
+    }
+
+    /// The detonation products' law.
+    pub fn products(&self) -> &P {
+        &self.products
+    }
+
+    /// The ambient gas's law.
+    pub fn air(&self) -> &A {
+        &self.air
     }
 
     /// The mixture's N = e + Y ψ_P + (1 − Y) ψ_A and

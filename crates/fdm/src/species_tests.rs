@@ -79,7 +79,7 @@ impl crate::GasLaw for MassWeighted {
     const SPECIES: bool = true;
     fn gas_pressure(&self, rho: f64, e: f64, y: f64) -> f64 {
         use brisance_core::Eos;
-        y * self.0.products.pressure(rho, e) + (1.0 - y) * self.0.air.pressure(rho, e)
+        y * self.0.products().pressure(rho, e) + (1.0 - y) * self.0.air().pressure(rho, e)
     }
     fn gas_sound_speed(&self, rho: f64, e: f64, y: f64) -> f64 {
         self.0.gas_sound_speed(rho, e, y)
@@ -91,9 +91,9 @@ impl crate::GasLaw for MassWeighted {
         // Pure states only in this test: invert the component law.
         use brisance_core::Eos;
         if y > 0.5 {
-            self.0.products.specific_internal_energy(rho, p)
+            self.0.products().specific_internal_energy(rho, p)
         } else {
-            self.0.air.specific_internal_energy(rho, p)
+            self.0.air().specific_internal_energy(rho, p)
         }
     }
 }
