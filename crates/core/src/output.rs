@@ -204,6 +204,41 @@ mod tests {
     }
 
     #[test]
+    fn axis_window_spans_the_cells_with_one_to_spare() {
+        let g = geometry();
+        // x: h = 0.1 from 0; cells 3..=4 span [0.3, 0.5] → [0.2, 0.6].
+        let w = g.axis_window(0, 3, 4);
+        assert!(w.admits(0.2) && w.admits(0.45) && w.admits(0.6));
+        assert!(!w.admits(0.19) && !w.admits(0.61) && !w.admits(f64::NAN));
+        // y: h = 0.5 from −1; cell 0 → [−1.5, 0.0].
+        let ws = g.cell_windows([9, 0, 0]);
+        assert!(AxisWindow::admit_all(&ws, [0.95, -0.9, 0.5]));
+        assert!(!AxisWindow::admit_all(&ws, [0.95, 0.1, 0.5]));
+    }
+
+    proptest::proptest! {
+        /// The window never refuses a point `cell_containing` puts in its
+        /// range, the upper boundary (clamped into the last cell) included.
+        #[test]
+        fn axis_window_admits_every_point_of_its_cells(
+            x in -0.2..1.2f64,
+            i0 in -1isize..10,
+            len in 0isize..3,
+        ) {
+            let g = geometry();
+            let w = g.axis_window(0, i0, i0 + len);
+            for x in [x, 1.0, 0.0] {
+                if let Some(c) = g.cell_containing([x, 0.0, 0.5]) {
+                    let i = c[0] as isize;
+                    if i >= i0 && i <= i0 + len {
+                        proptest::prop_assert!(w.admits(x), "{} in cell {}", x, i);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn linear_index_is_x_fastest() {
         let g = geometry();
         assert_eq!(g.linear_index([1, 0, 0]), 1);

@@ -132,7 +132,8 @@ struct Scratch {
     fluid_density: Vec<f64>,
     pressure: Vec<f64>,
     /// Per cell, the velocity change the nodes receive (step 13): the
-    /// solids' mass-weighted mean.
+    /// solids' mass-weighted mean (several solids only; one solid's own
+    /// change is read in place).
     cell_change: Vec<[f64; 3]>,
     /// Per cell, the momentum a trace of a solid took in steps 8–10
     /// beyond what its nodes receive, returned to the fluids.
@@ -157,7 +158,11 @@ impl Scratch {
                 Vec::new()
             },
             pressure: vec![0.0; cells],
-            cell_change: vec![[0.0; 3]; cells],
+            cell_change: if solids > 1 {
+                vec![[0.0; 3]; cells]
+            } else {
+                Vec::new()
+            },
             trace_momentum: vec![[0.0; 3]; cells],
             solids: (0..solids).map(|_| SolidCells::sized(cells)).collect(),
             mass_buffers: Vec::with_capacity(solids),
@@ -310,7 +315,7 @@ impl FluidFrame<'_> {
                 });
         }
         if s.solids.len() == 1 {
-            s.cell_change.copy_from_slice(&s.solids[0].change);
+            // `cell_change` reads the solid's own array (no copy).
             return;
         }
         let solids = &s.solids;
@@ -451,7 +456,11 @@ impl GridCoupling for FluidFrame<'_> {
         }
         self.combine_solid_changes();
         self.ice.add_eulerian_momentum(&self.s.trace_momentum);
-        steps::cells_to_nodes(&g, &nodes.lattice, &self.s.cell_change, dv);
+        let change = match self.s.solids.as_slice() {
+            [one] => &one.change,
+            _ => &self.s.cell_change,
+        };
+        steps::cells_to_nodes(&g, &nodes.lattice, change, dv);
         Ok(())
     }
 
