@@ -620,8 +620,16 @@ fn update_is_positive(
     ss: usize,
 ) -> bool {
     let u: [f64; NVAR] = per_var!(|f| ubar[f][i] - lambda * (fstar[f][i] - fstar[f][i - ss]));
+    state_is_positive(u)
+}
+
+/// ρ > 0 and a positive, finite internal energy per volume
+/// E − ½|ρu|²/ρ (e > 0 and e < ∞, so NaN fails); `&` rather than `&&` so
+/// that a loop over states vectorises.
+#[inline(always)]
+fn state_is_positive(u: [f64; NVAR]) -> bool {
     let e = u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) / u[0];
-    u[0] > 0.0 && e > 0.0 && e.is_finite()
+    (u[0] > 0.0) & (e > 0.0) & (e < f64::INFINITY)
 }
 
 /// Whether every interior update of the sweep keeps ρ > 0 and a positive,
@@ -644,10 +652,7 @@ fn all_updates_positive(
     let fm: [&[f64]; NVAR] = per_var!(|f| &fstar[f][lo - ss..hi - ss]);
     let mut ok = true;
     for k in 0..n {
-        let v: [f64; NVAR] = per_var!(|f| u[f][k] - lambda * (fp[f][k] - fm[f][k]));
-        let e = v[4] - 0.5 * (v[1] * v[1] + v[2] * v[2] + v[3] * v[3]) / v[0];
-        // e > 0 && e < ∞ is `update_is_positive`'s e > 0 && e.is_finite().
-        ok &= (v[0] > 0.0) & (e > 0.0) & (e < f64::INFINITY);
+        ok &= state_is_positive(per_var!(|f| u[f][k] - lambda * (fp[f][k] - fm[f][k])));
     }
     ok
 }
