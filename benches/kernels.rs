@@ -27,6 +27,52 @@ fn fdm_lax_wendroff(c: &mut Criterion) {
     group.finish();
 }
 
+/// The FDM's two-species gas law (TNT products in air, pressure
+/// equilibrium, docs/physics/fdm_mixture.md) as the bridge's kernels call
+/// it, through the registry enum: (p, c) and p alone, per second, on 1024
+/// states from the dense products (1630 kg/m³) to ambient air (1 kg/m³),
+/// log-spaced, with products fractions spread over [0, 1].
+fn fdm_mixture(c: &mut Criterion) {
+    use brisance::fdm::{GasLaw, ProductsInAir};
+    let gas = ProductsInAir::new(
+        EosModel::Jwl(Jwl::tnt()),
+        EosModel::IdealGas(IdealGas::air()),
+    )
+    .expect("mixture builds");
+    let n = 1024;
+    let states: Vec<(f64, f64, f64)> = (0..n)
+        .map(|k| {
+            let s = k as f64 / (n - 1) as f64;
+            let rho = 1630f64.powf(1.0 - s);
+            let y = ((k * 37) % n) as f64 / (n - 1) as f64;
+            (rho, 5.0e5 + 4.0e6 * (1.0 - s), y)
+        })
+        .collect();
+    let mut group = c.benchmark_group("fdm_mixture");
+    group.throughput(Throughput::Elements(n as u64));
+    group.bench_function("pressure_and_sound_speed", |b| {
+        b.iter(|| {
+            states
+                .iter()
+                .map(|&(rho, e, y)| {
+                    let inv = 1.0 / black_box(rho);
+                    let (p, c) = gas.gas_pressure_and_sound_speed_inv(rho, inv, e, y);
+                    p + c
+                })
+                .sum::<f64>()
+        })
+    });
+    group.bench_function("pressure", |b| {
+        b.iter(|| {
+            states
+                .iter()
+                .map(|&(rho, e, y)| gas.gas_pressure_inv(rho, 1.0 / black_box(rho), e, y))
+                .sum::<f64>()
+        })
+    });
+    group.finish();
+}
+
 /// Pressure evaluations per second for every equation of state, through the
 /// registry enum (as the solvers see them) on 1024 states around each
 /// model's reference density.
@@ -402,6 +448,7 @@ fn pd_bond_forces(c: &mut Criterion) {
 criterion_group!(
     benches,
     fdm_lax_wendroff,
+    fdm_mixture,
     eos_pressure,
     eos_density_inversion,
     mpm_step,
