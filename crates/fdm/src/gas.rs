@@ -329,6 +329,17 @@ fn mix_slopes<E: Eos>(form: &MixForm, law: &E, rho: f64, inv_rho: f64) -> MixTer
     }
 }
 
+/// N = e + Y ψ_P + (1 − Y) ψ_A and D = Y ι_P + (1 − Y) ι_A from the
+/// components' (ψ, ι): the one expression of the pressure and the (p, c)
+/// paths, so that both give p = ρ N/D with the same bits.
+#[inline(always)]
+fn mix_sums(e: f64, y: f64, products: (f64, f64), air: (f64, f64)) -> (f64, f64) {
+    (
+        e + y * products.0 + (1.0 - y) * air.0,
+        y * products.1 + (1.0 - y) * air.1,
+    )
+}
+
 /// The terms of a component of zero mass fraction: they enter multiplied
 /// by 0, so any finite values give the same bits.
 const ABSENT: MixTerms = MixTerms {
@@ -403,7 +414,7 @@ impl<P: AffineLaw, A: AffineLaw> ProductsInAir<P, A> {
         } else {
             mix_terms(&self.air_form, &self.air, rho, inv_rho)
         };
-        (e + y * pp + (1.0 - y) * pa, y * ip + (1.0 - y) * ia)
+        mix_sums(e, y, (pp, ip), (pa, ia))
     }
 
     /// Specific energies (e_P, e_A) of the components at the equilibrium
@@ -466,10 +477,9 @@ impl<P: AffineLaw, A: AffineLaw> GasLaw for ProductsInAir<P, A> {
         } else {
             mix_slopes(&self.air_form, &self.air, rho, inv_rho)
         };
-        // The same expressions as `numerator_denominator`, so p is the same
-        // bits as `gas_pressure_inv`.
-        let n = e + y * pr.psi + (1.0 - y) * ai.psi;
-        let d = y * pr.iota + (1.0 - y) * ai.iota;
+        // `mix_sums` as in `numerator_denominator`: p is the same bits as
+        // `gas_pressure_inv`'s.
+        let (n, d) = mix_sums(e, y, (pr.psi, pr.iota), (ai.psi, ai.iota));
         let r = n / d;
         let rho_dn = y * pr.rho_dpsi + (1.0 - y) * ai.rho_dpsi;
         let rho_dd = y * pr.rho_diota + (1.0 - y) * ai.rho_diota;
