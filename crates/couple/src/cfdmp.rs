@@ -29,7 +29,7 @@
 
 use std::time::Instant;
 
-use brisance_core::{AxisWindow, ConservationTotals, Solver, SolverError};
+use brisance_core::{ConservationTotals, Solver, SolverError};
 use brisance_fdm::state::specific_internal_energy;
 use brisance_fdm::{FdmSolver, GasLaw};
 use brisance_mpm::{MaterialId, MpmSolver, ParticleInit};
@@ -1140,57 +1140,23 @@ impl<E: GasLaw> Cfdmp<E> {
     }
 
     /// The MPM's cell value of `fields` in the cell containing `point`:
-    /// the mass-weighted mean over its particles that `MpmSolver`'s
-    /// `sample` gives (density m/V, velocity, the material's pressure
-    /// −tr σ/3 − q, specific internal energy; 0 in an empty cell), summed in
-    /// the same particle order, so the same bits, over that cell's
-    /// particles alone rather than over a whole-grid field per gauge and
-    /// step.
+    /// `MpmSolver`'s `sample` (the mass-weighted mean over the cell's
+    /// particles: density m/V, velocity, the material's pressure
+    /// −tr σ/3 − q, specific internal energy; 0 in an empty cell), for the
+    /// fields the bridge outputs ([`FIELDS`]).
     fn sample_mpm(
         &self,
         point: [f64; 3],
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError> {
-        let grid = self.mpm.level().geometry;
-        let cell = grid.cell_containing(point).ok_or_else(|| {
-            SolverError::Other(format!(
-                "MPM sample point {point:?} m lies outside the grid"
-            ))
-        })?;
-        out.clear();
-        let windows = grid.cell_windows(cell);
-        for f in fields {
-            let k = FIELDS.iter().position(|n| n == f).ok_or_else(|| {
-                SolverError::Other(format!(
-                    "unknown field `{f}`; the bridge outputs {}",
-                    FIELDS.join(", ")
-                ))
-            })?;
-            let ps = self.mpm.particles();
-            let bulk = self.mpm.bulk_viscosity();
-            let (mut mass, mut sum) = (0.0, 0.0);
-            for (p, b) in bulk.iter().enumerate() {
-                let x = ps.position[p];
-                if !AxisWindow::admit_all(&windows, x) || grid.cell_containing(x) != Some(cell) {
-                    continue;
-                }
-                let m = ps.mass[p];
-                mass += m;
-                let q = match k {
-                    0 => m / ps.volume[p],
-                    1..=3 => ps.velocity[p][k - 1],
-                    4 => {
-                        let s = &ps.stress[p];
-                        -(s[0] + s[1] + s[2]) / 3.0 - b.q
-                    }
-                    _ => ps.specific_internal_energy[p],
-                };
-                sum += m * q;
-            }
-            out.push(if mass > 0.0 { sum / mass } else { 0.0 });
+        if let Some(f) = fields.iter().find(|f| !FIELDS.contains(&f.as_str())) {
+            return Err(SolverError::Other(format!(
+                "unknown field `{f}`; the bridge outputs {}",
+                FIELDS.join(", ")
+            )));
         }
-        Ok(())
+        self.mpm.sample(point, fields, out)
     }
 
     /// Whether the MPM gives the output at `x`: `x` lies in the MPM region
