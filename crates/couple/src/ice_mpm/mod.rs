@@ -875,6 +875,17 @@ mod solids_tests;
 #[cfg(test)]
 mod tests;
 
+/// `f` run on a pool of `threads` threads: the determinism tests' runs on
+/// 1 and 2 threads.
+#[cfg(test)]
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 #[cfg(test)]
 mod determinism_tests {
     use super::cases::{build, Setup};
@@ -888,11 +899,7 @@ mod determinism_tests {
     #[test]
     fn the_coupled_step_gives_the_same_bits_on_one_and_two_threads() {
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            super::in_pool(threads, || {
                 let h = 1e-3;
                 let mut s = build(&Setup {
                     lower: [0.0; 3],

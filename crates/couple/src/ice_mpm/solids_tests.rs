@@ -235,11 +235,7 @@ fn several_solids_and_burning_are_deterministic_and_restart_exactly() {
         t
     };
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        super::in_pool(threads, || {
             let mut s = tube().build();
             step(&mut s, 5);
             (s.save_state().unwrap(), s.unburnt_reactant())

@@ -782,11 +782,7 @@ mod tests {
         let lat = NodeLattice::new(&g, ShapeFunction::Linear);
         let (mass, vel, pos, pm, pv, pt) = random_case(&g, &lat, 11);
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::ice_mpm::in_pool(threads, || {
                 let nc = g.cell_count();
                 let (mut m, mut u, mut st) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
                 let mut sums = Vec::new();
