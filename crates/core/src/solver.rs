@@ -30,7 +30,10 @@ pub trait Solver: Send {
     /// Advances the state by `dt`.
     fn advance(&mut self, dt: f64) -> Result<(), SolverError>;
 
-    /// Domain totals of mass, momentum and total energy.
+    /// Totals of mass, momentum and total energy in the domain. A solver
+    /// with open boundaries adds what has left through them, so that they
+    /// do not read as a loss: the FDM its face fluxes, the MPM the
+    /// particles that left its grid (the ICE solver does not yet).
     fn conservation_totals(&self) -> ConservationTotals;
 
     /// Names of the cell fields this solver can output.

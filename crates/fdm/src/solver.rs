@@ -16,7 +16,7 @@ use crate::state::{
     specific_internal_energy, PrimitiveState, CONSERVATIVE_NAMES, ENERGY, MOM, NVAR, RHO, SPECIES,
     SPECIES_NAME,
 };
-use crate::sweep::{sweep_slab, PatchPtrs, SlabShape, GHOST};
+use crate::sweep::{sweep_slab, FaceOutflow, PatchPtrs, SlabShape, GHOST};
 use crate::viscosity::ArtificialViscosity;
 
 /// Why the FDM solver cannot be built.
@@ -82,6 +82,7 @@ struct SavedState {
     steps: u64,
     cells: [usize; 3],
     fields: Vec<Vec<f64>>,
+    outflow: [Vec<[f64; NVAR]>; 6],
 }
 
 /// x lines per work item of an x sweep.
@@ -108,8 +109,20 @@ pub struct FdmSolver<E: GasLaw> {
     /// Reused list of (patch, slab, pointers) work items of a sweep.
     work_items: Vec<(usize, usize, usize, PatchPtrs)>,
     options: FdmOptions,
+    /// What has left through each domain face since the start, per face
+    /// cell, in the flow variables per unit cell volume ([`FaceOutflow`]);
+    /// face 2d + s (s = 0 low, 1 high), its cells in global order of the
+    /// two other axes (lower axis fastest). Empty for a periodic face and
+    /// for a face of an inactive axis, which no sweep crosses.
+    outflow: [Vec<[f64; NVAR]>; 6],
     time: f64,
     steps: u64,
+}
+
+/// The cells of a face normal to `axis`: the product of the other two
+/// axes' cell counts.
+fn face_cells(cells: [usize; 3], axis: usize) -> usize {
+    (0..3).filter(|&d| d != axis).map(|d| cells[d]).product()
 }
 
 impl<E: GasLaw> FdmSolver<E> {
@@ -196,6 +209,14 @@ impl<E: GasLaw> FdmSolver<E> {
         bcs.validate(Self::NFIELDS).map_err(FdmError::Invalid)?;
 
         let geometry = level.geometry;
+        let outflow: [Vec<[f64; NVAR]>; 6] = std::array::from_fn(|f| {
+            let axis = f / 2;
+            if level.is_active(axis) && !matches!(boundaries[f], FdmBoundary::Periodic) {
+                vec![[0.0; NVAR]; face_cells(geometry.cells, axis)]
+            } else {
+                Vec::new()
+            }
+        });
         let mut fields = Vec::with_capacity(level.patches.len());
         for patch in &level.patches {
             let mut pf = PatchFields::zeros(patch, Self::NFIELDS);
@@ -240,6 +261,7 @@ impl<E: GasLaw> FdmSolver<E> {
             exchange: InProcessExchange::new(),
             work_items: Vec::new(),
             options,
+            outflow,
             time: 0.0,
             steps: 0,
         })
@@ -350,6 +372,16 @@ impl<E: GasLaw> FdmSolver<E> {
             items.extend((0..n).flat_map(|s| (0..chunks).map(move |c| (id, s, c, ptrs))));
         }
         let level = &self.level;
+        let cells = level.geometry.cells;
+        let [low, high] = [2 * axis, 2 * axis + 1].map(|f| {
+            let v = &mut self.outflow[f];
+            if v.is_empty() {
+                std::ptr::null_mut()
+            } else {
+                v.as_mut_ptr()
+            }
+        });
+        let faces = FaceOutflow { low, high };
         let all_ok = items
             .par_iter()
             .map(|&(id, slab, c, ptrs)| {
@@ -357,6 +389,20 @@ impl<E: GasLaw> FdmSolver<E> {
                 let (g, d, st) = (p.ghost, p.dims(), p.strides());
                 let lo = c * chunk;
                 let hi = (lo + chunk).min(p.size[across]);
+                // The item's first face cell: global (j, k) of its first x
+                // line (line j adds j − lo), (i, k) or (i, j) of a y or z
+                // slab.
+                let first = match axis {
+                    0 => p.lo[1] + lo + cells[1] * (p.lo[2] + slab),
+                    1 => p.lo[0] + lo + cells[0] * (p.lo[2] + slab),
+                    _ => p.lo[0] + lo + cells[0] * (p.lo[1] + slab),
+                };
+                let at_low = p.lo[axis] == 0;
+                let at_high = p.lo[axis] + p.size[axis] == cells[axis];
+                // SAFETY (of the `add`s): `first` + the item's lanes lie
+                // within the face's array, and no other item shares them.
+                let outflow =
+                    |offset: usize| unsafe { faces.lanes_on(first + offset, at_low, at_high) };
                 let shape = match axis {
                     0 => SlabShape {
                         dims_a: d[0],
@@ -398,6 +444,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                     lambda,
                                     &ptrs,
                                     &line,
+                                    outflow(j - lo),
                                     &mut scratch,
                                 )
                             };
@@ -413,6 +460,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                 lambda,
                                 &ptrs,
                                 &shape,
+                                outflow(0),
                                 &mut scratch,
                             )
                         }
@@ -426,6 +474,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                 lambda,
                                 &ptrs,
                                 &shape,
+                                outflow(0),
                                 &mut scratch,
                             )
                         }
@@ -439,6 +488,71 @@ impl<E: GasLaw> FdmSolver<E> {
         } else {
             Err(self.non_physical_error(&format!("during the {} sweep", ["x", "y", "z"][axis])))
         }
+    }
+
+    /// Mass (kg), momentum (kg m/s) and energy (J) of the interior cells,
+    /// summed in global cell order.
+    pub fn interior_totals(&self) -> ConservationTotals {
+        let mut t = ConservationTotals::default();
+        self.level.for_each_cell_in_order(|_, pid, n| {
+            let d = &self.fields[pid].data;
+            t.mass += d[RHO][n];
+            for a in 0..3 {
+                t.momentum[a] += d[MOM + a][n];
+            }
+            t.energy += d[ENERGY][n];
+        });
+        self.scaled_by_cell_volume(t)
+    }
+
+    /// What has left through the domain faces since the start: mass (kg),
+    /// momentum (kg m/s) and energy (J), negative for what came in. The
+    /// flux of every sweep through a non-periodic domain face, with the
+    /// fluxes its update used (the smoothing's and the Richtmyer step's,
+    /// after any positivity fallback), accumulated per face cell. At a
+    /// reflective face no mass or energy crosses, and the momentum is the
+    /// wall's pressure impulse.
+    pub fn outflow(&self) -> ConservationTotals {
+        self.outflow_where(|_, _| true)
+    }
+
+    /// [`Self::outflow`] through the face cells `keep(face, cell)` accepts:
+    /// `face` = 2d + s (s = 0 the low face normal to axis d, 1 the high
+    /// one) and `cell` the global index of the interior cell at it. Summed
+    /// face by face, each in global cell order.
+    pub fn outflow_where(&self, keep: impl Fn(usize, [usize; 3]) -> bool) -> ConservationTotals {
+        let cells = self.level.geometry.cells;
+        let mut t = ConservationTotals::default();
+        for (f, acc) in self.outflow.iter().enumerate() {
+            let axis = f / 2;
+            let (a, b) = match axis {
+                0 => (1, 2),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            for (n, u) in acc.iter().enumerate() {
+                let mut c = [0; 3];
+                c[axis] = if f % 2 == 0 { 0 } else { cells[axis] - 1 };
+                c[a] = n % cells[a];
+                c[b] = n / cells[a];
+                if keep(f, c) {
+                    t.mass += u[RHO];
+                    for d in 0..3 {
+                        t.momentum[d] += u[MOM + d];
+                    }
+                    t.energy += u[ENERGY];
+                }
+            }
+        }
+        self.scaled_by_cell_volume(t)
+    }
+
+    fn scaled_by_cell_volume(&self, mut t: ConservationTotals) -> ConservationTotals {
+        let vol: f64 = self.level.geometry.spacing.iter().product();
+        t.mass *= vol;
+        t.momentum = t.momentum.map(|m| m * vol);
+        t.energy *= vol;
+        t
     }
 
     /// Products mass fraction Y of the interior cell `n` of patch `pid` (0
@@ -653,23 +767,18 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         Ok(())
     }
 
-    /// Totals summed in global cell order so the bits do not depend on the
-    /// patch split or thread count.
+    /// The interior's totals plus what has left through the domain faces
+    /// ([`FdmSolver::outflow`]), so a flow-out or inflow face does not read
+    /// as a loss: the sum is conserved to round-off. Summed in global cell
+    /// order so the bits do not depend on the patch split or thread count.
     fn conservation_totals(&self) -> ConservationTotals {
-        let mut t = ConservationTotals::default();
-        self.level.for_each_cell_in_order(|_, pid, n| {
-            let d = &self.fields[pid].data;
-            t.mass += d[RHO][n];
-            for a in 0..3 {
-                t.momentum[a] += d[MOM + a][n];
-            }
-            t.energy += d[ENERGY][n];
-        });
-        let vol: f64 = self.level.geometry.spacing.iter().product();
-        t.mass *= vol;
-        t.momentum = t.momentum.map(|m| m * vol);
-        t.energy *= vol;
-        t
+        let t = self.interior_totals();
+        let o = self.outflow();
+        ConservationTotals {
+            mass: t.mass + o.mass,
+            momentum: std::array::from_fn(|d| t.momentum[d] + o.momentum[d]),
+            energy: t.energy + o.energy,
+        }
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {
@@ -712,6 +821,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             steps: self.steps,
             cells: self.level.geometry.cells,
             fields,
+            outflow: self.outflow.clone(),
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -723,6 +833,11 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         if saved.cells != cells
             || saved.fields.len() != Self::NFIELDS
             || saved
+                .outflow
+                .iter()
+                .zip(&self.outflow)
+                .any(|(a, b)| a.len() != b.len())
+            || saved
                 .fields
                 .iter()
                 .any(|f| f.len() != cells.iter().product())
@@ -733,6 +848,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             )));
         }
         self.level.scatter_fields(&mut self.fields, &saved.fields);
+        self.outflow = saved.outflow;
         self.time = saved.time;
         self.steps = saved.steps;
         Ok(())

@@ -134,6 +134,52 @@ impl SlabShape {
     }
 }
 
+/// Where a sweep adds what crossed the domain faces at the two ends of its
+/// slab, per lane (one x line, or the cells across a y or z slab, in
+/// order): the five flow variables per unit cell volume that left through
+/// the face, Φ = λ F*₊½ − μ₊½ (U_{a+1} − U_a) at the high end and −Φ at
+/// the low end. A null pointer: that end is no domain face (a patch
+/// boundary, or a periodic face, whose fluxes cancel in pairs).
+#[derive(Debug, Clone, Copy)]
+pub struct FaceOutflow {
+    /// The lanes' accumulators at the low end, or null.
+    pub low: *mut [f64; NVAR],
+    /// The lanes' accumulators at the high end, or null.
+    pub high: *mut [f64; NVAR],
+}
+
+// SAFETY: as for `PatchPtrs`: concurrently swept slabs are given disjoint
+// accumulator ranges (a domain face cell belongs to one slab of a sweep).
+unsafe impl Send for FaceOutflow {}
+unsafe impl Sync for FaceOutflow {}
+
+impl FaceOutflow {
+    /// Neither end is a domain face.
+    pub const NONE: Self = Self {
+        low: std::ptr::null_mut(),
+        high: std::ptr::null_mut(),
+    };
+
+    /// The accumulators `n` lanes on, an end kept only where its flag is
+    /// set (null otherwise).
+    ///
+    /// # Safety
+    /// `n` must lie within the arrays the non-null ends point into.
+    pub unsafe fn lanes_on(self, n: usize, low: bool, high: bool) -> Self {
+        let at = |p: *mut [f64; NVAR], keep: bool| {
+            if keep && !p.is_null() {
+                p.add(n)
+            } else {
+                std::ptr::null_mut()
+            }
+        };
+        Self {
+            low: at(self.low, low),
+            high: at(self.high, high),
+        }
+    }
+}
+
 /// Runs `f(field_start, scratch_start, len)` for the cells `a ∈ [lo, hi)` of
 /// the slab: one call for an x line, one call per row for y/z slabs.
 #[inline(always)]
@@ -723,12 +769,19 @@ fn positivity_fallback<const AXIS: usize, G: GasLaw>(
 /// a cell whose update would leave ρ ≤ 0 or e ≤ 0 gets the Rusanov flux
 /// at both its faces ([`positivity_fallback`]).
 ///
+/// The face fluxes at the slab's two ends, with the fluxes the update
+/// uses (after the fallback), are added to `outflow` where it points
+/// ([`FaceOutflow`]): the interior's change is exactly their difference,
+/// so the domain totals plus the accumulated outflow are conserved to
+/// round-off.
+///
 /// # Safety
 /// The caller guarantees that while this runs no other thread writes any
 /// cell of this slab (rows `a ∈ [0, dims_a)` at `base + a·stride_a`) and no
 /// other thread reads the interior rows this call writes. Slabs of one patch
 /// (distinct k-planes for x/y sweeps, distinct j-planes for z sweeps) satisfy
-/// this.
+/// this. Non-null `outflow` pointers point to one accumulator per lane
+/// that no other thread touches during the call.
 #[allow(clippy::too_many_arguments)]
 pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     eos: &G,
@@ -737,6 +790,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     lambda: f64,
     fields: &PatchPtrs,
     shape: &SlabShape,
+    outflow: FaceOutflow,
     scratch: &mut Vec<f64>,
 ) -> bool {
     let n = shape.scratch_len();
@@ -825,6 +879,23 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
 
     if fallback {
         positivity_fallback::<AXIS, G>(eos, lambda, shape, &ubar, &fbar, &mut fstar);
+    }
+
+    // What crosses the domain faces: face g − ½ (left row g − 1) and face
+    // hi − ½ (left row hi − 1), read before pass 5 overwrites U.
+    for (ptr, a, sign) in [(outflow.low, g - 1, -1.0), (outflow.high, hi_cell - 1, 1.0)] {
+        if ptr.is_null() {
+            continue;
+        }
+        for j in 0..shape.width.max(1) {
+            let (i, fo) = (a * ss + j, shape.base + a * sa + j);
+            // SAFETY: one accumulator per lane, this call's alone.
+            let acc = &mut *ptr.add(j);
+            for (f, out) in acc.iter_mut().enumerate() {
+                let (u0, u1) = (fields.row(f, fo, 1)[0], fields.row(f, fo + sa, 1)[0]);
+                *out += sign * (lambda * fstar[f][i] - mu[i] * (u1 - u0));
+            }
+        }
     }
 
     // Pass 5: conservative update of the interior, a ∈ [g, hi).

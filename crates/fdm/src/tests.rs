@@ -65,14 +65,14 @@ fn all_fields(solver: &impl Solver) -> Vec<(String, Vec<f64>)> {
 
 #[test]
 fn fields_are_bit_identical_for_any_patch_split_and_thread_count() {
-    let reference = {
+    let (reference, totals) = {
         let mut s = blast([1, 1, 1]);
         rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
             .unwrap()
             .install(|| run(&mut s, 8));
-        all_fields(&s)
+        (all_fields(&s), s.conservation_totals())
     };
     for layout in [[2, 1, 1], [2, 2, 2], [1, 2, 1]] {
         for threads in [1, 2] {
@@ -83,6 +83,11 @@ fn fields_are_bit_identical_for_any_patch_split_and_thread_count() {
                 .unwrap()
                 .install(|| run(&mut s, 8));
             let f = all_fields(&s);
+            assert_eq!(
+                s.conservation_totals(),
+                totals,
+                "totals differ for layout {layout:?} on {threads} threads"
+            );
             for ((name, a), (_, b)) in reference.iter().zip(&f) {
                 let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
                 assert!(
@@ -187,6 +192,9 @@ fn restart_from_saved_state_continues_bit_identically() {
     });
     run(&mut b, 4);
     assert_eq!(a.time().to_bits(), b.time().to_bits());
+    // The face outflow goes on from the checkpoint's: the same totals.
+    assert_eq!(a.conservation_totals(), b.conservation_totals());
+    assert!(a.outflow().mass != 0.0);
     for ((name, x), (_, y)) in all_fields(&a).iter().zip(&all_fields(&b)) {
         assert!(
             x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()),
@@ -452,4 +460,142 @@ fn conservative_fields_round_trip_across_patch_splits_and_bad_lengths_are_refuse
     let short = vec![vec![1.0; 10]; 5];
     let e = b.set_conservative_fields(&short).unwrap_err().to_string();
     assert!(e.contains("expected 5 arrays of 3840 values"), "{e}");
+}
+
+/// A uniform state moving along +x through a tube with flow-out faces:
+/// the interior stays uniform, and what crosses each x face after time T
+/// is the flux times T times the face's area, in every variable.
+#[test]
+fn a_uniform_stream_books_its_face_fluxes_exactly() {
+    let (nx, ny) = (12, 5);
+    let level = Level::new(
+        [0.0; 3],
+        [1.2, 0.5, 0.1],
+        [nx, ny, 1],
+        [2, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
+    let (rho, u, v, p) = (1.3, 0.4, -0.1, 2.0);
+    let s0 = state(rho, [u, v, 0.0], p);
+    let mut s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Outflow; 6],
+        FdmOptions::default(),
+        |_| s0,
+    )
+    .unwrap();
+    let mut t = 0.0;
+    for _ in 0..7 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+        t += dt;
+    }
+    // Faces normal to x: area 0.5 × 0.1 m²; normal to y: 1.2 × 0.1 m².
+    let e = p / 0.4 + 0.5 * rho * (u * u + v * v);
+    for (face, un, area) in [(1, u, 0.05), (3, v, 0.12)] {
+        let o = s.outflow_where(|f, _| f == face);
+        let want = [rho * un, rho * u * un, rho * v * un, (e + p) * un];
+        let got = [o.mass, o.momentum[0], o.momentum[1], o.energy];
+        let mut want = want.map(|w| w * t * area);
+        // The momentum along the face's normal also carries p.
+        want[1 + face / 2] += p * t * area;
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g - w).abs() <= 1e-13 * w.abs().max(1.0),
+                "face {face}: {g} against {w}"
+            );
+        }
+        // The opposite face takes in as much.
+        let back = s.outflow_where(|f, _| f == face - 1);
+        assert!(
+            (back.mass + o.mass).abs() <= 1e-14,
+            "{} {}",
+            back.mass,
+            o.mass
+        );
+    }
+    // Interior plus outflow is the initial total.
+    let total = s.conservation_totals();
+    let mass = rho * 1.2 * 0.5 * 0.1;
+    assert!((total.mass - mass).abs() <= 1e-14 * mass);
+    assert_eq!(s.outflow().mass.to_bits(), {
+        let o = s.outflow_where(|_, _| true);
+        o.mass.to_bits()
+    });
+}
+
+/// Gas at rest between reflective walls: no mass or energy crosses, and
+/// the momentum booked at each wall is the pressure impulse p T A.
+#[test]
+fn a_reflective_wall_books_only_the_pressure_impulse() {
+    let level = Level::new(
+        [0.0; 3],
+        [1.0, 0.5, 0.1],
+        [10, 5, 1],
+        [1, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
+    let p = 3.0;
+    let mut s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Reflective; 6],
+        FdmOptions::default(),
+        |_| state(2.0, [0.0; 3], p),
+    )
+    .unwrap();
+    let mut t = 0.0;
+    for _ in 0..5 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+        t += dt;
+    }
+    for (face, area) in [(0, 0.05), (1, 0.05), (2, 0.1), (3, 0.1)] {
+        let o = s.outflow_where(|f, _| f == face);
+        assert_eq!(o.mass, 0.0, "face {face}");
+        assert_eq!(o.energy, 0.0, "face {face}");
+        let sign = if face % 2 == 0 { -1.0 } else { 1.0 };
+        let want = sign * p * t * area;
+        let got = o.momentum[face / 2];
+        assert!(
+            (got - want).abs() <= 1e-13 * want.abs(),
+            "face {face}: {got} against {want}"
+        );
+    }
+}
+
+/// The 3D blast box (a reflective, two flow-out, two periodic and a fixed
+/// inflow face): the interior alone gains and loses several per cent, and
+/// the interior plus what crossed the faces is conserved to round-off.
+#[test]
+fn interior_plus_outflow_is_conserved_to_round_off() {
+    let mut s = blast([2, 1, 2]);
+    let (t0, i0) = (s.conservation_totals(), s.interior_totals());
+    run(&mut s, 30);
+    let (t1, i1) = (s.conservation_totals(), s.interior_totals());
+    assert!(
+        ((i1.mass - i0.mass) / i0.mass).abs() > 1e-3,
+        "{} {}",
+        i0.mass,
+        i1.mass
+    );
+    assert!(((i1.energy - i0.energy) / i0.energy).abs() > 1e-3);
+    assert!(
+        ((t1.mass - t0.mass) / t0.mass).abs() < 1e-13,
+        "{} {}",
+        t0.mass,
+        t1.mass
+    );
+    assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
+    for a in 0..3 {
+        assert!(
+            (t1.momentum[a] - t0.momentum[a]).abs() < 1e-13 * (t0.mass + t0.energy),
+            "momentum {a}: {} → {}",
+            t0.momentum[a],
+            t1.momentum[a]
+        );
+    }
 }
