@@ -2002,6 +2002,50 @@ mod tests {
     }
 
     #[test]
+    fn in_a_stream_the_fdm_gives_up_the_enthalpy_flux_the_transport_and_donors_carry() {
+        // The uniform stream, step by step after activation: the FDM
+        // cells the bridge owns lose exactly (E + p) u Δt A a step, the
+        // transport's E u Δt A (eqs 43–48) plus the pressure work p u Δt A
+        // that the donor cells, as particles of the MPM step (eqs 37–39),
+        // are to do on the MPM. The work they do is measured from their
+        // own energy change over the MPM step and reported in
+        // docs/physics/couple/bridge.md ("What the totals count").
+        let mut c = supersonic_stream();
+        let (mut transported, mut pressure_work, mut fdm_change) = (0.0, 0.0, 0.0);
+        let mut active_steps = 0;
+        for _ in 0..401 {
+            let dt = c.stable_dt().unwrap();
+            if !c.is_active() {
+                c.advance(dt).unwrap();
+                continue;
+            }
+            let (f0, tt0) = (fdm_owned_totals(&c), c.transport_totals());
+            c.mpm_step(dt).unwrap();
+            let donor = &c.inits[0];
+            pressure_work += -donor.stress[0] * donor.velocity[0] * dt * c.regions.face_area();
+            c.update_fictitious_cells().unwrap();
+            c.fdm.advance(dt).unwrap();
+            c.set_fictitious_values().unwrap();
+            c.transport(dt).unwrap();
+            c.time += dt;
+            c.steps += 1;
+            let tt = c.transport_totals();
+            transported += tt.into_mpm.energy - tt0.into_mpm.energy;
+            assert_eq!(tt.into_fdm.energy, tt0.into_fdm.energy, "no absorption");
+            fdm_change += fdm_owned_totals(&c).energy - f0.energy;
+            active_steps += 1;
+        }
+        assert!(active_steps >= 400);
+        let given = transported + pressure_work;
+        assert!(
+            (fdm_change + given).abs() <= 1e-12 * given,
+            "the FDM lost {} against {given}",
+            -fdm_change
+        );
+        assert!(pressure_work > 0.1 * transported);
+    }
+
+    #[test]
     fn the_totals_balance_a_stream_through_both_regions() {
         // The stream enters the FDM region through its flow-out face at
         // x = 0 and leaves the MPM region at x = 0.4 m: the bridge's
