@@ -100,6 +100,7 @@ pub(crate) struct CaseRun {
     pub(crate) stop: Option<String>,
     start: Instant,
     rss0: Option<f64>,
+    peak: CasePeak,
 }
 
 /// What [`CaseRun::finish`] measured.
@@ -121,7 +122,7 @@ impl CaseRun {
             .map_err(|e| anyhow!("{config} does not load: {e}"))?;
         std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
         // The case's own peak, not the process's so far.
-        reset_peak_resident();
+        let peak = CasePeak::start();
         let rss0 = resident_bytes();
         let start = Instant::now();
         let solver =
@@ -134,6 +135,7 @@ impl CaseRun {
             stop: None,
             start,
             rss0,
+            peak,
         })
     }
 
@@ -187,7 +189,7 @@ impl CaseRun {
             wall,
             split: self.solver.wall_split(),
             resident_growth,
-            peak_resident: peak_resident_bytes(),
+            peak_resident: self.peak.bytes(),
         })
     }
 }
@@ -226,17 +228,36 @@ pub(crate) fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
     sets
 }
 
-/// Resets this process's peak resident memory (`VmHWM`) to its current
-/// resident set (Linux: `5` into `/proc/self/clear_refs`), so that
-/// [`peak_resident_bytes`] gives the peak of what follows; false where the
-/// kernel does not allow it (the peak is then the process's so far).
-pub(crate) fn reset_peak_resident() -> bool {
-    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+/// The peak resident memory of one case run in this process.
+pub(crate) struct CasePeak {
+    reset: bool,
+}
+
+impl CasePeak {
+    /// Resets this process's peak resident memory (`VmHWM`) to its current
+    /// resident set (Linux: `5` into `/proc/self/clear_refs`), so that the
+    /// peak that follows is the case's.
+    pub(crate) fn start() -> Self {
+        Self {
+            reset: std::fs::write("/proc/self/clear_refs", "5").is_ok(),
+        }
+    }
+
+    /// The case's peak, bytes; `None` where the kernel refused the reset
+    /// (the process's peak so far would include the cases before it) or
+    /// gives no `VmHWM`.
+    pub(crate) fn bytes(&self) -> Option<f64> {
+        if self.reset {
+            peak_resident_bytes()
+        } else {
+            None
+        }
+    }
 }
 
 /// Peak resident memory of this process since the start or the last
-/// [`reset_peak_resident`], bytes (Linux `VmHWM`).
-pub(crate) fn peak_resident_bytes() -> Option<f64> {
+/// reset ([`CasePeak::start`]), bytes (Linux `VmHWM`).
+fn peak_resident_bytes() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

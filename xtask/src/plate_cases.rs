@@ -449,7 +449,7 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
          the centre's velocity (mean over the plate particles with x, y < one cell) is negative in two \
          samples running (4 steps apart) after it has moved 0.5 t; δ is the largest centre displacement. \
          Wall times on the shared 2-CPU machine; memory: growth of this process's resident set over the \
-         build and run, and its peak during the case (the process's peak reset at the build). FDM / MPM: the bridge's split of the wall time \
+         build and run, and its peak during the case (the process's peak reset at the build; — where the kernel refuses the reset). FDM / MPM: the bridge's split of the wall time \
          (`time_split.json`).\n"
     );
     let _ = writeln!(

@@ -608,7 +608,7 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
          top-layer concrete particles within 10 mm of the axis, every 5 steps; \
          impulse: its time integral over the run. Tolerance, set before the runs: within 20 % \
          of the test (250 / 300 mm) and of eq 67. Wall times on the shared 2-CPU machine under the other work's \
-         load; memory: growth of this process's resident set over the build and run, and its peak during the case (the process's peak reset at the build).\n"
+         load; memory: growth of this process's resident set over the build and run, and its peak during the case (the process's peak reset at the build; — where the kernel refuses the reset).\n"
     );
     let _ = writeln!(
         md,
