@@ -21,6 +21,11 @@
 //! once more with the paper's inflow rule (`min_particle_mass: 0`,
 //! `inflow_particle_volume: false`, `inflow_deposit: false`) for its cost. Each bridge run reports
 //! its FDM/MPM split of the wall time (`time_split.json`).
+//!
+//! The two gauges are numerical; a reference says which reads the blast
+//! right: the same detonation as a fine 1D cylindrical run (the remap's
+//! own program burn and mixture, at 1600 and 3200 cells to 0.2 m), its
+//! pressure at the gauges' 125 mm, with the same arrival and peak rules.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -28,6 +33,7 @@ use std::process::Command;
 
 use anyhow::{bail, Context, Result};
 use brisance::compose::{load_file, run, RunOptions};
+use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
@@ -44,6 +50,16 @@ const AMBIENT: f64 = 0.4 * 1.225 * 2.0685e5;
 /// blast wave's own peak, before the products and the slab's reflection
 /// reach the gauges.
 const PEAK_WINDOW: f64 = 3.0e-6;
+
+/// The remap's time (`--time` below): the zero of the 2D runs, s after
+/// initiation.
+const REMAP_TIME: f64 = 1.2e-5;
+
+/// Distance of both gauges from the charge's axis, m.
+const GAUGE_RADIUS: f64 = 0.125;
+
+/// Cells of the 1D reference runs (to 0.2 m: 125 and 62.5 µm).
+const REFERENCE_CELLS: [usize; 2] = [1600, 3200];
 
 /// The `brisance remap` arguments of `configs/blast2d.ron`'s header.
 const REMAP: [&str; 18] = [
@@ -279,6 +295,33 @@ fn oscillation(h: &History) -> Option<(f64, f64)> {
 }
 
 /// Makes the remap with `brisance remap` and returns its printed report.
+/// The pressure at [`GAUGE_RADIUS`] in a 1D cylindrical run of the
+/// remap's detonation (seed 001 §4.1: a 50 mm TNT charge, program burn,
+/// in air) on `cells` cells to 0.2 m: linear between the two cell centres
+/// around it, every step from [`REMAP_TIME`] until the blast has passed
+/// (10 µs after it), times after [`REMAP_TIME`].
+fn reference_1d(cells: usize) -> Result<History> {
+    let setup = DetonationSetup::tnt_in_air(Symmetry::Cylindrical, 0.05, 0.2, cells);
+    let mut run = RadialDetonation::new(setup)?;
+    let x = GAUGE_RADIUS / run.cell_size() - 0.5;
+    let (i, f) = (x.floor() as usize, x - x.floor());
+    let end = REMAP_TIME + 1.0e-5;
+    let mut h = History {
+        time: Vec::new(),
+        pressure: Vec::new(),
+    };
+    while run.time() < end {
+        let dt = run.stable_dt().min(end - run.time());
+        run.step(dt)?;
+        if run.time() >= REMAP_TIME {
+            h.time.push(run.time() - REMAP_TIME);
+            h.pressure
+                .push((1.0 - f) * run.state(i).2 + f * run.state(i + 1).2);
+        }
+    }
+    Ok(h)
+}
+
 fn make_remap(root: &Path) -> Result<String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
@@ -341,6 +384,12 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
         mpm.final_time * 1e6,
         mpm.wall_seconds
     );
+    let mut reference = Vec::new();
+    for cells in REFERENCE_CELLS {
+        let r = arrival_and_peak(&reference_1d(cells)?);
+        println!("  1D reference, {cells} cells: (arrival s, peak Pa) {r:?}");
+        reference.push((cells, r));
+    }
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -414,6 +463,46 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
             r.stop_reason.as_deref().unwrap_or("no reason given")
         );
     }
+    // The reference: the finest 1D run's blast at 125 mm.
+    let finest = reference.last().and_then(|(_, r)| *r);
+    let _ = writeln!(
+        md,
+        "\nReference: the same detonation as a 1D cylindrical run (`brisance remap`'s program burn and mixture, \
+         to r = 0.2 m), its pressure at r = {:.0} mm (linear between cell centres, every step), with the same \
+         arrival and peak rules. {}. Against the finest, each run's gauges:\n\n\
+         | run | gauge 1 arrival | gauge 2 arrival | gauge 1 peak | gauge 2 peak |\n|---|---:|---:|---:|---:|",
+        GAUGE_RADIUS * 1e3,
+        reference
+            .iter()
+            .map(|(cells, r)| match r {
+                Some((a, p)) => format!(
+                    "{cells} cells: arrival {:.3} µs, peak {:.3} MPa",
+                    a * 1e6,
+                    p * 1e-6
+                ),
+                None => format!("{cells} cells: no blast seen"),
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    if let Some((ta, tp)) = finest {
+        let dev = |x: Option<(f64, f64)>, k: usize| match x {
+            Some(v) if k == 0 => format!("{:+.2} %", pct(v.0, ta)),
+            Some(v) => format!("{:+.2} %", pct(v.1, tp)),
+            None => "—".into(),
+        };
+        for (r, (a, b)) in runs.iter().chain([&paper, &mpm]).zip(&measured) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} |",
+                r.label,
+                dev(*a, 0),
+                dev(*b, 0),
+                dev(*a, 1),
+                dev(*b, 1)
+            );
+        }
+    }
     let _ = writeln!(
         md,
         "\nOscillation after the blast peak (from {:.0} µs after the first sample above twice ambient to the end): \
@@ -473,6 +562,22 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
                 false,
             ),
         }
+    }
+    // The FDM region's blast (gauge 1, w = 5) against the reference.
+    if let (Some((ta, tp)), Some((a, _))) = (finest, measured.first()) {
+        let (da, dp) = a.map_or((f64::NAN, f64::NAN), |a| (pct(a.0, ta), pct(a.1, tp)));
+        report.target(
+            "E-BLAST2D w = 5 gauge 1 (FDM) arrival vs 1D reference",
+            format!("{da:+.2} %"),
+            "within 2 %",
+            da.abs() <= 2.0,
+        );
+        report.target(
+            "E-BLAST2D w = 5 gauge 1 (FDM) peak vs 1D reference",
+            format!("{dp:+.2} %"),
+            "within 5 %",
+            dp.abs() <= 5.0,
+        );
     }
     // Speed: the bridge (w = 5) against pure MPM over the same time.
     let both = runs[0].completed && mpm.completed;
