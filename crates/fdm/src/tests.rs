@@ -47,6 +47,49 @@ fn blast(layout: [usize; 3]) -> FdmSolver<IdealGas> {
     .unwrap()
 }
 
+/// A box from the origin to `upper` on `cells` (split into `layout`
+/// patches) holding the uniform state `s0`.
+fn uniform(
+    upper: [f64; 3],
+    cells: [usize; 3],
+    layout: [usize; 3],
+    boundaries: [FdmBoundary; 6],
+    s0: PrimitiveState,
+) -> FdmSolver<IdealGas> {
+    let level = Level::new([0.0; 3], upper, cells, layout, crate::sweep::GHOST).unwrap();
+    FdmSolver::new(gas(), level, boundaries, FdmOptions::default(), |_| s0).unwrap()
+}
+
+/// Mass and energy unchanged to 1e-13 of themselves, each momentum
+/// component to 1e-13 of `momentum_scale`.
+fn assert_conserved(
+    t0: brisance_core::ConservationTotals,
+    t1: brisance_core::ConservationTotals,
+    momentum_scale: f64,
+) {
+    let rel = |a: f64, b: f64| ((b - a) / a).abs();
+    assert!(
+        rel(t0.mass, t1.mass) < 1e-13,
+        "mass {} → {}",
+        t0.mass,
+        t1.mass
+    );
+    assert!(
+        rel(t0.energy, t1.energy) < 1e-13,
+        "energy {} → {}",
+        t0.energy,
+        t1.energy
+    );
+    for a in 0..3 {
+        assert!(
+            (t1.momentum[a] - t0.momentum[a]).abs() < 1e-13 * momentum_scale,
+            "momentum {a}: {} → {}",
+            t0.momentum[a],
+            t1.momentum[a]
+        );
+    }
+}
+
 fn run(solver: &mut impl Solver, steps: usize) {
     for _ in 0..steps {
         let dt = solver.stable_dt().unwrap();
@@ -101,23 +144,14 @@ fn fields_are_bit_identical_for_any_patch_split_and_thread_count() {
 
 #[test]
 fn a_uniform_moving_state_stays_exactly_uniform() {
-    let level = Level::new(
-        [0.0; 3],
+    let s0 = state(1.3, [0.3, -0.2, 0.1], 2.0);
+    let mut s = uniform(
         [1.0; 3],
         [8, 8, 8],
         [2, 1, 2],
-        crate::sweep::GHOST,
-    )
-    .unwrap();
-    let s0 = state(1.3, [0.3, -0.2, 0.1], 2.0);
-    let mut s = FdmSolver::new(
-        gas(),
-        level,
         [FdmBoundary::Periodic; 6],
-        FdmOptions::default(),
-        |_| s0,
-    )
-    .unwrap();
+        s0,
+    );
     run(&mut s, 5);
     let d = s
         .cell_data(&["density".into(), "velocity_y".into(), "pressure".into()])
@@ -160,20 +194,7 @@ fn periodic_domain_conserves_mass_momentum_and_energy_to_round_off() {
     .unwrap();
     let t0 = s.conservation_totals();
     run(&mut s, 40);
-    let t1 = s.conservation_totals();
-    assert!(
-        ((t1.mass - t0.mass) / t0.mass).abs() < 1e-13,
-        "mass {} → {}",
-        t0.mass,
-        t1.mass
-    );
-    assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
-    for a in 0..3 {
-        assert!(
-            (t1.momentum[a] - t0.momentum[a]).abs() < 1e-13 * t0.mass,
-            "momentum {a}"
-        );
-    }
+    assert_conserved(t0, s.conservation_totals(), t0.mass);
 }
 
 #[test]
@@ -467,25 +488,10 @@ fn conservative_fields_round_trip_across_patch_splits_and_bad_lengths_are_refuse
 /// is the flux times T times the face's area, in every variable.
 #[test]
 fn a_uniform_stream_books_its_face_fluxes_exactly() {
-    let (nx, ny) = (12, 5);
-    let level = Level::new(
-        [0.0; 3],
-        [1.2, 0.5, 0.1],
-        [nx, ny, 1],
-        [2, 1, 1],
-        crate::sweep::GHOST,
-    )
-    .unwrap();
     let (rho, u, v, p) = (1.3, 0.4, -0.1, 2.0);
     let s0 = state(rho, [u, v, 0.0], p);
-    let mut s = FdmSolver::new(
-        gas(),
-        level,
-        [FdmBoundary::Outflow; 6],
-        FdmOptions::default(),
-        |_| s0,
-    )
-    .unwrap();
+    let bcs = [FdmBoundary::Outflow; 6];
+    let mut s = uniform([1.2, 0.5, 0.1], [12, 5, 1], [2, 1, 1], bcs, s0);
     let mut t = 0.0;
     for _ in 0..7 {
         let dt = s.stable_dt().unwrap();
@@ -530,23 +536,15 @@ fn a_uniform_stream_books_its_face_fluxes_exactly() {
 /// the momentum booked at each wall is the pressure impulse p T A.
 #[test]
 fn a_reflective_wall_books_only_the_pressure_impulse() {
-    let level = Level::new(
-        [0.0; 3],
+    let p = 3.0;
+    let walls = [FdmBoundary::Reflective; 6];
+    let mut s = uniform(
         [1.0, 0.5, 0.1],
         [10, 5, 1],
         [1, 1, 1],
-        crate::sweep::GHOST,
-    )
-    .unwrap();
-    let p = 3.0;
-    let mut s = FdmSolver::new(
-        gas(),
-        level,
-        [FdmBoundary::Reflective; 6],
-        FdmOptions::default(),
-        |_| state(2.0, [0.0; 3], p),
-    )
-    .unwrap();
+        walls,
+        state(2.0, [0.0; 3], p),
+    );
     let mut t = 0.0;
     for _ in 0..5 {
         let dt = s.stable_dt().unwrap();
@@ -583,19 +581,5 @@ fn interior_plus_outflow_is_conserved_to_round_off() {
         i1.mass
     );
     assert!(((i1.energy - i0.energy) / i0.energy).abs() > 1e-3);
-    assert!(
-        ((t1.mass - t0.mass) / t0.mass).abs() < 1e-13,
-        "{} {}",
-        t0.mass,
-        t1.mass
-    );
-    assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
-    for a in 0..3 {
-        assert!(
-            (t1.momentum[a] - t0.momentum[a]).abs() < 1e-13 * (t0.mass + t0.energy),
-            "momentum {a}: {} → {}",
-            t0.momentum[a],
-            t1.momentum[a]
-        );
-    }
+    assert_conserved(t0, t1, t0.mass + t0.energy);
 }
