@@ -351,6 +351,9 @@ fn main() -> ExitCode {
                         s.relative_energy_change,
                         out_dir.display()
                     );
+                    if let Some(line) = outflow_line(&s) {
+                        println!("{line}");
+                    }
                     if let Some(line) = wall_split_line(&s.wall_split, s.wall_seconds) {
                         println!("{line}");
                     }
@@ -363,6 +366,21 @@ fn main() -> ExitCode {
             }
         }
     }
+}
+
+/// The summary's line on what left through the open boundaries, as
+/// fractions of the initial totals, e.g.
+/// `  left through open boundaries: mass 1.618e-2, energy 1.318e-1 of the initial`;
+/// `None` where the solver does not book it. The relative changes above
+/// already count it as kept.
+fn outflow_line(s: &brisance::io::RunSummary) -> Option<String> {
+    let o = s.outflow?;
+    let share = |part: f64, whole: f64| part / whole.abs();
+    Some(format!(
+        "  left through open boundaries: mass {:.3e}, energy {:.3e} of the initial",
+        share(o.mass, s.initial_totals.mass),
+        share(o.energy, s.initial_totals.energy)
+    ))
 }
 
 /// The summary's line on a coupled method's split of its wall time, e.g.
@@ -392,8 +410,43 @@ fn wall_split_line(parts: &[brisance::io::WallPart], wall_seconds: f64) -> Optio
 
 #[cfg(test)]
 mod tests {
-    use super::wall_split_line;
-    use brisance::io::WallPart;
+    use super::{outflow_line, wall_split_line};
+    use brisance::core::ConservationTotals;
+    use brisance::io::{RunSummary, WallPart};
+
+    #[test]
+    fn the_outflow_line_gives_shares_of_the_initial_totals() {
+        let totals = |mass, energy| ConservationTotals {
+            mass,
+            momentum: [0.0; 3],
+            energy,
+        };
+        let mut s = RunSummary {
+            scenario: "s".into(),
+            pipeline: "p".into(),
+            steps: 1,
+            final_time: 1.0,
+            wall_seconds: 1.0,
+            throughput: 1.0,
+            throughput_unit: "cell-updates/s".into(),
+            initial_totals: totals(4.0, -8.0),
+            final_totals: totals(4.0, -8.0),
+            relative_mass_change: 0.0,
+            relative_energy_change: 0.0,
+            threads: 1,
+            completed: true,
+            stop_reason: None,
+            outflow: None,
+            wall_split: Vec::new(),
+        };
+        assert_eq!(outflow_line(&s), None);
+        // 1 of 4 kg and 2 J of an initial −8 J (scaled by |E₀|).
+        s.outflow = Some(totals(1.0, 2.0));
+        assert_eq!(
+            outflow_line(&s).as_deref(),
+            Some("  left through open boundaries: mass 2.500e-1, energy 2.500e-1 of the initial")
+        );
+    }
 
     #[test]
     fn the_wall_split_line_names_each_part_with_its_share() {

@@ -327,6 +327,7 @@ impl Runner<'_> {
             threads: rayon::current_num_threads(),
             completed,
             stop_reason,
+            outflow: self.solver.outflow_totals(),
             wall_split: self
                 .solver
                 .wall_split()

@@ -80,6 +80,13 @@ pub trait Solver: Send {
         None
     }
 
+    /// What has left through the open boundaries since the start (a part
+    /// of [`Solver::conservation_totals`]), for the run summary; `None`
+    /// (the default) for a solver that does not book it.
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        None
+    }
+
     /// Wall-clock seconds spent so far in each named part of a method made
     /// of several (the FDM and the MPM of a bridge, for instance), for the
     /// run summary; empty (the default) for a method with one part.

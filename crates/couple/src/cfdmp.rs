@@ -1189,6 +1189,20 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
     }
 
     /// [`Cfdmp::split_seconds`] as the parts `fdm` and `mpm`.
+    /// The FDM's outflow through the faces of the cells it owns and the
+    /// particles that left the MPM grid: the open-boundary parts of
+    /// [`Solver::conservation_totals`].
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        let a = self.regions.axis;
+        let f = self.fdm.outflow_where(|_, cell| self.fdm_owns(cell[a]));
+        let m = self.mpm.outflow_totals();
+        Some(ConservationTotals {
+            mass: f.mass + m.mass,
+            momentum: std::array::from_fn(|d| f.momentum[d] + m.momentum[d]),
+            energy: f.energy + m.energy,
+        })
+    }
+
     fn wall_split(&self) -> Vec<(&'static str, f64)> {
         let (fdm, mpm) = self.split_seconds();
         vec![("fdm", fdm), ("mpm", mpm)]

@@ -781,6 +781,10 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         }
     }
 
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        Some(self.outflow())
+    }
+
     fn cell_field_names(&self) -> Vec<&'static str> {
         Self::field_names()
     }

@@ -42,6 +42,10 @@ pub struct RunSummary {
     pub completed: bool,
     /// Why the run stopped early, when it did.
     pub stop_reason: Option<String>,
+    /// What left through the open boundaries over the run (a part of
+    /// `final_totals`), where the solver books it.
+    #[serde(default)]
+    pub outflow: Option<ConservationTotals>,
     /// Wall seconds in each named part of a method made of several (e.g.
     /// `fdm` and `mpm` of the bridge); empty for a method with one part.
     #[serde(default)]
@@ -112,6 +116,11 @@ mod tests {
             threads: 2,
             completed: false,
             stop_reason: Some("wall-clock limit".to_string()),
+            outflow: Some(ConservationTotals {
+                mass: 0.25,
+                momentum: [1.0, 0.0, 0.0],
+                energy: 3.0e4,
+            }),
             wall_split: vec![
                 WallPart {
                     part: "fdm".to_string(),

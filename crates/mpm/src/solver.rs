@@ -1164,6 +1164,11 @@ impl Solver for MpmSolver {
         t
     }
 
+    /// The particles that left the grid, with their state when they left.
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        Some(self.outflow)
+    }
+
     fn cell_field_names(&self) -> Vec<&'static str> {
         CELL_FIELDS.to_vec()
     }
