@@ -82,7 +82,8 @@ pub trait Solver: Send {
 
     /// What has left through the open boundaries since the start (a part
     /// of [`Solver::conservation_totals`]), for the run summary; `None`
-    /// (the default) for a solver that does not book it.
+    /// (the default) for a solver that does not book it or has no open
+    /// boundary.
     fn outflow_totals(&self) -> Option<ConservationTotals> {
         None
     }

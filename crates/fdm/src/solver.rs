@@ -115,6 +115,9 @@ pub struct FdmSolver<E: GasLaw> {
     /// two other axes (lower axis fastest). Empty for a periodic face and
     /// for a face of an inactive axis, which no sweep crosses.
     outflow: [Vec<[f64; NVAR]>; 6],
+    /// Whether a face of an active axis lets gas out or in (flow-out or
+    /// fixed state), for the run summary's outflow line.
+    open: bool,
     time: f64,
     steps: u64,
 }
@@ -217,6 +220,10 @@ impl<E: GasLaw> FdmSolver<E> {
                 Vec::new()
             }
         });
+        let open = (0..6).any(|f| {
+            level.is_active(f / 2)
+                && matches!(boundaries[f], FdmBoundary::Outflow | FdmBoundary::Fixed(_))
+        });
         let mut fields = Vec::with_capacity(level.patches.len());
         for patch in &level.patches {
             let mut pf = PatchFields::zeros(patch, Self::NFIELDS);
@@ -262,6 +269,7 @@ impl<E: GasLaw> FdmSolver<E> {
             work_items: Vec::new(),
             options,
             outflow,
+            open,
             time: 0.0,
             steps: 0,
         })
@@ -781,8 +789,11 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         }
     }
 
+    /// [`FdmSolver::outflow`] where a face is open; `None` between walls
+    /// and periodic faces, where it is only a wall's pressure impulse and
+    /// round-off.
     fn outflow_totals(&self) -> Option<ConservationTotals> {
-        Some(self.outflow())
+        self.open.then(|| self.outflow())
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {

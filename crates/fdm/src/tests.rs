@@ -522,6 +522,8 @@ fn a_uniform_stream_books_its_face_fluxes_exactly() {
             o.mass
         );
     }
+    // The run summary reports it: the faces are open.
+    assert_eq!(s.outflow_totals(), Some(s.outflow()));
     // Interior plus outflow is the initial total.
     let total = s.conservation_totals();
     let mass = rho * 1.2 * 0.5 * 0.1;
@@ -551,6 +553,8 @@ fn a_reflective_wall_books_only_the_pressure_impulse() {
         s.advance(dt).unwrap();
         t += dt;
     }
+    // Between walls the run summary has no outflow line.
+    assert_eq!(s.outflow_totals(), None);
     for (face, area) in [(0, 0.05), (1, 0.05), (2, 0.1), (3, 0.1)] {
         let o = s.outflow_where(|f, _| f == face);
         assert_eq!(o.mass, 0.0, "face {face}");
