@@ -294,7 +294,6 @@ fn oscillation(h: &History) -> Option<(f64, f64)> {
     Some((tv / (span * 1e6) / peak, empty))
 }
 
-/// Makes the remap with `brisance remap` and returns its printed report.
 /// The pressure at [`GAUGE_RADIUS`] in a 1D cylindrical run of the
 /// remap's detonation (seed 001 §4.1: a 50 mm TNT charge, program burn,
 /// in air) on `cells` cells to 0.2 m: linear between the two cell centres
@@ -322,6 +321,7 @@ fn reference_1d(cells: usize) -> Result<History> {
     Ok(h)
 }
 
+/// Makes the remap with `brisance remap` and returns its printed report.
 fn make_remap(root: &Path) -> Result<String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)

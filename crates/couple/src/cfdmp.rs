@@ -1172,6 +1172,14 @@ impl<E: GasLaw> Cfdmp<E> {
 
     /// Whether FDM-grid cell index `i` along the split axis lies in the FDM
     /// region outside the MPM region (the donor cell and before).
+    /// What left through the domain faces of the FDM cells the bridge
+    /// owns ([`Cfdmp::fdm_owns`]); the fictitious cells' faces are the MPM
+    /// region's, which counts its own.
+    fn owned_fdm_outflow(&self) -> ConservationTotals {
+        let a = self.regions.axis;
+        self.fdm.outflow_where(|_, cell| self.fdm_owns(cell[a]))
+    }
+
     fn fdm_owns(&self, i: usize) -> bool {
         let donor = self.fdm_index(self.regions.donor_cell());
         match self.regions.mpm_side {
@@ -1188,21 +1196,17 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         "fdm-mpm"
     }
 
-    /// [`Cfdmp::split_seconds`] as the parts `fdm` and `mpm`.
     /// The FDM's outflow through the faces of the cells it owns and the
     /// particles that left the MPM grid: the open-boundary parts of
     /// [`Solver::conservation_totals`].
     fn outflow_totals(&self) -> Option<ConservationTotals> {
-        let a = self.regions.axis;
-        let f = self.fdm.outflow_where(|_, cell| self.fdm_owns(cell[a]));
+        let mut t = self.owned_fdm_outflow();
         let m = self.mpm.outflow_totals();
-        Some(ConservationTotals {
-            mass: f.mass + m.mass,
-            momentum: std::array::from_fn(|d| f.momentum[d] + m.momentum[d]),
-            energy: f.energy + m.energy,
-        })
+        book_parts(&mut t, m.mass, m.momentum, m.energy);
+        Some(t)
     }
 
+    /// [`Cfdmp::split_seconds`] as the parts `fdm` and `mpm`.
     fn wall_split(&self) -> Vec<(&'static str, f64)> {
         let (fdm, mpm) = self.split_seconds();
         vec![("fdm", fdm), ("mpm", mpm)]
@@ -1254,14 +1258,8 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             t.momentum[d] = t.momentum[d] * v + m.momentum[d];
         }
         t.energy = t.energy * v + m.energy;
-        // What left through the domain faces of the FDM cells it owns (the
-        // fictitious cells' faces are the MPM's, which counts its own).
-        let o = self.fdm.outflow_where(|_, cell| self.fdm_owns(cell[a]));
-        t.mass += o.mass;
-        for d in 0..3 {
-            t.momentum[d] += o.momentum[d];
-        }
-        t.energy += o.energy;
+        let o = self.owned_fdm_outflow();
+        book_parts(&mut t, o.mass, o.momentum, o.energy);
         // The inflow in transit (`Pending`).
         for q in &self.pending {
             t.mass += q.mass;

@@ -115,9 +115,6 @@ pub struct FdmSolver<E: GasLaw> {
     /// two other axes (lower axis fastest). Empty for a periodic face and
     /// for a face of an inactive axis, which no sweep crosses.
     outflow: [Vec<[f64; NVAR]>; 6],
-    /// Whether a face of an active axis lets gas out or in (flow-out or
-    /// fixed state), for the run summary's outflow line.
-    open: bool,
     time: f64,
     steps: u64,
 }
@@ -220,10 +217,6 @@ impl<E: GasLaw> FdmSolver<E> {
                 Vec::new()
             }
         });
-        let open = (0..6).any(|f| {
-            level.is_active(f / 2)
-                && matches!(boundaries[f], FdmBoundary::Outflow | FdmBoundary::Fixed(_))
-        });
         let mut fields = Vec::with_capacity(level.patches.len());
         for patch in &level.patches {
             let mut pf = PatchFields::zeros(patch, Self::NFIELDS);
@@ -269,7 +262,6 @@ impl<E: GasLaw> FdmSolver<E> {
             work_items: Vec::new(),
             options,
             outflow,
-            open,
             time: 0.0,
             steps: 0,
         })
@@ -793,7 +785,10 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     /// and periodic faces, where it is only a wall's pressure impulse and
     /// round-off.
     fn outflow_totals(&self) -> Option<ConservationTotals> {
-        self.open.then(|| self.outflow())
+        let open = self.bcs.faces.iter().enumerate().any(|(f, bc)| {
+            self.level.is_active(f / 2) && matches!(bc, FaceBc::Outflow | FaceBc::Fixed(_))
+        });
+        open.then(|| self.outflow())
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {

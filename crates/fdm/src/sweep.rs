@@ -154,12 +154,6 @@ unsafe impl Send for FaceOutflow {}
 unsafe impl Sync for FaceOutflow {}
 
 impl FaceOutflow {
-    /// Neither end is a domain face.
-    pub const NONE: Self = Self {
-        low: std::ptr::null_mut(),
-        high: std::ptr::null_mut(),
-    };
-
     /// The accumulators `n` lanes on, an end kept only where its flag is
     /// set (null otherwise).
     ///
