@@ -1,6 +1,8 @@
-//! Exact solutions the validation suite compares against, written from the physics.
+//! Exact solutions the validation suite compares against, written from the physics,
+//! and the empirical Kingery–Bulmash blast fits it compares free-air bursts with.
 
 pub mod cases;
+pub mod kingery_bulmash;
 pub mod riemann;
 pub mod smooth;
 pub mod taylor;
