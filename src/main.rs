@@ -357,6 +357,9 @@ fn main() -> ExitCode {
                     if let Some(line) = wall_split_line(&s.wall_split, s.wall_seconds) {
                         println!("{line}");
                     }
+                    for g in &s.safeguards {
+                        println!("{}", safeguard_line(g));
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
@@ -381,6 +384,20 @@ fn outflow_line(s: &brisance::io::RunSummary) -> Option<String> {
         share(o.mass, s.initial_totals.mass),
         share(o.energy, s.initial_totals.energy)
     ))
+}
+
+/// The summary's line on one safeguard, e.g.
+/// `  positivity limiter acted on 12 of 123456 faces (9.720e-5)`.
+fn safeguard_line(g: &brisance::io::Safeguard) -> String {
+    let share = if g.checked > 0 {
+        g.acted as f64 / g.checked as f64
+    } else {
+        0.0
+    };
+    format!(
+        "  {} acted on {} of {} {} ({share:.3e})",
+        g.name, g.acted, g.checked, g.unit
+    )
 }
 
 /// The summary's line on a coupled method's split of its wall time, e.g.
@@ -438,6 +455,7 @@ mod tests {
             stop_reason: None,
             outflow: None,
             wall_split: Vec::new(),
+            safeguards: Vec::new(),
         };
         assert_eq!(outflow_line(&s), None);
         // 1 of 4 kg and 2 J of an initial −8 J (scaled by |E₀|).

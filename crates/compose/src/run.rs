@@ -328,6 +328,17 @@ impl Runner<'_> {
             completed,
             stop_reason,
             outflow: self.solver.outflow_totals(),
+            safeguards: self
+                .solver
+                .safeguards()
+                .into_iter()
+                .map(|s| io::Safeguard {
+                    name: s.name.to_string(),
+                    unit: s.unit.to_string(),
+                    acted: s.acted,
+                    checked: s.checked,
+                })
+                .collect(),
             wall_split: self
                 .solver
                 .wall_split()

@@ -25,7 +25,8 @@ pub use eos::Eos;
 pub use error::{EosError, SolverError};
 pub use material::{Material, StressUpdate, StressUpdateInput};
 pub use output::{
-    AxisWindow, CellData, ConservationTotals, NodeData, ParticleData, UniformGridGeometry,
+    AxisWindow, CellData, ConservationTotals, NodeData, ParticleData, SafeguardUse,
+    UniformGridGeometry,
 };
 pub use reaction::{ReactionModel, ReactionState};
 pub use solver::Solver;

@@ -2,6 +2,21 @@
 
 use serde::{Deserialize, Serialize};
 
+/// How often a safeguard of a method acted: a limiter or fallback that
+/// replaces the method's own update where it would go wrong (the FDM's
+/// positivity limiter, for instance), for the run summary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SafeguardUse {
+    /// What acted, e.g. `positivity limiter`.
+    pub name: &'static str,
+    /// What it counts, plural, e.g. `faces`.
+    pub unit: &'static str,
+    /// How many of them it changed since the start.
+    pub acted: u64,
+    /// How many it checked since the start.
+    pub checked: u64,
+}
+
 /// Totals of the conserved quantities over the whole domain.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct ConservationTotals {

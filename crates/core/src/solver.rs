@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use crate::{CellData, ConservationTotals, NodeData, ParticleData, SolverError};
+use crate::{CellData, ConservationTotals, NodeData, ParticleData, SafeguardUse, SolverError};
 
 /// A numerical method, or a coupled pipeline of methods, that owns its state
 /// and advances it in time.
@@ -86,6 +86,13 @@ pub trait Solver: Send {
     /// boundary.
     fn outflow_totals(&self) -> Option<ConservationTotals> {
         None
+    }
+
+    /// How often each of the method's safeguards acted since the start (the
+    /// FDM's positivity limiter, for instance), for the run summary; empty
+    /// (the default) for a method without one.
+    fn safeguards(&self) -> Vec<SafeguardUse> {
+        Vec::new()
     }
 
     /// Wall-clock seconds spent so far in each named part of a method made

@@ -39,6 +39,6 @@ pub use csv::{
 pub use error::IoError;
 pub use number::format_f64;
 pub use pvd::PvdSeries;
-pub use summary::{read_summary, relative_change, write_summary, RunSummary, WallPart};
+pub use summary::{read_summary, relative_change, write_summary, RunSummary, Safeguard, WallPart};
 pub use vti::{write_vti, write_vti_nodes};
 pub use vtu::write_vtu;

@@ -50,6 +50,23 @@ pub struct RunSummary {
     /// `fdm` and `mpm` of the bridge); empty for a method with one part.
     #[serde(default)]
     pub wall_split: Vec<WallPart>,
+    /// How often each safeguard of the method acted (e.g. the FDM's
+    /// positivity limiter); empty for a method without one.
+    #[serde(default)]
+    pub safeguards: Vec<Safeguard>,
+}
+
+/// How often one safeguard of a method acted over a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Safeguard {
+    /// What acted, e.g. `positivity limiter`.
+    pub name: String,
+    /// What it counts, e.g. `faces`.
+    pub unit: String,
+    /// How many it changed.
+    pub acted: u64,
+    /// How many it checked.
+    pub checked: u64,
 }
 
 /// Wall-clock seconds one named part of a coupled method took.
@@ -121,6 +138,12 @@ mod tests {
                 momentum: [1.0, 0.0, 0.0],
                 energy: 3.0e4,
             }),
+            safeguards: vec![Safeguard {
+                name: "positivity limiter".to_string(),
+                unit: "faces".to_string(),
+                acted: 12,
+                checked: 123_456,
+            }],
             wall_split: vec![
                 WallPart {
                     part: "fdm".to_string(),
