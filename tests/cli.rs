@@ -437,7 +437,8 @@ fn run_writes_its_outputs_under_the_documented_names() {
 
 #[test]
 fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
-    // The halves fly apart at Mach ~ 50: the gap between them empties.
+    // The halves fly apart at Mach ~ 50: the gap between them empties. The
+    // scheme as printed (no face limiter) stops there.
     let text = replaced(
         &sod_text(),
         "(density: 1.0, pressure: 1.0)",
@@ -449,7 +450,16 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
         "(density: 0.125, velocity: (20, 0, 0), pressure: 0.01)",
     );
     let (_dir, config, out) = scenario(&text);
-    let output = run(&config, &out, &["--set", "domain.cells=(50,1,1)"]);
+    let output = run(
+        &config,
+        &out,
+        &[
+            "--set",
+            "domain.cells=(50,1,1)",
+            "--set",
+            "pipeline.limiter=Off",
+        ],
+    );
     let message = single_error_line(&output);
     assert!(
         message.contains("non-physical state at t = "),
@@ -471,6 +481,21 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
     assert!(out.join("lineouts").join("tube_0.csv").is_file());
     assert!(out.join("sod.pvd").is_file());
     assert!(out.join("conservation.csv").is_file());
+
+    // With the face limiter (the default) the same flow runs to its end,
+    // and the summary says how often the limiter kept positivity.
+    let out2 = out.with_file_name("out_limited");
+    let output = run(&config, &out2, &["--set", "domain.cells=(50,1,1)"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let s = read_json(&out2.join("summary.json"));
+    assert_eq!(s["completed"], Value::Bool(true), "{s}");
+    let guards = s["safeguards"].as_array().expect("safeguards");
+    let positivity = guards
+        .iter()
+        .find(|g| g["name"].as_str().is_some_and(|n| n.contains("positivity")))
+        .unwrap_or_else(|| panic!("no positivity entry: {s}"));
+    assert!(positivity["acted"].as_u64().unwrap() > 0, "{s}");
+    assert_eq!(positivity["unit"], "faces", "{s}");
 }
 
 // ---------------------------------------------------------------------------

@@ -358,6 +358,7 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
             ViscosityConfig::Constant(eta) => ArtificialViscosity::Constant(eta),
             ViscosityConfig::Off => ArtificialViscosity::Off,
         },
+        limiter: fdm.limiter.option(),
         ..Default::default()
     };
     let solver = FdmSolver::with_species(law, level, boundaries, options, init)

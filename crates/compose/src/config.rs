@@ -278,6 +278,34 @@ pub struct FdmConfig {
     /// Artificial viscosity (seed 001 eqs 3–5).
     #[serde(default)]
     pub viscosity: ViscosityConfig,
+    /// The face limiter of the Lax–Wendroff step (docs/physics/fdm.md,
+    /// "Face limiter"): `Full` (the default), `Positivity` or `Off`.
+    #[serde(default)]
+    pub limiter: LimiterConfig,
+}
+
+/// The face limiter of the FDM's Lax–Wendroff step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum LimiterConfig {
+    /// Positivity everywhere and the local density bounds at shocks.
+    #[default]
+    Full,
+    /// Positivity only.
+    Positivity,
+    /// None: the scheme of seed 001 as printed, which stops at a
+    /// non-physical state.
+    Off,
+}
+
+impl LimiterConfig {
+    /// The solver option.
+    pub fn option(self) -> brisance_fdm::FaceLimiter {
+        match self {
+            Self::Full => brisance_fdm::FaceLimiter::Full,
+            Self::Positivity => brisance_fdm::FaceLimiter::Positivity,
+            Self::Off => brisance_fdm::FaceLimiter::Off,
+        }
+    }
 }
 
 /// Artificial viscosity law.

@@ -257,10 +257,12 @@ impl<E: GasLaw> Cfdmp<E> {
         let h = fg.spacing[a];
         // The products stream through the FDM region's outflow faces and
         // its fictitious cells at up to Mach 10 (internal energy a few per
-        // cent of the total): the Lax–Wendroff sweep takes the Rusanov flux
-        // where its update would turn e negative (docs/physics/couple/bridge.md).
+        // cent of the total): the sweep's face limiter must keep e positive
+        // there (docs/physics/couple/bridge.md), so it is never off.
         let mut fdm = fdm;
-        fdm.set_positivity_fallback(true);
+        if !fdm.limiter().positivity() {
+            fdm.set_limiter(brisance_fdm::FaceLimiter::Positivity);
+        }
         let mpm_shift = ((fg.origin[a] - mg.origin[a]) / h).round() as isize;
         let mut s = Self {
             regions,
@@ -1204,6 +1206,11 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         let m = self.mpm.outflow_totals();
         book_parts(&mut t, m.mass, m.momentum, m.energy);
         Some(t)
+    }
+
+    /// The FDM's positivity limiter.
+    fn safeguards(&self) -> Vec<brisance_core::SafeguardUse> {
+        self.fdm.safeguards()
     }
 
     /// [`Cfdmp::split_seconds`] as the parts `fdm` and `mpm`.

@@ -699,7 +699,7 @@ mod remapped_run {
 
     /// The remapped E-BLAST2D state (BRISANCE_REMAP = path of a remap.bin)
     /// run by the FDM alone on its grid with outflow faces and the
-    /// positivity fallback the bridge uses, to 30 µs (or BRISANCE_END
+    /// face limiter the bridge uses, to 30 µs (or BRISANCE_END
     /// seconds).
     #[test]
     #[ignore = "needs a remap file from `brisance remap`; run by hand"]
@@ -725,10 +725,7 @@ mod remapped_run {
             gas,
             level,
             [FdmBoundary::Outflow; 6],
-            FdmOptions {
-                positivity_fallback: true,
-                ..Default::default()
-            },
+            FdmOptions::default(),
             |_| ambient,
         )
         .unwrap();

@@ -19,12 +19,14 @@
 
 pub mod detonation;
 pub mod gas;
+pub mod limiter;
 pub mod solver;
 pub mod state;
 pub mod sweep;
 pub mod viscosity;
 
 pub use gas::{GasLaw, ProductsInAir};
+pub use limiter::FaceLimiter;
 pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver};
 pub use state::PrimitiveState;
 pub use viscosity::ArtificialViscosity;

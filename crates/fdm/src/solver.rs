@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use brisance_core::{CellData, ConservationTotals, Solver, SolverError};
+use brisance_core::{CellData, ConservationTotals, SafeguardUse, Solver, SolverError};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     PatchFields,
@@ -12,11 +12,14 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::gas::GasLaw;
+use crate::limiter::FaceLimiter;
 use crate::state::{
     specific_internal_energy, PrimitiveState, CONSERVATIVE_NAMES, ENERGY, MOM, NVAR, RHO, SPECIES,
     SPECIES_NAME,
 };
-use crate::sweep::{sweep_slab, FaceOutflow, PatchPtrs, SlabShape, GHOST};
+use crate::sweep::{
+    sweep_slab, FaceOutflow, LimiterPass, PatchPtrs, SlabOutcome, SlabShape, GHOST,
+};
 use crate::viscosity::ArtificialViscosity;
 
 /// Why the FDM solver cannot be built.
@@ -41,13 +44,15 @@ pub struct FdmOptions {
     pub viscosity: ArtificialViscosity,
     /// Smallest time step before the run is stopped as collapsed, s.
     pub min_dt: f64,
-    /// Positivity fallback of the sweep: a cell whose Lax–Wendroff update
-    /// would leave a non-positive density or internal energy is updated
-    /// with the local Lax–Friedrichs (Rusanov) flux at both its faces
-    /// instead (conservative, first order there only; the FDM–MPM bridge
-    /// turns it on, `docs/physics/couple/bridge.md`). Off by default: the
-    /// scheme of seed 001 as printed, which stops at such a cell.
-    pub positivity_fallback: bool,
+    /// The face limiter of the sweep ([`FaceLimiter`], `Full` by
+    /// default): at a face where the Lax–Wendroff update would leave a
+    /// non-positive density or internal energy, or, at a shock, a density
+    /// outside its neighbours' range, the flux is limited towards the
+    /// local Lax–Friedrichs (Rusanov) flux (conservative, first order
+    /// there only; `docs/physics/fdm.md`, "Face limiter"). Where it never
+    /// acts the results are the bits of the scheme without it. `Off`: the
+    /// scheme of seed 001 as printed, which stops at a non-physical state.
+    pub limiter: FaceLimiter,
 }
 
 impl Default for FdmOptions {
@@ -56,7 +61,7 @@ impl Default for FdmOptions {
             cfl: 0.8,
             viscosity: ArtificialViscosity::Adaptive,
             min_dt: 1e-14,
-            positivity_fallback: false,
+            limiter: FaceLimiter::Full,
         }
     }
 }
@@ -83,6 +88,15 @@ struct SavedState {
     cells: [usize; 3],
     fields: Vec<Vec<f64>>,
     outflow: [Vec<[f64; NVAR]>; 6],
+    limiter: LimiterCount,
+}
+
+/// Faces swept and faces whose flux the face limiter changed (for
+/// positivity, for the density bounds at a shock), since the start.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+struct LimiterCount {
+    faces: u64,
+    limited: [u64; 2],
 }
 
 /// x lines per work item of an x sweep.
@@ -106,8 +120,12 @@ pub struct FdmSolver<E: GasLaw> {
     bcs: BoundaryConditions,
     fields: Vec<PatchFields>,
     exchange: InProcessExchange,
-    /// Reused list of (patch, slab, pointers) work items of a sweep.
-    work_items: Vec<(usize, usize, usize, PatchPtrs)>,
+    /// The second buffer a sweep writes into (same shapes as `fields`);
+    /// the two are swapped after each sweep.
+    back: Vec<PatchFields>,
+    /// Reused list of (patch, slab, chunk, state, second buffer) work items
+    /// of a sweep.
+    work_items: Vec<(usize, usize, usize, PatchPtrs, PatchPtrs)>,
     options: FdmOptions,
     /// What has left through each domain face since the start, per face
     /// cell, in the flow variables per unit cell volume ([`FaceOutflow`]);
@@ -115,6 +133,11 @@ pub struct FdmSolver<E: GasLaw> {
     /// two other axes (lower axis fastest). Empty for a periodic face and
     /// for a face of an inactive axis, which no sweep crosses.
     outflow: [Vec<[f64; NVAR]>; 6],
+    /// What crossed each domain face in the current sweep attempt, added to
+    /// `outflow` when the sweep is kept (same shapes).
+    outflow_sweep: [Vec<[f64; NVAR]>; 6],
+    /// How often the face limiter acted.
+    limited: LimiterCount,
     time: f64,
     steps: u64,
 }
@@ -257,11 +280,14 @@ impl<E: GasLaw> FdmSolver<E> {
             level,
             set,
             bcs,
+            back: fields.clone(),
             fields,
             exchange: InProcessExchange::new(),
             work_items: Vec::new(),
             options,
+            outflow_sweep: outflow.clone(),
             outflow,
+            limited: LimiterCount::default(),
             time: 0.0,
             steps: 0,
         })
@@ -277,10 +303,14 @@ impl<E: GasLaw> FdmSolver<E> {
         self.steps
     }
 
-    /// Turns the positivity fallback of the sweep on or off
-    /// ([`FdmOptions::positivity_fallback`]).
-    pub fn set_positivity_fallback(&mut self, on: bool) {
-        self.options.positivity_fallback = on;
+    /// The face limiter of the sweep ([`FdmOptions::limiter`]).
+    pub fn limiter(&self) -> FaceLimiter {
+        self.options.limiter
+    }
+
+    /// Sets the face limiter of the sweep ([`FdmOptions::limiter`]).
+    pub fn set_limiter(&mut self, limiter: FaceLimiter) {
+        self.options.limiter = limiter;
     }
 
     /// The gas law.
@@ -340,13 +370,67 @@ impl<E: GasLaw> FdmSolver<E> {
     }
 
     /// One directional operator L_axis(Δt/2) on every patch (seed 001 eq 6
-    /// factor), after filling the ghost layers along `axis`.
+    /// factor), after filling the ghost layers along `axis`. The update is
+    /// written into the second buffer, so the sweep can be taken again: with
+    /// the face limiter on, the first attempt keeps only the density bounds
+    /// at shocks and checks that every update stays positive; if one cell
+    /// anywhere does not, the whole sweep is taken again with the limiter
+    /// keeping positivity at every face (`docs/physics/fdm.md`, "Face
+    /// limiter"). The choice is the same whatever the patch split or thread
+    /// count (a cell fails or not), and a sweep that needs no positivity
+    /// limiting costs one vectorised check.
     fn sweep(&mut self, axis: usize, dt_sweep: f64) -> Result<(), SolverError> {
         self.exchange
             .fill_axis(&self.level, &self.set, &self.bcs, &mut self.fields, axis);
         let lambda = dt_sweep / self.level.geometry.spacing[axis];
+        let limiter = self.options.limiter;
+        let first = if limiter.positivity() {
+            LimiterPass::First {
+                bounds: limiter.shock_bounds(),
+            }
+        } else {
+            LimiterPass::Off
+        };
+        let mut outcome = self.sweep_attempt(axis, lambda, first);
+        if !outcome.physical {
+            return Err(
+                self.non_physical_error(&format!("during the {} sweep", ["x", "y", "z"][axis]))
+            );
+        }
+        if !outcome.positive {
+            let full = LimiterPass::Full {
+                bounds: limiter.shock_bounds(),
+            };
+            outcome = self.sweep_attempt(axis, lambda, full);
+        }
+        // The second buffer holds the result: make it the state, and book
+        // what crossed the domain faces.
+        for (front, back) in self.fields.iter_mut().zip(self.back.iter_mut()) {
+            std::mem::swap(&mut front.data, &mut back.data);
+        }
+        for f in [2 * axis, 2 * axis + 1] {
+            for (acc, add) in self.outflow[f].iter_mut().zip(&self.outflow_sweep[f]) {
+                for (a, b) in acc.iter_mut().zip(add) {
+                    *a += b;
+                }
+            }
+        }
+        // Faces swept: (n_axis + 1) per line, over the lines across.
+        let cells = self.level.geometry.cells;
+        let lines = face_cells(cells, axis) as u64;
+        self.limited.faces += lines * (cells[axis] as u64 + 1);
+        for (total, n) in self.limited.limited.iter_mut().zip(outcome.limited_faces) {
+            *total += n;
+        }
+        Ok(())
+    }
+
+    /// One attempt at the sweep along `axis` with λ = Δt_s/Δx and the face
+    /// limiter's `pass`: reads the state, writes the second buffer and, in
+    /// the sweep's accumulators (cleared first), what crosses the domain
+    /// faces.
+    fn sweep_attempt(&mut self, axis: usize, lambda: f64, pass: LimiterPass) -> SlabOutcome {
         let (eos, visc) = (&self.eos, self.options.viscosity);
-        let fallback = self.options.positivity_fallback;
         // Work items: (patch, slab, chunk). x and y sweeps slab by
         // k-planes, z sweeps by j-planes; within a slab, an x sweep's lines
         // are taken X_LINES at a time and a y or z sweep's columns
@@ -364,17 +448,18 @@ impl<E: GasLaw> FdmSolver<E> {
         // The list is rebuilt in place, so a warmed-up step allocates nothing.
         let mut items = std::mem::take(&mut self.work_items);
         items.clear();
-        for (id, f) in self.fields.iter_mut().enumerate() {
-            let ptrs = PatchPtrs::new(&mut f.data);
+        for (id, (f, b)) in self.fields.iter_mut().zip(self.back.iter_mut()).enumerate() {
+            let (ptrs, out) = (PatchPtrs::new(&mut f.data), PatchPtrs::new(&mut b.data));
             let size = self.level.patches[id].size;
             let n = size[slab_axis];
             let chunks = size[across].div_ceil(chunk);
-            items.extend((0..n).flat_map(|s| (0..chunks).map(move |c| (id, s, c, ptrs))));
+            items.extend((0..n).flat_map(|s| (0..chunks).map(move |c| (id, s, c, ptrs, out))));
         }
         let level = &self.level;
         let cells = level.geometry.cells;
         let [low, high] = [2 * axis, 2 * axis + 1].map(|f| {
-            let v = &mut self.outflow[f];
+            let v = &mut self.outflow_sweep[f];
+            v.fill([0.0; NVAR]);
             if v.is_empty() {
                 std::ptr::null_mut()
             } else {
@@ -382,9 +467,9 @@ impl<E: GasLaw> FdmSolver<E> {
             }
         });
         let faces = FaceOutflow { low, high };
-        let all_ok = items
+        let outcome = items
             .par_iter()
-            .map(|&(id, slab, c, ptrs)| {
+            .map(|&(id, slab, c, ptrs, out)| {
                 let p = &level.patches[id];
                 let (g, d, st) = (p.ghost, p.dims(), p.strides());
                 let lo = c * chunk;
@@ -410,6 +495,7 @@ impl<E: GasLaw> FdmSolver<E> {
                         stride_a: 1,
                         base: 0,
                         width: 0,
+                        at_low,
                     },
                     1 => SlabShape {
                         dims_a: d[1],
@@ -417,6 +503,7 @@ impl<E: GasLaw> FdmSolver<E> {
                         stride_a: st[1],
                         base: p.local_index([g[0] + lo, 0, g[2] + slab]),
                         width: hi - lo,
+                        at_low,
                     },
                     _ => SlabShape {
                         dims_a: d[2],
@@ -424,30 +511,32 @@ impl<E: GasLaw> FdmSolver<E> {
                         stride_a: st[2],
                         base: p.local_index([g[0] + lo, g[1] + slab, 0]),
                         width: hi - lo,
+                        at_low,
                     },
                 };
                 SCRATCH.with(|s| {
                     let mut scratch = s.borrow_mut();
                     if axis == 0 {
-                        let mut ok = true;
+                        let mut ok = SlabOutcome::NONE;
                         for j in lo..hi {
                             let line = SlabShape {
                                 base: p.local_index([0, g[1] + j, g[2] + slab]),
                                 ..shape
                             };
                             // SAFETY: x lines of distinct (j, k) are disjoint.
-                            ok &= unsafe {
+                            ok = ok.and(unsafe {
                                 sweep_slab::<0, E>(
                                     eos,
                                     visc,
-                                    fallback,
+                                    pass,
                                     lambda,
                                     &ptrs,
+                                    &out,
                                     &line,
                                     outflow(j - lo),
                                     &mut scratch,
                                 )
-                            };
+                            });
                         }
                         ok
                     } else if axis == 1 {
@@ -456,9 +545,10 @@ impl<E: GasLaw> FdmSolver<E> {
                             sweep_slab::<1, E>(
                                 eos,
                                 visc,
-                                fallback,
+                                pass,
                                 lambda,
                                 &ptrs,
+                                &out,
                                 &shape,
                                 outflow(0),
                                 &mut scratch,
@@ -470,9 +560,10 @@ impl<E: GasLaw> FdmSolver<E> {
                             sweep_slab::<2, E>(
                                 eos,
                                 visc,
-                                fallback,
+                                pass,
                                 lambda,
                                 &ptrs,
+                                &out,
                                 &shape,
                                 outflow(0),
                                 &mut scratch,
@@ -481,13 +572,9 @@ impl<E: GasLaw> FdmSolver<E> {
                     }
                 })
             })
-            .reduce(|| true, |a, b| a & b);
+            .reduce(|| SlabOutcome::NONE, SlabOutcome::and);
         self.work_items = items;
-        if all_ok {
-            Ok(())
-        } else {
-            Err(self.non_physical_error(&format!("during the {} sweep", ["x", "y", "z"][axis])))
-        }
+        outcome
     }
 
     /// Mass (kg), momentum (kg m/s) and energy (J) of the interior cells,
@@ -791,6 +878,29 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         open.then(|| self.outflow())
     }
 
+    /// The faces the face limiter changed ([`FdmOptions::limiter`]), for
+    /// positivity and for the density bounds at a shock, when it is on.
+    fn safeguards(&self) -> Vec<SafeguardUse> {
+        let l = self.options.limiter;
+        let count = |name, acted| SafeguardUse {
+            name,
+            unit: "faces",
+            acted,
+            checked: self.limited.faces,
+        };
+        let mut out = Vec::new();
+        if l.positivity() {
+            out.push(count("face limiter, positivity", self.limited.limited[0]));
+        }
+        if l.shock_bounds() {
+            out.push(count(
+                "face limiter, density bounds at shocks",
+                self.limited.limited[1],
+            ));
+        }
+        out
+    }
+
     fn cell_field_names(&self) -> Vec<&'static str> {
         Self::field_names()
     }
@@ -832,6 +942,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             cells: self.level.geometry.cells,
             fields,
             outflow: self.outflow.clone(),
+            limiter: self.limited,
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -859,6 +970,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         }
         self.level.scatter_fields(&mut self.fields, &saved.fields);
         self.outflow = saved.outflow;
+        self.limited = saved.limiter;
         self.time = saved.time;
         self.steps = saved.steps;
         Ok(())

@@ -30,6 +30,9 @@
 //! (`SPECIES` is a constant), so their arithmetic is unchanged.
 
 use crate::gas::GasLaw;
+use crate::limiter::{
+    admissible, density_range, density_share, face_share, is_compressive, FaceLimiter, FlowState,
+};
 use crate::state::{NVAR, SPECIES};
 use crate::viscosity::{adaptive_eta, face_mu, switch_theta, ArtificialViscosity};
 
@@ -39,10 +42,11 @@ pub const GHOST: usize = 4;
 /// Most conservative variables per cell: the five flow variables and ρY.
 const NMAX: usize = NVAR + 1;
 
-/// Number of scratch arrays per slab for `nf` variables: θ, ν, μ, Ū (nf),
-/// F(Ū) (nf), F* (nf).
+/// Number of scratch arrays per slab for `nf` variables: θ, ν, μ, p,
+/// Ū (nf), F(Ū) (nf), F* (nf), and the face limiter's work arrays
+/// (velocity, 2ρ·ρe, U^L (nf), λF^L (nf)).
 const fn nscratch(nf: usize) -> usize {
-    3 + 3 * nf
+    6 + 5 * nf
 }
 
 /// Raw pointers to the five (six with a species) conservative arrays of one
@@ -126,9 +130,21 @@ pub struct SlabShape {
     /// Cells per call across the sweep (y/z sweeps: interior x cells; x
     /// sweep: 0, meaning a single line).
     pub width: usize,
+    /// Whether the slab's low end along the sweep is the domain's low
+    /// face: the face limiter counts the faces of the slab's interior
+    /// cells on their high side, and the low face only then, so every
+    /// face is counted once whatever the patch split.
+    pub at_low: bool,
 }
 
 impl SlabShape {
+    /// Whether the face on the high side of scratch row `i / width`
+    /// counts as this slab's (see [`Self::at_low`]).
+    #[inline]
+    fn owns_face(&self, i: usize) -> bool {
+        self.at_low || i / self.width.max(1) >= self.ghost
+    }
+
     fn scratch_len(&self) -> usize {
         self.dims_a * self.width.max(1)
     }
@@ -307,8 +323,9 @@ fn flux<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> ([f64
     (f, ry * vn)
 }
 
-/// Pass 1 on one row: the switch θ (eq 4) and the acoustic Courant number
-/// ν = λc per cell; returns whether every state was physical.
+/// Pass 1 on one row: the switch θ (eq 4), the acoustic Courant number
+/// ν = λc and the pressure per cell; returns whether every state was
+/// physical.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 fn cells_kernel<G: GasLaw>(
@@ -324,8 +341,10 @@ fn cells_kernel<G: GasLaw>(
     ry: [&[f64]; 3],
     th: &mut [f64],
     nv: &mut [f64],
+    pr: &mut [f64],
 ) -> bool {
     let n = th.len();
+    let pr = &mut pr[..n];
     let (rho_m, rho_p, r, mx, my, mz, en, nv) = (
         &rho_m[..n],
         &rho_p[..n],
@@ -357,6 +376,7 @@ fn cells_kernel<G: GasLaw>(
             theta
         };
         nv[k] = lambda * c;
+        pr[k] = p;
     }
     ok
 }
@@ -639,154 +659,790 @@ fn predictor_kernel<const AXIS: usize, G: GasLaw>(
     }
 }
 
-/// |u_d| + c of a conservative state (c = 0 where the state gives none).
-#[inline]
-fn signal_speed<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> f64 {
-    let inv = 1.0 / u[0];
-    let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
-    let y = if G::SPECIES { ry * inv } else { 0.0 };
-    let c = eos.gas_sound_speed(u[0], e, y);
-    (u[1 + AXIS] * inv).abs() + if c.is_finite() { c } else { 0.0 }
+/// Face limiter, per cell: the velocity along the sweep u_d = (ρu_d)/ρ.
+#[inline(never)]
+fn velocity_kernel(rho: &[f64], m: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let (rho, m) = (&rho[..n], &m[..n]);
+    for k in 0..n {
+        out[k] = m[k] / rho[k];
+    }
 }
 
-/// Whether the update U = Ū − λ(F*₊ − F*₋) of scratch cell `i` (faces
-/// `i − ss` and `i`) keeps ρ > 0 and e > 0.
-#[inline]
-fn update_is_positive(
-    lambda: f64,
-    ubar: &[&mut [f64]; NMAX],
-    fstar: &[&mut [f64]; NMAX],
-    i: usize,
-    ss: usize,
-) -> bool {
-    let u: [f64; NVAR] = per_var!(|f| ubar[f][i] - lambda * (fstar[f][i] - fstar[f][i - ss]));
-    state_is_positive(u)
-}
-
-/// ρ > 0 and a positive, finite internal energy per volume
-/// E − ½|ρu|²/ρ (e > 0 and e < ∞, so NaN fails); `&` rather than `&&` so
-/// that a loop over states vectorises.
+/// λf(U) along `AXIS` of one cell (flow variables and ρY) and its
+/// λ(|u_d| + c), from its velocity along the sweep `v`, pressure `p` and
+/// ν = λc: the one expression both limiter paths use, so they agree to the
+/// bit.
 #[inline(always)]
-fn state_is_positive(u: [f64; NVAR]) -> bool {
-    let e = u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) / u[0];
-    (u[0] > 0.0) & (e > 0.0) & (e < f64::INFINITY)
+fn cell_flux<const AXIS: usize>(
+    lambda: f64,
+    u: [f64; NMAX],
+    v: f64,
+    p: f64,
+    nu: f64,
+) -> ([f64; NMAX], f64) {
+    let lv = lambda * v;
+    let mut f = [0.0; NMAX];
+    f[0] = lambda * u[1 + AXIS];
+    f[1] = u[1] * lv;
+    f[2] = u[2] * lv;
+    f[3] = u[3] * lv;
+    f[1 + AXIS] += lambda * p;
+    f[4] = (u[4] + p) * lv;
+    f[SPECIES] = u[SPECIES] * lv;
+    (f, lv.abs() + nu)
 }
 
-/// Whether every interior update of the sweep keeps ρ > 0 and a positive,
-/// finite internal energy: [`update_is_positive`] for all scratch cells
-/// `lo..hi` at once. The interior rows are one contiguous range of the
-/// scratch (row a at a·ss), so this is one flat loop the compiler
-/// vectorises; the cell-by-cell rounds run only when it finds a cell that
-/// fails (rare: near a strong rarefaction into vacuum).
-fn all_updates_positive(
+/// The Rusanov flux ½(fa + fb) − ½ s (ub − ua) of one variable (scaled
+/// by λ, as its arguments), shared by both limiter paths.
+#[inline(always)]
+fn rusanov_face(fa: f64, fb: f64, ua: f64, ub: f64, s: f64) -> f64 {
+    0.5 * (fa + fb) - 0.5 * s * (ub - ua)
+}
+
+/// Face limiter, per cell of one row: the flux of U along the sweep
+/// scaled by λ, λf(U) (flow variables and ρY), and the cell's λ(|u_d| + c)
+/// (velocities, ν = λc and p of the cells from the passes before). Each
+/// output slice a separate argument, so the loop vectorises.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn cell_flux_kernel<const AXIS: usize, G: GasLaw>(
     lambda: f64,
-    ubar: &[&mut [f64]; NMAX],
-    fstar: &[&mut [f64]; NMAX],
-    lo: usize,
-    hi: usize,
-    ss: usize,
-) -> bool {
-    let n = hi - lo;
-    let u: [&[f64]; NVAR] = per_var!(|f| &ubar[f][lo..hi]);
-    let fp: [&[f64]; NVAR] = per_var!(|f| &fstar[f][lo..hi]);
-    let fm: [&[f64]; NVAR] = per_var!(|f| &fstar[f][lo - ss..hi - ss]);
+    u: [&[f64]; NMAX],
+    cells: [&[f64]; 3],
+    o0: &mut [f64],
+    o1: &mut [f64],
+    o2: &mut [f64],
+    o3: &mut [f64],
+    o4: &mut [f64],
+    o5: &mut [f64],
+    speed: &mut [f64],
+) {
+    let n = o0.len();
+    let [a0, a1, a2, a3, a4, a5] = u;
+    let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
+    let (a5, o5) = (opt::<G>(a5, n), opt_mut::<G>(o5, n));
+    let [v, p, nu] = cells;
+    let (v, p, nu) = (&v[..n], &p[..n], &nu[..n]);
+    let (o1, o2, o3, o4, speed) = (
+        &mut o1[..n],
+        &mut o2[..n],
+        &mut o3[..n],
+        &mut o4[..n],
+        &mut speed[..n],
+    );
+    for k in 0..n {
+        let y = if G::SPECIES { a5[k] } else { 0.0 };
+        let (f, sp) = cell_flux::<AXIS>(
+            lambda,
+            [a0[k], a1[k], a2[k], a3[k], a4[k], y],
+            v[k],
+            p[k],
+            nu[k],
+        );
+        o0[k] = f[0];
+        o1[k] = f[1];
+        o2[k] = f[2];
+        o3[k] = f[3];
+        o4[k] = f[4];
+        if G::SPECIES {
+            o5[k] = f[SPECIES];
+        }
+        speed[k] = sp;
+    }
+}
+
+/// Face limiter, per face a + ½ of one row: the Rusanov flux of U scaled
+/// by λ, λF^L = ½(λf(U_a) + λf(U_{a+1})) − ½ λs (U_{a+1} − U_a) with
+/// λs = max(λ(|u_d| + c)) of the two cells ([`cell_flux_kernel`]).
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn rusanov_kernel<G: GasLaw>(
+    u0: [&[f64]; NMAX],
+    up: [&[f64]; NMAX],
+    f0: [&[f64]; NMAX],
+    fp: [&[f64]; NMAX],
+    s0: &[f64],
+    sp: &[f64],
+    o0: &mut [f64],
+    o1: &mut [f64],
+    o2: &mut [f64],
+    o3: &mut [f64],
+    o4: &mut [f64],
+    o5: &mut [f64],
+) {
+    let n = o0.len();
+    let [a0, a1, a2, a3, a4, a5] = u0;
+    let [b0, b1, b2, b3, b4, b5] = up;
+    let [c0, c1, c2, c3, c4, c5] = f0;
+    let [d0, d1, d2, d3, d4, d5] = fp;
+    let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
+    let (b0, b1, b2, b3, b4) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n], &b4[..n]);
+    let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
+    let (d0, d1, d2, d3, d4) = (&d0[..n], &d1[..n], &d2[..n], &d3[..n], &d4[..n]);
+    let [a5, b5, c5, d5] = [a5, b5, c5, d5].map(|x| opt::<G>(x, n));
+    let o5 = opt_mut::<G>(o5, n);
+    let (s0, sp) = (&s0[..n], &sp[..n]);
+    let (o1, o2, o3, o4) = (&mut o1[..n], &mut o2[..n], &mut o3[..n], &mut o4[..n]);
+    for k in 0..n {
+        let s = if s0[k] > sp[k] { s0[k] } else { sp[k] };
+        let face = |fa: f64, fb: f64, ua: f64, ub: f64| rusanov_face(fa, fb, ua, ub, s);
+        o0[k] = face(c0[k], d0[k], a0[k], b0[k]);
+        o1[k] = face(c1[k], d1[k], a1[k], b1[k]);
+        o2[k] = face(c2[k], d2[k], a2[k], b2[k]);
+        o3[k] = face(c3[k], d3[k], a3[k], b3[k]);
+        o4[k] = face(c4[k], d4[k], a4[k], b4[k]);
+        if G::SPECIES {
+            o5[k] = face(c5[k], d5[k], a5[k], b5[k]);
+        }
+    }
+}
+
+/// Face limiter, per cell a of one row: the first-order update
+/// U^L = U − (λF^L_{a+½} − λF^L_{a−½}) (flow variables and ρY) and its
+/// 2ρ·ρe ([`FlowState::twice_rho_internal`]).
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn low_order_kernel<G: GasLaw>(
+    u: [&[f64]; NMAX],
+    fm: [&[f64]; NMAX],
+    fp: [&[f64]; NMAX],
+    o0: &mut [f64],
+    o1: &mut [f64],
+    o2: &mut [f64],
+    o3: &mut [f64],
+    o4: &mut [f64],
+    o5: &mut [f64],
+    q2: &mut [f64],
+) {
+    let n = o0.len();
+    let [u0, u1, u2, u3, u4, u5] = u;
+    let [m0, m1, m2, m3, m4, m5] = fm;
+    let [p0, p1, p2, p3, p4, p5] = fp;
+    let (u0, u1, u2, u3, u4) = (&u0[..n], &u1[..n], &u2[..n], &u3[..n], &u4[..n]);
+    let (m0, m1, m2, m3, m4) = (&m0[..n], &m1[..n], &m2[..n], &m3[..n], &m4[..n]);
+    let (p0, p1, p2, p3, p4) = (&p0[..n], &p1[..n], &p2[..n], &p3[..n], &p4[..n]);
+    let (u5, m5, p5, o5) = (
+        opt::<G>(u5, n),
+        opt::<G>(m5, n),
+        opt::<G>(p5, n),
+        opt_mut::<G>(o5, n),
+    );
+    let (o1, o2, o3, o4, q2) = (
+        &mut o1[..n],
+        &mut o2[..n],
+        &mut o3[..n],
+        &mut o4[..n],
+        &mut q2[..n],
+    );
+    for k in 0..n {
+        let w = FlowState {
+            density: u0[k] - (p0[k] - m0[k]),
+            momentum: [
+                u1[k] - (p1[k] - m1[k]),
+                u2[k] - (p2[k] - m2[k]),
+                u3[k] - (p3[k] - m3[k]),
+            ],
+            energy: u4[k] - (p4[k] - m4[k]),
+        };
+        o0[k] = w.density;
+        o1[k] = w.momentum[0];
+        o2[k] = w.momentum[1];
+        o3[k] = w.momentum[2];
+        o4[k] = w.energy;
+        q2[k] = w.twice_rho_internal();
+        if G::SPECIES {
+            o5[k] = u5[k] - (p5[k] - m5[k]);
+        }
+    }
+}
+
+/// What the face limiter reads at face a + ½ of one row: the cells' U
+/// (rows a, a + 1), their first-order states U^L and 2ρ·ρe of those
+/// (rows a, a + 1), λF* and λF^L of the face, μ, and the window of
+/// densities and velocities along the sweep (rows a − 1 … a + 2) and
+/// ν = λc (rows a, a + 1).
+#[derive(Clone, Copy)]
+struct FaceRows<'a> {
+    u0: [&'a [f64]; NMAX],
+    up: [&'a [f64]; NMAX],
+    low0: [&'a [f64]; NMAX],
+    lowp: [&'a [f64]; NMAX],
+    q0: &'a [f64],
+    qp: &'a [f64],
+    flow: [&'a [f64]; NMAX],
+    mu: &'a [f64],
+    rho: [&'a [f64]; 4],
+    vel: [&'a [f64]; 4],
+    nu: [&'a [f64]; 2],
+}
+
+/// The antidiffusive change λA = λF* − μ(U_{a+1} − U_a) − λF^L of
+/// variable `f` at face `k`, with `lf` = λF* there.
+#[inline(always)]
+fn antidiffusive(r: &FaceRows, lf: f64, f: usize, k: usize) -> f64 {
+    lf - r.mu[k] * (r.up[f][k] - r.u0[f][k]) - r.flow[f][k]
+}
+
+/// The states of face `k`: the left and right first-order states and the
+/// antidiffusive change λA ([`antidiffusive`]), flow variables only; `lf`
+/// holds λF* of the face.
+#[inline(always)]
+fn face_flow(r: &FaceRows, lf: [f64; NVAR], k: usize) -> (FlowState, FlowState, FlowState) {
+    let at = |rows: &[&[f64]; NMAX], f: usize| rows[f][k];
+    let anti = |f: usize| antidiffusive(r, lf[f], f, k);
+    let flow = |g: &dyn Fn(usize) -> f64| FlowState {
+        density: g(0),
+        momentum: [g(1), g(2), g(3)],
+        energy: g(4),
+    };
+    (
+        flow(&|f| at(&r.low0, f)),
+        flow(&|f| at(&r.lowp, f)),
+        flow(&anti),
+    )
+}
+
+/// Face limiter, per face of one row: 0 in `flags` where the face keeps
+/// the scheme's flux (both half states U^L_a − 2λA and U^L_{a+1} + 2λA
+/// admissible and, at a compressive face with `bounds`, within the local
+/// density ranges; F* of the row's faces given),
+/// 1 where it needs limiting. Every slice is cut to the row's length
+/// first, and the choice of bounds is a constant, so the loop runs free of
+/// bounds checks and branches and vectorises.
+#[inline(never)]
+fn flag_faces<const BOUNDS: bool>(
+    r: &FaceRows,
+    fstar: [&[f64]; NMAX],
+    lambda: f64,
+    flags: &mut [f64],
+) {
+    let n = r.mu.len();
+    let flags = &mut flags[..n];
+    #[inline(always)]
+    fn cut5(a: [&[f64]; NMAX], n: usize) -> [&[f64]; NVAR] {
+        [&a[0][..n], &a[1][..n], &a[2][..n], &a[3][..n], &a[4][..n]]
+    }
+    let cut5 = |a| cut5(a, n);
+    let (u0, up, l0, lp, fs, fl) = (
+        cut5(r.u0),
+        cut5(r.up),
+        cut5(r.low0),
+        cut5(r.lowp),
+        cut5(fstar),
+        cut5(r.flow),
+    );
+    let (q0, qp, mu) = (&r.q0[..n], &r.qp[..n], &r.mu[..n]);
+    let rho = [
+        &r.rho[0][..n],
+        &r.rho[1][..n],
+        &r.rho[2][..n],
+        &r.rho[3][..n],
+    ];
+    let vel = [
+        &r.vel[0][..n],
+        &r.vel[1][..n],
+        &r.vel[2][..n],
+        &r.vel[3][..n],
+    ];
+    let (n0, np) = (&r.nu[0][..n], &r.nu[1][..n]);
+    for k in 0..n {
+        let a: [f64; NVAR] =
+            per_var!(|f| lambda * fs[f][k] - mu[k] * (up[f][k] - u0[f][k]) - fl[f][k]);
+        let flow = |v: [f64; NVAR]| FlowState {
+            density: v[0],
+            momentum: [v[1], v[2], v[3]],
+            energy: v[4],
+        };
+        let hl = flow(per_var!(|f| l0[f][k] - 2.0 * a[f]));
+        let hr = flow(per_var!(|f| lp[f][k] + 2.0 * a[f]));
+        let positive = admissible(&hl, l0[0][k], q0[k]) & admissible(&hr, lp[0][k], qp[k]);
+        if BOUNDS {
+            let (lo_l, hi_l) = density_range([rho[0][k], rho[1][k], rho[2][k]], l0[0][k]);
+            let (lo_r, hi_r) = density_range([rho[1][k], rho[2][k], rho[3][k]], lp[0][k]);
+            let in_range = (hl.density >= lo_l)
+                & (hl.density <= hi_l)
+                & (hr.density >= lo_r)
+                & (hr.density <= hi_r);
+            let nu = if n0[k] < np[k] { n0[k] } else { np[k] };
+            let v = [vel[0][k], vel[1][k], vel[2][k], vel[3][k]].map(|x| lambda * x);
+            flags[k] = f64::from(u8::from(!(positive & (in_range | !is_compressive(v, nu)))));
+        } else {
+            flags[k] = f64::from(u8::from(!positive));
+        }
+    }
+}
+
+/// The largest share ℓ of the antidiffusive flux at face `k` that keeps
+/// its half states within bounds (positivity by [`face_share`], the
+/// density range by [`density_share`] at a compressive face), and the
+/// share positivity alone allows.
+fn face_limit(r: &FaceRows, lf: [f64; NVAR], lambda: f64, bounds: bool, k: usize) -> (f64, f64) {
+    let (l, rt, a) = face_flow(r, lf, k);
+    let positive = face_share(&l, 2.0, &rt, 2.0, &a);
+    let nu = r.nu[0][k].min(r.nu[1][k]);
+    if !(bounds && is_compressive(r.vel.map(|v| lambda * v[k]), nu)) {
+        return (positive, positive);
+    }
+    let (lo_l, hi_l) = density_range([r.rho[0][k], r.rho[1][k], r.rho[2][k]], l.density);
+    let (lo_r, hi_r) = density_range([r.rho[1][k], r.rho[2][k], r.rho[3][k]], rt.density);
+    let share = positive
+        .min(density_share(l.density, -2.0 * a.density, lo_l, hi_l))
+        .min(density_share(rt.density, 2.0 * a.density, lo_r, hi_r));
+    (share, positive)
+}
+
+/// The face limiter between passes 4 and 5 ([`crate::limiter`]): at every
+/// face whose half states are not within bounds, the Richtmyer flux
+/// becomes F* − (1 − ℓ) A with the largest share ℓ that keeps them within
+/// bounds, so the update there is the Rusanov one plus ℓ times the
+/// antidiffusive flux. The Rusanov fluxes are of U (the state before the
+/// smoothing), with p and c from pass 1. Every face's ℓ depends only on
+/// its two cells' stencils, which lie within the ghost layers, so
+/// neighbouring patches compute the same ℓ at a face they share. Faces
+/// within bounds keep their flux exactly. Returns the number of faces
+/// changed for positivity and for the density bounds (a face counts once,
+/// under positivity when that bound binds).
+///
+/// Scratch: `work` holds, per row, the velocity along the sweep, 2ρ·ρe of
+/// U^L, U^L (nf arrays) and λF^L (nf arrays), each `n` long; the U^L and
+/// 2ρ·ρe arrays hold λf(U) and λ(|u_d| + c) per cell until λF^L is formed.
+///
+/// # Safety
+/// As [`sweep_slab`].
+#[allow(clippy::too_many_arguments)]
+unsafe fn face_limiter<const AXIS: usize, G: GasLaw>(
+    limiter: FaceLimiter,
+    lambda: f64,
+    fields: &PatchPtrs,
+    shape: &SlabShape,
+    pres: &[f64],
+    nu: &[f64],
+    mu: &[f64],
+    marks: &mut [f64],
+    work: &mut [f64],
+    fstar: &mut [&mut [f64]; NMAX],
+) -> [u64; 2] {
+    let n = shape.scratch_len();
+    let g = shape.ghost;
+    let hi = shape.dims_a - g;
+    let (sa, ss) = (shape.stride_a, shape.width.max(1));
+    let nf = if G::SPECIES { NMAX } else { NVAR };
+    let bounds = limiter.shock_bounds();
+    let (vel, rest) = work.split_at_mut(n);
+    let (q2, rest) = rest.split_at_mut(n);
+    let (low, rest) = rest.split_at_mut(nf * n);
+    let mut low = split_vars(low, n);
+    let mut flow = split_vars(&mut rest[..nf * n], n);
+    let urow = |fo: usize, len: usize| -> [&[f64]; NMAX] {
+        [
+            fields.row(0, fo, len),
+            fields.row(1, fo, len),
+            fields.row(2, fo, len),
+            fields.row(3, fo, len),
+            fields.row(4, fo, len),
+            fields.species_row::<G>(fo, len),
+        ]
+    };
+    // Velocities along the sweep, rows a ∈ [g − 2, hi + 2).
+    for_rows(shape, g - 2, hi + 2, |fo, so, len| {
+        let (r, m) = (fields.row(0, fo, len), fields.row(1 + AXIS, fo, len));
+        velocity_kernel(r, m, &mut vel[so..][..len]);
+    });
+    // λf(U) (in the U^L arrays) and λ(|u_d| + c) (in the 2ρ·ρe array) per
+    // cell, rows a ∈ [g − 2, hi + 2), then λF^L at faces a + ½, a ∈ [g − 2, hi].
+    for_rows(shape, g - 2, hi + 2, |fo, so, len| {
+        let cells = [&vel[so..][..len], &pres[so..][..len], &nu[so..][..len]];
+        let [o0, o1, o2, o3, o4, o5] = rows_at_mut::<G>(&mut low, so, len);
+        let speed = &mut q2[so..][..len];
+        cell_flux_kernel::<AXIS, G>(lambda, urow(fo, len), cells, o0, o1, o2, o3, o4, o5, speed);
+    });
+    for_rows(shape, g - 2, hi + 1, |fo, so, len| {
+        let [o0, o1, o2, o3, o4, o5] = rows_at_mut::<G>(&mut flow, so, len);
+        rusanov_kernel::<G>(
+            urow(fo, len),
+            urow(fo + sa, len),
+            rows_at::<G>(&low, so, len),
+            rows_at::<G>(&low, so + ss, len),
+            &q2[so..][..len],
+            &q2[so + ss..][..len],
+            o0,
+            o1,
+            o2,
+            o3,
+            o4,
+            o5,
+        );
+    });
+    // U^L and its 2ρ·ρe, cells a ∈ [g − 1, hi].
+    for_rows(shape, g - 1, hi + 1, |fo, so, len| {
+        let [o0, o1, o2, o3, o4, o5] = rows_at_mut::<G>(&mut low, so, len);
+        low_order_kernel::<G>(
+            urow(fo, len),
+            rows_at::<G>(&flow, so - ss, len),
+            rows_at::<G>(&flow, so, len),
+            o0,
+            o1,
+            o2,
+            o3,
+            o4,
+            o5,
+            &mut q2[so..][..len],
+        );
+    });
+    let mut changed = [0u64; 2];
+    // Faces a + ½, a ∈ [g − 1, hi).
+    for_rows(shape, g - 1, hi, |fo, so, len| {
+        let r = FaceRows {
+            u0: urow(fo, len),
+            up: urow(fo + sa, len),
+            low0: rows_at::<G>(&low, so, len),
+            lowp: rows_at::<G>(&low, so + ss, len),
+            q0: &q2[so..][..len],
+            qp: &q2[so + ss..][..len],
+            flow: rows_at::<G>(&flow, so, len),
+            mu: &mu[so..][..len],
+            rho: [fo - sa, fo, fo + sa, fo + 2 * sa].map(|o| fields.row(0, o, len)),
+            vel: [so - ss, so, so + ss, so + 2 * ss].map(|o| &vel[o..][..len]),
+            nu: [&nu[so..][..len], &nu[so + ss..][..len]],
+        };
+        let flags = &mut marks[so..][..len];
+        let fs = rows_at::<G>(fstar, so, len);
+        if bounds {
+            flag_faces::<true>(&r, fs, lambda, flags);
+        } else {
+            flag_faces::<false>(&r, fs, lambda, flags);
+        }
+        if flags.iter().all(|&f| f == 0.0) {
+            return;
+        }
+        for k in 0..len {
+            if flags[k] == 0.0 {
+                continue;
+            }
+            let lf: [f64; NVAR] = per_var!(|f| lambda * fstar[f][so + k]);
+            let (share, positive) = face_limit(&r, lf, lambda, bounds, k);
+            if share < 1.0 {
+                for (f, star) in fstar.iter_mut().enumerate().take(nf) {
+                    let a = antidiffusive(&r, lambda * star[so + k], f, k);
+                    star[so + k] -= (1.0 - share) * a / lambda;
+                }
+                if shape.owns_face(so + k) {
+                    changed[usize::from(share < positive)] += 1;
+                }
+            }
+        }
+    });
+    changed
+}
+
+/// Face limiter, first attempt, per cell of one row: the density flux
+/// λρu_d and λ(|u_d| + c), as [`cell_flux`] forms them.
+#[inline(never)]
+fn density_flux_kernel<const AXIS: usize>(
+    lambda: f64,
+    m: &[f64],
+    vel: &[f64],
+    nu: &[f64],
+    flux: &mut [f64],
+    speed: &mut [f64],
+) {
+    let n = flux.len();
+    let (m, vel, nu, speed) = (&m[..n], &vel[..n], &nu[..n], &mut speed[..n]);
+    for k in 0..n {
+        flux[k] = lambda * m[k];
+        speed[k] = (lambda * vel[k]).abs() + nu[k];
+    }
+}
+
+/// Face limiter, first attempt, per face of one row: the Rusanov density
+/// flux λF^L_ρ ([`rusanov_face`]) from the cells' λρu_d and λ(|u_d| + c).
+#[inline(never)]
+fn density_rusanov_kernel(
+    r0: &[f64],
+    rp: &[f64],
+    f0: &[f64],
+    fp: &[f64],
+    s0: &[f64],
+    sp: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (r0, rp, f0, fp, s0, sp) = (&r0[..n], &rp[..n], &f0[..n], &fp[..n], &s0[..n], &sp[..n]);
+    for k in 0..n {
+        let s = if s0[k] > sp[k] { s0[k] } else { sp[k] };
+        out[k] = rusanov_face(f0[k], fp[k], r0[k], rp[k], s);
+    }
+}
+
+/// Face limiter, first attempt, per cell of one row: the first-order
+/// density U^L_ρ = ρ − (λF^L_ρ,+ − λF^L_ρ,−), as [`low_order_kernel`]
+/// forms it.
+#[inline(never)]
+fn density_low_kernel(rho: &[f64], fm: &[f64], fp: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let (rho, fm, fp) = (&rho[..n], &fm[..n], &fp[..n]);
+    for k in 0..n {
+        out[k] = rho[k] - (fp[k] - fm[k]);
+    }
+}
+
+/// Face limiter, first attempt, per face of one row: 1 in `flags` where
+/// the face is compressive and a half-state density U^L_ρ ∓ 2λA_ρ leaves
+/// its local range, 0 elsewhere; the same arithmetic as [`flag_faces`]
+/// with bounds, on the density alone.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn flag_density_faces(
+    lambda: f64,
+    rho: [&[f64]; 4],
+    vel: [&[f64]; 4],
+    nu: [&[f64]; 2],
+    low: [&[f64]; 2],
+    fstar: &[f64],
+    flow: &[f64],
+    mu: &[f64],
+    flags: &mut [f64],
+) {
+    let n = flags.len();
+    let rho = [&rho[0][..n], &rho[1][..n], &rho[2][..n], &rho[3][..n]];
+    let vel = [&vel[0][..n], &vel[1][..n], &vel[2][..n], &vel[3][..n]];
+    let (n0, np, l0, lp) = (&nu[0][..n], &nu[1][..n], &low[0][..n], &low[1][..n]);
+    let (fstar, flow, mu) = (&fstar[..n], &flow[..n], &mu[..n]);
+    for k in 0..n {
+        let a = lambda * fstar[k] - mu[k] * (rho[2][k] - rho[1][k]) - flow[k];
+        let (hl, hr) = (l0[k] - 2.0 * a, lp[k] + 2.0 * a);
+        let (lo_l, hi_l) = density_range([rho[0][k], rho[1][k], rho[2][k]], l0[k]);
+        let (lo_r, hi_r) = density_range([rho[1][k], rho[2][k], rho[3][k]], lp[k]);
+        let in_range = (hl >= lo_l) & (hl <= hi_l) & (hr >= lo_r) & (hr <= hi_r);
+        let nu = if n0[k] < np[k] { n0[k] } else { np[k] };
+        let v = [vel[0][k], vel[1][k], vel[2][k], vel[3][k]].map(|x| lambda * x);
+        flags[k] = f64::from(u8::from(!in_range & is_compressive(v, nu)));
+    }
+}
+
+/// The first attempt's face limiter: the local density bounds at
+/// compressive faces alone ([`crate::limiter`]), computed on the density
+/// only, with the Rusanov flux of every variable formed at the faces that
+/// need it. At such a face it gives the same share ℓ as [`face_limiter`]
+/// does where positivity does not bind, to the bit, so a sweep that needs
+/// no positivity limiting gives the same result either way. Returns the
+/// number of faces changed.
+///
+/// # Safety
+/// As [`sweep_slab`].
+#[allow(clippy::too_many_arguments)]
+unsafe fn bounds_limiter<const AXIS: usize, G: GasLaw>(
+    lambda: f64,
+    fields: &PatchPtrs,
+    shape: &SlabShape,
+    pres: &[f64],
+    nu: &[f64],
+    mu: &[f64],
+    marks: &mut [f64],
+    work: &mut [f64],
+    fstar: &mut [&mut [f64]; NMAX],
+) -> u64 {
+    let n = shape.scratch_len();
+    let g = shape.ghost;
+    let hi = shape.dims_a - g;
+    let (sa, ss) = (shape.stride_a, shape.width.max(1));
+    let nf = if G::SPECIES { NMAX } else { NVAR };
+    let (vel, rest) = work.split_at_mut(n);
+    let (dflux, rest) = rest.split_at_mut(n);
+    let (speed, rest) = rest.split_at_mut(n);
+    let (flow, rest) = rest.split_at_mut(n);
+    let low = &mut rest[..n];
+    // Velocities, λρu_d and λ(|u_d| + c), rows a ∈ [g − 2, hi + 2).
+    for_rows(shape, g - 2, hi + 2, |fo, so, len| {
+        let (r, m) = (fields.row(0, fo, len), fields.row(1 + AXIS, fo, len));
+        velocity_kernel(r, m, &mut vel[so..][..len]);
+        density_flux_kernel::<AXIS>(
+            lambda,
+            m,
+            &vel[so..][..len],
+            &nu[so..][..len],
+            &mut dflux[so..][..len],
+            &mut speed[so..][..len],
+        );
+    });
+    // λF^L_ρ at faces a + ½, a ∈ [g − 2, hi]; U^L_ρ of cells [g − 1, hi].
+    for_rows(shape, g - 2, hi + 1, |fo, so, len| {
+        let (r0, rp) = (fields.row(0, fo, len), fields.row(0, fo + sa, len));
+        let (f0, fp) = (&dflux[so..][..len], &dflux[so + ss..][..len]);
+        let (s0, sp) = (&speed[so..][..len], &speed[so + ss..][..len]);
+        density_rusanov_kernel(r0, rp, f0, fp, s0, sp, &mut flow[so..][..len]);
+    });
+    for_rows(shape, g - 1, hi + 1, |fo, so, len| {
+        let r = fields.row(0, fo, len);
+        let (fm, fp) = (&flow[so - ss..][..len], &flow[so..][..len]);
+        density_low_kernel(r, fm, fp, &mut low[so..][..len]);
+    });
+    let mut changed = 0;
+    for_rows(shape, g - 1, hi, |fo, so, len| {
+        let rho = [fo - sa, fo, fo + sa, fo + 2 * sa].map(|o| fields.row(0, o, len));
+        let flags = &mut marks[so..][..len];
+        flag_density_faces(
+            lambda,
+            rho,
+            [so - ss, so, so + ss, so + 2 * ss].map(|o| &vel[o..][..len]),
+            [&nu[so..][..len], &nu[so + ss..][..len]],
+            [&low[so..][..len], &low[so + ss..][..len]],
+            &fstar[0][so..][..len],
+            &flow[so..][..len],
+            &mu[so..][..len],
+            flags,
+        );
+        if flags.iter().all(|&f| f == 0.0) {
+            return;
+        }
+        for k in 0..len {
+            if flags[k] == 0.0 {
+                continue;
+            }
+            let (i, j) = (so + k, so + ss + k);
+            let cell = |fo: usize, c: usize| {
+                let u: [f64; NMAX] = std::array::from_fn(|f| {
+                    if f < nf {
+                        fields.row(f, fo, len)[k]
+                    } else {
+                        0.0
+                    }
+                });
+                let (fl, _) = cell_flux::<AXIS>(lambda, u, vel[c], pres[c], nu[c]);
+                (u, fl)
+            };
+            let ((ua, fa), (ub, fb)) = (cell(fo, i), cell(fo + sa, j));
+            let s = if speed[i] > speed[j] {
+                speed[i]
+            } else {
+                speed[j]
+            };
+            let a_rho = lambda * fstar[0][i] - mu[i] * (ub[0] - ua[0]) - flow[i];
+            let (lo_l, hi_l) = density_range([rho[0][k], rho[1][k], rho[2][k]], low[i]);
+            let (lo_r, hi_r) = density_range([rho[1][k], rho[2][k], rho[3][k]], low[j]);
+            let share = 1.0f64
+                .min(density_share(low[i], -2.0 * a_rho, lo_l, hi_l))
+                .min(density_share(low[j], 2.0 * a_rho, lo_r, hi_r));
+            if share < 1.0 {
+                for (f, star) in fstar.iter_mut().enumerate().take(nf) {
+                    let fl = rusanov_face(fa[f], fb[f], ua[f], ub[f], s);
+                    let a = lambda * star[i] - mu[i] * (ub[f] - ua[f]) - fl;
+                    star[i] -= (1.0 - share) * a / lambda;
+                }
+                if shape.owns_face(i) {
+                    changed += 1;
+                }
+            }
+        }
+    });
+    changed
+}
+
+/// Whether every state of one written row keeps ρ > 0 and a positive,
+/// finite internal energy (2ρE − |ρu|² > 0, division-free); a flat loop
+/// the compiler vectorises.
+#[inline(never)]
+fn row_is_positive(r: &[f64], mx: &[f64], my: &[f64], mz: &[f64], en: &[f64]) -> bool {
+    let n = r.len();
+    let (mx, my, mz, en) = (&mx[..n], &my[..n], &mz[..n], &en[..n]);
     let mut ok = true;
     for k in 0..n {
-        ok &= state_is_positive(per_var!(|f| u[f][k] - lambda * (fp[f][k] - fm[f][k])));
+        let q2 = 2.0 * r[k] * en[k] - (mx[k] * mx[k] + my[k] * my[k] + mz[k] * mz[k]);
+        ok &= (r[k] > 0.0) & (q2 > 0.0) & (q2 < f64::INFINITY);
     }
     ok
 }
 
-/// The positivity fallback between passes 4 and 5: for every interior
-/// cell whose Lax–Wendroff update would leave ρ ≤ 0 or e ≤ 0 (internal
-/// energy per volume), the Richtmyer fluxes F* at both its faces are
-/// replaced by the local Lax–Friedrichs (Rusanov) flux of the smoothed
-/// states, F = ½(F(Ū_L) + F(Ū_R)) − ½ s (Ū_R − Ū_L), s = max(|u_d| + c)
-/// of the two (Rusanov 1961; Toro, *Riemann Solvers*, 3rd ed., §10.5.1),
-/// positivity preserving for λ s ≤ 1 (Perthame & Shu, Numer. Math. 73,
-/// 1996). A face is shared, so the update stays conservative; a neighbour
-/// whose update the new face flux spoils is caught by the next of up to
-/// three rounds. Cells whose update is positive keep the second-order
-/// fluxes, so the scheme is unchanged wherever it is well.
-fn positivity_fallback<const AXIS: usize, G: GasLaw>(
-    eos: &G,
-    lambda: f64,
-    shape: &SlabShape,
-    ubar: &[&mut [f64]; NMAX],
-    fbar: &[&mut [f64]; NMAX],
-    fstar: &mut [&mut [f64]; NMAX],
-) {
-    let g = shape.ghost;
-    let hi = shape.dims_a - g;
-    let lanes = shape.width.max(1);
-    let ss = lanes;
-    let nf = if G::SPECIES { NMAX } else { NVAR };
-    if all_updates_positive(lambda, ubar, fstar, g * ss, hi * ss, ss) {
-        return;
-    }
-    let state = |i: usize| -> ([f64; NVAR], f64) {
-        let u: [f64; NVAR] = per_var!(|f| ubar[f][i]);
-        (u, if G::SPECIES { ubar[SPECIES][i] } else { 0.0 })
-    };
-    for _round in 0..3 {
-        let mut changed = false;
-        for a in g..hi {
-            for j in 0..lanes {
-                let i = a * ss + j;
-                if update_is_positive(lambda, ubar, fstar, i, ss) {
-                    continue;
-                }
-                // Faces a − ½ (left cell i − ss) and a + ½ (left cell i).
-                for left in [i - ss, i] {
-                    let right = left + ss;
-                    let (ul, yl) = state(left);
-                    let (ur, yr) = state(right);
-                    let s = signal_speed::<AXIS, G>(eos, ul, yl)
-                        .max(signal_speed::<AXIS, G>(eos, ur, yr));
-                    for f in 0..nf {
-                        fstar[f][left] = 0.5 * (fbar[f][left] + fbar[f][right])
-                            - 0.5 * s * (ubar[f][right] - ubar[f][left]);
-                    }
-                }
-                changed = true;
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
+/// What the face limiter does in one attempt at a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimiterPass {
+    /// Nothing: the scheme of seed 001 as printed.
+    Off,
+    /// The first attempt: the density bounds at compressive faces when
+    /// `bounds` ([`bounds_limiter`]), then a check that every update stays
+    /// positive ([`SlabOutcome::positive`]).
+    First {
+        /// Keep the local density bounds at compressive faces.
+        bounds: bool,
+    },
+    /// The attempt after a first one that failed the check: positivity at
+    /// every face and, with `bounds`, the density bounds
+    /// ([`face_limiter`]).
+    Full {
+        /// Keep the local density bounds at compressive faces.
+        bounds: bool,
+    },
 }
 
-/// Sweeps one slab along `AXIS` with λ = Δt_s/Δx. Returns `false` if a cell
-/// read by the sweep had non-positive density or pressure or a non-finite
-/// value (the caller then locates it and stops the run). With `fallback`,
-/// a cell whose update would leave ρ ≤ 0 or e ≤ 0 gets the Rusanov flux
-/// at both its faces ([`positivity_fallback`]).
+/// What the sweep of one slab found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabOutcome {
+    /// Every state the sweep read was physical (ρ > 0, 0 < p < ∞).
+    pub physical: bool,
+    /// Every update keeps ρ > 0 and e > 0 (true when not checked:
+    /// [`LimiterPass::Off`] and [`LimiterPass::Full`]).
+    pub positive: bool,
+    /// Faces whose flux the face limiter changed: for positivity, and for
+    /// the density bounds at a shock.
+    pub limited_faces: [u64; 2],
+}
+
+impl SlabOutcome {
+    /// Both slabs' findings: physical if both were, faces added.
+    pub fn and(self, other: Self) -> Self {
+        Self {
+            physical: self.physical & other.physical,
+            positive: self.positive & other.positive,
+            limited_faces: [0, 1].map(|b| self.limited_faces[b] + other.limited_faces[b]),
+        }
+    }
+
+    /// Nothing found yet: the identity of [`Self::and`].
+    pub const NONE: Self = Self {
+        physical: true,
+        positive: true,
+        limited_faces: [0; 2],
+    };
+}
+
+/// Sweeps one slab along `AXIS` with λ = Δt_s/Δx. The outcome is not
+/// `physical` if a cell read by the sweep had non-positive density or
+/// pressure or a non-finite value (the caller then locates it and stops
+/// the run). With a `limiter`, the face fluxes are limited towards the
+/// Rusanov flux where the update would leave the bounds
+/// ([`face_limiter`]); the outcome counts the faces changed.
 ///
 /// The face fluxes at the slab's two ends, with the fluxes the update
-/// uses (after the fallback), are added to `outflow` where it points
+/// uses (after the limiter), are added to `outflow` where it points
 /// ([`FaceOutflow`]): the interior's change is exactly their difference,
 /// so the domain totals plus the accumulated outflow are conserved to
 /// round-off.
 ///
+/// The update is written into `out`, arrays of the same shape as
+/// `fields` (the solver's second buffer), so `fields` is left as it was
+/// and a sweep can be taken again from it.
+///
 /// # Safety
 /// The caller guarantees that while this runs no other thread writes any
-/// cell of this slab (rows `a ∈ [0, dims_a)` at `base + a·stride_a`) and no
-/// other thread reads the interior rows this call writes. Slabs of one patch
-/// (distinct k-planes for x/y sweeps, distinct j-planes for z sweeps) satisfy
-/// this. Non-null `outflow` pointers point to one accumulator per lane
-/// that no other thread touches during the call.
+/// cell of this slab (rows `a ∈ [0, dims_a)` at `base + a·stride_a`) in
+/// `fields`, that `out` is not `fields`, and that no other thread reads or
+/// writes the interior rows this call writes in `out`. Slabs of one patch
+/// (distinct k-planes for x/y sweeps, distinct j-planes for z sweeps)
+/// satisfy this. Non-null `outflow` pointers point to one accumulator per
+/// lane that no other thread touches during the call.
 #[allow(clippy::too_many_arguments)]
 pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     eos: &G,
     viscosity: ArtificialViscosity,
-    fallback: bool,
+    pass: LimiterPass,
     lambda: f64,
     fields: &PatchPtrs,
+    out: &PatchPtrs,
     shape: &SlabShape,
     outflow: FaceOutflow,
     scratch: &mut Vec<f64>,
-) -> bool {
+) -> SlabOutcome {
     let n = shape.scratch_len();
     let nf = if G::SPECIES { NMAX } else { NVAR };
     debug_assert_eq!(fields.species, G::SPECIES);
@@ -796,9 +1452,11 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     let (theta, rest) = scratch.split_at_mut(n);
     let (nu, rest) = rest.split_at_mut(n);
     let (mu, rest) = rest.split_at_mut(n);
+    let (pres, rest) = rest.split_at_mut(n);
     let (ubar, rest) = rest.split_at_mut(nf * n);
     let (fbar, rest) = rest.split_at_mut(nf * n);
-    let fstar = &mut rest[..nf * n];
+    let (fstar, rest) = rest.split_at_mut(nf * n);
+    let work = &mut rest[..(2 + 2 * nf) * n];
     let g = shape.ghost;
     let hi_cell = shape.dims_a - g; // one past the last interior cell
     let (sa, ss) = (
@@ -814,13 +1472,14 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
         let u: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
         let th = &mut theta[so..so + len];
         let nv = &mut nu[so..so + len];
+        let pr = &mut pres[so..so + len];
         let [r, mx, my, mz, en] = u;
         let ry = [
             fields.species_row::<G>(fo - sa, len),
             fields.species_row::<G>(fo, len),
             fields.species_row::<G>(fo + sa, len),
         ];
-        ok &= cells_kernel(eos, lambda, rho_m, rho_p, r, mx, my, mz, en, ry, th, nv);
+        ok &= cells_kernel(eos, lambda, rho_m, rho_p, r, mx, my, mz, en, ry, th, nv, pr);
     });
 
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
@@ -871,9 +1530,31 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
         predictor_row::<AXIS, G>(eos, half_lambda, u0, up, f0, fp, out);
     });
 
-    if fallback {
-        positivity_fallback::<AXIS, G>(eos, lambda, shape, &ubar, &fbar, &mut fstar);
-    }
+    // Whether the update is checked for positivity after it is written.
+    let (limited, check) = match pass {
+        LimiterPass::Off => ([0; 2], false),
+        LimiterPass::First { bounds } => {
+            let n = if bounds {
+                bounds_limiter::<AXIS, G>(
+                    lambda, fields, shape, pres, nu, mu, theta, work, &mut fstar,
+                )
+            } else {
+                0
+            };
+            ([0, n], true)
+        }
+        LimiterPass::Full { bounds } => {
+            let l = if bounds {
+                FaceLimiter::Full
+            } else {
+                FaceLimiter::Positivity
+            };
+            let n = face_limiter::<AXIS, G>(
+                l, lambda, fields, shape, pres, nu, mu, theta, work, &mut fstar,
+            );
+            (n, false)
+        }
+    };
 
     // What crosses the domain faces: face g − ½ (left row g − 1) and face
     // hi − ½ (left row hi − 1), read before pass 5 overwrites U.
@@ -892,23 +1573,33 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
         }
     }
 
-    // Pass 5: conservative update of the interior, a ∈ [g, hi).
+    // Pass 5: conservative update of the interior, a ∈ [g, hi), into `out`
+    // (checked for positivity row by row on a first attempt).
+    let mut positive = true;
     for_rows(shape, g, hi_cell, |fo, so, len| {
         for f in 0..NVAR {
-            let out = fields.row_mut(f, fo, len);
+            let out = out.row_mut(f, fo, len);
             let ub = &ubar[f][so..][..len];
             let fp = &fstar[f][so..][..len];
             let fm = &fstar[f][so - ss..][..len];
             update_kernel(lambda, ub, fm, fp, out);
         }
         if G::SPECIES {
-            let out = fields.row_mut(SPECIES, fo, len);
-            let rho = fields.row(0, fo, len);
+            let rho = out.row(0, fo, len);
+            let out = out.row_mut(SPECIES, fo, len);
             let ub = &ubar[SPECIES][so..][..len];
             let fp = &fstar[SPECIES][so..][..len];
             let fm = &fstar[SPECIES][so - ss..][..len];
             species_update_kernel(lambda, ub, fm, fp, rho, out);
         }
+        if check {
+            let [r, mx, my, mz, en] = per_var!(|f| out.row(f, fo, len));
+            positive &= row_is_positive(r, mx, my, mz, en);
+        }
     });
-    ok
+    SlabOutcome {
+        physical: ok,
+        positive,
+        limited_faces: limited,
+    }
 }

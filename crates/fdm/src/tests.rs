@@ -4,7 +4,7 @@ use brisance_core::{Solver, SolverError};
 use brisance_eos::IdealGas;
 use brisance_grid::Level;
 
-use crate::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+use crate::{ArtificialViscosity, FaceLimiter, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 
 fn gas() -> IdealGas {
     IdealGas::new(1.4, 1.0, 1.0)
@@ -234,8 +234,10 @@ fn a_vacuum_forming_state_stops_with_a_diagnostic_naming_the_cell() {
         crate::sweep::GHOST,
     )
     .unwrap();
+    // The scheme as printed: no face limiter.
     let opts = FdmOptions {
         viscosity: ArtificialViscosity::Off,
+        limiter: FaceLimiter::Off,
         ..Default::default()
     };
     let mut s = FdmSolver::new(gas(), level, [FdmBoundary::Outflow; 6], opts, |x| {
@@ -263,20 +265,21 @@ fn a_vacuum_forming_state_stops_with_a_diagnostic_naming_the_cell() {
 }
 
 /// Two streams separating at Mach 200 on a periodic line (they collide
-/// again across the wrap), viscosity off: the plain Lax–Wendroff sweep
-/// leaves a negative internal energy where the near-vacuum forms.
-fn separating(fallback: bool) -> FdmSolver<IdealGas> {
+/// again across the wrap), viscosity off, on `layout` patches: the plain
+/// Lax–Wendroff sweep leaves a negative internal energy where the
+/// near-vacuum forms.
+fn separating(limiter: FaceLimiter, layout: [usize; 3]) -> FdmSolver<IdealGas> {
     let level = Level::new(
         [0.0; 3],
         [1.0, 1.0, 1.0],
         [40, 1, 1],
-        [1, 1, 1],
+        layout,
         crate::sweep::GHOST,
     )
     .unwrap();
     let opts = FdmOptions {
         viscosity: ArtificialViscosity::Off,
-        positivity_fallback: fallback,
+        limiter,
         ..Default::default()
     };
     FdmSolver::new(gas(), level, [FdmBoundary::Periodic; 6], opts, |x| {
@@ -286,39 +289,112 @@ fn separating(fallback: bool) -> FdmSolver<IdealGas> {
     .unwrap()
 }
 
+/// The limiter's counts in the run summary: (faces limited for positivity,
+/// for the density bounds, faces swept).
+fn limited(s: &impl Solver) -> (u64, u64, u64) {
+    let g = s.safeguards();
+    let by = |name: &str| {
+        g.iter()
+            .find(|u| u.name.contains(name))
+            .map_or(0, |u| u.acted)
+    };
+    (
+        by("positivity"),
+        by("density"),
+        g.first().map_or(0, |u| u.checked),
+    )
+}
+
 #[test]
-fn the_positivity_fallback_passes_a_near_vacuum_and_conserves_to_round_off() {
-    let mut plain = separating(false);
+fn the_face_limiter_passes_a_near_vacuum_and_conserves_to_round_off() {
+    let mut plain = separating(FaceLimiter::Off, [1, 1, 1]);
     let failed = (0..200).any(|_| plain.stable_dt().and_then(|dt| plain.advance(dt)).is_err());
     assert!(failed, "the plain sweep must stop on this problem");
-    let mut s = separating(true);
-    let t0 = s.conservation_totals();
-    run(&mut s, 200);
-    let t1 = s.conservation_totals();
-    assert!(((t1.mass - t0.mass) / t0.mass).abs() < 1e-13);
-    assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
-    assert!((t1.momentum[0] - t0.momentum[0]).abs() < 1e-13 * 20.0 * t0.mass);
-    // Every cell physical: ρ > 0 and p > 0 (the solver checks p at each
-    // sweep; here it is read back).
-    let mut out = Vec::new();
-    for i in 0..40 {
-        out.clear();
-        let x = [(i as f64 + 0.5) / 40.0, 0.5, 0.5];
-        s.sample(x, &["density".into(), "pressure".into()], &mut out)
-            .unwrap();
-        assert!(out[0] > 0.0 && out[1] > 0.0, "cell {i}: {out:?}");
+    for limiter in [FaceLimiter::Positivity, FaceLimiter::Full] {
+        let mut s = separating(limiter, [1, 1, 1]);
+        let t0 = s.conservation_totals();
+        run(&mut s, 200);
+        let t1 = s.conservation_totals();
+        assert!(((t1.mass - t0.mass) / t0.mass).abs() < 1e-13);
+        assert!(((t1.energy - t0.energy) / t0.energy).abs() < 1e-13);
+        assert!((t1.momentum[0] - t0.momentum[0]).abs() < 1e-13 * 20.0 * t0.mass);
+        // Every cell physical: ρ > 0 and p > 0 (the solver checks p at each
+        // sweep; here it is read back).
+        let mut out = Vec::new();
+        for i in 0..40 {
+            out.clear();
+            let x = [(i as f64 + 0.5) / 40.0, 0.5, 0.5];
+            s.sample(x, &["density".into(), "pressure".into()], &mut out)
+                .unwrap();
+            assert!(
+                out[0] > 0.0 && out[1] > 0.0,
+                "{limiter:?} cell {i}: {out:?}"
+            );
+        }
+        // It acted for positivity, and says so: 200 steps of 2 sweeps of
+        // 41 faces were swept.
+        let (positive, _, faces) = limited(&s);
+        assert!(positive > 0, "{limiter:?}");
+        assert_eq!(faces, 200 * 2 * 41);
     }
 }
 
 #[test]
-fn the_positivity_fallback_changes_nothing_where_the_scheme_is_positive() {
-    let make = |fallback: bool| {
-        let mut b = blast([2, 1, 1]);
-        b.set_positivity_fallback(fallback);
-        run(&mut b, 10);
-        all_fields(&b)
+fn the_face_limiter_gives_the_same_bits_for_any_patch_split_and_thread_count() {
+    // Where it acts (the near-vacuum: positivity; the two shocks when the
+    // streams meet again across the wrap: density bounds), the limited
+    // fluxes at a face shared by two patches are the same on both sides.
+    let reference = {
+        let mut s = separating(FaceLimiter::Full, [1, 1, 1]);
+        in_threads(1, || run(&mut s, 120));
+        let (p, b, _) = limited(&s);
+        assert!(p > 0 && b > 0, "both bounds act: {p} {b}");
+        (all_fields(&s), s.conservation_totals(), limited(&s))
     };
-    assert_eq!(make(false), make(true));
+    for layout in [[2, 1, 1], [4, 1, 1], [5, 1, 1]] {
+        for threads in [1, 2] {
+            let mut s = separating(FaceLimiter::Full, layout);
+            in_threads(threads, || run(&mut s, 120));
+            assert_eq!(limited(&s), reference.2, "{layout:?} on {threads}");
+            assert_eq!(
+                s.conservation_totals(),
+                reference.1,
+                "{layout:?} on {threads}"
+            );
+            for ((name, a), (_, b)) in reference.0.iter().zip(&all_fields(&s)) {
+                let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "{name} differs for {layout:?} on {threads} threads");
+            }
+        }
+    }
+}
+
+/// Runs `f` on a pool of `threads` threads.
+fn in_threads(threads: usize, f: impl FnOnce() + Send) {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f);
+}
+
+#[test]
+fn positivity_limiting_changes_nothing_where_the_scheme_is_positive() {
+    // The blast never loses positivity: the positivity limiter leaves every
+    // bit of the scheme as printed; with the density bounds it acts at the
+    // shock and changes the result there.
+    let make = |limiter: FaceLimiter| {
+        let mut b = blast([2, 1, 1]);
+        b.set_limiter(limiter);
+        run(&mut b, 10);
+        (all_fields(&b), limited(&b))
+    };
+    let (off, _) = make(FaceLimiter::Off);
+    let (positive, counts) = make(FaceLimiter::Positivity);
+    assert_eq!(off, positive);
+    assert_eq!(counts.0, 0);
+    let (full, counts) = make(FaceLimiter::Full);
+    assert!(counts.1 > 0 && full != off, "{counts:?}");
 }
 
 #[test]
