@@ -438,6 +438,7 @@ mod tests {
             stop_reason: None,
             outflow: None,
             wall_split: Vec::new(),
+            warnings: Vec::new(),
         };
         assert_eq!(outflow_line(&s), None);
         // 1 of 4 kg and 2 J of an initial −8 J (scaled by |E₀|).

@@ -50,6 +50,11 @@ pub struct RunSummary {
     /// `fdm` and `mpm` of the bridge); empty for a method with one part.
     #[serde(default)]
     pub wall_split: Vec<WallPart>,
+    /// What the run warned of (a one-way open face that held back an
+    /// inflow, for instance), in the order it happened; left out of the
+    /// file when there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Wall-clock seconds one named part of a coupled method took.
@@ -131,6 +136,7 @@ mod tests {
                     seconds: 8.0,
                 },
             ],
+            warnings: vec!["x_low held back an inflow".to_string()],
         }
     }
 
@@ -161,6 +167,18 @@ mod tests {
         assert!(text.contains("\"momentum\": [\n"), "{text}");
         assert_eq!(read_summary(&path).unwrap(), summary);
         assert_eq!(summary.relative_energy_change, -0.001);
+    }
+
+    #[test]
+    fn a_run_without_warnings_writes_no_warnings_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        let mut summary = sample();
+        summary.warnings.clear();
+        write_summary(&path, &summary).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!text.contains("warnings"), "{text}");
+        assert_eq!(read_summary(&path).unwrap(), summary);
     }
 
     #[test]
