@@ -130,7 +130,7 @@ struct Runner<'a> {
 /// `time`.
 pub fn blocked_inflow_warning(face: &str, condition: &str, pipeline: &str, time: f64) -> String {
     format!(
-        "boundaries.{face}: the one-way `{condition}` face of the {pipeline} pipeline held back a flow into the domain by t = {time:e} s and acts as a wall there; `ZeroGradient` lets the boundary state in, `Fixed(state)` a given state"
+        "boundaries.{face}: the one-way `{condition}` face of the {pipeline} pipeline held back a flow into the domain by t = {time:e} s: nothing enters there; `ZeroGradient` lets the boundary state in, `Fixed(state)` a given state"
     )
 }
 
