@@ -400,6 +400,7 @@ fn mpm_kernels(c: &mut Criterion) {
             dt: 0.2 * solver.stable_dt().expect("stable"),
             bulk_viscosity: None,
             surface_forces: &[],
+            reservoir: &[],
         };
         let mut group = c.benchmark_group("mpm_stress_update");
         group.sample_size(10);

@@ -456,6 +456,7 @@ mod tests {
             outflow: None,
             wall_split: Vec::new(),
             safeguards: Vec::new(),
+            warnings: Vec::new(),
         };
         assert_eq!(outflow_line(&s), None);
         // 1 of 4 kg and 2 J of an initial −8 J (scaled by |E₀|).

@@ -3,6 +3,7 @@
 //! validation cases carry their id from docs/validation.md (`v_sod`).
 
 mod cli;
+mod open_faces;
 mod particle_gauges;
 mod restart;
 mod surface_loads;
@@ -11,3 +12,4 @@ mod v_smooth;
 mod v_sod;
 mod v_sod_mpm;
 mod v_taylor;
+mod v_toro5;

@@ -3,6 +3,7 @@
 
 pub mod cases;
 pub mod kingery_bulmash;
+pub mod open_faces;
 pub mod riemann;
 pub mod smooth;
 pub mod taylor;

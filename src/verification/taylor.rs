@@ -319,6 +319,17 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
     };
     fill_shape(&mut particles, &level.geometry, &spec).map_err(|e| format!("initial.0: {e}"))?;
     let faces = s.boundaries.faces();
+    if let Some((face, bc)) = faces.iter().find(|(_, bc)| {
+        !matches!(
+            bc,
+            BoundaryConfig::Wall | BoundaryConfig::Reflective | BoundaryConfig::Outflow
+        )
+    }) {
+        return Err(format!(
+            "boundaries.{face}: the Taylor bar takes `Wall`, `Reflective` or `Outflow` faces, not `{}`",
+            bc.name()
+        ));
+    }
     let boundaries = std::array::from_fn(|k| match faces[k].1 {
         BoundaryConfig::Wall => GridBoundary::Fixed,
         BoundaryConfig::Reflective => GridBoundary::Symmetry,

@@ -351,14 +351,19 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
             ));
         }
     }
-    for (face, bc) in s.boundaries.faces() {
-        if matches!(bc, BoundaryConfig::Fixed(_) | BoundaryConfig::Periodic) {
-            return Err((
-                format!("boundaries.{face}"),
-                "the bridge takes Outflow, Reflective or Wall faces".into(),
-            ));
+    crate::validate::check_faces(
+        s,
+        "FdmMpmBridge",
+        &["Outflow", "Reflective", "Wall"],
+        |bc| {
+            match bc {
+            BoundaryConfig::ZeroGradient | BoundaryConfig::OutflowOnly => {
+                "; its `Outflow` is zero gradient in the FDM region and lets particles leave the MPM region"
+            }
+            _ => "",
         }
-    }
+        },
+    )?;
     regions(s, cfg).map(|_| ())
 }
 

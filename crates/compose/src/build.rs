@@ -10,7 +10,7 @@ use brisance_core::Material;
 use brisance_eos::EosModel;
 use brisance_mpm::{
     GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
-    SetQuantity, SurfaceLoad,
+    Reservoir, ReservoirKind, ReservoirState, SetQuantity, SurfaceLoad,
 };
 
 use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
@@ -308,7 +308,9 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
     let mut boundaries = [FdmBoundary::Outflow; 6];
     for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
         boundaries[k] = match bc {
-            BoundaryConfig::Outflow => FdmBoundary::Outflow,
+            // The Fdm pipeline's `Outflow` is the two-way zero gradient.
+            BoundaryConfig::Outflow | BoundaryConfig::ZeroGradient => FdmBoundary::Outflow,
+            BoundaryConfig::OutflowOnly => FdmBoundary::OutflowOnly,
             BoundaryConfig::Reflective => FdmBoundary::Reflective,
             BoundaryConfig::Periodic => FdmBoundary::Periodic,
             BoundaryConfig::Fixed(state) => FdmBoundary::Fixed(
@@ -418,11 +420,50 @@ pub fn describe(s: &Scenario) -> String {
 fn bc_name(b: &BoundaryConfig) -> &'static str {
     match b {
         BoundaryConfig::Outflow => "outflow",
+        BoundaryConfig::ZeroGradient => "zero_gradient",
+        BoundaryConfig::OutflowOnly => "outflow_only",
         BoundaryConfig::Reflective => "reflective",
         BoundaryConfig::Periodic => "periodic",
         BoundaryConfig::Fixed(_) => "fixed",
         BoundaryConfig::Wall => "wall",
     }
+}
+
+/// The temperature and specific internal energy of particles of `model`
+/// in state `st` (`path` for the errors), from whichever the state gives,
+/// through the model's equation of state when it has one.
+fn particle_thermodynamics(
+    model: &MaterialModel,
+    st: &StateConfig,
+    path: &str,
+) -> Result<(f64, f64), ConfigError> {
+    Ok(
+        match (
+            model.eos(),
+            st.temperature,
+            st.specific_internal_energy,
+            st.pressure,
+        ) {
+            (Some(eos), Some(t), None, None) => (
+                t,
+                eos.specific_internal_energy_from_temperature(st.density, t),
+            ),
+            (Some(eos), None, Some(e), None) => (eos.temperature(st.density, e), e),
+            (Some(eos), None, None, Some(p)) => {
+                let e = eos
+                    .specific_internal_energy(st.density, p)
+                    .map_err(|e| located(&format!("{path}.pressure"), e.to_string()))?;
+                (eos.temperature(st.density, e), e)
+            }
+            (None, Some(t), None, None) => (t, 0.0),
+            _ => {
+                return Err(located(
+                    path,
+                    "this material has no equation of state: give its `temperature`".into(),
+                ))
+            }
+        },
+    )
 }
 
 /// Builds the MPM solver: every sub-cell point (ppc per direction) inside an
@@ -473,35 +514,8 @@ pub(crate) fn mpm_parts(
                     "the material has no constitutive `model`".into(),
                 )
             })?;
-        let model = &models[id];
-        let st = &r.state;
-        // Temperature and specific internal energy from whichever is given,
-        // through the model's equation of state when it has one.
-        let (temperature, energy) = match (
-            model.eos(),
-            st.temperature,
-            st.specific_internal_energy,
-            st.pressure,
-        ) {
-            (Some(eos), Some(t), None, None) => (
-                t,
-                eos.specific_internal_energy_from_temperature(st.density, t),
-            ),
-            (Some(eos), None, Some(e), None) => (eos.temperature(st.density, e), e),
-            (Some(eos), None, None, Some(p)) => {
-                let e = eos
-                    .specific_internal_energy(st.density, p)
-                    .map_err(|e| located(&format!("{path}.state.pressure"), e.to_string()))?;
-                (eos.temperature(st.density, e), e)
-            }
-            (None, Some(t), None, None) => (t, 0.0),
-            _ => {
-                return Err(located(
-                    &format!("{path}.state"),
-                    "this material has no equation of state: give its `temperature`".into(),
-                ))
-            }
-        };
+        let (temperature, energy) =
+            particle_thermodynamics(&models[id], &r.state, &format!("{path}.state"))?;
         regions.push((r, MaterialId(id as u16), temperature, energy));
     }
     let ppc = mpm.ppc;
@@ -566,12 +580,52 @@ pub(crate) fn mpm_parts(
             "no particle lies in any initial region".into(),
         ));
     }
+    // Every open face lets particles leave (GridBoundary::Outflow); the
+    // ones that let matter in have a reservoir beyond them.
     let boundary = |bc: &BoundaryConfig| match bc {
         BoundaryConfig::Wall => GridBoundary::Fixed,
         BoundaryConfig::Reflective => GridBoundary::Symmetry,
         _ => GridBoundary::Outflow,
     };
     let faces = s.boundaries.faces();
+    let mut reservoirs = [None; 6];
+    for (k, (face, bc)) in faces.iter().enumerate() {
+        let kind = match bc {
+            BoundaryConfig::ZeroGradient => ReservoirKind::ZeroGradient,
+            BoundaryConfig::OutflowOnly => ReservoirKind::OutflowOnly,
+            BoundaryConfig::Fixed(st) => {
+                let path = format!("boundaries.{face}");
+                let particle_names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+                let name = crate::validate::fixed_face_material(
+                    face,
+                    st,
+                    &particle_names,
+                    "particle material",
+                )
+                .map_err(|(p, m)| located(&p, m))?;
+                let id = names
+                    .iter()
+                    .position(|n| n.as_str() == name)
+                    .expect("a particle material");
+                let model = &models[id];
+                let (temperature, energy) = particle_thermodynamics(model, st, &path)?;
+                let eos = model.eos().ok_or_else(|| {
+                    located(&path, format!("`{name}`'s model has no equation of state for the pressure of the particles it brings in"))
+                })?;
+                let p = eos.pressure(st.density, energy);
+                ReservoirKind::Fixed(ReservoirState {
+                    material: MaterialId(id as u16),
+                    density: st.density,
+                    velocity: st.velocity,
+                    specific_internal_energy: energy,
+                    temperature,
+                    stress: [-p, -p, -p, 0.0, 0.0, 0.0],
+                })
+            }
+            _ => continue,
+        };
+        reservoirs[k] = Some(Reservoir { kind, ppc });
+    }
     let options = MpmOptions {
         shape: mpm.shape_function,
         scheme: mpm.scheme,
@@ -581,6 +635,7 @@ pub(crate) fn mpm_parts(
         mass_cutoff: mpm.mass_cutoff,
         bulk_viscosity: mpm.bulk_viscosity.option(),
         anti_locking: mpm.anti_locking,
+        reservoirs,
         ..Default::default()
     };
     let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());

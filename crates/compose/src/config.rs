@@ -19,7 +19,7 @@ pub struct Scenario {
     pub name: String,
     /// The grid.
     pub domain: Domain,
-    /// Boundary conditions per face (outflow where not given).
+    /// Boundary conditions per face (`Outflow` where not given).
     #[serde(default)]
     pub boundaries: Boundaries,
     /// End time and step control.
@@ -86,20 +86,48 @@ impl Boundaries {
     }
 }
 
-/// One face's boundary condition.
+/// One face's boundary condition. What each does in each pipeline, and
+/// which pipeline takes which, is the boundary table of
+/// `docs/user-guide.md`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub enum BoundaryConfig {
-    /// Zero-gradient outflow.
+    /// The default open face, each pipeline's own: `ZeroGradient` for Fdm
+    /// (and the bridge's FDM region), `OutflowOnly` for Ice and IceMpm, and
+    /// for Mpm a free face through which particles leave and are booked
+    /// and none enter.
     #[default]
     Outflow,
+    /// Transmissive both ways: what leaves goes freely, and where the flow
+    /// at the face points inwards the boundary cell's state (for Mpm, that
+    /// of the particles in it) enters.
+    ZeroGradient,
+    /// Zero gradient for what leaves; where the flow at the face points
+    /// inwards the face holds it back, as a wall would.
+    OutflowOnly,
     /// Slip wall / symmetry plane.
     Reflective,
     /// Periodic (set on both faces of the axis).
     Periodic,
-    /// A fixed state of the pipeline's gas (Fdm).
+    /// A fixed state beyond the face, which enters where its velocity
+    /// points inwards (an inflow reservoir): Fdm, Ice, Mpm.
     Fixed(StateConfig),
     /// A rigid no-slip wall: every grid velocity component is zero (Mpm).
     Wall,
+}
+
+impl BoundaryConfig {
+    /// The name a scenario writes.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Outflow => "Outflow",
+            Self::ZeroGradient => "ZeroGradient",
+            Self::OutflowOnly => "OutflowOnly",
+            Self::Reflective => "Reflective",
+            Self::Periodic => "Periodic",
+            Self::Fixed(_) => "Fixed",
+            Self::Wall => "Wall",
+        }
+    }
 }
 
 /// Time control.
@@ -339,6 +367,11 @@ pub struct StateConfig {
     /// Temperature, K.
     #[serde(default)]
     pub temperature: Option<f64>,
+    /// The material of a `Fixed` face's state (a key of `materials`),
+    /// needed where the pipeline carries several; initial regions name
+    /// theirs beside the state instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
 
 /// A geometric region: the shapes every method shares (see

@@ -27,9 +27,14 @@
 //! material: `transport: {"air": (viscosity: 1.8e-5, thermal_conductivity:
 //! 0.026)}`; a material left out, or a field left out, is 0 (no pass).
 //!
-//! Faces: `Outflow` → zero-gradient outflow, `Reflective` → symmetry plane
-//! (slip wall), `Wall` → a fixed wall of velocity 0, `Periodic` → periodic;
-//! `Fixed` states are not supported by this pipeline.
+//! Faces: `Outflow` and `OutflowOnly` → zero-gradient outflow that lets
+//! nothing in (`IceBoundary::Outflow`, the face velocity held from
+//! pointing inwards), `ZeroGradient` → zero gradient both ways
+//! (`IceBoundary::ZeroGradient`), `Fixed(state)` → ghosts holding the
+//! state (`IceBoundary::FixedState`, an inflow reservoir; the state is
+//! made as an initial region's, of its `material`, which must be given
+//! when the pipeline has several), `Reflective` → symmetry plane (slip
+//! wall), `Wall` → a fixed wall of velocity 0, `Periodic` → periodic.
 
 use brisance_core::Eos;
 use brisance_eos::EosModel;
@@ -47,6 +52,17 @@ type Problem = (String, String);
 
 /// Volume fraction of a material in cells where it is absent.
 pub const TRACE_FRACTION: f64 = 1e-6;
+
+/// The faces the Ice pipeline takes.
+const ICE_FACES: &[&str] = &[
+    "Outflow",
+    "ZeroGradient",
+    "OutflowOnly",
+    "Fixed",
+    "Reflective",
+    "Wall",
+    "Periodic",
+];
 
 /// Options of the Ice pipeline.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -337,12 +353,10 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
             (format!("pipeline.pressure.{field}"), e)
         })?;
     }
+    crate::validate::check_faces(s, "Ice", ICE_FACES, |_| "")?;
     for (face, bc) in s.boundaries.faces() {
-        if matches!(bc, BoundaryConfig::Fixed(_)) {
-            return Err((
-                format!("boundaries.{face}"),
-                "the Ice pipeline takes `Outflow`, `Reflective`, `Wall` or `Periodic`".into(),
-            ));
+        if let BoundaryConfig::Fixed(state) = bc {
+            crate::validate::fixed_face_material(face, state, &cfg.materials, "material")?;
         }
     }
     for (i, r) in s.initial.iter().enumerate() {
@@ -412,14 +426,81 @@ pub(crate) fn build_with_traces(
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
+    // The cell state of material m with state `state` (`path` for the
+    // errors): the rule of the module doc, that of every initial region
+    // and of the ghosts of a `Fixed` face.
+    let cell_state = |path: &str, m: usize, state: &crate::config::StateConfig| {
+        let p = primitive_state(&eos[m], state).map_err(|e| (path.to_string(), e))?;
+        let trace = TRACE_FRACTION;
+        let t_region = eos[m].temperature(
+            p.density,
+            eos[m]
+                .specific_internal_energy(p.density, p.pressure)
+                .map_err(|e| (path.to_string(), e.to_string()))?,
+        );
+        let materials = (0..n)
+            .map(|k| {
+                let density = if k == m {
+                    p.density
+                } else if own_density {
+                    // At the region's temperature, else (a solid trace
+                    // in hot products) at room temperature.
+                    eos[k]
+                        .density(p.pressure, t_region)
+                        .or_else(|_| eos[k].density(p.pressure, 300.0))
+                        .map_err(|e| {
+                            (
+                                path.to_string(),
+                                format!("trace of `{}`: {e}", cfg.materials[k]),
+                            )
+                        })?
+                } else {
+                    trace_density(&eos[k], p.density, p.pressure, t_region).map_err(|e| {
+                        (
+                            path.to_string(),
+                            format!("trace of `{}`: {e}", cfg.materials[k]),
+                        )
+                    })?
+                };
+                Ok(MaterialState {
+                    volume_fraction: if k == m {
+                        1.0 - (n - 1) as f64 * trace
+                    } else {
+                        trace
+                    },
+                    density,
+                    velocity: p.velocity,
+                })
+            })
+            .collect::<Result<Vec<_>, Problem>>()?;
+        Ok::<_, Problem>(CellState {
+            pressure: p.pressure,
+            materials,
+        })
+    };
+    let material_index = |name: &str| {
+        cfg.materials
+            .iter()
+            .position(|x| x == name)
+            .expect("checked by validate")
+    };
     let mut boundaries: [IceBoundary; 6] = std::array::from_fn(|_| IceBoundary::Outflow);
-    for (k, (_, bc)) in s.boundaries.faces().into_iter().enumerate() {
+    for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
         boundaries[k] = match bc {
-            BoundaryConfig::Outflow => IceBoundary::Outflow,
+            BoundaryConfig::Outflow | BoundaryConfig::OutflowOnly => IceBoundary::Outflow,
+            BoundaryConfig::ZeroGradient => IceBoundary::ZeroGradient,
             BoundaryConfig::Reflective => IceBoundary::Symmetry,
             BoundaryConfig::Wall => IceBoundary::FixedVelocity([0.0; 3]),
             BoundaryConfig::Periodic => IceBoundary::Periodic,
-            BoundaryConfig::Fixed(_) => unreachable!("rejected by validate"),
+            BoundaryConfig::Fixed(state) => {
+                let m =
+                    crate::validate::fixed_face_material(face, state, &cfg.materials, "material")?;
+                IceBoundary::FixedState(cell_state(
+                    &format!("boundaries.{face}"),
+                    material_index(m),
+                    state,
+                )?)
+            }
         };
     }
     // One cell state per region.
@@ -428,59 +509,11 @@ pub(crate) fn build_with_traces(
         .iter()
         .enumerate()
         .map(|(i, r)| {
-            let m = cfg
-                .materials
-                .iter()
-                .position(|x| *x == r.material)
-                .expect("checked by validate");
-            let p = primitive_state(&eos[m], &r.state)
-                .map_err(|e| (format!("initial.{i}.state"), e))?;
-            let trace = TRACE_FRACTION;
-            let t_region = eos[m].temperature(
-                p.density,
-                eos[m]
-                    .specific_internal_energy(p.density, p.pressure)
-                    .map_err(|e| (format!("initial.{i}.state"), e.to_string()))?,
-            );
-            let materials = (0..n)
-                .map(|k| {
-                    let density = if k == m {
-                        p.density
-                    } else if own_density {
-                        // At the region's temperature, else (a solid trace
-                        // in hot products) at room temperature.
-                        eos[k]
-                            .density(p.pressure, t_region)
-                            .or_else(|_| eos[k].density(p.pressure, 300.0))
-                            .map_err(|e| {
-                                (
-                                    format!("initial.{i}.state"),
-                                    format!("trace of `{}`: {e}", cfg.materials[k]),
-                                )
-                            })?
-                    } else {
-                        trace_density(&eos[k], p.density, p.pressure, t_region).map_err(|e| {
-                            (
-                                format!("initial.{i}.state"),
-                                format!("trace of `{}`: {e}", cfg.materials[k]),
-                            )
-                        })?
-                    };
-                    Ok(MaterialState {
-                        volume_fraction: if k == m {
-                            1.0 - (n - 1) as f64 * trace
-                        } else {
-                            trace
-                        },
-                        density,
-                        velocity: p.velocity,
-                    })
-                })
-                .collect::<Result<Vec<_>, Problem>>()?;
-            Ok(CellState {
-                pressure: p.pressure,
-                materials,
-            })
+            cell_state(
+                &format!("initial.{i}.state"),
+                material_index(&r.material),
+                &r.state,
+            )
         })
         .collect::<Result<Vec<_>, Problem>>()?;
     // Every cell must be covered.

@@ -141,6 +141,17 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             "the coupled step runs the explicit pressure only; use `Explicit`".into(),
         ));
     }
+    crate::validate::check_faces(
+        s,
+        "IceMpm",
+        &["Outflow", "Reflective", "Wall", "Periodic"],
+        |bc| match bc {
+            crate::config::BoundaryConfig::OutflowOnly => {
+                "; its `Outflow` already holds back what would enter the fluids"
+            }
+            _ => "; its particles have no reservoir to enter from",
+        },
+    )?;
     let (si, ice) = ice_scenario(s, cfg);
     crate::ice::validate(&si, &ice).map_err(|e| under("ice", e))?;
     Ok(())

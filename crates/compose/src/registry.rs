@@ -243,7 +243,24 @@ pub const ENTRIES: &[Entry] = &[
         summary: "points on the side of a plane the normal points to",
         example: "HalfSpace(point: (0.5, 0, 0), normal: (1, 0, 0))",
     },
-    Entry { family: "boundary", name: "Outflow", summary: "zero-gradient outflow", example: "Outflow" },
+    Entry {
+        family: "boundary",
+        name: "Outflow",
+        summary: "the pipeline's default open face: ZeroGradient (Fdm), OutflowOnly (Ice), particles leave and none enter (Mpm)",
+        example: "Outflow",
+    },
+    Entry {
+        family: "boundary",
+        name: "ZeroGradient",
+        summary: "transmissive both ways: what enters is the boundary cell's (or particles') state",
+        example: "ZeroGradient",
+    },
+    Entry {
+        family: "boundary",
+        name: "OutflowOnly",
+        summary: "zero gradient for what leaves; a wall where the flow at the face points inwards",
+        example: "OutflowOnly",
+    },
     Entry { family: "boundary", name: "Reflective", summary: "slip wall / symmetry plane", example: "Reflective" },
     Entry { family: "boundary", name: "Periodic", summary: "periodic (both faces of an axis)", example: "Periodic" },
     Entry {
@@ -255,7 +272,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry {
         family: "boundary",
         name: "Fixed",
-        summary: "fixed state of the pipeline's gas",
+        summary: "an inflow reservoir: a fixed state beyond the face (Fdm, Ice, Mpm; `material` where there are several)",
         example: "Fixed(density: 1.225, pressure: 101325)",
     },
 ];
@@ -352,6 +369,31 @@ mod tests {
                     .iter()
                     .any(|e| e.family == "material" && e.name == *v),
                 "{v} missing from the registry"
+            );
+        }
+    }
+
+    #[test]
+    fn every_boundary_condition_is_registered() {
+        for bc in [
+            BoundaryConfig::Outflow,
+            BoundaryConfig::ZeroGradient,
+            BoundaryConfig::OutflowOnly,
+            BoundaryConfig::Reflective,
+            BoundaryConfig::Periodic,
+            BoundaryConfig::Fixed(
+                ron_options()
+                    .from_str("(density: 1.0, pressure: 1.0)")
+                    .expect("a state"),
+            ),
+            BoundaryConfig::Wall,
+        ] {
+            assert!(
+                ENTRIES
+                    .iter()
+                    .any(|e| e.family == "boundary" && e.name == bc.name()),
+                "{} missing from the registry",
+                bc.name()
             );
         }
     }

@@ -119,9 +119,38 @@ struct Runner<'a> {
     state: RunState,
     times: Vec<f64>,
     sample: Vec<f64>,
+    /// The warnings of this run, for the summary.
+    warnings: Vec<String>,
+    /// The faces already warned of as holding back an inflow.
+    warned: [bool; 6],
+}
+
+/// The warning for face `face` (config name) whose condition `condition`
+/// of pipeline `pipeline` has held back a flow into the domain, by time
+/// `time`.
+pub fn blocked_inflow_warning(face: &str, condition: &str, pipeline: &str, time: f64) -> String {
+    format!(
+        "boundaries.{face}: the one-way `{condition}` face of the {pipeline} pipeline held back a flow into the domain by t = {time:e} s: nothing enters there; `ZeroGradient` lets the boundary state in, `Fixed(state)` a given state"
+    )
 }
 
 impl Runner<'_> {
+    /// Warns, once per face, of the one-way faces that have held back an
+    /// inflow since the last call ([`Solver::blocked_inflow`]); `print`
+    /// writes the line (around the progress bar).
+    fn note_blocked_inflow(&mut self, print: impl Fn(&str)) {
+        let blocked = self.solver.blocked_inflow();
+        for (k, (face, bc)) in self.scenario.boundaries.faces().iter().enumerate() {
+            if blocked[k] && !self.warned[k] {
+                self.warned[k] = true;
+                let w =
+                    blocked_inflow_warning(face, bc.name(), self.solver.name(), self.solver.time());
+                print(&w);
+                self.warnings.push(w);
+            }
+        }
+    }
+
     fn record_gauges(&mut self) -> Result<(), RunError> {
         let t = self.solver.time();
         for (k, g) in self.scenario.outputs.gauges.iter().enumerate() {
@@ -348,6 +377,7 @@ impl Runner<'_> {
                     seconds,
                 })
                 .collect(),
+            warnings: self.warnings.clone(),
         }
     }
 }
@@ -452,6 +482,8 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
         state,
         times: output_times(scenario.time.end, scenario.outputs.interval),
         sample: Vec::new(),
+        warnings: Vec::new(),
+        warned: [false; 6],
     };
     if opts.restart.is_none() {
         r.state.initial_totals = r.solver.conservation_totals();
@@ -491,6 +523,7 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
             r.state.compute_seconds += t0.elapsed().as_secs_f64();
             r.state.work += work;
             r.state.steps += 1;
+            r.note_blocked_inflow(|w| bar.suspend(|| tracing::warn!("{w}")));
             r.record_gauges()?;
             if hits {
                 let index = r.state.next_output;

@@ -4,9 +4,30 @@
 
 use crate::build::PipelineLimits;
 use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
+use brisance_core::Material;
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
+
+/// The faces the Fdm pipeline takes.
+pub(crate) const FDM_FACES: &[&str] = &[
+    "Outflow",
+    "ZeroGradient",
+    "OutflowOnly",
+    "Reflective",
+    "Periodic",
+    "Fixed",
+];
+
+/// The faces the Mpm pipeline takes.
+pub(crate) const MPM_FACES: &[&str] = &[
+    "Outflow",
+    "ZeroGradient",
+    "OutflowOnly",
+    "Fixed",
+    "Reflective",
+    "Wall",
+];
 
 fn finite3(v: &[f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
@@ -47,6 +68,75 @@ fn check_state(path: &str, s: &StateConfig) -> Result<(), Problem> {
         _ => Err((
             path.into(),
             "give only one of `pressure`, `specific_internal_energy` or `temperature`".into(),
+        )),
+    }
+}
+
+/// `a`, `b` or `c`, each in backticks.
+fn either(names: &[&str]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => quoted.join(""),
+    }
+}
+
+/// Every face of `s` must be one of `accepted` (config names) for the
+/// pipeline `pipeline`; otherwise the error names the face, says what the
+/// pipeline takes and adds `hint(condition)` (empty, or a sentence that
+/// starts with "; ").
+pub(crate) fn check_faces(
+    s: &Scenario,
+    pipeline: &str,
+    accepted: &[&str],
+    hint: impl Fn(&BoundaryConfig) -> &'static str,
+) -> Result<(), Problem> {
+    for (face, bc) in s.boundaries.faces() {
+        if !accepted.contains(&bc.name()) {
+            return Err((
+                format!("boundaries.{face}"),
+                format!(
+                    "the {pipeline} pipeline takes {} faces, not `{}`{}",
+                    either(accepted),
+                    bc.name(),
+                    hint(bc)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The material of the state of `Fixed` face `face`: the one it names, or
+/// the only one of `materials` (the pipeline's materials of that kind);
+/// `kind` says what they are in the messages ("gas", "particle material").
+pub(crate) fn fixed_face_material<'a>(
+    face: &str,
+    state: &'a StateConfig,
+    materials: &'a [String],
+    kind: &str,
+) -> Result<&'a str, Problem> {
+    let listed = || {
+        materials
+            .iter()
+            .map(|m| format!("`{m}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match (&state.material, materials) {
+        (Some(m), _) if materials.contains(m) => Ok(m),
+        (Some(m), _) => Err((
+            format!("boundaries.{face}.material"),
+            format!("`{m}` is not a {kind} of this pipeline; it has {}", listed()),
+        )),
+        (None, [only]) => Ok(only),
+        (None, _) => Err((
+            format!("boundaries.{face}"),
+            format!(
+                "the pipeline carries several {kind}s ({}): say which fills this face's state, e.g. `Fixed(material: \"{}\", density: ..., pressure: ...)`",
+                listed(),
+                materials.first().map_or("", |m| m.as_str())
+            ),
         )),
     }
 }
@@ -197,12 +287,16 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                     ));
                 }
             }
-            for (face, bc) in s.boundaries.faces() {
+            check_faces(s, "Fdm", FDM_FACES, |bc| {
                 if matches!(bc, BoundaryConfig::Wall) {
-                    return Err((
-                        format!("boundaries.{face}"),
-                        "`Wall` is a particle boundary; the Fdm pipeline uses `Reflective` for a slip wall".into(),
-                    ));
+                    "; `Wall` is a particle boundary: use `Reflective` for a slip wall"
+                } else {
+                    ""
+                }
+            })?;
+            for (face, bc) in s.boundaries.faces() {
+                if let BoundaryConfig::Fixed(state) = bc {
+                    fixed_face_material(face, state, std::slice::from_ref(&fdm.material), "gas")?;
                 }
             }
         }
@@ -299,12 +393,28 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                     format!("bulk viscosity coefficient {name} = {value} must be finite and ≥ 0"),
                 ));
             }
+            check_faces(s, "Mpm", MPM_FACES, |_| "")?;
+            let particle_materials: Vec<String> = s
+                .materials
+                .iter()
+                .filter(|(_, m)| m.model.is_some())
+                .map(|(n, _)| n.clone())
+                .collect();
             for (face, bc) in s.boundaries.faces() {
-                if matches!(bc, BoundaryConfig::Periodic | BoundaryConfig::Fixed(_)) {
-                    return Err((
-                        format!("boundaries.{face}"),
-                        "the Mpm pipeline takes `Wall`, `Reflective` (roller) or `Outflow`".into(),
-                    ));
+                if let BoundaryConfig::Fixed(state) = bc {
+                    let m =
+                        fixed_face_material(face, state, &particle_materials, "particle material")?;
+                    if s.materials[m]
+                        .model
+                        .as_ref()
+                        .and_then(|x| x.eos())
+                        .is_none()
+                    {
+                        return Err((
+                            format!("boundaries.{face}"),
+                            format!("the particles a `Fixed` face brings in push with their pressure, which needs an equation of state; `{m}`'s model has none"),
+                        ));
+                    }
                 }
             }
         }
@@ -371,6 +481,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         }
         check_region(&format!("{path}.region"), &r.region)?;
         check_state(&format!("{path}.state"), &r.state)?;
+        if r.state.material.is_some() {
+            return Err((
+                format!("{path}.state.material"),
+                "a region names its material beside its state (`material: ...`); `material` inside a state is for `Fixed` faces".into(),
+            ));
+        }
     }
     let o = &s.outputs;
     if let Some(iv) = o.interval {
@@ -519,4 +635,150 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::build::build;
+    use crate::load_str;
+
+    const SOD: &str = include_str!("../../../configs/sod.ron");
+    const SOD_ICE: &str = include_str!("../../../configs/sod_ice.ron");
+    const STICK: &str = include_str!("../../../configs/ratestick_1d.ron");
+    const TAYLOR: &str = include_str!("../../../configs/taylor2d.ron");
+    const PISTON: &str = include_str!("../../../configs/piston_icempm.ron");
+    const BLAST2D: &str = include_str!("../../../configs/blast2d.ron");
+
+    /// `configs/sod.ron` as gas particles (the V-SOD-MPM tube).
+    fn sod_mpm(sets: &[&str]) -> Vec<String> {
+        let mut all = vec![
+            "pipeline=Mpm(shape_function: Linear, ppc: 2)".to_string(),
+            "materials.gas=(model: Null(eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0)))"
+                .to_string(),
+            "outputs.fields=[\"density\"]".to_string(),
+            "outputs.gauges=[]".to_string(),
+            "outputs.lineouts=[]".to_string(),
+        ];
+        all.extend(sets.iter().map(|s| s.to_string()));
+        all
+    }
+
+    fn sets(s: &[&str]) -> Vec<String> {
+        s.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn the_open_face_names_load_and_build_for_fdm_ice_and_mpm() {
+        let faces = [
+            "ZeroGradient",
+            "OutflowOnly",
+            "Fixed(density: 1.0, velocity: (0.5, 0, 0), pressure: 1.0)",
+        ];
+        for face in faces {
+            let x_low = format!("boundaries.x_low={face}");
+            for (name, text, extra) in [
+                ("sod", SOD, sets(&[&x_low])),
+                ("sod_ice", SOD_ICE, sets(&[&x_low])),
+                ("sod_mpm", SOD, sod_mpm(&[&x_low])),
+            ] {
+                let loaded = load_str(name, text, &extra)
+                    .unwrap_or_else(|e| panic!("{name} with {face}: {e}"));
+                build(&loaded.scenario).unwrap_or_else(|e| panic!("{name} with {face}: {e}"));
+            }
+        }
+    }
+
+    #[test]
+    fn a_face_a_pipeline_does_not_take_is_a_load_error_listing_what_it_takes() {
+        let cases: [(&str, &str, Vec<String>, &str, &str); 6] = [
+            (
+                "sod",
+                SOD,
+                sets(&["boundaries.x_low=Wall"]),
+                "boundaries.x_low",
+                "the Fdm pipeline takes `Outflow`, `ZeroGradient`, `OutflowOnly`, `Reflective`, `Periodic` or `Fixed` faces, not `Wall`; `Wall` is a particle boundary",
+            ),
+            (
+                "taylor2d",
+                TAYLOR,
+                sets(&["boundaries.x_low=Periodic", "boundaries.x_high=Periodic"]),
+                "boundaries.x_low",
+                "the Mpm pipeline takes `Outflow`, `ZeroGradient`, `OutflowOnly`, `Fixed`, `Reflective` or `Wall` faces, not `Periodic`",
+            ),
+            (
+                "piston",
+                PISTON,
+                sets(&["boundaries.x_high=ZeroGradient"]),
+                "boundaries.x_high",
+                "the IceMpm pipeline takes `Outflow`, `Reflective`, `Wall` or `Periodic` faces, not `ZeroGradient`",
+            ),
+            (
+                "piston",
+                PISTON,
+                sets(&["boundaries.x_high=OutflowOnly"]),
+                "boundaries.x_high",
+                "its `Outflow` already holds back",
+            ),
+            (
+                "blast2d",
+                BLAST2D,
+                sets(&["boundaries=(y_high: ZeroGradient)"]),
+                "boundaries.y_high",
+                "the FdmMpmBridge pipeline takes `Outflow`, `Reflective` or `Wall` faces, not `ZeroGradient`",
+            ),
+            (
+                "blast2d",
+                BLAST2D,
+                sets(&["boundaries=(y_high: Fixed(density: 1.2, pressure: 1e5))"]),
+                "boundaries.y_high",
+                "not `Fixed`",
+            ),
+        ];
+        for (name, text, extra, field, message) in cases {
+            let err = load_str(name, text, &extra).unwrap_err();
+            assert_eq!(err.field.as_deref(), Some(field), "{name}: {err}");
+            assert!(err.message.contains(message), "{name}: {err}");
+            assert!(
+                err.position.is_some(),
+                "{name}: {err} has no line and column"
+            );
+        }
+    }
+
+    /// A `Fixed` face of a pipeline with several materials names its
+    /// material; one it does not carry is an error at that field.
+    #[test]
+    fn a_fixed_face_names_its_material_where_there_are_several() {
+        let fixed = "boundaries.x_high=Fixed(density: 1160.045, temperature: 298.15)";
+        let err = load_str("stick", STICK, &sets(&[fixed])).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("boundaries.x_high"));
+        assert!(err.message.contains("`anfo`, `products`"), "{err}");
+        let named = "boundaries.x_high=Fixed(material: \"anfo\", density: 1160.045, velocity: (-90, 0, 0), temperature: 298.15)";
+        let loaded = load_str("stick", STICK, &sets(&[named])).unwrap();
+        build(&loaded.scenario).unwrap();
+        let unknown = "boundaries.x_high=Fixed(material: \"air\", density: 1.0, temperature: 300)";
+        let err = load_str("stick", STICK, &sets(&[unknown])).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("boundaries.x_high.material"));
+        assert!(
+            err.message.contains("not a material of this pipeline"),
+            "{err}"
+        );
+        // The Fdm pipeline's one gas may be named, no other.
+        let other = "boundaries.x_low=Fixed(material: \"air\", density: 1.0, pressure: 1.0)";
+        let err = load_str("sod", SOD, &sets(&[other])).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("boundaries.x_low.material"));
+        // An initial region names its material beside its state.
+        let err = load_str("sod", SOD, &sets(&["initial.0.state.material=\"gas\""])).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("initial.0.state.material"));
+    }
+
+    /// MPM particles that enter through a `Fixed` face push with the
+    /// pressure of their equation of state: a model without one is refused.
+    #[test]
+    fn an_mpm_fixed_face_needs_a_material_with_an_equation_of_state() {
+        let fixed = "boundaries.x_low=Fixed(density: 8930, temperature: 300)";
+        let err = load_str("taylor2d", TAYLOR, &sets(&[fixed])).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("boundaries.x_low"), "{err}");
+        assert!(err.message.contains("equation of state"), "{err}");
+    }
 }

@@ -95,6 +95,15 @@ pub trait Solver: Send {
         Vec::new()
     }
 
+    /// The domain faces (x_low, x_high, y_low, y_high, z_low, z_high) where
+    /// a one-way open face (one that lets matter out but not in) has held
+    /// back a flow pointing into the domain since the start, so that the
+    /// run loop can warn that the face acted as a wall there. All `false`
+    /// (the default) for a method without such faces.
+    fn blocked_inflow(&self) -> [bool; 6] {
+        [false; 6]
+    }
+
     /// Wall-clock seconds spent so far in each named part of a method made
     /// of several (the FDM and the MPM of a bridge, for instance), for the
     /// run summary; empty (the default) for a method with one part.

@@ -69,8 +69,16 @@ impl Default for FdmOptions {
 /// A boundary condition of the Euler solver on one face.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FdmBoundary {
-    /// Zero-gradient outflow.
+    /// Zero gradient both ways: the ghosts copy the boundary cell, so a
+    /// flow leaves freely and, where the boundary cell moves inwards, its
+    /// state flows in (the config's `ZeroGradient`, and its `Outflow`).
     Outflow,
+    /// Zero gradient for what leaves; where the boundary cell's normal
+    /// velocity points into the domain the ghosts hold it at zero with the
+    /// cell's density and internal energy (FLASH's "diode",
+    /// [`brisance_grid::FaceBc::OutflowOnly`]), so the face holds back
+    /// what would enter.
+    OutflowOnly,
     /// Slip wall / symmetry plane.
     Reflective,
     /// Periodic (both faces of an axis).
@@ -212,6 +220,10 @@ impl<E: GasLaw> FdmSolver<E> {
         for b in boundaries {
             faces.push(match b {
                 FdmBoundary::Outflow => FaceBc::Outflow,
+                FdmBoundary::OutflowOnly => FaceBc::OutflowOnly {
+                    density: RHO,
+                    energy: ENERGY,
+                },
                 FdmBoundary::Reflective => FaceBc::Reflective,
                 FdmBoundary::Periodic => FaceBc::Periodic,
                 FdmBoundary::Fixed(s) => FaceBc::Fixed({
@@ -873,7 +885,11 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     /// round-off.
     fn outflow_totals(&self) -> Option<ConservationTotals> {
         let open = self.bcs.faces.iter().enumerate().any(|(f, bc)| {
-            self.level.is_active(f / 2) && matches!(bc, FaceBc::Outflow | FaceBc::Fixed(_))
+            self.level.is_active(f / 2)
+                && matches!(
+                    bc,
+                    FaceBc::Outflow | FaceBc::OutflowOnly { .. } | FaceBc::Fixed(_)
+                )
         });
         open.then(|| self.outflow())
     }
@@ -899,6 +915,12 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             ));
         }
         out
+    }
+
+    /// The outflow-only faces whose ghosts have zeroed an inward flow
+    /// ([`brisance_grid::InProcessExchange::blocked_inflow`]).
+    fn blocked_inflow(&self) -> [bool; 6] {
+        self.exchange.blocked_inflow()
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {

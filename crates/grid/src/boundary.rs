@@ -42,8 +42,29 @@ impl Face {
 /// What the ghost cells behind a domain face hold.
 #[derive(Debug, Clone, PartialEq)]
 pub enum FaceBc {
-    /// Zero gradient: every ghost layer copies the boundary cell.
+    /// Zero gradient: every ghost layer copies the boundary cell, so what
+    /// the boundary cell holds flows out, or in where it moves inwards.
     Outflow,
+    /// Zero gradient for what leaves, a wall-like ghost for what would
+    /// enter: the ghosts copy the boundary cell, except that where the
+    /// vector component normal to the face points into the domain it is
+    /// set to zero in the ghosts and the kinetic energy it carried is taken
+    /// from the total-energy field, so the ghost keeps the cell's density,
+    /// tangential motion and internal energy. This is the "diode" boundary
+    /// of the FLASH code (Fryxell et al. 2000, ApJS 131, 273; FLASH User's
+    /// Guide 4.x, Grid boundary conditions: zero gradient with the normal
+    /// velocity in the guard cells set to zero where it points into the
+    /// domain), for conservative Euler fields: `density` is the index of
+    /// ρ, `energy` that of the total energy per unit volume E, and the
+    /// normal momentum ρu_n is the field of kind
+    /// [`crate::FieldKind::VectorComponent`] of the face's axis, so the
+    /// ghost holds E − (ρu_n)²/(2ρ) and ρu_n = 0 there.
+    OutflowOnly {
+        /// Index of the density field ρ.
+        density: usize,
+        /// Index of the total-energy field E (per unit volume).
+        energy: usize,
+    },
     /// Mirror: ghost layer m copies interior layer m; the vector component
     /// normal to the face changes sign (a slip wall or symmetry plane).
     Reflective,
@@ -89,8 +110,8 @@ impl BoundaryConditions {
             }
         }
         for face in Face::ALL {
-            if let FaceBc::Fixed(v) = self.get(face) {
-                if v.len() != n_fields {
+            match self.get(face) {
+                FaceBc::Fixed(v) if v.len() != n_fields => {
                     return Err(format!(
                         "fixed state on {} has {} values for {} fields",
                         face.name(),
@@ -98,6 +119,15 @@ impl BoundaryConditions {
                         n_fields
                     ));
                 }
+                FaceBc::OutflowOnly { density, energy }
+                    if *density >= n_fields || *energy >= n_fields || density == energy =>
+                {
+                    return Err(format!(
+                        "outflow-only face {}: density field {density} and energy field {energy} must be two of the {n_fields} fields",
+                        face.name()
+                    ));
+                }
+                _ => {}
             }
         }
         Ok(())

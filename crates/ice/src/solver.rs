@@ -29,7 +29,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::advection::{donor_carried, donor_volume_slab, Advection};
-use crate::boundary::outflow_face_velocity;
+use crate::boundary::{holds_back_inflow, outflow_face_velocity};
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
@@ -42,6 +42,7 @@ use crate::lagrangian::{
 use crate::pressure::{face_pressure, pressure_increment};
 use crate::reaction::{transfer_burnt_mass, BurntMass, IceReaction, Parcel};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The solver's [`Params`] from the fields they read. A macro rather
 /// than a method: a method would borrow the whole solver, and the passes
@@ -519,6 +520,9 @@ pub struct IceSolver<E: Eos> {
     transport: diffusion_pass::Transport,
     /// Work arrays and statistics of the implicit pressure solve.
     implicit: implicit::ImplicitWorkspace,
+    /// Per face: whether an outflow face has held back a flow into the
+    /// domain since the start ([`crate::boundary::holds_back_inflow`]).
+    blocked_inflow: [bool; 6],
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -639,6 +643,7 @@ impl<E: Eos> IceSolver<E> {
             kept_warm_advection: [KeptWarmTotals::default(); MAX_MATERIALS],
             transport: Default::default(),
             implicit: Default::default(),
+            blocked_inflow: [false; 6],
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -1398,6 +1403,9 @@ impl<E: Eos> IceSolver<E> {
         let params = solver_params!(self);
         let boundaries = &self.boundaries;
         let cells = self.level.geometry.cells;
+        // Faces whose diode held back an inflow this step (any order of
+        // setting gives the same flags).
+        let blocked: [AtomicBool; 6] = Default::default();
         self.scratch
             .par_iter_mut()
             .zip(self.state.par_iter())
@@ -1485,7 +1493,22 @@ impl<E: Eos> IceSolver<E> {
                         momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
                         for r in 0..n {
                             let u = match outward {
-                                Some(sign) => outflow_face_velocity(u[r][0], sign),
+                                Some(sign) => {
+                                    // The boundary cell: c on a low face,
+                                    // l on a high one.
+                                    let b = if sign < 0.0 { c } else { l };
+                                    if holds_back_inflow(
+                                        u[r][0],
+                                        sign,
+                                        th_s[r][b],
+                                        pe[b],
+                                        vsp_s[r][b],
+                                    ) {
+                                        let face = 2 * a + usize::from(sign > 0.0);
+                                        blocked[face].store(true, Ordering::Relaxed);
+                                    }
+                                    outflow_face_velocity(u[r][0], sign)
+                                }
                                 None => u[r][0],
                             };
                             fv[r].write(c, u);
@@ -1493,6 +1516,9 @@ impl<E: Eos> IceSolver<E> {
                     });
                 }
             });
+        for (held, b) in self.blocked_inflow.iter_mut().zip(&blocked) {
+            *held |= b.load(Ordering::Relaxed);
+        }
     }
 
     /// Step 5 (seed 000 eqs 20–21): the volume-flux divergence
@@ -2632,6 +2658,12 @@ impl<E: Eos> Solver for IceSolver<E> {
         self.time += dt;
         self.steps += 1;
         self.compute_equilibration_pressure()
+    }
+
+    /// The outflow faces whose diode has held back a flow into the domain
+    /// ([`crate::boundary::holds_back_inflow`]).
+    fn blocked_inflow(&self) -> [bool; 6] {
+        self.blocked_inflow
     }
 
     /// Totals summed in global cell order: the bits do not depend on the

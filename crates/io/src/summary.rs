@@ -54,6 +54,11 @@ pub struct RunSummary {
     /// positivity limiter); empty for a method without one.
     #[serde(default)]
     pub safeguards: Vec<Safeguard>,
+    /// What the run warned of (a one-way open face that held back an
+    /// inflow, for instance), in the order it happened; left out of the
+    /// file when there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// How often one safeguard of a method acted over a run.
@@ -154,6 +159,7 @@ mod tests {
                     seconds: 8.0,
                 },
             ],
+            warnings: vec!["x_low held back an inflow".to_string()],
         }
     }
 
@@ -184,6 +190,18 @@ mod tests {
         assert!(text.contains("\"momentum\": [\n"), "{text}");
         assert_eq!(read_summary(&path).unwrap(), summary);
         assert_eq!(summary.relative_energy_change, -0.001);
+    }
+
+    #[test]
+    fn a_run_without_warnings_writes_no_warnings_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        let mut summary = sample();
+        summary.warnings.clear();
+        write_summary(&path, &summary).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!text.contains("warnings"), "{text}");
+        assert_eq!(read_summary(&path).unwrap(), summary);
     }
 
     #[test]

@@ -16,7 +16,10 @@
 //! - [`GridBoundary::Free`]: nothing is imposed (traction-free);
 //! - [`GridBoundary::Outflow`]: nothing is imposed on the grid, and a
 //!   particle that crosses the face is removed from the set, its mass,
-//!   momentum and energy booked as outflow (see [`crate::solver`]).
+//!   momentum and energy booked as outflow (see [`crate::solver`]). Alone
+//!   it lets nothing in; with a reservoir beyond it
+//!   ([`crate::MpmOptions::reservoirs`], [`crate::inflow`]) matter enters
+//!   through it.
 //!
 //! On the other three faces a particle that leaves the domain stops the run
 //! with an error. Faces of inactive directions (one cell) impose nothing:

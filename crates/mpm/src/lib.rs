@@ -18,6 +18,8 @@
 //! - [`step`]: the USF, USL and MUSL explicit steps and the particle stress
 //!   update (seed 001 eqs 12–13, 22–30).
 //! - [`boundary`]: grid boundary conditions per domain face.
+//! - [`inflow`]: particle reservoirs beyond open faces, through which
+//!   matter enters (an inflow buffer of particle layers).
 //! - [`solver`]: [`MpmSolver`], the method behind the core `Solver` trait.
 //! - [`traction`]: prescribed traction or pressure on the particles of a
 //!   surface layer (seed 001 eq 20), with a time history.
@@ -36,6 +38,7 @@ pub mod anti_locking;
 pub mod boundary;
 pub mod generate;
 pub mod grid_nodes;
+pub mod inflow;
 pub mod nodes;
 pub mod particle_sets;
 pub mod particles;
@@ -50,6 +53,7 @@ pub use anti_locking::AntiLocking;
 pub use boundary::GridBoundary;
 pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
 pub use grid_nodes::{GridNodes, NodeLattice};
+pub use inflow::{Reservoir, ReservoirKind, ReservoirState};
 pub use nodes::patch_node_index;
 pub use particle_sets::{ParticleSet, SetQuantity};
 pub use particles::{

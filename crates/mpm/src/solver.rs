@@ -3,14 +3,18 @@
 //!
 //! One [`Solver::advance`]:
 //!
-//! 1. every [`RESORT_INTERVAL`] steps, sort the particles by cell (stable
+//! 1. with reservoirs beyond open faces ([`crate::inflow`]), the layers
+//!    that enter join the particles, booked as negative outflow;
+//! 2. every [`RESORT_INTERVAL`] steps, sort the particles by cell (stable
 //!    counting sort; skipped when they are still sorted); every step, bin
 //!    them by block for the transfers ([`crate::transfer::ParticleBins`]);
-//! 2. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
+//!    the reservoir particles' node shares and forces are formed;
+//! 3. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
 //!    deterministic coloured-scatter P2G of [`crate::transfer`], G2P and the
 //!    stress update in one visit of each particle;
-//! 3. particles that crossed an [`GridBoundary::Outflow`] face are removed
-//!    and booked; a particle that crossed any other face stops the run.
+//! 4. particles that crossed an [`GridBoundary::Outflow`] face are removed
+//!    and booked; a particle that crossed any other face stops the run;
+//!    fixed reservoirs move on.
 //!
 //! The step runs as one task of the rayon pool; see
 //! `docs/physics/mpm/kernels.md` for the loop structure, memory and
@@ -21,8 +25,9 @@
 //! [`Solver::conservation_totals`] sums, in particle order, mass Σ m_p,
 //! momentum Σ m_p v_p and energy Σ m_p (e_p + |v_p|²/2), and adds the
 //! *outflow* totals: the same quantities of every particle removed through
-//! an outflow face, accumulated when it left. The totals thus stay constant
-//! when matter leaves the domain; [`MpmSolver::outflow_totals`] gives the
+//! an outflow face, accumulated when it left, less those of every particle
+//! a reservoir brought in. The totals thus stay constant when matter
+//! leaves or enters the domain; [`MpmSolver::outflow_totals`] gives the
 //! outflow part alone.
 //!
 //! The prescribed external forces — surface tractions (seed 001 eq 20) and
@@ -52,6 +57,7 @@
 use crate::anti_locking::{AntiLocking, PatchAverage};
 use crate::boundary::{GridBoundary, FACE_NAMES};
 use crate::grid_nodes::GridNodes;
+use crate::inflow::{Reservoir, Reservoirs};
 use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
 use crate::traction::{self, SurfaceLoad};
 use crate::transfer::{BinError, GridMap, P2gSums, ParticleBins};
@@ -88,6 +94,12 @@ pub struct MpmOptions {
     /// ([`crate::anti_locking`]); `Off` by default.
     #[serde(default)]
     pub anti_locking: AntiLocking,
+    /// Per face, the particle reservoir beyond it through which matter
+    /// enters ([`crate::inflow`]); only on [`GridBoundary::Outflow`]
+    /// faces, whose leaving particles are removed as without one. None by
+    /// default.
+    #[serde(default)]
+    pub reservoirs: [Option<Reservoir>; 6],
 }
 
 impl Default for MpmOptions {
@@ -102,6 +114,7 @@ impl Default for MpmOptions {
             min_dt: 1e-14,
             bulk_viscosity: None,
             anti_locking: AntiLocking::Off,
+            reservoirs: [None; 6],
         }
     }
 }
@@ -176,6 +189,9 @@ pub enum MpmSetupError {
         /// The number given.
         count: usize,
     },
+    /// A reservoir that cannot be set up.
+    #[error("{0}")]
+    Reservoir(#[from] crate::inflow::ReservoirError),
     /// A particle whose shape-function stencil cannot be evaluated.
     #[error("particle {particle}: {detail}")]
     Shape {
@@ -247,6 +263,12 @@ pub struct MpmSolver {
     surface_forces: Vec<(usize, [f64; 3])>,
     /// Work of the external forces (tractions, gravity) since the start, J.
     external_work: f64,
+    /// The reservoirs beyond open faces ([`crate::inflow`]).
+    inflow: Reservoirs,
+    /// Per face: whether a plain outflow face (no reservoir) has had
+    /// particles in its boundary cells moving inwards, which nothing
+    /// follows in ([`MpmSolver::note_inflow_at_plain_outflow_faces`]).
+    held_back: [bool; 6],
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -273,6 +295,8 @@ struct SavedState {
     material: Vec<MaterialId>,
     history: Vec<f64>,
     failed: Vec<bool>,
+    /// The reservoirs' phases ([`Reservoirs::phases`]).
+    reservoir_phases: Vec<Vec<f64>>,
 }
 
 /// The node fields of [`MpmSolver::NODE_FIELDS`].
@@ -386,6 +410,19 @@ impl MpmSolver {
             });
         }
         let grid = level.geometry;
+        for (face, r) in options.reservoirs.iter().enumerate() {
+            if r.is_some() && options.boundaries[face] != GridBoundary::Outflow {
+                return Err(crate::inflow::ReservoirError {
+                    face,
+                    detail: format!(
+                        "a reservoir needs an Outflow face, which lets particles leave; this face is {:?}",
+                        options.boundaries[face]
+                    ),
+                }
+                .into());
+            }
+        }
+        let inflow = Reservoirs::new(&options.reservoirs, &grid, materials.len())?;
         if let Some((particle, &position)) = particles
             .position
             .iter()
@@ -453,6 +490,8 @@ impl MpmSolver {
             ids,
             loads: Vec::new(),
             surface_forces: Vec::new(),
+            inflow,
+            held_back: [false; 6],
         })
     }
 
@@ -744,17 +783,31 @@ impl MpmSolver {
     /// One explicit step of Δt = `dt` (see the module doc): bin, transfer,
     /// update the stresses, remove the particles that left.
     fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        if !self.inflow.is_empty() {
+            self.inject()?;
+        }
         self.sort_particles()?;
+        if !self.inflow.is_empty() {
+            let first = self.steps == 0;
+            if let Err(e) = self.inflow.share(&self.work.map, first) {
+                return Err(SolverError::Other(format!(
+                    "MPM at t = {:e} s: {e}",
+                    self.time
+                )));
+            }
+        }
         if self.options.anti_locking == AntiLocking::FBar {
             let grid = &self.level.geometry;
             if let Err(e) = self.work.average.assign(grid, &self.particles.position) {
                 return Err(self.particle_error(e.index, e.to_string()));
             }
         }
-        let surface_forces = self.take_surface_forces()?;
+        let mut surface_forces = self.take_surface_forces()?;
+        surface_forces.extend_from_slice(self.inflow.forces());
         let grid = self.level.geometry;
         let params = StepParams {
             surface_forces: &surface_forces,
+            reservoir: self.inflow.shares(),
             ..step_params(
                 &self.options,
                 &self.materials,
@@ -839,9 +892,89 @@ impl MpmSolver {
                 .nodes
                 .external_work(&self.surface_forces, self.options.gravity, dt);
         self.handle_leaving_particles()?;
+        self.inflow.advance(dt);
+        self.note_inflow_at_plain_outflow_faces();
         self.time += dt;
         self.steps += 1;
         Ok(())
+    }
+
+    /// Step 1 of [`crate::inflow`]: the reservoirs' layers that enter join
+    /// the particles, booked as negative outflow.
+    fn inject(&mut self) -> Result<(), SolverError> {
+        let grid = self.level.geometry;
+        let new = self.inflow.inject(
+            &grid,
+            &self.particles,
+            &self.bulk,
+            &self.materials,
+            &mut self.outflow,
+        );
+        let first = self.particles.len();
+        let added = if new.is_empty() {
+            Ok(0)
+        } else {
+            self.insert_particles(&new)
+        };
+        self.inflow.return_injected(new);
+        // A particle continuing a stretched boundary cell carries that
+        // stretch in F; its initial volume is V / det F (inflow.rs).
+        let ps = &mut self.particles;
+        for p in first..ps.len() {
+            let f = &ps.deformation_gradient[p];
+            let det = f[0] * (f[4] * f[8] - f[5] * f[7]) - f[1] * (f[3] * f[8] - f[5] * f[6])
+                + f[2] * (f[3] * f[7] - f[4] * f[6]);
+            ps.initial_volume[p] = ps.volume[p] / det;
+        }
+        added.map(|_| ()).map_err(|e| {
+            SolverError::Other(format!(
+                "MPM at t = {:e} s: particles entering through a reservoir: {e}",
+                self.time
+            ))
+        })
+    }
+
+    /// Marks the plain outflow faces (no reservoir) with a particle in a
+    /// boundary cell moving inwards faster than
+    /// [`crate::inflow::BLOCKED_SPEED_FRACTION`] of its sound speed:
+    /// nothing enters behind it ([`Solver::blocked_inflow`]). Faces already
+    /// marked are not looked at again.
+    fn note_inflow_at_plain_outflow_faces(&mut self) {
+        let grid = self.level.geometry;
+        for face in 0..6 {
+            let axis = face / 2;
+            if self.held_back[face]
+                || grid.cells[axis] <= 1
+                || self.options.boundaries[face] != GridBoundary::Outflow
+                || self.options.reservoirs[face].is_some()
+            {
+                continue;
+            }
+            let inward = if face % 2 == 0 { 1.0 } else { -1.0 };
+            let boundary_cell = if face % 2 == 0 {
+                0
+            } else {
+                grid.cells[axis] - 1
+            };
+            let ps = &self.particles;
+            let mats = &self.materials;
+            self.held_back[face] = (0..ps.len()).into_par_iter().with_min_len(4096).any(|p| {
+                let v_in = inward * ps.velocity[p][axis];
+                if !(v_in > 0.0) {
+                    return false;
+                }
+                let s = (ps.position[p][axis] - grid.origin[axis]) / grid.spacing[axis];
+                let cell =
+                    (crate::shape::floor(s) as isize).clamp(0, grid.cells[axis] as isize - 1);
+                if cell as usize != boundary_cell {
+                    return false;
+                }
+                let rho = ps.mass[p] / ps.volume[p];
+                let c =
+                    mats[ps.material[p].0 as usize].wave_speed(rho, ps.specific_internal_energy[p]);
+                v_in > crate::inflow::BLOCKED_SPEED_FRACTION * c
+            });
+        }
     }
 
     fn particle_error(&self, index: usize, detail: String) -> SolverError {
@@ -1041,6 +1174,7 @@ fn step_params<'a>(
         dt,
         bulk_viscosity: viscosity_params(options, grid),
         surface_forces: &[],
+        reservoir: &[],
     }
 }
 
@@ -1119,6 +1253,8 @@ impl Solver for MpmSolver {
                 }
             })
             .reduce(|| (0.0, usize::MAX), |a, b| (a.0.max(b.0), a.1.min(b.1)));
+        // A fixed reservoir's state enters the next step's particles.
+        let speed = speed.max(self.inflow.max_signal_speed(mats));
         if bad != usize::MAX {
             return Err(self.particle_error(bad, "wave speed plus |v| is not finite".into()));
         }
@@ -1164,9 +1300,18 @@ impl Solver for MpmSolver {
         t
     }
 
-    /// The particles that left the grid, with their state when they left.
+    /// The particles that left the grid, with their state when they left,
+    /// less those the reservoirs brought in ([`crate::inflow`]).
     fn outflow_totals(&self) -> Option<ConservationTotals> {
         Some(self.outflow)
+    }
+
+    /// One-way faces that held back an inflow: an `OutflowOnly` reservoir
+    /// that zeroed an inward velocity, or a plain outflow face whose
+    /// boundary particles moved inwards with nothing to follow them.
+    fn blocked_inflow(&self) -> [bool; 6] {
+        let r = self.inflow.blocked_inflow();
+        std::array::from_fn(|f| r[f] || self.held_back[f])
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {
@@ -1342,6 +1487,7 @@ impl Solver for MpmSolver {
             material: ps.material.clone(),
             history: ps.history.clone(),
             failed: ps.failed.clone(),
+            reservoir_phases: self.inflow.phases(),
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -1398,6 +1544,9 @@ impl Solver for MpmSolver {
                 self.materials.len()
             )));
         }
+        self.inflow
+            .set_phases(&s.reservoir_phases)
+            .map_err(SolverError::Checkpoint)?;
         let mut ps = Particles::new(s.history_stride);
         ps.position = s.position;
         ps.velocity = s.velocity;

@@ -81,9 +81,14 @@ pub struct StepParams<'a> {
     /// Artificial bulk viscosity of the stress update, if any.
     pub bulk_viscosity: Option<ViscosityParams>,
     /// Nodal forces of the prescribed surface tractions at tⁿ, as (node
-    /// storage index, force in N) pairs ([`crate::traction`]); added to
-    /// f_I before the momentum update.
+    /// storage index, force in N) pairs ([`crate::traction`]), and of the
+    /// reservoirs beyond open faces ([`crate::inflow`]); added to f_I
+    /// before the momentum update.
     pub surface_forces: &'a [(usize, [f64; 3])],
+    /// The mass and momentum the reservoirs beyond open faces add to the
+    /// nodes ([`crate::inflow::NodeShare`]), after every P2G of mass and
+    /// momentum and after MUSL's re-mapping; empty without reservoirs.
+    pub reservoir: &'a [crate::inflow::NodeShare],
 }
 
 /// Why a particle's stress update was refused.
@@ -166,6 +171,7 @@ pub fn p2g_velocity(
         nodes,
         P2gSums::MassMomentum,
     );
+    crate::inflow::add_mass_and_momentum(params.reservoir, nodes);
     nodes.update(&params.node_update(), NodeStage::Velocity);
 }
 
@@ -252,6 +258,9 @@ fn p2g_with_force(
         ..p2g_inputs(particles)
     };
     transfer::p2g(t.map, t.bins, inputs, nodes, sums);
+    if sums != P2gSums::Force {
+        crate::inflow::add_mass_and_momentum(params.reservoir, nodes);
+    }
     crate::traction::add_node_forces(params.surface_forces, &mut nodes.force);
     nodes.update(&params.node_update(), stage);
 }
@@ -275,6 +284,7 @@ pub fn g2p_velocity_and_remap(
         nodes,
         params.dt,
     );
+    crate::inflow::add_momentum(params.reservoir, nodes);
     nodes.update(&params.node_update(), NodeStage::Remap);
 }
 
@@ -898,6 +908,7 @@ mod tests {
                 dt: 2e-8,
                 bulk_viscosity: None,
                 surface_forces: &[],
+                reservoir: &[],
             };
             let t = Transfer {
                 map: &map,

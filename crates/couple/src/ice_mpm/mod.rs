@@ -764,6 +764,11 @@ impl Solver for IceMpm {
         Ok(self.ice.stable_dt()?.min(self.mpm.stable_dt()?))
     }
 
+    /// The fluids' outflow faces that have held back an inflow.
+    fn blocked_inflow(&self) -> [bool; 6] {
+        self.ice.blocked_inflow()
+    }
+
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         let _span = tracing::trace_span!("ice_mpm_step", dt).entered();
         let mut frame = FluidFrame {
