@@ -3,6 +3,7 @@
 //! validation cases carry their id from docs/validation.md (`v_sod`).
 
 mod cli;
+mod e_freeair;
 mod open_faces;
 mod particle_gauges;
 mod restart;

@@ -1,6 +1,7 @@
 //! Exact solutions the validation suite compares against, written from the physics,
 //! and the empirical Kingery–Bulmash blast fits it compares free-air bursts with.
 
+pub mod blast;
 pub mod cases;
 pub mod kingery_bulmash;
 pub mod open_faces;

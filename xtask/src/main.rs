@@ -8,6 +8,7 @@
 
 mod bridge3d;
 mod bridge_cases;
+mod freeair;
 mod ice_cases;
 mod ice_diffusion;
 mod ice_implicit;
@@ -728,7 +729,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 26] = [
+const CASES: [&str; 27] = [
     "sod",
     "sod-ice",
     "ratestick",
@@ -750,6 +751,7 @@ const CASES: [&str; 26] = [
     "regress",
     "aphtpb",
     "hotspot",
+    "freeair",
     "blast2d",
     "plate",
     "slab",
@@ -846,6 +848,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("hotspot") {
         lattice_cases::e_hotspot(&mut body)?;
+    }
+    if run("freeair") {
+        freeair::e_freeair(&mut body, &img)?;
     }
     if run("blast2d") {
         bridge_cases::e_blast2d(&mut body, &img)?;
