@@ -17,6 +17,7 @@ mod mpm_throughput;
 mod pd_cases;
 mod plate_cases;
 mod plot;
+mod shock_tubes;
 mod slab_cases;
 mod splice;
 mod taylor;
@@ -728,9 +729,10 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 26] = [
+const CASES: [&str; 27] = [
     "sod",
     "sod-ice",
+    "shocktubes",
     "ratestick",
     "water-air-ice",
     "ice-diffusion",
@@ -788,6 +790,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("sod-ice") {
         ice_cases::v_sod_ice(&mut body, &img)?;
+    }
+    if run("shocktubes") {
+        shock_tubes::shock_tubes(&mut body, &img)?;
     }
     if run("ratestick") {
         ice_cases::e_ratestick(&mut body, &img)?;
