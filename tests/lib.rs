@@ -9,6 +9,7 @@ mod particle_gauges;
 mod restart;
 mod surface_loads;
 mod v_bar;
+mod v_shock_tubes;
 mod v_smooth;
 mod v_sod;
 mod v_sod_mpm;

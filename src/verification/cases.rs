@@ -70,7 +70,7 @@ pub struct SodResult {
 
 /// Largest excursion of `values[i]` (cells with centre in `[a, b)`) outside
 /// the band between `lo` and `hi`, as a fraction of `hi − lo`.
-fn overshoot(x: &[f64], values: &[f64], a: f64, b: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn overshoot(x: &[f64], values: &[f64], a: f64, b: f64, lo: f64, hi: f64) -> f64 {
     x.iter()
         .zip(values)
         .filter(|(xi, _)| **xi >= a && **xi < b)

@@ -6,5 +6,6 @@ pub mod cases;
 pub mod kingery_bulmash;
 pub mod open_faces;
 pub mod riemann;
+pub mod shock_tubes;
 pub mod smooth;
 pub mod taylor;

@@ -2,9 +2,12 @@
 //! tube and Toro's test 5 (two shocks from moving states, the flow
 //! entering through both ends), on the FDM, ICE and MPM pipelines, built
 //! from scenario text as a user writes it. The integration tests
-//! (`tests/open_faces.rs`, `tests/v_toro5.rs`) run these cases.
+//! (`tests/open_faces.rs`, `tests/v_toro5.rs`) run these cases;
+//! [`run_tube_outcome`] also keeps what a run that stops reached, for the
+//! shock-tube suite ([`super::shock_tubes`]).
 
-use brisance_compose::{build::build_solver, load_str, run::advance_to};
+use brisance_compose::{build::build_solver, load_str, run::next_step};
+use brisance_core::{SafeguardUse, Solver, SolverError};
 
 use super::riemann::toro_test;
 
@@ -137,18 +140,89 @@ pub struct TubeRun {
     pub particles: Option<(usize, u64)>,
 }
 
-/// Runs `text` to its end time.
+/// Runs `text` to its end time; a run that stops is an error.
 pub fn run_tube(text: &str) -> Result<TubeRun, String> {
-    let loaded = load_str("tube.ron", text, &[]).map_err(|e| e.to_string())?;
+    let outcome = run_tube_outcome(text, &[])?;
+    match outcome.stopped {
+        Some(error) => Err(error),
+        None => Ok(outcome.run),
+    }
+}
+
+/// What a tube run reached, whether or not it got to its end time.
+#[derive(Debug, Clone)]
+pub struct TubeOutcome {
+    /// The profiles at the end time, or as the solver left them when it
+    /// stopped.
+    pub run: TubeRun,
+    /// `None` when the run reached its end time; the solver's error when
+    /// it stopped.
+    pub stopped: Option<String>,
+    /// The time reached (that of the last completed step).
+    pub time: f64,
+    /// The smallest density of any cell, at the start and after every
+    /// completed step.
+    pub min_density: f64,
+    /// The smallest pressure of any cell, at the start and after every
+    /// completed step.
+    pub min_pressure: f64,
+    /// How often the method's safeguards acted (the FDM's face limiter);
+    /// empty for a method without any.
+    pub safeguards: Vec<SafeguardUse>,
+}
+
+/// Runs `text`, with the `--set` overrides `sets`, to its end time with
+/// the run loop's step rule, watching the smallest density and pressure.
+/// A run that stops is an outcome (`stopped`), not an error; the error is
+/// kept for a scenario that does not load or build.
+pub fn run_tube_outcome(text: &str, sets: &[String]) -> Result<TubeOutcome, String> {
+    let loaded = load_str("tube.ron", text, sets).map_err(|e| e.to_string())?;
     let end = loaded.scenario.time.end;
     let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
     let m0 = solver.conservation_totals().mass;
-    let steps = advance_to(solver.as_mut(), end).map_err(|e| e.to_string())?;
     let names = ["density", "velocity_x", "pressure"].map(String::from);
+    let smallest = |solver: &dyn Solver| -> Result<(f64, f64), String> {
+        let data = solver.cell_data(&names[..]).map_err(|e| e.to_string())?;
+        let min = |k: usize| {
+            data.fields[k]
+                .1
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min)
+        };
+        Ok((min(0), min(2)))
+    };
+    let (mut min_density, mut min_pressure) = smallest(solver.as_ref())?;
+    let mut steps = 0;
+    let mut time = solver.time();
+    let mut stopped = None;
+    // One step of the run loop's rule; whether it reached the end.
+    let step = |solver: &mut dyn Solver| -> Result<bool, SolverError> {
+        let (dt, hits) = next_step(solver.stable_dt()?, end - solver.time());
+        solver.advance(dt)?;
+        Ok(hits)
+    };
+    while end - solver.time() > 0.0 {
+        let hits = match step(solver.as_mut()) {
+            Ok(hits) => hits,
+            Err(e) => {
+                stopped = Some(e.to_string());
+                break;
+            }
+        };
+        steps += 1;
+        time = solver.time();
+        let (rho, p) = smallest(solver.as_ref())?;
+        min_density = min_density.min(rho);
+        min_pressure = min_pressure.min(p);
+        if hits {
+            break;
+        }
+    }
     let data = solver.cell_data(&names).map_err(|e| e.to_string())?;
     let g = data.geometry;
     let col = |k: usize| data.fields[k].1.clone();
-    Ok(TubeRun {
+    let run = TubeRun {
         x: (0..g.cells[0])
             .map(|i| g.cell_centre([i, 0, 0])[0])
             .collect(),
@@ -164,6 +238,14 @@ pub fn run_tube(text: &str) -> Result<TubeRun, String> {
             let max = ids.map_or(0.0, |(_, v)| v.iter().cloned().fold(0.0, f64::max));
             (p.positions.len(), max as u64)
         }),
+    };
+    Ok(TubeOutcome {
+        run,
+        stopped,
+        time,
+        min_density,
+        min_pressure,
+        safeguards: solver.safeguards(),
     })
 }
 

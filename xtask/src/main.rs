@@ -18,6 +18,7 @@ mod mpm_throughput;
 mod pd_cases;
 mod plate_cases;
 mod plot;
+mod shock_tubes;
 mod slab_cases;
 mod splice;
 mod taylor;
@@ -732,6 +733,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 const CASES: [&str; 27] = [
     "sod",
     "sod-ice",
+    "shocktubes",
     "ratestick",
     "water-air-ice",
     "ice-diffusion",
@@ -790,6 +792,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("sod-ice") {
         ice_cases::v_sod_ice(&mut body, &img)?;
+    }
+    if run("shocktubes") {
+        shock_tubes::shock_tubes(&mut body, &img)?;
     }
     if run("ratestick") {
         ice_cases::e_ratestick(&mut body, &img)?;
