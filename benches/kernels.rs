@@ -11,19 +11,29 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use std::hint::black_box;
 
 /// One full FDM step (six Lax–Wendroff sweeps with viscosity, halo fills and
-/// the CFL reduction) on a 3D 64³ box: cell-updates per second.
+/// the CFL reduction) on a 3D 64³ box: cell-updates per second, with the
+/// face limiter `full` (the default), `positivity` only and `off` side by
+/// side (docs/physics/fdm.md, "Face limiter").
 fn fdm_lax_wendroff(c: &mut Criterion) {
+    use brisance::fdm::FaceLimiter;
     let n = 64;
-    let mut solver = blast_box(n, [1, 1, 1]).expect("benchmark problem builds");
     let mut group = c.benchmark_group("fdm_lax_wendroff");
     group.throughput(Throughput::Elements((n * n * n) as u64));
     group.sample_size(20);
-    group.bench_function("step_64cubed", |b| {
-        b.iter(|| {
-            let dt = solver.stable_dt().expect("stable");
-            solver.advance(dt).expect("advances");
-        })
-    });
+    for (name, limiter) in [
+        ("step_64cubed", FaceLimiter::Full),
+        ("step_64cubed_limiter_positivity", FaceLimiter::Positivity),
+        ("step_64cubed_limiter_off", FaceLimiter::Off),
+    ] {
+        let mut solver = blast_box(n, [1, 1, 1]).expect("benchmark problem builds");
+        solver.set_limiter(limiter);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let dt = solver.stable_dt().expect("stable");
+                solver.advance(dt).expect("advances");
+            })
+        });
+    }
     group.finish();
 }
 

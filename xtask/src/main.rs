@@ -700,6 +700,31 @@ fn throughput(report: &mut Report) -> Result<()> {
         (Some(a), Some(b)) => (b - a) / cells,
         _ => f64::NAN,
     };
+    // The face limiter's cost: the same steps with each setting, taken in
+    // turn three times so that a slow spell of the machine falls on all.
+    use brisance::fdm::FaceLimiter;
+    let settings = [
+        ("Full (default)", FaceLimiter::Full),
+        ("Positivity", FaceLimiter::Positivity),
+        ("Off", FaceLimiter::Off),
+    ];
+    let mut rates = vec![Vec::new(); settings.len()];
+    for _ in 0..3 {
+        for (k, (_, limiter)) in settings.iter().enumerate() {
+            let mut s = blast_box(64, [1, 1, 1]).map_err(anyhow::Error::msg)?;
+            s.set_limiter(*limiter);
+            for _ in 0..2 {
+                let dt = s.stable_dt()?;
+                s.advance(dt)?;
+            }
+            let t0 = Instant::now();
+            for _ in 0..steps {
+                let dt = s.stable_dt()?;
+                s.advance(dt)?;
+            }
+            rates[k].push(cells * steps as f64 / t0.elapsed().as_secs_f64());
+        }
+    }
     let _ = writeln!(report.md, "## Throughput — FDM on a 3D 64³ box\n");
     let _ = writeln!(
         report.md,
@@ -711,7 +736,28 @@ fn throughput(report: &mut Report) -> Result<()> {
     );
     let _ = writeln!(
         report.md,
-        "| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+        "The face limiter's cost, the same {steps} steps with each setting, taken in turn three times \
+         (docs/physics/fdm.md, \"Face limiter\"):\n\n| limiter | cell-updates/s (three runs) | median / Off |\n|---|---|---:|"
+    );
+    let median = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let off = median(&rates[settings.len() - 1]);
+    for ((name, _), r) in settings.iter().zip(&rates) {
+        let list: Vec<String> = r.iter().map(|x| format!("{x:.2e}")).collect();
+        let _ = writeln!(
+            report.md,
+            "| {name} | {} | {:.2} |",
+            list.join(", "),
+            median(r) / off
+        );
+        println!("  limiter {name}: {}", list.join(", "));
+    }
+    let _ = writeln!(
+        report.md,
+        "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
     );
     report.target(
         "FDM throughput, 3D 64³",
@@ -730,7 +776,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 27] = [
+const CASES: [&str; 28] = [
     "sod",
     "sod-ice",
     "shocktubes",
