@@ -1,15 +1,17 @@
 //! A small 3D blast box for instruction-count comparisons
-//! (`valgrind --tool=callgrind`) and bit fingerprints of the one-species
-//! path: prints the step count and a hash of every conserved total and
-//! output field after `steps` steps.
+//! (`valgrind --tool=callgrind`) and bit fingerprints: prints the step
+//! count, the totals, a hash of every output field after `steps` steps,
+//! the wall time of the steps and the throughput.
 //!
-//! `cargo run --release -p brisance-fdm --example fdm_box -- [n] [steps] [full|positivity|off]`
-//! (the face limiter, `full` by default); it also prints the wall time of
-//! the steps and the throughput.
+//! `cargo run --release -p brisance-fdm --example fdm_box -- [n] [steps] [full|positivity|off] [products]`
+//! (the face limiter, `full` by default; `products`: a sphere of TNT
+//! products in air, the two-species gas law, instead of one ideal gas).
 
 use brisance_core::Solver;
-use brisance_eos::IdealGas;
-use brisance_fdm::{FaceLimiter, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+use brisance_eos::{IdealGas, Jwl};
+use brisance_fdm::{
+    FaceLimiter, FdmBoundary, FdmOptions, FdmSolver, GasLaw, PrimitiveState, ProductsInAir,
+};
 use brisance_grid::Level;
 
 fn main() {
@@ -33,28 +35,53 @@ fn main() {
         brisance_fdm::sweep::GHOST,
     )
     .expect("level");
+    let options = FdmOptions {
+        limiter,
+        ..Default::default()
+    };
+    // A sphere of radius 0.2 off the centre of the unit box.
+    let inside =
+        |x: [f64; 3]| (x[0] - 0.5).powi(2) + (x[1] - 0.45).powi(2) + (x[2] - 0.55).powi(2) < 0.04;
+    let state = |density, pressure| PrimitiveState {
+        density,
+        velocity: [0.0; 3],
+        pressure,
+    };
     if std::env::args().nth(4).as_deref() == Some("products") {
-        return products_box(n, steps, limiter);
+        // TNT products (JWL, 20 kg/m³, 200 bar) in air: the two-species
+        // gas law.
+        let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).expect("gas");
+        let solver =
+            FdmSolver::with_species(gas, level, [FdmBoundary::Reflective; 6], options, |x| {
+                if inside(x) {
+                    (state(20.0, 2.0e7), 1.0)
+                } else {
+                    (state(1.2, 1.0e5), 0.0)
+                }
+            })
+            .expect("solver");
+        return run(solver, n, steps);
     }
-    let mut solver = FdmSolver::new(
+    let solver = FdmSolver::new(
         IdealGas::air(),
         level,
         [FdmBoundary::Reflective; 6],
-        FdmOptions {
-            limiter,
-            ..Default::default()
-        },
+        options,
         |x| {
-            let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.45).powi(2) + (x[2] - 0.55).powi(2);
-            let inside = r2 < 0.04;
-            PrimitiveState {
-                density: if inside { 5.0 } else { 1.2 },
-                velocity: [0.0; 3],
-                pressure: if inside { 1.0e6 } else { 1.0e5 },
+            if inside(x) {
+                state(5.0, 1.0e6)
+            } else {
+                state(1.2, 1.0e5)
             }
         },
     )
     .expect("solver");
+    run(solver, n, steps);
+}
+
+/// Takes `steps` steps of the n³ box and prints the counts, totals, the
+/// hash of every output field, the wall time and the throughput.
+fn run<E: GasLaw>(mut solver: FdmSolver<E>, n: usize, steps: usize) {
     let t0 = std::time::Instant::now();
     for _ in 0..steps {
         let dt = solver.stable_dt().expect("dt");
@@ -80,65 +107,6 @@ fn main() {
         solver.time(),
         t.mass,
         t.energy,
-        (n * n * n * steps) as f64 / wall
-    );
-}
-
-/// The same box with a sphere of TNT products (JWL, 20 kg/m³, 200 bar) in
-/// air, the two-species gas law: throughput only.
-fn products_box(n: usize, steps: usize, limiter: FaceLimiter) {
-    use brisance_eos::Jwl;
-    use brisance_fdm::ProductsInAir;
-    let level = Level::new(
-        [0.0; 3],
-        [1.0; 3],
-        [n; 3],
-        [1, 1, 1],
-        brisance_fdm::sweep::GHOST,
-    )
-    .expect("level");
-    let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).expect("gas");
-    let mut solver = FdmSolver::with_species(
-        gas,
-        level,
-        [FdmBoundary::Reflective; 6],
-        FdmOptions {
-            limiter,
-            ..Default::default()
-        },
-        |x| {
-            let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.45).powi(2) + (x[2] - 0.55).powi(2);
-            if r2 < 0.04 {
-                (
-                    PrimitiveState {
-                        density: 20.0,
-                        velocity: [0.0; 3],
-                        pressure: 2.0e7,
-                    },
-                    1.0,
-                )
-            } else {
-                (
-                    PrimitiveState {
-                        density: 1.2,
-                        velocity: [0.0; 3],
-                        pressure: 1.0e5,
-                    },
-                    0.0,
-                )
-            }
-        },
-    )
-    .expect("solver");
-    let t0 = std::time::Instant::now();
-    for _ in 0..steps {
-        let dt = solver.stable_dt().expect("dt");
-        solver.advance(dt).expect("step");
-    }
-    let wall = t0.elapsed().as_secs_f64();
-    println!(
-        "products: steps {} wall {wall:.3} s ({:.3e} cell-updates/s)",
-        solver.steps(),
         (n * n * n * steps) as f64 / wall
     );
 }

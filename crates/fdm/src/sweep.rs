@@ -291,6 +291,21 @@ fn opt<G: GasLaw>(a: &[f64], n: usize) -> &[f64] {
     }
 }
 
+/// The rows of `a` cut to `n`: the five flow-variable rows, and the ρY row
+/// with a species (empty without), so a kernel's loop over them runs free
+/// of bounds checks and vectorises.
+#[inline(always)]
+fn cut<G: GasLaw>(a: [&[f64]; NMAX], n: usize) -> [&[f64]; NMAX] {
+    [
+        &a[0][..n],
+        &a[1][..n],
+        &a[2][..n],
+        &a[3][..n],
+        &a[4][..n],
+        opt::<G>(a[5], n),
+    ]
+}
+
 /// Mutable [`opt`].
 #[inline(always)]
 fn opt_mut<G: GasLaw>(a: &mut [f64], n: usize) -> &mut [f64] {
@@ -719,9 +734,8 @@ fn cell_flux_kernel<const AXIS: usize, G: GasLaw>(
     speed: &mut [f64],
 ) {
     let n = o0.len();
-    let [a0, a1, a2, a3, a4, a5] = u;
-    let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
-    let (a5, o5) = (opt::<G>(a5, n), opt_mut::<G>(o5, n));
+    let [a0, a1, a2, a3, a4, a5] = cut::<G>(u, n);
+    let o5 = opt_mut::<G>(o5, n);
     let [v, p, nu] = cells;
     let (v, p, nu) = (&v[..n], &p[..n], &nu[..n]);
     let (o1, o2, o3, o4, speed) = (
@@ -772,15 +786,10 @@ fn rusanov_kernel<G: GasLaw>(
     o5: &mut [f64],
 ) {
     let n = o0.len();
-    let [a0, a1, a2, a3, a4, a5] = u0;
-    let [b0, b1, b2, b3, b4, b5] = up;
-    let [c0, c1, c2, c3, c4, c5] = f0;
-    let [d0, d1, d2, d3, d4, d5] = fp;
-    let (a0, a1, a2, a3, a4) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n]);
-    let (b0, b1, b2, b3, b4) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n], &b4[..n]);
-    let (c0, c1, c2, c3, c4) = (&c0[..n], &c1[..n], &c2[..n], &c3[..n], &c4[..n]);
-    let (d0, d1, d2, d3, d4) = (&d0[..n], &d1[..n], &d2[..n], &d3[..n], &d4[..n]);
-    let [a5, b5, c5, d5] = [a5, b5, c5, d5].map(|x| opt::<G>(x, n));
+    let [a0, a1, a2, a3, a4, a5] = cut::<G>(u0, n);
+    let [b0, b1, b2, b3, b4, b5] = cut::<G>(up, n);
+    let [c0, c1, c2, c3, c4, c5] = cut::<G>(f0, n);
+    let [d0, d1, d2, d3, d4, d5] = cut::<G>(fp, n);
     let o5 = opt_mut::<G>(o5, n);
     let (s0, sp) = (&s0[..n], &sp[..n]);
     let (o1, o2, o3, o4) = (&mut o1[..n], &mut o2[..n], &mut o3[..n], &mut o4[..n]);
@@ -816,18 +825,10 @@ fn low_order_kernel<G: GasLaw>(
     q2: &mut [f64],
 ) {
     let n = o0.len();
-    let [u0, u1, u2, u3, u4, u5] = u;
-    let [m0, m1, m2, m3, m4, m5] = fm;
-    let [p0, p1, p2, p3, p4, p5] = fp;
-    let (u0, u1, u2, u3, u4) = (&u0[..n], &u1[..n], &u2[..n], &u3[..n], &u4[..n]);
-    let (m0, m1, m2, m3, m4) = (&m0[..n], &m1[..n], &m2[..n], &m3[..n], &m4[..n]);
-    let (p0, p1, p2, p3, p4) = (&p0[..n], &p1[..n], &p2[..n], &p3[..n], &p4[..n]);
-    let (u5, m5, p5, o5) = (
-        opt::<G>(u5, n),
-        opt::<G>(m5, n),
-        opt::<G>(p5, n),
-        opt_mut::<G>(o5, n),
-    );
+    let [u0, u1, u2, u3, u4, u5] = cut::<G>(u, n);
+    let [m0, m1, m2, m3, m4, m5] = cut::<G>(fm, n);
+    let [p0, p1, p2, p3, p4, p5] = cut::<G>(fp, n);
+    let o5 = opt_mut::<G>(o5, n);
     let (o1, o2, o3, o4, q2) = (
         &mut o1[..n],
         &mut o2[..n],
