@@ -400,7 +400,7 @@ fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> 
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "### The same charge on a coarse 3D octant\n\nThe 1D run at {:.1} mm, remapped at {:.0} µs (the shock at 0.3 m; \
+        "\n### The same charge on a coarse 3D octant\n\nThe 1D run at {:.1} mm, remapped at {:.0} µs (the shock at 0.3 m; \
          remap radius {remap_radius} m, `brisance::couple::remap`) onto a {n}³ octant of side {side} m (h = {:.0} mm, \
          symmetry planes at x, y, z = 0, \
          outflow outer faces) and run on the FDM (face limiter on) to {} ms: {steps} steps, {wall:.0} s wall. Gauges on \
