@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use brisance_constitutive::MaterialModel;
+pub use brisance_core::Geometry;
 use brisance_eos::EosModel;
 use brisance_mpm::{
     AntiLocking, BulkViscosity, LoadHistory, SetQuantity, ShapeFunction, SurfaceLoadKind,
@@ -48,6 +49,11 @@ pub struct Domain {
     /// Patches per direction.
     #[serde(default = "one_patch")]
     pub patches: [usize; 3],
+    /// `Cartesian` (the default) or `Axisymmetric`: a 2D (r, z) grid with
+    /// x = r ≥ 0, y = z and one cell along z, whose cells are rings about
+    /// the axis x = 0 (docs/physics/axisymmetric.md).
+    #[serde(default)]
+    pub geometry: Geometry,
 }
 
 fn one_patch() -> [usize; 3] {

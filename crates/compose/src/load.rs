@@ -132,6 +132,7 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::Geometry;
 
     const SOD: &str = include_str!("../../../configs/sod.ron");
 
@@ -219,6 +220,24 @@ mod tests {
             .contains("not both"));
         let neither = with_material("()");
         assert!(load_str("t.ron", &neither, &[]).is_err());
+    }
+
+    #[test]
+    fn the_geometry_defaults_to_cartesian_and_a_set_can_choose_it() {
+        let loaded = load_str("t.ron", TAYLOR, &[]).unwrap();
+        assert_eq!(loaded.scenario.domain.geometry, Geometry::Cartesian);
+        let set = ["domain.geometry=Axisymmetric".to_string()];
+        let err = load_str("t.ron", TAYLOR, &set).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("domain.geometry"), "{err}");
+    }
+
+    #[test]
+    fn peridynamics_refuses_the_axisymmetric_geometry_and_says_why() {
+        let pd = include_str!("../../../configs/pd_cylinder.ron");
+        let set = ["domain.geometry=Axisymmetric".to_string()];
+        let err = load_str("t.ron", pd, &set).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("domain.geometry"), "{err}");
+        assert!(err.message.contains("no axisymmetric form"), "{err}");
     }
 
     #[test]

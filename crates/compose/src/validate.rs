@@ -141,6 +141,59 @@ pub(crate) fn fixed_face_material<'a>(
     }
 }
 
+/// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
+/// axis) and which pipelines run it.
+fn check_geometry(s: &Scenario) -> Result<(), Problem> {
+    let d = &s.domain;
+    if !d.geometry.is_axisymmetric() {
+        return Ok(());
+    }
+    let unsupported = match &s.pipeline {
+        Pipeline::Peridynamics(_) => Some(
+            "bond-based peridynamics has no axisymmetric form (a bond joins two points, not two rings); run the Peridynamics pipeline on a 3D Cartesian grid",
+        ),
+        Pipeline::Lattice(_) => Some(
+            "the MSDM lattice is a 3D network of bonds with no axisymmetric form; run the Lattice pipeline on a 3D Cartesian grid",
+        ),
+        Pipeline::Fdm(_)
+        | Pipeline::Mpm(_)
+        | Pipeline::Ice(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
+            Some("this pipeline does not run Axisymmetric grids yet; use `Cartesian`")
+        }
+    };
+    if let Some(why) = unsupported {
+        return Err(("domain.geometry".into(), why.into()));
+    }
+    if d.cells[2] != 1 {
+        return Err((
+            "domain.cells.2".into(),
+            format!(
+                "an Axisymmetric grid is (r, z) with one cell along the third direction, got {}",
+                d.cells[2]
+            ),
+        ));
+    }
+    if !(d.lower[0] >= 0.0) {
+        return Err((
+            "domain.lower.0".into(),
+            format!(
+                "an Axisymmetric grid's x is the radius r, which starts at r ≥ 0, got {}",
+                d.lower[0]
+            ),
+        ));
+    }
+    if d.lower[0] == 0.0 && !matches!(s.boundaries.x_low, BoundaryConfig::Reflective) {
+        return Err((
+            "boundaries.x_low".into(),
+            format!(
+                "x_low is the axis of symmetry r = 0 of an Axisymmetric grid and must be `Reflective`, got `{}`",
+                s.boundaries.x_low.name()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn check_region(path: &str, r: &Region) -> Result<(), Problem> {
     r.validate()
         .map_err(|e| (format!("{path}.{}", e.field), e.message))
@@ -208,6 +261,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
     }
+    check_geometry(s)?;
     let t = &s.time;
     if !(t.end > 0.0 && t.end.is_finite()) {
         return Err((

@@ -12,6 +12,7 @@
 
 pub mod eos;
 pub mod error;
+pub mod geometry;
 pub mod material;
 pub mod output;
 pub mod reaction;
@@ -23,6 +24,7 @@ pub mod contracts;
 
 pub use eos::Eos;
 pub use error::{EosError, SolverError};
+pub use geometry::Geometry;
 pub use material::{Material, StressUpdate, StressUpdateInput};
 pub use output::{
     AxisWindow, CellData, ConservationTotals, NodeData, ParticleData, SafeguardUse,
