@@ -14,4 +14,5 @@ mod v_smooth;
 mod v_sod;
 mod v_sod_mpm;
 mod v_taylor;
+mod v_taylor_rz;
 mod v_toro5;

@@ -58,7 +58,7 @@ use brisance_constitutive::MaterialModel;
 use brisance_core::{Material, Solver};
 use brisance_grid::Level;
 use brisance_mpm::{
-    fill_shape, FillSpec, GridBoundary, MaterialId, MpmOptions, MpmSolver, Particles,
+    fill_shape_in, FillSpec, GridBoundary, MaterialId, MpmOptions, MpmSolver, Particles,
 };
 
 /// The V-TAYLOR scenario file.
@@ -269,7 +269,7 @@ pub fn taylor_scenario(
 
 /// Builds the MPM solver of a one-region `Mpm` scenario exactly as
 /// `brisance run` does (the particles of `brisance_compose::build` come
-/// from the same sub-cell rule as [`fill_shape`]), but as an [`MpmSolver`]
+/// from the same sub-cell rule as [`brisance_mpm::fill_shape`]), but as an [`MpmSolver`]
 /// so its particles can be measured.
 pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
     let Pipeline::Mpm(mpm) = &s.pipeline else {
@@ -317,7 +317,8 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
         temperature,
         specific_internal_energy: energy,
     };
-    fill_shape(&mut particles, &level.geometry, &spec).map_err(|e| format!("initial.0: {e}"))?;
+    fill_shape_in(&mut particles, &level.geometry, &spec, d.geometry)
+        .map_err(|e| format!("initial.0: {e}"))?;
     let faces = s.boundaries.faces();
     if let Some((face, bc)) = faces.iter().find(|(_, bc)| {
         !matches!(
@@ -344,9 +345,140 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
         mass_cutoff: mpm.mass_cutoff,
         bulk_viscosity: mpm.bulk_viscosity.option(),
         anti_locking: mpm.anti_locking,
+        geometry: d.geometry,
         ..Default::default()
     };
     MpmSolver::new(level, vec![model], particles, options).map_err(|e| format!("pipeline: {e}"))
+}
+
+/// `configs/taylor3d.ron` on an axisymmetric (r, z) grid with
+/// `cells_across_radius` cells across the rod's radius: the same rod, the
+/// same copper and solver options, as the (r, z) half-plane (x = r, y the
+/// rod's axis with the wall at y = 0), ⌈2.5 n⌉ × (⌈L₀/Δx⌉ + 2) cells,
+/// `end` s; then the `--set`-style `extra` overrides.
+pub fn taylor_rz_scenario(
+    cells_across_radius: usize,
+    end: f64,
+    extra: &[String],
+) -> Result<Scenario, String> {
+    let three_d = taylor_scenario(cells_across_radius, end, &[])?;
+    let [across, _, along] = three_d.domain.cells;
+    let dx = rod_radius() / cells_across_radius as f64;
+    let (w, h) = (across as f64 * dx, along as f64 * dx);
+    let test = JOHNSON_COOK_1983_OFHC_190;
+    let mut sets = vec![
+        "domain.geometry=Axisymmetric".to_string(),
+        format!("domain.cells=({across},{along},1)"),
+        format!("domain.upper=({w:e},{h:e},{dx:e})"),
+        format!("time.end={end:e}"),
+        format!(
+            "initial.0.region=Box(min:(0.0,0.0,0.0),max:({:e},{:e},{dx:e}))",
+            rod_radius(),
+            test.length
+        ),
+        format!("initial.0.state.velocity=(0.0,{:e},0.0)", -test.velocity),
+    ];
+    sets.extend_from_slice(extra);
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
+        .map(|l| l.scenario)
+        .map_err(|e| e.to_string())
+}
+
+/// The rod's shape on an (r, z) grid, measured as [`rod_shape`] does in
+/// 3D: each particle is the square of its ring's initial cross-section
+/// A₀ = V₀ F_θθ / (2π r), deformed by its in-plane F; L_f is the highest
+/// face above the wall (y), D_f twice the largest radial face (x).
+pub fn rod_shape_rz(particles: &Particles) -> Result<RodShape, String> {
+    if particles.is_empty() {
+        return Err("no particles to measure".into());
+    }
+    let n = particles.len();
+    let side = |p: usize| {
+        let f = &particles.deformation_gradient[p];
+        (particles.initial_volume[p] * f[8]
+            / (2.0 * std::f64::consts::PI * particles.position[p][0]))
+            .sqrt()
+    };
+    let top = (0..n)
+        .map(|p| {
+            particles.position[p][1]
+                + half_extent(&particles.deformation_gradient[p], side(p), [0.0, 1.0, 0.0])
+        })
+        .fold(f64::NEG_INFINITY, f64::max);
+    let radial = |p: usize| {
+        particles.position[p][0]
+            + half_extent(&particles.deformation_gradient[p], side(p), [1.0, 0.0, 0.0])
+    };
+    let (widest, radius) =
+        (0..n)
+            .map(|p| (p, radial(p)))
+            .fold((0, f64::NEG_INFINITY), |best, (p, r)| {
+                if r > best.1 {
+                    (p, r)
+                } else {
+                    best
+                }
+            });
+    let slice = (0..n).map(side).fold(f64::INFINITY, f64::min);
+    let slices = (top / slice).ceil().max(1.0) as usize;
+    let mut largest = vec![f64::NEG_INFINITY; slices];
+    for p in 0..n {
+        let k = ((particles.position[p][1] / slice).floor().max(0.0) as usize).min(slices - 1);
+        largest[k] = largest[k].max(radial(p));
+    }
+    let (profile_z, profile_r) = largest
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.is_finite())
+        .map(|(k, r)| ((k as f64 + 0.5) * slice, *r))
+        .unzip();
+    Ok(RodShape {
+        length: top,
+        diameter: 2.0 * radius,
+        widest_at: particles.position[widest][1],
+        profile_z,
+        profile_r,
+    })
+}
+
+/// V-TAYLOR on the axisymmetric (r, z) grid ([`taylor_rz_scenario`]): the
+/// whole rod as rings, measured with [`rod_shape_rz`]; the mass error is
+/// against the whole rod ρ π R² L₀.
+pub fn taylor_rz_case(
+    cells_across_radius: usize,
+    end: f64,
+    extra: &[String],
+) -> Result<TaylorResult, String> {
+    let scenario = taylor_rz_scenario(cells_across_radius, end, extra)?;
+    let mut solver = taylor_solver(&scenario)?;
+    let test = JOHNSON_COOK_1983_OFHC_190;
+    let rho = scenario.initial[0].state.density;
+    let radius = rod_radius();
+    let exact_mass = rho * std::f64::consts::PI * radius.powi(2) * test.length;
+    let initial = rod_shape_rz(solver.particles())?;
+    let ke0 = kinetic_energy(solver.particles());
+    let e0 = solver.conservation_totals().energy;
+    let steps = advance_to(&mut solver, end).map_err(|e| e.to_string())?;
+    let ps = solver.particles();
+    let max_plastic_strain = (0..ps.len())
+        .map(|p| ps.history_of(p)[PLASTIC_STRAIN_INDEX])
+        .fold(0.0, f64::max);
+    let max_temperature = ps.temperature.iter().copied().fold(0.0, f64::max);
+    Ok(TaylorResult {
+        cells_across_radius,
+        cell_size: radius / cells_across_radius as f64,
+        particles: ps.len(),
+        steps,
+        end_time: solver.time(),
+        initial_length: initial.length,
+        initial_diameter: initial.diameter,
+        shape: rod_shape_rz(ps)?,
+        kinetic_energy_ratio: kinetic_energy(ps) / ke0,
+        mass_error: ps.total_mass() / exact_mass - 1.0,
+        energy_change: (solver.conservation_totals().energy - e0) / e0,
+        max_plastic_strain,
+        max_temperature,
+    })
 }
 
 /// Σ ½ m |v|², J.

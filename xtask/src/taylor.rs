@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use brisance::verification::taylor::{
-    bilinear_bar, bilinear_bar_case, taylor_case, TaylorResult, TaylorTest,
+    bilinear_bar, bilinear_bar_case, taylor_case, taylor_rz_case, TaylorResult, TaylorTest,
     CONFIG_CELLS_ACROSS_RADIUS, JOHNSON_COOK_1983_OFHC_190,
 };
 
@@ -18,6 +18,8 @@ use crate::Report;
 /// Cells across the rod's radius: a coarse check and the shipped
 /// configuration, whose numbers are the verdict.
 const RESOLUTIONS: [usize; 2] = [6, CONFIG_CELLS_ACROSS_RADIUS];
+/// Cells across the radius of the r–z runs: the 3D ones, then finer.
+const RZ_RESOLUTIONS: [usize; 3] = [6, CONFIG_CELLS_ACROSS_RADIUS, 24];
 
 /// Simulated time, s: the rod is at rest well before (kinetic energy below
 /// the target in the table).
@@ -149,6 +151,22 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push((r, wall));
     }
+    // The same rod on an axisymmetric (r, z) grid: at the 3D resolutions
+    // (the comparison) and finer (seconds each).
+    let mut rz_runs: Vec<(TaylorResult, f64)> = Vec::new();
+    for &n in &RZ_RESOLUTIONS {
+        let t0 = Instant::now();
+        let r = taylor_rz_case(n, END_TIME, &[]).map_err(anyhow::Error::msg)?;
+        let wall = t0.elapsed().as_secs_f64();
+        println!(
+            "  r-z, {n:>3} cells across R  {:>7} particles  {:>5} steps  Lf {:.3} mm  Df {:.3} mm  {wall:.1} s",
+            r.particles,
+            r.steps,
+            1e3 * r.shape.length,
+            1e3 * r.shape.diameter
+        );
+        rz_runs.push((r, wall));
+    }
     let mut slower: Vec<(TaylorTest, TaylorResult)> = Vec::new();
     for test in JOHNSON_COOK_1983_OFHC_SLOWER {
         let velocity = format!("initial.0.state.velocity=(0.0,0.0,{:e})", -test.velocity);
@@ -240,6 +258,47 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         1e3 * test.final_length(),
         1e3 * test.final_diameter()
     );
+    let _ = writeln!(
+        md,
+        "\nThe same rod on an axisymmetric (r, z) grid (`taylor_rz_case`: the whole rod as rings, \
+         docs/physics/mpm/axisymmetric.md), same copper and solver options, same measures; particles count the \
+         rings. Δ 3D: against the 3D quarter rod at the same cell size (whose D₀ as measured is wider than D₀ by the \
+         staircase of its particles on the round surface; the r–z rod's is exact).\n\n\
+         | cells across R | particles | steps | L_f (mm) | error | D_f (mm) | error | L_f Δ 3D | D_f Δ 3D | KE/KE₀ at end | energy change | mass error | wall time (s) |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let same_h = |n: usize| {
+        runs.iter()
+            .find(|(q, _)| q.cells_across_radius == n)
+            .map(|(q, _)| q)
+    };
+    for (r, wall) in &rz_runs {
+        let (dl, dd) = match same_h(r.cells_across_radius) {
+            Some(q) => (
+                format!("{:+.2} %", 100.0 * (r.shape.length / q.shape.length - 1.0)),
+                format!(
+                    "{:+.2} %",
+                    100.0 * (r.shape.diameter / q.shape.diameter - 1.0)
+                ),
+            ),
+            None => ("—".into(), "—".into()),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.3} | {:+.2} % | {:.3} | {:+.2} % | {dl} | {dd} | {:.2e} | {:.1e} | {:.1e} | {:.1} |",
+            r.cells_across_radius,
+            r.particles,
+            r.steps,
+            1e3 * r.shape.length,
+            100.0 * err_l(r),
+            1e3 * r.shape.diameter,
+            100.0 * err_d(r),
+            r.kinetic_energy_ratio,
+            r.energy_change,
+            r.mass_error,
+            wall
+        );
+    }
     {
         use bilinear_bar as b;
         let (lf, rf) = (bar.shape.length, 0.5 * bar.shape.diameter);
@@ -362,6 +421,45 @@ pub(crate) fn v_taylor(report: &mut Report, img: &Path) -> Result<()> {
         &format!("{:.2} mm ± 5 %", 1e3 * test.final_diameter()),
         ed.abs() <= TOLERANCE,
     );
+
+    if let Some((q, (r, _))) = runs.last().map(|(q, _)| q).and_then(|q| {
+        rz_runs
+            .iter()
+            .find(|(r, _)| r.cells_across_radius == q.cells_across_radius)
+            .map(|r| (q, r))
+    }) {
+        let n = q.cells_across_radius;
+        let dl = r.shape.length / q.shape.length - 1.0;
+        let dd = r.shape.diameter / q.shape.diameter - 1.0;
+        report.target(
+            &format!("V-TAYLOR r–z vs 3D L_f ({n} cells across R)"),
+            format!("{:+.2} %", 100.0 * dl),
+            "within 1 %",
+            dl.abs() <= 0.01,
+        );
+        report.target(
+            &format!("V-TAYLOR r–z vs 3D D_f ({n} cells across R)"),
+            format!("{:+.2} %", 100.0 * dd),
+            "within 1 %",
+            dd.abs() <= 0.01,
+        );
+    }
+    if let Some((r, _)) = rz_runs.last() {
+        let n = r.cells_across_radius;
+        let (el, ed) = (err_l(r), err_d(r));
+        report.target(
+            &format!("V-TAYLOR r–z final length L_f ({n} cells across R)"),
+            format!("{:.3} mm ({:+.2} %)", 1e3 * r.shape.length, 100.0 * el),
+            &format!("{:.2} mm ± 5 %", 1e3 * test.final_length()),
+            el.abs() <= TOLERANCE,
+        );
+        report.target(
+            &format!("V-TAYLOR r–z foot diameter D_f ({n} cells across R)"),
+            format!("{:.3} mm ({:+.2} %)", 1e3 * r.shape.diameter, 100.0 * ed),
+            &format!("{:.2} mm ± 5 %", 1e3 * test.final_diameter()),
+            ed.abs() <= TOLERANCE,
+        );
+    }
 
     // Profile plot: radius against height, mm.
     let mm = |v: &[f64]| v.iter().map(|x| 1e3 * x).collect::<Vec<f64>>();

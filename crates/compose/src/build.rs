@@ -549,6 +549,14 @@ pub(crate) fn mpm_parts(
                             else {
                                 continue;
                             };
+                            // A ring about the axis on an (r, z) grid: its
+                            // sub-cell's cross-section swept through 2π at
+                            // its centre's radius (exact for the ring).
+                            let sub_volume = if d.geometry.is_axisymmetric() {
+                                2.0 * std::f64::consts::PI * x[0] * sub_volume / grid.spacing[2]
+                            } else {
+                                sub_volume
+                            };
                             let remapped = match &remap {
                                 Some(g) if g.replaces(material) => g
                                     .particle(x, sub_volume)
@@ -636,6 +644,7 @@ pub(crate) fn mpm_parts(
         bulk_viscosity: mpm.bulk_viscosity.option(),
         anti_locking: mpm.anti_locking,
         reservoirs,
+        geometry: d.geometry,
         ..Default::default()
     };
     let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());

@@ -155,8 +155,20 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
         Pipeline::Lattice(_) => Some(
             "the MSDM lattice is a 3D network of bonds with no axisymmetric form; run the Lattice pipeline on a 3D Cartesian grid",
         ),
+        Pipeline::Mpm(_) => s
+            .boundaries
+            .faces()
+            .iter()
+            .any(|(_, bc)| {
+                matches!(
+                    bc,
+                    BoundaryConfig::ZeroGradient | BoundaryConfig::OutflowOnly | BoundaryConfig::Fixed(_)
+                )
+            })
+            .then_some(
+                "the Mpm pipeline's particle reservoirs (faces `ZeroGradient`, `OutflowOnly`, `Fixed`) do not run on Axisymmetric grids yet; use `Outflow`, `Reflective` or `Wall`",
+            ),
         Pipeline::Fdm(_)
-        | Pipeline::Mpm(_)
         | Pipeline::Ice(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
             Some("this pipeline does not run Axisymmetric grids yet; use `Cartesian`")
         }

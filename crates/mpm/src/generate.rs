@@ -14,6 +14,7 @@
 //! faces lie on cell faces and converges with resolution otherwise.
 
 use crate::particles::{MaterialId, ParticleError, ParticleInit, Particles};
+use brisance_core::Geometry;
 use brisance_core::UniformGridGeometry;
 pub use brisance_grid::{Shape, ShapeError};
 
@@ -59,6 +60,18 @@ pub fn fill_shape(
     grid: &UniformGridGeometry,
     spec: &FillSpec,
 ) -> Result<usize, GenerateError> {
+    fill_shape_in(particles, grid, spec, Geometry::Cartesian)
+}
+
+/// [`fill_shape`] on a grid of `geometry`: on an axisymmetric (r, z) grid
+/// each particle is the ring its sub-cell sweeps about x = 0, of volume
+/// 2π r_p · A_sub (exact for the ring) and mass ρ times that.
+pub fn fill_shape_in(
+    particles: &mut Particles,
+    grid: &UniformGridGeometry,
+    spec: &FillSpec,
+    geometry: Geometry,
+) -> Result<usize, GenerateError> {
     spec.shape.validate()?;
     let shape = &spec.shape;
     if spec.ppc == 0 {
@@ -103,6 +116,12 @@ pub fn fill_shape(
                             });
                             if shape.contains(x) {
                                 init.position = x;
+                                if geometry.is_axisymmetric() {
+                                    let ring = 2.0 * std::f64::consts::PI * x[0] * volume
+                                        / grid.spacing[2];
+                                    init.volume = ring;
+                                    init.mass = spec.density * ring;
+                                }
                                 particles.push(&init, &history)?;
                             }
                         }

@@ -116,8 +116,14 @@ pub struct NodeUpdate<'a> {
     pub boundaries: &'a [GridBoundary; 6],
     /// Cells per axis.
     pub cells: [usize; 3],
-    /// Nodes at or below this mass (kg) get zero velocity and acceleration.
+    /// Nodes at or below this mass (kg) get zero velocity and acceleration;
+    /// per metre of radius where `radial` is given.
     pub mass_threshold: f64,
+    /// On an axisymmetric grid, `[r of node 0, Δr]`: a node's mass, which
+    /// carries 2πr, is cut off at `mass_threshold` × max(r_I, Δr/2), so the
+    /// light rings at the axis keep their velocities and a far node is held
+    /// to the same share of its particles' mass as on a Cartesian grid.
+    pub radial: Option<[f64; 2]>,
     /// Whether a node with 0 < m_I ≤ `mass_threshold` keeps the velocity
     /// p_I/m_I (its acceleration still cut off): the coupled ICE–MPM step
     /// (seed 000 §3.3 step 1), where such a node's mass enters the cell
@@ -150,8 +156,8 @@ impl NodeUpdate<'_> {
     /// `q/m` with the cut-off: zero at or below the threshold (or for a
     /// non-positive mass).
     #[inline(always)]
-    fn per_unit_mass(&self, q: [f64; 3], m: f64) -> [f64; 3] {
-        if m > self.mass_threshold && m > 0.0 {
+    fn per_unit_mass(&self, q: [f64; 3], m: f64, threshold: f64) -> [f64; 3] {
+        if m > threshold && m > 0.0 {
             [q[0] / m, q[1] / m, q[2] / m]
         } else {
             [0.0; 3]
@@ -161,11 +167,20 @@ impl NodeUpdate<'_> {
     /// The node velocity `p/m`: [`Self::per_unit_mass`], except that a
     /// light node (0 < m ≤ threshold) keeps p/m when `light_nodes_move`.
     #[inline(always)]
-    fn velocity(&self, p: [f64; 3], m: f64) -> [f64; 3] {
+    fn velocity(&self, p: [f64; 3], m: f64, threshold: f64) -> [f64; 3] {
         if self.light_nodes_move && m > 0.0 {
             [p[0] / m, p[1] / m, p[2] / m]
         } else {
-            self.per_unit_mass(p, m)
+            self.per_unit_mass(p, m, threshold)
+        }
+    }
+
+    /// The cut-off mass of the node at global x index `i`.
+    #[inline(always)]
+    fn threshold(&self, i: isize) -> f64 {
+        match self.radial {
+            None => self.mass_threshold,
+            Some([r0, h]) => self.mass_threshold * (r0 + i as f64 * h).max(0.5 * h),
         }
     }
 
@@ -279,15 +294,16 @@ impl GridNodes {
                 for i in 0..nx {
                     let mx = u.face_mask(0, first[0] + i as isize);
                     let mask: [bool; 3] = std::array::from_fn(|c| mx[c] || yz[c]);
+                    let thr = u.threshold(first[0] + i as isize);
                     if vel {
-                        v[i] = masked(u.velocity(p[i], m[i]), mask);
+                        v[i] = masked(u.velocity(p[i], m[i], thr), mask);
                     }
                     if integrate {
                         let ft: [f64; 3] = std::array::from_fn(|c| f[i][c] + m[i] * g[c]);
                         f[i] = ft;
-                        let free = u.per_unit_mass(ft, m[i]);
+                        let free = u.per_unit_mass(ft, m[i], thr);
                         let held = if dt > 0.0 {
-                            u.per_unit_mass(p[i], m[i]).map(|v| -v / dt)
+                            u.per_unit_mass(p[i], m[i], thr).map(|v| -v / dt)
                         } else {
                             [0.0; 3]
                         };
@@ -304,7 +320,7 @@ impl GridNodes {
                             );
                     }
                     if remap {
-                        vr[i] = masked(u.velocity(p[i], m[i]), mask);
+                        vr[i] = masked(u.velocity(p[i], m[i], thr), mask);
                     }
                 }
             });
@@ -442,6 +458,7 @@ mod tests {
                         boundaries: &bcs,
                         cells,
                         mass_threshold: 0.05,
+                        radial: None,
                         light_nodes_move: false,
                         gravity: [0.5, -9.75, 0.25],
                         dt: 0.125,
@@ -543,6 +560,7 @@ mod tests {
             boundaries: &bcs,
             cells: grid.cells,
             mass_threshold: 0.0,
+            radial: None,
             light_nodes_move: false,
             gravity: [0.0; 3],
             dt,

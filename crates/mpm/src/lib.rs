@@ -51,7 +51,7 @@ pub mod viscosity;
 
 pub use anti_locking::AntiLocking;
 pub use boundary::GridBoundary;
-pub use generate::{fill_shape, FillSpec, GenerateError, Shape};
+pub use generate::{fill_shape, fill_shape_in, FillSpec, GenerateError, Shape};
 pub use grid_nodes::{GridNodes, NodeLattice};
 pub use inflow::{Reservoir, ReservoirKind, ReservoirState};
 pub use nodes::patch_node_index;

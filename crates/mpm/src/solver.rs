@@ -64,6 +64,7 @@ use crate::transfer::{BinError, GridMap, P2gSums, ParticleBins};
 use crate::viscosity::{viscosity_length, BulkViscosity, BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, ParticleInit, Particles, ShapeFunction};
 use brisance_constitutive::MaterialModel;
+use brisance_core::Geometry;
 use brisance_core::{AxisWindow, CellData, ConservationTotals, Material, Solver, SolverError};
 use brisance_grid::Level;
 use rayon::prelude::*;
@@ -100,6 +101,12 @@ pub struct MpmOptions {
     /// default.
     #[serde(default)]
     pub reservoirs: [Option<Reservoir>; 6],
+    /// `Cartesian`, or `Axisymmetric`: the grid is (r, z) with x = r, the
+    /// particles are rings about x = 0 (their masses and volumes are the
+    /// rings'), and the transfers carry the hoop terms
+    /// (docs/physics/mpm/axisymmetric.md).
+    #[serde(default)]
+    pub geometry: Geometry,
 }
 
 impl Default for MpmOptions {
@@ -115,6 +122,7 @@ impl Default for MpmOptions {
             bulk_viscosity: None,
             anti_locking: AntiLocking::Off,
             reservoirs: [None; 6],
+            geometry: Geometry::Cartesian,
         }
     }
 }
@@ -432,7 +440,11 @@ impl MpmSolver {
             return Err(MpmSetupError::OutsideGrid { particle, position });
         }
         let block_bins = GridMap::block_bins_for(particles.len());
-        let map = GridMap::with_block_bins(&grid, options.shape, block_bins);
+        if options.geometry.is_axisymmetric() {
+            check_axisymmetric(&grid, &options, &particles)?;
+        }
+        let map = GridMap::with_block_bins(&grid, options.shape, block_bins)
+            .with_geometry(options.geometry);
         let mut bins = ParticleBins::default();
         let f = &particles.deformation_gradient;
         bins.build_deformed(&map, &particles.position, &particles.initial_volume, f)
@@ -461,7 +473,16 @@ impl MpmSolver {
             let seed = brisance_constitutive::random::point_seed(particles.position[p], id);
             m.init_history_at(&mut particles.history_of_mut(p)[..len], seed);
         }
-        let reference_particle_mass = particles.total_mass() / particles.len() as f64;
+        // Per metre of radius on an axisymmetric grid, where a ring's mass
+        // carries its radius (NodeUpdate::radial).
+        let reference_particle_mass = if options.geometry.is_axisymmetric() {
+            let per_radius: f64 = (0..particles.len())
+                .map(|p| particles.mass[p] / particles.position[p][0])
+                .sum();
+            per_radius / particles.len() as f64
+        } else {
+            particles.total_mass() / particles.len() as f64
+        };
         let bulk = vec![BulkViscosityState::default(); particles.len()];
         let ids: Vec<u32> = (0..particles.len() as u32).collect();
         Ok(Self {
@@ -582,6 +603,7 @@ impl MpmSolver {
             boundaries: &self.options.boundaries,
             cells: self.level.geometry.cells,
             mass_threshold: threshold,
+            radial: radial_cutoff(&self.options, &self.level.geometry),
             light_nodes_move: false,
             gravity: self.options.gravity,
             dt: 0.0,
@@ -1152,6 +1174,61 @@ impl MpmSolver {
     }
 }
 
+/// `[r of node 0, Δr]` on an axisymmetric grid ([`NodeUpdate::radial`]).
+///
+/// [`NodeUpdate::radial`]: crate::grid_nodes::NodeUpdate::radial
+fn radial_cutoff(
+    options: &MpmOptions,
+    grid: &brisance_core::UniformGridGeometry,
+) -> Option<[f64; 2]> {
+    options
+        .geometry
+        .is_axisymmetric()
+        .then_some([grid.origin[0], grid.spacing[0]])
+}
+
+/// What an axisymmetric MPM run needs: one cell along the third axis,
+/// r ≥ 0, every particle off the axis (a ring of radius 0 has no mass), no
+/// particle reservoirs (whose particles are not rings yet).
+fn check_axisymmetric(
+    grid: &brisance_core::UniformGridGeometry,
+    options: &MpmOptions,
+    particles: &Particles,
+) -> Result<(), MpmSetupError> {
+    let bad = |value: String, expected: &'static str| {
+        Err(MpmSetupError::Option {
+            option: "geometry",
+            value,
+            expected,
+        })
+    };
+    if grid.cells[2] != 1 || grid.origin[0] < 0.0 {
+        return bad(
+            format!(
+                "Axisymmetric on cells {:?} from x = {}",
+                grid.cells, grid.origin[0]
+            ),
+            "an (r, z) grid: one cell along z, and x = r ≥ 0",
+        );
+    }
+    if options.reservoirs.iter().any(Option::is_some) {
+        return bad(
+            "Axisymmetric with particle reservoirs".into(),
+            "no reservoirs beyond open faces on an axisymmetric grid (their particles are not rings)",
+        );
+    }
+    if let Some(p) = particles.position.iter().position(|x| !(x[0] > 0.0)) {
+        return bad(
+            format!(
+                "Axisymmetric with particle {p} at r = {}",
+                particles.position[p][0]
+            ),
+            "every particle at r > 0",
+        );
+    }
+    Ok(())
+}
+
 /// The parameters of a step of Δt = `dt` on `grid` (a copy of the
 /// level's geometry), without surface forces; free of `self` so that the
 /// step can borrow the work arrays mutably beside it.
@@ -1169,6 +1246,7 @@ fn step_params<'a>(
         gravity: options.gravity,
         boundaries: &options.boundaries,
         mass_threshold: options.mass_cutoff * reference_particle_mass,
+        radial_cutoff: radial_cutoff(options, grid),
         light_nodes_move: false,
         materials,
         dt,
@@ -1577,6 +1655,9 @@ pub use coupled::GridCoupling;
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod axisymmetric_tests;
 
 #[cfg(test)]
 mod output_tests;

@@ -71,6 +71,9 @@ pub struct StepParams<'a> {
     /// Nodes lighter than this (kg) get zero velocity and acceleration:
     /// `mass_cutoff` × the reference particle mass.
     pub mass_threshold: f64,
+    /// On an axisymmetric grid, `[r of node 0, Δr]`, and `mass_threshold`
+    /// is per metre of radius ([`NodeUpdate::radial`]).
+    pub radial_cutoff: Option<[f64; 2]>,
     /// Light nodes keep p_I/m_I ([`NodeUpdate::light_nodes_move`]): the
     /// coupled ICE–MPM step only.
     pub light_nodes_move: bool,
@@ -139,6 +142,7 @@ impl StepParams<'_> {
             boundaries: self.boundaries,
             cells: self.grid.cells,
             mass_threshold: self.mass_threshold,
+            radial: self.radial_cutoff,
             light_nodes_move: self.light_nodes_move,
             gravity: self.gravity,
             dt: self.dt,
@@ -903,6 +907,7 @@ mod tests {
                 gravity: [0.0; 3],
                 boundaries: &boundaries,
                 mass_threshold: 0.0,
+                radial_cutoff: None,
                 light_nodes_move: false,
                 materials: &materials,
                 dt: 2e-8,

@@ -235,10 +235,12 @@ pub fn surface_node_forces(
                 ))?;
             // The particle's own domain, as in the transfers: cpGIMP
             // stretches it with F, the other shapes keep l_p0.
+            let fp = &particles.deformation_gradient[p];
+            let planar = map.planar_volume(v0, particles.position[p], fp);
             let lp = if map.shape == crate::ShapeFunction::CpGimp {
-                map.deformed_half_width(v0, &particles.deformation_gradient[p])
+                map.deformed_half_width(planar, fp)
             } else {
-                map.half_width(v0).map(|l| [l; 3])
+                map.half_width(planar).map(|l| [l; 3])
             }
             .map_err(|e| (p, e.to_string()))?;
             map.shape

@@ -53,6 +53,7 @@
 use crate::grid_nodes::{GridNodes, NodeLattice};
 use crate::shape::{bspline, gimp, linear, ShapeError, TensorRow};
 use crate::ShapeFunction;
+use brisance_core::Geometry;
 use brisance_core::{Mat3, UniformGridGeometry};
 use rayon::prelude::*;
 use std::marker::PhantomData;
@@ -92,6 +93,10 @@ pub struct GridMap {
     block_shift: u32,
     /// Blocks per axis.
     pub blocks: [usize; 3],
+    /// Whether the grid is axisymmetric (r, z): x is the radius, particles
+    /// are rings, and the transfers carry the hoop terms
+    /// ([`GridMap::with_geometry`]).
+    pub axisymmetric: bool,
 }
 
 impl GridMap {
@@ -151,7 +156,34 @@ impl GridMap {
             block_bins,
             block_shift: block_bins.trailing_zeros(),
             blocks: std::array::from_fn(|d| bins[d].div_ceil(block_bins)),
+            axisymmetric: false,
         }
+    }
+
+    /// This map on a grid of `geometry`. On an axisymmetric (r, z) grid the
+    /// particles are rings about x = 0 and P2G and G2P add the hoop terms of
+    /// Sulsky & Schreyer (*Axisymmetric form of the material point method
+    /// with applications to upsetting and Taylor impact problems*, Comput.
+    /// Methods Appl. Mech. Engrg. 139, 1996): the force −V_p σ_θθ N_Ip / r_p
+    /// on the radial component, and the hoop velocity gradient
+    /// L_θθ = Σ_I N_Ip v_Ir / r_p (docs/physics/mpm/axisymmetric.md).
+    pub fn with_geometry(mut self, geometry: Geometry) -> Self {
+        self.axisymmetric = geometry.is_axisymmetric();
+        self
+    }
+
+    /// The volume of a particle's domain in the grid's plane times the
+    /// inactive axis' width, from which the GIMP half-widths are formed:
+    /// the initial volume `v0` on a Cartesian grid; on an axisymmetric one
+    /// the ring's cross-section A_p0 = v0 / (2π r_p0), with the initial
+    /// radius r_p0 = r_p / F_θθ, times the width of the third axis.
+    #[inline]
+    pub fn planar_volume(&self, v0: f64, x: [f64; 3], f: &[f64; 9]) -> f64 {
+        if !self.axisymmetric {
+            return v0;
+        }
+        let r0 = x[0] / f[8];
+        v0 / (2.0 * std::f64::consts::PI * r0) * self.grid.spacing[2]
     }
 
     /// Number of blocks.
@@ -507,14 +539,17 @@ impl ParticleBins {
                     let f = deformation_gradient
                         .get(index)
                         .unwrap_or(&crate::particles::IDENTITY);
-                    map.deformed_half_width(v0, f)
+                    map.deformed_half_width(map.planar_volume(v0, position[index], f), f)
                 },
             )?;
         } else if map.shape == ShapeFunction::Gimp {
             self.deformed_half_width.clear();
             self.half_width.resize(n, 0.0);
-            fill_per_particle(&mut self.half_width, initial_volume, |_, v0| {
-                map.half_width(v0)
+            fill_per_particle(&mut self.half_width, initial_volume, |index, v0| {
+                let f = deformation_gradient
+                    .get(index)
+                    .unwrap_or(&crate::particles::IDENTITY);
+                map.half_width(map.planar_volume(v0, position[index], f))
             })?;
         } else {
             self.half_width.clear();
@@ -835,6 +870,14 @@ impl<const MOM: bool, const FORCE: bool> StencilPass for P2g<'_, MOM, FORCE> {
             let sg = ps.stress[p];
             // V_p σ_p, Voigt.
             let vs: [f64; 6] = std::array::from_fn(|k| vol * sg[k]);
+            // The hoop force per unit weight, V_p σ_θθ / r_p (zero on a
+            // Cartesian grid). V_p ∝ r_p, so the ratio stays finite as
+            // r_p → 0; a particle on the axis itself has no ring.
+            let hoop = if map.axisymmetric && ps.position[p][0] > 0.0 {
+                vol / ps.position[p][0] * sg[2]
+            } else {
+                0.0
+            };
             for c in 0..NZ {
                 for b in 0..NY {
                     let row = s.row(b, c);
@@ -860,6 +903,9 @@ impl<const MOM: bool, const FORCE: bool> StencilPass for P2g<'_, MOM, FORCE> {
                         }
                         if FORCE {
                             fr[a][0] -= vs[0] * g[0] + vs[5] * g[1] + vs[4] * g[2];
+                            if map.axisymmetric {
+                                fr[a][0] -= hoop * w;
+                            }
                             fr[a][1] -= vs[5] * g[0] + vs[1] * g[1] + vs[3] * g[2];
                             fr[a][2] -= vs[4] * g[0] + vs[3] * g[1] + vs[2] * g[2];
                         }
@@ -1109,6 +1155,10 @@ impl<const VEL: bool, const POS: bool, const GRAD: bool> StencilPass
             let mut dv = [0.0; 3];
             let mut dx = [0.0; 3];
             let mut l = [[0.0; 3]; 3];
+            // Σ N_Ip v_Ir, for the hoop rate v_r / r of an axisymmetric grid
+            // at the radius of the weights (the start of the step).
+            let mut v_radial = 0.0;
+            let r_weights = x[0];
             for c in 0..NZ {
                 for b in 0..NY {
                     let row = s.row(b, c);
@@ -1134,6 +1184,7 @@ impl<const VEL: bool, const POS: bool, const GRAD: bool> StencilPass
                                     li[j] += vi * g[j];
                                 }
                             }
+                            v_radial += w * gr[a][0];
                         }
                     }
                 }
@@ -1149,11 +1200,27 @@ impl<const VEL: bool, const POS: bool, const GRAD: bool> StencilPass
                 }
             }
             if GRAD {
+                if map.axisymmetric {
+                    l[2][2] = hoop_rate(r_weights, v_radial, l[0][0], map.grid.spacing[0]);
+                }
                 gradient[i] = Mat3::new(
                     l[0][0], l[0][1], l[0][2], l[1][0], l[1][1], l[1][2], l[2][0], l[2][1], l[2][2],
                 );
             }
         }
+    }
+}
+
+/// The hoop strain rate L_θθ = v_r / r at a particle at radius `r` whose
+/// interpolated radial velocity is `vr`; within 10⁻⁹ of a cell `h` of the
+/// axis its limit ∂v_r/∂r = `l_rr` (v_r vanishes on the axis), so a particle
+/// at r → 0 never divides by zero.
+#[inline]
+pub fn hoop_rate(r: f64, vr: f64, l_rr: f64, h: f64) -> f64 {
+    if r > 1e-9 * h {
+        vr / r
+    } else {
+        l_rr
     }
 }
 
