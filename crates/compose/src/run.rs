@@ -3,6 +3,7 @@
 //! bookkeeping, checkpoints and restart, a progress bar and tracing spans.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use brisance_core::{ConservationTotals, Solver};
@@ -306,7 +307,7 @@ impl Runner<'_> {
         Ok(())
     }
 
-    fn write_checkpoint(&self) -> Result<(), RunError> {
+    fn write_checkpoint(&self) -> Result<PathBuf, RunError> {
         let _span = tracing::debug_span!("checkpoint", step = self.state.steps).entered();
         let run_state =
             bincode::serialize(&self.state).map_err(|e| RunError::Checkpoint(e.to_string()))?;
@@ -322,9 +323,10 @@ impl Runner<'_> {
             .out
             .join("checkpoints")
             .join(io::checkpoint_file_name(self.state.steps));
+        io::ensure_dir(&self.out.join("checkpoints"))?;
         io::write_checkpoint(&path, &ck)?;
         tracing::info!(path = %path.display(), "checkpoint written");
-        Ok(())
+        Ok(path)
     }
 
     fn summary(&self, wall: f64, completed: bool, stop_reason: Option<String>) -> io::RunSummary {
@@ -413,10 +415,72 @@ fn located(loaded: &LoadedScenario, mut e: ConfigError) -> ConfigError {
     e
 }
 
+/// What `--restart` takes to mean the newest valid checkpoint of the
+/// output folder.
+pub const LATEST: &str = "latest";
+
+/// The newest checkpoint under `out_dir/checkpoints` that reads back
+/// whole (checksum, format and all); damaged ones are skipped with a
+/// warning. An error naming the folder when there is none.
+pub fn latest_checkpoint(out_dir: &Path) -> Result<PathBuf, RunError> {
+    let dir = out_dir.join("checkpoints");
+    let step_of = |p: &Path| -> Option<u64> {
+        p.file_name()?
+            .to_str()?
+            .strip_prefix("checkpoint_")?
+            .strip_suffix(".bin")?
+            .parse()
+            .ok()
+    };
+    let mut found: Vec<(u64, PathBuf)> = std::fs::read_dir(&dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter_map(|p| step_of(&p).map(|k| (k, p)))
+                .collect()
+        })
+        .unwrap_or_default();
+    found.sort();
+    for (_, path) in found.iter().rev() {
+        match io::read_checkpoint(path) {
+            Ok(_) => return Ok(path.clone()),
+            Err(e) => tracing::warn!("skipping {e}"),
+        }
+    }
+    Err(RunError::Checkpoint(format!(
+        "--restart {LATEST}: no valid checkpoint in {}",
+        dir.display()
+    )))
+}
+
 /// Runs a loaded scenario to its end time and returns the summary (also
 /// written to `summary.json`). Nothing is written before the configuration,
 /// the solver and the output directory have all been checked.
 pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary, RunError> {
+    run_until_stopped(loaded, opts, &AtomicBool::new(false))
+}
+
+/// [`run`], which also stops when `stop` becomes true (a signal handler
+/// sets it): after the step under way, it writes a checkpoint, the
+/// histories and the summary, and returns [`RunError::Interrupted`].
+/// `opts.restart` may be [`LATEST`]: the newest valid checkpoint of
+/// `opts.out_dir`.
+pub fn run_until_stopped(
+    loaded: &LoadedScenario,
+    opts: &RunOptions,
+    stop: &AtomicBool,
+) -> Result<io::RunSummary, RunError> {
+    let resolved;
+    let opts = match &opts.restart {
+        Some(p) if p.as_os_str() == LATEST && !p.exists() => {
+            resolved = RunOptions {
+                restart: Some(latest_checkpoint(&opts.out_dir)?),
+                ..opts.clone()
+            };
+            &resolved
+        }
+        _ => opts,
+    };
     let scenario = &loaded.scenario;
     let started = Instant::now();
     let mut solver = {
@@ -530,10 +594,22 @@ pub fn run(loaded: &LoadedScenario, opts: &RunOptions) -> Result<io::RunSummary,
                 r.write_output(index)?;
                 r.state.next_output += 1;
             }
+            let mut checkpoint = None;
             if let Some(every) = scenario.outputs.checkpoint_every {
                 if r.state.steps.is_multiple_of(every) {
-                    r.write_checkpoint()?;
+                    checkpoint = Some(r.write_checkpoint()?);
                 }
+            }
+            if stop.load(Ordering::Relaxed) && r.state.next_output < r.times.len() {
+                let checkpoint = match checkpoint {
+                    Some(path) => path,
+                    None => r.write_checkpoint()?,
+                };
+                return Err(RunError::Interrupted {
+                    step: r.state.steps,
+                    time: r.solver.time(),
+                    checkpoint,
+                });
             }
             bar.set_position((1000.0 * r.solver.time() / end).min(1000.0) as u64);
             bar.set_message(format!(
