@@ -52,6 +52,18 @@ struct RunState {
     work: f64,
 }
 
+/// Steps between the snapshots [`LastGood`] takes: a snapshot costs about
+/// a copy of the state, so one every step would cost several per cent.
+const SNAPSHOT_EVERY: usize = 64;
+
+/// What recovers the state before a failed step: a snapshot
+/// ([`Solver::save_state`]) and the time steps taken since.
+#[derive(Default)]
+struct LastGood {
+    state: Option<Vec<u8>>,
+    steps: Vec<f64>,
+}
+
 /// Output times: 0, Δ, 2Δ, ... below the end, then the end.
 pub fn output_times(end: f64, interval: Option<f64>) -> Vec<f64> {
     let mut times = vec![0.0];
@@ -329,6 +341,44 @@ impl Runner<'_> {
         Ok(path)
     }
 
+    /// After a failed step: puts the solver back to the state before it
+    /// (the snapshot, then the steps taken since, replayed: the solver is
+    /// deterministic) and writes it as the next field output, so the last
+    /// output is the last good state rather than a half-updated one.
+    /// `drop_last`: the failure was found at the start of a step, in the
+    /// state the previous step left, so the state before that step is the
+    /// last good one. Best effort: what cannot be restored or written is
+    /// skipped with a warning, since the run is already stopping on the
+    /// step's error.
+    fn write_last_good(&mut self, last_good: &LastGood, drop_last: bool) {
+        let Some(bytes) = &last_good.state else {
+            return;
+        };
+        let steps = if drop_last {
+            match last_good.steps.split_last() {
+                Some((_, before)) => before,
+                None => return,
+            }
+        } else {
+            &last_good.steps[..]
+        };
+        if let Err(e) = self.solver.restore_state(bytes) {
+            tracing::warn!("cannot restore the state before the failed step: {e}");
+            return;
+        }
+        for &dt in steps {
+            if let Err(e) = self.solver.advance(dt) {
+                tracing::warn!("cannot replay the steps before the failed one: {e}");
+                return;
+            }
+        }
+        let index = self.state.next_output;
+        match self.write_output(index) {
+            Ok(()) => self.state.next_output += 1,
+            Err(e) => tracing::warn!("cannot write the last good state: {e}"),
+        }
+    }
+
     fn summary(&self, wall: f64, completed: bool, stop_reason: Option<String>) -> io::RunSummary {
         let final_totals = self.solver.conservation_totals();
         let unit = self.solver.work_per_step().1;
@@ -566,23 +616,41 @@ pub fn run_until_stopped(
     );
     let end = scenario.time.end;
     let max_steps = scenario.time.max_steps.unwrap_or(u64::MAX);
+    let mut last_good = LastGood::default();
     let outcome: Result<(), RunError> = (|| {
         while r.state.next_output < r.times.len() && r.state.steps < max_steps {
             let target = r.times[r.state.next_output];
             let remaining = target - r.solver.time();
             let t0 = Instant::now();
-            let stable = r.solver.stable_dt().map_err(|source| RunError::Solver {
-                step: r.state.steps,
-                source,
-            })?;
+            let stable = match r.solver.stable_dt() {
+                Ok(stable) => stable,
+                Err(source) => {
+                    // The state the last step left is the bad one.
+                    r.write_last_good(&last_good, true);
+                    return Err(RunError::Solver {
+                        step: r.state.steps,
+                        source,
+                    });
+                }
+            };
             let (dt, hits) = next_step(stable, remaining);
             let work = r.solver.work_per_step().0;
             {
                 let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
-                r.solver.advance(dt).map_err(|source| RunError::Solver {
-                    step: r.state.steps,
-                    source,
-                })?;
+                if last_good.steps.len() >= SNAPSHOT_EVERY || last_good.state.is_none() {
+                    last_good = LastGood {
+                        state: r.solver.save_state().ok(),
+                        steps: Vec::new(),
+                    };
+                }
+                if let Err(source) = r.solver.advance(dt) {
+                    r.write_last_good(&last_good, false);
+                    return Err(RunError::Solver {
+                        step: r.state.steps,
+                        source,
+                    });
+                }
+                last_good.steps.push(dt);
             }
             r.state.compute_seconds += t0.elapsed().as_secs_f64();
             r.state.work += work;
