@@ -186,6 +186,48 @@ fn wrong_type_is_one_located_error_naming_the_expected_type() {
 }
 
 #[test]
+fn check_warns_of_an_unused_material_at_its_line_and_succeeds() {
+    let text = replaced(
+        &sod_text(),
+        "materials: {",
+        "materials: {\n        \"spare\": (library: \"air\"),",
+    );
+    let (_dir, config, _out) = scenario(&text);
+    let output = brisance().arg("check").arg(&config).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let err = stderr(&output);
+    let expected = format!(
+        "warning: {}:{}:",
+        config.display(),
+        line_of(&text, "\"spare\"")
+    );
+    assert!(err.starts_with(&expected), "{err}");
+    assert!(
+        err.contains("`materials.spare`: material `spare` is defined but nothing uses it"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_bridge_region_with_a_renamed_material_is_one_located_error() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/plate_case2.ron");
+    let text = replaced(
+        &fs::read_to_string(path).unwrap(),
+        "\"rha\": (library",
+        "\"armour\": (library",
+    );
+    let (_dir, config, _out) = scenario(&text);
+    let output = brisance().arg("check").arg(&config).output().unwrap();
+    let message = located_error(
+        &output,
+        &config,
+        line_of(&text, "0.22)), material: \"rha\""),
+    );
+    assert!(message.contains("`initial.1.material`"), "{message}");
+    assert!(message.contains("unknown material `rha`"), "{message}");
+}
+
+#[test]
 fn unknown_eos_name_lists_the_known_ones() {
     let text = replaced(&sod_text(), "eos: IdealGas(", "eos: PerfectGas(");
     let (_dir, config, out) = scenario(&text);

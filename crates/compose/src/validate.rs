@@ -333,6 +333,24 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
     }
+    // Each cell holds several f64 fields (40 bytes and more), so 1e10
+    // cells is beyond one machine's memory; a count that overflows would
+    // panic wherever it is multiplied out.
+    const MAX_CELLS: usize = 10_000_000_000;
+    let total = d
+        .cells
+        .iter()
+        .try_fold(1usize, |p, &c| p.checked_mul(c))
+        .filter(|&n| n <= MAX_CELLS);
+    if total.is_none() {
+        return Err((
+            "domain.cells".into(),
+            format!(
+                "{:?} cells is more than the {MAX_CELLS:e} a run can hold",
+                d.cells
+            ),
+        ));
+    }
     check_geometry(s)?;
     let t = &s.time;
     if !(t.end > 0.0 && t.end.is_finite()) {

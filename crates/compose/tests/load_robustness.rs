@@ -33,8 +33,15 @@ fn shipped() -> Vec<(String, String)> {
 }
 
 /// Loads without letting a panic escape; the panic's message otherwise.
+/// A scenario that loads is also described (`brisance check`), which must
+/// not panic either.
 fn load_caught(file: &str, text: &str, sets: &[String]) -> Result<Result<(), ConfigError>, String> {
-    catch_unwind(AssertUnwindSafe(|| load_str(file, text, sets).map(|_| ()))).map_err(|p| {
+    catch_unwind(AssertUnwindSafe(|| {
+        load_str(file, text, sets).map(|loaded| {
+            brisance_compose::build::describe(&loaded.scenario);
+        })
+    }))
+    .map_err(|p| {
         p.downcast_ref::<String>()
             .cloned()
             .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
@@ -513,6 +520,18 @@ fn inputs_the_generated_runs_found_are_located_errors() {
             "lattice_burn.ron",
             &["pipeline.spacing=5e-324"][..],
             "pipeline.spacing",
+        ),
+        // A cell count whose product overflows loaded, then panicked in
+        // `brisance check`'s description (and could not run).
+        (
+            "fdm_products_tube.ron",
+            &["domain.cells=(200, 18446744073709551615, 1)"][..],
+            "domain.cells",
+        ),
+        (
+            "sod.ron",
+            &["domain.cells=(100000, 100000, 100000)"][..],
+            "domain.cells",
         ),
     ] {
         let text = std::fs::read_to_string(configs_dir().join(config)).unwrap();
