@@ -53,7 +53,8 @@ struct RunState {
 }
 
 /// Steps between the snapshots [`LastGood`] takes: a snapshot costs about
-/// a copy of the state, so one every step would cost several per cent.
+/// a copy of the state; one every step slowed a 1D Fdm tube of 40000
+/// cells by about a third, one every 64 steps is lost in the noise.
 const SNAPSHOT_EVERY: usize = 64;
 
 /// What recovers the state before a failed step: a snapshot
