@@ -31,7 +31,8 @@ enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
-        /// Continue from a checkpoint written by an earlier run.
+        /// Continue from a checkpoint written by an earlier run; `latest`:
+        /// the newest valid checkpoint in the output directory.
         #[arg(long)]
         restart: Option<PathBuf>,
         /// No progress bar.
@@ -252,17 +253,23 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
     ))
 }
 
+/// Loads a scenario and prints its warnings (`warning: file:line:col: ...`).
 fn load(
     config: Option<&PathBuf>,
     sets: &[String],
 ) -> Result<compose::LoadedScenario, compose::ConfigError> {
-    match config {
+    let loaded = match config {
         Some(path) => compose::load_file(path, sets),
         None => compose::load_str(DEFAULT_SCENARIO_NAME, compose::DEFAULT_SCENARIO, sets),
+    }?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
     }
+    Ok(loaded)
 }
 
 fn main() -> ExitCode {
+    install_panic_hook();
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_env("BRISANCE_LOG")
@@ -336,7 +343,8 @@ fn main() -> ExitCode {
                 restart,
                 progress: !quiet,
             };
-            match compose::run(&loaded, &opts) {
+            let stop = stop_on_signals();
+            match compose::run_until_stopped(&loaded, &opts, &stop) {
                 Ok(s) => {
                     println!(
                         "{}: {} steps to t = {:e} s in {:.2} s wall on {} threads\n  throughput {:.3e} {}\n  relative mass change {:.3e}, relative energy change {:.3e}\n  outputs in {}",
@@ -362,6 +370,14 @@ fn main() -> ExitCode {
                     }
                     ExitCode::SUCCESS
                 }
+                Err(e @ compose::RunError::Interrupted { .. }) => {
+                    let args: Vec<String> = std::env::args().collect();
+                    eprintln!(
+                        "error: {e}; continue with: {}",
+                        restart_command(&args, &out_dir)
+                    );
+                    ExitCode::from(EXIT_INTERRUPTED)
+                }
                 Err(e) => {
                     eprintln!("error: {e}");
                     ExitCode::FAILURE
@@ -369,6 +385,104 @@ fn main() -> ExitCode {
             }
         }
     }
+}
+
+/// Exit status of a run stopped by SIGINT or SIGTERM (after its checkpoint).
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// A flag that SIGINT and SIGTERM set, so the run stops after the step
+/// under way; a second signal ends the program at once (status 1).
+fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    #[cfg(unix)]
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        // The first call arms the exit on a second signal, the second
+        // sets the flag; a failure leaves the signal's default action.
+        let armed = signal_hook::flag::register_conditional_shutdown(signal, 1, stop.clone())
+            .and_then(|_| signal_hook::flag::register(signal, stop.clone()));
+        if let Err(e) = armed {
+            tracing::warn!("cannot catch signal {signal}: {e}");
+        }
+    }
+    stop
+}
+
+/// The command that continues an interrupted run: this one (the program
+/// as it was invoked) with
+/// `--restart latest` (replacing any `--restart`) and `--out` given, its
+/// words quoted for a POSIX shell where needed.
+fn restart_command(args: &[String], out_dir: &std::path::Path) -> String {
+    let program = args.first().map_or("brisance", String::as_str);
+    let mut words: Vec<String> = vec![program.to_string()];
+    let mut rest = args.iter().skip(1);
+    let mut has_out = false;
+    while let Some(a) = rest.next() {
+        if a == "--restart" {
+            rest.next();
+            continue;
+        }
+        if a.starts_with("--restart=") {
+            continue;
+        }
+        has_out |= a == "--out" || a.starts_with("--out=");
+        words.push(a.clone());
+    }
+    if !has_out {
+        words.push("--out".into());
+        words.push(out_dir.display().to_string());
+    }
+    words.push("--restart".into());
+    words.push(compose::run::LATEST.into());
+    words
+        .iter()
+        .map(|w| shell_word(w))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `w` as one POSIX shell word: as it is when it holds only safe
+/// characters, otherwise in single quotes.
+fn shell_word(w: &str) -> String {
+    let safe = !w.is_empty()
+        && w.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=,:+@%".contains(c));
+    if safe {
+        w.to_string()
+    } else {
+        format!("'{}'", w.replace('\'', "'\\''"))
+    }
+}
+
+/// The one line a panic prints (unless `RUST_BACKTRACE` asks for the
+/// backtrace): what failed, where, and where to report it.
+fn panic_line(message: &str, location: Option<(&str, u32, u32)>) -> String {
+    let place = location
+        .map(|(file, line, col)| format!(" at {file}:{line}:{col}"))
+        .unwrap_or_default();
+    format!(
+        "error: internal error (a bug in brisance {}): {message}{place}; please report it with the command and scenario at {}/issues (RUST_BACKTRACE=1 shows a backtrace)",
+        env!("CARGO_PKG_VERSION"),
+        env!("CARGO_PKG_REPOSITORY")
+    )
+}
+
+/// Replaces the default panic message and backtrace by [`panic_line`],
+/// unless `RUST_BACKTRACE` is set (and not `0`). A panic still ends the
+/// program with a non-zero status (101).
+fn install_panic_hook() {
+    if std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0") {
+        return;
+    }
+    std::panic::set_hook(Box::new(|info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<&str>()
+            .copied()
+            .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+            .unwrap_or("a panic without a message");
+        let location = info.location().map(|l| (l.file(), l.line(), l.column()));
+        eprintln!("{}", panic_line(message, location));
+    }));
 }
 
 /// The summary's line on what left through the open boundaries, as
@@ -427,7 +541,55 @@ fn wall_split_line(parts: &[brisance::io::WallPart], wall_seconds: f64) -> Optio
 
 #[cfg(test)]
 mod tests {
-    use super::{outflow_line, wall_split_line};
+    use super::{outflow_line, panic_line, restart_command, shell_word, wall_split_line};
+
+    #[test]
+    fn a_panic_is_one_line_saying_what_where_and_where_to_report() {
+        let line = panic_line(
+            "no entry found for key",
+            Some(("crates/compose/src/bridge.rs", 343, 18)),
+        );
+        assert!(!line.contains('\n'), "{line}");
+        assert!(line.starts_with("error: internal error"), "{line}");
+        assert!(
+            line.contains("no entry found for key at crates/compose/src/bridge.rs:343:18"),
+            "{line}"
+        );
+        assert!(
+            line.contains(&format!("{}/issues", env!("CARGO_PKG_REPOSITORY"))),
+            "{line}"
+        );
+        assert!(line.contains("RUST_BACKTRACE=1"), "{line}");
+        assert!(panic_line("boom", None).contains(": boom; please report"));
+    }
+
+    #[test]
+    fn the_restart_command_is_the_run_with_restart_latest() {
+        let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let out = std::path::Path::new("out/sod");
+        assert_eq!(
+            restart_command(&args(&["target/brisance", "run", "configs/sod.ron"]), out),
+            "target/brisance run configs/sod.ron --out out/sod --restart latest"
+        );
+        assert_eq!(
+            restart_command(
+                &args(&[
+                    "brisance",
+                    "run",
+                    "c.ron",
+                    "--out",
+                    "my out",
+                    "--set",
+                    "domain.cells=(8,1,1)",
+                    "--restart",
+                    "old.bin",
+                ]),
+                out
+            ),
+            "brisance run c.ron --out 'my out' --set 'domain.cells=(8,1,1)' --restart latest"
+        );
+        assert_eq!(shell_word("it's"), "'it'\\''s'");
+    }
     use brisance::core::ConservationTotals;
     use brisance::io::{RunSummary, WallPart};
 

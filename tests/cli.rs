@@ -186,6 +186,48 @@ fn wrong_type_is_one_located_error_naming_the_expected_type() {
 }
 
 #[test]
+fn check_warns_of_an_unused_material_at_its_line_and_succeeds() {
+    let text = replaced(
+        &sod_text(),
+        "materials: {",
+        "materials: {\n        \"spare\": (library: \"air\"),",
+    );
+    let (_dir, config, _out) = scenario(&text);
+    let output = brisance().arg("check").arg(&config).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let err = stderr(&output);
+    let expected = format!(
+        "warning: {}:{}:",
+        config.display(),
+        line_of(&text, "\"spare\"")
+    );
+    assert!(err.starts_with(&expected), "{err}");
+    assert!(
+        err.contains("`materials.spare`: material `spare` is defined but nothing uses it"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_bridge_region_with_a_renamed_material_is_one_located_error() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/plate_case2.ron");
+    let text = replaced(
+        &fs::read_to_string(path).unwrap(),
+        "\"rha\": (library",
+        "\"armour\": (library",
+    );
+    let (_dir, config, _out) = scenario(&text);
+    let output = brisance().arg("check").arg(&config).output().unwrap();
+    let message = located_error(
+        &output,
+        &config,
+        line_of(&text, "0.22)), material: \"rha\""),
+    );
+    assert!(message.contains("`initial.1.material`"), "{message}");
+    assert!(message.contains("unknown material `rha`"), "{message}");
+}
+
+#[test]
 fn unknown_eos_name_lists_the_known_ones() {
     let text = replaced(&sod_text(), "eos: IdealGas(", "eos: PerfectGas(");
     let (_dir, config, out) = scenario(&text);
@@ -481,6 +523,19 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
     assert!(out.join("lineouts").join("tube_0.csv").is_file());
     assert!(out.join("sod.pvd").is_file());
     assert!(out.join("conservation.csv").is_file());
+    // The last good state (here the initial one: the first step fails) is
+    // written as the next output, not the half-updated state of the
+    // failed step.
+    let last = out.join("vtk").join("sod_00001.vti");
+    assert!(last.is_file(), "the last good state is written");
+    assert_eq!(
+        std::fs::read(&last).unwrap(),
+        std::fs::read(out.join("vtk").join("sod_00000.vti")).unwrap(),
+        "the last good state is the state before the failed step"
+    );
+    assert!(out.join("lineouts").join("tube_1.csv").is_file());
+    let pvd = std::fs::read_to_string(out.join("sod.pvd")).unwrap();
+    assert!(pvd.contains("sod_00001.vti"), "{pvd}");
 
     // With the face limiter (the default) the same flow runs to its end,
     // and the summary says how often the limiter kept positivity.
@@ -496,6 +551,60 @@ fn non_physical_state_stops_with_the_cell_and_time_and_keeps_earlier_outputs() {
         .unwrap_or_else(|| panic!("no positivity entry: {s}"));
     assert!(positivity["acted"].as_u64().unwrap() > 0, "{s}");
     assert_eq!(positivity["unit"], "faces", "{s}");
+}
+
+#[test]
+fn a_run_stopping_steps_in_writes_the_state_before_the_failed_step() {
+    // Streams colliding in the middle under the bare scheme (no limiter,
+    // no viscosity): the pressure goes negative some forty steps in.
+    let text = replaced(
+        &sod_text(),
+        "(density: 1.0, pressure: 1.0)",
+        "(density: 1.0, velocity: (1.35, 0, 0), pressure: 0.6)",
+    );
+    let text = replaced(
+        &text,
+        "(density: 0.125, pressure: 0.1)",
+        "(density: 0.125, velocity: (-1.35, 0, 0), pressure: 0.6)",
+    );
+    let (_dir, config, out) = scenario(&text);
+    let sets = [
+        "--set",
+        "domain.cells=(200,1,1)",
+        "--set",
+        "pipeline.limiter=Off",
+        "--set",
+        "pipeline.viscosity=Off",
+    ];
+    let message = single_error_line(&run(&config, &out, &sets));
+    let steps: u64 = message
+        .strip_prefix("run stopped at step ")
+        .and_then(|m| m.split(':').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no step count: {message}"));
+    assert!(steps > 1, "should fail some steps in: {message}");
+    // Found at the start of a step, the bad state is the one the previous
+    // step left: the state before it is the last good one.
+    let steps = if message.contains("(at the start of a step)") {
+        steps - 1
+    } else {
+        steps
+    };
+    // The same run told to stop after those steps writes the state they
+    // reach as its last output: the failed run's last output is the same
+    // file, bit for bit.
+    let good = out.with_file_name("out_good");
+    let max = format!("time.max_steps={steps}");
+    let output = run(&config, &good, &[&sets[..], &["--set", &max]].concat());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let last = |dir: &Path| file_names(&dir.join("vtk")).pop().expect("a VTK file");
+    assert_eq!(last(&out), last(&good));
+    let name = last(&out);
+    assert!(
+        std::fs::read(out.join("vtk").join(&name)).unwrap()
+            == std::fs::read(good.join("vtk").join(&name)).unwrap(),
+        "{name}: the last good state differs from the state after {steps} steps"
+    );
 }
 
 // ---------------------------------------------------------------------------

@@ -287,3 +287,138 @@ fn restart_of_a_scenario_with_library_materials_continues() {
     ));
     assert_same_bytes(&a, &b, Path::new("conservation.csv"));
 }
+
+#[test]
+fn a_checkpoint_with_bytes_changed_anywhere_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_a, checkpoint) = reference_run(dir.path());
+    let bytes = fs::read(&checkpoint).unwrap();
+    let n = bytes.len();
+    // Past the header, in the middle (the fields) and at the end.
+    for offset in [16, n / 2, n - 9, n - 1] {
+        let mut changed = bytes.clone();
+        changed[offset] ^= 0x04;
+        let file = dir.path().join(format!("changed_{offset}.bin"));
+        fs::write(&file, &changed).unwrap();
+        let out = dir.path().join(format!("out_changed_{offset}"));
+        let output = run_sod(&out, &["--restart", file.to_str().unwrap()]);
+        let line = single_error_line(&output);
+        assert!(line.contains(&file.display().to_string()), "{line}");
+        assert!(line.contains("checksum does not match"), "{line}");
+        assert!(!out.exists(), "byte {offset}: nothing should be written");
+    }
+}
+
+/// A sod tube long enough (about 3000 steps of 40000 cells) to be stopped
+/// in its middle; no checkpoints but the one the stop writes.
+#[cfg(unix)]
+const LONG: [&str; 8] = [
+    "--set",
+    "domain.cells=(40000,1,1)",
+    "--set",
+    "outputs.checkpoint_every=100000000",
+    "--set",
+    "time.end=0.05",
+    "--set",
+    "outputs.interval=0.01",
+];
+
+#[cfg(unix)]
+#[test]
+fn sigterm_checkpoints_and_restart_latest_ends_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("A");
+    assert_success(&run_sod(&a, &LONG));
+
+    let b = dir.path().join("B");
+    let child = Command::new(BIN)
+        .env_remove("BRISANCE_LOG")
+        .arg("run")
+        .arg(SOD)
+        .arg("--out")
+        .arg(&b)
+        .arg("--quiet")
+        .args(SETS)
+        .args(LONG)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the brisance binary runs");
+    // Stop it once its first output is on disk.
+    let first = b.join("vtk").join("sod_00000.vti");
+    let waited = std::time::Instant::now();
+    while !first.is_file() {
+        assert!(waited.elapsed().as_secs() < 120, "no first output");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(
+        output.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let err = String::from_utf8_lossy(&output.stderr).into_owned();
+    let line = err.strip_suffix('\n').unwrap_or(&err);
+    assert!(!line.contains('\n'), "one line: {err}");
+    assert!(line.starts_with("error: interrupted at step "), "{line}");
+    assert!(line.contains("; continue with: "), "{line}");
+    assert!(line.ends_with(" --restart latest"), "{line}");
+    assert!(line.contains(&format!("--out {}", b.display())), "{line}");
+    let checkpoints = files_under(&b, "checkpoints");
+    assert_eq!(checkpoints.len(), 1, "{checkpoints:?}");
+    assert!(
+        line.contains(&b.join(&checkpoints[0]).display().to_string()),
+        "names the checkpoint: {line}"
+    );
+    let s = read_json(&b.join("summary.json"));
+    assert_eq!(s["completed"], Value::Bool(false), "{s}");
+    assert!(s["stop_reason"].as_str().unwrap().contains("interrupted"));
+
+    // `--restart latest` finds it and ends where the uninterrupted run did.
+    assert_success(&run_sod(
+        &b,
+        &[&LONG[..], &["--restart", "latest"]].concat(),
+    ));
+    for rel in final_outputs(&a) {
+        assert_same_bytes(&a, &b, &rel);
+    }
+    assert_same_bytes(&a, &b, Path::new("conservation.csv"));
+    assert_same_bytes(&a, &b, Path::new("gauges/x0_75.csv"));
+    let (sa, sb) = (
+        read_json(&a.join("summary.json")),
+        read_json(&b.join("summary.json")),
+    );
+    assert_eq!(sa["steps"], sb["steps"]);
+    assert_eq!(sb["completed"], Value::Bool(true), "{sb}");
+}
+
+#[test]
+fn restart_latest_skips_a_damaged_newest_checkpoint_and_says_when_there_is_none() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, _) = reference_run(dir.path());
+    // No checkpoints folder at all.
+    let empty = dir.path().join("empty");
+    let line = single_error_line(&run_sod(&empty, &["--restart", "latest"]));
+    assert!(line.contains("no valid checkpoint in"), "{line}");
+    // Damage the newest: the one before it is used, and the run ends as
+    // the reference did.
+    let b = dir.path().join("B");
+    fs::create_dir_all(b.join("checkpoints")).unwrap();
+    let all = files_under(&a, "checkpoints");
+    let (newest, before) = (&all[all.len() - 1], &all[all.len() - 2]);
+    let mut bytes = fs::read(a.join(newest)).unwrap();
+    let k = bytes.len() / 2;
+    bytes[k] ^= 1;
+    fs::write(b.join(newest), bytes).unwrap();
+    fs::copy(a.join(before), b.join(before)).unwrap();
+    assert_success(&run_sod(&b, &["--restart", "latest"]));
+    for rel in final_outputs(&a) {
+        assert_same_bytes(&a, &b, &rel);
+    }
+}

@@ -340,7 +340,12 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
         }
     }
     for (i, r) in s.initial.iter().enumerate() {
-        let m = &s.materials[&r.material];
+        let Some(m) = s.materials.get(&r.material) else {
+            return Err((
+                format!("initial.{i}.material"),
+                format!("unknown material `{}`", r.material),
+            ));
+        };
         if !is_gas(cfg, &r.material) && m.model.is_none() {
             return Err((
                 format!("initial.{i}.material"),
@@ -374,8 +379,10 @@ pub fn build(s: &Scenario, cfg: &BridgeConfig) -> Result<Box<dyn Solver>, Proble
     let air_eos = EosModel::IdealGas(air);
     match &cfg.products {
         Some(p) => {
-            let products = s.materials[p]
-                .eos()
+            let products = s
+                .materials
+                .get(p)
+                .and_then(|m| m.eos())
                 .cloned()
                 .ok_or_else(|| ("pipeline.products".to_string(), format!("`{p}` has no eos")))?;
             let law = ProductsInAir::new(products.clone(), air_eos.clone())

@@ -51,4 +51,15 @@ pub enum RunError {
     /// A checkpoint cannot be used.
     #[error("{0}")]
     Checkpoint(String),
+    /// The run was asked to stop (SIGINT, SIGTERM) and stopped after a
+    /// whole step, with a checkpoint of it.
+    #[error("interrupted at step {step}, t = {time:e} s; checkpoint {}", checkpoint.display())]
+    Interrupted {
+        /// Steps completed.
+        step: u64,
+        /// Simulation time reached, s.
+        time: f64,
+        /// The checkpoint written at that step.
+        checkpoint: std::path::PathBuf,
+    },
 }

@@ -330,7 +330,9 @@ fn node_counts(s: &Scenario, cfg: &LatticeConfig) -> [usize; 3] {
     let mut n = [1usize; 3];
     for (a, na) in n.iter_mut().enumerate().take(cfg.dimension.count()) {
         let len = s.domain.upper[a] - s.domain.lower[a];
-        *na = (len / cfg.spacing * (1.0 + 1e-12)).floor() as usize + 1;
+        // Saturating: a spacing tiny beside the domain gives usize::MAX,
+        // which validation refuses as too many nodes.
+        *na = ((len / cfg.spacing * (1.0 + 1e-12)).floor() as usize).saturating_add(1);
     }
     n
 }
@@ -344,7 +346,9 @@ pub fn validate(s: &Scenario, cfg: &LatticeConfig) -> Result<(), Problem> {
         ));
     }
     let n = node_counts(s, cfg);
-    let total: usize = n.iter().map(|k| k + 2).product();
+    let total = n
+        .iter()
+        .fold(1usize, |p, k| p.saturating_mul(k.saturating_add(2)));
     if total > 200_000_000 {
         return Err((
             "pipeline.spacing".into(),

@@ -28,4 +28,4 @@ pub mod validate;
 pub use config::Scenario;
 pub use error::{ConfigError, RunError};
 pub use load::{load_file, load_str, LoadedScenario, DEFAULT_SCENARIO};
-pub use run::{run, RunOptions};
+pub use run::{run, run_until_stopped, RunOptions};

@@ -28,6 +28,9 @@ pub struct LoadedScenario {
     pub text: String,
     /// The scenario.
     pub scenario: Scenario,
+    /// What is allowed but probably unintended (a material nothing uses),
+    /// located like errors; the command line prints them as warnings.
+    pub warnings: Vec<ConfigError>,
 }
 
 /// RON options shared by every reader: `Some(x)` may be written `x`, and
@@ -122,10 +125,21 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
             message: format!("{message}{suffix}"),
         }
     })?;
+    let warnings = crate::validate::unused_materials(&scenario)
+        .into_iter()
+        .map(|(path, message)| ConfigError {
+            file: file.to_string(),
+            position: ron_path::find_nearest(&text, &path)
+                .map(|r| ron_path::line_col(&text, r.start)),
+            field: Some(path),
+            message,
+        })
+        .collect();
     Ok(LoadedScenario {
         file: file.to_string(),
         text,
         scenario,
+        warnings,
     })
 }
 

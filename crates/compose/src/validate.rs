@@ -211,6 +211,78 @@ fn check_region(path: &str, r: &Region) -> Result<(), Problem> {
         .map_err(|e| (format!("{path}.{}", e.field), e.message))
 }
 
+/// Whether a (validated) region may share a point with the box
+/// `lower ..= upper`: false only where a bounding box of the region (for a
+/// half-space, its plane) proves it does not.
+fn may_meet_box(region: &Region, lower: &[f64; 3], upper: &[f64; 3]) -> bool {
+    let overlaps =
+        |lo: [f64; 3], hi: [f64; 3]| (0..3).all(|a| lo[a] <= upper[a] && hi[a] >= lower[a]);
+    let around_segment = |base: &[f64; 3], axis: &[f64; 3], length: f64, radius: f64| {
+        let norm = axis.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let end: [f64; 3] = std::array::from_fn(|a| base[a] + axis[a] / norm * length);
+        overlaps(
+            std::array::from_fn(|a| base[a].min(end[a]) - radius),
+            std::array::from_fn(|a| base[a].max(end[a]) + radius),
+        )
+    };
+    match region {
+        Region::Everywhere => true,
+        Region::Box { min, max } => overlaps(*min, *max),
+        Region::Sphere { centre, radius } => overlaps(
+            std::array::from_fn(|a| centre[a] - radius),
+            std::array::from_fn(|a| centre[a] + radius),
+        ),
+        Region::Cylinder {
+            base,
+            axis,
+            radius,
+            length,
+        } => around_segment(base, axis, *length, *radius),
+        Region::Shell {
+            base,
+            axis,
+            outer_radius,
+            length,
+            ..
+        } => around_segment(base, axis, *length, *outer_radius),
+        Region::HalfSpace { point, normal } => (0..8).any(|corner: usize| {
+            (0..3)
+                .map(|a| {
+                    let x = if corner >> a & 1 == 1 {
+                        upper[a]
+                    } else {
+                        lower[a]
+                    };
+                    (x - point[a]) * normal[a]
+                })
+                .sum::<f64>()
+                >= 0.0
+        }),
+    }
+}
+
+/// The materials a scenario defines but nothing in it names (neither a
+/// region, the pipeline, a face nor an output): a warning each, with the
+/// material's field path. A material is counted as used when its quoted
+/// name appears anywhere in the scenario outside `materials`.
+pub fn unused_materials(s: &Scenario) -> Vec<Problem> {
+    let mut rest = s.clone();
+    rest.materials.clear();
+    let Ok(text) = ron::to_string(&rest) else {
+        return Vec::new();
+    };
+    s.materials
+        .keys()
+        .filter(|name| !text.contains(&format!("{name:?}")))
+        .map(|name| {
+            (
+                format!("materials.{name}"),
+                format!("material `{name}` is defined but nothing uses it"),
+            )
+        })
+        .collect()
+}
+
 fn file_safe(name: &str) -> bool {
     !name.is_empty()
         && name
@@ -273,6 +345,24 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
     }
+    // Each cell holds several f64 fields (40 bytes and more), so 1e10
+    // cells is beyond one machine's memory; a count that overflows would
+    // panic wherever it is multiplied out.
+    const MAX_CELLS: usize = 10_000_000_000;
+    let total = d
+        .cells
+        .iter()
+        .try_fold(1usize, |p, &c| p.checked_mul(c))
+        .filter(|&n| n <= MAX_CELLS);
+    if total.is_none() {
+        return Err((
+            "domain.cells".into(),
+            format!(
+                "{:?} cells is more than the {MAX_CELLS:e} a run can hold",
+                d.cells
+            ),
+        ));
+    }
     check_geometry(s)?;
     let t = &s.time;
     if !(t.end > 0.0 && t.end.is_finite()) {
@@ -320,6 +410,19 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             .collect::<Vec<_>>()
             .join(", ")
     };
+    // Every region's material must exist before the pipelines look it up.
+    for (i, r) in s.initial.iter().enumerate() {
+        if !s.materials.contains_key(&r.material) {
+            return Err((
+                format!("initial.{i}.material"),
+                format!(
+                    "unknown material `{}`; known materials: {}",
+                    r.material,
+                    known_materials()
+                ),
+            ));
+        }
+    }
     match &s.pipeline {
         Pipeline::Fdm(fdm) => {
             match s.materials.get(&fdm.material).and_then(|m| m.eos()) {
@@ -546,6 +649,15 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             _ => {}
         }
         check_region(&format!("{path}.region"), &r.region)?;
+        if !may_meet_box(&r.region, &d.lower, &d.upper) {
+            return Err((
+                format!("{path}.region"),
+                format!(
+                    "the region lies entirely outside the domain {:?} .. {:?}",
+                    d.lower, d.upper
+                ),
+            ));
+        }
         check_state(&format!("{path}.state"), &r.state)?;
         if r.state.material.is_some() {
             return Err((

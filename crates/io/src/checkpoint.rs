@@ -3,7 +3,10 @@
 //!
 //! File layout: the 8 bytes [`CHECKPOINT_MAGIC`], then the bincode 1.3
 //! encoding (fixed-width little-endian integers) of a [`Checkpoint`], whose
-//! first field, the format version, thus sits in bytes 8..12.
+//! first field, the format version, thus sits in bytes 8..12, then (from
+//! format version 2) the CRC-32 (IEEE) of every byte before it, as 4
+//! little-endian bytes. A file whose checksum does not match is refused:
+//! a checkpoint is either exactly what was written or an error.
 
 use std::path::Path;
 
@@ -16,8 +19,12 @@ use crate::IoError;
 /// The first 8 bytes of every checkpoint file.
 pub const CHECKPOINT_MAGIC: [u8; 8] = *b"BRISCKPT";
 
-/// The format version this build writes and reads.
-pub const CHECKPOINT_FORMAT_VERSION: u32 = 1;
+/// The format version this build writes and reads. Version 1 had no
+/// checksum.
+pub const CHECKPOINT_FORMAT_VERSION: u32 = 2;
+
+/// Bytes of the checksum trailer.
+const CHECKSUM_LEN: usize = 4;
 
 /// What [`read_checkpoint`] calls its files in errors.
 const KIND: &str = "Brisance checkpoint";
@@ -54,9 +61,9 @@ pub fn checkpoint_file_name(step: u64) -> String {
     format!("checkpoint_{step:08}.bin")
 }
 
-/// Writes `checkpoint` to `path` (atomically). Fails without writing if its
-/// format version is not [`CHECKPOINT_FORMAT_VERSION`], since this build
-/// could not read it back.
+/// Writes `checkpoint` to `path` (atomically) with its checksum. Fails
+/// without writing if its format version is not
+/// [`CHECKPOINT_FORMAT_VERSION`], since this build could not read it back.
 pub fn write_checkpoint(path: &Path, checkpoint: &Checkpoint) -> Result<(), IoError> {
     if checkpoint.format_version != CHECKPOINT_FORMAT_VERSION {
         return Err(IoError::invalid_input(
@@ -69,15 +76,18 @@ pub fn write_checkpoint(path: &Path, checkpoint: &Checkpoint) -> Result<(), IoEr
     }
     let payload =
         bincode::serialize(checkpoint).map_err(|e| IoError::encode(path, e.to_string()))?;
-    let mut bytes = Vec::with_capacity(CHECKPOINT_MAGIC.len() + payload.len());
+    let mut bytes = Vec::with_capacity(CHECKPOINT_MAGIC.len() + payload.len() + CHECKSUM_LEN);
     bytes.extend_from_slice(&CHECKPOINT_MAGIC);
     bytes.extend_from_slice(&payload);
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
     write_atomic(path, &bytes)
 }
 
 /// Reads a checkpoint written by [`write_checkpoint`], rejecting files that
-/// do not start with [`CHECKPOINT_MAGIC`], are truncated, carry trailing
-/// bytes, or have another format version.
+/// do not start with [`CHECKPOINT_MAGIC`], have another format version
+/// (an older one is named as such), are truncated, or whose checksum does
+/// not match their content (any byte changed).
 pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
     let bytes = std::fs::read(path).map_err(|e| IoError::read(path, e))?;
     let malformed = |message: String| IoError::malformed(path, KIND, message);
@@ -90,17 +100,33 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
             "it does not start with the checkpoint magic bytes".into(),
         ));
     }
-    let payload = bytes.get(magic_len..).ok_or_else(truncated)?;
-    let version_bytes: [u8; 4] = payload
-        .get(..4)
+    let version_bytes: [u8; 4] = bytes
+        .get(magic_len..magic_len + 4)
         .and_then(|b| b.try_into().ok())
         .ok_or_else(truncated)?;
     let version = u32::from_le_bytes(version_bytes);
-    if version != CHECKPOINT_FORMAT_VERSION {
+    if version < CHECKPOINT_FORMAT_VERSION {
         return Err(malformed(format!(
-            "format version {version} is not supported (this build reads version {CHECKPOINT_FORMAT_VERSION})"
+            "it was written by an older version of Brisance (checkpoint format {version}; this build reads format {CHECKPOINT_FORMAT_VERSION}): rerun from the start"
         )));
     }
+    if version > CHECKPOINT_FORMAT_VERSION {
+        return Err(malformed(format!(
+            "format version {version} is not supported (this build reads version {CHECKPOINT_FORMAT_VERSION}; a newer Brisance wrote it, or the file is damaged)"
+        )));
+    }
+    if bytes.len() < magic_len + 4 + CHECKSUM_LEN {
+        return Err(truncated());
+    }
+    let (body, trailer) = bytes.split_at(bytes.len() - CHECKSUM_LEN);
+    let stored = u32::from_le_bytes(trailer.try_into().expect("4 bytes"));
+    let computed = crc32fast::hash(body);
+    if stored != computed {
+        return Err(malformed(format!(
+            "its checksum does not match its content (stored {stored:08x}, computed {computed:08x}): the file is truncated or damaged"
+        )));
+    }
+    let payload = &body[magic_len..];
     bincode::DefaultOptions::new()
         .with_fixint_encoding()
         .with_limit(payload.len() as u64)
@@ -152,7 +178,9 @@ mod tests {
         let path = write_sample(dir.path());
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(&bytes[..8], b"BRISCKPT");
-        assert_eq!(&bytes[8..12], &1u32.to_le_bytes());
+        assert_eq!(&bytes[8..12], &2u32.to_le_bytes());
+        let (body, crc) = bytes.split_at(bytes.len() - 4);
+        assert_eq!(crc, crc32fast::hash(body).to_le_bytes());
         let back = read_checkpoint(&path).unwrap();
         assert_eq!(back, sample());
         let nan_bits = u64::from_le_bytes(back.solver_state[..8].try_into().unwrap());
@@ -193,20 +221,91 @@ mod tests {
         assert!(text.contains("magic bytes"), "{text}");
     }
 
+    /// A file of format `version` as `write_checkpoint` lays it out
+    /// (`with_crc`: with the checksum trailer).
+    fn file_of_version(version: u32, with_crc: bool) -> Vec<u8> {
+        let mut c = sample();
+        c.format_version = version;
+        let mut bytes = CHECKPOINT_MAGIC.to_vec();
+        bytes.extend(bincode::serialize(&c).unwrap());
+        if with_crc {
+            let crc = crc32fast::hash(&bytes);
+            bytes.extend(crc.to_le_bytes());
+        }
+        bytes
+    }
+
     #[test]
     fn other_format_version_is_rejected() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("future.bin");
-        let mut future = sample();
-        future.format_version = 2;
-        let mut bytes = CHECKPOINT_MAGIC.to_vec();
-        bytes.extend(bincode::serialize(&future).unwrap());
-        std::fs::write(&path, &bytes).unwrap();
+        std::fs::write(&path, file_of_version(3, true)).unwrap();
         let text = read_checkpoint(&path).unwrap_err().to_string();
-        assert!(text.contains("format version 2 is not supported"), "{text}");
+        assert!(text.contains("format version 3 is not supported"), "{text}");
 
+        let mut future = sample();
+        future.format_version = 3;
         let err = write_checkpoint(&path, &future).unwrap_err();
         assert!(matches!(err, IoError::InvalidInput { .. }), "{err:?}");
+    }
+
+    #[test]
+    fn a_checkpoint_of_the_older_format_without_checksum_is_named_as_older() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("checkpoint_00000001.bin");
+        std::fs::write(&path, file_of_version(1, false)).unwrap();
+        let text = read_checkpoint(&path).unwrap_err().to_string();
+        assert!(text.starts_with(&path.display().to_string()), "{text}");
+        assert!(
+            text.contains("written by an older version of Brisance (checkpoint format 1"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_few_changed_bytes_anywhere_are_refused_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_sample(dir.path());
+        let good = std::fs::read(&path).unwrap();
+        let n = good.len();
+        // Start (after the magic and version, which have their own
+        // messages), middle of the scenario text, the state payload, the
+        // checksum itself, the very last byte; one bit and whole bytes.
+        for (offset, xor) in [
+            (12, 0x01),
+            (13, 0xff),
+            (20, 0x20),
+            (n / 2, 0x01),
+            (n / 2 + 1, 0x80),
+            (n - 12, 0x10),
+            (n - 5, 0x01),
+            (n - 4, 0x01),
+            (n - 1, 0x80),
+        ] {
+            let mut bytes = good.clone();
+            bytes[offset] ^= xor;
+            std::fs::write(&path, &bytes).unwrap();
+            let text = read_checkpoint(&path)
+                .expect_err(&format!("byte {offset} ^ {xor:#x} accepted"))
+                .to_string();
+            assert!(
+                text.starts_with(&format!(
+                    "{} is not a valid Brisance checkpoint",
+                    path.display()
+                )),
+                "{text}"
+            );
+            assert!(text.contains("checksum"), "byte {offset}: {text}");
+        }
+        // Several bytes at once, spread over the file.
+        let mut bytes = good.clone();
+        for k in [9, n / 3, 2 * n / 3, n - 2] {
+            bytes[k] = bytes[k].wrapping_add(7);
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        assert!(read_checkpoint(&path).is_err());
+        std::fs::write(&path, &good).unwrap();
+        assert_eq!(read_checkpoint(&path).unwrap(), sample());
     }
 
     #[test]
