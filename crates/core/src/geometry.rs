@@ -90,7 +90,9 @@ mod tests {
         assert!((v - PI * dy).abs() < 1e-14);
         // The outer face is the cylinder's side, the annuli its end.
         assert!((g.x_face_area(1.0, dy, 7.0) - 2.0 * PI * dy).abs() < 1e-15);
-        let ends: f64 = (0..10).map(|i| g.y_face_area(i as f64 * 0.1, 0.1, 7.0)).sum();
+        let ends: f64 = (0..10)
+            .map(|i| g.y_face_area(i as f64 * 0.1, 0.1, 7.0))
+            .sum();
         assert!((ends - PI).abs() < 1e-14);
         // The axis has no area.
         assert_eq!(g.x_face_area(0.0, dy, 7.0), 0.0);
