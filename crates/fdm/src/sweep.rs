@@ -30,20 +30,27 @@
 //! (`SPECIES` is a constant), so their arithmetic is unchanged.
 //!
 //! On an axisymmetric (r, z) grid the x sweep is the radial one and takes
-//! [`RadialWeights`]: the finite-volume form of the same two steps with
-//! the ring faces 2π r_± Δz and the ring volume π(r₊² − r₋²)Δz, whose
-//! ratio AΔr/V is α_± = r_±/r_c (r_c the cell's mid radius), and the hoop
-//! source p(A₊ − A₋)/V of the radial momentum
+//! [`RadialWeights`]: the finite-volume form of the same two steps (seed
+//! 001 eqs 3 and 7–9) with the ring faces 2π r_± Δz and the ring volume
+//! π(r₊² − r₋²)Δz, whose ratio AΔr/V is α_± = r_±/r_c (r_c the cell's mid
+//! radius), and the hoop source p̂(A₊ − A₋)/V of the radial momentum
 //! (`docs/physics/axisymmetric.md`):
 //!
-//! Ū_i = U_i + α₊ μ₊ (U_{i+1} − U_i) − α₋ μ₋ (U_i − U_{i−1}),
-//! U_i^{new} = Ū_i − λ (α₊ F*₊ − α₋ F*₋) + λ (α₊ − α₋) p_i e_r,
+//! Ū_i = U_i + α₊ μ₊ (U_{i+1} − U_i) − α₋ μ₋ (U_i − U_{i−1})
+//!       − ½(μ₊ + μ₋)(α₊ − α₋)² ρu_r e_r,
+//! U*_{i+½} = (the planar half step) − ½λβ (H_i + H_{i+1}),
+//! U_i^{new} = Ū_i − λ (α₊ F*₊ − α₋ F*₋) + λ (α₊ − α₋) p̂_i e_r,
 //!
-//! the momentum row written λ(α₊(F*₊ − p_i) − α₋(F*₋ − p_i)) so that a
-//! uniform gas at rest, whose face flux is exactly p_i, stays at rest to
-//! the bit. The predictor is the planar half step, as in the 1D
-//! detonation ([`crate::detonation`]). The axial (y) sweep is the planar
-//! one: a ring's two axial faces are the same annulus, A/V = 1/Δz.
+//! with the hoop term of the vector Laplacian on the radial momentum,
+//! the quasi-linear geometric source H = u_r(ρ, ρu, E + p) of the
+//! predictor (β = Δr/(2r_f), `predictor_rz_kernel`), and p̂_i the mean
+//! of the predictor's pressures at the cell's two faces, time-centred
+//! (`hoop_pressure_kernel`); the momentum row is written
+//! λ(α₊(F*₊ − p̂_i) − α₋(F*₋ − p̂_i)) so that a uniform gas at rest, whose
+//! face fluxes are exactly p̂_i, stays at rest to the bit. Forming p̂ in
+//! the first ghost cells takes passes 1–4 one row further
+//! ([`GHOST_RZ`]). The axial (y) sweep is the planar one: a ring's two
+//! axial faces are the same annulus, A/V = 1/Δz.
 
 use crate::gas::GasLaw;
 use crate::limiter::{
@@ -596,8 +603,9 @@ fn update_rz_kernel(
 }
 
 /// Pass 5 of a radial sweep on the radial momentum row, with the hoop
-/// source: U = Ū − λ(α₊(F*₊ − p) − α₋(F*₋ − p)), p the cell's pressure
-/// (pass 1). At rest F*_± is p to the bit, so nothing moves.
+/// source: U = Ū − λ(α₊(F*₊ − p̂) − α₋(F*₋ − p̂)), p̂ the hoop pressure
+/// ([`hoop_pressure_kernel`]). At rest F*_± is p̂ to the bit, so nothing
+/// moves.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 fn update_rz_momentum_kernel(
@@ -1166,9 +1174,11 @@ fn low_order_kernel<G: GasLaw>(
 }
 
 /// [`low_order_kernel`] of a radial sweep: the first-order update with the
-/// ring weights and the hoop source of the same cell pressure the update
-/// uses, U^L = U − (α₊λF^L₊ − α₋λF^L₋) + λp(α₊ − α₋) e_r, the radial
-/// momentum row written α₊(λF^L₊ − λp) − α₋(λF^L₋ − λp) as in pass 5.
+/// ring weights, the hoop source of the same pressure p̂ the update uses
+/// and the smoothing's hoop term,
+/// U^L = U − (α₊λF^L₊ − α₋λF^L₋) + λp̂(α₊ − α₋) e_r
+/// − ½(μ₊ + μ₋)(α₊ − α₋)² ρu_r e_r, the radial momentum row written
+/// α₊(λF^L₊ − λp̂) − α₋(λF^L₋ − λp̂) as in pass 5.
 /// The limited update is then U^L − α₊λℓ₊A₊ + α₋λℓ₋A₋, the average with
 /// weights α₊/2 and α₋/2 (they sum to 1) of the half states
 /// U^L − 2λℓ₊A₊ and U^L + 2λℓ₋A₋: the same half states as on a planar
