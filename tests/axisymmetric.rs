@@ -151,3 +151,27 @@ fn an_axisymmetric_restart_on_other_threads_and_patches_ends_bit_identical() {
         assert_eq!(sa["final_totals"], sb["final_totals"], "{name}");
     }
 }
+
+#[test]
+fn a_cartesian_checkpoint_does_not_restart_the_axisymmetric_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("A");
+    assert_success(&run(
+        Path::new(RZ_BLAST),
+        &a,
+        &["--set", "domain.geometry=Cartesian"],
+    ));
+    let checkpoint = sorted_files(&a.join("checkpoints")).remove(0);
+    let b = dir.path().join("B");
+    let out = run(
+        Path::new(RZ_BLAST),
+        &b,
+        &["--restart", checkpoint.to_str().unwrap()],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("another problem") && err.contains("domain.geometry"),
+        "{err}"
+    );
+}
