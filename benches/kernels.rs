@@ -37,6 +37,28 @@ fn fdm_lax_wendroff(c: &mut Criterion) {
     group.finish();
 }
 
+/// One FDM step on a 512² plane, planar (x, y) and axisymmetric (r, z)
+/// side by side (the same blast on the axis): the cost of the ring
+/// weights and the hoop source per cell-update
+/// (docs/physics/axisymmetric.md, "Cost").
+fn fdm_plane(c: &mut Criterion) {
+    use brisance::verification::cases::blast_plane;
+    let n = 512;
+    let mut group = c.benchmark_group("fdm_plane");
+    group.throughput(Throughput::Elements((n * n) as u64));
+    group.sample_size(20);
+    for (name, axisymmetric) in [("step_512sq_planar", false), ("step_512sq_rz", true)] {
+        let mut solver = blast_plane(n, axisymmetric).expect("benchmark problem builds");
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let dt = solver.stable_dt().expect("stable");
+                solver.advance(dt).expect("advances");
+            })
+        });
+    }
+    group.finish();
+}
+
 /// The FDM's two-species gas law (TNT products in air, pressure
 /// equilibrium, docs/physics/fdm_mixture.md) as the bridge's kernels call
 /// it, through the registry enum: (p, c) and p alone, per second, on 1024
@@ -461,6 +483,7 @@ fn pd_bond_forces(c: &mut Criterion) {
 criterion_group!(
     benches,
     fdm_lax_wendroff,
+    fdm_plane,
     fdm_mixture,
     eos_pressure,
     eos_density_inversion,

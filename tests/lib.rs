@@ -2,6 +2,7 @@
 //! the workspace links once). Each module is named for what it checks;
 //! validation cases carry their id from docs/validation.md (`v_sod`).
 
+mod axisymmetric;
 mod cli;
 mod e_freeair;
 mod open_faces;

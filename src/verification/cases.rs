@@ -286,6 +286,45 @@ pub fn blast_box(n: usize, layout: [usize; 3]) -> Result<FdmSolver<IdealGas>, St
     .map_err(|e| e.to_string())
 }
 
+/// An `n × n` plane holding a sphere of compressed air on the axis x = 0
+/// (walls all round), read as a planar (x, y) slab or, with
+/// `axisymmetric`, as an (r, z) plane: the benchmark of an r–z
+/// cell-update against a planar one (docs/physics/axisymmetric.md).
+pub fn blast_plane(n: usize, axisymmetric: bool) -> Result<FdmSolver<IdealGas>, String> {
+    let (geometry, ghost) = if axisymmetric {
+        (
+            brisance_core::Geometry::Axisymmetric,
+            brisance_fdm::sweep::GHOST_RZ,
+        )
+    } else {
+        (
+            brisance_core::Geometry::Cartesian,
+            brisance_fdm::sweep::GHOST,
+        )
+    };
+    let level = Level::new([0.0; 3], [1.0, 1.0, 0.01], [n, n, 1], [1, 1, 1], ghost)
+        .map_err(|e| e.to_string())?;
+    let options = FdmOptions {
+        geometry,
+        ..Default::default()
+    };
+    FdmSolver::new(
+        IdealGas::air(),
+        level,
+        [FdmBoundary::Reflective; 6],
+        options,
+        |x| {
+            let inside = x[0] * x[0] + (x[1] - 0.5).powi(2) < 0.04;
+            PrimitiveState {
+                density: if inside { 5.0 } else { 1.2 },
+                velocity: [0.0; 3],
+                pressure: if inside { 1.0e6 } else { 1.0e5 },
+            }
+        },
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// Result of one V-BAR run.
 #[derive(Debug, Clone, Copy)]
 pub struct BarResult {

@@ -442,6 +442,14 @@ fn same_problem(a: &Scenario, b: &Scenario) -> Result<(), String> {
     if da.lower != db.lower || da.upper != db.upper || da.cells != db.cells {
         return Err("domain differs".into());
     }
+    // The same fields mean other masses on rings than in boxes.
+    if da.geometry != db.geometry {
+        return Err(format!(
+            "domain.geometry differs ({} against {})",
+            da.geometry.name(),
+            db.geometry.name()
+        ));
+    }
     if a.pipeline != b.pipeline {
         return Err("pipeline differs".into());
     }

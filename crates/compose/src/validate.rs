@@ -168,8 +168,8 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
             .then_some(
                 "the Mpm pipeline's particle reservoirs (faces `ZeroGradient`, `OutflowOnly`, `Fixed`) do not run on Axisymmetric grids yet; use `Outflow`, `Reflective` or `Wall`",
             ),
-        Pipeline::Fdm(_)
-        | Pipeline::Ice(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
+        Pipeline::Fdm(_) => None,
+        Pipeline::Ice(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
             Some("this pipeline does not run Axisymmetric grids yet; use `Cartesian`")
         }
     };
@@ -295,7 +295,11 @@ fn file_safe(name: &str) -> bool {
 /// Validates a scenario against its pipeline's limits (output fields,
 /// Courant-number limit, ghost layers per patch).
 pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
-    let (known_fields, max_cfl, ghost) = (limits.fields, limits.max_cfl, limits.ghost);
+    let (known_fields, max_cfl, mut ghost) = (limits.fields, limits.max_cfl, limits.ghost);
+    // The FDM's radial sweep on an (r, z) grid reaches one layer further.
+    if s.domain.geometry.is_axisymmetric() && matches!(s.pipeline, Pipeline::Fdm(_)) {
+        ghost = ghost.max(brisance_fdm::sweep::GHOST_RZ);
+    }
     const AXES: [&str; 3] = ["x", "y", "z"];
     if !file_safe(&s.name) {
         return Err((
@@ -306,6 +310,9 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ),
         ));
     }
+    // The geometry first: an (r, z) grid's third axis has one cell, which
+    // is the thing to say when it has more.
+    check_geometry(s)?;
     let d = &s.domain;
     for (a, axis) in AXES.iter().enumerate() {
         if d.cells[a] == 0 {
@@ -363,7 +370,6 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ),
         ));
     }
-    check_geometry(s)?;
     let t = &s.time;
     if !(t.end > 0.0 && t.end.is_finite()) {
         return Err((

@@ -32,6 +32,8 @@ pub use state::PrimitiveState;
 pub use viscosity::ArtificialViscosity;
 
 #[cfg(test)]
+mod rz_tests;
+#[cfg(test)]
 mod species_tests;
 #[cfg(test)]
 mod tests;

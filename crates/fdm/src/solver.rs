@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use brisance_core::{CellData, ConservationTotals, SafeguardUse, Solver, SolverError};
+use brisance_core::{CellData, ConservationTotals, Geometry, SafeguardUse, Solver, SolverError};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     PatchFields,
@@ -18,7 +18,8 @@ use crate::state::{
     SPECIES_NAME,
 };
 use crate::sweep::{
-    sweep_slab, FaceOutflow, LimiterPass, PatchPtrs, SlabOutcome, SlabShape, GHOST,
+    sweep_slab, FaceOutflow, LimiterPass, PatchPtrs, RadialWeights, SlabOutcome, SlabShape, GHOST,
+    GHOST_RZ,
 };
 use crate::viscosity::ArtificialViscosity;
 
@@ -53,6 +54,13 @@ pub struct FdmOptions {
     /// acts the results are the bits of the scheme without it. `Off`: the
     /// scheme of seed 001 as printed, which stops at a non-physical state.
     pub limiter: FaceLimiter,
+    /// How the grid's cells are read: boxes (`Cartesian`, the default) or
+    /// rings about the axis x = 0 (`Axisymmetric`, an (r, z) grid with
+    /// x = r and y = z): the radial sweep is then the finite-volume form
+    /// with ring faces and the hoop source ([`crate::sweep`],
+    /// `docs/physics/axisymmetric.md`), and totals are summed over ring
+    /// volumes.
+    pub geometry: Geometry,
 }
 
 impl Default for FdmOptions {
@@ -62,6 +70,7 @@ impl Default for FdmOptions {
             viscosity: ArtificialViscosity::Adaptive,
             min_dt: 1e-14,
             limiter: FaceLimiter::Full,
+            geometry: Geometry::Cartesian,
         }
     }
 }
@@ -146,6 +155,9 @@ pub struct FdmSolver<E: GasLaw> {
     outflow_sweep: [Vec<[f64; NVAR]>; 6],
     /// How often the face limiter acted.
     limited: LimiterCount,
+    /// Per patch, the ring weights (α₊, α₋) of the rows of its radial
+    /// sweep ([`RadialWeights`]); empty on a Cartesian grid.
+    radial: Vec<[Vec<f64>; 3]>,
     time: f64,
     steps: u64,
 }
@@ -200,6 +212,37 @@ impl<E: GasLaw> FdmSolver<E> {
                 return Err(FdmError::Invalid(format!(
                     "the level needs {GHOST} ghost layers"
                 )));
+            }
+        }
+        if options.geometry.is_axisymmetric() {
+            let g = &level.geometry;
+            if g.cells[2] != 1 {
+                return Err(FdmError::Invalid(format!(
+                    "an axisymmetric (r, z) grid has one cell along z, got {}",
+                    g.cells[2]
+                )));
+            }
+            if !(g.origin[0] >= 0.0) {
+                return Err(FdmError::Invalid(format!(
+                    "an axisymmetric grid's x is the radius, which starts at r ≥ 0, got {}",
+                    g.origin[0]
+                )));
+            }
+            if g.origin[0] == 0.0 && !matches!(boundaries[0], FdmBoundary::Reflective) {
+                return Err(FdmError::Invalid(
+                    "the low x face of an axisymmetric grid is the axis r = 0 and must be reflective"
+                        .into(),
+                ));
+            }
+            if level.patches.iter().any(|p| p.ghost[0] < GHOST_RZ) {
+                return Err(FdmError::Invalid(format!(
+                    "an axisymmetric level needs {GHOST_RZ} ghost layers along r"
+                )));
+            }
+            if matches!(boundaries[0], FdmBoundary::Periodic) {
+                return Err(FdmError::Invalid(
+                    "the radius of an axisymmetric grid cannot be periodic".into(),
+                ));
             }
         }
         let mut set = FieldSet {
@@ -287,6 +330,29 @@ impl<E: GasLaw> FdmSolver<E> {
             }
             fields.push(pf);
         }
+        let radial = if options.geometry.is_axisymmetric() {
+            let g = &level.geometry;
+            level
+                .patches
+                .iter()
+                .map(|p| {
+                    // Row a of the patch's x sweep is global cell
+                    // lo + a − ghost.
+                    let first = p.lo[0] as i64 - p.ghost[0] as i64;
+                    let mirror = [0, 1].map(|s| matches!(boundaries[s], FdmBoundary::Reflective));
+                    RadialWeights::rows(
+                        g.origin[0],
+                        g.spacing[0],
+                        first,
+                        p.dims()[0],
+                        g.cells[0],
+                        mirror,
+                    )
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(Self {
             eos,
             level,
@@ -300,6 +366,7 @@ impl<E: GasLaw> FdmSolver<E> {
             outflow_sweep: outflow.clone(),
             outflow,
             limited: LimiterCount::default(),
+            radial,
             time: 0.0,
             steps: 0,
         })
@@ -468,6 +535,7 @@ impl<E: GasLaw> FdmSolver<E> {
             items.extend((0..n).flat_map(|s| (0..chunks).map(move |c| (id, s, c, ptrs, out))));
         }
         let level = &self.level;
+        let radial = &self.radial;
         let cells = level.geometry.cells;
         let [low, high] = [2 * axis, 2 * axis + 1].map(|f| {
             let v = &mut self.outflow_sweep[f];
@@ -529,6 +597,11 @@ impl<E: GasLaw> FdmSolver<E> {
                 SCRATCH.with(|s| {
                     let mut scratch = s.borrow_mut();
                     if axis == 0 {
+                        let weights = radial.get(id).map(|[plus, minus, source]| RadialWeights {
+                            plus,
+                            minus,
+                            source,
+                        });
                         let mut ok = SlabOutcome::NONE;
                         for j in lo..hi {
                             let line = SlabShape {
@@ -545,6 +618,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                     &ptrs,
                                     &out,
                                     &line,
+                                    weights,
                                     outflow(j - lo),
                                     &mut scratch,
                                 )
@@ -562,6 +636,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                 &ptrs,
                                 &out,
                                 &shape,
+                                None,
                                 outflow(0),
                                 &mut scratch,
                             )
@@ -577,6 +652,7 @@ impl<E: GasLaw> FdmSolver<E> {
                                 &ptrs,
                                 &out,
                                 &shape,
+                                None,
                                 outflow(0),
                                 &mut scratch,
                             )
@@ -591,8 +667,27 @@ impl<E: GasLaw> FdmSolver<E> {
 
     /// Mass (kg), momentum (kg m/s) and energy (J) of the interior cells,
     /// summed in global cell order.
+    ///
+    /// On an axisymmetric grid each cell counts with its ring volume
+    /// π(r₊² − r₋²)Δz: the mass, the axial momentum (y) and the energy
+    /// are the whole body's; the radial momentum (x) is the sum of the
+    /// rings' ρu_r V, which is no conserved quantity (the hoop source
+    /// changes it; by symmetry the body's momentum normal to the axis is
+    /// zero), and the third component stays 0.
     pub fn interior_totals(&self) -> ConservationTotals {
         let mut t = ConservationTotals::default();
+        if self.options.geometry.is_axisymmetric() {
+            self.level.for_each_cell_in_order(|g, pid, n| {
+                let d = &self.fields[pid].data;
+                let v = self.ring_volume(g[0]);
+                t.mass += d[RHO][n] * v;
+                for a in 0..3 {
+                    t.momentum[a] += d[MOM + a][n] * v;
+                }
+                t.energy += d[ENERGY][n] * v;
+            });
+            return t;
+        }
         self.level.for_each_cell_in_order(|_, pid, n| {
             let d = &self.fields[pid].data;
             t.mass += d[RHO][n];
@@ -602,6 +697,39 @@ impl<E: GasLaw> FdmSolver<E> {
             t.energy += d[ENERGY][n];
         });
         self.scaled_by_cell_volume(t)
+    }
+
+    /// Volume of the ring of an axisymmetric grid's cells in column `i`,
+    /// π(r₊² − r₋²)Δz ([`Geometry::cell_volume`]).
+    fn ring_volume(&self, i: usize) -> f64 {
+        let g = &self.level.geometry;
+        let r_lo = g.origin[0] + i as f64 * g.spacing[0];
+        self.options
+            .geometry
+            .cell_volume(r_lo, g.spacing[0], g.spacing[1], g.spacing[2])
+    }
+
+    /// What one unit of a face accumulator of [`Self::outflow`] stands
+    /// for on an axisymmetric grid: the accumulators hold λΦ per unit
+    /// area of the face (Φ the flux per unit area over the sweep, λ =
+    /// Δt/Δx), so the amount through a face cell is the value times the
+    /// face's area times the spacing across it: 2π r_f Δz·Δr at a radial
+    /// face, the annulus times Δz (the ring's volume) at an axial one.
+    fn ring_face_weight(&self, face: usize, cell: [usize; 3]) -> f64 {
+        let g = &self.level.geometry;
+        let geometry = self.options.geometry;
+        match face / 2 {
+            0 => {
+                let i = if face.is_multiple_of(2) {
+                    0
+                } else {
+                    g.cells[0]
+                };
+                let r = g.origin[0] + i as f64 * g.spacing[0];
+                geometry.x_face_area(r, g.spacing[1], g.spacing[2]) * g.spacing[0]
+            }
+            _ => self.ring_volume(cell[0]),
+        }
     }
 
     /// What has left through the domain faces since the start: mass (kg),
@@ -621,6 +749,7 @@ impl<E: GasLaw> FdmSolver<E> {
     /// face by face, each in global cell order.
     pub fn outflow_where(&self, keep: impl Fn(usize, [usize; 3]) -> bool) -> ConservationTotals {
         let cells = self.level.geometry.cells;
+        let axisymmetric = self.options.geometry.is_axisymmetric();
         let mut t = ConservationTotals::default();
         for (f, acc) in self.outflow.iter().enumerate() {
             let axis = f / 2;
@@ -635,13 +764,21 @@ impl<E: GasLaw> FdmSolver<E> {
                 c[a] = n % cells[a];
                 c[b] = n / cells[a];
                 if keep(f, c) {
-                    t.mass += u[RHO];
+                    let w = if axisymmetric {
+                        self.ring_face_weight(f, c)
+                    } else {
+                        1.0
+                    };
+                    t.mass += w * u[RHO];
                     for d in 0..3 {
-                        t.momentum[d] += u[MOM + d];
+                        t.momentum[d] += w * u[MOM + d];
                     }
-                    t.energy += u[ENERGY];
+                    t.energy += w * u[ENERGY];
                 }
             }
+        }
+        if axisymmetric {
+            return t;
         }
         self.scaled_by_cell_volume(t)
     }
@@ -771,6 +908,12 @@ impl<E: GasLaw> FdmSolver<E> {
             return 0.0;
         }
         let mut m = 0.0;
+        if self.options.geometry.is_axisymmetric() {
+            self.level.for_each_cell_in_order(|g, pid, n| {
+                m += self.fields[pid].data[SPECIES][n] * self.ring_volume(g[0])
+            });
+            return m;
+        }
         self.level
             .for_each_cell_in_order(|_, pid, n| m += self.fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
@@ -937,13 +1080,20 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             .gather_cell_data(fields, &ids, |pid, n, id| self.derived(pid, n, id)))
     }
 
-    /// Values of `fields` in the cell that contains `point`.
+    /// Values of `fields` in the cell that contains `point`; on an
+    /// axisymmetric grid `point` is (r, z, ·), its third coordinate
+    /// ignored.
     fn sample(
         &self,
         point: [f64; 3],
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError> {
+        let mut point = point;
+        if self.options.geometry.is_axisymmetric() {
+            let g = &self.level.geometry;
+            point[2] = g.origin[2] + 0.5 * g.spacing[2];
+        }
         let (pid, n) = self.level.locate_point(point)?;
         out.clear();
         for f in fields {

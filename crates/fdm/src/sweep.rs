@@ -28,6 +28,29 @@
 //! at uniform density is smoothed like a contact, and the updated ρY is
 //! clipped to [0, ρ]. The one-species kernels compile without any of it
 //! (`SPECIES` is a constant), so their arithmetic is unchanged.
+//!
+//! On an axisymmetric (r, z) grid the x sweep is the radial one and takes
+//! [`RadialWeights`]: the finite-volume form of the same two steps (seed
+//! 001 eqs 3 and 7–9) with the ring faces 2π r_± Δz and the ring volume
+//! π(r₊² − r₋²)Δz, whose ratio AΔr/V is α_± = r_±/r_c (r_c the cell's mid
+//! radius), and the hoop source p̂(A₊ − A₋)/V of the radial momentum
+//! (`docs/physics/axisymmetric.md`):
+//!
+//! Ū_i = U_i + α₊ μ₊ (U_{i+1} − U_i) − α₋ μ₋ (U_i − U_{i−1})
+//!       − ½(μ₊ + μ₋)(α₊ − α₋)² ρu_r e_r,
+//! U*_{i+½} = (the planar half step) − ½λβ (H_i + H_{i+1}),
+//! U_i^{new} = Ū_i − λ (α₊ F*₊ − α₋ F*₋) + λ (α₊ − α₋) p̂_i e_r,
+//!
+//! with the hoop term of the vector Laplacian on the radial momentum,
+//! the quasi-linear geometric source H = u_r(ρ, ρu, E + p) of the
+//! predictor (β = Δr/(2r_f), `predictor_rz_kernel`), and p̂_i the mean
+//! of the predictor's pressures at the cell's two faces, time-centred
+//! (`hoop_pressure_kernel`); the momentum row is written
+//! λ(α₊(F*₊ − p̂_i) − α₋(F*₋ − p̂_i)) so that a uniform gas at rest, whose
+//! face fluxes are exactly p̂_i, stays at rest to the bit. Forming p̂ in
+//! the first ghost cells takes passes 1–4 one row further
+//! ([`GHOST_RZ`]). The axial (y) sweep is the planar one: a ring's two
+//! axial faces are the same annulus, A/V = 1/Δz.
 
 use crate::gas::GasLaw;
 use crate::limiter::{
@@ -39,6 +62,12 @@ use crate::viscosity::{adaptive_eta, face_mu, switch_theta, ArtificialViscosity}
 /// Ghost layers the sweep needs on each side.
 pub const GHOST: usize = 4;
 
+/// Ghost layers an axisymmetric grid needs along r: one more than
+/// [`GHOST`], since the hoop source's pressure is the mean of the
+/// predictor's pressures at a cell's two faces, and the face limiter
+/// needs it in the first ghost cell beyond each end of a slab.
+pub const GHOST_RZ: usize = GHOST + 1;
+
 /// Most conservative variables per cell: the five flow variables and ρY.
 const NMAX: usize = NVAR + 1;
 
@@ -46,7 +75,7 @@ const NMAX: usize = NVAR + 1;
 /// Ū (nf), F(Ū) (nf), F* (nf), and the face limiter's work arrays
 /// (velocity, 2ρ·ρe, U^L (nf), λF^L (nf)).
 const fn nscratch(nf: usize) -> usize {
-    6 + 5 * nf
+    8 + 5 * nf
 }
 
 /// Raw pointers to the five (six with a species) conservative arrays of one
@@ -147,6 +176,68 @@ impl SlabShape {
 
     fn scratch_len(&self) -> usize {
         self.dims_a * self.width.max(1)
+    }
+}
+
+/// The ring weights of the cells of a radial (x) sweep on an axisymmetric
+/// grid, per row along the sweep (ghosts included, indexed like the
+/// slab's rows): α₊ = r₊/r_c and α₋ = r₋/r_c, the ratio of a face's area
+/// times Δr to the ring's volume (seed 001 §2.1 in finite-volume form,
+/// `docs/physics/axisymmetric.md`); α₊ + α₋ = 2. A ghost row behind a
+/// reflective face (the axis, a wall) gets its mirror cell's weights with
+/// α₊ and α₋ exchanged, so the mirrored state sweeps as the image of its
+/// cell and nothing crosses the face.
+#[derive(Debug, Clone, Copy)]
+pub struct RadialWeights<'a> {
+    /// α₊ of each row.
+    pub plus: &'a [f64],
+    /// α₋ of each row.
+    pub minus: &'a [f64],
+    /// β = Δr/(2 r_f) of the face on each row's high side, the weight of
+    /// the geometric source of the predictor; 0 at the axis and at a
+    /// reflective domain face.
+    pub source: &'a [f64],
+}
+
+impl RadialWeights<'_> {
+    /// The weights [α₊, α₋, β] of the rows of a radial sweep: `dims` rows,
+    /// row a the global column `first + a` (< 0 or ≥ `cells` for ghost
+    /// rows) of a grid of `cells` columns from r0 on, spaced dr; `mirror`
+    /// says whether the low and the high face are reflective.
+    pub fn rows(
+        r0: f64,
+        dr: f64,
+        first: i64,
+        dims: usize,
+        cells: usize,
+        mirror: [bool; 2],
+    ) -> [Vec<f64>; 3] {
+        let n = cells as i64;
+        let mut out = [vec![0.0; dims], vec![0.0; dims], vec![0.0; dims]];
+        #[allow(clippy::needless_range_loop)]
+        for a in 0..dims {
+            let i = first + a as i64;
+            let (col, swap) = if i < 0 && mirror[0] {
+                (-1 - i, true)
+            } else if i >= n && mirror[1] {
+                (2 * n - 1 - i, true)
+            } else {
+                (i, false)
+            };
+            let lo = r0 + col as f64 * dr;
+            let (hi, mid) = (lo + dr, lo + 0.5 * dr);
+            let (p, m) = (hi.abs() / mid.abs(), lo.abs() / mid.abs());
+            (out[0][a], out[1][a]) = if swap { (m, p) } else { (p, m) };
+            // The face on the high side of column i, at r0 + (i + 1) dr.
+            let face = r0 + (i + 1) as f64 * dr;
+            let wall = (i + 1 == 0 && mirror[0]) || (i + 1 == n && mirror[1]);
+            out[2][a] = if wall || face <= 0.0 {
+                0.0
+            } else {
+                dr / (2.0 * face)
+            };
+        }
+        out
     }
 }
 
@@ -338,6 +429,30 @@ fn flux<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> ([f64
     (f, ry * vn)
 }
 
+/// [`flux`] and the pressure it used.
+#[inline(always)]
+fn flux_and_pressure<const AXIS: usize, G: GasLaw>(
+    eos: &G,
+    u: [f64; NVAR],
+    ry: f64,
+) -> ([f64; NVAR], f64, f64) {
+    let rho = u[0];
+    let inv = 1.0 / rho;
+    let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
+    let y = if G::SPECIES { ry * inv } else { 0.0 };
+    let p = eos.gas_pressure_inv(rho, inv, e, y);
+    let vn = u[1 + AXIS] * inv;
+    let mut f = [
+        u[1 + AXIS],
+        u[1] * vn,
+        u[2] * vn,
+        u[3] * vn,
+        (u[4] + p) * vn,
+    ];
+    f[1 + AXIS] += p;
+    (f, ry * vn, p)
+}
+
 /// Pass 1 on one row: the switch θ (eq 4), the acoustic Courant number
 /// ν = λc and the pressure per cell; returns whether every state was
 /// physical.
@@ -466,13 +581,142 @@ fn update_kernel(lambda: f64, ubar: &[f64], f_minus: &[f64], f_plus: &[f64], out
     }
 }
 
+/// Pass 5 of a radial sweep on one row of a variable without a source:
+/// U = Ū − λ(α₊F*₊ − α₋F*₋).
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn update_rz_kernel(
+    lambda: f64,
+    ap: &[f64],
+    am: &[f64],
+    ubar: &[f64],
+    f_minus: &[f64],
+    f_plus: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (ap, am, ubar, f_minus, f_plus) =
+        (&ap[..n], &am[..n], &ubar[..n], &f_minus[..n], &f_plus[..n]);
+    for k in 0..n {
+        out[k] = ubar[k] - lambda * (ap[k] * f_plus[k] - am[k] * f_minus[k]);
+    }
+}
+
+/// Pass 5 of a radial sweep on the radial momentum row, with the hoop
+/// source: U = Ū − λ(α₊(F*₊ − p̂) − α₋(F*₋ − p̂)), p̂ the hoop pressure
+/// ([`hoop_pressure_kernel`]). At rest F*_± is p̂ to the bit, so nothing
+/// moves.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn update_rz_momentum_kernel(
+    lambda: f64,
+    ap: &[f64],
+    am: &[f64],
+    p: &[f64],
+    ubar: &[f64],
+    f_minus: &[f64],
+    f_plus: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (ap, am, p, ubar, f_minus, f_plus) = (
+        &ap[..n],
+        &am[..n],
+        &p[..n],
+        &ubar[..n],
+        &f_minus[..n],
+        &f_plus[..n],
+    );
+    for k in 0..n {
+        out[k] = ubar[k] - lambda * (ap[k] * (f_plus[k] - p[k]) - am[k] * (f_minus[k] - p[k]));
+    }
+}
+
+/// [`species_update_kernel`] of a radial sweep: ρY = Ū − λ(α₊F*₊ − α₋F*₋)
+/// clipped to [0, ρ].
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn species_update_rz_kernel(
+    lambda: f64,
+    ap: &[f64],
+    am: &[f64],
+    ubar: &[f64],
+    f_minus: &[f64],
+    f_plus: &[f64],
+    rho: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (ap, am, ubar, f_minus, f_plus, rho) = (
+        &ap[..n],
+        &am[..n],
+        &ubar[..n],
+        &f_minus[..n],
+        &f_plus[..n],
+        &rho[..n],
+    );
+    for k in 0..n {
+        let v = ubar[k] - lambda * (ap[k] * f_plus[k] - am[k] * f_minus[k]);
+        out[k] = if v < 0.0 {
+            0.0
+        } else if v > rho[k] {
+            rho[k]
+        } else {
+            v
+        };
+    }
+}
+
+/// The hoop source's pressure of a radial sweep on one row: the mean of
+/// the predictor's pressures at the cell's two faces. At rest both are the
+/// cell's pressure to the bit, and so is their mean.
+#[inline(never)]
+fn hoop_pressure_kernel(p_minus: &[f64], p_plus: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let (p_minus, p_plus) = (&p_minus[..n], &p_plus[..n]);
+    for k in 0..n {
+        out[k] = 0.5 * (p_minus[k] + p_plus[k]);
+    }
+}
+
+/// The smoothing coefficients of a radial sweep on one row: α₊μ₊ and
+/// α₋μ₋, the face coefficients of eq 3 times the ring weights, which
+/// [`smooth_kernel`] then takes in place of μ₊ and μ₋.
+#[inline(never)]
+fn weighted_mu_kernel(
+    ap: &[f64],
+    am: &[f64],
+    mu_m: &[f64],
+    mu_0: &[f64],
+    out_m: &mut [f64],
+    out_p: &mut [f64],
+    out_h: &mut [f64],
+) {
+    let n = out_m.len();
+    let (ap, am, mu_m, mu_0, out_p, out_h) = (
+        &ap[..n],
+        &am[..n],
+        &mu_m[..n],
+        &mu_0[..n],
+        &mut out_p[..n],
+        &mut out_h[..n],
+    );
+    for k in 0..n {
+        out_m[k] = am[k] * mu_m[k];
+        out_p[k] = ap[k] * mu_0[k];
+        let d = ap[k] - am[k];
+        out_h[k] = 0.5 * (mu_m[k] + mu_0[k]) * d * d;
+    }
+}
+
 /// Pass 3 on one row: the smoothed state Ū (eq 3, flux form) and its flux.
 /// Separate slice arguments tell the compiler the outputs alias nothing,
 /// so the loop vectorises.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn smooth_kernel<const AXIS: usize, G: GasLaw>(
+fn smooth_kernel<const AXIS: usize, const RZ: bool, G: GasLaw>(
     eos: &G,
+    hoop: &[f64],
     mu_m: &[f64],
     mu_0: &[f64],
     m0: &[f64],
@@ -528,7 +772,11 @@ fn smooth_kernel<const AXIS: usize, G: GasLaw>(
         let sm = |m: f64, c: f64, p: f64| c + a * (p - c) - b * (c - m);
         let s = [
             sm(m0[k], c0[k], n0[k]),
-            sm(m1[k], c1[k], n1[k]),
+            if RZ {
+                sm(m1[k], c1[k], n1[k]) - hoop[k] * c1[k]
+            } else {
+                sm(m1[k], c1[k], n1[k])
+            },
             sm(m2[k], c2[k], n2[k]),
             sm(m3[k], c3[k], n3[k]),
             sm(m4[k], c4[k], n4[k]),
@@ -663,6 +911,73 @@ fn predictor_kernel<const AXIS: usize, G: GasLaw>(
             0.0
         };
         let (fl, f5) = flux::<AXIS, G>(eos, s, s5);
+        if G::SPECIES {
+            o5[k] = f5;
+        }
+        o0[k] = fl[0];
+        o1[k] = fl[1];
+        o2[k] = fl[2];
+        o3[k] = fl[3];
+        o4[k] = fl[4];
+    }
+}
+
+/// Pass 4 of a radial sweep on one row: the Richtmyer half step with the
+/// geometric source of the quasi-linear radial equations
+/// ∂U/∂t + ∂F/∂r = −H/r, H = u_r (ρ, ρu_r, ρu_z, ρu_θ, E + p) (ρY u_r),
+/// taken at the face r_f from the mean of the two cells' H:
+/// U* = ½(Ū_a + Ū_{a+1}) − ½λ(F_{a+1} − F_a) − ½λβ(H_a + H_{a+1}),
+/// β = Δr/(2r_f) ([`RadialWeights::source`]). H is F without the
+/// pressure: F itself but for the radial momentum, (ρu_r)²/ρ. At rest H
+/// is 0 and U* is the planar half step's to the bit.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn predictor_rz_kernel<G: GasLaw>(
+    eos: &G,
+    half_lambda: f64,
+    beta: &[f64],
+    u0: [&[f64]; NMAX],
+    up: [&[f64]; NMAX],
+    f0: [&[f64]; NMAX],
+    fp: [&[f64]; NMAX],
+    out: [&mut [f64]; NMAX],
+    pstar: &mut [f64],
+) {
+    let n = beta.len();
+    let pstar = &mut pstar[..n];
+    let [a0, a1, a2, a3, a4, a5] = cut::<G>(u0, n);
+    let [b0, b1, b2, b3, b4, b5] = cut::<G>(up, n);
+    let [c0, c1, c2, c3, c4, c5] = cut::<G>(f0, n);
+    let [d0, d1, d2, d3, d4, d5] = cut::<G>(fp, n);
+    let [o0, o1, o2, o3, o4, o5] = out;
+    let o5 = opt_mut::<G>(o5, n);
+    let (o0, o1, o2, o3, o4) = (
+        &mut o0[..n],
+        &mut o1[..n],
+        &mut o2[..n],
+        &mut o3[..n],
+        &mut o4[..n],
+    );
+    for k in 0..n {
+        let hb = half_lambda * beta[k];
+        let h = |a: f64, b: f64, c: f64, d: f64, ha: f64, hb_: f64| {
+            0.5 * (a + b) - half_lambda * (d - c) - hb * (ha + hb_)
+        };
+        let (m0, m1) = (a1[k] * a1[k] / a0[k], b1[k] * b1[k] / b0[k]);
+        let s = [
+            h(a0[k], b0[k], c0[k], d0[k], c0[k], d0[k]),
+            h(a1[k], b1[k], c1[k], d1[k], m0, m1),
+            h(a2[k], b2[k], c2[k], d2[k], c2[k], d2[k]),
+            h(a3[k], b3[k], c3[k], d3[k], c3[k], d3[k]),
+            h(a4[k], b4[k], c4[k], d4[k], c4[k], d4[k]),
+        ];
+        let s5 = if G::SPECIES {
+            h(a5[k], b5[k], c5[k], d5[k], c5[k], d5[k])
+        } else {
+            0.0
+        };
+        let (fl, f5, p) = flux_and_pressure::<0, G>(eos, s, s5);
+        pstar[k] = p;
         if G::SPECIES {
             o5[k] = f5;
         }
@@ -858,6 +1173,72 @@ fn low_order_kernel<G: GasLaw>(
     }
 }
 
+/// [`low_order_kernel`] of a radial sweep: the first-order update with the
+/// ring weights, the hoop source of the same pressure p̂ the update uses
+/// and the smoothing's hoop term,
+/// U^L = U − (α₊λF^L₊ − α₋λF^L₋) + λp̂(α₊ − α₋) e_r
+/// − ½(μ₊ + μ₋)(α₊ − α₋)² ρu_r e_r, the radial momentum row written
+/// α₊(λF^L₊ − λp̂) − α₋(λF^L₋ − λp̂) as in pass 5.
+/// The limited update is then U^L − α₊λℓ₊A₊ + α₋λℓ₋A₋, the average with
+/// weights α₊/2 and α₋/2 (they sum to 1) of the half states
+/// U^L − 2λℓ₊A₊ and U^L + 2λℓ₋A₋: the same half states as on a planar
+/// grid, so the limiter's bounds carry over unchanged.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn low_order_rz_kernel<G: GasLaw>(
+    lambda: f64,
+    weights: [&[f64]; 5],
+    u: [&[f64]; NMAX],
+    fm: [&[f64]; NMAX],
+    fp: [&[f64]; NMAX],
+    o0: &mut [f64],
+    o1: &mut [f64],
+    o2: &mut [f64],
+    o3: &mut [f64],
+    o4: &mut [f64],
+    o5: &mut [f64],
+    q2: &mut [f64],
+) {
+    let n = o0.len();
+    let [ap, am, pr, mu_m, mu_0] = weights;
+    let (ap, am, pr, mu_m, mu_0) = (&ap[..n], &am[..n], &pr[..n], &mu_m[..n], &mu_0[..n]);
+    let [u0, u1, u2, u3, u4, u5] = cut::<G>(u, n);
+    let [m0, m1, m2, m3, m4, m5] = cut::<G>(fm, n);
+    let [p0, p1, p2, p3, p4, p5] = cut::<G>(fp, n);
+    let o5 = opt_mut::<G>(o5, n);
+    let (o1, o2, o3, o4, q2) = (
+        &mut o1[..n],
+        &mut o2[..n],
+        &mut o3[..n],
+        &mut o4[..n],
+        &mut q2[..n],
+    );
+    for k in 0..n {
+        let (a, b) = (ap[k], am[k]);
+        let lp = lambda * pr[k];
+        let d = a - b;
+        let hoop = 0.5 * (mu_m[k] + mu_0[k]) * d * d;
+        let w = FlowState {
+            density: u0[k] - (a * p0[k] - b * m0[k]),
+            momentum: [
+                u1[k] - hoop * u1[k] - (a * (p1[k] - lp) - b * (m1[k] - lp)),
+                u2[k] - (a * p2[k] - b * m2[k]),
+                u3[k] - (a * p3[k] - b * m3[k]),
+            ],
+            energy: u4[k] - (a * p4[k] - b * m4[k]),
+        };
+        o0[k] = w.density;
+        o1[k] = w.momentum[0];
+        o2[k] = w.momentum[1];
+        o3[k] = w.momentum[2];
+        o4[k] = w.energy;
+        q2[k] = w.twice_rho_internal();
+        if G::SPECIES {
+            o5[k] = u5[k] - (a * p5[k] - b * m5[k]);
+        }
+    }
+}
+
 /// What the face limiter reads at face a + ½ of one row: the cells' U
 /// (rows a, a + 1), their first-order states U^L and 2ρ·ρe of those
 /// (rows a, a + 1), λF* and λF^L of the face, μ, and the window of
@@ -1017,7 +1398,9 @@ unsafe fn face_limiter<const AXIS: usize, G: GasLaw>(
     lambda: f64,
     fields: &PatchPtrs,
     shape: &SlabShape,
+    radial: Option<RadialWeights>,
     pres: &[f64],
+    psrc: &[f64],
     nu: &[f64],
     mu: &[f64],
     marks: &mut [f64],
@@ -1078,18 +1461,37 @@ unsafe fn face_limiter<const AXIS: usize, G: GasLaw>(
     // U^L and its 2ρ·ρe, cells a ∈ [g − 1, hi].
     for_rows(shape, g - 1, hi + 1, |fo, so, len| {
         let [o0, o1, o2, o3, o4, o5] = rows_at_mut::<G>(&mut low, so, len);
-        low_order_kernel::<G>(
-            urow(fo, len),
+        let (fm, fp) = (
             rows_at::<G>(&flow, so - ss, len),
             rows_at::<G>(&flow, so, len),
-            o0,
-            o1,
-            o2,
-            o3,
-            o4,
-            o5,
-            &mut q2[so..][..len],
         );
+        let q2 = &mut q2[so..][..len];
+        match radial {
+            None => low_order_kernel::<G>(urow(fo, len), fm, fp, o0, o1, o2, o3, o4, o5, q2),
+            Some(w) => {
+                let weights = [
+                    &w.plus[so..],
+                    &w.minus[so..],
+                    &psrc[so..],
+                    &mu[so - ss..],
+                    &mu[so..],
+                ];
+                low_order_rz_kernel::<G>(
+                    lambda,
+                    weights,
+                    urow(fo, len),
+                    fm,
+                    fp,
+                    o0,
+                    o1,
+                    o2,
+                    o3,
+                    o4,
+                    o5,
+                    q2,
+                );
+            }
+        }
     });
     let mut changed = [0u64; 2];
     // Faces a + ½, a ∈ [g − 1, hi).
@@ -1188,6 +1590,24 @@ fn density_low_kernel(rho: &[f64], fm: &[f64], fp: &[f64], out: &mut [f64]) {
     }
 }
 
+/// [`density_low_kernel`] of a radial sweep: U^L_ρ = ρ − (α₊λF^L_ρ,+ −
+/// α₋λF^L_ρ,−), as [`low_order_rz_kernel`] forms it.
+#[inline(never)]
+fn density_low_rz_kernel(
+    ap: &[f64],
+    am: &[f64],
+    rho: &[f64],
+    fm: &[f64],
+    fp: &[f64],
+    out: &mut [f64],
+) {
+    let n = out.len();
+    let (ap, am, rho, fm, fp) = (&ap[..n], &am[..n], &rho[..n], &fm[..n], &fp[..n]);
+    for k in 0..n {
+        out[k] = rho[k] - (ap[k] * fp[k] - am[k] * fm[k]);
+    }
+}
+
 /// Face limiter, first attempt, per face of one row: 1 in `flags` where
 /// the face is compressive and a half-state density U^L_ρ ∓ 2λA_ρ leaves
 /// its local range, 0 elsewhere; the same arithmetic as [`flag_faces`]
@@ -1237,6 +1657,7 @@ unsafe fn bounds_limiter<const AXIS: usize, G: GasLaw>(
     lambda: f64,
     fields: &PatchPtrs,
     shape: &SlabShape,
+    radial: Option<RadialWeights>,
     pres: &[f64],
     nu: &[f64],
     mu: &[f64],
@@ -1277,7 +1698,13 @@ unsafe fn bounds_limiter<const AXIS: usize, G: GasLaw>(
     for_rows(shape, g - 1, hi + 1, |fo, so, len| {
         let r = fields.row(0, fo, len);
         let (fm, fp) = (&flow[so - ss..][..len], &flow[so..][..len]);
-        density_low_kernel(r, fm, fp, &mut low[so..][..len]);
+        match radial {
+            None => density_low_kernel(r, fm, fp, &mut low[so..][..len]),
+            Some(w) => {
+                let (ap, am) = (&w.plus[so..], &w.minus[so..]);
+                density_low_rz_kernel(ap, am, r, fm, fp, &mut low[so..][..len]);
+            }
+        }
     });
     let mut changed = 0;
     for_rows(shape, g - 1, hi, |fo, so, len| {
@@ -1441,9 +1868,12 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     fields: &PatchPtrs,
     out: &PatchPtrs,
     shape: &SlabShape,
+    radial: Option<RadialWeights>,
     outflow: FaceOutflow,
     scratch: &mut Vec<f64>,
 ) -> SlabOutcome {
+    debug_assert!(AXIS == 0 || radial.is_none());
+    debug_assert!(radial.is_none_or(|w| w.plus.len() >= shape.dims_a && shape.width == 0));
     let n = shape.scratch_len();
     let nf = if G::SPECIES { NMAX } else { NVAR };
     debug_assert_eq!(fields.species, G::SPECIES);
@@ -1457,7 +1887,12 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     let (ubar, rest) = rest.split_at_mut(nf * n);
     let (fbar, rest) = rest.split_at_mut(nf * n);
     let (fstar, rest) = rest.split_at_mut(nf * n);
-    let work = &mut rest[..(2 + 2 * nf) * n];
+    let (work, rest) = rest.split_at_mut((2 + 2 * nf) * n);
+    let (pstar, rest) = rest.split_at_mut(n);
+    let psrc = &mut rest[..n];
+    // A radial sweep reaches one row further for the predictor's
+    // pressures at the faces of the first ghost cells ([`GHOST_RZ`]).
+    let e = usize::from(radial.is_some());
     let g = shape.ghost;
     let hi_cell = shape.dims_a - g; // one past the last interior cell
     let (sa, ss) = (
@@ -1467,7 +1902,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     let mut ok = true;
 
     // Pass 1: θ (eq 4) and ν = λc per cell, for a ∈ [g−3, hi+3).
-    for_rows(shape, g - 3, hi_cell + 3, |fo, so, len| {
+    for_rows(shape, g - 3 - e, hi_cell + 3 + e, |fo, so, len| {
         let rho_m = fields.row(0, fo - sa, len);
         let rho_p = fields.row(0, fo + sa, len);
         let u: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
@@ -1484,7 +1919,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     });
 
     // Pass 2: face coefficients μ_{a+½} for a ∈ [g−2, hi+1).
-    for_rows(shape, g - 2, hi_cell + 1, |_, so, len| {
+    for_rows(shape, g - 2 - e, hi_cell + 1 + e, |_, so, len| {
         let tm = &theta[so - ss..][..len];
         let t0 = &theta[so..][..len];
         let tp = &theta[so + ss..][..len];
@@ -1499,12 +1934,28 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
     let mut fstar = split_vars(fstar, n);
 
     // Pass 3: Ū (eq 3 in flux form) and F(Ū) for a ∈ [g−1, hi+1).
-    for_rows(shape, g - 1, hi_cell + 1, |fo, so, len| {
+    for_rows(shape, g - 1 - e, hi_cell + 1 + e, |fo, so, len| {
         let um: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo - sa, len));
         let u0: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo, len));
         let up: [&[f64]; NVAR] = per_var!(|f| fields.row(f, fo + sa, len));
-        let mu_m = &mu[so - ss..][..len];
-        let mu_0 = &mu[so..][..len];
+        let (mut mu_m, mut mu_0) = (&mu[so - ss..][..len], &mu[so..][..len]);
+        // A radial sweep smooths with α₋μ₋ and α₊μ₊ and the hoop term of
+        // the radial momentum (the limiter's work arrays are free until
+        // pass 4).
+        let mut hoop: &[f64] = &[];
+        if let Some(w) = radial {
+            let (wm, rest) = work.split_at_mut(n);
+            let (wp, wh) = rest.split_at_mut(n);
+            let (wm, wp, wh) = (
+                &mut wm[so..][..len],
+                &mut wp[so..][..len],
+                &mut wh[so..][..len],
+            );
+            weighted_mu_kernel(&w.plus[so..], &w.minus[so..], mu_m, mu_0, wm, wp, wh);
+            mu_m = wm;
+            mu_0 = wp;
+            hoop = wh;
+        }
         let [p0, p1, p2, p3, p4, p5] = rows_at_mut::<G>(&mut ubar, so, len);
         let [q0, q1, q2, q3, q4, q5] = rows_at_mut::<G>(&mut fbar, so, len);
         let [m0, m1, m2, m3, m4] = um;
@@ -1515,21 +1966,48 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
             fields.species_row::<G>(fo, len),
             fields.species_row::<G>(fo + sa, len),
         ];
-        smooth_kernel::<AXIS, G>(
-            eos, mu_m, mu_0, m0, m1, m2, m3, m4, c0, c1, c2, c3, c4, n0, n1, n2, n3, n4, p0, p1,
-            p2, p3, p4, q0, q1, q2, q3, q4, species, p5, q5,
-        );
+        if radial.is_some() {
+            smooth_kernel::<AXIS, true, G>(
+                eos, hoop, mu_m, mu_0, m0, m1, m2, m3, m4, c0, c1, c2, c3, c4, n0, n1, n2, n3, n4,
+                p0, p1, p2, p3, p4, q0, q1, q2, q3, q4, species, p5, q5,
+            );
+        } else {
+            smooth_kernel::<AXIS, false, G>(
+                eos, hoop, mu_m, mu_0, m0, m1, m2, m3, m4, c0, c1, c2, c3, c4, n0, n1, n2, n3, n4,
+                p0, p1, p2, p3, p4, q0, q1, q2, q3, q4, species, p5, q5,
+            );
+        }
     });
 
     // Pass 4: Richtmyer half step at faces a+½ for a ∈ [g−1, hi).
     let half_lambda = 0.5 * lambda;
-    for_rows(shape, g - 1, hi_cell, |_, so, len| {
+    for_rows(shape, g - 1 - e, hi_cell + e, |_, so, len| {
         let rows = |a, o| rows_at::<G>(a, o, len);
         let (u0, up) = (rows(&ubar, so), rows(&ubar, so + ss));
         let (f0, fp) = (rows(&fbar, so), rows(&fbar, so + ss));
         let out = rows_at_mut::<G>(&mut fstar, so, len);
-        predictor_row::<AXIS, G>(eos, half_lambda, u0, up, f0, fp, out);
+        match radial {
+            None => predictor_row::<AXIS, G>(eos, half_lambda, u0, up, f0, fp, out),
+            Some(w) => {
+                let beta = &w.source[so..][..len];
+                let ps = &mut pstar[so..][..len];
+                predictor_rz_kernel::<G>(eos, half_lambda, beta, u0, up, f0, fp, out, ps);
+            }
+        }
     });
+
+    // The hoop source's pressure of rows [g − 1, hi]: the mean of the
+    // predictor's at the cell's two faces, time-centred as the fluxes.
+    if radial.is_some() {
+        for_rows(shape, g - 1, hi_cell + 1, |_, so, len| {
+            hoop_pressure_kernel(
+                &pstar[so - 1..][..len],
+                &pstar[so..][..len],
+                &mut psrc[so..][..len],
+            );
+        });
+    }
+    let psrc = &*psrc;
 
     // Whether the update is checked for positivity after it is written.
     let (limited, check) = match pass {
@@ -1537,7 +2015,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
         LimiterPass::First { bounds } => {
             let n = if bounds {
                 bounds_limiter::<AXIS, G>(
-                    lambda, fields, shape, pres, nu, mu, theta, work, &mut fstar,
+                    lambda, fields, shape, radial, pres, nu, mu, theta, work, &mut fstar,
                 )
             } else {
                 0
@@ -1551,7 +2029,7 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
                 FaceLimiter::Positivity
             };
             let n = face_limiter::<AXIS, G>(
-                l, lambda, fields, shape, pres, nu, mu, theta, work, &mut fstar,
+                l, lambda, fields, shape, radial, pres, psrc, nu, mu, theta, work, &mut fstar,
             );
             (n, false)
         }
@@ -1583,7 +2061,18 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
             let ub = &ubar[f][so..][..len];
             let fp = &fstar[f][so..][..len];
             let fm = &fstar[f][so - ss..][..len];
-            update_kernel(lambda, ub, fm, fp, out);
+            match radial {
+                None => update_kernel(lambda, ub, fm, fp, out),
+                Some(w) => {
+                    let (ap, am) = (&w.plus[so..], &w.minus[so..]);
+                    if f == 1 {
+                        let p = &psrc[so..];
+                        update_rz_momentum_kernel(lambda, ap, am, p, ub, fm, fp, out);
+                    } else {
+                        update_rz_kernel(lambda, ap, am, ub, fm, fp, out);
+                    }
+                }
+            }
         }
         if G::SPECIES {
             let rho = out.row(0, fo, len);
@@ -1591,7 +2080,13 @@ pub unsafe fn sweep_slab<const AXIS: usize, G: GasLaw>(
             let ub = &ubar[SPECIES][so..][..len];
             let fp = &fstar[SPECIES][so..][..len];
             let fm = &fstar[SPECIES][so - ss..][..len];
-            species_update_kernel(lambda, ub, fm, fp, rho, out);
+            match radial {
+                None => species_update_kernel(lambda, ub, fm, fp, rho, out),
+                Some(w) => {
+                    let (ap, am) = (&w.plus[so..], &w.minus[so..]);
+                    species_update_rz_kernel(lambda, ap, am, ub, fm, fp, rho, out);
+                }
+            }
         }
         if check {
             let [r, mx, my, mz, en] = per_var!(|f| out.row(f, fo, len));

@@ -1,0 +1,177 @@
+//! The axisymmetric (r, z) FDM through the command line: `--set
+//! domain.geometry=Axisymmetric` turns a Cartesian text into the r–z run,
+//! and checkpoints restart it bit-identically, also on another thread
+//! count and patch split, as for Cartesian grids.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+const RZ_BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/rz_blast.ron");
+
+/// A shorter, coarser run than the file's, with checkpoints.
+const SETS: [&str; 6] = [
+    "--set",
+    "domain.cells=(40,80,1)",
+    "--set",
+    "time.end=4e-4",
+    "--set",
+    "outputs.checkpoint_every=2",
+];
+
+fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
+    Command::new(BIN)
+        .env_remove("BRISANCE_LOG")
+        .arg("run")
+        .arg(config)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(SETS)
+        .args(extra)
+        .output()
+        .expect("the brisance binary runs")
+}
+
+fn assert_success(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "run failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn sorted_files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The last VTK file, the final line-out and the gauges, relative to the
+/// output folder.
+fn final_outputs(root: &Path) -> Vec<PathBuf> {
+    let vtk = sorted_files(&root.join("vtk"));
+    let last = vtk.last().expect("a VTK file").strip_prefix(root).unwrap();
+    vec![
+        last.to_path_buf(),
+        PathBuf::from("lineouts/axis_final.csv"),
+        PathBuf::from("gauges/axis.csv"),
+        PathBuf::from("gauges/side.csv"),
+    ]
+}
+
+fn assert_same_bytes(a: &Path, b: &Path, rel: &Path) {
+    let left = fs::read(a.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
+    let right = fs::read(b.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
+    assert!(left == right, "{} differs", rel.display());
+}
+
+fn summary(root: &Path) -> Value {
+    let text = fs::read_to_string(root.join("summary.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn the_geometry_set_on_the_command_line_gives_the_axisymmetric_run() {
+    let dir = tempfile::tempdir().unwrap();
+    // The same scenario written Cartesian, turned axisymmetric by --set.
+    let text = fs::read_to_string(RZ_BLAST)
+        .unwrap()
+        .replace("geometry: Axisymmetric,", "");
+    assert!(!text.contains("Axisymmetric"));
+    let cartesian = dir.path().join("rz_blast.ron");
+    fs::write(&cartesian, text).unwrap();
+    let (a, b, c) = (
+        dir.path().join("A"),
+        dir.path().join("B"),
+        dir.path().join("C"),
+    );
+    assert_success(&run(Path::new(RZ_BLAST), &a, &[]));
+    assert_success(&run(
+        &cartesian,
+        &b,
+        &["--set", "domain.geometry=Axisymmetric"],
+    ));
+    assert_success(&run(&cartesian, &c, &[]));
+    for rel in final_outputs(&a) {
+        assert_same_bytes(&a, &b, &rel);
+    }
+    assert_eq!(summary(&a)["final_totals"], summary(&b)["final_totals"]);
+    // The planar run of the same text is another problem: a slab of
+    // 1 × 2 × 0.02 m, not the cylinder π·1²·2 m³.
+    let mass = |s: &Value| s["initial_totals"]["mass"].as_f64().unwrap();
+    let (ma, mc) = (mass(&summary(&a)), mass(&summary(&c)));
+    assert!(ma > 7.0 && mc < 0.1, "{ma} {mc}");
+    // Mass and energy over ring volumes: nothing has left yet.
+    let s = summary(&a);
+    for key in ["relative_mass_change", "relative_energy_change"] {
+        let v = s[key].as_f64().unwrap();
+        assert!(v.abs() < 1e-13, "{key} {v}");
+    }
+    // The VTK output is the (r, z) plane: 40 × 80 cells, one thick.
+    let vtk = fs::read_to_string(a.join(&final_outputs(&a)[0])).unwrap();
+    assert!(
+        vtk.contains("WholeExtent=\"0 40 0 80 0 1\""),
+        "{}",
+        &vtk[..400]
+    );
+}
+
+#[test]
+fn an_axisymmetric_restart_on_other_threads_and_patches_ends_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("A");
+    assert_success(&run(Path::new(RZ_BLAST), &a, &[]));
+    let checkpoints = sorted_files(&a.join("checkpoints"));
+    assert!(checkpoints.len() >= 2, "{checkpoints:?}");
+    let middle = &checkpoints[checkpoints.len() / 2];
+    for (name, extra) in [
+        ("B", vec![]),
+        (
+            "C",
+            vec!["--threads", "1", "--set", "domain.patches=(2,3,1)"],
+        ),
+    ] {
+        let b = dir.path().join(name);
+        let mut args = extra.clone();
+        args.extend(["--restart", middle.to_str().unwrap()]);
+        assert_success(&run(Path::new(RZ_BLAST), &b, &args));
+        for rel in final_outputs(&a) {
+            assert_same_bytes(&a, &b, &rel);
+        }
+        let (sa, sb) = (summary(&a), summary(&b));
+        assert_eq!(sa["steps"], sb["steps"], "{name}");
+        assert_eq!(sa["final_totals"], sb["final_totals"], "{name}");
+    }
+}
+
+#[test]
+fn a_cartesian_checkpoint_does_not_restart_the_axisymmetric_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("A");
+    assert_success(&run(
+        Path::new(RZ_BLAST),
+        &a,
+        &["--set", "domain.geometry=Cartesian"],
+    ));
+    let checkpoint = sorted_files(&a.join("checkpoints")).remove(0);
+    let b = dir.path().join("B");
+    let out = run(
+        Path::new(RZ_BLAST),
+        &b,
+        &["--restart", checkpoint.to_str().unwrap()],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("another problem") && err.contains("domain.geometry"),
+        "{err}"
+    );
+}
