@@ -530,7 +530,7 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
          products (docs/physics/reaction/jwlpp.md). The explosive moves at 90 m/s onto a zero-velocity wall \
          at x = 0 (`IceBoundary::FixedVelocity`); D = (x₂ − x₁)/(t₂ − t₁) − u_ahead from the times the axis \
          pressure at two far-field gauges first exceeds 1 GPa (interpolated between steps) and the \
-         explosive's axial velocity u_ahead at the gauges before the wave reaches them (−90 m/s): the speed of the \
+         explosive's axial velocity u_ahead five cells ahead of each gauge when the wave arrives (−90 m/s): the speed of the \
          front into the unreacted explosive, which is what D_CJ and the LLNL sticks (explosive at rest) \
          give; the grid-frame speed (x₂ − x₁)/(t₂ − t₁) alone is 90 m/s (1.5 % of D_CJ) lower and is \
          listed beside it. Reference: the CJ \

@@ -238,7 +238,8 @@ pub struct RateStickResult {
     /// The front's speed in the grid's frame, (x₂ − x₁)/(t₂ − t₁), m/s.
     pub lab_velocity: Option<f64>,
     /// The explosive's axial velocity ahead of the wave, m/s: mean over
-    /// the two gauges of the last sample below 1 % of the arrival pressure.
+    /// the two gauges of the velocity five cells ahead of the gauge (on
+    /// the axis, within the stick) when the wave arrives there.
     pub velocity_ahead: Option<f64>,
     /// Largest pressure seen at the second gauge, Pa.
     pub peak_pressure: f64,
@@ -344,7 +345,7 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
     let fields = ["pressure".to_string(), "velocity_x".to_string()];
     let mut arrival: [Option<f64>; 2] = [None; 2];
     let mut ahead: [Option<f64>; 2] = [None; 2];
-    let mut u_last = [u; 2];
+    let mut ahead_sample = Vec::new();
     let mut peak: f64 = 0.0;
     let mut impact_pressure: f64 = 0.0;
     let mut out = Vec::new();
@@ -372,14 +373,14 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
                 // Linear interpolation of the crossing between two samples.
                 let w = (cfg.arrival_pressure - p_prev) / (out[0] - p_prev);
                 arrival[k] = Some(t_prev + w * (s.time() - t_prev));
-                ahead[k] = Some(u_last[k]);
+                // What the wave runs into: the explosive five cells ahead
+                // of the gauge (beyond the shock's numerical width).
+                let xa = (*x + 5.0 * cfg.h).min(cfg.length - 0.5 * cfg.h);
+                s.sample(axis(xa), &fields, &mut ahead_sample)
+                    .map_err(|e| e.to_string())?;
+                ahead[k] = Some(ahead_sample[1]);
             }
             last[k] = (s.time(), out[0]);
-            // The explosive ahead of the wave: the last sample before its
-            // precursor reaches the gauge (under 1 % of the arrival pressure).
-            if out[0] < 0.01 * cfg.arrival_pressure {
-                u_last[k] = out[1];
-            }
         }
     }
     let lab = match arrival {
@@ -420,7 +421,38 @@ fn explosive_mass(s: &IceSolver<EosModel>) -> Result<(f64, f64), String> {
 
 #[cfg(test)]
 mod tests {
-    use super::detonation_velocity;
+    use super::{detonation_velocity, rate_stick, JwlCTerm, RateStick};
+
+    /// The 1D part of E-RATESTICK without the report (release, about a
+    /// minute): `cargo test --release -p brisance-ice one_d_rate_sticks --
+    /// --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn one_d_rate_sticks() {
+        let d_cj = brisance_reaction::jwlpp::cj_state(&JwlCTerm::anfo_k1())
+            .unwrap()
+            .detonation_velocity;
+        for (name, make) in [
+            (
+                "10 cm, gauges 6 and 9 cm",
+                RateStick::seed as fn(f64) -> RateStick,
+            ),
+            ("30 cm, gauges 20 and 29 cm", RateStick::long),
+        ] {
+            for h in [1e-3, 0.5e-3, 0.25e-3] {
+                let r = rate_stick(&make(h)).unwrap();
+                let d = r.detonation_velocity.unwrap();
+                println!(
+                    "{name} h {:.2} mm: D {d:.1} m/s ({:+.2} % of {d_cj:.1}), grid frame {:.1} m/s, ahead {:.2} m/s",
+                    h * 1e3,
+                    100.0 * (d / d_cj - 1.0),
+                    r.lab_velocity.unwrap(),
+                    r.velocity_ahead.unwrap()
+                );
+                assert!((r.velocity_ahead.unwrap() + 90.0).abs() < 1.0);
+            }
+        }
+    }
 
     #[test]
     fn the_detonation_velocity_is_taken_in_the_explosives_frame() {

@@ -457,7 +457,7 @@ mod convergence {
 
     /// ANFO-K1 started by the 90 m/s impact (E-RATESTICK's 1D column):
     /// between 20 and 29 cm the speed into the explosive approaches D_CJ
-    /// from above as h halves (measured +1.24, +0.82, −0.20 % at 1, 0.5,
+    /// from above as h halves (measured +1.24, +0.81, −0.21 % at 1, 0.5,
     /// 0.25 mm).
     #[test]
     #[ignore]
