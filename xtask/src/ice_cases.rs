@@ -328,8 +328,11 @@ fn run_stick(label: &str, cfg: &brisance::ice::cases::RateStick) -> Result<Stick
     let d = result
         .detonation_velocity
         .map_or("none".to_string(), |d| format!("{d:.1} m/s"));
+    let lab = result
+        .lab_velocity
+        .map_or("none".to_string(), |d| format!("{d:.1} m/s"));
     println!(
-        "  {label:<34} h {:.2} mm  D {d}  peak {:.2} GPa  impact {:.0} MPa  burnt {:.4}  {} steps  {:.1} s",
+        "  {label:<34} h {:.2} mm  D {d} (grid frame {lab})  peak {:.2} GPa  impact {:.0} MPa  burnt {:.4}  {} steps  {:.1} s",
         cfg.h * 1e3,
         result.peak_pressure / 1e9,
         result.impact_pressure / 1e6,
@@ -525,8 +528,12 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
          C 7.206147e8 Pa, R₁ 4.95, R₂ 1.15, ω 0.35), JWL++ rate G = 3.5083 × 10⁻⁷ s⁻¹·Pa⁻ᵇ, b = 1.3, \
          reaction above 200 MPa, at most 20 % of a cell's reactant per step, chemical energy Q = e₀ of the \
          products (docs/physics/reaction/jwlpp.md). The explosive moves at 90 m/s onto a zero-velocity wall \
-         at x = 0 (`IceBoundary::FixedVelocity`); D = (x₂ − x₁)/(t₂ − t₁) from the times the axis pressure \
-         at two far-field gauges first exceeds 1 GPa (interpolated between steps). Reference: the CJ \
+         at x = 0 (`IceBoundary::FixedVelocity`); D = (x₂ − x₁)/(t₂ − t₁) − u_ahead from the times the axis \
+         pressure at two far-field gauges first exceeds 1 GPa (interpolated between steps) and the \
+         explosive's axial velocity u_ahead five cells ahead of each gauge when the wave arrives (−90 m/s): the speed of the \
+         front into the unreacted explosive, which is what D_CJ and the LLNL sticks (explosive at rest) \
+         give; the grid-frame speed (x₂ − x₁)/(t₂ − t₁) alone is 90 m/s (1.5 % of D_CJ) lower and is \
+         listed beside it. Reference: the CJ \
          velocity of the products' isentrope, D_CJ = {d_cj:.0} m/s, which the seed's largest sticks and the \
          LLNL data (D ≈ 5890 m/s at the largest radius, Souers et al. 2000 via docs/physics/eos/jwl_cterm.md) \
          approach. The seed gives its results only as a plot (Fig. 3), so no number of the seed can be \
@@ -543,19 +550,22 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
     );
     let _ = writeln!(
         md,
-        "| run | h (mm) | gauges (cm) | D (m/s) | D/D_CJ | peak p at gauge 2 (GPa) | impact p (MPa) | burnt | steps | wall (s) |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|"
+        "| run | h (mm) | gauges (cm) | D (m/s) | D/D_CJ | grid-frame speed (m/s) | peak p at gauge 2 (GPa) | impact p (MPa) | burnt | steps | wall (s) |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let row = |md: &mut String, r: &StickRun, g: [f64; 2]| {
         let d = r.result.detonation_velocity;
         let _ = writeln!(
             md,
-            "| {} | {:.2} | {:.0}, {:.0} | {} | {} | {:.2} | {:.0} | {:.4} | {} | {:.1} |",
+            "| {} | {:.2} | {:.0}, {:.0} | {} | {} | {} | {:.2} | {:.0} | {:.4} | {} | {:.1} |",
             r.label,
             r.h * 1e3,
             g[0] * 100.0,
             g[1] * 100.0,
             d.map_or("no detonation".into(), |d| format!("{d:.1}")),
             d.map_or("—".into(), |d| format!("{:.4}", d / d_cj)),
+            r.result
+                .lab_velocity
+                .map_or("—".into(), |d| format!("{d:.1}")),
             r.result.peak_pressure / 1e9,
             r.result.impact_pressure / 1e6,
             r.result.burnt_fraction,
@@ -891,9 +901,10 @@ mod tests {
     use super::*;
 
     /// Reduced E-RATESTICK: a 1D ANFO-K1 stick at h = 2 mm, 6 cm long,
-    /// detonates and runs within 15 % of D_CJ (measured 5077 m/s, −14 %
-    /// at this coarse cell and short run; the validate case runs finer and
-    /// longer).
+    /// detonates and runs within 15 % of D_CJ (measured in the grid's
+    /// frame 5077 m/s, −14 %, at this coarse cell and short run; the
+    /// validate case runs finer and longer), and D is the front's speed
+    /// into the explosive, which moves at −90 m/s ahead of it.
     #[test]
     fn e_ratestick_reduced() {
         let mut c = brisance::ice::cases::RateStick::seed(2e-3);
@@ -902,6 +913,10 @@ mod tests {
         let r = run_stick("reduced", &c).unwrap();
         let d = r.result.detonation_velocity.expect("no detonation");
         assert!((d / 5899.0 - 1.0).abs() < 0.15, "{d}");
+        let ahead = r.result.velocity_ahead.unwrap();
+        assert!((ahead + 90.0).abs() < 0.5, "{ahead}");
+        let lab = r.result.lab_velocity.unwrap();
+        assert!((d - (lab - ahead)).abs() < 1e-9 * d, "{d} {lab} {ahead}");
         assert!(r.result.burnt_fraction > 0.5);
     }
 

@@ -230,8 +230,17 @@ impl RateStick {
 pub struct RateStickResult {
     /// Arrival times at the two gauges (None: the wave never came), s.
     pub arrival: [Option<f64>; 2],
-    /// Detonation velocity (x₂ − x₁)/(t₂ − t₁), m/s, when both arrived.
+    /// Detonation velocity relative to the unreacted explosive, m/s, when
+    /// both gauges saw the wave: [`detonation_velocity`] of the arrivals
+    /// and of `velocity_ahead` (−`impact_velocity`: the explosive runs
+    /// into the wave).
     pub detonation_velocity: Option<f64>,
+    /// The front's speed in the grid's frame, (x₂ − x₁)/(t₂ − t₁), m/s.
+    pub lab_velocity: Option<f64>,
+    /// The explosive's axial velocity ahead of the wave, m/s: mean over
+    /// the two gauges of the velocity five cells ahead of the gauge (on
+    /// the axis, within the stick) when the wave arrives there.
+    pub velocity_ahead: Option<f64>,
     /// Largest pressure seen at the second gauge, Pa.
     pub peak_pressure: f64,
     /// Largest pressure in the first 20 cells of the axis during the first
@@ -245,6 +254,18 @@ pub struct RateStickResult {
     pub cells: usize,
     /// Simulated time at the end, s.
     pub time: f64,
+}
+
+/// Detonation velocity relative to the unreacted explosive, m/s, from the
+/// arrival times `t` (s) of the front at two gauges at `x` (m) along the
+/// direction it runs, and the explosive's velocity `u_ahead` (m/s, same
+/// axis) ahead of it: (x₂ − x₁)/(t₂ − t₁) − u_ahead. None unless
+/// t₂ > t₁. The detonation velocity of an explosive is its front's speed
+/// into the unreacted material; the grid-frame speed alone is short by
+/// the 90 m/s the E-RATESTICK explosive moves towards the wall, 1.5 % of
+/// D_CJ (docs/physics/reaction/jwlpp.md, "Convergence of the planar speed").
+pub fn detonation_velocity(x: [f64; 2], t: [f64; 2], u_ahead: f64) -> Option<f64> {
+    (t[1] > t[0]).then(|| (x[1] - x[0]) / (t[1] - t[0]) - u_ahead)
 }
 
 /// Runs a rate stick until the wave has passed the second gauge (and 2 µs
@@ -321,8 +342,10 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
     .map_err(|e| e.to_string())?;
     s.set_reactions(vec![reaction]).map_err(|e| e.to_string())?;
     let mass0 = explosive_mass(&s)?;
-    let fields = ["pressure".to_string()];
+    let fields = ["pressure".to_string(), "velocity_x".to_string()];
     let mut arrival: [Option<f64>; 2] = [None; 2];
+    let mut ahead: [Option<f64>; 2] = [None; 2];
+    let mut ahead_sample = Vec::new();
     let mut peak: f64 = 0.0;
     let mut impact_pressure: f64 = 0.0;
     let mut out = Vec::new();
@@ -350,18 +373,34 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
                 // Linear interpolation of the crossing between two samples.
                 let w = (cfg.arrival_pressure - p_prev) / (out[0] - p_prev);
                 arrival[k] = Some(t_prev + w * (s.time() - t_prev));
+                // What the wave runs into: the explosive five cells ahead
+                // of the gauge (beyond the shock's numerical width).
+                let xa = (*x + 5.0 * cfg.h).min(cfg.length - 0.5 * cfg.h);
+                s.sample(axis(xa), &fields, &mut ahead_sample)
+                    .map_err(|e| e.to_string())?;
+                ahead[k] = Some(ahead_sample[1]);
             }
             last[k] = (s.time(), out[0]);
         }
     }
-    let d = match arrival {
+    let lab = match arrival {
         [Some(a), Some(b)] if b > a => Some((cfg.gauges[1] - cfg.gauges[0]) / (b - a)),
+        _ => None,
+    };
+    let velocity_ahead = match ahead {
+        [Some(a), Some(b)] => Some(0.5 * (a + b)),
+        _ => None,
+    };
+    let d = match (arrival, velocity_ahead) {
+        ([Some(a), Some(b)], Some(v)) => detonation_velocity(cfg.gauges, [a, b], v),
         _ => None,
     };
     let burnt = 1.0 - explosive_mass(&s)?.0 / mass0.0;
     Ok(RateStickResult {
         arrival,
         detonation_velocity: d,
+        lab_velocity: lab,
+        velocity_ahead,
         peak_pressure: peak,
         impact_pressure,
         burnt_fraction: burnt,
@@ -378,4 +417,55 @@ fn explosive_mass(s: &IceSolver<EosModel>) -> Result<(f64, f64), String> {
     let vol: f64 = s.level().geometry.spacing.iter().product();
     let sum = |k: usize| d.fields[k].1.iter().sum::<f64>() * vol;
     Ok((sum(0), sum(1)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{detonation_velocity, rate_stick, JwlCTerm, RateStick};
+
+    /// The 1D part of E-RATESTICK without the report (release, about a
+    /// minute): `cargo test --release -p brisance-ice one_d_rate_sticks --
+    /// --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn one_d_rate_sticks() {
+        let d_cj = brisance_reaction::jwlpp::cj_state(&JwlCTerm::anfo_k1())
+            .unwrap()
+            .detonation_velocity;
+        for (name, make) in [
+            (
+                "10 cm, gauges 6 and 9 cm",
+                RateStick::seed as fn(f64) -> RateStick,
+            ),
+            ("30 cm, gauges 20 and 29 cm", RateStick::long),
+        ] {
+            for h in [1e-3, 0.5e-3, 0.25e-3] {
+                let r = rate_stick(&make(h)).unwrap();
+                let d = r.detonation_velocity.unwrap();
+                println!(
+                    "{name} h {:.2} mm: D {d:.1} m/s ({:+.2} % of {d_cj:.1}), grid frame {:.1} m/s, ahead {:.2} m/s",
+                    h * 1e3,
+                    100.0 * (d / d_cj - 1.0),
+                    r.lab_velocity.unwrap(),
+                    r.velocity_ahead.unwrap()
+                );
+                assert!((r.velocity_ahead.unwrap() + 90.0).abs() < 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn the_detonation_velocity_is_taken_in_the_explosives_frame() {
+        // Gauges 9 cm apart crossed 15.3 µs apart: 5882.35 m/s on the grid;
+        // the explosive runs into the wave at −90 m/s, so 5972.35 m/s into it.
+        let d = detonation_velocity([0.2, 0.29], [40.0e-6, 55.3e-6], -90.0).unwrap();
+        assert!((d - (0.09 / 15.3e-6 + 90.0)).abs() < 1e-9, "{d}");
+        assert!((d - 5_972.352_941).abs() < 1e-5, "{d}");
+        // An explosive at rest: the grid speed.
+        let d0 = detonation_velocity([0.03, 0.14], [0.0, 20e-6], 0.0).unwrap();
+        assert!((d0 - 5500.0).abs() < 1e-9);
+        // No speed without an ordered pair of arrivals.
+        assert!(detonation_velocity([0.0, 0.1], [2e-6, 2e-6], 0.0).is_none());
+        assert!(detonation_velocity([0.0, 0.1], [3e-6, 2e-6], 0.0).is_none());
+    }
 }

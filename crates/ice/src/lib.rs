@@ -40,6 +40,7 @@
 pub mod advection;
 pub mod boundary;
 pub mod cases;
+pub mod column;
 pub mod diffusion;
 pub mod equilibration;
 pub mod exchange;

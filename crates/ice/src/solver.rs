@@ -175,6 +175,22 @@ struct SavedState {
     /// Per material (firings, energy), step 2's rule and step 12's.
     kept_warm: Vec<(u64, f64)>,
     kept_warm_advection: Vec<(u64, f64)>,
+    /// What has left through each domain face ([`IceSolver::outflow`]).
+    outflow: [ConservationTotals; 6],
+}
+
+/// A checkpoint written before the faces' outflow was booked: read as
+/// one with nothing booked yet.
+#[derive(Deserialize)]
+struct SavedStateWithoutOutflow {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    materials: usize,
+    fields: Vec<Vec<f64>>,
+    rescaled: ConservationTotals,
+    kept_warm: Vec<(u64, f64)>,
+    kept_warm_advection: Vec<(u64, f64)>,
 }
 
 /// The cell state of a Lagrangian material from its particles (step 1 of
@@ -442,6 +458,52 @@ fn global_of(p: &Patch, n: usize) -> [usize; 3] {
     p.global_of_local([n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])])
 }
 
+/// Local storage indices of `patch`'s interior cells on the domain face
+/// `face` (0..6: x_low, x_high, y_low, …) of a grid of `cells` cells; empty
+/// where the patch does not touch it.
+fn domain_face_cells(patch: &Patch, cells: [usize; 3], face: usize) -> Vec<usize> {
+    let (a, high) = (face / 2, face % 2 == 1);
+    let touches = if high {
+        patch.lo[a] + patch.size[a] == cells[a]
+    } else {
+        patch.lo[a] == 0
+    };
+    if !touches {
+        return Vec::new();
+    }
+    let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+    let mut out = Vec::with_capacity(patch.size[b] * patch.size[c]);
+    for j in 0..patch.size[b] {
+        for k in 0..patch.size[c] {
+            let mut l = [0; 3];
+            l[a] = patch.ghost[a] + if high { patch.size[a] - 1 } else { 0 };
+            l[b] = patch.ghost[b] + j;
+            l[c] = patch.ghost[c] + k;
+            out.push(patch.local_index(l));
+        }
+    }
+    out
+}
+
+/// What crossed the domain faces in one pass, per boundary cell: (global
+/// linear index, face, material, [mass, momentum x, y, z, energy]) per unit
+/// cell volume; summed in that order so that the totals do not depend on
+/// the patch split.
+type FaceBooking = Vec<(usize, usize, usize, [f64; 5])>;
+
+/// Adds `booking` (per unit cell volume) to the per-face totals `outflow`.
+fn book_faces(mut booking: FaceBooking, vol: f64, outflow: &mut [ConservationTotals; 6]) {
+    booking.sort_unstable_by_key(|x| (x.0, x.1, x.2));
+    for (_, f, _, q) in booking {
+        let t = &mut outflow[f];
+        t.mass += q[0] * vol;
+        for a in 0..3 {
+            t.momentum[a] += q[1 + a] * vol;
+        }
+        t.energy += q[4] * vol;
+    }
+}
+
 /// Everything a per-cell kernel reads besides the fields.
 struct Params<'a, E: Eos> {
     eos: &'a [E],
@@ -523,6 +585,11 @@ pub struct IceSolver<E: Eos> {
     /// Per face: whether an outflow face has held back a flow into the
     /// domain since the start ([`crate::boundary::holds_back_inflow`]).
     blocked_inflow: [bool; 6],
+    /// Per face (x_low, x_high, y_low, …): the mass, momentum and energy
+    /// that have left the domain through it since the start (negative for
+    /// what came in): step 12's fluxes and the face pressure's impulse and
+    /// work of steps 8–9 ([`IceSolver::outflow`]).
+    outflow: [ConservationTotals; 6],
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -644,6 +711,7 @@ impl<E: Eos> IceSolver<E> {
             transport: Default::default(),
             implicit: Default::default(),
             blocked_inflow: [false; 6],
+            outflow: [ConservationTotals::default(); 6],
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -813,6 +881,37 @@ impl<E: Eos> IceSolver<E> {
     /// Number of materials.
     pub fn material_count(&self) -> usize {
         self.eos.len()
+    }
+
+    /// Per face (x_low, x_high, y_low, y_high, z_low, z_high): the mass
+    /// (kg), momentum (kg·m/s) and energy (J, with a reactant's chemical
+    /// energy) that have left the domain through it since the start,
+    /// negative for what came in: step 12's fluxes through the face and the
+    /// face pressure's impulse p*A Δt and work p*(Σθ*u*)A Δt of steps 8–9
+    /// (a wall books only the impulse). The conservation totals are the
+    /// interior's plus these (docs/physics/ice/README.md, "What crosses
+    /// the faces").
+    pub fn outflow(&self) -> [ConservationTotals; 6] {
+        self.outflow
+    }
+
+    /// The faces whose crossings are booked: all but a periodic pair's,
+    /// where what leaves one face enters the other.
+    fn booked_faces(&self) -> [bool; 6] {
+        std::array::from_fn(|f| !matches!(self.boundaries[f], IceBoundary::Periodic))
+    }
+
+    /// The six faces' [`IceSolver::outflow`] summed.
+    pub fn outflow_sum(&self) -> ConservationTotals {
+        let mut t = ConservationTotals::default();
+        for o in &self.outflow {
+            t.mass += o.mass;
+            for a in 0..3 {
+                t.momentum[a] += o.momentum[a];
+            }
+            t.energy += o.energy;
+        }
+        t
     }
 
     /// Steps taken so far.
@@ -1632,6 +1731,7 @@ impl<E: Eos> IceSolver<E> {
         );
         let params = solver_params!(self);
         let geometry = self.level.geometry;
+        let booked = self.booked_faces();
         let fail = self
             .lag
             .par_iter_mut()
@@ -1651,7 +1751,38 @@ impl<E: Eos> IceSolver<E> {
                 let rho_s: [&[f64]; MAX_MATERIALS] =
                     std::array::from_fn(|r| if r < n { &d[r * NS + RHO][..] } else { &[][..] });
                 let rho_cell = |i: usize| (0..n).map(|r| rho_s[r][i]).sum::<f64>();
-                par_interior(
+                // The face pressure's impulse and work on the domain faces,
+                // per unit cell volume: what the interior's momentum and
+                // energy lose through them in this step (the cell loop below
+                // differences the same p* and volume fluxes).
+                let mut booking: FaceBooking = Vec::new();
+                for face in 0..6 {
+                    let a = face / 2;
+                    if !params.active[a] || !booked[face] {
+                        continue;
+                    }
+                    let sign = if face % 2 == 1 { 1.0 } else { -1.0 };
+                    for c in domain_face_cells(patch, geometry.cells, face) {
+                        let (o, f) = if face % 2 == 1 {
+                            (c + st[a], c + st[a])
+                        } else {
+                            (c - st[a], c)
+                        };
+                        let (ro, rc) = (rho_cell(o), rho_cell(c));
+                        let pf = if face % 2 == 1 {
+                            face_pressure(p[c], rc, p[o], ro)
+                        } else {
+                            face_pressure(p[o], ro, p[c], rc)
+                        };
+                        let mut q = [0.0; 5];
+                        q[1 + a] = sign * dt * pf / params.spacing[a];
+                        if params.options.conserve_total_energy {
+                            q[4] = sign * dt * pf * sc.volume_flux[a][f] / params.spacing[a];
+                        }
+                        booking.push((geometry.linear_index(global_of(patch, c)), face, 0, q));
+                    }
+                }
+                let fail = par_interior(
                     patch,
                     || None,
                     |fail: &mut Failure, c| {
@@ -1689,11 +1820,21 @@ impl<E: Eos> IceSolver<E> {
                         }
                     },
                     first_failure,
-                )
+                );
+                (fail, booking)
             })
-            .reduce(|| None, first_failure);
+            .reduce(
+                || (None, Vec::new()),
+                |(fa, mut ba), (fb, bb)| {
+                    ba.extend(bb);
+                    (first_failure(fa, fb), ba)
+                },
+            );
+        let (fail, booking) = fail;
         match fail {
             None => {
+                let vol: f64 = geometry.spacing.iter().product();
+                book_faces(booking, vol, &mut self.outflow);
                 self.compute_diffusion_sources(dt);
                 Ok(())
             }
@@ -1722,12 +1863,13 @@ impl<E: Eos> IceSolver<E> {
             NL,
             L_VEL,
         );
+        let booked = self.booked_faces();
         let params = solver_params!(self);
         let geometry = self.level.geometry;
         // Per patch: the first failure and step 12's cold-rule firings as
         // (global cell, material, ρ_r Δe_r).
         type Warm = Vec<(usize, usize, f64)>;
-        let (fail, mut warm): (Failure, Warm) = self
+        let (fail, mut warm, booking): (Failure, Warm, FaceBooking) = self
             .state
             .par_iter_mut()
             .zip(self.lag.par_iter())
@@ -1736,6 +1878,7 @@ impl<E: Eos> IceSolver<E> {
             .map(|(((pf, lg), sc), patch)| {
                 let mut fail: Failure = None;
                 let mut warm: Warm = Vec::new();
+                let mut booking: FaceBooking = Vec::new();
                 let n = params.eos.len();
                 let st = patch.strides();
                 let l = &lg.data;
@@ -1851,6 +1994,40 @@ impl<E: Eos> IceSolver<E> {
                             }
                             fx[5].write(m, mass * v);
                         });
+                        // What crosses the domain faces along a: through a
+                        // low face the flux enters, through a high one it
+                        // leaves. A reactant carries its chemical energy.
+                        let q_chem = params
+                            .reactions
+                            .iter()
+                            .find(|rx| rx.reactant == r)
+                            .map_or(0.0, |rx| rx.heat_of_reaction);
+                        for face in [2 * a, 2 * a + 1] {
+                            if !booked[face] {
+                                continue;
+                            }
+                            let high = face % 2 == 1;
+                            for c in domain_face_cells(patch, geometry.cells, face) {
+                                let (m, sign) = if high { (c + st[a], 1.0) } else { (c, -1.0) };
+                                let mass = fx[0].read(m);
+                                let mut q = [
+                                    sign * mass,
+                                    sign * fx[1].read(m),
+                                    sign * fx[2].read(m),
+                                    sign * fx[3].read(m),
+                                    0.0,
+                                ];
+                                if total {
+                                    q[4] = sign * (fx[4].read(m) + q_chem * mass);
+                                }
+                                booking.push((
+                                    geometry.linear_index(global_of(patch, c)),
+                                    face,
+                                    r,
+                                    q,
+                                ));
+                            }
+                        }
                         par_rows(patch, |c, len| {
                             for k in 0..6 {
                                 let lo = fx[k].slice(c, len);
@@ -1922,15 +2099,20 @@ impl<E: Eos> IceSolver<E> {
                     fail = first_failure(fail, failed);
                     warm.extend(fired);
                 }
-                (fail, warm)
+                (fail, warm, booking)
             })
             .reduce(
-                || (None, Vec::new()),
-                |(fa, mut wa), (fb, wb)| {
+                || (None, Vec::new(), Vec::new()),
+                |(fa, mut wa, mut ba), (fb, wb, bb)| {
                     wa.extend(wb);
-                    (first_failure(fa, fb), wa)
+                    ba.extend(bb);
+                    (first_failure(fa, fb), wa, ba)
                 },
             );
+        if fail.is_none() {
+            let vol: f64 = geometry.spacing.iter().product();
+            book_faces(booking, vol, &mut self.outflow);
+        }
         if fail.is_none() && !warm.is_empty() {
             // Summed in global cell order: the same bits for any split.
             warm.sort_unstable_by_key(|x| (x.0, x.1));
@@ -2702,7 +2884,25 @@ impl<E: Eos> Solver for IceSolver<E> {
         t.mass *= vol;
         t.momentum = t.momentum.map(|m| m * vol);
         t.energy *= vol;
+        // What has left through the domain faces belongs to the total.
+        let o = self.outflow_sum();
+        t.mass += o.mass;
+        for a in 0..3 {
+            t.momentum[a] += o.momentum[a];
+        }
+        t.energy += o.energy;
         t
+    }
+
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        // Walls and symmetry planes book only a pressure impulse; a
+        // periodic pair nothing.
+        let open = self.boundaries.iter().enumerate().any(|(f, b)| {
+            self.level.geometry.cells[f / 2] > 1
+                && !matches!(b, IceBoundary::Symmetry | IceBoundary::Periodic)
+                && !matches!(b, IceBoundary::FixedVelocity(v) if *v == [0.0; 3])
+        });
+        open.then(|| self.outflow_sum())
     }
 
     fn cell_field_names(&self) -> Vec<&'static str> {
@@ -2756,13 +2956,30 @@ impl<E: Eos> Solver for IceSolver<E> {
                 .iter()
                 .map(|t| (t.firings, t.energy))
                 .collect(),
+            outflow: self.outflow,
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
 
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
-        let saved: SavedState =
-            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let saved: SavedState = match bincode::deserialize(bytes) {
+            Ok(s) => s,
+            Err(e) => {
+                let old: SavedStateWithoutOutflow = bincode::deserialize(bytes)
+                    .map_err(|_| SolverError::Checkpoint(e.to_string()))?;
+                SavedState {
+                    time: old.time,
+                    steps: old.steps,
+                    cells: old.cells,
+                    materials: old.materials,
+                    fields: old.fields,
+                    rescaled: old.rescaled,
+                    kept_warm: old.kept_warm,
+                    kept_warm_advection: old.kept_warm_advection,
+                    outflow: [ConservationTotals::default(); 6],
+                }
+            }
+        };
         let cells = self.level.geometry.cells;
         let nf = self.eos.len() * NS + 1;
         if saved.cells != cells
@@ -2787,6 +3004,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         self.time = saved.time;
         self.steps = saved.steps;
         self.rescaled = saved.rescaled;
+        self.outflow = saved.outflow;
         for (t, &(firings, energy)) in self.kept_warm.iter_mut().zip(&saved.kept_warm) {
             *t = KeptWarmTotals { firings, energy };
         }
