@@ -139,10 +139,6 @@ pub fn half_extent(f: &[f64; 9], h: f64, n: [f64; 3]) -> f64 {
 /// Measures the rod (module documentation) from its particles; the wall is
 /// the plane z = 0 and the axis the line x = y = 0. Errors on an empty set.
 pub fn rod_shape(particles: &Particles) -> Result<RodShape, String> {
-    if particles.is_empty() {
-        return Err("no particles to measure".into());
-    }
-    let n = particles.len();
     let side = |p: usize| particles.initial_volume[p].cbrt();
     let radial = |p: usize| {
         let [x, y, _] = particles.position[p];
@@ -154,10 +150,28 @@ pub fn rod_shape(particles: &Particles) -> Result<RodShape, String> {
         };
         r + half_extent(&particles.deformation_gradient[p], side(p), e)
     };
+    measure_rod(particles, 2, side, radial)
+}
+
+/// The rod's measures from each particle's side `side(p)` (of its
+/// undeformed square or cube), its outermost radial face `radial(p)` and
+/// the axial coordinate `axis` (the wall at 0): the highest face, the
+/// widest face and the profile in slices of the smallest side.
+fn measure_rod(
+    particles: &Particles,
+    axis: usize,
+    side: impl Fn(usize) -> f64,
+    radial: impl Fn(usize) -> f64,
+) -> Result<RodShape, String> {
+    if particles.is_empty() {
+        return Err("no particles to measure".into());
+    }
+    let n = particles.len();
+    let up: [f64; 3] = std::array::from_fn(|d| if d == axis { 1.0 } else { 0.0 });
     let top = (0..n)
         .map(|p| {
-            particles.position[p][2]
-                + half_extent(&particles.deformation_gradient[p], side(p), [0.0, 0.0, 1.0])
+            particles.position[p][axis]
+                + half_extent(&particles.deformation_gradient[p], side(p), up)
         })
         .fold(f64::NEG_INFINITY, f64::max);
     // Widest particle; ties go to the lowest index, so the result does not
@@ -172,11 +186,11 @@ pub fn rod_shape(particles: &Particles) -> Result<RodShape, String> {
                     best
                 }
             });
-    let slice = (0..n).map(side).fold(f64::INFINITY, f64::min);
+    let slice = (0..n).map(&side).fold(f64::INFINITY, f64::min);
     let slices = (top / slice).ceil().max(1.0) as usize;
     let mut largest = vec![f64::NEG_INFINITY; slices];
     for p in 0..n {
-        let k = ((particles.position[p][2] / slice).floor().max(0.0) as usize).min(slices - 1);
+        let k = ((particles.position[p][axis] / slice).floor().max(0.0) as usize).min(slices - 1);
         largest[k] = largest[k].max(radial(p));
     }
     let (profile_z, profile_r) = largest
@@ -188,7 +202,7 @@ pub fn rod_shape(particles: &Particles) -> Result<RodShape, String> {
     Ok(RodShape {
         length: top,
         diameter: 2.0 * radius,
-        widest_at: particles.position[widest][2],
+        widest_at: particles.position[widest][axis],
         profile_z,
         profile_r,
     })
@@ -389,56 +403,17 @@ pub fn taylor_rz_scenario(
 /// A₀ = V₀ F_θθ / (2π r), deformed by its in-plane F; L_f is the highest
 /// face above the wall (y), D_f twice the largest radial face (x).
 pub fn rod_shape_rz(particles: &Particles) -> Result<RodShape, String> {
-    if particles.is_empty() {
-        return Err("no particles to measure".into());
-    }
-    let n = particles.len();
     let side = |p: usize| {
         let f = &particles.deformation_gradient[p];
         (particles.initial_volume[p] * f[8]
             / (2.0 * std::f64::consts::PI * particles.position[p][0]))
             .sqrt()
     };
-    let top = (0..n)
-        .map(|p| {
-            particles.position[p][1]
-                + half_extent(&particles.deformation_gradient[p], side(p), [0.0, 1.0, 0.0])
-        })
-        .fold(f64::NEG_INFINITY, f64::max);
     let radial = |p: usize| {
         particles.position[p][0]
             + half_extent(&particles.deformation_gradient[p], side(p), [1.0, 0.0, 0.0])
     };
-    let (widest, radius) =
-        (0..n)
-            .map(|p| (p, radial(p)))
-            .fold((0, f64::NEG_INFINITY), |best, (p, r)| {
-                if r > best.1 {
-                    (p, r)
-                } else {
-                    best
-                }
-            });
-    let slice = (0..n).map(side).fold(f64::INFINITY, f64::min);
-    let slices = (top / slice).ceil().max(1.0) as usize;
-    let mut largest = vec![f64::NEG_INFINITY; slices];
-    for p in 0..n {
-        let k = ((particles.position[p][1] / slice).floor().max(0.0) as usize).min(slices - 1);
-        largest[k] = largest[k].max(radial(p));
-    }
-    let (profile_z, profile_r) = largest
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| r.is_finite())
-        .map(|(k, r)| ((k as f64 + 0.5) * slice, *r))
-        .unzip();
-    Ok(RodShape {
-        length: top,
-        diameter: 2.0 * radius,
-        widest_at: particles.position[widest][1],
-        profile_z,
-        profile_r,
-    })
+    measure_rod(particles, 1, side, radial)
 }
 
 /// V-TAYLOR on the axisymmetric (r, z) grid ([`taylor_rz_scenario`]): the
