@@ -4,6 +4,7 @@
 
 mod axisymmetric;
 mod cli;
+mod docs_coverage;
 mod e_freeair;
 mod open_faces;
 mod particle_gauges;
