@@ -291,17 +291,12 @@ pub fn blast_box(n: usize, layout: [usize; 3]) -> Result<FdmSolver<IdealGas>, St
 /// `axisymmetric`, as an (r, z) plane: the benchmark of an r–z
 /// cell-update against a planar one (docs/physics/axisymmetric.md).
 pub fn blast_plane(n: usize, axisymmetric: bool) -> Result<FdmSolver<IdealGas>, String> {
-    let (geometry, ghost) = if axisymmetric {
-        (
-            brisance_core::Geometry::Axisymmetric,
-            brisance_fdm::sweep::GHOST_RZ,
-        )
+    let geometry = if axisymmetric {
+        brisance_core::Geometry::Axisymmetric
     } else {
-        (
-            brisance_core::Geometry::Cartesian,
-            brisance_fdm::sweep::GHOST,
-        )
+        brisance_core::Geometry::Cartesian
     };
+    let ghost = brisance_fdm::sweep::ghost_layers(geometry);
     let level = Level::new([0.0; 3], [1.0, 1.0, 0.01], [n, n, 1], [1, 1, 1], ghost)
         .map_err(|e| e.to_string())?;
     let options = FdmOptions {

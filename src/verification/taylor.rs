@@ -425,35 +425,14 @@ pub fn taylor_rz_case(
     extra: &[String],
 ) -> Result<TaylorResult, String> {
     let scenario = taylor_rz_scenario(cells_across_radius, end, extra)?;
-    let mut solver = taylor_solver(&scenario)?;
     let test = JOHNSON_COOK_1983_OFHC_190;
-    let rho = scenario.initial[0].state.density;
-    let radius = rod_radius();
-    let exact_mass = rho * std::f64::consts::PI * radius.powi(2) * test.length;
-    let initial = rod_shape_rz(solver.particles())?;
-    let ke0 = kinetic_energy(solver.particles());
-    let e0 = solver.conservation_totals().energy;
-    let steps = advance_to(&mut solver, end).map_err(|e| e.to_string())?;
-    let ps = solver.particles();
-    let max_plastic_strain = (0..ps.len())
-        .map(|p| ps.history_of(p)[PLASTIC_STRAIN_INDEX])
-        .fold(0.0, f64::max);
-    let max_temperature = ps.temperature.iter().copied().fold(0.0, f64::max);
-    Ok(TaylorResult {
+    run_rod(
+        &scenario,
         cells_across_radius,
-        cell_size: radius / cells_across_radius as f64,
-        particles: ps.len(),
-        steps,
-        end_time: solver.time(),
-        initial_length: initial.length,
-        initial_diameter: initial.diameter,
-        shape: rod_shape_rz(ps)?,
-        kinetic_energy_ratio: kinetic_energy(ps) / ke0,
-        mass_error: ps.total_mass() / exact_mass - 1.0,
-        energy_change: (solver.conservation_totals().energy - e0) / e0,
-        max_plastic_strain,
-        max_temperature,
-    })
+        rod_radius(),
+        test.length,
+        end,
+    )
 }
 
 /// Σ ½ m |v|², J.
@@ -486,7 +465,9 @@ pub fn taylor_case(
 
 /// Runs the one-rod `scenario` (radius `radius`, length `length`, m) to
 /// `end` s and measures it; `cells_across_radius` is recorded with the
-/// cell size radius/`cells_across_radius`.
+/// cell size radius/`cells_across_radius`. A Cartesian scenario is the
+/// quarter rod ([`rod_shape`], mass against ρπR²L₀/4), an axisymmetric one
+/// the whole rod as rings ([`rod_shape_rz`], mass against ρπR²L₀).
 fn run_rod(
     scenario: &Scenario,
     cells_across_radius: usize,
@@ -496,8 +477,15 @@ fn run_rod(
 ) -> Result<TaylorResult, String> {
     let mut solver = taylor_solver(scenario)?;
     let rho = scenario.initial[0].state.density;
-    let exact_mass = rho * std::f64::consts::PI * radius.powi(2) * length / 4.0;
-    let initial = rod_shape(solver.particles())?;
+    let axisymmetric = scenario.domain.geometry.is_axisymmetric();
+    let measure = if axisymmetric {
+        rod_shape_rz
+    } else {
+        rod_shape
+    };
+    let share = if axisymmetric { 1.0 } else { 0.25 };
+    let exact_mass = rho * std::f64::consts::PI * radius.powi(2) * length * share;
+    let initial = measure(solver.particles())?;
     let ke0 = kinetic_energy(solver.particles());
     let e0 = solver.conservation_totals().energy;
     let steps = advance_to(&mut solver, end).map_err(|e| e.to_string())?;
@@ -514,7 +502,7 @@ fn run_rod(
         end_time: solver.time(),
         initial_length: initial.length,
         initial_diameter: initial.diameter,
-        shape: rod_shape(ps)?,
+        shape: measure(ps)?,
         kinetic_energy_ratio: kinetic_energy(ps) / ke0,
         mass_error: ps.total_mass() / exact_mass - 1.0,
         energy_change: (solver.conservation_totals().energy - e0) / e0,

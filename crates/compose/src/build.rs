@@ -245,11 +245,7 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         }
     };
     // An (r, z) grid's radial sweep reaches one ghost layer further.
-    let ghost = if d.geometry.is_axisymmetric() {
-        brisance_fdm::sweep::GHOST_RZ
-    } else {
-        brisance_fdm::sweep::GHOST
-    };
+    let ghost = brisance_fdm::sweep::ghost_layers(d.geometry);
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, ghost)
         .map_err(|e| located("domain.patches", e.to_string()))?;
     let eos = s

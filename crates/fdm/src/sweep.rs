@@ -68,6 +68,16 @@ pub const GHOST: usize = 4;
 /// needs it in the first ghost cell beyond each end of a slab.
 pub const GHOST_RZ: usize = GHOST + 1;
 
+/// Ghost layers a level of `geometry` needs: [`GHOST`], or [`GHOST_RZ`] on
+/// an axisymmetric grid.
+pub fn ghost_layers(geometry: brisance_core::Geometry) -> usize {
+    if geometry.is_axisymmetric() {
+        GHOST_RZ
+    } else {
+        GHOST
+    }
+}
+
 /// Most conservative variables per cell: the five flow variables and ρY.
 const NMAX: usize = NVAR + 1;
 
