@@ -421,22 +421,8 @@ fn opt_mut<G: GasLaw>(a: &mut [f64], n: usize) -> &mut [f64] {
 /// density `ry` (ignored without a species), and the flux ρY u_d.
 #[inline(always)]
 fn flux<const AXIS: usize, G: GasLaw>(eos: &G, u: [f64; NVAR], ry: f64) -> ([f64; NVAR], f64) {
-    let rho = u[0];
-    // One division per state: multiply by 1/ρ for e and the normal velocity.
-    let inv = 1.0 / rho;
-    let e = (u[4] - 0.5 * (u[1] * u[1] + u[2] * u[2] + u[3] * u[3]) * inv) * inv;
-    let y = if G::SPECIES { ry * inv } else { 0.0 };
-    let p = eos.gas_pressure_inv(rho, inv, e, y);
-    let vn = u[1 + AXIS] * inv;
-    let mut f = [
-        u[1 + AXIS],
-        u[1] * vn,
-        u[2] * vn,
-        u[3] * vn,
-        (u[4] + p) * vn,
-    ];
-    f[1 + AXIS] += p;
-    (f, ry * vn)
+    let (f, fy, _) = flux_and_pressure::<AXIS, G>(eos, u, ry);
+    (f, fy)
 }
 
 /// [`flux`] and the pressure it used.
