@@ -1,4 +1,4 @@
-//! The axisymmetric (r, z) FDM through the command line: `--set
+//! The axisymmetric (r, z) FDM and ICE through the command line: `--set
 //! domain.geometry=Axisymmetric` turns a Cartesian text into the r–z run,
 //! and checkpoints restart it bit-identically, also on another thread
 //! count and patch split, as for Cartesian grids.
@@ -21,6 +21,9 @@ const SETS: [&str; 6] = [
     "--set",
     "outputs.checkpoint_every=2",
 ];
+
+/// The file's Fdm pipeline, and the same blast on the Ice pipeline.
+const PIPELINES: [&[&str]; 2] = [&[], &["--set", "pipeline=Ice(materials: [\"air\"])"]];
 
 fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
     Command::new(BIN)
@@ -80,6 +83,12 @@ fn summary(root: &Path) -> Value {
 
 #[test]
 fn the_geometry_set_on_the_command_line_gives_the_axisymmetric_run() {
+    for pipeline in PIPELINES {
+        the_geometry_set_on_the_command_line_gives(pipeline);
+    }
+}
+
+fn the_geometry_set_on_the_command_line_gives(pipeline: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     // The same scenario written Cartesian, turned axisymmetric by --set.
     let text = fs::read_to_string(RZ_BLAST)
@@ -93,13 +102,11 @@ fn the_geometry_set_on_the_command_line_gives_the_axisymmetric_run() {
         dir.path().join("B"),
         dir.path().join("C"),
     );
-    assert_success(&run(Path::new(RZ_BLAST), &a, &[]));
-    assert_success(&run(
-        &cartesian,
-        &b,
-        &["--set", "domain.geometry=Axisymmetric"],
-    ));
-    assert_success(&run(&cartesian, &c, &[]));
+    assert_success(&run(Path::new(RZ_BLAST), &a, pipeline));
+    let mut set = pipeline.to_vec();
+    set.extend(["--set", "domain.geometry=Axisymmetric"]);
+    assert_success(&run(&cartesian, &b, &set));
+    assert_success(&run(&cartesian, &c, pipeline));
     for rel in final_outputs(&a) {
         assert_same_bytes(&a, &b, &rel);
     }
@@ -126,9 +133,15 @@ fn the_geometry_set_on_the_command_line_gives_the_axisymmetric_run() {
 
 #[test]
 fn an_axisymmetric_restart_on_other_threads_and_patches_ends_bit_identical() {
+    for pipeline in PIPELINES {
+        an_axisymmetric_restart_ends_bit_identical(pipeline);
+    }
+}
+
+fn an_axisymmetric_restart_ends_bit_identical(pipeline: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     let a = dir.path().join("A");
-    assert_success(&run(Path::new(RZ_BLAST), &a, &[]));
+    assert_success(&run(Path::new(RZ_BLAST), &a, pipeline));
     let checkpoints = sorted_files(&a.join("checkpoints"));
     assert!(checkpoints.len() >= 2, "{checkpoints:?}");
     let middle = &checkpoints[checkpoints.len() / 2];
@@ -140,7 +153,8 @@ fn an_axisymmetric_restart_on_other_threads_and_patches_ends_bit_identical() {
         ),
     ] {
         let b = dir.path().join(name);
-        let mut args = extra.clone();
+        let mut args = pipeline.to_vec();
+        args.extend(extra);
         args.extend(["--restart", middle.to_str().unwrap()]);
         assert_success(&run(Path::new(RZ_BLAST), &b, &args));
         for rel in final_outputs(&a) {

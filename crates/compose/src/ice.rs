@@ -516,19 +516,29 @@ pub(crate) fn build_with_traces(
             )
         })
         .collect::<Result<Vec<_>, Problem>>()?;
-    // Every cell must be covered.
+    // Every cell must be covered. On an (r, z) grid a region is tested at
+    // the point (r, z, 0) of the half plane through the axis.
     let geometry = level.geometry;
+    let axisymmetric = d.geometry.is_axisymmetric();
+    let plane = move |x: [f64; 3]| {
+        if axisymmetric {
+            [x[0], x[1], 0.0]
+        } else {
+            x
+        }
+    };
     for k in 0..d.cells[2] {
         for j in 0..d.cells[1] {
             for i in 0..d.cells[0] {
                 let x = geometry.cell_centre([i, j, k]);
-                if !s.initial.iter().any(|r| r.region.contains(x)) {
+                if !s.initial.iter().any(|r| r.region.contains(plane(x))) {
                     return Err(("initial".into(), format!("cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first")));
                 }
             }
         }
     }
     let init = |x: [f64; 3]| {
+        let x = plane(x);
         let idx = s
             .initial
             .iter()
@@ -542,6 +552,7 @@ pub(crate) fn build_with_traces(
         conserve_total_energy: cfg.conserve_total_energy,
         fixed_energy_equilibration: cfg.fixed_energy_equilibration,
         pressure: cfg.pressure,
+        geometry: d.geometry,
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);

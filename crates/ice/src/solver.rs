@@ -20,7 +20,7 @@
 //! rayon, and every value is a function of the cell's neighbourhood alone,
 //! so the bits do not depend on the thread count or the patch split.
 
-use brisance_core::{CellData, ConservationTotals, Eos, Solver, SolverError};
+use brisance_core::{CellData, ConservationTotals, Eos, Geometry, Solver, SolverError};
 use brisance_grid::{
     BoundaryConditions, Face, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     Patch, PatchFields,
@@ -62,6 +62,9 @@ macro_rules! solver_params {
 }
 
 // Viscous stress and heat conduction (seed 000 eqs 2–3).
+#[cfg(test)]
+#[path = "solver/axisymmetric_tests.rs"]
+mod axisymmetric_tests;
 mod diffusion_pass;
 pub mod implicit;
 use implicit::PressureSolve;
@@ -123,6 +126,9 @@ pub struct IceOptions {
     /// CFL) or implicit in the pressure ([`implicit`], Δt at the
     /// material-velocity CFL). Explicit by default.
     pub pressure: PressureSolve,
+    /// Cartesian cells (the default) or axisymmetric (r, z) rings: x is
+    /// the radius, y the axis, one cell along z (docs/physics/ice/axisymmetric.md).
+    pub geometry: Geometry,
 }
 
 impl Default for IceOptions {
@@ -136,6 +142,7 @@ impl Default for IceOptions {
             conserve_total_energy: true,
             fixed_energy_equilibration: false,
             pressure: PressureSolve::Explicit,
+            geometry: Geometry::Cartesian,
         }
     }
 }
@@ -159,6 +166,69 @@ struct PatchScratch {
     /// The carried energy of one material per cell (e, or e + ½|u|² when
     /// total energy is advected), so that it is formed once per cell.
     carried_energy: Vec<f64>,
+    /// Axisymmetric grids: per local x index (ghosts included) the ratios
+    /// r₋/r_c and r₊/r_c of the radii of the cell's low and high radial
+    /// faces to its centre's ([`ring_weights`]). Empty on Cartesian grids.
+    ring_lo: Vec<f64>,
+    ring_hi: Vec<f64>,
+}
+
+/// The face-radius ratios of [`PatchScratch::ring_lo`] and `ring_hi` for
+/// the local columns of `patch` (ghosts included) on an axisymmetric
+/// `level`. A ring's volume is 2π r_c Δr Δz
+/// with r_c the mid-radius, and its radial faces' areas are 2π r± Δz, so
+/// per unit volume a flux F through them counts as F r±/(r_c Δr). Ghost
+/// columns at negative radius get 1 (never read).
+fn ring_weights(level: &Level, patch: &Patch) -> (Vec<f64>, Vec<f64>) {
+    let (origin, dr) = (level.geometry.origin[0], level.geometry.spacing[0]);
+    (0..patch.dims()[0])
+        .map(|la| {
+            let i = patch.lo[0] as f64 + la as f64 - patch.ghost[0] as f64;
+            let r_lo = origin + i * dr;
+            let r_c = r_lo + 0.5 * dr;
+            if r_c > 0.0 {
+                (r_lo / r_c, (r_lo + dr) / r_c)
+            } else {
+                (1.0, 1.0)
+            }
+        })
+        .unzip()
+}
+
+/// The volume of each cell by its global linear index: Δx Δy Δz, or the
+/// ring π(r₊² − r₋²)Δz = 2π r_c Δr Δz of its column on an axisymmetric grid.
+#[derive(Debug, Clone, Copy)]
+struct CellVolumes {
+    geometry: Geometry,
+    origin: f64,
+    spacing: [f64; 3],
+    columns: usize,
+}
+
+impl CellVolumes {
+    fn new(level: &Level, geometry: Geometry) -> Self {
+        let g = &level.geometry;
+        Self {
+            geometry,
+            origin: g.origin[0],
+            spacing: g.spacing,
+            columns: g.cells[0],
+        }
+    }
+
+    /// Volume of the cells of global column `i`.
+    #[inline]
+    fn column(&self, i: usize) -> f64 {
+        let [dx, dy, dz] = self.spacing;
+        let r_lo = self.origin + i as f64 * dx;
+        self.geometry.cell_volume(r_lo, dx, dy, dz)
+    }
+
+    /// Volume of the cell of global linear index `g`.
+    #[inline]
+    fn cell(&self, g: usize) -> f64 {
+        self.column(g % self.columns)
+    }
 }
 
 /// A checkpoint: the interior state fields in global order, and the
@@ -453,6 +523,37 @@ fn par_gather<T: Send>(level: &Level, out: &mut [T], f: impl Fn(usize, usize) ->
         });
 }
 
+/// The shape an axisymmetric grid must have: one cell along z, radii
+/// r ≥ 0, the axis (when the grid reaches it) a symmetry face, and no
+/// periodic radial pair.
+fn check_axisymmetric(level: &Level, boundaries: &[IceBoundary; 6]) -> Result<(), IceError> {
+    let g = &level.geometry;
+    if g.cells[2] != 1 {
+        return Err(IceError::Invalid(format!(
+            "ice: an axisymmetric (r, z) grid has one cell along z, got {}",
+            g.cells[2]
+        )));
+    }
+    if !(g.origin[0] >= 0.0) {
+        return Err(IceError::Invalid(format!(
+            "ice: an axisymmetric grid's x is the radius, which starts at r ≥ 0, got {}",
+            g.origin[0]
+        )));
+    }
+    if g.origin[0] == 0.0 && boundaries[0] != IceBoundary::Symmetry {
+        return Err(IceError::Invalid(
+            "ice: the low x face of an axisymmetric grid is the axis r = 0 and must be a symmetry face"
+                .into(),
+        ));
+    }
+    if boundaries[0] == IceBoundary::Periodic || boundaries[1] == IceBoundary::Periodic {
+        return Err(IceError::Invalid(
+            "ice: the radial faces of an axisymmetric grid cannot be periodic".into(),
+        ));
+    }
+    Ok(())
+}
+
 fn global_of(p: &Patch, n: usize) -> [usize; 3] {
     let d = p.dims();
     p.global_of_local([n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])])
@@ -492,9 +593,10 @@ fn domain_face_cells(patch: &Patch, cells: [usize; 3], face: usize) -> Vec<usize
 type FaceBooking = Vec<(usize, usize, usize, [f64; 5])>;
 
 /// Adds `booking` (per unit cell volume) to the per-face totals `outflow`.
-fn book_faces(mut booking: FaceBooking, vol: f64, outflow: &mut [ConservationTotals; 6]) {
+fn book_faces(mut booking: FaceBooking, vols: CellVolumes, outflow: &mut [ConservationTotals; 6]) {
     booking.sort_unstable_by_key(|x| (x.0, x.1, x.2));
-    for (_, f, _, q) in booking {
+    for (g, f, _, q) in booking {
+        let vol = vols.cell(g);
         let t = &mut outflow[f];
         t.mass += q[0] * vol;
         for a in 0..3 {
@@ -519,6 +621,8 @@ struct Params<'a, E: Eos> {
     lagrangian: [bool; MAX_MATERIALS],
     /// Whether any material is Lagrangian.
     coupled: bool,
+    /// Whether the cells are (r, z) rings.
+    axisymmetric: bool,
 }
 
 fn make_params<'a, E: Eos>(
@@ -540,6 +644,7 @@ fn make_params<'a, E: Eos>(
         active: std::array::from_fn(|d| level.is_active(d)),
         lagrangian: std::array::from_fn(|r| lagrangian.get(r).copied().unwrap_or(false)),
         coupled: lagrangian.iter().any(|&l| l),
+        axisymmetric: options.geometry.is_axisymmetric(),
     }
 }
 
@@ -649,6 +754,10 @@ impl<E: Eos> IceSolver<E> {
                 )));
             }
         }
+        if options.geometry.is_axisymmetric() {
+            check_axisymmetric(&level, &boundaries)?;
+        }
+        let axisymmetric = options.geometry.is_axisymmetric();
         let state_set = field_set(n, NS, VEL, 1);
         let lag_set = field_set(n, NL, L_VEL, 0);
         let press_set = FieldSet {
@@ -688,6 +797,16 @@ impl<E: Eos> IceSolver<E> {
                     volume_flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
                     flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
                     carried_energy: vec![0.0; p.allocated_cells()],
+                    ring_lo: if axisymmetric {
+                        ring_weights(&level, p).0
+                    } else {
+                        Vec::new()
+                    },
+                    ring_hi: if axisymmetric {
+                        ring_weights(&level, p).1
+                    } else {
+                        Vec::new()
+                    },
                 })
                 .collect(),
             level,
@@ -922,6 +1041,11 @@ impl<E: Eos> IceSolver<E> {
     /// Iterations and residuals of the last equilibration sweep.
     pub fn equilibration_stats(&self) -> EquilibrationStats {
         self.last_equilibration
+    }
+
+    /// The cells' volumes (rings on an axisymmetric grid).
+    fn volumes(&self) -> CellVolumes {
+        CellVolumes::new(&self.level, self.options.geometry)
     }
 
     /// The solver's options.
@@ -1170,13 +1294,14 @@ impl<E: Eos> IceSolver<E> {
     pub fn add_eulerian_momentum(&mut self, dp: &[[f64; 3]]) {
         let geometry = self.level.geometry;
         assert_eq!(dp.len(), geometry.cell_count());
-        let volume: f64 = geometry.spacing.iter().product();
+        let vols = self.volumes();
         let n = self.eos.len();
         let lag = &self.lagrangian;
         for_each_cell_global(&self.level, &mut self.lag, |g, l, c| {
             if dp[g] == [0.0; 3] {
                 return;
             }
+            let volume = vols.cell(g);
             let mass: f64 = (0..n)
                 .filter(|&r| !lag[r])
                 .map(|r| l[r * NL + L_RHO][c])
@@ -1247,13 +1372,14 @@ impl<E: Eos> IceSolver<E> {
         assert!(!self.is_lagrangian(product), "the product must be Eulerian");
         let geometry = self.level.geometry;
         assert_eq!(burnt.len(), geometry.cell_count());
-        let volume: f64 = geometry.spacing.iter().product();
+        let vols = self.volumes();
         let bl = product * NL;
         for_each_cell_global(&self.level, &mut self.lag, |g, l, c| {
             let src = &burnt[g];
             if !(src.mass > 0.0) {
                 return;
             }
+            let volume = vols.cell(g);
             let rho = l[bl + L_RHO][c];
             let u = [l[bl + L_VEL][c], l[bl + L_VEL + 1][c], l[bl + L_VEL + 2][c]];
             let drho = src.mass / volume;
@@ -1452,8 +1578,9 @@ impl<E: Eos> IceSolver<E> {
         if fail.is_none() && !warm.is_empty() {
             // Summed in global cell order: the same bits for any split.
             warm.sort_unstable_by_key(|x| x.0);
-            let vol: f64 = geometry.spacing.iter().product();
-            for (_, k) in &warm {
+            let vols = self.volumes();
+            for (g, k) in &warm {
+                let vol = vols.cell(*g);
                 for (t, (&fired, &e)) in self
                     .kept_warm
                     .iter_mut()
@@ -1469,9 +1596,10 @@ impl<E: Eos> IceSolver<E> {
         if fail.is_none() && !rescaled.is_empty() {
             // Summed in global cell order: the same bits for any split.
             rescaled.sort_unstable_by_key(|x| x.0);
-            let vol: f64 = geometry.spacing.iter().product();
+            let vols = self.volumes();
             let t = &mut self.rescaled;
-            for (_, d) in &rescaled {
+            for (g, d) in &rescaled {
+                let vol = vols.cell(*g);
                 t.mass += d.mass * vol;
                 for a in 0..3 {
                     t.momentum[a] += d.momentum[a] * vol;
@@ -1643,8 +1771,12 @@ impl<E: Eos> IceSolver<E> {
                     face_velocity,
                     volume_flux,
                     flux,
+                    ring_lo,
+                    ring_hi,
                     ..
                 } = sc;
+                let (ring_lo, ring_hi) = (&*ring_lo, &*ring_hi);
+                let g0 = patch.ghost[0];
                 let divergence = Disjoint::new(divergence);
                 let pressure = Disjoint::new(&mut pr.data[0]);
                 let (fa, vf): ([Disjoint; 3], [Disjoint; 3]) = {
@@ -1689,8 +1821,19 @@ impl<E: Eos> IceSolver<E> {
                             if params.active[a] {
                                 let lo = fa[a].slice(c, len);
                                 let hi = fa[a].slice(c + st[a], len);
-                                for ((q, &lo), &hi) in div.iter_mut().zip(lo).zip(hi) {
-                                    *q += (hi - lo) / dt;
+                                if a == 0 && params.axisymmetric {
+                                    // Radial faces weighted r±/r_c.
+                                    let wl = &ring_lo[g0..g0 + len];
+                                    let wh = &ring_hi[g0..g0 + len];
+                                    for ((q, (&lo, &hi)), (&wl, &wh)) in
+                                        div.iter_mut().zip(lo.iter().zip(hi)).zip(wl.iter().zip(wh))
+                                    {
+                                        *q += (wh * hi - wl * lo) / dt;
+                                    }
+                                } else {
+                                    for ((q, &lo), &hi) in div.iter_mut().zip(lo).zip(hi) {
+                                        *q += (hi - lo) / dt;
+                                    }
                                 }
                             }
                         }
@@ -1774,14 +1917,26 @@ impl<E: Eos> IceSolver<E> {
                         } else {
                             face_pressure(p[o], ro, p[c], rc)
                         };
+                        // A radial face's area per unit volume of its cell.
+                        let w = if a == 0 && params.axisymmetric {
+                            let la = c % patch.dims()[0];
+                            if face % 2 == 1 {
+                                sc.ring_hi[la]
+                            } else {
+                                sc.ring_lo[la]
+                            }
+                        } else {
+                            1.0
+                        };
                         let mut q = [0.0; 5];
-                        q[1 + a] = sign * dt * pf / params.spacing[a];
+                        q[1 + a] = w * sign * dt * pf / params.spacing[a];
                         if params.options.conserve_total_energy {
-                            q[4] = sign * dt * pf * sc.volume_flux[a][f] / params.spacing[a];
+                            q[4] = w * sign * dt * pf * sc.volume_flux[a][f] / params.spacing[a];
                         }
                         booking.push((geometry.linear_index(global_of(patch, c)), face, 0, q));
                     }
                 }
+                let dims0 = patch.dims()[0];
                 let fail = par_interior(
                     patch,
                     || None,
@@ -1795,9 +1950,21 @@ impl<E: Eos> IceSolver<E> {
                                 let (rl, rh) = (rho_cell(lo), rho_cell(hi));
                                 let p_hi = face_pressure(p[c], rho_c, p[hi], rh);
                                 let p_lo = face_pressure(p[lo], rl, p[c], rho_c);
-                                grad[a] = (p_hi - p_lo) / params.spacing[a];
                                 let w = &sc.volume_flux[a];
-                                work -= dt * (p_hi * w[hi] - p_lo * w[c]) / params.spacing[a];
+                                if a == 0 && params.axisymmetric {
+                                    // The ring's radial faces (areas ∝ r±)
+                                    // and the hoop source p_c(r₊ − r₋): a
+                                    // uniform pressure pushes no ring.
+                                    let la = c % dims0;
+                                    let (wl, wh) = (sc.ring_lo[la], sc.ring_hi[la]);
+                                    grad[0] = (wh * (p_hi - p[c]) - wl * (p_lo - p[c]))
+                                        / params.spacing[0];
+                                    work -= dt * (wh * p_hi * w[hi] - wl * p_lo * w[c])
+                                        / params.spacing[0];
+                                } else {
+                                    grad[a] = (p_hi - p_lo) / params.spacing[a];
+                                    work -= dt * (p_hi * w[hi] - p_lo * w[c]) / params.spacing[a];
+                                }
                             }
                         }
                         let work = params.options.conserve_total_energy.then_some(work);
@@ -1833,8 +2000,7 @@ impl<E: Eos> IceSolver<E> {
         let (fail, booking) = fail;
         match fail {
             None => {
-                let vol: f64 = geometry.spacing.iter().product();
-                book_faces(booking, vol, &mut self.outflow);
+                book_faces(booking, self.volumes(), &mut self.outflow);
                 self.compute_diffusion_sources(dt);
                 Ok(())
             }
@@ -1888,8 +2054,13 @@ impl<E: Eos> IceSolver<E> {
                     face_velocity,
                     flux,
                     carried_energy,
+                    ring_lo,
+                    ring_hi,
                     ..
                 } = sc;
+                let (ring_lo, ring_hi) = (&*ring_lo, &*ring_hi);
+                let g0 = patch.ghost[0];
+                let dims0 = patch.dims()[0];
                 let mut state = [Disjoint::empty(); MAX_MATERIALS * NS + 1];
                 for (w, f) in state.iter_mut().zip(pf.data.iter_mut()) {
                     *w = Disjoint::new(f);
@@ -2009,6 +2180,13 @@ impl<E: Eos> IceSolver<E> {
                             let high = face % 2 == 1;
                             for c in domain_face_cells(patch, geometry.cells, face) {
                                 let (m, sign) = if high { (c + st[a], 1.0) } else { (c, -1.0) };
+                                // A radial face's area per unit volume.
+                                let sign = if a == 0 && params.axisymmetric {
+                                    let la = c % dims0;
+                                    sign * if high { ring_hi[la] } else { ring_lo[la] }
+                                } else {
+                                    sign
+                                };
                                 let mass = fx[0].read(m);
                                 let mut q = [
                                     sign * mass,
@@ -2028,14 +2206,29 @@ impl<E: Eos> IceSolver<E> {
                                 ));
                             }
                         }
+                        let radial = a == 0 && params.axisymmetric;
                         par_rows(patch, |c, len| {
                             for k in 0..6 {
                                 let lo = fx[k].slice(c, len);
                                 let hi = fx[k].slice(c + st[a], len);
-                                for ((q, &lo), &hi) in
-                                    cons[k].slice_mut(c, len).iter_mut().zip(lo).zip(hi)
-                                {
-                                    *q += lo - hi;
+                                if radial {
+                                    // Radial faces weighted r±/r_c.
+                                    let wl = &ring_lo[g0..g0 + len];
+                                    let wh = &ring_hi[g0..g0 + len];
+                                    for ((q, (&lo, &hi)), (&wl, &wh)) in cons[k]
+                                        .slice_mut(c, len)
+                                        .iter_mut()
+                                        .zip(lo.iter().zip(hi))
+                                        .zip(wl.iter().zip(wh))
+                                    {
+                                        *q += wl * lo - wh * hi;
+                                    }
+                                } else {
+                                    for ((q, &lo), &hi) in
+                                        cons[k].slice_mut(c, len).iter_mut().zip(lo).zip(hi)
+                                    {
+                                        *q += lo - hi;
+                                    }
                                 }
                             }
                         });
@@ -2109,18 +2302,17 @@ impl<E: Eos> IceSolver<E> {
                     (first_failure(fa, fb), wa, ba)
                 },
             );
+        let vols = self.volumes();
         if fail.is_none() {
-            let vol: f64 = geometry.spacing.iter().product();
-            book_faces(booking, vol, &mut self.outflow);
+            book_faces(booking, vols, &mut self.outflow);
         }
         if fail.is_none() && !warm.is_empty() {
             // Summed in global cell order: the same bits for any split.
             warm.sort_unstable_by_key(|x| (x.0, x.1));
-            let vol: f64 = geometry.spacing.iter().product();
-            for &(_, r, e) in &warm {
+            for &(g, r, e) in &warm {
                 let t = &mut self.kept_warm_advection[r];
                 t.firings += 1;
-                t.energy += e * vol;
+                t.energy += e * vols.cell(g);
             }
         }
         match fail {
@@ -2850,11 +3042,23 @@ impl<E: Eos> Solver for IceSolver<E> {
 
     /// Totals summed in global cell order: the bits do not depend on the
     /// patch split or thread count.
+    ///
+    /// On an axisymmetric grid each cell counts with its ring's volume:
+    /// mass, axial momentum (y) and energy are the whole body's; the
+    /// radial momentum (x) is the sum of the rings' ρu_r V, no conserved
+    /// quantity (the hoop source changes it).
     fn conservation_totals(&self) -> ConservationTotals {
         let n = self.eos.len();
         let mut t = ConservationTotals::default();
-        self.level.for_each_cell_in_order(|_, pid, c| {
+        let axisymmetric = self.options.geometry.is_axisymmetric();
+        let vols = self.volumes();
+        self.level.for_each_cell_in_order(|g, pid, c| {
             let d = &self.state[pid].data;
+            // Axisymmetric: this cell's totals per unit volume, then times
+            // its ring; Cartesian: straight into the sum (times the common
+            // cell volume at the end).
+            let mut ring = ConservationTotals::default();
+            let acc = if axisymmetric { &mut ring } else { &mut t };
             for r in 0..n {
                 if self.lagrangian[r] {
                     // Counted on the particles that carry it.
@@ -2863,11 +3067,11 @@ impl<E: Eos> Solver for IceSolver<E> {
                 let b = r * NS;
                 let rho = d[b + RHO][c];
                 let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
-                t.mass += rho;
+                acc.mass += rho;
                 for a in 0..3 {
-                    t.momentum[a] += rho * u[a];
+                    acc.momentum[a] += rho * u[a];
                 }
-                t.energy +=
+                acc.energy +=
                     rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
             }
             // Chemical energy of the reactants, in the products' reference.
@@ -2877,13 +3081,23 @@ impl<E: Eos> Solver for IceSolver<E> {
                 .iter()
                 .filter(|rx| !self.lagrangian[rx.reactant])
             {
-                t.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
+                acc.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
+            }
+            if axisymmetric {
+                let v = vols.column(g[0]);
+                t.mass += ring.mass * v;
+                for a in 0..3 {
+                    t.momentum[a] += ring.momentum[a] * v;
+                }
+                t.energy += ring.energy * v;
             }
         });
-        let vol: f64 = self.level.geometry.spacing.iter().product();
-        t.mass *= vol;
-        t.momentum = t.momentum.map(|m| m * vol);
-        t.energy *= vol;
+        if !axisymmetric {
+            let vol: f64 = self.level.geometry.spacing.iter().product();
+            t.mass *= vol;
+            t.momentum = t.momentum.map(|m| m * vol);
+            t.energy *= vol;
+        }
         // What has left through the domain faces belongs to the total.
         let o = self.outflow_sum();
         t.mass += o.mass;

@@ -12,8 +12,8 @@ use brisance_core::{Eos, Solver, SolverError};
 use rayon::prelude::*;
 
 use super::{
-    par_cells, par_faces, par_interior, Disjoint, IceSolver, ENERGY, L_ENERGY, L_RHO, L_VEL, NL,
-    NS, TEMP, THETA, VEL, VSP,
+    book_faces, domain_face_cells, global_of, par_cells, par_faces, par_interior, Disjoint,
+    FaceBooking, IceSolver, ENERGY, L_ENERGY, L_RHO, L_VEL, NL, NS, TEMP, THETA, VEL, VSP,
 };
 use crate::diffusion::{
     apply_increment, conduction_time_step, face_coefficient, inverse_spacing_squared, stress_row,
@@ -111,14 +111,26 @@ impl<E: Eos> IceSolver<E> {
         let boundaries = &self.boundaries;
         let coefficients = &self.transport.coefficients;
         let lagrangian = &self.lagrangian;
-        self.lag
+        let axisymmetric = self.options.geometry.is_axisymmetric();
+        let booked = self.booked_faces();
+        let geometry = self.level.geometry;
+        let (r0, dr) = (self.level.geometry.origin[0], spacing[0]);
+        let booking: FaceBooking = self
+            .lag
             .par_iter_mut()
             .zip(self.transport.faces.par_iter_mut())
             .zip(self.state.par_iter())
+            .zip(self.scratch.par_iter())
             .zip(self.level.patches.par_iter())
-            .for_each(|(((lg, faces), pf), patch)| {
+            .map(|((((lg, faces), pf), sc), patch)| {
+                let mut booking: FaceBooking = Vec::new();
                 let st = patch.strides();
                 let dims = patch.dims();
+                // Axisymmetric: the centre radius of local column la, and
+                // the face weights r±/r_c.
+                let r_centre =
+                    |la: usize| r0 + ((patch.lo[0] + la) as f64 - patch.ghost[0] as f64 + 0.5) * dr;
+                let (ring_lo, ring_hi) = (&sc.ring_lo, &sc.ring_hi);
                 let d = &pf.data;
                 let mut out = [Disjoint::empty(); MAX_MATERIALS * NL];
                 for (w, f) in out.iter_mut().zip(lg.data.iter_mut()) {
@@ -198,6 +210,21 @@ impl<E: Eos> IceSolver<E> {
                                         Some(Wall::NoSlip) => {}
                                     }
                                 }
+                                if axisymmetric {
+                                    // The hoop strain rate u_r/r in the
+                                    // trace (the third diagonal entry; the
+                                    // axis face takes its limit ∂u_r/∂r).
+                                    grad[2][2] = if a == 0 {
+                                        let r_f = r_centre(la) - 0.5 * dr;
+                                        if r_f > 0.0 {
+                                            0.5 * (u[0][l] + u[0][m]) / r_f
+                                        } else {
+                                            grad[0][0]
+                                        }
+                                    } else {
+                                        0.5 * (u[0][l] + u[0][m]) / r_centre(m % dims[0])
+                                    };
+                                }
                                 traction = stress_row(mu_f, a, &grad);
                                 for j in 0..3 {
                                     flux += traction[j] * 0.5 * (u[j][l] + u[j][m]);
@@ -213,11 +240,50 @@ impl<E: Eos> IceSolver<E> {
                             fx[3].write(m, flux);
                         });
                         let lam = dt / dx;
+                        let radial = a == 0 && axisymmetric;
+                        // What the domain faces along a take: the traction's
+                        // impulse and the energy flux through them (per unit
+                        // volume of the cell at the face), so the totals
+                        // close with the walls' share booked.
+                        for face in [2 * a, 2 * a + 1] {
+                            if !booked[face] {
+                                continue;
+                            }
+                            let high = face % 2 == 1;
+                            for c in domain_face_cells(patch, cells, face) {
+                                let la = c % dims[0];
+                                let (m, w) = match (high, radial) {
+                                    (true, true) => (c + st[a], -ring_hi[la]),
+                                    (true, false) => (c + st[a], -1.0),
+                                    (false, true) => (c, ring_lo[la]),
+                                    (false, false) => (c, 1.0),
+                                };
+                                let mut q = [0.0; 5];
+                                for j in 0..3 {
+                                    q[1 + j] = w * lam * fx[j].read(m);
+                                }
+                                q[4] = w * lam * fx[3].read(m);
+                                booking.push((
+                                    geometry.linear_index(global_of(patch, c)),
+                                    face,
+                                    r,
+                                    q,
+                                ));
+                            }
+                        }
                         par_cells(patch, |c| {
                             let h = c + st[a];
-                            let dmom: [f64; 3] =
-                                std::array::from_fn(|j| lam * (fx[j].read(h) - fx[j].read(c)));
-                            let denergy = lam * (fx[3].read(h) - fx[3].read(c));
+                            // Radial faces weighted r±/r_c.
+                            let (wl, wh) = if radial {
+                                let la = c % dims[0];
+                                (ring_lo[la], ring_hi[la])
+                            } else {
+                                (1.0, 1.0)
+                            };
+                            let dmom: [f64; 3] = std::array::from_fn(|j| {
+                                lam * (wh * fx[j].read(h) - wl * fx[j].read(c))
+                            });
+                            let denergy = lam * (wh * fx[3].read(h) - wl * fx[3].read(c));
                             let rho = out[bl + L_RHO].read(c);
                             let mut vel: [f64; 3] =
                                 std::array::from_fn(|j| out[bl + L_VEL + j].read(c));
@@ -229,8 +295,39 @@ impl<E: Eos> IceSolver<E> {
                             out[bl + L_ENERGY].write(c, e);
                         });
                     }
+                    if axisymmetric && mu > 0.0 {
+                        // The hoop stress's radial force −θτ_θθ/r per unit
+                        // volume, τ_θθ = 2μ u_r/r − (2/3)μ∇·u at the cell
+                        // centre. It moves no energy across a face; the
+                        // kinetic energy it changes comes from the
+                        // internal energy (apply_increment).
+                        let (s0, s1) = (st[0], st[1]);
+                        par_cells(patch, |c| {
+                            let r_c = r_centre(c % dims[0]);
+                            let hoop = u[0][c] / r_c;
+                            let mut div = (u[0][c + s0] - u[0][c - s0]) / (2.0 * dr) + hoop;
+                            if active[1] {
+                                div += (u[1][c + s1] - u[1][c - s1]) / (2.0 * spacing[1]);
+                            }
+                            let tau = theta[c] * mu * (2.0 * hoop - 2.0 / 3.0 * div);
+                            let dmom = [-dt * tau / r_c, 0.0, 0.0];
+                            let rho = out[bl + L_RHO].read(c);
+                            let mut vel: [f64; 3] =
+                                std::array::from_fn(|j| out[bl + L_VEL + j].read(c));
+                            let mut e = out[bl + L_ENERGY].read(c);
+                            apply_increment(rho, &mut vel, &mut e, dmom, 0.0);
+                            out[bl + L_VEL].write(c, vel[0]);
+                            out[bl + L_ENERGY].write(c, e);
+                        });
+                    }
                 }
+                booking
+            })
+            .reduce(Vec::new, |mut a, b| {
+                a.extend(b);
+                a
             });
+        book_faces(booking, self.volumes(), &mut self.outflow);
     }
 
     /// The viscous and conduction limits of the time step (each times the

@@ -47,11 +47,13 @@ use faer::Side;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    for_each_cell_global, global_of, make_params, par_gather, IceSolver, NS, RHO, SOUND, THETA, VSP,
+    for_each_cell_global, global_of, make_params, par_gather, CellVolumes, IceSolver, NS, RHO,
+    SOUND, THETA, VSP,
 };
 use crate::equilibration::MAX_MATERIALS;
 use crate::exchange::momentum_exchange;
 use crate::IceBoundary;
+use brisance_core::Geometry;
 
 /// How steps 3 and 5 find the time-advanced pressure.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -269,7 +271,17 @@ fn build_pattern(
 impl ImplicitWorkspace {
     /// Writes the Helmholtz matrix's values (lower triangle) from κ and β:
     /// diagonal Σθκ/Δt + Σ_faces Δt β/Δx², off-diagonal −Δt β/Δx².
-    fn assemble(&mut self, dt: f64, spacing: [f64; 3]) {
+    ///
+    /// On an axisymmetric grid (`rings`) each row is the cell's equation
+    /// times its ring volume V, so the matrix stays symmetric: diagonal
+    /// Σθκ V/Δt + Σ_faces Δt β A_f/Δx, off-diagonal −Δt β A_f/Δx with A_f
+    /// the face's area (2π r_f Δz radially, the annulus axially), and the
+    /// right-hand side is scaled by V too ([`Self::scale_rhs`]).
+    fn assemble(&mut self, dt: f64, spacing: [f64; 3], rings: Option<CellVolumes>) {
+        if let Some(vols) = rings {
+            self.assemble_rings(dt, vols);
+            return;
+        }
         let pattern = self.pattern.as_mut().expect("pattern built");
         let val = pattern.matrix.val_mut();
         val.fill(0.0);
@@ -289,6 +301,50 @@ impl ImplicitWorkspace {
                 self.beta_hi[a][g]
             };
             val[pattern.diag[g]] += dt * beta / (spacing[a] * spacing[a]);
+        }
+    }
+
+    /// [`Self::assemble`] on an axisymmetric grid.
+    fn assemble_rings(&mut self, dt: f64, vols: CellVolumes) {
+        let pattern = self.pattern.as_mut().expect("pattern built");
+        let val = pattern.matrix.val_mut();
+        val.fill(0.0);
+        let [dr, dz, _] = vols.spacing;
+        let columns = vols.columns;
+        let r_lo = |i: usize| vols.origin + i as f64 * dr;
+        // Face area over the spacing across it, per axis and side.
+        let face = |g: usize, a: usize, side: usize| -> f64 {
+            let i = g % columns;
+            if a == 0 {
+                Geometry::Axisymmetric.x_face_area(r_lo(i + side), dz, 1.0) / dr
+            } else {
+                Geometry::Axisymmetric.y_face_area(r_lo(i), dr, 1.0) / dz
+            }
+        };
+        for (g, &k) in self.kappa.iter().enumerate() {
+            val[pattern.diag[g]] += k * vols.cell(g) / dt;
+        }
+        for &(g, h, a, s) in &pattern.couplings {
+            let c = dt * self.beta_hi[a][g] * face(g, a, 1);
+            val[pattern.diag[g]] += c;
+            val[pattern.diag[h]] += c;
+            val[s] -= c;
+        }
+        for &(g, a, side) in &pattern.dirichlet {
+            let beta = if side == 0 {
+                self.beta_lo[a][g]
+            } else {
+                self.beta_hi[a][g]
+            };
+            val[pattern.diag[g]] += dt * beta * face(g, a, side);
+        }
+    }
+
+    /// The right-hand side of an axisymmetric grid's rows, times each
+    /// cell's ring volume ([`Self::assemble`]).
+    fn scale_rhs(&mut self, vols: CellVolumes) {
+        for (g, r) in self.rhs.iter_mut().enumerate() {
+            *r *= vols.cell(g);
         }
     }
 
@@ -408,6 +464,11 @@ impl<E: Eos> IceSolver<E> {
         });
         ws.p.copy_from_slice(&ws.p_eq);
         let mut llt: Option<Llt<usize, f64>> = None;
+        let rings = self
+            .options
+            .geometry
+            .is_axisymmetric()
+            .then(|| self.volumes());
         let mut k = 0;
         loop {
             if k > 0 {
@@ -464,8 +525,11 @@ impl<E: Eos> IceSolver<E> {
                 )));
             }
             if llt.is_none() {
-                ws.assemble(dt, geometry.spacing);
+                ws.assemble(dt, geometry.spacing, rings);
                 llt = Some(ws.factorise().map_err(&fail)?);
+            }
+            if let Some(vols) = rings {
+                ws.scale_rhs(vols);
             }
             let factor = llt.as_ref().expect("factorised");
             // δp into the divergence array (not needed again this pass).

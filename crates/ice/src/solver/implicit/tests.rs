@@ -57,7 +57,7 @@ fn assembled(s: &mut IceSolver<IdealGas>, dt: f64) -> Vec<Vec<f64>> {
     ws.pattern = Some(build_pattern(s.level.geometry.cells, active, &s.boundaries).unwrap());
     ws.kappa.resize(count, 0.0);
     s.gather_coefficients(&mut ws, dt);
-    ws.assemble(dt, s.level.geometry.spacing);
+    ws.assemble(dt, s.level.geometry.spacing, None);
     let m = &ws.pattern.as_ref().unwrap().matrix;
     let (sym, val) = m.parts();
     let mut a = vec![vec![0.0; count]; count];
