@@ -2,7 +2,7 @@
 //! E-RATESTICK as functions, shared by the unit tests
 //! (reduced resolutions) and `cargo xtask validate` (full resolutions).
 
-use brisance_core::{Eos, Solver};
+use brisance_core::{Eos, Geometry, Solver};
 use brisance_eos::{EosModel, IdealGas, JwlCTerm, Murnaghan};
 use brisance_grid::Level;
 use brisance_reaction::jwlpp::{detonation_energy, JwlPlusPlus};
@@ -185,6 +185,9 @@ pub struct RateStick {
     pub kappa: f64,
     /// Largest simulated time, s.
     pub t_max: f64,
+    /// With a radius: the whole stick as rings on an (r, z) grid (the
+    /// stick along the axis y, r along x) instead of the 3D quarter.
+    pub axisymmetric: bool,
 }
 
 impl RateStick {
@@ -200,6 +203,7 @@ impl RateStick {
             arrival_pressure: 1.0e9,
             kappa: Murnaghan::anfo_k1().kappa,
             t_max: 60e-6,
+            axisymmetric: false,
         }
     }
 
@@ -221,6 +225,31 @@ impl RateStick {
             radius: Some(radius),
             air: 6e-3,
             ..Self::seed(h)
+        }
+    }
+
+    /// The same stick as [`RateStick::quarter`] on an axisymmetric (r, z)
+    /// grid: r ∈ [0, R + 6 mm] along x, the stick along y.
+    pub fn rz(h: f64, radius: f64) -> Self {
+        Self {
+            axisymmetric: true,
+            ..Self::quarter(h, radius)
+        }
+    }
+
+    /// Cells of the stick's grid.
+    pub fn cells(&self) -> [usize; 3] {
+        let n = (self.length / self.h).round() as usize;
+        match self.radius {
+            None => [n, 1, 1],
+            Some(r) => {
+                let nw = ((r + self.air) / self.h).round() as usize;
+                if self.axisymmetric {
+                    [nw, n, 1]
+                } else {
+                    [n, nw, nw]
+                }
+            }
         }
     }
 }
@@ -277,13 +306,16 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
         m.kappa = cfg.kappa;
     }
     let nx = (cfg.length / cfg.h).round() as usize;
-    let (upper, cells, n_mat) = match cfg.radius {
-        None => ([cfg.length, cfg.h, cfg.h], [nx, 1, 1], 2),
-        Some(r) => {
-            let w = r + cfg.air;
-            let nw = (w / cfg.h).round() as usize;
-            let w = nw as f64 * cfg.h;
-            ([cfg.length, w, w], [nx, nw, nw], 3)
+    let cells = cfg.cells();
+    let rz = cfg.axisymmetric && cfg.radius.is_some();
+    // The stick's axis: x, or y on an (r, z) grid.
+    let ax = usize::from(rz);
+    let (upper, n_mat) = match cfg.radius {
+        None => ([cfg.length, cfg.h, cfg.h], 2),
+        Some(_) if rz => ([cells[0] as f64 * cfg.h, cfg.length, cfg.h], 3),
+        Some(_) => {
+            let w = cells[1] as f64 * cfg.h;
+            ([cfg.length, w, w], 3)
         }
     };
     if n_mat == 3 {
@@ -305,9 +337,17 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
         IceBoundary::Symmetry
     };
     let radius = cfg.radius.unwrap_or(f64::INFINITY);
-    let mut s = IceSolver::new(
-        eos,
-        level,
+    let boundaries = if rz {
+        [
+            // The axis, and the air's outer face.
+            IceBoundary::Symmetry,
+            IceBoundary::Outflow,
+            IceBoundary::FixedVelocity([0.0; 3]),
+            IceBoundary::ZeroGradient,
+            IceBoundary::Symmetry,
+            IceBoundary::Symmetry,
+        ]
+    } else {
         [
             IceBoundary::FixedVelocity([0.0; 3]),
             // The stick continues beyond its far end and moves in through
@@ -317,11 +357,29 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
             side.clone(),
             IceBoundary::Symmetry,
             side,
-        ],
+        ]
+    };
+    let options = IceOptions {
+        geometry: if rz {
+            Geometry::Axisymmetric
+        } else {
+            Geometry::Cartesian
+        },
+        ..Default::default()
+    };
+    let mut s = IceSolver::new(
+        eos,
+        level,
+        boundaries,
         ExchangeCoefficients::uniform(n_mat, 1e15, 0.0),
-        IceOptions::default(),
+        options,
         |x| {
-            let inside = n_mat == 2 || x[1] * x[1] + x[2] * x[2] < radius * radius;
+            let r2 = if rz {
+                x[0] * x[0]
+            } else {
+                x[1] * x[1] + x[2] * x[2]
+            };
+            let inside = n_mat == 2 || r2 < radius * radius;
             let main = if inside { 0 } else { 2 };
             let v = if inside { u } else { 0.0 };
             CellState {
@@ -333,7 +391,9 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
                         } else {
                             trace
                         };
-                        mat(th, rho[k], v)
+                        let mut m = mat(th, rho[k], 0.0);
+                        m.velocity[ax] = v;
+                        m
                     })
                     .collect(),
             }
@@ -342,7 +402,8 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
     .map_err(|e| e.to_string())?;
     s.set_reactions(vec![reaction]).map_err(|e| e.to_string())?;
     let mass0 = explosive_mass(&s)?;
-    let fields = ["pressure".to_string(), "velocity_x".to_string()];
+    let along = if rz { "velocity_y" } else { "velocity_x" };
+    let fields = ["pressure".to_string(), along.to_string()];
     let mut arrival: [Option<f64>; 2] = [None; 2];
     let mut ahead: [Option<f64>; 2] = [None; 2];
     let mut ahead_sample = Vec::new();
@@ -350,7 +411,13 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
     let mut impact_pressure: f64 = 0.0;
     let mut out = Vec::new();
     let mut last = [(0.0, p0); 2];
-    let axis = |x: f64| [x, 0.5 * cfg.h, 0.5 * cfg.h];
+    let axis = |x: f64| {
+        if rz {
+            [0.5 * cfg.h, x, 0.5 * cfg.h]
+        } else {
+            [x, 0.5 * cfg.h, 0.5 * cfg.h]
+        }
+    };
     // Run on for 2 µs after the second arrival to see the peak pressure.
     while s.time() < arrival[1].map_or(cfg.t_max, |t| (t + 2e-6).min(cfg.t_max)) {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
@@ -414,8 +481,28 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
 fn explosive_mass(s: &IceSolver<EosModel>) -> Result<(f64, f64), String> {
     let f = ["density_1".to_string(), "density_2".to_string()];
     let d = s.cell_data(&f).map_err(|e| e.to_string())?;
-    let vol: f64 = s.level().geometry.spacing.iter().product();
-    let sum = |k: usize| d.fields[k].1.iter().sum::<f64>() * vol;
+    let g = s.level().geometry;
+    let sum = |k: usize| {
+        if s.options().geometry.is_axisymmetric() {
+            // Ring volumes, column by column.
+            d.fields[k]
+                .1
+                .iter()
+                .enumerate()
+                .map(|(n, rho)| {
+                    let r_lo = g.origin[0] + (n % g.cells[0]) as f64 * g.spacing[0];
+                    rho * Geometry::Axisymmetric.cell_volume(
+                        r_lo,
+                        g.spacing[0],
+                        g.spacing[1],
+                        g.spacing[2],
+                    )
+                })
+                .sum::<f64>()
+        } else {
+            d.fields[k].1.iter().sum::<f64>() * g.spacing.iter().product::<f64>()
+        }
+    };
     Ok((sum(0), sum(1)))
 }
 
@@ -451,6 +538,40 @@ mod tests {
                 );
                 assert!((r.velocity_ahead.unwrap() + 90.0).abs() < 1.0);
             }
+        }
+    }
+
+    /// The r–z sticks at one cell size (release): `cargo test --release -p
+    /// brisance-ice rz_rate_sticks -- --ignored --nocapture`, the cell size
+    /// in mm from BRISANCE_RZ_H (default 1).
+    #[test]
+    #[ignore]
+    fn rz_rate_sticks() {
+        let h = std::env::var("BRISANCE_RZ_H")
+            .ok()
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(1.0)
+            * 1e-3;
+        for radius in [4e-3, 6e-3, 8e-3, 12.5e-3, 20e-3] {
+            let t = std::time::Instant::now();
+            let r = match rate_stick(&RateStick::rz(h, radius)) {
+                Ok(r) => r,
+                Err(e) => {
+                    println!("r-z R {:.1} mm h {:.3} mm: {e}", radius * 1e3, h * 1e3);
+                    continue;
+                }
+            };
+            println!(
+                "r-z R {:.1} mm h {:.3} mm: D {:?} m/s, peak {:.2} GPa, burnt {:.3}, {} cells, {} steps, {:.1} s",
+                radius * 1e3,
+                h * 1e3,
+                r.detonation_velocity,
+                r.peak_pressure * 1e-9,
+                r.burnt_fraction,
+                r.cells,
+                r.steps,
+                t.elapsed().as_secs_f64()
+            );
         }
     }
 

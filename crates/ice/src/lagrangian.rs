@@ -2,6 +2,8 @@
 //! and the specific-volume evolution. All quantities are per unit cell
 //! volume (the seed's Δ(m)_r/V), so a cell's mass is ρ_r V.
 
+use crate::equilibration::MAX_MATERIALS;
+
 /// f_r^θ = θ_r κ_r / Σ_s θ_s κ_s (seed 000 eq 10): the share of a cell's
 /// volume change that material r takes.
 #[inline]
@@ -31,6 +33,115 @@ pub const LINEAR_COMPRESSION_LIMIT: f64 = -0.5;
 #[inline]
 pub fn bounded_compression(kappa: f64, p_eq: f64, p: f64) -> f64 {
     (-kappa * p_eq * (p / p_eq).ln()).exp() - 1.0
+}
+
+/// How a cell's volume change over a step is shared among its materials
+/// ([`volume_shares`]), per material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VolumeShares {
+    /// The share of the cell's change Δt∇·Σθ*u* each free material takes
+    /// (0 for a bounded one).
+    pub share: [f64; MAX_MATERIALS],
+    /// The volume (fraction of the cell) a bounded material loses.
+    pub bounded: [Option<f64>; MAX_MATERIALS],
+    /// v^L/v of a material whose volume changes by more than half
+    /// (bounded, or expanding beyond the limit).
+    pub large: [Option<f64>; MAX_MATERIALS],
+}
+
+/// The shares f_r^θ = θ_r κ_r / Σθκ of a cell's volume change (seed 000
+/// eq 10, `tk` the θ_r κ_r and `tk_sum` their sum), with the bound on
+/// compression: a material whose linear share x = Δt f_r ∇·Σθ*u*/θ_r
+/// (`dt`, `divergence`) falls below [`LINEAR_COMPRESSION_LIMIT`] while the
+/// pressure rises from `p_eq` to `p` loses the volume of
+/// [`bounded_compression`] instead, and the free materials share the rest
+/// in proportion to their f_r. A free material whose share of that rest
+/// would in turn remove more than the limit (a trace of air beside
+/// bounded detonation products at a few kPa: its linear share just inside
+/// the limit, its share of the rest three times its volume) is bounded
+/// too, until none is (at most one pass per material). Where every
+/// material would be bounded, the linear shares stand.
+pub fn volume_shares(
+    tk: &[f64],
+    tk_sum: f64,
+    theta: &[f64],
+    dt: f64,
+    divergence: f64,
+    p: f64,
+    p_eq: f64,
+) -> VolumeShares {
+    let n = tk.len();
+    let mut share = [0.0; MAX_MATERIALS];
+    let mut bounded = [None; MAX_MATERIALS];
+    let mut large = [None; MAX_MATERIALS];
+    let mut free_share = 0.0;
+    let mut bounded_volume = 0.0;
+    let compressed = p > p_eq && p_eq > 0.0;
+    for r in 0..n {
+        share[r] = volume_change_share(tk[r], tk_sum);
+        let x = dt * share[r] * divergence / theta[r];
+        if x < LINEAR_COMPRESSION_LIMIT && compressed {
+            let y = bounded_compression(tk[r] / theta[r], p_eq, p);
+            bounded[r] = Some(theta[r] * y);
+            large[r] = Some(1.0 + y);
+            bounded_volume += theta[r] * y;
+        } else {
+            free_share += share[r];
+            if x > -LINEAR_COMPRESSION_LIMIT && p_eq > 0.0 {
+                large[r] = Some(1.0 + x);
+            }
+        }
+    }
+    if free_share <= 0.0 {
+        // Every material bounded: the linear shares.
+        return VolumeShares {
+            share,
+            bounded: [None; MAX_MATERIALS],
+            large,
+        };
+    }
+    if bounded[..n].iter().all(|b| b.is_none()) {
+        return VolumeShares {
+            share,
+            bounded,
+            large,
+        };
+    }
+    // Only compression is bounded, so dt·div < bounded_volume < 0.
+    let mut scale = (dt * divergence - bounded_volume) / (dt * divergence);
+    for _ in 0..n {
+        let mut more = false;
+        for r in 0..n {
+            if bounded[r].is_some() {
+                continue;
+            }
+            let x = dt * share[r] / free_share * scale * divergence / theta[r];
+            if x < LINEAR_COMPRESSION_LIMIT && free_share - share[r] > 0.0 {
+                let y = bounded_compression(tk[r] / theta[r], p_eq, p);
+                bounded[r] = Some(theta[r] * y);
+                large[r] = Some(1.0 + y);
+                bounded_volume += theta[r] * y;
+                free_share -= share[r];
+                more = true;
+            }
+        }
+        scale = (dt * divergence - bounded_volume) / (dt * divergence);
+        if !more {
+            break;
+        }
+    }
+    for r in 0..n {
+        share[r] = if bounded[r].is_some() {
+            0.0
+        } else {
+            share[r] / free_share * scale
+        };
+    }
+    VolumeShares {
+        share,
+        bounded,
+        large,
+    }
 }
 
 /// Specific internal energy change, J/kg, of a material taken from
@@ -106,6 +217,61 @@ pub fn lagrangian_volume(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unbounded_shares_are_eq_10() {
+        // θκ = 1, 3: f = 0.25, 0.75; x = 1e-3·f·(−10)/θ is far from −½.
+        let v = volume_shares(&[1.0, 3.0], 4.0, &[0.5, 0.5], 1e-3, -10.0, 2.0, 1.0);
+        assert_eq!(v.share[..2], [0.25, 0.75]);
+        assert_eq!(v.bounded[..2], [None, None]);
+        assert_eq!(v.large[..2], [None, None]);
+    }
+
+    #[test]
+    fn a_trace_pushed_past_the_limit_by_the_rest_is_bounded_too() {
+        // The cell that stopped an (r, z) rate stick (R = 4 mm, h = 1 mm,
+        // t = 6.7 µs): reactant, products and a trace of air at a few kPa.
+        let tk = [
+            3.8948696623328167e-10,
+            2.420672220838459e-7,
+            1.689221005248667e-8,
+        ];
+        let theta = [
+            0.9986952596811952,
+            0.0012166911798925325,
+            8.804913905335996e-5,
+        ];
+        let (dt, div) = (1.2038007379912812e-7, -5459.50871321745);
+        let (p, p_eq) = (6257.250479713726, 3723.150611172584);
+        let sum: f64 = tk.iter().sum();
+        let v = volume_shares(&tk, sum, &theta, dt, div, p, p_eq);
+        // Linear shares: x = −0.504 for the products (bounded), −0.486 for
+        // the air (free); the air's share of what the products do not take
+        // is 2.99 times its volume: bounded in the second pass.
+        let y = |r: usize| bounded_compression(tk[r] / theta[r], p_eq, p);
+        assert!((y(1) + 0.319_257_271_774_500_6).abs() < 1e-12);
+        assert!((y(2) + 0.309_842_990_314_725).abs() < 1e-12);
+        assert_eq!(v.bounded[1], Some(theta[1] * y(1)));
+        assert_eq!(v.bounded[2], Some(theta[2] * y(2)));
+        assert_eq!(v.bounded[0], None);
+        assert_eq!((v.share[1], v.share[2]), (0.0, 0.0));
+        // The reactant takes the rest: the volumes add up to the cell's
+        // change, and every material keeps a positive volume.
+        let dv = dt * div;
+        let total = v.share[0] * dv + theta[1] * y(1) + theta[2] * y(2);
+        assert!((total - dv).abs() < 1e-14 * dv.abs(), "{total} {dv}");
+        assert!(theta[0] + v.share[0] * dv > 0.99);
+        // With the first pass alone the air would have lost 2.99 volumes.
+        let first = (tk[2] / sum) / (tk[0] / sum + tk[2] / sum) * (dv - theta[1] * y(1)) / theta[2];
+        assert!(first < -2.9, "{first}");
+    }
+
+    #[test]
+    fn where_every_material_would_be_bounded_the_linear_shares_stand() {
+        let v = volume_shares(&[1.0, 1.0], 2.0, &[0.5, 0.5], 1.0, -2.0, 3.0, 1.0);
+        assert_eq!(v.share[..2], [0.5, 0.5]);
+        assert_eq!(v.bounded[..2], [None, None]);
+    }
 
     #[test]
     fn pressure_gradient_decelerates_by_theta() {

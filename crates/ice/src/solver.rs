@@ -36,8 +36,8 @@ use crate::equilibration::{
 use crate::exchange::{heat_exchange, momentum_exchange};
 use crate::face_velocity::face_velocity;
 use crate::lagrangian::{
-    bounded_compression, isentropic_energy_change, lagrangian_energy, lagrangian_momentum,
-    lagrangian_volume, thermal_expansion_term, volume_change_share, LINEAR_COMPRESSION_LIMIT,
+    isentropic_energy_change, lagrangian_energy, lagrangian_momentum, lagrangian_volume,
+    thermal_expansion_term, volume_change_share, volume_shares, VolumeShares,
 };
 use crate::pressure::{face_pressure, pressure_increment};
 use crate::reaction::{transfer_burnt_mass, BurntMass, IceReaction, Parcel};
@@ -2606,48 +2606,14 @@ fn lagrangian_cell<E: Eos>(
         tk[r] = theta[r] * sv[b + VSP] / (cs * cs);
         tk_sum += tk[r];
     }
-    // Shares f_r^θ of the cell's volume change (eq 10). A material whose
-    // linear share would remove more than half its volume in one step (a
-    // gas trace beside a condensed phase) loses the bounded amount instead
-    // (lagrangian::bounded_compression), with the flow work of that
-    // volume; the other materials share the rest of the change in
-    // proportion to their f_r^θ. Without a bounded material the shares are
-    // f_r^θ.
-    let mut share = [0.0; MAX_MATERIALS];
-    let mut bounded = [None; MAX_MATERIALS];
-    let mut large = [None; MAX_MATERIALS];
-    let mut free_share = 0.0;
-    let mut bounded_volume = 0.0;
+    // Shares f_r^θ of the cell's volume change (eq 10), with the bound on
+    // a material's compression (lagrangian::volume_shares).
     let p_eq = sv[n * NS];
-    for r in 0..n {
-        share[r] = volume_change_share(tk[r], tk_sum);
-        let x = dt * share[r] * divergence / theta[r];
-        if x < LINEAR_COMPRESSION_LIMIT && p > p_eq && p_eq > 0.0 {
-            let y = bounded_compression(tk[r] / theta[r], p_eq, p);
-            bounded[r] = Some(theta[r] * y);
-            large[r] = Some(1.0 + y);
-            bounded_volume += theta[r] * y;
-        } else {
-            free_share += share[r];
-            if x > -LINEAR_COMPRESSION_LIMIT && p_eq > 0.0 {
-                large[r] = Some(1.0 + x);
-            }
-        }
-    }
-    let any_bounded = bounded[..n].iter().any(|b| b.is_some());
-    if free_share == 0.0 {
-        bounded = [None; MAX_MATERIALS];
-    } else if any_bounded {
-        // Only compression is bounded, so dt·div < bounded_volume < 0.
-        let scale = (dt * divergence - bounded_volume) / (dt * divergence);
-        for r in 0..n {
-            share[r] = if bounded[r].is_some() {
-                0.0
-            } else {
-                share[r] / free_share * scale
-            };
-        }
-    }
+    let VolumeShares {
+        share,
+        bounded,
+        large,
+    } = volume_shares(&tk[..n], tk_sum, &theta[..n], dt, divergence, p, p_eq);
     for r in 0..n {
         let b = r * NS;
         let u = [sv[b + VEL], sv[b + VEL + 1], sv[b + VEL + 2]];
