@@ -168,8 +168,8 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
             .then_some(
                 "the Mpm pipeline's particle reservoirs (faces `ZeroGradient`, `OutflowOnly`, `Fixed`) do not run on Axisymmetric grids yet; use `Outflow`, `Reflective` or `Wall`",
             ),
-        Pipeline::Fdm(_) | Pipeline::Ice(_) => None,
-        Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
+        Pipeline::Fdm(_) | Pipeline::Ice(_) | Pipeline::IceMpm(_) => None,
+        Pipeline::FdmMpmBridge(_) => {
             Some("this pipeline does not run Axisymmetric grids yet; use `Cartesian`")
         }
     };

@@ -178,6 +178,10 @@ struct FluidFrame<'a> {
     solids: &'a [Solid],
     burns: &'a mut [ParticleBurn],
     grid: UniformGridGeometry,
+    /// Whether the cells are (r, z) rings.
+    rz: bool,
+    /// Each cell's volume (a ring's on an axisymmetric grid), m³.
+    volumes: &'a [f64],
     s: &'a mut Scratch,
 }
 
@@ -200,6 +204,7 @@ impl FluidFrame<'_> {
         if single {
             steps::project_to_cells(
                 g,
+                self.rz,
                 &nodes.lattice,
                 &nodes.mass,
                 &nodes.velocity,
@@ -213,6 +218,7 @@ impl FluidFrame<'_> {
         } else {
             steps::nodes_to_cells(
                 g,
+                self.rz,
                 &nodes.lattice,
                 &nodes.mass,
                 &nodes.velocity,
@@ -229,6 +235,7 @@ impl FluidFrame<'_> {
             }
             steps::materials_to_cells(
                 g,
+                self.rz,
                 &nodes.lattice,
                 state,
                 self.solids.len(),
@@ -247,12 +254,12 @@ impl FluidFrame<'_> {
             }
         }
         self.ice.eulerian_velocity(&mut s.fluid_velocity);
-        let cell_volume: f64 = g.spacing.iter().product();
+        let volumes = self.volumes;
         for (solid, c) in self.solids.iter().zip(s.solids.iter_mut()) {
             let v_ref = solid.reference_volume;
             let t_ref = solid.reference_temperature;
             (
-                c.mass.par_iter(),
+                (c.mass.par_iter(), volumes.par_iter()),
                 c.state.par_iter(),
                 (s.fluid_velocity.par_iter(), s.cell_velocity.par_iter()),
                 c.trace.par_iter_mut(),
@@ -264,7 +271,7 @@ impl FluidFrame<'_> {
                 .into_par_iter()
                 .with_min_len(1024)
                 .for_each(
-                    |(m, state, (uf, uc), trace, rho_out, v_out, t_out, u_out)| {
+                    |((m, cell_volume), state, (uf, uc), trace, rho_out, v_out, t_out, u_out)| {
                         let rho = m / cell_volume;
                         let (v, t) = state.unwrap_or((v_ref, t_ref));
                         *trace = !(rho * v > TRACE_FRACTION);
@@ -284,7 +291,7 @@ impl FluidFrame<'_> {
         }
         if !single {
             self.ice.eulerian_density(&mut s.fluid_density);
-            s.mix_trace_velocities(cell_volume);
+            s.mix_trace_velocities(volumes);
         }
     }
 
@@ -295,7 +302,7 @@ impl FluidFrame<'_> {
     /// Δu_s, returned to the cell's fluids: the momentum of both frames is
     /// kept.
     fn combine_solid_changes(&mut self) {
-        let volume: f64 = self.grid.spacing.iter().product();
+        let volumes = self.volumes;
         let s = &mut *self.s;
         s.trace_momentum.fill([0.0; 3]);
         for c in &s.solids {
@@ -303,9 +310,9 @@ impl FluidFrame<'_> {
                 .par_iter_mut()
                 .zip(c.trace.par_iter())
                 .zip(c.mass_density.par_iter().zip(c.mass.par_iter()))
-                .zip(c.change.par_iter())
+                .zip(c.change.par_iter().zip(volumes.par_iter()))
                 .with_min_len(1024)
-                .for_each(|(((dp, trace), (rho, m)), du)| {
+                .for_each(|(((dp, trace), (rho, m)), (du, volume))| {
                     if *trace {
                         let excess = rho * volume - m;
                         for d in 0..3 {
@@ -344,7 +351,7 @@ impl Scratch {
     /// in a cell full of another solid the fluids are traces too, and a
     /// trace moving with them would be dragged to the solid's speed by the
     /// exchange and hand that momentum to them.
-    fn mix_trace_velocities(&mut self, cell_volume: f64) {
+    fn mix_trace_velocities(&mut self, volumes: &[f64]) {
         for s in 0..self.solids.len() {
             let mut velocity = std::mem::take(&mut self.solids[s].velocity);
             let this = &*self;
@@ -358,7 +365,7 @@ impl Scratch {
                     }
                     let present: f64 = (0..this.solids.len())
                         .filter(|&r| r != s && !this.solids[r].trace[k])
-                        .map(|r| this.solids[r].mass[k] / cell_volume)
+                        .map(|r| this.solids[r].mass[k] / volumes[k])
                         .sum();
                     if present > 0.0 {
                         let rho_f = this.fluid_density[k];
@@ -425,6 +432,7 @@ impl GridCoupling for FluidFrame<'_> {
             let s = &mut *self.s;
             steps::nodes_to_cells(
                 &g,
+                self.rz,
                 &nodes.lattice,
                 &nodes.mass,
                 &nodes.velocity_new,
@@ -442,8 +450,7 @@ impl GridCoupling for FluidFrame<'_> {
                     });
             }
             if s.solids.len() > 1 {
-                let volume: f64 = g.spacing.iter().product();
-                s.mix_trace_velocities(volume);
+                s.mix_trace_velocities(self.volumes);
             }
             for (solid, c) in self.solids.iter().zip(&s.solids) {
                 self.ice.set_lagrangian_velocity(solid.ice, &c.velocity);
@@ -460,7 +467,7 @@ impl GridCoupling for FluidFrame<'_> {
             [one] => &one.change,
             _ => &self.s.cell_change,
         };
-        steps::cells_to_nodes(&g, &nodes.lattice, change, dv);
+        steps::cells_to_nodes(&g, self.rz, &nodes.lattice, change, dv);
         Ok(())
     }
 
@@ -495,7 +502,7 @@ impl GridCoupling for FluidFrame<'_> {
         if self.burns.is_empty() {
             return Ok(());
         }
-        let g = self.grid;
+        let (g, rz) = (self.grid, self.rz);
         let mut shares = [(0usize, 0.0f64); 27];
         for b in self.burns.iter_mut() {
             b.burnt.fill(BurntMass::default());
@@ -508,7 +515,7 @@ impl GridCoupling for FluidFrame<'_> {
                 let m = particles.mass[p];
                 let mut count = 0;
                 let mut loss = 0.0;
-                steps::particle_cell_weights(&g, particles.position[p], |k, w| {
+                steps::particle_cell_weights(&g, rz, particles.position[p], |k, w| {
                     let dm = w * b.fraction[k] * m;
                     if dm > 0.0 {
                         shares[count] = (k, dm);
@@ -567,6 +574,10 @@ pub struct IceMpm {
     solids: Vec<Solid>,
     burns: Vec<ParticleBurn>,
     scratch: Scratch,
+    /// Whether the shared grid is (r, z) rings.
+    rz: bool,
+    /// Each cell's volume, m³ (global order).
+    volumes: Vec<f64>,
 }
 
 /// A checkpoint: both frames', and the reactant mass not burnt yet.
@@ -666,12 +677,28 @@ impl IceMpm {
                 })
             })
             .collect();
+        let geometry = ice.options().geometry;
+        if mpm.options().geometry != geometry {
+            return Err(IceMpmError(format!(
+                "the ICE grid is {} and the MPM grid {}: they must be the same",
+                geometry.name(),
+                mpm.options().geometry.name()
+            )));
+        }
+        let volumes = (0..cells)
+            .map(|k| {
+                let r_lo = gi.origin[0] + (k % gi.cells[0]) as f64 * gi.spacing[0];
+                geometry.cell_volume(r_lo, gi.spacing[0], gi.spacing[1], gi.spacing[2])
+            })
+            .collect();
         let mut coupled = Self {
             ice,
             mpm,
             solids: solid_list,
             burns,
             scratch: Scratch::sized(cells, solids.len()),
+            rz: geometry.is_axisymmetric(),
+            volumes,
         };
         coupled
             .fit_fluids_around_solid()
@@ -700,6 +727,8 @@ impl IceMpm {
             solids: &self.solids,
             burns: &mut self.burns,
             grid,
+            rz: self.rz,
+            volumes: &self.volumes,
             s: &mut self.scratch,
         };
         frame.project_particles_to_cells(&nodes, self.mpm.particles());
@@ -776,6 +805,8 @@ impl Solver for IceMpm {
             solids: &self.solids,
             burns: &mut self.burns,
             grid: self.mpm.level().geometry,
+            rz: self.rz,
+            volumes: &self.volumes,
             s: &mut self.scratch,
         };
         // Steps 1–11, 13 and 14 (the module doc's table).

@@ -41,19 +41,32 @@ fn active(grid: &UniformGridGeometry, d: usize) -> bool {
     grid.cells[d] > 1
 }
 
-/// The weight factor along axis `d` of global node index `i`: ½ on an
-/// active axis, 1 on a face of the domain, 1 on an inactive axis.
+/// The weight factor along axis `d` of global node index `i` for a cell of
+/// which it is the `high` corner (else the low one): ½ on an active axis,
+/// 1 on a face of the domain, 1 on an inactive axis. Along r of an
+/// axisymmetric grid (`rz`) a node's mass is split between its two cells
+/// as its tent function's ring-weighted integral is,
+/// ∫ N_i 2πr dr over each cell: ½ ∓ Δr/(6 r_i) to the inner (the node is
+/// its high corner) and the outer cell (docs/physics/couple/ice_mpm.md).
 #[inline]
-fn axis_weight(grid: &UniformGridGeometry, d: usize, i: isize) -> f64 {
+fn corner_weight(grid: &UniformGridGeometry, rz: bool, d: usize, i: isize, high: bool) -> f64 {
     if !active(grid, d) || i == 0 || i == grid.cells[d] as isize {
         1.0
+    } else if rz && d == 0 {
+        let r = grid.origin[0] + i as f64 * grid.spacing[0];
+        let x = grid.spacing[0] / (6.0 * r);
+        if high {
+            0.5 - x
+        } else {
+            0.5 + x
+        }
     } else {
         0.5
     }
 }
 
 /// The corners of cell `c` and their weights (eq 18).
-pub fn corners(grid: &UniformGridGeometry, c: [usize; 3]) -> Corners {
+pub fn corners(grid: &UniformGridGeometry, rz: bool, c: [usize; 3]) -> Corners {
     let mut out = Corners {
         node: [[0; 3]; 8],
         weight: [0.0; 8],
@@ -70,7 +83,10 @@ pub fn corners(grid: &UniformGridGeometry, c: [usize; 3]) -> Corners {
                 ];
                 let node = std::array::from_fn(|d| if active(grid, d) { node[d] } else { 0 });
                 out.node[out.count] = node;
-                out.weight[out.count] = (0..3).map(|d| axis_weight(grid, d, node[d])).product();
+                let off = [i, j, k];
+                out.weight[out.count] = (0..3)
+                    .map(|d| corner_weight(grid, rz, d, node[d], off[d] == 1))
+                    .product();
                 out.count += 1;
             }
         }
@@ -88,9 +104,12 @@ pub fn cell_of(grid: &UniformGridGeometry, k: usize) -> [usize; 3] {
 /// The corners of every cell as storage indices of a node lattice, with
 /// their weights (eq 18): the table [`corners`] gives cell by cell,
 /// without building it (the same nodes, the same order, the same weights —
-/// products of ½ and 1, exact in any order).
+/// products of ½ and 1, exact in any order; along r of an axisymmetric
+/// grid the ring weights of [`corner_weight`]).
 #[derive(Debug, Clone, Copy)]
 struct CornerWalk {
+    grid: UniformGridGeometry,
+    rz: bool,
     cells: [usize; 3],
     span: [usize; 3],
     stride: [usize; 3],
@@ -98,9 +117,11 @@ struct CornerWalk {
 }
 
 impl CornerWalk {
-    fn new(grid: &UniformGridGeometry, lattice: &NodeLattice) -> Self {
+    fn new(grid: &UniformGridGeometry, rz: bool, lattice: &NodeLattice) -> Self {
         let dims = lattice.dims;
         Self {
+            grid: *grid,
+            rz,
             cells: grid.cells,
             span: std::array::from_fn(|d| if active(grid, d) { 2 } else { 1 }),
             stride: [1, dims[0], dims[0] * dims[1]],
@@ -121,10 +142,18 @@ impl CornerWalk {
                 // Cell c's corners along d are the nodes c and c + 1; a
                 // node on a face of the domain (0 or n) weighs 1, else ½.
                 base += (c[d] as isize - self.first[d]) as usize * self.stride[d];
-                w[d] = [
-                    if c[d] == 0 { 1.0 } else { 0.5 },
-                    if c[d] + 1 == n[d] { 1.0 } else { 0.5 },
-                ];
+                w[d] = if self.rz && d == 0 {
+                    let i = c[0] as isize;
+                    [
+                        corner_weight(&self.grid, true, 0, i, false),
+                        corner_weight(&self.grid, true, 0, i + 1, true),
+                    ]
+                } else {
+                    [
+                        if c[d] == 0 { 1.0 } else { 0.5 },
+                        if c[d] + 1 == n[d] { 1.0 } else { 0.5 },
+                    ]
+                };
             } else {
                 base += (-self.first[d]) as usize * self.stride[d];
             }
@@ -201,13 +230,14 @@ fn cell_state_at(
 /// M_c = 0) from the nodal mass and velocity, cells in parallel.
 pub fn nodes_to_cells(
     grid: &UniformGridGeometry,
+    rz: bool,
     lattice: &NodeLattice,
     node_mass: &[f64],
     node_velocity: &[[f64; 3]],
     cell_mass: &mut [f64],
     cell_velocity: &mut [[f64; 3]],
 ) {
-    let walk = CornerWalk::new(grid, lattice);
+    let walk = CornerWalk::new(grid, rz, lattice);
     cell_mass
         .par_iter_mut()
         .zip(cell_velocity.par_iter_mut())
@@ -276,6 +306,7 @@ pub struct ParticleState<'a> {
 #[allow(clippy::too_many_arguments)]
 pub fn project_to_cells(
     grid: &UniformGridGeometry,
+    rz: bool,
     lattice: &NodeLattice,
     node_mass: &[f64],
     node_velocity: &[[f64; 3]],
@@ -294,7 +325,7 @@ pub fn project_to_cells(
         particles.temperature,
         node_sums,
     );
-    let walk = CornerWalk::new(grid, lattice);
+    let walk = CornerWalk::new(grid, rz, lattice);
     let node_sums = &*node_sums;
     (
         cell_mass.par_iter_mut(),
@@ -326,6 +357,7 @@ pub fn project_to_cells(
 #[allow(clippy::too_many_arguments)]
 pub fn materials_to_cells(
     grid: &UniformGridGeometry,
+    rz: bool,
     lattice: &NodeLattice,
     particles: ParticleState<'_>,
     materials: usize,
@@ -359,7 +391,7 @@ pub fn materials_to_cells(
         }
         let m = particles.mass[p];
         let own = &mut material_mass[s];
-        particle_cell_weights(grid, particles.position[p], |c, w| own[c] += w * m);
+        particle_cell_weights(grid, rz, particles.position[p], |c, w| own[c] += w * m);
     }
     // Each material's linear-weight mass becomes its share of M_c.
     let cells = cell_mass.len();
@@ -373,7 +405,7 @@ pub fn materials_to_cells(
             };
         }
     }
-    let walk = CornerWalk::new(grid, lattice);
+    let walk = CornerWalk::new(grid, rz, lattice);
     let node_sums = &*node_sums;
     for (s, state) in material_state.iter_mut().enumerate() {
         state
@@ -399,6 +431,7 @@ pub fn materials_to_cells(
 /// zero. Nodes in parallel.
 pub fn cells_to_nodes(
     grid: &UniformGridGeometry,
+    rz: bool,
     lattice: &NodeLattice,
     cell_change: &[[f64; 3]],
     node_change: &mut [[f64; 3]],
@@ -419,11 +452,16 @@ pub fn cells_to_nodes(
                     range[d] = [(node[d] - 1).max(0), node[d].min(n - 1)];
                 }
             }
-            let w: f64 = (0..3).map(|d| axis_weight(grid, d, node[d])).product();
+            let w: f64 = (1..3)
+                .map(|d| corner_weight(grid, rz, d, node[d], false))
+                .product();
             for k in range[2][0]..=range[2][1] {
                 for j in range[1][0]..=range[1][1] {
                     for i in range[0][0]..=range[0][1] {
                         let c = grid.linear_index([i as usize, j as usize, k as usize]);
+                        // Along x the node is the high corner of cell
+                        // node − 1 and the low corner of cell node.
+                        let w = w * corner_weight(grid, rz, 0, node[0], i < node[0]);
                         for d in 0..3 {
                             dv[d] += w * cell_change[c][d];
                         }
@@ -441,6 +479,7 @@ pub fn cells_to_nodes(
 /// with a positive weight, x fastest.
 pub fn particle_cell_weights(
     grid: &UniformGridGeometry,
+    rz: bool,
     x: [f64; 3],
     mut f: impl FnMut(usize, f64),
 ) {
@@ -465,7 +504,11 @@ pub fn particle_cell_weights(
             } else if i == n {
                 [(n - 1, 1.0), (n - 1, 0.0)]
             } else {
-                [(i - 1, 0.5), (i, 0.5)]
+                let ii = i as isize;
+                [
+                    (i - 1, corner_weight(grid, rz, d, ii, true)),
+                    (i, corner_weight(grid, rz, d, ii, false)),
+                ]
             }
         };
         let lo = i0.saturating_sub(1);
@@ -561,10 +604,10 @@ mod tests {
     #[test]
     fn interior_weights_are_an_eighth_and_face_nodes_count_double() {
         let g = grid([4, 4, 4]);
-        let cs = corners(&g, [1, 1, 1]);
+        let cs = corners(&g, false, [1, 1, 1]);
         assert_eq!(cs.count, 8);
         assert!(cs.weight.iter().all(|&w| w == 0.125));
-        let cs = corners(&g, [0, 1, 1]);
+        let cs = corners(&g, false, [0, 1, 1]);
         // Four corners on the x = 0 face.
         let on_face: Vec<f64> = (0..8)
             .filter(|&s| cs.node[s][0] == 0)
@@ -573,7 +616,7 @@ mod tests {
         assert_eq!(on_face, vec![0.25; 4]);
         // A 2D grid: 4 corners of weight 1/4 inside.
         let g2 = grid([4, 4, 1]);
-        let cs = corners(&g2, [1, 2, 0]);
+        let cs = corners(&g2, false, [1, 2, 0]);
         assert_eq!(cs.count, 4);
         assert!(cs.weight[..4].iter().all(|&w| w == 0.25));
         assert!(cs.node[..4].iter().all(|n| n[2] == 0));
@@ -602,7 +645,7 @@ mod tests {
         let vel = vec![[1.0, -2.0, 0.5]; lat.len()];
         let mut cm = vec![0.0; g.cell_count()];
         let mut cu = vec![[0.0; 3]; g.cell_count()];
-        nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+        nodes_to_cells(&g, false, &lat, &mass, &vel, &mut cm, &mut cu);
         for k in 0..g.cell_count() {
             assert!((cm[k] - m_cell).abs() < 1e-14, "cell {k}: {}", cm[k]);
             assert_eq!(cu[k], [1.0, -2.0, 0.5]);
@@ -625,16 +668,122 @@ mod tests {
             let vel = vec![[0.0; 3]; lat.len()];
             let mut cm = vec![0.0; g.cell_count()];
             let mut cu = vec![[0.0; 3]; g.cell_count()];
-            nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+            nodes_to_cells(&g, false, &lat, &mass, &vel, &mut cm, &mut cu);
             let du: Vec<[f64; 3]> = (0..g.cell_count()).map(|_| [rnd() - 0.5, rnd(), -rnd()]).collect();
             let mut dv = vec![[0.0; 3]; lat.len()];
-            cells_to_nodes(&g, &lat, &du, &mut dv);
+            cells_to_nodes(&g, false, &lat, &du, &mut dv);
             for d in 0..3 {
                 let cells: f64 = (0..g.cell_count()).map(|k| cm[k] * du[k][d]).sum();
                 let nodes: f64 = (0..lat.len()).map(|i| mass[i] * dv[i][d]).sum();
                 prop_assert!((cells - nodes).abs() <= 1e-12 * cells.abs().max(1.0));
             }
         });
+    }
+
+    /// Ring (r, z) grid: nodes carrying the tent integrals of a uniform
+    /// density, m_i = ρ ∫ N_i 2πr dr Δz (2πρΔr²Δz/6 on the axis, 2πρ r_i
+    /// Δr Δz inside, πρ Δr (R − Δr/3) Δz at r = R), give every ring its
+    /// mass ρπ(r₊² − r₋²)Δz, the axis ring included, and the uniform
+    /// velocity.
+    #[test]
+    fn rings_of_uniform_density_get_their_ring_mass() {
+        use std::f64::consts::PI;
+        for origin in [0.0, 0.75] {
+            let g = UniformGridGeometry {
+                origin: [origin, 0.0, 0.0],
+                spacing: [0.5, 0.25, 1.0],
+                cells: [5, 3, 1],
+            };
+            let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+            let (dr, dz, rho) = (0.5, 0.25, 3.0);
+            let r_max = origin + 5.0 * dr;
+            let mut mass = vec![0.0; lat.len()];
+            for (idx, m) in mass.iter_mut().enumerate() {
+                let n = lat.node(idx);
+                if n[0] < 0 || n[0] > 5 || n[1] < 0 || n[1] > 3 {
+                    continue;
+                }
+                let r = origin + n[0] as f64 * dr;
+                // ∫ N_i r dr over the part of the tent inside [origin, R].
+                let radial = if n[0] == 0 {
+                    dr * (r / 2.0 + dr / 6.0)
+                } else if n[0] == 5 {
+                    dr * (r_max / 2.0 - dr / 6.0)
+                } else {
+                    r * dr
+                };
+                let axial = if n[1] == 0 || n[1] == 3 { 0.5 } else { 1.0 };
+                *m = rho * 2.0 * PI * radial * axial * dz;
+            }
+            let vel = vec![[1.0, -2.0, 0.0]; lat.len()];
+            let mut cm = vec![0.0; g.cell_count()];
+            let mut cu = vec![[0.0; 3]; g.cell_count()];
+            nodes_to_cells(&g, true, &lat, &mass, &vel, &mut cm, &mut cu);
+            for k in 0..g.cell_count() {
+                let i = k % 5;
+                let r_lo = origin + i as f64 * dr;
+                let want = rho * PI * ((r_lo + dr).powi(2) - r_lo * r_lo) * dz;
+                assert!(
+                    (cm[k] / want - 1.0).abs() < 1e-14,
+                    "{origin} cell {k}: {} vs {want}",
+                    cm[k]
+                );
+                for d in 0..3 {
+                    assert!((cu[k][d] - [1.0, -2.0, 0.0][d]).abs() < 1e-14);
+                }
+            }
+        }
+    }
+
+    /// On rings too, step 13 hands the nodes the cells' momentum and a
+    /// uniform change whole; a particle's cell weights sum to 1.
+    #[test]
+    fn ring_weights_keep_momentum_and_a_uniform_change() {
+        let g = UniformGridGeometry {
+            origin: [0.0; 3],
+            spacing: [0.5, 0.25, 1.0],
+            cells: [6, 4, 1],
+        };
+        let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+        let mass: Vec<f64> = (0..lat.len()).map(|i| 1.0 + (i % 7) as f64).collect();
+        let vel = vec![[0.0; 3]; lat.len()];
+        let mut cm = vec![0.0; g.cell_count()];
+        let mut cu = vec![[0.0; 3]; g.cell_count()];
+        nodes_to_cells(&g, true, &lat, &mass, &vel, &mut cm, &mut cu);
+        let du: Vec<[f64; 3]> = (0..g.cell_count())
+            .map(|k| [(k % 5) as f64 - 2.0, 0.5 * (k % 3) as f64, 0.0])
+            .collect();
+        let mut dv = vec![[0.0; 3]; lat.len()];
+        cells_to_nodes(&g, true, &lat, &du, &mut dv);
+        for d in 0..2 {
+            let cells: f64 = (0..g.cell_count()).map(|k| cm[k] * du[k][d]).sum();
+            let nodes: f64 = (0..lat.len()).map(|i| mass[i] * dv[i][d]).sum();
+            assert!(
+                (cells - nodes).abs() <= 1e-12 * cells.abs().max(1.0),
+                "{cells} {nodes}"
+            );
+        }
+        let uniform = vec![[0.5, -1.0, 0.0]; g.cell_count()];
+        cells_to_nodes(&g, true, &lat, &uniform, &mut dv);
+        for (idx, v) in dv.iter().enumerate() {
+            let n = lat.node(idx);
+            if (0..=6).contains(&n[0]) && (0..=4).contains(&n[1]) {
+                assert!(
+                    (v[0] - 0.5).abs() < 1e-14 && (v[1] + 1.0).abs() < 1e-14,
+                    "{n:?} {v:?}"
+                );
+            }
+        }
+        for x in [
+            [0.1, 0.3, 0.0],
+            [0.5, 0.6, 0.0],
+            [1.37, 0.01, 0.0],
+            [2.99, 0.99, 0.0],
+        ] {
+            let mut sum = 0.0;
+            particle_cell_weights(&g, true, x, |_, w| sum += w);
+            assert!((sum - 1.0).abs() < 1e-14, "{x:?}: {sum}");
+        }
     }
 
     /// A uniform cell change reaches every node whole, on faces and edges.
@@ -645,7 +794,7 @@ mod tests {
             let lat = NodeLattice::new(&g, ShapeFunction::Linear);
             let du = vec![[0.5, -1.0, 2.0]; g.cell_count()];
             let mut dv = vec![[0.0; 3]; lat.len()];
-            cells_to_nodes(&g, &lat, &du, &mut dv);
+            cells_to_nodes(&g, false, &lat, &du, &mut dv);
             for v in dv {
                 for d in 0..3 {
                     assert!((v[d] - du[0][d]).abs() < 1e-14, "{cells:?}: {v:?}");
@@ -724,11 +873,12 @@ mod tests {
             let (mass, vel, pos, pm, pv, pt) = random_case(&g, &lat, 7);
             let nc = g.cell_count();
             let (mut cm, mut cu) = (vec![0.0; nc], vec![[0.0; 3]; nc]);
-            nodes_to_cells(&g, &lat, &mass, &vel, &mut cm, &mut cu);
+            nodes_to_cells(&g, false, &lat, &mass, &vel, &mut cm, &mut cu);
             let (mut fm, mut fu, mut state) = (vec![0.0; nc], vec![[0.0; 3]; nc], vec![None; nc]);
             let mut sums = Vec::new();
             project_to_cells(
                 &g,
+                false,
                 &lat,
                 &mass,
                 &vel,
@@ -745,7 +895,7 @@ mod tests {
                 &mut state,
             );
             for k in 0..nc {
-                let cs = corners(&g, cell_of(&g, k));
+                let cs = corners(&g, false, cell_of(&g, k));
                 let (mut m, mut mom, mut s) = (0.0, [0.0; 3], [0.0; 3]);
                 for c in 0..cs.count {
                     let i = lat.index(cs.node[c]).unwrap();
@@ -788,6 +938,7 @@ mod tests {
                 let mut sums = Vec::new();
                 project_to_cells(
                     &g,
+                    false,
                     &lat,
                     &mass,
                     &vel,
@@ -804,7 +955,7 @@ mod tests {
                     &mut st,
                 );
                 let mut dv = vec![[0.0; 3]; lat.len()];
-                cells_to_nodes(&g, &lat, &u, &mut dv);
+                cells_to_nodes(&g, false, &lat, &u, &mut dv);
                 let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
                     v.iter().map(|x| x.map(f64::to_bits)).collect()
                 };
@@ -830,6 +981,7 @@ mod tests {
         let (mut m, mut u, mut state) = (vec![0.0; 4], vec![[0.0; 3]; 4], vec![None; 4]);
         project_to_cells(
             &g,
+            false,
             &lat,
             &vec![0.0; lat.len()],
             &vec![[0.0; 3]; lat.len()],
@@ -869,6 +1021,7 @@ mod tests {
         let mut state = vec![vec![None; 4]; 2];
         materials_to_cells(
             &g,
+            false,
             &lat,
             ParticleState {
                 position: &pos,
@@ -924,6 +1077,7 @@ mod tests {
         let cell_mass = [1.0, 2.0, 1.0, 3.0];
         materials_to_cells(
             &g,
+            false,
             &lat,
             ParticleState {
                 position: &[[0.75, 0.1, 0.5]],
@@ -962,7 +1116,7 @@ mod tests {
         let g = grid([4, 1, 1]);
         let collect = |x: f64| {
             let mut w = vec![0.0; 4];
-            particle_cell_weights(&g, [x, 0.1, 0.5], |c, v| w[c] += v);
+            particle_cell_weights(&g, false, [x, 0.1, 0.5], |c, v| w[c] += v);
             w
         };
         let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-15);
@@ -992,7 +1146,7 @@ mod tests {
         proptest!(|(x in 0.0..2.5f64, y in 0.0..1.0f64, z in 0.0..3.0f64)| {
             let field = |c: usize| (c as f64 * 0.37).sin();
             let mut weights = Vec::new();
-            particle_cell_weights(&g, [x, y, z], |c, w| weights.push((c, w)));
+            particle_cell_weights(&g, false, [x, y, z], |c, w| weights.push((c, w)));
             prop_assert!(weights.len() <= 27 && weights.iter().all(|x| x.1 > 0.0));
             let sum: f64 = weights.iter().map(|x| x.1).sum();
             prop_assert!((sum - 1.0).abs() < 1e-14);
@@ -1021,7 +1175,7 @@ mod tests {
         for k in 0..g.cells[2] {
             for j in 0..g.cells[1] {
                 for i in 0..g.cells[0] {
-                    let c = corners(g, [i, j, k]);
+                    let c = corners(g, false, [i, j, k]);
                     for q in 0..c.count {
                         if c.node[q] == node.map(|x| x as isize) {
                             out.push((g.linear_index([i, j, k]), c.weight[q]));
