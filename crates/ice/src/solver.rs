@@ -34,7 +34,7 @@ use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
 use crate::exchange::{heat_exchange, momentum_exchange};
-use crate::face_velocity::face_velocity;
+use crate::face_velocity::{face_velocity_damped, pressure_term_time};
 use crate::lagrangian::{
     isentropic_energy_change, lagrangian_energy, lagrangian_momentum, lagrangian_volume,
     thermal_expansion_term, volume_change_share, volume_shares, VolumeShares,
@@ -127,8 +127,15 @@ pub struct IceOptions {
     /// material-velocity CFL). Explicit by default.
     pub pressure: PressureSolve,
     /// Cartesian cells (the default) or axisymmetric (r, z) rings: x is
-    /// the radius, y the axis, one cell along z (docs/physics/ice/axisymmetric.md).
+    /// the radius, y the axis, one cell along z (docs/physics/axisymmetric.md,
+    /// "The ICE in r–z").
     pub geometry: Geometry,
+    /// ν* in [0, 1]: the explicit step 3 takes eq 19's pressure term over
+    /// a Courant-ν* step when ν* > `cfl`
+    /// ([`crate::face_velocity::pressure_term_time`]), so that its damping
+    /// of shocks does not fade with Δt. 0 (default): eq 19 as printed.
+    /// Ignored with the implicit pressure.
+    pub face_pressure_courant: f64,
 }
 
 impl Default for IceOptions {
@@ -143,6 +150,7 @@ impl Default for IceOptions {
             fixed_energy_equilibration: false,
             pressure: PressureSolve::Explicit,
             geometry: Geometry::Cartesian,
+            face_pressure_courant: 0.0,
         }
     }
 }
@@ -736,6 +744,12 @@ impl<E: Eos> IceSolver<E> {
             return Err(IceError::Invalid(format!(
                 "ice: field `cfl` = {}, expected a value in (0, 1]",
                 options.cfl
+            )));
+        }
+        if !(0.0..=1.0).contains(&options.face_pressure_courant) {
+            return Err(IceError::Invalid(format!(
+                "ice: field `face_pressure_courant` = {}, expected a value in [0, 1]",
+                options.face_pressure_courant
             )));
         }
         if let PressureSolve::Implicit(s) = options.pressure {
@@ -1633,6 +1647,14 @@ impl<E: Eos> IceSolver<E> {
         // Faces whose diode held back an inflow this step (any order of
         // setting gives the same flags).
         let blocked: [AtomicBool; 6] = Default::default();
+        // Eq 19's pressure term over a Courant-ν* step (explicit pressure
+        // only: the implicit step's Δt is not an acoustic one).
+        let dt_p = match self.options.pressure {
+            PressureSolve::Explicit => {
+                pressure_term_time(dt, self.options.cfl, self.options.face_pressure_courant)
+            }
+            PressureSolve::Implicit(_) => dt,
+        };
         self.scratch
             .par_iter_mut()
             .zip(self.state.par_iter())
@@ -1701,7 +1723,7 @@ impl<E: Eos> IceSolver<E> {
                         let (p_l, p_c) = (pe[l], pe[c]);
                         for r in 0..n {
                             let (rho, th) = (rho_s[r], th_s[r]);
-                            u[r][0] = face_velocity(
+                            u[r][0] = face_velocity_damped(
                                 rho[l],
                                 vel_s[r][l],
                                 vsp_s[r][l],
@@ -1711,6 +1733,7 @@ impl<E: Eos> IceSolver<E> {
                                 vsp_s[r][c],
                                 p_c,
                                 dt,
+                                dt_p,
                                 dx,
                                 g,
                             );

@@ -392,6 +392,26 @@ fn bad_input_is_refused_with_the_field_named() {
     };
     assert!(make(0.2, 0.4).contains("volume fractions sum"));
     assert!(make(0.5, 1.5).contains("cfl"));
+    for nu in [-0.1, 1.5, f64::NAN] {
+        let e = IceSolver::new(
+            two_gases(),
+            level.clone(),
+            std::array::from_fn(|_| IceBoundary::Outflow),
+            ExchangeCoefficients::uniform(2, 1e15, 0.0),
+            IceOptions {
+                face_pressure_courant: nu,
+                ..Default::default()
+            },
+            move |_| CellState {
+                pressure: 1e5,
+                materials: vec![mat(0.5, 1.0, 0.0), mat(0.5, 1.0, 0.0)],
+            },
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("face_pressure_courant"), "{e}");
+    }
 }
 
 #[test]
