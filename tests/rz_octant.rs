@@ -104,7 +104,7 @@ fn v_rz_ice_sphere_on_the_axis_blasts_as_on_the_3d_octant_fine() {
 
 #[test]
 fn v_rz_ice_sphere_on_the_axis_blasts_about_as_on_the_3d_octant() {
-    // What does hold at h = 1/40 (the 3D octant 64 000 cells; some 8 s in
+    // What does hold at h = 1/40 (the 3D octant 64 000 cells; 5–8 s in
     // the test profile): the arrivals and shock positions within 1 % (the
     // target; measured within 0.6 %), the peaks within 3 % (measured up to
     // 2.3 %; the two tests above say where 1 % is missed).
