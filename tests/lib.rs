@@ -9,6 +9,7 @@ mod e_freeair;
 mod open_faces;
 mod particle_gauges;
 mod restart;
+mod rz_octant;
 mod surface_loads;
 mod v_bar;
 mod v_shock_tubes;

@@ -6,6 +6,7 @@ pub mod cases;
 pub mod kingery_bulmash;
 pub mod open_faces;
 pub mod riemann;
+pub mod rz_octant;
 pub mod shock_tubes;
 pub mod smooth;
 pub mod taylor;

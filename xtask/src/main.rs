@@ -18,6 +18,7 @@ mod mpm_throughput;
 mod pd_cases;
 mod plate_cases;
 mod plot;
+mod rz_cases;
 mod shock_tubes;
 mod slab_cases;
 mod splice;
@@ -776,7 +777,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 28] = [
+const CASES: [&str; 29] = [
     "sod",
     "sod-ice",
     "shocktubes",
@@ -791,6 +792,7 @@ const CASES: [&str; 28] = [
     "bar",
     "sod-mpm",
     "taylor",
+    "rz",
     "pd-cyl",
     "pd-frag",
     "osc",
@@ -875,6 +877,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("taylor") {
         taylor::v_taylor(&mut body, &img)?;
+    }
+    if run("rz") {
+        rz_cases::v_rz(&mut body)?;
     }
     if run("pd-cyl") {
         pd_cases::e_pd_cyl(&mut body, &img)?;
