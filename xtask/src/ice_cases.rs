@@ -758,6 +758,192 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The radii of the seed's sticks run in r–z (seed 000 §5.1: 4, 6, 8,
+/// 12.5, 20 mm), m.
+const RZ_RADII: [f64; 5] = [4e-3, 6e-3, 8e-3, 12.5e-3, 20e-3];
+
+/// The cell sizes of the r–z sticks, m.
+const RZ_H: [f64; 3] = [1e-3, 0.5e-3, 0.25e-3];
+
+/// E-RATESTICK-RZ section: the seed's sticks (10 cm, R = 4–20 mm, 6 mm of
+/// air, 90 m/s impact) on axisymmetric (r, z) grids at h = 1, 0.5 and
+/// 0.25 mm (`brisance::ice::cases::RateStick::rz`), D(1/R) per h beside
+/// the LLNL parabola, the seed's computed points and the 3D quarter
+/// sticks of E-RATESTICK.
+pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
+    use brisance::ice::cases::RateStick;
+    println!("E-RATESTICK-RZ: ANFO-K1 JWL++ rate sticks on (r, z) grids");
+    let llnl = quadratic_fit(&LLNL_ANFO_K1).ok_or_else(|| anyhow::anyhow!("LLNL fit"))?;
+    let parabola = |x: f64| llnl[0] + llnl[1] * x + llnl[2] * x * x;
+    let x_max = LLNL_ANFO_K1.iter().map(|p| p.0).fold(0.0, f64::max);
+    // runs[h][radius]
+    let mut runs: Vec<Vec<Option<StickRun>>> = Vec::new();
+    for &h in &RZ_H {
+        let mut row = Vec::new();
+        for &r in &RZ_RADII {
+            let label = format!("r-z stick R = {:.1} mm", r * 1e3);
+            row.push(match run_stick(&label, &RateStick::rz(h, r)) {
+                Ok(x) => Some(x),
+                Err(e) => {
+                    println!("  {label} h {:.2} mm: {e}", h * 1e3);
+                    None
+                }
+            });
+        }
+        runs.push(row);
+    }
+    let d_of = |x: &Option<StickRun>| x.as_ref().and_then(|r| r.result.detonation_velocity);
+    let _ = writeln!(
+        report.md,
+        "## E-RATESTICK-RZ — the rate sticks on (r, z) grids\n\n\
+         The sticks of E-RATESTICK (same ANFO-K1 JWL++ model, 10 cm long, radius R in 6 mm of air, \
+         the explosive moving at 90 m/s onto a wall, D from the axis gauges at 6 and 9 cm into the \
+         unreacted explosive) as rings on an axisymmetric grid (`RateStick::rz`, x = r with the axis \
+         a symmetry face, y along the stick; docs/physics/axisymmetric.md, \"The ICE in r–z\"), \
+         at h = 1, 0.5 and 0.25 mm: 1000 to 41 600 rings, seconds to minutes a stick where \
+         the 3D quarter takes minutes to hours. \"none\": the wave died out before the second gauge \
+         (the explosive still moving into the wall). LLNL: the parabola fitted to the measurements \
+         (E-RATESTICK), only inside their range (1/R ≤ {x_max:.3} 1/mm).\n"
+    );
+    let mut head = String::from("| R (mm) | 1/R (1/mm) |");
+    let mut rule = String::from("|---:|---:|");
+    for &h in &RZ_H {
+        head.push_str(&format!(" D, h = {} mm (m/s) |", h * 1e3));
+        rule.push_str("---:|");
+    }
+    head.push_str(
+        " change 0.5 → 0.25 mm | LLNL parabola (m/s) | finest vs LLNL | seed 000 Fig. 3 |",
+    );
+    rule.push_str("---:|---:|---:|---|");
+    let _ = writeln!(report.md, "{head}\n{rule}");
+    let fig3 = |x: f64| {
+        SEED_000_FIG3
+            .iter()
+            .find(|p| (p.0 - x).abs() < 0.006 && p.0 > 0.0)
+            .map_or("—".to_string(), |p| format!("{:.0}", p.1))
+    };
+    let last = RZ_H.len() - 1;
+    for (k, &r) in RZ_RADII.iter().enumerate() {
+        let x = 1.0 / (r * 1e3);
+        let mut line = format!("| {:.1} | {x:.4} |", r * 1e3);
+        for row in &runs {
+            line.push_str(&match d_of(&row[k]) {
+                Some(d) => format!(" {d:.0} |"),
+                None => " none |".to_string(),
+            });
+        }
+        let change = match (d_of(&runs[last - 1][k]), d_of(&runs[last][k])) {
+            (Some(a), Some(b)) => format!("{:+.1} %", 100.0 * (b / a - 1.0)),
+            _ => "—".into(),
+        };
+        let (llnl_d, vs) = if x <= x_max {
+            let p = parabola(x);
+            (
+                format!("{p:.0}"),
+                d_of(&runs[last][k])
+                    .map_or("—".into(), |d| format!("{:+.1} %", 100.0 * (d / p - 1.0))),
+            )
+        } else {
+            ("outside the data".into(), "—".into())
+        };
+        let _ = writeln!(
+            report.md,
+            "{line} {change} | {llnl_d} | {vs} | {} |",
+            fig3(x)
+        );
+    }
+    let _ = writeln!(report.md, "\n| run | h (mm) | rings | steps | peak p at gauge 2 (GPa) | burnt | wall (s) |\n|---|---:|---:|---:|---:|---:|---:|");
+    for (row, &h) in runs.iter().zip(&RZ_H) {
+        for x in row.iter().flatten() {
+            let _ = writeln!(
+                report.md,
+                "| {} | {:.2} | {} | {} | {:.2} | {:.3} | {:.1} |",
+                x.label,
+                h * 1e3,
+                x.result.cells,
+                x.result.steps,
+                x.result.peak_pressure / 1e9,
+                x.result.burnt_fraction,
+                x.wall
+            );
+        }
+    }
+    let _ = writeln!(
+        report.md,
+        "\n![E-RATESTICK-RZ](img/e_ratestick_rz.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (k, &r) in RZ_RADII.iter().enumerate() {
+        if r < 6e-3 {
+            continue;
+        }
+        let (a, b) = (d_of(&runs[last - 1][k]), d_of(&runs[last][k]));
+        let v = a.zip(b).map(|(a, b)| b / a - 1.0);
+        report.target(
+            &format!(
+                "E-RATESTICK-RZ D change 0.5 → 0.25 mm, R = {:.1} mm",
+                r * 1e3
+            ),
+            v.map_or("no detonation".into(), |v| format!("{:+.2} %", 100.0 * v)),
+            "within ±2 %",
+            v.is_some_and(|v| v.abs() <= 0.02),
+        );
+    }
+    for (k, &r) in RZ_RADII.iter().enumerate() {
+        let x = 1.0 / (r * 1e3);
+        if r < 8e-3 || x > x_max {
+            continue;
+        }
+        let v = d_of(&runs[last][k]).map(|d| d / parabola(x) - 1.0);
+        report.target(
+            &format!(
+                "E-RATESTICK-RZ D vs LLNL parabola at h = 0.25 mm, R = {:.1} mm",
+                r * 1e3
+            ),
+            v.map_or("no detonation".into(), |v| format!("{:+.2} %", 100.0 * v)),
+            "within ±3 %",
+            v.is_some_and(|v| v.abs() <= 0.03),
+        );
+    }
+    let _ = writeln!(report.md);
+    let labels = ["r–z, h = 1 mm", "r–z, h = 0.5 mm", "r–z, h = 0.25 mm"];
+    let mut xs: Vec<Vec<f64>> = Vec::new();
+    let mut ys: Vec<Vec<f64>> = Vec::new();
+    for row in &runs {
+        let (x, y): (Vec<f64>, Vec<f64>) = RZ_RADII
+            .iter()
+            .zip(row)
+            .filter_map(|(&r, s)| d_of(s).map(|d| (1.0 / (r * 1e3), d)))
+            .unzip();
+        xs.push(x);
+        ys.push(y);
+    }
+    let (llnl_x, llnl_y): (Vec<f64>, Vec<f64>) = LLNL_ANFO_K1.iter().copied().unzip();
+    let mut series = vec![Series {
+        label: "LLNL experiments (Souers et al. 2000)",
+        x: &llnl_x,
+        y: &llnl_y,
+        style: SeriesStyle::Points,
+    }];
+    for ((label, x), y) in labels.iter().zip(&xs).zip(&ys) {
+        series.push(Series {
+            label,
+            x,
+            y,
+            style: SeriesStyle::Points,
+        });
+    }
+    plot::plot_panels(
+        &img.join("e_ratestick_rz.png"),
+        "E-RATESTICK-RZ: ANFO-K1 rate sticks on (r, z) grids",
+        "1/R (1/mm)",
+        &[Panel {
+            y_label: "D (m/s)",
+            series,
+        }],
+    )?;
+    Ok(())
+}
+
 /// V-WATER-AIR-ICE section: the stiffened-gas water–air tube
 /// (`brisance::ice::water_air`) against its exact solution at 100, 200 and
 /// 400 cells; a run that stops is reported with the solver's message.

@@ -777,11 +777,12 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 29] = [
+const CASES: [&str; 30] = [
     "sod",
     "sod-ice",
     "shocktubes",
     "ratestick",
+    "ratestick-rz",
     "water-air-ice",
     "ice-diffusion",
     "ice-implicit",
@@ -846,6 +847,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("ratestick") {
         ice_cases::e_ratestick(&mut body, &img)?;
+    }
+    if run("ratestick-rz") {
+        ice_cases::e_ratestick_rz(&mut body, &img)?;
     }
     if run("water-air-ice") {
         ice_cases::v_water_air_ice(&mut body, &img)?;
