@@ -2485,6 +2485,46 @@ fn kept_warm<E: Eos>(eos: &E, rho: f64, e: f64, t_keep: f64) -> (f64, f64) {
     }
 }
 
+/// Volume share below which a fluid is a trace for [`trace_temperature`].
+const THERMAL_TRACE: f64 = 1e-4;
+
+/// In a cell the particles fill (their materials' share of the volume
+/// above 1 − [`THERMAL_TRACE`]), a fluid of share below
+/// [`THERMAL_TRACE`] takes the particles' mass-weighted temperature
+/// (flagged in `thermal`): the trace inside a solid is in the solid's
+/// heat bath, as Uintah's heat exchange keeps it. Without this the step
+/// ratchets it: the solid's compression heats it in steps 8–11, step 2's
+/// rescale gives it back its volume by its mass and not by expanding it,
+/// and it reached 10⁶ K, its sound speed collapsing the time step
+/// (docs/physics/couple/ice_mpm.md). `rho` are the densities over the
+/// materials' total volume.
+fn trace_temperature<E: Eos>(
+    params: &Params<'_, E>,
+    vals: &[f64],
+    rho: &[f64],
+    temp: &mut [f64],
+    thermal: &mut [bool; MAX_MATERIALS],
+) {
+    let n = rho.len();
+    let share = |r: usize| rho[r] * vals[r * NS + VSP];
+    let (mut solid, mut m, mut mt) = (0.0, 0.0, 0.0);
+    for r in (0..n).filter(|&r| params.lagrangian[r]) {
+        solid += share(r);
+        m += rho[r];
+        mt += rho[r] * temp[r];
+    }
+    if !(solid > 1.0 - THERMAL_TRACE && m > 0.0 && mt > 0.0) {
+        return;
+    }
+    let t = mt / m;
+    for r in (0..n).filter(|&r| !params.lagrangian[r]) {
+        if share(r) < THERMAL_TRACE {
+            temp[r] = t;
+            thermal[r] = true;
+        }
+    }
+}
+
 fn equilibrate_cell<E: Eos>(
     params: &Params<'_, E>,
     vals: &mut [f64],
@@ -2494,6 +2534,7 @@ fn equilibrate_cell<E: Eos>(
     let mut temp = [0.0; MAX_MATERIALS];
     let mut vsp = [0.0; MAX_MATERIALS];
     let mut theta = [0.0; MAX_MATERIALS];
+    let mut thermal_trace = [false; MAX_MATERIALS];
     for r in 0..n {
         let b = r * NS;
         rho[r] = vals[b + RHO];
@@ -2511,6 +2552,9 @@ fn equilibrate_cell<E: Eos>(
                 *x /= total;
             }
         }
+        // A fluid trace inside a cell the particles fill takes their
+        // temperature (trace_temperature).
+        trace_temperature(params, vals, &rho[..n], &mut temp[..n], &mut thermal_trace);
     }
     let (p, rep) = if params.options.fixed_energy_equilibration {
         let mut energy = [0.0; MAX_MATERIALS];
@@ -2548,7 +2592,12 @@ fn equilibrate_cell<E: Eos>(
         // fall below its 0 K energy (its cold energy rises). It keeps the
         // temperature the equilibration found its volume at instead — the
         // temperature Uintah's equilibration holds.
-        let (e, t_new) = if temp[r] > 0.0 {
+        let (e, t_new) = if thermal_trace[r] {
+            (
+                params.eos[r].specific_internal_energy_from_temperature(rho_micro, temp[r]),
+                temp[r],
+            )
+        } else if temp[r] > 0.0 {
             kept_warm(&params.eos[r], rho_micro, vals[b + ENERGY], temp[r])
         } else {
             let e = vals[b + ENERGY];
