@@ -233,7 +233,12 @@ fn at_one_millimetre_the_traces_in_the_copper_do_not_stop_the_cylinder_test() {
     let out = Command::new(BIN)
         .env_remove("BRISANCE_LOG")
         .args(["run", config, "--quiet"])
-        .args(["--set", "domain.cells=(80,360,1)", "--set", "time.end=1.2e-6"])
+        .args([
+            "--set",
+            "domain.cells=(80,360,1)",
+            "--set",
+            "time.end=1.2e-6",
+        ])
         .arg("--out")
         .arg(dir.path())
         .output()
