@@ -36,6 +36,7 @@
 
 pub mod anti_locking;
 pub mod boundary;
+pub mod cases;
 pub mod generate;
 pub mod grid_nodes;
 pub mod inflow;

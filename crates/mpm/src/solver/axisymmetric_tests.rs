@@ -126,90 +126,30 @@ fn a_uniformly_stressed_closed_box_stays_at_rest() {
 }
 
 /// The breathing mode of a free thin ring of mean radius R: ω = c/R with
-/// c = √(E/ρ) (Love, *A Treatise on the Mathematical Theory of
-/// Elasticity*, §291; the ring's own plane stress, free in r and z),
-/// within 1 % for a ring of section t × t, t = R/16, 8 cells across it,
-/// on every shape function.
+/// c = √(E/ρ) (`crate::cases::thin_ring_breathing`), within 1 % for a
+/// ring of section t × t, t = R/16, 8 cells across it, on every shape
+/// function. The case runs without a mass cut-off: as the ring swells,
+/// the GIMP domains of its outer particles reach one node further (by
+/// δ ≈ 8 µm, 1.3 % of a cell); that node's mass ~ (δ/Δx)² m_p lies below
+/// the default cut-off, and its share of the internal force, ~ δ/Δx of a
+/// node's, is dropped with it, a net radial force that shortened the
+/// period by 6.5 % here (0.95 % at 4 cells across, 0.15 % at 2)
+/// (docs/physics/mpm/axisymmetric.md).
 #[test]
 fn a_thin_ring_breathes_at_its_analytic_frequency() {
-    let (k, g, rho): (f64, f64, f64) = (160.0e9, 80.0e9, 7800.0);
-    let e = 9.0 * k * g / (3.0 * k + g);
-    let (r_mean, t): (f64, f64) = (0.08, 0.005);
-    let h = t / 8.0;
-    let nr = ((r_mean + t) / h).round() as usize + 4;
-    let level = Level::new(
-        [0.0; 3],
-        [nr as f64 * h, 32.0 * h, 0.001],
-        [nr, 32, 1],
-        [1, 1, 1],
-        0,
-    )
-    .unwrap();
-    let omega = (e / rho).sqrt() / r_mean;
-    let period = 2.0 * PI / omega;
     for shape in SHAPES {
-        let mut ps = rings(
-            &level,
-            [r_mean - t / 2.0, 6.0 * h, 0.0],
-            [r_mean + t / 2.0, 14.0 * h, 0.001],
-            rho,
-            [0.0; 3],
+        let r = crate::cases::thin_ring_breathing(shape, 8).unwrap();
+        eprintln!(
+            "{shape:?}: period {:+.3} % ({:e} s)",
+            100.0 * r.error(),
+            r.measured
         );
-        // A small uniform radial velocity: the breathing mode's shape.
-        for v in &mut ps.velocity {
-            v[0] = 0.5;
-        }
-        let mut faces = [GridBoundary::Free; 6];
-        faces[0] = GridBoundary::Symmetry;
-        // No mass cut-off: as the ring swells, the GIMP domains of its
-        // outer particles reach one node further (by δ ≈ 8 µm, 1.3 % of a
-        // cell); that node's mass ~ (δ/Δx)² m_p lies below the default
-        // cut-off, and its share of the internal force, ~ δ/Δx of a node's,
-        // is dropped with it, a net radial force that shortened the period
-        // by 6.5 % here (0.95 % at 4 cells across, 0.15 % at 2); the cut-off
-        // is a property of the node update, not of the geometry
-        // (docs/physics/mpm/axisymmetric.md).
-        let mut solver = MpmSolver::new(
-            level.clone(),
-            vec![elastic(k, g)],
-            ps,
-            MpmOptions {
-                mass_cutoff: 0.0,
-                ..options(shape, UpdateScheme::Musl, faces)
-            },
-        )
-        .unwrap();
-        // The mass-weighted mean radial velocity; its downward zero
-        // crossings, interpolated linearly, one period apart.
-        let mean_vr = |s: &MpmSolver| {
-            let ps = s.particles();
-            let m: f64 = ps.mass.iter().sum();
-            ps.mass
-                .iter()
-                .zip(&ps.velocity)
-                .map(|(m, v)| m * v[0])
-                .sum::<f64>()
-                / m
-        };
-        let mut crossings = Vec::new();
-        let (mut t_prev, mut v_prev) = (0.0, mean_vr(&solver));
-        while solver.time() < 2.6 * period {
-            let dt = solver.stable_dt().unwrap();
-            solver.advance(dt).unwrap();
-            let v = mean_vr(&solver);
-            if v_prev > 0.0 && v <= 0.0 {
-                crossings.push(t_prev + (solver.time() - t_prev) * v_prev / (v_prev - v));
-            }
-            (t_prev, v_prev) = (solver.time(), v);
-        }
-        assert!(crossings.len() >= 2, "{shape:?}: {crossings:?}");
-        let measured = crossings[crossings.len() - 1] - crossings[crossings.len() - 2];
-        let error = measured / period - 1.0;
-        eprintln!("{shape:?}: period {:+.3} %", 100.0 * error);
         assert!(
-            error.abs() < 0.01,
-            "{shape:?}: period {measured:.4e} s against {period:.4e} s ({:+.3} %)",
-            100.0 * error
+            r.error().abs() < 0.01,
+            "{shape:?}: period {:.4e} s against {:.4e} s ({:+.3} %)",
+            r.measured,
+            r.analytic,
+            100.0 * r.error()
         );
     }
 }
