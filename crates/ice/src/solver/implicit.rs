@@ -278,54 +278,32 @@ impl ImplicitWorkspace {
     /// the face's area (2π r_f Δz radially, the annulus axially), and the
     /// right-hand side is scaled by V too ([`Self::scale_rhs`]).
     fn assemble(&mut self, dt: f64, spacing: [f64; 3], rings: Option<CellVolumes>) {
-        if let Some(vols) = rings {
-            self.assemble_rings(dt, vols);
-            return;
-        }
-        let pattern = self.pattern.as_mut().expect("pattern built");
-        let val = pattern.matrix.val_mut();
-        val.fill(0.0);
-        for (g, &k) in self.kappa.iter().enumerate() {
-            val[pattern.diag[g]] += k / dt;
-        }
-        for &(g, h, a, s) in &pattern.couplings {
-            let c = dt * self.beta_hi[a][g] / (spacing[a] * spacing[a]);
-            val[pattern.diag[g]] += c;
-            val[pattern.diag[h]] += c;
-            val[s] -= c;
-        }
-        for &(g, a, side) in &pattern.dirichlet {
-            let beta = if side == 0 {
-                self.beta_lo[a][g]
-            } else {
-                self.beta_hi[a][g]
-            };
-            val[pattern.diag[g]] += dt * beta / (spacing[a] * spacing[a]);
-        }
-    }
-
-    /// [`Self::assemble`] on an axisymmetric grid.
-    fn assemble_rings(&mut self, dt: f64, vols: CellVolumes) {
-        let pattern = self.pattern.as_mut().expect("pattern built");
-        let val = pattern.matrix.val_mut();
-        val.fill(0.0);
-        let [dr, dz, _] = vols.spacing;
-        let columns = vols.columns;
-        let r_lo = |i: usize| vols.origin + i as f64 * dr;
-        // Face area over the spacing across it, per axis and side.
-        let face = |g: usize, a: usize, side: usize| -> f64 {
-            let i = g % columns;
-            if a == 0 {
-                Geometry::Axisymmetric.x_face_area(r_lo(i + side), dz, 1.0) / dr
-            } else {
-                Geometry::Axisymmetric.y_face_area(r_lo(i), dr, 1.0) / dz
+        // Each row's weight (1, or the ring's volume) and, per face, what
+        // Δt β is divided by: Δx², or Δx/A_f on rings.
+        let r_lo = |v: &CellVolumes, i: usize| v.origin + i as f64 * v.spacing[0];
+        let row = |g: usize| rings.map_or(1.0, |v| v.cell(g));
+        let across = |g: usize, a: usize, side: usize| -> f64 {
+            match rings {
+                None => spacing[a] * spacing[a],
+                Some(v) => {
+                    let [dr, dz, _] = v.spacing;
+                    let i = g % v.columns;
+                    if a == 0 {
+                        dr / Geometry::Axisymmetric.x_face_area(r_lo(&v, i + side), dz, 1.0)
+                    } else {
+                        dz / Geometry::Axisymmetric.y_face_area(r_lo(&v, i), dr, 1.0)
+                    }
+                }
             }
         };
+        let pattern = self.pattern.as_mut().expect("pattern built");
+        let val = pattern.matrix.val_mut();
+        val.fill(0.0);
         for (g, &k) in self.kappa.iter().enumerate() {
-            val[pattern.diag[g]] += k * vols.cell(g) / dt;
+            val[pattern.diag[g]] += k * row(g) / dt;
         }
         for &(g, h, a, s) in &pattern.couplings {
-            let c = dt * self.beta_hi[a][g] * face(g, a, 1);
+            let c = dt * self.beta_hi[a][g] / across(g, a, 1);
             val[pattern.diag[g]] += c;
             val[pattern.diag[h]] += c;
             val[s] -= c;
@@ -336,7 +314,7 @@ impl ImplicitWorkspace {
             } else {
                 self.beta_hi[a][g]
             };
-            val[pattern.diag[g]] += dt * beta * face(g, a, side);
+            val[pattern.diag[g]] += dt * beta / across(g, a, side);
         }
     }
 
