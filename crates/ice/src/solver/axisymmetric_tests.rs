@@ -69,6 +69,16 @@ fn rz_solver(
         GHOST,
     )
     .unwrap();
+    on_rings(level, bcs, options, state).unwrap()
+}
+
+/// The two gases on `level` read as rings.
+fn on_rings(
+    level: Level,
+    bcs: [IceBoundary; 6],
+    options: IceOptions,
+    state: impl Fn([f64; 3]) -> CellState + Sync,
+) -> Result<IceSolver<IdealGas>, crate::IceError> {
     IceSolver::new(
         gases(),
         level,
@@ -80,7 +90,6 @@ fn rz_solver(
         },
         state,
     )
-    .unwrap()
 }
 
 /// Axis (symmetry), walls elsewhere.
@@ -263,17 +272,9 @@ fn a_ring_off_the_axis_and_a_grid_that_starts_there() {
     .unwrap();
     let mut bcs = closed();
     bcs[0] = IceBoundary::FixedVelocity([0.0; 3]);
-    let mut s = IceSolver::new(
-        gases(),
-        level,
-        bcs,
-        ExchangeCoefficients::uniform(2, 1.0e4, 0.0),
-        IceOptions {
-            geometry: Geometry::Axisymmetric,
-            ..Default::default()
-        },
-        |x| blob_state(x, [1.0, 0.5], [0.0; 3]),
-    )
+    let mut s = on_rings(level, bcs, IceOptions::default(), |x| {
+        blob_state(x, [1.0, 0.5], [0.0; 3])
+    })
     .unwrap();
     let t0 = s.conservation_totals();
     // The annulus 0.5 ≤ r ≤ 1.5, 1 long.
@@ -289,17 +290,9 @@ fn a_ring_off_the_axis_and_a_grid_that_starts_there() {
 fn the_axis_must_be_a_symmetry_face_and_the_grid_one_cell_thick() {
     let make = |cells: [usize; 3], bcs: [IceBoundary; 6]| {
         let level = Level::new([0.0; 3], [1.0, 1.0, 0.1], cells, [1, 1, 1], GHOST).unwrap();
-        IceSolver::new(
-            gases(),
-            level,
-            bcs,
-            ExchangeCoefficients::uniform(2, 1.0e4, 0.0),
-            IceOptions {
-                geometry: Geometry::Axisymmetric,
-                ..Default::default()
-            },
-            |x| blob_state(x, [0.0, 0.5], [0.0; 3]),
-        )
+        on_rings(level, bcs, IceOptions::default(), |x| {
+            blob_state(x, [0.0, 0.5], [0.0; 3])
+        })
         .map(|_| ())
         .unwrap_err()
         .to_string()
