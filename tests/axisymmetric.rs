@@ -5,11 +5,11 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+use crate::common::{assert_same_bytes, assert_success, read_json, run_quiet};
 const RZ_BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/rz_blast.ron");
 
 /// A shorter, coarser run than the file's, with checkpoints.
@@ -26,26 +26,7 @@ const SETS: [&str; 6] = [
 const PIPELINES: [&[&str]; 2] = [&[], &["--set", "pipeline=Ice(materials: [\"air\"])"]];
 
 fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
-    Command::new(BIN)
-        .env_remove("BRISANCE_LOG")
-        .arg("run")
-        .arg(config)
-        .arg("--out")
-        .arg(out)
-        .arg("--quiet")
-        .args(SETS)
-        .args(extra)
-        .output()
-        .expect("the brisance binary runs")
-}
-
-fn assert_success(out: &Output) {
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "run failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_quiet(config, out, &[&SETS[..], extra].concat())
 }
 
 fn sorted_files(dir: &Path) -> Vec<PathBuf> {
@@ -70,15 +51,8 @@ fn final_outputs(root: &Path) -> Vec<PathBuf> {
     ]
 }
 
-fn assert_same_bytes(a: &Path, b: &Path, rel: &Path) {
-    let left = fs::read(a.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
-    let right = fs::read(b.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
-    assert!(left == right, "{} differs", rel.display());
-}
-
 fn summary(root: &Path) -> Value {
-    let text = fs::read_to_string(root.join("summary.json")).unwrap();
-    serde_json::from_str(&text).unwrap()
+    read_json(&root.join("summary.json"))
 }
 
 #[test]
@@ -198,13 +172,7 @@ fn the_cylinder_test_runs_on_rings_with_its_mass_kept() {
     // round-off. (Its energy does not: docs/physics/axisymmetric.md.)
     let config = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/cylinder_rz.ron");
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(BIN)
-        .env_remove("BRISANCE_LOG")
-        .args(["run", config, "--quiet", "--set", "time.end=3e-6"])
-        .arg("--out")
-        .arg(dir.path())
-        .output()
-        .expect("the brisance binary runs");
+    let out = run_quiet(Path::new(config), dir.path(), &["--set", "time.end=3e-6"]);
     assert_success(&out);
     let s = summary(dir.path());
     let dm = s["relative_mass_change"].as_f64().unwrap();
@@ -230,19 +198,16 @@ fn at_one_millimetre_the_traces_in_the_copper_do_not_stop_the_cylinder_test() {
     // (docs/physics/couple/ice_mpm.md).
     let config = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/cylinder_rz.ron");
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(BIN)
-        .env_remove("BRISANCE_LOG")
-        .args(["run", config, "--quiet"])
-        .args([
+    let out = run_quiet(
+        Path::new(config),
+        dir.path(),
+        &[
             "--set",
             "domain.cells=(80,360,1)",
             "--set",
             "time.end=1.2e-6",
-        ])
-        .arg("--out")
-        .arg(dir.path())
-        .output()
-        .expect("the brisance binary runs");
+        ],
+    );
     assert_success(&out);
     let steps = summary(dir.path())["steps"].as_u64().unwrap();
     assert!(steps < 200, "{steps} steps");

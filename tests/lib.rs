@@ -4,6 +4,7 @@
 
 mod axisymmetric;
 mod cli;
+mod common;
 mod docs_coverage;
 mod e_freeair;
 mod open_faces;

@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
-const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+use crate::common::{assert_same_bytes, assert_success, read_json, run_quiet, BIN};
 const SOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/sod.ron");
 
 /// The overrides every run of these tests shares.
@@ -27,30 +27,9 @@ fn run_sod(out: &Path, extra: &[&str]) -> Output {
 
 /// Runs `brisance run <config> --out <out> --quiet <SETS> <extra...>`.
 fn run_config(config: &Path, out: &Path, extra: &[&str]) -> Output {
-    Command::new(BIN)
-        .env_remove("BRISANCE_LOG")
-        .arg("run")
-        .arg(config)
-        .arg("--out")
-        .arg(out)
-        .arg("--quiet")
-        .args(SETS)
-        .args(extra)
-        .output()
-        .expect("the brisance binary runs")
+    run_quiet(config, out, &[&SETS[..], extra].concat())
 }
 
-fn assert_success(out: &Output) {
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "run failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// Checks exit code 1, no panic and exactly one `error: ` line on stderr;
-/// returns the line.
 fn single_error_line(out: &Output) -> String {
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     assert_eq!(out.status.code(), Some(1), "expected exit code 1:\n{err}");
@@ -101,22 +80,6 @@ fn files_under(root: &Path, dir: &str) -> Vec<PathBuf> {
     }
     files.sort();
     files
-}
-
-fn assert_same_bytes(a: &Path, b: &Path, rel: &Path) {
-    let left = fs::read(a.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
-    let right = fs::read(b.join(rel)).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
-    assert!(
-        left == right,
-        "{} differs between the uninterrupted and the restarted run",
-        rel.display()
-    );
-}
-
-fn read_json(path: &Path) -> Value {
-    let text =
-        fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{} is not JSON: {e}", path.display()))
 }
 
 /// The final VTK file and line-out of the sod scenario.
