@@ -121,7 +121,7 @@ fn encode_vti(
     };
     let extent = Extent::Ranges([0..=upper[0], 0..=upper[1], 0..=upper[2]]);
     let vtk = Vtk {
-        version: Version::new((1, 0)),
+        version: Version::new_xml(1, 0),
         title: String::new(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,

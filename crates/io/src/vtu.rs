@@ -45,7 +45,7 @@ pub fn write_vtu(path: &Path, data: &ParticleData) -> Result<(), IoError> {
         types: vec![CellType::Vertex; n],
     };
     let vtk = Vtk {
-        version: Version::new((1, 0)),
+        version: Version::new_xml(1, 0),
         title: String::new(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,
