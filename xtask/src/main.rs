@@ -17,7 +17,7 @@ mod lattice_cases;
 mod mpm_throughput;
 mod pd_cases;
 mod plate_cases;
-mod plot;
+use brisance_plot as plot;
 mod rz_cases;
 mod shock_tubes;
 mod slab_cases;

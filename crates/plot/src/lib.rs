@@ -1,5 +1,6 @@
-//! PNG plotting helpers for the validation reports (plotters' bitmap
-//! backend, text through the pure-Rust `ab_glyph` renderer).
+//! PNG figures of Brisance: the run's headline plots (`outputs.plots`) and
+//! the validation report's figures (plotters' bitmap backend, text through
+//! the pure-Rust `ab_glyph` renderer).
 //!
 //! * [`plot_panels`]: vertically stacked panels sharing an x axis, e.g.
 //!   density / velocity / pressure of a shock tube, numerical points against
@@ -7,8 +8,9 @@
 //! * [`plot_convergence`]: log-log error-versus-resolution plot with dashed
 //!   reference slopes.
 //!
-//! Text needs a TrueType font: [`register_font`] loads DejaVu Sans (Debian
-//! package `fonts-dejavu-core`) once; both plot functions call it.
+//! Text is drawn in DejaVu Sans, embedded in the binary (the `dejavu`
+//! crate), so a figure needs no font installed on the machine;
+//! [`register_font`] registers it once and both plot functions call it.
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -19,12 +21,6 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontStyle;
-
-/// TrueType font used for all text (Debian package `fonts-dejavu-core`).
-pub const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-
-/// Debian package that provides [`FONT_PATH`].
-pub const FONT_PACKAGE: &str = "fonts-dejavu-core";
 
 /// Font family name under which the font is registered; plotters uses it
 /// for captions, axis labels, tick labels and legends by default.
@@ -84,29 +80,16 @@ pub struct Panel<'a> {
     pub series: Vec<Series<'a>>,
 }
 
-/// Registers DejaVu Sans ([`FONT_PATH`]) as plotters' `"sans-serif"` font.
+/// Registers the embedded DejaVu Sans as plotters' `"sans-serif"` font.
 ///
 /// The `ab_glyph` text backend ships no font, so without this every text
-/// element fails to draw. The file is read once and its bytes leaked to
-/// `'static` (as plotters requires); later calls return the first outcome.
-/// Errors name the missing path and the Debian package that provides it.
+/// element fails to draw. Later calls return the first outcome.
 pub fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<std::result::Result<(), String>> = OnceLock::new();
     REGISTERED
         .get_or_init(|| {
-            let bytes = std::fs::read(FONT_PATH).map_err(|e| {
-                format!(
-                    "cannot read the plot font {FONT_PATH}: {e}; install the Debian \
-                     package {FONT_PACKAGE} (apt-get install {FONT_PACKAGE})"
-                )
-            })?;
-            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-            plotters::style::register_font(FONT_FAMILY, FontStyle::Normal, bytes).map_err(|_| {
-                format!(
-                    "{FONT_PATH} is not a valid TrueType font; reinstall the Debian package \
-                     {FONT_PACKAGE}"
-                )
-            })
+            plotters::style::register_font(FONT_FAMILY, FontStyle::Normal, dejavu::sans::regular())
+                .map_err(|_| "the embedded DejaVu Sans is not a valid TrueType font".to_string())
         })
         .clone()
         .map_err(|e| anyhow!(e))
@@ -253,16 +236,24 @@ fn draw_panel(
 /// corner with the least data). Series are coloured in order: black first
 /// (put the exact solution first), then blue, red, green, ….
 ///
-/// Errors if the font is missing (see [`register_font`]), a series has
+/// Errors if the font cannot be registered, a series has
 /// `x` and `y` of different lengths, a panel has no finite data, or the
 /// file cannot be written.
 pub fn plot_panels(path: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result<()> {
+    let partial = partial_path(path);
+    let drawn = draw_panels(&partial, title, x_label, panels);
+    settle(drawn, &partial, path)
+}
+
+/// Draws [`plot_panels`]' figure into `partial`.
+fn draw_panels(partial: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result<()> {
+    let path = partial;
     register_font()?;
     if panels.is_empty() {
         bail!("plot_panels: no panels to draw for {}", path.display());
     }
     let height = TITLE_HEIGHT + PANEL_HEIGHT * panels.len() as u32;
-    let root = BitMapBackend::new(path, (PANEL_WIDTH, height)).into_drawing_area();
+    let root = BitMapBackend::new(partial, (PANEL_WIDTH, height)).into_drawing_area();
     root.fill(&WHITE)
         .map_err(|e| anyhow!("clearing {}: {e}", path.display()))?;
     let (title_area, body) = root.split_vertically(TITLE_HEIGHT);
@@ -281,9 +272,45 @@ pub fn plot_panels(path: &Path, title: &str, x_label: &str, panels: &[Panel]) ->
         draw_panel(area, x_label, panel)?;
     }
     root.present()
-        .map_err(|e| anyhow!("writing {}: {e}", path.display()))
-        .with_context(|| format!("plot \"{title}\""))?;
-    Ok(())
+        .map_err(|e| anyhow!("writing {}: {e}", partial.display()))
+        .with_context(|| format!("plot \"{title}\""))
+}
+
+/// Moves a drawn figure from `partial` to `path`, or removes what a failed
+/// drawing left in `partial`.
+fn settle(drawn: Result<()>, partial: &Path, path: &Path) -> Result<()> {
+    match drawn {
+        Ok(()) => std::fs::rename(partial, path)
+            .with_context(|| format!("renaming {} to {}", partial.display(), path.display())),
+        Err(e) => {
+            let _ = std::fs::remove_file(partial);
+            Err(e)
+        }
+    }
+}
+
+/// The file a figure is drawn into before it is renamed to `path`, so a
+/// reader never sees a half-written PNG: `<stem>.partial.png` beside it
+/// (the encoder picks the format from the extension).
+fn partial_path(path: &Path) -> std::path::PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy())
+        .unwrap_or_default();
+    path.with_file_name(format!("{stem}.partial.png"))
+}
+
+/// A readable unit for a time axis whose values reach `t_max` seconds:
+/// the factor to multiply seconds by and the unit's symbol (µs below 1 ms,
+/// ms below 1 s, s otherwise).
+pub fn time_unit(t_max: f64) -> (f64, &'static str) {
+    if t_max.abs() < 1e-3 {
+        (1e6, "µs")
+    } else if t_max.abs() < 1.0 {
+        (1e3, "ms")
+    } else {
+        (1.0, "s")
+    }
 }
 
 /// Least-squares slope of `ln y` against `ln x` over the pairs with both
@@ -324,7 +351,7 @@ pub fn fitted_slope(x: &[f64], y: &[f64]) -> Option<f64> {
 /// With `x` the cell size, order `p` means slope `p`; with `x` the number of
 /// cells it means slope `−p` (pass e.g. `&[-1.0, -2.0]`).
 ///
-/// Errors if the font is missing, a series has `x` and `y` of different
+/// Errors if the font cannot be registered, a series has `x` and `y` of different
 /// lengths, there are no positive data, or the file cannot be written.
 pub fn plot_convergence(
     path: &Path,
@@ -334,6 +361,21 @@ pub fn plot_convergence(
     series: &[(&str, Vec<f64>, Vec<f64>)],
     reference_slopes: &[f64],
 ) -> Result<()> {
+    let partial = partial_path(path);
+    let drawn = draw_convergence(&partial, title, x_label, y_label, series, reference_slopes);
+    settle(drawn, &partial, path)
+}
+
+/// Draws [`plot_convergence`]' figure into `partial`.
+fn draw_convergence(
+    partial: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<f64>, Vec<f64>)],
+    reference_slopes: &[f64],
+) -> Result<()> {
+    let path = partial;
     register_font()?;
     let mut data = Vec::with_capacity(series.len());
     for (label, x, y) in series {
@@ -373,7 +415,7 @@ pub fn plot_convergence(
     let x_plain = x_ticks.iter().all(|&v| plain_tick(v));
     let y_plain = y_ticks.iter().all(|&v| plain_tick(v));
 
-    let root = BitMapBackend::new(path, CONVERGENCE_SIZE).into_drawing_area();
+    let root = BitMapBackend::new(partial, CONVERGENCE_SIZE).into_drawing_area();
     root.fill(&WHITE)
         .map_err(|e| anyhow!("clearing {}: {e}", path.display()))?;
     let mut chart = ChartBuilder::on(&root)
@@ -456,9 +498,8 @@ pub fn plot_convergence(
         .draw()
         .map_err(|e| anyhow!("drawing the convergence legend: {e}"))?;
     root.present()
-        .map_err(|e| anyhow!("writing {}: {e}", path.display()))
-        .with_context(|| format!("plot \"{title}\""))?;
-    Ok(())
+        .map_err(|e| anyhow!("writing {}: {e}", partial.display()))
+        .with_context(|| format!("plot \"{title}\""))
 }
 
 /// Reference lines `(slope, [start, end])`: each runs along the series whose
@@ -585,5 +626,76 @@ fn format_slope(s: f64) -> String {
         format!("\u{2212}{text}")
     } else {
         text
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fitted_slope_of_a_power_law_is_its_exponent() {
+        let x = [1.0, 2.0, 4.0, 8.0];
+        let y: Vec<f64> = x.iter().map(|v: &f64| 3.0 * v.powf(-2.0)).collect();
+        let p = fitted_slope(&x, &y).unwrap();
+        assert!((p + 2.0).abs() < 1e-12, "{p}");
+        assert_eq!(fitted_slope(&[1.0], &[1.0]), None);
+        assert_eq!(fitted_slope(&[1.0, -2.0], &[1.0, 2.0]), None);
+    }
+
+    #[test]
+    fn time_units_follow_the_span() {
+        assert_eq!(time_unit(8.0e-5), (1e6, "µs"));
+        assert_eq!(time_unit(2.0e-3), (1e3, "ms"));
+        assert_eq!(time_unit(3.0), (1.0, "s"));
+    }
+
+    #[test]
+    fn a_figure_is_a_whole_png_and_leaves_no_partial_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("wall.png");
+        let t = [0.0, 1.0, 2.0, 3.0];
+        let v = [0.0, 400.0, 700.0, 750.0];
+        let panel = Panel {
+            y_label: "velocity [m/s]",
+            series: vec![Series {
+                label: "wall",
+                x: &t,
+                y: &v,
+                style: SeriesStyle::Line,
+            }],
+        };
+        plot_panels(&path, "a test", "time [µs]", &[panel]).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        // Width and height from the IHDR chunk: one panel and the title.
+        let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+        assert_eq!((w, h), (PANEL_WIDTH, TITLE_HEIGHT + PANEL_HEIGHT));
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("wall.png")]);
+    }
+
+    #[test]
+    fn series_of_unequal_lengths_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let panel = Panel {
+            y_label: "y",
+            series: vec![Series {
+                label: "bad",
+                x: &[0.0, 1.0],
+                y: &[0.0],
+                style: SeriesStyle::Points,
+            }],
+        };
+        let e = plot_panels(&dir.path().join("bad.png"), "t", "x", &[panel]).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("x has 2 values but y has 1"),
+            "{e:#}"
+        );
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }
