@@ -389,20 +389,35 @@ fn run_without_a_config_runs_the_built_in_default_scenario() {
         .arg("--out")
         .arg(&out)
         .arg("--quiet")
-        .args(["--set", "time.end=1e-4"])
+        .args(["--set", "time.end=2e-6"])
         .output()
         .unwrap();
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let summary = read_json(&out.join("summary.json"));
     assert_eq!(summary["completed"], Value::Bool(true), "{summary}");
-    assert_eq!(summary["final_time"].as_f64(), Some(1e-4), "{summary}");
+    assert_eq!(summary["final_time"].as_f64(), Some(2e-6), "{summary}");
+    assert_eq!(summary["pipeline"], "ice_mpm", "{summary}");
+    // The headline figures, whole PNGs.
+    assert_eq!(
+        file_names(&out.join("plots")),
+        ["axis_pressure.png", "wall_velocity.png"]
+    );
+    let png = std::fs::read(out.join("plots").join("wall_velocity.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     assert!(out.join("conservation.csv").is_file());
     let names = file_names(&out);
     assert!(names.iter().any(|n| n.ends_with(".pvd")), "{names:?}");
     let vtk = file_names(&out.join("vtk"));
-    assert!(
-        vtk.len() >= 2 && vtk.iter().all(|n| n.ends_with(".vti")),
-        "{vtk:?}"
+    // Cells (ImageData) and copper particles (UnstructuredGrid) at t = 0
+    // and at the end.
+    assert_eq!(
+        vtk,
+        [
+            "cylinder_default_00000.vti",
+            "cylinder_default_00001.vti",
+            "cylinder_default_particles_00000.vtu",
+            "cylinder_default_particles_00001.vtu"
+        ],
     );
     // Nothing is written next to the working directory besides `out`.
     assert_eq!(file_names(dir.path()), ["out"]);

@@ -420,6 +420,10 @@ pub struct Outputs {
     pub lineouts: Vec<Lineout>,
     /// Write a checkpoint every this many steps.
     pub checkpoint_every: Option<u64>,
+    /// Figures of gauge histories against time, `plots/<name>.png`,
+    /// redrawn whenever the gauge CSVs are written (so a run that stops
+    /// early still has them up to its last good state).
+    pub plots: Vec<Plot>,
 }
 
 impl Default for Outputs {
@@ -444,6 +448,7 @@ impl Default for Outputs {
             particle_gauges: Vec::new(),
             lineouts: Vec::new(),
             checkpoint_every: None,
+            plots: Vec::new(),
         }
     }
 }
@@ -477,6 +482,65 @@ pub struct ParticleGauge {
     /// `MeanStress`, `MeanPressure`, `MeanVonMisesStress`,
     /// `MeanTemperature`, `MeanSpecificInternalEnergy`, `Mass`.
     pub quantities: Vec<SetQuantity>,
+}
+
+/// A figure of gauge columns against time: one PNG `plots/<name>.png`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plot {
+    /// File stem.
+    pub name: String,
+    /// Title above the figure (the scenario's name when absent).
+    #[serde(default)]
+    pub title: Option<String>,
+    /// Y-axis description with its unit, e.g. `"wall velocity [m/s]"`.
+    pub y_label: String,
+    /// The curves, each a column of a gauge's CSV.
+    pub series: Vec<PlotSeries>,
+    /// Horizontal reference lines (an estimate, a measurement) drawn
+    /// across the whole time axis, in the unit of the scaled series.
+    #[serde(default)]
+    pub references: Vec<PlotReference>,
+}
+
+/// A horizontal line of a [`Plot`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlotReference {
+    /// Legend text.
+    pub label: String,
+    /// Its value.
+    pub value: f64,
+}
+
+/// One curve of a [`Plot`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlotSeries {
+    /// The gauge whose history is drawn.
+    pub from: PlotSource,
+    /// Its column: a field of a point gauge (`pressure`), or a column of a
+    /// particle gauge (`mean_velocity_x`; see the user guide).
+    pub column: String,
+    /// Legend text (`<gauge> <column>` when absent).
+    #[serde(default)]
+    pub label: Option<String>,
+    /// Factor applied to the values before drawing (e.g. `1e-9` for GPa).
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// Where a [`PlotSeries`] comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum PlotSource {
+    /// A point gauge of `outputs.gauges`, by name.
+    Gauge(String),
+    /// A particle gauge of `outputs.particle_gauges`, by name.
+    ParticleGauge(String),
 }
 
 /// A line-out between two points.

@@ -310,12 +310,87 @@ impl Runner<'_> {
                 &self.state.particle_gauge_rows[k],
             )?;
         }
+        self.write_plots()?;
         let path = self.out.join("conservation.csv");
         let rows = &self.state.conservation_rows;
         if self.solver.external_work().is_some() {
             io::write_conservation_csv_with_work(&path, rows, &self.state.external_work_rows)?;
         } else {
             io::write_conservation_csv(&path, rows)?;
+        }
+        Ok(())
+    }
+
+    /// `outputs.plots`: each figure from the gauge rows recorded so far,
+    /// time in the unit that reads best at the current time.
+    fn write_plots(&self) -> Result<(), RunError> {
+        use crate::config::PlotSource;
+        let o = &self.scenario.outputs;
+        if o.plots.is_empty() {
+            return Ok(());
+        }
+        let dir = self.out.join("plots");
+        io::ensure_dir(&dir)?;
+        let (factor, unit) = brisance_plot::time_unit(self.solver.time());
+        for p in &o.plots {
+            let mut curves = Vec::with_capacity(p.series.len());
+            for c in &p.series {
+                let (rows, name) = match &c.from {
+                    PlotSource::Gauge(name) => {
+                        let k = o.gauges.iter().position(|g| &g.name == name);
+                        (k.map(|k| &self.state.gauge_rows[k]), name)
+                    }
+                    PlotSource::ParticleGauge(name) => {
+                        let k = o.particle_gauges.iter().position(|g| &g.name == name);
+                        (k.map(|k| &self.state.particle_gauge_rows[k]), name)
+                    }
+                };
+                // Load validation guarantees the gauge and the column.
+                let columns = crate::validate::plot_columns(o, &c.from).unwrap_or_default();
+                let (Some(rows), Some(j)) = (rows, columns.iter().position(|x| x == &c.column))
+                else {
+                    continue;
+                };
+                let t: Vec<f64> = rows.iter().map(|(t, _)| t * factor).collect();
+                let y: Vec<f64> = rows.iter().map(|(_, v)| v[j] * c.scale).collect();
+                let label = c
+                    .label
+                    .clone()
+                    .unwrap_or_else(|| format!("{name} {}", c.column));
+                curves.push((label, t, y));
+            }
+            if curves.iter().all(|(_, t, _)| t.is_empty()) {
+                continue;
+            }
+            let span = curves
+                .iter()
+                .flat_map(|(_, t, _)| t.iter().copied())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+                    (lo.min(t), hi.max(t))
+                });
+            for r in &p.references {
+                curves.push((r.label.clone(), vec![span.0, span.1], vec![r.value; 2]));
+            }
+            let panel = brisance_plot::Panel {
+                y_label: &p.y_label,
+                series: curves
+                    .iter()
+                    .map(|(label, t, y)| brisance_plot::Series {
+                        label,
+                        x: t,
+                        y,
+                        style: brisance_plot::SeriesStyle::Line,
+                    })
+                    .collect(),
+            };
+            let title = p.title.as_deref().unwrap_or(&self.scenario.name);
+            let path = dir.join(format!("{}.png", p.name));
+            brisance_plot::plot_panels(&path, title, &format!("time [{unit}]"), &[panel]).map_err(
+                |e| io::IoError::Encode {
+                    path: path.clone(),
+                    message: format!("{e:#}"),
+                },
+            )?;
         }
         Ok(())
     }

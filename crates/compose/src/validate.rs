@@ -818,7 +818,100 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             "checkpoint interval must be at least 1 step".into(),
         ));
     }
+    check_plots(o)
+}
+
+/// `outputs.plots`: unique file-safe names, at least one curve each, and
+/// every curve a column that one of the gauges writes.
+fn check_plots(o: &crate::config::Outputs) -> Result<(), Problem> {
+    let mut names = std::collections::BTreeSet::new();
+    for (i, p) in o.plots.iter().enumerate() {
+        let path = format!("outputs.plots.{i}");
+        if !file_safe(&p.name) || !names.insert(p.name.clone()) {
+            return Err((
+                format!("{path}.name"),
+                format!(
+                    "plot name `{}` must be unique and use only letters, digits, `_` and `-`",
+                    p.name
+                ),
+            ));
+        }
+        if p.series.is_empty() {
+            return Err((
+                format!("{path}.series"),
+                format!("plot `{}` needs at least one series", p.name),
+            ));
+        }
+        for (j, r) in p.references.iter().enumerate() {
+            if !r.value.is_finite() {
+                return Err((
+                    format!("{path}.references.{j}.value"),
+                    format!("a reference line needs a finite value, got {}", r.value),
+                ));
+            }
+        }
+        for (j, c) in p.series.iter().enumerate() {
+            let path = format!("{path}.series.{j}");
+            let columns = plot_columns(o, &c.from).map_err(|why| (format!("{path}.from"), why))?;
+            if !columns.contains(&c.column) {
+                return Err((
+                    format!("{path}.column"),
+                    format!(
+                        "`{}` is not a column of that gauge; its columns: {}",
+                        c.column,
+                        columns.join(", ")
+                    ),
+                ));
+            }
+            if !(c.scale.is_finite() && c.scale != 0.0) {
+                return Err((
+                    format!("{path}.scale"),
+                    format!("scale must be finite and non-zero, got {}", c.scale),
+                ));
+            }
+        }
+    }
     Ok(())
+}
+
+/// The CSV columns (after `time`) of the gauge a plot curve names.
+pub(crate) fn plot_columns(
+    o: &crate::config::Outputs,
+    from: &crate::config::PlotSource,
+) -> Result<Vec<String>, String> {
+    use crate::config::PlotSource;
+    match from {
+        PlotSource::Gauge(name) => o
+            .gauges
+            .iter()
+            .find(|g| &g.name == name)
+            .map(|g| g.fields.clone())
+            .ok_or_else(|| {
+                format!(
+                    "no point gauge `{name}` in outputs.gauges; gauges: {}",
+                    o.gauges
+                        .iter()
+                        .map(|g| g.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            }),
+        PlotSource::ParticleGauge(name) => o
+            .particle_gauges
+            .iter()
+            .find(|g| &g.name == name)
+            .map(|g| brisance_mpm::ParticleSet::columns(&g.quantities))
+            .ok_or_else(|| {
+                format!(
+                    "no particle gauge `{name}` in outputs.particle_gauges; particle gauges: {}",
+                    o.particle_gauges
+                        .iter()
+                        .map(|g| g.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            }),
+    }
 }
 
 #[cfg(test)]

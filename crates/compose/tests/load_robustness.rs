@@ -183,6 +183,50 @@ fn a_gauge_outside_the_domain_is_an_error() {
 }
 
 #[test]
+fn a_plot_must_draw_columns_its_gauges_write() {
+    let plot = |series: &str| {
+        format!("outputs.plots=[(name: \"p\", y_label: \"p [Pa]\", series: [{series}])]")
+    };
+    let ok = plot("(from: Gauge(\"x0_75\"), column: \"pressure\")");
+    let loaded = load_str("sod.ron", SOD, &[ok]).unwrap();
+    assert_eq!(loaded.scenario.outputs.plots[0].series[0].scale, 1.0);
+    for (series, field, words) in [
+        (
+            "(from: Gauge(\"nowhere\"), column: \"pressure\")",
+            "outputs.plots.0.series.0.from",
+            "no point gauge `nowhere`",
+        ),
+        (
+            "(from: Gauge(\"x0_75\"), column: \"temperature\")",
+            "outputs.plots.0.series.0.column",
+            "its columns: density, pressure, velocity_x",
+        ),
+        (
+            "(from: ParticleGauge(\"x0_75\"), column: \"pressure\")",
+            "outputs.plots.0.series.0.from",
+            "no particle gauge `x0_75`",
+        ),
+        (
+            "(from: Gauge(\"x0_75\"), column: \"pressure\", scale: 0.0)",
+            "outputs.plots.0.series.0.scale",
+            "non-zero",
+        ),
+    ] {
+        let err = sod_with(&[&plot(series)]);
+        assert_eq!(err.field.as_deref(), Some(field), "{err}");
+        assert!(err.message.contains(words), "{err}");
+    }
+    let err = sod_with(&["outputs.plots=[(name: \"a/b\", y_label: \"y\", series: [])]"]);
+    assert_eq!(err.field.as_deref(), Some("outputs.plots.0.name"), "{err}");
+    let err = sod_with(&["outputs.plots=[(name: \"p\", y_label: \"y\", series: [])]"]);
+    assert_eq!(
+        err.field.as_deref(),
+        Some("outputs.plots.0.series"),
+        "{err}"
+    );
+}
+
+#[test]
 fn an_unused_material_is_a_located_warning_not_an_error() {
     let text = SOD.replacen(
         "materials: {",
