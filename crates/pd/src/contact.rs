@@ -119,6 +119,68 @@ pub fn bin_current_positions(
     });
 }
 
+/// k0 = F_SR · 18/(π δ⁴) / δ: the pair stiffness per unit bulk modulus
+/// and per unit volume of both nodes (eq 27 with eq 28's k_PD).
+#[inline]
+fn stiffness_factor(params: &ContactParams) -> f64 {
+    params.force_factor * 18.0 / (std::f64::consts::PI * params.horizon.powi(4)) / params.horizon
+}
+
+/// Calls `pair(j, k, p, d_ij, y_j − y_i)` for each node j that acts on
+/// node i by contact and lies within 1.5 d_ij of it, in the cell list's
+/// order: k = k0 K V_j (N/m³ per metre of overlap), p the current
+/// distance. The one place that decides which pairs touch, shared by the
+/// forces and the energy.
+#[inline(always)]
+fn for_each_contact<F: FnMut(usize, f64, f64, f64, [f64; 3])>(
+    input: &ContactInput,
+    cells: &CellList,
+    params: &ContactParams,
+    k0: f64,
+    i: usize,
+    mut pair: F,
+) {
+    let reach2 = params.reach() * params.reach();
+    let yi = current_position(input.reference, input.state, i);
+    let xi = input.reference[i];
+    let mi = input.material[i] as usize;
+    cells.for_each_candidate(yi, |j| {
+        if j == i {
+            return;
+        }
+        let yj = current_position(input.reference, input.state, j);
+        let d = [yj[0] - yi[0], yj[1] - yi[1], yj[2] - yi[2]];
+        let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        if p2 >= reach2 {
+            return;
+        }
+        let mj = input.material[j] as usize;
+        if input.body[i] == input.body[j] {
+            if input.breakable[mi] {
+                if let Some(k) = input.families.find(i, j) {
+                    if input.factor[k] != 0.0 {
+                        return;
+                    }
+                }
+            } else if input.bulk_modulus[mi] == 0.0 {
+                return;
+            }
+            // Otherwise a gas with a contact modulus (an explosive
+            // with a reactant): every pair of its nodes, bonded or
+            // not — eq 19 alone lets two of them come arbitrarily
+            // close.
+        }
+        let xj = input.reference[j];
+        let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+        let pc = params.pair_distance(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        if p2 >= 2.25 * pc * pc {
+            return;
+        }
+        let k = k0 * input.bulk_modulus[mi].max(input.bulk_modulus[mj]) * xj[3];
+        pair(j, k, p2.sqrt(), pc, d);
+    });
+}
+
 /// The contact force per unit volume on each node (N/m³) and the contact
 /// stiffness Σ_j F_SR k_PD V_j / δ over the pairs closer than 1.5 d_ij
 /// (for the stable step, so that contacts that start during the next step
@@ -130,51 +192,12 @@ pub fn contact_forces(
     params: &ContactParams,
     out: &mut [([f64; 3], f64)],
 ) {
-    let reach2 = params.reach() * params.reach();
-    let k0 = params.force_factor * 18.0
-        / (std::f64::consts::PI * params.horizon.powi(4))
-        / params.horizon;
+    let k0 = stiffness_factor(params);
     for_each_node(out, |i, o| {
-        let yi = current_position(input.reference, input.state, i);
-        let xi = input.reference[i];
         let mut f = [0.0; 3];
         let mut stiff = 0.0;
-        let mi = input.material[i] as usize;
-        cells.for_each_candidate(yi, |j| {
-            if j == i {
-                return;
-            }
-            let yj = current_position(input.reference, input.state, j);
-            let d = [yj[0] - yi[0], yj[1] - yi[1], yj[2] - yi[2]];
-            let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            if p2 >= reach2 {
-                return;
-            }
-            let mj = input.material[j] as usize;
-            if input.body[i] == input.body[j] {
-                if input.breakable[mi] {
-                    if let Some(k) = input.families.find(i, j) {
-                        if input.factor[k] != 0.0 {
-                            return;
-                        }
-                    }
-                } else if input.bulk_modulus[mi] == 0.0 {
-                    return;
-                }
-                // Otherwise a gas with a contact modulus (an explosive
-                // with a reactant): every pair of its nodes, bonded or
-                // not — eq 19 alone lets two of them come arbitrarily
-                // close.
-            }
-            let xj = input.reference[j];
-            let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
-            let pc = params.pair_distance(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-            if p2 >= 2.25 * pc * pc {
-                return;
-            }
-            let k = k0 * input.bulk_modulus[mi].max(input.bulk_modulus[mj]) * xj[3];
+        for_each_contact(input, cells, params, k0, i, |_, k, p, pc, d| {
             stiff += k;
-            let p = p2.sqrt();
             if p < pc && p > 0.0 {
                 // Negative: pushes i away from j.
                 let g = k * (p - pc) / p;
@@ -184,6 +207,29 @@ pub fn contact_forces(
             }
         });
         *o = (f, stiff);
+    });
+}
+
+/// Each node's half of the contact energy of its pairs, J: the pair
+/// potential ½ F_SR k_PD V_i V_j (p − d_ij)²/δ of eq 27's force (zero
+/// beyond d_ij) shared equally by the two nodes, so `out` sums to the
+/// energy stored in the contacts. `cells` must bin the current positions.
+pub fn contact_energies(
+    input: &ContactInput,
+    cells: &CellList,
+    params: &ContactParams,
+    out: &mut [f64],
+) {
+    let k0 = stiffness_factor(params);
+    for_each_node(out, |i, o| {
+        let vi = input.reference[i][3];
+        let mut e = 0.0;
+        for_each_contact(input, cells, params, k0, i, |_, k, p, pc, _| {
+            if p < pc {
+                e += 0.25 * k * vi * (pc - p) * (pc - p);
+            }
+        });
+        *o = e;
     });
 }
 
@@ -232,6 +278,51 @@ mod tests {
         broken: bool,
         gas_k: f64,
     ) -> Vec<([f64; 3], f64)> {
+        with_input(
+            reference,
+            current,
+            body,
+            material,
+            broken,
+            gas_k,
+            |input, cells, p| {
+                let mut out = vec![([0.0; 3], 0.0); reference.len()];
+                contact_forces(input, cells, p, &mut out);
+                out
+            },
+        )
+    }
+
+    /// Each node's share of the contact energy, as `forces` (no gas
+    /// modulus).
+    fn energies(reference: &[[f64; 3]], current: &[[f64; 3]], body: &[u32]) -> Vec<f64> {
+        let material = vec![0; reference.len()];
+        with_input(
+            reference,
+            current,
+            body,
+            &material,
+            false,
+            0.0,
+            |input, cells, p| {
+                let mut out = vec![0.0; reference.len()];
+                contact_energies(input, cells, p, &mut out);
+                out
+            },
+        )
+    }
+
+    /// Builds the contact pass's inputs for nodes of volume h³ and hands
+    /// them to `pass`.
+    fn with_input<T>(
+        reference: &[[f64; 3]],
+        current: &[[f64; 3]],
+        body: &[u32],
+        material: &[u16],
+        broken: bool,
+        gas_k: f64,
+        pass: impl FnOnce(&ContactInput, &CellList, &ContactParams) -> T,
+    ) -> T {
         let p = params();
         let families = build_families(reference, body, p.horizon, H);
         let factor = vec![if broken { 0.0 } else { 1.0 }; families.bond_count()];
@@ -256,9 +347,65 @@ mod tests {
             families: &families,
             factor: &factor,
         };
-        let mut out = vec![([0.0; 3], 0.0); reference.len()];
-        contact_forces(&input, &cells, &p, &mut out);
-        out
+        pass(&input, &cells, &p)
+    }
+
+    /// The pair of `a_node_from_afar_meets_the_full_contact_distance`
+    /// (0.35h inside its contact distance) stores ½ k V (0.35h)² with
+    /// k V = 3.536776e16 · 1e-9 N/m: 2.166276 J, half on each node; apart
+    /// it stores nothing.
+    #[test]
+    fn a_contact_pair_stores_its_potential_half_on_each_node() {
+        let reference = [[0.0; 3], [2.0 * H, 0.0, 0.0]];
+        let e = energies(&reference, &[[0.0; 3], [H, 0.0, 0.0]], &[0, 1]);
+        let expected = 0.5 * STIFFNESS * H * H * H * (0.35 * H) * (0.35 * H);
+        assert!((expected / 2.166276 - 1.0).abs() < 1e-6, "{expected}");
+        assert!(
+            close(e[0], 0.5 * expected) && close(e[1], 0.5 * expected),
+            "{e:?}"
+        );
+        let apart = energies(&reference, &[[0.0; 3], [1.4 * H, 0.0, 0.0]], &[0, 1]);
+        assert_eq!(apart, [0.0, 0.0]);
+    }
+
+    /// The energy is the potential of the force: moving one node of a
+    /// compressed pair of a small cluster by ±ε changes the total by
+    /// −F·2ε (F in newtons, the force per volume times h³) to the
+    /// central difference's O(ε²).
+    #[test]
+    fn the_contact_force_is_minus_the_gradient_of_the_contact_energy() {
+        let reference = [
+            [0.0; 3],
+            [2.0 * H, 0.0, 0.0],
+            [2.0 * H, 2.0 * H, 0.0],
+            [0.0, 2.0 * H, 2.0 * H],
+        ];
+        let current = [
+            [0.0; 3],
+            [1.1 * H, 0.2 * H, -0.1 * H],
+            [0.9 * H, 0.8 * H, 0.3 * H],
+            [0.1 * H, 0.5 * H, 1.0 * H],
+        ];
+        let body = [0, 1, 2, 3];
+        let material = [0; 4];
+        let f = forces(&reference, &current, &body, &material, false);
+        let total = |c: &[[f64; 3]]| energies(&reference, c, &body).iter().sum::<f64>();
+        let eps = 1.0e-9;
+        for node in 0..4 {
+            for axis in 0..3 {
+                let mut plus = current;
+                let mut minus = current;
+                plus[node][axis] += eps;
+                minus[node][axis] -= eps;
+                let derivative = (total(&plus) - total(&minus)) / (2.0 * eps);
+                let force = f[node].0[axis] * H * H * H;
+                assert!(
+                    (derivative + force).abs() <= 1e-6 * force.abs().max(1e3),
+                    "node {node} axis {axis}: dU/dx {derivative}, F {force}"
+                );
+            }
+        }
+        assert!(total(&current) > 0.0);
     }
 
     fn close(a: f64, b: f64) -> bool {

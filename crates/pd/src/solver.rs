@@ -20,7 +20,9 @@
 //! stiffness/density); it is recomputed every step.
 
 use crate::cell_list::CellList;
-use crate::contact::{bin_current_positions, contact_forces, ContactInput, ContactParams};
+use crate::contact::{
+    bin_current_positions, contact_energies, contact_forces, ContactInput, ContactParams,
+};
 use crate::family::{build_families, partial_volume, Families};
 use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInput, NodeForce};
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
@@ -1089,25 +1091,13 @@ impl PdSolver {
             &mut self.plastic,
             &mut self.bond_out,
         );
-        if let Some(c) = self.options.contact {
-            let params = ContactParams {
-                force_factor: c.force_factor,
-                contact_distance: c.distance_factor * self.options.spacing,
-                reference_fraction: c.reference_fraction,
-                horizon: self.horizon,
-            };
+        if let Some(params) = self.contact_params() {
             bin_current_positions(&mut self.cells, &self.reference, &self.state, &params);
-            let input = ContactInput {
-                reference: &self.reference,
-                state: &self.state,
-                body: &self.body,
-                material: &self.material,
-                bulk_modulus: &self.bulk_modulus,
-                breakable: &self.breakable,
-                families: &self.families,
-                factor: &self.factor,
-            };
-            contact_forces(&input, &self.cells, &params, &mut self.contact);
+            // Taken out for the pass (no copy) so the inputs can borrow
+            // the solver.
+            let mut out = std::mem::take(&mut self.contact);
+            contact_forces(&self.contact_input(), &self.cells, &params, &mut out);
+            self.contact = out;
         }
         self.viscous_pass();
     }
@@ -1304,6 +1294,47 @@ impl PdSolver {
             .sum()
     }
 
+    /// Energy stored in the short-range contacts, J: the pair potential of
+    /// eq 27 over the pairs closer than their contact distance
+    /// ([`contact_energies`]); 0 with contact off. Summed node by node in
+    /// node order, so it has the same bits for any thread count.
+    pub fn contact_energy(&self) -> f64 {
+        let Some(params) = self.contact_params() else {
+            return 0.0;
+        };
+        // A list of its own: the solver's bins the positions of the last
+        // force pass, which may not be the current ones.
+        let mut cells = CellList::default();
+        bin_current_positions(&mut cells, &self.reference, &self.state, &params);
+        let mut per_node = vec![0.0; self.node_count()];
+        contact_energies(&self.contact_input(), &cells, &params, &mut per_node);
+        per_node.iter().sum()
+    }
+
+    /// The short-range force parameters; `None` with contact off.
+    fn contact_params(&self) -> Option<ContactParams> {
+        self.options.contact.map(|c| ContactParams {
+            force_factor: c.force_factor,
+            contact_distance: c.distance_factor * self.options.spacing,
+            reference_fraction: c.reference_fraction,
+            horizon: self.horizon,
+        })
+    }
+
+    /// The contact pass's view of the nodes.
+    fn contact_input(&self) -> ContactInput<'_> {
+        ContactInput {
+            reference: &self.reference,
+            state: &self.state,
+            body: &self.body,
+            material: &self.material,
+            bulk_modulus: &self.bulk_modulus,
+            breakable: &self.breakable,
+            families: &self.families,
+            factor: &self.factor,
+        }
+    }
+
     /// Kinetic energy, J.
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.node_count())
@@ -1396,7 +1427,10 @@ impl Solver for PdSolver {
         ConservationTotals {
             mass,
             momentum,
-            energy: self.kinetic_energy() + self.bond_energy() + self.gas_energy(),
+            energy: self.kinetic_energy()
+                + self.bond_energy()
+                + self.gas_energy()
+                + self.contact_energy(),
         }
     }
 
