@@ -97,6 +97,12 @@ pub const ENTRIES: &[Entry] = &[
         example: "Null(eos: IdealGas(gamma: 1.4, cv: 717.625, rho0: 1.225), viscosity: 0.0)",
     },
     Entry {
+        family: "material",
+        name: "ViscoScram",
+        summary: "polymer-bonded explosive: five Maxwell elements and statistical crack growth with frictional toughness and heating (seed 000 §4.1.2, ref [19]; PBX-9501)",
+        example: "ViscoScram(shear_moduli: (3.5e8, 1.739e8, 5.212e8, 9.085e8, 6.875e8), inverse_relaxation_times: (0.0, 7.32e3, 7.32e4, 7.32e5, 2.0e6), pressure: Linear(bulk_modulus: 5.722e9), crack_size: 1.0e-3, initial_crack_radius: 3.0e-5, crack_power: 10.0, max_crack_speed: 300.0, fracture_toughness: 500.0, crack_friction: 0.35, rate: GreenNaghdi)",
+    },
+    Entry {
         family: "pipeline",
         name: "Fdm",
         summary: "3D Lax-Wendroff finite-difference Euler solver, Yanenko splitting, adaptive viscosity (seed 001 §2.1)",

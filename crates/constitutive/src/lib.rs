@@ -24,6 +24,9 @@
 //!   Jiang's tensile damage (seed 001 §4.3, eqs 56–58).
 //! - [`null_material`]: fluids as material points — EOS pressure, optional
 //!   Newtonian viscosity (for seed 001's MPM-vs-FDM comparisons).
+//! - [`viscoscram`]: ViscoSCRAM, five Maxwell elements and statistical
+//!   crack growth for a polymer-bonded explosive (seed 000 §4.1.2, ref
+//!   [19]).
 //! - [`model`]: the [`MaterialModel`] enum a config names models through.
 //! - [`contracts`]: the property checks every model passes, and the
 //!   `material_contract_tests!` macro that joins a model to them.
@@ -45,6 +48,7 @@ pub mod pressure;
 pub mod random;
 pub mod stability;
 pub mod tepla;
+pub mod viscoscram;
 
 pub use damage::JohnsonCookDamage;
 pub use drucker_prager::DruckerPrager;
@@ -60,3 +64,4 @@ pub use pressure::PressureModel;
 pub use random::Gaussian;
 pub use stability::StabilityChecks;
 pub use tepla::Tepla;
+pub use viscoscram::ViscoScram;

@@ -5,8 +5,8 @@
 //! per point). Adding a model is a module plus one variant here.
 
 use crate::{
-    drucker_prager, elastic_plastic, hjc, ConstitutiveError, DruckerPrager, ElasticPlastic, Hjc,
-    Hypoelastic, NullMaterial,
+    drucker_prager, elastic_plastic, hjc, viscoscram, ConstitutiveError, DruckerPrager,
+    ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ViscoScram,
 };
 use brisance_core::{Eos, Mat3, Material, StressUpdate, StressUpdateInput};
 use serde::{Deserialize, Serialize};
@@ -28,6 +28,9 @@ pub enum MaterialModel {
     /// A fluid as material points: EOS pressure, optional Newtonian
     /// viscosity ([`crate::null_material`]).
     Null(NullMaterial),
+    /// A polymer-bonded explosive: five Maxwell elements and statistical
+    /// crack growth ([`crate::viscoscram`], seed 000 §4.1.2, ref [19]).
+    ViscoScram(ViscoScram),
 }
 
 macro_rules! dispatch {
@@ -38,6 +41,7 @@ macro_rules! dispatch {
             MaterialModel::DruckerPrager($m) => $e,
             MaterialModel::Hjc($m) => $e,
             MaterialModel::Null($m) => $e,
+            MaterialModel::ViscoScram($m) => $e,
         }
     };
 }
@@ -50,6 +54,7 @@ impl MaterialModel {
         "DruckerPrager",
         "Hjc",
         "Null",
+        "ViscoScram",
     ];
 
     /// Checks the parameters; the message names the bad field.
@@ -63,8 +68,19 @@ impl MaterialModel {
         match self {
             Self::Hypoelastic(_) => true,
             Self::Null(m) => !m.is_viscous(),
-            Self::ElasticPlastic(_) | Self::DruckerPrager(_) | Self::Hjc(_) => false,
+            Self::ElasticPlastic(_)
+            | Self::DruckerPrager(_)
+            | Self::Hjc(_)
+            | Self::ViscoScram(_) => false,
         }
+    }
+
+    /// Whether a state at rest relaxes: the stress of a viscoelastic model
+    /// decays at zero strain rate (its dashpots), turning stored energy
+    /// into heat, so "zero rate keeps the stress" does not apply; a rigid
+    /// spin must then commute with that relaxation instead.
+    pub fn relaxes(&self) -> bool {
+        matches!(self, Self::ViscoScram(m) if m.inverse_relaxation_times.iter().any(|&r| r > 0.0))
     }
 
     /// Whether the stress depends on the current rate of deformation
@@ -104,7 +120,7 @@ impl MaterialModel {
             }
             Self::DruckerPrager(m) => Some(m.yield_excess(stress)),
             Self::Hjc(m) => Some(m.yield_excess(stress, history)),
-            Self::Hypoelastic(_) | Self::Null(_) => None,
+            Self::Hypoelastic(_) | Self::Null(_) | Self::ViscoScram(_) => None,
         }
     }
 
@@ -113,7 +129,9 @@ impl MaterialModel {
         match self {
             Self::ElasticPlastic(_) => history[elastic_plastic::FAILED_INDEX] != 0.0,
             Self::Hjc(_) => history[hjc::FAILED_INDEX] != 0.0,
-            Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) => false,
+            Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) | Self::ViscoScram(_) => {
+                false
+            }
         }
     }
 
@@ -125,6 +143,10 @@ impl MaterialModel {
                 &history[elastic_plastic::DAMAGE_INDEX..=elastic_plastic::DAMAGE_INDEX]
             }
             Self::Hjc(_) => &history[hjc::COMPRESSION_DAMAGE_INDEX..=hjc::TENSILE_DAMAGE_INDEX],
+            // The mean crack radius, which never decreases.
+            Self::ViscoScram(_) => {
+                &history[viscoscram::CRACK_RADIUS_INDEX..=viscoscram::CRACK_RADIUS_INDEX]
+            }
             Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) => &[],
         }
     }
@@ -149,6 +171,8 @@ impl MaterialModel {
             Self::ElasticPlastic(_) => elastic_plastic::SCALAR_HISTORY_LEN,
             Self::DruckerPrager(_) => drucker_prager::SCALAR_HISTORY_LEN,
             Self::Hjc(_) => hjc::STATE_HISTORY_LEN,
+            // The crack radius; the element stresses that follow rotate.
+            Self::ViscoScram(_) => 1,
         }
     }
 }
@@ -197,6 +221,12 @@ impl From<ElasticPlastic> for MaterialModel {
     }
 }
 
+impl From<ViscoScram> for MaterialModel {
+    fn from(m: ViscoScram) -> Self {
+        Self::ViscoScram(m)
+    }
+}
+
 impl From<DruckerPrager> for MaterialModel {
     fn from(m: DruckerPrager) -> Self {
         Self::DruckerPrager(m)
@@ -218,7 +248,9 @@ impl From<NullMaterial> for MaterialModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{DruckerPrager, ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ObjectiveRate};
+    use crate::{
+        DruckerPrager, ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ObjectiveRate, ViscoScram,
+    };
     use brisance_core::Mat3;
 
     #[test]
@@ -232,8 +264,15 @@ mod tests {
         assert!(!m.is_elastic());
         let h = MaterialModel::from(Hypoelastic::ofhc_copper_seed000(ObjectiveRate::Jaumann));
         assert_eq!(h.history_len(), 0);
-        assert!(h.is_elastic() && h.eos().is_none());
-        assert_eq!(MaterialModel::VARIANTS.len(), 5);
+        assert!(h.is_elastic() && h.eos().is_none() && !h.relaxes());
+        assert_eq!(MaterialModel::VARIANTS.len(), 6);
+        let pbx = MaterialModel::from(ViscoScram::pbx_9501(ObjectiveRate::Jaumann));
+        assert_eq!(pbx.name(), "visco_scram");
+        assert_eq!(pbx.history_len(), 31);
+        assert!(!pbx.is_elastic() && pbx.relaxes() && pbx.eos().is_none());
+        let mut h = vec![0.0; pbx.history_len()];
+        pbx.init_history(&mut h);
+        assert_eq!(pbx.damage(&h), &[3.0e-5]);
         let soil = MaterialModel::from(DruckerPrager::soil_luccioni_luege_2006());
         assert_eq!(soil.name(), "drucker_prager");
         assert!(!soil.is_elastic() && soil.eos().is_none());
@@ -281,6 +320,14 @@ mod tests {
     crate::material_contract_tests!(
         hypoelastic_copper_green_naghdi,
         Hypoelastic::ofhc_copper_seed000(ObjectiveRate::GreenNaghdi)
+    );
+    crate::material_contract_tests!(
+        pbx_9501_viscoscram_jaumann,
+        ViscoScram::pbx_9501(ObjectiveRate::Jaumann)
+    );
+    crate::material_contract_tests!(
+        pbx_9501_viscoscram_green_naghdi,
+        ViscoScram::pbx_9501(ObjectiveRate::GreenNaghdi)
     );
     crate::material_contract_tests!(copper_seed000, ElasticPlastic::ofhc_copper_seed000());
     crate::material_contract_tests!(
