@@ -73,6 +73,7 @@ impl SphericalRemap {
             centre: [0.0; 3],
             radius: Some(self.radius),
             subsamples: None,
+            coordinates: brisance::core::Geometry::Cartesian,
         };
         let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
         std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
