@@ -123,6 +123,11 @@ struct RemapArgs {
     /// Sub-cells per direction (default: ⌈Δx/h⌉ within [2, 16]).
     #[arg(long)]
     subsamples: Option<usize>,
+    /// The target is an axisymmetric (r, z) grid (x = r from 0, y = z,
+    /// one cell along z) of rings: a spherical charge centred on the axis
+    /// (`--centre=0,z,0`).
+    #[arg(long)]
+    axisymmetric: bool,
     /// Output directory.
     #[arg(long)]
     out: PathBuf,
@@ -181,6 +186,11 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
         centre,
         radius: a.radius,
         subsamples: a.subsamples,
+        coordinates: if a.axisymmetric {
+            brisance::core::Geometry::Axisymmetric
+        } else {
+            brisance::core::Geometry::Cartesian
+        },
     };
     let mapped = remap(&profile, &target).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;

@@ -212,3 +212,76 @@ fn at_one_millimetre_the_traces_in_the_copper_do_not_stop_the_cylinder_test() {
     let steps = summary(dir.path())["steps"].as_u64().unwrap();
     assert!(steps < 200, "{steps} steps");
 }
+
+/// A small FdmMpmBridge run on rings: an (r, z) box 20 × 60 mm at 2 mm,
+/// FDM z 0–40 mm, MPM z 30–60 mm, a 5-bar region z < 10 mm driving a
+/// shock through the bridge onto a steel disc.
+const RZ_BRIDGE: &str = r#"Scenario(
+    name: "bridge_rz",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (0.02, 0.06, 0.002), cells: (10, 30, 1), geometry: Axisymmetric),
+    boundaries: (x_low: Reflective, x_high: Reflective, y_low: Reflective, y_high: Wall),
+    time: (end: 6.0e-5, cfl: 0.8),
+    materials: {"air": (library: "air"), "rha": (library: "rha_steel")},
+    pipeline: FdmMpmBridge(
+        fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.02, 0.04, 0.002)),
+        mpm_region: (lower: (0.0, 0.03, 0.0), upper: (0.02, 0.06, 0.002)),
+        air: "air",
+        bulk_viscosity: On(),
+        activation_pressure: 1.1e5,
+    ),
+    initial: [
+        (region: Everywhere, material: "air", state: (density: 1.225, pressure: 1.0e5)),
+        (region: HalfSpace(point: (0, 0.01, 0), normal: (0, -1, 0)), material: "air", state: (density: 4.9, pressure: 5.0e5)),
+        (region: Box(min: (0.0, 0.05, -1.0), max: (0.014, 0.056, 1.0)), material: "rha", state: (density: 7850.0, temperature: 300.0)),
+    ],
+    outputs: (
+        vtk: false,
+        interval: 2.0e-5,
+        checkpoint_every: 40,
+        fields: ["density", "pressure", "velocity_y"],
+        gauges: [
+            (name: "bridge", point: (0.005, 0.035, 0.0), fields: ["pressure", "velocity_y"]),
+            (name: "disc", point: (0.003, 0.053, 0.0), fields: ["pressure", "velocity_y"]),
+        ],
+    ),
+)"#;
+
+#[test]
+fn an_rz_bridge_restart_on_another_thread_count_ends_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("bridge_rz.ron");
+    fs::write(&config, RZ_BRIDGE).unwrap();
+    let a = dir.path().join("A");
+    assert_success(&run_quiet(&config, &a, &[]));
+    let checkpoints = sorted_files(&a.join("checkpoints"));
+    assert!(checkpoints.len() >= 2, "{checkpoints:?}");
+    let middle = &checkpoints[checkpoints.len() / 2];
+    // The bridge's grids are one patch each: the patch split set here is
+    // the domain's, which it does not change.
+    for (name, extra) in [
+        ("B", vec![]),
+        (
+            "C",
+            vec!["--threads", "1", "--set", "domain.patches=(2,3,1)"],
+        ),
+        ("D", vec!["--threads", "2"]),
+    ] {
+        let b = dir.path().join(name);
+        let mut args = extra;
+        args.extend(["--restart", middle.to_str().unwrap()]);
+        assert_success(&run_quiet(&config, &b, &args));
+        for rel in ["gauges/bridge.csv", "gauges/disc.csv"] {
+            assert_same_bytes(&a, &b, Path::new(rel));
+        }
+        let (sa, sb) = (summary(&a), summary(&b));
+        assert_eq!(sa["steps"], sb["steps"], "{name}");
+        assert_eq!(sa["final_totals"], sb["final_totals"], "{name}");
+    }
+    // The whole run on one thread: the same bits from the start.
+    let e = dir.path().join("E");
+    assert_success(&run_quiet(&config, &e, &["--threads", "1"]));
+    for rel in ["gauges/bridge.csv", "gauges/disc.csv"] {
+        assert_same_bytes(&a, &e, Path::new(rel));
+    }
+    assert_eq!(summary(&a)["final_totals"], summary(&e)["final_totals"]);
+}

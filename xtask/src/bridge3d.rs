@@ -45,6 +45,8 @@ pub(crate) struct SphericalRemap {
     pub(crate) upper: [f64; 3],
     pub(crate) cells: [usize; 3],
     pub(crate) radius: f64,
+    /// Cartesian, or an (r, z) grid of rings with the charge on its axis.
+    pub(crate) coordinates: brisance::core::Geometry,
 }
 
 impl SphericalRemap {
@@ -73,6 +75,7 @@ impl SphericalRemap {
             centre: [0.0; 3],
             radius: Some(self.radius),
             subsamples: None,
+            coordinates: self.coordinates,
         };
         let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
         std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;

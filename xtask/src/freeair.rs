@@ -325,6 +325,7 @@ fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> 
         centre: [0.0; 3],
         radius: Some(remap_radius),
         subsamples: None,
+        coordinates: brisance::core::Geometry::Cartesian,
     };
     let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
     let level = Level::new(

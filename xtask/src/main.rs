@@ -777,7 +777,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 30] = [
+const CASES: [&str; 31] = [
     "sod",
     "sod-ice",
     "shocktubes",
@@ -805,6 +805,7 @@ const CASES: [&str; 30] = [
     "freeair",
     "blast2d",
     "plate",
+    "plate-rz",
     "slab",
     "mpm-throughput",
     "throughput",
@@ -917,6 +918,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("plate") {
         plate_cases::e_plate(&mut body, &img)?;
+    }
+    if run("plate-rz") {
+        plate_cases::e_plate_rz(&mut body, &img)?;
     }
     if run("slab") {
         slab_cases::e_slab(&mut body, &img)?;

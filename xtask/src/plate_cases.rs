@@ -97,6 +97,86 @@ impl PlateCase {
     }
 }
 
+/// The grid a case runs on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Grid {
+    /// The 3D quarter model of `PlateCase::config` (x = 0, y = 0 symmetry
+    /// planes, the plate's normal z).
+    Quarter,
+    /// The axisymmetric (r, z) model of `configs/plate_case{id}_rz.ron`
+    /// (x = r, the plate's normal y) with cells of `h4` metres at scale 4
+    /// (k `h4` in a case of length scale k); the configs' own is
+    /// [`RZ_CELL`].
+    Rz { h4: f64 },
+}
+
+/// Cell size of the r–z configs at scale 4, m (half the quarter's).
+pub(crate) const RZ_CELL: f64 = 0.0025;
+
+impl Grid {
+    /// The case's config.
+    pub(crate) fn config(self, case: &PlateCase) -> String {
+        match self {
+            Self::Quarter => case.config.to_string(),
+            Self::Rz { .. } => format!("configs/plate_case{}_rz.ron", case.id),
+        }
+    }
+
+    /// The case's cell size, m.
+    pub(crate) fn cell(self, case: &PlateCase) -> f64 {
+        match self {
+            Self::Quarter => case.cell(),
+            Self::Rz { h4 } => h4 * case.length_scale(),
+        }
+    }
+
+    /// The axis of the plate's normal and the lateral axes the centre's
+    /// particles are picked along.
+    fn axes(self) -> (usize, &'static [usize]) {
+        match self {
+            Self::Quarter => (2, &[0, 1]),
+            Self::Rz { .. } => (1, &[0]),
+        }
+    }
+
+    /// The FDM region's cells at scale-4 lengths (r–z: 270 mm × 140 mm).
+    fn fdm_cells(self) -> [usize; 3] {
+        match self {
+            Self::Quarter => [54, 54, 28],
+            Self::Rz { h4 } => [
+                (0.27 / h4).round() as usize,
+                (0.14 / h4).round() as usize,
+                1,
+            ],
+        }
+    }
+
+    /// The overrides that put the config on this grid (r–z cells other
+    /// than the config's: the domain's cells and the bridge width that
+    /// keeps its 20 k mm).
+    fn sets(self) -> Vec<String> {
+        match self {
+            Self::Rz { h4 } if (h4 - RZ_CELL).abs() > 1e-12 => vec![
+                format!(
+                    "domain.cells=({}, {}, 1)",
+                    (0.27 / h4).round() as usize,
+                    (0.23 / h4).round() as usize
+                ),
+                format!("pipeline.w=Some({})", (0.02 / h4).round() as usize),
+            ],
+            _ => Vec::new(),
+        }
+    }
+
+    /// A name for the case's output directories.
+    fn tag(self, case: &PlateCase) -> String {
+        match self {
+            Self::Quarter => format!("plate_case{}", case.id),
+            Self::Rz { h4 } => format!("plate_rz_case{}_h{}", case.id, h4 * 1e4),
+        }
+    }
+}
+
 /// Seed 001 Tables 1 and 2.
 pub(crate) const PLATE_CASES: [PlateCase; 6] = [
     PlateCase {
@@ -178,17 +258,32 @@ pub(crate) const PLATE_CASES: [PlateCase; 6] = [
 /// remapped onto the FDM region within 59.5 k mm of the centre) in this
 /// process, and writes `remap.bin` into `out`; returns the relative
 /// changes of the charge's mass, energy and products over the remap.
-pub(crate) fn make_remap(case: &PlateCase, out: &Path) -> Result<String> {
+pub(crate) fn make_remap(case: &PlateCase, grid: Grid, out: &Path) -> Result<String> {
     let k = case.length_scale();
+    let (lower, upper, coordinates) = match grid {
+        Grid::Quarter => (
+            [0.0, 0.0, -0.06 * k],
+            [0.27 * k, 0.27 * k, 0.08 * k],
+            brisance::core::Geometry::Cartesian,
+        ),
+        // The rings of the (r, z) FDM region, the charge centre on the
+        // axis.
+        Grid::Rz { .. } => (
+            [0.0, -0.06 * k, 0.0],
+            [0.27 * k, 0.08 * k, 0.01 * k],
+            brisance::core::Geometry::Axisymmetric,
+        ),
+    };
     SphericalRemap {
         charge_radius: case.charge_radius(),
         time: case.remap_time(),
         radius_1d: 0.08 * k,
         cells_1d: 800,
-        lower: [0.0, 0.0, -0.06 * k],
-        upper: [0.27 * k, 0.27 * k, 0.08 * k],
-        cells: [54, 54, 28],
+        lower,
+        upper,
+        cells: grid.fdm_cells(),
         radius: 0.0595 * k,
+        coordinates,
     }
     .write(out)
 }
@@ -196,6 +291,7 @@ pub(crate) fn make_remap(case: &PlateCase, out: &Path) -> Result<String> {
 /// The plate's centre: mean z position and z velocity of the steel
 /// particles with x < `half_width` and y < `half_width` and z below
 /// `z_max`, and their count.
+#[cfg(test)]
 pub(crate) fn centre_of(
     positions: &[[f64; 3]],
     material: &[f64],
@@ -203,10 +299,31 @@ pub(crate) fn centre_of(
     half_width: f64,
     z_max: f64,
 ) -> Option<(f64, f64, usize)> {
+    centre_along(
+        positions,
+        material,
+        velocity_z,
+        half_width,
+        z_max,
+        Grid::Quarter,
+    )
+}
+
+/// [`centre_of`] on `grid`: the plate's normal z, or y on an (r, z) grid
+/// where the lateral distance is r = x alone.
+fn centre_along(
+    positions: &[[f64; 3]],
+    material: &[f64],
+    velocity_normal: &[f64],
+    half_width: f64,
+    z_max: f64,
+    grid: Grid,
+) -> Option<(f64, f64, usize)> {
+    let (normal, lateral) = grid.axes();
     let (mut z, mut v, mut n) = (0.0, 0.0, 0usize);
-    for ((x, m), vz) in positions.iter().zip(material).zip(velocity_z) {
-        if *m == STEEL && x[0] < half_width && x[1] < half_width && x[2] < z_max {
-            z += x[2];
+    for ((x, m), vz) in positions.iter().zip(material).zip(velocity_normal) {
+        if *m == STEEL && lateral.iter().all(|&d| x[d] < half_width) && x[normal] < z_max {
+            z += x[normal];
             v += vz;
             n += 1;
         }
@@ -214,7 +331,7 @@ pub(crate) fn centre_of(
     (n > 0).then(|| (z / n as f64, v / n as f64, n))
 }
 
-fn sample_centre(solver: &dyn Solver, cell: f64) -> Result<(f64, f64, usize)> {
+fn sample_centre(solver: &dyn Solver, grid: Grid, cell: f64) -> Result<(f64, f64, usize)> {
     let data = solver
         .particle_data()
         .ok_or_else(|| anyhow!("the bridge gives no particle data"))?;
@@ -226,12 +343,14 @@ fn sample_centre(solver: &dyn Solver, cell: f64) -> Result<(f64, f64, usize)> {
             .ok_or_else(|| anyhow!("particle field {name} missing"))
     };
     // The ring starts at r = D/2 and z = 110 k mm: x, y < h keeps it out.
-    centre_of(
+    let velocity = ["velocity_x", "velocity_y", "velocity_z"][grid.axes().0];
+    centre_along(
         &data.positions,
         field("material")?,
-        field("velocity_z")?,
+        field(velocity)?,
         cell,
         f64::INFINITY,
+        grid,
     )
     .ok_or_else(|| anyhow!("no steel particle near the plate's centre"))
 }
@@ -239,6 +358,7 @@ fn sample_centre(solver: &dyn Solver, cell: f64) -> Result<(f64, f64, usize)> {
 /// What one case's run measured.
 pub(crate) struct PlateRun {
     pub(crate) case: PlateCase,
+    pub(crate) grid: Grid,
     /// (time, centre deflection, centre velocity).
     pub(crate) history: Vec<(f64, f64, f64)>,
     pub(crate) peak: f64,
@@ -294,17 +414,19 @@ pub(crate) fn cold_gas(
 pub(crate) fn run_case(
     root: &Path,
     case: &PlateCase,
+    grid: Grid,
     sets: &[String],
     out: &Path,
     remap_line: String,
 ) -> Result<PlateRun> {
-    let mut run = CaseRun::build(root, case.config, sets, out)?;
-    let (z0, _, n0) = sample_centre(run.solver.as_ref(), case.cell())?;
+    let mut run = CaseRun::build(root, &grid.config(case), sets, out)?;
+    let cell = grid.cell(case);
+    let (z0, _, n0) = sample_centre(run.solver.as_ref(), grid, cell)?;
     let mut history = vec![(0.0, 0.0, 0.0)];
     let (mut peak, mut peak_time, mut peak_reached) = (0.0f64, 0.0, false);
     let mut falling = 0u32;
     run.step(SAMPLE_EVERY, |solver, steps, _| {
-        let (z, v, _) = sample_centre(solver, case.cell())?;
+        let (z, v, _) = sample_centre(solver, grid, cell)?;
         let d = z - z0;
         history.push((solver.time(), d, v));
         if d > peak {
@@ -354,6 +476,7 @@ pub(crate) fn run_case(
         .with_context(|| format!("cannot write {}", out.display()))?;
     Ok(PlateRun {
         case: *case,
+        grid,
         history,
         peak,
         peak_time,
@@ -374,37 +497,81 @@ pub(crate) fn within_ten_percent(measured: f64, experiment: f64) -> bool {
 
 pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-PLATE: RHA plates under a spherical TNT air blast through the 3D FDM-MPM bridge");
-    let root: PathBuf = workspace_root();
     // Case 4 first: the largest deflection, the one the budget must reach;
     // then its scaled copies, then case 1's series.
-    // PLATE_CASES (e.g. `PLATE_CASES=1`) runs a subset.
-    let ids: Vec<u8> = match std::env::var("PLATE_CASES") {
-        Ok(list) => list
-            .split(',')
-            .map(|c| c.trim().parse::<u8>())
-            .collect::<Result<_, _>>()
-            .context("PLATE_CASES takes case numbers, e.g. 4,1")?,
-        Err(_) => vec![4, 5, 6, 1, 2, 3],
+    let runs: Vec<(u8, Grid)> = [4, 5, 6, 1, 2, 3].map(|id| (id, Grid::Quarter)).to_vec();
+    run_plates(report, img, &runs, Section::Quarter)
+}
+
+/// E-PLATE on (r, z) grids (`--only plate-rz`): the six cases at the r–z
+/// configs' cells ([`RZ_CELL`]), then case 1 at twice and half of them.
+pub(crate) fn e_plate_rz(report: &mut Report, img: &Path) -> Result<()> {
+    println!("E-PLATE r-z: the six plates through the FDM-MPM bridge on axisymmetric grids");
+    let mut runs: Vec<(u8, Grid)> = [4, 5, 6, 1, 2, 3]
+        .map(|id| (id, Grid::Rz { h4: RZ_CELL }))
+        .to_vec();
+    runs.push((1, Grid::Rz { h4: 2.0 * RZ_CELL }));
+    runs.push((1, Grid::Rz { h4: 0.5 * RZ_CELL }));
+    run_plates(report, img, &runs, Section::Rz)
+}
+
+/// Which E-PLATE section a set of runs writes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Section {
+    Quarter,
+    Rz,
+}
+
+/// Makes the remaps and runs the cases `planned` ((case, grid), in that
+/// order), splicing the section after each; `PLATE_CASES` (e.g.
+/// `PLATE_CASES=1` or `4,1`) keeps the runs of those cases only.
+fn run_plates(
+    report: &mut Report,
+    img: &Path,
+    planned: &[(u8, Grid)],
+    section: Section,
+) -> Result<()> {
+    let root: PathBuf = workspace_root();
+    let keep: Option<Vec<u8>> = match std::env::var("PLATE_CASES") {
+        Ok(list) => Some(
+            list.split(',')
+                .map(|c| c.trim().parse::<u8>())
+                .collect::<Result<_, _>>()
+                .context("PLATE_CASES takes case numbers, e.g. 4,1")?,
+        ),
+        Err(_) => None,
     };
+    if let Some(bad) = keep
+        .iter()
+        .flatten()
+        .find(|id| PLATE_CASES.iter().all(|c| c.id != **id))
+    {
+        bail!("PLATE_CASES: there is no case {bad} (cases 1 to 6)");
+    }
     let mut prepared = Vec::new();
-    for id in ids {
+    for &(id, grid) in planned {
+        if keep.as_ref().is_some_and(|k| !k.contains(&id)) {
+            continue;
+        }
         let Some(case) = PLATE_CASES.iter().find(|c| c.id == id) else {
-            bail!("PLATE_CASES: there is no case {id} (cases 1 to 6)");
+            bail!("there is no case {id} (cases 1 to 6)");
         };
-        let remap_dir = root.join(format!("out/plate_case{id}_remap"));
-        let remap_line = make_remap(case, &remap_dir)?;
-        prepared.push((id, case, remap_dir, remap_line));
+        let remap_dir = root.join(format!("out/{}_remap", grid.tag(case)));
+        let remap_line = make_remap(case, grid, &remap_dir)?;
+        prepared.push((id, case, grid, remap_dir, remap_line));
     }
     let mut runs = Vec::new();
-    for (id, case, remap_dir, remap_line) in prepared {
-        let sets = vec![format!(
+    for (id, case, grid, remap_dir, remap_line) in prepared {
+        let mut sets = grid.sets();
+        sets.push(format!(
             "pipeline.remap=Some(\"{}\")",
             remap_dir.join("remap.bin").display()
-        )];
-        let out = root.join(format!("out/xtask_plate_case{id}"));
-        let r = run_case(&root, case, &sets, &out, remap_line)?;
+        ));
+        let out = root.join(format!("out/xtask_{}", grid.tag(case)));
+        let r = run_case(&root, case, grid, &sets, &out, remap_line)?;
         println!(
-            "  case {id}: δ/t = {:.3} at {:.0} µs, {} steps to {:.0} µs in {:.0} s, split {:?}{}",
+            "  case {id} ({:.2} mm cells): δ/t = {:.3} at {:.0} µs, {} steps to {:.0} µs in {:.0} s, split {:?}{}",
+            grid.cell(case) * 1e3,
             r.peak / case.thickness,
             r.peak_time * 1e6,
             r.steps,
@@ -417,14 +584,17 @@ pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
                 .unwrap_or_default()
         );
         runs.push(r);
-        splice_now(&root, |partial| write_section(partial, &runs))?;
+        splice_now(&root, |partial| write_section(partial, &runs, section))?;
     }
-    write_section(report, &runs)?;
-    plot_histories(img, &runs)?;
+    write_section(report, &runs, section)?;
+    plot_histories(img, &runs, section)?;
     Ok(())
 }
 
-fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
+fn write_section(report: &mut Report, runs: &[PlateRun], section: Section) -> Result<()> {
+    if section == Section::Rz {
+        return write_rz_section(report, runs);
+    }
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -452,27 +622,76 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
          build and run, and its peak during the case (the process's peak reset at the build; — where the kernel refuses the reset). FDM / MPM: the bridge's split of the wall time \
          (`time_split.json`).\n"
     );
+    plate_rows(report, runs, "E-PLATE", "e_plate.png")
+}
+
+/// The E-PLATE section on (r, z) grids: what differs from the 3D quarter
+/// model, then the rows and verdicts of [`plate_rows`].
+fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
+    let _ = writeln!(
+        report.md,
+        "## E-PLATE r–z — the six plates through the FDM–MPM bridge on axisymmetric (r, z) grids\n"
+    );
+    let _ = writeln!(
+        report.md,
+        "`configs/plate_case{{1..6}}_rz.ron`: the cases of the 3D section above with the same physics on an \
+         axisymmetric (r, z) grid (x = r from the axis through the charge centre, y = z along the plate's \
+         normal; docs/physics/couple/bridge.md, \"(r, z) grids\"): every cell and particle a ring, the bridge's \
+         exchange (seed 001 eqs 37–51) over ring volumes and annular faces. The same plate, clamp ring \
+         6 t thick behind it outside r = D/2 held by the fixed z_high face, void behind the plate, \
+         FDM region r 0–270 k mm, z −60 .. 80 k mm, MPM region z 60 .. 170 k mm, bridge 20 k mm wide, \
+         2 particles per cell per direction, MPM Courant 0.4, bulk viscosity on. **2.5 k mm cells** \
+         (half the quarter's: the plate is 4 cells, 8 particles, thick); case 1 also at 5 and 1.25 mm \
+         (the rows marked with their cells), the FDM region's remap made for each grid \
+         (`brisance remap --axisymmetric`: the 1D spherical detonation onto the rings, the charge on \
+         the axis). The centre is the plate particles within one cell of the axis; the stop rule and \
+         the columns are the 3D section's.\n"
+    );
+    plate_rows(report, runs, "E-PLATE r–z", "e_plate_rz.png")
+}
+
+/// A run's case number, with its cells on an (r, z) grid other than the
+/// r–z configs' own.
+fn label(r: &PlateRun) -> String {
+    match r.grid {
+        Grid::Rz { h4 } if (h4 - RZ_CELL).abs() > 1e-12 => {
+            format!("{} (h {} mm)", r.case.id, r.grid.cell(&r.case) * 1e3)
+        }
+        _ => r.case.id.to_string(),
+    }
+}
+
+/// The table of `runs` (a row per run, cases not run marked), the scale
+/// and run notes, the plot's link `image` and the verdicts, named `name`.
+fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -> Result<()> {
+    let md = &mut report.md;
     let _ = writeln!(
         md,
         "| case | scale | t (m) | D (m) | W (kg) | R (m) | δ/t measured | experiment | seed CFDMP | seed LS-DYNA | peak at (µs) | steps | wall (s) | FDM / MPM (s) | memory growth / peak (MB) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for c in &PLATE_CASES {
-        let r = runs.iter().find(|r| r.case.id == c.id);
+        let of_case: Vec<&PlateRun> = runs.iter().filter(|r| r.case.id == c.id).collect();
         let opt = |x: Option<f64>| x.map_or("—".into(), |v| format!("{v:.2}"));
-        match r {
-            Some(r) => {
-                let split = |name: &str| {
-                    r.finished
-                        .split
-                        .iter()
-                        .find(|(n, _)| *n == name)
-                        .map_or("—".into(), |(_, s)| format!("{s:.0}"))
-                };
-                let mb = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.0}", v / 1e6));
-                let _ = writeln!(
+        let rows: Vec<Option<&PlateRun>> = if of_case.is_empty() {
+            vec![None]
+        } else {
+            of_case.into_iter().map(Some).collect()
+        };
+        for r in rows {
+            match r {
+                Some(r) => {
+                    let split = |name: &str| {
+                        r.finished
+                            .split
+                            .iter()
+                            .find(|(n, _)| *n == name)
+                            .map_or("—".into(), |(_, s)| format!("{s:.0}"))
+                    };
+                    let mb = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.0}", v / 1e6));
+                    let _ = writeln!(
                     md,
                     "| {} | {} | {} | {} | {} | {} | {:.2}{} | {} | {} | {} | {:.0} | {} | {:.0} | {} / {} | {} / {} |",
-                    c.id,
+                    label(r),
                     c.scale,
                     c.thickness,
                     c.diameter,
@@ -491,9 +710,9 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
                     mb(r.finished.resident_growth),
                     mb(r.finished.peak_resident),
                 );
-            }
-            None => {
-                let _ = writeln!(
+                }
+                None => {
+                    let _ = writeln!(
                     md,
                     "| {} | {} | {} | {} | {} | {} | not run | {} | {} | {} | — | — | — | — | — |",
                     c.id,
@@ -506,6 +725,7 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
                     c.cfdmp,
                     opt(c.lsdyna),
                 );
+                }
             }
         }
     }
@@ -525,9 +745,14 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
     // Each scaled case against its scale-4 case: the scale effect this
     // model gives (the seed's CFDMP: 2.69 / 2.71 / 2.68 and 5.2 / 5.45 / 5.625).
     for series in [[1u8, 2, 3], [4, 5, 6]] {
+        // The runs on the section's first grid (the r–z h sequence's
+        // other cells aside).
         let ratio = |id: u8| {
-            let base = runs.iter().find(|r| r.case.id == series[0])?;
-            let r = runs.iter().find(|r| r.case.id == id)?;
+            let grid = runs.first()?.grid;
+            let base = runs
+                .iter()
+                .find(|r| r.case.id == series[0] && r.grid == grid)?;
+            let r = runs.iter().find(|r| r.case.id == id && r.grid == grid)?;
             Some((r.peak / r.case.thickness) / (base.peak / base.case.thickness))
         };
         let parts: Vec<String> = series[1..]
@@ -546,7 +771,7 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
         let _ = writeln!(
             md,
             "\nCase {}: remap {}; the centre is {} particles; {}.",
-            r.case.id,
+            label(r),
             r.remap_line,
             r.particles_sampled,
             match &r.stop {
@@ -575,14 +800,14 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
     }
     let _ = writeln!(
         report.md,
-        "\n![E-PLATE centre deflection](img/e_plate.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+        "\n![{name} centre deflection](img/{image})\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
     );
     for r in runs {
         let c = &r.case;
         let Some(exp) = c.experiment else { continue };
         let m = r.peak / c.thickness;
         report.target(
-            &format!("E-PLATE case {} δ/t vs experiment {exp:.2}", c.id),
+            &format!("{name} case {} δ/t vs experiment {exp:.2}", label(r)),
             format!("{m:.2} ({:+.1} %)", 100.0 * (m - exp) / exp),
             "within 10 %",
             r.peak_reached && r.stop.is_none() && within_ten_percent(m, exp),
@@ -592,16 +817,17 @@ fn write_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
     Ok(())
 }
 
-fn plot_histories(img: &Path, runs: &[PlateRun]) -> Result<()> {
+fn plot_histories(img: &Path, runs: &[PlateRun], section: Section) -> Result<()> {
     let data: Vec<(String, Vec<f64>, Vec<f64>)> = runs
         .iter()
         .map(|r| {
             (
                 match r.case.experiment {
-                    Some(e) => format!("case {} (experiment {e:.2})", r.case.id),
+                    Some(e) => format!("case {} (experiment {e:.2})", label(r)),
                     None => format!(
                         "case {} (full scale, seed CFDMP {:.2})",
-                        r.case.id, r.case.cfdmp
+                        label(r),
+                        r.case.cfdmp
                     ),
                 },
                 r.history
@@ -624,9 +850,19 @@ fn plot_histories(img: &Path, runs: &[PlateRun]) -> Result<()> {
             })
             .collect(),
     }];
+    let (file, title) = match section {
+        Section::Quarter => (
+            "e_plate.png",
+            "E-PLATE: plate-centre deflection over thickness",
+        ),
+        Section::Rz => (
+            "e_plate_rz.png",
+            "E-PLATE r-z: plate-centre deflection over thickness",
+        ),
+    };
     plot::plot_panels(
-        &img.join("e_plate.png"),
-        "E-PLATE: plate-centre deflection over thickness",
+        &img.join(file),
+        title,
         "time after the remap / k [µs] (k = 1, 2, 4 at scale 4, 2, 1)",
         &panels,
     )
@@ -802,6 +1038,7 @@ mod tests {
         let r = run_case(
             &workspace_root(),
             &PLATE_CASES[0],
+            Grid::Quarter,
             &sets,
             &out,
             "none".into(),
@@ -817,6 +1054,52 @@ mod tests {
         let csv = std::fs::read_to_string(out.join("centre.csv")).unwrap();
         assert_eq!(csv.lines().count(), 4);
         let _ = std::fs::remove_dir_all(&out);
+    }
+
+    #[test]
+    fn on_rings_run_case_samples_the_centre_near_the_axis() {
+        // The r–z config of case 1, reduced as above: the centre is the
+        // plate's particles with r < h (one per cell along r with the
+        // reduced 1 per cell, 4 cells through the thickness).
+        let out =
+            std::env::temp_dir().join(format!("xtask_plate_rz_run_case_{}", std::process::id()));
+        let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
+        let r = run_case(
+            &workspace_root(),
+            &PLATE_CASES[0],
+            Grid::Rz { h4: RZ_CELL },
+            &sets,
+            &out,
+            "none".into(),
+        )
+        .unwrap();
+        assert_eq!(
+            (r.steps, r.history.len(), r.stop.as_deref()),
+            (2 * SAMPLE_EVERY, 3, None)
+        );
+        assert_eq!(r.particles_sampled, 4);
+        let _ = std::fs::remove_dir_all(&out);
+    }
+
+    #[test]
+    fn the_rz_grids_keep_the_bridge_20_mm_wide_and_name_their_cells() {
+        let case = &PLATE_CASES[1];
+        let g = Grid::Rz { h4: 2.0 * RZ_CELL };
+        assert_eq!(g.cell(case), 0.01);
+        assert_eq!(
+            g.sets(),
+            vec![
+                "domain.cells=(54, 46, 1)".to_string(),
+                "pipeline.w=Some(4)".into()
+            ]
+        );
+        assert!(Grid::Rz { h4: RZ_CELL }.sets().is_empty());
+        assert_eq!(Grid::Rz { h4: 0.5 * RZ_CELL }.fdm_cells(), [216, 112, 1]);
+        assert_eq!(Grid::Quarter.config(case), "configs/plate_case2.ron");
+        assert_eq!(
+            Grid::Rz { h4: RZ_CELL }.config(case),
+            "configs/plate_case2_rz.ron"
+        );
     }
 
     #[test]

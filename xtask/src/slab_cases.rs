@@ -165,6 +165,7 @@ pub(crate) fn make_remap(case: &SlabCase, out: &Path) -> Result<String> {
         upper: FDM_UPPER,
         cells: FDM_CELLS,
         radius: case.remap_radius(),
+        coordinates: brisance::core::Geometry::Cartesian,
     }
     .write(out)?;
     Ok(format!(

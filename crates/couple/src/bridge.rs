@@ -437,6 +437,10 @@ pub struct FaceInflow {
     pub face: Primitive,
     /// Donor-cell density and pressure of the new particles.
     pub donor: Primitive,
+    /// Whether the grid is (r, z) (x = r): the particles are then rings,
+    /// and those at the face's two radii share its f_m in proportion to
+    /// their radii ([`create_particles`]).
+    pub axisymmetric: bool,
     /// γ of the air (eq 48).
     pub gamma: f64,
     /// Mass of an existing particle m_e (eq 45), kg.
@@ -448,12 +452,20 @@ pub struct FaceInflow {
 /// Seed 001 eqs 45–48: the particles that carry the mass flux f_m > 0 and
 /// momentum flux f_p of one face into the first bridge cell, appended to
 /// `out`. Returns the number created (0 when f_m ≤ 0).
+///
+/// On an (r, z) grid (`inflow.axisymmetric`, x = r tangential to the face)
+/// each particle is a ring: eq 46's equal shares m_p = f_m/s become shares
+/// in proportion to the particles' radii, m_p = f_m/s · r_p/r̄ with r̄ the
+/// mean radius of the layer's particles, so that every ring has the face's
+/// density (V_p = m_p/ρ = 2π r_p A_p with one cross-section A_p) and the
+/// layer's masses still sum to its share of f_m.
 pub fn create_particles(inflow: &FaceInflow, mass_flux: f64, out: &mut Vec<NewParticle>) -> usize {
     let s = new_particle_count(mass_flux, inflow.existing_mass);
     if s == 0 {
         return 0;
     }
     let mass = mass_flux / s as f64;
+    let rings = inflow.axisymmetric && inflow.axis != 0;
     let v = inflow.face.velocity;
     let rho = inflow.donor.density;
     let e = inflow.donor.pressure / ((inflow.gamma - 1.0) * rho);
@@ -465,6 +477,8 @@ pub fn create_particles(inflow: &FaceInflow, mass_flux: f64, out: &mut Vec<NewPa
     let d: [f64; 3] = v.map(|x| x * inflow.dt);
     for l in 0..layers {
         let f = (l as f64 + 0.5) / layers as f64;
+        let first = out.len();
+        let mut radii = 0.0;
         for c in 0..across {
             let mut x = inflow.face_centre;
             x[a] += inflow.side.sign() * d[a].abs() * f;
@@ -472,6 +486,7 @@ pub fn create_particles(inflow: &FaceInflow, mass_flux: f64, out: &mut Vec<NewPa
                 let off = if (c >> bit) & 1 == 0 { -0.25 } else { 0.25 };
                 x[t] += off * inflow.spacing[t] + d[t] * f;
             }
+            radii += x[0];
             out.push(NewParticle {
                 position: x,
                 mass,
@@ -479,6 +494,13 @@ pub fn create_particles(inflow: &FaceInflow, mass_flux: f64, out: &mut Vec<NewPa
                 volume: mass / rho,
                 specific_internal_energy: e,
             });
+        }
+        if rings && radii > 0.0 {
+            let mean = radii / across as f64;
+            for n in &mut out[first..] {
+                n.mass = mass * (n.position[0] / mean);
+                n.volume = n.mass / rho;
+            }
         }
     }
     s
@@ -828,6 +850,7 @@ mod tests {
                 velocity: v,
                 pressure: 3.0e5,
             },
+            axisymmetric: false,
             gamma: 1.4,
             existing_mass: 1.0e-9,
             dt: 1.0e-6,

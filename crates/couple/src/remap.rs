@@ -43,7 +43,7 @@
 //! the EOS pressure of the mapped state, which equals the 1D pressure only
 //! once F = 1.
 
-use brisance_core::UniformGridGeometry;
+use brisance_core::{Geometry, UniformGridGeometry};
 use brisance_fdm::detonation::{RadialDetonation, Symmetry};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -175,6 +175,49 @@ pub struct RemapTarget {
     pub radius: Option<f64>,
     /// Sub-cells per active direction (None: ⌈Δx/h⌉ clamped to [2, 16]).
     pub subsamples: Option<usize>,
+    /// How the target's cells are read. `Axisymmetric`: an (r, z) grid
+    /// (x = r from r = 0, y = z, one cell along the third direction) of
+    /// rings about the axis, onto which a spherical profile centred on the
+    /// axis is mapped; every sub-cell then stands for its ring, of volume
+    /// 2π r_s δA (δA its cross-section), and the content is the whole
+    /// sphere's (Ω = 4π, halved only by a plane z = const through the
+    /// centre).
+    pub coordinates: Geometry,
+}
+
+impl RemapTarget {
+    /// Whether the target is an (r, z) grid of rings, after checking what
+    /// that needs: one cell along the third direction, r from 0, the
+    /// centre on the axis.
+    fn geometry_kind_is_rings(&self) -> Result<bool, RemapError> {
+        if !self.geometry_is_axisymmetric() {
+            return Ok(false);
+        }
+        let g = &self.geometry;
+        if g.cells[2] != 1 {
+            return invalid(format!(
+                "an Axisymmetric target is (r, z) with one cell along the third direction, got cells {:?}",
+                g.cells
+            ));
+        }
+        if g.origin[0] != 0.0 {
+            return invalid(format!(
+                "an Axisymmetric target's r starts on the axis, r = 0; got lower.0 = {}",
+                g.origin[0]
+            ));
+        }
+        if self.centre[0] != 0.0 {
+            return invalid(format!(
+                "centre.x = {} m: on an Axisymmetric target the charge centre is on the axis (r = 0)",
+                self.centre[0]
+            ));
+        }
+        Ok(true)
+    }
+
+    fn geometry_is_axisymmetric(&self) -> bool {
+        self.coordinates.is_axisymmetric()
+    }
 }
 
 /// Totals of a remap (each over the whole target grid, J, kg, kg·m/s).
@@ -257,8 +300,10 @@ impl Remapped {
     }
 }
 
-/// Per cell: shells met by its sub-cells, (shell, count, Σ r̂).
-type CellSamples = Vec<(usize, u64, [f64; 3])>;
+/// Per cell: shells met by its sub-cells, (shell, count, Σ f r̂, Σ f) with
+/// f the sub-cell's volume in units of δV: 1 on a Cartesian grid, 2π r_s
+/// (r_s its radius) on an (r, z) grid, where δV is its cross-section δA.
+type CellSamples = Vec<(usize, u64, [f64; 3], f64)>;
 
 /// Maps `profile` onto `target` (module doc). Fails naming the field when
 /// the grid's dimension does not match the profile's symmetry, or the remap
@@ -267,7 +312,18 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
     profile.validate()?;
     let g = target.geometry;
     let active: Vec<usize> = (0..3).filter(|&d| g.cells[d] > 1).collect();
-    let need = usize::from(profile.alpha) + 1;
+    let rings = target.geometry_kind_is_rings()?;
+    if rings && profile.alpha != 2 {
+        return invalid(format!(
+            "an Axisymmetric target takes a spherical profile (a sphere on the axis), not a {} one",
+            ["planar", "cylindrical", "spherical"][usize::from(profile.alpha.min(2))]
+        ));
+    }
+    let need = if rings {
+        2
+    } else {
+        usize::from(profile.alpha) + 1
+    };
     if active.len() != need {
         return invalid(format!(
             "target grid cells = {:?} has {} active directions; a {} profile needs {need}",
@@ -299,6 +355,11 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
     const AXES: [&str; 3] = ["x", "y", "z"];
     let mut planes = 0usize;
     for &d in &active {
+        if rings && d == 0 {
+            // The axis r = 0 (checked): no symmetry plane, the rings go
+            // all the way round.
+            continue;
+        }
         let tol = 1e-9 * g.spacing[d];
         let on_low = (c[d] - g.origin[d]).abs() <= tol;
         let on_high = (c[d] - upper[d]).abs() <= tol;
@@ -320,15 +381,37 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
     if n == 0 || n > 64 {
         return invalid(format!("subsamples = {n} must lie in [1, 64]"));
     }
-    let inactive_extent: f64 = (0..3)
-        .filter(|d| !active.contains(d))
-        .map(|d| g.spacing[d])
-        .product();
+    // On an (r, z) grid the third direction is the ring's revolution, which
+    // the sub-cells' 2π r_s carry.
+    let inactive_extent: f64 = if rings {
+        1.0
+    } else {
+        (0..3)
+            .filter(|d| !active.contains(d))
+            .map(|d| g.spacing[d])
+            .product()
+    };
     let omega = profile.angle_measure() * 0.5f64.powi(planes as i32);
     let shells = ((radius / h).ceil() as usize).clamp(1, profile.cells.len());
-    let cell_volume: f64 = g.spacing.iter().product();
+    let cell_volume: f64 = if rings {
+        g.spacing[0] * g.spacing[1]
+    } else {
+        g.spacing.iter().product()
+    };
     let per_cell = n.pow(active.len() as u32) as u64;
     let sub_volume = cell_volume / per_cell as f64;
+    // A cell's volume in units of δV (Σ f over its sub-cells): per_cell,
+    // or on an (r, z) grid 2π r_c per_cell (the midpoint rule of ∫2πr dA,
+    // exact: the ring π(r₊² − r₋²)Δz).
+    let cell_weight = |lin: usize| {
+        if rings {
+            let i = lin % g.cells[0];
+            let r_c = g.origin[0] + (i as f64 + 0.5) * g.spacing[0];
+            2.0 * std::f64::consts::PI * r_c * per_cell as f64
+        } else {
+            per_cell as f64
+        }
+    };
 
     // 1. Sampling, in parallel over cells; each cell's list is formed in
     // a fixed order, and shell counts are integers: the same bits whatever
@@ -336,12 +419,14 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
     let count = g.cell_count();
     let samples: Vec<CellSamples> = (0..count)
         .into_par_iter()
-        .map(|lin| sample_cell(&g, &active, c, radius, h, shells, n, lin))
+        .map(|lin| sample_cell(&g, &active, c, radius, h, shells, n, rings, lin))
         .collect();
     let mut shell_count = vec![0u64; shells];
+    let mut shell_weight = vec![0.0f64; shells];
     for s in &samples {
-        for &(i, k, _) in s {
+        for &(i, k, _, f) in s {
             shell_count[i] += k;
+            shell_weight[i] += f;
         }
     }
     // 2. Exact content per shell and the merge of unsampled shells.
@@ -384,7 +469,8 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
             if shell_count[i] == 0 {
                 return [0.0; 4];
             }
-            let s = shell_count[i] as f64 * sub_volume;
+            // Σ f = the count on a Cartesian grid (integers, exact).
+            let s = shell_weight[i] * sub_volume;
             let (a, b) = (i as f64 * h, ((i + 1) as f64 * h).min(radius));
             let exact = omega * inactive_extent * profile.shell_volume(a, b);
             max_correction = max_correction.max((exact / s - 1.0).abs());
@@ -401,9 +487,9 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
         let mut mom = [0.0; 3];
         let mut energy = 0.0;
         let mut products = 0.0;
-        let mut covered = 0u64;
-        for &(i, k, dir) in s {
-            let w = k as f64 * sub_volume;
+        let mut covered = 0.0f64;
+        for &(i, _, dir, f) in s {
+            let w = f * sub_volume;
             let q = density[i];
             mass += w * q[0];
             energy += w * q[2];
@@ -411,13 +497,17 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
             for (m, r) in mom.iter_mut().zip(dir) {
                 *m += q[1] * sub_volume * r;
             }
-            covered += k;
+            covered += f;
         }
-        let free = (per_cell - covered) as f64 * sub_volume;
+        let free = (cell_weight(lin) - covered) * sub_volume;
         ambient.mass += free * amb[0];
         ambient.energy += free * amb[2];
         ambient.products += free * amb[3];
-        let inv = 1.0 / cell_volume;
+        let inv = if rings {
+            1.0 / (cell_weight(lin) * sub_volume)
+        } else {
+            1.0 / cell_volume
+        };
         fields[0][lin] = (mass + free * amb[0]) * inv;
         for d in 0..3 {
             fields[1 + d][lin] = mom[d] * inv;
@@ -438,7 +528,16 @@ pub fn remap(profile: &RadialProfile, target: &RemapTarget) -> Result<Remapped, 
         merged_shells: merged,
         max_correction,
     };
-    let sum = |f: &[f64]| f.iter().sum::<f64>() * cell_volume;
+    let sum = |f: &[f64]| {
+        if rings {
+            f.iter()
+                .enumerate()
+                .map(|(lin, u)| u * cell_weight(lin) * sub_volume)
+                .sum::<f64>()
+        } else {
+            f.iter().sum::<f64>() * cell_volume
+        }
+    };
     report.grid_mass = sum(&fields[0]);
     report.grid_momentum = std::array::from_fn(|d| sum(&fields[1 + d]));
     report.grid_energy = sum(&fields[4]);
@@ -460,6 +559,7 @@ fn sample_cell(
     h: f64,
     shells: usize,
     n: usize,
+    rings: bool,
     lin: usize,
 ) -> CellSamples {
     let idx = [
@@ -499,19 +599,27 @@ fn sample_cell(
             continue;
         }
         let shell = ((r / h) as usize).min(shells - 1);
+        // The sub-cell's ring on an (r, z) grid (off[0] its radius, the
+        // centre on the axis).
+        let f = if rings {
+            2.0 * std::f64::consts::PI * off[0]
+        } else {
+            1.0
+        };
         let dir = if r > 0.0 {
-            off.map(|o| o / r)
+            off.map(|o| f * (o / r))
         } else {
             [0.0; 3]
         };
         match out.iter_mut().find(|e| e.0 == shell) {
             Some(e) => {
                 e.1 += 1;
+                e.3 += f;
                 for (a, b) in e.2.iter_mut().zip(dir) {
                     *a += b;
                 }
             }
-            None => out.push((shell, 1, dir)),
+            None => out.push((shell, 1, dir, f)),
         }
     }
     out
@@ -552,6 +660,7 @@ mod tests {
             centre: [0.0; 3],
             radius: None,
             subsamples: Some(4),
+            coordinates: Geometry::Cartesian,
         };
         let r = remap(&profile, &target).unwrap();
         let f = &r.fields;
@@ -589,6 +698,7 @@ mod tests {
             centre: [0.0; 3],
             radius: None,
             subsamples: Some(8),
+            coordinates: Geometry::Cartesian,
         };
         let r = remap(&profile, &target).unwrap();
         let exact_area = std::f64::consts::PI * 0.01 * 0.01;
@@ -621,6 +731,7 @@ mod tests {
                 centre,
                 radius: None,
                 subsamples: Some(6),
+                coordinates: Geometry::Cartesian,
             };
             let r = remap(&profile, &target).unwrap();
             let rep = r.report;
@@ -674,6 +785,7 @@ mod tests {
             centre: [0.01, 0.01, 0.01],
             radius: None,
             subsamples: None,
+            coordinates: Geometry::Cartesian,
         };
         let e = remap(&profile, &target).unwrap_err().to_string();
         assert!(e.contains("active directions"), "{e}");
@@ -686,6 +798,86 @@ mod tests {
         target.radius = Some(0.02);
         let e = remap(&profile, &target).unwrap_err().to_string();
         assert!(e.contains("radius"), "{e}");
+    }
+
+    #[test]
+    fn a_sphere_on_the_axis_of_an_rz_grid_places_its_content_in_rings() {
+        // A spherical profile (shells of 1 mm, distinct values, radius
+        // 10 mm) centred on the axis at z = 12 mm of an (r, z) grid of
+        // 1.5 mm rings: the rings hold the whole sphere's mass, energy and
+        // products to round-off (Ω = 4π, every sub-cell its ring 2π r_s δA),
+        // the axial momentum is zero to the sampling's symmetry about
+        // z = 12 mm, and the radial momentum Σ (ρu_r) V is positive. The
+        // same remap onto the 3D quarter grid of the same spacing (two
+        // symmetry planes) places the quarter sphere: the content agrees
+        // after ×4.
+        let cells: Vec<[f64; 4]> = (0..10)
+            .map(|i| {
+                let x = i as f64;
+                [10.0 - x, 50.0 + x, 1.0e6 * (10.0 - x), 9.0 - x * 0.5]
+            })
+            .collect();
+        let profile = RadialProfile {
+            alpha: 2,
+            cell_size: 1e-3,
+            cells,
+            ambient: [1.2, 0.0, 2.5e5, 0.0],
+            time: 0.0,
+        };
+        let h = 1.5e-3;
+        let rz = RemapTarget {
+            geometry: geometry([0.0; 3], [h, h, 1.0], [10, 16, 1]),
+            centre: [0.0, 0.012, 0.0],
+            radius: None,
+            subsamples: Some(6),
+            coordinates: Geometry::Axisymmetric,
+        };
+        let r = remap(&profile, &rz).unwrap();
+        let rep = r.report;
+        assert_eq!(rep.symmetry_planes, 0);
+        let close =
+            |a: f64, b: f64, tol: f64| assert!((a - b).abs() <= tol * b.abs(), "{a} vs {b}");
+        close(rep.grid_mass, rep.charge.mass + rep.ambient.mass, 1e-13);
+        close(
+            rep.grid_energy,
+            rep.charge.energy + rep.ambient.energy,
+            1e-13,
+        );
+        close(
+            rep.grid_products,
+            rep.charge.products + rep.ambient.products,
+            1e-13,
+        );
+        let pi = std::f64::consts::PI;
+        let sphere_mass: f64 = (0..10)
+            .map(|i| {
+                let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
+                4.0 * pi * (b.powi(3) - a.powi(3)) / 3.0 * (10.0 - i as f64)
+            })
+            .sum();
+        close(rep.charge.mass, sphere_mass, 1e-13);
+        assert!(rep.grid_momentum[0] > 0.0);
+        assert!(rep.grid_momentum[1].abs() <= 1e-12 * rep.grid_momentum[0]);
+        // Against the 3D quarter.
+        let quarter = RemapTarget {
+            geometry: geometry([0.0, 0.0, 0.0], [h; 3], [10, 10, 16]),
+            centre: [0.0, 0.0, 0.012],
+            radius: None,
+            subsamples: Some(6),
+            coordinates: Geometry::Cartesian,
+        };
+        let q = remap(&profile, &quarter).unwrap().report;
+        close(4.0 * q.charge.mass, rep.charge.mass, 1e-13);
+        close(4.0 * q.charge.energy, rep.charge.energy, 1e-13);
+        // Refusals name what is wrong.
+        let mut bad = rz;
+        bad.centre = [0.001, 0.012, 0.0];
+        let e = remap(&profile, &bad).unwrap_err().to_string();
+        assert!(e.contains("axis"), "{e}");
+        let mut cyl = profile.clone();
+        cyl.alpha = 1;
+        let e = remap(&cyl, &rz).unwrap_err().to_string();
+        assert!(e.contains("spherical"), "{e}");
     }
 }
 

@@ -377,6 +377,12 @@ impl<E: GasLaw> FdmSolver<E> {
         &self.level
     }
 
+    /// How the cells are read: boxes, or rings about the axis x = 0
+    /// ([`FdmOptions::geometry`]).
+    pub fn geometry(&self) -> Geometry {
+        self.options.geometry
+    }
+
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
         self.steps
