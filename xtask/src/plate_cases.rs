@@ -630,7 +630,7 @@ fn write_section(report: &mut Report, runs: &[PlateRun], section: Section) -> Re
 fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
     let _ = writeln!(
         report.md,
-        "## E-PLATE r–z — the six plates through the FDM–MPM bridge on axisymmetric (r, z) grids\n"
+        "## E-PLATE-RZ — the six plates through the FDM–MPM bridge on axisymmetric (r, z) grids\n"
     );
     let _ = writeln!(
         report.md,
@@ -647,7 +647,7 @@ fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
          the axis). The centre is the plate particles within one cell of the axis; the stop rule and \
          the columns are the 3D section's.\n"
     );
-    plate_rows(report, runs, "E-PLATE r–z", "e_plate_rz.png")
+    plate_rows(report, runs, "E-PLATE-RZ", "e_plate_rz.png")
 }
 
 /// A run's case number, with its cells on an (r, z) grid other than the
