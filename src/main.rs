@@ -135,13 +135,12 @@ struct RemapArgs {
 
 /// `brisance remap`: the 1D run, the remap and its files.
 fn remap(a: &RemapArgs) -> Result<String, String> {
-    use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
     use brisance::fdm::GasLaw;
-    use brisance_couple::remap::{remap, RadialProfile, RemapTarget};
+    use brisance_couple::remap::{Charge, ChargeSymmetry};
     let symmetry = match a.symmetry {
-        RemapSymmetry::Planar => Symmetry::Planar,
-        RemapSymmetry::Cylindrical => Symmetry::Cylindrical,
-        RemapSymmetry::Spherical => Symmetry::Spherical,
+        RemapSymmetry::Planar => ChargeSymmetry::Planar,
+        RemapSymmetry::Cylindrical => ChargeSymmetry::Cylindrical,
+        RemapSymmetry::Spherical => ChargeSymmetry::Spherical,
     };
     if !(a.time > 0.0 && a.time.is_finite()) {
         return Err(format!("--time = {} s must be positive", a.time));
@@ -172,27 +171,30 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
         }
     }
     // The grid arguments are checked above, before the 1D run.
-    let setup = DetonationSetup::tnt_in_air(symmetry, a.charge_radius, a.radius_1d, a.cells_1d);
-    let mut run = RadialDetonation::new(setup).map_err(|e| e.to_string())?;
-    run.run_until(a.time).map_err(|e| e.to_string())?;
-    let profile = RadialProfile::from_detonation(&run).map_err(|e| e.to_string())?;
     let geometry = brisance::core::UniformGridGeometry {
         origin: lower,
         spacing: std::array::from_fn(|d| (upper[d] - lower[d]) / cells[d] as f64),
         cells,
     };
-    let target = RemapTarget {
-        geometry,
+    let charge = Charge {
+        explosive: "tnt".into(),
+        symmetry,
         centre,
-        radius: a.radius,
+        radius: a.charge_radius,
+        radius_1d: a.radius_1d,
+        cells_1d: a.cells_1d,
+        time: a.time,
+        remap_radius: a.radius,
         subsamples: a.subsamples,
-        coordinates: if a.axisymmetric {
-            brisance::core::Geometry::Axisymmetric
-        } else {
-            brisance::core::Geometry::Cartesian
-        },
     };
-    let mapped = remap(&profile, &target).map_err(|e| e.to_string())?;
+    let coordinates = if a.axisymmetric {
+        brisance::core::Geometry::Axisymmetric
+    } else {
+        brisance::core::Geometry::Cartesian
+    };
+    let (run, mapped) = charge
+        .detonate_and_remap(geometry, coordinates)
+        .map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     mapped
         .save(&a.out.join("remap.bin"))
@@ -245,7 +247,7 @@ fn remap(a: &RemapArgs) -> Result<String, String> {
     let rel = |grid: f64, amb: f64, charge: f64| (grid - amb - charge) / charge;
     Ok(format!(
         "1D {} detonation: {} steps to t = {:e} s\nremap radius {} m, {} sub-cells per direction, {} symmetry plane(s), {} shell(s) merged, largest shell correction {:.3e}\ncharge: mass {:e} kg, energy {:e} J, products {:e} kg\nrelative change: mass {:.3e}, energy {:.3e}, products {:.3e}\noutputs in {}",
-        ["planar", "cylindrical", "spherical"][usize::from(brisance_couple::remap::alpha_of(symmetry))],
+        ["planar", "cylindrical", "spherical"][usize::from(brisance_couple::remap::alpha_of(symmetry.into()))],
         run.steps(),
         run.time(),
         r.radius,

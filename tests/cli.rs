@@ -735,6 +735,99 @@ fn remap_with_a_malformed_grid_fails_before_running_and_writes_nothing() {
     assert!(!out.exists());
 }
 
+/// The strip of `blast2d_runs_through_the_bridge_on_a_strip_of_its_domain`
+/// to 1 µs, its FDM region from the charge stated in the config (the run
+/// remaps it) or from `brisance remap`'s file: the same totals. The first
+/// charge run stores the remap in the cache, the second reads it back and
+/// gives the same bytes.
+#[test]
+fn a_charge_in_the_config_is_remapped_by_the_run_and_cached() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let remapped = dir.path().join("remap");
+    let output = remap(
+        "cylindrical",
+        ["0.05", "0.11", "440", "1.2e-5"],
+        ["-0.18,0.15,0", "0.12,0.35,0.002", "150,100,1", "0,0.25,0"],
+        &remapped,
+        &["--radius", "0.1"],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d.ron");
+    let strip = [
+        "domain.lower=(-0.18, 0.15, 0.0)",
+        "domain.upper=(0.16, 0.35, 0.002)",
+        "domain.cells=(170, 100, 1)",
+        "pipeline.fdm_region=(lower: (-0.18, 0.15, 0.0), upper: (0.12, 0.35, 0.002))",
+        "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
+        "time.end=1e-6",
+        "outputs.interval=1.0",
+    ];
+    let go = |out: &Path, source: &[String]| {
+        let mut cmd = brisance();
+        cmd.env("BRISANCE_CACHE_DIR", &cache)
+            .arg("run")
+            .arg(&config)
+            .arg("--out")
+            .arg(out)
+            .arg("--quiet");
+        for set in strip
+            .iter()
+            .map(|s| s.to_string())
+            .chain(source.iter().cloned())
+        {
+            cmd.args(["--set", &set]);
+        }
+        let output = cmd.output().expect("the brisance binary runs");
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    };
+    let from_file = dir.path().join("from_file");
+    go(
+        &from_file,
+        &[
+            format!(
+                "pipeline.remap=Some(\"{}\")",
+                remapped.join("remap.bin").display()
+            ),
+            "pipeline.charge=None".into(),
+        ],
+    );
+    let charge = "pipeline.charge=Some(explosive: \"tnt\", symmetry: Cylindrical, centre: (0.0, 0.25, 0.0), radius: 0.05, radius_1d: 0.11, cells_1d: 440, time: 1.2e-5, remap_radius: Some(0.1))".to_string();
+    let first = dir.path().join("first");
+    go(&first, std::slice::from_ref(&charge));
+    let cached = file_names(&cache.join("remap"));
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let stamp = |f: &Path| fs::metadata(f).unwrap().modified().unwrap();
+    let entry = cache.join("remap").join(&cached[0]);
+    let written = stamp(&entry);
+    let second = dir.path().join("second");
+    go(&second, &[charge]);
+    // Read, not made again (which would replace the file).
+    assert_eq!(stamp(&entry), written);
+    for rel in ["conservation.csv", "gauges/gauge1.csv"] {
+        crate::common::assert_same_bytes(&first, &second, Path::new(rel));
+    }
+    assert_eq!(file_names(&cache.join("remap")), cached);
+    // Against the file: the same state but for the grid spacing's last
+    // bits (the command line divides the FDM box by its cells, the run
+    // the domain): mass and energy agree to round-off.
+    let table = |out: &Path| -> Vec<Vec<f64>> {
+        fs::read_to_string(out.join("conservation.csv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (a, b) = (table(&from_file), table(&first));
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        for k in [1, 5] {
+            assert!((x[k] - y[k]).abs() <= 1e-12 * x[k].abs(), "{x:?} vs {y:?}");
+        }
+    }
+}
+
 #[test]
 fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
     // configs/blast2d.ron on the strip 150 <= y <= 350 mm through the
@@ -774,6 +867,8 @@ fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
             "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
             "--set",
             &remap_set,
+            "--set",
+            "pipeline.charge=None",
             "--set",
             "time.end=1e-5",
             "--set",

@@ -191,6 +191,7 @@ fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<BridgeRun
         format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
         format!("pipeline.w=Some({width})"),
         format!("pipeline.remap=Some(\"{}\")", remap.display()),
+        "pipeline.charge=None".to_string(),
         "outputs.interval=1.0".to_string(),
     ];
     if paper_inflow {

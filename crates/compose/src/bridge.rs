@@ -29,7 +29,7 @@ use brisance_constitutive::{MaterialModel, NullMaterial};
 use brisance_core::{Eos, Material, Solver};
 use brisance_couple::cfdmp::{Cfdmp, CfdmpOptions};
 use brisance_couple::regions::{BridgeRegions, RegionBox, Side};
-use brisance_couple::remap::Remapped;
+use brisance_couple::remap::{Charge, Remapped};
 use brisance_eos::EosModel;
 use brisance_fdm::{
     ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, GasLaw, PrimitiveState, ProductsInAir,
@@ -84,6 +84,12 @@ pub struct BridgeConfig {
     /// to the working directory).
     #[serde(default)]
     pub remap: Option<String>,
+    /// The charge whose 1D detonation the run remaps onto the FDM region
+    /// itself (instead of a `remap` file): explosive, symmetry, centre,
+    /// radius, 1D grid and time. The result is cached by its inputs
+    /// ([`remap_cache_dir`]).
+    #[serde(default)]
+    pub charge: Option<Charge>,
     /// MPM particles per cell per active direction.
     #[serde(default = "default_ppc")]
     pub ppc: usize,
@@ -307,6 +313,23 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
             "a remapped detonation carries products: set `products`".into(),
         ));
     }
+    if let Some(charge) = &cfg.charge {
+        if cfg.remap.is_some() {
+            return Err((
+                "pipeline.charge".into(),
+                "give the charge (the run remaps it) or a `remap` file, not both".into(),
+            ));
+        }
+        if cfg.products.is_none() {
+            return Err((
+                "pipeline.charge".into(),
+                "a detonated charge carries products: set `products`".into(),
+            ));
+        }
+        charge
+            .validate()
+            .map_err(|e| ("pipeline.charge".to_string(), e.to_string()))?;
+    }
     if cfg.ppc == 0 || cfg.ppc > 8 {
         return Err((
             "pipeline.ppc".into(),
@@ -499,15 +522,28 @@ fn build_with<'a, E: GasLaw + 'static>(
         gas_at(x).expect("checked above")
     })
     .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
-    if let Some(path) = &cfg.remap {
-        let r = Remapped::load(std::path::Path::new(path))
-            .map_err(|e| ("pipeline.remap".to_string(), e.to_string()))?;
+    let remapped = match (&cfg.remap, &cfg.charge) {
+        (Some(path), _) => Some((
+            "pipeline.remap",
+            path.clone(),
+            Remapped::load(std::path::Path::new(path))
+                .map_err(|e| ("pipeline.remap".to_string(), e.to_string()))?,
+        )),
+        (None, Some(charge)) => Some((
+            "pipeline.charge",
+            "the charge's remap".to_string(),
+            cached_remap(charge, regions.fdm, geometry)
+                .map_err(|e| ("pipeline.charge".to_string(), e))?,
+        )),
+        (None, None) => None,
+    };
+    if let Some((field, path, r)) = remapped {
         let want = regions.fdm;
         let same_origin =
             (0..3).all(|d| (r.geometry.origin[d] - want.origin[d]).abs() <= 1e-6 * want.spacing[d]);
         if r.geometry.cells != want.cells || !same_origin {
             return Err((
-                "pipeline.remap".into(),
+                field.into(),
                 format!(
                     "{path} was remapped onto {:?} cells from {:?}; the FDM region has {:?} cells from {:?}",
                     r.geometry.cells, r.geometry.origin, want.cells, want.origin
@@ -529,7 +565,7 @@ fn build_with<'a, E: GasLaw + 'static>(
             }
         }
         fdm.set_conservative_fields(&fields)
-            .map_err(|e| ("pipeline.remap".to_string(), e.to_string()))?;
+            .map_err(|e| (field.to_string(), e.to_string()))?;
     }
     // MPM: the air first, then the other modelled materials in name order.
     let structures: Vec<&String> = s
@@ -869,6 +905,58 @@ pub fn describe(s: &Scenario, cfg: &BridgeConfig) -> String {
         ),
         Err((_, m)) => format!("FdmMpmBridge: {m}"),
     }
+}
+
+/// Where remaps of `pipeline.charge` are cached: `$BRISANCE_CACHE_DIR`,
+/// else `$XDG_CACHE_HOME/brisance`, else `$HOME/.cache/brisance`; `None`
+/// (no caching) when none is set.
+pub fn remap_cache_dir() -> Option<std::path::PathBuf> {
+    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+    var("BRISANCE_CACHE_DIR")
+        .map(std::path::PathBuf::from)
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| std::path::PathBuf::from(d).join("brisance")))
+        .or_else(|| var("HOME").map(|d| std::path::PathBuf::from(d).join(".cache/brisance")))
+}
+
+/// The remap of `charge` onto the FDM region `grid`: from the cache when
+/// a file of the same inputs is there and reads back onto the same grid,
+/// else made (the 1D detonation and the remap) and stored in the cache. A
+/// cache that cannot be read or written only costs the remap's time.
+fn cached_remap(
+    charge: &Charge,
+    grid: brisance_core::UniformGridGeometry,
+    coordinates: brisance_core::Geometry,
+) -> Result<Remapped, String> {
+    let file = remap_cache_dir().map(|dir| {
+        dir.join("remap")
+            .join(format!("{:016x}.bin", charge.cache_key(&grid, coordinates)))
+    });
+    if let Some(r) = file
+        .as_ref()
+        .and_then(|f| Remapped::load(f).ok())
+        .filter(|r| r.geometry.cells == grid.cells)
+    {
+        tracing::info!("remap of the charge read from the cache");
+        return Ok(r);
+    }
+    let (_, r) = charge
+        .detonate_and_remap(grid, coordinates)
+        .map_err(|e| e.to_string())?;
+    if let Some(f) = file {
+        let stored = f
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .map_err(|e| e.to_string())
+            .and_then(|()| bincode::serialize(&r).map_err(|e| e.to_string()))
+            .and_then(|bytes| brisance_io::write_atomic(&f, &bytes).map_err(|e| e.to_string()));
+        if let Err(e) = stored {
+            tracing::warn!(
+                "the charge's remap could not be cached at {}: {e}",
+                f.display()
+            );
+        }
+    }
+    Ok(r)
 }
 
 #[cfg(test)]

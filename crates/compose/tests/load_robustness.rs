@@ -587,3 +587,28 @@ fn inputs_the_generated_runs_found_are_located_errors() {
         assert!(err.position.is_some(), "{err}");
     }
 }
+
+#[test]
+fn a_stated_charge_is_checked_at_load_with_its_field_and_line() {
+    let text = include_str!("../../../configs/blast2d.ron");
+    let line = text.lines().position(|l| l.contains("charge:")).unwrap() + 1;
+    let charge = |explosive: &str, time: &str| {
+        format!(
+            "pipeline.charge=Some(explosive: \"{explosive}\", symmetry: Cylindrical, centre: (0.0, 0.25, 0.0), radius: 0.05, radius_1d: 0.11, cells_1d: 880, time: {time})"
+        )
+    };
+    for (sets, words) in [
+        (vec![charge("rdx", "1.2e-5")], "knows TNT"),
+        (vec![charge("tnt", "-1.0")], "time = -1"),
+        (
+            vec!["pipeline.remap=Some(\"x.bin\")".to_string()],
+            "not both",
+        ),
+    ] {
+        let err = load_str("blast2d.ron", text, &sets).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("pipeline.charge"), "{err}");
+        assert_eq!(err.position.map(|p| p.0), Some(line), "{err}");
+        assert!(err.message.contains(words), "{err}");
+    }
+    load_str("blast2d.ron", text, &[]).unwrap();
+}

@@ -625,6 +625,141 @@ fn sample_cell(
     out
 }
 
+/// A charge stated in a scenario: the 1D TNT detonation (seed 001 §4.1,
+/// program burn, eqs 52–53) whose state at `time` a run remaps onto its
+/// FDM grid itself (`pipeline.charge`), as `brisance remap` does.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Charge {
+    /// The explosive; the 1D detonation knows TNT (seed 001 §4.1) only.
+    pub explosive: String,
+    /// Symmetry of the 1D run: `Planar` onto a 1D grid, `Cylindrical` onto
+    /// 2D, `Spherical` onto 3D or onto an axisymmetric (r, z) grid.
+    pub symmetry: ChargeSymmetry,
+    /// Charge centre, m.
+    pub centre: [f64; 3],
+    /// Charge radius, m.
+    pub radius: f64,
+    /// Outer radius of the 1D grid, m.
+    pub radius_1d: f64,
+    /// Cells of the 1D grid.
+    pub cells_1d: usize,
+    /// Time of the 1D run to remap (after the burn is complete), s: the
+    /// zero of the scenario's time.
+    pub time: f64,
+    /// Remap radius, m (default: the 1D grid's outer radius).
+    #[serde(default)]
+    pub remap_radius: Option<f64>,
+    /// Sub-cells per direction (default ⌈Δx/h⌉ within [2, 16]).
+    #[serde(default)]
+    pub subsamples: Option<usize>,
+}
+
+/// [`Charge::symmetry`], as a config writes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ChargeSymmetry {
+    /// A slab.
+    Planar,
+    /// A cylinder.
+    Cylindrical,
+    /// A sphere.
+    Spherical,
+}
+
+impl From<ChargeSymmetry> for Symmetry {
+    fn from(s: ChargeSymmetry) -> Self {
+        match s {
+            ChargeSymmetry::Planar => Symmetry::Planar,
+            ChargeSymmetry::Cylindrical => Symmetry::Cylindrical,
+            ChargeSymmetry::Spherical => Symmetry::Spherical,
+        }
+    }
+}
+
+impl Charge {
+    /// Checks the fields before the 1D run; the message names the field.
+    pub fn validate(&self) -> Result<(), RemapError> {
+        if !self.explosive.eq_ignore_ascii_case("tnt") {
+            return invalid(format!(
+                "explosive: `{}`: the 1D detonation knows TNT (seed 001 §4.1) only",
+                self.explosive
+            ));
+        }
+        for (name, v) in [
+            ("radius", self.radius),
+            ("radius_1d", self.radius_1d),
+            ("time", self.time),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return invalid(format!("{name} = {v} must be positive and finite"));
+            }
+        }
+        if self.radius_1d <= self.radius {
+            return invalid(format!(
+                "radius_1d = {} must exceed the charge radius {}",
+                self.radius_1d, self.radius
+            ));
+        }
+        if self.cells_1d < 4 {
+            return invalid(format!(
+                "cells_1d = {} needs at least 4 cells",
+                self.cells_1d
+            ));
+        }
+        if !self.centre.iter().all(|c| c.is_finite()) {
+            return invalid(format!("centre {:?} must be finite", self.centre));
+        }
+        Ok(())
+    }
+
+    /// Runs the 1D detonation to `time` and remaps it onto `target`'s grid
+    /// (whose centre, radius and sub-cells this charge sets): the run (for
+    /// its profile and report) and the remapped state.
+    pub fn detonate_and_remap(
+        &self,
+        geometry: UniformGridGeometry,
+        coordinates: Geometry,
+    ) -> Result<(RadialDetonation, Remapped), RemapError> {
+        self.validate()?;
+        let setup = brisance_fdm::detonation::DetonationSetup::tnt_in_air(
+            self.symmetry.into(),
+            self.radius,
+            self.radius_1d,
+            self.cells_1d,
+        );
+        let mut run =
+            RadialDetonation::new(setup).map_err(|e| RemapError::Invalid(e.to_string()))?;
+        run.run_until(self.time)
+            .map_err(|e| RemapError::Invalid(e.to_string()))?;
+        let profile = RadialProfile::from_detonation(&run)?;
+        let target = RemapTarget {
+            geometry,
+            centre: self.centre,
+            radius: self.remap_radius,
+            subsamples: self.subsamples,
+            coordinates,
+        };
+        let mapped = remap(&profile, &target)?;
+        Ok((run, mapped))
+    }
+
+    /// A key of everything the remap of this charge onto `geometry`
+    /// depends on (the charge, the grid, its coordinates and the program's
+    /// version), for caching its result: FNV-1a over their exact text.
+    pub fn cache_key(&self, geometry: &UniformGridGeometry, coordinates: Geometry) -> u64 {
+        let text = format!(
+            "{self:?}|{:?}|{:?}|{:?}|{coordinates:?}|{}",
+            geometry.origin,
+            geometry.spacing,
+            geometry.cells,
+            env!("CARGO_PKG_VERSION")
+        );
+        text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
