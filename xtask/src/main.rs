@@ -777,7 +777,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 30] = [
+const CASES: [&str; 31] = [
     "sod",
     "sod-ice",
     "shocktubes",
@@ -788,6 +788,7 @@ const CASES: [&str; 30] = [
     "ice-implicit",
     "piston",
     "cylinder",
+    "cylinder-rz",
     "smooth",
     "cj",
     "bar",
@@ -866,6 +867,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cylinder") {
         ice_mpm_cases::e_cylinder(&mut body, &img)?;
+    }
+    if run("cylinder-rz") {
+        ice_mpm_cases::e_cylinder_rz(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
