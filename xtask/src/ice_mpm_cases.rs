@@ -297,6 +297,53 @@ fn step_cost() -> Result<(f64, f64, f64, usize)> {
 /// building up from the booster (docs/physics/couple/ice_mpm_cylinder_audit.md).
 const GAUGE_Z: f64 = 0.15;
 
+/// The copper tube of the cylinder test (seed 000 §5.2): inner and outer
+/// radius, m, and density, kg/m³.
+const TUBE: (f64, f64, f64) = (0.0254, 0.0306, 8930.0);
+
+/// The Gurney estimate of the cylinder test's terminal wall velocity
+/// (docs/physics/couple/ice_mpm_cylinder_audit.md).
+struct TubeGurney {
+    /// The scenario's `products` (JWL C-term).
+    products: brisance::eos::JwlCTerm,
+    /// Their CJ state on the principal isentrope.
+    cj: brisance::eos::tools::CjState,
+    /// The products' Gurney energy from CJ to V = 7.
+    estimate: brisance::eos::tools::GurneyEstimate,
+    /// The tube's metal-to-charge mass ratio M/C.
+    m_over_c: f64,
+    /// The open-ended cylinder's wall velocity at that M/C, m/s.
+    wall: f64,
+}
+
+/// [`TubeGurney`] for scenario `s` (`config` names it in errors): its
+/// `products` on their principal isentrope from CJ to V = 7, and M/C of
+/// the copper tube [`TUBE`] filled with products at their ρ₀.
+fn tube_gurney(s: &brisance::compose::config::Scenario, config: &str) -> Result<TubeGurney> {
+    use brisance::eos::tools::gurney::CYLINDER_TEST_RELATIVE_VOLUME;
+    use brisance::eos::tools::{
+        cj_on_jwl_cterm_isentrope, cylinder_wall_velocity, gurney_estimate,
+    };
+    let products = match s.materials.get("products").and_then(|m| m.eos()) {
+        Some(brisance::eos::EosModel::JwlCTerm(j)) => *j,
+        _ => return Err(anyhow!("{config}: `products` is not JwlCTerm")),
+    };
+    let cj = cj_on_jwl_cterm_isentrope(&products).map_err(|e| anyhow!("CJ: {e}"))?;
+    let estimate = gurney_estimate(&products, &cj, CYLINDER_TEST_RELATIVE_VOLUME, 1e-11)
+        .map_err(|e| anyhow!("Gurney: {e}"))?;
+    let (r_in, r_out, rho) = TUBE;
+    let m_over_c = rho * (r_out * r_out - r_in * r_in) / (products.rho0 * r_in * r_in);
+    let wall =
+        cylinder_wall_velocity(estimate.gurney_velocity, m_over_c).map_err(|e| anyhow!("{e}"))?;
+    Ok(TubeGurney {
+        products,
+        cj,
+        estimate,
+        m_over_c,
+        wall,
+    })
+}
+
 /// E-CYLINDER: configs/cylinder_icempm.ron (the seed 000 §5.2 copper
 /// cylinder test, reduced): the mean radial velocity of the outer-wall
 /// particles that start within 1 mm of z = GAUGE_Z, time-shifted to the
@@ -306,11 +353,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     use brisance::compose::build::{build, Built};
     use brisance::compose::load_str;
     use brisance::core::Solver;
-    use brisance::eos::tools::gurney::CYLINDER_TEST_RELATIVE_VOLUME;
-    use brisance::eos::tools::{
-        cj_on_jwl_cterm_isentrope, cylinder_wall_velocity, gurney_estimate,
-    };
-    use brisance::eos::JwlCTerm;
+    use brisance::eos::tools::{cylinder_wall_velocity, gurney_estimate};
 
     if let Ok(path) = std::env::var("BRISANCE_CYLINDER_AUDIT") {
         return cylinder_audit(&path);
@@ -329,7 +372,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let t_end = s.time.end;
     let energy_start = brisance::core::Solver::conservation_totals(solver.as_ref()).energy;
     // The outer-wall particles at the gauge, by identity.
-    let (r_in, r_out) = (0.0254, 0.0306);
+    let (r_in, r_out, _) = TUBE;
     let h = s
         .domain
         .cells
@@ -466,19 +509,13 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let v_end = (r_in_end / r_in).powi(2);
     // Gurney: QM-100 products on their principal isentrope to V = 7, the
     // reduced tube's metal-to-charge ratio.
-    let products: JwlCTerm = match s.materials.get("products").and_then(|m| m.eos()) {
-        Some(brisance::eos::EosModel::JwlCTerm(j)) => *j,
-        _ => {
-            return Err(anyhow!(
-                "configs/cylinder_icempm.ron: `products` is not JwlCTerm"
-            ))
-        }
-    };
-    let cj = cj_on_jwl_cterm_isentrope(&products).map_err(|e| anyhow!("CJ: {e}"))?;
-    let g = gurney_estimate(&products, &cj, CYLINDER_TEST_RELATIVE_VOLUME, 1e-11)
-        .map_err(|e| anyhow!("Gurney: {e}"))?;
-    let m_over_c = 8930.0 * (r_out * r_out - r_in * r_in) / (products.rho0 * r_in * r_in);
-    let gurney = cylinder_wall_velocity(g.gurney_velocity, m_over_c).map_err(|e| anyhow!("{e}"))?;
+    let TubeGurney {
+        products,
+        cj,
+        estimate: g,
+        m_over_c,
+        wall: gurney,
+    } = tube_gurney(s, "configs/cylinder_icempm.ron")?;
     // The Gurney estimate at the expansion the run reached (for reading
     // the terminal value of a record that ends before V = 7).
     let gurney_at_end = if v_end.is_finite() && v_end > 1.0 {
@@ -1084,4 +1121,344 @@ pub fn cylinder_audit(path: &str) -> Result<()> {
         );
     }
     Err(anyhow!("cylinder audit done (report not written)"))
+}
+
+/// One h of [`e_cylinder_rz`].
+struct RzRun {
+    h: f64,
+    /// Axis arrivals (pressure above 1 GPa) at 20 and 25 cm, s.
+    arrival: [Option<f64>; 2],
+    /// The 1D QM-100 column's D at the same h and ν*, m/s.
+    column: Option<f64>,
+    /// The outer-wall gauge's mean radial velocity against time, s, m/s.
+    record: Vec<(f64, f64)>,
+    /// Largest |E(t)/E(0) − 1| of the coupled total energy, and its end value.
+    energy: (f64, f64),
+    /// What steps 2 and 12's cold-material rules (with the fluid traces
+    /// held at the solid's temperature) added over the run, relative to
+    /// E(0) (`IceSolver::kept_warm_totals`).
+    kept_warm: f64,
+    wall_s: f64,
+    steps: usize,
+    failure: Option<String>,
+}
+
+impl RzRun {
+    /// D between the 20 and 25 cm gauges, m/s.
+    fn detonation_velocity(&self) -> f64 {
+        match self.arrival {
+            [Some(a), Some(b)] if b > a => 0.05 / (b - a),
+            _ => f64::NAN,
+        }
+    }
+
+    /// Mean over the last 10 % of the record, m/s (NaN if the run stopped
+    /// or the wave never reached the gauge).
+    fn terminal(&self) -> f64 {
+        if self.failure.is_some() || self.arrival[1].is_none() || self.record.is_empty() {
+            return f64::NAN;
+        }
+        let k = self.record.len() - self.record.len() / 10;
+        let tail = &self.record[k..];
+        tail.iter().map(|x| x.1).sum::<f64>() / tail.len() as f64
+    }
+}
+
+/// The axis gauges of configs/cylinder_rz.ron, m (D between them).
+const RZ_AXIS: [f64; 2] = [0.20, 0.25];
+
+/// The wall gauge of configs/cylinder_rz.ron: outer-wall particles starting
+/// at r 29.6–30.7 mm and within 1 mm of z = 25 cm.
+const RZ_WALL: ([f64; 2], f64, f64) = ([0.0296, 0.0307], 0.25, 1e-3);
+
+/// Runs configs/cylinder_rz.ron at cell size `h` (m) with `sets` added.
+fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
+    use brisance::compose::build::{build, Built};
+    use brisance::compose::load_str;
+    use brisance::core::Solver;
+    use brisance::ice::column::{run_column, Column};
+
+    let text = include_str!("../../configs/cylinder_rz.ron");
+    let mut all = vec![format!(
+        "domain.cells=({},{},1)",
+        (0.08 / h).round() as usize,
+        (0.36 / h).round() as usize
+    )];
+    all.extend_from_slice(sets);
+    let loaded = load_str("cylinder_rz.ron", text, &all)
+        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
+    let s = &loaded.scenario;
+    let nu = match &s.pipeline {
+        brisance::compose::config::Pipeline::IceMpm(c) => c.ice.face_pressure_courant,
+        _ => return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline")),
+    };
+    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+        return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline"));
+    };
+    let mut solver = solver;
+    let t_end = s.time.end;
+    let e0 = solver.conservation_totals().energy;
+    let ps = solver.mpm().particles();
+    let ((r_lo, r_hi), z, dz) = ((RZ_WALL.0[0], RZ_WALL.0[1]), RZ_WALL.1, RZ_WALL.2);
+    let gauge: std::collections::BTreeSet<u32> = (0..ps.len())
+        .filter(|&p| {
+            let x = ps.position[p];
+            x[0] > r_lo && x[0] < r_hi && (x[1] - z).abs() < dz
+        })
+        .map(|p| solver.mpm().particle_ids()[p])
+        .collect();
+    if gauge.is_empty() {
+        return Err(anyhow!("no outer-wall particle at the gauge"));
+    }
+    let radial = |m: &brisance::mpm::MpmSolver| -> f64 {
+        let (ps, ids) = (m.particles(), m.particle_ids());
+        let (mut sum, mut n) = (0.0, 0usize);
+        for (p, id) in ids.iter().enumerate() {
+            if gauge.contains(id) {
+                sum += ps.velocity[p][0];
+                n += 1;
+            }
+        }
+        sum / n as f64
+    };
+    let mut run = RzRun {
+        h,
+        arrival: [None; 2],
+        column: None,
+        record: Vec::new(),
+        energy: (0.0, 0.0),
+        kept_warm: 0.0,
+        wall_s: 0.0,
+        steps: 0,
+        failure: None,
+    };
+    let fields = ["pressure".to_string()];
+    let mut sample = Vec::new();
+    let mut next_energy = 0.0;
+    let start = Instant::now();
+    while solver.time() < t_end * (1.0 - 1e-12) {
+        let step = solver
+            .stable_dt()
+            .and_then(|dt| solver.advance(dt.min(t_end - solver.time())));
+        if let Err(e) = step {
+            run.failure = Some(e.to_string());
+            break;
+        }
+        run.steps += 1;
+        let t = solver.time();
+        for (k, zk) in RZ_AXIS.iter().enumerate() {
+            if run.arrival[k].is_some() {
+                continue;
+            }
+            solver.sample([1e-4, *zk, 1e-3], &fields, &mut sample)?;
+            if sample[0] > 1e9 {
+                run.arrival[k] = Some(t);
+            }
+        }
+        run.record.push((t, radial(solver.mpm())));
+        if t >= next_energy || t >= t_end * (1.0 - 1e-12) {
+            let rel = solver.conservation_totals().energy / e0 - 1.0;
+            run.energy.1 = rel;
+            if !(rel.abs() <= run.energy.0) {
+                run.energy.0 = rel.abs();
+            }
+            next_energy = t + 1e-6;
+        }
+    }
+    run.wall_s = start.elapsed().as_secs_f64();
+    let ice = solver.ice();
+    run.kept_warm = ice
+        .kept_warm_totals()
+        .iter()
+        .chain(ice.kept_warm_advection_totals())
+        .map(|k| k.energy)
+        .sum::<f64>()
+        / e0;
+    let column = Column {
+        face_pressure_courant: nu,
+        ..Column::qm100(h)
+    };
+    run.column = run_column(&column).ok().and_then(|r| r.detonation_velocity);
+    Ok(run)
+}
+
+/// E-CYLINDER in r–z: configs/cylinder_rz.ron (seed 000 §5.2 as printed:
+/// 35 cm tube, gauge at 25 cm) at the cell sizes of
+/// `BRISANCE_CYLINDER_RZ_H` (mm, comma-separated; default 2, 1, 0.5):
+/// the axis detonation speed between 20 and 25 cm against D_CJ and the 1D
+/// QM-100 column at the same h, the outer wall's terminal velocity at
+/// 25 cm against the Gurney estimate, the closure of the coupled total
+/// energy and the wall time.
+pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
+    println!("E-CYLINDER r-z: copper cylinder test on rings (configs/cylinder_rz.ron)");
+    let hs: Vec<f64> = std::env::var("BRISANCE_CYLINDER_RZ_H")
+        .unwrap_or_else(|_| "2,1,0.5".into())
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().map(|mm| mm * 1e-3))
+        .collect::<Result<_, _>>()
+        .map_err(|e| anyhow!("BRISANCE_CYLINDER_RZ_H: {e}"))?;
+    if hs.is_empty() {
+        return Err(anyhow!("BRISANCE_CYLINDER_RZ_H names no cell size"));
+    }
+    let text = include_str!("../../configs/cylinder_rz.ron");
+    let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
+        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
+    let g = tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")?;
+    let d_cj = g.cj.detonation_velocity;
+    let mut runs = Vec::new();
+    for &h in &hs {
+        let r = cylinder_rz_run(h, &[])?;
+        println!(
+            "  h {:.2} mm: {} steps in {:.0} s, D {:.0} m/s (1D column {:?}), terminal {:.0} m/s (Gurney {:.0}), energy max |drift| {:.3} % (end {:+.3} %, cold-material rules {:+.3} %), failure {:?}",
+            h * 1e3,
+            r.steps,
+            r.wall_s,
+            r.detonation_velocity(),
+            r.column,
+            r.terminal(),
+            g.wall,
+            100.0 * r.energy.0,
+            100.0 * r.energy.1,
+            100.0 * r.kept_warm,
+            r.failure
+        );
+        runs.push(r);
+    }
+    // Wall velocity against t − t_arrival at 25 cm, one curve per h.
+    let png = img.join("e_cylinder_rz.png");
+    let curves: Vec<(String, Vec<f64>, Vec<f64>)> = runs
+        .iter()
+        .filter_map(|r| {
+            let t0 = r.arrival[1]?;
+            Some((
+                format!("h = {} mm", r.h * 1e3),
+                r.record.iter().map(|x| (x.0 - t0) * 1e6).collect(),
+                r.record.iter().map(|x| x.1).collect(),
+            ))
+        })
+        .collect();
+    if !curves.is_empty() {
+        use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
+        let span: Vec<f64> = curves
+            .iter()
+            .flat_map(|c| [c.1.first().copied(), c.1.last().copied()])
+            .flatten()
+            .collect();
+        let gx = [
+            span.iter().copied().fold(f64::INFINITY, f64::min),
+            span.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        ];
+        let gy = [g.wall; 2];
+        let mut series: Vec<Series> = curves
+            .iter()
+            .map(|c| Series {
+                label: &c.0,
+                x: &c.1,
+                y: &c.2,
+                style: SeriesStyle::Line,
+            })
+            .collect();
+        series.push(Series {
+            label: "Gurney estimate",
+            x: &gx,
+            y: &gy,
+            style: SeriesStyle::Line,
+        });
+        plot_panels(
+            &png,
+            "E-CYLINDER r-z: outer wall at z = 25 cm (seed 000 fig. 5)",
+            "t − t_arrival [µs]",
+            &[Panel {
+                y_label: "radial velocity [m/s]",
+                series,
+            }],
+        )?;
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## E-CYLINDER r–z — copper cylinder test on rings, IceMpm (seed 000 §5.2)\n"
+    );
+    let _ = writeln!(
+        md,
+        "configs/cylinder_rz.ron: the seed's test as printed on an axisymmetric (r, z) grid \
+         (docs/physics/axisymmetric.md): OFHC copper tube r 25.4–30.6 mm, 35 cm of QM-100 (JWL++), \
+         6 mm booster at 10 GPa against a closed end, air to r = 80 mm, 80 µs. D: the axis pressure \
+         passing 1 GPa at z = 20 and 25 cm (the 1D column: configs-free QM-100 column of \
+         `brisance_ice::column` at the same h and ν*, gauges 3–14 cm); wall: mean radial velocity of the \
+         outer-wall particles starting at r 29.6–30.7 mm within 1 mm of z = 25 cm, terminal = mean over \
+         the last 10 % of the record; energy: the coupled total (fluids + particles + unburnt chemical \
+         energy, conservation.csv's), largest |E(t)/E(0) − 1| sampled every µs, and the energy \
+         steps 2 and 12's cold-material rules added (`kept_warm_totals`, inside the drift). D_CJ {d_cj:.0} m/s; \
+         Gurney: √(2E_G) = {:.0} m/s at V = 7, M/C = {:.2}: {:.0} m/s. Wall times on 2 cores shared \
+         with other work.\n",
+        g.estimate.gurney_velocity, g.m_over_c, g.wall
+    );
+    let _ = writeln!(
+        md,
+        "| h (mm) | rings | steps | axis D (m/s) | vs D_CJ | vs 1D column | terminal wall (m/s) | vs Gurney | energy closure (max / end) | cold-material rules | wall time |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for r in &runs {
+        let d = r.detonation_velocity();
+        let term = r.terminal();
+        let rings = (0.08 / r.h).round() * (0.36 / r.h).round();
+        let _ = writeln!(
+            md,
+            "| {} | {rings:.0} | {} | {d:.0} | {:+.1} % | {} | {term:.0} | {:+.1} % | {:.2} % / {:+.2} % | {:+.3} % | {:.0} s{} |",
+            r.h * 1e3,
+            r.steps,
+            100.0 * (d / d_cj - 1.0),
+            r.column.map_or("—".into(), |c| format!("{c:.0} ({:+.1} %)", 100.0 * (d / c - 1.0))),
+            100.0 * (term / g.wall - 1.0),
+            100.0 * r.energy.0,
+            100.0 * r.energy.1,
+            100.0 * r.kept_warm,
+            r.wall_s,
+            r.failure.as_ref().map_or(String::new(), |f| format!(" (stopped: {f})"))
+        );
+    }
+    let _ = writeln!(md);
+    if !curves.is_empty() {
+        let _ = writeln!(
+            md,
+            "![E-CYLINDER r–z wall velocity](img/e_cylinder_rz.png)\n"
+        );
+    }
+    let _ = writeln!(md, "| check | measured | target | |\n|---|---:|---:|---|");
+    let finest = runs
+        .iter()
+        .min_by(|a, b| a.h.total_cmp(&b.h))
+        .ok_or_else(|| anyhow!("no run"))?;
+    let term = finest.terminal();
+    let err = term / g.wall - 1.0;
+    report.target(
+        &format!(
+            "E-CYLINDER r-z terminal wall velocity vs Gurney, h = {} mm",
+            finest.h * 1e3
+        ),
+        if term.is_finite() {
+            format!("{term:.0} m/s ({:+.1} %)", 100.0 * err)
+        } else {
+            "run stopped".into()
+        },
+        "±10 %",
+        term.is_finite() && err.abs() <= 0.10,
+    );
+    report.target(
+        &format!("E-CYLINDER r-z energy closure, h = {} mm", finest.h * 1e3),
+        format!("{:.2} %", 100.0 * finest.energy.0),
+        "≤ 0.5 %",
+        finest.failure.is_none() && finest.energy.0 <= 0.005,
+    );
+    if let Some(r) = runs.iter().find(|r| (r.h - 5e-4).abs() < 1e-9) {
+        report.target(
+            "E-CYLINDER r-z wall time, h = 0.5 mm",
+            format!("{:.0} s", r.wall_s),
+            "≤ 900 s",
+            r.failure.is_none() && r.wall_s <= 900.0,
+        );
+    }
+    let _ = writeln!(report.md);
+    Ok(())
 }

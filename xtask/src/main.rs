@@ -788,6 +788,7 @@ const CASES: [&str; 31] = [
     "ice-implicit",
     "piston",
     "cylinder",
+    "cylinder-rz",
     "smooth",
     "cj",
     "bar",
@@ -867,6 +868,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cylinder") {
         ice_mpm_cases::e_cylinder(&mut body, &img)?;
+    }
+    if run("cylinder-rz") {
+        ice_mpm_cases::e_cylinder_rz(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;

@@ -2488,6 +2488,41 @@ fn kept_warm<E: Eos>(eos: &E, rho: f64, e: f64, t_keep: f64) -> (f64, f64) {
 /// Volume share below which a fluid is a trace for [`trace_temperature`].
 const THERMAL_TRACE: f64 = 1e-4;
 
+/// Material `r`'s signal speed |u| + c in one direction for the CFL step
+/// of [`IceSolver::stable_dt`] (`c` is 0 with the implicit pressure). In a
+/// coupled run a material of volume fraction θ below [`THERMAL_TRACE`] is
+/// a trace, and
+///
+/// - a Lagrangian trace sets no speed. Its cell velocity is eq 18 of
+///   seed 000 (the nodes' mass-weighted velocity), and a cell holding a
+///   trace of the solid gets it from nodes that hold almost none of the
+///   particles' mass — the MPM's light nodes, whose velocity after the
+///   internal forces, f/m with m → 0, is not any particle's (−4.4 km/s at
+///   r = 24.5 mm in the 1 mm r–z cylinder at 1 µs). The ICE does not
+///   transport a Lagrangian material (step 12 leaves it to the particles,
+///   whose own CFL step the MPM sets from their velocities and sound
+///   speeds);
+/// - a fluid trace sets its velocity (step 12 moves it) but not its sound
+///   speed. The explicit pressure of eqs 19–21 waves through the mixture,
+///   whose compressibility Σ θ_r/(ρ_r c_r²) a trace changes by its share:
+///   a fluid trace inside the copper, compressed with it and heated
+///   where [`trace_temperature`] does not hold it (the cell not full of
+///   particles), reached 2·10⁷ K and 91 km/s in the 1 mm r–z cylinder and
+///   held Δt at 2·10⁻⁹ s (docs/physics/couple/ice_mpm.md).
+///
+/// An uncoupled run takes every material's |u| + c, and a NaN θ counts
+/// (NaN stops the run).
+#[inline(always)]
+fn cfl_speed(coupled: bool, lagrangian: bool, theta: f64, u: f64, c: f64) -> f64 {
+    if !(coupled && theta < THERMAL_TRACE) {
+        u.abs() + c
+    } else if lagrangian {
+        0.0
+    } else {
+        u.abs()
+    }
+}
+
 /// In a cell the particles fill (their materials' share of the volume
 /// above 1 − [`THERMAL_TRACE`]), a fluid of share below
 /// [`THERMAL_TRACE`] takes the particles' mass-weighted temperature
@@ -3003,9 +3038,13 @@ impl<E: Eos> Solver for IceSolver<E> {
                             }
                             let mut s = 0.0_f64;
                             for r in 0..n {
-                                s = s.max(
-                                    d[r * NS + VEL + a][c].abs() + acoustic * d[r * NS + SOUND][c],
-                                );
+                                s = s.max(cfl_speed(
+                                    params.coupled,
+                                    params.lagrangian[r],
+                                    d[r * NS + THETA][c],
+                                    d[r * NS + VEL + a][c],
+                                    acoustic * d[r * NS + SOUND][c],
+                                ));
                             }
                             rate += s / params.spacing[a];
                         }
@@ -3427,6 +3466,78 @@ mod cold_trace_tests {
         s.restore_state(&saved).unwrap();
         assert_eq!(s.kept_warm_totals(), &totals[..]);
         assert_eq!(s.rescaled_totals(), ConservationTotals::default());
+    }
+}
+
+#[cfg(test)]
+mod time_step_tests {
+    use super::*;
+    use brisance_eos::{EosModel, IdealGas};
+
+    /// Two cells of air beside a second gas at θ = `theta` moving at `u`
+    /// (m/s), the second gas Lagrangian or not.
+    fn solver_at(theta: f64, lagrangian: bool, u: f64) -> IceSolver<EosModel> {
+        let air = EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0));
+        let level = Level::new([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], [1, 1, 1], GHOST).unwrap();
+        let init = |_| CellState {
+            pressure: 1e5,
+            materials: vec![
+                crate::material::MaterialState {
+                    volume_fraction: 1.0 - theta,
+                    density: 1.2,
+                    velocity: [0.0; 3],
+                },
+                crate::material::MaterialState {
+                    volume_fraction: theta,
+                    density: 1.2,
+                    velocity: [u, 0.0, 0.0],
+                },
+            ],
+        };
+        let mut s = IceSolver::new(
+            vec![air; 2],
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            ExchangeCoefficients::uniform(2, 1e15, 0.0),
+            IceOptions::default(),
+            init,
+        )
+        .unwrap();
+        if lagrangian {
+            s.set_lagrangian(&[false, true]).unwrap();
+        }
+        s
+    }
+
+    /// [`solver_at`] at 30 km/s.
+    fn solver(theta: f64, lagrangian: bool) -> IceSolver<EosModel> {
+        solver_at(theta, lagrangian, 3e4)
+    }
+
+    /// In a coupled run a Lagrangian material's velocity sets Δt where its
+    /// volume fraction is at least THERMAL_TRACE and not below it (eq 18
+    /// of light nodes); a fluid trace's velocity always does.
+    #[test]
+    fn a_lagrangian_trace_does_not_set_the_time_step() {
+        let air_only = solver_at(1e-5, false, 0.0).stable_dt().unwrap();
+        let fast = solver(0.5, false).stable_dt().unwrap();
+        assert!(fast < 0.1 * air_only, "{fast} {air_only}");
+        assert_eq!(solver(1e-5, true).stable_dt().unwrap(), air_only);
+        assert_eq!(solver(1e-5, false).stable_dt().unwrap(), fast);
+        assert_eq!(solver(2.0 * THERMAL_TRACE, true).stable_dt().unwrap(), fast);
+    }
+
+    /// The rule by hand: traces of a coupled run only; a fluid trace keeps
+    /// its velocity, not its sound speed; NaN counts.
+    #[test]
+    fn trace_speeds_by_hand() {
+        let t = 0.5 * THERMAL_TRACE;
+        assert_eq!(cfl_speed(false, false, t, -3.0, 5.0), 8.0);
+        assert_eq!(cfl_speed(true, false, t, -3.0, 5.0), 3.0);
+        assert_eq!(cfl_speed(true, true, t, -3.0, 5.0), 0.0);
+        assert_eq!(cfl_speed(true, true, THERMAL_TRACE, -3.0, 5.0), 8.0);
+        assert_eq!(cfl_speed(true, false, THERMAL_TRACE, -3.0, 5.0), 8.0);
+        assert_eq!(cfl_speed(true, true, f64::NAN, -3.0, 5.0), 8.0);
     }
 }
 
