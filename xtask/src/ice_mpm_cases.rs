@@ -1377,7 +1377,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "## E-CYLINDER r–z — copper cylinder test on rings, IceMpm (seed 000 §5.2)\n"
+        "## E-CYLINDER-RZ — copper cylinder test on rings, IceMpm (seed 000 §5.2)\n"
     );
     let _ = writeln!(
         md,
@@ -1434,7 +1434,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let err = term / g.wall - 1.0;
     report.target(
         &format!(
-            "E-CYLINDER r-z terminal wall velocity vs Gurney, h = {} mm",
+            "E-CYLINDER-RZ terminal wall velocity vs Gurney, h = {} mm",
             finest.h * 1e3
         ),
         if term.is_finite() {
@@ -1446,17 +1446,25 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
         term.is_finite() && err.abs() <= 0.10,
     );
     report.target(
-        &format!("E-CYLINDER r-z energy closure, h = {} mm", finest.h * 1e3),
+        &format!("E-CYLINDER-RZ energy closure, h = {} mm", finest.h * 1e3),
         format!("{:.2} %", 100.0 * finest.energy.0),
         "≤ 0.5 %",
         finest.failure.is_none() && finest.energy.0 <= 0.005,
     );
     if let Some(r) = runs.iter().find(|r| (r.h - 5e-4).abs() < 1e-9) {
         report.target(
-            "E-CYLINDER r-z wall time, h = 0.5 mm",
+            "E-CYLINDER-RZ wall time, h = 0.5 mm",
             format!("{:.0} s", r.wall_s),
             "≤ 900 s",
             r.failure.is_none() && r.wall_s <= 900.0,
+        );
+    } else {
+        // The seed's resolution must be shown, not skipped quietly.
+        report.target(
+            "E-CYLINDER-RZ wall time, h = 0.5 mm",
+            "not run (not in the h sequence; projected about an hour on 2 cores)".to_string(),
+            "≤ 900 s",
+            false,
         );
     }
     let _ = writeln!(report.md);

@@ -777,7 +777,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 31] = [
+const CASES: [&str; 32] = [
     "sod",
     "sod-ice",
     "shocktubes",
