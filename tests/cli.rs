@@ -735,6 +735,40 @@ fn remap_with_a_malformed_grid_fails_before_running_and_writes_nothing() {
     assert!(!out.exists());
 }
 
+/// `configs/blast2d.ron` on the strip 150 ≤ y ≤ 350 mm through the
+/// charge's centre (100 rows instead of 250) and the charge's remap made by
+/// `brisance remap` into `dir/remap` (440 cells, within 100 mm of the
+/// centre, inside the strip): the remap file and the strip's overrides.
+fn blast2d_strip(dir: &Path) -> (PathBuf, Vec<String>) {
+    let remapped = dir.join("remap");
+    let output = remap(
+        "cylindrical",
+        ["0.05", "0.11", "440", "1.2e-5"],
+        ["-0.18,0.15,0", "0.12,0.35,0.002", "150,100,1", "0,0.25,0"],
+        &remapped,
+        &["--radius", "0.1"],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let strip = [
+        "domain.lower=(-0.18, 0.15, 0.0)",
+        "domain.upper=(0.16, 0.35, 0.002)",
+        "domain.cells=(170, 100, 1)",
+        "pipeline.fdm_region=(lower: (-0.18, 0.15, 0.0), upper: (0.12, 0.35, 0.002))",
+        "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
+    ];
+    (
+        remapped.join("remap.bin"),
+        strip.iter().map(|s| s.to_string()).collect(),
+    )
+}
+
+/// `--set` arguments of `sets`.
+fn set_args(sets: &[String]) -> Vec<String> {
+    sets.iter()
+        .flat_map(|s| ["--set".to_string(), s.clone()])
+        .collect()
+}
+
 /// The strip of `blast2d_runs_through_the_bridge_on_a_strip_of_its_domain`
 /// to 1 µs, its FDM region from the charge stated in the config (the run
 /// remaps it) or from `brisance remap`'s file: the same totals. The first
@@ -744,25 +778,9 @@ fn remap_with_a_malformed_grid_fails_before_running_and_writes_nothing() {
 fn a_charge_in_the_config_is_remapped_by_the_run_and_cached() {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("cache");
-    let remapped = dir.path().join("remap");
-    let output = remap(
-        "cylindrical",
-        ["0.05", "0.11", "440", "1.2e-5"],
-        ["-0.18,0.15,0", "0.12,0.35,0.002", "150,100,1", "0,0.25,0"],
-        &remapped,
-        &["--radius", "0.1"],
-    );
-    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let (remap_file, mut strip) = blast2d_strip(dir.path());
+    strip.extend(["time.end=1e-6".to_string(), "outputs.interval=1.0".into()]);
     let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d.ron");
-    let strip = [
-        "domain.lower=(-0.18, 0.15, 0.0)",
-        "domain.upper=(0.16, 0.35, 0.002)",
-        "domain.cells=(170, 100, 1)",
-        "pipeline.fdm_region=(lower: (-0.18, 0.15, 0.0), upper: (0.12, 0.35, 0.002))",
-        "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
-        "time.end=1e-6",
-        "outputs.interval=1.0",
-    ];
     let go = |out: &Path, source: &[String]| {
         let mut cmd = brisance();
         cmd.env("BRISANCE_CACHE_DIR", &cache)
@@ -785,10 +803,7 @@ fn a_charge_in_the_config_is_remapped_by_the_run_and_cached() {
     go(
         &from_file,
         &[
-            format!(
-                "pipeline.remap=Some(\"{}\")",
-                remapped.join("remap.bin").display()
-            ),
+            format!("pipeline.remap=Some(\"{}\")", remap_file.display()),
             "pipeline.charge=None".into(),
         ],
     );
@@ -830,51 +845,21 @@ fn a_charge_in_the_config_is_remapped_by_the_run_and_cached() {
 
 #[test]
 fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
-    // configs/blast2d.ron on the strip 150 <= y <= 350 mm through the
-    // charge's centre (100 rows instead of 250), from its own remap (within
-    // 100 mm of the centre, inside the strip), to 10 us:
-    // the blast reaches the MPM region, which starts, and gauge 2 in it
-    // sees the shock.
+    // The strip from its own remap, to 10 us: the blast reaches the MPM
+    // region, which starts, and gauge 2 in it sees the shock.
     let dir = tempfile::tempdir().unwrap();
-    let remapped = dir.path().join("remap");
-    let output = remap(
-        "cylindrical",
-        ["0.05", "0.11", "440", "1.2e-5"],
-        ["-0.18,0.15,0", "0.12,0.35,0.002", "150,100,1", "0,0.25,0"],
-        &remapped,
-        &["--radius", "0.1"],
-    );
-    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let (remap_file, mut sets) = blast2d_strip(dir.path());
+    sets.extend([
+        format!("pipeline.remap=Some(\"{}\")", remap_file.display()),
+        "pipeline.charge=None".into(),
+        "time.end=1e-5".into(),
+        "outputs.interval=1.0".into(),
+    ]);
     let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d.ron");
     let out = dir.path().join("out");
-    let remap_set = format!(
-        "pipeline.remap=Some(\"{}\")",
-        remapped.join("remap.bin").display()
-    );
-    let output = run(
-        &config,
-        &out,
-        &[
-            "--set",
-            "domain.lower=(-0.18, 0.15, 0.0)",
-            "--set",
-            "domain.upper=(0.16, 0.35, 0.002)",
-            "--set",
-            "domain.cells=(170, 100, 1)",
-            "--set",
-            "pipeline.fdm_region=(lower: (-0.18, 0.15, 0.0), upper: (0.12, 0.35, 0.002))",
-            "--set",
-            "pipeline.mpm_region=(lower: (0.11, 0.15, 0.0), upper: (0.16, 0.35, 0.002))",
-            "--set",
-            &remap_set,
-            "--set",
-            "pipeline.charge=None",
-            "--set",
-            "time.end=1e-5",
-            "--set",
-            "outputs.interval=1.0",
-        ],
-    );
+    let args = set_args(&sets);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let output = run(&config, &out, &args);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let s = read_json(&out.join("summary.json"));
     assert_eq!(s["completed"], Value::Bool(true), "{s}");

@@ -1188,17 +1188,12 @@ fn particle_output_carries_the_node_damage() {
     }
 }
 
-/// Two bodies of two steel nodes each (h = 1 mm, δ = 3h, no surface
-/// correction), B thrown at A at 100 m/s. Each node's one bond gives
-/// S_bond = c h³/h with c = 18K/(πδ⁴) = 5.728730e21 N/m⁶ (eq 28, K = ρc_b²
-/// = 8.0988e10 Pa), so apart the step is 0.8 √(2ρ/S_bond) = 1.324374e-6 s
-/// (eq 24). Once the facing nodes are within the contact distance
-/// (1.35h, eq 27) their pair adds S_contact = F_SR c h³/δ = 5 S_bond, and
-/// the step is 0.8 √(2ρ/(6 S_bond)) = 5.406734e-7 s, √6 shorter. Without
-/// contact the same approach leaves the step at 1.324374e-6 s.
-fn contact_step(contact: bool) -> (f64, f64, f64) {
+/// Two bodies of two steel nodes each (h = 1 mm, no surface correction),
+/// B at x = 4–6 mm thrown at A (0–2 mm) at 100 m/s; short-range forces on
+/// or off.
+fn two_steel_bodies(contact: bool) -> PdSolver {
     let h = 1.0e-3;
-    let mut s = PdSolver::new(PdSetup {
+    PdSolver::new(PdSetup {
         options: PdOptions {
             spacing: h,
             surface_correction: false,
@@ -1227,7 +1222,20 @@ fn contact_step(contact: bool) -> (f64, f64, f64) {
         boundaries: vec![],
         detonation: None,
     })
-    .unwrap();
+    .unwrap()
+}
+
+/// Two bodies of two steel nodes each (h = 1 mm, δ = 3h, no surface
+/// correction), B thrown at A at 100 m/s. Each node's one bond gives
+/// S_bond = c h³/h with c = 18K/(πδ⁴) = 5.728730e21 N/m⁶ (eq 28, K = ρc_b²
+/// = 8.0988e10 Pa), so apart the step is 0.8 √(2ρ/S_bond) = 1.324374e-6 s
+/// (eq 24). Once the facing nodes are within the contact distance
+/// (1.35h, eq 27) their pair adds S_contact = F_SR c h³/δ = 5 S_bond, and
+/// the step is 0.8 √(2ρ/(6 S_bond)) = 5.406734e-7 s, √6 shorter. Without
+/// contact the same approach leaves the step at 1.324374e-6 s.
+fn contact_step(contact: bool) -> (f64, f64, f64) {
+    let h = 1.0e-3;
+    let mut s = two_steel_bodies(contact);
     assert_eq!(s.node_count(), 4);
     let first = s.stable_dt().unwrap();
     let gap = |s: &PdSolver| s.current_position(2)[0] - s.current_position(1)[0];
@@ -1278,36 +1286,7 @@ fn a_contact_pair_shortens_the_stable_step_to_the_hand_value() {
 /// bond + contact energy) and the contact energy at the deepest approach.
 fn collision_energy(refine: f64) -> (f64, f64, f64) {
     let h = 1.0e-3;
-    let mut s = PdSolver::new(PdSetup {
-        options: PdOptions {
-            spacing: h,
-            surface_correction: false,
-            contact: Some(ContactOptions::default()),
-            ..PdOptions::default()
-        },
-        materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
-        bodies: vec![
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0; 3],
-                    max: [2.0 * h, h, h],
-                },
-                material: 0,
-                velocity: [0.0; 3],
-            },
-            BodySpec {
-                shape: Shape::Box {
-                    min: [4.0 * h, 0.0, 0.0],
-                    max: [6.0 * h, h, h],
-                },
-                material: 0,
-                velocity: [-100.0, 0.0, 0.0],
-            },
-        ],
-        boundaries: vec![],
-        detonation: None,
-    })
-    .unwrap();
+    let mut s = two_steel_bodies(true);
     let e0 = s.conservation_totals().energy;
     let gap = |s: &PdSolver| s.current_position(2)[0] - s.current_position(1)[0];
     let (mut worst, mut deepest, mut touched) = (0.0_f64, (f64::INFINITY, 0.0), false);
