@@ -941,6 +941,42 @@ pub fn g2p_velocity_and_remap_momentum(
             velocity: SharedSlice::new(velocity),
             acceleration: &nodes.acceleration,
             momentum: SharedSlice::new(&mut nodes.momentum),
+            remap_mass: None,
+            dt,
+        },
+    );
+}
+
+/// [`g2p_velocity_and_remap_momentum`] with the re-mapping's own masses:
+/// p_I = Σ_p N_Ip w_p v_p^{n+1} and m̃_I = Σ_p N_Ip w_p into `remap_mass`
+/// (zeroed first, one per node), with `weight` the particles' masses save
+/// for particles that load the grid but are not re-mapped (weight 0), so
+/// that eq 26's v_I^{n+1} = p_I / m̃_I is the mean of the re-mapped
+/// particles' velocities alone.
+#[allow(clippy::too_many_arguments)]
+pub fn g2p_velocity_and_remap_momentum_weighted(
+    map: &GridMap,
+    bins: &ParticleBins,
+    position: &[[f64; 3]],
+    weight: &[f64],
+    velocity: &mut [[f64; 3]],
+    nodes: &mut GridNodes,
+    remap_mass: &mut [f64],
+    dt: f64,
+) {
+    zero(&mut nodes.momentum, [0.0; 3]);
+    zero(remap_mass, 0.0);
+    dispatch(
+        map,
+        Remap {
+            map,
+            bins,
+            position,
+            mass: weight,
+            velocity: SharedSlice::new(velocity),
+            acceleration: &nodes.acceleration,
+            momentum: SharedSlice::new(&mut nodes.momentum),
+            remap_mass: Some(SharedSlice::new(remap_mass)),
             dt,
         },
     );
@@ -954,6 +990,7 @@ struct Remap<'a> {
     velocity: SharedSlice<'a, [f64; 3]>,
     acceleration: &'a [[f64; 3]],
     momentum: SharedSlice<'a, [f64; 3]>,
+    remap_mass: Option<SharedSlice<'a, f64>>,
     dt: f64,
 }
 
@@ -967,6 +1004,7 @@ impl StencilPass for Remap<'_> {
             velocity,
             acceleration,
             momentum,
+            remap_mass,
             dt,
         } = self;
         bins.for_each_coloured(|block, p| {
@@ -1005,6 +1043,19 @@ impl StencilPass for Remap<'_> {
                         let w = row.weight(wx);
                         for k in 0..3 {
                             q[k] += w * mv[k];
+                        }
+                    }
+                }
+            }
+            if let Some(rm) = &remap_mass {
+                for c in 0..NZ {
+                    for b in 0..NY {
+                        let row = s.row(b, c);
+                        let start = map.row_start(s.base, b, c);
+                        // SAFETY: as for the momentum.
+                        let mr = unsafe { rm.range(start, NX) };
+                        for (&wx, q) in s.x.w.iter().zip(mr) {
+                            *q += row.weight(wx) * m;
                         }
                     }
                 }
