@@ -1660,6 +1660,54 @@ mod tests {
                 assert_eq!(ps.velocity, v_ref, "{shape:?} {:?}", g.cells);
                 assert_eq!(nodes.momentum, p_ref, "{shape:?} {:?}", g.cells);
             }
+            // The weighted pass: every third particle load-only (weight
+            // 0); the momentum and the re-mapping's masses are the
+            // sequential scatter of the others, the velocities as above.
+            let weight: Vec<f64> = (0..ps0.len())
+                .map(|q| if q % 3 == 0 { 0.0 } else { ps0.mass[q] })
+                .collect();
+            let (mut pw_ref, mut mw_ref) = (vec![[0.0; 3]; nn], vec![0.0; nn]);
+            for colour in 0..COLOURS {
+                for &b in bins.colour_blocks(colour) {
+                    for &q in bins.block_particles(b as usize) {
+                        let q = q as usize;
+                        let lp = bins.half_width(q);
+                        map.shape
+                            .evaluate(&map.grid, ps0.position[q], lp, &mut st)
+                            .unwrap();
+                        let mv: [f64; 3] = std::array::from_fn(|k| weight[q] * v_ref[q][k]);
+                        for (node, w, _) in st.iter() {
+                            let i = map.lattice.index(node).unwrap();
+                            for k in 0..3 {
+                                pw_ref[i][k] += w * mv[k];
+                            }
+                            mw_ref[i] += w * weight[q];
+                        }
+                    }
+                }
+            }
+            for threads in [1, 3] {
+                let mut ps = ps0.clone();
+                let mut nodes = GridNodes::new(map.lattice);
+                nodes.acceleration.clone_from(&a);
+                nodes.momentum.fill([7.0; 3]);
+                let mut remap_mass = vec![5.0; nn];
+                in_pool(threads, || {
+                    g2p_velocity_and_remap_momentum_weighted(
+                        &map,
+                        &bins,
+                        &ps.position,
+                        &weight,
+                        &mut ps.velocity,
+                        &mut nodes,
+                        &mut remap_mass,
+                        dt,
+                    )
+                });
+                assert_eq!(ps.velocity, v_ref, "{shape:?} {:?}", g.cells);
+                assert_eq!(nodes.momentum, pw_ref, "{shape:?} {:?}", g.cells);
+                assert_eq!(remap_mass, mw_ref, "{shape:?} {:?}", g.cells);
+            }
         }
     }
 
