@@ -554,7 +554,18 @@ impl<E: GasLaw> Cfdmp<E> {
             .map_err(|e| SolverError::Other(format!("bridge donor particles: {e}")))?;
         self.donors = (first, self.inits.len() as u32);
         self.particle_steps += self.mpm.particles().len() as u64;
+        // The donors give the interface nodes the FDM side's mass,
+        // momentum and pressure force (eqs 37–39, steps 3 and 5 of §3.5)
+        // and nothing else: the velocity update, the re-mapping of eq 26
+        // and the strain increments of eqs 27–28 (steps 9–11) are the MPM
+        // particles' alone, the donors' velocity being the FDM's. Re-mapped
+        // with the rest, a donor carried the velocity its halo node (which
+        // has no other mass) gave it under its one-sided pressure to the
+        // interface node, and the first layer's particles expanded at rest
+        // (docs/physics/couple/bridge.md, "At rest").
+        self.mpm.set_load_only(self.donors.0, self.donors.1);
         let result = self.mpm.advance(dt);
+        self.mpm.set_load_only(0, 0);
         if result.is_err() {
             self.remove_donors();
         }

@@ -233,6 +233,13 @@ struct Workspace {
     /// identities into (see [`MpmSolver::permute_own`]).
     bulk_scratch: Vec<BulkViscosityState>,
     id_scratch: Vec<u32>,
+    /// Identities [first, first + count) of the particles that load the
+    /// grid but are not re-mapped ([`MpmSolver::set_load_only`]).
+    load_only: (u32, u32),
+    /// MUSL's re-mapping weights, one per particle (the masses, zero for
+    /// the load-only particles), and its node masses; empty unless used.
+    remap_weight: Vec<f64>,
+    remap_mass: Vec<f64>,
 }
 
 /// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
@@ -505,6 +512,9 @@ impl MpmSolver {
                 consumed: Vec::new(),
                 bulk_scratch: Vec::new(),
                 id_scratch: Vec::new(),
+                load_only: (0, 0),
+                remap_weight: Vec::new(),
+                remap_mass: Vec::new(),
             },
             bulk,
             next_id: ids.len() as u32,
@@ -723,6 +733,24 @@ impl MpmSolver {
         Ok(first)
     }
 
+    /// Marks the particles of identities [`first`, `first + count`) as
+    /// load-only until changed (`count` 0 clears it): they enter the first
+    /// transfer (mass, momentum and internal force at the nodes, seed 001
+    /// eqs 18–21) and the momentum update (eq 22), but not MUSL's
+    /// re-mapping (eq 26), whose node velocities are then the mean of the
+    /// other particles' updated velocities, v_I^{n+1} =
+    /// Σ m_p N_Ip v_p^{n+1} / Σ m_p N_Ip over those alone. The FDM–MPM
+    /// bridge's donor cells (eqs 37–39) are such particles: the FDM cells
+    /// beside the interface, which give the interface nodes the FDM side's
+    /// mass, momentum and pressure force, but whose own velocity is the
+    /// FDM's, not the MPM's to update and remap. Other schemes than MUSL
+    /// ignore the mark (they have no re-mapping). With inflow faces the
+    /// mark is ignored too (the reservoirs add momentum to the re-mapping
+    /// but no mass to its weights).
+    pub fn set_load_only(&mut self, first: u32, count: u32) {
+        self.work.load_only = (first, count);
+    }
+
     /// Removes the particles at storage indices `leaving` (ascending,
     /// distinct) without booking them as outflow: a coupling that takes
     /// their mass, momentum and energy over reads them first. The others
@@ -901,7 +929,29 @@ impl MpmSolver {
                 };
                 let all = P2gSums::All;
                 step::p2g_integrate_averaged(&t, ps, nodes, &params, all, average.as_deref_mut());
-                step::g2p_velocity_and_remap(&t, ps, nodes, &params);
+                let (first, count) = work.load_only;
+                if count > 0 && params.reservoir.is_empty() {
+                    let ids = &self.ids;
+                    work.remap_weight.clear();
+                    work.remap_weight
+                        .extend(ps.mass.iter().zip(ids).map(|(&m, &id)| {
+                            if id >= first && id - first < count {
+                                0.0
+                            } else {
+                                m
+                            }
+                        }));
+                    step::g2p_velocity_and_remap_weighted(
+                        &t,
+                        ps,
+                        nodes,
+                        &params,
+                        &work.remap_weight,
+                        &mut work.remap_mass,
+                    );
+                } else {
+                    step::g2p_velocity_and_remap(&t, ps, nodes, &params);
+                }
                 step::g2p_and_update_stresses_averaged(&t, ps, bulk, nodes, &params, parts, average)
             }
         };

@@ -292,6 +292,40 @@ pub fn g2p_velocity_and_remap(
     nodes.update(&params.node_update(), NodeStage::Remap);
 }
 
+/// [`g2p_velocity_and_remap`] with the re-mapping of eq 26 over the
+/// particles of nonzero `weight` alone (their masses; zero for particles
+/// that load the grid but are not re-mapped):
+/// v_I^{n+1} = Σ_p w_p N_Ip v_p^{n+1} / Σ_p w_p N_Ip, the mean velocity of
+/// the re-mapped particles at the node, with the cut-off (on that mass)
+/// and the boundary conditions. `remap_mass` is a buffer of one value per
+/// node. Reservoir shares ([`crate::inflow`]) add their momentum but no
+/// mass here, so the solver uses this only without inflow faces.
+pub fn g2p_velocity_and_remap_weighted(
+    t: &Transfer,
+    particles: &mut Particles,
+    nodes: &mut GridNodes,
+    params: &StepParams,
+    weight: &[f64],
+    remap_mass: &mut Vec<f64>,
+) {
+    remap_mass.resize(nodes.mass.len(), 0.0);
+    transfer::g2p_velocity_and_remap_momentum_weighted(
+        t.map,
+        t.bins,
+        &particles.position,
+        weight,
+        &mut particles.velocity,
+        nodes,
+        remap_mass,
+        params.dt,
+    );
+    // The node update divides by `nodes.mass`: the re-mapping's masses
+    // stand in for it, then the lumped masses of eqs 21/37 return.
+    std::mem::swap(&mut nodes.mass, remap_mass);
+    nodes.update(&params.node_update(), NodeStage::Remap);
+    std::mem::swap(&mut nodes.mass, remap_mass);
+}
+
 /// A node velocity field of [`GridNodes`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeVelocity {

@@ -941,6 +941,42 @@ pub fn g2p_velocity_and_remap_momentum(
             velocity: SharedSlice::new(velocity),
             acceleration: &nodes.acceleration,
             momentum: SharedSlice::new(&mut nodes.momentum),
+            remap_mass: None,
+            dt,
+        },
+    );
+}
+
+/// [`g2p_velocity_and_remap_momentum`] with the re-mapping's own masses:
+/// p_I = Σ_p N_Ip w_p v_p^{n+1} and m̃_I = Σ_p N_Ip w_p into `remap_mass`
+/// (zeroed first, one per node), with `weight` the particles' masses save
+/// for particles that load the grid but are not re-mapped (weight 0), so
+/// that eq 26's v_I^{n+1} = p_I / m̃_I is the mean of the re-mapped
+/// particles' velocities alone.
+#[allow(clippy::too_many_arguments)]
+pub fn g2p_velocity_and_remap_momentum_weighted(
+    map: &GridMap,
+    bins: &ParticleBins,
+    position: &[[f64; 3]],
+    weight: &[f64],
+    velocity: &mut [[f64; 3]],
+    nodes: &mut GridNodes,
+    remap_mass: &mut [f64],
+    dt: f64,
+) {
+    zero(&mut nodes.momentum, [0.0; 3]);
+    zero(remap_mass, 0.0);
+    dispatch(
+        map,
+        Remap {
+            map,
+            bins,
+            position,
+            mass: weight,
+            velocity: SharedSlice::new(velocity),
+            acceleration: &nodes.acceleration,
+            momentum: SharedSlice::new(&mut nodes.momentum),
+            remap_mass: Some(SharedSlice::new(remap_mass)),
             dt,
         },
     );
@@ -954,6 +990,7 @@ struct Remap<'a> {
     velocity: SharedSlice<'a, [f64; 3]>,
     acceleration: &'a [[f64; 3]],
     momentum: SharedSlice<'a, [f64; 3]>,
+    remap_mass: Option<SharedSlice<'a, f64>>,
     dt: f64,
 }
 
@@ -967,6 +1004,7 @@ impl StencilPass for Remap<'_> {
             velocity,
             acceleration,
             momentum,
+            remap_mass,
             dt,
         } = self;
         bins.for_each_coloured(|block, p| {
@@ -1005,6 +1043,19 @@ impl StencilPass for Remap<'_> {
                         let w = row.weight(wx);
                         for k in 0..3 {
                             q[k] += w * mv[k];
+                        }
+                    }
+                }
+            }
+            if let Some(rm) = &remap_mass {
+                for c in 0..NZ {
+                    for b in 0..NY {
+                        let row = s.row(b, c);
+                        let start = map.row_start(s.base, b, c);
+                        // SAFETY: as for the momentum.
+                        let mr = unsafe { rm.range(start, NX) };
+                        for (&wx, q) in s.x.w.iter().zip(mr) {
+                            *q += row.weight(wx) * m;
                         }
                     }
                 }
@@ -1608,6 +1659,54 @@ mod tests {
                 });
                 assert_eq!(ps.velocity, v_ref, "{shape:?} {:?}", g.cells);
                 assert_eq!(nodes.momentum, p_ref, "{shape:?} {:?}", g.cells);
+            }
+            // The weighted pass: every third particle load-only (weight
+            // 0); the momentum and the re-mapping's masses are the
+            // sequential scatter of the others, the velocities as above.
+            let weight: Vec<f64> = (0..ps0.len())
+                .map(|q| if q % 3 == 0 { 0.0 } else { ps0.mass[q] })
+                .collect();
+            let (mut pw_ref, mut mw_ref) = (vec![[0.0; 3]; nn], vec![0.0; nn]);
+            for colour in 0..COLOURS {
+                for &b in bins.colour_blocks(colour) {
+                    for &q in bins.block_particles(b as usize) {
+                        let q = q as usize;
+                        let lp = bins.half_width(q);
+                        map.shape
+                            .evaluate(&map.grid, ps0.position[q], lp, &mut st)
+                            .unwrap();
+                        let mv: [f64; 3] = std::array::from_fn(|k| weight[q] * v_ref[q][k]);
+                        for (node, w, _) in st.iter() {
+                            let i = map.lattice.index(node).unwrap();
+                            for k in 0..3 {
+                                pw_ref[i][k] += w * mv[k];
+                            }
+                            mw_ref[i] += w * weight[q];
+                        }
+                    }
+                }
+            }
+            for threads in [1, 3] {
+                let mut ps = ps0.clone();
+                let mut nodes = GridNodes::new(map.lattice);
+                nodes.acceleration.clone_from(&a);
+                nodes.momentum.fill([7.0; 3]);
+                let mut remap_mass = vec![5.0; nn];
+                in_pool(threads, || {
+                    g2p_velocity_and_remap_momentum_weighted(
+                        &map,
+                        &bins,
+                        &ps.position,
+                        &weight,
+                        &mut ps.velocity,
+                        &mut nodes,
+                        &mut remap_mass,
+                        dt,
+                    )
+                });
+                assert_eq!(ps.velocity, v_ref, "{shape:?} {:?}", g.cells);
+                assert_eq!(nodes.momentum, pw_ref, "{shape:?} {:?}", g.cells);
+                assert_eq!(remap_mass, mw_ref, "{shape:?} {:?}", g.cells);
             }
         }
     }
