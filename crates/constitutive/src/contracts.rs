@@ -208,7 +208,12 @@ pub fn check_rigid_spin_rotates_stress(
             Some(twin) => step(model, twin, &Mat3::zeros(), dt, t).plastic_work,
             None => 0.0,
         };
-        if (r.plastic_work - rest).abs() > 1e-10 * rest.abs().max(1e-300) || r.failed {
+        // On the scale of the step's stress power ‖σ‖‖W‖Δt, as in the
+        // rotated-path check: the dissipation of a nonlinear law (the
+        // crack growth's tenth power) magnifies the round-off between the
+        // two runs.
+        let scale = rest.abs().max(s.stress.norm() * w.norm() * dt);
+        if (r.plastic_work - rest).abs() > OBJECTIVITY_TOLERANCE * scale || r.failed {
             return Err(format!(
                 "a rigid spin did plastic work {} (at rest: {rest})",
                 r.plastic_work
@@ -220,8 +225,13 @@ pub fn check_rigid_spin_rotates_stress(
         history0 = twin.history;
     }
     // Against a twin the two runs round differently through a nonlinear
-    // law (the crack growth), so they agree to 1e-10 rather than 1e-12.
-    let tol = if model.relaxes() { 1e-10 } else { 1e-12 };
+    // law (the crack growth) over many substeps: they agree to the
+    // tolerance of the rotated-path check, not to 1e-12.
+    let tol = if model.relaxes() {
+        OBJECTIVITY_TOLERANCE
+    } else {
+        1e-12
+    };
     let scale = sigma0.norm().max(1.0);
     let expected = q * sigma0 * q.transpose();
     let err = (s.stress - expected).norm() / scale;
@@ -249,7 +259,7 @@ pub fn check_rigid_spin_rotates_stress(
     let same = s.history[..scalar_len]
         .iter()
         .zip(&history0[..scalar_len])
-        .all(|(a, b)| a == b || (a - b).abs() <= tol * b.abs());
+        .all(|(a, b)| a == b || (model.relaxes() && (a - b).abs() <= tol * b.abs()));
     if !same {
         return Err(format!(
             "a rigid spin changed the history {:?} → {:?}",
@@ -280,12 +290,17 @@ pub fn check_zero_rate_keeps_stress(
     let before = s.stress;
     let r = step(model, &mut s, &Mat3::zeros(), dt, t);
     if model.relaxes() {
-        // A viscoelastic state at rest keeps its pressure and relaxes its
-        // deviator: no deviatoric stress grows, and the energy let go
-        // becomes heat (≥ 0).
+        // A viscoelastic state at rest keeps its pressure, stays finite and
+        // turns the energy its dashpots let go into heat (≥ 0). Its
+        // deviator may grow: elements relaxing at different rates can
+        // leave a sum larger than before (one held against another); the
+        // stored energy falls instead, which the model's own tests check.
+        // The trace is a sum of components that may be far larger than it:
+        // its round-off is on the scale of the whole stress.
         let (p0, p1) = (before.trace(), s.stress.trace());
-        let grown = deviatoric_norm(&s.stress) > deviatoric_norm(&before) * (1.0 + 1e-13);
-        if (p1 - p0).abs() > 1e-13 * p0.abs().max(1.0) || grown || !(r.plastic_work >= 0.0) {
+        let finite = s.stress.iter().all(|x| x.is_finite());
+        let scale = before.norm().max(1.0);
+        if (p1 - p0).abs() > 1e-13 * scale || !finite || !(r.plastic_work >= 0.0) {
             return Err(format!(
                 "L = 0 on a relaxing model: σ {before} → {} (heat {})",
                 s.stress, r.plastic_work

@@ -554,11 +554,8 @@ impl Material for ElasticPlastic {
 
     /// c_L = √(c_bulk² + 4G/(3ρ)), m/s.
     fn wave_speed(&self, density: f64, specific_internal_energy: f64) -> f64 {
-        let c2 = self
-            .pressure
-            .bulk_sound_speed_squared(density, specific_internal_energy)
-            + 4.0 * self.shear_modulus / (3.0 * density);
-        c2.max(0.0).sqrt()
+        self.pressure
+            .longitudinal_wave_speed(density, specific_internal_energy, self.shear_modulus)
     }
 }
 

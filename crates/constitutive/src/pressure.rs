@@ -45,6 +45,14 @@ impl PressureModel {
         }
     }
 
+    /// Longitudinal wave speed c_L = √(c_bulk² + 4G/(3ρ)) of a solid of
+    /// shear modulus G (Pa) on this pressure, m/s (0 where c² < 0).
+    #[inline]
+    pub fn longitudinal_wave_speed(&self, rho: f64, e: f64, shear_modulus: f64) -> f64 {
+        let c2 = self.bulk_sound_speed_squared(rho, e) + 4.0 * shear_modulus / (3.0 * rho);
+        c2.max(0.0).sqrt()
+    }
+
     /// Squared bulk sound speed, m²/s²: K/ρ or the EOS's c²(ρ, e).
     #[inline]
     pub fn bulk_sound_speed_squared(&self, rho: f64, e: f64) -> f64 {
