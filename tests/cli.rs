@@ -843,6 +843,85 @@ fn a_charge_in_the_config_is_remapped_by_the_run_and_cached() {
     }
 }
 
+/// `configs/blast2d_mpm.ron` on a strip of its domain for two steps, its
+/// particles from the charge stated in the config (the run remaps it onto
+/// the whole strip) or from `brisance remap`'s file onto the same cells:
+/// the same mass and energy to round-off (the command line divides the box
+/// by its cells, the run the domain).
+#[test]
+fn a_charge_of_the_pure_mpm_remap_is_remapped_by_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("remap");
+    let output = remap(
+        "cylindrical",
+        ["0.05", "0.11", "440", "1.2e-5"],
+        ["-0.18,0.15,0", "0.16,0.35,0.002", "170,100,1", "0,0.25,0"],
+        &file,
+        &["--radius", "0.1"],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/blast2d_mpm.ron");
+    let go = |out: &Path, source: &[String]| {
+        let mut cmd = brisance();
+        cmd.env("BRISANCE_CACHE_DIR", dir.path().join("cache"))
+            .arg("run")
+            .arg(&config)
+            .arg("--out")
+            .arg(out)
+            .arg("--quiet");
+        let sets = [
+            "domain.lower=(-0.18, 0.15, 0.0)",
+            "domain.upper=(0.16, 0.35, 0.002)",
+            "domain.cells=(170, 100, 1)",
+            "time.max_steps=Some(2)",
+            "outputs.interval=1.0",
+        ];
+        for set in sets
+            .iter()
+            .map(|s| s.to_string())
+            .chain(source.iter().cloned())
+        {
+            cmd.args(["--set", &set]);
+        }
+        let output = cmd.output().expect("the brisance binary runs");
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    };
+    let from_file = dir.path().join("from_file");
+    go(
+        &from_file,
+        &[
+            format!(
+                "pipeline.remap.file=Some(\"{}\")",
+                file.join("remap.bin").display()
+            ),
+            "pipeline.remap.charge=None".into(),
+        ],
+    );
+    let from_charge = dir.path().join("from_charge");
+    go(
+        &from_charge,
+        &["pipeline.remap.charge=Some(explosive: \"tnt\", symmetry: Cylindrical, centre: (0.0, 0.25, 0.0), radius: 0.05, radius_1d: 0.11, cells_1d: 440, time: 1.2e-5, remap_radius: Some(0.1))".to_string()],
+    );
+    let table = |out: &Path| -> Vec<Vec<f64>> {
+        fs::read_to_string(out.join("conservation.csv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (a, b) = (table(&from_file), table(&from_charge));
+    assert!(a.len() >= 2 && a.len() == b.len(), "{a:?} {b:?}");
+    for (x, y) in a.iter().zip(&b) {
+        for k in [1, 5] {
+            assert!((x[k] - y[k]).abs() <= 1e-12 * x[k].abs(), "{x:?} vs {y:?}");
+        }
+    }
+    // The charge is in: the energy is the detonation's (7.0e9 J/m³ over the
+    // 50 mm disc 2 mm thick, 1.1e5 J), far above the strip's air (34 J).
+    assert!(b[0][5] > 5e4, "{:?}", b[0]);
+}
+
 #[test]
 fn blast2d_runs_through_the_bridge_on_a_strip_of_its_domain() {
     // The strip from its own remap, to 10 us: the blast reaches the MPM

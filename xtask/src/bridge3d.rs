@@ -222,6 +222,7 @@ pub(crate) fn splice_now(
 pub(crate) fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
     let mut sets: Vec<String> = vec![
         "pipeline.remap=None".into(),
+        "pipeline.charge=None".into(),
         "pipeline.ppc=1".into(),
         "pipeline.activation_pressure=1.0e5".into(),
     ];

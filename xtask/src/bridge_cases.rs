@@ -242,7 +242,8 @@ fn run_pure_mpm(root: &Path) -> Result<BridgeRun> {
     let remap = root.join("out/blast2d_remap/remap.bin");
     let sets = vec![
         format!("time.end={END_TIME:e}"),
-        format!("pipeline.remap.file=\"{}\"", remap.display()),
+        format!("pipeline.remap.file=Some(\"{}\")", remap.display()),
+        "pipeline.remap.charge=None".to_string(),
         "outputs.interval=1.0".to_string(),
     ];
     let loaded = load_file(&root.join("configs/blast2d_mpm.ron"), &sets)

@@ -567,6 +567,7 @@ fn run_plates(
             "pipeline.remap=Some(\"{}\")",
             remap_dir.join("remap.bin").display()
         ));
+        sets.push("pipeline.charge=None".into());
         let out = root.join(format!("out/xtask_{}", grid.tag(case)));
         let r = run_case(&root, case, grid, &sets, &out, remap_line)?;
         println!(
@@ -915,7 +916,11 @@ mod tests {
         let numbers = |path: &str| -> Vec<f64> {
             let text = std::fs::read_to_string(workspace_root().join(path)).unwrap();
             text.lines()
-                .filter(|l| !l.trim_start().starts_with("//") && !l.contains("plate_case"))
+                .filter(|l| {
+                    !l.trim_start().starts_with("//")
+                        && !l.contains("plate_case")
+                        && !l.contains("charge:")
+                })
                 .flat_map(|l| {
                     l.split(|c: char| !(c.is_ascii_digit() || ".eE+-".contains(c)))
                         .filter_map(|t| t.parse::<f64>().ok())
@@ -946,6 +951,28 @@ mod tests {
             let loaded = load_file(&workspace_root().join(case.config), &[]).unwrap();
             assert_eq!(loaded.scenario.domain.cells, [54, 54, 46]);
             assert!((loaded.scenario.time.end - k * 1.5e-3).abs() < 1e-15);
+            // The charge: its 1D grid and remap radius k times the base's,
+            // its radius and time k times to the charges' 0.2 % (Table 1)
+            // and the time's printed digits.
+            let charge = |config: &str| {
+                let loaded = load_file(&workspace_root().join(config), &[]).unwrap();
+                match loaded.scenario.pipeline {
+                    brisance::compose::config::Pipeline::FdmMpmBridge(b) => b.charge.unwrap(),
+                    _ => panic!("{config} is not a bridge"),
+                }
+            };
+            let (c0, c) = (charge(base.config), charge(case.config));
+            assert_eq!((c.cells_1d, c.centre), (c0.cells_1d, c0.centre));
+            let exact = |y: f64, x: f64| (y - k * x).abs() <= 1e-12 * k * x;
+            assert!(exact(c.radius_1d, c0.radius_1d), "{}", case.config);
+            assert!(exact(c.remap_radius.unwrap(), c0.remap_radius.unwrap()));
+            for (y, x) in [(c.radius, c0.radius), (c.time, c0.time)] {
+                assert!(
+                    (y / (k * x) - 1.0).abs() < 5e-3,
+                    "{}: {y} against {x}",
+                    case.config
+                );
+            }
         }
     }
 
@@ -988,6 +1015,7 @@ mod tests {
         let v0 = 10.0;
         let sets: Vec<String> = vec![
             "pipeline.remap=None".into(),
+            "pipeline.charge=None".into(),
             "pipeline.ppc=1".into(),
             "pipeline.activation_pressure=1.0e5".into(),
             format!("initial.1.state.velocity=(0.0, 0.0, {v0})"),

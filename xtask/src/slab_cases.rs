@@ -551,10 +551,13 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
         };
         let remap_dir = root.join(format!("out/slab_{}_remap", case.slug()));
         let remap_line = make_remap(case, &remap_dir)?;
-        let sets = vec![format!(
-            "pipeline.remap=Some(\"{}\")",
-            remap_dir.join("remap.bin").display()
-        )];
+        let sets = vec![
+            format!(
+                "pipeline.remap=Some(\"{}\")",
+                remap_dir.join("remap.bin").display()
+            ),
+            "pipeline.charge=None".into(),
+        ];
         let out = root.join(format!("out/xtask_slab_{}", case.slug()));
         let r = run_case(&root, case, &sets, &out, remap_line)?;
         println!(

@@ -762,14 +762,45 @@ fn build_with<'a, E: GasLaw + 'static>(
 pub struct MpmRemapConfig {
     /// The remap file (path relative to the working directory). Its grid
     /// has the domain's cell size and lies on the domain's cells; it may
-    /// cover only part of the domain.
-    pub file: String,
+    /// cover only part of the domain. Give it or `charge`.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// The charge whose 1D detonation the run makes and remaps onto the
+    /// whole domain itself (cached as the bridge's `pipeline.charge`);
+    /// cells beyond its remap radius hold the 1D run's ambient air. Give
+    /// it or `file`.
+    #[serde(default)]
+    pub charge: Option<Charge>,
     /// Material (a `Null` fluid, the air's ideal gas) of particles in cells
     /// that are mostly air.
     pub air: String,
     /// Material (a `Null` fluid, the products' JWL) of particles in cells
     /// whose products mass fraction exceeds 1/2.
     pub products: String,
+}
+
+/// The error of an [`MpmRemapConfig`] with neither a file nor a charge.
+fn mpm_remap_source_missing() -> Problem {
+    (
+        "pipeline.remap".into(),
+        "give the remap's `file` or the `charge` the run remaps itself".into(),
+    )
+}
+
+/// Checks an [`MpmRemapConfig`] at load: exactly one of `file` and
+/// `charge`, and a charge the 1D detonation can run.
+pub(crate) fn validate_mpm_remap(cfg: &MpmRemapConfig) -> Result<(), Problem> {
+    match (&cfg.file, &cfg.charge) {
+        (None, None) => Err(mpm_remap_source_missing()),
+        (Some(_), Some(_)) => Err((
+            "pipeline.remap.charge".into(),
+            "give the charge (the run remaps it) or a `file`, not both".into(),
+        )),
+        (None, Some(charge)) => charge
+            .validate()
+            .map_err(|e| ("pipeline.remap.charge".to_string(), e.to_string())),
+        (Some(_), None) => Ok(()),
+    }
 }
 
 /// A loaded [`MpmRemapConfig`]: which particles it replaces and their
@@ -789,6 +820,7 @@ impl GasRemap {
         names: &[&String],
         models: &[MaterialModel],
         grid: &brisance_core::UniformGridGeometry,
+        coordinates: brisance_core::Geometry,
     ) -> Result<Self, Problem> {
         let fluid = |name: &str, field: &str| -> Result<(MaterialId, EosModel), Problem> {
             let id = names.iter().position(|n| n.as_str() == name);
@@ -802,8 +834,19 @@ impl GasRemap {
         };
         let air = fluid(&cfg.air, "air")?;
         let products = fluid(&cfg.products, "products")?;
-        let remap = Remapped::load(std::path::Path::new(&cfg.file))
-            .map_err(|e| ("pipeline.remap.file".to_string(), e.to_string()))?;
+        let (remap, file) = match (&cfg.file, &cfg.charge) {
+            (Some(file), _) => (
+                Remapped::load(std::path::Path::new(file))
+                    .map_err(|e| ("pipeline.remap.file".to_string(), e.to_string()))?,
+                file.as_str(),
+            ),
+            (None, Some(charge)) => (
+                cached_remap(charge, *grid, coordinates)
+                    .map_err(|e| ("pipeline.remap.charge".to_string(), e))?,
+                "the charge's remap",
+            ),
+            (None, None) => return Err(mpm_remap_source_missing()),
+        };
         let g = remap.geometry;
         for d in 0..3 {
             let h = grid.spacing[d];
@@ -817,7 +860,7 @@ impl GasRemap {
                     "pipeline.remap.file".into(),
                     format!(
                         "{}: its grid ({:?} cells of {:?} m from {:?}) does not lie on the domain's cells ({:?} of {:?} m from {:?})",
-                        cfg.file, g.cells, g.spacing, g.origin, grid.cells, grid.spacing, grid.origin
+                        file, g.cells, g.spacing, g.origin, grid.cells, grid.spacing, grid.origin
                     ),
                 ));
             }
@@ -1391,7 +1434,7 @@ mod tests {
             "tnt": (model: Null(eos: Jwl(a: 3.712e11, b: 3.21e9, r1: 4.15, r2: 0.95, omega: 0.3, e0: 6.993e9, rho0: 1630.0, cv: 613.4969325153374))),
             "concrete": (library: "concrete_48mpa"),
         }},
-        pipeline: Mpm(ppc: 2, remap: (file: "{file}", air: "{air}", products: "tnt")),
+        pipeline: Mpm(ppc: 2, remap: (file: Some("{file}"), air: "{air}", products: "tnt")),
         initial: [
             (region: Everywhere, material: "air", state: (density: 1.225, specific_internal_energy: 2.0685e5)),
             (region: Box(min: (0.003, 0.0, 0.0), max: (0.004, 0.001, 0.001)), material: "concrete", state: (density: 2440.0, temperature: 293.15)),

@@ -230,7 +230,8 @@ pub struct MpmConfig {
     /// Prescribed tractions on particle surfaces (seed 001 eq 20).
     #[serde(default)]
     pub surface_loads: Vec<SurfaceLoadConfig>,
-    /// Gas particles from a `brisance remap` file: particles of its `air`
+    /// Gas particles from a remapped 1D detonation, a `brisance remap`
+    /// file or a `charge` the run remaps itself: particles of its `air`
     /// and `products` materials inside the remap's grid take their cell's
     /// remapped state (docs/physics/couple/bridge.md, pure MPM).
     #[serde(default)]

@@ -500,6 +500,9 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             if !finite3(&mpm.gravity) {
                 return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
             }
+            if let Some(r) = &mpm.remap {
+                crate::bridge::validate_mpm_remap(r)?;
+            }
             let mut load_names = std::collections::BTreeSet::new();
             for (i, l) in mpm.surface_loads.iter().enumerate() {
                 let path = format!("pipeline.surface_loads.{i}");

@@ -612,3 +612,67 @@ fn a_stated_charge_is_checked_at_load_with_its_field_and_line() {
     }
     load_str("blast2d.ron", text, &[]).unwrap();
 }
+
+/// The pure-MPM remap states its charge as the bridge does: checked at
+/// load under `pipeline.remap.charge` with its line, one of `file` and
+/// `charge` required, not both.
+#[test]
+fn a_charge_of_the_mpm_remap_is_checked_at_load_with_its_field_and_line() {
+    let text = include_str!("../../../configs/blast2d_mpm.ron");
+    let line = text.lines().position(|l| l.contains("charge:")).unwrap() + 1;
+    let charge = |explosive: &str, time: &str| {
+        format!(
+            "pipeline.remap.charge=Some(explosive: \"{explosive}\", symmetry: Cylindrical, centre: (0.0, 0.25, 0.0), radius: 0.05, radius_1d: 0.11, cells_1d: 880, time: {time})"
+        )
+    };
+    for (sets, words) in [
+        (vec![charge("rdx", "1.2e-5")], "knows TNT"),
+        (vec![charge("tnt", "-1.0")], "time = -1"),
+        (
+            vec!["pipeline.remap.file=Some(\"x.bin\")".to_string()],
+            "not both",
+        ),
+    ] {
+        let err = load_str("blast2d_mpm.ron", text, &sets).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("pipeline.remap.charge"), "{err}");
+        assert_eq!(err.position.map(|p| p.0), Some(line), "{err}");
+        assert!(err.message.contains(words), "{err}");
+    }
+    let err = load_str(
+        "blast2d_mpm.ron",
+        text,
+        &["pipeline.remap.charge=None".to_string()],
+    )
+    .unwrap_err();
+    assert_eq!(err.field.as_deref(), Some("pipeline.remap"), "{err}");
+    assert!(err.message.contains("`file` or the `charge`"), "{err}");
+    load_str("blast2d_mpm.ron", text, &[]).unwrap();
+}
+
+/// Every shipped scenario runs from a fresh checkout: none names a remap
+/// file (which a separate command would have to make first); the ones
+/// that start from a detonation state their charge.
+#[test]
+fn no_shipped_config_needs_a_file_made_by_another_command() {
+    use brisance_compose::config::Pipeline;
+    let mut charged = 0;
+    for (name, text) in shipped() {
+        let loaded = load_str(&name, &text, &[]).unwrap_or_else(|e| panic!("{e}"));
+        match &loaded.scenario.pipeline {
+            Pipeline::FdmMpmBridge(b) => {
+                assert!(b.remap.is_none(), "{name} names a remap file");
+                charged += usize::from(b.charge.is_some());
+            }
+            Pipeline::Mpm(m) => {
+                if let Some(r) = &m.remap {
+                    assert!(r.file.is_none(), "{name} names a remap file");
+                    charged += usize::from(r.charge.is_some());
+                }
+            }
+            _ => {}
+        }
+    }
+    // blast2d, blast2d_mpm, the six plate cases in 3D and in (r, z), and
+    // the two slabs.
+    assert_eq!(charged, 16);
+}
