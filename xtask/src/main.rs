@@ -8,6 +8,7 @@
 
 mod bridge3d;
 mod bridge_cases;
+mod constitutive_cases;
 mod freeair;
 mod ice_cases;
 mod ice_diffusion;
@@ -777,7 +778,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 32] = [
+const CASES: [&str; 33] = [
     "sod",
     "sod-ice",
     "shocktubes",
@@ -794,6 +795,7 @@ const CASES: [&str; 32] = [
     "bar",
     "sod-mpm",
     "taylor",
+    "viscoscram",
     "rz",
     "pd-cyl",
     "pd-frag",
@@ -886,6 +888,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("taylor") {
         taylor::v_taylor(&mut body, &img)?;
+    }
+    if run("viscoscram") {
+        constitutive_cases::v_viscoscram(&mut body)?;
     }
     if run("rz") {
         rz_cases::v_rz(&mut body)?;

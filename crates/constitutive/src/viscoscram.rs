@@ -375,5 +375,7 @@ impl Material for ViscoScram {
     }
 }
 
+pub mod cases;
+
 #[cfg(test)]
 mod tests;
