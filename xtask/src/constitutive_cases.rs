@@ -142,7 +142,7 @@ pub(crate) fn v_viscoscram(report: &mut Report) -> Result<()> {
     );
     let worst_energy = cracks.iter().map(|c| c.energy_error).fold(0.0, f64::max);
     report.target(
-        "V-VISCOSCRAM work = stored + heat, every step",
+        "V-VISCOSCRAM work = stored + heat, every step size",
         format!("{worst_energy:.2e}"),
         "≤ 1e-6",
         worst_energy <= 1e-6,
