@@ -183,7 +183,11 @@ fn face_cell(cells: [usize; 3], face: usize, n: usize) -> [usize; 3] {
         _ => (0, 1),
     };
     let mut c = [0; 3];
-    c[axis] = if face.is_multiple_of(2) { 0 } else { cells[axis] - 1 };
+    c[axis] = if face.is_multiple_of(2) {
+        0
+    } else {
+        cells[axis] - 1
+    };
     c[a] = n % cells[a];
     c[b] = n / cells[a];
     c
