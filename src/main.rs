@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use brisance::compose::{self, load::DEFAULT_SCENARIO_NAME, registry, RunOptions};
+use brisance_grid::comm;
 use clap::{Parser, Subcommand};
 
 /// Simulation of explosions of energetic devices and their effect on
@@ -274,21 +275,66 @@ fn load(
         Some(path) => compose::load_file(path, sets),
         None => compose::load_str(DEFAULT_SCENARIO_NAME, compose::DEFAULT_SCENARIO, sets),
     }?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {w}");
+    if comm::world().rank() == 0 {
+        for w in &loaded.warnings {
+            eprintln!("warning: {w}");
+        }
     }
     Ok(loaded)
 }
 
 fn main() -> ExitCode {
+    // Under mpirun every rank runs this program; MPI stays initialised
+    // until the session is dropped at the end of `main`.
+    #[cfg(feature = "mpi")]
+    let _mpi = brisance_grid::comm::mpi::init();
     install_panic_hook();
+    // Warnings are the same on every rank: rank 0 says them.
+    let level = if comm::world().rank() == 0 {
+        "warn"
+    } else {
+        "error"
+    };
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_env("BRISANCE_LOG")
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn")),
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level)),
         )
         .with_writer(std::io::stderr)
         .init();
+    let code = run_command();
+    let ranks = comm::world();
+    if code == ExitCode::FAILURE && ranks.size() > 1 {
+        // Stop every rank now: a rank that has not met the error (rank 0
+        // alone writes the outputs) would otherwise wait for this one in
+        // the next exchange. Rank 0 has printed the error; another rank
+        // leaves rank 0 a moment to do so (and to end them all), then
+        // says its own and ends them.
+        if ranks.rank() != 0 {
+            std::thread::sleep(std::time::Duration::from_secs(5));
+        }
+        ranks.abort(1);
+    }
+    code
+}
+
+/// Prints `message` as the error of this run: on rank 0 when the run
+/// spans several ranks (they all meet the same error; see `main`), with
+/// the rank on another rank.
+fn report_error(message: &str) {
+    let ranks = comm::world();
+    match ranks.rank() {
+        0 => eprintln!("error: {message}"),
+        r => {
+            // Only printed if rank 0 has not ended the job first.
+            std::thread::sleep(std::time::Duration::from_secs(4));
+            eprintln!("error (rank {r}): {message}");
+        }
+    }
+}
+
+/// The command line's command; its exit status.
+fn run_command() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Remap(args) => match remap(&args) {
@@ -343,20 +389,22 @@ fn main() -> ExitCode {
             let loaded = match load(config.as_ref(), &sets) {
                 Ok(l) => l,
                 Err(e) => {
-                    eprintln!("error: {e}");
+                    report_error(&e.to_string());
                     return ExitCode::FAILURE;
                 }
             };
             let out_dir = out.unwrap_or_else(|| {
                 compose::run::default_out_dir(config.as_deref(), &loaded.scenario.name)
             });
+            let rank = comm::world().rank();
             let opts = RunOptions {
                 out_dir: out_dir.clone(),
                 restart,
-                progress: !quiet,
+                progress: !quiet && rank == 0,
             };
             let stop = stop_on_signals();
             match compose::run_until_stopped(&loaded, &opts, &stop) {
+                Ok(_) if rank != 0 => ExitCode::SUCCESS,
                 Ok(s) => {
                     println!(
                         "{}: {} steps to t = {:e} s in {:.2} s wall on {} threads\n  throughput {:.3e} {}\n  relative mass change {:.3e}, relative energy change {:.3e}\n  outputs in {}",
@@ -383,15 +431,18 @@ fn main() -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 Err(e @ compose::RunError::Interrupted { .. }) => {
-                    let args: Vec<String> = std::env::args().collect();
-                    eprintln!(
-                        "error: {e}; continue with: {}",
-                        restart_command(&args, &out_dir)
-                    );
+                    // Every rank stopped after the same step.
+                    if rank == 0 {
+                        let args: Vec<String> = std::env::args().collect();
+                        eprintln!(
+                            "error: {e}; continue with: {}",
+                            restart_command(&args, &out_dir)
+                        );
+                    }
                     ExitCode::from(EXIT_INTERRUPTED)
                 }
                 Err(e) => {
-                    eprintln!("error: {e}");
+                    report_error(&e.to_string());
                     ExitCode::FAILURE
                 }
             }
@@ -494,6 +545,11 @@ fn install_panic_hook() {
             .unwrap_or("a panic without a message");
         let location = info.location().map(|l| (l.file(), l.line(), l.column()));
         eprintln!("{}", panic_line(message, location));
+        // The other ranks would wait for this one forever.
+        let ranks = comm::world();
+        if ranks.size() > 1 {
+            ranks.abort(101);
+        }
     }));
 }
 

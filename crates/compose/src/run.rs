@@ -137,6 +137,10 @@ struct Runner<'a> {
     warnings: Vec<String>,
     /// The faces already warned of as holding back an inflow.
     warned: [bool; 6],
+    /// Whether this process writes the outputs: the only one, or rank 0
+    /// of several ([`brisance_grid::comm`]). Every rank computes what is
+    /// written (sums and samples are collective), only this one writes.
+    writes: bool,
 }
 
 /// The warning for face `face` (config name) whose condition `condition`
@@ -222,7 +226,9 @@ impl Runner<'_> {
                 .out
                 .join("lineouts")
                 .join(format!("{}_{label}.csv", l.name));
-            io::write_lineout_csv(&path, &fields, &points, &values)?;
+            if self.writes {
+                io::write_lineout_csv(&path, &fields, &points, &values)?;
+            }
         }
         Ok(())
     }
@@ -241,11 +247,15 @@ impl Runner<'_> {
                     source,
                 })?;
             let rel = format!("vtk/{}_{index:05}.vti", self.scenario.name);
-            io::write_vti(&self.out.join(&rel), &data)?;
+            if self.writes {
+                io::write_vti(&self.out.join(&rel), &data)?;
+            }
             self.state.pvd.push(t, rel);
-            self.state
-                .pvd
-                .write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
+            if self.writes {
+                self.state
+                    .pvd
+                    .write(&self.out.join(format!("{}.pvd", self.scenario.name)))?;
+            }
         }
         if o.vtk && !o.node_fields.is_empty() {
             let nodes =
@@ -277,12 +287,14 @@ impl Runner<'_> {
             }
         }
         self.write_lineouts(&index.to_string())?;
-        self.solver
-            .write_output_files(&self.out, index)
-            .map_err(|source| RunError::Solver {
-                step: self.state.steps,
-                source,
-            })?;
+        if self.writes {
+            self.solver
+                .write_output_files(&self.out, index)
+                .map_err(|source| RunError::Solver {
+                    step: self.state.steps,
+                    source,
+                })?;
+        }
         self.state
             .conservation_rows
             .push((t, self.solver.conservation_totals()));
@@ -293,6 +305,9 @@ impl Runner<'_> {
     }
 
     fn write_histories(&self) -> Result<(), RunError> {
+        if !self.writes {
+            return Ok(());
+        }
         for (k, g) in self.scenario.outputs.gauges.iter().enumerate() {
             io::write_gauge_csv(
                 &self.out.join("gauges").join(format!("{}.csv", g.name)),
@@ -411,6 +426,9 @@ impl Runner<'_> {
             .out
             .join("checkpoints")
             .join(io::checkpoint_file_name(self.state.steps));
+        if !self.writes {
+            return Ok(path);
+        }
         io::ensure_dir(&self.out.join("checkpoints"))?;
         io::write_checkpoint(&path, &ck)?;
         tracing::info!(path = %path.display(), "checkpoint written");
@@ -616,6 +634,24 @@ pub fn run_until_stopped(
         _ => opts,
     };
     let scenario = &loaded.scenario;
+    let ranks = brisance_grid::comm::world();
+    if ranks.size() > 1 {
+        if let Some(name) = single_rank_pipeline(&scenario.pipeline) {
+            return Err(RunError::Config(located(
+                loaded,
+                ConfigError {
+                    file: String::new(),
+                    position: None,
+                    field: Some("pipeline".into()),
+                    message: format!(
+                        "the {name} pipeline does not run on several ranks ({} here): only Fdm is spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
+                        ranks.size()
+                    ),
+                },
+            )));
+        }
+    }
+    let writes = ranks.rank() == 0;
     let started = Instant::now();
     let mut solver = {
         let _span = tracing::info_span!("build").entered();
@@ -659,7 +695,9 @@ pub fn run_until_stopped(
             .restore_state(&ck.solver_state)
             .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
     }
-    io::check_writable_dir(&opts.out_dir)?;
+    if writes {
+        io::check_writable_dir(&opts.out_dir)?;
+    }
     let o = &scenario.outputs;
     for (needed, sub) in [
         (o.vtk, "vtk"),
@@ -668,7 +706,7 @@ pub fn run_until_stopped(
         (!o.lineouts.is_empty(), "lineouts"),
         (o.checkpoint_every.is_some(), "checkpoints"),
     ] {
-        if needed {
+        if needed && writes {
             io::ensure_dir(&opts.out_dir.join(sub))?;
         }
     }
@@ -682,6 +720,7 @@ pub fn run_until_stopped(
         sample: Vec::new(),
         warnings: Vec::new(),
         warned: [false; 6],
+        writes,
     };
     if opts.restart.is_none() {
         r.state.initial_totals = r.solver.conservation_totals();
@@ -752,7 +791,11 @@ pub fn run_until_stopped(
                     checkpoint = Some(r.write_checkpoint()?);
                 }
             }
-            if stop.load(Ordering::Relaxed) && r.state.next_output < r.times.len() {
+            // Each rank catches the signal on its own: they agree on
+            // whether to stop after this step.
+            let mut stopping = [u64::from(stop.load(Ordering::Relaxed))];
+            ranks.sum(&mut stopping);
+            if stopping[0] > 0 && r.state.next_output < r.times.len() {
                 let checkpoint = match checkpoint {
                     Some(path) => path,
                     None => r.write_checkpoint()?,
@@ -785,21 +828,43 @@ pub fn run_until_stopped(
             r.write_lineouts("final")?;
             r.write_histories()?;
             let step = r.state.steps;
-            r.solver
-                .finish(&opts.out_dir)
-                .map_err(|source| RunError::Solver { step, source })?;
+            if writes {
+                r.solver
+                    .finish(&opts.out_dir)
+                    .map_err(|source| RunError::Solver { step, source })?;
+            }
             let reason = (!completed).then(|| format!("max_steps = {max_steps} reached"));
             let summary = r.summary(wall, completed, reason);
-            io::write_summary(&r.out.join("summary.json"), &summary)?;
+            if writes {
+                io::write_summary(&r.out.join("summary.json"), &summary)?;
+            }
             Ok(summary)
         }
         Err(err) => {
             // Keep the last good outputs; record how far the run got.
             let summary = r.summary(wall, false, Some(err.to_string()));
             r.write_histories()?;
-            io::write_summary(&r.out.join("summary.json"), &summary)?;
+            if writes {
+                io::write_summary(&r.out.join("summary.json"), &summary)?;
+            }
             Err(err)
         }
+    }
+}
+
+/// The config name of `pipeline` when it runs on one rank only (every
+/// pipeline but `Fdm` so far), `None` when its patches may be spread
+/// over ranks.
+fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static str> {
+    use crate::config::Pipeline;
+    match pipeline {
+        Pipeline::Fdm(_) => None,
+        Pipeline::Mpm(_) => Some("Mpm"),
+        Pipeline::Peridynamics(_) => Some("Peridynamics"),
+        Pipeline::Lattice(_) => Some("Lattice"),
+        Pipeline::Ice(_) => Some("Ice"),
+        Pipeline::IceMpm(_) => Some("IceMpm"),
+        Pipeline::FdmMpmBridge(_) => Some("FdmMpmBridge"),
     }
 }
 

@@ -1,9 +1,12 @@
 //! The FDM solver: Yanenko splitting (seed 001 eq 6), CFL time step,
 //! positivity diagnostics and the [`Solver`] implementation.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
+use std::sync::Arc;
 
 use brisance_core::{CellData, ConservationTotals, Geometry, SafeguardUse, Solver, SolverError};
+use brisance_grid::comm::{self, Communicator};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     PatchFields,
@@ -158,8 +161,36 @@ pub struct FdmSolver<E: GasLaw> {
     /// Per patch, the ring weights (α₊, α₋) of the rows of its radial
     /// sweep ([`RadialWeights`]); empty on a Cartesian grid.
     radial: Vec<[Vec<f64>; 3]>,
+    /// The ranks the patches are shared among ([`comm::world`] when the
+    /// solver was built); one without the cargo feature `mpi`.
+    comm: Arc<dyn Communicator>,
+    /// The owner rank of every patch ([`comm::patch_owners`]). A rank
+    /// updates only its own patches; the others' entries of `fields` keep
+    /// stale values that nothing reads.
+    owner: Vec<usize>,
     time: f64,
     steps: u64,
+}
+
+/// Global index of cell `n` of the accumulator of domain face `face`
+/// (2d + s): its cells in global order of the two other axes, the lower
+/// axis fastest.
+fn face_cell(cells: [usize; 3], face: usize, n: usize) -> [usize; 3] {
+    let axis = face / 2;
+    let (a, b) = match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let mut c = [0; 3];
+    c[axis] = if face.is_multiple_of(2) {
+        0
+    } else {
+        cells[axis] - 1
+    };
+    c[a] = n % cells[a];
+    c[b] = n / cells[a];
+    c
 }
 
 /// The cells of a face normal to `axis`: the product of the other two
@@ -330,6 +361,15 @@ impl<E: GasLaw> FdmSolver<E> {
             }
             fields.push(pf);
         }
+        let comm = comm::world();
+        let (owner, exchange) = if comm.size() > 1 {
+            let owner =
+                comm::patch_owners(level.patches.len(), comm.size()).map_err(FdmError::Invalid)?;
+            let exchange = InProcessExchange::distributed(comm.clone(), owner.clone());
+            (owner, exchange)
+        } else {
+            (vec![0; level.patches.len()], InProcessExchange::new())
+        };
         let radial = if options.geometry.is_axisymmetric() {
             let g = &level.geometry;
             level
@@ -360,16 +400,78 @@ impl<E: GasLaw> FdmSolver<E> {
             bcs,
             back: fields.clone(),
             fields,
-            exchange: InProcessExchange::new(),
+            exchange,
             work_items: Vec::new(),
             options,
             outflow_sweep: outflow.clone(),
             outflow,
             limited: LimiterCount::default(),
             radial,
+            comm,
+            owner,
             time: 0.0,
             steps: 0,
         })
+    }
+
+    /// Whether this rank updates patch `id`.
+    fn owns(&self, id: usize) -> bool {
+        self.owner[id] == self.comm.rank()
+    }
+
+    /// Every patch's fields as its owner holds them: `fields` itself on
+    /// one rank; on several, a copy whose every patch comes from its owner
+    /// (a collective call: every rank makes it, and each holds a copy of
+    /// the whole state while the result lives). What outputs, totals and
+    /// checkpoints read, so that they sum and write in the order and with
+    /// the bits of one rank.
+    fn gathered(&self) -> Cow<'_, [PatchFields]> {
+        if self.comm.size() == 1 {
+            return Cow::Borrowed(&self.fields);
+        }
+        let mut all = self.fields.clone();
+        for (id, f) in all.iter_mut().enumerate() {
+            for values in &mut f.data {
+                self.comm.broadcast(self.owner[id], values);
+            }
+        }
+        Cow::Owned(all)
+    }
+
+    /// The face accumulators of [`Self::outflow`] as their owners hold
+    /// them: each face cell's entry from the rank that owns its patch (a
+    /// collective call on several ranks).
+    fn gathered_outflow(&self) -> Cow<'_, [Vec<[f64; NVAR]>; 6]> {
+        if self.comm.size() == 1 {
+            return Cow::Borrowed(&self.outflow);
+        }
+        let cells = self.level.geometry.cells;
+        let mut merged = self.outflow.clone();
+        for (f, acc) in merged.iter_mut().enumerate() {
+            if acc.is_empty() {
+                continue;
+            }
+            let owners: Vec<usize> = (0..acc.len())
+                .map(|n| {
+                    let (pid, _) = self
+                        .level
+                        .locate(face_cell(cells, f, n))
+                        .expect("a face cell lies in the grid");
+                    self.owner[pid]
+                })
+                .collect();
+            let mut buf = Vec::new();
+            for root in 0..self.comm.size() {
+                buf.clone_from(&self.outflow[f]);
+                self.comm.broadcast(root, buf.as_flattened_mut());
+                for ((a, b), &o) in acc.iter_mut().zip(&buf).zip(&owners) {
+                    if o == root {
+                        *a = *b;
+                    }
+                }
+            }
+        }
+        Cow::Owned(merged)
     }
 
     /// The level the solver runs on.
@@ -407,7 +509,7 @@ impl<E: GasLaw> FdmSolver<E> {
     /// species, ρY) over the interior cells in global order (x fastest),
     /// one array per field.
     pub fn conservative_fields(&self) -> Vec<Vec<f64>> {
-        self.level.gather_fields(&self.fields)
+        self.level.gather_fields(&self.gathered())
     }
 
     /// Overwrites the conservative fields with arrays laid out as
@@ -432,7 +534,8 @@ impl<E: GasLaw> FdmSolver<E> {
     /// ρY), or `None` outside the grid.
     pub fn cell_conservative(&self, g: [usize; 3]) -> Option<[f64; 6]> {
         let (pid, n) = self.level.locate(g)?;
-        let d = &self.fields[pid].data;
+        let fields = self.gathered();
+        let d = &fields[pid].data;
         Some(std::array::from_fn(|f| d.get(f).map_or(0.0, |v| v[n])))
     }
 
@@ -533,7 +636,11 @@ impl<E: GasLaw> FdmSolver<E> {
         // The list is rebuilt in place, so a warmed-up step allocates nothing.
         let mut items = std::mem::take(&mut self.work_items);
         items.clear();
+        let rank = self.comm.rank();
         for (id, (f, b)) in self.fields.iter_mut().zip(self.back.iter_mut()).enumerate() {
+            if self.owner[id] != rank {
+                continue;
+            }
             let (ptrs, out) = (PatchPtrs::new(&mut f.data), PatchPtrs::new(&mut b.data));
             let size = self.level.patches[id].size;
             let n = size[slab_axis];
@@ -668,7 +775,23 @@ impl<E: GasLaw> FdmSolver<E> {
             })
             .reduce(|| SlabOutcome::NONE, SlabOutcome::and);
         self.work_items = items;
-        outcome
+        if self.comm.size() == 1 {
+            return outcome;
+        }
+        // The whole grid's finding, so that every rank takes the same
+        // branch (a second attempt, or the error).
+        let mut v = [
+            u64::from(!outcome.physical),
+            u64::from(!outcome.positive),
+            outcome.limited_faces[0],
+            outcome.limited_faces[1],
+        ];
+        self.comm.sum(&mut v);
+        SlabOutcome {
+            physical: v[0] == 0,
+            positive: v[1] == 0,
+            limited_faces: [v[2], v[3]],
+        }
     }
 
     /// Mass (kg), momentum (kg m/s) and energy (J) of the interior cells,
@@ -682,9 +805,10 @@ impl<E: GasLaw> FdmSolver<E> {
     /// zero), and the third component stays 0.
     pub fn interior_totals(&self) -> ConservationTotals {
         let mut t = ConservationTotals::default();
+        let fields = self.gathered();
         if self.options.geometry.is_axisymmetric() {
             self.level.for_each_cell_in_order(|g, pid, n| {
-                let d = &self.fields[pid].data;
+                let d = &fields[pid].data;
                 let v = self.ring_volume(g[0]);
                 t.mass += d[RHO][n] * v;
                 for a in 0..3 {
@@ -695,7 +819,7 @@ impl<E: GasLaw> FdmSolver<E> {
             return t;
         }
         self.level.for_each_cell_in_order(|_, pid, n| {
-            let d = &self.fields[pid].data;
+            let d = &fields[pid].data;
             t.mass += d[RHO][n];
             for a in 0..3 {
                 t.momentum[a] += d[MOM + a][n];
@@ -757,18 +881,10 @@ impl<E: GasLaw> FdmSolver<E> {
         let cells = self.level.geometry.cells;
         let axisymmetric = self.options.geometry.is_axisymmetric();
         let mut t = ConservationTotals::default();
-        for (f, acc) in self.outflow.iter().enumerate() {
-            let axis = f / 2;
-            let (a, b) = match axis {
-                0 => (1, 2),
-                1 => (0, 2),
-                _ => (0, 1),
-            };
+        let outflow = self.gathered_outflow();
+        for (f, acc) in outflow.iter().enumerate() {
             for (n, u) in acc.iter().enumerate() {
-                let mut c = [0; 3];
-                c[axis] = if f % 2 == 0 { 0 } else { cells[axis] - 1 };
-                c[a] = n % cells[a];
-                c[b] = n / cells[a];
+                let c = face_cell(cells, f, n);
                 if keep(f, c) {
                     let w = if axisymmetric {
                         self.ring_face_weight(f, c)
@@ -799,9 +915,9 @@ impl<E: GasLaw> FdmSolver<E> {
 
     /// Products mass fraction Y of the interior cell `n` of patch `pid` (0
     /// without a species).
-    fn mass_fraction(&self, pid: usize, n: usize) -> f64 {
+    fn mass_fraction(fields: &[PatchFields], pid: usize, n: usize) -> f64 {
         if E::SPECIES {
-            let d = &self.fields[pid].data;
+            let d = &fields[pid].data;
             d[SPECIES][n] / d[RHO][n]
         } else {
             0.0
@@ -809,13 +925,13 @@ impl<E: GasLaw> FdmSolver<E> {
     }
 
     /// Primitive values of the interior cell at storage index `n` of patch
-    /// `pid`: (ρ, u, e, p).
-    fn primitive(&self, pid: usize, n: usize) -> (f64, [f64; 3], f64, f64) {
-        let d = &self.fields[pid].data;
+    /// `pid` of `fields`: (ρ, u, e, p).
+    fn primitive(&self, fields: &[PatchFields], pid: usize, n: usize) -> (f64, [f64; 3], f64, f64) {
+        let d = &fields[pid].data;
         let rho = d[RHO][n];
         let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
         let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
-        let y = self.mass_fraction(pid, n);
+        let y = Self::mass_fraction(fields, pid, n);
         (rho, m.map(|x| x / rho), e, self.eos.gas_pressure(rho, e, y))
     }
 
@@ -823,9 +939,10 @@ impl<E: GasLaw> FdmSolver<E> {
     /// describes it.
     fn non_physical_error(&self, when: &str) -> SolverError {
         let mut found = None;
+        let fields = self.gathered();
         self.level.for_each_cell_in_order(|g, pid, n| {
             if found.is_none() {
-                let (rho, u, e, p) = self.primitive(pid, n);
+                let (rho, u, e, p) = self.primitive(&fields, pid, n);
                 let bad =
                     !(rho > 0.0 && p > 0.0 && p.is_finite() && u.iter().all(|x| x.is_finite()));
                 if bad {
@@ -848,10 +965,11 @@ impl<E: GasLaw> FdmSolver<E> {
         }
     }
 
-    /// Value of a named output field at interior cell `n` of patch `pid`.
-    fn derived(&self, pid: usize, n: usize, field: usize) -> f64 {
-        let (rho, u, e, p) = self.primitive(pid, n);
-        let y = self.mass_fraction(pid, n);
+    /// Value of a named output field at interior cell `n` of patch `pid`
+    /// of `fields`.
+    fn derived(&self, fields: &[PatchFields], pid: usize, n: usize, field: usize) -> f64 {
+        let (rho, u, e, p) = self.primitive(fields, pid, n);
+        let y = Self::mass_fraction(fields, pid, n);
         match field {
             0 => rho,
             1..=3 => u[field - 1],
@@ -859,7 +977,7 @@ impl<E: GasLaw> FdmSolver<E> {
             5 => e,
             6 => self.eos.gas_temperature(rho, e, y),
             7 => self.eos.gas_sound_speed(rho, e, y),
-            8 => self.fields[pid].data[ENERGY][n],
+            8 => fields[pid].data[ENERGY][n],
             9 => {
                 let c = self.eos.gas_sound_speed(rho, e, y);
                 (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt() / c
@@ -914,14 +1032,15 @@ impl<E: GasLaw> FdmSolver<E> {
             return 0.0;
         }
         let mut m = 0.0;
+        let fields = self.gathered();
         if self.options.geometry.is_axisymmetric() {
             self.level.for_each_cell_in_order(|g, pid, n| {
-                m += self.fields[pid].data[SPECIES][n] * self.ring_volume(g[0])
+                m += fields[pid].data[SPECIES][n] * self.ring_volume(g[0])
             });
             return m;
         }
         self.level
-            .for_each_cell_in_order(|_, pid, n| m += self.fields[pid].data[SPECIES][n]);
+            .for_each_cell_in_order(|_, pid, n| m += fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
     }
 }
@@ -949,7 +1068,9 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             .patches
             .par_iter()
             .zip(self.fields.par_iter())
-            .map(|(p, f)| {
+            .enumerate()
+            .filter(|(id, _)| self.owns(*id))
+            .map(|(_, (p, f))| {
                 let d = &f.data;
                 (0..p.size[1] * p.size[2])
                     .into_par_iter()
@@ -981,6 +1102,15 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                     .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1))
             })
             .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1));
+        // Over the ranks: the minimum is exact, and every rank learns
+        // whether any cell was bad, so all stop with the same error.
+        let (min_t, all_ok) = if self.comm.size() > 1 {
+            let mut bad = [u64::from(!all_ok)];
+            self.comm.sum(&mut bad);
+            (self.comm.min(min_t), bad[0] == 0)
+        } else {
+            (min_t, all_ok)
+        };
         if !all_ok {
             return Err(self.non_physical_error("at the start of a step"));
         }
@@ -1081,9 +1211,10 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             .iter()
             .map(|f| Self::field_index(f))
             .collect::<Result<Vec<_>, _>>()?;
+        let data = self.gathered();
         Ok(self
             .level
-            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(pid, n, id)))
+            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&data, pid, n, id)))
     }
 
     /// Values of `fields` in the cell that contains `point`; on an
@@ -1103,7 +1234,11 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         let (pid, n) = self.level.locate_point(point)?;
         out.clear();
         for f in fields {
-            out.push(self.derived(pid, n, Self::field_index(f)?));
+            out.push(self.derived(&self.fields, pid, n, Self::field_index(f)?));
+        }
+        // The owner's values (another rank's copy of the patch is stale).
+        if self.comm.size() > 1 {
+            self.comm.broadcast(self.owner[pid], out);
         }
         Ok(())
     }
@@ -1113,13 +1248,13 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let fields = self.level.gather_fields(&self.fields);
+        let fields = self.level.gather_fields(&self.gathered());
         let saved = SavedState {
             time: self.time,
             steps: self.steps,
             cells: self.level.geometry.cells,
             fields,
-            outflow: self.outflow.clone(),
+            outflow: self.gathered_outflow().into_owned(),
             limiter: self.limited,
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))

@@ -8,9 +8,17 @@
 //! patches with no shared mutable state, so the result does not depend on
 //! the thread count. Buffers are kept between calls, so a step allocates
 //! nothing once warmed up.
+//!
+//! With the patches shared among ranks ([`InProcessExchange::distributed`],
+//! [`crate::comm`]) a rank packs and unpacks only for the patches it owns;
+//! a ghost layer whose neighbour lives on another rank is packed there, by
+//! the same code, and arrives as a message.
+
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use crate::comm::Communicator;
 use crate::{BoundaryConditions, Face, FaceBc, FieldKind, FieldSet, Level, Patch, PatchFields};
 
 /// Fills ghost layers. Implementations: [`InProcessExchange`] (all patches in
@@ -44,9 +52,13 @@ pub trait HaloExchange: Send {
     }
 }
 
-/// The in-process exchange: patches are entries of one slice.
+/// The exchange of patches that are entries of one slice: all of them in
+/// this process, or ([`Self::distributed`]) those of one rank, the others'
+/// entries left unused.
 #[derive(Debug, Default, Clone)]
 pub struct InProcessExchange {
+    /// The ranks the patches are shared among, when there are several.
+    ranks: Option<Ranks>,
     buffers: Vec<[Vec<f64>; 2]>,
     /// Per patch and side: whether its last pack held back an inward flow
     /// on an outflow-only face ([`BLOCKED_FLOW_FRACTION`]).
@@ -56,18 +68,61 @@ pub struct InProcessExchange {
     blocked: [bool; 6],
 }
 
+/// The patches' owners and the buffers this rank packs for the others.
+#[derive(Debug, Clone)]
+struct Ranks {
+    comm: Arc<dyn Communicator>,
+    /// Owner rank of every patch.
+    owner: Vec<usize>,
+    /// Ghost values packed here for another rank's patch: (patch, side,
+    /// values); kept between calls.
+    outgoing: Vec<(usize, usize, Vec<f64>)>,
+}
+
+/// The tag of the message that fills the ghost layers on `side` of patch
+/// `patch` (unique within one `fill_axis`; messages of successive calls
+/// between two ranks arrive in order).
+fn tag(patch: usize, side: usize) -> i32 {
+    i32::try_from(2 * patch + side).expect("patch count fits an MPI tag")
+}
+
 impl InProcessExchange {
     /// An exchange with no buffers yet (they grow on first use).
     pub fn new() -> Self {
         Self::default()
     }
 
+    /// The exchange of this rank of `comm`, patch `p` being owned by rank
+    /// `owner[p]` ([`crate::comm::patch_owners`]): only the owned patches'
+    /// ghosts are filled; the other patches' fields are neither read nor
+    /// written, except where an owned patch's ghosts need them, and those
+    /// values come from their owner.
+    pub fn distributed(comm: Arc<dyn Communicator>, owner: Vec<usize>) -> Self {
+        Self {
+            ranks: Some(Ranks {
+                comm,
+                owner,
+                outgoing: Vec::new(),
+            }),
+            ..Self::default()
+        }
+    }
+
     /// The domain faces ([`Face`] order) where a [`FaceBc::OutflowOnly`]
     /// condition has held back an inward flow since the exchange was
     /// made: a ghost whose normal flow it zeroed carried a kinetic energy
     /// of that flow above [`BLOCKED_FLOW_FRACTION`] of its total energy.
+    ///
+    /// Across ranks this is a collective call (every rank calls it).
     pub fn blocked_inflow(&self) -> [bool; 6] {
-        self.blocked
+        match &self.ranks {
+            None => self.blocked,
+            Some(r) => {
+                let mut any = self.blocked.map(u64::from);
+                r.comm.sum(&mut any);
+                any.map(|n| n > 0)
+            }
+        }
     }
 }
 
@@ -316,6 +371,10 @@ impl HaloExchange for InProcessExchange {
         self.buffers
             .resize_with(level.patches.len(), Default::default);
         self.blocked_sides.resize(level.patches.len(), [false; 2]);
+        if self.ranks.is_some() {
+            self.fill_axis_distributed(level, set, bcs, fields, axis);
+            return;
+        }
         let src = Source {
             level,
             set,
@@ -343,6 +402,102 @@ impl HaloExchange for InProcessExchange {
             .for_each(|((f, bufs), patch)| {
                 for (side, buf) in bufs.iter().enumerate() {
                     unpack(buf, patch, f, axis, side);
+                }
+            });
+    }
+}
+
+impl InProcessExchange {
+    /// [`HaloExchange::fill_axis`] for the patches of this rank: pack the
+    /// owned patches' ghosts that are boundary conditions or owned
+    /// neighbours, and the other ranks' ghosts that an owned patch feeds;
+    /// send and receive those; unpack the owned patches.
+    fn fill_axis_distributed(
+        &mut self,
+        level: &Level,
+        set: &FieldSet,
+        bcs: &BoundaryConditions,
+        fields: &mut [PatchFields],
+        axis: usize,
+    ) {
+        let Some(ranks) = self.ranks.as_mut() else {
+            return;
+        };
+        let me = ranks.comm.rank();
+        let owner = &ranks.owner;
+        let src = Source {
+            level,
+            set,
+            bcs,
+            fields,
+        };
+        let remote = |id: usize, side: usize| {
+            neighbour(level, bcs, &level.patches[id], axis, side).filter(|&q| owner[q] != me)
+        };
+        self.buffers
+            .par_iter_mut()
+            .zip(self.blocked_sides.par_iter_mut())
+            .enumerate()
+            .for_each(|(id, (bufs, blocked))| {
+                *blocked = [false; 2];
+                if owner[id] != me {
+                    return;
+                }
+                for (side, buf) in bufs.iter_mut().enumerate() {
+                    if remote(id, side).is_none() {
+                        blocked[side] = pack(buf, &src, id, axis, side);
+                    }
+                }
+            });
+        // What the other ranks' patches need from ours.
+        let mut n_out = 0;
+        for id in (0..level.patches.len()).filter(|&id| owner[id] != me) {
+            for side in 0..2 {
+                let feeds = neighbour(level, bcs, &level.patches[id], axis, side)
+                    .is_some_and(|q| owner[q] == me);
+                if feeds {
+                    if ranks.outgoing.len() == n_out {
+                        ranks.outgoing.push((id, side, Vec::new()));
+                    }
+                    let slot = &mut ranks.outgoing[n_out];
+                    (slot.0, slot.1) = (id, side);
+                    pack(&mut slot.2, &src, id, axis, side);
+                    n_out += 1;
+                }
+            }
+        }
+        let sends: Vec<(usize, i32, &[f64])> = ranks.outgoing[..n_out]
+            .iter()
+            .map(|(p, side, values)| (owner[*p], tag(*p, *side), &values[..]))
+            .collect();
+        let mut receives: Vec<(usize, i32, &mut Vec<f64>)> = Vec::new();
+        for (id, bufs) in self.buffers.iter_mut().enumerate() {
+            if owner[id] != me {
+                continue;
+            }
+            for (side, buf) in bufs.iter_mut().enumerate() {
+                if let Some(q) = remote(id, side) {
+                    receives.push((owner[q], tag(id, side), buf));
+                }
+            }
+        }
+        ranks.comm.exchange(&sends, &mut receives);
+        drop(receives);
+        for b in &self.blocked_sides {
+            for (side, &held) in b.iter().enumerate() {
+                self.blocked[Face::of(axis, side) as usize] |= held;
+            }
+        }
+        fields
+            .par_iter_mut()
+            .zip(self.buffers.par_iter())
+            .zip(level.patches.par_iter())
+            .enumerate()
+            .for_each(|(id, ((f, bufs), patch))| {
+                if owner[id] == me {
+                    for (side, buf) in bufs.iter().enumerate() {
+                        unpack(buf, patch, f, axis, side);
+                    }
                 }
             });
     }

@@ -7,6 +7,8 @@
 //!   one allocation per field per patch.
 //! - [`boundary`]: boundary conditions per domain face.
 //! - [`halo`]: the halo-exchange interface and its in-process implementation.
+//! - [`comm`]: the ranks a run is spread over and what they exchange
+//!   (one rank unless built with the cargo feature `mpi`).
 //! - [`shape`]: geometric shapes for initial regions and particle filling.
 //!
 //! Every kernel works on one patch plus its ghost layers; patches are
@@ -14,6 +16,7 @@
 //! the patch split and thread count.
 
 pub mod boundary;
+pub mod comm;
 pub mod fields;
 pub mod halo;
 pub mod level;

@@ -1,0 +1,153 @@
+//! Ranks: the processes a run is spread over, and what they say to each
+//! other.
+//!
+//! A level's patches are shared out among the ranks ([`owner_of`]): a rank
+//! owns whole patches and updates only those; ghost layers that border
+//! another rank's patch arrive as messages holding the very buffers the
+//! in-process exchange packs ([`crate::InProcessExchange`]). Everything a
+//! result depends on is either computed by one rank and sent as is, or
+//! reduced with an operation whose result does not depend on the order
+//! (minimum, integer sums, logical and), so a run on N ranks gives the
+//! bits of a run on one.
+//!
+//! Without the cargo feature `mpi` there is one rank ([`Serial`]); with it
+//! the program installs an MPI communicator ([`install`]) before it builds
+//! a solver, and solvers pick it up with [`world`].
+
+use std::sync::{Arc, OnceLock};
+
+#[cfg(feature = "mpi")]
+pub mod mpi;
+
+/// The collective and point-to-point operations the solvers need. Every
+/// rank calls the collectives (all but [`Communicator::exchange`]'s
+/// matching pairs) in the same order.
+pub trait Communicator: Send + Sync + std::fmt::Debug {
+    /// This process's rank, from 0.
+    fn rank(&self) -> usize;
+
+    /// Number of ranks.
+    fn size(&self) -> usize;
+
+    /// Sends every `(to rank, tag, values)` of `sends` and receives every
+    /// `(from rank, tag, buffer)` of `receives` (the buffer takes the
+    /// message's length); returns when all have completed. Messages
+    /// between two ranks with one tag arrive in the order sent.
+    fn exchange(
+        &self,
+        sends: &[(usize, i32, &[f64])],
+        receives: &mut [(usize, i32, &mut Vec<f64>)],
+    );
+
+    /// Copies `values` of rank `root` into `values` of every rank.
+    fn broadcast(&self, root: usize, values: &mut [f64]);
+
+    /// The minimum of `x` over the ranks (exact, so order-independent).
+    fn min(&self, x: f64) -> f64;
+
+    /// Sums each entry of `values` over the ranks (integers: exact).
+    fn sum(&self, values: &mut [u64]);
+
+    /// Ends every rank at once with status `code` (after an error that
+    /// only this rank has seen, so that no rank waits for it forever).
+    fn abort(&self, code: i32) -> !;
+}
+
+/// One rank: every operation is the identity.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Serial;
+
+impl Communicator for Serial {
+    fn rank(&self) -> usize {
+        0
+    }
+
+    fn size(&self) -> usize {
+        1
+    }
+
+    fn exchange(
+        &self,
+        sends: &[(usize, i32, &[f64])],
+        receives: &mut [(usize, i32, &mut Vec<f64>)],
+    ) {
+        assert!(
+            sends.is_empty() && receives.is_empty(),
+            "a single rank has nobody to exchange with"
+        );
+    }
+
+    fn broadcast(&self, _root: usize, _values: &mut [f64]) {}
+
+    fn min(&self, x: f64) -> f64 {
+        x
+    }
+
+    fn sum(&self, _values: &mut [u64]) {}
+
+    fn abort(&self, code: i32) -> ! {
+        std::process::exit(code)
+    }
+}
+
+static WORLD: OnceLock<Arc<dyn Communicator>> = OnceLock::new();
+
+/// Makes `comm` the communicator [`world`] returns; fails (giving it back)
+/// when one is already installed.
+pub fn install(comm: Arc<dyn Communicator>) -> Result<(), Arc<dyn Communicator>> {
+    WORLD.set(comm)
+}
+
+/// The ranks of this run: the installed communicator, or [`Serial`].
+pub fn world() -> Arc<dyn Communicator> {
+    WORLD.get().cloned().unwrap_or_else(|| Arc::new(Serial))
+}
+
+/// The rank that owns patch `patch` of `patches` shared among `ranks`:
+/// contiguous runs of patch ids (x fastest in the layout), the first
+/// `patches % ranks` ranks taking one patch more, so neighbouring patches
+/// tend to share a rank and the load differs by at most one patch.
+pub fn owner_of(patch: usize, patches: usize, ranks: usize) -> usize {
+    let (base, extra) = (patches / ranks, patches % ranks);
+    // Ranks below `extra` own base + 1 patches each.
+    let big = extra * (base + 1);
+    if patch < big {
+        patch / (base + 1)
+    } else {
+        extra + (patch - big) / base
+    }
+}
+
+/// The owner of every patch of a level of `patches` patches on `ranks`
+/// ranks, or why the split cannot be made.
+pub fn patch_owners(patches: usize, ranks: usize) -> Result<Vec<usize>, String> {
+    if patches < ranks {
+        return Err(format!(
+            "{ranks} ranks for {patches} patches: a rank owns whole patches, so split the domain into at least {ranks} patches (domain.patches)"
+        ));
+    }
+    Ok((0..patches).map(|p| owner_of(p, patches, ranks)).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn patches_are_shared_in_contiguous_runs_differing_by_at_most_one() {
+        for (patches, ranks) in [(8, 2), (8, 3), (7, 4), (4, 4), (5, 1)] {
+            let owners = patch_owners(patches, ranks).unwrap();
+            assert!(owners.windows(2).all(|w| w[1] == w[0] || w[1] == w[0] + 1));
+            assert_eq!(owners[0], 0);
+            assert_eq!(*owners.last().unwrap(), ranks - 1);
+            let counts: Vec<usize> = (0..ranks)
+                .map(|r| owners.iter().filter(|&&o| o == r).count())
+                .collect();
+            let (lo, hi) = (counts.iter().min().unwrap(), counts.iter().max().unwrap());
+            assert!(hi - lo <= 1, "{patches} patches on {ranks}: {counts:?}");
+        }
+        assert!(patch_owners(2, 4)
+            .unwrap_err()
+            .contains("at least 4 patches"));
+    }
+}

@@ -1,0 +1,125 @@
+//! The [`super::Communicator`] over MPI (the `mpi` crate on the system's Open
+//! MPI), for `mpirun -np N brisance run CONFIG`.
+
+use std::sync::Arc;
+
+use mpi::collective::SystemOperation;
+use mpi::datatype::Equivalence;
+use mpi::environment::Universe;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use mpi::Threading;
+
+use super::Communicator as Ranks;
+
+/// `MPI_COMM_WORLD`. Only the thread that runs the time loop calls MPI
+/// (the rayon workers never do: MPI is initialised `FUNNELED`), which is
+/// why sharing the handle between threads is sound.
+pub struct MpiWorld {
+    world: SimpleCommunicator,
+    rank: usize,
+    size: usize,
+}
+
+// SAFETY: see the type's comment; the handle is `MPI_COMM_WORLD`, valid
+// from initialisation to finalisation, and calls come from one thread.
+unsafe impl Send for MpiWorld {}
+// SAFETY: as above.
+unsafe impl Sync for MpiWorld {}
+
+impl std::fmt::Debug for MpiWorld {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "MpiWorld(rank {} of {})", self.rank, self.size)
+    }
+}
+
+/// Keeps MPI initialised; finalises it when dropped (at the end of
+/// `main`).
+pub struct MpiSession {
+    _universe: Universe,
+    world: Arc<MpiWorld>,
+}
+
+impl MpiSession {
+    /// The world communicator.
+    pub fn world(&self) -> Arc<MpiWorld> {
+        self.world.clone()
+    }
+}
+
+/// Initialises MPI and installs its world as [`super::world`]; `None`
+/// when MPI was already initialised.
+pub fn init() -> Option<MpiSession> {
+    let (universe, _threading) = mpi::initialize_with_threading(Threading::Funneled)?;
+    let world = universe.world();
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let world = Arc::new(MpiWorld { world, rank, size });
+    // A second install cannot happen: MPI initialises once.
+    let _ = super::install(world.clone());
+    Some(MpiSession {
+        _universe: universe,
+        world,
+    })
+}
+
+impl Ranks for MpiWorld {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+
+    fn size(&self) -> usize {
+        self.size
+    }
+
+    fn exchange(
+        &self,
+        sends: &[(usize, i32, &[f64])],
+        receives: &mut [(usize, i32, &mut Vec<f64>)],
+    ) {
+        // Sends are posted without waiting, so no pair of ranks can block
+        // each other; receives then take each message as it is matched.
+        mpi::request::multiple_scope(sends.len(), |scope, pending| {
+            for &(to, tag, values) in sends {
+                let req = self
+                    .world
+                    .process_at_rank(to as i32)
+                    .immediate_send_with_tag(scope, values, tag);
+                pending.add(req);
+            }
+            for (from, tag, buf) in receives.iter_mut() {
+                let (msg, status) = self
+                    .world
+                    .process_at_rank(*from as i32)
+                    .matched_probe_with_tag(*tag);
+                let n = status.count(f64::equivalent_datatype()) as usize;
+                buf.resize(n, 0.0);
+                msg.matched_receive_into(&mut buf[..]);
+            }
+            let mut done = Vec::with_capacity(sends.len());
+            pending.wait_all(&mut done);
+        });
+    }
+
+    fn broadcast(&self, root: usize, values: &mut [f64]) {
+        self.world
+            .process_at_rank(root as i32)
+            .broadcast_into(values);
+    }
+
+    fn min(&self, x: f64) -> f64 {
+        let mut out = x;
+        self.world
+            .all_reduce_into(&x, &mut out, SystemOperation::min());
+        out
+    }
+
+    fn sum(&self, values: &mut [u64]) {
+        let send = values.to_vec();
+        self.world
+            .all_reduce_into(&send[..], values, SystemOperation::sum());
+    }
+
+    fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+}

@@ -1,0 +1,193 @@
+//! `mpirun -np N brisance run CONFIG` (cargo feature `mpi`, docs/cluster.md):
+//! an Fdm run on 2 and 4 ranks writes the bytes of the same run on one,
+//! file for file; a restart may change the rank count; other pipelines
+//! and impossible splits refuse with one clear message instead of hanging.
+//!
+//! Needs `mpirun` (Open MPI) on the PATH: `cargo test --features mpi --test mpi`.
+#![cfg(feature = "mpi")]
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_brisance");
+const BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/blast3d.ron");
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// `brisance run CONFIG --out OUT --quiet EXTRA…` on `ranks` ranks
+/// (`mpirun`, oversubscribed where the machine has fewer cores), or as
+/// one plain process for `ranks == 0`.
+fn run(ranks: usize, config: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut cmd = if ranks == 0 {
+        Command::new(BIN)
+    } else {
+        let mut c = Command::new("mpirun");
+        c.args(["--allow-run-as-root", "--oversubscribe", "-np"])
+            .arg(ranks.to_string())
+            .arg(BIN);
+        c
+    };
+    cmd.env_remove("BRISANCE_LOG")
+        .arg("run")
+        .arg(config)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .expect("mpirun (Open MPI) and the brisance binary run")
+}
+
+fn succeeded(out: &Output, what: &str) {
+    assert!(
+        out.status.success(),
+        "{what} failed: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Every file under `dir`, by path relative to it.
+fn files(dir: &Path) -> BTreeMap<PathBuf, PathBuf> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).expect("output folder is readable") {
+            let p = e.expect("entry").path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), p);
+            }
+        }
+    }
+    out
+}
+
+/// The summary without what depends on the machine's speed or threads.
+fn summary_without_timing(path: &Path) -> Value {
+    let mut v: Value = serde_json::from_str(&fs::read_to_string(path).unwrap()).unwrap();
+    let o = v.as_object_mut().expect("summary is an object");
+    for key in ["wall_seconds", "throughput", "threads", "wall_split"] {
+        o.remove(key);
+    }
+    v
+}
+
+/// Asserts that the outputs in `a` and `b` are the same bytes: every file
+/// but `summary.json` (compared without its timing fields) and the
+/// checkpoints (whose solver state and scenario are compared; the run
+/// loop's part holds the compute time).
+fn same_outputs(a: &Path, b: &Path, what: &str) {
+    let (fa, fb) = (files(a), files(b));
+    assert_eq!(
+        fa.keys().collect::<Vec<_>>(),
+        fb.keys().collect::<Vec<_>>(),
+        "{what}: the same files"
+    );
+    assert!(fa.len() > 10, "{what}: outputs written");
+    for (rel, pa) in &fa {
+        let pb = &fb[rel];
+        let name = rel.to_string_lossy();
+        if name == "summary.json" {
+            assert_eq!(
+                summary_without_timing(pa),
+                summary_without_timing(pb),
+                "{what}: {name}"
+            );
+        } else if name.ends_with(".bin") {
+            let (ca, cb) = (
+                brisance::io::read_checkpoint(pa).unwrap(),
+                brisance::io::read_checkpoint(pb).unwrap(),
+            );
+            assert!(
+                ca.solver_state == cb.solver_state,
+                "{what}: {name} solver state"
+            );
+            assert_eq!(ca.scenario_ron, cb.scenario_ron, "{what}: {name}");
+        } else {
+            assert!(
+                fs::read(pa).unwrap() == fs::read(pb).unwrap(),
+                "{what}: {name} differs"
+            );
+        }
+    }
+}
+
+#[test]
+fn fdm_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    succeeded(&run(0, Path::new(BLAST), &one, &[]), "one rank");
+    for ranks in [2, 4] {
+        let out = tmp.path().join(format!("np{ranks}"));
+        succeeded(&run(ranks, Path::new(BLAST), &out, &[]), "mpirun");
+        same_outputs(&one, &out, &format!("{ranks} ranks against one"));
+    }
+}
+
+#[test]
+fn a_restart_may_change_the_rank_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    succeeded(&run(0, Path::new(BLAST), &one, &[]), "one rank");
+    // Two ranks to step 10, then four from its checkpoint to the end.
+    let out = tmp.path().join("restarted");
+    succeeded(
+        &run(2, Path::new(BLAST), &out, &["--set", "time.max_steps=10"]),
+        "two ranks to step 10",
+    );
+    let ck = out.join("checkpoints").join("checkpoint_00000010.bin");
+    // The stopped run wrote its last state as an extra output; the
+    // continued run writes the rest over it.
+    let ck_arg = ck.to_string_lossy().into_owned();
+    succeeded(
+        &run(4, Path::new(BLAST), &out, &["--restart", &ck_arg]),
+        "four ranks from the checkpoint",
+    );
+    for rel in files(&one).keys() {
+        let name = rel.to_string_lossy();
+        if name.ends_with(".bin") || name == "summary.json" {
+            continue;
+        }
+        assert!(
+            fs::read(one.join(rel)).unwrap() == fs::read(out.join(rel)).unwrap(),
+            "restarted on other ranks: {name} differs"
+        );
+    }
+}
+
+/// Stderr of a failed run, checked to carry `message` exactly once.
+fn fails_once_with(out: &Output, message: &str) {
+    assert!(!out.status.success(), "the run should fail");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.matches(message).count(),
+        1,
+        "one message `{message}` expected in:\n{err}"
+    );
+}
+
+#[test]
+fn other_pipelines_refuse_several_ranks_by_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ice = Path::new(ROOT).join("configs/sod_ice.ron");
+    let out = run(2, &ice, &tmp.path().join("ice"), &[]);
+    fails_once_with(&out, "the Ice pipeline does not run on several ranks");
+    assert!(!tmp.path().join("ice").join("summary.json").exists());
+}
+
+#[test]
+fn more_ranks_than_patches_is_an_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run(
+        2,
+        Path::new(BLAST),
+        &tmp.path().join("split"),
+        &["--set", "domain.patches=(1,1,1)"],
+    );
+    fails_once_with(&out, "2 ranks for 1 patches");
+}
