@@ -69,6 +69,56 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
     Ok(())
 }
 
+/// The position of parse error `e`. A plugin model reads its parameters
+/// after the parser has passed them, so for a parameter it does not know
+/// the parser stands at the model's closing parenthesis; the position is
+/// moved back to that parameter, inside the model's parentheses.
+fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, usize) {
+    let at = (e.span.start.line, e.span.start.col);
+    let message = e.code.to_string();
+    let Some(plugin) = brisance_eos::plugin::installed()
+        .into_iter()
+        .flat_map(|r| r.plugins())
+        .find(|p| message.starts_with(&format!("{}: ", p.name)))
+    else {
+        return at;
+    };
+    let Some(field) = message
+        .split("field named `")
+        .nth(1)
+        .and_then(|rest| rest.split('`').next())
+    else {
+        return at;
+    };
+    // The byte offset of `at` (line and column count from 1, columns in
+    // characters).
+    let Some(end) = text
+        .split_inclusive('\n')
+        .take(at.0.saturating_sub(1))
+        .map(str::len)
+        .sum::<usize>()
+        .checked_add(
+            text.lines()
+                .nth(at.0.saturating_sub(1))
+                .and_then(|l| l.char_indices().nth(at.1.saturating_sub(1)).map(|(i, _)| i))
+                .unwrap_or(0),
+        )
+    else {
+        return at;
+    };
+    let Some(start) = text[..end].rfind(&format!("{}(", plugin.name)) else {
+        return at;
+    };
+    let is_ident = |c: char| c.is_alphanumeric() || c == '_';
+    text[start..end]
+        .match_indices(field)
+        .map(|(i, _)| start + i)
+        .find(|&i| {
+            !text[..i].ends_with(is_ident) && text[i + field.len()..].trim_start().starts_with(':')
+        })
+        .map_or(at, |i| ron_path::line_col(text, i))
+}
+
 /// Reads and validates a scenario file, applying `PATH=VALUE` overrides.
 pub fn load_file(path: &Path, sets: &[String]) -> Result<LoadedScenario, ConfigError> {
     let file = path.display().to_string();
@@ -109,7 +159,7 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
     };
     let mut scenario: Scenario = ron_options().from_str(&text).map_err(|e| ConfigError {
         file: file.to_string(),
-        position: Some((e.span.start.line, e.span.start.col)),
+        position: Some(plugin_field_position(&text, &e)),
         field: None,
         message: format!("{}{suffix}", e.code),
     })?;
@@ -308,7 +358,20 @@ mod tests {
             err.message.contains("NobleAbel") && err.message.contains("covolum"),
             "{err}"
         );
-        assert_eq!(err.position.map(|p| p.0), Some(line_of(&text, "NobleAbel")));
+        let line = line_of(&text, "NobleAbel");
+        let col = text.lines().nth(line - 1).unwrap().find("covolum").unwrap() + 1;
+        assert_eq!(err.position, Some((line, col)), "{err}");
+        // Over several lines, the line of the field.
+        let spread = NOBLE_ABEL
+            .replace("covolume", "covolum")
+            .replace(", ", ",\n            ");
+        let text = with_material(&spread);
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(
+            err.position.map(|p| p.0),
+            Some(line_of(&text, "covolum")),
+            "{err}"
+        );
         // An unknown model lists the plugins with the built-in ones.
         let err = load_str(
             "t.ron",
