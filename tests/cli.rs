@@ -377,6 +377,32 @@ fn list_names_the_equations_of_state_and_pipelines() {
     let text = stdout(&output);
     assert!(text.contains("IdealGas"), "{text}");
     assert!(text.contains("Fdm"), "{text}");
+    // A plugin crate's model, with the docs page it registered.
+    assert!(text.contains("NobleAbel"), "{text}");
+    assert!(
+        text.contains("docs: docs/physics/eos/noble_abel.md"),
+        "{text}"
+    );
+}
+
+#[test]
+fn the_noble_abel_shock_tube_checks_and_runs() {
+    let config = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/configs/noble_abel_shock_tube.ron"
+    );
+    let output = brisance().arg("check").arg(config).output().unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("(NobleAbel)"),
+        "{}",
+        stdout(&output)
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let output = run(std::path::Path::new(config), &out, &[]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(out.join("summary.json").is_file());
 }
 
 #[test]

@@ -1,11 +1,11 @@
 //! The README and the user guide name every pipeline, every registered
 //! model and every subcommand the program has: the lists are read from the
 //! program itself (the scenario schema's own "expected one of" and the
-//! registry, `brisance --help`), so a new variant that the docs miss fails
-//! here.
+//! registry with its plugin models, `brisance --help`), so a new variant
+//! or plugin crate that the docs miss fails here.
 
 use brisance_compose::config::Pipeline;
-use brisance_compose::registry::ENTRIES;
+use brisance_compose::registry::entries;
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
 use serde::de::DeserializeOwned;
@@ -52,7 +52,7 @@ fn every_pipeline_and_model_is_named_in_the_readme_or_the_user_guide() {
     names.extend(variants::<Pipeline>());
     names.extend(variants::<EosModel>());
     names.extend(variants::<MaterialModel>());
-    names.extend(ENTRIES.iter().map(|e| e.name.to_string()));
+    names.extend(entries().iter().map(|e| e.name.to_string()));
     names.sort();
     names.dedup();
     let gaps = missing(names.iter().map(String::as_str), &docs);

@@ -5,6 +5,8 @@
 //! - [`load`]: read → override → parse → validate, errors at file:line:col.
 //! - [`validate`]: the checks serde cannot express.
 //! - [`registry`]: every named component with a one-line description.
+//! - [`plugins`]: the one place model crates register (equations of state
+//!   such as `NobleAbel`).
 //! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline ([`lattice`],
 //!   [`peridynamics`], [`ice`] and [`bridge`] hold their own pipelines).
@@ -20,6 +22,7 @@ pub mod lattice;
 pub mod library;
 pub mod load;
 pub mod peridynamics;
+pub mod plugins;
 pub mod registry;
 pub mod ron_path;
 pub mod run;

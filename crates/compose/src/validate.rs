@@ -5,6 +5,7 @@
 use crate::build::PipelineLimits;
 use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
 use brisance_core::Material;
+use brisance_eos::EosModel;
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
@@ -447,10 +448,11 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                     return Err((
                         "pipeline.material".into(),
                         format!(
-                        "the Fdm pipeline carries a gas (IdealGas, Jwl or JwlCTerm); `{}` is `{}`",
-                        fdm.material,
-                        eos.variant()
-                    ),
+                            "the Fdm pipeline carries a gas ({}); `{}` is `{}`",
+                            EosModel::gas_names().join(", "),
+                            fdm.material,
+                            eos.variant()
+                        ),
                     ));
                 }
                 Some(_) => {}

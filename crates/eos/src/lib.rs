@@ -20,6 +20,8 @@
 //!
 //! Registry and tools:
 //! - [`model`]: the [`EosModel`] enum a config names models through.
+//! - [`plugin`]: how a model in its own crate registers itself, so that a
+//!   config names it like a built-in one.
 //! - [`tools`]: CJ state, principal isentrope, Gurney velocity and the
 //!   volume-burn reference pressure (seed 004 eqs 20–21).
 
@@ -32,6 +34,7 @@ pub mod mie_gruneisen_linear;
 pub mod mie_gruneisen_thermal;
 pub mod model;
 pub mod murnaghan;
+pub mod plugin;
 pub mod stiffened_gas;
 pub mod threshold;
 pub mod tools;
@@ -44,5 +47,6 @@ pub use mie_gruneisen_linear::MieGruneisenLinear;
 pub use mie_gruneisen_thermal::MieGruneisenThermal;
 pub use model::{EosModel, SolidEos};
 pub use murnaghan::Murnaghan;
+pub use plugin::{EosPlugin, EosRegistry, PluginEos, PluginModel};
 pub use stiffened_gas::StiffenedGas;
 pub use threshold::SolidThreshold;

@@ -1,14 +1,21 @@
-//! The registry of equations of state: one serde-tagged enum whose variant
-//! names are what a config writes (`IdealGas(...)`, `Jwl(...)`, ...), and
-//! which dispatches the [`Eos`] trait with a `match` (no virtual call).
-//! Adding a model is a module plus one variant here.
+//! The registry of equations of state: one enum whose variant names are
+//! what a config writes (`IdealGas(...)`, `Jwl(...)`, ...), and which
+//! dispatches the [`Eos`] trait with a `match` (no virtual call) for the
+//! built-in models. Adding a built-in model is a module plus one variant
+//! here; a model in its own crate registers itself instead
+//! ([`crate::plugin`]) and arrives as the [`EosModel::Plugin`] variant under
+//! its own name.
+
+use std::fmt;
 
 use brisance_core::{Eos, EosError};
-use serde::{Deserialize, Serialize};
+use serde::de::{self, Deserializer, EnumAccess, VariantAccess, Visitor};
+use serde::{Deserialize, Serialize, Serializer};
 
+use crate::plugin::{self, EosPlugin, PluginEos};
 use crate::{
     IdealGas, Jwl, JwlCTerm, MieGruneisenCubic, MieGruneisenLinear, MieGruneisenThermal, Murnaghan,
-    SolidThreshold,
+    SolidThreshold, StiffenedGas,
 };
 
 /// Forwards a trait method to the model inside each variant.
@@ -78,8 +85,18 @@ macro_rules! dispatch_eos {
             pub fn validate(&self) -> Result<(), String> {
                 match self { $(Self::$variant(m) => m.validate(),)* }
             }
+        }
+    };
+}
 
-            /// The config name of this model (`IdealGas`, `Jwl`, ...).
+/// The config names of the variants (`variant()`, `VARIANTS`); with
+/// `plugin: Variant`, also the serde of an enum that takes plugin models:
+/// a variant serializes as `Name(fields)`, and a name that is not built in
+/// is looked up among the installed plugins.
+macro_rules! named_variants {
+    ($enum:ident { $($variant:ident),* $(,)? }) => {
+        impl $enum {
+            /// The config name of this model (`Murnaghan`, ...).
             pub fn variant(&self) -> &'static str {
                 match self { $(Self::$variant(_) => stringify!($variant),)* }
             }
@@ -88,10 +105,112 @@ macro_rules! dispatch_eos {
             pub const VARIANTS: &'static [&'static str] = &[$(stringify!($variant)),*];
         }
     };
+    ($enum:ident { $($variant:ident),* $(,)? } plugin: $plugin:ident) => {
+        impl $enum {
+            /// The config name of this model (`IdealGas`, `Jwl`, ...; a
+            /// plugin model's registered name).
+            pub fn variant(&self) -> &'static str {
+                match self {
+                    $(Self::$variant(_) => stringify!($variant),)*
+                    Self::$plugin(m) => m.plugin().name,
+                }
+            }
+
+            /// The config names of the built-in variants.
+            pub const VARIANTS: &'static [&'static str] = &[$(stringify!($variant)),*];
+        }
+
+        impl Serialize for $enum {
+            fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                let names = plugin::names();
+                let index = names.iter().position(|v| *v == self.variant());
+                let index = index.unwrap_or(names.len()) as u32;
+                match self {
+                    $(Self::$variant(m) => {
+                        s.serialize_newtype_variant(stringify!($enum), index, stringify!($variant), m)
+                    })*
+                    Self::$plugin(m) => {
+                        s.serialize_newtype_variant(stringify!($enum), index, m.plugin().name, m.params())
+                    }
+                }
+            }
+        }
+
+        impl<'de> Deserialize<'de> for $enum {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                struct ModelVisitor;
+                impl<'de> Visitor<'de> for ModelVisitor {
+                    type Value = $enum;
+                    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                        write!(f, "an equation of state such as `IdealGas(...)`")
+                    }
+                    fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<$enum, A::Error> {
+                        let (tag, variant) = data.variant::<Tag>()?;
+                        match tag {
+                            $(Tag::Builtin(stringify!($variant)) => {
+                                variant.newtype_variant().map($enum::$variant)
+                            })*
+                            Tag::Builtin(name) => Err(de::Error::unknown_variant(name, plugin::names())),
+                            Tag::Plugin(p) => {
+                                let params: ron::Value = variant.newtype_variant()?;
+                                PluginEos::new(p, params)
+                                    .map($enum::$plugin)
+                                    .map_err(|m| de::Error::custom(format!("{}: {m}", p.name)))
+                            }
+                            Tag::Unknown(name) => Err(de::Error::unknown_variant(&name, plugin::names())),
+                        }
+                    }
+                }
+                d.deserialize_enum(stringify!($enum), Self::VARIANTS, ModelVisitor)
+            }
+        }
+    };
 }
 
-/// Every equation of state a config can name.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// A variant name as a deserializer gives it: a built-in one (by name or,
+/// for formats that write indices, by index), an installed plugin, or
+/// neither.
+enum Tag {
+    Builtin(&'static str),
+    Plugin(&'static EosPlugin),
+    Unknown(String),
+}
+
+impl<'de> Deserialize<'de> for Tag {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct TagVisitor;
+        impl Visitor<'_> for TagVisitor {
+            type Value = Tag;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "the name of an equation of state")
+            }
+            fn visit_str<E: de::Error>(self, name: &str) -> Result<Tag, E> {
+                if let Some(v) = EosModel::VARIANTS.iter().find(|v| **v == name) {
+                    Ok(Tag::Builtin(v))
+                } else if let Some(p) = plugin::find(name) {
+                    Ok(Tag::Plugin(p))
+                } else {
+                    Ok(Tag::Unknown(name.to_string()))
+                }
+            }
+            fn visit_u64<E: de::Error>(self, index: u64) -> Result<Tag, E> {
+                let names = plugin::names();
+                match usize::try_from(index).ok().and_then(|i| names.get(i)) {
+                    Some(name) => self.visit_str(name),
+                    None => Err(E::invalid_value(
+                        de::Unexpected::Unsigned(index),
+                        &"a variant index",
+                    )),
+                }
+            }
+        }
+        d.deserialize_identifier(TagVisitor)
+    }
+}
+
+/// Every equation of state a config can name: the built-in models, and
+/// any model a plugin crate registered ([`crate::plugin`]).
+#[derive(Debug, Clone, PartialEq)]
 pub enum EosModel {
     /// γ-law gas (seed 001 eq 55).
     IdealGas(IdealGas),
@@ -109,6 +228,11 @@ pub enum EosModel {
     MieGruneisenThermal(MieGruneisenThermal),
     /// A solid EOS with the low-pressure threshold (seed 000 §3.1).
     SolidThreshold(SolidThreshold<SolidEos>),
+    /// Stiffened gas (Le Métayer, Massoni & Saurel 2004).
+    StiffenedGas(StiffenedGas),
+    /// A model from a plugin crate; a config writes it under the name the
+    /// crate registered (`NobleAbel(...)`), never as `Plugin`.
+    Plugin(PluginEos),
 }
 
 dispatch_eos!(EosModel {
@@ -120,7 +244,21 @@ dispatch_eos!(EosModel {
     MieGruneisenLinear,
     MieGruneisenThermal,
     SolidThreshold,
+    StiffenedGas,
+    Plugin,
 });
+
+named_variants!(EosModel {
+    IdealGas,
+    Jwl,
+    JwlCTerm,
+    Murnaghan,
+    MieGruneisenCubic,
+    MieGruneisenLinear,
+    MieGruneisenThermal,
+    SolidThreshold,
+    StiffenedGas,
+} plugin: Plugin);
 
 /// The solid equations of state the low-pressure threshold can wrap.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -142,11 +280,38 @@ dispatch_eos!(SolidEos {
     MieGruneisenThermal
 });
 
+named_variants!(SolidEos {
+    Murnaghan,
+    MieGruneisenCubic,
+    MieGruneisenLinear,
+    MieGruneisenThermal
+});
+
 impl EosModel {
-    /// Whether the model describes a gas (ideal gas or detonation
-    /// products), the materials an Euler solver can carry.
+    /// Whether the model describes a fluid an Euler solver can carry: the
+    /// ideal gas, detonation products, the stiffened gas, and a plugin
+    /// model registered as a gas.
     pub fn is_gas(&self) -> bool {
-        matches!(self, Self::IdealGas(_) | Self::Jwl(_) | Self::JwlCTerm(_))
+        match self {
+            Self::IdealGas(_) | Self::Jwl(_) | Self::JwlCTerm(_) | Self::StiffenedGas(_) => true,
+            Self::Plugin(p) => p.plugin().gas,
+            _ => false,
+        }
+    }
+
+    /// Every name a config may write: the built-in variants, then the
+    /// installed plugins ([`crate::plugin::install`]).
+    pub fn names() -> &'static [&'static str] {
+        plugin::names()
+    }
+
+    /// The names of the models an Euler solver can carry, for messages.
+    pub fn gas_names() -> Vec<&'static str> {
+        let mut v = vec!["IdealGas", "Jwl", "JwlCTerm", "StiffenedGas"];
+        if let Some(r) = plugin::installed() {
+            v.extend(r.plugins().iter().filter(|p| p.gas).map(|p| p.name));
+        }
+        v
     }
 }
 
@@ -184,7 +349,76 @@ mod tests {
             .from_str::<EosModel>("PerfectGas(gamma: 1.4)")
             .unwrap_err();
         assert!(err.to_string().contains("IdealGas"), "{err}");
-        assert_eq!(EosModel::VARIANTS.len(), 8);
+        assert_eq!(EosModel::VARIANTS.len(), 9);
+    }
+
+    #[test]
+    fn the_stiffened_gas_is_named_from_a_config() {
+        let m: EosModel = ron()
+            .from_str("StiffenedGas(gamma: 4.4, p_inf: 6.0e8, cv: 1600.0, rho0: 1000.0)")
+            .unwrap();
+        assert_eq!(m, EosModel::StiffenedGas(StiffenedGas::water()));
+        assert!(m.is_gas() && m.validate().is_ok());
+        let back: EosModel = ron().from_str(&ron().to_string(&m).unwrap()).unwrap();
+        assert_eq!(back, m);
+        let err = ron()
+            .from_str::<EosModel>("StiffenedGas(gamma: 4.4, p_infinity: 6.0e8, cv: 1.0, rho0: 1.0)")
+            .unwrap_err();
+        assert!(err.to_string().contains("p_infinity"), "{err}");
+    }
+
+    impl crate::PluginModel for IdealGas {
+        fn validate(&self) -> Result<(), String> {
+            IdealGas::validate(self)
+        }
+    }
+
+    /// A plugin made of the ideal gas under another name, installed once
+    /// for this test binary.
+    fn install_test_plugin() {
+        let mut r = crate::EosRegistry::new();
+        r.register(crate::EosPlugin {
+            name: "TestGas",
+            summary: "the ideal gas under another name",
+            docs: "docs/physics/eos/ideal_gas.md",
+            example: "TestGas(gamma: 1.4, cv: 717.6)",
+            gas: true,
+            parse: crate::plugin::parse_params::<IdealGas>,
+        });
+        let _ = crate::plugin::install(r);
+    }
+
+    #[test]
+    fn a_registered_plugin_is_named_like_a_built_in_model() {
+        install_test_plugin();
+        let m: EosModel = ron()
+            .from_str("TestGas(gamma: 1.4, cv: 717.6, rho0: 1.2)")
+            .unwrap();
+        let EosModel::Plugin(p) = &m else {
+            panic!("{m:?} is not a plugin model")
+        };
+        assert_eq!(p.plugin().name, "TestGas");
+        assert_eq!(m.variant(), "TestGas");
+        assert!(m.is_gas() && m.validate().is_ok());
+        let gas = IdealGas::new(1.4, 717.6, 1.2);
+        assert_eq!(m.pressure(1.1, 2e5), gas.pressure(1.1, 2e5));
+        assert_eq!(m.density(1e5, 300.0), gas.density(1e5, 300.0));
+        assert_eq!(m.name(), "ideal_gas");
+        // It writes itself back under its name and reads back equal.
+        let text = ron().to_string(&m).unwrap();
+        assert!(text.starts_with("TestGas("), "{text}");
+        assert_eq!(ron().from_str::<EosModel>(&text).unwrap(), m);
+        // The plugin's own checks and serde's messages reach the user.
+        let bad: EosModel = ron().from_str("TestGas(gamma: 0.5, cv: 1.0)").unwrap();
+        assert!(bad.validate().unwrap_err().contains("`gamma`"));
+        let err = ron()
+            .from_str::<EosModel>("TestGas(gamma: 1.4, c_v: 1.0)")
+            .unwrap_err();
+        assert!(err.to_string().contains("c_v"), "{err}");
+        let err = ron().from_str::<EosModel>("NoGas(gamma: 1.4)").unwrap_err();
+        assert!(err.to_string().contains("TestGas"), "{err}");
+        assert!(EosModel::names().contains(&"TestGas"));
+        assert!(EosModel::gas_names().contains(&"TestGas"));
     }
 
     #[test]
@@ -203,6 +437,7 @@ mod tests {
             EosModel::SolidThreshold(SolidThreshold::new(SolidEos::MieGruneisenLinear(
                 MieGruneisenLinear::ofhc_copper(),
             ))),
+            EosModel::StiffenedGas(StiffenedGas::water()),
         ];
         assert_eq!(models.len(), EosModel::VARIANTS.len());
         for m in &models {

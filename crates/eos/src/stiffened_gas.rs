@@ -9,13 +9,16 @@
 //!
 //! It is the EOS of the classical water–air shock tube (Saurel & Abgrall
 //! 1999; Murrone & Guillard 2005), whose exact solution
-//! `brisance_ice::riemann` gives. It is not yet a registry model
-//! ([`crate::EosModel`]), so a scenario file cannot name it.
+//! `brisance_ice::riemann` gives. A config names it as
+//! `StiffenedGas(gamma: 4.4, p_inf: 6.0e8, cv: 1600.0, rho0: 1000.0)`
+//! ([`crate::EosModel::StiffenedGas`]).
 
 use brisance_core::{Eos, EosError};
+use serde::{Deserialize, Serialize};
 
 /// Stiffened gas p = (γ − 1)ρe − γp∞ with e = c_v T + p∞/ρ.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct StiffenedGas {
     /// γ (> 1).
     pub gamma: f64,
