@@ -16,6 +16,7 @@ mod ice_implicit;
 mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
+mod noble_abel;
 mod pd_cases;
 mod plate_cases;
 use brisance_plot as plot;
@@ -778,9 +779,10 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 33] = [
+const CASES: [&str; 34] = [
     "sod",
     "sod-ice",
+    "noble-abel",
     "shocktubes",
     "ratestick",
     "ratestick-rz",
@@ -842,6 +844,9 @@ fn validate(only: &[String]) -> Result<()> {
     };
     if run("sod") {
         v_sod(&mut body, &img)?;
+    }
+    if run("noble-abel") {
+        noble_abel::v_noble_abel(&mut body)?;
     }
     if run("sod-ice") {
         ice_cases::v_sod_ice(&mut body, &img)?;

@@ -6,11 +6,14 @@
 //! - [`registration`]: [`register`], which names it `NobleAbel` in the
 //!   program's registry of equations of state
 //!   ([`brisance_eos::EosRegistry`]).
+//! - [`riemann`]: the exact Riemann problem of the gas, the reference of
+//!   its shock-tube validation (V-NOBLE-ABEL).
 //!
 //! Docs: `docs/physics/eos/noble_abel.md`.
 
 pub mod noble_abel;
 pub mod registration;
+pub mod riemann;
 
 pub use noble_abel::NobleAbel;
 pub use registration::register;
