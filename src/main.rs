@@ -530,21 +530,25 @@ fn panic_line(message: &str, location: Option<(&str, u32, u32)>) -> String {
 }
 
 /// Replaces the default panic message and backtrace by [`panic_line`],
-/// unless `RUST_BACKTRACE` is set (and not `0`). A panic still ends the
-/// program with a non-zero status (101).
+/// unless `RUST_BACKTRACE` is set (and not `0`), which keeps Rust's own
+/// message and backtrace. A panic still ends the program with a non-zero
+/// status (101), and on several MPI ranks it stops them all either way.
 fn install_panic_hook() {
-    if std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0") {
-        return;
-    }
-    std::panic::set_hook(Box::new(|info| {
-        let payload = info.payload();
-        let message = payload
-            .downcast_ref::<&str>()
-            .copied()
-            .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
-            .unwrap_or("a panic without a message");
-        let location = info.location().map(|l| (l.file(), l.line(), l.column()));
-        eprintln!("{}", panic_line(message, location));
+    let verbose = std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0");
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if verbose {
+            default(info);
+        } else {
+            let payload = info.payload();
+            let message = payload
+                .downcast_ref::<&str>()
+                .copied()
+                .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+                .unwrap_or("a panic without a message");
+            let location = info.location().map(|l| (l.file(), l.line(), l.column()));
+            eprintln!("{}", panic_line(message, location));
+        }
         // The other ranks would wait for this one forever.
         let ranks = comm::world();
         if ranks.size() > 1 {
