@@ -390,11 +390,7 @@ impl HaloExchange for InProcessExchange {
                     blocked[side] = pack(buf, &src, id, axis, side);
                 }
             });
-        for b in &self.blocked_sides {
-            for (side, &held) in b.iter().enumerate() {
-                self.blocked[Face::of(axis, side) as usize] |= held;
-            }
-        }
+        Self::record_blocked(&mut self.blocked, &self.blocked_sides, axis);
         fields
             .par_iter_mut()
             .zip(self.buffers.par_iter())
@@ -408,6 +404,16 @@ impl HaloExchange for InProcessExchange {
 }
 
 impl InProcessExchange {
+    /// Adds a pass's held-back inflows (`sides`, per patch) to the faces
+    /// of `axis` in `blocked`.
+    fn record_blocked(blocked: &mut [bool; 6], sides: &[[bool; 2]], axis: usize) {
+        for b in sides {
+            for (side, &held) in b.iter().enumerate() {
+                blocked[Face::of(axis, side) as usize] |= held;
+            }
+        }
+    }
+
     /// [`HaloExchange::fill_axis`] for the patches of this rank: pack the
     /// owned patches' ghosts that are boundary conditions or owned
     /// neighbours, and the other ranks' ghosts that an owned patch feeds;
@@ -483,11 +489,7 @@ impl InProcessExchange {
         }
         ranks.comm.exchange(&sends, &mut receives);
         drop(receives);
-        for b in &self.blocked_sides {
-            for (side, &held) in b.iter().enumerate() {
-                self.blocked[Face::of(axis, side) as usize] |= held;
-            }
-        }
+        Self::record_blocked(&mut self.blocked, &self.blocked_sides, axis);
         fields
             .par_iter_mut()
             .zip(self.buffers.par_iter())
