@@ -1138,6 +1138,9 @@ struct RzRun {
     /// held at the solid's temperature) added over the run, relative to
     /// E(0) (`IceSolver::kept_warm_totals`).
     kept_warm: f64,
+    /// What step 2's rescale gave the fluids over the run (booked in the
+    /// total, heat of reaction included), relative to E(0).
+    rescaled: f64,
     wall_s: f64,
     steps: usize,
     failure: Option<String>,
@@ -1198,6 +1201,7 @@ fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
     let mut solver = solver;
     let t_end = s.time.end;
     let e0 = solver.conservation_totals().energy;
+    let rescaled0 = solver.rescaled_totals().energy;
     let ps = solver.mpm().particles();
     let ((r_lo, r_hi), z, dz) = ((RZ_WALL.0[0], RZ_WALL.0[1]), RZ_WALL.1, RZ_WALL.2);
     let gauge: std::collections::BTreeSet<u32> = (0..ps.len())
@@ -1228,6 +1232,7 @@ fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
         record: Vec::new(),
         energy: (0.0, 0.0),
         kept_warm: 0.0,
+        rescaled: 0.0,
         wall_s: 0.0,
         steps: 0,
         failure: None,
@@ -1266,6 +1271,7 @@ fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
         }
     }
     run.wall_s = start.elapsed().as_secs_f64();
+    run.rescaled = (solver.rescaled_totals().energy - rescaled0) / e0;
     let ice = solver.ice();
     run.kept_warm = ice
         .kept_warm_totals()
@@ -1309,7 +1315,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     for &h in &hs {
         let r = cylinder_rz_run(h, &[])?;
         println!(
-            "  h {:.2} mm: {} steps in {:.0} s, D {:.0} m/s (1D column {:?}), terminal {:.0} m/s (Gurney {:.0}), energy max |drift| {:.3} % (end {:+.3} %, cold-material rules {:+.3} %), failure {:?}",
+            "  h {:.2} mm: {} steps in {:.0} s, D {:.0} m/s (1D column {:?}), terminal {:.0} m/s (Gurney {:.0}), energy max |drift| {:.3} % (end {:+.3} %, cold-material rules {:+.3} %, rescale {:+.3} %), failure {:?}",
             h * 1e3,
             r.steps,
             r.wall_s,
@@ -1320,6 +1326,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
             100.0 * r.energy.0,
             100.0 * r.energy.1,
             100.0 * r.kept_warm,
+            100.0 * r.rescaled,
             r.failure
         );
         runs.push(r);
@@ -1396,8 +1403,8 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     );
     let _ = writeln!(
         md,
-        "| h (mm) | rings | steps | axis D (m/s) | vs D_CJ | vs 1D column | terminal wall (m/s) | vs Gurney | energy closure (max / end) | cold-material rules | wall time |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| h (mm) | rings | steps | axis D (m/s) | vs D_CJ | vs 1D column | terminal wall (m/s) | vs Gurney | energy closure (max / end) | cold-material rules | rescale (booked) | wall time |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in &runs {
         let d = r.detonation_velocity();
@@ -1405,7 +1412,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
         let rings = (0.08 / r.h).round() * (0.36 / r.h).round();
         let _ = writeln!(
             md,
-            "| {} | {rings:.0} | {} | {d:.0} | {:+.1} % | {} | {term:.0} | {:+.1} % | {:.2} % / {:+.2} % | {:+.3} % | {:.0} s{} |",
+            "| {} | {rings:.0} | {} | {d:.0} | {:+.1} % | {} | {term:.0} | {:+.1} % | {:.2} % / {:+.2} % | {:+.3} % | {:+.3} % | {:.0} s{} |",
             r.h * 1e3,
             r.steps,
             100.0 * (d / d_cj - 1.0),
@@ -1414,6 +1421,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
             100.0 * r.energy.0,
             100.0 * r.energy.1,
             100.0 * r.kept_warm,
+            100.0 * r.rescaled,
             r.wall_s,
             r.failure.as_ref().map_or(String::new(), |f| format!(" (stopped: {f})"))
         );

@@ -1540,6 +1540,13 @@ impl<E: Eos> IceSolver<E> {
                                         t.energy += dm
                                             * (vals[b + ENERGY]
                                                 + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+                                        // A reactant's mass carries its heat
+                                        // of reaction in the totals
+                                        // (`conservation_totals`), so the mass
+                                        // the rescale gives it does too.
+                                        for rx in params.reactions.iter().filter(|x| x.reactant == r) {
+                                            t.energy += dm * rx.heat_of_reaction;
+                                        }
                                     }
                                     if t.mass != 0.0 {
                                         let g = geometry.linear_index(global_of(patch, c));
