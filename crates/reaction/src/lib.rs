@@ -4,6 +4,10 @@
 //!   construction over a node graph (detonations go around obstacles,
 //!   isolated explosive does not detonate) or by straight lines from the
 //!   detonation points (seed 004, "Propagation of Detonation").
+//! - [`deflagration`]: the surface burn of seed 000 §4.1.2, D = A pⁿ
+//!   (eq 38) and Γ = a D ρ_reactant (eq 39), with the surface cells, their
+//!   normals and areas found on a structured grid (not yet coupled to a
+//!   pipeline).
 //! - [`products`]: the pressure isentrope P_S(X) of the detonation products
 //!   for an ideal gas (seed 004 eq 29) and JWL (eq 30), with its reference
 //!   pressure P_S0 from the volume-burn algorithm (eqs 20–21, computed by
@@ -11,10 +15,12 @@
 //!
 //! Units are SI throughout.
 
+pub mod deflagration;
 pub mod jwlpp;
 pub mod products;
 pub mod program_burn;
 
+pub use deflagration::{Deflagration, DeflagrationError, SurfaceArea};
 pub use products::{ProductsError, ProductsIsentrope};
 pub use program_burn::{
     huygens_detonation_times, straight_line_detonation_times, BurnError, DetonationPoint,
