@@ -347,7 +347,8 @@ mod cylinder_tests {
     fn the_rescale_of_a_reactant_books_its_heat_of_reaction() {
         use brisance_core::Solver;
         let loaded = load_str("cylinder_rz.ron", CYLINDER_RZ, &[]).unwrap();
-        let crate::build::Built::IceMpm { mut solver, .. } = build(&loaded.scenario).unwrap() else {
+        let crate::build::Built::IceMpm { mut solver, .. } = build(&loaded.scenario).unwrap()
+        else {
             panic!("cylinder_rz.ron is not an IceMpm pipeline");
         };
         let (e0, r0) = (

@@ -161,9 +161,11 @@ pub struct PdBoundaryConfig {
     pub velocity: [Option<f64>; 3],
 }
 
-/// Program burn input.
+/// Program burn input (the reaction model `ProgramBurn`: the config may
+/// write it `ProgramBurn(points: [...], method: Huygens)` or without the
+/// name).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, rename = "ProgramBurn")]
 pub struct PdDetonationConfig {
     /// Detonation points with their start times.
     pub points: Vec<DetonationPoint>,

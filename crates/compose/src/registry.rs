@@ -87,6 +87,20 @@ pub const ENTRIES: &[Entry] = &[
         docs: Some("docs/physics/eos/stiffened_gas.md"),
     },
     Entry {
+        family: "reaction",
+        name: "JwlPlusPlus",
+        summary: "JWL++ detonation, dF/dt = G p^b (1 - F) above 200 MPa, at most 20 % of a cell's reactant a step (seed 000 eqs 35-37); ICE and IceMpm `reactions`",
+        example: "JwlPlusPlus(g: 9.1e-5, b: 1.0)",
+        docs: Some("docs/physics/reaction/jwlpp.md"),
+    },
+    Entry {
+        family: "reaction",
+        name: "ProgramBurn",
+        summary: "program burn: each explosive node detonates at its Huygens or straight-line time from the detonation points (seed 004); Peridynamics `detonation`",
+        example: "ProgramBurn(points: [(position: (0.0, 0.0, 0.0), time: 0.0)], method: Huygens)",
+        docs: Some("docs/physics/pd/program_burn.md"),
+    },
+    Entry {
         family: "material",
         name: "Hypoelastic",
         summary: "isotropic hypoelastic solid (K or an EOS, G) with a Jaumann or Green-Naghdi rate (seed 000 §4.2, seed 001 eq 30)",
@@ -415,6 +429,14 @@ mod tests {
                     .from_str::<MaterialModel>(e.example)
                     .map(|_| ()),
                 "pipeline" => ron_options().from_str::<Pipeline>(e.example).map(|_| ()),
+                "reaction" => match e.name {
+                    "ProgramBurn" => ron_options()
+                        .from_str::<crate::peridynamics::PdDetonationConfig>(e.example)
+                        .map(|_| ()),
+                    _ => ron_options()
+                        .from_str::<crate::ice::IceReactionModel>(e.example)
+                        .map(|_| ()),
+                },
                 "region" => ron_options().from_str::<Region>(e.example).map(|_| ()),
                 "load" => ron_options()
                     .from_str::<SurfaceLoadKind>(e.example)
@@ -508,6 +530,25 @@ mod tests {
                 assert!(l.contains(&format!("docs: {page}")), "{l}");
             }
         }
-        assert!(l.contains("reaction models (reaction):\n  (none registered yet)"));
+        assert!(!l.contains("(none registered yet)"), "{l}");
+    }
+
+    /// Every `ReactionModel` of the reaction crate is listed under its
+    /// trait name, and the models a config names parse there.
+    #[test]
+    fn every_reaction_model_is_registered() {
+        use brisance_core::ReactionModel;
+        let names = [
+            brisance_reaction::JwlPlusPlus::anfo_k1().name(),
+            brisance_reaction::ProgramBurn.name(),
+        ];
+        for v in names {
+            assert!(
+                ENTRIES
+                    .iter()
+                    .any(|e| e.family == "reaction" && e.name == v),
+                "{v} missing from the registry"
+            );
+        }
     }
 }

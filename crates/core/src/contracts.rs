@@ -17,7 +17,55 @@
 //! The checks themselves are plain functions so a failing case can be
 //! replayed by hand.
 
-use crate::Eos;
+use crate::{Eos, ReactionModel, ReactionState};
+
+/// The [`ReactionModel`] contract at one state: the rate is finite and
+/// ≥ 0; one step of `dt` leaves F in [f, 1] (never decreasing, never past
+/// fully burnt); a step of zero length changes nothing where no schedule
+/// is set (`detonation_time` infinite: a scheduled burn completes once its
+/// time has come, whatever the step); a longer step
+/// never burns less than a shorter one from the same state; the mass
+/// converted is the initial mass times the change of F, and never
+/// negative.
+pub fn check_reaction_model<R: ReactionModel + ?Sized>(
+    model: &R,
+    state: &ReactionState,
+    f: f64,
+    dt: f64,
+) -> Result<(), String> {
+    let rate = model.rate(state, f);
+    if !(rate.is_finite() && rate >= 0.0) {
+        return Err(format!(
+            "{}: rate {rate} at F = {f}, {state:?}",
+            model.name()
+        ));
+    }
+    let g = model.advance(state, f, dt);
+    if !(g >= f && g <= 1.0) {
+        return Err(format!(
+            "{}: F = {f} advanced by {dt} s gives {g}, outside [F, 1]",
+            model.name()
+        ));
+    }
+    if state.detonation_time == f64::INFINITY && model.advance(state, f, 0.0) != f {
+        return Err(format!("{}: a zero step moved F = {f}", model.name()));
+    }
+    let half = model.advance(state, f, 0.5 * dt);
+    if half > g {
+        return Err(format!(
+            "{}: half a step burns more ({half}) than the whole ({g})",
+            model.name()
+        ));
+    }
+    let m = model.mass_converted(2.0, f, g);
+    if !(m >= 0.0 && (m - 2.0 * (g - f)).abs() <= 1e-15 * 2.0) {
+        return Err(format!(
+            "{}: mass converted {m} for F {f} → {g} of 2 kg",
+            model.name()
+        ));
+    }
+    Ok(())
+}
 
 /// Relative difference scaled by the larger magnitude (and `floor`).
 pub fn rel_diff(a: f64, b: f64, floor: f64) -> f64 {

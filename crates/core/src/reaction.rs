@@ -9,8 +9,11 @@ pub struct ReactionState {
     pub temperature: f64,
     /// Reactant density, kg/m³.
     pub density: f64,
-    /// Simulation time, s.
+    /// Simulation time, s: the end of the step being advanced.
     pub time: f64,
+    /// The point's program-burn detonation time, s (`f64::INFINITY`:
+    /// never); models that do not burn by a schedule ignore it.
+    pub detonation_time: f64,
 }
 
 /// A mass-conversion model between a reactant and its product: the burn

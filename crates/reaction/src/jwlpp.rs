@@ -32,6 +32,7 @@
 //!
 //! Units: SI. G in s⁻¹·Pa⁻ᵇ, p in Pa, densities kg/m³.
 
+use brisance_core::{ReactionModel, ReactionState};
 use brisance_eos::tools::{cj_on_jwl_cterm_isentrope, CjState};
 use brisance_eos::{JwlCTerm, Murnaghan};
 use serde::{Deserialize, Serialize};
@@ -181,6 +182,29 @@ impl JwlPlusPlus {
     }
 }
 
+/// JWL++ behind the [`ReactionModel`] trait: dF/dt = G p^b (1 − F) above
+/// the threshold (seed 000 eq 35), and a step burns at most
+/// `max_burn_fraction` of the reactant left, ΔF ≤ max_burn_fraction (1 − F)
+/// (the seed's 20 % rule, as [`JwlPlusPlus::burnt_density`] applies it to
+/// densities: ΔF (ρ_r + ρ_p) = burnt density, since (1 − F)(ρ_r + ρ_p) =
+/// ρ_r). The ICE step computes the burnt density directly
+/// ([`JwlPlusPlus::burnt_density`]), the same law in its own arithmetic.
+impl ReactionModel for JwlPlusPlus {
+    fn name(&self) -> &'static str {
+        "JwlPlusPlus"
+    }
+
+    fn rate(&self, state: &ReactionState, burn_fraction: f64) -> f64 {
+        self.burn_rate(state.pressure, burn_fraction).max(0.0)
+    }
+
+    fn advance(&self, state: &ReactionState, burn_fraction: f64, dt: f64) -> f64 {
+        let left = (1.0 - burn_fraction).max(0.0);
+        let step = (self.rate(state, burn_fraction) * dt).min(self.max_burn_fraction * left);
+        (burn_fraction + step.max(0.0)).clamp(burn_fraction, 1.0)
+    }
+}
+
 /// The CJ state of the JWL++ products (Rayleigh line from (v₀, p = 0)
 /// tangent to the C-term isentrope): the ideal, infinite-radius detonation
 /// velocity a rate stick tends to.
@@ -252,6 +276,55 @@ mod tests {
         // No reactant, nothing burnt; below threshold, nothing burnt.
         assert_eq!(m.burnt_density(1e10, 0.0, 50.0, 1e-7), 0.0);
         assert_eq!(m.burnt_density(1e8, 1000.0, 0.0, 1e-7), 0.0);
+    }
+
+    /// Through the trait: ΔF = G p^b (1 − F) Δt below the cap, the cap
+    /// 0.2 (1 − F) above it, nothing at the threshold; and ΔF (ρ_r + ρ_p)
+    /// is the density `burnt_density` gives the ICE step.
+    #[test]
+    fn the_trait_burns_what_the_ice_step_burns() {
+        let m = JwlPlusPlus::anfo_k1();
+        assert_eq!(m.name(), "JwlPlusPlus");
+        let at = |p: f64| ReactionState {
+            pressure: p,
+            detonation_time: f64::INFINITY,
+            ..Default::default()
+        };
+        // 1 GPa, F = 0.25, Δt = 1e-7: 1.3187363788e5 · 1e-7 = 1.3187363788e-2.
+        let f = m.advance(&at(1e9), 0.25, 1e-7);
+        assert!((f - 0.25 - 1.3187363788e-2).abs() < 1e-12, "{f}");
+        // 10 GPa: G p^b (1 − F) Δt = 0.2631 > 0.2 · 0.75 = 0.15: capped.
+        assert!((m.advance(&at(1e10), 0.25, 1e-7) - 0.4).abs() < 1e-15);
+        assert_eq!(m.advance(&at(2.0e8), 0.25, 1e-7), 0.25);
+        assert_eq!(m.advance(&at(1e10), 1.0, 1e-7), 1.0);
+        for &(p, rr, rp, dt) in &[
+            (1e9, 1000.0, 0.0, 1e-7),
+            (5e9, 300.0, 100.0, 2e-8),
+            (1e10, 800.0, 50.0, 1e-7),
+        ] {
+            let f0 = JwlPlusPlus::burn_fraction(rr, rp);
+            let df = m.advance(&at(p), f0, dt) - f0;
+            let dm = m.burnt_density(p, rr, rp, dt);
+            assert!(
+                (df * (rr + rp) - dm).abs() <= 1e-12 * dm,
+                "{} vs {dm}",
+                df * (rr + rp)
+            );
+        }
+    }
+
+    proptest::proptest! {
+        /// The `ReactionModel` contract over pressures from below the
+        /// threshold to 50 GPa, any burn fraction and step.
+        #[test]
+        fn jwlpp_keeps_the_reaction_model_contract(
+            p in 0.0f64..5e10, f in 0.0f64..=1.0, dt in 0.0f64..1e-6, g in 1e-8f64..1e-4, b in 0.5f64..2.0,
+        ) {
+            let m = JwlPlusPlus { g, b, ..JwlPlusPlus::anfo_k1() };
+            let state = ReactionState { pressure: p, detonation_time: f64::INFINITY, ..Default::default() };
+            let r = brisance_core::contracts::check_reaction_model(&m, &state, f, dt);
+            proptest::prop_assert!(r.is_ok(), "{:?}", r);
+        }
     }
 
     #[test]

@@ -1,5 +1,12 @@
 //! Brisance reaction models.
 //!
+//! The models that burn by a pointwise law implement
+//! [`brisance_core::ReactionModel`] (registered for configs in the composer's
+//! registry, `brisance list`): [`JwlPlusPlus`] (seed 000 §4.1.1) and
+//! [`ProgramBurn`] (seed 004).
+//!
+//! - [`jwlpp`]: the JWL++ rate law with the seed's threshold and 20 % rule,
+//!   its detonation energy and CJ state.
 //! - [`program_burn`]: detonation times of explosive nodes by the Huygens
 //!   construction over a node graph (detonations go around obstacles,
 //!   isolated explosive does not detonate) or by straight lines from the
@@ -21,7 +28,9 @@ pub mod products;
 pub mod program_burn;
 
 pub use deflagration::{Deflagration, DeflagrationError, SurfaceArea};
+pub use jwlpp::JwlPlusPlus;
 pub use products::{ProductsError, ProductsIsentrope};
 pub use program_burn::{
     huygens_detonation_times, straight_line_detonation_times, BurnError, DetonationPoint,
+    ProgramBurn,
 };

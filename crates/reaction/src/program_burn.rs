@@ -55,6 +55,35 @@ pub enum BurnError {
     },
 }
 
+/// Program burn behind the [`ReactionModel`] trait: a point burns
+/// completely once the time has reached its detonation time
+/// ([`ReactionState::detonation_time`], from [`huygens_detonation_times`]
+/// or [`straight_line_detonation_times`]) and not before; it has no rate.
+/// This is seed 004's volume burn (a node's products take the volume-burn
+/// state at its detonation time; eqs 20–21), the burn fraction the step
+/// function F = H(t − t_det). The PD solver compares its nodes' times in
+/// its own loops; this is the same rule.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ProgramBurn;
+
+impl brisance_core::ReactionModel for ProgramBurn {
+    fn name(&self) -> &'static str {
+        "ProgramBurn"
+    }
+
+    fn rate(&self, _state: &brisance_core::ReactionState, _burn_fraction: f64) -> f64 {
+        0.0
+    }
+
+    fn advance(&self, state: &brisance_core::ReactionState, burn_fraction: f64, _dt: f64) -> f64 {
+        if state.time >= state.detonation_time {
+            1.0
+        } else {
+            burn_fraction.clamp(0.0, 1.0)
+        }
+    }
+}
+
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
@@ -253,6 +282,41 @@ mod tests {
             offsets.push(neighbours.len() as u32);
         }
         (positions, offsets, neighbours)
+    }
+
+    /// Not detonated before its time, fully burnt from it on, whatever the
+    /// step; and the trait's contract at any time and schedule.
+    #[test]
+    fn program_burn_is_the_step_function_of_the_detonation_time() {
+        use brisance_core::{ReactionModel, ReactionState};
+        let at = |time: f64| ReactionState {
+            time,
+            detonation_time: 2e-6,
+            ..Default::default()
+        };
+        assert_eq!(ProgramBurn.name(), "ProgramBurn");
+        assert_eq!(ProgramBurn.advance(&at(1.999e-6), 0.0, 1e-7), 0.0);
+        assert_eq!(ProgramBurn.advance(&at(2e-6), 0.0, 1e-7), 1.0);
+        assert_eq!(ProgramBurn.advance(&at(5e-6), 0.0, 0.0), 1.0);
+        let never = ReactionState {
+            time: 1.0,
+            detonation_time: f64::INFINITY,
+            ..Default::default()
+        };
+        assert_eq!(ProgramBurn.advance(&never, 0.0, 1.0), 0.0);
+        for t in [0.0, 1e-6, 2e-6, 3e-6] {
+            for td in [0.0, 2e-6, f64::INFINITY] {
+                let s = ReactionState {
+                    time: t,
+                    detonation_time: td,
+                    ..Default::default()
+                };
+                for f in [0.0, 0.5, 1.0] {
+                    brisance_core::contracts::check_reaction_model(&ProgramBurn, &s, f, 1e-7)
+                        .unwrap();
+                }
+            }
+        }
     }
 
     #[test]
