@@ -1544,7 +1544,9 @@ impl<E: Eos> IceSolver<E> {
                                         // of reaction in the totals
                                         // (`conservation_totals`), so the mass
                                         // the rescale gives it does too.
-                                        for rx in params.reactions.iter().filter(|x| x.reactant == r) {
+                                        for rx in
+                                            params.reactions.iter().filter(|x| x.reactant == r)
+                                        {
                                             t.energy += dm * rx.heat_of_reaction;
                                         }
                                     }
