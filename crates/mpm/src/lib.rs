@@ -18,6 +18,8 @@
 //! - [`step`]: the USF, USL and MUSL explicit steps and the particle stress
 //!   update (seed 001 eqs 12–13, 22–30).
 //! - [`boundary`]: grid boundary conditions per domain face.
+//! - [`conduction`]: heat conduction inside the solids (Fourier's law,
+//!   seed 000 eq 3), an option of the solver off by default.
 //! - [`inflow`]: particle reservoirs beyond open faces, through which
 //!   matter enters (an inflow buffer of particle layers).
 //! - [`solver`]: [`MpmSolver`], the method behind the core `Solver` trait.
@@ -37,6 +39,7 @@
 pub mod anti_locking;
 pub mod boundary;
 pub mod cases;
+pub mod conduction;
 pub mod generate;
 pub mod grid_nodes;
 pub mod inflow;
@@ -52,6 +55,7 @@ pub mod viscosity;
 
 pub use anti_locking::AntiLocking;
 pub use boundary::GridBoundary;
+pub use conduction::{HeatConduction, ThermalProperties};
 pub use generate::{fill_shape, fill_shape_in, FillSpec, GenerateError, Shape};
 pub use grid_nodes::{GridNodes, NodeLattice};
 pub use inflow::{Reservoir, ReservoirKind, ReservoirState};

@@ -9,7 +9,9 @@
 //!    counting sort; skipped when they are still sorted); every step, bin
 //!    them by block for the transfers ([`crate::transfer::ParticleBins`]);
 //!    the reservoir particles' node shares and forces are formed;
-//! 3. the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
+//! 3. with heat conduction on ([`MpmSolver::with_heat_conduction`]), the
+//!    conduction step of [`crate::conduction`] on the temperatures;
+//!    then the step of the chosen [`UpdateScheme`] ([`crate::step`]) with the
 //!    deterministic coloured-scatter P2G of [`crate::transfer`], G2P and the
 //!    stress update in one visit of each particle;
 //! 4. particles that crossed an [`GridBoundary::Outflow`] face are removed
@@ -56,6 +58,7 @@
 
 use crate::anti_locking::{AntiLocking, PatchAverage};
 use crate::boundary::{GridBoundary, FACE_NAMES};
+use crate::conduction::{HeatConduction, HeatWork, ThermalProperties};
 use crate::grid_nodes::GridNodes;
 use crate::inflow::{Reservoir, Reservoirs};
 use crate::step::{self, G2pParts, NodeVelocity, StepParams, UpdateScheme};
@@ -240,6 +243,8 @@ struct Workspace {
     /// the load-only particles), and its node masses; empty unless used.
     remap_weight: Vec<f64>,
     remap_mass: Vec<f64>,
+    /// The node buffers of the heat conduction (empty unless it is on).
+    heat: HeatWork,
 }
 
 /// Memory an [`MpmSolver`] holds, bytes, from its arrays' lengths.
@@ -284,6 +289,9 @@ pub struct MpmSolver {
     /// particles in its boundary cells moving inwards, which nothing
     /// follows in ([`MpmSolver::note_inflow_at_plain_outflow_faces`]).
     held_back: [bool; 6],
+    /// The conductivity and specific heat of every material
+    /// ([`crate::conduction`]); empty when no material conducts.
+    thermal: Vec<ThermalProperties>,
 }
 
 /// What a checkpoint holds: every particle array, time, step count and the
@@ -515,6 +523,7 @@ impl MpmSolver {
                 load_only: (0, 0),
                 remap_weight: Vec::new(),
                 remap_mass: Vec::new(),
+                heat: HeatWork::default(),
             },
             bulk,
             next_id: ids.len() as u32,
@@ -523,7 +532,38 @@ impl MpmSolver {
             surface_forces: Vec::new(),
             inflow,
             held_back: [false; 6],
+            thermal: Vec::new(),
         })
+    }
+
+    /// Turns on heat conduction inside the solids ([`crate::conduction`])
+    /// with each material's conductivity and specific heat; with no
+    /// conductivity anywhere it stays off and the steps are unchanged, bit
+    /// for bit.
+    pub fn with_heat_conduction(
+        mut self,
+        conduction: HeatConduction,
+    ) -> Result<Self, MpmSetupError> {
+        let thermal =
+            conduction
+                .resolve(&self.materials)
+                .map_err(|(option, value, expected)| MpmSetupError::Option {
+                    option,
+                    value,
+                    expected,
+                })?;
+        self.thermal = if conduction.is_on() {
+            thermal
+        } else {
+            Vec::new()
+        };
+        Ok(self)
+    }
+
+    /// The conductivity and specific heat of every material, indexed by
+    /// [`MaterialId`]; empty when heat conduction is off.
+    pub fn thermal_properties(&self) -> &[ThermalProperties] {
+        &self.thermal
     }
 
     /// Adds prescribed surface tractions ([`crate::traction`]); their
@@ -585,7 +625,8 @@ impl MpmSolver {
                 + self.work.average.particle_bytes(),
             grid: self.work.nodes.bytes()
                 + self.work.bins.block_bytes()
-                + self.work.average.cell_bytes(),
+                + self.work.average.cell_bytes()
+                + self.work.heat.bytes(),
         }
     }
 
@@ -866,6 +907,18 @@ impl MpmSolver {
                 dt,
             )
         };
+        // Heat conduction first, from the positions and temperatures of
+        // the start of the step (crate::conduction).
+        if !self.thermal.is_empty() {
+            crate::conduction::conduct(
+                &self.work.map,
+                &self.work.bins,
+                &mut self.particles,
+                &self.thermal,
+                &mut self.work.heat,
+                dt,
+            );
+        }
         let work = &mut self.work;
         let t = step::Transfer {
             map: &work.map,
@@ -1350,7 +1403,10 @@ impl Solver for MpmSolver {
     /// with c_p = [`Material::wave_speed`] at ρ_p = m_p/V_p, e_p. With the
     /// bulk viscosity on, c_p is replaced by the signal speed
     /// Q + √(Q² + c_p²) of [`BulkViscosity::signal_speed`] at the particle's
-    /// last tr D.
+    /// last tr D. With heat conduction on, Δt is also at most the diffusive
+    /// limit cfl / (2 α_max Σ_d 1/Δx_d²) of
+    /// [`crate::conduction::diffusive_time_step`], α_max the largest
+    /// k V_p / (m_p c_p).
     fn stable_dt(&self) -> Result<f64, SolverError> {
         let grid = &self.level.geometry;
         let dx_min = (0..3)
@@ -1386,17 +1442,32 @@ impl Solver for MpmSolver {
         if bad != usize::MAX {
             return Err(self.particle_error(bad, "wave speed plus |v| is not finite".into()));
         }
-        let dt = if speed > 0.0 && dx_min.is_finite() {
+        let dt_wave = if speed > 0.0 && dx_min.is_finite() {
             self.options.cfl * dx_min / speed
         } else {
             f64::INFINITY
         };
+        // The diffusive limit of the heat conduction (crate::conduction).
+        let alpha = if self.thermal.is_empty() {
+            0.0
+        } else {
+            crate::conduction::max_diffusivity(ps, &self.thermal).map_err(|p| {
+                self.particle_error(p, "thermal diffusivity k V/(m c) is not finite".into())
+            })?
+        };
+        let dt_heat = crate::conduction::diffusive_time_step(alpha, grid, self.options.cfl);
+        let dt = dt_wave.min(dt_heat);
         if !(dt >= self.options.min_dt) {
+            let detail = if dt_heat < dt_wave {
+                format!("largest thermal diffusivity {alpha} m²/s")
+            } else {
+                format!("fastest particle signal speed {speed} m/s")
+            };
             return Err(SolverError::TimeStepCollapse {
                 dt,
                 min_dt: self.options.min_dt,
                 time: self.time,
-                detail: format!("fastest particle signal speed {speed} m/s"),
+                detail,
             });
         }
         Ok(dt)

@@ -50,6 +50,8 @@
 //! (eqs 27–28) — run over the particles in storage order, in parallel, each
 //! particle writing only itself.
 
+pub mod heat;
+
 use crate::grid_nodes::{GridNodes, NodeLattice};
 use crate::shape::{bspline, gimp, linear, ShapeError, TensorRow};
 use crate::ShapeFunction;

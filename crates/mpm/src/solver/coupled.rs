@@ -31,6 +31,9 @@
 //!    particles), and the removal of particles that left through outflow
 //!    faces (step 14).
 //!
+//! With heat conduction on ([`crate::conduction`]), the particles'
+//! temperatures first conduct over the step, as in the standalone step.
+//!
 //! Advection of the fluids (step 12) is the pipeline's, after this step.
 
 use super::*;
@@ -168,6 +171,18 @@ impl MpmSolver {
                 dt,
             )
         };
+        // Heat conduction inside the solids, from the state of the start
+        // of the step (crate::conduction).
+        if !self.thermal.is_empty() {
+            crate::conduction::conduct(
+                &self.work.map,
+                &self.work.bins,
+                &mut self.particles,
+                &self.thermal,
+                &mut self.work.heat,
+                dt,
+            );
+        }
         let work = &mut self.work;
         let t = Transfer {
             map: &work.map,
