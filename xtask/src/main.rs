@@ -21,6 +21,7 @@ mod pd_cases;
 mod plate_cases;
 use brisance_plot as plot;
 mod rz_cases;
+mod rz_cost;
 mod shock_tubes;
 mod slab_cases;
 mod splice;
@@ -779,7 +780,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 34] = [
+const CASES: [&str; 35] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -799,6 +800,7 @@ const CASES: [&str; 34] = [
     "taylor",
     "viscoscram",
     "rz",
+    "rz-cost",
     "pd-cyl",
     "pd-frag",
     "osc",
@@ -899,6 +901,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("rz") {
         rz_cases::v_rz(&mut body)?;
+    }
+    if run("rz-cost") {
+        rz_cost::rz_cost(&mut body)?;
     }
     if run("pd-cyl") {
         pd_cases::e_pd_cyl(&mut body, &img)?;
