@@ -8,6 +8,7 @@
 
 mod bridge3d;
 mod bridge_cases;
+mod conduction;
 mod constitutive_cases;
 mod freeair;
 mod ice_cases;
@@ -780,7 +781,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 35] = [
+const CASES: [&str; 36] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -799,6 +800,7 @@ const CASES: [&str; 35] = [
     "sod-mpm",
     "taylor",
     "viscoscram",
+    "conduction",
     "rz",
     "rz-cost",
     "pd-cyl",
@@ -898,6 +900,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("viscoscram") {
         constitutive_cases::v_viscoscram(&mut body)?;
+    }
+    if run("conduction") {
+        conduction::v_conduction(&mut body)?;
     }
     if run("rz") {
         rz_cases::v_rz(&mut body)?;

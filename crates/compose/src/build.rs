@@ -9,8 +9,8 @@ use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
 use brisance_eos::EosModel;
 use brisance_mpm::{
-    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
-    Reservoir, ReservoirKind, ReservoirState, SetQuantity, SurfaceLoad,
+    GridBoundary, HeatConduction, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet,
+    Particles, Reservoir, ReservoirKind, ReservoirState, SetQuantity, SurfaceLoad,
 };
 
 use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
@@ -739,6 +739,7 @@ pub(crate) fn mpm_parts(
             history: l.history.clone(),
         });
     }
+    let heat = heat_conduction(s, &names, &models)?;
     let solver = MpmSolver::new(level, models, particles, options)
         .map_err(|e| located("pipeline", e.to_string()))?
         .with_surface_loads(loads)
@@ -749,7 +750,41 @@ pub(crate) fn mpm_parts(
             ),
             other => located("pipeline", other.to_string()),
         })?;
+    let solver = match heat {
+        Some(heat) => solver
+            .with_heat_conduction(heat)
+            .map_err(|e| located("materials", e.to_string()))?,
+        None => solver,
+    };
     Ok((solver, particle_gauges))
+}
+
+/// The heat-conduction option of the particle materials `names` (with
+/// their `models`, in material-id order) from their `thermal` entries: k
+/// and c_v per material, k = 0 for a material without one; `None` when
+/// no material has one (the solver is then built as without the option).
+fn heat_conduction(
+    s: &Scenario,
+    names: &[&String],
+    models: &[MaterialModel],
+) -> Result<Option<HeatConduction>, ConfigError> {
+    if names.iter().all(|n| s.materials[*n].thermal.is_none()) {
+        return Ok(None);
+    }
+    let mut heat = HeatConduction::default();
+    for (name, model) in names.iter().zip(models) {
+        let (k, c) = match &s.materials[*name].thermal {
+            Some(t) => {
+                crate::validate::thermal_properties(&format!("materials.{name}.thermal"), t, model)
+                    .map_err(|(path, message)| located(&path, message))?;
+                (t.conductivity, t.specific_heat)
+            }
+            None => (0.0, None),
+        };
+        heat.conductivity.push(k);
+        heat.specific_heat.push(c);
+    }
+    Ok(Some(heat))
 }
 
 fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
@@ -1040,5 +1075,156 @@ mod tests {
         let err = load_str("t.ron", &text, &[]).unwrap_err();
         assert_eq!(err.field.as_deref(), Some("initial.0.material"));
         assert!(err.message.contains("constitutive"), "{err}");
+    }
+
+    /// taylor2d.ron with `thermal: <thermal>` on its copper.
+    fn taylor_with_thermal(thermal: &str) -> String {
+        let anchor = "            ),\n        ),\n    },\n    pipeline";
+        assert!(TAYLOR.contains(anchor));
+        TAYLOR.replace(
+            anchor,
+            &format!("            ),\n            thermal: {thermal},\n        ),\n    }},\n    pipeline"),
+        )
+    }
+
+    fn mpm_solver(built: &Built) -> &MpmSolver {
+        match built {
+            Built::Mpm { solver, .. } => solver,
+            _ => panic!("not an Mpm pipeline"),
+        }
+    }
+
+    /// The 1-based line and column of the value of the first `key: value`
+    /// `needle` in `text` (where an error about that field points).
+    fn line_col_of(text: &str, needle: &str) -> (usize, usize) {
+        let value = text.find(needle).unwrap() + needle.find(": ").unwrap() + 2;
+        crate::ron_path::line_col(text, value)
+    }
+
+    #[test]
+    fn a_thermal_entry_turns_on_the_heat_conduction_of_its_particles() {
+        // The specific heat is the ElasticPlastic model's (383) unless given.
+        for (thermal, c) in [
+            ("(conductivity: 386.0)", 383.0),
+            ("(conductivity: 386.0, specific_heat: Some(385.0))", 385.0),
+            ("(conductivity: 386.0, specific_heat: 385.0)", 385.0),
+        ] {
+            let loaded = load_str("t.ron", &taylor_with_thermal(thermal), &[]).unwrap();
+            let built = build(&loaded.scenario).unwrap();
+            assert_eq!(
+                mpm_solver(&built).thermal_properties(),
+                &[brisance_mpm::ThermalProperties {
+                    conductivity: 386.0,
+                    specific_heat: c
+                }],
+                "{thermal}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_scenario_without_thermal_builds_and_steps_as_before() {
+        let run = |text: &str| {
+            let loaded = load_str("t.ron", text, &[]).unwrap();
+            let mut built = build(&loaded.scenario).unwrap();
+            for _ in 0..5 {
+                let dt = built.stable_dt().unwrap();
+                built.advance(dt).unwrap();
+            }
+            (loaded.scenario, built)
+        };
+        let (plain_scenario, plain) = run(TAYLOR);
+        assert!(mpm_solver(&plain).thermal_properties().is_empty());
+        // Written back, a scenario without the key does not gain it.
+        assert!(!ron::to_string(&plain_scenario).unwrap().contains("thermal"));
+        // No conductivity: the option stays off and the steps are the same.
+        let (_, off) = run(&taylor_with_thermal("(conductivity: 0.0)"));
+        assert!(mpm_solver(&off).thermal_properties().is_empty());
+        let (a, b) = (mpm_solver(&plain).particles(), mpm_solver(&off).particles());
+        assert_eq!(a.position, b.position);
+        assert_eq!(a.velocity, b.velocity);
+        assert_eq!(a.stress, b.stress);
+        assert_eq!(a.temperature, b.temperature);
+    }
+
+    #[test]
+    fn bad_thermal_values_name_their_field_and_line() {
+        for (thermal, field, needle, message) in [
+            (
+                "(conductivity: -1.0)",
+                "materials.copper.thermal.conductivity",
+                "conductivity: -1.0",
+                "finite and ≥ 0",
+            ),
+            (
+                "(conductivity: inf)",
+                "materials.copper.thermal.conductivity",
+                "conductivity: inf",
+                "finite and ≥ 0",
+            ),
+            (
+                "(conductivity: 386.0, specific_heat: Some(0.0))",
+                "materials.copper.thermal.specific_heat",
+                "specific_heat: Some(0.0)",
+                "finite and > 0",
+            ),
+        ] {
+            let text = taylor_with_thermal(thermal);
+            let e = load_str("t.ron", &text, &[]).unwrap_err();
+            assert_eq!(e.field.as_deref(), Some(field), "{e}");
+            assert_eq!(e.position, Some(line_col_of(&text, needle)), "{e}");
+            assert!(e.message.contains(message), "{e}");
+            assert!(e.to_string().starts_with("t.ron:"), "{e}");
+        }
+        // An unknown field inside `thermal` is refused by the parser.
+        let e = load_str(
+            "t.ron",
+            &taylor_with_thermal("(conductivity: 1.0, cp: 383.0)"),
+            &[],
+        )
+        .unwrap_err();
+        assert!(e.message.contains("cp"), "{e}");
+        // A conducting material whose model has no specific heat must give one.
+        let hypo = taylor_with_thermal("(conductivity: 386.0)").replace(
+            "ElasticPlastic(\n                shear_modulus: 43.8e9,\n                pressure: Linear(bulk_modulus: 117.0e9),\n                flow_stress: Constant(sigma_y: 70.0e6),\n                damage: None,\n                rate: Jaumann,\n                taylor_quinney: 0.9,\n                specific_heat: 383.0,\n            )",
+            "Hypoelastic(shear_modulus: 43.8e9, pressure: Linear(bulk_modulus: 117.0e9))",
+        );
+        assert!(hypo.contains("Hypoelastic"));
+        let e = load_str("t.ron", &hypo, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("materials.copper.thermal"), "{e}");
+        assert!(e.message.contains("give `specific_heat`"), "{e}");
+        let text = hypo.replace(
+            "(conductivity: 386.0)",
+            "(conductivity: 386.0, specific_heat: 385.0)",
+        );
+        let built = build(&load_str("t.ron", &text, &[]).unwrap().scenario).unwrap();
+        assert_eq!(
+            mpm_solver(&built).thermal_properties()[0].specific_heat,
+            385.0
+        );
+    }
+
+    #[test]
+    fn thermal_on_a_material_without_particles_is_refused() {
+        // A gas of the Fdm pipeline.
+        let text = SOD.replace(
+            "\"gas\": (eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0)),",
+            "\"gas\": (eos: IdealGas(gamma: 1.4, cv: 1.0, rho0: 1.0), thermal: (conductivity: 0.025)),",
+        );
+        let e = load_str("sod.ron", &text, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("materials.gas.thermal"), "{e}");
+        assert_eq!(e.position, Some(line_col_of(&text, "thermal: ")), "{e}");
+        assert!(
+            e.message.contains("Fdm pipeline has no heat conduction"),
+            "{e}"
+        );
+        // A material of an Mpm scenario without a constitutive model.
+        let text = taylor_with_thermal("(conductivity: 386.0)").replace(
+            "\"copper\": (",
+            "\"air\": (eos: IdealGas(gamma: 1.4, cv: 717.5), thermal: (conductivity: 0.025)),\n        \"copper\": (",
+        );
+        let e = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("materials.air.thermal"), "{e}");
+        assert!(e.message.contains("no constitutive `model`"), "{e}");
     }
 }

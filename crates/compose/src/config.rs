@@ -169,6 +169,27 @@ pub struct MaterialConfig {
     /// The constitutive model, for particle (Mpm) pipelines.
     #[serde(default)]
     pub model: Option<MaterialModel>,
+    /// Heat conduction inside the material's particles (`Mpm` and the
+    /// solids of `IceMpm`; docs/physics/mpm/heat_conduction.md). Absent:
+    /// no conduction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thermal: Option<ThermalConfig>,
+}
+
+/// The thermal properties of a particle material for the heat conduction
+/// inside the MPM solids (Fourier's law, seed 000 §2 eq 3):
+/// `thermal: (conductivity: 44.5, specific_heat: Some(477.0))`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThermalConfig {
+    /// Thermal conductivity k, W/(m·K), finite and ≥ 0.
+    pub conductivity: f64,
+    /// Specific heat c_v, J/(kg·K), finite and > 0; `None`: the
+    /// constitutive model's own (the `ElasticPlastic` metal's
+    /// `specific_heat`), which a conducting material whose model has none
+    /// must replace.
+    #[serde(default)]
+    pub specific_heat: Option<f64>,
 }
 
 impl MaterialConfig {
@@ -195,6 +216,21 @@ pub enum Pipeline {
     IceMpm(crate::ice_mpm::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
     FdmMpmBridge(crate::bridge::BridgeConfig),
+}
+
+impl Pipeline {
+    /// The name a scenario writes (`Fdm`, `IceMpm`, …).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Fdm(_) => "Fdm",
+            Self::Mpm(_) => "Mpm",
+            Self::Peridynamics(_) => "Peridynamics",
+            Self::Lattice(_) => "Lattice",
+            Self::Ice(_) => "Ice",
+            Self::IceMpm(_) => "IceMpm",
+            Self::FdmMpmBridge(_) => "FdmMpmBridge",
+        }
+    }
 }
 
 /// Options of the MPM pipeline. Every initial region becomes particles of

@@ -67,7 +67,7 @@ impl Solids {
         }
     }
 
-    fn contains(&self, name: &str) -> bool {
+    pub(crate) fn contains(&self, name: &str) -> bool {
         self.names().iter().any(|n| n == name)
     }
 }
@@ -441,6 +441,42 @@ mod solids_tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("pipeline.ice.reactions.0.product"), "{e}");
+    }
+
+    /// `thermal` on one of two solids turns on the conduction of the MPM
+    /// side with that solid's properties at its particle material number
+    /// (name order: `steel` 0, `steel_b` 1), and the run steps; on a fluid
+    /// it is refused at its field.
+    #[test]
+    fn a_thermal_solid_conducts_and_a_thermal_fluid_is_refused() {
+        let anchor = "rate: Jaumann),\n        ),\n    },\n    pipeline:";
+        let text = two_steels().replace(
+            anchor,
+            "rate: Jaumann),\n            thermal: (conductivity: 45.0, specific_heat: 460.0),\n        ),\n    },\n    pipeline:",
+        );
+        assert!(text.contains("thermal"));
+        let loaded = load_str("thermal.ron", &text, &[]).unwrap();
+        let mut built = build(&loaded.scenario).unwrap();
+        let Built::IceMpm { solver, .. } = &built else {
+            panic!("not an IceMpm pipeline");
+        };
+        let th = solver.mpm().thermal_properties();
+        assert_eq!(th.len(), 2);
+        assert_eq!((th[0].conductivity, th[0].specific_heat), (0.0, 0.0));
+        assert_eq!((th[1].conductivity, th[1].specific_heat), (45.0, 460.0));
+        for _ in 0..5 {
+            let dt = built.stable_dt().unwrap();
+            built.advance(dt).unwrap();
+        }
+        let fluid = PISTON.replace(
+            "\"air\": (eos: IdealGas(gamma: 1.4, cv: 717.5, rho0: 1.225)),",
+            "\"air\": (eos: IdealGas(gamma: 1.4, cv: 717.5, rho0: 1.225), thermal: (conductivity: 0.026)),",
+        );
+        assert!(fluid.contains("thermal"));
+        let e = load_str("fluid.ron", &fluid, &[]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("materials.air.thermal"), "{e}");
+        assert!(e.message.contains("not a `solid`"), "{e}");
+        assert!(e.position.is_some(), "{e}");
     }
 
     /// A QM-100 block as particles (the library's Murnaghan reactant with

@@ -3,9 +3,13 @@
 //! its line and column.
 
 use crate::build::PipelineLimits;
-use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ViscosityConfig};
+use crate::config::{
+    BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ThermalConfig, ViscosityConfig,
+};
+use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
 use brisance_eos::EosModel;
+use brisance_mpm::{HeatConduction, ThermalProperties};
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
@@ -70,6 +74,72 @@ fn check_state(path: &str, s: &StateConfig) -> Result<(), Problem> {
             path.into(),
             "give only one of `pressure`, `specific_internal_energy` or `temperature`".into(),
         )),
+    }
+}
+
+/// A material's `thermal` (at `path`) is for the particles of an `Mpm`
+/// pipeline or the solids of an `IceMpm` one: the heat conduction is a
+/// part of the MPM step and of no other method.
+fn check_thermal_use(s: &Scenario, name: &str, path: &str) -> Result<(), Problem> {
+    let why = match &s.pipeline {
+        Pipeline::Mpm(_) if s.materials[name].model.is_some() => return Ok(()),
+        Pipeline::Mpm(_) => format!(
+            "`{name}` has no constitutive `model`, so it is no particle material of the Mpm pipeline"
+        ),
+        Pipeline::IceMpm(c) if c.solid.contains(name) => return Ok(()),
+        Pipeline::IceMpm(_) => format!(
+            "`{name}` is not a `solid` of the IceMpm pipeline (the fluids do not conduct)"
+        ),
+        other => format!("the {} pipeline has no heat conduction", other.name()),
+    };
+    Err((
+        path.into(),
+        format!("{why}; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`"),
+    ))
+}
+
+/// The conductivity and specific heat of the particles of `model` that
+/// `thermal` (at `path`) gives: k finite and ≥ 0, c_v finite and > 0 when
+/// given, and a c_v from the model (the J2 metal's) when not and k > 0.
+/// The MPM solver's own resolution, so that the config refuses what the
+/// solver would.
+pub(crate) fn thermal_properties(
+    path: &str,
+    thermal: &ThermalConfig,
+    model: &MaterialModel,
+) -> Result<ThermalProperties, Problem> {
+    let k = thermal.conductivity;
+    if !(k >= 0.0 && k.is_finite()) {
+        return Err((
+            format!("{path}.conductivity"),
+            format!("conductivity must be finite and ≥ 0 W/(m·K), got {k}"),
+        ));
+    }
+    if let Some(c) = thermal.specific_heat {
+        if !(c > 0.0 && c.is_finite()) {
+            return Err((
+                format!("{path}.specific_heat"),
+                format!("specific_heat must be finite and > 0 J/(kg·K), got {c}"),
+            ));
+        }
+    }
+    let option = HeatConduction {
+        conductivity: vec![k],
+        specific_heat: vec![thermal.specific_heat],
+    };
+    match option.resolve(std::slice::from_ref(model)) {
+        Ok(p) => Ok(p[0]),
+        Err(("heat_conduction.specific_heat", ..)) if thermal.specific_heat.is_none() => Err((
+            path.into(),
+            format!(
+                "give `specific_heat`: a conducting material needs one, and the `{}` model carries none",
+                model.name()
+            ),
+        )),
+        Err((option, value, expected)) => {
+            let field = option.rsplit('.').next().unwrap_or(option);
+            Err((format!("{path}.{field}"), format!("{field} = {value}: {expected}")))
+        }
     }
 }
 
@@ -409,6 +479,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             model
                 .validate()
                 .map_err(|msg| (format!("{path}.model"), msg.to_string()))?;
+        }
+        if let Some(thermal) = &m.thermal {
+            check_thermal_use(s, name, &format!("{path}.thermal"))?;
+            if let Some(model) = &m.model {
+                thermal_properties(&format!("{path}.thermal"), thermal, model)?;
+            }
         }
     }
     let known_materials = || {

@@ -34,6 +34,10 @@
 //! the start of the step. Only the temperature changes: the specific
 //! internal energy e_p is left as the mechanics made it, as for the heat
 //! exchange of the coupled step. See `docs/physics/mpm/heat_conduction.md`.
+//!
+//! [`cases`] holds the verification problems (the decay of a bar's cosine
+//! mode and of a cylinder's Bessel mode) that the tests and the
+//! V-CONDUCTION section of the validation report share.
 
 use crate::transfer::heat::{self, HeatNodeSums, HeatParticles};
 use crate::transfer::{GridMap, ParticleBins};
@@ -306,6 +310,8 @@ pub fn diffusive_time_step(alpha: f64, grid: &UniformGridGeometry, cfl: f64) -> 
         f64::INFINITY
     }
 }
+
+pub mod cases;
 
 #[cfg(test)]
 mod tests;

@@ -5,43 +5,13 @@
 //! thread counts, and a property test of conservation and the maximum
 //! principle.
 
+use super::cases::{alpha, bar_decay, cylinder_decay, solid, CV, J1_FIRST_ZERO, K, RHO, T0};
 use super::*;
 use crate::{fill_shape_in, FillSpec, MaterialId, MpmOptions, MpmSolver, Shape, ShapeFunction};
-use brisance_constitutive::{ElasticPlastic, Hypoelastic, ObjectiveRate, PressureModel};
+use brisance_constitutive::ElasticPlastic;
 use brisance_core::{Geometry, Solver};
 use brisance_grid::Level;
 use proptest::prelude::*;
-use std::f64::consts::PI;
-
-/// Steel-like: ρ = 7800 kg/m³, c_v = 477 J/(kg·K), k = 50 W/(m·K).
-const RHO: f64 = 7800.0;
-const CV: f64 = 477.0;
-const K: f64 = 50.0;
-const T0: f64 = 300.0;
-const DT_AMPLITUDE: f64 = 50.0;
-
-fn alpha() -> f64 {
-    K / (RHO * CV)
-}
-
-/// A solid at rest without stress: the mechanical step leaves it exactly
-/// where it is, so that only the conduction acts.
-fn solid() -> MaterialModel {
-    MaterialModel::Hypoelastic(Hypoelastic {
-        shear_modulus: 1.0e9,
-        pressure: PressureModel::Linear {
-            bulk_modulus: 2.0e9,
-        },
-        rate: ObjectiveRate::Jaumann,
-    })
-}
-
-fn conduction(k: f64) -> HeatConduction {
-    HeatConduction {
-        conductivity: vec![k],
-        specific_heat: vec![Some(CV)],
-    }
-}
 
 fn particles_in(
     level: &Level,
@@ -50,23 +20,7 @@ fn particles_in(
     ppc: usize,
     geometry: Geometry,
 ) -> Particles {
-    let mut ps = Particles::new(0);
-    fill_shape_in(
-        &mut ps,
-        &level.geometry,
-        &FillSpec {
-            shape: Shape::Box { min: lo, max: hi },
-            ppc,
-            density: RHO,
-            material: MaterialId(0),
-            velocity: [0.0; 3],
-            temperature: T0,
-            specific_internal_energy: 0.0,
-        },
-        geometry,
-    )
-    .unwrap();
-    ps
+    cases::particles_in(level, lo, hi, ppc, geometry).unwrap()
 }
 
 fn solver(
@@ -76,19 +30,7 @@ fn solver(
     geometry: Geometry,
     k: f64,
 ) -> MpmSolver {
-    MpmSolver::new(
-        level,
-        vec![solid()],
-        ps,
-        MpmOptions {
-            shape,
-            geometry,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .with_heat_conduction(conduction(k))
-    .unwrap()
+    cases::conducting_solver(level, ps, shape, geometry, k).unwrap()
 }
 
 /// Σ m_p c_v T_p, J.
@@ -101,55 +43,14 @@ fn total_heat(s: &MpmSolver) -> f64 {
         .sum()
 }
 
-/// The amplitude of mode `phi` in the particles' temperature,
-/// Σ m (T − T0) φ / Σ m φ² (the masses carry the ring weight r in r–z).
-fn amplitude(s: &MpmSolver, phi: impl Fn([f64; 3]) -> f64) -> f64 {
-    let ps = s.particles();
-    let (mut num, mut den) = (0.0, 0.0);
-    for p in 0..ps.len() {
-        let f = phi(ps.position[p]);
-        num += ps.mass[p] * (ps.temperature[p] - T0) * f;
-        den += ps.mass[p] * f * f;
-    }
-    num / den
-}
-
-/// Runs `s` to `t_end` in equal steps of at most the diffusive limit at
-/// cfl 0.4, and returns the measured decay rate −ln(A(t)/A(0))/t of mode
-/// `phi`.
-fn measured_decay(mut s: MpmSolver, t_end: f64, phi: impl Fn([f64; 3]) -> f64 + Copy) -> f64 {
-    let dt_max = diffusive_time_step(alpha(), &s.level().geometry, 0.4);
-    let steps = (t_end / dt_max).ceil() as usize;
-    let dt = t_end / steps as f64;
-    let a0 = amplitude(&s, phi);
-    for _ in 0..steps {
-        s.advance(dt).unwrap();
-    }
-    -(amplitude(&s, phi) / a0).ln() / t_end
-}
-
-/// The bar of length L = 1 m along x, `cells` cells, one cell across,
-/// with T = T0 + ΔT cos(π x/L): the first mode of a bar with adiabatic
-/// ends, whose amplitude decays as exp(−α (π/L)² t). (The sine mode of
-/// the bar with ends held at T0 decays at the same rate; the adiabatic
-/// ends are the method's natural condition, so no temperature needs to
-/// be prescribed.)
-fn bar(cells: usize, shape: ShapeFunction) -> MpmSolver {
-    let h = 1.0 / cells as f64;
-    let level = Level::new([0.0; 3], [1.0, h, h], [cells, 1, 1], [1, 1, 1], 0).unwrap();
-    let mut ps = particles_in(&level, [0.0; 3], [1.0, h, h], 2, Geometry::Cartesian);
-    for p in 0..ps.len() {
-        ps.temperature[p] = T0 + DT_AMPLITUDE * (PI * ps.position[p][0]).cos();
-    }
-    solver(level, ps, shape, Geometry::Cartesian, K)
-}
-
-/// The bar's decay rate relative to the analytic α π², minus one, over
-/// one e-folding time.
+/// The bar's decay-rate error ([`cases::bar_decay`]).
 fn bar_error(cells: usize, shape: ShapeFunction) -> f64 {
-    let exact = alpha() * PI * PI;
-    let rate = measured_decay(bar(cells, shape), 1.0 / exact, |x| (PI * x[0]).cos());
-    rate / exact - 1.0
+    bar_decay(cells, shape).unwrap().error()
+}
+
+/// The cylinder's decay-rate error ([`cases::cylinder_decay`]).
+fn cylinder_error(cells: usize, shape: ShapeFunction) -> f64 {
+    cylinder_decay(cells, shape).unwrap().error()
 }
 
 /// V-CONDUCTION: the decay rate within 1 % at 32 cells, and an error that
@@ -186,34 +87,15 @@ fn bar_cosine_mode_decays_at_the_analytic_rate_with_every_shape() {
     }
 }
 
-/// J0(x) by its power series Σ (−1)^m (x/2)^{2m} / (m!)², to round-off for
-/// 0 ≤ x ≤ 4.
-fn bessel_j0(x: f64) -> f64 {
-    let q = -0.25 * x * x;
-    let (mut term, mut sum) = (1.0, 1.0);
-    for m in 1..40 {
-        term *= q / (m * m) as f64;
-        sum += term;
-    }
-    sum
-}
-
-/// The first positive zero of J1 = −J0′: the first radial mode of a
-/// cylinder with an adiabatic surface, T = T0 + ΔT J0(j r/R).
-const J1_FIRST_ZERO: f64 = 3.831_705_970_207_512;
-
-fn cylinder_error(cells: usize, shape: ShapeFunction) -> f64 {
-    let radius = 1.0;
-    let h = radius / cells as f64;
-    let level = Level::new([0.0; 3], [radius, h, h], [cells, 1, 1], [1, 1, 1], 0).unwrap();
-    let mut ps = particles_in(&level, [0.0; 3], [radius, h, h], 2, Geometry::Axisymmetric);
-    let mode = move |x: [f64; 3]| bessel_j0(J1_FIRST_ZERO * x[0] / radius);
-    for p in 0..ps.len() {
-        ps.temperature[p] = T0 + DT_AMPLITUDE * mode(ps.position[p]);
-    }
-    let s = solver(level, ps, shape, Geometry::Axisymmetric, K);
-    let exact = alpha() * (J1_FIRST_ZERO / radius).powi(2);
-    measured_decay(s, 1.0 / exact, mode) / exact - 1.0
+/// The series J0 of the cylinder's mode: zero at the first zero of J0,
+/// and flat (J0′ = −J1 = 0) at [`J1_FIRST_ZERO`], the mode's radius.
+#[test]
+fn the_bessel_series_has_the_tabulated_zeros() {
+    assert!(cases::bessel_j0(2.404_825_557_695_773).abs() < 1e-15);
+    let (x, h) = (J1_FIRST_ZERO, 1e-5);
+    let slope = (cases::bessel_j0(x + h) - cases::bessel_j0(x - h)) / (2.0 * h);
+    assert!(slope.abs() < 1e-9, "{slope}");
+    assert!((cases::bessel_j0(x) + 0.402_759_395_702_553).abs() < 1e-14);
 }
 
 /// The r–z form: a solid cylinder of radius R with an adiabatic surface,
