@@ -28,6 +28,9 @@ pub mod ron_path;
 pub mod run;
 pub mod validate;
 
+#[cfg(test)]
+mod contract_tests;
+
 pub use config::Scenario;
 pub use error::{ConfigError, RunError};
 pub use load::{load_file, load_str, LoadedScenario, DEFAULT_SCENARIO};

@@ -21,6 +21,8 @@ pub mod tensor;
 
 #[cfg(any(test, feature = "contracts"))]
 pub mod contracts;
+#[cfg(any(test, feature = "contracts"))]
+pub mod solver_contract;
 
 pub use eos::Eos;
 pub use error::{EosError, SolverError};

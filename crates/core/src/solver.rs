@@ -138,3 +138,16 @@ pub trait Solver: Send {
     /// Restores a state written by [`Solver::save_state`].
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError>;
 }
+
+/// Refuses a step that is not positive and finite, before anything moves
+/// (the [`Solver::advance`] contract: a refused step leaves the state as
+/// it was); `method` names the solver in the error.
+pub fn check_step(method: &str, dt: f64) -> Result<(), SolverError> {
+    if dt > 0.0 && dt.is_finite() {
+        Ok(())
+    } else {
+        Err(SolverError::Other(format!(
+            "{method}: time step {dt} s must be positive and finite"
+        )))
+    }
+}

@@ -1134,6 +1134,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     /// U^{n+1} = L_z L_y L_x L_x L_y L_z U^n, each over Δt/2 (seed 001
     /// eq 6); directions with a single cell are skipped.
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        brisance_core::solver::check_step("FDM", dt)?;
         let _span = tracing::trace_span!("fdm_step", step = self.steps, dt).entered();
         for axis in [2, 1, 0, 0, 1, 2] {
             if self.level.is_active(axis) {

@@ -3178,6 +3178,7 @@ impl<E: Eos> Solver for IceSolver<E> {
     }
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        brisance_core::solver::check_step("ICE", dt)?;
         let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
         match self.options.pressure {
             PressureSolve::Explicit => {

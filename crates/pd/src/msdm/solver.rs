@@ -29,6 +29,11 @@ struct LatticeState {
     kind: Vec<i32>,
     /// Surface regression, if on.
     regression: Option<RegressionState>,
+    /// The net forces of the last evaluation when the next step reuses
+    /// them (velocity Verlet): with dashpots they were taken at the
+    /// predicted velocity, not the step's final one, so recomputing them
+    /// from the restored state would not continue bit-identically.
+    force: Option<[Vec<f64>; 3]>,
 }
 
 /// The evolving state of a surface regression, for checkpoints.
@@ -208,21 +213,61 @@ impl Solver for MsdmLattice {
                 consumed_mass: r.consumed_mass,
                 converted: r.converted,
             }),
+            force: self.forces_current.then(|| self.force.clone()),
         };
         bincode::serialize(&s).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
 
+    /// Every length is checked before anything is assigned, so a refused
+    /// checkpoint leaves the lattice as it was.
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
         let s: LatticeState =
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
-        if s.mass.len() != self.len() || s.status.len() != self.status.len() {
+        let n = self.len();
+        if s.mass.len() != n || s.status.len() != self.status.len() {
             return Err(SolverError::Checkpoint(format!(
                 "checkpoint has {} nodes and {} bond slots, the lattice {} and {}",
                 s.mass.len(),
                 s.status.len(),
-                self.len(),
+                n,
                 self.status.len()
             )));
+        }
+        if s.kind.len() != n {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has {} node kinds, the lattice {} nodes",
+                s.kind.len(),
+                n
+            )));
+        }
+        let per_node = [&s.x[0], &s.x[1], &s.x[2], &s.u[0], &s.u[1], &s.u[2]]
+            .into_iter()
+            .chain([&s.volume, &s.pressure, &s.temperature, &s.energy])
+            .chain(s.force.iter().flatten());
+        if per_node.into_iter().any(|v| v.len() != n)
+            || s.mass_k.len() != self.mass_k.len()
+            || s.spring.len() != self.spring.len()
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint's node or spring arrays do not match the lattice's {n} nodes"
+            )));
+        }
+        match (&self.regression, &s.regression) {
+            (Some(_), Some(state)) => {
+                if state.carry.len() != n || state.fluid.len() != n || state.remaining.len() != n {
+                    return Err(SolverError::Checkpoint(format!(
+                        "checkpoint has regression state for {} nodes, the lattice {}",
+                        state.fluid.len(),
+                        n
+                    )));
+                }
+            }
+            (None, None) => {}
+            _ => {
+                return Err(SolverError::Checkpoint(
+                    "checkpoint and lattice differ in whether surface regression is on".into(),
+                ))
+            }
         }
         self.time = s.time;
         self.x = s.x;
@@ -233,35 +278,12 @@ impl Solver for MsdmLattice {
         self.pressure = s.pressure;
         self.temperature = s.temperature;
         self.energy = s.energy;
-        if s.kind.len() != self.len() {
-            return Err(SolverError::Checkpoint(format!(
-                "checkpoint has {} node kinds, the lattice {} nodes",
-                s.kind.len(),
-                self.len()
-            )));
-        }
-        let n = self.len();
-        match (&mut self.regression, s.regression) {
-            (Some(r), Some(state)) => {
-                if state.carry.len() != n || state.fluid.len() != n || state.remaining.len() != n {
-                    return Err(SolverError::Checkpoint(format!(
-                        "checkpoint has regression state for {} nodes, the lattice {}",
-                        state.fluid.len(),
-                        n
-                    )));
-                }
-                r.fluid = state.fluid;
-                r.remaining = state.remaining;
-                r.carry = state.carry;
-                r.consumed_mass = state.consumed_mass;
-                r.converted = state.converted;
-            }
-            (None, None) => {}
-            _ => {
-                return Err(SolverError::Checkpoint(
-                    "checkpoint and lattice differ in whether surface regression is on".into(),
-                ))
-            }
+        if let (Some(r), Some(state)) = (&mut self.regression, s.regression) {
+            r.fluid = state.fluid;
+            r.remaining = state.remaining;
+            r.carry = state.carry;
+            r.consumed_mass = state.consumed_mass;
+            r.converted = state.converted;
         }
         self.status = s.status;
         self.spring = s.spring;
@@ -272,6 +294,10 @@ impl Solver for MsdmLattice {
             };
         }
         self.mark_modified();
+        if let Some(force) = s.force {
+            self.force = force;
+            self.forces_current = true;
+        }
         Ok(())
     }
 
