@@ -13,7 +13,11 @@
 //! trace material that has no state of positive temperature at the
 //! region's density and pressure (JWL++ products at the density of
 //! unreacted explosive and 1 atm) takes its own density at the region's
-//! pressure and temperature instead.
+//! pressure and temperature instead, and where it has none at that
+//! temperature either (a metal trace in a booster's products at 10 GPa
+//! and 19 000 K, whose Mie–Grüneisen thermal pressure alone exceeds
+//! 10 GPa) its density at the region's pressure and 300 K, as the IceMpm
+//! pipeline's traces do: a trace's temperature carries no mass.
 //!
 //! `reactions` lists the reactions of step 4 (seed 000 eq 1), each
 //! `(reactant: "...", product: "...", model: JwlPlusPlus(g: ..., b: ...))`
@@ -595,7 +599,8 @@ pub(crate) fn build_with_traces(
 
 /// Density of a trace material in a region of density `rho`, pressure `p`
 /// and temperature `t`: the region's density when the material has a state
-/// of positive temperature there, else its own density at (p, t).
+/// of positive temperature there, else its own density at (p, t), else
+/// at (p, 300 K).
 fn trace_density(eos: &EosModel, rho: f64, p: f64, t: f64) -> Result<f64, String> {
     if let Ok(e) = eos.specific_internal_energy(rho, p) {
         let temp = eos.temperature(rho, e);
@@ -603,7 +608,9 @@ fn trace_density(eos: &EosModel, rho: f64, p: f64, t: f64) -> Result<f64, String
             return Ok(rho);
         }
     }
-    eos.density(p, t).map_err(|e| e.to_string())
+    eos.density(p, t)
+        .or_else(|_| eos.density(p, 300.0))
+        .map_err(|e| e.to_string())
 }
 
 /// One paragraph for `check`.
@@ -715,6 +722,46 @@ mod tests {
         // 15 µs at ~5 km/s after a ~3 µs start: 5–7 cm burnt.
         assert!((20..=40).contains(&burnt), "{burnt}");
         assert!(p_max > 5e9, "{p_max:e}");
+    }
+
+    /// A metal trace in a hot booster: copper has no Mie–Grüneisen state
+    /// at 10 GPa and the products' 19 000 K (its thermal pressure alone is
+    /// above 10 GPa), so it takes its density at 10 GPa and 300 K; before,
+    /// the build stopped at the booster's region.
+    #[test]
+    fn a_metal_trace_in_a_hot_booster_takes_room_temperature() {
+        let text = r#"Scenario(
+            name: "booster",
+            domain: (lower: (0, 0, 0), upper: (0.01, 0.001, 0.001), cells: (10, 1, 1)),
+            time: (end: 1.0e-6),
+            materials: {
+                "products": (library: "qm100_products"),
+                "copper": (eos: MieGruneisenLinear(c0: 3619.7, s: 1.489, gamma0: 2.02, rho0: 8930.0, cv: 383.0, t0: 300.0)),
+            },
+            pipeline: Ice(materials: ["products", "copper"]),
+            initial: [
+                (region: Everywhere, material: "copper", state: (density: 8930.0077, temperature: 300.0)),
+                (region: Box(min: (0, -1, -1), max: (0.005, 1, 1)), material: "products", state: (density: 1260.0, pressure: 1.0e10)),
+            ],
+        )"#;
+        let loaded = load_str("booster.ron", text, &[]).unwrap();
+        let solver = build_solver(&loaded.scenario).unwrap();
+        let d = solver
+            .cell_data(&[
+                "density_2".into(),
+                "volume_fraction_2".into(),
+                "temperature_2".into(),
+                "pressure".into(),
+            ])
+            .unwrap();
+        let f = |name: &str| d.field(name).unwrap()[0];
+        // The booster's cell: the copper trace at 10 GPa and 300 K, its
+        // own density (density_2 is θρ) compressed above ρ₀ (on the
+        // Us–up Hugoniot 10 GPa is about 9.6·10³ kg/m³).
+        let rho = f("density_2") / f("volume_fraction_2");
+        assert!((f("pressure") - 1e10).abs() < 1e-6 * 1e10, "{}", f("pressure"));
+        assert!((f("temperature_2") - 300.0).abs() < 1e-6, "{}", f("temperature_2"));
+        assert!(rho > 9.4e3 && rho < 9.8e3, "{rho}");
     }
 
     /// A reaction naming a material outside the pipeline, or products
