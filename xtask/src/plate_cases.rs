@@ -331,6 +331,70 @@ fn centre_along(
     (n > 0).then(|| (z / n as f64, v / n as f64, n))
 }
 
+/// The free span's momentum along the normal: Σ m v_n over the steel
+/// particles within D/2 of the axis (r–z: ring masses), kg·m/s; on the
+/// quarter a quarter of the plate's.
+fn span_momentum(solver: &dyn Solver, grid: Grid, radius: f64) -> Option<f64> {
+    Some(momentum_rings(solver, grid, radius, 1)?[0])
+}
+
+/// [`span_momentum`] in `bins` rings of equal width out to `radius`.
+fn momentum_rings(solver: &dyn Solver, grid: Grid, radius: f64, bins: usize) -> Option<Vec<f64>> {
+    let data = solver.particle_data()?;
+    let field = |name: &str| {
+        data.fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    };
+    let (normal, lateral) = grid.axes();
+    let velocity = field(["velocity_x", "velocity_y", "velocity_z"][normal])?;
+    let (mass, material) = (field("mass")?, field("material")?);
+    let mut p = vec![0.0; bins];
+    for (i, x) in data.positions.iter().enumerate() {
+        let r = lateral.iter().map(|&d| x[d] * x[d]).sum::<f64>().sqrt();
+        if material[i] == STEEL && r < radius {
+            p[((r / radius * bins as f64) as usize).min(bins - 1)] += mass[i] * velocity[i];
+        }
+    }
+    Some(p)
+}
+
+/// The plate's deflection profile: in bins of `width` along the lateral
+/// distance r, the mean normal position of the steel particles within
+/// D/2 of the axis, less the plate's mid-plane at rest (R + t/2): (r at
+/// the bin's middle, deflection, particles).
+fn deflection_profile(
+    solver: &dyn Solver,
+    grid: Grid,
+    case: &PlateCase,
+    width: f64,
+) -> Vec<(f64, f64, usize)> {
+    let Some(data) = solver.particle_data() else {
+        return Vec::new();
+    };
+    let Some((_, material)) = data.fields.iter().find(|(n, _)| n == "material") else {
+        return Vec::new();
+    };
+    let (normal, lateral) = grid.axes();
+    let bins = (0.5 * case.diameter / width).ceil() as usize;
+    let mut sum = vec![(0.0, 0usize); bins];
+    for (x, m) in data.positions.iter().zip(material) {
+        let r = lateral.iter().map(|&d| x[d] * x[d]).sum::<f64>().sqrt();
+        if *m == STEEL && r < 0.5 * case.diameter {
+            let b = ((r / width) as usize).min(bins - 1);
+            sum[b].0 += x[normal];
+            sum[b].1 += 1;
+        }
+    }
+    let mid = case.standoff + 0.5 * case.thickness;
+    sum.iter()
+        .enumerate()
+        .filter(|(_, s)| s.1 > 0)
+        .map(|(b, s)| ((b as f64 + 0.5) * width, s.0 / s.1 as f64 - mid, s.1))
+        .collect()
+}
+
 fn sample_centre(solver: &dyn Solver, grid: Grid, cell: f64) -> Result<(f64, f64, usize)> {
     let data = solver
         .particle_data()
@@ -423,12 +487,27 @@ pub(crate) fn run_case(
     let cell = grid.cell(case);
     let (z0, _, n0) = sample_centre(run.solver.as_ref(), grid, cell)?;
     let mut history = vec![(0.0, 0.0, 0.0)];
+    let mut rings = String::from("time,ring1,ring2,ring3,ring4,ring5\n");
+    let mut momentum =
+        vec![span_momentum(run.solver.as_ref(), grid, 0.5 * case.diameter).unwrap_or(f64::NAN)];
     let (mut peak, mut peak_time, mut peak_reached) = (0.0f64, 0.0, false);
     let mut falling = 0u32;
     run.step(SAMPLE_EVERY, |solver, steps, _| {
         let (z, v, _) = sample_centre(solver, grid, cell)?;
         let d = z - z0;
         history.push((solver.time(), d, v));
+        momentum.push(span_momentum(solver, grid, 0.5 * case.diameter).unwrap_or(f64::NAN));
+        if let Some(p) = momentum_rings(solver, grid, 0.5 * case.diameter, 5) {
+            let _ = writeln!(
+                rings,
+                "{:e},{}",
+                solver.time(),
+                p.iter()
+                    .map(|x| format!("{x:e}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            );
+        }
         if d > peak {
             peak = d;
             peak_time = solver.time();
@@ -448,6 +527,11 @@ pub(crate) fn run_case(
     let wall = run.elapsed();
     let solver = &run.solver;
     let stop = run.stop.clone();
+    let mut profile = String::from("r,deflection,particles\n");
+    for (r, d, n) in deflection_profile(solver.as_ref(), grid, case, 0.02 * case.length_scale()) {
+        let _ = writeln!(profile, "{r:e},{d:e},{n}");
+    }
+
     let cold = match (&stop, solver.particle_data()) {
         (Some(_), Some(data)) => {
             let field = |name: &str| {
@@ -468,11 +552,15 @@ pub(crate) fn run_case(
     let finished = run
         .finish(out, wall)
         .map_err(|e| anyhow!("case {}: {e}", case.id))?;
-    let mut csv = String::from("time,centre_deflection,centre_velocity\n");
-    for (t, d, v) in &history {
-        let _ = writeln!(csv, "{t:e},{d:e},{v:e}");
+    let mut csv = String::from("time,centre_deflection,centre_velocity,span_momentum\n");
+    for ((t, d, v), p) in history.iter().zip(&momentum) {
+        let _ = writeln!(csv, "{t:e},{d:e},{v:e},{p:e}");
     }
     std::fs::write(out.join("centre.csv"), csv)
+        .with_context(|| format!("cannot write {}", out.display()))?;
+    std::fs::write(out.join("profile.csv"), profile)
+        .with_context(|| format!("cannot write {}", out.display()))?;
+    std::fs::write(out.join("ring_momentum.csv"), rings)
         .with_context(|| format!("cannot write {}", out.display()))?;
     Ok(PlateRun {
         case: *case,
