@@ -2773,6 +2773,36 @@ fn equilibrate_cell<E: Eos>(
     Ok((rep, kept))
 }
 
+/// The volume (per unit cell volume) a material of share θ gains at
+/// pressure `p` when the heat exchange takes its temperature from `t0` to
+/// `t1`: seed 000 eq 31's θβΔT, the first-order form of
+/// θ (v(p, T₁)/v(p, T₀) − 1). The first-order form holds while βΔT is
+/// small; a trace the exchange cools from a booster's 19 000 K to a metal's
+/// 300 K has βΔT ≈ −1 and the linear term took its volume below zero, so
+/// beyond |βΔT| = 0.01 the change is the exact one at constant pressure
+/// from the equation of state (−θ < change: the volume stays positive).
+/// Where the equation of state has no density at (p, T₀) or (p, T₁) the
+/// first-order form stands.
+fn thermal_volume_change<E: Eos>(
+    eos: &E,
+    p: f64,
+    t0: f64,
+    t1: f64,
+    theta: f64,
+) -> Result<f64, brisance_core::EosError> {
+    let beta = eos.thermal_expansivity(p, t1)?;
+    let linear = theta * beta * (t1 - t0);
+    if (beta * (t1 - t0)).abs() <= 0.01 {
+        return Ok(linear);
+    }
+    match (eos.density(p, t0), eos.density(p, t1)) {
+        (Ok(r0), Ok(r1)) if r0 > 0.0 && r1 > 0.0 && r0.is_finite() && r1.is_finite() => {
+            Ok(theta * (r0 / r1 - 1.0))
+        }
+        _ => Ok(linear),
+    }
+}
+
 #[inline]
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -2983,21 +3013,41 @@ fn lagrangian_cell<E: Eos>(
             let dtemp = temp[r][0] - before[r][0];
             e[r] += cv[r] * dtemp;
             if dtemp != 0.0 {
-                let beta = params.eos[r]
-                    .thermal_expansivity(p.max(f64::MIN_POSITIVE), temp[r][0])
-                    .map_err(|err| format!("material {}: thermal expansivity: {err}", r + 1))?;
-                tbt[r] = theta[r] * beta * dtemp / dt;
+                tbt[r] = thermal_volume_change(
+                    &params.eos[r],
+                    p.max(f64::MIN_POSITIVE),
+                    before[r][0],
+                    temp[r][0],
+                    theta[r],
+                )
+                .map_err(|err| format!("material {}: thermal expansivity: {err}", r + 1))?
+                    / dt;
             }
         }
     }
     let mut out = [[0.0; NL]; MAX_MATERIALS];
     for r in 0..n {
         let f = volume_change_share(tk[r], tk_sum);
-        let thermal = thermal_expansion_term(&tbt[..n], r, f);
-        let theta_l = match bounded[r] {
-            Some(dv) => theta_start[r] + dv + dt * thermal,
-            None => lagrangian_volume(theta_start[r], share[r], divergence, thermal, dt),
+        // Eq 31: the mechanical change f_r^θ ∇·Σθ*u* (or its bound), then
+        // the exchange's thermal change θ_r β_r Ṫ_r of the material's own
+        // volume, taken as the relative change it is (of the volume after
+        // the mechanical one: a trace compressed to a few per cent of its
+        // volume and cooled by the exchange from 19 000 to 300 K went below
+        // zero when its shrink was taken of its volume at the step's
+        // start), and the compensation −f_r^θ Σ_s θ_s β_s Ṫ_s. With no
+        // heat exchange both thermal terms are zero and this is eq 31 as
+        // before, bit for bit.
+        let mechanical = match bounded[r] {
+            Some(dv) => theta_start[r] + dv,
+            None => lagrangian_volume(theta_start[r], share[r], divergence, 0.0, dt),
         } + (theta[r] - theta_start[r]);
+        let own = if theta[r] > 0.0 {
+            dt * tbt[r] / theta[r]
+        } else {
+            0.0
+        };
+        let compensation = dt * (thermal_expansion_term(&tbt[..n], r, f) - tbt[r]);
+        let theta_l = mechanical * (1.0 + own) + compensation;
         out[r][L_RHO] = rho[r];
         out[r][L_VEL..L_VEL + 3].copy_from_slice(&vel[r]);
         out[r][L_ENERGY] = e[r];
@@ -3741,5 +3791,35 @@ mod advection_cold_rule_tests {
         s.kept_warm_advection[0] = KeptWarmTotals::default();
         s.restore_state(&saved).unwrap();
         assert_eq!(s.kept_warm_advection_totals()[0], adv);
+    }
+}
+
+#[cfg(test)]
+mod thermal_volume_tests {
+    use super::*;
+    use brisance_eos::IdealGas;
+
+    /// Eq 31's θβΔT for an ideal gas (β = 1/T): first order for a small
+    /// change, the exact θ(T₁/T₀ − 1) at constant pressure for a large one
+    /// (a trace cooled from 19 000 to 300 K keeps 300/19 000 of its
+    /// volume, where the first-order form would give it −0.98 θ + ...).
+    #[test]
+    fn an_ideal_gas_trace_keeps_the_exact_volume_ratio() {
+        let gas = IdealGas::air();
+        let (p, theta) = (1e8, 1e-6);
+        // Small: |βΔT| = 0.5/1000 ≤ 0.01, the first-order form.
+        let small = thermal_volume_change(&gas, p, 1000.0, 1000.5, theta).unwrap();
+        let beta = gas.thermal_expansivity(p, 1000.5).unwrap();
+        assert_eq!(small, theta * beta * 0.5);
+        assert!((small / (theta * 0.5 / 1000.5) - 1.0).abs() < 1e-12);
+        // Large: the ratio of the densities at (p, T₀) and (p, T₁).
+        let large = thermal_volume_change(&gas, p, 19_000.0, 300.0, theta).unwrap();
+        let want = theta * (300.0 / 19_000.0 - 1.0);
+        assert!((large / want - 1.0).abs() < 1e-12, "{large:e} against {want:e}");
+        assert!(theta + large > 0.0);
+        // The first-order form at the cooled temperature would have
+        // removed far more than the trace holds.
+        let linear = theta * gas.thermal_expansivity(p, 300.0).unwrap() * (300.0 - 19_000.0);
+        assert!(theta + linear < 0.0, "{linear:e}");
     }
 }
