@@ -44,7 +44,7 @@
 //!   height above the wall;
 //! - final diameter D_f = 2 max_p (r_p + ½ h ‖F_pᵀ e_r‖₁), r_p = √(x² + y²),
 //!   e_r = (x, y, 0)/r_p: the widest point of the rod, which for a Taylor
-//!   mushroom is the foot on the wall ([`TaylorResult::widest_at`] reports
+//!   mushroom is the foot on the wall (`TaylorResult::widest_at` reports
 //!   the height of the particle that sets it);
 //! - the profile r(z): the same radial extent, maximised over the particles
 //!   whose centres fall in each slice of height h (slices without a

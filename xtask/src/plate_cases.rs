@@ -309,7 +309,7 @@ pub(crate) fn centre_of(
     )
 }
 
-/// [`centre_of`] on `grid`: the plate's normal z, or y on an (r, z) grid
+/// `centre_of` on `grid`: the plate's normal z, or y on an (r, z) grid
 /// where the lateral distance is r = x alone.
 fn centre_along(
     positions: &[[f64; 3]],

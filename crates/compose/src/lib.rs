@@ -10,7 +10,7 @@
 //! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline ([`lattice`],
 //!   [`peridynamics`], [`ice`] and [`bridge`] hold their own pipelines).
-//! - [`run`]: the run loop, outputs, checkpoints and restart.
+//! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
 pub mod bridge;
 pub mod build;

@@ -1,7 +1,7 @@
 //! Brisance couple: the coupled finite-difference / material-point method
 //! (CFDMP) of seed 001 §3 and the detonation remap of seed 001 §4.1.
 //!
-//! - [`remap`]: a 1D (planar, cylindrical, spherical) detonation profile
+//! - [`remap`](mod@remap): a 1D (planar, cylindrical, spherical) detonation profile
 //!   mapped onto a 1D/2D/3D FDM grid as its initial state, conserving the
 //!   charge's mass, energy, products mass and radial momentum to round-off.
 //! - [`regions`]: the FDM region, the MPM region and the bridge region of

@@ -299,7 +299,7 @@ pub struct EquilibrationStats {
     pub total_iterations: u64,
 }
 
-/// What step 2's cold-material rule ([`kept_warm`]) did to one material:
+/// What step 2's cold-material rule (`kept_warm`) did to one material:
 /// the cells in which it replaced the material's specific internal energy
 /// by the energy at its held temperature, and the energy that added.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -3815,7 +3815,10 @@ mod thermal_volume_tests {
         // Large: the ratio of the densities at (p, T₀) and (p, T₁).
         let large = thermal_volume_change(&gas, p, 19_000.0, 300.0, theta).unwrap();
         let want = theta * (300.0 / 19_000.0 - 1.0);
-        assert!((large / want - 1.0).abs() < 1e-12, "{large:e} against {want:e}");
+        assert!(
+            (large / want - 1.0).abs() < 1e-12,
+            "{large:e} against {want:e}"
+        );
         assert!(theta + large > 0.0);
         // The first-order form at the cooled temperature would have
         // removed far more than the trace holds.

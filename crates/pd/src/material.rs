@@ -29,7 +29,7 @@
 //! smallest stretch among its intact bonds at the previous step. Seed 004
 //! (footnote c) used a "damage stretch coefficient" α_D and a "minimum
 //! stretch coefficient" α_min for its steel and says only that these
-//! models "increase the critical [stretch] as damage increases or in
+//! models "increase the critical \[stretch\] as damage increases or in
 //! compression, respectively"; it gives no formula and cites no paper for
 //! either (the footnote carries no reference number). So no source is
 //! cited here for the damage-stretch term: its form, linear in φ, is

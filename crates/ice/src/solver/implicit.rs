@@ -1,7 +1,7 @@
 //! The implicit-pressure variant of steps 3 and 5 (seed 000 §3.3, last
 //! paragraph: "a Poisson equation is solved in the calculation of Δp,
 //! which is in turn used to iteratively update the face-centered
-//! velocities [8]"), after Kashiwa et al., LA-13773-MS (2000), and
+//! velocities \[8\]"), after Kashiwa et al., LA-13773-MS (2000), and
 //! Uintah's implicit ICE (impICE: the matrix of setupMatrix, the
 //! right-hand side of setupRHS and the outer iterations with recomputed
 //! face velocities).
