@@ -856,15 +856,9 @@ pub fn run_until_stopped(
 /// pipeline but `Fdm` so far), `None` when its patches may be spread
 /// over ranks.
 fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static str> {
-    use crate::config::Pipeline;
     match pipeline {
-        Pipeline::Fdm(_) => None,
-        Pipeline::Mpm(_) => Some("Mpm"),
-        Pipeline::Peridynamics(_) => Some("Peridynamics"),
-        Pipeline::Lattice(_) => Some("Lattice"),
-        Pipeline::Ice(_) => Some("Ice"),
-        Pipeline::IceMpm(_) => Some("IceMpm"),
-        Pipeline::FdmMpmBridge(_) => Some("FdmMpmBridge"),
+        crate::config::Pipeline::Fdm(_) => None,
+        other => Some(other.name()),
     }
 }
 
