@@ -536,6 +536,22 @@ impl MpmSolver {
         })
     }
 
+    /// One step of heat conduction inside the solids
+    /// ([`crate::conduction`]) on the particles' start-of-step positions
+    /// and temperatures; nothing when no material conducts.
+    pub(crate) fn conduct_heat(&mut self, dt: f64) {
+        if !self.thermal.is_empty() {
+            crate::conduction::conduct(
+                &self.work.map,
+                &self.work.bins,
+                &mut self.particles,
+                &self.thermal,
+                &mut self.work.heat,
+                dt,
+            );
+        }
+    }
+
     /// Turns on heat conduction inside the solids ([`crate::conduction`])
     /// with each material's conductivity and specific heat; with no
     /// conductivity anywhere it stays off and the steps are unchanged, bit
@@ -893,6 +909,10 @@ impl MpmSolver {
                 return Err(self.particle_error(e.index, e.to_string()));
             }
         }
+        // Heat conduction first, from the positions and temperatures of
+        // the start of the step (crate::conduction; it changes the
+        // temperatures only, which nothing before the stress update reads).
+        self.conduct_heat(dt);
         let mut surface_forces = self.take_surface_forces()?;
         surface_forces.extend_from_slice(self.inflow.forces());
         let grid = self.level.geometry;
@@ -907,18 +927,6 @@ impl MpmSolver {
                 dt,
             )
         };
-        // Heat conduction first, from the positions and temperatures of
-        // the start of the step (crate::conduction).
-        if !self.thermal.is_empty() {
-            crate::conduction::conduct(
-                &self.work.map,
-                &self.work.bins,
-                &mut self.particles,
-                &self.thermal,
-                &mut self.work.heat,
-                dt,
-            );
-        }
         let work = &mut self.work;
         let t = step::Transfer {
             map: &work.map,

@@ -158,6 +158,9 @@ impl MpmSolver {
         coupling: &mut impl GridCoupling,
     ) -> Result<(), SolverError> {
         self.sort_particles()?;
+        // Heat conduction inside the solids, from the state of the start
+        // of the step (crate::conduction; temperatures only).
+        self.conduct_heat(dt);
         let surface_forces = self.take_surface_forces()?;
         let grid = self.level.geometry;
         let params = StepParams {
@@ -171,18 +174,6 @@ impl MpmSolver {
                 dt,
             )
         };
-        // Heat conduction inside the solids, from the state of the start
-        // of the step (crate::conduction).
-        if !self.thermal.is_empty() {
-            crate::conduction::conduct(
-                &self.work.map,
-                &self.work.bins,
-                &mut self.particles,
-                &self.thermal,
-                &mut self.work.heat,
-                dt,
-            );
-        }
         let work = &mut self.work;
         let t = Transfer {
             map: &work.map,
