@@ -1482,11 +1482,7 @@ impl Solver for MpmSolver {
     }
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
-        if !(dt > 0.0) || !dt.is_finite() {
-            return Err(SolverError::Other(format!(
-                "MPM: time step {dt} s must be positive and finite"
-            )));
-        }
+        brisance_core::solver::check_step("MPM", dt)?;
         // The whole step runs as one task of the thread pool, so that each of
         // its parallel loops starts on a worker instead of being handed over
         // from this thread and waited for (a wake-up per loop, ~25 a step).

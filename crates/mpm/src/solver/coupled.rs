@@ -95,11 +95,7 @@ impl MpmSolver {
         dt: f64,
         coupling: &mut impl GridCoupling,
     ) -> Result<(), SolverError> {
-        if !(dt > 0.0) || !dt.is_finite() {
-            return Err(SolverError::Other(format!(
-                "MPM: time step {dt} s must be positive and finite"
-            )));
-        }
+        brisance_core::solver::check_step("MPM", dt)?;
         if self.options.scheme == UpdateScheme::Usf {
             return Err(SolverError::Other(
                 "MPM: the coupled ICE–MPM step runs USL or MUSL, not USF (field `scheme`)".into(),
