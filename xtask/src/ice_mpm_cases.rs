@@ -1169,6 +1169,8 @@ impl RzRun {
 
 /// The axis gauges of configs/cylinder_rz.ron, m (D between them).
 const RZ_AXIS: [f64; 2] = [0.20, 0.25];
+/// Length of configs/cylinder_rz.ron's charge, m (booster included).
+const RZ_CHARGE: f64 = 0.35;
 
 /// The wall gauge of configs/cylinder_rz.ron: outer-wall particles starting
 /// at r 29.6–30.7 mm and within 1 mm of z = 25 cm.
@@ -1251,6 +1253,15 @@ fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
         }
         run.steps += 1;
         let t = solver.time();
+        if run.steps % 1000 == 0 {
+            println!(
+                "    h {:.2} mm: step {}, t = {:.2} µs, {:.0} s",
+                h * 1e3,
+                run.steps,
+                t * 1e6,
+                start.elapsed().as_secs_f64()
+            );
+        }
         for (k, zk) in RZ_AXIS.iter().enumerate() {
             if run.arrival[k].is_some() {
                 continue;
@@ -1280,8 +1291,13 @@ fn cylinder_rz_run(h: f64, sets: &[String]) -> Result<RzRun> {
         .map(|k| k.energy)
         .sum::<f64>()
         / e0;
+    // The column is the tube's charge without the tube: the same 35 cm of
+    // QM-100 behind the same booster, D timed between the axis gauges' 20
+    // and 25 cm, so the two figures differ only by the wall and the rings.
     let column = Column {
         face_pressure_courant: nu,
+        length: RZ_CHARGE,
+        gauges: [RZ_AXIS[0], 0.22, 0.24, RZ_AXIS[1]],
         ..Column::qm100(h)
     };
     run.column = run_column(&column).ok().and_then(|r| r.detonation_velocity);
@@ -1392,7 +1408,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
          (docs/physics/axisymmetric.md): OFHC copper tube r 25.4–30.6 mm, 35 cm of QM-100 (JWL++), \
          6 mm booster at 10 GPa against a closed end, air to r = 80 mm, 80 µs. D: the axis pressure \
          passing 1 GPa at z = 20 and 25 cm (the 1D column: configs-free QM-100 column of \
-         `brisance_ice::column` at the same h and ν*, gauges 3–14 cm); wall: mean radial velocity of the \
+         `brisance_ice::column`, the same 35 cm charge and booster without the tube, at the same h and ν*, D between the same 20 and 25 cm); wall: mean radial velocity of the \
          outer-wall particles starting at r 29.6–30.7 mm within 1 mm of z = 25 cm, terminal = mean over \
          the last 10 % of the record; energy: the coupled total (fluids + particles + unburnt chemical \
          energy, conservation.csv's), largest |E(t)/E(0) − 1| sampled every µs, and the energy \
