@@ -1,5 +1,5 @@
 //! Johnson–Cook damage, seed 000 eq 47 (Johnson & Cook 1985, seed 000
-//! ref [36]).
+//! ref \[36\]).
 //!
 //! The plastic strain at fracture is
 //!
@@ -88,7 +88,7 @@ impl JohnsonCookDamage {
 
     /// OFHC copper, Johnson & Cook, *Fracture characteristics of three
     /// metals subjected to various strains, strain rates, temperatures and
-    /// pressures*, Eng. Fract. Mech. 21 (1985) 31–48 (seed 000 ref [36]):
+    /// pressures*, Eng. Fract. Mech. 21 (1985) 31–48 (seed 000 ref \[36\]):
     /// D₁ = 0.54, D₂ = 4.89, D₃ = −3.03, D₄ = 0.014, D₅ = 1.12;
     /// T_room = 294 K, T_melt = 1356 K, ε̇₀ = 1 s⁻¹.
     pub fn ofhc_copper_johnson_cook_1985() -> Self {

@@ -94,7 +94,7 @@ impl FlowStress {
     /// Johnson–Cook for OFHC copper, Johnson & Cook, *A constitutive model
     /// and data for metals subjected to large strains, high strain rates and
     /// high temperatures*, Proc. 7th Int. Symp. Ballistics (1983) 541–547
-    /// (seed 000 ref [31]): A = 90 MPa, B = 292 MPa, n = 0.31, C = 0.025,
+    /// (seed 000 ref \[31\]): A = 90 MPa, B = 292 MPa, n = 0.31, C = 0.025,
     /// m = 1.09, T_melt = 1356 K, ε̇₀ = 1 s⁻¹, T_room = 294 K.
     pub fn ofhc_copper_johnson_cook_1983() -> Self {
         Self::JohnsonCook {

@@ -26,7 +26,7 @@
 //!   Newtonian viscosity (for seed 001's MPM-vs-FDM comparisons).
 //! - [`viscoscram`]: ViscoSCRAM, five Maxwell elements and statistical
 //!   crack growth for a polymer-bonded explosive (seed 000 §4.1.2, ref
-//!   [19]).
+//!   \[19\]).
 //! - [`model`]: the [`MaterialModel`] enum a config names models through.
 //! - [`contracts`]: the property checks every model passes, and the
 //!   `material_contract_tests!` macro that joins a model to them.

@@ -29,7 +29,7 @@ pub enum MaterialModel {
     /// viscosity ([`crate::null_material`]).
     Null(NullMaterial),
     /// A polymer-bonded explosive: five Maxwell elements and statistical
-    /// crack growth ([`crate::viscoscram`], seed 000 §4.1.2, ref [19]).
+    /// crack growth ([`crate::viscoscram`], seed 000 §4.1.2, ref \[19\]).
     ViscoScram(ViscoScram),
 }
 

@@ -1,5 +1,5 @@
 //! Loss of material stability, seed 000 §4.2 failure criterion 3: the
-//! Drucker stability postulate (seed 000 ref [37]) and the loss of
+//! Drucker stability postulate (seed 000 ref \[37\]) and the loss of
 //! hyperbolicity of the equations of motion (eq 48, refs [38–40]).
 //!
 //! **Tangent modulus.** Both checks use the co-rotational tangent modulus
@@ -27,7 +27,7 @@
 //! R_ij = M_ikjl n_k n_l + M_ilkj n_k n_l − σ_ik n_j n_k,
 //!
 //! i.e. when det R(n) ≤ 0. As seed 000 (after Becker, Int. J. Solids Struct.
-//! 39 (2002) 3555, its ref [40]) n is searched only in the plane of the
+//! 39 (2002) 3555, its ref \[40\]) n is searched only in the plane of the
 //! maximum and minimum principal stresses: n = cos θ e_max + sin θ e_min.
 //! R is quadratic in n, so R(θ) = P + Q cos 2θ + S sin 2θ with P, Q, S from
 //! R at e_max, e_min and e_max + e_min, and det R(θ) is a trigonometric

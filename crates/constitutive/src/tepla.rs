@@ -1,6 +1,6 @@
 //! TEPLA-F porosity and failure, seed 000 §4.2 failure criterion 2
 //! (eqs 43–46; Johnson & Addessio, J. Appl. Phys. 64 (1988) 6699, seed 000
-//! ref [33]).
+//! ref \[33\]).
 //!
 //! **Porosity** f (void volume fraction) evolves by nucleation and growth,
 //!
@@ -8,7 +8,7 @@
 //! ḟ_grow = (1 − f) tr(D_p)                                    (eq 45)
 //! ḟ_nucl = f_n/(s_n √(2π)) exp(−½ (ε_p − ε_n)²/s_n²) ε̇_p      (eq 46)
 //!
-//! (Chu & Needleman 1980, seed 000 ref [34]): f_n is the volume fraction of
+//! (Chu & Needleman 1980, seed 000 ref \[34\]): f_n is the volume fraction of
 //! void-nucleating particles, ε_n and s_n the mean and standard deviation of
 //! the nucleation strain.
 //!

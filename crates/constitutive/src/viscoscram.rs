@@ -1,5 +1,5 @@
 //! ViscoSCRAM: the viscoelastic, statistical-crack model of a polymer-bonded
-//! explosive (seed 000 §4.1.2, its ref [19]: Hackett & Bennett 2000, after
+//! explosive (seed 000 §4.1.2, its ref \[19\]: Hackett & Bennett 2000, after
 //! Bennett, Haberman, Johnson, Asay & Henson 1998, "A constitutive model for
 //! the non-shock ignition and mechanical response of high explosives",
 //! J. Mech. Phys. Solids 46:2303).
@@ -103,7 +103,7 @@ pub struct ViscoScram {
 }
 
 impl ViscoScram {
-    /// PBX-9501 as seed 000's cook-off ran it (§5.3, its ref [19]): the
+    /// PBX-9501 as seed 000's cook-off ran it (§5.3, its ref \[19\]): the
     /// Maxwell spectrum and crack parameters of Uintah's
     /// `ViscoSCRAMPBX9501.xml` (G_n 350, 173.9, 521.2, 908.5, 687.5 MPa;
     /// 1/τ_n 0, 7.32e3, 7.32e4, 7.32e5, 2e6 1/s; a 1 mm, c₀ 30 µm, m 10,

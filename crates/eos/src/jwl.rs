@@ -457,7 +457,7 @@ const DENSITY_MAX_ITERATIONS: usize = 100;
 /// as 0: multiplied by A or B (≤ 10¹² Pa) it is below 10⁻²⁹⁵ Pa, far under
 /// the round-off of any pressure the solvers carry, and it spares `exp`'s
 /// slow underflow path.
-const EXP_FLUSH: f64 = -708.0;
+pub const EXP_FLUSH: f64 = -708.0;
 
 /// e^x for the decaying exponentials of the JWL isentrope, with arguments
 /// below [`EXP_FLUSH`] flushed to 0. Public so that solvers which evaluate

@@ -143,12 +143,12 @@ const G: usize = 2;
 /// ([`RadialDetonation::active_cells`]): more than the scheme's stencil
 /// of 4, so the front never reaches the end of the active cells within a
 /// step.
-const ACTIVE_MARGIN: usize = 8;
+pub const ACTIVE_MARGIN: usize = 8;
 
 /// A cell counts as disturbed when its density, momentum or total energy
 /// differs from the ambient air's by more than this fraction of ρ_a,
 /// ρ_a c_a or E_a, or it holds products above this fraction of ρ_a.
-const AMBIENT_TOLERANCE: f64 = 1e-10;
+pub const AMBIENT_TOLERANCE: f64 = 1e-10;
 
 /// The 1D detonation run: conservative (ρ, ρu, E, ρY) per cell.
 #[derive(Debug, Clone)]

@@ -1784,7 +1784,7 @@ pub enum LimiterPass {
     /// Nothing: the scheme of seed 001 as printed.
     Off,
     /// The first attempt: the density bounds at compressive faces when
-    /// `bounds` ([`bounds_limiter`]), then a check that every update stays
+    /// `bounds` (`bounds_limiter`, [`crate::limiter`]), then a check that every update stays
     /// positive ([`SlabOutcome::positive`]).
     First {
         /// Keep the local density bounds at compressive faces.
@@ -1792,7 +1792,7 @@ pub enum LimiterPass {
     },
     /// The attempt after a first one that failed the check: positivity at
     /// every face and, with `bounds`, the density bounds
-    /// ([`face_limiter`]).
+    /// (`face_limiter`, [`crate::limiter`]).
     Full {
         /// Keep the local density bounds at compressive faces.
         bounds: bool,
@@ -1835,7 +1835,7 @@ impl SlabOutcome {
 /// pressure or a non-finite value (the caller then locates it and stops
 /// the run). With a `limiter`, the face fluxes are limited towards the
 /// Rusanov flux where the update would leave the bounds
-/// ([`face_limiter`]); the outcome counts the faces changed.
+/// (`face_limiter`, [`crate::limiter`]); the outcome counts the faces changed.
 ///
 /// The face fluxes at the slab's two ends, with the fluxes the update
 /// uses (after the limiter), are added to `outflow` where it points

@@ -1,6 +1,6 @@
 //! The deflagration model of seed 000 §4.1.2: a surface burn at the
 //! pressure-power rate D = A pⁿ (seed 000 eq 38, after Son et al. 2000,
-//! seed 000 ref. [18]) converted to a mass burn rate Γ = a D ρ_reactant
+//! seed 000 ref. \[18\]) converted to a mass burn rate Γ = a D ρ_reactant
 //! (seed 000 eq 39) in the cells that hold the explosive's surface.
 //!
 //! The seed leaves two things to the implementation:

@@ -55,9 +55,9 @@ pub enum BurnError {
     },
 }
 
-/// Program burn behind the [`ReactionModel`] trait: a point burns
+/// Program burn behind the [`ReactionModel`](brisance_core::ReactionModel) trait: a point burns
 /// completely once the time has reached its detonation time
-/// ([`ReactionState::detonation_time`], from [`huygens_detonation_times`]
+/// ([`ReactionState::detonation_time`](brisance_core::ReactionState::detonation_time), from [`huygens_detonation_times`]
 /// or [`straight_line_detonation_times`]) and not before; it has no rate.
 /// This is seed 004's volume burn (a node's products take the volume-burn
 /// state at its detonation time; eqs 20–21), the burn fraction the step

@@ -175,7 +175,7 @@ fn axpy(y: &ScalarState, f: f64, k: &ScalarState) -> ScalarState {
     }
 }
 
-/// The scalar equations of [`scalar_rates`] integrated over `phases`
+/// The scalar equations of `scalar_rates` integrated over `phases`
 /// with `per_step` classical RK4 substeps per step `dt`; the state after
 /// every step.
 pub fn scalar_reference(

@@ -3,7 +3,7 @@
 //! - [`Gumbel`]: the two-parameter Gumbel (maximum) distribution of eq 29,
 //!   f(x) = (1/β) exp(−(z + e^{−z})), z = (x − μ)/β, F(x) = exp(−e^{−z})
 //!   (eq 29 as printed drops the minus sign in front of e^{−z}; this is
-//!   the standard form of the seed's reference [26], which integrates to
+//!   the standard form of the seed's reference \[26\], which integrates to
 //!   one).
 //! - [`Gumbel::fit`]: maximum-likelihood estimate. The score equations give
 //!   β = x̄ − Σ xᵢ e^{−xᵢ/β} / Σ e^{−xᵢ/β} (solved for β, a function
@@ -13,7 +13,7 @@
 //! - [`linear_fit`]: least-squares line of a parameter against impact
 //!   velocity (seed fig. 29).
 //! - [`bootstrap`]: resampling with replacement (Efron & Tibshirani, the
-//!   seed's [19]) of a data set, the MLE refitted on each replicate; it
+//!   seed's \[19\]) of a data set, the MLE refitted on each replicate; it
 //!   reports the 95 % percentile interval of each parameter and the 95 %
 //!   interval of the mean of the replicates (mean ± 1.96 s/√B), which is
 //!   what seed 003 Table 5 tabulates ("what range will contain the mean
@@ -21,7 +21,7 @@
 //!   words of (seed, r), so the result is the same bits for a seed
 //!   whatever the number of threads.
 //! - [`ks_test`]: one-sample two-sided Kolmogorov–Smirnov test (the seed's
-//!   [41]) of a held-out data set against a fully specified distribution
+//!   \[41\]) of a held-out data set against a fully specified distribution
 //!   (here the Gumbel of the regressed μ and β). The p-value is exact, from
 //!   the distribution of Dₙ by Marsaglia, Tsang & Wang (2003) (for n > 99
 //!   and p ≲ 10⁻³ their tail approximation); seed 003
