@@ -423,24 +423,43 @@ impl<'a> Disjoint<'a> {
     }
 }
 
-/// The storage indices of the interior cells of `p` in one k-plane (`k`
-/// a local index), in order, passed to `f`.
+/// Rows of cells (runs along x) handed to one rayon task at least: a row
+/// of a 2D (r, z) grid is 40–200 cells of a few microseconds each, so a
+/// task of a few rows outweighs the scheduling.
+const ROWS_PER_TASK: usize = 2;
+
+/// The rows (j, k) with `lo[d] ≤ j, k < hi[d]` (d = 1, 2), as the index of
+/// a row, k outer, on rayon's threads. Rows, not k-planes, are what the
+/// threads share: a 2D grid is one k-plane, and the (r, z) cases run on
+/// such grids.
+fn par_row_range(
+    lo: [usize; 3],
+    hi: [usize; 3],
+) -> impl IndexedParallelIterator<Item = (usize, usize)> {
+    let nj = hi[1] - lo[1];
+    let rows = nj * (hi[2] - lo[2]);
+    (0..rows)
+        .into_par_iter()
+        .with_min_len(ROWS_PER_TASK)
+        .map(move |r| (lo[1] + r % nj, lo[2] + r / nj))
+}
+
+/// The storage indices of the cells `lo[0] ≤ i < hi0` of row (j, k) of
+/// `p`, in order, passed to `f`.
 #[inline]
-fn for_plane(p: &Patch, k: usize, hi: [usize; 2], mut f: impl FnMut(usize)) {
-    let g = p.ghost;
-    for j in g[1]..hi[1] {
-        let base = p.local_index([g[0], j, k]);
-        for i in 0..hi[0] - g[0] {
-            f(base + i);
-        }
+fn for_row(p: &Patch, j: usize, k: usize, lo0: usize, hi0: usize, mut f: impl FnMut(usize)) {
+    let base = p.local_index([lo0, j, k]);
+    for i in 0..hi0 - lo0 {
+        f(base + i);
     }
 }
 
-/// [`for_interior`] with the k-planes of the patch on rayon's threads;
-/// `fold` accumulates each plane's result from `init()`, and `combine`
-/// joins them (it must not depend on the order, e.g. a max, a sum of
-/// integers or [`first_failure`], for the bits to be the same on any
-/// number of threads).
+/// [`for_interior`] with the rows of the patch on rayon's threads;
+/// `fold` accumulates each row's result from `init()`, and `combine`
+/// joins them in the rows' order (it must not depend on how the rows are
+/// grouped, e.g. a max, a sum of integers, [`first_failure`] or an
+/// in-order concatenation, for the bits to be the same on any number of
+/// threads).
 fn par_interior<A: Send>(
     p: &Patch,
     init: impl Fn() -> A + Sync + Send,
@@ -448,27 +467,23 @@ fn par_interior<A: Send>(
     combine: impl Fn(A, A) -> A + Sync + Send,
 ) -> A {
     let g = p.ghost;
-    let hi = [g[0] + p.size[0], g[1] + p.size[1]];
-    (g[2]..g[2] + p.size[2])
-        .into_par_iter()
-        .map(|k| {
+    let hi = [g[0] + p.size[0], g[1] + p.size[1], g[2] + p.size[2]];
+    par_row_range(g, hi)
+        .map(|(j, k)| {
             let mut acc = init();
-            for_plane(p, k, hi, |c| fold(&mut acc, c));
+            for_row(p, j, k, g[0], hi[0], |c| fold(&mut acc, c));
             acc
         })
         .reduce(&init, combine)
 }
 
 /// The interior rows (runs of cells along x) of `p` as `f(storage index
-/// of the row's first cell, row length)`, k-planes on rayon's threads, so
+/// of the row's first cell, row length)`, rows on rayon's threads, so
 /// that a pass can work on contiguous slices with one bounds check per row.
 fn par_rows(p: &Patch, f: impl Fn(usize, usize) + Sync + Send) {
     let g = p.ghost;
-    (g[2]..g[2] + p.size[2]).into_par_iter().for_each(|k| {
-        for j in g[1]..g[1] + p.size[1] {
-            f(p.local_index([g[0], j, k]), p.size[0]);
-        }
-    });
+    let hi = [g[0] + p.size[0], g[1] + p.size[1], g[2] + p.size[2]];
+    par_row_range(g, hi).for_each(|(j, k)| f(p.local_index([g[0], j, k]), p.size[0]));
 }
 
 /// [`par_interior`] without a result.
@@ -478,14 +493,12 @@ fn par_cells(p: &Patch, f: impl Fn(usize) + Sync + Send) {
 
 /// Every face whose low side bounds an interior cell along `axis` (the
 /// interior cells plus the first ghost cell on the high side) as its
-/// high-side storage index, k-planes on rayon's threads.
+/// high-side storage index, rows on rayon's threads.
 fn par_faces(p: &Patch, axis: usize, f: impl Fn(usize) + Sync + Send) {
     let g = p.ghost;
     let mut hi = [g[0] + p.size[0], g[1] + p.size[1], g[2] + p.size[2]];
     hi[axis] += 1;
-    (g[2]..hi[2])
-        .into_par_iter()
-        .for_each(|k| for_plane(p, k, [hi[0], hi[1]], &f));
+    par_row_range(g, hi).for_each(|(j, k)| for_row(p, j, k, g[0], hi[0], &f));
 }
 
 /// Calls `f(global linear cell index, patch data, local index)` for every
