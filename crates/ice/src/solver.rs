@@ -1123,9 +1123,10 @@ impl<E: Eos> IceSolver<E> {
 
     /// Where the CFL rate of [`Solver::stable_dt`] is largest (first in
     /// global cell order; NaN first): the cell, its centre, and the
-    /// material whose |u| + c sets it, with its state. For the diagnostic
-    /// of a collapsed step only.
-    fn fastest_signal(&self) -> String {
+    /// material whose |u| + c sets it, with its state: the diagnostic of
+    /// a collapsed step, and of what sets the step of a long run. It
+    /// visits every cell in order on one thread.
+    pub fn fastest_signal(&self) -> String {
         let params = solver_params!(self);
         let acoustic = if self.options.pressure == PressureSolve::Explicit {
             1.0
@@ -3127,6 +3128,35 @@ mod time_step_tests {
         assert_eq!(solver(1e-5, true).stable_dt().unwrap(), air_only);
         assert_eq!(solver(1e-5, false).stable_dt().unwrap(), fast);
         assert_eq!(solver(2.0 * THERMAL_TRACE, true).stable_dt().unwrap(), fast);
+    }
+
+    /// A fluid that claims its volume only by its heat — its mass would
+    /// fill less than THERMAL_TRACE of the cell at the cell's pressure and
+    /// the particles' temperature — takes the particles' temperature, in
+    /// a cell the particles do not fill and with a mass share far above
+    /// MASS_TRACE; a hundred times the mass (4.3·10⁻³ of the cell at
+    /// 300 K: ρ = p/((γ − 1) c_v T) = 1.1614 kg/m³) keeps its own.
+    #[test]
+    fn a_fluid_claiming_volume_by_its_heat_alone_is_a_trace() {
+        let s = solver_at(0.5, true, 0.0);
+        let params = solver_params!(s);
+        let n = 2;
+        let check = |mass: f64| -> (bool, f64) {
+            let mut vals = vec![0.0; n * NS + 1];
+            vals[n * NS] = 1e5;
+            // The gas at θ = 9·10⁻⁴, the particles at 0.9991 (not full).
+            vals[RHO] = mass;
+            vals[VSP] = 9e-4 / mass;
+            vals[NS + RHO] = 1.2 * 0.9991;
+            vals[NS + VSP] = 1.0 / 1.2;
+            let rho = [vals[RHO], vals[NS + RHO]];
+            let mut temp = [2.5e7, 300.0];
+            let mut thermal = [false; MAX_MATERIALS];
+            trace_temperature(&params, &vals, &rho, &mut temp, &mut thermal);
+            (thermal[0], temp[0])
+        };
+        assert_eq!(check(5e-5), (true, 300.0));
+        assert_eq!(check(5e-3), (false, 2.5e7));
     }
 
     /// The rule by hand: traces of a coupled run only; a fluid trace keeps

@@ -116,7 +116,14 @@ pub(super) fn cell_cfl_rate<E: Eos>(
 /// above 1 − [`THERMAL_TRACE`]), a fluid of share below
 /// [`THERMAL_TRACE`] takes the particles' mass-weighted temperature
 /// (flagged in `thermal`): the trace inside a solid is in the solid's
-/// heat bath, as Uintah's heat exchange keeps it. Without this the step
+/// heat bath, as Uintah's heat exchange keeps it. So does, in any cell
+/// with particles, a fluid of mass share below [`MASS_TRACE`], and one
+/// whose mass would fill less than [`THERMAL_TRACE`] of the volume at the
+/// cell's pressure (the last step's) and the particles' temperature: a
+/// fluid that claims its volume by its heat alone (the products in the
+/// copper cells of the 0.5 mm r–z cylinder at θ = 9·10⁻⁴, a mass share of
+/// 3·10⁻⁹ and 2.5·10⁷ K, whose sound speed held Δt at 1.1·10⁻⁹ s;
+/// docs/physics/couple/ice_mpm.md). Without this the step
 /// ratchets it: the solid's compression heats it in steps 8–11, step 2's
 /// rescale gives it back its volume by its mass and not by expanding it,
 /// and it reached 10⁶ K, its sound speed collapsing the time step
@@ -143,8 +150,18 @@ pub(super) fn trace_temperature<E: Eos>(
     let full = solid > 1.0 - THERMAL_TRACE;
     let total: f64 = rho.iter().sum();
     let t = mt / m;
+    // The share the fluid's mass would fill at the cell's pressure (the
+    // last step's) and the particles' temperature.
+    let p = vals[n * NS];
+    let share_at = |r: usize| match params.eos[r].density(p, t) {
+        Ok(rho_eq) if rho_eq > 0.0 => rho[r] / rho_eq,
+        _ => f64::INFINITY,
+    };
     for r in (0..n).filter(|&r| !params.lagrangian[r]) {
-        if (full && share(r) < THERMAL_TRACE) || rho[r] < MASS_TRACE * total {
+        if (full && share(r) < THERMAL_TRACE)
+            || rho[r] < MASS_TRACE * total
+            || (p > 0.0 && share_at(r) < THERMAL_TRACE)
+        {
             temp[r] = t;
             thermal[r] = true;
         }
