@@ -766,106 +766,137 @@ const RZ_RADII: [f64; 5] = [4e-3, 6e-3, 8e-3, 12.5e-3, 20e-3];
 const RZ_H: [f64; 3] = [1e-3, 0.5e-3, 0.25e-3];
 
 /// E-RATESTICK-RZ section: the seed's sticks (10 cm, R = 4–20 mm, 6 mm of
-/// air, 90 m/s impact) on axisymmetric (r, z) grids at h = 1, 0.5 and
-/// 0.25 mm (`brisance::ice::cases::RateStick::rz`), D(1/R) per h beside
-/// the LLNL parabola, the seed's computed points and the 3D quarter
-/// sticks of E-RATESTICK.
+/// air) on axisymmetric (r, z) grids at h = 1, 0.5 and 0.25 mm
+/// (`brisance::ice::cases::RateStick::rz`), twice: as printed (90 m/s
+/// impact, eq 19 undamped) and started by a booster with eq 19's pressure
+/// term over a Courant-0.8 step (`RateStick::damped`); D(1/R) per h beside
+/// the LLNL parabola and the seed's computed points.
 pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
     use brisance::ice::cases::RateStick;
     println!("E-RATESTICK-RZ: ANFO-K1 JWL++ rate sticks on (r, z) grids");
     let llnl = quadratic_fit(&LLNL_ANFO_K1).ok_or_else(|| anyhow::anyhow!("LLNL fit"))?;
     let parabola = |x: f64| llnl[0] + llnl[1] * x + llnl[2] * x * x;
     let x_max = LLNL_ANFO_K1.iter().map(|p| p.0).fold(0.0, f64::max);
-    // runs[h][radius]
-    let mut runs: Vec<Vec<Option<StickRun>>> = Vec::new();
-    for &h in &RZ_H {
-        let mut row = Vec::new();
-        for &r in &RZ_RADII {
-            let label = format!("r-z stick R = {:.1} mm", r * 1e3);
-            row.push(match run_stick(&label, &RateStick::rz(h, r)) {
-                Ok(x) => Some(x),
-                Err(e) => {
-                    println!("  {label} h {:.2} mm: {e}", h * 1e3);
-                    None
-                }
-            });
+    type Make = fn(f64, f64) -> RateStick;
+    let sets: [(&str, &str, Make); 2] = [
+        ("as printed", "impact, ν* = 0", RateStick::rz),
+        ("booster, ν* = 0.8", "booster, ν* = 0.8", |h, r| {
+            RateStick::rz(h, r).damped()
+        }),
+    ];
+    // runs[set][h][radius]
+    let mut runs: Vec<Vec<Vec<Option<StickRun>>>> = Vec::new();
+    for (name, _, make) in &sets {
+        let mut set = Vec::new();
+        for &h in &RZ_H {
+            let mut row = Vec::new();
+            for &r in &RZ_RADII {
+                let label = format!("r-z stick R = {:.1} mm, {name}", r * 1e3);
+                row.push(match run_stick(&label, &make(h, r)) {
+                    Ok(x) => Some(x),
+                    Err(e) => {
+                        println!("  {label} h {:.2} mm: {e}", h * 1e3);
+                        None
+                    }
+                });
+            }
+            set.push(row);
         }
-        runs.push(row);
+        runs.push(set);
     }
     let d_of = |x: &Option<StickRun>| x.as_ref().and_then(|r| r.result.detonation_velocity);
     let _ = writeln!(
         report.md,
         "## E-RATESTICK-RZ — the rate sticks on (r, z) grids\n\n\
          The sticks of E-RATESTICK (same ANFO-K1 JWL++ model, 10 cm long, radius R in 6 mm of air, \
-         the explosive moving at 90 m/s onto a wall, D from the axis gauges at 6 and 9 cm into the \
-         unreacted explosive) as rings on an axisymmetric grid (`RateStick::rz`, x = r with the axis \
-         a symmetry face, y along the stick; docs/physics/axisymmetric.md, \"The ICE in r–z\"), \
-         at h = 1, 0.5 and 0.25 mm: 1000 to 41 600 rings, seconds to minutes a stick where \
-         the 3D quarter takes minutes to hours. \"none\": the wave died out before the second gauge \
-         (the explosive still moving into the wall). LLNL: the parabola fitted to the measurements \
-         (E-RATESTICK), only inside their range (1/R ≤ {x_max:.3} 1/mm).\n"
+         D from the axis gauges at 6 and 9 cm into the unreacted explosive) as rings on an \
+         axisymmetric grid (`RateStick::rz`, x = r with the axis a symmetry face, y along the stick; \
+         docs/physics/axisymmetric.md, \"The ICE in r–z\"), at h = 1, 0.5 and 0.25 mm: 1000 to \
+         41 600 rings, seconds to minutes a stick where the 3D quarter takes minutes to hours. Two \
+         sets. **As printed**: the explosive moving at 90 m/s onto a wall, eq 19 as printed \
+         (`face_pressure_courant` 0); the impact's Hugoniot (175 MPa) is below the 200 MPa \
+         threshold and what initiates is the undamped shock's ringing at the wall. **Booster, \
+         ν* = 0.8** (`RateStick::damped`): a 6 mm booster of products at 20 GPa over the stick's \
+         section against the wall, the explosive at rest, and eq 19's pressure term over a \
+         Courant-0.8 step, the damping that turns the coarse grids' weak detonations into CJ ones \
+         (the planar column then runs at D_CJ at every h; docs/physics/reaction/jwlpp.md, \"Weak \
+         detonations at coarse h\"), and under which the impact no longer initiates. \"none\": the \
+         wave died out before the second gauge. LLNL: the parabola fitted to the measurements \
+         (E-RATESTICK), only inside their range (1/R ≤ {x_max:.3} 1/mm); seed 000 Fig. 3: the \
+         seed's computed points (its resolution not named).\n"
     );
-    let mut head = String::from("| R (mm) | 1/R (1/mm) |");
-    let mut rule = String::from("|---:|---:|");
-    for &h in &RZ_H {
-        head.push_str(&format!(" D, h = {} mm (m/s) |", h * 1e3));
-        rule.push_str("---:|");
-    }
-    head.push_str(
-        " change 0.5 → 0.25 mm | LLNL parabola (m/s) | finest vs LLNL | seed 000 Fig. 3 |",
-    );
-    rule.push_str("---:|---:|---:|---|");
-    let _ = writeln!(report.md, "{head}\n{rule}");
     let fig3 = |x: f64| {
         SEED_000_FIG3
             .iter()
             .find(|p| (p.0 - x).abs() < 0.006 && p.0 > 0.0)
-            .map_or("—".to_string(), |p| format!("{:.0}", p.1))
+            .map(|p| p.1)
     };
     let last = RZ_H.len() - 1;
-    for (k, &r) in RZ_RADII.iter().enumerate() {
-        let x = 1.0 / (r * 1e3);
-        let mut line = format!("| {:.1} | {x:.4} |", r * 1e3);
-        for row in &runs {
-            line.push_str(&match d_of(&row[k]) {
-                Some(d) => format!(" {d:.0} |"),
-                None => " none |".to_string(),
-            });
+    for ((name, _, _), set) in sets.iter().zip(&runs) {
+        let mut head = format!("| {name}: R (mm) | 1/R (1/mm) |");
+        let mut rule = String::from("|---:|---:|");
+        for &h in &RZ_H {
+            head.push_str(&format!(" D, h = {} mm (m/s) |", h * 1e3));
+            rule.push_str("---:|");
         }
-        let change = match (d_of(&runs[last - 1][k]), d_of(&runs[last][k])) {
-            (Some(a), Some(b)) => format!("{:+.1} %", 100.0 * (b / a - 1.0)),
-            _ => "—".into(),
-        };
-        let (llnl_d, vs) = if x <= x_max {
-            let p = parabola(x);
-            (
-                format!("{p:.0}"),
-                d_of(&runs[last][k])
-                    .map_or("—".into(), |d| format!("{:+.1} %", 100.0 * (d / p - 1.0))),
-            )
-        } else {
-            ("outside the data".into(), "—".into())
-        };
-        let _ = writeln!(
-            report.md,
-            "{line} {change} | {llnl_d} | {vs} | {} |",
-            fig3(x)
+        head.push_str(
+            " change 0.5 → 0.25 mm | LLNL parabola (m/s) | finest vs LLNL | seed 000 Fig. 3 | finest vs Fig. 3 |",
         );
-    }
-    let _ = writeln!(report.md, "\n| run | h (mm) | rings | steps | peak p at gauge 2 (GPa) | burnt | wall (s) |\n|---|---:|---:|---:|---:|---:|---:|");
-    for (row, &h) in runs.iter().zip(&RZ_H) {
-        for x in row.iter().flatten() {
+        rule.push_str("---:|---:|---:|---:|---:|");
+        let _ = writeln!(report.md, "{head}\n{rule}");
+        for (k, &r) in RZ_RADII.iter().enumerate() {
+            let x = 1.0 / (r * 1e3);
+            let mut line = format!("| {:.1} | {x:.4} |", r * 1e3);
+            for row in set {
+                line.push_str(&match d_of(&row[k]) {
+                    Some(d) => format!(" {d:.0} |"),
+                    None => " none |".to_string(),
+                });
+            }
+            let finest = d_of(&set[last][k]);
+            let change = match (d_of(&set[last - 1][k]), finest) {
+                (Some(a), Some(b)) => format!("{:+.1} %", 100.0 * (b / a - 1.0)),
+                _ => "—".into(),
+            };
+            let (llnl_d, vs) = if x <= x_max {
+                let p = parabola(x);
+                (
+                    format!("{p:.0}"),
+                    finest.map_or("—".into(), |d| format!("{:+.1} %", 100.0 * (d / p - 1.0))),
+                )
+            } else {
+                ("outside the data".into(), "—".into())
+            };
+            let (seed, vs_seed) = match fig3(x) {
+                Some(f) => (
+                    format!("{f:.0}"),
+                    finest.map_or("—".into(), |d| format!("{:+.1} %", 100.0 * (d / f - 1.0))),
+                ),
+                None => ("—".into(), "—".into()),
+            };
             let _ = writeln!(
                 report.md,
-                "| {} | {:.2} | {} | {} | {:.2} | {:.3} | {:.1} |",
-                x.label,
-                h * 1e3,
-                x.result.cells,
-                x.result.steps,
-                x.result.peak_pressure / 1e9,
-                x.result.burnt_fraction,
-                x.wall
+                "{line} {change} | {llnl_d} | {vs} | {seed} | {vs_seed} |"
             );
+        }
+        let _ = writeln!(report.md);
+    }
+    let _ = writeln!(report.md, "| run | h (mm) | rings | steps | peak p at gauge 2 (GPa) | burnt | wall (s) |\n|---|---:|---:|---:|---:|---:|---:|");
+    for set in &runs {
+        for (row, &h) in set.iter().zip(&RZ_H) {
+            for x in row.iter().flatten() {
+                let _ = writeln!(
+                    report.md,
+                    "| {} | {:.2} | {} | {} | {:.2} | {:.3} | {:.1} |",
+                    x.label,
+                    h * 1e3,
+                    x.result.cells,
+                    x.result.steps,
+                    x.result.peak_pressure / 1e9,
+                    x.result.burnt_fraction,
+                    x.wall
+                );
+            }
         }
     }
     let _ = writeln!(
@@ -881,72 +912,94 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
             v.is_some_and(|v| v.abs() <= tolerance),
         );
     };
-    for (k, &r) in RZ_RADII.iter().enumerate() {
-        if r < 6e-3 {
-            continue;
+    for ((_, tag, _), set) in sets.iter().zip(&runs) {
+        for (k, &r) in RZ_RADII.iter().enumerate() {
+            if r < 6e-3 {
+                continue;
+            }
+            let (a, b) = (d_of(&set[last - 1][k]), d_of(&set[last][k]));
+            percent_row(
+                format!(
+                    "E-RATESTICK-RZ ({tag}) D change 0.5 → 0.25 mm, R = {:.1} mm",
+                    r * 1e3
+                ),
+                a.zip(b).map(|(a, b)| b / a - 1.0),
+                "within ±2 %",
+                0.02,
+            );
         }
-        let (a, b) = (d_of(&runs[last - 1][k]), d_of(&runs[last][k]));
-        percent_row(
-            format!(
-                "E-RATESTICK-RZ D change 0.5 → 0.25 mm, R = {:.1} mm",
-                r * 1e3
-            ),
-            a.zip(b).map(|(a, b)| b / a - 1.0),
-            "within ±2 %",
-            0.02,
-        );
-    }
-    for (k, &r) in RZ_RADII.iter().enumerate() {
-        let x = 1.0 / (r * 1e3);
-        if r < 8e-3 || x > x_max {
-            continue;
+        for (k, &r) in RZ_RADII.iter().enumerate() {
+            let x = 1.0 / (r * 1e3);
+            if r < 8e-3 || x > x_max {
+                continue;
+            }
+            percent_row(
+                format!(
+                    "E-RATESTICK-RZ ({tag}) D vs LLNL parabola at h = 0.25 mm, R = {:.1} mm",
+                    r * 1e3
+                ),
+                d_of(&set[last][k]).map(|d| d / parabola(x) - 1.0),
+                "within ±3 %",
+                0.03,
+            );
         }
-        percent_row(
-            format!(
-                "E-RATESTICK-RZ D vs LLNL parabola at h = 0.25 mm, R = {:.1} mm",
-                r * 1e3
-            ),
-            d_of(&runs[last][k]).map(|d| d / parabola(x) - 1.0),
-            "within ±3 %",
-            0.03,
-        );
     }
     let _ = writeln!(report.md);
     let labels = ["r–z, h = 1 mm", "r–z, h = 0.5 mm", "r–z, h = 0.25 mm"];
-    let mut xs: Vec<Vec<f64>> = Vec::new();
-    let mut ys: Vec<Vec<f64>> = Vec::new();
-    for row in &runs {
-        let (x, y): (Vec<f64>, Vec<f64>) = RZ_RADII
-            .iter()
-            .zip(row)
-            .filter_map(|(&r, s)| d_of(s).map(|d| (1.0 / (r * 1e3), d)))
-            .unzip();
-        xs.push(x);
-        ys.push(y);
-    }
     let (llnl_x, llnl_y): (Vec<f64>, Vec<f64>) = LLNL_ANFO_K1.iter().copied().unzip();
-    let mut series = vec![Series {
-        label: "LLNL experiments (Souers et al. 2000)",
-        x: &llnl_x,
-        y: &llnl_y,
-        style: SeriesStyle::Points,
-    }];
-    for ((label, x), y) in labels.iter().zip(&xs).zip(&ys) {
-        series.push(Series {
-            label,
-            x,
-            y,
-            style: SeriesStyle::Points,
-        });
+    let (seed_x, seed_y): (Vec<f64>, Vec<f64>) = SEED_000_FIG3.iter().copied().unzip();
+    let mut curves: Vec<Vec<(Vec<f64>, Vec<f64>)>> = Vec::new();
+    for set in &runs {
+        curves.push(
+            set.iter()
+                .map(|row| {
+                    RZ_RADII
+                        .iter()
+                        .zip(row)
+                        .filter_map(|(&r, s)| d_of(s).map(|d| (1.0 / (r * 1e3), d)))
+                        .unzip()
+                })
+                .collect(),
+        );
     }
+    let titles = [
+        "D (m/s), as printed (impact, ν* = 0)",
+        "D (m/s), booster, ν* = 0.8",
+    ];
+    let panels: Vec<Panel> = curves
+        .iter()
+        .zip(titles)
+        .map(|(set, y_label)| {
+            let mut series = vec![
+                Series {
+                    label: "LLNL experiments (Souers et al. 2000)",
+                    x: &llnl_x,
+                    y: &llnl_y,
+                    style: SeriesStyle::Points,
+                },
+                Series {
+                    label: "seed 000 Fig. 3 (computed)",
+                    x: &seed_x,
+                    y: &seed_y,
+                    style: SeriesStyle::Line,
+                },
+            ];
+            for (label, (x, y)) in labels.iter().zip(set) {
+                series.push(Series {
+                    label,
+                    x,
+                    y,
+                    style: SeriesStyle::Points,
+                });
+            }
+            Panel { y_label, series }
+        })
+        .collect();
     plot::plot_panels(
         &img.join("e_ratestick_rz.png"),
         "E-RATESTICK-RZ: ANFO-K1 rate sticks on (r, z) grids",
         "1/R (1/mm)",
-        &[Panel {
-            y_label: "D (m/s)",
-            series,
-        }],
+        &panels,
     )?;
     Ok(())
 }

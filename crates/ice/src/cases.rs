@@ -7,6 +7,7 @@ use brisance_eos::{EosModel, IdealGas, JwlCTerm, Murnaghan};
 use brisance_grid::Level;
 use brisance_reaction::jwlpp::{detonation_energy, JwlPlusPlus};
 
+pub use crate::column::Initiation;
 use crate::solver::GHOST;
 use crate::{
     Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
@@ -160,8 +161,8 @@ pub fn anfo_k1_jwlpp() -> Result<(Vec<EosModel>, IceReaction), String> {
 }
 
 /// Settings of an ANFO-K1 rate stick of seed 000 §5.1: explosive along x
-/// on [0, length] moving at −`impact_velocity` onto a zero-velocity wall at
-/// x = 0. Without a radius the column is 1D (the "infinite radius" case);
+/// on [0, length], started by `initiation` against a zero-velocity wall at
+/// x = 0 (the seed: moving at 90 m/s onto it). Without a radius the column is 1D (the "infinite radius" case);
 /// with one, a quarter of a cylinder of that radius in air (symmetry planes
 /// y = 0 and z = 0, outflow on the other faces), `air` of air beyond it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,8 +175,13 @@ pub struct RateStick {
     pub radius: Option<f64>,
     /// Air between the stick's surface and the domain's outer faces, m.
     pub air: f64,
-    /// Impact speed onto the wall, m/s (seed: 90).
-    pub impact_velocity: f64,
+    /// How the stick is started: the seed's impact onto the wall
+    /// (`Impact(90.0)`), or a booster of products over the stick's whole
+    /// section against the wall, the explosive at rest.
+    pub initiation: Initiation,
+    /// ν* of eq 19's pressure term ([`IceOptions::face_pressure_courant`];
+    /// 0: as printed).
+    pub face_pressure_courant: f64,
     /// The two far-field gauge positions on the axis, m.
     pub gauges: [f64; 2],
     /// Arrival is the first time the gauge's pressure exceeds this, Pa.
@@ -198,7 +204,8 @@ impl RateStick {
             length: 0.1,
             radius: None,
             air: 0.0,
-            impact_velocity: 90.0,
+            initiation: Initiation::Impact(90.0),
+            face_pressure_courant: 0.0,
             gauges: [0.06, 0.09],
             arrival_pressure: 1.0e9,
             kappa: Murnaghan::anfo_k1().kappa,
@@ -237,6 +244,23 @@ impl RateStick {
         }
     }
 
+    /// The same stick started by a 20 GPa, 6 mm booster of products over
+    /// its whole section, the explosive at rest, with eq 19's pressure term
+    /// over a Courant-0.8 step (ν* = 0.8): the damped ICE, whose planar
+    /// wave runs at D_CJ at every h (docs/physics/reaction/jwlpp.md, "Weak
+    /// detonations at coarse h"), and which a 90 m/s impact no longer
+    /// initiates.
+    pub fn damped(self) -> Self {
+        Self {
+            initiation: Initiation::Booster {
+                pressure: 2e10,
+                length: 6e-3,
+            },
+            face_pressure_courant: 0.8,
+            ..self
+        }
+    }
+
     /// Cells of the stick's grid.
     pub fn cells(&self) -> [usize; 3] {
         let n = (self.length / self.h).round() as usize;
@@ -261,8 +285,8 @@ pub struct RateStickResult {
     pub arrival: [Option<f64>; 2],
     /// Detonation velocity relative to the unreacted explosive, m/s, when
     /// both gauges saw the wave: [`detonation_velocity`] of the arrivals
-    /// and of `velocity_ahead` (−`impact_velocity`: the explosive runs
-    /// into the wave).
+    /// and of `velocity_ahead` (−90 m/s after the seed's impact: the
+    /// explosive runs into the wave; about 0 behind a booster).
     pub detonation_velocity: Option<f64>,
     /// The front's speed in the grid's frame, (x₂ − x₁)/(t₂ − t₁), m/s.
     pub lab_velocity: Option<f64>,
@@ -330,7 +354,24 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
     let trace = 1e-6;
-    let u = -cfg.impact_velocity;
+    // The booster's traces (reactant, air) at its pressure and 298.15 K:
+    // a trace at the ambient density would be shocked to its pressure in
+    // the first steps and heated without bound.
+    let (u, booster) = match cfg.initiation {
+        Initiation::Impact(v) => (-v, None),
+        Initiation::Booster { pressure, length } => {
+            let rho_b: Vec<f64> = eos
+                .iter()
+                .map(|e| e.density(pressure, t0))
+                .collect::<Result<_, _>>()
+                .map_err(|e| e.to_string())?;
+            (0.0, Some((pressure, length, rho_b)))
+        }
+    };
+    let rho_reactant0 = match &eos[0] {
+        EosModel::Murnaghan(m) => m.rho0,
+        _ => rho[0],
+    };
     let side = if n_mat == 3 {
         IceBoundary::Outflow
     } else {
@@ -365,6 +406,7 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
         } else {
             Geometry::Cartesian
         },
+        face_pressure_courant: cfg.face_pressure_courant,
         ..Default::default()
     };
     let mut s = IceSolver::new(
@@ -380,6 +422,18 @@ pub fn rate_stick(cfg: &RateStick) -> Result<RateStickResult, String> {
                 x[1] * x[1] + x[2] * x[2]
             };
             let inside = n_mat == 2 || r2 < radius * radius;
+            if let Some((p, _, rho_b)) = booster.as_ref().filter(|b| inside && x[ax] < b.1) {
+                // Products at the booster's pressure and the reactant's ρ₀.
+                return CellState {
+                    pressure: *p,
+                    materials: (0..n_mat)
+                        .map(|k| match k {
+                            1 => mat(1.0 - (n_mat - 1) as f64 * trace, rho_reactant0, 0.0),
+                            _ => mat(trace, rho_b[k], 0.0),
+                        })
+                        .collect(),
+                };
+            }
             let main = if inside { 0 } else { 2 };
             let v = if inside { u } else { 0.0 };
             CellState {
@@ -543,7 +597,8 @@ mod tests {
 
     /// The r–z sticks at one cell size (release): `cargo test --release -p
     /// brisance-ice rz_rate_sticks -- --ignored --nocapture`, the cell size
-    /// in mm from BRISANCE_RZ_H (default 1).
+    /// in mm from BRISANCE_RZ_H (default 1); BRISANCE_RZ_DAMPED=1 runs
+    /// [`RateStick::damped`], BRISANCE_RZ_R a list of radii in mm.
     #[test]
     #[ignore]
     fn rz_rate_sticks() {
@@ -552,9 +607,22 @@ mod tests {
             .and_then(|v| v.parse::<f64>().ok())
             .unwrap_or(1.0)
             * 1e-3;
-        for radius in [4e-3, 6e-3, 8e-3, 12.5e-3, 20e-3] {
+        let damped = std::env::var("BRISANCE_RZ_DAMPED").is_ok_and(|v| v == "1");
+        let radii: Vec<f64> = std::env::var("BRISANCE_RZ_R")
+            .ok()
+            .map(|v| v.split(',').filter_map(|x| x.parse::<f64>().ok()).collect())
+            .unwrap_or_else(|| vec![4.0, 6.0, 8.0, 12.5, 20.0])
+            .into_iter()
+            .map(|r| r * 1e-3)
+            .collect();
+        for radius in radii {
             let t = std::time::Instant::now();
-            let r = match rate_stick(&RateStick::rz(h, radius)) {
+            let cfg = if damped {
+                RateStick::rz(h, radius).damped()
+            } else {
+                RateStick::rz(h, radius)
+            };
+            let r = match rate_stick(&cfg) {
                 Ok(r) => r,
                 Err(e) => {
                     println!("r-z R {:.1} mm h {:.3} mm: {e}", radius * 1e3, h * 1e3);

@@ -661,6 +661,33 @@ fn reduced_rate_stick_detonates() {
     assert!(d > 4000.0 && d < 7000.0, "{d}");
 }
 
+/// A booster-started, damped (ν* = 0.8) r–z stick at h = 2 mm, R = 20 mm,
+/// 6 cm long: the 20 GPa booster initiates a detonation that reaches both
+/// gauges into explosive at rest, and the booster's traces (air, reactant,
+/// put at its pressure and 298.15 K) do not set the step: the run takes no
+/// more steps than the same stick started by the seed's impact (an air
+/// trace at ambient density in the booster is shocked to 20 GPa and heated
+/// without bound, and took ten times the steps).
+#[test]
+fn a_booster_starts_a_damped_rz_stick_at_rest() {
+    let shorten = |mut c: crate::cases::RateStick| {
+        c.length = 0.06;
+        c.gauges = [0.03, 0.05];
+        c
+    };
+    let impact = shorten(crate::cases::RateStick::rz(2e-3, 20e-3));
+    let booster = shorten(impact.damped());
+    assert_eq!(booster.face_pressure_courant, 0.8);
+    let a = crate::cases::rate_stick(&impact).unwrap();
+    let b = crate::cases::rate_stick(&booster).unwrap();
+    eprintln!("impact {a:?}\nbooster {b:?}");
+    let d = b.detonation_velocity.expect("no detonation");
+    assert!(d > 4000.0 && d < 7000.0, "{d}");
+    assert!(b.velocity_ahead.unwrap().abs() < 5.0, "{b:?}");
+    assert!((a.velocity_ahead.unwrap() + 90.0).abs() < 5.0, "{a:?}");
+    assert!(b.steps <= a.steps, "{} against {}", b.steps, a.steps);
+}
+
 /// One quarter-symmetry ANFO-K1 stick at h = 1 mm, radius from the
 /// environment variable R in metres (default 12 mm); minutes in release
 /// (`R=0.004 cargo test --release -p brisance-ice rate_stick_quarter -- --ignored --nocapture`).
