@@ -1,0 +1,51 @@
+use super::*;
+use brisance_core::Solver;
+use brisance_eos::{EosModel, IdealGas};
+
+/// Air at 10 Pa and 1 kg/m³ (e = 25 J/kg, 0.035 K) moving at 3 km/s
+/// away from the closed x = 0 wall, beside still air at 10⁵ Pa: the
+/// expansion at the wall leaves E − ½|u|² without a positive
+/// temperature in step 12, and the rule fires. The closed box conserves
+/// total energy except for what the two cold rules add, so the change
+/// of the total over the run is their booked energy to round-off: the
+/// counter accounts for exactly the energy the rule makes.
+#[test]
+fn step_12_books_the_energy_its_cold_rule_adds() {
+    let level = Level::new([0.0; 3], [0.4, 0.01, 0.01], [40, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let eos = vec![EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0))];
+    let mut s = IceSolver::new(
+        eos,
+        level,
+        std::array::from_fn(|_| IceBoundary::Symmetry),
+        ExchangeCoefficients::uniform(1, 1e15, 0.0),
+        IceOptions::default(),
+        |x| {
+            if x[0] < 0.2 {
+                CellState::single(10.0, 1.0, [3000.0, 0.0, 0.0])
+            } else {
+                CellState::single(1e5, 1.2, [0.0; 3])
+            }
+        },
+    )
+    .unwrap();
+    let e0 = s.conservation_totals().energy;
+    for _ in 0..50 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let (adv, eq) = (s.kept_warm_advection_totals()[0], s.kept_warm_totals()[0]);
+    assert!(adv.firings >= 1 && adv.energy > 0.0, "{adv:?}");
+    let change = s.conservation_totals().energy - e0;
+    // E ≈ 95 J; the booked energy is 3.4e-4 J.
+    assert!(
+        (change - adv.energy - eq.energy).abs() < 1e-12 * e0,
+        "change {change:e} J, booked {:e} + {:e} J",
+        adv.energy,
+        eq.energy
+    );
+    // A checkpoint carries the count.
+    let saved = s.save_state().unwrap();
+    s.kept_warm_advection[0] = KeptWarmTotals::default();
+    s.restore_state(&saved).unwrap();
+    assert_eq!(s.kept_warm_advection_totals()[0], adv);
+}
