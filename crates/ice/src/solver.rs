@@ -958,9 +958,28 @@ impl<E: Eos> IceSolver<E> {
         let d = &self.state[pid].data;
         let b = r * NS;
         let centre = self.level.geometry.cell_centre(g);
+        let n = self.eos.len();
+        let mass: f64 = (0..n).map(|m| d[m * NS + RHO][c]).sum();
+        let others: Vec<String> = (0..n)
+            .map(|m| {
+                format!(
+                    "{}{}: θ {:.3e}, mass share {:.3e}, T {:.3e} K",
+                    m + 1,
+                    if self.lagrangian[m] {
+                        " (particles)"
+                    } else {
+                        ""
+                    },
+                    d[m * NS + THETA][c],
+                    d[m * NS + RHO][c] / mass,
+                    d[m * NS + TEMP][c],
+                )
+            })
+            .collect();
         format!(
             "cell {g:?} (centre {centre:?} m), Σ(|u| + c)/Δx = {rate:e} 1/s, set by material {} \
-             (θ = {:e}, its density {:e} kg/m³, T = {:e} K, u = ({:e}, {:e}, {:e}) m/s, c = {:e} m/s)",
+             (θ = {:e}, its density {:e} kg/m³, T = {:e} K, u = ({:e}, {:e}, {:e}) m/s, c = {:e} m/s); \
+             the cell's pressure {:e} Pa, its materials: {}",
             r + 1,
             d[b + THETA][c],
             1.0 / d[b + VSP][c],
@@ -969,6 +988,8 @@ impl<E: Eos> IceSolver<E> {
             d[b + VEL + 1][c],
             d[b + VEL + 2][c],
             d[b + SOUND][c],
+            d[n * NS][c],
+            others.join("; "),
         )
     }
 

@@ -80,7 +80,16 @@ pub(super) fn cfl_speed(
 /// One cell's CFL rate Σ_d max_r s_r,d / Δx_d of [`IceSolver::stable_dt`]
 /// (s from [`cfl_speed`], the mass share over the cell's total mass), and
 /// the material with the largest s_r,d / Δx_d (for the diagnostic of a
-/// collapsed step).
+/// collapsed step). In a coupled run with the explicit pressure, a fluid
+/// in a cell with particles that [`trace_temperature`] will hold at the
+/// particles' temperature because its volume is its heat's
+/// ([`claims_volume_by_heat`], at the cell's last pressure and the
+/// particles' mass-weighted temperature) sets its velocity but not its
+/// sound speed, as a trace: the Δt is taken after step 12, where such a
+/// fluid still carries the volume and the sound speed that the next
+/// step 2 takes from it (the products in the 0.5 mm r–z cylinder's copper
+/// cells at θ ≈ 10⁻³, a mass share of 6·10⁻⁹, 1.4·10⁶ K and 21 km/s,
+/// which held Δt at 4.7·10⁻⁹ s; docs/physics/couple/ice_mpm.md).
 #[inline(always)]
 pub(super) fn cell_cfl_rate<E: Eos>(
     params: &Params<'_, E>,
@@ -90,6 +99,27 @@ pub(super) fn cell_cfl_rate<E: Eos>(
 ) -> (f64, usize) {
     let n = params.eos.len();
     let mass: f64 = (0..n).map(|r| d[r * NS + RHO][c]).sum();
+    let mut held = [false; MAX_MATERIALS];
+    if params.coupled && acoustic > 0.0 {
+        let (mut m, mut mt) = (0.0, 0.0);
+        for r in (0..n).filter(|&r| params.lagrangian[r]) {
+            m += d[r * NS + RHO][c];
+            mt += d[r * NS + RHO][c] * d[r * NS + TEMP][c];
+        }
+        if m > 0.0 && mt > 0.0 {
+            let total: f64 = (0..n)
+                .map(|r| d[r * NS + RHO][c] * d[r * NS + VSP][c])
+                .sum();
+            let (p, t) = (d[n * NS][c], mt / m);
+            for r in (0..n).filter(|&r| !params.lagrangian[r]) {
+                let rho = d[r * NS + RHO][c];
+                held[r] = d[r * NS + THETA][c] >= THERMAL_TRACE
+                    && rho >= MASS_TRACE * mass
+                    && total > 0.0
+                    && claims_volume_by_heat(params, r, rho / total, p, t);
+            }
+        }
+    }
     let (mut rate, mut top) = (0.0, (0.0_f64, 0));
     for a in (0..3).filter(|&a| params.active[a]) {
         let mut s = 0.0_f64;
@@ -100,7 +130,11 @@ pub(super) fn cell_cfl_rate<E: Eos>(
                 d[r * NS + THETA][c],
                 d[r * NS + RHO][c] / mass,
                 d[r * NS + VEL + a][c],
-                acoustic * d[r * NS + SOUND][c],
+                if held[r] {
+                    0.0
+                } else {
+                    acoustic * d[r * NS + SOUND][c]
+                },
             );
             s = s.max(v);
             if !(v / params.spacing[a] <= top.0) {
@@ -150,22 +184,35 @@ pub(super) fn trace_temperature<E: Eos>(
     let full = solid > 1.0 - THERMAL_TRACE;
     let total: f64 = rho.iter().sum();
     let t = mt / m;
-    // The share the fluid's mass would fill at the cell's pressure (the
-    // last step's) and the particles' temperature.
     let p = vals[n * NS];
-    let share_at = |r: usize| match params.eos[r].density(p, t) {
-        Ok(rho_eq) if rho_eq > 0.0 => rho[r] / rho_eq,
-        _ => f64::INFINITY,
-    };
     for r in (0..n).filter(|&r| !params.lagrangian[r]) {
         if (full && share(r) < THERMAL_TRACE)
             || rho[r] < MASS_TRACE * total
-            || (p > 0.0 && share_at(r) < THERMAL_TRACE)
+            || claims_volume_by_heat(params, r, rho[r], p, t)
         {
             temp[r] = t;
             thermal[r] = true;
         }
     }
+}
+
+/// Whether fluid `r`, of density `rho` over the materials' total volume,
+/// would fill less than [`THERMAL_TRACE`] of it at the pressure `p` (> 0)
+/// and the temperature `t` of the particles in its cell: a fluid whose
+/// volume is its heat's ([`trace_temperature`] holds it at `t`;
+/// [`cell_cfl_rate`] does not take its sound speed). False where the
+/// equation of state gives no density at (p, t).
+#[inline]
+pub(super) fn claims_volume_by_heat<E: Eos>(
+    params: &Params<'_, E>,
+    r: usize,
+    rho: f64,
+    p: f64,
+    t: f64,
+) -> bool {
+    p > 0.0
+        && matches!(params.eos[r].density(p, t),
+            Ok(rho_eq) if rho_eq > 0.0 && rho / rho_eq < THERMAL_TRACE)
 }
 
 /// Step 2 on one cell's state-group values `vals` (n·NS + 1 of them):

@@ -103,6 +103,37 @@ fn a_fluid_claiming_volume_by_its_heat_alone_is_a_trace() {
     assert_eq!(check(5e-3), (false, 2.5e7));
 }
 
+/// The time step asks the same of a fluid in a cell with particles: one
+/// whose mass (5·10⁻⁵ kg/m³) would fill 4·10⁻⁵ of the cell at the cell's
+/// pressure and the particles' temperature sets its velocity, not its
+/// sound speed (here 10⁶ m/s), and Δt is the other cell's, 0.4 · 1 m / c
+/// of the air at rest; a hundred times the mass (4·10⁻³ of the cell) sets
+/// Δt = 0.4 · 1 m / 10⁶ m/s.
+#[test]
+fn a_fluid_claiming_volume_by_its_heat_alone_does_not_set_the_step() {
+    let dt_with = |mass: f64| {
+        let mut s = solver_at(0.5, true, 0.0);
+        let c = s.level.patches[0].index_of_global([1, 0, 0]);
+        let d = &mut s.state[0].data;
+        let c_air = d[SOUND][c];
+        d[RHO][c] = mass;
+        d[THETA][c] = 9e-4;
+        d[VSP][c] = 9e-4 / mass;
+        d[SOUND][c] = 1e6;
+        d[NS + RHO][c] = 1.2 * 0.9991;
+        d[NS + THETA][c] = 0.9991;
+        (s.stable_dt().unwrap(), c_air)
+    };
+    let (dt, c_air) = dt_with(5e-5);
+    assert!(
+        (c_air - (1.4f64 * 1e5 / 1.2).sqrt()).abs() < 1e-9 * c_air,
+        "{c_air}"
+    );
+    assert!((dt / (0.4 / c_air) - 1.0).abs() < 1e-12, "{dt} {c_air}");
+    let (dt, _) = dt_with(5e-3);
+    assert!((dt / (0.4 / 1e6) - 1.0).abs() < 1e-12, "{dt}");
+}
+
 /// The rule by hand: traces of a coupled run only; a fluid trace keeps
 /// its velocity, not its sound speed; NaN counts.
 #[test]
