@@ -162,8 +162,8 @@ pub fn anfo_k1_jwlpp() -> Result<(Vec<EosModel>, IceReaction), String> {
 
 /// Settings of an ANFO-K1 rate stick of seed 000 §5.1: explosive along x
 /// on [0, length], started by `initiation` against a zero-velocity wall at
-/// x = 0 (the seed: moving at 90 m/s onto it). Without a radius the column is 1D (the "infinite radius" case);
-/// with one, a quarter of a cylinder of that radius in air (symmetry planes
+/// x = 0 (the seed: moving at 90 m/s onto it). Without a radius the column
+/// is 1D (the "infinite radius" case); with one, a quarter of a cylinder of that radius in air (symmetry planes
 /// y = 0 and z = 0, outflow on the other faces), `air` of air beyond it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RateStick {

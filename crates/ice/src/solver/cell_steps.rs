@@ -34,6 +34,15 @@ pub(super) const THERMAL_TRACE: f64 = 1e-4;
 /// after 1.3 µs, their sound speed collapsing the step).
 pub(super) const MASS_TRACE: f64 = 1e-9;
 
+/// Whether a material of volume fraction `theta` and mass share
+/// `mass_share` (its mass over the cell's) is a trace for the time step:
+/// θ below [`THERMAL_TRACE`] or a mass share below [`MASS_TRACE`]. NaN is
+/// not a trace.
+#[inline(always)]
+pub(super) fn is_trace(theta: f64, mass_share: f64) -> bool {
+    theta < THERMAL_TRACE || mass_share < MASS_TRACE
+}
+
 /// Material `r`'s signal speed |u| + c in one direction for the CFL step
 /// of [`IceSolver::stable_dt`] (`c` is 0 with the implicit pressure). In a
 /// coupled run a material of volume fraction θ below [`THERMAL_TRACE`], or
@@ -68,7 +77,7 @@ pub(super) fn cfl_speed(
     u: f64,
     c: f64,
 ) -> f64 {
-    if !(coupled && (theta < THERMAL_TRACE || mass_share < MASS_TRACE)) {
+    if !(coupled && is_trace(theta, mass_share)) {
         u.abs() + c
     } else if lagrangian {
         0.0
@@ -111,11 +120,10 @@ pub(super) fn cell_cfl_rate<E: Eos>(
                 .map(|r| d[r * NS + RHO][c] * d[r * NS + VSP][c])
                 .sum();
             let (p, t) = (d[n * NS][c], mt / m);
-            for r in (0..n).filter(|&r| !params.lagrangian[r]) {
+            for r in (0..n).filter(|&r| !params.lagrangian[r] && total > 0.0) {
+                // A trace already sets no sound speed: no density solve.
                 let rho = d[r * NS + RHO][c];
-                held[r] = d[r * NS + THETA][c] >= THERMAL_TRACE
-                    && rho >= MASS_TRACE * mass
-                    && total > 0.0
+                held[r] = !is_trace(d[r * NS + THETA][c], rho / mass)
                     && claims_volume_by_heat(params, r, rho / total, p, t);
             }
         }
