@@ -202,7 +202,7 @@ fn reactions(s: &Scenario, cfg: &IceConfig) -> Result<Vec<IceReaction>, Problem>
         out.push(IceReaction {
             reactant: a,
             product: b,
-            rate,
+            rate: rate.into(),
             heat_of_reaction: heat,
         });
     }

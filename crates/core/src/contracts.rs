@@ -26,7 +26,8 @@ use crate::{Eos, ReactionModel, ReactionState};
 /// time has come, whatever the step); a longer step
 /// never burns less than a shorter one from the same state; the mass
 /// converted is the initial mass times the change of F, and never
-/// negative.
+/// negative; a cell burns between none and all of its reactant
+/// ([`ReactionModel::burnt_density`]).
 pub fn check_reaction_model<R: ReactionModel + ?Sized>(
     model: &R,
     state: &ReactionState,
@@ -55,6 +56,16 @@ pub fn check_reaction_model<R: ReactionModel + ?Sized>(
         return Err(format!(
             "{}: half a step burns more ({half}) than the whole ({g})",
             model.name()
+        ));
+    }
+    // A cell of 1 kg/m³ of explosive at burn fraction F: between none and
+    // all of its reactant 1 − F burns.
+    let burnt = model.burnt_density(state, 1.0 - f, f, dt);
+    if !(burnt >= 0.0 && burnt <= 1.0 - f) {
+        return Err(format!(
+            "{}: {burnt} kg/m³ burnt of a reactant density {}",
+            model.name(),
+            1.0 - f
         ));
     }
     let m = model.mass_converted(2.0, f, g);

@@ -23,7 +23,8 @@ pub struct ReactionState {
 /// # Contract
 /// - `0 ≤ F ≤ 1` after every advance and F never decreases.
 /// - Mass is conserved exactly: the reactant loses what the product gains
-///   ([`ReactionModel::mass_converted`]).
+///   ([`ReactionModel::mass_converted`]), and a cell burns between none
+///   and all of its reactant ([`ReactionModel::burnt_density`]).
 pub trait ReactionModel: Send + Sync + std::fmt::Debug {
     /// Registry name of the model.
     fn name(&self) -> &'static str;
@@ -41,5 +42,62 @@ pub trait ReactionModel: Send + Sync + std::fmt::Debug {
     /// `f_new`, given the initial reactant mass.
     fn mass_converted(&self, initial_mass: f64, f_old: f64, f_new: f64) -> f64 {
         initial_mass * (f_new - f_old)
+    }
+
+    /// Reactant mass per unit volume burnt over `dt`, kg/m³, where the
+    /// reactant and the product hold `rho_reactant` and `rho_product` of
+    /// it (an Eulerian cell's two macroscopic densities): the burn fraction
+    /// F = ρ_p/(ρ_r + ρ_p) (seed 000 eq 36) advanced over `dt`, times the
+    /// explosive's density ρ_r + ρ_p (eq 37's Γ = (dF/dt)(ρ_r + ρ_p) over
+    /// the step). Never negative, never more than `rho_reactant`; 0 where
+    /// there is no reactant. A model may give the same law in its own
+    /// arithmetic.
+    fn burnt_density(
+        &self,
+        state: &ReactionState,
+        rho_reactant: f64,
+        rho_product: f64,
+        dt: f64,
+    ) -> f64 {
+        if !(rho_reactant > 0.0) {
+            return 0.0;
+        }
+        let rho_product = rho_product.max(0.0);
+        let total = rho_reactant + rho_product;
+        let f = rho_product / total;
+        let burnt = (self.advance(state, f, dt) - f) * total;
+        burnt.clamp(0.0, rho_reactant)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// dF/dt = k, constant.
+    #[derive(Debug)]
+    struct Constant(f64);
+
+    impl ReactionModel for Constant {
+        fn name(&self) -> &'static str {
+            "Constant"
+        }
+        fn rate(&self, _: &ReactionState, _: f64) -> f64 {
+            self.0
+        }
+    }
+
+    #[test]
+    fn the_burnt_density_is_the_fraction_advanced_times_the_explosive() {
+        let s = ReactionState::default();
+        // ρ_r 300, ρ_p 100: F = 0.25; ΔF = 1000 · 1e-4 = 0.1 → 0.1 · 400 = 40.
+        let m = Constant(1000.0);
+        assert!((m.burnt_density(&s, 300.0, 100.0, 1e-4) - 40.0).abs() < 1e-12);
+        // F reaches 1 and stops there: all 300 kg/m³ of reactant, no more.
+        assert_eq!(m.burnt_density(&s, 300.0, 100.0, 1.0), 300.0);
+        // No reactant, nothing to burn; a zero step burns nothing.
+        assert_eq!(m.burnt_density(&s, 0.0, 100.0, 1e-4), 0.0);
+        assert_eq!(m.burnt_density(&s, 300.0, 100.0, 0.0), 0.0);
+        assert_eq!(Constant(0.0).burnt_density(&s, 300.0, 0.0, 1e-4), 0.0);
     }
 }

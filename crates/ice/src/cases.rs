@@ -154,7 +154,7 @@ pub fn anfo_k1_jwlpp() -> Result<(Vec<EosModel>, IceReaction), String> {
         IceReaction {
             reactant: 0,
             product: 1,
-            rate: JwlPlusPlus::anfo_k1(),
+            rate: JwlPlusPlus::anfo_k1().into(),
             heat_of_reaction: q,
         },
     ))

@@ -200,7 +200,7 @@ pub fn run_column(col: &Column) -> Result<ColumnResult, String> {
     let reaction = IceReaction {
         reactant: 0,
         product: 1,
-        rate: col.rate,
+        rate: col.rate.into(),
         heat_of_reaction: q,
     };
     let eos = vec![EosModel::Murnaghan(reactant), EosModel::JwlCTerm(products)];

@@ -1,10 +1,13 @@
 //! Step 4 of seed 000 §3.3: reaction sources Γ between materials (eq 1,
 //! and the u_rs⁺Γ_rs, h_rs⁺Γ_rs terms of eqs 2–3), for the JWL++
-//! detonation model of §4.1.1 ([`brisance_reaction::jwlpp`]).
+//! detonation model of §4.1.1 ([`brisance_reaction::jwlpp`]) or any other
+//! [`ReactionModel`] ([`IceRate`]).
 //!
 //! Each [`IceReaction`] turns material `reactant` into material `product`
-//! at the JWL++ rate, evaluated with the cell's equilibration pressure and
-//! the two materials' densities at the start of the step. The burnt mass
+//! at its model's rate, called through [`ReactionModel::burnt_density`]
+//! with the cell's equilibration pressure, the reactant's temperature and
+//! density and the two materials' densities at the start of the step. The
+//! burnt mass
 //! Δm = Γ Δt (per unit cell volume) carries, as the seed asks ("the
 //! momentum, internal energy and volume of the reactant are depleted at the
 //! same rate as the mass"), the reactant's momentum Δm u_r, internal energy
@@ -30,6 +33,9 @@
 //! equilibration (the choice of Uintah's JWL++ model; see
 //! `docs/physics/reaction/jwlpp.md`).
 
+use std::sync::Arc;
+
+use brisance_core::{ReactionModel, ReactionState};
 use brisance_eos::{JwlCTerm, Murnaghan};
 use brisance_reaction::jwlpp::JwlPlusPlus;
 
@@ -40,15 +46,111 @@ pub fn detonation_energy(reactant: &Murnaghan, products: &JwlCTerm) -> Result<f6
     brisance_reaction::jwlpp::detonation_energy(reactant, products).map_err(|e| e.to_string())
 }
 
+/// The rate law of an [`IceReaction`]: step 4 calls it through
+/// [`ReactionModel::burnt_density`] with the cell's equilibration pressure,
+/// the reactant's temperature and density and the two materials'
+/// macroscopic densities. The built-in JWL++ is a variant of its own, so
+/// the cell loop calls it without an indirect call; any other
+/// [`ReactionModel`] (a model crate's own) comes as [`IceRate::Model`].
+#[derive(Debug, Clone)]
+pub enum IceRate {
+    /// JWL++ (seed 000 eqs 35–37).
+    JwlPlusPlus(JwlPlusPlus),
+    /// Any other reaction model.
+    Model(Arc<dyn ReactionModel>),
+}
+
+impl From<JwlPlusPlus> for IceRate {
+    fn from(rate: JwlPlusPlus) -> Self {
+        Self::JwlPlusPlus(rate)
+    }
+}
+
+impl PartialEq for IceRate {
+    /// JWL++ laws by their parameters; other models by identity.
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::JwlPlusPlus(a), Self::JwlPlusPlus(b)) => a == b,
+            (Self::Model(a), Self::Model(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+}
+
+impl IceRate {
+    /// The JWL++ law, when that is the rate.
+    pub fn jwlpp(&self) -> Option<&JwlPlusPlus> {
+        match self {
+            Self::JwlPlusPlus(m) => Some(m),
+            Self::Model(_) => None,
+        }
+    }
+
+    /// Checks the parameters of a built-in law (a model given as
+    /// [`IceRate::Model`] was built by its own crate's checks).
+    pub fn validate(&self) -> Result<(), String> {
+        match self {
+            Self::JwlPlusPlus(m) => m.validate().map_err(|e| e.to_string()),
+            Self::Model(_) => Ok(()),
+        }
+    }
+}
+
+impl ReactionModel for IceRate {
+    fn name(&self) -> &'static str {
+        match self {
+            Self::JwlPlusPlus(m) => m.name(),
+            Self::Model(m) => m.name(),
+        }
+    }
+
+    fn rate(&self, state: &ReactionState, burn_fraction: f64) -> f64 {
+        match self {
+            Self::JwlPlusPlus(m) => ReactionModel::rate(m, state, burn_fraction),
+            Self::Model(m) => m.rate(state, burn_fraction),
+        }
+    }
+
+    fn advance(&self, state: &ReactionState, burn_fraction: f64, dt: f64) -> f64 {
+        match self {
+            Self::JwlPlusPlus(m) => m.advance(state, burn_fraction, dt),
+            Self::Model(m) => m.advance(state, burn_fraction, dt),
+        }
+    }
+
+    fn mass_converted(&self, initial_mass: f64, f_old: f64, f_new: f64) -> f64 {
+        match self {
+            Self::JwlPlusPlus(m) => m.mass_converted(initial_mass, f_old, f_new),
+            Self::Model(m) => m.mass_converted(initial_mass, f_old, f_new),
+        }
+    }
+
+    #[inline]
+    fn burnt_density(
+        &self,
+        state: &ReactionState,
+        rho_reactant: f64,
+        rho_product: f64,
+        dt: f64,
+    ) -> f64 {
+        match self {
+            Self::JwlPlusPlus(m) => {
+                ReactionModel::burnt_density(m, state, rho_reactant, rho_product, dt)
+            }
+            Self::Model(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
+        }
+    }
+}
+
 /// One reaction between two of the solver's materials.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct IceReaction {
     /// Index of the reactant material (0-based, solver order).
     pub reactant: usize,
     /// Index of the product material.
     pub product: usize,
     /// The rate law.
-    pub rate: JwlPlusPlus,
+    pub rate: IceRate,
     /// Chemical energy released per kilogram burnt, J/kg (Q ≥ 0).
     pub heat_of_reaction: f64,
 }
@@ -78,7 +180,7 @@ impl IceReaction {
                 self.heat_of_reaction
             ));
         }
-        self.rate.validate().map_err(|e| e.to_string())
+        self.rate.validate()
     }
 }
 
@@ -217,23 +319,37 @@ mod tests {
         let ok = IceReaction {
             reactant: 0,
             product: 1,
-            rate: JwlPlusPlus::anfo_k1(),
+            rate: JwlPlusPlus::anfo_k1().into(),
             heat_of_reaction: 3.4e6,
         };
         assert!(ok.validate(2).is_ok());
-        let e = IceReaction { product: 2, ..ok }.validate(2).unwrap_err();
+        let e = IceReaction {
+            product: 2,
+            ..ok.clone()
+        }
+        .validate(2)
+        .unwrap_err();
         assert!(e.contains("`product`"), "{e}");
-        let e = IceReaction { product: 0, ..ok }.validate(2).unwrap_err();
+        let e = IceReaction {
+            product: 0,
+            ..ok.clone()
+        }
+        .validate(2)
+        .unwrap_err();
         assert!(e.contains("same material"), "{e}");
         let e = IceReaction {
             heat_of_reaction: -1.0,
-            ..ok
+            ..ok.clone()
         }
         .validate(2)
         .unwrap_err();
         assert!(e.contains("heat_of_reaction"), "{e}");
         let mut bad = ok;
-        bad.rate.g = 0.0;
+        bad.rate = JwlPlusPlus {
+            g: 0.0,
+            ..JwlPlusPlus::anfo_k1()
+        }
+        .into();
         assert!(bad.validate(2).unwrap_err().contains("`g`"));
     }
 }

@@ -20,7 +20,9 @@
 //! rayon, and every value is a function of the cell's neighbourhood alone,
 //! so the bits do not depend on the thread count or the patch split.
 
-use brisance_core::{CellData, ConservationTotals, Eos, Geometry, Solver, SolverError};
+use brisance_core::{
+    CellData, ConservationTotals, Eos, Geometry, ReactionModel, ReactionState, Solver, SolverError,
+};
 use brisance_grid::{
     BoundaryConditions, Face, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
     Patch, PatchFields,
@@ -57,6 +59,7 @@ macro_rules! solver_params {
             $s.options,
             &$s.level,
             &$s.lagrangian,
+            $s.time,
         )
     };
 }
@@ -454,6 +457,8 @@ struct Params<'a, E: Eos> {
     coupled: bool,
     /// Whether the cells are (r, z) rings.
     axisymmetric: bool,
+    /// The solver's time at the start of the step, s.
+    time: f64,
 }
 
 fn make_params<'a, E: Eos>(
@@ -463,6 +468,7 @@ fn make_params<'a, E: Eos>(
     options: IceOptions,
     level: &Level,
     lagrangian: &[bool],
+    time: f64,
 ) -> Params<'a, E> {
     Params {
         eos,
@@ -476,6 +482,7 @@ fn make_params<'a, E: Eos>(
         lagrangian: std::array::from_fn(|r| lagrangian.get(r).copied().unwrap_or(false)),
         coupled: lagrangian.iter().any(|&l| l),
         axisymmetric: options.geometry.is_axisymmetric(),
+        time,
     }
 }
 

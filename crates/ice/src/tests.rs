@@ -8,7 +8,8 @@ use brisance_grid::Level;
 use crate::cases::{contact_width, run_to, sod_one, sod_two};
 use crate::solver::GHOST;
 use crate::{
-    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver, MaterialState,
+    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceRate, IceReaction,
+    IceSolver, MaterialState,
 };
 
 /// The totals of the cells alone: the conservation totals less what has
@@ -648,6 +649,82 @@ fn a_reacting_closed_box_conserves_mass_momentum_and_energy() {
     assert_eq!(t1.momentum[1], 0.0);
 }
 
+/// A reaction model of another crate, handed to the solver as
+/// `IceRate::Model`: step 4 calls it through `ReactionModel::burnt_density`
+/// with the cell's equilibration pressure, the reactant's temperature and
+/// density and the step's end time, and each cell of a uniform box at rest
+/// burns exactly k Δt (ρ_r + ρ_p) (dF/dt = k; seed 000 eq 37).
+#[test]
+fn a_reaction_model_of_another_crate_burns_through_the_trait() {
+    use brisance_core::{ReactionModel, ReactionState};
+    use brisance_eos::EosModel;
+    use std::sync::{Arc, Mutex};
+    #[derive(Debug)]
+    struct Constant {
+        k: f64,
+        seen: Mutex<Vec<ReactionState>>,
+    }
+    impl ReactionModel for Constant {
+        fn name(&self) -> &'static str {
+            "Constant"
+        }
+        fn rate(&self, state: &ReactionState, _: f64) -> f64 {
+            self.seen.lock().unwrap().push(*state);
+            self.k
+        }
+    }
+    let (eos, jwlpp) = crate::cases::anfo_k1_jwlpp().unwrap();
+    let model = Arc::new(Constant {
+        k: 2.0e4,
+        seen: Mutex::new(Vec::new()),
+    });
+    let level = Level::new([0.0; 3], [0.004, 0.001, 0.001], [4, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let p0 = 1.0e8;
+    let dens = |e: &EosModel| brisance_core::Eos::density(e, p0, 298.15).unwrap();
+    let (rho_r, rho_p) = (dens(&eos[0]), dens(&eos[1]));
+    let mut s = IceSolver::new(
+        eos,
+        level,
+        std::array::from_fn(|_| IceBoundary::Symmetry),
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |_| CellState {
+            pressure: p0,
+            materials: vec![mat(0.9, rho_r, 0.0), mat(0.1, rho_p, 0.0)],
+        },
+    )
+    .unwrap();
+    s.set_reactions(vec![IceReaction {
+        rate: IceRate::Model(model.clone()),
+        ..jwlpp
+    }])
+    .unwrap();
+    let field =
+        |s: &IceSolver<EosModel>, f: &str| s.cell_data(&[f.into()]).unwrap().fields[0].1.clone();
+    let (r0, q0) = (field(&s, "density_1"), field(&s, "density_2"));
+    let (p_eq, t_r) = (field(&s, "pressure"), field(&s, "temperature_1"));
+    let dt = 1e-7;
+    s.advance(dt).unwrap();
+    let q1 = field(&s, "density_2");
+    for c in 0..4 {
+        let expect = 2.0e4 * dt * (r0[c] + q0[c]);
+        let burnt = q1[c] - q0[c];
+        assert!(
+            (burnt / expect - 1.0).abs() < 1e-9,
+            "cell {c}: {burnt:e} vs {expect:e}"
+        );
+    }
+    let seen = model.seen.lock().unwrap();
+    assert_eq!(seen.len(), 4, "one call a cell");
+    for st in seen.iter() {
+        assert_eq!(st.pressure, p_eq[0]);
+        assert!((st.temperature / t_r[0] - 1.0).abs() < 1e-12, "{st:?}");
+        assert!((st.density / rho_r - 1.0).abs() < 1e-9, "{st:?}");
+        assert_eq!(st.time, dt);
+        assert_eq!(st.detonation_time, f64::INFINITY);
+    }
+}
+
 /// The 1D ANFO-K1 rate stick at h = 2 mm, 6 cm long: the 90 m/s impact on
 /// the wall initiates a detonation that reaches both gauges.
 #[test]
@@ -1135,7 +1212,8 @@ fn a_lagrangian_reactant_burns_at_g_p_dt_and_its_product_takes_the_source() {
                 b: 1.0,
                 threshold_pressure: 2e8,
                 max_burn_fraction: 0.2,
-            },
+            }
+            .into(),
             heat_of_reaction: 4e6,
         }])
         .unwrap();

@@ -187,8 +187,9 @@ impl JwlPlusPlus {
 /// `max_burn_fraction` of the reactant left, ΔF ≤ max_burn_fraction (1 − F)
 /// (the seed's 20 % rule, as [`JwlPlusPlus::burnt_density`] applies it to
 /// densities: ΔF (ρ_r + ρ_p) = burnt density, since (1 − F)(ρ_r + ρ_p) =
-/// ρ_r). The ICE step computes the burnt density directly
-/// ([`JwlPlusPlus::burnt_density`]), the same law in its own arithmetic.
+/// ρ_r). Its [`ReactionModel::burnt_density`], which the ICE's step 4
+/// calls, is [`JwlPlusPlus::burnt_density`]: the same law in the
+/// densities' own arithmetic, G p^b ρ_r Δt capped at 20 % of ρ_r.
 impl ReactionModel for JwlPlusPlus {
     fn name(&self) -> &'static str {
         "JwlPlusPlus"
@@ -202,6 +203,16 @@ impl ReactionModel for JwlPlusPlus {
         let left = (1.0 - burn_fraction).max(0.0);
         let step = (self.rate(state, burn_fraction) * dt).min(self.max_burn_fraction * left);
         (burn_fraction + step.max(0.0)).clamp(burn_fraction, 1.0)
+    }
+
+    fn burnt_density(
+        &self,
+        state: &ReactionState,
+        rho_reactant: f64,
+        rho_product: f64,
+        dt: f64,
+    ) -> f64 {
+        JwlPlusPlus::burnt_density(self, state.pressure, rho_reactant, rho_product, dt)
     }
 }
 
@@ -305,6 +316,8 @@ mod tests {
             let f0 = JwlPlusPlus::burn_fraction(rr, rp);
             let df = m.advance(&at(p), f0, dt) - f0;
             let dm = m.burnt_density(p, rr, rp, dt);
+            // The trait's burnt density is that very arithmetic.
+            assert_eq!(ReactionModel::burnt_density(&m, &at(p), rr, rp, dt), dm);
             assert!(
                 (df * (rr + rp) - dm).abs() <= 1e-12 * dm,
                 "{} vs {dm}",

@@ -492,7 +492,8 @@ pub fn detonation_column(h: f64, particles: bool) -> Result<DetonationColumn, So
             g: 9.1e-5,
             b: 1.0,
             ..brisance_ice::JwlPlusPlus::anfo_k1()
-        },
+        }
+        .into(),
         heat_of_reaction: q,
     }])
     .map_err(|e| err(e.to_string()))?;

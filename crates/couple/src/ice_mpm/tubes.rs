@@ -231,7 +231,8 @@ pub fn burning_tube(p0: f64, u: f64, g: f64) -> Tube {
                 b: 1.0,
                 threshold_pressure: 2e8,
                 max_burn_fraction: 0.2,
-            },
+            }
+            .into(),
             heat_of_reaction: q,
         }],
     }

@@ -478,7 +478,8 @@ pub(super) fn lagrangian_cell<E: Eos>(
                 // (`IceSolver::add_burnt_particles`).
                 continue;
             }
-            let burnt = rx.rate.burnt_density(p_eq, rho[a], rho[b], dt);
+            let state = reaction_state(params, sv[a * NS + TEMP], sv[a * NS + VSP], p_eq, dt);
+            let burnt = rx.rate.burnt_density(&state, rho[a], rho[b], dt);
             if burnt > 0.0 {
                 let parcel = |r: usize| Parcel {
                     rho: rho[r],
@@ -649,4 +650,25 @@ pub(super) fn lagrangian_cell<E: Eos>(
         }
     }
     Ok(out)
+}
+
+/// What step 4 gives a reaction model in a cell: the equilibration
+/// pressure of step 2, the reactant's temperature and (microscopic)
+/// density 1/v, and the time at the end of the step; no detonation
+/// schedule.
+#[inline]
+pub(super) fn reaction_state<E: Eos>(
+    params: &Params<'_, E>,
+    temperature: f64,
+    specific_volume: f64,
+    pressure: f64,
+    dt: f64,
+) -> ReactionState {
+    ReactionState {
+        pressure,
+        temperature,
+        density: 1.0 / specific_volume,
+        time: params.time + dt,
+        detonation_time: f64::INFINITY,
+    }
 }

@@ -46,7 +46,15 @@ fn a_cold_trace_compressed_in_step_2_keeps_its_temperature() {
     let (trace, eos) = (trace(), air_and_trace());
     let level = Level::new([0.0; 3], [1.0; 3], [1, 1, 1], [1, 1, 1], GHOST).unwrap();
     let exchange = ExchangeCoefficients::uniform(2, 1e15, 0.0);
-    let params = make_params(&eos, &[], &exchange, IceOptions::default(), &level, &[]);
+    let params = make_params(
+        &eos,
+        &[],
+        &exchange,
+        IceOptions::default(),
+        &level,
+        &[],
+        0.0,
+    );
     let mut vals = cold_trace_cell();
     let (rho_t, t_air) = (1260.0, 300.0);
     let e_old = vals[NS + ENERGY];
@@ -137,6 +145,7 @@ fn the_solver_books_the_cold_rule_per_material() {
         IceOptions::default(),
         &s.level,
         &[],
+        0.0,
     );
     let mut vals = cold_trace_cell();
     let (_, kept) = equilibrate_cell(&params, &mut vals).unwrap();

@@ -225,7 +225,7 @@ impl<E: Eos> IceSolver<E> {
     /// its EOS at the equilibration pressure): the volume the burnt mass
     /// held in this frame, which the product is born with.
     pub fn lagrangian_burn_fraction(&self, k: usize, dt: f64, out: &mut [f64], volume: &mut [f64]) {
-        let rx = self.reactions[k];
+        let rx = &self.reactions[k];
         assert!(
             self.is_lagrangian(rx.reactant),
             "reaction {k}'s reactant is not Lagrangian"
@@ -233,6 +233,7 @@ impl<E: Eos> IceSolver<E> {
         let count = self.level.geometry.cell_count();
         assert!(out.len() == count && volume.len() == count);
         let n = self.eos.len();
+        let params = solver_params!(self);
         let (a, b) = (rx.reactant * NS + RHO, rx.product * NS + RHO);
         par_gather(&self.level, out, |pid, c| {
             let d = &self.state[pid].data;
@@ -240,7 +241,9 @@ impl<E: Eos> IceSolver<E> {
             if !(rho_r > 0.0) {
                 return 0.0;
             }
-            rx.rate.burnt_density(d[n * NS][c], rho_r, d[b][c], dt) / rho_r
+            let (t, v) = (d[rx.reactant * NS + TEMP][c], d[rx.reactant * NS + VSP][c]);
+            let state = reaction_state(&params, t, v, d[n * NS][c], dt);
+            rx.rate.burnt_density(&state, rho_r, d[b][c], dt) / rho_r
         });
         let v = rx.reactant * NS + VSP;
         par_gather(&self.level, volume, |pid, c| self.state[pid].data[v][c]);
