@@ -30,13 +30,28 @@ use crate::lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec};
 use crate::material::{micromodulus, PdMaterial, ProportionalKind};
 use crate::viscosity::{viscous_forces, GasViscosity, ViscousInput, ViscousNode, ViscousOut};
 use brisance_core::{ConservationTotals, ParticleData, Solver, SolverError};
+use brisance_core::{ReactionModel, ReactionState};
 use brisance_grid::Shape;
 use brisance_reaction::{
-    huygens_detonation_times, straight_line_detonation_times, DetonationPoint,
+    huygens_detonation_times, straight_line_detonation_times, DetonationPoint, ProgramBurn,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// Whether a node whose detonation time is `detonation_time` has burnt by
+/// `time`: program burn's burn fraction ([`ProgramBurn`] through the
+/// [`ReactionModel`] trait, seed 004's volume burn F = H(t − t_det)) is 1.
+/// Every gate of the solver on a node's detonation asks this.
+#[inline(always)]
+fn detonated(time: f64, detonation_time: f64) -> bool {
+    let state = ReactionState {
+        time,
+        detonation_time,
+        ..ReactionState::default()
+    };
+    ProgramBurn.advance(&state, 0.0, 0.0) >= 1.0
+}
 
 /// Until the front has run one horizon past the last explosive node (last
 /// detonation time + δ/D), the step is at most this fraction of h/D: the
@@ -817,7 +832,9 @@ impl PdSolver {
     /// reactant's P_u(X) (0 without a reactant); 0 for solids. Pa.
     pub fn pressure(&self, i: usize) -> f64 {
         match self.materials[self.material[i] as usize] {
-            PdMaterial::Gas(g) if self.time >= self.detonation_time[i] || g.reactant.is_some() => {
+            PdMaterial::Gas(g)
+                if detonated(self.time, self.detonation_time[i]) || g.reactant.is_some() =>
+            {
                 let [x, _, xd, heat] = self.gas[i];
                 node_pressure(&g, x, xd, heat).0
             }
@@ -862,7 +879,7 @@ impl PdSolver {
     /// current time (its products' forces are not applied to it).
     pub fn is_unreacted(&self, i: usize) -> bool {
         matches!(self.laws[self.material[i] as usize], BondLaw::Gas)
-            && self.time < self.detonation_time[i]
+            && !detonated(self.time, self.detonation_time[i])
     }
 
     /// Half a velocity update, v ← v + Δt_half (f_bond + f_SR + b)/ρ₀, at
@@ -906,7 +923,7 @@ impl PdSolver {
             let m = material[i] as usize;
             let unreacted = hold
                 && matches!(laws[m], BondLaw::Gas)
-                && time < detonation_time[i]
+                && !detonated(time, detonation_time[i])
                 && !has_reactant[m];
             let mut b = if unreacted {
                 [0.0; 3]
@@ -998,7 +1015,7 @@ impl PdSolver {
                 // detonated (`products_pressure`).
                 let xd = if g[2] > 0.0 {
                     g[2]
-                } else if time >= detonation_time[i] {
+                } else if detonated(time, detonation_time[i]) {
                     x
                 } else {
                     0.0
@@ -1030,7 +1047,7 @@ impl PdSolver {
             // products (eq 25's density); a = 0 elsewhere.
             for_each_node(&mut self.viscous_node, |i, o| {
                 *o = match materials[material[i] as usize] {
-                    PdMaterial::Gas(g) if time >= detonation_time[i] => {
+                    PdMaterial::Gas(g) if detonated(time, detonation_time[i]) => {
                         let [x, _, xd, heat] = gas[i];
                         let dp = products_pressure(&g, x, xd, heat).1;
                         let c2 = (-x * x * dp / g.density).max(0.0);
@@ -1052,7 +1069,7 @@ impl PdSolver {
                     // Before detonation: the reactant's P_u(X), or 0
                     // without one (`node_pressure`).
                     let [x, _, xd, heat] = gas[i];
-                    s[3] = if time >= detonation_time[i] || g.reactant.is_some() {
+                    s[3] = if detonated(time, detonation_time[i]) || g.reactant.is_some() {
                         6.0 * node_pressure(&g, x, xd, heat).0 * x.powf(4.0 / 3.0)
                             / family_volume[i]
                     } else {
@@ -1185,7 +1202,7 @@ impl PdSolver {
                     BondLaw::Solid { .. } => self.node_scale[i],
                     BondLaw::Gas => 0.0,
                 },
-                self.time >= self.detonation_time[i]
+                detonated(self.time, self.detonation_time[i])
             ),
         )
     }
@@ -1270,7 +1287,7 @@ impl PdSolver {
             .map(|i| match self.materials[self.material[i] as usize] {
                 PdMaterial::Gas(g) => {
                     let [x, _, xd, heat] = self.gas[i];
-                    let y = if self.time >= self.detonation_time[i] && xd > 0.0 {
+                    let y = if detonated(self.time, self.detonation_time[i]) && xd > 0.0 {
                         x / xd
                     } else {
                         1.0

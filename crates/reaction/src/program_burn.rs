@@ -61,8 +61,8 @@ pub enum BurnError {
 /// or [`straight_line_detonation_times`]) and not before; it has no rate.
 /// This is seed 004's volume burn (a node's products take the volume-burn
 /// state at its detonation time; eqs 20–21), the burn fraction the step
-/// function F = H(t − t_det). The PD solver compares its nodes' times in
-/// its own loops; this is the same rule.
+/// function F = H(t − t_det). The PD solver asks it, through the trait,
+/// whether each node has burnt.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct ProgramBurn;
 

@@ -1333,3 +1333,15 @@ fn a_collision_keeps_its_energy_once_the_contact_energy_is_counted() {
     assert!(fine < 2e-3, "{fine:e}");
     assert!(fine < medium / 8.0, "{medium:e} -> {fine:e}");
 }
+
+/// A node has burnt from its detonation time on, and never without one:
+/// program burn's step F = H(t − t_det), asked through the trait.
+#[test]
+fn a_node_detonates_at_its_time_through_program_burn() {
+    use super::detonated;
+    assert!(detonated(2.0e-6, 2.0e-6));
+    assert!(detonated(3.0e-6, 2.0e-6));
+    assert!(!detonated(1.999_999e-6, 2.0e-6));
+    assert!(!detonated(1.0, f64::INFINITY));
+    assert!(detonated(0.0, 0.0));
+}
