@@ -101,6 +101,13 @@ pub const ENTRIES: &[Entry] = &[
         docs: Some("docs/physics/pd/program_burn.md"),
     },
     Entry {
+        family: "reaction",
+        name: "ProgramBurnRamp",
+        summary: "program burn of a 1D charge: a cell lit at distance/D burns over 1.5 cells, F = min(1, (t - t_L) D/(1.5 h)) (seed 001 eqs 52-53); the 1D detonation of an FdmMpmBridge `charge` and of `brisance remap`, with the explosive's D and the 1D grid's h",
+        example: "ProgramBurnRamp(detonation_velocity: 6930.0, cell_size: 1.0e-4)",
+        docs: Some("docs/physics/fdm_detonation.md"),
+    },
+    Entry {
         family: "material",
         name: "Hypoelastic",
         summary: "isotropic hypoelastic solid (K or an EOS, G) with a Jaumann or Green-Naghdi rate (seed 000 §4.2, seed 001 eq 30)",
@@ -433,6 +440,9 @@ mod tests {
                     "ProgramBurn" => ron_options()
                         .from_str::<crate::peridynamics::PdDetonationConfig>(e.example)
                         .map(|_| ()),
+                    "ProgramBurnRamp" => ron_options()
+                        .from_str::<brisance_reaction::ProgramBurnRamp>(e.example)
+                        .map(|_| ()),
                     _ => ron_options()
                         .from_str::<crate::ice::IceReactionModel>(e.example)
                         .map(|_| ()),
@@ -541,6 +551,11 @@ mod tests {
         let names = [
             brisance_reaction::JwlPlusPlus::anfo_k1().name(),
             brisance_reaction::ProgramBurn.name(),
+            brisance_reaction::ProgramBurnRamp {
+                detonation_velocity: 6930.0,
+                cell_size: 1e-4,
+            }
+            .name(),
         ];
         for v in names {
             assert!(

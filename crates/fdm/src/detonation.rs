@@ -36,8 +36,9 @@
 //! it acts at full pressure ahead of the detonation (at 0.125 mm cells this
 //! drove the first air cell to negative density).
 
-use brisance_core::Eos;
+use brisance_core::{Eos, ReactionModel, ReactionState};
 use brisance_eos::{IdealGas, Jwl};
+use brisance_reaction::ProgramBurnRamp;
 
 use crate::gas::{GasLaw, ProductsInAir};
 use crate::limiter::{
@@ -52,13 +53,20 @@ pub fn lighting_time(distance: f64, detonation_velocity: f64) -> f64 {
 }
 
 /// Burn fraction of seed 001 eq 53, capped at 1:
-/// F = min(1, (t − t_L) D/(1.5 h)) for t > t_L, 0 before.
+/// F = min(1, (t − t_L) D/(1.5 h)) for t > t_L, 0 before — the
+/// [`ProgramBurnRamp`] reaction model, called through the
+/// [`ReactionModel`] trait with t_L as the cell's detonation time.
 pub fn burn_fraction(t: f64, t_light: f64, detonation_velocity: f64, h: f64) -> f64 {
-    if t <= t_light {
-        0.0
-    } else {
-        ((t - t_light) * detonation_velocity / (1.5 * h)).min(1.0)
-    }
+    let model = ProgramBurnRamp {
+        detonation_velocity,
+        cell_size: h,
+    };
+    let state = ReactionState {
+        time: t,
+        detonation_time: t_light,
+        ..ReactionState::default()
+    };
+    model.advance(&state, 0.0, 0.0)
 }
 
 /// Symmetry of the 1D run.

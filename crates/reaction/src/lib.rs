@@ -2,8 +2,8 @@
 //!
 //! The models that burn by a pointwise law implement
 //! [`brisance_core::ReactionModel`] (registered for configs in the composer's
-//! registry, `brisance list`): [`JwlPlusPlus`] (seed 000 §4.1.1) and
-//! [`ProgramBurn`] (seed 004).
+//! registry, `brisance list`): [`JwlPlusPlus`] (seed 000 §4.1.1),
+//! [`ProgramBurn`] (seed 004) and [`ProgramBurnRamp`] (seed 001 eq 53).
 //!
 //! - [`jwlpp`]: the JWL++ rate law with the seed's threshold and 20 % rule,
 //!   its detonation energy and CJ state.
@@ -32,5 +32,5 @@ pub use jwlpp::JwlPlusPlus;
 pub use products::{ProductsError, ProductsIsentrope};
 pub use program_burn::{
     huygens_detonation_times, straight_line_detonation_times, BurnError, DetonationPoint,
-    ProgramBurn,
+    ProgramBurn, ProgramBurnRamp,
 };

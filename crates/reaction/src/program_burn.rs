@@ -84,6 +84,58 @@ impl brisance_core::ReactionModel for ProgramBurn {
     }
 }
 
+/// Seed 001's program burn of a 1D charge (§4.1, eq 53) behind the
+/// [`ReactionModel`](brisance_core::ReactionModel) trait: a cell lit at
+/// its lighting time t_L = distance/D
+/// ([`ReactionState::detonation_time`](brisance_core::ReactionState::detonation_time))
+/// burns over the time the front takes to cross 1.5 cells,
+/// F = min(1, (t − t_L) D/(1.5 h)) for t > t_L and 0 before, its pressure
+/// F p_EOS (eq 52). The burn fraction is a function of the time alone, so
+/// `advance` ignores the step and never lowers the fraction it is given.
+/// `brisance remap` and a scenario's `pipeline.charge` run the 1D
+/// detonation with it (`brisance_fdm::detonation`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProgramBurnRamp {
+    /// Detonation velocity D, m/s.
+    pub detonation_velocity: f64,
+    /// Cell size h of the 1D grid, m.
+    pub cell_size: f64,
+}
+
+impl ProgramBurnRamp {
+    /// F at time `t` of a cell lit at `t_light` (eq 53).
+    #[inline]
+    pub fn fraction(&self, t: f64, t_light: f64) -> f64 {
+        if t <= t_light {
+            0.0
+        } else {
+            ((t - t_light) * self.detonation_velocity / (1.5 * self.cell_size)).min(1.0)
+        }
+    }
+}
+
+impl brisance_core::ReactionModel for ProgramBurnRamp {
+    fn name(&self) -> &'static str {
+        "ProgramBurnRamp"
+    }
+
+    /// D/(1.5 h) while the front crosses the cell, 0 before and after.
+    fn rate(&self, state: &brisance_core::ReactionState, _burn_fraction: f64) -> f64 {
+        let f = self.fraction(state.time, state.detonation_time);
+        if f > 0.0 && f < 1.0 {
+            self.detonation_velocity / (1.5 * self.cell_size)
+        } else {
+            0.0
+        }
+    }
+
+    fn advance(&self, state: &brisance_core::ReactionState, burn_fraction: f64, _dt: f64) -> f64 {
+        self.fraction(state.time, state.detonation_time)
+            .max(burn_fraction.clamp(0.0, 1.0))
+    }
+}
+
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
@@ -286,6 +338,52 @@ mod tests {
 
     /// Not detonated before its time, fully burnt from it on, whatever the
     /// step; and the trait's contract at any time and schedule.
+    /// Seed 001 eq 53 by hand: D = 6930 m/s, h = 1 mm, lit at 10 µs:
+    /// 1.5 h/D = 0.21645 µs to burn; at 10.1 µs F = 0.1e-6 · 6930/1.5e-3
+    /// = 0.462; the rate D/(1.5 h) = 4.62e6 1/s only while it burns.
+    #[test]
+    fn the_ramp_is_seed_001_eq_53() {
+        use brisance_core::{ReactionModel, ReactionState};
+        let m = ProgramBurnRamp {
+            detonation_velocity: 6930.0,
+            cell_size: 1e-3,
+        };
+        let at = |time: f64| ReactionState {
+            time,
+            detonation_time: 1.0e-5,
+            ..Default::default()
+        };
+        assert_eq!(m.name(), "ProgramBurnRamp");
+        assert_eq!(m.advance(&at(0.9e-5), 0.0, 1e-8), 0.0);
+        assert_eq!(m.advance(&at(1.0e-5), 0.0, 1e-8), 0.0);
+        assert!((m.advance(&at(1.01e-5), 0.0, 1e-8) - 0.462).abs() < 1e-9);
+        assert_eq!(m.advance(&at(1.03e-5), 0.0, 1e-8), 1.0);
+        assert!((m.rate(&at(1.01e-5), 0.0) - 4.62e6).abs() < 1e-3);
+        assert_eq!(m.rate(&at(1.03e-5), 0.0), 0.0);
+        assert_eq!(m.rate(&at(0.9e-5), 0.0), 0.0);
+        // It never lowers the fraction it is given.
+        assert_eq!(m.advance(&at(1.01e-5), 0.7, 1e-8), 0.7);
+    }
+
+    proptest::proptest! {
+        /// The `ReactionModel` contract of the ramp at any time, lighting
+        /// time (or none), burn fraction and step.
+        #[test]
+        fn the_ramp_keeps_the_reaction_model_contract(
+            t in 0.0f64..1e-4, tl in 0.0f64..1e-4, never in proptest::bool::ANY,
+            f in 0.0f64..=1.0, dt in 0.0f64..1e-6, d in 1e3f64..1e4, h in 1e-5f64..1e-2,
+        ) {
+            let m = ProgramBurnRamp { detonation_velocity: d, cell_size: h };
+            let state = brisance_core::ReactionState {
+                time: t,
+                detonation_time: if never { f64::INFINITY } else { tl },
+                ..Default::default()
+            };
+            let r = brisance_core::contracts::check_reaction_model(&m, &state, f, dt);
+            proptest::prop_assert!(r.is_ok(), "{:?}", r);
+        }
+    }
+
     #[test]
     fn program_burn_is_the_step_function_of_the_detonation_time() {
         use brisance_core::{ReactionModel, ReactionState};
