@@ -21,7 +21,10 @@
 //!
 //! `reactions` lists the reactions of step 4 (seed 000 eq 1), each
 //! `(reactant: "...", product: "...", model: JwlPlusPlus(g: ..., b: ...))`
-//! between two of `materials`; `heat_of_reaction` (J/kg) may be left out
+//! or `model: Deflagration(a: ..., n: ..., ignition_temperature: ...)` (the
+//! surface burn D = A pⁿ of seed 000 eqs 38–39, on the surface the solver
+//! finds after each step 2) between two of `materials`;
+//! `heat_of_reaction` (J/kg) may be left out
 //! when the reactant is `Murnaghan` and the product `JwlCTerm` with the same
 //! ρ₀, and is then the JWL++ detonation energy of the products
 //! (`brisance_reaction::jwlpp::detonation_energy`).
@@ -44,8 +47,9 @@ use brisance_core::Eos;
 use brisance_eos::EosModel;
 use brisance_grid::Level;
 use brisance_ice::{
-    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
-    JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve, GHOST, MAX_MATERIALS,
+    Advection, CellState, Deflagration, ExchangeCoefficients, IceBoundary, IceOptions, IceRate,
+    IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve, GHOST,
+    MAX_MATERIALS,
 };
 use serde::{Deserialize, Serialize};
 
@@ -142,6 +146,18 @@ pub struct IceReactionConfig {
 pub enum IceReactionModel {
     /// JWL++ (seed 000 §4.1.1 eqs 35–37).
     JwlPlusPlus(JwlPlusPlus),
+    /// The surface burn D = A pⁿ of seed 000 §4.1.2 (eqs 38–39).
+    Deflagration(Deflagration),
+}
+
+impl IceReactionModel {
+    /// The solver's rate law, checked; the message names the bad field.
+    fn rate(self) -> Result<IceRate, String> {
+        match self {
+            Self::JwlPlusPlus(m) => m.validate().map(|_| m.into()).map_err(|e| e.to_string()),
+            Self::Deflagration(m) => m.validate().map(|_| m.into()).map_err(|e| e.to_string()),
+        }
+    }
 }
 
 /// The solver's reactions of `cfg`, checked; errors carry the field path.
@@ -177,9 +193,7 @@ fn reactions(s: &Scenario, cfg: &IceConfig) -> Result<Vec<IceReaction>, Problem>
                 ),
             ));
         }
-        let IceReactionModel::JwlPlusPlus(rate) = r.model;
-        rate.validate()
-            .map_err(|e| (path("model"), e.to_string()))?;
+        let rate = r.model.rate().map_err(|e| (path("model"), e))?;
         let heat = match r.heat_of_reaction {
             Some(q) => {
                 if !(q >= 0.0 && q.is_finite()) {
@@ -202,7 +216,7 @@ fn reactions(s: &Scenario, cfg: &IceConfig) -> Result<Vec<IceReaction>, Problem>
         out.push(IceReaction {
             reactant: a,
             product: b,
-            rate: rate.into(),
+            rate,
             heat_of_reaction: heat,
         });
     }
@@ -792,6 +806,33 @@ mod tests {
             let dt = solver.stable_dt().unwrap();
             solver.advance(dt).unwrap();
         }
+    }
+
+    /// `model: Deflagration(...)` builds the surface burn (its heat of
+    /// reaction the JWL++ default of the Murnaghan → JwlCTerm pair), and a
+    /// bad parameter is reported at the model's field with its name.
+    #[test]
+    fn a_config_names_the_deflagration() {
+        let law = "model: Deflagration(a: 5.218307e-6, n: 0.778, ignition_temperature: 450.0)";
+        let text = STICK.replace("model: JwlPlusPlus(g: 3.5083e-7, b: 1.3)", law);
+        let loaded = load_str("ratestick_1d.ron", &text, &[]).unwrap();
+        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+            panic!("an Ice pipeline");
+        };
+        let rx = super::reactions(&loaded.scenario, ice).unwrap();
+        assert_eq!(
+            rx[0].rate,
+            super::IceRate::Deflagration(brisance_reaction::Deflagration::pbx_9501())
+        );
+        assert!(rx[0].heat_of_reaction > 0.0);
+        let bad = text.replace("n: 0.778", "n: -0.5");
+        let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("pipeline.reactions.0.model"),
+            "{err}"
+        );
+        assert!(err.to_string().contains("`n`"), "{err}");
     }
 
     /// A reaction naming a material outside the pipeline, or products

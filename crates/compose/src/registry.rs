@@ -95,6 +95,13 @@ pub const ENTRIES: &[Entry] = &[
     },
     Entry {
         family: "reaction",
+        name: "Deflagration",
+        summary: "surface burn D = A p^n with an ignition temperature, Gamma = a D rho on the reactant surface found after each equilibration (seed 000 eqs 38-39); ICE and IceMpm `reactions`",
+        example: "Deflagration(a: 5.218307e-6, n: 0.778, ignition_temperature: 450.0)",
+        docs: Some("docs/physics/reaction/deflagration.md"),
+    },
+    Entry {
+        family: "reaction",
         name: "ProgramBurn",
         summary: "program burn: each explosive node detonates at its Huygens or straight-line time from the detonation points (seed 004); Peridynamics `detonation`",
         example: "ProgramBurn(points: [(position: (0.0, 0.0, 0.0), time: 0.0)], method: Huygens)",
@@ -551,6 +558,7 @@ mod tests {
         let names = [
             brisance_reaction::JwlPlusPlus::anfo_k1().name(),
             brisance_reaction::ProgramBurn.name(),
+            ReactionModel::name(&brisance_reaction::Deflagration::pbx_9501()),
             brisance_reaction::ProgramBurnRamp {
                 detonation_velocity: 6930.0,
                 cell_size: 1e-4,

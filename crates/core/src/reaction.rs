@@ -14,6 +14,12 @@ pub struct ReactionState {
     /// The point's program-burn detonation time, s (`f64::INFINITY`:
     /// never); models that do not burn by a schedule ignore it.
     pub detonation_time: f64,
+    /// Area of the reactant's burning surface per unit volume at the
+    /// point, 1/m (0 where the point holds no surface): what the solver's
+    /// surface pass found for a model whose
+    /// [`ReactionModel::burns_on_a_surface`] is true; other models ignore
+    /// it.
+    pub surface_area_density: f64,
 }
 
 /// A mass-conversion model between a reactant and its product: the burn
@@ -28,6 +34,15 @@ pub struct ReactionState {
 pub trait ReactionModel: Send + Sync + std::fmt::Debug {
     /// Registry name of the model.
     fn name(&self) -> &'static str;
+
+    /// Whether the model burns on the reactant's surface (a deflagration):
+    /// then the solver finds the surface before each step and gives every
+    /// point its area per unit volume in
+    /// [`ReactionState::surface_area_density`]. Volume-burning models
+    /// (the default) need no surface pass.
+    fn burns_on_a_surface(&self) -> bool {
+        false
+    }
 
     /// dF/dt at the given state and burn fraction, 1/s (≥ 0).
     fn rate(&self, state: &ReactionState, burn_fraction: f64) -> f64;

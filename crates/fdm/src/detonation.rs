@@ -64,6 +64,7 @@ pub fn burn_fraction(t: f64, t_light: f64, detonation_velocity: f64, h: f64) -> 
     let state = ReactionState {
         time: t,
         detonation_time: t_light,
+        surface_area_density: 0.0,
         ..ReactionState::default()
     };
     model.advance(&state, 0.0, 0.0)

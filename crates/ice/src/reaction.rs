@@ -1,7 +1,9 @@
 //! Step 4 of seed 000 §3.3: reaction sources Γ between materials (eq 1,
 //! and the u_rs⁺Γ_rs, h_rs⁺Γ_rs terms of eqs 2–3), for the JWL++
-//! detonation model of §4.1.1 ([`brisance_reaction::jwlpp`]) or any other
-//! [`ReactionModel`] ([`IceRate`]).
+//! detonation model of §4.1.1 ([`brisance_reaction::jwlpp`]), the
+//! deflagration of §4.1.2 ([`brisance_reaction::deflagration`], which burns
+//! on the reactant surface step 2 finds) or any other [`ReactionModel`]
+//! ([`IceRate`]).
 //!
 //! Each [`IceReaction`] turns material `reactant` into material `product`
 //! at its model's rate, called through [`ReactionModel::burnt_density`]
@@ -38,6 +40,7 @@ use std::sync::Arc;
 use brisance_core::{ReactionModel, ReactionState};
 use brisance_eos::{JwlCTerm, Murnaghan};
 use brisance_reaction::jwlpp::JwlPlusPlus;
+use brisance_reaction::Deflagration;
 
 /// Chemical energy of a JWL++ reactant → products pair, J/kg
 /// ([`brisance_reaction::jwlpp::detonation_energy`]), the message naming
@@ -56,6 +59,10 @@ pub fn detonation_energy(reactant: &Murnaghan, products: &JwlCTerm) -> Result<f6
 pub enum IceRate {
     /// JWL++ (seed 000 eqs 35–37).
     JwlPlusPlus(JwlPlusPlus),
+    /// The surface burn D = A pⁿ (seed 000 eqs 38–39): the solver finds
+    /// the reactant's surface before each step
+    /// ([`ReactionModel::burns_on_a_surface`]).
+    Deflagration(Deflagration),
     /// Any other reaction model.
     Model(Arc<dyn ReactionModel>),
 }
@@ -66,11 +73,18 @@ impl From<JwlPlusPlus> for IceRate {
     }
 }
 
+impl From<Deflagration> for IceRate {
+    fn from(rate: Deflagration) -> Self {
+        Self::Deflagration(rate)
+    }
+}
+
 impl PartialEq for IceRate {
-    /// JWL++ laws by their parameters; other models by identity.
+    /// Built-in laws by their parameters; other models by identity.
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
             (Self::JwlPlusPlus(a), Self::JwlPlusPlus(b)) => a == b,
+            (Self::Deflagration(a), Self::Deflagration(b)) => a == b,
             (Self::Model(a), Self::Model(b)) => Arc::ptr_eq(a, b),
             _ => false,
         }
@@ -78,19 +92,12 @@ impl PartialEq for IceRate {
 }
 
 impl IceRate {
-    /// The JWL++ law, when that is the rate.
-    pub fn jwlpp(&self) -> Option<&JwlPlusPlus> {
-        match self {
-            Self::JwlPlusPlus(m) => Some(m),
-            Self::Model(_) => None,
-        }
-    }
-
     /// Checks the parameters of a built-in law (a model given as
     /// [`IceRate::Model`] was built by its own crate's checks).
     pub fn validate(&self) -> Result<(), String> {
         match self {
             Self::JwlPlusPlus(m) => m.validate().map_err(|e| e.to_string()),
+            Self::Deflagration(m) => m.validate().map_err(|e| e.to_string()),
             Self::Model(_) => Ok(()),
         }
     }
@@ -100,13 +107,24 @@ impl ReactionModel for IceRate {
     fn name(&self) -> &'static str {
         match self {
             Self::JwlPlusPlus(m) => m.name(),
+            Self::Deflagration(m) => ReactionModel::name(m),
             Self::Model(m) => m.name(),
+        }
+    }
+
+    #[inline]
+    fn burns_on_a_surface(&self) -> bool {
+        match self {
+            Self::JwlPlusPlus(_) => false,
+            Self::Deflagration(_) => true,
+            Self::Model(m) => m.burns_on_a_surface(),
         }
     }
 
     fn rate(&self, state: &ReactionState, burn_fraction: f64) -> f64 {
         match self {
             Self::JwlPlusPlus(m) => ReactionModel::rate(m, state, burn_fraction),
+            Self::Deflagration(m) => m.rate(state, burn_fraction),
             Self::Model(m) => m.rate(state, burn_fraction),
         }
     }
@@ -114,6 +132,7 @@ impl ReactionModel for IceRate {
     fn advance(&self, state: &ReactionState, burn_fraction: f64, dt: f64) -> f64 {
         match self {
             Self::JwlPlusPlus(m) => m.advance(state, burn_fraction, dt),
+            Self::Deflagration(m) => m.advance(state, burn_fraction, dt),
             Self::Model(m) => m.advance(state, burn_fraction, dt),
         }
     }
@@ -121,6 +140,7 @@ impl ReactionModel for IceRate {
     fn mass_converted(&self, initial_mass: f64, f_old: f64, f_new: f64) -> f64 {
         match self {
             Self::JwlPlusPlus(m) => m.mass_converted(initial_mass, f_old, f_new),
+            Self::Deflagration(m) => m.mass_converted(initial_mass, f_old, f_new),
             Self::Model(m) => m.mass_converted(initial_mass, f_old, f_new),
         }
     }
@@ -137,10 +157,26 @@ impl ReactionModel for IceRate {
             Self::JwlPlusPlus(m) => {
                 ReactionModel::burnt_density(m, state, rho_reactant, rho_product, dt)
             }
+            Self::Deflagration(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
             Self::Model(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
         }
     }
 }
+
+/// The share of a cell's reactant that one step leaves at least: step 4
+/// burns at most (1 − this) of it, so the reactant never reaches zero
+/// mass (its specific volume θ/ρ stays defined) and a cell a surface burn
+/// has emptied keeps the trace an absent material holds elsewhere
+/// (θ ≤ 10⁻⁶). JWL++'s own cap (20 % a step) lies far below it.
+pub const REACTANT_LEFT: f64 = 1.0e-6;
+
+/// The share of a cell's reactant below which the surface pass of a
+/// surface burn counts the cell empty of it
+/// ([`brisance_reaction::SurfaceDetection::present_threshold`] on the
+/// reactant's volume fraction): above the traces absent materials hold
+/// (10⁻⁶, and what the equilibration's compression makes of them), at the
+/// volume share below which the solver treats a fluid as a trace.
+pub const SURFACE_PRESENT: f64 = 1.0e-4;
 
 /// One reaction between two of the solver's materials.
 #[derive(Debug, Clone, PartialEq)]

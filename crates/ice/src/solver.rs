@@ -42,7 +42,7 @@ use crate::lagrangian::{
     thermal_expansion_term, volume_change_share, volume_shares, VolumeShares,
 };
 use crate::pressure::{face_pressure, pressure_increment};
-use crate::reaction::{transfer_burnt_mass, BurntMass, IceReaction, Parcel};
+use crate::reaction::{transfer_burnt_mass, BurntMass, IceReaction, Parcel, REACTANT_LEFT};
 use crate::{CellState, ExchangeCoefficients, IceBoundary, IceError};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -71,6 +71,7 @@ mod diffusion_pass;
 pub mod implicit;
 mod par;
 mod steps;
+mod surface;
 
 #[cfg(test)]
 mod advection_cold_rule_tests;
@@ -200,6 +201,10 @@ struct PatchScratch {
     /// faces to its centre's ([`ring_weights`]). Empty on Cartesian grids.
     ring_lo: Vec<f64>,
     ring_hi: Vec<f64>,
+    /// Per reaction: the reactant's surface (area per unit cell volume a/V
+    /// and temperature) for a surface-burning reaction (step 2's
+    /// [`IceSolver::find_reaction_surfaces`]); empty for the others.
+    surface: Vec<surface::SurfaceCells>,
 }
 
 /// The face-radius ratios of [`PatchScratch::ring_lo`] and `ring_hi` for
@@ -533,6 +538,8 @@ pub struct IceSolver<E: Eos> {
     /// what came in): step 12's fluxes and the face pressure's impulse and
     /// work of steps 8–9 ([`IceSolver::outflow`]).
     outflow: [ConservationTotals; 6],
+    /// Work arrays of the reactant surface pass.
+    surface_pass: surface::SurfacePass,
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -651,6 +658,7 @@ impl<E: Eos> IceSolver<E> {
                     } else {
                         Vec::new()
                     },
+                    surface: Vec::new(),
                 })
                 .collect(),
             level,
@@ -675,6 +683,7 @@ impl<E: Eos> IceSolver<E> {
             implicit: Default::default(),
             blocked_inflow: [false; 6],
             outflow: [ConservationTotals::default(); 6],
+            surface_pass: Default::default(),
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -828,7 +837,7 @@ impl<E: Eos> IceSolver<E> {
             )));
         }
         self.reactions = reactions;
-        Ok(())
+        self.find_reaction_surfaces().map_err(IceError::Invalid)
     }
 
     /// The reactions of step 4.
@@ -1520,6 +1529,6 @@ impl<E: Eos> Solver for IceSolver<E> {
         {
             *t = KeptWarmTotals { firings, energy };
         }
-        Ok(())
+        self.find_reaction_surfaces().map_err(SolverError::Other)
     }
 }

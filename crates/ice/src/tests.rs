@@ -1394,3 +1394,79 @@ fn a_restart_keeps_the_booked_outflow() {
     run_to(&mut b, 0.45).unwrap();
     assert_eq!(a.conservation_totals(), b.conservation_totals());
 }
+
+/// The deflagration through step 4: after step 2 finds the reactant's
+/// surface (the last reactant cell before the products, a/V = 1/h on a
+/// grid-aligned face), one step burns there exactly
+/// Γ Δt / V = (1/h) A p_eqⁿ ρ_reactant Δt (seed 000 eqs 38–39) and nowhere
+/// else; below the ignition temperature nothing burns.
+#[test]
+fn deflagration_burns_the_surface_cell_at_a_p_to_the_n() {
+    use brisance_eos::EosModel;
+    use brisance_reaction::Deflagration;
+    let (eos, jwlpp) = crate::cases::anfo_k1_jwlpp().unwrap();
+    let h = 1.0e-3;
+    let p0 = 1.0e8;
+    let dens = |e: &EosModel| brisance_core::Eos::density(e, p0, 298.15).unwrap();
+    let (rho_r, rho_p) = (dens(&eos[0]), dens(&eos[1]));
+    let build = |ignition: f64| {
+        let level = Level::new([0.0; 3], [6.0 * h, h, h], [6, 1, 1], [1, 1, 1], GHOST).unwrap();
+        let mut s = IceSolver::new(
+            eos.clone(),
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            ExchangeCoefficients::uniform(2, 1e15, 0.0),
+            IceOptions::default(),
+            |x| {
+                let theta = if x[0] < 3.0 * h { 1.0 - 1e-6 } else { 1e-6 };
+                CellState {
+                    pressure: p0,
+                    materials: vec![mat(theta, rho_r, 0.0), mat(1.0 - theta, rho_p, 0.0)],
+                }
+            },
+        )
+        .unwrap();
+        s.set_reactions(vec![IceReaction {
+            rate: Deflagration::new(2.0e-6, 0.8, ignition).unwrap().into(),
+            ..jwlpp.clone()
+        }])
+        .unwrap();
+        s
+    };
+    let field =
+        |s: &IceSolver<EosModel>, f: &str| s.cell_data(&[f.into()]).unwrap().fields[0].1.clone();
+    let dt = 1.0e-8;
+    let mut s = build(250.0);
+    let (r0, q0, p_eq) = (
+        field(&s, "density_1"),
+        field(&s, "density_2"),
+        field(&s, "pressure"),
+    );
+    let theta = field(&s, "volume_fraction_1");
+    s.advance(dt).unwrap();
+    let q1 = field(&s, "density_2");
+    let r1 = field(&s, "density_1");
+    for c in 0..6 {
+        let burnt = q1[c] - q0[c];
+        if c == 2 {
+            // ρ_reactant = ρ_1 / θ_1, the explosive's own density.
+            let expect = 2.0e-6 * p_eq[c].powf(0.8) * r0[c] / theta[c] * dt / h;
+            assert!(
+                (burnt / expect - 1.0).abs() < 1e-9,
+                "cell {c}: {burnt:e} vs {expect:e}"
+            );
+            assert!(((r0[c] - r1[c]) / expect - 1.0).abs() < 1e-9);
+        } else {
+            assert!(burnt.abs() < 1e-12 * q0[c].max(1.0), "cell {c}: {burnt:e}");
+        }
+    }
+    // Every material is at 298 K: an ignition temperature of 300 K lights
+    // nothing.
+    let mut cold = build(300.0);
+    let q0 = field(&cold, "density_2");
+    cold.advance(dt).unwrap();
+    let q1 = field(&cold, "density_2");
+    for c in 0..6 {
+        assert!((q1[c] - q0[c]).abs() < 1e-12 * q0[c].max(1.0), "cell {c}");
+    }
+}

@@ -48,6 +48,7 @@ fn detonated(time: f64, detonation_time: f64) -> bool {
     let state = ReactionState {
         time,
         detonation_time,
+        surface_area_density: 0.0,
         ..ReactionState::default()
     };
     ProgramBurn.advance(&state, 0.0, 0.0) >= 1.0

@@ -27,6 +27,7 @@
 //! Units: SI. A in m·s⁻¹·Pa⁻ⁿ, p in Pa, D in m/s, ρ in kg/m³, a in m²,
 //! Γ in kg/s.
 
+use brisance_core::{ReactionModel, ReactionState};
 use serde::{Deserialize, Serialize};
 
 /// Why a deflagration quantity cannot be formed.
@@ -150,6 +151,58 @@ impl Deflagration {
         area: f64,
     ) -> f64 {
         (area * self.burn_speed(pressure, temperature) * reactant_density).max(0.0)
+    }
+}
+
+/// The deflagration as a [`ReactionModel`]: a surface burn
+/// ([`ReactionModel::burns_on_a_surface`]), so the solver finds the
+/// reactant's surface before each step and hands every cell its area per
+/// unit volume a/V in [`ReactionState::surface_area_density`]
+/// ([`surface_area_densities`]); [`ReactionState::temperature`] is the
+/// surface temperature the ignition threshold is compared with.
+///
+/// - [`ReactionModel::burnt_density`] is eq 39 per unit cell volume over
+///   the step: Γ Δt / V = (a/V) D ρ_reactant Δt with D = A pⁿ (eq 38) and
+///   ρ_reactant the explosive's own density ([`ReactionState::density`]),
+///   at most the cell's reactant.
+/// - [`ReactionModel::rate`] is the same law as a burn fraction of a cell
+///   full of reactant: dF/dt = (a/V) D, the fraction of the cell's volume
+///   the front sweeps per second (0 once F = 1).
+impl ReactionModel for Deflagration {
+    fn name(&self) -> &'static str {
+        "Deflagration"
+    }
+
+    fn burns_on_a_surface(&self) -> bool {
+        true
+    }
+
+    fn rate(&self, state: &ReactionState, burn_fraction: f64) -> f64 {
+        if burn_fraction >= 1.0 || !(state.surface_area_density > 0.0) {
+            return 0.0;
+        }
+        (state.surface_area_density * self.burn_speed(state.pressure, state.temperature)).max(0.0)
+    }
+
+    #[inline]
+    fn burnt_density(
+        &self,
+        state: &ReactionState,
+        rho_reactant: f64,
+        _rho_product: f64,
+        dt: f64,
+    ) -> f64 {
+        if !(rho_reactant > 0.0 && state.surface_area_density > 0.0 && dt > 0.0) {
+            return 0.0;
+        }
+        // Γ/V of eq 39 with a/V the surface's area density.
+        let gamma = state.surface_area_density
+            * self.burn_speed(state.pressure, state.temperature)
+            * state.density;
+        if !(gamma > 0.0) {
+            return 0.0;
+        }
+        (gamma * dt).min(rho_reactant)
     }
 }
 
@@ -346,6 +399,14 @@ pub struct SurfaceDetection {
     pub present_threshold: f64,
     /// Stencil of the gradient that gives the normal.
     pub stencil: GradientStencil,
+    /// Keep only the outermost surface cell of each grid column along the
+    /// normal's dominant axis: a flagged cell whose neighbour along that
+    /// axis, on the side the normal points to, still holds reactant is
+    /// dropped (the surface of its column lies further out). The `Column`
+    /// estimate counts one cell per column; on a ragged front (a burn that
+    /// has emptied some cells of a layer and not others) the rule without
+    /// this flags two cells in a column and counts the area twice.
+    pub outermost_in_column: bool,
 }
 
 impl Default for SurfaceDetection {
@@ -353,6 +414,7 @@ impl Default for SurfaceDetection {
         Self {
             present_threshold: 1.0e-6,
             stencil: GradientStencil::default(),
+            outermost_in_column: false,
         }
     }
 }
@@ -452,7 +514,6 @@ pub fn detect_surface(
                     nz_out[c] = 0.0;
                     continue;
                 }
-                count += 1;
                 let mut g = [0.0; 3];
                 for (axis, e) in AXES.iter().enumerate() {
                     let diff = |a: isize, b: isize| {
@@ -494,9 +555,37 @@ pub fn detect_surface(
                         len = 1.0;
                     }
                 }
-                nx_out[c] = m[0] / len;
-                ny_out[c] = m[1] / len;
-                nz_out[c] = m[2] / len;
+                let unit = [m[0] / len, m[1] / len, m[2] / len];
+                if options.outermost_in_column {
+                    // The dominant axis (largest h_k |n_k|, the first on a
+                    // tie) and the neighbour the normal points to along it.
+                    let mut axis = 0;
+                    for a in 1..3 {
+                        if grid.spacing[a] * unit[a].abs() > grid.spacing[axis] * unit[axis].abs() {
+                            axis = a;
+                        }
+                    }
+                    let s = if unit[axis] >= 0.0 { 1 } else { -1 };
+                    let e = AXES[axis];
+                    let (ni, nj, nk) = (ii + s * e[0], jj + s * e[1], kk + s * e[2]);
+                    let inside = ni >= 0
+                        && nj >= 0
+                        && nk >= 0
+                        && (ni as usize) < n[0]
+                        && (nj as usize) < n[1]
+                        && (nk as usize) < n[2];
+                    if inside && at(ni, nj, nk) > threshold {
+                        on_surface[c] = false;
+                        nx_out[c] = 0.0;
+                        ny_out[c] = 0.0;
+                        nz_out[c] = 0.0;
+                        continue;
+                    }
+                }
+                count += 1;
+                nx_out[c] = unit[0];
+                ny_out[c] = unit[1];
+                nz_out[c] = unit[2];
             }
         }
     }
@@ -559,6 +648,67 @@ pub fn ring_surface_areas(
         }
     }
     Ok(total)
+}
+
+/// Work arrays of [`surface_area_densities`] for a grid of `cells` cells,
+/// kept between steps so that the surface pass allocates nothing.
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceWork {
+    /// Whether each cell is a surface cell.
+    pub on_surface: Vec<bool>,
+    /// The unit outward normal per cell (structure of arrays).
+    pub normal: [Vec<f64>; 3],
+}
+
+impl SurfaceWork {
+    /// Work arrays for `cells` cells.
+    pub fn new(cells: usize) -> Self {
+        Self {
+            on_surface: vec![false; cells],
+            normal: std::array::from_fn(|_| vec![0.0; cells]),
+        }
+    }
+}
+
+/// The reactant's surface area per unit cell volume a/V in every cell of
+/// `grid`, 1/m (0 off the surface), from the field `reactant` (volume
+/// fraction or density): [`detect_surface`], then `method`'s area over
+/// the cell volume. The same a/V holds on an axisymmetric (r, z) grid
+/// (`n = [nr, nz, 1]`): a ring's surface area 2π r_c ℓ
+/// ([`SurfaceArea::ring_area`]) and its volume 2π r_c Δr Δz carry the same
+/// 2π r_c, and ℓ/(Δr Δz) is the area density of the (r, z) cell taken
+/// as a Cartesian one. Returns the number of surface cells.
+pub fn surface_area_densities(
+    grid: &CellGrid,
+    method: SurfaceArea,
+    options: &SurfaceDetection,
+    reactant: &[f64],
+    work: &mut SurfaceWork,
+    out: &mut [f64],
+) -> Result<usize, DeflagrationError> {
+    let cells = grid.cells();
+    if work.on_surface.len() != cells {
+        *work = SurfaceWork::new(cells);
+    }
+    if out.len() != cells {
+        return Err(DeflagrationError::LengthMismatch {
+            field: "out",
+            len: out.len(),
+            cells,
+        });
+    }
+    let [nx, ny, nz] = &mut work.normal;
+    let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
+    let volume = grid.cell_volume();
+    for (c, a) in out.iter_mut().enumerate() {
+        *a = if work.on_surface[c] {
+            let n = [work.normal[0][c], work.normal[1][c], work.normal[2][c]];
+            method.area(grid.spacing, n) / volume
+        } else {
+            0.0
+        };
+    }
+    Ok(count)
 }
 
 fn check_lengths(
@@ -991,6 +1141,203 @@ mod tests {
     }
 
     #[test]
+    fn burnt_density_is_eq_39_per_unit_volume_over_the_step() {
+        // A = 2e-6 m/s/Pa, n = 1: D = 2 m/s at 1 MPa. a/V = 1000 1/m (a
+        // 1 mm cell crossed by a face-parallel plane), ρ = 1800 kg/m³,
+        // Δt = 1 µs: Γ Δt / V = 1000 · 2 · 1800 · 1e-6 = 3.6 kg/m³.
+        let m = Deflagration::new(2e-6, 1.0, 450.0).expect("valid");
+        let state = ReactionState {
+            pressure: 1e6,
+            temperature: 500.0,
+            density: 1800.0,
+            surface_area_density: 1000.0,
+            ..Default::default()
+        };
+        assert!(m.burns_on_a_surface());
+        assert_eq!(ReactionModel::name(&m), "Deflagration");
+        assert!(close(
+            m.burnt_density(&state, 1000.0, 5.0, 1e-6),
+            3.6,
+            1e-14
+        ));
+        // dF/dt of a cell full of reactant: (a/V) D = 2000 1/s.
+        assert!(close(m.rate(&state, 0.3), 2000.0, 1e-14));
+        assert_eq!(m.rate(&state, 1.0), 0.0);
+        // never more than the cell's reactant
+        assert_eq!(m.burnt_density(&state, 1.0, 5.0, 1e-6), 1.0);
+        // no surface, below ignition, no pressure: nothing burns
+        let off = ReactionState {
+            surface_area_density: 0.0,
+            ..state
+        };
+        let cold = ReactionState {
+            temperature: 449.0,
+            ..state
+        };
+        let vacuum = ReactionState {
+            pressure: 0.0,
+            ..state
+        };
+        for s in [off, cold, vacuum] {
+            assert_eq!(m.burnt_density(&s, 1000.0, 5.0, 1e-6), 0.0);
+            assert_eq!(m.rate(&s, 0.0), 0.0);
+        }
+    }
+
+    #[test]
+    fn area_densities_are_the_areas_over_the_volumes_on_cartesian_and_ring_grids() {
+        let n = 24;
+        let h = 1.0 / n as f64;
+        let zc = 0.507;
+        let r = SPHERE_RADIUS;
+        let grid = CellGrid {
+            n: [n / 2, n, 1],
+            spacing: [h, h, h],
+        };
+        let phi = volume_fraction(&grid, 4, |p| p[0] * p[0] + (p[1] - zc).powi(2) < r * r);
+        let cells = grid.cells();
+        let mut work = SurfaceWork::default();
+        let mut density = vec![0.0; cells];
+        let count = surface_area_densities(
+            &grid,
+            SurfaceArea::Column,
+            &SurfaceDetection::default(),
+            &phi,
+            &mut work,
+            &mut density,
+        )
+        .expect("valid");
+        let (mut on, mut nr, mut nz, mut nt) = (
+            vec![false; cells],
+            vec![0.0; cells],
+            vec![0.0; cells],
+            vec![0.0; cells],
+        );
+        detect_surface(
+            &grid,
+            &phi,
+            &SurfaceDetection::default(),
+            &mut on,
+            [&mut nr, &mut nz, &mut nt],
+        )
+        .expect("valid");
+        assert_eq!(count, on.iter().filter(|&&s| s).count());
+        let (mut flat, mut ring) = (vec![0.0; cells], vec![0.0; cells]);
+        surface_areas(&grid, SurfaceArea::Column, &on, [&nr, &nz, &nt], &mut flat).expect("ok");
+        ring_surface_areas(
+            &grid,
+            0.0,
+            SurfaceArea::Column,
+            &on,
+            [&nr, &nz, &nt],
+            &mut ring,
+        )
+        .expect("ok");
+        for j in 0..n {
+            for i in 0..n / 2 {
+                let c = grid.index(i, j, 0);
+                let r_c = (i as f64 + 0.5) * h;
+                let ring_volume = 2.0 * PI * r_c * h * h;
+                assert!(close(density[c], flat[c] / (h * h * h), 1e-13), "cell {c}");
+                assert!(close(density[c], ring[c] / ring_volume, 1e-12), "cell {c}");
+            }
+        }
+        assert!(count > 0);
+        let short = surface_area_densities(
+            &grid,
+            SurfaceArea::Column,
+            &SurfaceDetection::default(),
+            &phi,
+            &mut work,
+            &mut density[1..],
+        );
+        assert!(matches!(
+            short,
+            Err(DeflagrationError::LengthMismatch { field: "out", .. })
+        ));
+    }
+
+    #[test]
+    fn outermost_in_column_keeps_one_cell_per_column_of_the_normal() {
+        let n = 24;
+        let h = 1.0 / n as f64;
+        let grid = CellGrid {
+            n: [n, n, 1],
+            spacing: [h; 3],
+        };
+        // A ragged burn of a front facing +x: full for i ≤ 9, the column
+        // i = 10 full and i = 11 half burnt, except row j = 12 where both
+        // have burnt out. The cells (10, 11) and (10, 13) are flagged by
+        // that empty row, though along x (their normal's dominant axis)
+        // reactant lies further out.
+        let phi: Vec<f64> = (0..n * n)
+            .map(|c| {
+                let (i, j) = (c % n, c / n);
+                match i {
+                    0..=9 => 1.0,
+                    10 if j != 12 => 1.0,
+                    11 if j != 12 => 0.5,
+                    _ => 0.0,
+                }
+            })
+            .collect();
+        let cells = grid.cells();
+        let run = |outermost: bool| {
+            let (mut on, mut a, mut b, mut c) = (
+                vec![false; cells],
+                vec![0.0; cells],
+                vec![0.0; cells],
+                vec![0.0; cells],
+            );
+            let options = SurfaceDetection {
+                outermost_in_column: outermost,
+                ..SurfaceDetection::default()
+            };
+            let count =
+                detect_surface(&grid, &phi, &options, &mut on, [&mut a, &mut b, &mut c]).unwrap();
+            (count, on, [a, b, c])
+        };
+        let (all, on_all, _) = run(false);
+        let (kept, on, normal) = run(true);
+        assert!(kept < all, "{kept} of {all}");
+        for j in 0..n {
+            for i in 0..n {
+                let c = grid.index(i, j, 0);
+                if !on[c] {
+                    continue;
+                }
+                assert!(on_all[c], "a kept cell is a surface cell");
+                let m = [normal[0][c], normal[1][c]];
+                let axis = usize::from(m[1].abs() > m[0].abs() * (1.0 + 1e-12));
+                let step = if m[axis] >= 0.0 { 1 } else { -1 };
+                let (ni, nj) = if axis == 0 {
+                    (i as isize + step, j as isize)
+                } else {
+                    (i as isize, j as isize + step)
+                };
+                if ni >= 0 && nj >= 0 && (ni as usize) < n && (nj as usize) < n {
+                    let o = grid.index(ni as usize, nj as usize, 0);
+                    assert!(phi[o] <= 1e-6, "cell ({i}, {j}): reactant beyond it");
+                }
+            }
+        }
+        // A grid-aligned slab keeps every one of its surface cells.
+        let slab = volume_fraction(&grid, 4, |p| p[0] < 0.43);
+        let (mut on, mut a, mut b, mut c) = (
+            vec![false; cells],
+            vec![0.0; cells],
+            vec![0.0; cells],
+            vec![0.0; cells],
+        );
+        let options = SurfaceDetection {
+            outermost_in_column: true,
+            ..SurfaceDetection::default()
+        };
+        let count = detect_surface(&grid, &slab, &options, &mut on, [&mut a, &mut b, &mut c]);
+        assert_eq!(count.unwrap(), n);
+    }
+
+    #[test]
     fn detection_rejects_mismatched_slices_and_bad_spacing() {
         let grid = CellGrid {
             n: [2, 2, 1],
@@ -1109,6 +1456,26 @@ mod tests {
             }
             proptest::prop_assert!(m.mass_rate(p + dp, t, rho, area) >= g);
             proptest::prop_assert!(m.burn_speed(p + dp, t_ign) >= m.burn_speed(p, t_ign));
+        }
+
+        /// The `ReactionModel` contract at any pressure, surface
+        /// temperature, area density, burn fraction and step.
+        #[test]
+        fn deflagration_keeps_the_reaction_model_contract(
+            p in -1e6_f64..1e10, t in 0.0_f64..3000.0, rho in 1.0_f64..3000.0,
+            a_v in 0.0_f64..1e5, f in 0.0_f64..=1.0, dt in 0.0_f64..1e-3,
+        ) {
+            let m = Deflagration::pbx_9501();
+            let state = ReactionState {
+                pressure: p,
+                temperature: t,
+                density: rho,
+                detonation_time: f64::INFINITY,
+                surface_area_density: a_v,
+                ..Default::default()
+            };
+            let r = brisance_core::contracts::check_reaction_model(&m, &state, f, dt);
+            proptest::prop_assert!(r.is_ok(), "{:?}", r);
         }
     }
 }

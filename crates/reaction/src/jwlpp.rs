@@ -299,6 +299,7 @@ mod tests {
         let at = |p: f64| ReactionState {
             pressure: p,
             detonation_time: f64::INFINITY,
+            surface_area_density: 0.0,
             ..Default::default()
         };
         // 1 GPa, F = 0.25, Δt = 1e-7: 1.3187363788e5 · 1e-7 = 1.3187363788e-2.

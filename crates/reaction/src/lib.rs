@@ -3,7 +3,9 @@
 //! The models that burn by a pointwise law implement
 //! [`brisance_core::ReactionModel`] (registered for configs in the composer's
 //! registry, `brisance list`): [`JwlPlusPlus`] (seed 000 §4.1.1),
-//! [`ProgramBurn`] (seed 004) and [`ProgramBurnRamp`] (seed 001 eq 53).
+//! [`ProgramBurn`] (seed 004) and [`ProgramBurnRamp`] (seed 001 eq 53);
+//! [`Deflagration`] (seed 000 §4.1.2) burns on the reactant's surface, which
+//! the solver finds before each step.
 //!
 //! - [`jwlpp`]: the JWL++ rate law with the seed's threshold and 20 % rule,
 //!   its detonation energy and CJ state.
@@ -13,8 +15,8 @@
 //!   detonation points (seed 004, "Propagation of Detonation").
 //! - [`deflagration`]: the surface burn of seed 000 §4.1.2, D = A pⁿ
 //!   (eq 38) and Γ = a D ρ_reactant (eq 39), with the surface cells, their
-//!   normals and areas found on a structured grid (not yet coupled to a
-//!   pipeline).
+//!   normals and areas found on a structured grid; the ICE and ICE–MPM
+//!   pipelines burn Eulerian reactants with it.
 //! - [`products`]: the pressure isentrope P_S(X) of the detonation products
 //!   for an ideal gas (seed 004 eq 29) and JWL (eq 30), with its reference
 //!   pressure P_S0 from the volume-burn algorithm (eqs 20–21, computed by
@@ -27,7 +29,10 @@ pub mod jwlpp;
 pub mod products;
 pub mod program_burn;
 
-pub use deflagration::{Deflagration, DeflagrationError, SurfaceArea};
+pub use deflagration::{
+    surface_area_densities, Deflagration, DeflagrationError, SurfaceArea, SurfaceDetection,
+    SurfaceWork,
+};
 pub use jwlpp::JwlPlusPlus;
 pub use products::{ProductsError, ProductsIsentrope};
 pub use program_burn::{

@@ -351,6 +351,7 @@ mod tests {
         let at = |time: f64| ReactionState {
             time,
             detonation_time: 1.0e-5,
+            surface_area_density: 0.0,
             ..Default::default()
         };
         assert_eq!(m.name(), "ProgramBurnRamp");
@@ -377,6 +378,7 @@ mod tests {
             let state = brisance_core::ReactionState {
                 time: t,
                 detonation_time: if never { f64::INFINITY } else { tl },
+                surface_area_density: 0.0,
                 ..Default::default()
             };
             let r = brisance_core::contracts::check_reaction_model(&m, &state, f, dt);
@@ -390,6 +392,7 @@ mod tests {
         let at = |time: f64| ReactionState {
             time,
             detonation_time: 2e-6,
+            surface_area_density: 0.0,
             ..Default::default()
         };
         assert_eq!(ProgramBurn.name(), "ProgramBurn");
@@ -399,6 +402,7 @@ mod tests {
         let never = ReactionState {
             time: 1.0,
             detonation_time: f64::INFINITY,
+            surface_area_density: 0.0,
             ..Default::default()
         };
         assert_eq!(ProgramBurn.advance(&never, 0.0, 1.0), 0.0);
@@ -407,6 +411,7 @@ mod tests {
                 let s = ReactionState {
                     time: t,
                     detonation_time: td,
+                    surface_area_density: 0.0,
                     ..Default::default()
                 };
                 for f in [0.0, 0.5, 1.0] {

@@ -388,6 +388,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
     divergence: f64,
     grad: [f64; 3],
     pressure_work: Option<f64>,
+    surface: &[super::surface::SurfaceCells],
     dt: f64,
 ) -> Result<[[f64; NL]; MAX_MATERIALS], String> {
     let n = params.eos.len();
@@ -467,8 +468,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
     let theta_start = theta;
     let mut heat_released = 0.0;
     if !params.reactions.is_empty() {
-        let p_eq = sv[n * NS];
-        for rx in params.reactions {
+        for (k, rx) in params.reactions.iter().enumerate() {
             let (a, b) = (rx.reactant, rx.product);
             if params.lagrangian[a] {
                 // Particles carry the reactant: they burn in the coupled
@@ -478,8 +478,15 @@ pub(super) fn lagrangian_cell<E: Eos>(
                 // (`IceSolver::add_burnt_particles`).
                 continue;
             }
-            let state = reaction_state(params, sv[a * NS + TEMP], sv[a * NS + VSP], p_eq, dt);
-            let burnt = rx.rate.burnt_density(&state, rho[a], rho[b], dt);
+            let at = surface
+                .get(k)
+                .filter(|s| !s.area.is_empty())
+                .map(|s| (s.area[c], s.temperature[c]));
+            let state = reaction_state(params, rx, |i| sv[i], at, dt);
+            let burnt = rx
+                .rate
+                .burnt_density(&state, rho[a], rho[b], dt)
+                .min(rho[a] * (1.0 - REACTANT_LEFT));
             if burnt > 0.0 {
                 let parcel = |r: usize| Parcel {
                     rho: rho[r],
@@ -652,23 +659,33 @@ pub(super) fn lagrangian_cell<E: Eos>(
     Ok(out)
 }
 
-/// What step 4 gives a reaction model in a cell: the equilibration
-/// pressure of step 2, the reactant's temperature and (microscopic)
-/// density 1/v, and the time at the end of the step; no detonation
-/// schedule.
+/// The local state step 4 hands reaction `rx`'s rate in a cell whose
+/// state values (flat, `NS` per material, the equilibration pressure last)
+/// `value` gives: the equilibration pressure, the reactant's density 1/v
+/// and the step's end time; the reactant's temperature, or for a surface
+/// burn ([`ReactionModel::burns_on_a_surface`]) the surface's temperature
+/// and area density (1/m) that step 2's surface pass found in the cell
+/// (`surface`: a/V and T; a/V = 0 off the surface).
 #[inline]
 pub(super) fn reaction_state<E: Eos>(
     params: &Params<'_, E>,
-    temperature: f64,
-    specific_volume: f64,
-    pressure: f64,
+    rx: &IceReaction,
+    value: impl Fn(usize) -> f64,
+    surface: Option<(f64, f64)>,
     dt: f64,
 ) -> ReactionState {
+    let n = params.eos.len();
+    let r = rx.reactant;
+    let (temperature, surface_area_density) = match surface {
+        Some((area, t)) if rx.rate.burns_on_a_surface() => (t, area),
+        _ => (value(r * NS + TEMP), 0.0),
+    };
     ReactionState {
-        pressure,
+        pressure: value(n * NS),
         temperature,
-        density: 1.0 / specific_volume,
+        density: 1.0 / value(r * NS + VSP),
         time: params.time + dt,
         detonation_time: f64::INFINITY,
+        surface_area_density,
     }
 }

@@ -210,9 +210,11 @@ impl<E: Eos> IceSolver<E> {
 
     /// Step 4 for reaction `k` (of [`IceSolver::reactions`]) whose reactant
     /// particles carry: the fraction of the reactant's mass in each cell
-    /// (global order) that burns over Δt = `dt`, Γ Δt / ρ_r with the JWL++
-    /// rate at the cell's equilibration pressure and the reactant's and
-    /// product's densities of step 2 — the burnt mass an Eulerian reactant
+    /// (global order) that burns over Δt = `dt`, Γ Δt / ρ_r with the
+    /// reaction's rate at the cell's equilibration pressure (a surface burn
+    /// on the surface step 2 found in the particles' volume fraction) and
+    /// the reactant's and product's densities of step 2 — the burnt mass an
+    /// Eulerian reactant
     /// of the same state would lose in [`IceSolver::compute_lagrangian_values`]
     /// (at most the rate's `max_burn_fraction`). Run after
     /// [`IceSolver::compute_equilibration_pressure`]. The coupled pipeline
@@ -232,7 +234,6 @@ impl<E: Eos> IceSolver<E> {
         );
         let count = self.level.geometry.cell_count();
         assert!(out.len() == count && volume.len() == count);
-        let n = self.eos.len();
         let params = solver_params!(self);
         let (a, b) = (rx.reactant * NS + RHO, rx.product * NS + RHO);
         par_gather(&self.level, out, |pid, c| {
@@ -241,9 +242,14 @@ impl<E: Eos> IceSolver<E> {
             if !(rho_r > 0.0) {
                 return 0.0;
             }
-            let (t, v) = (d[rx.reactant * NS + TEMP][c], d[rx.reactant * NS + VSP][c]);
-            let state = reaction_state(&params, t, v, d[n * NS][c], dt);
-            rx.rate.burnt_density(&state, rho_r, d[b][c], dt) / rho_r
+            let at = self.scratch[pid]
+                .surface
+                .get(k)
+                .filter(|s| !s.area.is_empty())
+                .map(|s| (s.area[c], s.temperature[c]));
+            let state = reaction_state(&params, rx, |i| d[i][c], at, dt);
+            let burnt = rx.rate.burnt_density(&state, rho_r, d[b][c], dt) / rho_r;
+            burnt.min(1.0 - REACTANT_LEFT)
         });
         let v = rx.reactant * NS + VSP;
         par_gather(&self.level, volume, |pid, c| self.state[pid].data[v][c]);

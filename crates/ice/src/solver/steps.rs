@@ -150,7 +150,7 @@ impl<E: Eos> IceSolver<E> {
             }
         }
         match fail {
-            None => Ok(()),
+            None => self.find_reaction_surfaces().map_err(SolverError::Other),
             Some((_, cell, detail)) => Err(SolverError::NonPhysicalState {
                 time,
                 cell,
@@ -519,8 +519,8 @@ impl<E: Eos> IceSolver<E> {
                             }
                         }
                         let work = params.options.conserve_total_energy.then_some(work);
-                        match lagrangian_cell(&params, d, c, p[c], sc.divergence[c], grad, work, dt)
-                        {
+                        let (div, surface) = (sc.divergence[c], &sc.surface);
+                        match lagrangian_cell(&params, d, c, p[c], div, grad, work, surface, dt) {
                             Ok(values) => {
                                 for r in 0..n {
                                     for f in 0..NL {
