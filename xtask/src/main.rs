@@ -8,6 +8,7 @@
 
 mod bridge3d;
 mod bridge_cases;
+mod burn_rate;
 mod conduction;
 mod constitutive_cases;
 mod freeair;
@@ -781,7 +782,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 36] = [
+const CASES: [&str; 37] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -801,6 +802,7 @@ const CASES: [&str; 36] = [
     "taylor",
     "viscoscram",
     "conduction",
+    "burnrate",
     "rz",
     "rz-cost",
     "pd-cyl",
@@ -903,6 +905,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("conduction") {
         conduction::v_conduction(&mut body)?;
+    }
+    if run("burnrate") {
+        burn_rate::v_burnrate(&mut body)?;
     }
     if run("rz") {
         rz_cases::v_rz(&mut body)?;

@@ -39,6 +39,7 @@
 
 pub mod advection;
 pub mod boundary;
+pub mod burn_rate;
 pub mod cases;
 pub mod column;
 pub mod diffusion;
