@@ -480,6 +480,18 @@ pub fn detect_surface(
         reactant[grid.index(c(i, n[0]), c(j, n[1]), c(k, n[2]))]
     };
     const AXES: [[isize; 3]; 3] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+    // The field in the face neighbour of (i, j, k) at s·e, where it lies
+    // inside the grid.
+    let neighbour = |i: isize, j: isize, k: isize, e: [isize; 3], s: isize| {
+        let (ni, nj, nk) = (i + s * e[0], j + s * e[1], k + s * e[2]);
+        let inside = ni >= 0
+            && nj >= 0
+            && nk >= 0
+            && (ni as usize) < n[0]
+            && (nj as usize) < n[1]
+            && (nk as usize) < n[2];
+        inside.then(|| at(ni, nj, nk))
+    };
     let mut count = 0;
     for k in 0..n[2] {
         for j in 0..n[1] {
@@ -492,14 +504,7 @@ pub fn detect_surface(
                 if reactant[c] > threshold {
                     for (axis, e) in AXES.iter().enumerate() {
                         for s in [1_isize, -1] {
-                            let (ni, nj, nk) = (ii + s * e[0], jj + s * e[1], kk + s * e[2]);
-                            let inside = ni >= 0
-                                && nj >= 0
-                                && nk >= 0
-                                && (ni as usize) < n[0]
-                                && (nj as usize) < n[1]
-                                && (nk as usize) < n[2];
-                            if inside && at(ni, nj, nk) <= threshold {
+                            if neighbour(ii, jj, kk, *e, s).is_some_and(|v| v <= threshold) {
                                 surface = true;
                                 toward_empty[axis] += s as f64;
                                 first_empty.get_or_insert((axis, s as f64));
@@ -566,15 +571,7 @@ pub fn detect_surface(
                         }
                     }
                     let s = if unit[axis] >= 0.0 { 1 } else { -1 };
-                    let e = AXES[axis];
-                    let (ni, nj, nk) = (ii + s * e[0], jj + s * e[1], kk + s * e[2]);
-                    let inside = ni >= 0
-                        && nj >= 0
-                        && nk >= 0
-                        && (ni as usize) < n[0]
-                        && (nj as usize) < n[1]
-                        && (nk as usize) < n[2];
-                    if inside && at(ni, nj, nk) > threshold {
+                    if neighbour(ii, jj, kk, AXES[axis], s).is_some_and(|v| v > threshold) {
                         on_surface[c] = false;
                         nx_out[c] = 0.0;
                         ny_out[c] = 0.0;
@@ -794,26 +791,33 @@ mod tests {
     }
 
     /// Detects the surface of `phi` and sums the estimated areas.
+    /// [`detect_surface`] on fresh arrays: the count, the flags and the
+    /// normals.
+    fn detect(
+        grid: &CellGrid,
+        phi: &[f64],
+        options: &SurfaceDetection,
+    ) -> (usize, Vec<bool>, [Vec<f64>; 3]) {
+        let m = grid.cells();
+        let mut on = vec![false; m];
+        let [mut nx, mut ny, mut nz] = std::array::from_fn(|_| vec![0.0; m]);
+        let count = detect_surface(grid, phi, options, &mut on, [&mut nx, &mut ny, &mut nz])
+            .expect("valid grid");
+        (count, on, [nx, ny, nz])
+    }
+
     fn summed_area(
         grid: &CellGrid,
         phi: &[f64],
         stencil: GradientStencil,
         method: SurfaceArea,
     ) -> (usize, f64) {
-        let m = grid.cells();
-        let (mut on, mut nx, mut ny, mut nz, mut area) = (
-            vec![false; m],
-            vec![0.0; m],
-            vec![0.0; m],
-            vec![0.0; m],
-            vec![0.0; m],
-        );
         let options = SurfaceDetection {
             stencil,
             ..Default::default()
         };
-        let count = detect_surface(grid, phi, &options, &mut on, [&mut nx, &mut ny, &mut nz])
-            .expect("valid grid");
+        let (count, on, [nx, ny, nz]) = detect(grid, phi, &options);
+        let mut area = vec![0.0; grid.cells()];
         let total = surface_areas(grid, method, &on, [&nx, &ny, &nz], &mut area).expect("lengths");
         (count, total)
     }
@@ -1108,22 +1112,8 @@ mod tests {
             };
             let zc = 0.507;
             let phi = volume_fraction(&grid, 4, |p| p[0] * p[0] + (p[1] - zc).powi(2) < r * r);
-            let cells = grid.cells();
-            let (mut on, mut nr, mut nz, mut nt, mut area) = (
-                vec![false; cells],
-                vec![0.0; cells],
-                vec![0.0; cells],
-                vec![0.0; cells],
-                vec![0.0; cells],
-            );
-            detect_surface(
-                &grid,
-                &phi,
-                &SurfaceDetection::default(),
-                &mut on,
-                [&mut nr, &mut nz, &mut nt],
-            )
-            .expect("valid");
+            let (_, on, [nr, nz, nt]) = detect(&grid, &phi, &SurfaceDetection::default());
+            let mut area = vec![0.0; grid.cells()];
             let total = ring_surface_areas(
                 &grid,
                 0.0,
@@ -1207,20 +1197,7 @@ mod tests {
             &mut density,
         )
         .expect("valid");
-        let (mut on, mut nr, mut nz, mut nt) = (
-            vec![false; cells],
-            vec![0.0; cells],
-            vec![0.0; cells],
-            vec![0.0; cells],
-        );
-        detect_surface(
-            &grid,
-            &phi,
-            &SurfaceDetection::default(),
-            &mut on,
-            [&mut nr, &mut nz, &mut nt],
-        )
-        .expect("valid");
+        let (_, on, [nr, nz, nt]) = detect(&grid, &phi, &SurfaceDetection::default());
         assert_eq!(count, on.iter().filter(|&&s| s).count());
         let (mut flat, mut ring) = (vec![0.0; cells], vec![0.0; cells]);
         surface_areas(&grid, SurfaceArea::Column, &on, [&nr, &nz, &nt], &mut flat).expect("ok");
@@ -1281,21 +1258,12 @@ mod tests {
                 }
             })
             .collect();
-        let cells = grid.cells();
         let run = |outermost: bool| {
-            let (mut on, mut a, mut b, mut c) = (
-                vec![false; cells],
-                vec![0.0; cells],
-                vec![0.0; cells],
-                vec![0.0; cells],
-            );
             let options = SurfaceDetection {
                 outermost_in_column: outermost,
                 ..SurfaceDetection::default()
             };
-            let count =
-                detect_surface(&grid, &phi, &options, &mut on, [&mut a, &mut b, &mut c]).unwrap();
-            (count, on, [a, b, c])
+            detect(&grid, &phi, &options)
         };
         let (all, on_all, _) = run(false);
         let (kept, on, normal) = run(true);
@@ -1323,18 +1291,11 @@ mod tests {
         }
         // A grid-aligned slab keeps every one of its surface cells.
         let slab = volume_fraction(&grid, 4, |p| p[0] < 0.43);
-        let (mut on, mut a, mut b, mut c) = (
-            vec![false; cells],
-            vec![0.0; cells],
-            vec![0.0; cells],
-            vec![0.0; cells],
-        );
         let options = SurfaceDetection {
             outermost_in_column: true,
             ..SurfaceDetection::default()
         };
-        let count = detect_surface(&grid, &slab, &options, &mut on, [&mut a, &mut b, &mut c]);
-        assert_eq!(count.unwrap(), n);
+        assert_eq!(detect(&grid, &slab, &options).0, n);
     }
 
     #[test]
