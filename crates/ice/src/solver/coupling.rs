@@ -214,9 +214,9 @@ impl<E: Eos> IceSolver<E> {
     /// reaction's rate at the cell's equilibration pressure (a surface burn
     /// on the surface step 2 found in the particles' volume fraction) and
     /// the reactant's and product's densities of step 2 — the burnt mass an
-    /// Eulerian reactant
-    /// of the same state would lose in [`IceSolver::compute_lagrangian_values`]
-    /// (at most the rate's `max_burn_fraction`). Run after
+    /// Eulerian reactant of the same state would lose in
+    /// [`IceSolver::compute_lagrangian_values`] (at most the rate's
+    /// `max_burn_fraction`, and never more than 1 − `REACTANT_LEFT`). Run after
     /// [`IceSolver::compute_equilibration_pressure`]. The coupled pipeline
     /// takes that fraction of each particle's mass, volume, momentum and
     /// energy (seed 000 step 4: "decrementing particle mass carries its
