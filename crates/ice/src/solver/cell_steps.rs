@@ -478,10 +478,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
                 // (`IceSolver::add_burnt_particles`).
                 continue;
             }
-            let at = surface
-                .get(k)
-                .filter(|s| !s.area.is_empty())
-                .map(|s| (s.area[c], s.temperature[c]));
+            let at = super::surface::surface_at(surface, k, c);
             let state = reaction_state(params, rx, |i| sv[i], at, dt);
             let burnt = rx
                 .rate

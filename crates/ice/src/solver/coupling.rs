@@ -242,11 +242,7 @@ impl<E: Eos> IceSolver<E> {
             if !(rho_r > 0.0) {
                 return 0.0;
             }
-            let at = self.scratch[pid]
-                .surface
-                .get(k)
-                .filter(|s| !s.area.is_empty())
-                .map(|s| (s.area[c], s.temperature[c]));
+            let at = surface::surface_at(&self.scratch[pid].surface, k, c);
             let state = reaction_state(&params, rx, |i| d[i][c], at, dt);
             let burnt = rx.rate.burnt_density(&state, rho_r, d[b][c], dt) / rho_r;
             burnt.min(1.0 - REACTANT_LEFT)

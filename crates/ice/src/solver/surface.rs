@@ -53,6 +53,16 @@ pub(super) struct SurfaceCells {
     pub(super) temperature: Vec<f64>,
 }
 
+/// Reaction `k`'s surface in cell `c` of a patch, (a/V, T), when the
+/// reaction burns on a surface ([`SurfaceCells`] of the patch's scratch).
+#[inline]
+pub(super) fn surface_at(surface: &[SurfaceCells], k: usize, c: usize) -> Option<(f64, f64)> {
+    surface
+        .get(k)
+        .filter(|s| !s.area.is_empty())
+        .map(|s| (s.area[c], s.temperature[c]))
+}
+
 impl<E: Eos> IceSolver<E> {
     /// Finds the surface of every surface-burning reaction's reactant in
     /// the state of step 2 and stores its a/V per cell for step 4
