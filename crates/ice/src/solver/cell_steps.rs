@@ -465,7 +465,22 @@ pub(super) fn lagrangian_cell<E: Eos>(
     // equilibration pressure, moved exactly from reactant to product with
     // the reactant's Lagrangian momentum and energy and its specific volume
     // (crate::reaction). θ is carried from here on with the moved volume.
-    let theta_start = theta;
+    //
+    // The volume a material's share of the cell's volume change (eq 31,
+    // f_r^θ ∇·Σθ*u*, or its bound) adds or removes belongs to its mass, so
+    // the burnt fraction of the reactant takes its part of that change to
+    // the product with it: seed 000 step 4 asks that the reactant's volume
+    // be "depleted at the same rate as the mass". Left with the reactant, a
+    // surface cell burnt to 10⁻⁶ of its reactant in one step kept the whole
+    // reactant's compression and went to a negative volume
+    // (docs/physics/ice/steps.md).
+    let mut mechanical = [0.0; MAX_MATERIALS];
+    for r in 0..n {
+        mechanical[r] = match bounded[r] {
+            Some(dv) => dv,
+            None => lagrangian_volume(0.0, share[r], divergence, 0.0, dt),
+        };
+    }
     let mut heat_released = 0.0;
     if !params.reactions.is_empty() {
         for (k, rx) in params.reactions.iter().enumerate() {
@@ -492,6 +507,9 @@ pub(super) fn lagrangian_cell<E: Eos>(
                     volume: theta[r],
                 };
                 let (mut pa, mut pb) = (parcel(a), parcel(b));
+                let moved = burnt / rho[a] * mechanical[a];
+                mechanical[a] -= moved;
+                mechanical[b] += moved;
                 transfer_burnt_mass(&mut pa, &mut pb, burnt, rx.heat_of_reaction);
                 heat_released += burnt * rx.heat_of_reaction;
                 for (r, x) in [(a, pa), (b, pb)] {
@@ -611,10 +629,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
         // start), and the compensation −f_r^θ Σ_s θ_s β_s Ṫ_s. With no
         // heat exchange both thermal terms are zero and this is eq 31 as
         // before, bit for bit.
-        let mechanical = match bounded[r] {
-            Some(dv) => theta_start[r] + dv,
-            None => lagrangian_volume(theta_start[r], share[r], divergence, 0.0, dt),
-        } + (theta[r] - theta_start[r]);
+        let mechanical = theta[r] + mechanical[r];
         let own = if theta[r] > 0.0 {
             dt * tbt[r] / theta[r]
         } else {
