@@ -22,11 +22,12 @@ fn run(label: String, cfg: BurnRate) -> Row {
     let result = burn_rate(&cfg);
     match &result {
         Ok(r) => println!(
-            "  {label:<44} speed {:.5e} m/s, A p^n {:.5e} m/s at {:.4e} Pa: {:+.3} % ({} steps)",
+            "  {label:<44} speed {:.5e} m/s, A p^n {:.5e} m/s at {:.4e} Pa: {:+.3} %, area {:+.3} % ({} steps)",
             r.speed,
             r.law_speed,
             r.surface_pressure,
             100.0 * r.error(),
+            100.0 * r.area_error,
             r.steps
         ),
         Err(e) => println!("  {label:<44} stopped: {e}"),
@@ -68,38 +69,44 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
         "The `Deflagration` reaction (seed 000 §4.1.2, eqs 38–39; docs/physics/reaction/deflagration.md) in \
          the ICE solver: after each step 2 the surface pass finds the reactant's surface cells and their area \
          per unit volume a/V (`Column` estimate, Youngs normal, a cell holds reactant above θ = 10⁻⁴, the \
-         outermost surface cell of each column along the normal), and \
+         outermost surface cell of each column along the normal); before step 4 the part of a surface cell's \
+         burn its reactant cannot supply goes on into the cells behind it, and \
          step 4 burns Γ Δt/V = (a/V) A pⁿ ρ Δt there. A reactant slab (ANFO-K1's Murnaghan EOS; its JWL C-term \
          products at 2500 K, above the 450 K ignition temperature) at rest against symmetry walls, the products \
          beyond it, the far faces holding the products' state at the held pressure \
          (`brisance_ice::burn_rate`, h = 0.1 mm, the reactant 8 cells deep). The surface's position comes \
          from the reactant's volume Σθ_r V (plane: V/A; 45°: the corner triangle's c/√2; sphere: the \
          hemisphere's radius) and its speed is the least-squares slope over the last 80 % of the run; A pⁿ is \
-         taken at the mean pressure of the cells the surface crosses (10⁻⁴ < θ_r < 1 − 10⁻³). The PBX-9501 \
+         the time mean over the same window of A pⁿ over the burning surface, each surface cell weighted by its \
+         area, at its own pressure (`IceSolver::burning_surface`), and the surface pressure the one at which \
+         A pⁿ is that mean. The area error is the surface pass's summed area over the true area of the surface \
+         at the position the reactant's volume gives, minus 1 (time mean): the part of the speed's error the \
+         area estimate makes. The PBX-9501 \
          law is `Deflagration::pbx_9501()` (A = 5.218 × 10⁻⁶ m·s⁻¹·Pa⁻⁰·⁷⁷⁸, n = 0.778), run over 3 cells; \
          the A/100 rows burn 100 times slower, so that the gas made leaves the pressure at the held one, \
          and isolate the surface estimate on each shape, run over 1 cell.\n"
     );
     let _ = writeln!(
         md,
-        "| run | steps | surface speed (m/s) | A pⁿ at the surface (m/s) | surface pressure / held | error |\n|---|---:|---:|---:|---:|---:|"
+        "| run | steps | surface speed (m/s) | A pⁿ at the surface (m/s) | surface pressure / held | area error | error |\n|---|---:|---:|---:|---:|---:|---:|"
     );
     for r in &rows {
         match &r.result {
             Ok(x) => {
                 let _ = writeln!(
                     md,
-                    "| {} | {} | {:.5e} | {:.5e} | {:.4} | {:+.3} % |",
+                    "| {} | {} | {:.5e} | {:.5e} | {:.4} | {:+.3} % | {:+.3} % |",
                     r.label,
                     x.steps,
                     x.speed,
                     x.law_speed,
                     x.surface_pressure / r.cfg.pressure,
+                    100.0 * x.area_error,
                     100.0 * x.error()
                 );
             }
             Err(e) => {
-                let _ = writeln!(md, "| {} | — | stopped: {e} | — | — | — |", r.label);
+                let _ = writeln!(md, "| {} | — | stopped: {e} | — | — | — | — |", r.label);
             }
         }
     }

@@ -5,6 +5,7 @@
 use super::cases::{air, P0, STEEL_RHO};
 use super::tubes::*;
 use super::*;
+use brisance_core::Eos;
 
 fn step(s: &mut IceMpm, steps: usize) {
     for _ in 0..steps {
@@ -265,4 +266,31 @@ fn several_solids_and_burning_are_deterministic_and_restart_exactly() {
     assert_eq!(a.unburnt_reactant(), b.unburnt_reactant());
     assert_eq!(a.save_state().unwrap(), one.0);
     assert!(b.restore_state(&saved[..saved.len() - 8]).is_err());
+}
+
+/// A block of reactant particles deflagrating in its products (seed 000
+/// §4.1.2, eqs 38–39; the law of `Deflagration::pbx_9501` lit at 250 K,
+/// below the tube's 300 K): the surface pass finds the block's two faces in
+/// the particles' volume fraction on the grid, and the first step burns
+/// 2 A_x A pⁿ ρ_r Δt of it, A_x the tube's cross-section, ρ_r the
+/// reactant's density, p the held 100 MPa.
+#[test]
+fn a_particle_reactant_deflagrates_on_its_faces_at_a_p_to_the_n() {
+    let p0 = 1e8;
+    let mut tube = burning_tube(p0, 0.0, 0.0);
+    let pbx = brisance_ice::Deflagration::pbx_9501();
+    let law = brisance_ice::Deflagration::new(pbx.a, pbx.n, 250.0).unwrap();
+    tube.reactions[0].rate = law.into();
+    let mut s = tube.build();
+    let m0: f64 = s.mpm().particles().mass.iter().sum();
+    let dt = s.stable_dt().unwrap();
+    s.advance(dt).unwrap();
+    let m1: f64 = s.mpm().particles().mass.iter().sum();
+    let rho_r = qm100_reactant().eos.density(p0, super::cases::T0).unwrap();
+    let expected = 2.0 * H * H * law.burn_speed(p0, 300.0) * rho_r * dt;
+    let burnt = m0 - m1;
+    assert!(
+        (burnt / expected - 1.0).abs() < 1e-6,
+        "burnt {burnt:e} kg against {expected:e} kg"
+    );
 }

@@ -217,7 +217,9 @@ impl<E: Eos> IceSolver<E> {
     /// Eulerian reactant of the same state would lose in
     /// [`IceSolver::compute_lagrangian_values`] (at most the rate's
     /// `max_burn_fraction`, and never more than 1 − `REACTANT_LEFT`). Run after
-    /// [`IceSolver::compute_equilibration_pressure`]. The coupled pipeline
+    /// [`IceSolver::compute_equilibration_pressure`]; a surface burn first
+    /// carries what a surface cell cannot supply into the cells behind it
+    /// ([`IceSolver::carry_surface_burns`]). The coupled pipeline
     /// takes that fraction of each particle's mass, volume, momentum and
     /// energy (seed 000 step 4: "decrementing particle mass carries its
     /// momentum and energy") and hands the product what the particles lost
@@ -226,7 +228,17 @@ impl<E: Eos> IceSolver<E> {
     /// `volume` receives the reactant's specific volume of step 2 (m³/kg,
     /// its EOS at the equilibration pressure): the volume the burnt mass
     /// held in this frame, which the product is born with.
-    pub fn lagrangian_burn_fraction(&self, k: usize, dt: f64, out: &mut [f64], volume: &mut [f64]) {
+    pub fn lagrangian_burn_fraction(
+        &mut self,
+        k: usize,
+        dt: f64,
+        out: &mut [f64],
+        volume: &mut [f64],
+    ) {
+        // A surface burn goes on behind a surface cell its reactant cannot
+        // feed, as for a fluid reactant in step 4 (the carry is the same
+        // when step 8 runs it again).
+        self.carry_surface_burns(dt);
         let rx = &self.reactions[k];
         assert!(
             self.is_lagrangian(rx.reactant),

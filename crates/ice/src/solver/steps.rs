@@ -417,6 +417,7 @@ impl<E: Eos> IceSolver<E> {
     // Kept out of line so that profiles attribute each step's cost.
     #[inline(never)]
     pub fn compute_lagrangian_values(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.carry_surface_burns(dt);
         self.halo.fill_all(
             &self.level,
             &self.press_set,
