@@ -35,7 +35,8 @@ use brisance_reaction::Deflagration;
 use crate::cases::anfo_k1_jwlpp;
 use crate::solver::GHOST;
 use crate::{
-    CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver, MaterialState,
+    CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, IceSolver,
+    MaterialState, PressureSolve,
 };
 
 /// The shape of the burning surface.
@@ -128,6 +129,15 @@ impl BurnRateResult {
 
 /// Runs one V-BURNRATE case; the message says what failed.
 pub fn burn_rate(cfg: &BurnRate) -> Result<BurnRateResult, String> {
+    run_slab(cfg, burning_slab(cfg, PressureSolve::Explicit)?)
+}
+
+/// The solver of a V-BURNRATE case at its start, its reaction set, with the
+/// pressure solve `pressure`; the message says what failed.
+pub fn burning_slab(
+    cfg: &BurnRate,
+    pressure: PressureSolve,
+) -> Result<IceSolver<EosModel>, String> {
     let (eos, jwlpp) = anfo_k1_jwlpp()?;
     let p0 = cfg.pressure;
     let rho_r = eos[0].density(p0, 298.15).map_err(|e| e.to_string())?;
@@ -202,6 +212,7 @@ pub fn burn_rate(cfg: &BurnRate) -> Result<BurnRateResult, String> {
         ExchangeCoefficients::uniform(2, 1e15, 0.0),
         IceOptions {
             geometry,
+            pressure,
             ..Default::default()
         },
         |x| {
@@ -232,6 +243,15 @@ pub fn burn_rate(cfg: &BurnRate) -> Result<BurnRateResult, String> {
         ..jwlpp
     }])
     .map_err(|e| e.to_string())?;
+    Ok(s)
+}
+
+/// Runs the slab `s` of [`burning_slab`] over the case's time and measures.
+fn run_slab(cfg: &BurnRate, mut s: IceSolver<EosModel>) -> Result<BurnRateResult, String> {
+    let p0 = cfg.pressure;
+    let h = cfg.h;
+    let cells = s.level().geometry.cells;
+    let geometry = s.options().geometry;
     let held_speed = cfg.law.burn_speed(p0, cfg.products_temperature);
     if !(held_speed > 0.0) {
         return Err("the law gives no burn at the held pressure".into());
@@ -353,6 +373,30 @@ mod tests {
     fn a_fast_burn_goes_on_behind_a_sliver() {
         let r = burn_rate(&BurnRate::pbx_9501(1.0e8, BurnSurface::Plane)).unwrap();
         assert!(r.error().abs() < 0.02, "{r:?}");
+    }
+
+    /// With the implicit pressure the step follows the material
+    /// velocities, and a slab lit at rest had none: Δt was infinite. The
+    /// burning front now bounds it by the gas it makes,
+    /// Δt = cfl h / (A pⁿ v_p/v_r) for the grid-aligned slab at the held
+    /// 100 MPa (its a/V is 1/h), and the explicit step (acoustic, 20 times
+    /// shorter) is left as it was.
+    #[test]
+    fn a_burning_front_bounds_the_implicit_step_at_rest() {
+        let cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
+        let implicit = burning_slab(&cfg, PressureSolve::Implicit(Default::default())).unwrap();
+        let dt = implicit.stable_dt().unwrap();
+        // The gas leaves at D v_p/v_r, the reactant at 298.15 K, the
+        // products at 2500 K.
+        let (eos, _) = anfo_k1_jwlpp().unwrap();
+        let expansion =
+            eos[0].density(1.0e8, 298.15).unwrap() / eos[1].density(1.0e8, 2500.0).unwrap();
+        assert!(expansion > 5.0, "{expansion}");
+        let front = 0.4 * cfg.h / (cfg.law.burn_speed(1.0e8, 2500.0) * expansion);
+        assert!((dt / front - 1.0).abs() < 1e-9, "{dt:e} against {front:e}");
+        let explicit = burning_slab(&cfg, PressureSolve::Explicit).unwrap();
+        let acoustic = explicit.stable_dt().unwrap();
+        assert!(acoustic < 0.1 * front, "{acoustic:e}");
     }
 
     /// At 10 MPa a surface cell holding 1.6 × 10⁻⁴ of reactant burns to

@@ -118,7 +118,8 @@ const NL: usize = 6;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IceOptions {
     /// Courant number: Δt = cfl / max over cells of
-    /// Σ_d max_r (|u_r,d| + c_r)/Δx_d. In (0, 1].
+    /// Σ_d max_r (|u_r,d| + c_r)/Δx_d, and of a surface burn's front
+    /// ([`IceSolver::surface_front_rate`]). In (0, 1].
     pub cfl: f64,
     /// Advection scheme of step 12.
     pub advection: Advection,
@@ -1289,6 +1290,13 @@ impl<E: Eos> Solver for IceSolver<E> {
             max_rate.max(self.wall_rate())
         } else {
             max_rate
+        };
+        // A burning front moves at most `cfl` of a cell a step; NaN stays
+        // NaN.
+        let max_rate = if max_rate.is_nan() {
+            max_rate
+        } else {
+            max_rate.max(self.surface_front_rate())
         };
         let dt = if max_rate > 0.0 {
             self.options.cfl / max_rate

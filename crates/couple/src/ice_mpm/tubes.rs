@@ -10,8 +10,8 @@ use brisance_core::Eos;
 use brisance_eos::{JwlCTerm, Murnaghan, SolidEos, SolidThreshold};
 use brisance_grid::Level;
 use brisance_ice::{
-    CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction, JwlPlusPlus,
-    MaterialState, GHOST,
+    CellState, Deflagration, ExchangeCoefficients, IceBoundary, IceOptions, IceReaction,
+    JwlPlusPlus, MaterialState, GHOST,
 };
 use brisance_mpm::{
     fill_shape, FillSpec, GridBoundary, MpmOptions, Shape, ShapeFunction, UpdateScheme,
@@ -303,5 +303,83 @@ pub fn burning_block() -> Result<BurningBlock, SolverError> {
         rescaled: s.rescaled_totals().mass / burnt,
         burnt_fraction: burnt / m0,
         time: s.time(),
+    })
+}
+
+/// What [`particle_deflagration`] measures.
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleBurn {
+    /// Mass the particles lost over the measuring window, kg.
+    pub burnt: f64,
+    /// Mass the law burns over the same steps, Σ a D ρ_r Δt, kg: a the
+    /// surface pass's area, D the mean of A pⁿ over the burning surface at
+    /// its cells' own pressure ([`IceSolver::burning_surface`]), ρ_r the
+    /// reactant's density at that pressure and 300 K.
+    pub by_law: f64,
+    /// The largest |a / (2 A_x) − 1| over the steps, A_x the tube's
+    /// cross-section: the block's two faces.
+    pub area_error: f64,
+    /// The pressure at the start, Pa.
+    pub held_pressure: f64,
+    /// The surface's pressure at the end (the one at which A pⁿ is the
+    /// surface's mean D), Pa.
+    pub surface_pressure: f64,
+    /// Steps taken.
+    pub steps: u64,
+}
+
+impl ParticleBurn {
+    /// burnt / by_law − 1.
+    pub fn error(&self) -> f64 {
+        self.burnt / self.by_law - 1.0
+    }
+}
+
+/// A particle reactant deflagrating (seed 000 §4.1.2, eqs 38–39): the
+/// block of [`burning_tube`] (6 mm of QM-100 reactant particles at rest in
+/// its products at 100 MPa, 300 K, 1 mm cells) burning by PBX-9501's law
+/// ([`Deflagration::pbx_9501`], lit at 250 K, below the tube's 300 K) for
+/// the time A pⁿ of 100 MPa takes to burn one cell from each face. The
+/// products stay shut in the tube, so the pressure climbs; the window is
+/// the last 80 % of the run.
+pub fn particle_deflagration() -> Result<ParticleBurn, SolverError> {
+    let p0 = 1e8;
+    let mut tube = burning_tube(p0, 0.0, 0.0);
+    let pbx = Deflagration::pbx_9501();
+    let law =
+        Deflagration::new(pbx.a, pbx.n, 250.0).map_err(|e| SolverError::Other(e.to_string()))?;
+    tube.reactions[0].rate = law.into();
+    let mut s = tube.build();
+    let eos = qm100_reactant().eos;
+    let t_end = H / law.burn_speed(p0, T0);
+    let mut mass: f64 = s.mpm().particles().mass.iter().sum();
+    let (mut burnt, mut by_law, mut area_error) = (0.0, 0.0, 0.0f64);
+    let mut surface_pressure = p0;
+    while s.time() < t_end * (1.0 - 1e-12) {
+        let dt = s.stable_dt()?.min(t_end - s.time());
+        s.advance(dt)?;
+        let m: f64 = s.mpm().particles().mass.iter().sum();
+        let (area, speed) = s
+            .ice()
+            .burning_surface(0)
+            .ok_or_else(|| SolverError::Other("no burning surface".into()))?;
+        area_error = area_error.max((area / (2.0 * H * H) - 1.0).abs());
+        if s.time() >= 0.2 * t_end {
+            surface_pressure = (speed / law.a).powf(1.0 / law.n);
+            let rho = eos
+                .density(surface_pressure, T0)
+                .map_err(|e| SolverError::Other(e.to_string()))?;
+            burnt += mass - m;
+            by_law += area * speed * rho * dt;
+        }
+        mass = m;
+    }
+    Ok(ParticleBurn {
+        burnt,
+        by_law,
+        area_error,
+        held_pressure: p0,
+        surface_pressure,
+        steps: s.ice().steps(),
     })
 }

@@ -50,6 +50,8 @@ struct Behind {
 /// A surface cell and the reactant behind it along its column.
 #[derive(Debug, Clone, Copy, Default)]
 struct CarryCell {
+    /// Global cell index.
+    cell: usize,
     /// a/V (1/m), the surface's temperature (K), the swept share of a full
     /// cell per second dF/dt (1/s, [`ReactionModel::rate`]) and the
     /// reactant's volume fraction in the cell.
@@ -75,6 +77,9 @@ pub(super) struct SurfacePass {
     carry: Vec<Vec<CarryCell>>,
     /// The patch and the patch-local index of every cell, global order.
     locate: Vec<(usize, usize)>,
+    /// The largest (a/V) D max(1, v_p/v_r) over every surface burn's
+    /// surface cells, 1/s ([`IceSolver::surface_front_rate`]).
+    max_rate: f64,
 }
 
 /// A surface-burning reaction's surface in a patch's cells (local
@@ -123,6 +128,7 @@ impl<E: Eos> IceSolver<E> {
         self.surface_pass
             .carry
             .resize_with(self.reactions.len(), Vec::new);
+        self.surface_pass.max_rate = 0.0;
         for (k, rx) in self.reactions.iter().enumerate() {
             self.surface_pass.carry[k].clear();
             let surface = rx.rate.burns_on_a_surface();
@@ -214,6 +220,10 @@ impl<E: Eos> IceSolver<E> {
                 if !(rate > 0.0) {
                     continue;
                 }
+                // The gas the front makes leaves at about D v_p/v_r: the
+                // step's limit takes the faster of the front and that flow.
+                let expansion = (d[rx.product * NS + VSP][c] * state.density).max(1.0);
+                pass.max_rate = pass.max_rate.max(rate * expansion);
                 // The column's axis: the one of largest h_a |n_a|; the
                 // reactant lies against the normal.
                 let n = [
@@ -228,6 +238,7 @@ impl<E: Eos> IceSolver<E> {
                     .unwrap_or(0);
                 let mut g = [i % nx, (i / nx) % ny, i / (nx * ny)];
                 let mut cell = CarryCell {
+                    cell: i,
                     area: pass.density[i],
                     temperature,
                     rate,
@@ -265,6 +276,21 @@ impl<E: Eos> IceSolver<E> {
             sc.surface.truncate(self.reactions.len());
         }
         Ok(())
+    }
+
+    /// The rate of the time step's limit on a burning front, 1/s: the
+    /// largest (a/V) D max(1, v_p/v_r) over the surface cells of every
+    /// surface burn at the state of the last step 2 ((a/V) D is dF/dt of a
+    /// full cell, [`ReactionModel::rate`]; v_p/v_r the product's specific
+    /// volume over the reactant's). With Δt = cfl / rate neither the front
+    /// nor the gas it makes, which leaves the surface at about D v_p/v_r,
+    /// crosses more than `cfl` of a cell's depth along the normal, V/a, in
+    /// a step. Far below the acoustic rate (D of metres per second against
+    /// sound speeds of kilometres per second), it sets the step of the
+    /// implicit pressure solve, whose Δt follows the material velocities:
+    /// a burn lit in a state at rest had no limit there.
+    pub fn surface_front_rate(&self) -> f64 {
+        self.surface_pass.max_rate
     }
 
     /// Reaction `k`'s burning surface as step 4 last burnt it: its area
@@ -313,8 +339,10 @@ impl<E: Eos> IceSolver<E> {
     /// flow carried out of the cell behind), the front has passed into the
     /// next cell in: that cell gets the area density that burns the rest
     /// at its own pressure, (a/V) · rest / (dF/dt Δt), and the surface's
-    /// temperature, up to [`CARRY_DEPTH`] cells deep. Without it a sliver
-    /// of 10⁻⁴–10⁻³ of a cell kept being the outermost surface cell while
+    /// temperature, up to three cells deep; the surface cell keeps the
+    /// share θ_r / (dF/dt Δt) of its a/V that its reactant burns (the burn
+    /// its cap would give), so the summed area stays the front's. Without
+    /// it a sliver of 10⁻⁴–10⁻³ of a cell kept being the outermost surface cell while
     /// the cell behind it, where the surface really was, did not burn
     /// (V-BURNRATE at 100 MPa regressed at 16 % of A pⁿ;
     /// docs/physics/reaction/deflagration.md).
@@ -328,6 +356,8 @@ impl<E: Eos> IceSolver<E> {
         let pass = &self.surface_pass;
         for (k, list) in pass.carry.iter().enumerate() {
             for cell in list {
+                let (pid, c) = pass.locate[cell.cell];
+                self.scratch[pid].surface[k].area[c] = cell.area;
                 for b in &cell.behind[..cell.depth] {
                     let (pid, c) = pass.locate[b.cell];
                     let out = &mut self.scratch[pid].surface[k];
@@ -337,7 +367,16 @@ impl<E: Eos> IceSolver<E> {
             }
             for cell in list {
                 let swept = cell.rate * dt;
-                let mut rest = swept - cell.theta * (1.0 - REACTANT_LEFT);
+                let own = cell.theta * (1.0 - REACTANT_LEFT);
+                let mut rest = swept - own;
+                if rest > 0.0 {
+                    // The surface cell burns what it holds: its share of
+                    // the area is own / swept (the burn is the same as the
+                    // cap on its reactant gives; the summed area stays the
+                    // front's).
+                    let (pid, c) = pass.locate[cell.cell];
+                    self.scratch[pid].surface[k].area[c] = cell.area * own / swept;
+                }
                 for b in &cell.behind[..cell.depth] {
                     if !(rest > 0.0) {
                         break;
