@@ -9,7 +9,9 @@
 //! (A the pre-exponential factor in kg/(m²·s), Eₐ the activation energy in
 //! J/mol, T the node temperature, ρ₀ the material's initial density, Ω the
 //! catalytic factor of §3.2), moving by r along the unit vector away from
-//! the fluid. Its density is held constant: the regression sweeps the
+//! the fluid. The law is [`brisance_reaction::Arrhenius`], a surface-burning
+//! [`ReactionModel`]: the lattice asks it for r through the trait (its
+//! `rate` at a unit area density and ρ₀). Its density is held constant: the regression sweeps the
 //! volume of the node in proportion to the distance it has moved, and the
 //! mass of every component falls with it, so m = ρ₀ V. When the volume
 //! (hence the mass) vanishes, the node becomes an exterior fluid node and
@@ -53,68 +55,32 @@
 //!   to Δt/τ that depends on the direction (through τ) and so distorts a
 //!   curved front, and does not vanish as h → 0 at a fixed step fraction.
 
+use brisance_core::{ReactionModel, ReactionState};
+pub use brisance_reaction::arrhenius::{Arrhenius, GAS_CONSTANT};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use super::geometry::NodeKind;
 use super::model::{MsdmError, MsdmLattice, NO_BOND};
 
-/// Universal gas constant R, J/(mol·K).
-pub const GAS_CONSTANT: f64 = 8.314_462_618;
-
 /// Relative volume below which a regressing node is converted to fluid.
 const EMPTY: f64 = 1e-9;
 
-fn one() -> f64 {
-    1.0
-}
-
-/// Arrhenius pyrolysis law of a material (seed 003 §2.4, §3.1–3.2).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Arrhenius {
-    /// Pre-exponential factor A, kg/(m²·s).
-    pub pre_exponential: f64,
-    /// Activation energy Eₐ, J/mol.
-    pub activation_energy: f64,
-    /// Catalytic factor Ω multiplying A (§3.2; 1 without additive).
-    #[serde(default = "one")]
-    pub catalytic_factor: f64,
-}
-
-impl Arrhenius {
-    /// Mass flux Ω A exp(−Eₐ/(R T)), kg/(m²·s).
-    #[inline]
-    pub fn mass_flux(&self, temperature: f64) -> f64 {
-        self.catalytic_factor
-            * self.pre_exponential
-            * (-self.activation_energy / (GAS_CONSTANT * temperature)).exp()
-    }
-
-    /// Regression speed Ω A exp(−Eₐ/(R T)) / ρ₀, m/s.
-    #[inline]
-    pub fn speed(&self, rho0: f64, temperature: f64) -> f64 {
-        self.mass_flux(temperature) / rho0
-    }
-
-    /// Checks the parameters; `field` prefixes the field names.
-    pub fn validate(&self, field: &str) -> Result<(), String> {
-        for (name, v) in [
-            ("pre_exponential", self.pre_exponential),
-            ("catalytic_factor", self.catalytic_factor),
-        ] {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(format!("{field}.{name} = {v}, expected a finite value > 0"));
-            }
-        }
-        if !(self.activation_energy >= 0.0 && self.activation_energy.is_finite()) {
-            return Err(format!(
-                "{field}.activation_energy = {}, expected a finite value ≥ 0",
-                self.activation_energy
-            ));
-        }
-        Ok(())
-    }
+/// The speed of a node's surface, m/s: the law's [`ReactionModel::rate`]
+/// with a unit area density (dF/dt of a unit depth), at the node's
+/// temperature and the material's initial density ρ₀ (held, see the
+/// module documentation). For [`Arrhenius`] that is Ω A exp(−Eₐ/(R T))/ρ₀
+/// to the bit, and 0 at a temperature without a finite positive flux.
+#[inline]
+fn front_speed(law: &impl ReactionModel, rho0: f64, temperature: f64) -> f64 {
+    law.rate(
+        &ReactionState {
+            temperature,
+            density: rho0,
+            surface_area_density: 1.0,
+            ..Default::default()
+        },
+        0.0,
+    )
 }
 
 /// The regression state of a lattice (see the module documentation).
@@ -303,7 +269,11 @@ impl SurfaceRegression {
             .filter_map(|i| {
                 let m = lat.material_of(i)?;
                 let law = self.laws[m]?;
-                Some(law.speed(lat.materials[m].eos.rho0, lat.temperature[i]))
+                Some(front_speed(
+                    &law,
+                    lat.materials[m].eos.rho0,
+                    lat.temperature[i],
+                ))
             })
             .reduce(|| 0.0, f64::max)
     }
@@ -376,7 +346,8 @@ impl MsdmLattice {
                 // This step's burning time, with the time carried over from
                 // a neighbour emptied part-way through the previous step.
                 let burn = dt + r.carry[i];
-                let dist = law.speed(this.materials[m].eos.rho0, this.temperature[i]) * burn;
+                let dist =
+                    front_speed(&law, this.materials[m].eos.rho0, this.temperature[i]) * burn;
                 let h = this.geom.spacing;
                 let per_distance = if nrm == [0.0; 3] {
                     // Fluid all round in a symmetric pattern (a sliver):
