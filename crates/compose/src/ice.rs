@@ -123,6 +123,11 @@ pub struct IceConfig {
     /// coarse h"). Ignored with the implicit pressure.
     #[serde(default)]
     pub face_pressure_courant: f64,
+    /// Largest time step, s (> 0; default none). The implicit pressure's
+    /// step follows the material velocities and is unbounded for a state
+    /// at rest; this bounds it (Uintah's `max_delt`).
+    #[serde(default)]
+    pub max_dt: Option<f64>,
 }
 
 /// One reaction of the Ice pipeline.
@@ -347,6 +352,14 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
                 cfg.face_pressure_courant
             ),
         ));
+    }
+    if let Some(v) = cfg.max_dt {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err((
+                "pipeline.max_dt".into(),
+                format!("max_dt = {v} must be a finite time > 0 s"),
+            ));
+        }
     }
     for (path, v) in [
         ("pipeline.momentum_exchange", cfg.momentum_exchange),
@@ -589,6 +602,7 @@ pub(crate) fn build_with_traces(
         pressure: cfg.pressure,
         geometry: d.geometry,
         face_pressure_courant: cfg.face_pressure_courant,
+        max_dt: cfg.max_dt.unwrap_or(f64::INFINITY),
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);
@@ -944,6 +958,41 @@ mod tests {
                 Some("pipeline.face_pressure_courant"),
                 "{err}"
             );
+        }
+    }
+
+    /// `max_dt` bounds the solver's step (none when left out); a value that
+    /// is not a finite time > 0 is reported at its field.
+    #[test]
+    fn max_dt_bounds_the_step() {
+        use brisance_core::Solver;
+        let build = |text: &str| {
+            let loaded = load_str("sod_ice.ron", text, &["domain.cells=(20,1,1)".into()]).unwrap();
+            let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+                panic!("an Ice pipeline");
+            };
+            super::build(&loaded.scenario, ice).unwrap()
+        };
+        let free = build(SOD);
+        assert_eq!(free.options().max_dt, f64::INFINITY);
+        let dt = free.stable_dt().unwrap();
+        let with = |v: &str| {
+            SOD.replace(
+                "pipeline: Ice(materials: [\"gas\"]),",
+                &format!("pipeline: Ice(materials: [\"gas\"], max_dt: {v}),"),
+            )
+        };
+        let bounded = build(&with(&format!("{:e}", 0.5 * dt)));
+        assert_eq!(bounded.stable_dt().unwrap(), 0.5 * dt);
+        assert_eq!(
+            build(&with(&format!("{:e}", 2.0 * dt)))
+                .stable_dt()
+                .unwrap(),
+            dt
+        );
+        for bad in ["0.0", "-1e-6", "inf", "NaN"] {
+            let err = load_str("sod_ice.ron", &with(bad), &[]).unwrap_err();
+            assert_eq!(err.field.as_deref(), Some("pipeline.max_dt"), "{err}");
         }
     }
 

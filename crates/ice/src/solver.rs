@@ -127,6 +127,12 @@ pub struct IceOptions {
     pub gravity: [f64; 3],
     /// Smallest time step before the run is stopped as collapsed, s.
     pub min_dt: f64,
+    /// Largest time step, s (> 0; default ∞). The explicit pressure's
+    /// acoustic limit is always finite; the implicit pressure's follows the
+    /// material velocities, moving walls and a burning front only, and is
+    /// infinite for a state at rest without them, where heat exchange or a
+    /// volume reaction would then take one unbounded step.
+    pub max_dt: f64,
     /// Convergence of the equilibration pressure.
     pub equilibration: EquilibrationSettings,
     /// Conserve total energy (see `docs/physics/ice/steps.md`): the
@@ -168,6 +174,7 @@ impl Default for IceOptions {
             advection: Advection::VanLeer,
             gravity: [0.0; 3],
             min_dt: 1e-14,
+            max_dt: f64::INFINITY,
             equilibration: EquilibrationSettings::default(),
             conserve_total_energy: true,
             fixed_energy_equilibration: false,
@@ -593,6 +600,12 @@ impl<E: Eos> IceSolver<E> {
         if let PressureSolve::Implicit(s) = options.pressure {
             s.validate()
                 .map_err(|e| IceError::Invalid(format!("ice: field `pressure`: {e}")))?;
+        }
+        if !(options.max_dt > 0.0) {
+            return Err(IceError::Invalid(format!(
+                "ice: field `max_dt` = {} must be > 0",
+                options.max_dt
+            )));
         }
         if options.gravity.iter().any(|g| !g.is_finite()) {
             return Err(IceError::Invalid(
@@ -1305,11 +1318,12 @@ impl<E: Eos> Solver for IceSolver<E> {
         } else {
             f64::NAN
         };
-        // The viscous and conduction limits (diffusion_pass); NaN stays NaN.
+        // The viscous and conduction limits (diffusion_pass) and the
+        // largest step allowed; NaN stays NaN.
         let dt = if dt.is_nan() {
             dt
         } else {
-            dt.min(self.diffusive_time_step())
+            dt.min(self.diffusive_time_step()).min(self.options.max_dt)
         };
         if !(dt >= self.options.min_dt) {
             return Err(SolverError::TimeStepCollapse {

@@ -157,3 +157,42 @@ fn trace_speeds_by_hand() {
     );
     assert_eq!(cfl_speed(false, false, 0.5, 0.0, -3.0, 5.0), 8.0);
 }
+
+/// With the implicit pressure a state at rest has no limit on its step
+/// (the acoustic one is off): Δt is infinite unless `max_dt` bounds it; a
+/// `max_dt` that is not > 0 is refused by name.
+#[test]
+fn max_dt_bounds_the_implicit_step_at_rest() {
+    let with = |max_dt: f64| {
+        let air = EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0));
+        let level = Level::new([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], [1, 1, 1], GHOST).unwrap();
+        IceSolver::new(
+            vec![air],
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            ExchangeCoefficients::uniform(1, 1e15, 0.0),
+            IceOptions {
+                pressure: PressureSolve::Implicit(Default::default()),
+                max_dt,
+                ..Default::default()
+            },
+            |_| CellState {
+                pressure: 1e5,
+                materials: vec![crate::material::MaterialState {
+                    volume_fraction: 1.0,
+                    density: 1.2,
+                    velocity: [0.0; 3],
+                }],
+            },
+        )
+    };
+    assert_eq!(
+        with(f64::INFINITY).unwrap().stable_dt().unwrap(),
+        f64::INFINITY
+    );
+    assert_eq!(with(1e-3).unwrap().stable_dt().unwrap(), 1e-3);
+    for bad in [0.0, -1.0, f64::NAN] {
+        let err = with(bad).unwrap_err().to_string();
+        assert!(err.contains("max_dt"), "{err}");
+    }
+}
