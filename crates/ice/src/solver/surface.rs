@@ -23,11 +23,12 @@
 //! (r, z) rings as on Cartesian cells (the ring's area and volume both
 //! carry 2π r_c).
 
-use brisance_core::{Eos, ReactionModel, ReactionState};
+use brisance_core::{Eos, ReactionModel};
 use brisance_reaction::deflagration::CellGrid;
 use brisance_reaction::{surface_area_densities, SurfaceArea, SurfaceDetection, SurfaceWork};
 
-use super::{IceSolver, NS, TEMP, THETA, VSP};
+use super::cell_steps::reaction_state;
+use super::{make_params, IceSolver, NS, TEMP, THETA, VSP};
 use crate::reaction::{REACTANT_LEFT, SURFACE_PRESENT};
 
 /// How many cells behind a surface cell, along its column, a step's burn
@@ -118,7 +119,6 @@ impl<E: Eos> IceSolver<E> {
             spacing: geometry.spacing,
         };
         let n_mat = self.eos.len();
-        let time = self.time;
         {
             let locate = &mut self.surface_pass.locate;
             locate.clear();
@@ -198,6 +198,7 @@ impl<E: Eos> IceSolver<E> {
             });
             // The surface cells' burn rates and the reactant behind them.
             let pass = &mut self.surface_pass;
+            let params = solver_params!(self);
             let [nx, ny, _] = cells;
             let strides = [1, nx, nx * ny];
             let spacing = geometry.spacing;
@@ -208,14 +209,14 @@ impl<E: Eos> IceSolver<E> {
                 let (pid, c) = pass.locate[i];
                 let d = &self.state[pid].data;
                 let temperature = self.scratch[pid].surface[k].temperature[c];
-                let state = ReactionState {
-                    pressure: d[n_mat * NS][c],
-                    temperature,
-                    density: 1.0 / d[rx.reactant * NS + VSP][c],
-                    time,
-                    detonation_time: f64::INFINITY,
-                    surface_area_density: pass.density[i],
-                };
+                // Step 4's state of the cell (at the step's start, Δt 0).
+                let state = reaction_state(
+                    &params,
+                    rx,
+                    |f| d[f][c],
+                    Some((pass.density[i], temperature)),
+                    0.0,
+                );
                 let rate = rx.rate.rate(&state, 0.0);
                 if !(rate > 0.0) {
                     continue;
@@ -305,21 +306,15 @@ impl<E: Eos> IceSolver<E> {
             return None;
         }
         let vols = self.volumes();
-        let n_mat = self.eos.len();
+        let params = solver_params!(self);
         let (mut area, mut weighted) = (0.0, 0.0);
         let mut g = 0;
         self.level.for_each_cell_in_order(|_, pid, c| {
             if let Some((a, t)) = surface_at(&self.scratch[pid].surface, k, c) {
                 if a > 0.0 {
                     let d = &self.state[pid].data;
-                    let unit = ReactionState {
-                        pressure: d[n_mat * NS][c],
-                        temperature: t,
-                        density: 1.0 / d[rx.reactant * NS + VSP][c],
-                        time: self.time,
-                        detonation_time: f64::INFINITY,
-                        surface_area_density: 1.0,
-                    };
+                    // Step 4's state of the cell at a unit area density.
+                    let unit = reaction_state(&params, rx, |f| d[f][c], Some((1.0, t)), 0.0);
                     let cell_area = a * vols.cell(g);
                     area += cell_area;
                     weighted += cell_area * rx.rate.rate(&unit, 0.0);
