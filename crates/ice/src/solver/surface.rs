@@ -119,8 +119,11 @@ impl<E: Eos> IceSolver<E> {
             spacing: geometry.spacing,
         };
         let n_mat = self.eos.len();
-        {
-            let locate = &mut self.surface_pass.locate;
+        // The patch split is fixed for the solver's life: the map from
+        // global order to patch cells is built once, and only where a
+        // reaction burns on a surface (not on every step of every run).
+        let locate = &mut self.surface_pass.locate;
+        if locate.len() != count && self.reactions.iter().any(|r| r.rate.burns_on_a_surface()) {
             locate.clear();
             self.level
                 .for_each_cell_in_order(|_, pid, c| locate.push((pid, c)));
