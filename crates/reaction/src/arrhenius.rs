@@ -14,6 +14,8 @@
 use brisance_core::{ReactionModel, ReactionState};
 use serde::{Deserialize, Serialize};
 
+use crate::deflagration::surface_burnt_density;
+
 /// Universal gas constant R, J/(mol·K).
 pub const GAS_CONSTANT: f64 = 8.314_462_618;
 
@@ -114,14 +116,9 @@ impl ReactionModel for Arrhenius {
         _rho_product: f64,
         dt: f64,
     ) -> f64 {
-        if !(rho_reactant > 0.0 && state.surface_area_density > 0.0 && dt > 0.0) {
-            return 0.0;
-        }
-        let gamma = state.surface_area_density * self.flux_at(state);
-        if !(gamma > 0.0) {
-            return 0.0;
-        }
-        (gamma * dt).min(rho_reactant)
+        surface_burnt_density(state, rho_reactant, dt, || {
+            state.surface_area_density * self.flux_at(state)
+        })
     }
 }
 

@@ -192,18 +192,36 @@ impl ReactionModel for Deflagration {
         _rho_product: f64,
         dt: f64,
     ) -> f64 {
-        if !(rho_reactant > 0.0 && state.surface_area_density > 0.0 && dt > 0.0) {
-            return 0.0;
-        }
         // Γ/V of eq 39 with a/V the surface's area density.
-        let gamma = state.surface_area_density
-            * self.burn_speed(state.pressure, state.temperature)
-            * state.density;
-        if !(gamma > 0.0) {
-            return 0.0;
-        }
-        (gamma * dt).min(rho_reactant)
+        surface_burnt_density(state, rho_reactant, dt, || {
+            state.surface_area_density
+                * self.burn_speed(state.pressure, state.temperature)
+                * state.density
+        })
     }
+}
+
+/// The burnt mass per unit cell volume over a step of a model that burns
+/// on a surface: Γ Δt / V with `gamma` = Γ / V (kg/(m³·s), evaluated only
+/// on the surface), at most `rho_reactant`; 0 off the surface
+/// (`surface_area_density` ≤ 0), without reactant, for a step ≤ 0 or where
+/// Γ / V is not positive. Shared by [`Deflagration`] and
+/// [`crate::Arrhenius`].
+#[inline]
+pub fn surface_burnt_density(
+    state: &ReactionState,
+    rho_reactant: f64,
+    dt: f64,
+    gamma: impl FnOnce() -> f64,
+) -> f64 {
+    if !(rho_reactant > 0.0 && state.surface_area_density > 0.0 && dt > 0.0) {
+        return 0.0;
+    }
+    let gamma = gamma();
+    if !(gamma > 0.0) {
+        return 0.0;
+    }
+    (gamma * dt).min(rho_reactant)
 }
 
 /// Uintah `Simple_Burn` PBX mass flux at the reference pressure, kg·m⁻²·s⁻¹.
