@@ -309,3 +309,48 @@ fn a_particle_reactant_burns_its_mass_at_a_p_to_the_n() {
     assert!(r.surface_pressure > 1.5 * r.held_pressure, "{r:?}");
     assert!(r.error().abs() < 2e-3, "{r:?}");
 }
+
+/// The block of [`a_particle_reactant_deflagrates_on_its_faces_at_a_p_to_the_n`]
+/// with a steel block against its right face (the explosive against its
+/// container): the particles' projection leaves a tail of the reactant in
+/// the steel's first cell, and the surface pass puts the face in the
+/// reactant's own last cell (θ_r above one half), so the step burns there
+/// and not in the steel: the products the step makes in the steel's
+/// first cell are below 10⁻³ of those in the reactant's last cell, and
+/// the burnt mass is still the law's over the two faces to 10⁻⁶.
+#[test]
+fn a_particle_reactant_against_a_solid_burns_in_its_own_cells() {
+    let p0 = 1e8;
+    let mut tube = burning_tube(p0, 0.0, 0.0);
+    let pbx = brisance_ice::Deflagration::pbx_9501();
+    let law = brisance_ice::Deflagration::new(pbx.a, pbx.n, 250.0).unwrap();
+    tube.reactions[0].rate = law.into();
+    tube.solids.push(steel());
+    tube.blocks.push((0.033, 0.039, 1, 0.0));
+    let mut s = tube.build();
+    let names = ["volume_fraction_1".to_string(), "density_1".to_string()];
+    let products = |s: &IceMpm| -> Vec<f64> {
+        let d = s.cell_data(&names).unwrap();
+        let (theta, rho) = (d.field(&names[0]).unwrap(), d.field(&names[1]).unwrap());
+        theta.iter().zip(rho).map(|(t, r)| t * r).collect()
+    };
+    let before = products(&s);
+    let m0: f64 = s.mpm().particles().mass.iter().sum();
+    let dt = s.stable_dt().unwrap();
+    s.advance(dt).unwrap();
+    let m1: f64 = s.mpm().particles().mass.iter().sum();
+    let after = products(&s);
+    let (inside, steel) = (after[32] - before[32], after[33] - before[33]);
+    assert!(inside > 0.0, "no products in the reactant's last cell");
+    assert!(
+        steel.abs() < 1e-3 * inside,
+        "products {steel:e} kg/m³ in the steel's first cell against {inside:e} in the reactant's"
+    );
+    let rho_r = qm100_reactant().eos.density(p0, super::cases::T0).unwrap();
+    let expected = 2.0 * H * H * law.burn_speed(p0, 300.0) * rho_r * dt;
+    let burnt = m0 - m1;
+    assert!(
+        (burnt / expected - 1.0).abs() < 1e-6,
+        "burnt {burnt:e} kg against {expected:e} kg"
+    );
+}
