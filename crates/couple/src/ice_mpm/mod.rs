@@ -136,8 +136,12 @@ struct Scratch {
     /// change is read in place).
     cell_change: Vec<[f64; 3]>,
     /// Per cell, the momentum a trace of a solid took in steps 8–10
-    /// beyond what its nodes receive, returned to the fluids.
+    /// beyond what its nodes receive, returned to the fluids (with several
+    /// solids, shared with the solids present: `share_trace_momentum`).
     trace_momentum: Vec<[f64; 3]>,
+    /// The fluids' Lagrangian mass density (with several solids only),
+    /// kg/m³.
+    fluid_mass: Vec<f64>,
     solids: Vec<SolidCells>,
     /// The outer vectors step 1 lends the solids' arrays through (several
     /// solids only).
@@ -164,6 +168,7 @@ impl Scratch {
                 Vec::new()
             },
             trace_momentum: vec![[0.0; 3]; cells],
+            fluid_mass: Vec::new(),
             solids: (0..solids).map(|_| SolidCells::sized(cells)).collect(),
             mass_buffers: Vec::with_capacity(solids),
             state_buffers: Vec::with_capacity(solids),
@@ -344,6 +349,51 @@ impl FluidFrame<'_> {
     }
 }
 
+impl FluidFrame<'_> {
+    /// With several solids, the momentum a solid's trace took
+    /// (`trace_momentum`) goes to what holds the cell's mass: the fluids
+    /// and the solids present there (not a trace) in proportion to their
+    /// masses, M_f / (M_f + M_o) of it to the fluids and the rest to the
+    /// nodes through the cell's velocity change (`cell_change`, whose
+    /// particles' mass M_c receives it). In a cell another solid fills, the
+    /// fluids are traces of almost no mass (10⁻²⁸ of the cell's inside the
+    /// cook-off's explosive), and given all of it they took velocities of
+    /// 10¹⁰ m/s that collapsed the step. Both frames' momentum is kept as
+    /// before.
+    fn share_trace_momentum(&mut self) {
+        let volumes = self.volumes;
+        let s = &mut *self.s;
+        s.fluid_mass.resize(volumes.len(), 0.0);
+        self.ice.eulerian_lagrangian_density(&mut s.fluid_mass);
+        let solids = &s.solids;
+        s.trace_momentum
+            .par_iter_mut()
+            .zip(s.cell_change.par_iter_mut())
+            .zip(s.fluid_mass.par_iter().zip(s.cell_mass.par_iter()))
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(k, ((dp, du), (rho_f, m)))| {
+                if *dp == [0.0; 3] || !(*m > 0.0) {
+                    return;
+                }
+                let other: f64 = solids
+                    .iter()
+                    .filter(|c| !c.trace[k])
+                    .map(|c| c.mass[k])
+                    .sum();
+                if !(other > 0.0) {
+                    return;
+                }
+                let fluid = rho_f * volumes[k];
+                let to_solids = other / (fluid + other);
+                for d in 0..3 {
+                    du[d] += dp[d] * to_solids / m;
+                    dp[d] -= dp[d] * to_solids;
+                }
+            });
+    }
+}
+
 impl Scratch {
     /// With several solids, a solid's trace takes the mass-weighted
     /// velocity of what the cell holds — its fluids and the solids present
@@ -462,6 +512,9 @@ impl GridCoupling for FluidFrame<'_> {
                 .lagrangian_increments(solid.ice, &mut c.change, &mut c.temperature_change);
         }
         self.combine_solid_changes();
+        if self.s.solids.len() > 1 {
+            self.share_trace_momentum();
+        }
         self.ice.add_eulerian_momentum(&self.s.trace_momentum);
         let change = match self.s.solids.as_slice() {
             [one] => &one.change,

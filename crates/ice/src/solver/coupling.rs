@@ -336,6 +336,22 @@ impl<E: Eos> IceSolver<E> {
         });
     }
 
+    /// The Eulerian materials' Lagrangian mass density Σ_r (ρ_r)^L of every
+    /// cell (kg/m³, global order): what they hold after
+    /// [`IceSolver::compute_lagrangian_values`], the mass
+    /// [`IceSolver::add_eulerian_momentum`] shares momentum over.
+    pub fn eulerian_lagrangian_density(&self, density: &mut [f64]) {
+        assert_eq!(density.len(), self.level.geometry.cell_count());
+        let n = self.eos.len();
+        par_gather(&self.level, density, |pid, c| {
+            let l = &self.lag[pid].data;
+            (0..n)
+                .filter(|&r| !self.lagrangian[r])
+                .map(|r| l[r * NL + L_RHO][c])
+                .sum()
+        });
+    }
+
     /// The time-advanced pressure p = p_eq + Δp of step 5 (eq 21), per
     /// cell in global order, into `out`.
     pub fn advanced_pressure(&self, out: &mut [f64]) {
