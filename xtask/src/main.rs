@@ -11,6 +11,7 @@ mod bridge_cases;
 mod burn_rate;
 mod conduction;
 mod constitutive_cases;
+mod cookoff;
 mod freeair;
 mod ice_cases;
 mod ice_diffusion;
@@ -782,7 +783,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 37] = [
+const CASES: [&str; 38] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -795,6 +796,7 @@ const CASES: [&str; 37] = [
     "piston",
     "cylinder",
     "cylinder-rz",
+    "cookoff",
     "smooth",
     "cj",
     "bar",
@@ -884,6 +886,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cylinder-rz") {
         ice_mpm_cases::e_cylinder_rz(&mut body, &img)?;
+    }
+    if run("cookoff") {
+        cookoff::e_cookoff(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
