@@ -218,6 +218,13 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         stop: None,
     };
     let label = |t: f64| format!("{:.3}", t * 1e3);
+    // A frame into img/e_cookoff_<name>.png; its file name.
+    let draw = |s: &IceMpm, name: &str, title: &str| -> Result<String> {
+        let file = format!("e_cookoff_{name}.png");
+        let title = format!("E-COOKOFF r-z, {title}");
+        frame(s, steel, &failed0, &img.join(&file), &title)?;
+        Ok(file)
+    };
     let mut next_frame = 0usize;
     let mut next_fields = 0.0;
     let start = Instant::now();
@@ -225,23 +232,9 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         let t = solver.time();
         // Frames at the seed's times the run has reached.
         while next_frame < FRAMES.len() && t >= FRAMES[next_frame] * (1.0 - 1e-9) {
-            let name = format!(
-                "e_cookoff_{}mm_{}ms.png",
-                h * 1e3,
-                label(FRAMES[next_frame])
-            );
-            frame(
-                &solver,
-                steel,
-                &failed0,
-                &img.join(&name),
-                &format!(
-                    "E-COOKOFF r-z, h = {} mm, t = {} ms (seed 000 fig. 6)",
-                    h * 1e3,
-                    label(t)
-                ),
-            )?;
-            run.frames.push(name);
+            let name = format!("{}mm_{}ms", h * 1e3, label(FRAMES[next_frame]));
+            let title = format!("h = {} mm, t = {} ms (seed 000 fig. 6)", h * 1e3, label(t));
+            run.frames.push(draw(&solver, &name, &title)?);
             next_frame += 1;
         }
         // The record.
@@ -329,20 +322,13 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
     run.wall_s = start.elapsed().as_secs_f64();
     // The state the run ended in.
     if run.stop.is_some() {
-        let t = solver.time();
-        let name = format!("e_cookoff_{}mm_stop.png", h * 1e3);
-        frame(
-            &solver,
-            steel,
-            &failed0,
-            &img.join(&name),
-            &format!(
-                "E-COOKOFF r-z, h = {} mm: the last step, t = {:.2} µs",
-                h * 1e3,
-                t * 1e6
-            ),
-        )?;
-        run.frames.push(name);
+        let name = format!("{}mm_stop", h * 1e3);
+        let title = format!(
+            "h = {} mm: the last step, t = {:.2} µs",
+            h * 1e3,
+            solver.time() * 1e6
+        );
+        run.frames.push(draw(&solver, &name, &title)?);
     }
     Ok(run)
 }
