@@ -131,6 +131,61 @@ fn both(m: &SolidEos, p: f64, t: f64) -> (Result<Counted, EosError>, Option<Coun
     }
 }
 
+/// How far apart two solvers that each stop on a round-off residual may
+/// land: 4 ulps of ρ, plus the width of the set of densities whose computed
+/// pressure equals p to rounding. p is a sum of a thermal part
+/// ∂p/∂e (e(T) − e(T₀)) and a cold part of about the same size and the
+/// opposite sign where T is far below T₀, so its rounding is a few ε times
+/// |p| + 2 |thermal part|, not ε |p|; dividing by ∂p/∂ρ turns it into
+/// density. On a stiff, well-conditioned state this adds well under an
+/// ulp; on the cancelling ones (estane compressed 50 % at 6 K) it is what
+/// separates the two answers.
+fn agreement_bound(m: &SolidEos, rho: f64, t: f64) -> f64 {
+    let t0 = match m {
+        SolidEos::MieGruneisenLinear(m) => m.t0,
+        SolidEos::MieGruneisenCubic(m) => m.t0,
+        SolidEos::MieGruneisenThermal(m) => m.t0,
+        SolidEos::Murnaghan(_) => unreachable!("not a Mie–Grüneisen form"),
+    };
+    let e = m.specific_internal_energy_from_temperature(rho, t);
+    let thermal = m.dp_de(rho, e) * (e - m.specific_internal_energy_from_temperature(rho, t0));
+    let scale = m.pressure(rho, e).abs() + 2.0 * thermal.abs();
+    4.0 * f64::EPSILON * (rho + scale / m.dp_drho(rho, e))
+}
+
+#[test]
+fn a_cancelling_state_agrees_within_its_rounding_not_within_four_ulps() {
+    // The 30 states of 2.08 million (13 solids on a 400 × 400 grid of
+    // ρ/ρ₀ ∈ [0.8, 1.5], T ∈ [1, 3000] K) where the two answers lie more
+    // than 4 ulps apart are all compressed estane far below T₀; the
+    // farthest, 8.7 ulps, is this one. Both answers meet the true density
+    // to 10⁻¹³ and lie within the conditioning bound (33.8 ulps here; the
+    // largest ratio of the grid is 0.66 of it).
+    let m = SolidEos::MieGruneisenThermal(MieGruneisenThermal::estane_density_matched());
+    let (x, t) = (1.497_147_5, 6.323_225);
+    let rho = x * m.reference_density();
+    let p = m.pressure(rho, m.specific_internal_energy_from_temperature(rho, t));
+    let (new, reference) = both(&m, p, t);
+    let (solved, _) = new.unwrap();
+    let (reference, _) = reference.unwrap();
+    assert!((solved - rho).abs() <= 1e-13 * rho, "{solved} vs {rho}");
+    assert!(
+        (reference - rho).abs() <= 1e-13 * rho,
+        "{reference} vs {rho}"
+    );
+    let apart = (solved - reference).abs();
+    assert!(apart > 4.0 * f64::EPSILON * rho, "{solved} vs {reference}");
+    assert!(
+        apart <= agreement_bound(&m, solved, t),
+        "{solved} vs {reference}"
+    );
+    // The bound is not loose on a plain state: within 6 ulps of ρ for the
+    // 4340 steel at ρ₀ and 300 K.
+    let steel = SolidEos::MieGruneisenLinear(MieGruneisenLinear::steel_4340());
+    let rho = steel.reference_density();
+    assert!(agreement_bound(&steel, rho, 300.0) <= 6.0 * f64::EPSILON * rho);
+}
+
 /// Most evaluations one inversion may take: the linear form starts at its
 /// closed-form root, so its first Newton step is round-off and ends the
 /// iteration; the other two forms start at the root of the linearised
@@ -305,8 +360,9 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// For a state (ρ, T) on the window, ρ(p(ρ, e(T)), T) returns ρ within
-    /// 10⁻¹³ relative, within 4 ulps of the old solver's answer, and in at
-    /// most `evaluation_bound` pressure evaluations.
+    /// 10⁻¹³ relative, as close to the old solver's answer as the rounding
+    /// of p allows (`agreement_bound`), and in at most `evaluation_bound`
+    /// pressure evaluations.
     #[test]
     fn inversion_round_trips_and_matches_the_old_solver(
         which in 0usize..13,
@@ -320,9 +376,10 @@ proptest! {
         let (solved, evaluations) = new.map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert!((solved - rho).abs() <= 1e-13 * rho, "{:?}: ρ = {} from {}", m, solved, rho);
         let (reference, _) = reference.ok_or_else(|| TestCaseError::fail("reference failed"))?;
+        let bound = agreement_bound(&m, solved, t);
         prop_assert!(
-            (solved - reference).abs() <= 4.0 * f64::EPSILON * rho,
-            "{:?}: {} vs old {}", m, solved, reference
+            (solved - reference).abs() <= bound,
+            "{:?}: {} vs old {} (bound {})", m, solved, reference, bound
         );
         prop_assert!(evaluations <= evaluation_bound(&m), "{:?}: {} evaluations", m, evaluations);
     }
