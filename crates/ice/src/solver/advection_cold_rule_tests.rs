@@ -49,3 +49,63 @@ fn step_12_books_the_energy_its_cold_rule_adds() {
     s.restore_state(&saved).unwrap();
     assert_eq!(s.kept_warm_advection_totals()[0], adv);
 }
+
+/// Air with a 10⁻¹⁷⁰ trace of a second gas, at rest. A trace drained to
+/// −10⁻³⁰⁰ by rounding alone (set here in the Lagrangian density of one
+/// cell; at rest no flux moves it) is a round-off zero: step 12 stores
+/// +10⁻³⁰⁰ with the trace's state before the advection. The density field
+/// itself must hold it — a negative density left there (with every other
+/// field from the restored values) reached step 8 of the next step, whose
+/// exchange made the cell's velocities NaN (the cook-off at 2 mm, 26 µs).
+#[test]
+fn step_12_stores_the_restored_density_of_a_round_off_zero() {
+    let level = Level::new([0.0; 3], [0.05, 0.01, 0.01], [5, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let eos = vec![
+        EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0)),
+        EosModel::IdealGas(IdealGas::new(1.3, 1000.0, 1.0)),
+    ];
+    let trace = 1e-170;
+    let mut s = IceSolver::new(
+        eos,
+        level,
+        std::array::from_fn(|_| IceBoundary::Symmetry),
+        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        IceOptions::default(),
+        |_| CellState {
+            pressure: 1e5,
+            materials: vec![
+                crate::material::MaterialState {
+                    volume_fraction: 1.0 - trace,
+                    density: 1.2,
+                    velocity: [0.0; 3],
+                },
+                crate::material::MaterialState {
+                    volume_fraction: trace,
+                    density: 0.9,
+                    velocity: [0.0; 3],
+                },
+            ],
+        },
+    )
+    .unwrap();
+    let dt = s.stable_dt().unwrap();
+    s.compute_face_centred_velocities(dt);
+    s.compute_pressure_increment(dt);
+    s.compute_lagrangian_values(dt).unwrap();
+    let patch = s.level.patches[0].clone();
+    let c = patch.index_of_global([2, 0, 0]);
+    let l = &mut s.lag[0].data;
+    let (e_before, v_before) = (l[NL + L_ENERGY][c], l[NL + L_VSP][c]);
+    l[NL + L_RHO][c] = -1e-300;
+    s.advect_fluids(dt).unwrap();
+    let d = &s.state[0].data;
+    assert_eq!(d[NS + RHO][c], 1e-300);
+    assert_eq!(d[NS + ENERGY][c], e_before);
+    assert_eq!(d[NS + VSP][c], v_before);
+    assert_eq!(d[NS + THETA][c], 1e-300 * v_before);
+    // The cells beside it keep their trace.
+    for i in [1, 3] {
+        let o = patch.index_of_global([i, 0, 0]);
+        assert!(d[NS + RHO][o] > 0.0, "cell {i}: {}", d[NS + RHO][o]);
+    }
+}

@@ -806,6 +806,11 @@ impl<E: Eos> IceSolver<E> {
                                 ];
                             }
                             let rho = cons[0];
+                            // The density itself: ρ was accumulated in
+                            // place, so a round-off zero put back above is
+                            // stored here (the other fields are written
+                            // from `cons` below).
+                            state[s + RHO].write(c, rho);
                             if !(rho > 0.0 && rho.is_finite()) {
                                 let g = global_of(patch, c);
                                 *fail = first_failure(
