@@ -342,22 +342,8 @@ fn short(stop: &str) -> String {
 
 pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-COOKOFF: fast cook-off of a steel container of PBX-9501 (configs/cookoff_rz.ron)");
-    let hs: Vec<f64> = std::env::var("BRISANCE_COOKOFF_H")
-        .unwrap_or_else(|_| "2,1,0.5".into())
-        .split(',')
-        .map(|x| x.trim().parse::<f64>().map(|mm| mm * 1e-3))
-        .collect::<Result<_, _>>()
-        .map_err(|e| anyhow!("BRISANCE_COOKOFF_H: {e}"))?;
-    if hs.is_empty() {
-        return Err(anyhow!("BRISANCE_COOKOFF_H names no cell size"));
-    }
-    let budget_s: f64 = match std::env::var("BRISANCE_COOKOFF_BUDGET") {
-        Ok(v) => v
-            .trim()
-            .parse()
-            .map_err(|e| anyhow!("BRISANCE_COOKOFF_BUDGET: {e}"))?,
-        Err(_) => BUDGET_S,
-    };
+    let hs = crate::env_cell_sizes("BRISANCE_COOKOFF_H", "2,1,0.5")?;
+    let budget_s = crate::env_seconds("BRISANCE_COOKOFF_BUDGET", BUDGET_S)?;
     let mut runs = Vec::new();
     for &h in &hs {
         let r = cookoff_run(h, budget_s, img)?;

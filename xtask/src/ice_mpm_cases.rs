@@ -1339,15 +1339,7 @@ fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
 /// steps and the fluids' fastest signal every 1000 steps.
 pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     println!("E-CYLINDER r-z: copper cylinder test on rings (configs/cylinder_rz.ron)");
-    let hs: Vec<f64> = std::env::var("BRISANCE_CYLINDER_RZ_H")
-        .unwrap_or_else(|_| "2,1,0.5".into())
-        .split(',')
-        .map(|x| x.trim().parse::<f64>().map(|mm| mm * 1e-3))
-        .collect::<Result<_, _>>()
-        .map_err(|e| anyhow!("BRISANCE_CYLINDER_RZ_H: {e}"))?;
-    if hs.is_empty() {
-        return Err(anyhow!("BRISANCE_CYLINDER_RZ_H names no cell size"));
-    }
+    let hs = crate::env_cell_sizes("BRISANCE_CYLINDER_RZ_H", "2,1,0.5")?;
     let text = include_str!("../../configs/cylinder_rz.ron");
     let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
         .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
@@ -1356,13 +1348,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     // The target's 15 minutes bound each run unless told otherwise: a run
     // that cannot meet it stops there and says where it got to and what
     // set its step.
-    let budget_s: f64 = match std::env::var("BRISANCE_CYLINDER_RZ_BUDGET") {
-        Ok(v) => v
-            .trim()
-            .parse()
-            .map_err(|e| anyhow!("BRISANCE_CYLINDER_RZ_BUDGET: {e}"))?,
-        Err(_) => RZ_BUDGET_S,
-    };
+    let budget_s = crate::env_seconds("BRISANCE_CYLINDER_RZ_BUDGET", RZ_BUDGET_S)?;
     let mut runs = Vec::new();
     for &h in &hs {
         let r = cylinder_rz_run(h, &[], budget_s)?;

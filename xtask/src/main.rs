@@ -48,6 +48,31 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Cell sizes (m) from environment variable `name`, a comma-separated
+/// list in mm, or `default` (mm) where it is unset. A bad entry or an
+/// empty list is an error naming the variable.
+pub(crate) fn env_cell_sizes(name: &str, default: &str) -> Result<Vec<f64>> {
+    let hs: Vec<f64> = std::env::var(name)
+        .unwrap_or_else(|_| default.into())
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().map(|mm| mm * 1e-3))
+        .collect::<Result<_, _>>()
+        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    if hs.is_empty() {
+        return Err(anyhow::anyhow!("{name} names no cell size"));
+    }
+    Ok(hs)
+}
+
+/// A number of seconds from environment variable `name`, or `default`
+/// where it is unset; a value that does not parse is an error naming it.
+pub(crate) fn env_seconds(name: &str, default: f64) -> Result<f64> {
+    match std::env::var(name) {
+        Ok(v) => v.trim().parse().map_err(|e| anyhow::anyhow!("{name}: {e}")),
+        Err(_) => Ok(default),
+    }
+}
+
 fn verdict(ok: bool) -> &'static str {
     if ok {
         "PASS"
