@@ -1,3 +1,4 @@
+use super::steps::TRACE_FLOOR;
 use super::*;
 use brisance_core::Solver;
 use brisance_eos::{EosModel, IdealGas};
@@ -50,21 +51,23 @@ fn step_12_books_the_energy_its_cold_rule_adds() {
     assert_eq!(s.kept_warm_advection_totals()[0], adv);
 }
 
-/// Air with a 10⁻¹⁷⁰ trace of a second gas, at rest. A trace drained to
+/// Air with a 10⁻⁶⁰ trace of a second gas, at rest. A trace drained to
 /// −10⁻³⁰⁰ by rounding alone (set here in the Lagrangian density of one
-/// cell; at rest no flux moves it) is a round-off zero: step 12 stores
-/// +10⁻³⁰⁰ with the trace's state before the advection. The density field
-/// itself must hold it — a negative density left there (with every other
-/// field from the restored values) reached step 8 of the next step, whose
-/// exchange made the cell's velocities NaN (the cook-off at 2 mm, 26 µs).
+/// cell; at rest no flux moves it) is a round-off zero: step 12 stores the
+/// floor (10⁻¹⁰⁰ of the cell's mass density) with the trace's state before
+/// the advection. The density field itself must hold it — a negative
+/// density left there (with every other field from the restored values)
+/// reached step 8 of the next step, whose exchange made the cell's
+/// velocities NaN (the cook-off at 2 mm, 26.5 µs). A trace below the floor
+/// (10⁻²⁰⁰ kg/m³ in another cell) goes to the floor the same way.
 #[test]
-fn step_12_stores_the_restored_density_of_a_round_off_zero() {
+fn step_12_stores_the_floor_for_a_round_off_zero_or_a_drained_trace() {
     let level = Level::new([0.0; 3], [0.05, 0.01, 0.01], [5, 1, 1], [1, 1, 1], GHOST).unwrap();
     let eos = vec![
         EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0)),
         EosModel::IdealGas(IdealGas::new(1.3, 1000.0, 1.0)),
     ];
-    let trace = 1e-170;
+    let trace = 1e-60;
     let mut s = IceSolver::new(
         eos,
         level,
@@ -94,18 +97,24 @@ fn step_12_stores_the_restored_density_of_a_round_off_zero() {
     s.compute_lagrangian_values(dt).unwrap();
     let patch = s.level.patches[0].clone();
     let c = patch.index_of_global([2, 0, 0]);
+    let below = patch.index_of_global([4, 0, 0]);
     let l = &mut s.lag[0].data;
     let (e_before, v_before) = (l[NL + L_ENERGY][c], l[NL + L_VSP][c]);
     l[NL + L_RHO][c] = -1e-300;
+    l[NL + L_RHO][below] = 1e-200;
+    let floor = |x: usize| TRACE_FLOOR * (l[L_RHO][x] + l[NL + L_RHO][x].abs());
+    let (floor_c, floor_below) = (floor(c), floor(below));
     s.advect_fluids(dt).unwrap();
     let d = &s.state[0].data;
-    assert_eq!(d[NS + RHO][c], 1e-300);
+    assert_eq!(d[NS + RHO][c], floor_c);
     assert_eq!(d[NS + ENERGY][c], e_before);
     assert_eq!(d[NS + VSP][c], v_before);
-    assert_eq!(d[NS + THETA][c], 1e-300 * v_before);
+    assert_eq!(d[NS + THETA][c], floor_c * v_before);
+    assert_eq!(d[NS + RHO][below], floor_below);
+    assert!((floor_c / 1.2e-100 - 1.0).abs() < 1e-12, "{floor_c:e}");
     // The cells beside it keep their trace.
     for i in [1, 3] {
         let o = patch.index_of_global([i, 0, 0]);
-        assert!(d[NS + RHO][o] > 0.0, "cell {i}: {}", d[NS + RHO][o]);
+        assert_eq!(d[NS + RHO][o], 0.9 * trace, "cell {i}");
     }
 }

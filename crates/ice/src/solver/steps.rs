@@ -791,11 +791,20 @@ impl<E: Eos> IceSolver<E> {
                         |(fail, fired): &mut (Failure, Warm), c| {
                             let mut cons: [f64; 6] = std::array::from_fn(|k| cons[k].read(c));
                             let rho = cons[0];
-                            if rho <= 0.0 && round_off_zero(rho, (0..n).map(|s| l[s * NL + L_RHO][c])) {
-                                // A trace the step emptied to round-off:
-                                // it stays a trace, |ρ| with the state it
-                                // had before the advection.
-                                let rho = (-rho).max(f64::MIN_POSITIVE);
+                            // The cell's mass is summed only for a density
+                            // that could lie below the floor of the densest
+                            // cell there could be.
+                            let floored = if rho > TRACE_FLOOR * MAX_CELL_DENSITY {
+                                None
+                            } else {
+                                let cell = (0..n).map(|s| l[s * NL + L_RHO][c].abs()).sum();
+                                trace_floor(rho, cell)
+                            };
+                            if let Some(rho) = floored {
+                                // A trace the step emptied to round-off, or
+                                // drained below the floor: it stays a trace
+                                // at the floor, with the state it had before
+                                // the advection.
                                 cons = [
                                     rho,
                                     rho * lf[1][c],
@@ -899,34 +908,62 @@ impl<E: Eos> IceSolver<E> {
     }
 }
 
-/// Whether an advected density `rho` (≤ 0) is zero to round-off: its
-/// magnitude below 4 ε of the cell's whole mass density (`cell`, every
-/// material's before the advection). A trace of 10⁻¹⁷⁰ kg/m³ drained by
-/// fluxes of its own size goes to −10⁻¹⁷² by their rounding alone (the
-/// air inside the cook-off's explosive, configs/cookoff_rz.ron); putting
-/// it back at +|ρ| changes the cell's mass below its rounding, so mass
-/// closes to round-off as before.
+/// The smallest share of its cell's mass density a fluid keeps after
+/// step 12: 10⁻¹⁰⁰, far below the rounding of the cell's mass (ε ≈
+/// 2·10⁻¹⁶ of it) and far above the floating-point floor. A trace that
+/// flows out of a cell with no inflow (the cells on the axis of a radially
+/// expanding solid lose a share of it every step) decays geometrically:
+/// the cook-off's products trace reached 10⁻³¹⁶ kg/m³, a subnormal, and
+/// the next step's energy closure gave it −∞ J/kg. Uintah keeps every
+/// material's cell mass at or above `d_TINY_RHO` × V for the same reason.
+pub(crate) const TRACE_FLOOR: f64 = 1e-100;
+
+/// A bound on any cell's mass density (kg/m³), above every condensed
+/// material (10⁴–10⁵) by far: a density above [`TRACE_FLOOR`] times it
+/// cannot be below its cell's floor, so step 12 skips the cell's sum.
+const MAX_CELL_DENSITY: f64 = 1e20;
+
+/// The density step 12 stores in place of an advected density `rho` in a
+/// cell whose materials held `cell` = Σ|ρ| before the advection, or `None`
+/// to keep `rho`: [`TRACE_FLOOR`] `cell` for a positive density below it,
+/// and for a negative one within 4 ε of `cell` — zero to round-off (a
+/// trace of 10⁻¹⁷⁰ kg/m³ drained by fluxes of its own size goes to
+/// −10⁻¹⁷² by their rounding alone). Either change of the cell's mass is
+/// below its rounding, so mass closes to round-off as before. Any other
+/// non-positive or non-finite density is kept, and stops the run.
 #[inline]
-fn round_off_zero(rho: f64, cell: impl Iterator<Item = f64>) -> bool {
-    let total: f64 = cell.map(f64::abs).sum();
-    rho.is_finite() && rho.abs() <= 4.0 * f64::EPSILON * total
+fn trace_floor(rho: f64, cell: f64) -> Option<f64> {
+    let floor = TRACE_FLOOR * cell;
+    let round_off_zero = rho <= 0.0 && rho.is_finite() && -rho <= 4.0 * f64::EPSILON * cell;
+    if round_off_zero || (rho > 0.0 && rho < floor) {
+        Some(floor.max(rho.abs()).max(f64::MIN_POSITIVE))
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]
 mod round_off_tests {
-    use super::round_off_zero;
+    use super::{trace_floor, TRACE_FLOOR};
 
-    /// −10⁻¹⁷² and −10⁻¹³ kg/m³ in a cell of 1840 kg/m³ are zero to
-    /// round-off (below 4 ε · 1840 = 1.6·10⁻¹²); −10⁻¹¹ there, a negative
-    /// density in an empty cell, or a non-finite one, are not.
+    /// In a cell of 1840 kg/m³: −10⁻¹⁷² and −10⁻¹³ kg/m³ are zero to
+    /// round-off (below 4 ε · 1840 = 1.6·10⁻¹²) and go to the floor
+    /// 1.84·10⁻⁹⁷; so does a positive 10⁻³¹⁶ (a subnormal). −10⁻¹¹ there, a
+    /// negative density in an empty cell, or a non-finite one are kept (and
+    /// stop the run), and so is anything at or above the floor.
     #[test]
-    fn a_density_below_the_cells_rounding_is_a_round_off_zero() {
-        let cell = [1840.0, 1e-170, 1e-6];
-        assert!(round_off_zero(-1e-172, cell.into_iter()));
-        assert!(round_off_zero(-1e-13, cell.into_iter()));
-        assert!(!round_off_zero(-1e-11, cell.into_iter()));
-        assert!(!round_off_zero(-1e-300, [0.0; 3].into_iter()));
-        assert!(!round_off_zero(f64::NEG_INFINITY, cell.into_iter()));
-        assert!(!round_off_zero(f64::NAN, cell.into_iter()));
+    fn a_density_below_the_floor_or_the_cells_rounding_goes_to_the_floor() {
+        let cell = 1840.0 + 1e-170 + 1e-6;
+        let floor = TRACE_FLOOR * cell;
+        assert_eq!(trace_floor(-1e-172, cell), Some(floor));
+        assert_eq!(trace_floor(-1e-13, cell), Some(1e-13));
+        assert_eq!(trace_floor(1e-316, cell), Some(floor));
+        assert_eq!(trace_floor(0.0, cell), Some(floor));
+        assert_eq!(trace_floor(-1e-11, cell), None);
+        assert_eq!(trace_floor(-1e-300, 0.0), None);
+        assert_eq!(trace_floor(f64::NEG_INFINITY, cell), None);
+        assert_eq!(trace_floor(f64::NAN, cell), None);
+        assert_eq!(trace_floor(floor, cell), None);
+        assert_eq!(trace_floor(1e-90, cell), None);
     }
 }
