@@ -816,7 +816,7 @@ impl<E: Eos> IceSolver<E> {
                             }
                             let rho = cons[0];
                             // The density itself: ρ was accumulated in
-                            // place, so a round-off zero put back above is
+                            // place, so a floored density set above is
                             // stored here (the other fields are written
                             // from `cons` below).
                             state[s + RHO].write(c, rho);
@@ -914,8 +914,9 @@ impl<E: Eos> IceSolver<E> {
 /// flows out of a cell with no inflow (the cells on the axis of a radially
 /// expanding solid lose a share of it every step) decays geometrically:
 /// the cook-off's products trace reached 10⁻³¹⁶ kg/m³, a subnormal, and
-/// the next step's energy closure gave it −∞ J/kg. Uintah keeps every
-/// material's cell mass at or above `d_TINY_RHO` × V for the same reason.
+/// the next step's energy closure gave it −∞ J/kg. Uintah guards the same
+/// limit with an absolute density, `d_TINY_RHO` = 10⁻¹² kg/m³
+/// (docs/physics/ice/steps.md, "Step 12").
 pub(crate) const TRACE_FLOOR: f64 = 1e-100;
 
 /// A bound on any cell's mass density (kg/m³), above every condensed
