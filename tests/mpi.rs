@@ -1,7 +1,8 @@
 //! `mpirun -np N brisance run CONFIG` (cargo feature `mpi`, docs/cluster.md):
-//! an Fdm run on 2 and 4 ranks writes the bytes of the same run on one,
-//! file for file; a restart may change the rank count; other pipelines
-//! and impossible splits refuse with one clear message instead of hanging.
+//! an Fdm or Ice run on 2 and 4 ranks writes the bytes of the same run on
+//! one, file for file; a restart may change the rank count; other
+//! pipelines, what the ICE cannot spread and impossible splits refuse with
+//! one clear message instead of hanging.
 //!
 //! Needs `mpirun` (Open MPI) on the PATH: `cargo test --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
@@ -15,6 +16,8 @@ use serde_json::Value;
 
 const BIN: &str = env!("CARGO_BIN_EXE_brisance");
 const BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/blast3d.ron");
+const ICE_RZ: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_rz.ron");
+const ICE_3D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_bubble3d.ron");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// `brisance run CONFIG --out OUT --quiet EXTRA…` on `ranks` ranks
@@ -117,35 +120,52 @@ fn same_outputs(a: &Path, b: &Path, what: &str) {
     }
 }
 
-#[test]
-fn fdm_on_two_and_four_ranks_writes_the_bytes_of_one() {
+/// Runs `config` on one rank and on 2 and 4, and compares the outputs.
+fn same_bytes_on_two_and_four_ranks(config: &str) {
     let tmp = tempfile::tempdir().unwrap();
     let one = tmp.path().join("one");
-    succeeded(&run(0, Path::new(BLAST), &one, &[]), "one rank");
+    succeeded(&run(0, Path::new(config), &one, &[]), "one rank");
     for ranks in [2, 4] {
         let out = tmp.path().join(format!("np{ranks}"));
-        succeeded(&run(ranks, Path::new(BLAST), &out, &[]), "mpirun");
-        same_outputs(&one, &out, &format!("{ranks} ranks against one"));
+        succeeded(&run(ranks, Path::new(config), &out, &[]), "mpirun");
+        same_outputs(&one, &out, &format!("{config}: {ranks} ranks against one"));
     }
 }
 
 #[test]
-fn a_restart_may_change_the_rank_count() {
+fn fdm_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks(BLAST);
+}
+
+/// The ICE on rings (three materials, a JWL++ detonation, outflow faces
+/// that book what leaves) and in 3D (two gases, symmetry, inflow, both
+/// outflow faces and a periodic pair).
+#[test]
+fn ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks(ICE_RZ);
+    same_bytes_on_two_and_four_ranks(ICE_3D);
+}
+
+/// Runs `config` on one rank, then on two ranks to step `stop` and on
+/// four from that step's checkpoint, and compares what both wrote.
+fn restart_on_other_ranks(config: &str, stop: u64) {
     let tmp = tempfile::tempdir().unwrap();
     let one = tmp.path().join("one");
-    succeeded(&run(0, Path::new(BLAST), &one, &[]), "one rank");
-    // Two ranks to step 10, then four from its checkpoint to the end.
+    succeeded(&run(0, Path::new(config), &one, &[]), "one rank");
     let out = tmp.path().join("restarted");
+    let max = format!("time.max_steps={stop}");
     succeeded(
-        &run(2, Path::new(BLAST), &out, &["--set", "time.max_steps=10"]),
-        "two ranks to step 10",
+        &run(2, Path::new(config), &out, &["--set", &max]),
+        "two ranks to the stop",
     );
-    let ck = out.join("checkpoints").join("checkpoint_00000010.bin");
+    let ck = out
+        .join("checkpoints")
+        .join(format!("checkpoint_{stop:08}.bin"));
     // The stopped run wrote its last state as an extra output; the
     // continued run writes the rest over it.
     let ck_arg = ck.to_string_lossy().into_owned();
     succeeded(
-        &run(4, Path::new(BLAST), &out, &["--restart", &ck_arg]),
+        &run(4, Path::new(config), &out, &["--restart", &ck_arg]),
         "four ranks from the checkpoint",
     );
     for rel in files(&one).keys() {
@@ -155,9 +175,15 @@ fn a_restart_may_change_the_rank_count() {
         }
         assert!(
             fs::read(one.join(rel)).unwrap() == fs::read(out.join(rel)).unwrap(),
-            "restarted on other ranks: {name} differs"
+            "{config} restarted on other ranks: {name} differs"
         );
     }
+}
+
+#[test]
+fn a_restart_may_change_the_rank_count() {
+    restart_on_other_ranks(BLAST, 10);
+    restart_on_other_ranks(ICE_RZ, 40);
 }
 
 /// Stderr of a failed run, checked to carry `message` exactly once.
@@ -174,10 +200,40 @@ fn fails_once_with(out: &Output, message: &str) {
 #[test]
 fn other_pipelines_refuse_several_ranks_by_name() {
     let tmp = tempfile::tempdir().unwrap();
-    let ice = Path::new(ROOT).join("configs/sod_ice.ron");
-    let out = run(2, &ice, &tmp.path().join("ice"), &[]);
-    fails_once_with(&out, "the Ice pipeline does not run on several ranks");
-    assert!(!tmp.path().join("ice").join("summary.json").exists());
+    let coupled = Path::new(ROOT).join("configs/piston_icempm.ron");
+    let out = run(2, &coupled, &tmp.path().join("icempm"), &[]);
+    fails_once_with(&out, "the IceMpm pipeline does not run on several ranks");
+    assert!(!tmp.path().join("icempm").join("summary.json").exists());
+}
+
+/// The ICE's whole-grid passes refuse, naming their field.
+#[test]
+fn the_implicit_ice_pressure_refuses_several_ranks_at_its_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run(
+        2,
+        Path::new(ICE_3D),
+        &tmp.path().join("implicit"),
+        &["--set", "pipeline.pressure=Implicit(tolerance: 1e-9)"],
+    );
+    fails_once_with(
+        &out,
+        "`pipeline.pressure`: ice: the implicit pressure (one solve over the whole grid) does not run on several ranks (2 here)",
+    );
+    let out = run(
+        2,
+        Path::new(ICE_3D),
+        &tmp.path().join("viscous"),
+        &[
+            "--set",
+            r#"pipeline.transport={"air": (viscosity: 1.8e-5)}"#,
+        ],
+    );
+    fails_once_with(
+        &out,
+        "`pipeline.transport`: ice: viscosity or heat conduction does not run on several ranks",
+    );
+    assert!(!tmp.path().join("viscous").join("summary.json").exists());
 }
 
 #[test]

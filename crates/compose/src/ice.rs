@@ -453,9 +453,31 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
     Ok(())
 }
 
-/// Builds the solver.
+/// Builds the solver, its patches spread over the ranks of the run
+/// ([`brisance_grid::comm::world`]; docs/cluster.md).
 pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Problem> {
-    build_with_traces(s, cfg, false)
+    let mut solver = build_with_traces(s, cfg, false)?;
+    let ranks = brisance_grid::comm::world();
+    if ranks.size() > 1 {
+        // What the ICE cannot spread over ranks, named at its field.
+        let field = if matches!(cfg.pressure, PressureSolve::Implicit(_)) {
+            "pipeline.pressure"
+        } else if solver.transport().iter().any(|t| t.is_active()) {
+            "pipeline.transport"
+        } else if solver
+            .reactions()
+            .iter()
+            .any(|r| brisance_core::ReactionModel::burns_on_a_surface(&r.rate))
+        {
+            "pipeline.reactions"
+        } else {
+            "domain.patches"
+        };
+        solver
+            .distribute(ranks)
+            .map_err(|e| (field.to_string(), e.to_string()))?;
+    }
+    Ok(solver)
 }
 
 /// Builds the solver; with `own_density` every trace material takes its

@@ -51,6 +51,26 @@ pub trait Communicator: Send + Sync + std::fmt::Debug {
     /// Ends every rank at once with status `code` (after an error that
     /// only this rank has seen, so that no rank waits for it forever).
     fn abort(&self, code: i32) -> !;
+
+    /// Every rank's `mine`, in rank order, on every rank (the lists may
+    /// differ in length). Values are copied, not combined, so the result
+    /// is the same bits on every rank. Made of [`Communicator::broadcast`]:
+    /// each rank's length, then its values.
+    fn all_gather(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        (0..self.size())
+            .map(|root| {
+                let mut len = [mine.len() as f64];
+                self.broadcast(root, &mut len);
+                let mut values = if root == self.rank() {
+                    mine.to_vec()
+                } else {
+                    vec![0.0; len[0] as usize]
+                };
+                self.broadcast(root, &mut values);
+                values
+            })
+            .collect()
+    }
 }
 
 /// One rank: every operation is the identity.

@@ -70,6 +70,7 @@ mod coupling;
 mod diffusion_pass;
 pub mod implicit;
 mod par;
+mod ranks;
 mod steps;
 mod surface;
 
@@ -548,6 +549,9 @@ pub struct IceSolver<E: Eos> {
     outflow: [ConservationTotals; 6],
     /// Work arrays of the reactant surface pass.
     surface_pass: surface::SurfacePass,
+    /// The ranks the patches are shared among ([`IceSolver::distribute`]):
+    /// one owning all of them unless distributed.
+    ranks: ranks::Ranks,
 }
 
 /// Field set of `n` materials with `per` fields each (velocity at
@@ -629,6 +633,7 @@ impl<E: Eos> IceSolver<E> {
             names: vec!["pressure"],
             kinds: vec![FieldKind::Scalar],
         };
+        let patches = level.patches.len();
         let mut solver = Self {
             eos,
             reactions: Vec::new(),
@@ -698,6 +703,7 @@ impl<E: Eos> IceSolver<E> {
             blocked_inflow: [false; 6],
             outflow: [ConservationTotals::default(); 6],
             surface_pass: Default::default(),
+            ranks: ranks::Ranks::serial(patches),
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -851,6 +857,7 @@ impl<E: Eos> IceSolver<E> {
             )));
         }
         self.reactions = reactions;
+        self.still_distributable()?;
         self.find_reaction_surfaces().map_err(IceError::Invalid)
     }
 
@@ -956,7 +963,7 @@ impl<E: Eos> IceSolver<E> {
             }
         }
         self.lagrangian = mask.to_vec();
-        Ok(())
+        self.still_distributable()
     }
 
     /// Where the CFL rate of [`Solver::stable_dt`] is largest (first in
@@ -972,8 +979,9 @@ impl<E: Eos> IceSolver<E> {
             0.0
         };
         let mut worst: Option<(f64, [usize; 3], usize, usize, usize)> = None;
+        let state = self.gathered_state();
         self.level.for_each_cell_in_order(|g, pid, c| {
-            let (rate, material) = cell_cfl_rate(&params, &self.state[pid].data, c, acoustic);
+            let (rate, material) = cell_cfl_rate(&params, &state[pid].data, c, acoustic);
             let worse = match worst {
                 None => true,
                 Some((w, ..)) => !(rate <= w) && !w.is_nan(),
@@ -985,7 +993,7 @@ impl<E: Eos> IceSolver<E> {
         let Some((rate, g, r, pid, c)) = worst else {
             return "no cells".into();
         };
-        let d = &self.state[pid].data;
+        let d = &state[pid].data;
         let b = r * NS;
         let centre = self.level.geometry.cell_centre(g);
         let n = self.eos.len();
@@ -1094,10 +1102,11 @@ impl<E: Eos> IceSolver<E> {
         })
     }
 
-    /// Value of output field `field` at storage index `c` of patch `pid`.
-    fn derived(&self, pid: usize, c: usize, field: usize) -> f64 {
+    /// Value of output field `field` at storage index `c` of patch `pid`
+    /// of `state` (the solver's, or [`Self::gathered_state`]).
+    fn derived(&self, state: &[PatchFields], pid: usize, c: usize, field: usize) -> f64 {
         let n = self.eos.len();
-        let d = &self.state[pid].data;
+        let d = &state[pid].data;
         let rho: f64 = (0..n).map(|r| d[r * NS + RHO][c]).sum();
         let mean = |f: usize| {
             (0..n)
@@ -1269,6 +1278,8 @@ impl<E: Eos> Solver for IceSolver<E> {
             .state
             .par_iter()
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .map(|(pf, patch)| {
                 let d = &pf.data;
                 let max_of = |a: f64, b: f64| {
@@ -1299,6 +1310,7 @@ impl<E: Eos> Solver for IceSolver<E> {
                     }
                 },
             );
+        let max_rate = self.max_over_ranks(max_rate);
         let max_rate = if acoustic == 0.0 {
             max_rate.max(self.wall_rate())
         } else {
@@ -1358,8 +1370,15 @@ impl<E: Eos> Solver for IceSolver<E> {
 
     /// The outflow faces whose diode has held back a flow into the domain
     /// ([`crate::boundary::holds_back_inflow`]).
+    ///
+    /// Across ranks this is a collective call (every rank calls it).
     fn blocked_inflow(&self) -> [bool; 6] {
-        self.blocked_inflow
+        if !self.ranks.several() {
+            return self.blocked_inflow;
+        }
+        let mut any = self.blocked_inflow.map(u64::from);
+        self.ranks.comm.sum(&mut any);
+        any.map(|n| n > 0)
     }
 
     /// Totals summed in global cell order: the bits do not depend on the
@@ -1374,8 +1393,9 @@ impl<E: Eos> Solver for IceSolver<E> {
         let mut t = ConservationTotals::default();
         let axisymmetric = self.options.geometry.is_axisymmetric();
         let vols = self.volumes();
+        let state = self.gathered_state();
         self.level.for_each_cell_in_order(|g, pid, c| {
-            let d = &self.state[pid].data;
+            let d = &state[pid].data;
             // Axisymmetric: this cell's totals per unit volume, then times
             // its ring; Cartesian: straight into the sum (times the common
             // cell volume at the end).
@@ -1450,9 +1470,10 @@ impl<E: Eos> Solver for IceSolver<E> {
             .iter()
             .map(|f| self.field_index(f))
             .collect::<Result<Vec<_>, _>>()?;
+        let state = self.gathered_state();
         Ok(self
             .level
-            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(pid, n, id)))
+            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&state, pid, n, id)))
     }
 
     fn sample(
@@ -1464,7 +1485,11 @@ impl<E: Eos> Solver for IceSolver<E> {
         let (pid, c) = self.level.locate_point(point)?;
         out.clear();
         for f in fields {
-            out.push(self.derived(pid, c, self.field_index(f)?));
+            out.push(self.derived(&self.state, pid, c, self.field_index(f)?));
+        }
+        // The owner's values (another rank's copy of the patch is stale).
+        if self.ranks.several() {
+            self.ranks.comm.broadcast(self.ranks.owner[pid], out);
         }
         Ok(())
     }
@@ -1474,7 +1499,7 @@ impl<E: Eos> Solver for IceSolver<E> {
     }
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let fields = self.level.gather_fields(&self.state);
+        let fields = self.level.gather_fields(&self.gathered_state());
         let saved = SavedState {
             time: self.time,
             steps: self.steps,

@@ -34,6 +34,13 @@ pub(super) struct Transport {
     faces: Vec<[Vec<f64>; 4]>,
 }
 
+impl Transport {
+    /// Whether any material has a coefficient > 0.
+    pub(super) fn is_active(&self) -> bool {
+        self.active
+    }
+}
+
 /// What a domain face is for the viscous stress.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Wall {
@@ -81,7 +88,7 @@ impl<E: Eos> IceSolver<E> {
         };
         self.transport.coefficients = transport;
         self.transport.active = active;
-        Ok(())
+        self.still_distributable()
     }
 
     /// The materials' transport coefficients (empty when never set: all 0).

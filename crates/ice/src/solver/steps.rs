@@ -19,6 +19,8 @@ impl<E: Eos> IceSolver<E> {
             .state
             .par_iter_mut()
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .map(|(pf, patch)| {
                 type Acc = (EquilibrationStats, Failure, Rescaled, Warm);
                 let n = params.eos.len();
@@ -116,6 +118,16 @@ impl<E: Eos> IceSolver<E> {
             rescaled.extend(r);
             warm.extend(w);
         }
+        // Every rank's findings (rescaled: particles, one rank only).
+        let ranks::Gathered {
+            fail, warm, stats, ..
+        } = self.gather_pass(ranks::Found {
+            fail,
+            warm,
+            stats,
+            ..Default::default()
+        });
+        let mut warm = warm;
         self.last_equilibration = stats;
         if fail.is_none() && !warm.is_empty() {
             // Summed in global cell order: the same bits for any split.
@@ -187,6 +199,8 @@ impl<E: Eos> IceSolver<E> {
             .par_iter_mut()
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .for_each(|((sc, pf), patch)| {
                 let n = params.eos.len();
                 let st = patch.strides();
@@ -312,6 +326,8 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.scratch.par_iter_mut())
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .for_each(|(((pr, sc), pf), patch)| {
                 let n = params.eos.len();
                 let st = patch.strides();
@@ -434,6 +450,8 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.scratch.par_iter())
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .map(|((((lg, pr), sc), pf), patch)| {
                 let n = params.eos.len();
                 let st = patch.strides();
@@ -550,6 +568,11 @@ impl<E: Eos> IceSolver<E> {
                 },
             );
         let (fail, booking) = fail;
+        let ranks::Gathered { fail, booking, .. } = self.gather_pass(ranks::Found {
+            fail,
+            booking,
+            ..Default::default()
+        });
         match fail {
             None => {
                 book_faces(booking, self.volumes(), &mut self.outflow);
@@ -593,6 +616,8 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.lag.par_iter())
             .zip(self.scratch.par_iter_mut())
             .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .filter_map(|(x, &own)| own.then_some(x))
             .map(|(((pf, lg), sc), patch)| {
                 let mut fail: Failure = None;
                 let mut warm: Warm = Vec::new();
@@ -883,6 +908,18 @@ impl<E: Eos> IceSolver<E> {
                     (first_failure(fa, fb), wa, ba)
                 },
             );
+        let ranks::Gathered {
+            fail,
+            booking,
+            advected_warm,
+            ..
+        } = self.gather_pass(ranks::Found {
+            fail,
+            booking,
+            advected_warm: warm,
+            ..Default::default()
+        });
+        warm = advected_warm;
         let vols = self.volumes();
         if fail.is_none() {
             book_faces(booking, vols, &mut self.outflow);
