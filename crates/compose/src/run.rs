@@ -473,6 +473,30 @@ impl Runner<'_> {
         }
     }
 
+    /// The solver's parts of the wall time and, on several ranks, the
+    /// time in MPI calls of the rank that spent most there (waiting for
+    /// the others included; a collective call).
+    fn wall_split(&self) -> Vec<io::WallPart> {
+        let mut parts: Vec<io::WallPart> = self
+            .solver
+            .wall_split()
+            .into_iter()
+            .map(|(part, seconds)| io::WallPart {
+                part: part.to_string(),
+                seconds,
+            })
+            .collect();
+        let ranks = brisance_grid::comm::world();
+        if ranks.size() > 1 {
+            let busiest = -ranks.min(-ranks.busy_seconds());
+            parts.push(io::WallPart {
+                part: "MPI calls (the busiest rank)".into(),
+                seconds: busiest,
+            });
+        }
+        parts
+    }
+
     fn summary(&self, wall: f64, completed: bool, stop_reason: Option<String>) -> io::RunSummary {
         let final_totals = self.solver.conservation_totals();
         let unit = self.solver.work_per_step().1;
@@ -514,15 +538,7 @@ impl Runner<'_> {
                     checked: s.checked,
                 })
                 .collect(),
-            wall_split: self
-                .solver
-                .wall_split()
-                .into_iter()
-                .map(|(part, seconds)| io::WallPart {
-                    part: part.to_string(),
-                    seconds,
-                })
-                .collect(),
+            wall_split: self.wall_split(),
             warnings: self.warnings.clone(),
         }
     }

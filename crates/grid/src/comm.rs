@@ -52,6 +52,13 @@ pub trait Communicator: Send + Sync + std::fmt::Debug {
     /// only this rank has seen, so that no rank waits for it forever).
     fn abort(&self, code: i32) -> !;
 
+    /// Wall seconds this rank has spent inside the calls above since the
+    /// start (waiting for the other ranks included): what the ranks cost
+    /// a run. 0 for [`Serial`].
+    fn busy_seconds(&self) -> f64 {
+        0.0
+    }
+
     /// Every rank's `mine`, in rank order, on every rank (the lists may
     /// differ in length). Values are copied, not combined, so the result
     /// is the same bits on every rank. Made of [`Communicator::broadcast`]:

@@ -1279,8 +1279,10 @@ impl<E: Eos> Solver for IceSolver<E> {
             .par_iter()
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .map(|(pf, patch)| {
+            .map(|((pf, patch), &own)| {
+                if !own {
+                    return 0.0;
+                }
                 let d = &pf.data;
                 let max_of = |a: f64, b: f64| {
                     if a.is_nan() || b.is_nan() {

@@ -47,7 +47,9 @@ pub struct RunSummary {
     #[serde(default)]
     pub outflow: Option<ConservationTotals>,
     /// Wall seconds in each named part of a method made of several (e.g.
-    /// `fdm` and `mpm` of the bridge); empty for a method with one part.
+    /// `fdm` and `mpm` of the bridge), and on several MPI ranks the time
+    /// in MPI calls of the rank that spent most there; empty for a method
+    /// with one part on one rank.
     #[serde(default)]
     pub wall_split: Vec<WallPart>,
     /// How often each safeguard of the method acted (e.g. the FDM's

@@ -20,8 +20,10 @@ impl<E: Eos> IceSolver<E> {
             .par_iter_mut()
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .map(|(pf, patch)| {
+            .map(|((pf, patch), &own)| {
+                if !own {
+                    return (EquilibrationStats::default(), None, Vec::new(), Vec::new());
+                }
                 type Acc = (EquilibrationStats, Failure, Rescaled, Warm);
                 let n = params.eos.len();
                 let m = n * NS + 1;
@@ -200,8 +202,10 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .for_each(|((sc, pf), patch)| {
+            .for_each(|(((sc, pf), patch), &own)| {
+                if !own {
+                    return;
+                }
                 let n = params.eos.len();
                 let st = patch.strides();
                 let d = &pf.data;
@@ -327,8 +331,10 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .for_each(|(((pr, sc), pf), patch)| {
+            .for_each(|((((pr, sc), pf), patch), &own)| {
+                if !own {
+                    return;
+                }
                 let n = params.eos.len();
                 let st = patch.strides();
                 let d = &pf.data;
@@ -451,8 +457,10 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.state.par_iter())
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .map(|((((lg, pr), sc), pf), patch)| {
+            .map(|(((((lg, pr), sc), pf), patch), &own)| {
+                if !own {
+                    return (None, Vec::new());
+                }
                 let n = params.eos.len();
                 let st = patch.strides();
                 let d = &pf.data;
@@ -617,8 +625,10 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.scratch.par_iter_mut())
             .zip(self.level.patches.par_iter())
             .zip(self.ranks.owned.par_iter())
-            .filter_map(|(x, &own)| own.then_some(x))
-            .map(|(((pf, lg), sc), patch)| {
+            .map(|((((pf, lg), sc), patch), &own)| {
+                if !own {
+                    return (None, Vec::new(), Vec::new());
+                }
                 let mut fail: Failure = None;
                 let mut warm: Warm = Vec::new();
                 let mut booking: FaceBooking = Vec::new();
