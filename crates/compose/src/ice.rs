@@ -48,8 +48,8 @@ use brisance_eos::EosModel;
 use brisance_grid::Level;
 use brisance_ice::{
     Advection, CellState, Deflagration, ExchangeCoefficients, IceBoundary, IceOptions, IceRate,
-    IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve, GHOST,
-    MAX_MATERIALS,
+    IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve,
+    WholeGridPass, GHOST, MAX_MATERIALS,
 };
 use serde::{Deserialize, Serialize};
 
@@ -460,18 +460,12 @@ pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Probl
     let ranks = brisance_grid::comm::world();
     if ranks.size() > 1 {
         // What the ICE cannot spread over ranks, named at its field.
-        let field = if matches!(cfg.pressure, PressureSolve::Implicit(_)) {
-            "pipeline.pressure"
-        } else if solver.transport().iter().any(|t| t.is_active()) {
-            "pipeline.transport"
-        } else if solver
-            .reactions()
-            .iter()
-            .any(|r| brisance_core::ReactionModel::burns_on_a_surface(&r.rate))
-        {
-            "pipeline.reactions"
-        } else {
-            "domain.patches"
+        let field = match solver.whole_grid_pass() {
+            Some(WholeGridPass::ImplicitPressure) => "pipeline.pressure",
+            Some(WholeGridPass::Transport) => "pipeline.transport",
+            Some(WholeGridPass::SurfaceBurn) => "pipeline.reactions",
+            Some(WholeGridPass::Particles) => "pipeline",
+            None => "domain.patches",
         };
         solver
             .distribute(ranks)

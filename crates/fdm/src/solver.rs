@@ -426,16 +426,7 @@ impl<E: GasLaw> FdmSolver<E> {
     /// checkpoints read, so that they sum and write in the order and with
     /// the bits of one rank.
     fn gathered(&self) -> Cow<'_, [PatchFields]> {
-        if self.comm.size() == 1 {
-            return Cow::Borrowed(&self.fields);
-        }
-        let mut all = self.fields.clone();
-        for (id, f) in all.iter_mut().enumerate() {
-            for values in &mut f.data {
-                self.comm.broadcast(self.owner[id], values);
-            }
-        }
-        Cow::Owned(all)
+        comm::owners_fields(&*self.comm, &self.owner, &self.fields)
     }
 
     /// The face accumulators of [`Self::outflow`] as their owners hold

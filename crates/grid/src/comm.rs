@@ -145,6 +145,29 @@ pub fn owner_of(patch: usize, patches: usize, ranks: usize) -> usize {
     }
 }
 
+/// Every patch's fields as its owner holds them: `fields` itself on one
+/// rank; on several, a copy whose patch `p` comes from rank `owner[p]`
+/// (a collective call: every rank makes it, and each holds a copy of the
+/// whole state while the result lives). What outputs, totals and
+/// checkpoints read, so that they sum and write in the order and with the
+/// bits of one rank.
+pub fn owners_fields<'a>(
+    comm: &dyn Communicator,
+    owner: &[usize],
+    fields: &'a [crate::PatchFields],
+) -> std::borrow::Cow<'a, [crate::PatchFields]> {
+    if comm.size() == 1 {
+        return std::borrow::Cow::Borrowed(fields);
+    }
+    let mut all = fields.to_vec();
+    for (f, &o) in all.iter_mut().zip(owner) {
+        for values in &mut f.data {
+            comm.broadcast(o, values);
+        }
+    }
+    std::borrow::Cow::Owned(all)
+}
+
 /// The owner of every patch of a level of `patches` patches on `ranks`
 /// ranks, or why the split cannot be made.
 pub fn patch_owners(patches: usize, ranks: usize) -> Result<Vec<usize>, String> {

@@ -67,7 +67,8 @@ pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::{BurntMass, IceRate, IceReaction};
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
 pub use solver::{
-    EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, GHOST,
+    EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, WholeGridPass,
+    GHOST,
 };
 
 #[cfg(test)]

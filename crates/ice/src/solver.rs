@@ -72,6 +72,8 @@ pub mod implicit;
 mod par;
 mod ranks;
 mod steps;
+
+pub use ranks::WholeGridPass;
 mod surface;
 
 #[cfg(test)]

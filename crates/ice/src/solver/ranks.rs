@@ -140,6 +140,32 @@ pub(super) struct Found {
     pub(super) stats: EquilibrationStats,
 }
 
+/// A part of the ICE step that passes over the whole grid, so that the
+/// solver runs on one rank only ([`IceSolver::whole_grid_pass`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WholeGridPass {
+    /// The implicit pressure: one linear solve over every cell.
+    ImplicitPressure,
+    /// Materials carried by particles (the coupled pipeline).
+    Particles,
+    /// Viscosity or heat conduction.
+    Transport,
+    /// A reaction that burns on a surface, found in global order.
+    SurfaceBurn,
+}
+
+impl WholeGridPass {
+    /// What the error message calls it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::ImplicitPressure => "the implicit pressure (one solve over the whole grid)",
+            Self::Particles => "materials carried by particles",
+            Self::Transport => "viscosity or heat conduction",
+            Self::SurfaceBurn => "a reaction that burns on a surface",
+        }
+    }
+}
+
 /// Sections of a pass's message, in order.
 const SECTIONS: usize = 5;
 
@@ -170,22 +196,28 @@ impl<E: Eos> IceSolver<E> {
         Ok(())
     }
 
-    /// Why this solver cannot run on `ranks` ranks, if it cannot.
-    fn single_rank_only(&self, ranks: usize) -> Result<(), IceError> {
-        let why = if matches!(self.options.pressure, PressureSolve::Implicit(_)) {
-            Some("the implicit pressure (one solve over the whole grid)")
+    /// The first part of this solver's step that passes over the whole
+    /// grid, and so keeps it on one rank; `None` when it can spread.
+    pub fn whole_grid_pass(&self) -> Option<WholeGridPass> {
+        if matches!(self.options.pressure, PressureSolve::Implicit(_)) {
+            Some(WholeGridPass::ImplicitPressure)
         } else if self.lagrangian.iter().any(|&l| l) {
-            Some("materials carried by particles")
+            Some(WholeGridPass::Particles)
         } else if self.transport.is_active() {
-            Some("viscosity or heat conduction")
+            Some(WholeGridPass::Transport)
         } else if self.reactions.iter().any(|r| r.rate.burns_on_a_surface()) {
-            Some("a reaction that burns on a surface")
+            Some(WholeGridPass::SurfaceBurn)
         } else {
             None
-        };
-        match why {
-            Some(what) => Err(IceError::Invalid(format!(
-                "ice: {what} does not run on several ranks ({ranks} here); run it as one process"
+        }
+    }
+
+    /// An error when this solver cannot run on `ranks` ranks.
+    fn single_rank_only(&self, ranks: usize) -> Result<(), IceError> {
+        match self.whole_grid_pass() {
+            Some(pass) => Err(IceError::Invalid(format!(
+                "ice: {} does not run on several ranks ({ranks} here); run it as one process",
+                pass.describe()
             ))),
             None => Ok(()),
         }
@@ -206,16 +238,7 @@ impl<E: Eos> IceSolver<E> {
     /// rank; on several, a copy whose every patch comes from its owner (a
     /// collective call).
     pub(super) fn gathered_state(&self) -> Cow<'_, [PatchFields]> {
-        if !self.ranks.several() {
-            return Cow::Borrowed(&self.state);
-        }
-        let mut all = self.state.clone();
-        for (id, f) in all.iter_mut().enumerate() {
-            for values in &mut f.data {
-                self.ranks.comm.broadcast(self.ranks.owner[id], values);
-            }
-        }
-        Cow::Owned(all)
+        comm::owners_fields(&*self.ranks.comm, &self.ranks.owner, &self.state)
     }
 
     /// What every rank found in a pass (one message from each rank): the
