@@ -61,8 +61,9 @@ pub trait Communicator: Send + Sync + std::fmt::Debug {
 
     /// Every rank's `mine`, in rank order, on every rank (the lists may
     /// differ in length). Values are copied, not combined, so the result
-    /// is the same bits on every rank. Made of [`Communicator::broadcast`]:
-    /// each rank's length, then its values.
+    /// is the same bits on every rank. This default is made of
+    /// [`Communicator::broadcast`] (each rank's length, then its values:
+    /// 2 × ranks collectives); the MPI world makes it two.
     fn all_gather(&self, mine: &[f64]) -> Vec<Vec<f64>> {
         (0..self.size())
             .map(|root| {

@@ -6,10 +6,11 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use mpi::collective::SystemOperation;
-use mpi::datatype::Equivalence;
+use mpi::datatype::{Equivalence, PartitionMut};
 use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use mpi::Count;
 use mpi::Threading;
 
 use super::Communicator as Ranks;
@@ -145,6 +146,35 @@ impl Ranks for MpiWorld {
             self.world
                 .all_reduce_into(&send[..], values, SystemOperation::sum())
         });
+    }
+
+    /// Two collectives (the lengths, then `MPI_Allgatherv`), whatever the
+    /// rank count.
+    fn all_gather(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        self.timed(|| {
+            let len = mine.len() as Count;
+            let mut counts: Vec<Count> = vec![0; self.size];
+            self.world.all_gather_into(&len, &mut counts[..]);
+            let displs: Vec<Count> = counts
+                .iter()
+                .scan(0, |at, &c| {
+                    let d = *at;
+                    *at += c;
+                    Some(d)
+                })
+                .collect();
+            let total: usize = counts.iter().map(|&c| c as usize).sum();
+            let mut all = vec![0.0; total];
+            {
+                let mut parts = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+                self.world.all_gather_varcount_into(mine, &mut parts);
+            }
+            counts
+                .iter()
+                .zip(&displs)
+                .map(|(&c, &d)| all[d as usize..(d + c) as usize].to_vec())
+                .collect()
+        })
     }
 
     fn busy_seconds(&self) -> f64 {
