@@ -119,18 +119,10 @@ fn unpack_warm(values: &[f64], out: &mut Vec<(usize, KeptWarmCell)>) {
     }
 }
 
-/// What every rank found in one pass: the first failure in global order,
-/// and every rank's lists, one after another in rank order.
-pub(super) struct Gathered {
-    pub(super) fail: Failure,
-    pub(super) booking: FaceBooking,
-    pub(super) warm: Vec<(usize, KeptWarmCell)>,
-    pub(super) advected_warm: Vec<(usize, usize, f64)>,
-    pub(super) stats: EquilibrationStats,
-}
-
-/// What this rank found in one pass, for [`IceSolver::gather_pass`]
-/// (moved in, so that one rank hands it back without a copy).
+/// What a pass found: the first failing cell, the face bookings, step 2's
+/// and step 12's cold-rule firings and the equilibration counts. Given to
+/// [`IceSolver::gather_pass`] as this rank found it (moved in, so that one
+/// rank hands it back without a copy), returned as every rank found it.
 #[derive(Default)]
 pub(super) struct Found {
     pub(super) fail: Failure,
@@ -245,15 +237,9 @@ impl<E: Eos> IceSolver<E> {
     /// first failure in global order and the union of the lists. On one
     /// rank the lists are this rank's and nothing is sent. A collective
     /// call on several ranks.
-    pub(super) fn gather_pass(&self, found: Found) -> Gathered {
+    pub(super) fn gather_pass(&self, found: Found) -> Found {
         if !self.ranks.several() {
-            return Gathered {
-                fail: found.fail,
-                booking: found.booking,
-                warm: found.warm,
-                advected_warm: found.advected_warm,
-                stats: found.stats,
-            };
+            return found;
         }
         let s = found.stats;
         let sections: [Vec<f64>; SECTIONS] = [
@@ -275,13 +261,7 @@ impl<E: Eos> IceSolver<E> {
         for s in &sections {
             message.extend(s);
         }
-        let mut g = Gathered {
-            fail: None,
-            booking: Vec::new(),
-            warm: Vec::new(),
-            advected_warm: Vec::new(),
-            stats: EquilibrationStats::default(),
-        };
+        let mut g = Found::default();
         for m in self.ranks.comm.all_gather(&message) {
             let lens: Vec<usize> = m[..SECTIONS].iter().map(|&l| l as usize).collect();
             let mut at = SECTIONS;

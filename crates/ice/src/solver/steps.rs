@@ -121,7 +121,7 @@ impl<E: Eos> IceSolver<E> {
             warm.extend(w);
         }
         // Every rank's findings (rescaled: particles, one rank only).
-        let ranks::Gathered {
+        let ranks::Found {
             fail, warm, stats, ..
         } = self.gather_pass(ranks::Found {
             fail,
@@ -576,7 +576,7 @@ impl<E: Eos> IceSolver<E> {
                 },
             );
         let (fail, booking) = fail;
-        let ranks::Gathered { fail, booking, .. } = self.gather_pass(ranks::Found {
+        let ranks::Found { fail, booking, .. } = self.gather_pass(ranks::Found {
             fail,
             booking,
             ..Default::default()
@@ -918,7 +918,7 @@ impl<E: Eos> IceSolver<E> {
                     (first_failure(fa, fb), wa, ba)
                 },
             );
-        let ranks::Gathered {
+        let ranks::Found {
             fail,
             booking,
             advected_warm,
