@@ -5,10 +5,10 @@
 //! nodes per step); the target of issue 6 is ≥ 30e6. Measured figures:
 //! `docs/physics/lattice/hotspots.md`.
 
-use brisance::pd::msdm::{cases::estane_step_block, MsdmLattice};
+use brisance::lattice::{cases::estane_step_block, MsdmLattice};
 use criterion::{criterion_group, Criterion, Throughput};
 
-/// The Estane block of `brisance_pd::msdm::cases::estane_step_block`
+/// The Estane block of `brisance_lattice::cases::estane_step_block`
 /// (seed 003 Table 2 EOS, E = 6.25 GPa, κ = 0.2 W/(m·K), h = 10 µm,
 /// −100 m/s, axial springs with the perpendicular corrective force of
 /// eq 10b, explicit Euler with the energy equation).

@@ -12,6 +12,7 @@
 //! - [`constitutive`]: stress-update models for solids and particle fluids.
 //! - [`mpm`]: the explicit material point method.
 //! - [`pd`]: bond-based peridynamics with the detonation model of seed 004.
+//! - [`lattice`]: the mass–spring–damper lattice (MSDM) of seed 003.
 //! - [`couple`]: the coupled steps — ICE–MPM (seed 000 §3.3) and the
 //!   FDM–MPM bridge (seed 001 §3).
 //! - [`reaction`]: program burn and the detonation-products isentrope.
@@ -28,6 +29,7 @@ pub use brisance_fdm as fdm;
 pub use brisance_grid as grid;
 pub use brisance_ice as ice;
 pub use brisance_io as io;
+pub use brisance_lattice as lattice;
 pub use brisance_mpm as mpm;
 pub use brisance_pd as pd;
 pub use brisance_reaction as reaction;

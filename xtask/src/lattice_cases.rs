@@ -1,18 +1,18 @@
 //! V-OSC (with the V-STIFF cost comparison), V-ROD and V-IMPEDANCE (seed 003 §2.5), V-REGRESS (§2.6) and
-//! E-APHTPB (ch. 3) at full length. The case definitions are `brisance::pd::msdm::cases`,
-//! shared with the reduced unit tests in `crates/pd/src/msdm/`.
+//! E-APHTPB (ch. 3) at full length. The case definitions are `brisance::lattice::cases`,
+//! shared with the reduced unit tests in `crates/lattice/src/`.
 
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use brisance::pd::msdm::cases::{
+use brisance::lattice::cases::{
     aphtpb_burn_with, impedance, oscillator_error, propellant_density, regress_disc,
     regress_rotated_square, regress_rotated_square_with, rod, staircase_rate, stiff_run,
     BurnResult, RegressResult, StiffRun, AP_HTPB_DENSITY,
 };
-use brisance::pd::msdm::Integrator;
+use brisance::lattice::Integrator;
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::Report;
@@ -85,7 +85,7 @@ pub fn v_osc(report: &mut Report, img: &Path) -> Result<()> {
 }
 
 /// V-STIFF (run with V-OSC, as a subsection of its report): implicit
-/// against explicit cost on [`brisance::pd::msdm::cases::stiff_chain`] at
+/// against explicit cost on [`brisance::lattice::cases::stiff_chain`] at
 /// stiffness ratio 1e4, error of the block end's displacement at t = 50 s
 /// against a velocity-Verlet reference at Δt = 0.02× the explicit Euler
 /// limit, relative to the reference's peak; best of 3 wall times.
@@ -663,10 +663,10 @@ const TABLE_4: [(f64, f64, f64); 3] = [
 /// by both crystals (§4.3), the Gumbel model of §4.5 fitted on 50/100/200
 /// and tested (KS) on 150/250 m/s.
 pub fn e_hotspot(report: &mut Report) -> Result<()> {
-    use brisance::pd::msdm::hotspot::{
+    use brisance::lattice::hotspot::{
         detect_impact, heated_threshold, simulate_impact, Binder, Crystal, ImpactCase,
     };
-    use brisance::pd::msdm::stats::{linear_fit, velocity_model, VelocitySample};
+    use brisance::lattice::stats::{linear_fit, velocity_model, VelocitySample};
     let n = HOTSPOT_NODES;
     println!("E-HOTSPOT: HMX/RDX in Estane, {n} x {n} nodes, 50-250 m/s");
     let base = ImpactCase {

@@ -52,7 +52,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             node_fields: &MpmSolver::NODE_FIELDS,
         },
         Pipeline::Lattice(_) => PipelineLimits {
-            fields: &brisance_pd::msdm::MsdmLattice::FIELDS,
+            fields: &brisance_lattice::MsdmLattice::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
             node_fields: &[],

@@ -1,5 +1,5 @@
 //! The `Lattice` pipeline: the thermo-mechanical mass–spring–damper lattice
-//! of seed 003 (`brisance_pd::msdm`).
+//! of seed 003 (`brisance_lattice`).
 //!
 //! The lattice covers the scenario's `domain` with nodes at
 //! `lower + k h` (k = 0, 1, … while inside `upper`) on the active axes of
@@ -13,17 +13,17 @@
 //! library's `hmx_crystal`, `estane`).
 //!
 //! A material with an `arrhenius` law regresses where it meets the fluid
-//! (seed 003 §2.4, `brisance_pd::msdm::regress`); `regression` says which
+//! (seed 003 §2.4, `brisance_lattice::regress`); `regression` says which
 //! exterior nodes are fluid. A `pack` replaces the material of the solid
 //! nodes by a crystal/binder image (PGM or PNG, one node per pixel) or a random
-//! pack of discs (`brisance_pd::msdm::pack`).
+//! pack of discs (`brisance_lattice::pack`).
 
 use std::collections::BTreeMap;
 
 use brisance_eos::EosModel;
-use brisance_pd::msdm::pack::{area_fraction, random_disc_pack, read_image, GrayImage};
-use brisance_pd::msdm::regress::{Arrhenius, SurfaceRegression};
-use brisance_pd::msdm::{
+use brisance_lattice::pack::{area_fraction, random_disc_pack, read_image, GrayImage};
+use brisance_lattice::regress::{Arrhenius, SurfaceRegression};
+use brisance_lattice::{
     Damping, Dim, Geometry, Hysteretic, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions,
     Plasticity, Surroundings,
 };
@@ -68,7 +68,7 @@ pub struct LatticeConfig {
     /// Linear solver of the implicit integrators: `Direct` (sparse LU,
     /// default) or `Iterative` (BiCGSTAB to a relative residual of 1e-10).
     #[serde(default)]
-    pub linear_solver: brisance_pd::msdm::LinearSolver,
+    pub linear_solver: brisance_lattice::LinearSolver,
     /// Prescribed node velocities.
     #[serde(default)]
     pub boundaries: Vec<LatticeBoundaryConfig>,
@@ -816,7 +816,7 @@ mod tests {
     #[test]
     fn propellant_pack_loads_and_regresses_from_the_top() {
         use brisance_core::Solver;
-        use brisance_pd::msdm::pack::node_mass_fraction;
+        use brisance_lattice::pack::node_mass_fraction;
         let text = include_str!("../../../configs/lattice_burn.ron");
         let loaded = load_str("lattice_burn.ron", text, &[]).unwrap();
         let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
@@ -880,7 +880,7 @@ mod tests {
     /// size mismatch names `pipeline.pack.path`.
     #[test]
     fn image_pack_is_one_node_per_pixel() {
-        use brisance_pd::msdm::pack::node_mass_fraction;
+        use brisance_lattice::pack::node_mass_fraction;
         let dir = std::env::temp_dir().join(format!("lattice_pack_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("centre.pgm");

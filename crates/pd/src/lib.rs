@@ -32,7 +32,6 @@ pub mod forces;
 pub mod fragments;
 pub mod lattice;
 pub mod material;
-pub mod msdm;
 pub mod solver;
 pub mod surface;
 pub mod viscosity;

@@ -6,7 +6,7 @@
 //! (A the pre-exponential factor, Eₐ the activation energy, T the surface's
 //! temperature, Ω the catalytic factor of §3.2), so its surface recedes at
 //! r = ṁ''/ρ, ρ the solid's density. The MSDM lattice regresses its exposed
-//! nodes by it (`brisance_pd::msdm::regress`,
+//! nodes by it (`brisance_lattice::regress`,
 //! docs/physics/lattice/regression.md); as a [`ReactionModel`] it burns on a
 //! surface like the deflagration ([`crate::Deflagration`]), Γ = a ṁ'' with
 //! a the surface's area in the cell.

@@ -29,7 +29,7 @@
 //! * The squared length r₀² + r₁² omits the + 0² of the inactive axis: a
 //!   sum of squares is never −0, so adding +0 does not change it.
 //!
-//! `msdm::tests` checks these passes against the general ones bit for bit.
+//! `tests` checks these passes against the general ones bit for bit.
 
 use rayon::prelude::*;
 

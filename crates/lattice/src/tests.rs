@@ -809,7 +809,7 @@ fn throughput_432_squared() {
 /// `LATTICE_STEPS=n` (default 2) explicit steps of the 432 × 432 block of
 /// the `lattice_step` bench, for instruction counts that do not depend on
 /// the machine's load (`valgrind --tool=callgrind` on the release test
-/// binary with `--ignored --exact msdm::tests::lattice_step_instructions`,
+/// binary with `--ignored --exact tests::lattice_step_instructions`,
 /// the difference of two values of n).
 #[test]
 #[ignore]
@@ -952,7 +952,7 @@ fn aphtpb_density_readings_bound_the_rate() {
 }
 
 /// V-STIFF error against wall time, printed as a table (release:
-/// `cargo test --release -p brisance-pd stiff_crossover -- --ignored
+/// `cargo test --release -p brisance-lattice stiff_crossover -- --ignored
 /// --nocapture`; STIFF_RATIO sets the stiffness ratio, default 1e4).
 #[test]
 #[ignore]

@@ -751,7 +751,7 @@ mod tests {
 
     #[test]
     fn lattice_frame_strips_the_padding_and_marks_exterior_nodes() {
-        use crate::msdm::{Geometry, LatticeMaterial, MsdmOptions};
+        use crate::{Geometry, LatticeMaterial, MsdmOptions};
         let geom = Geometry::new(Dim::Two, [3, 2, 1], 1e-3, false, |ix, iy, _| {
             (!(ix == 2 && iy == 1)).then_some(0)
         });
@@ -852,11 +852,11 @@ mod tests {
     /// 50–250 m/s, the Gumbel model of §4.5 with 150 and 250 m/s held out,
     /// the binder variants at 50 m/s and the PETN/TKX-50 hot-spot locations.
     /// Writes CSV under `target/e_hotspot/`. Run with
-    /// `cargo test --release -p brisance-pd --lib -- --ignored e_hotspot --nocapture`.
+    /// `cargo test --release -p brisance-lattice --lib -- --ignored e_hotspot --nocapture`.
     #[test]
     #[ignore]
     fn e_hotspot() {
-        use crate::msdm::stats::{velocity_model, VelocitySample};
+        use crate::stats::{velocity_model, VelocitySample};
         let base = ImpactCase {
             crystal: Crystal::Hmx,
             binder: Binder::Estane,
