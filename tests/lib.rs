@@ -13,6 +13,7 @@ mod restart;
 mod rz_octant;
 mod surface_loads;
 mod v_bar;
+mod v_flyer;
 mod v_shock_tubes;
 mod v_smooth;
 mod v_sod;

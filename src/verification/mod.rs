@@ -3,6 +3,7 @@
 
 pub mod blast;
 pub mod cases;
+pub mod flyer;
 pub mod kingery_bulmash;
 pub mod open_faces;
 pub mod riemann;

@@ -808,7 +808,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 38] = [
+const CASES: [&str; 39] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -819,6 +819,7 @@ const CASES: [&str; 38] = [
     "ice-diffusion",
     "ice-implicit",
     "piston",
+    "flyer",
     "cylinder",
     "cylinder-rz",
     "cookoff",
@@ -905,6 +906,9 @@ fn validate(only: &[String]) -> Result<()> {
     if run("piston") {
         ice_mpm_cases::v_ice_mpm(&mut body)?;
         ice_mpm_cases::v_ice_mpm_solids(&mut body)?;
+    }
+    if run("flyer") {
+        ice_mpm_cases::v_flyer(&mut body)?;
     }
     if run("cylinder") {
         ice_mpm_cases::e_cylinder(&mut body, &img)?;

@@ -1,0 +1,177 @@
+//! A plate driven by a gas: the exact interface state of the Riemann
+//! problem between an ideal gas at rest and a solid at rest, the gas on
+//! the left at pressure p_g, the solid on the right at zero pressure.
+//!
+//! The gas expands through a centred rarefaction (isentropic, γ), the
+//! solid is shocked along its linear Hugoniot U_s = c₀ + s u_p
+//! (p = ρ₀ U_s u_p from a state at rest and zero pressure). The interface
+//! holds one pressure p* and one velocity u*:
+//!
+//! - gas: u = 2c_g/(γ − 1) (1 − (p/p_g)^((γ−1)/(2γ))), decreasing in p;
+//! - solid: u = (−c₀ + √(c₀² + 4 s p/ρ₀)) / (2s) (p/(ρ₀c₀) for s = 0),
+//!   increasing in p;
+//!
+//! so the two curves cross once in (0, p_g), found by bisection to
+//! round-off. Until the first reflected wave returns to the interface
+//! (the release from the plate's free face, or the rarefaction's
+//! reflection from the wall behind the gas) the interface pressure stays
+//! p*, and a plate of thickness L carries the momentum p* t per unit area:
+//! its mean velocity is p* t / (ρ₀ L).
+
+/// The gas behind the plate: an ideal gas at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gas {
+    /// Pressure, Pa.
+    pub pressure: f64,
+    /// Density, kg/m³.
+    pub density: f64,
+    /// Ratio of specific heats.
+    pub gamma: f64,
+}
+
+/// The plate's material: a linear U_s–u_p Hugoniot from rest at zero
+/// pressure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hugoniot {
+    /// Reference density ρ₀, kg/m³.
+    pub density: f64,
+    /// Bulk sound speed c₀, m/s.
+    pub c0: f64,
+    /// Slope s of U_s = c₀ + s u_p.
+    pub s: f64,
+}
+
+impl Hugoniot {
+    /// The particle velocity behind a shock of pressure `p` from rest.
+    pub fn particle_velocity(&self, p: f64) -> f64 {
+        if self.s == 0.0 {
+            return p / (self.density * self.c0);
+        }
+        (-self.c0 + (self.c0 * self.c0 + 4.0 * self.s * p / self.density).sqrt()) / (2.0 * self.s)
+    }
+
+    /// The shock speed U_s = c₀ + s u_p at particle velocity `u`.
+    pub fn shock_speed(&self, u: f64) -> f64 {
+        self.c0 + self.s * u
+    }
+}
+
+impl Gas {
+    /// The sound speed √(γ p/ρ).
+    pub fn sound_speed(&self) -> f64 {
+        (self.gamma * self.pressure / self.density).sqrt()
+    }
+
+    /// The gas's velocity after a rarefaction from rest down to `p`.
+    pub fn rarefaction_velocity(&self, p: f64) -> f64 {
+        let g = self.gamma;
+        2.0 * self.sound_speed() / (g - 1.0)
+            * (1.0 - (p / self.pressure).powf((g - 1.0) / (2.0 * g)))
+    }
+}
+
+/// The interface state of the gas-driven plate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interface {
+    /// Interface pressure p*, Pa.
+    pub pressure: f64,
+    /// Interface velocity u*, m/s.
+    pub velocity: f64,
+    /// The shock's speed into the plate, m/s.
+    pub shock_speed: f64,
+}
+
+/// The exact interface state between `gas` and a plate of `solid`.
+pub fn interface(gas: Gas, solid: Hugoniot) -> Interface {
+    let (mut lo, mut hi) = (0.0, gas.pressure);
+    // 200 halvings take the bracket below one ulp of p_g.
+    for _ in 0..200 {
+        let p = 0.5 * (lo + hi);
+        if p <= lo || p >= hi {
+            break;
+        }
+        if gas.rarefaction_velocity(p) > solid.particle_velocity(p) {
+            lo = p;
+        } else {
+            hi = p;
+        }
+    }
+    let pressure = 0.5 * (lo + hi);
+    let velocity = solid.particle_velocity(pressure);
+    Interface {
+        pressure,
+        velocity,
+        shock_speed: solid.shock_speed(velocity),
+    }
+}
+
+/// The plate's mean velocity at time `t` (before any reflected wave
+/// reaches the interface): p* t / (ρ₀ L) for a plate of thickness `l`.
+pub fn mean_velocity(state: Interface, solid: Hugoniot, l: f64, t: f64) -> f64 {
+    state.pressure * t / (solid.density * l)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const COPPER: Hugoniot = Hugoniot {
+        density: 8930.0,
+        c0: 3619.7,
+        s: 1.489,
+    };
+    const GAS: Gas = Gas {
+        pressure: 1.0e10,
+        density: 1260.0,
+        gamma: 3.0,
+    };
+
+    #[test]
+    fn both_sides_hold_the_interface_state() {
+        let st = interface(GAS, COPPER);
+        let (ug, us) = (
+            GAS.rarefaction_velocity(st.pressure),
+            COPPER.particle_velocity(st.pressure),
+        );
+        assert!((ug - us).abs() < 1e-9 * us, "{ug} vs {us}");
+        // p = ρ₀ U_s u_p on the shock.
+        let p = COPPER.density * st.shock_speed * st.velocity;
+        assert!((p / st.pressure - 1.0).abs() < 1e-12);
+        // The hand solution (independent bisection): 8.587 GPa, 241.6 m/s.
+        assert!((st.pressure / 1e9 - 8.587).abs() < 5e-4, "{}", st.pressure);
+        assert!((st.velocity - 241.6).abs() < 0.05, "{}", st.velocity);
+    }
+
+    #[test]
+    fn a_weak_drive_gives_the_acoustic_split() {
+        // Small p_g: p* = p_g Z_s/(Z_s + Z_g), u* = p*/Z_s.
+        let gas = Gas {
+            pressure: 1.0e3,
+            density: 1.0,
+            gamma: 1.4,
+        };
+        let solid = Hugoniot { s: 0.0, ..COPPER };
+        let zs = solid.density * solid.c0;
+        let zg = gas.density * gas.sound_speed();
+        let st = interface(gas, solid);
+        let exact = gas.pressure * zs / (zs + zg);
+        assert!(
+            (st.pressure / exact - 1.0).abs() < 1e-4,
+            "{} vs {exact}",
+            st.pressure
+        );
+        assert!((st.velocity - st.pressure / zs).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_mean_velocity_is_the_impulse_over_the_mass() {
+        let st = Interface {
+            pressure: 8.0e9,
+            velocity: 0.0,
+            shock_speed: 0.0,
+        };
+        // 8 GPa × 2 µs / (8930 kg/m³ × 0.01 m) = 179.17... m/s.
+        let v = mean_velocity(st, COPPER, 0.01, 2.0e-6);
+        assert!((v - 16000.0 / 89.3).abs() < 1e-9);
+    }
+}
