@@ -1,8 +1,8 @@
 //! The registry of named components: what `brisance list` prints and what a
 //! config may name. Each entry carries a RON example that the tests parse,
 //! so the list cannot drift from the schema. The built-in components are
-//! [`ENTRIES`]; [`entries`] adds the equations of state of the plugin crates
-//! ([`crate::plugins`]) from their own registration.
+//! [`ENTRIES`]; [`entries`] adds the equations of state and reaction models
+//! of the plugin crates ([`crate::plugins`]) from their own registration.
 
 /// One named component.
 #[derive(Debug, Clone, Copy)]
@@ -366,17 +366,25 @@ pub const ENTRIES: &[Entry] = &[
     },
 ];
 
-/// Every registered component: [`ENTRIES`], then the equations of state of
-/// the plugin crates, each under the name, summary, example and docs page
-/// its crate registered.
+/// Every registered component: [`ENTRIES`], then the equations of state and
+/// the reaction models of the plugin crates, each under the name, summary,
+/// example and docs page its crate registered.
 pub fn entries() -> Vec<Entry> {
     crate::plugins::install();
     let plugins = brisance_eos::plugin::installed().map_or(&[][..], |r| r.plugins());
+    let reactions = brisance_reaction::plugin::installed().map_or(&[][..], |r| r.plugins());
     ENTRIES
         .iter()
         .copied()
         .chain(plugins.iter().map(|p| Entry {
             family: "eos",
+            name: p.name,
+            summary: p.summary,
+            example: p.example,
+            docs: Some(p.docs),
+        }))
+        .chain(reactions.iter().map(|p| Entry {
+            family: "reaction",
             name: p.name,
             summary: p.summary,
             example: p.example,
@@ -482,6 +490,20 @@ mod tests {
         for v in EosModel::names() {
             assert!(
                 all.iter().any(|e| e.family == "eos" && e.name == *v),
+                "{v} missing from the registry"
+            );
+        }
+    }
+
+    #[test]
+    fn every_reaction_plugin_is_registered() {
+        let all = entries();
+        let names = crate::ice::IceReactionModel::names();
+        // The plugin crates' models are nameable once installed.
+        assert!(names.len() > crate::ice::IceReactionModel::VARIANTS.len());
+        for v in names {
+            assert!(
+                all.iter().any(|e| e.family == "reaction" && e.name == v),
                 "{v} missing from the registry"
             );
         }

@@ -20,6 +20,8 @@
 //! - [`arrhenius`]: the Arrhenius pyrolysis of seed 003, ṁ'' =
 //!   Ω A exp(−Eₐ/(R T)), by which the MSDM lattice regresses its exposed
 //!   nodes.
+//! - [`plugin`]: reaction models from their own crates, registered by
+//!   their RON name ([`plugin::ReactionRegistry`]).
 //! - [`products`]: the pressure isentrope P_S(X) of the detonation products
 //!   for an ideal gas (seed 004 eq 29) and JWL (eq 30), with its reference
 //!   pressure P_S0 from the volume-burn algorithm (eqs 20–21, computed by
@@ -30,6 +32,7 @@
 pub mod arrhenius;
 pub mod deflagration;
 pub mod jwlpp;
+pub mod plugin;
 pub mod products;
 pub mod program_burn;
 
