@@ -601,6 +601,27 @@ pub(crate) fn build_with_traces(
                 .specific_internal_energy(p.density, p.pressure)
                 .map_err(|e| (path.to_string(), e.to_string()))?,
         );
+        // The cells keep a pressure, not an energy: a temperature the
+        // material's (ρ, p) cannot carry would be lost without a word.
+        if let (None, None, Some(t)) = (
+            state.pressure,
+            state.specific_internal_energy,
+            state.temperature,
+        ) {
+            if !((t_region - t).abs() <= 1e-6 * t.abs().max(1.0)) {
+                return Err((
+                    format!("{path}.temperature"),
+                    format!(
+                        "`{}` cannot start at {t} K in the Ice pipeline: its cells keep a \
+                         pressure, and at density {} its equation of state gives that \
+                         pressure the temperature {t_region} K (a pressure that does not \
+                         depend on the energy, as a Murnaghan reactant's, leaves the \
+                         temperature at its reference); give that temperature or a pressure",
+                        cfg.materials[m], p.density
+                    ),
+                ));
+            }
+        }
         let materials = (0..n)
             .map(|k| {
                 let density = if k == m {
@@ -1187,10 +1208,11 @@ mod tests {
     /// in a closed 1D box decomposes by `ThermalDecomposition`
     /// (crates/reaction-thermal, registered in `crate::plugins`). Over
     /// 0.1 µs the burnt fraction is 1.4·10⁻⁴, too little to move the
-    /// reactant's temperature (298.15 K: an Eulerian Murnaghan reactant
-    /// starts at its reference temperature), so every cell's F is the
-    /// exact 1 − exp(−k t) of k(298.15 K); the model writes back as it was
-    /// read, and a bad parameter is reported at its field.
+    /// reactant's temperature (298.15 K, the reference temperature, the
+    /// only one an Eulerian Murnaghan reactant can start at: 550 K is
+    /// refused at its field), so every cell's F is the exact
+    /// 1 − exp(−k t) of k(298.15 K); the model writes back as it was read,
+    /// and a bad parameter is reported at its field.
     #[test]
     fn a_plugin_reaction_model_burns_by_its_registered_name() {
         use brisance_reaction_thermal::ThermalDecomposition;
@@ -1240,6 +1262,19 @@ mod tests {
                 "cell {c}: F = {f}, exact {exact}"
             );
         }
+        // The Murnaghan reactant cannot start at 550 K: its cells keep a
+        // pressure, which carries no temperature for it.
+        let hot = BOX.replace("temperature: 298.15", "temperature: 550.0");
+        let loaded = load_str("box.ron", &hot, &[]).unwrap();
+        let err = crate::build::build(&loaded.scenario)
+            .err()
+            .expect("refused");
+        assert_eq!(
+            err.field.as_deref(),
+            Some("initial.0.state.temperature"),
+            "{err}"
+        );
+        assert!(err.to_string().contains("298.15"), "{err}");
         let bad = BOX.replace("z: 1.0e7", "z: -1.0");
         let err = load_str("box.ron", &bad, &[]).unwrap_err();
         assert!(err.to_string().contains("z:"), "{err}");
