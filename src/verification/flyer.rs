@@ -111,20 +111,99 @@ pub fn mean_velocity(state: Interface, solid: Hugoniot, l: f64, t: f64) -> f64 {
     state.pressure * t / (solid.density * l)
 }
 
+/// configs/flyer_icempm.ron's drive: an ideal gas (γ = 3) at the QM-100
+/// booster's 1260 kg/m³ and 10 GPa.
+pub const BOOSTER_GAS: Gas = Gas {
+    pressure: 1.0e10,
+    density: 1260.0,
+    gamma: 3.0,
+};
+
+/// configs/flyer_icempm.ron's plate: the OFHC copper of the cylinder test
+/// on its Mie–Grüneisen Hugoniot.
+pub const COPPER: Hugoniot = Hugoniot {
+    density: 8930.0,
+    c0: 3619.7,
+    s: 1.489,
+};
+
+/// The plate's thickness in configs/flyer_icempm.ron, m.
+pub const PLATE: f64 = 0.01;
+
+/// The tube's length in configs/flyer_icempm.ron, m.
+pub const TUBE: f64 = 0.06;
+
+/// One run of configs/flyer_icempm.ron.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlyerRun {
+    /// The plate's mass-weighted mean velocity at the end, m/s.
+    pub velocity: f64,
+    /// The net mass step 2's rescale gave the fluids over the run
+    /// (booked), as a fraction of their initial mass.
+    pub rescaled: f64,
+    /// The run's end, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall time of the stepping, s.
+    pub wall_seconds: f64,
+}
+
+/// Runs configs/flyer_icempm.ron on `cells` cells along the tube (cubic
+/// cells) with the MPM shape function `shape` (`Linear`, `Gimp`, ...).
+pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
+    use brisance_compose::build::{build, Built};
+    use brisance_compose::load_str;
+    use brisance_core::Solver;
+
+    let text = include_str!("../../configs/flyer_icempm.ron");
+    let h = TUBE / cells as f64;
+    let sets = [
+        format!("domain.cells=({cells},1,1)"),
+        format!("domain.upper=({TUBE},{h},{h})"),
+        format!("pipeline.mpm.shape_function={shape}"),
+        "outputs.lineouts=[]".to_string(),
+    ];
+    let loaded = load_str("flyer_icempm.ron", text, &sets)
+        .map_err(|e| format!("configs/flyer_icempm.ron: {e}"))?;
+    let s = &loaded.scenario;
+    let Built::IceMpm { mut solver, .. } = build(s).map_err(|e| e.to_string())? else {
+        return Err("configs/flyer_icempm.ron is not an IceMpm pipeline".into());
+    };
+    let t_end = s.time.end;
+    let plate_mass: f64 = solver.mpm().particles().mass.iter().sum();
+    let fluids = solver.conservation_totals().mass - plate_mass;
+    let rescaled0 = solver.rescaled_totals().mass;
+    let start = std::time::Instant::now();
+    let mut steps = 0;
+    while solver.time() < t_end * (1.0 - 1e-12) {
+        let dt = solver.stable_dt().map_err(|e| e.to_string())?;
+        solver
+            .advance(dt.min(t_end - solver.time()))
+            .map_err(|e| format!("flyer, {cells} cells, {shape}: {e}"))?;
+        steps += 1;
+    }
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let ps = solver.mpm().particles();
+    let (mut mv, mut m) = (0.0, 0.0);
+    for (v, mass) in ps.velocity.iter().zip(&ps.mass) {
+        mv += mass * v[0];
+        m += mass;
+    }
+    Ok(FlyerRun {
+        velocity: mv / m,
+        rescaled: (solver.rescaled_totals().mass - rescaled0) / fluids,
+        time: solver.time(),
+        steps,
+        wall_seconds,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const COPPER: Hugoniot = Hugoniot {
-        density: 8930.0,
-        c0: 3619.7,
-        s: 1.489,
-    };
-    const GAS: Gas = Gas {
-        pressure: 1.0e10,
-        density: 1260.0,
-        gamma: 3.0,
-    };
+    const GAS: Gas = BOOSTER_GAS;
 
     #[test]
     fn both_sides_hold_the_interface_state() {

@@ -1537,77 +1537,19 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     Ok(())
 }
 
-/// One run of configs/flyer_icempm.ron: the plate's mass-weighted mean
-/// velocity at the end, the net mass step 2's rescale gave the fluids
-/// over the run as a fraction of the fluids' initial mass, the steps taken
-/// and the wall time.
-fn flyer_run(cells: usize, shape: &str) -> Result<(f64, f64, usize, f64)> {
-    use brisance::compose::build::{build, Built};
-    use brisance::compose::load_str;
-    use brisance::core::Solver;
-
-    let text = include_str!("../../configs/flyer_icempm.ron");
-    let h = FLYER_LENGTH / cells as f64;
-    let sets = [
-        format!("domain.cells=({cells},1,1)"),
-        format!("domain.upper=({FLYER_LENGTH},{h},{h})"),
-        format!("pipeline.mpm.shape_function={shape}"),
-        "outputs.lineouts=[]".to_string(),
-    ];
-    let loaded = load_str("flyer_icempm.ron", text, &sets)
-        .map_err(|e| anyhow!("configs/flyer_icempm.ron: {e}"))?;
-    let s = &loaded.scenario;
-    let Built::IceMpm { mut solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
-        return Err(anyhow!(
-            "configs/flyer_icempm.ron is not an IceMpm pipeline"
-        ));
-    };
-    let t_end = s.time.end;
-    let plate_mass: f64 = solver.mpm().particles().mass.iter().sum();
-    let fluids = solver.conservation_totals().mass - plate_mass;
-    let rescaled0 = solver.rescaled_totals().mass;
-    let start = Instant::now();
-    let mut steps = 0;
-    while solver.time() < t_end * (1.0 - 1e-12) {
-        let dt = solver.stable_dt().map_err(|e| anyhow!("{e}"))?;
-        solver
-            .advance(dt.min(t_end - solver.time()))
-            .map_err(|e| anyhow!("flyer, {cells} cells, {shape}: {e}"))?;
-        steps += 1;
-    }
-    let wall = start.elapsed().as_secs_f64();
-    let ps = solver.mpm().particles();
-    let (mut mv, mut m) = (0.0, 0.0);
-    for (v, mass) in ps.velocity.iter().zip(&ps.mass) {
-        mv += mass * v[0];
-        m += mass;
-    }
-    let rescaled = (solver.rescaled_totals().mass - rescaled0) / fluids;
-    Ok((mv / m, rescaled, steps, wall))
-}
-
-/// The flyer's tube length, m (configs/flyer_icempm.ron).
-const FLYER_LENGTH: f64 = 0.06;
-
 /// V-FLYER: a 10 mm copper plate (particles) driven by an ideal gas at
 /// 10 GPa (configs/flyer_icempm.ron), the plate's mean velocity at 2 µs
 /// against the exact Riemann solution (`brisance::verification::flyer`)
 /// at five cell sizes, with linear and GIMP shape functions.
 pub fn v_flyer(report: &mut Report) -> Result<()> {
-    use brisance::verification::flyer::{interface, mean_velocity, Gas, Hugoniot};
+    use brisance::verification::flyer::{
+        interface, mean_velocity, run_flyer, Hugoniot, BOOSTER_GAS, COPPER, PLATE,
+        TUBE as FLYER_TUBE,
+    };
 
     println!("V-FLYER: a copper plate driven by a 10 GPa gas (ICE–MPM)");
-    let gas = Gas {
-        pressure: 1.0e10,
-        density: 1260.0,
-        gamma: 3.0,
-    };
-    let copper = Hugoniot {
-        density: 8930.0,
-        c0: 3619.7,
-        s: 1.489,
-    };
-    let (l, t) = (0.01, 2.0e-6);
+    let (gas, copper) = (BOOSTER_GAS, COPPER);
+    let (l, t) = (PLATE, 2.0e-6);
     let exact = interface(gas, copper);
     let v_exact = mean_velocity(exact, copper, l, t);
     // The particles' own pressure is the rate form dp = −K tr(D) dt
@@ -1642,9 +1584,11 @@ pub fn v_flyer(report: &mut Report) -> Result<()> {
     );
     let mut errors = [Vec::new(), Vec::new()];
     for &n in &cells {
-        let mut row = format!("| {:.4} |", FLYER_LENGTH / n as f64 * 1e3);
+        let mut row = format!("| {:.4} |", FLYER_TUBE / n as f64 * 1e3);
         for (k, shape) in ["Linear", "Gimp"].iter().enumerate() {
-            let (v, rescaled, steps, wall) = flyer_run(n, shape)?;
+            let run = run_flyer(n, shape).map_err(|e| anyhow!(e))?;
+            let (v, rescaled, steps, wall) =
+                (run.velocity, run.rescaled, run.steps, run.wall_seconds);
             let err = v / v_exact - 1.0;
             println!(
                 "  {n} cells, {shape}: {v:.2} m/s ({:+.2} %), rescale {rescaled:+.2e}, {steps} steps, {wall:.1} s",
@@ -1661,8 +1605,8 @@ pub fn v_flyer(report: &mut Report) -> Result<()> {
     }
     let _ = writeln!(md, "\n| check | measured | target | |\n|---|---:|---:|---|");
     let (h_coarse, h_fine) = (
-        FLYER_LENGTH / cells[0] as f64 * 1e3,
-        FLYER_LENGTH / cells[cells.len() - 1] as f64 * 1e3,
+        FLYER_TUBE / cells[0] as f64 * 1e3,
+        FLYER_TUBE / cells[cells.len() - 1] as f64 * 1e3,
     );
     for (k, shape) in ["linear", "GIMP"].iter().enumerate() {
         let e = &errors[k];
