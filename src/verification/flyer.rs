@@ -199,6 +199,103 @@ pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
     })
 }
 
+/// The drive of configs/shock_plate_mpm.ron, Pa: the flyer's interface
+/// pressure p* to four digits, prescribed as a surface load.
+pub const SHOCK_PLATE_DRIVE: f64 = 8.587e9;
+
+/// The shocked region of configs/shock_plate_mpm.ron where
+/// [`run_shock_plate`] measures the state: particles between these
+/// distances from the plate's initial rear face at 2 µs, m (behind the
+/// shock, which has run 7.96 mm, and clear of the loaded face).
+pub const SHOCKED: [f64; 2] = [1.5e-3, 6.0e-3];
+
+/// One run of configs/shock_plate_mpm.ron.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShockPlateRun {
+    /// How far the rearmost particle has moved, m.
+    pub rear_displacement: f64,
+    /// Mean σ_xx of the particles in [`SHOCKED`], Pa.
+    pub stress: f64,
+    /// Their root-mean-square deviation from that mean, Pa.
+    pub stress_rms: f64,
+    /// Their mean velocity, m/s.
+    pub velocity: f64,
+    /// Its root-mean-square deviation, m/s.
+    pub velocity_rms: f64,
+    /// The run's end, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: usize,
+}
+
+/// Runs configs/shock_plate_mpm.ron on `cells` cells along the tube (cubic
+/// cells, the load on the first particle layer) with the MPM shape
+/// function `shape` (`Linear`, `Gimp`, `CpGimp`, ...).
+pub fn run_shock_plate(cells: usize, shape: &str) -> Result<ShockPlateRun, String> {
+    use brisance_compose::build::{build, Built};
+    use brisance_compose::load_str;
+    use brisance_core::Solver;
+
+    let text = include_str!("../../configs/shock_plate_mpm.ron");
+    let h = TUBE / cells as f64;
+    // The plate's rear face and its first particle layer (2 per cell).
+    let rear = 0.02;
+    let sets = [
+        format!("domain.cells=({cells},1,1)"),
+        format!("domain.upper=({TUBE},{h},{h})"),
+        format!("pipeline.shape_function={shape}"),
+        format!(
+            "pipeline.surface_loads.0.region=Box(min: (0.0, -1.0, -1.0), max: ({}, 1.0, 1.0))",
+            rear + 0.5 * h
+        ),
+    ];
+    let loaded = load_str("shock_plate_mpm.ron", text, &sets)
+        .map_err(|e| format!("configs/shock_plate_mpm.ron: {e}"))?;
+    let s = &loaded.scenario;
+    let Built::Mpm { mut solver, .. } = build(s).map_err(|e| e.to_string())? else {
+        return Err("configs/shock_plate_mpm.ron is not an Mpm pipeline".into());
+    };
+    let t_end = s.time.end;
+    let rearmost = |ps: &brisance_mpm::Particles| {
+        ps.position
+            .iter()
+            .map(|x| x[0])
+            .fold(f64::INFINITY, f64::min)
+    };
+    let rear0 = rearmost(solver.particles());
+    let mut steps = 0;
+    while solver.time() < t_end * (1.0 - 1e-12) {
+        let dt = solver.stable_dt().map_err(|e| e.to_string())?;
+        solver
+            .advance(dt.min(t_end - solver.time()))
+            .map_err(|e| format!("shock plate, {cells} cells, {shape}: {e}"))?;
+        steps += 1;
+    }
+    let ps = solver.particles();
+    let inside: Vec<usize> = (0..ps.len())
+        .filter(|&p| {
+            let d = ps.position[p][0] - rear;
+            d > SHOCKED[0] && d < SHOCKED[1]
+        })
+        .collect();
+    if inside.is_empty() {
+        return Err("no particle in the shocked region".into());
+    }
+    let n = inside.len() as f64;
+    let mean = |f: &dyn Fn(usize) -> f64| inside.iter().map(|&p| f(p)).sum::<f64>() / n;
+    let stress = mean(&|p| ps.stress[p][0]);
+    let velocity = mean(&|p| ps.velocity[p][0]);
+    Ok(ShockPlateRun {
+        rear_displacement: rearmost(ps) - rear0,
+        stress,
+        stress_rms: mean(&|p| (ps.stress[p][0] - stress).powi(2)).sqrt(),
+        velocity,
+        velocity_rms: mean(&|p| (ps.velocity[p][0] - velocity).powi(2)).sqrt(),
+        time: solver.time(),
+        steps,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

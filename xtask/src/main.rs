@@ -808,7 +808,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 39] = [
+const CASES: [&str; 40] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -820,6 +820,7 @@ const CASES: [&str; 39] = [
     "ice-implicit",
     "piston",
     "flyer",
+    "mpm-shock",
     "cylinder",
     "cylinder-rz",
     "cookoff",
@@ -909,6 +910,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("flyer") {
         ice_mpm_cases::v_flyer(&mut body)?;
+    }
+    if run("mpm-shock") {
+        ice_mpm_cases::v_mpm_shock(&mut body)?;
     }
     if run("cylinder") {
         ice_mpm_cases::e_cylinder(&mut body, &img)?;
