@@ -181,17 +181,41 @@ pub fn radial_return(
     dt: f64,
     t: f64,
 ) -> (f64, f64) {
+    radial_return_with(
+        |eps, rate, inv_dt| flow.flow_stress_and_slope(eps, rate, inv_dt, t),
+        shear_modulus,
+        trial_von_mises,
+        eps_p,
+        dt,
+    )
+}
+
+/// The radial return of [`radial_return`] for any flow stress that does
+/// not fall as the plastic strain grows: `flow(ε_p, ε̇_p, 1/Δt)` gives
+/// σ_y at plastic strain ε_p and rate ε̇_p with its slope
+/// dσ_y/dΔε_p = ∂σ_y/∂ε_p + ∂σ_y/∂ε̇_p /Δt, both in Pa; the temperature
+/// and any other state are fixed over the step inside `flow` (a
+/// rate-independent model returns the slope in ε_p alone). Solves
+/// σ̄* − 3GΔε_p = σ_y(ε_pⁿ + Δε_p, Δε_p/Δt) for σ̄* above σ_y(ε_pⁿ, 0);
+/// returns (Δε_p, σ_y at Δε_p).
+pub fn radial_return_with(
+    flow: impl Fn(f64, f64, f64) -> (f64, f64),
+    shear_modulus: f64,
+    trial_von_mises: f64,
+    eps_p: f64,
+    dt: f64,
+) -> (f64, f64) {
     let three_g = 3.0 * shear_modulus;
     let inv_dt = if dt > 0.0 { 1.0 / dt } else { 0.0 };
     let rate_of = |x: f64| if dt > 0.0 { x / dt } else { 0.0 };
     let (mut lo, mut hi) = (0.0, trial_von_mises / three_g);
     // The perfectly plastic increment is an upper bound (σ_y only rises
     // with Δε_p) and the exact answer for a constant flow stress.
-    let sigma0 = flow.flow_stress(eps_p, 0.0, t);
+    let sigma0 = flow(eps_p, 0.0, 0.0).0;
     let mut x = ((trial_von_mises - sigma0) / three_g).clamp(lo, hi);
     let mut sigma_y = sigma0;
     for _ in 0..200 {
-        let (s, slope) = flow.flow_stress_and_slope(eps_p + x, rate_of(x), inv_dt, t);
+        let (s, slope) = flow(eps_p + x, rate_of(x), inv_dt);
         sigma_y = s;
         let f = trial_von_mises - three_g * x - s;
         if f.abs() <= RETURN_TOLERANCE * s.max(f64::MIN_POSITIVE) {
@@ -213,12 +237,26 @@ pub fn radial_return(
         };
     }
     // Bracket exhausted at round-off: take the side where σ̄ ≤ σ_y.
-    let (s, _) = flow.flow_stress_and_slope(eps_p + hi, rate_of(hi), inv_dt, t);
+    let (s, _) = flow(eps_p + hi, rate_of(hi), inv_dt);
     if trial_von_mises - three_g * hi - s <= 0.0 {
         (hi, s)
     } else {
         (x, sigma_y)
     }
+}
+
+/// The temperature rise of plastic heating, ΔT = χ Δw_p/(ρ c_v), K (seed
+/// 000 §4.2): the fraction χ (Taylor–Quinney) of the plastic work per unit
+/// volume Δw_p (J/m³) turned into heat at density ρ (kg/m³) and specific
+/// heat c_v (J/(kg·K)).
+#[inline]
+pub fn plastic_heating(
+    taylor_quinney: f64,
+    plastic_work: f64,
+    density: f64,
+    specific_heat: f64,
+) -> f64 {
+    taylor_quinney * plastic_work / (density * specific_heat)
 }
 
 impl ElasticPlastic {
@@ -491,7 +529,12 @@ impl Material for ElasticPlastic {
 
         let eps_rate = if dt > 0.0 { d_eps / dt } else { 0.0 };
         let plastic_work = sigma_y * d_eps;
-        let d_temp = self.taylor_quinney * plastic_work / (input.density * self.specific_heat);
+        let d_temp = plastic_heating(
+            self.taylor_quinney,
+            plastic_work,
+            input.density,
+            self.specific_heat,
+        );
         scalars[PLASTIC_STRAIN_INDEX] = eps_p + d_eps;
         scalars[PLASTIC_STRAIN_RATE_INDEX] = eps_rate;
         scalars[TEMPERATURE_INCREMENT_INDEX] = d_temp;

@@ -39,8 +39,9 @@ pub enum ConstitutiveError {
     },
 }
 
-/// Checks that `value` is finite and > 0.
-pub(crate) fn positive(
+/// Checks that `value` of `field` of `model` is finite and > 0; the
+/// error names the field (for plugin models as for the built-in ones).
+pub fn positive(
     model: &'static str,
     field: &'static str,
     value: f64,
@@ -57,8 +58,9 @@ pub(crate) fn positive(
     }
 }
 
-/// Checks that `value` is finite and ≥ 0.
-pub(crate) fn non_negative(
+/// Checks that `value` of `field` of `model` is finite and ≥ 0; the
+/// error names the field.
+pub fn non_negative(
     model: &'static str,
     field: &'static str,
     value: f64,
