@@ -24,6 +24,15 @@ pub enum ConstitutiveError {
         /// The EOS's message (names its own field).
         detail: String,
     },
+    /// A plugin model's parameters failed its own check
+    /// ([`crate::plugin::PluginMaterial::validate`]).
+    #[error("{detail}")]
+    Plugin {
+        /// The name the plugin registered (`SteinbergGuinan`).
+        model: &'static str,
+        /// The plugin's message (names its own field).
+        detail: String,
+    },
     /// `I − ½ L Δt` is singular: the step is far too large for the
     /// velocity gradient (an eigenvalue of L Δt equals 2).
     #[error(

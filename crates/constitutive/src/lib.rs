@@ -28,6 +28,9 @@
 //!   crack growth for a polymer-bonded explosive (seed 000 §4.1.2, ref
 //!   \[19\]).
 //! - [`model`]: the [`MaterialModel`] enum a config names models through.
+//! - [`plugin`]: models in their own crates — the [`PluginMaterial`] trait,
+//!   their registration and the registry the config reader resolves names
+//!   through.
 //! - [`contracts`]: the property checks every model passes, and the
 //!   `material_contract_tests!` macro that joins a model to them.
 //!
@@ -44,6 +47,7 @@ pub mod hypoelastic;
 pub mod model;
 pub mod null_material;
 pub mod objective;
+pub mod plugin;
 pub mod pressure;
 pub mod random;
 pub mod stability;
@@ -60,6 +64,7 @@ pub use hypoelastic::Hypoelastic;
 pub use model::MaterialModel;
 pub use null_material::NullMaterial;
 pub use objective::ObjectiveRate;
+pub use plugin::{MaterialPlugin, MaterialRegistry, PluginConstitutive, PluginMaterial};
 pub use pressure::PressureModel;
 pub use random::Gaussian;
 pub use stability::StabilityChecks;

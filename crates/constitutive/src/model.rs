@@ -1,18 +1,26 @@
-//! The registry of constitutive models: one serde enum whose variant names
-//! are what a config writes (`Hypoelastic(...)`, `ElasticPlastic(...)`,
-//! `DruckerPrager(...)`, `Hjc(...)`, `Null(...)`),
+//! The registry of constitutive models: one enum whose variant names are
+//! what a config writes (`Hypoelastic(...)`, `ElasticPlastic(...)`,
+//! `DruckerPrager(...)`, `Hjc(...)`, `Null(...)`, `ViscoScram(...)`),
 //! dispatching the core [`Material`] trait with a `match` (no virtual call
-//! per point). Adding a model is a module plus one variant here.
+//! per point) for the built-in models. Adding a built-in model is a module
+//! plus one variant here; a model in its own crate registers itself instead
+//! ([`crate::plugin`]) and arrives as the [`MaterialModel::Plugin`] variant
+//! under its own name.
 
+use std::fmt;
+
+use crate::plugin::{self, MaterialPlugin, ParamsText, PluginConstitutive};
 use crate::{
     drucker_prager, elastic_plastic, hjc, viscoscram, ConstitutiveError, DruckerPrager,
     ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ViscoScram,
 };
 use brisance_core::{Eos, Mat3, Material, StressUpdate, StressUpdateInput};
-use serde::{Deserialize, Serialize};
+use serde::de::{self, Deserializer, EnumAccess, VariantAccess, Visitor};
+use serde::{Deserialize, Serialize, Serializer};
 
-/// Every constitutive model a config can name.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// Every constitutive model a config can name: the built-in models, and
+/// any model a plugin crate registered ([`crate::plugin`]).
+#[derive(Debug, Clone, PartialEq)]
 pub enum MaterialModel {
     /// Isotropic hypoelastic solid ([`crate::hypoelastic`]).
     Hypoelastic(Hypoelastic),
@@ -31,6 +39,9 @@ pub enum MaterialModel {
     /// A polymer-bonded explosive: five Maxwell elements and statistical
     /// crack growth ([`crate::viscoscram`], seed 000 §4.1.2, ref \[19\]).
     ViscoScram(ViscoScram),
+    /// A model from a plugin crate; a config writes it under the name the
+    /// crate registered (`SteinbergGuinan(...)`), never as `Plugin`.
+    Plugin(PluginConstitutive),
 }
 
 macro_rules! dispatch {
@@ -42,12 +53,13 @@ macro_rules! dispatch {
             MaterialModel::Hjc($m) => $e,
             MaterialModel::Null($m) => $e,
             MaterialModel::ViscoScram($m) => $e,
+            MaterialModel::Plugin($m) => $e,
         }
     };
 }
 
 impl MaterialModel {
-    /// The config names of every variant.
+    /// The config names of the built-in variants.
     pub const VARIANTS: &'static [&'static str] = &[
         "Hypoelastic",
         "ElasticPlastic",
@@ -57,9 +69,40 @@ impl MaterialModel {
         "ViscoScram",
     ];
 
+    /// The config name of this model (`ElasticPlastic`, ...; a plugin
+    /// model's registered name).
+    pub fn variant(&self) -> &'static str {
+        match self {
+            Self::Hypoelastic(_) => "Hypoelastic",
+            Self::ElasticPlastic(_) => "ElasticPlastic",
+            Self::DruckerPrager(_) => "DruckerPrager",
+            Self::Hjc(_) => "Hjc",
+            Self::Null(_) => "Null",
+            Self::ViscoScram(_) => "ViscoScram",
+            Self::Plugin(m) => m.plugin().name,
+        }
+    }
+
+    /// Every name a config may write: the built-in variants, then the
+    /// installed plugins ([`crate::plugin::install`]).
+    pub fn names() -> &'static [&'static str] {
+        plugin::names()
+    }
+
     /// Checks the parameters; the message names the bad field.
     pub fn validate(&self) -> Result<(), ConstitutiveError> {
-        dispatch!(self, m => m.validate())
+        match self {
+            Self::Hypoelastic(m) => m.validate(),
+            Self::ElasticPlastic(m) => m.validate(),
+            Self::DruckerPrager(m) => m.validate(),
+            Self::Hjc(m) => m.validate(),
+            Self::Null(m) => m.validate(),
+            Self::ViscoScram(m) => m.validate(),
+            Self::Plugin(m) => m.validate().map_err(|detail| ConstitutiveError::Plugin {
+                model: m.plugin().name,
+                detail,
+            }),
+        }
     }
 
     /// Whether the model is purely elastic (no plastic flow, no failure,
@@ -68,6 +111,7 @@ impl MaterialModel {
         match self {
             Self::Hypoelastic(_) => true,
             Self::Null(m) => !m.is_viscous(),
+            Self::Plugin(m) => m.model().is_elastic(),
             Self::ElasticPlastic(_)
             | Self::DruckerPrager(_)
             | Self::Hjc(_)
@@ -80,14 +124,22 @@ impl MaterialModel {
     /// into heat, so "zero rate keeps the stress" does not apply; a rigid
     /// spin must then commute with that relaxation instead.
     pub fn relaxes(&self) -> bool {
-        matches!(self, Self::ViscoScram(m) if m.inverse_relaxation_times.iter().any(|&r| r > 0.0))
+        match self {
+            Self::ViscoScram(m) => m.inverse_relaxation_times.iter().any(|&r| r > 0.0),
+            Self::Plugin(m) => m.model().relaxes(),
+            _ => false,
+        }
     }
 
     /// Whether the stress depends on the current rate of deformation
     /// rather than being carried from step to step (the viscous fluid,
     /// σ' = 2μ dev D): zero strain rate then removes the viscous stress.
     pub fn is_viscous(&self) -> bool {
-        matches!(self, Self::Null(m) if m.is_viscous())
+        match self {
+            Self::Null(m) => m.is_viscous(),
+            Self::Plugin(m) => m.model().is_viscous(),
+            _ => false,
+        }
     }
 
     /// The flow stress at a point's history and temperature (Pa), for the
@@ -120,6 +172,7 @@ impl MaterialModel {
             }
             Self::DruckerPrager(m) => Some(m.yield_excess(stress)),
             Self::Hjc(m) => Some(m.yield_excess(stress, history)),
+            Self::Plugin(m) => m.model().yield_excess(stress, history, temperature),
             Self::Hypoelastic(_) | Self::Null(_) | Self::ViscoScram(_) => None,
         }
     }
@@ -129,6 +182,7 @@ impl MaterialModel {
         match self {
             Self::ElasticPlastic(_) => history[elastic_plastic::FAILED_INDEX] != 0.0,
             Self::Hjc(_) => history[hjc::FAILED_INDEX] != 0.0,
+            Self::Plugin(m) => m.model().is_failed(history),
             Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) | Self::ViscoScram(_) => {
                 false
             }
@@ -147,6 +201,7 @@ impl MaterialModel {
             Self::ViscoScram(_) => {
                 &history[viscoscram::CRACK_RADIUS_INDEX..=viscoscram::CRACK_RADIUS_INDEX]
             }
+            Self::Plugin(m) => m.model().damage(history),
             Self::Hypoelastic(_) | Self::DruckerPrager(_) | Self::Null(_) => &[],
         }
     }
@@ -158,6 +213,7 @@ impl MaterialModel {
             Self::ElasticPlastic(m) if m.tepla.is_some() => {
                 Some(history[elastic_plastic::POROSITY_INDEX])
             }
+            Self::Plugin(m) => m.model().porosity(history),
             _ => None,
         }
     }
@@ -173,7 +229,140 @@ impl MaterialModel {
             Self::Hjc(_) => hjc::STATE_HISTORY_LEN,
             // The crack radius; the element stresses that follow rotate.
             Self::ViscoScram(_) => 1,
+            Self::Plugin(m) => m.model().scalar_state_len(),
         }
+    }
+
+    /// The temperature rise of the last update from the model's plastic
+    /// work, K, which the solver that owns the temperature adds to it: the
+    /// J2 metal's χ Δw_p/(ρ c_v) ([`crate::elastic_plastic`], step 4) and a
+    /// plugin model's own; `None` for a model that does not heat itself.
+    #[inline]
+    pub fn temperature_increment(&self, history: &[f64]) -> Option<f64> {
+        match self {
+            Self::ElasticPlastic(_) => Some(history[elastic_plastic::TEMPERATURE_INCREMENT_INDEX]),
+            Self::Plugin(m) => m.model().temperature_increment(history),
+            _ => None,
+        }
+    }
+
+    /// The specific heat the model carries, J/(kg·K): the J2 metal's and a
+    /// plugin model's own, `None` for the others.
+    pub fn specific_heat(&self) -> Option<f64> {
+        match self {
+            Self::ElasticPlastic(m) => Some(m.specific_heat),
+            Self::Plugin(m) => m.model().specific_heat(),
+            _ => None,
+        }
+    }
+}
+
+impl Serialize for MaterialModel {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        const NAME: &str = "MaterialModel";
+        let names = Self::names();
+        let index = names.iter().position(|v| *v == self.variant());
+        let index = index.unwrap_or(names.len()) as u32;
+        match self {
+            Self::Hypoelastic(m) => s.serialize_newtype_variant(NAME, index, "Hypoelastic", m),
+            Self::ElasticPlastic(m) => {
+                s.serialize_newtype_variant(NAME, index, "ElasticPlastic", m)
+            }
+            Self::DruckerPrager(m) => s.serialize_newtype_variant(NAME, index, "DruckerPrager", m),
+            Self::Hjc(m) => s.serialize_newtype_variant(NAME, index, "Hjc", m),
+            Self::Null(m) => s.serialize_newtype_variant(NAME, index, "Null", m),
+            Self::ViscoScram(m) => s.serialize_newtype_variant(NAME, index, "ViscoScram", m),
+            Self::Plugin(m) => {
+                s.serialize_newtype_variant(NAME, index, m.plugin().name, &PluginParams(m))
+            }
+        }
+    }
+}
+
+/// A plugin model's parameters as they serialize: its canonical RON text.
+struct PluginParams<'a>(&'a PluginConstitutive);
+
+impl Serialize for PluginParams<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize_params(s)
+    }
+}
+
+/// A variant name as a deserializer gives it: a built-in one (by name or,
+/// for formats that write indices, by index), an installed plugin, or
+/// neither.
+enum Tag {
+    Builtin(&'static str),
+    Plugin(&'static MaterialPlugin),
+    Unknown(String),
+}
+
+impl<'de> Deserialize<'de> for Tag {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct TagVisitor;
+        impl Visitor<'_> for TagVisitor {
+            type Value = Tag;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "the name of a constitutive model")
+            }
+            fn visit_str<E: de::Error>(self, name: &str) -> Result<Tag, E> {
+                if let Some(v) = MaterialModel::VARIANTS.iter().find(|v| **v == name) {
+                    Ok(Tag::Builtin(v))
+                } else if let Some(p) = plugin::find(name) {
+                    Ok(Tag::Plugin(p))
+                } else {
+                    Ok(Tag::Unknown(name.to_string()))
+                }
+            }
+            fn visit_u64<E: de::Error>(self, index: u64) -> Result<Tag, E> {
+                let names = MaterialModel::names();
+                match usize::try_from(index).ok().and_then(|i| names.get(i)) {
+                    Some(name) => self.visit_str(name),
+                    None => Err(E::invalid_value(
+                        de::Unexpected::Unsigned(index),
+                        &"a variant index",
+                    )),
+                }
+            }
+        }
+        d.deserialize_identifier(TagVisitor)
+    }
+}
+
+impl<'de> Deserialize<'de> for MaterialModel {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct ModelVisitor;
+        impl<'de> Visitor<'de> for ModelVisitor {
+            type Value = MaterialModel;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "a constitutive model such as `ElasticPlastic(...)`")
+            }
+            fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<MaterialModel, A::Error> {
+                use MaterialModel as M;
+                let (tag, variant) = data.variant::<Tag>()?;
+                match tag {
+                    Tag::Builtin("Hypoelastic") => variant.newtype_variant().map(M::Hypoelastic),
+                    Tag::Builtin("ElasticPlastic") => {
+                        variant.newtype_variant().map(M::ElasticPlastic)
+                    }
+                    Tag::Builtin("DruckerPrager") => {
+                        variant.newtype_variant().map(M::DruckerPrager)
+                    }
+                    Tag::Builtin("Hjc") => variant.newtype_variant().map(M::Hjc),
+                    Tag::Builtin("Null") => variant.newtype_variant().map(M::Null),
+                    Tag::Builtin("ViscoScram") => variant.newtype_variant().map(M::ViscoScram),
+                    Tag::Builtin(name) => Err(de::Error::unknown_variant(name, M::names())),
+                    Tag::Plugin(p) => {
+                        let ParamsText(params) = variant.newtype_variant()?;
+                        PluginConstitutive::new(p, &params)
+                            .map(M::Plugin)
+                            .map_err(|m| de::Error::custom(format!("{}: {m}", p.name)))
+                    }
+                    Tag::Unknown(name) => Err(de::Error::unknown_variant(&name, M::names())),
+                }
+            }
+        }
+        d.deserialize_enum("MaterialModel", Self::VARIANTS, ModelVisitor)
     }
 }
 
@@ -245,6 +434,12 @@ impl From<NullMaterial> for MaterialModel {
     }
 }
 
+impl From<PluginConstitutive> for MaterialModel {
+    fn from(m: PluginConstitutive) -> Self {
+        Self::Plugin(m)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -311,6 +506,32 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("viscosity"));
+    }
+
+    /// The hand-written serde of the enum reads and writes the built-in
+    /// models as the derived one did: `Name(fields)`, the same values back,
+    /// and an unknown name refused with the list of names.
+    #[test]
+    fn built_in_models_read_and_write_under_their_variant_names() {
+        let options = crate::plugin::ron_options();
+        for m in [
+            MaterialModel::from(Hypoelastic::ofhc_copper_seed000(ObjectiveRate::Jaumann)),
+            ElasticPlastic::steel_4340_cookoff_seed000().into(),
+            DruckerPrager::soil_luccioni_luege_2006().into(),
+            Hjc::concrete_48mpa_hjc1993().into(),
+            NullMaterial::air().into(),
+            ViscoScram::pbx_9501(ObjectiveRate::GreenNaghdi).into(),
+        ] {
+            for options in [ron::Options::default(), options.clone()] {
+                let text = options.to_string(&m).unwrap();
+                assert!(text.starts_with(&format!("{}(", m.variant())), "{text}");
+                assert_eq!(options.from_str::<MaterialModel>(&text).unwrap(), m);
+            }
+        }
+        let err = ron::from_str::<MaterialModel>("Elastic(shear_modulus: 1.0)").unwrap_err();
+        for name in MaterialModel::VARIANTS {
+            assert!(err.to_string().contains(&format!("`{name}`")), "{err}");
+        }
     }
 
     crate::material_contract_tests!(
