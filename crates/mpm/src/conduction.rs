@@ -60,9 +60,9 @@ pub struct HeatConduction {
     pub conductivity: Vec<f64>,
     /// Specific heat c_v of each material, J/(kg·K), finite and > 0; `None`
     /// or past the end of the list: the model's own (the J2 metal's
-    /// `specific_heat`). A material with k > 0 needs one; a material
-    /// without one takes no part in the conduction (its temperature is
-    /// left alone).
+    /// `specific_heat`, or a plugin model's). A material with k > 0 needs
+    /// one; a material without one takes no part in the conduction (its
+    /// temperature is left alone).
     #[serde(default)]
     pub specific_heat: Vec<Option<f64>>,
 }
@@ -148,12 +148,10 @@ impl HeatConduction {
     }
 }
 
-/// The specific heat a model carries, J/(kg·K): the J2 metal's.
+/// The specific heat a model carries, J/(kg·K): the J2 metal's, or a
+/// plugin model's own ([`MaterialModel::specific_heat`]).
 fn model_specific_heat(model: &MaterialModel) -> Option<f64> {
-    match model {
-        MaterialModel::ElasticPlastic(m) => Some(m.specific_heat),
-        _ => None,
-    }
+    model.specific_heat()
 }
 
 fn model_name(model: &MaterialModel) -> &'static str {

@@ -34,7 +34,7 @@ use crate::grid_nodes::{GridNodes, NodeStage, NodeUpdate};
 use crate::transfer::{self, G2pParticles, GridMap, P2gParticles, P2gSums, ParticleBins};
 use crate::viscosity::{BulkViscosityState, ViscosityParams};
 use crate::{MaterialId, Particles, ShapeFunction};
-use brisance_constitutive::{elastic_plastic::TEMPERATURE_INCREMENT_INDEX, MaterialModel};
+use brisance_constitutive::MaterialModel;
 use brisance_core::{Mat3, Material, StressUpdateInput, UniformGridGeometry};
 use rayon::iter::Either;
 use rayon::prelude::*;
@@ -746,7 +746,8 @@ pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
 ///    Δe = Δt (σⁿ + σⁿ⁺¹)/2 : D / ρ^{n+½} with D = sym L and
 ///    ρ^{n+½} = 2m/(Vⁿ + Vⁿ⁺¹) — this already contains the plastic work, so
 ///    plastic heating enters the temperature only: T += ΔT, the increment
-///    the elastic–plastic model stores in its history;
+///    the elastic–plastic model (or a plugin model that heats itself)
+///    reports ([`MaterialModel::temperature_increment`]);
 /// 5. the failed flag from the update (irreversible).
 ///
 /// With an artificial bulk viscosity ([`crate::viscosity`]) the stored
@@ -755,8 +756,9 @@ pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
 /// qⁿ⁺¹ = q(tr D, ρⁿ⁺¹, c(ρⁿ⁺¹, eⁿ), l) is subtracted from its σⁿ⁺¹, and the
 /// stress power of step 4 uses the stored (total) stresses, so the work of
 /// q, Δt (qⁿ + qⁿ⁺¹)/2 |tr D| / ρ^{n+½}, heats the particle. A model that
-/// tracks its temperature apart from e (the elastic–plastic one) also gets
-/// that work as ΔT = w_q / c_v.
+/// tracks its temperature apart from e (the elastic–plastic one, a plugin
+/// model with a temperature increment and a specific heat) also gets that
+/// work as ΔT = w_q / c_v.
 ///
 /// Returns (J, reason) when the new state is not physical; the particle is
 /// then left partly updated and the step must be abandoned.
@@ -843,11 +845,14 @@ pub fn update_particle_stress(
     if !e_new.is_finite() {
         return Err((j, "the specific internal energy is not finite"));
     }
-    if let MaterialModel::ElasticPlastic(model) = material {
-        *state.temperature += history[TEMPERATURE_INCREMENT_INDEX];
+    if let (Some(d_temp), Some(specific_heat)) = (
+        material.temperature_increment(history),
+        material.specific_heat(),
+    ) {
+        *state.temperature += d_temp;
         if q_old != 0.0 || q_new != 0.0 {
             let viscous_work = -dt * 0.5 * (q_old + q_new) * trace_d / rho_mid;
-            *state.temperature += viscous_work / model.specific_heat;
+            *state.temperature += viscous_work / specific_heat;
         }
     }
     *state.specific_internal_energy = e_new;
