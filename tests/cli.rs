@@ -383,6 +383,18 @@ fn list_names_the_equations_of_state_and_pipelines() {
         text.contains("docs: docs/physics/eos/noble_abel.md"),
         "{text}"
     );
+    // And a plugin crate's constitutive model, under the constitutive
+    // models.
+    let materials = text
+        .split("constitutive models (material):")
+        .nth(1)
+        .and_then(|rest| rest.split("reaction models").next())
+        .unwrap_or_else(|| panic!("no constitutive models section:\n{text}"));
+    assert!(materials.contains("SteinbergGuinan"), "{text}");
+    assert!(
+        materials.contains("docs: docs/physics/constitutive/steinberg_guinan.md"),
+        "{text}"
+    );
 }
 
 #[test]

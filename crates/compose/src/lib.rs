@@ -6,7 +6,8 @@
 //! - [`validate`]: the checks serde cannot express.
 //! - [`registry`]: every named component with a one-line description.
 //! - [`plugins`]: the one place model crates register (equations of state
-//!   such as `NobleAbel`).
+//!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
+//!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline ([`lattice`],
 //!   [`peridynamics`], [`ice`] and [`bridge`] hold their own pipelines).

@@ -69,17 +69,25 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
     Ok(())
 }
 
-/// The position of parse error `e`. A plugin model reads its parameters
-/// after the parser has passed them, so for a parameter it does not know
-/// the parser stands at the model's closing parenthesis; the position is
-/// moved back to that parameter, inside the model's parentheses.
+/// The position of parse error `e`. A plugin model (an equation of state
+/// or a constitutive model) reads its parameters after the parser has
+/// passed them, so for a parameter it does not know the parser stands at
+/// the model's closing parenthesis; the position is moved back to that
+/// parameter, inside the model's parentheses.
 fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, usize) {
     let at = (e.span.start.line, e.span.start.col);
     let message = e.code.to_string();
-    let Some(plugin) = brisance_eos::plugin::installed()
+    let eos = brisance_eos::plugin::installed()
         .into_iter()
         .flat_map(|r| r.plugins())
-        .find(|p| message.starts_with(&format!("{}: ", p.name)))
+        .map(|p| p.name);
+    let materials = brisance_constitutive::plugin::installed()
+        .into_iter()
+        .flat_map(|r| r.plugins())
+        .map(|p| p.name);
+    let Some(plugin) = eos
+        .chain(materials)
+        .find(|name| message.starts_with(&format!("{name}: ")))
     else {
         return at;
     };
@@ -106,7 +114,7 @@ fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, us
     else {
         return at;
     };
-    let Some(start) = text[..end].rfind(&format!("{}(", plugin.name)) else {
+    let Some(start) = text[..end].rfind(&format!("{plugin}(")) else {
         return at;
     };
     let is_ident = |c: char| c.is_alphanumeric() || c == '_';
@@ -381,6 +389,73 @@ mod tests {
         .unwrap_err();
         assert!(err.message.contains("`NobleAbel`"), "{err}");
         assert!(err.message.contains("`StiffenedGas`"), "{err}");
+    }
+
+    /// taylor2d.ron's copper as the Steinberg–Cochran–Guinan plugin model
+    /// (`brisance-constitutive-scg`), one parameter a line.
+    fn scg_copper() -> String {
+        let model = brisance_constitutive_scg::registration::STEINBERG_GUINAN
+            .example
+            .replace(", ", ",\n                ");
+        copper_as(&format!("(model: {model})"))
+    }
+
+    #[test]
+    fn a_plugin_constitutive_model_is_named_like_a_built_in_one() {
+        let loaded = load_str("t.ron", &scg_copper(), &[]).unwrap();
+        let model = loaded.scenario.materials["copper"].model.as_ref().unwrap();
+        assert_eq!(model.variant(), "SteinbergGuinan");
+        assert_eq!(brisance_core::Material::name(model), "steinberg_guinan");
+        // Its enum-valued parameters (the EOS, the rate) reached the model.
+        let preset = brisance_constitutive::PluginConstitutive::from_model(
+            &brisance_constitutive_scg::registration::STEINBERG_GUINAN,
+            brisance_constitutive_scg::SteinbergGuinan::ofhc_copper(),
+        )
+        .unwrap();
+        assert_eq!(model, &brisance_constitutive::MaterialModel::Plugin(preset));
+        assert!(brisance_core::Material::eos(model).is_some());
+    }
+
+    #[test]
+    fn a_plugin_constitutive_model_reports_errors_at_its_place() {
+        // A value out of range: the plugin's own check, at the model.
+        let text = scg_copper().replace("y_max: 0.64e9", "y_max: 0.1e9");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert_eq!(
+            err.field.as_deref(),
+            Some("materials.copper.model"),
+            "{err}"
+        );
+        assert!(err.message.contains("`y_max`"), "{err}");
+        assert_eq!(
+            err.position.map(|p| p.0),
+            Some(line_of(&text, "SteinbergGuinan"))
+        );
+        // A misspelt parameter: serde's message under the model's name, at
+        // the parameter's line and column.
+        let text = scg_copper().replace("beta:", "betta:");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert!(
+            err.message.contains("SteinbergGuinan") && err.message.contains("betta"),
+            "{err}"
+        );
+        let line = line_of(&text, "betta");
+        let col = text.lines().nth(line - 1).unwrap().find("betta").unwrap() + 1;
+        assert_eq!(err.position, Some((line, col)), "{err}");
+        // A misspelt field of its equation of state, likewise.
+        let text = scg_copper().replace("c0: 3940.0", "c_0: 3940.0");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert!(err.message.contains("c_0"), "{err}");
+        assert_eq!(
+            err.position.map(|p| p.0),
+            Some(line_of(&text, "c_0")),
+            "{err}"
+        );
+        // An unknown model lists the plugins with the built-in ones.
+        let text = copper_as("(model: SteinbergGuinann(g0: 1.0))");
+        let err = load_str("t.ron", &text, &[]).unwrap_err();
+        assert!(err.message.contains("`SteinbergGuinan`"), "{err}");
+        assert!(err.message.contains("`ElasticPlastic`"), "{err}");
     }
 
     #[test]

@@ -1,8 +1,9 @@
 //! The registry of named components: what `brisance list` prints and what a
 //! config may name. Each entry carries a RON example that the tests parse,
 //! so the list cannot drift from the schema. The built-in components are
-//! [`ENTRIES`]; [`entries`] adds the equations of state and reaction models
-//! of the plugin crates ([`crate::plugins`]) from their own registration.
+//! [`ENTRIES`]; [`entries`] adds the equations of state, reaction models
+//! and constitutive models of the plugin crates ([`crate::plugins`]) from
+//! their own registration.
 
 /// One named component.
 #[derive(Debug, Clone, Copy)]
@@ -366,13 +367,15 @@ pub const ENTRIES: &[Entry] = &[
     },
 ];
 
-/// Every registered component: [`ENTRIES`], then the equations of state and
-/// the reaction models of the plugin crates, each under the name, summary,
-/// example and docs page its crate registered.
+/// Every registered component: [`ENTRIES`], then the equations of state,
+/// the reaction models and the constitutive models of the plugin crates,
+/// each under the name, summary, example and docs page its crate
+/// registered.
 pub fn entries() -> Vec<Entry> {
     crate::plugins::install();
     let plugins = brisance_eos::plugin::installed().map_or(&[][..], |r| r.plugins());
     let reactions = brisance_reaction::plugin::installed().map_or(&[][..], |r| r.plugins());
+    let materials = brisance_constitutive::plugin::installed().map_or(&[][..], |r| r.plugins());
     ENTRIES
         .iter()
         .copied()
@@ -385,6 +388,13 @@ pub fn entries() -> Vec<Entry> {
         }))
         .chain(reactions.iter().map(|p| Entry {
             family: "reaction",
+            name: p.name,
+            summary: p.summary,
+            example: p.example,
+            docs: Some(p.docs),
+        }))
+        .chain(materials.iter().map(|p| Entry {
+            family: "material",
             name: p.name,
             summary: p.summary,
             example: p.example,
@@ -504,6 +514,20 @@ mod tests {
         for v in names {
             assert!(
                 all.iter().any(|e| e.family == "reaction" && e.name == v),
+                "{v} missing from the registry"
+            );
+        }
+    }
+
+    #[test]
+    fn every_material_plugin_is_registered() {
+        let all = entries();
+        let names = MaterialModel::names();
+        // The plugin crates' models are nameable once installed.
+        assert!(names.len() > MaterialModel::VARIANTS.len());
+        for v in names {
+            assert!(
+                all.iter().any(|e| e.family == "material" && e.name == *v),
                 "{v} missing from the registry"
             );
         }
