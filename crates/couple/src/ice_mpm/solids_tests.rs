@@ -177,6 +177,26 @@ fn a_burning_block_keeps_mass_and_momentum_and_hands_over_its_energy() {
     );
 }
 
+/// The burning block's energy error is a splitting error of the coupled
+/// step: run to the same 1.8 µs, the total energy change over the heat
+/// released falls as Δt is halved and halved again
+/// (docs/physics/couple/ice_mpm.md, "The burning block's energy in Δt").
+#[test]
+fn the_burning_block_energy_error_falls_with_the_time_step() {
+    let t_end = 1.8e-6;
+    let runs: Vec<(f64, f64, u64)> = [1.0, 0.5, 0.25]
+        .iter()
+        .map(|&f| burning_block_energy(f, t_end).unwrap())
+        .collect();
+    for w in runs.windows(2) {
+        let ((a, ha, na), (b, hb, nb)) = (w[0], w[1]);
+        assert!(nb > na, "{na} then {nb} steps");
+        // The same burn: the heat released agrees to a few per cent.
+        assert!((hb / ha - 1.0).abs() < 0.05, "heat {ha} then {hb} J");
+        assert!(a > 0.0 && b.abs() < 0.6 * a, "energy/heat {a:e} then {b:e}");
+    }
+}
+
 /// Particles burnt below 10⁻⁶ of their initial mass go whole to the
 /// products and are removed: at the capped rate (20 % a step) the whole
 /// reactant is gone after 62 steps; every kilogram is in the products

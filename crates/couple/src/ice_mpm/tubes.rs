@@ -306,6 +306,30 @@ pub fn burning_block() -> Result<BurningBlock, SolverError> {
     })
 }
 
+/// The energy closure of [`burning_block`] under a smaller time step: the
+/// same tube run to `t_end` with Δt = `scale` × the stable step (the last
+/// step cut to land on `t_end`). Returns (total energy change over the heat
+/// released, heat released in J, steps).
+///
+/// The coupled step's energy error is a splitting error of the step: it
+/// falls with Δt at a fixed end time (docs/physics/couple/ice_mpm.md,
+/// "The burning block's energy in Δt").
+pub fn burning_block_energy(scale: f64, t_end: f64) -> Result<(f64, f64, u64), SolverError> {
+    let (p0, g) = (2e9, 9.1e-5);
+    let mut s = burning_tube(p0, 100.0, g).build();
+    let m0: f64 = s.mpm().particles().mass.iter().sum();
+    let before = s.conservation_totals();
+    let mut steps = 0;
+    while s.time() < t_end * (1.0 - 1e-12) {
+        let dt = (s.stable_dt()? * scale).min(t_end - s.time());
+        s.advance(dt)?;
+        steps += 1;
+    }
+    let after = s.conservation_totals();
+    let heat = (m0 - s.unburnt_reactant()[0]) * s.burns[0].heat;
+    Ok(((after.energy - before.energy) / heat, heat, steps))
+}
+
 /// What [`particle_deflagration`] measures.
 #[derive(Clone, Copy, Debug)]
 pub struct ParticleBurn {
