@@ -41,7 +41,7 @@ mod tests {
         let preset =
             PluginConstitutive::from_model(&STEINBERG_GUINAN, SteinbergGuinan::ofhc_copper())
                 .unwrap();
-        assert_eq!(params, preset.params());
+        assert_eq!(&params, preset.params());
         let from_text = PluginConstitutive::new(&STEINBERG_GUINAN, args).unwrap();
         assert_eq!(MaterialModel::from(from_text), MaterialModel::from(preset));
     }

@@ -7,15 +7,14 @@
 //! ([`crate::plugin`]) and arrives as the [`MaterialModel::Plugin`] variant
 //! under its own name.
 
-use std::fmt;
-
-use crate::plugin::{self, MaterialPlugin, ParamsText, PluginConstitutive};
+use crate::plugin::{self, MaterialPlugin, PluginConstitutive};
 use crate::{
     drucker_prager, elastic_plastic, hjc, viscoscram, ConstitutiveError, DruckerPrager,
     ElasticPlastic, Hjc, Hypoelastic, NullMaterial, ViscoScram,
 };
 use brisance_core::{Eos, Mat3, Material, StressUpdate, StressUpdateInput};
-use serde::de::{self, Deserializer, EnumAccess, VariantAccess, Visitor};
+use brisance_plugin::{Installed, PluginEnum, PluginInstance};
+use serde::de::{Deserializer, VariantAccess};
 use serde::{Deserialize, Serialize, Serializer};
 
 /// Every constitutive model a config can name: the built-in models, and
@@ -260,9 +259,7 @@ impl MaterialModel {
 impl Serialize for MaterialModel {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         const NAME: &str = "MaterialModel";
-        let names = Self::names();
-        let index = names.iter().position(|v| *v == self.variant());
-        let index = index.unwrap_or(names.len()) as u32;
+        let index = brisance_plugin::variant_index::<Self>(self.variant());
         match self {
             Self::Hypoelastic(m) => s.serialize_newtype_variant(NAME, index, "Hypoelastic", m),
             Self::ElasticPlastic(m) => {
@@ -272,97 +269,46 @@ impl Serialize for MaterialModel {
             Self::Hjc(m) => s.serialize_newtype_variant(NAME, index, "Hjc", m),
             Self::Null(m) => s.serialize_newtype_variant(NAME, index, "Null", m),
             Self::ViscoScram(m) => s.serialize_newtype_variant(NAME, index, "ViscoScram", m),
-            Self::Plugin(m) => {
-                s.serialize_newtype_variant(NAME, index, m.plugin().name, &PluginParams(m))
-            }
+            Self::Plugin(m) => brisance_plugin::serialize_plugin::<Self, S>(&m.0, s),
         }
     }
 }
 
-/// A plugin model's parameters as they serialize: its canonical RON text.
-struct PluginParams<'a>(&'a PluginConstitutive);
+/// A built-in name reads its variant as the derived code did; any other
+/// name is looked up among the installed plugins.
+impl PluginEnum for MaterialModel {
+    type Plugin = MaterialPlugin;
+    const NAME: &'static str = "MaterialModel";
+    const VARIANTS: &'static [&'static str] = Self::VARIANTS;
+    const EXPECTING: &'static str = "a constitutive model such as `ElasticPlastic(...)`";
 
-impl Serialize for PluginParams<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.serialize_params(s)
+    fn installed() -> &'static Installed<MaterialPlugin> {
+        plugin::slot()
     }
-}
 
-/// A variant name as a deserializer gives it: a built-in one (by name or,
-/// for formats that write indices, by index), an installed plugin, or
-/// neither.
-enum Tag {
-    Builtin(&'static str),
-    Plugin(&'static MaterialPlugin),
-    Unknown(String),
-}
-
-impl<'de> Deserialize<'de> for Tag {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct TagVisitor;
-        impl Visitor<'_> for TagVisitor {
-            type Value = Tag;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "the name of a constitutive model")
-            }
-            fn visit_str<E: de::Error>(self, name: &str) -> Result<Tag, E> {
-                if let Some(v) = MaterialModel::VARIANTS.iter().find(|v| **v == name) {
-                    Ok(Tag::Builtin(v))
-                } else if let Some(p) = plugin::find(name) {
-                    Ok(Tag::Plugin(p))
-                } else {
-                    Ok(Tag::Unknown(name.to_string()))
-                }
-            }
-            fn visit_u64<E: de::Error>(self, index: u64) -> Result<Tag, E> {
-                let names = MaterialModel::names();
-                match usize::try_from(index).ok().and_then(|i| names.get(i)) {
-                    Some(name) => self.visit_str(name),
-                    None => Err(E::invalid_value(
-                        de::Unexpected::Unsigned(index),
-                        &"a variant index",
-                    )),
-                }
-            }
+    fn read_builtin<'de, A: VariantAccess<'de>>(
+        name: &'static str,
+        variant: A,
+    ) -> Result<Self, A::Error> {
+        match name {
+            "Hypoelastic" => variant.newtype_variant().map(Self::Hypoelastic),
+            "ElasticPlastic" => variant.newtype_variant().map(Self::ElasticPlastic),
+            "DruckerPrager" => variant.newtype_variant().map(Self::DruckerPrager),
+            "Hjc" => variant.newtype_variant().map(Self::Hjc),
+            "Null" => variant.newtype_variant().map(Self::Null),
+            "ViscoScram" => variant.newtype_variant().map(Self::ViscoScram),
+            _ => Err(Self::unknown(name)),
         }
-        d.deserialize_identifier(TagVisitor)
+    }
+
+    fn from_plugin(model: PluginInstance<MaterialPlugin>) -> Self {
+        Self::Plugin(PluginConstitutive(model))
     }
 }
 
 impl<'de> Deserialize<'de> for MaterialModel {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct ModelVisitor;
-        impl<'de> Visitor<'de> for ModelVisitor {
-            type Value = MaterialModel;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "a constitutive model such as `ElasticPlastic(...)`")
-            }
-            fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<MaterialModel, A::Error> {
-                use MaterialModel as M;
-                let (tag, variant) = data.variant::<Tag>()?;
-                match tag {
-                    Tag::Builtin("Hypoelastic") => variant.newtype_variant().map(M::Hypoelastic),
-                    Tag::Builtin("ElasticPlastic") => {
-                        variant.newtype_variant().map(M::ElasticPlastic)
-                    }
-                    Tag::Builtin("DruckerPrager") => {
-                        variant.newtype_variant().map(M::DruckerPrager)
-                    }
-                    Tag::Builtin("Hjc") => variant.newtype_variant().map(M::Hjc),
-                    Tag::Builtin("Null") => variant.newtype_variant().map(M::Null),
-                    Tag::Builtin("ViscoScram") => variant.newtype_variant().map(M::ViscoScram),
-                    Tag::Builtin(name) => Err(de::Error::unknown_variant(name, M::names())),
-                    Tag::Plugin(p) => {
-                        let ParamsText(params) = variant.newtype_variant()?;
-                        PluginConstitutive::new(p, &params)
-                            .map(M::Plugin)
-                            .map_err(|m| de::Error::custom(format!("{}: {m}", p.name)))
-                    }
-                    Tag::Unknown(name) => Err(de::Error::unknown_variant(&name, M::names())),
-                }
-            }
-        }
-        d.deserialize_enum("MaterialModel", Self::VARIANTS, ModelVisitor)
+        brisance_plugin::deserialize(d)
     }
 }
 

@@ -12,32 +12,23 @@
 //!
 //! The built-in models keep their enum variants and their `match`
 //! dispatch; a plugin model costs one virtual call per stress update,
-//! behind one more arm of that `match`. The same scheme serves the
+//! behind one more arm of that `match`. The registry, its installed slot
+//! and the parameters as RON text are `brisance_plugin`'s, shared with the
 //! equations of state (`brisance_eos::plugin`) and the reaction models
-//! (`brisance_reaction::plugin`).
-//!
-//! # Parameters as RON text
-//!
-//! The equation-of-state and reaction plugins read their parameters as a
-//! [`ron::Value`]. That value keeps numbers, strings, sequences and maps
-//! but drops the names of enum variants (`rate: Jaumann` reads as `()`,
-//! `pressure: Eos(MieGruneisenLinear(...))` as a bare sequence), and a
-//! constitutive model's parameters hold enums: the objective rate, the
-//! pressure model and its equation of state. A plugin material therefore
-//! receives the RON text of its parameters, taken from the config through
-//! the ron deserializer's raw-value protocol (the one [`ron::value::RawValue`]
-//! uses), and parses it into its own type with the reader's RON extensions
-//! ([`ron_options`]). What the model keeps for comparison and for writing
-//! itself back is that type serialized again: one canonical text per
-//! parameter set, whatever the spacing and comments of the config.
+//! (`brisance_reaction::plugin`). A constitutive model's parameters are
+//! full of enums (the objective rate, the pressure model and its equation
+//! of state); a plugin receives the RON text of its parameters, so they
+//! keep their variant names, and parses it with [`parse_params`] into its
+//! own type. What the model keeps for comparison and for writing itself
+//! back is that type serialized again ([`Params`]).
 
 use std::fmt;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use brisance_core::{Eos, Mat3, Material, StressUpdate, StressUpdateInput};
-use ron::extensions::Extensions;
-use serde::de::{self, Deserializer, Visitor};
-use serde::{Serialize, Serializer};
+pub use brisance_plugin::{ron_options, Params};
+use brisance_plugin::{Installed, PluginInfo, PluginInstance, Registry};
+use serde::Serialize;
 
 /// A constitutive model a plugin crate provides: the [`Material`] trait,
 /// the check of its parameters that the config loader reports against the
@@ -119,10 +110,10 @@ pub trait PluginMaterial: Material {
 
 /// Builds a model from the RON text of the parameters a config wrote (a
 /// struct such as `(g0: 47.7e9, y0: 1.2e8, ...)`, or its fields alone,
-/// `g0: 47.7e9, y0: 1.2e8, ...`): the model and its parameters written
-/// back as canonical RON. The message of an error names the field (an
-/// unknown one, a missing one, one of the wrong type).
-pub type ParseFn = fn(&str) -> Result<(Arc<dyn PluginMaterial>, String), String>;
+/// `g0: 47.7e9, y0: 1.2e8, ...`): the model and its parameters as
+/// canonical text. The message of an error names the field (an unknown
+/// one, a missing one, one of the wrong type).
+pub type ParseFn = brisance_plugin::ParseFn<dyn PluginMaterial>;
 
 /// What a plugin crate registers for one constitutive model.
 #[derive(Clone, Copy)]
@@ -149,126 +140,79 @@ impl fmt::Debug for MaterialPlugin {
     }
 }
 
-/// The plugin constitutive models of one program, in registration order.
-#[derive(Debug, Default)]
-pub struct MaterialRegistry {
-    plugins: Vec<MaterialPlugin>,
-}
-
-impl MaterialRegistry {
-    /// An empty registry.
-    pub fn new() -> Self {
-        Self::default()
+impl PluginInfo for MaterialPlugin {
+    const FAMILY: &'static str = "constitutive model";
+    const BUILT_IN: &'static [&'static str] = crate::MaterialModel::VARIANTS;
+    type Model = dyn PluginMaterial;
+    fn name(&self) -> &'static str {
+        self.name
     }
-
-    /// Adds `plugin`. Panics if its name is a built-in model's or already
-    /// registered: two crates claiming one config name is a programming
-    /// error that the first test run must show.
-    pub fn register(&mut self, plugin: MaterialPlugin) {
-        assert!(
-            !crate::MaterialModel::VARIANTS.contains(&plugin.name),
-            "constitutive model `{}` is a built-in model",
-            plugin.name
-        );
-        assert!(
-            self.get(plugin.name).is_none(),
-            "constitutive model `{}` registered twice",
-            plugin.name
-        );
-        self.plugins.push(plugin);
+    fn summary(&self) -> &'static str {
+        self.summary
     }
-
-    /// The plugin registered under `name`.
-    pub fn get(&self, name: &str) -> Option<&MaterialPlugin> {
-        self.plugins.iter().find(|p| p.name == name)
+    fn docs(&self) -> &'static str {
+        self.docs
     }
-
-    /// Every registered plugin, in registration order.
-    pub fn plugins(&self) -> &[MaterialPlugin] {
-        &self.plugins
+    fn example(&self) -> &'static str {
+        self.example
+    }
+    fn parse(&self, params: &str) -> Result<(Arc<dyn PluginMaterial>, Params), String> {
+        (self.parse)(params)
     }
 }
 
-/// The installed registry and the names a config may write.
-struct Installed {
-    registry: MaterialRegistry,
-    names: Vec<&'static str>,
-}
+/// The plugin constitutive models of one program, in registration order;
+/// [`Registry::register`] refuses a built-in name or a name registered
+/// twice.
+pub type MaterialRegistry = Registry<MaterialPlugin>;
 
-static INSTALLED: OnceLock<Installed> = OnceLock::new();
+static INSTALLED: Installed<MaterialPlugin> = Installed::new();
 
 /// Makes `registry` the program's plugin registry, the one
 /// [`crate::MaterialModel`]'s deserializer resolves names through. The
 /// first call wins; a later one gives its registry back.
 pub fn install(registry: MaterialRegistry) -> Result<(), MaterialRegistry> {
-    let mut slot = Some(registry);
-    INSTALLED.get_or_init(|| {
-        let registry = slot.take().expect("taken once");
-        let names = crate::MaterialModel::VARIANTS
-            .iter()
-            .copied()
-            .chain(registry.plugins.iter().map(|p| p.name))
-            .collect();
-        Installed { registry, names }
-    });
-    match slot {
-        None => Ok(()),
-        Some(r) => Err(r),
-    }
+    INSTALLED.install(registry)
 }
 
 /// The installed registry, if any.
 pub fn installed() -> Option<&'static MaterialRegistry> {
-    INSTALLED.get().map(|i| &i.registry)
+    INSTALLED.registry()
+}
+
+/// The installed slot, for [`crate::MaterialModel`]'s serde.
+pub(crate) fn slot() -> &'static Installed<MaterialPlugin> {
+    &INSTALLED
 }
 
 /// Every name a config may write for a constitutive model: the built-in
 /// variants, then the installed plugins.
 pub fn names() -> &'static [&'static str] {
-    INSTALLED
-        .get()
-        .map_or(crate::MaterialModel::VARIANTS, |i| i.names.as_slice())
+    INSTALLED.names()
 }
 
 /// The names of the installed plugins, in registration order.
-pub fn plugin_names() -> Vec<&'static str> {
-    installed().map_or_else(Vec::new, |r| r.plugins.iter().map(|p| p.name).collect())
+pub fn plugin_names() -> &'static [&'static str] {
+    INSTALLED.plugin_names()
 }
 
 /// The installed plugin registered under `name`.
 pub fn find(name: &str) -> Option<&'static MaterialPlugin> {
-    installed().and_then(|r| r.get(name))
-}
-
-/// The RON options a plugin reads its parameters with: those of the
-/// config reader (`Some(x)` may be written `x`, and `Variant((fields))`
-/// may be written `Variant(fields)`).
-pub fn ron_options() -> ron::Options {
-    ron::Options::default()
-        .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
+    INSTALLED.find(name)
 }
 
 /// A plugin model as [`crate::MaterialModel`] holds it: the registration,
 /// the parameters as canonical RON text (so that it serializes back and
 /// compares by value), and the model.
-#[derive(Clone)]
-pub struct PluginConstitutive {
-    plugin: &'static MaterialPlugin,
-    params: Arc<str>,
-    model: Arc<dyn PluginMaterial>,
-}
+#[derive(Clone, PartialEq)]
+pub struct PluginConstitutive(pub(crate) PluginInstance<MaterialPlugin>);
 
 impl PluginConstitutive {
     /// Builds the model of `plugin` from the RON text of its parameters
     /// (`(a: 1.0, ...)` or `a: 1.0, ...`); the message of an error names
     /// the field.
     pub fn new(plugin: &'static MaterialPlugin, params: &str) -> Result<Self, String> {
-        let (model, canonical) = (plugin.parse)(params)?;
-        Ok(Self {
-            plugin,
-            params: canonical.into(),
-            model,
-        })
+        PluginInstance::new(plugin, params).map(Self)
     }
 
     /// The plugin model `model` of `plugin`, built in code rather than
@@ -279,84 +223,65 @@ impl PluginConstitutive {
     where
         T: PluginMaterial + Serialize + 'static,
     {
-        let params = canonical_params(&model)?;
-        Ok(Self {
+        let params = Params::of(&model)?;
+        Ok(Self(PluginInstance::from_parts(
             plugin,
-            params: params.into(),
-            model: Arc::new(model),
-        })
+            Arc::new(model),
+            params,
+        )))
     }
 
     /// The registration this model came from.
     pub fn plugin(&self) -> &'static MaterialPlugin {
-        self.plugin
+        self.0.plugin()
     }
 
     /// The parameters, as canonical RON text.
-    pub fn params(&self) -> &str {
-        &self.params
+    pub fn params(&self) -> &Params {
+        self.0.params()
     }
 
     /// The model.
     pub fn model(&self) -> &dyn PluginMaterial {
-        &*self.model
+        &**self.0.model()
     }
 
     /// Checks the parameters; the message names the bad field.
     pub fn validate(&self) -> Result<(), String> {
-        self.model.validate()
-    }
-
-    /// Writes the parameters back as RON: the canonical text verbatim, the
-    /// way [`ron::value::RawValue`] does.
-    pub(crate) fn serialize_params<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_newtype_struct(RAW_VALUE_TOKEN, &*self.params)
+        self.0.model().validate()
     }
 }
 
 impl fmt::Debug for PluginConstitutive {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_tuple(self.plugin.name).field(&self.model).finish()
-    }
-}
-
-impl PartialEq for PluginConstitutive {
-    fn eq(&self, other: &Self) -> bool {
-        self.plugin.name == other.plugin.name && self.params == other.params
+        fmt::Debug::fmt(&self.0, f)
     }
 }
 
 impl Material for PluginConstitutive {
     fn name(&self) -> &'static str {
-        self.model.name()
+        self.0.model().name()
     }
     fn history_len(&self) -> usize {
-        self.model.history_len()
+        self.0.model().history_len()
     }
     fn init_history(&self, history: &mut [f64]) {
-        self.model.init_history(history)
+        self.0.model().init_history(history)
     }
     fn init_history_at(&self, history: &mut [f64], seed: u64) {
-        self.model.init_history_at(history, seed)
+        self.0.model().init_history_at(history, seed)
     }
     #[inline]
     fn update_stress(&self, input: &StressUpdateInput, history: &mut [f64]) -> StressUpdate {
-        self.model.update_stress(input, history)
+        self.0.model().update_stress(input, history)
     }
     fn eos(&self) -> Option<&dyn Eos> {
-        self.model.eos()
+        self.0.model().eos()
     }
     #[inline]
     fn wave_speed(&self, density: f64, specific_internal_energy: f64) -> f64 {
-        self.model.wave_speed(density, specific_internal_energy)
+        self.0.model().wave_speed(density, specific_internal_energy)
     }
-}
-
-/// The parameters of `model` as canonical RON text, in the dialect of the
-/// config reader ([`ron_options`]: implicit `Some`, unwrapped newtype
-/// variants), which reads them back.
-fn canonical_params<T: Serialize>(model: &T) -> Result<String, String> {
-    ron_options().to_string(model).map_err(|e| e.to_string())
 }
 
 /// Builds a plugin model whose parameters are the serde struct `T`: the
@@ -365,61 +290,12 @@ fn canonical_params<T: Serialize>(model: &T) -> Result<String, String> {
 /// `(a: 1.0, ...)` or its fields alone (how a config writes them inside
 /// `Name(...)`); a parse error carries serde's message, which names the
 /// field, without the position inside the parameters.
-pub fn parse_params<T>(params: &str) -> Result<(Arc<dyn PluginMaterial>, String), String>
+pub fn parse_params<T>(params: &str) -> Result<(Arc<dyn PluginMaterial>, Params), String>
 where
-    T: PluginMaterial + Serialize + de::DeserializeOwned + 'static,
+    T: PluginMaterial + Serialize + serde::de::DeserializeOwned + 'static,
 {
-    let trimmed = params.trim_start();
-    let wrapped;
-    let text = if trimmed.starts_with('(') {
-        params
-    } else {
-        wrapped = format!("({params}\n)");
-        &wrapped
-    };
-    let model: T = ron_options()
-        .from_str(text)
-        .map_err(|e| e.code.to_string())?;
-    let canonical = canonical_params(&model)?;
-    Ok((Arc::new(model), canonical))
-}
-
-/// The newtype name through which the ron deserializer hands a value's
-/// text to [`ron::value::RawValue`] (and its serializer writes one back
-/// verbatim). The composer's plugin tests read a plugin model's
-/// parameters through it, so a change of the name in ron fails them.
-const RAW_VALUE_TOKEN: &str = "$ron::private::RawValue";
-
-/// The RON text of a value, as the ron deserializer hands it over: a
-/// plugin's parameters, `(a: 1.0, rate: Jaumann)` or, inside an unwrapped
-/// variant, `a: 1.0, rate: Jaumann`.
-pub(crate) struct ParamsText(pub(crate) String);
-
-impl<'de> serde::Deserialize<'de> for ParamsText {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct TextVisitor;
-        impl<'de> Visitor<'de> for TextVisitor {
-            type Value = ParamsText;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "the parameters of a constitutive model, in RON")
-            }
-            fn visit_borrowed_str<E: de::Error>(self, v: &'de str) -> Result<ParamsText, E> {
-                Ok(ParamsText(v.to_string()))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<ParamsText, E> {
-                Ok(ParamsText(v.to_string()))
-            }
-            fn visit_newtype_struct<D: Deserializer<'de>>(
-                self,
-                _: D,
-            ) -> Result<ParamsText, D::Error> {
-                Err(de::Error::custom(
-                    "a plugin constitutive model reads its parameters from RON text",
-                ))
-            }
-        }
-        d.deserialize_newtype_struct(RAW_VALUE_TOKEN, TextVisitor)
-    }
+    let (model, params) = brisance_plugin::parse_params::<T>(params)?;
+    Ok((Arc::new(model), params))
 }
 
 #[cfg(test)]
@@ -472,7 +348,7 @@ mod tests {
             rate: ObjectiveRate::GreenNaghdi,
         };
         assert_eq!(m.history_len(), expected.history_len());
-        assert_eq!(m.params(), canonical_params(&expected).unwrap());
+        assert_eq!(m.params(), &Params::of(&expected).unwrap());
         // The same values however written, and the preset built in code.
         let spaced = PluginConstitutive::new(
             plugin,
