@@ -28,8 +28,10 @@ mod tests {
         let p = r.get("NobleAbel").expect("registered");
         assert!(p.gas && p.example.starts_with(p.name));
         let args = p.example.strip_prefix(p.name).unwrap();
-        let model = (p.parse)(ron::from_str(args).unwrap()).unwrap();
+        let (model, params) = (p.parse)(args).unwrap();
         assert!(model.validate().is_ok());
         assert_eq!(model.name(), "noble_abel");
+        // The canonical text reads back to the same parameters.
+        assert_eq!((p.parse)(params.as_str()).unwrap().1, params);
     }
 }

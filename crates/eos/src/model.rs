@@ -6,10 +6,9 @@
 //! ([`crate::plugin`]) and arrives as the [`EosModel::Plugin`] variant under
 //! its own name.
 
-use std::fmt;
-
 use brisance_core::{Eos, EosError};
-use serde::de::{self, Deserializer, EnumAccess, VariantAccess, Visitor};
+use brisance_plugin::{Installed, PluginEnum, PluginInstance};
+use serde::de::{Deserializer, VariantAccess};
 use serde::{Deserialize, Serialize, Serializer};
 
 use crate::plugin::{self, EosPlugin, PluginEos};
@@ -90,9 +89,10 @@ macro_rules! dispatch_eos {
 }
 
 /// The config names of the variants (`variant()`, `VARIANTS`); with
-/// `plugin: Variant`, also the serde of an enum that takes plugin models:
-/// a variant serializes as `Name(fields)`, and a name that is not built in
-/// is looked up among the installed plugins.
+/// `plugin: Variant`, also the serde of an enum that takes plugin models
+/// ([`brisance_plugin::PluginEnum`]): a variant serializes as
+/// `Name(fields)`, and a name that is not built in is looked up among the
+/// installed plugins.
 macro_rules! named_variants {
     ($enum:ident { $($variant:ident),* $(,)? }) => {
         impl $enum {
@@ -122,90 +122,44 @@ macro_rules! named_variants {
 
         impl Serialize for $enum {
             fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-                let names = plugin::names();
-                let index = names.iter().position(|v| *v == self.variant());
-                let index = index.unwrap_or(names.len()) as u32;
+                let index = brisance_plugin::variant_index::<$enum>(self.variant());
                 match self {
                     $(Self::$variant(m) => {
                         s.serialize_newtype_variant(stringify!($enum), index, stringify!($variant), m)
                     })*
-                    Self::$plugin(m) => {
-                        s.serialize_newtype_variant(stringify!($enum), index, m.plugin().name, m.params())
-                    }
+                    Self::$plugin(m) => brisance_plugin::serialize_plugin::<$enum, S>(&m.0, s),
                 }
+            }
+        }
+
+        impl PluginEnum for $enum {
+            type Plugin = EosPlugin;
+            const NAME: &'static str = stringify!($enum);
+            const VARIANTS: &'static [&'static str] = Self::VARIANTS;
+            const EXPECTING: &'static str = "an equation of state such as `IdealGas(...)`";
+            fn installed() -> &'static Installed<EosPlugin> {
+                plugin::slot()
+            }
+            fn read_builtin<'de, A: VariantAccess<'de>>(
+                name: &'static str,
+                variant: A,
+            ) -> Result<Self, A::Error> {
+                match name {
+                    $(stringify!($variant) => variant.newtype_variant().map($enum::$variant),)*
+                    _ => Err(Self::unknown(name)),
+                }
+            }
+            fn from_plugin(model: PluginInstance<EosPlugin>) -> Self {
+                Self::$plugin(PluginEos(model))
             }
         }
 
         impl<'de> Deserialize<'de> for $enum {
             fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-                struct ModelVisitor;
-                impl<'de> Visitor<'de> for ModelVisitor {
-                    type Value = $enum;
-                    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                        write!(f, "an equation of state such as `IdealGas(...)`")
-                    }
-                    fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<$enum, A::Error> {
-                        let (tag, variant) = data.variant::<Tag>()?;
-                        match tag {
-                            $(Tag::Builtin(stringify!($variant)) => {
-                                variant.newtype_variant().map($enum::$variant)
-                            })*
-                            Tag::Builtin(name) => Err(de::Error::unknown_variant(name, plugin::names())),
-                            Tag::Plugin(p) => {
-                                let params: ron::Value = variant.newtype_variant()?;
-                                PluginEos::new(p, params)
-                                    .map($enum::$plugin)
-                                    .map_err(|m| de::Error::custom(format!("{}: {m}", p.name)))
-                            }
-                            Tag::Unknown(name) => Err(de::Error::unknown_variant(&name, plugin::names())),
-                        }
-                    }
-                }
-                d.deserialize_enum(stringify!($enum), Self::VARIANTS, ModelVisitor)
+                brisance_plugin::deserialize(d)
             }
         }
     };
-}
-
-/// A variant name as a deserializer gives it: a built-in one (by name or,
-/// for formats that write indices, by index), an installed plugin, or
-/// neither.
-enum Tag {
-    Builtin(&'static str),
-    Plugin(&'static EosPlugin),
-    Unknown(String),
-}
-
-impl<'de> Deserialize<'de> for Tag {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct TagVisitor;
-        impl Visitor<'_> for TagVisitor {
-            type Value = Tag;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "the name of an equation of state")
-            }
-            fn visit_str<E: de::Error>(self, name: &str) -> Result<Tag, E> {
-                if let Some(v) = EosModel::VARIANTS.iter().find(|v| **v == name) {
-                    Ok(Tag::Builtin(v))
-                } else if let Some(p) = plugin::find(name) {
-                    Ok(Tag::Plugin(p))
-                } else {
-                    Ok(Tag::Unknown(name.to_string()))
-                }
-            }
-            fn visit_u64<E: de::Error>(self, index: u64) -> Result<Tag, E> {
-                let names = plugin::names();
-                match usize::try_from(index).ok().and_then(|i| names.get(i)) {
-                    Some(name) => self.visit_str(name),
-                    None => Err(E::invalid_value(
-                        de::Unexpected::Unsigned(index),
-                        &"a variant index",
-                    )),
-                }
-            }
-        }
-        d.deserialize_identifier(TagVisitor)
-    }
 }
 
 /// Every equation of state a config can name: the built-in models, and
@@ -385,7 +339,57 @@ mod tests {
             gas: true,
             parse: crate::plugin::parse_params::<IdealGas>,
         });
+        r.register(crate::EosPlugin {
+            name: "TestSolid",
+            summary: "the threshold-wrapped solid under another name",
+            docs: "docs/physics/eos/threshold.md",
+            example: "TestSolid(solid: Murnaghan(n: 7.4, kappa: 2.0e-10, rho0: 1160.0, cv: 1000.0, t_ref: 300.0))",
+            gas: false,
+            parse: crate::plugin::parse_params::<SolidThreshold<SolidEos>>,
+        });
         let _ = crate::plugin::install(r);
+    }
+
+    impl crate::PluginModel for SolidThreshold<SolidEos> {
+        fn validate(&self) -> Result<(), String> {
+            SolidThreshold::validate(self)
+        }
+    }
+
+    /// A plugin's parameter holding an enum (the wrapped solid, by its
+    /// variant name) reaches the plugin by name, compares by value and
+    /// writes itself back.
+    #[test]
+    fn a_plugin_parameter_keeps_its_enum_variant_name() {
+        install_test_plugin();
+        let solid = SolidThreshold::with_threshold(
+            SolidEos::MieGruneisenLinear(MieGruneisenLinear::ofhc_copper()),
+            2.0e5,
+        );
+        let text = "TestSolid(solid: MieGruneisenLinear(c0: 3940.0, s: 1.489, gamma0: 2.02, rho0: 8930.0, cv: 383.0, t0: 300.0), threshold_pressure: 2.0e5)";
+        let m: EosModel = ron().from_str(text).unwrap();
+        let EosModel::Plugin(p) = &m else {
+            panic!("{m:?} is not a plugin model")
+        };
+        assert!(
+            p.params().as_str().contains("MieGruneisenLinear("),
+            "{:?}",
+            p.params()
+        );
+        assert_eq!(m.pressure(9500.0, 1e5), solid.pressure(9500.0, 1e5));
+        let preset = crate::PluginEos::from_model(p.plugin(), solid).unwrap();
+        assert_eq!(m, EosModel::Plugin(preset));
+        // Spacing and comments do not matter; the variant does.
+        let spaced = text.replace(", ", ",\n  // a comment\n  ");
+        assert_eq!(ron().from_str::<EosModel>(&spaced).unwrap(), m);
+        let back = ron().to_string(&m).unwrap();
+        assert_eq!(ron().from_str::<EosModel>(&back).unwrap(), m);
+        let other = text.replace("MieGruneisenLinear", "MieGruneisenCubic");
+        let err = ron().from_str::<EosModel>(&other).unwrap_err().to_string();
+        assert!(
+            err.contains("TestSolid: ") && err.contains("MieGruneisenCubic"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -12,12 +12,16 @@
 //!
 //! The built-in models keep their enum variants and their `match`
 //! dispatch; a plugin model costs one virtual call per evaluation, behind
-//! one more arm of that `match`.
+//! one more arm of that `match`. The registry, its installed slot and the
+//! parameters as RON text are `brisance_plugin`'s, shared with the
+//! reaction and constitutive models: a plugin receives the RON text of its
+//! parameters, so a parameter holding an enum keeps its variant name.
 
 use std::fmt;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use brisance_core::{Eos, EosError};
+use brisance_plugin::{Installed, Params, PluginInfo, PluginInstance, Registry};
 
 /// An equation of state a plugin crate provides: the [`Eos`] trait and the
 /// check of its parameters that the config loader reports against the
@@ -27,11 +31,11 @@ pub trait PluginModel: Eos {
     fn validate(&self) -> Result<(), String>;
 }
 
-/// Builds a model from the parameters a config wrote (a RON struct such as
-/// `(gamma: 1.25, covolume: 1.0e-3)`, here a [`ron::Value`] map); the
-/// message of an error names the field (an unknown one, a missing one, one
-/// of the wrong type).
-pub type ParseFn = fn(ron::Value) -> Result<Arc<dyn PluginModel>, String>;
+/// Builds a model from the RON text of the parameters a config wrote (a
+/// struct such as `(gamma: 1.25, covolume: 1.0e-3)`, or its fields alone):
+/// the model and its parameters as canonical text. The message of an error
+/// names the field (an unknown one, a missing one, one of the wrong type).
+pub type ParseFn = brisance_plugin::ParseFn<dyn PluginModel>;
 
 /// What a plugin crate registers for one equation of state.
 #[derive(Clone, Copy)]
@@ -62,209 +66,183 @@ impl fmt::Debug for EosPlugin {
     }
 }
 
-/// The plugin equations of state of one program, in registration order.
-#[derive(Debug, Default)]
-pub struct EosRegistry {
-    plugins: Vec<EosPlugin>,
-}
-
-impl EosRegistry {
-    /// An empty registry.
-    pub fn new() -> Self {
-        Self::default()
+impl PluginInfo for EosPlugin {
+    const FAMILY: &'static str = "equation of state";
+    const BUILT_IN: &'static [&'static str] = crate::EosModel::VARIANTS;
+    type Model = dyn PluginModel;
+    fn name(&self) -> &'static str {
+        self.name
     }
-
-    /// Adds `plugin`. Panics if its name is a built-in model's or already
-    /// registered: two crates claiming one config name is a programming
-    /// error that the first test run must show.
-    pub fn register(&mut self, plugin: EosPlugin) {
-        assert!(
-            !crate::EosModel::VARIANTS.contains(&plugin.name),
-            "equation of state `{}` is a built-in model",
-            plugin.name
-        );
-        assert!(
-            self.get(plugin.name).is_none(),
-            "equation of state `{}` registered twice",
-            plugin.name
-        );
-        self.plugins.push(plugin);
+    fn summary(&self) -> &'static str {
+        self.summary
     }
-
-    /// The plugin registered under `name`.
-    pub fn get(&self, name: &str) -> Option<&EosPlugin> {
-        self.plugins.iter().find(|p| p.name == name)
+    fn docs(&self) -> &'static str {
+        self.docs
     }
-
-    /// Every registered plugin, in registration order.
-    pub fn plugins(&self) -> &[EosPlugin] {
-        &self.plugins
+    fn example(&self) -> &'static str {
+        self.example
+    }
+    fn parse(&self, params: &str) -> Result<(Arc<dyn PluginModel>, Params), String> {
+        (self.parse)(params)
     }
 }
 
-/// The installed registry and the names a config may write.
-struct Installed {
-    registry: EosRegistry,
-    names: Vec<&'static str>,
-}
+/// The plugin equations of state of one program, in registration order;
+/// [`Registry::register`] refuses a built-in name or a name registered
+/// twice.
+pub type EosRegistry = Registry<EosPlugin>;
 
-static INSTALLED: OnceLock<Installed> = OnceLock::new();
+static INSTALLED: Installed<EosPlugin> = Installed::new();
 
 /// Makes `registry` the program's plugin registry, the one
 /// [`crate::EosModel`]'s deserializer resolves names through. The first
 /// call wins; a later one gives its registry back.
 pub fn install(registry: EosRegistry) -> Result<(), EosRegistry> {
-    let mut slot = Some(registry);
-    INSTALLED.get_or_init(|| {
-        let registry = slot.take().expect("taken once");
-        let names = crate::EosModel::VARIANTS
-            .iter()
-            .copied()
-            .chain(registry.plugins.iter().map(|p| p.name))
-            .collect();
-        Installed { registry, names }
-    });
-    match slot {
-        None => Ok(()),
-        Some(r) => Err(r),
-    }
+    INSTALLED.install(registry)
 }
 
 /// The installed registry, if any.
 pub fn installed() -> Option<&'static EosRegistry> {
-    INSTALLED.get().map(|i| &i.registry)
+    INSTALLED.registry()
+}
+
+/// The installed slot, for [`crate::EosModel`]'s serde.
+pub(crate) fn slot() -> &'static Installed<EosPlugin> {
+    &INSTALLED
 }
 
 /// Every name a config may write for an equation of state: the built-in
 /// variants, then the installed plugins.
 pub fn names() -> &'static [&'static str] {
-    INSTALLED
-        .get()
-        .map_or(crate::EosModel::VARIANTS, |i| i.names.as_slice())
+    INSTALLED.names()
 }
 
 /// The installed plugin registered under `name`.
 pub fn find(name: &str) -> Option<&'static EosPlugin> {
-    installed().and_then(|r| r.get(name))
+    INSTALLED.find(name)
 }
 
 /// A plugin model as [`crate::EosModel`] holds it: the registration, the
-/// parameters as written (so that it serializes back and compares by
-/// value), and the model.
-#[derive(Clone)]
-pub struct PluginEos {
-    plugin: &'static EosPlugin,
-    params: Arc<ron::Value>,
-    model: Arc<dyn PluginModel>,
-}
+/// parameters as canonical RON text (so that it serializes back and
+/// compares by value), and the model.
+#[derive(Clone, PartialEq)]
+pub struct PluginEos(pub(crate) PluginInstance<EosPlugin>);
 
 impl PluginEos {
-    /// Builds the model of `plugin` from `params`.
-    pub fn new(plugin: &'static EosPlugin, params: ron::Value) -> Result<Self, String> {
-        let model = (plugin.parse)(params.clone())?;
-        Ok(Self {
+    /// Builds the model of `plugin` from the RON text of its parameters
+    /// (`(gamma: 1.25, ...)` or `gamma: 1.25, ...`); the message of an
+    /// error names the field.
+    pub fn new(plugin: &'static EosPlugin, params: &str) -> Result<Self, String> {
+        PluginInstance::new(plugin, params).map(Self)
+    }
+
+    /// The plugin model `model` of `plugin`, built in code rather than
+    /// read from a config (a preset of the plugin crate). Its parameters
+    /// are `model` serialized, so it equals the model a config with the
+    /// same values reads.
+    pub fn from_model<T>(plugin: &'static EosPlugin, model: T) -> Result<Self, String>
+    where
+        T: PluginModel + serde::Serialize + 'static,
+    {
+        let params = Params::of(&model)?;
+        Ok(Self(PluginInstance::from_parts(
             plugin,
-            params: Arc::new(params),
-            model,
-        })
+            Arc::new(model),
+            params,
+        )))
     }
 
     /// The registration this model came from.
     pub fn plugin(&self) -> &'static EosPlugin {
-        self.plugin
+        self.0.plugin()
     }
 
-    /// The parameters as the config wrote them.
-    pub fn params(&self) -> &ron::Value {
-        &self.params
+    /// The parameters, as canonical RON text.
+    pub fn params(&self) -> &Params {
+        self.0.params()
     }
 
     /// Checks the parameters; the message names the bad field.
     pub fn validate(&self) -> Result<(), String> {
-        self.model.validate()
+        self.0.model().validate()
     }
 }
 
 impl fmt::Debug for PluginEos {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_tuple(self.plugin.name).field(&self.model).finish()
-    }
-}
-
-impl PartialEq for PluginEos {
-    fn eq(&self, other: &Self) -> bool {
-        self.plugin.name == other.plugin.name && self.params == other.params
+        fmt::Debug::fmt(&self.0, f)
     }
 }
 
 impl Eos for PluginEos {
     fn name(&self) -> &'static str {
-        self.model.name()
+        self.0.model().name()
     }
     fn reference_density(&self) -> f64 {
-        self.model.reference_density()
+        self.0.model().reference_density()
     }
     #[inline]
     fn pressure(&self, rho: f64, e: f64) -> f64 {
-        self.model.pressure(rho, e)
+        self.0.model().pressure(rho, e)
     }
     #[inline]
     fn dp_drho(&self, rho: f64, e: f64) -> f64 {
-        self.model.dp_drho(rho, e)
+        self.0.model().dp_drho(rho, e)
     }
     #[inline]
     fn dp_de(&self, rho: f64, e: f64) -> f64 {
-        self.model.dp_de(rho, e)
+        self.0.model().dp_de(rho, e)
     }
     fn gruneisen(&self, rho: f64, e: f64) -> f64 {
-        self.model.gruneisen(rho, e)
+        self.0.model().gruneisen(rho, e)
     }
     fn check_state(&self, rho: f64, e: f64) -> Result<(), EosError> {
-        self.model.check_state(rho, e)
+        self.0.model().check_state(rho, e)
     }
     #[inline]
     fn sound_speed_squared(&self, rho: f64, e: f64) -> f64 {
-        self.model.sound_speed_squared(rho, e)
+        self.0.model().sound_speed_squared(rho, e)
     }
     #[inline]
     fn sound_speed(&self, rho: f64, e: f64) -> f64 {
-        self.model.sound_speed(rho, e)
+        self.0.model().sound_speed(rho, e)
     }
     fn specific_internal_energy(&self, rho: f64, p: f64) -> Result<f64, EosError> {
-        self.model.specific_internal_energy(rho, p)
+        self.0.model().specific_internal_energy(rho, p)
     }
     fn temperature(&self, rho: f64, e: f64) -> f64 {
-        self.model.temperature(rho, e)
+        self.0.model().temperature(rho, e)
     }
     fn specific_internal_energy_from_temperature(&self, rho: f64, t: f64) -> f64 {
-        self.model.specific_internal_energy_from_temperature(rho, t)
+        self.0
+            .model()
+            .specific_internal_energy_from_temperature(rho, t)
     }
     fn cv(&self, rho: f64, t: f64) -> f64 {
-        self.model.cv(rho, t)
+        self.0.model().cv(rho, t)
     }
     fn density(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.model.density(p, t)
+        self.0.model().density(p, t)
     }
     fn isothermal_compressibility(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.model.isothermal_compressibility(p, t)
+        self.0.model().isothermal_compressibility(p, t)
     }
     fn thermal_expansivity(&self, p: f64, t: f64) -> Result<f64, EosError> {
-        self.model.thermal_expansivity(p, t)
+        self.0.model().thermal_expansivity(p, t)
     }
     fn density_and_derivatives(&self, p: f64, t: f64) -> Result<(f64, f64, f64), EosError> {
-        self.model.density_and_derivatives(p, t)
+        self.0.model().density_and_derivatives(p, t)
     }
 }
 
 /// Builds a plugin model whose parameters are the serde struct `T`: the
-/// usual [`ParseFn`] of a plugin crate,
-/// `parse: |v| parse_params::<NobleAbel>(v)`.
-pub fn parse_params<T>(params: ron::Value) -> Result<Arc<dyn PluginModel>, String>
+/// usual [`ParseFn`] of a plugin crate, `parse: parse_params::<NobleAbel>`.
+/// The text may be the struct `(a: 1.0, ...)` or its fields alone; a
+/// parse error carries serde's message, which names the field.
+pub fn parse_params<T>(params: &str) -> Result<(Arc<dyn PluginModel>, Params), String>
 where
-    T: PluginModel + serde::de::DeserializeOwned + 'static,
+    T: PluginModel + serde::Serialize + serde::de::DeserializeOwned + 'static,
 {
-    params
-        .into_rust::<T>()
-        .map(|m| Arc::new(m) as Arc<dyn PluginModel>)
-        .map_err(|e| e.to_string())
+    let (model, params) = brisance_plugin::parse_params::<T>(params)?;
+    Ok((Arc::new(model), params))
 }
