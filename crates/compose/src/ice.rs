@@ -43,6 +43,8 @@
 //! when the pipeline has several), `Reflective` → symmetry plane (slip
 //! wall), `Wall` → a fixed wall of velocity 0, `Periodic` → periodic.
 
+use std::sync::Arc;
+
 use brisance_core::Eos;
 use brisance_eos::EosModel;
 use brisance_grid::Level;
@@ -51,7 +53,8 @@ use brisance_ice::{
     IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve,
     WholeGridPass, GHOST, MAX_MATERIALS,
 };
-use brisance_reaction::plugin::PluginReaction;
+use brisance_plugin::{Installed, PluginEnum};
+use brisance_reaction::plugin::{PluginReaction, ReactionPlugin};
 use serde::{Deserialize, Serialize};
 
 use crate::build::primitive_state;
@@ -187,7 +190,7 @@ impl IceReactionModel {
         match self {
             Self::JwlPlusPlus(m) => m.validate().map(|_| (*m).into()).map_err(|e| e.to_string()),
             Self::Deflagration(m) => m.validate().map(|_| (*m).into()).map_err(|e| e.to_string()),
-            Self::Plugin(m) => Ok(IceRate::Model(m.model())),
+            Self::Plugin(m) => Ok(IceRate::Model(Arc::clone(m.model()))),
         }
     }
 }
@@ -198,69 +201,50 @@ impl Serialize for IceReactionModel {
         match self {
             Self::JwlPlusPlus(m) => s.serialize_newtype_variant(NAME, 0, "JwlPlusPlus", m),
             Self::Deflagration(m) => s.serialize_newtype_variant(NAME, 1, "Deflagration", m),
-            Self::Plugin(m) => s.serialize_newtype_variant(NAME, 2, m.plugin().name, m.params()),
+            Self::Plugin(m) => brisance_plugin::serialize_plugin::<Self, S>(m, s),
         }
+    }
+}
+
+impl PluginEnum for IceReactionModel {
+    type Plugin = ReactionPlugin;
+    const NAME: &'static str = "IceReactionModel";
+    const VARIANTS: &'static [&'static str] = Self::VARIANTS;
+    const EXPECTING: &'static str = "a reaction model such as `JwlPlusPlus(...)`";
+
+    fn installed() -> &'static Installed<ReactionPlugin> {
+        brisance_reaction::plugin::slot()
+    }
+
+    fn read_builtin<'de, A: serde::de::VariantAccess<'de>>(
+        name: &'static str,
+        variant: A,
+    ) -> Result<Self, A::Error> {
+        match name {
+            "JwlPlusPlus" => variant.newtype_variant().map(Self::JwlPlusPlus),
+            "Deflagration" => variant.newtype_variant().map(Self::Deflagration),
+            _ => Err(Self::unknown(name)),
+        }
+    }
+
+    fn from_plugin(model: PluginReaction) -> Self {
+        Self::Plugin(model)
+    }
+
+    /// The names this schema takes: the built-in reactions the ICE runs
+    /// (not every built-in reaction model), then the plugins.
+    fn unknown<E: serde::de::Error>(name: &str) -> E {
+        let names: Vec<String> = Self::names().iter().map(|n| format!("`{n}`")).collect();
+        E::custom(format!(
+            "unknown reaction model `{name}`, expected one of {}",
+            names.join(", ")
+        ))
     }
 }
 
 impl<'de> Deserialize<'de> for IceReactionModel {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        use serde::de::{self, EnumAccess, VariantAccess, Visitor};
-        use std::fmt;
-
-        struct Name(String);
-        impl<'de> Deserialize<'de> for Name {
-            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-                struct NameVisitor;
-                impl Visitor<'_> for NameVisitor {
-                    type Value = Name;
-                    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                        write!(f, "the name of a reaction model")
-                    }
-                    fn visit_str<E: de::Error>(self, v: &str) -> Result<Name, E> {
-                        Ok(Name(v.to_string()))
-                    }
-                }
-                d.deserialize_identifier(NameVisitor)
-            }
-        }
-
-        struct ModelVisitor;
-        impl<'de> Visitor<'de> for ModelVisitor {
-            type Value = IceReactionModel;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "a reaction model such as `JwlPlusPlus(...)`")
-            }
-            fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<Self::Value, A::Error> {
-                let (Name(name), variant) = data.variant::<Name>()?;
-                match name.as_str() {
-                    "JwlPlusPlus" => variant.newtype_variant().map(IceReactionModel::JwlPlusPlus),
-                    "Deflagration" => variant
-                        .newtype_variant()
-                        .map(IceReactionModel::Deflagration),
-                    other => match brisance_reaction::plugin::find(other) {
-                        Some(p) => {
-                            let params: ron::Value = variant.newtype_variant()?;
-                            PluginReaction::new(p, params)
-                                .map(IceReactionModel::Plugin)
-                                .map_err(|m| de::Error::custom(format!("{}: {m}", p.name)))
-                        }
-                        None => {
-                            let names = IceReactionModel::names();
-                            Err(de::Error::custom(format!(
-                                "unknown reaction model `{other}`, expected one of {}",
-                                names
-                                    .iter()
-                                    .map(|n| format!("`{n}`"))
-                                    .collect::<Vec<_>>()
-                                    .join(", ")
-                            )))
-                        }
-                    },
-                }
-            }
-        }
-        d.deserialize_enum("IceReactionModel", Self::VARIANTS, ModelVisitor)
+        brisance_plugin::deserialize(d)
     }
 }
 

@@ -158,13 +158,15 @@ mod tests {
         let mut registry = brisance_reaction::plugin::ReactionRegistry::new();
         crate::register(&mut registry);
         let p = registry.get("ThermalDecomposition").unwrap();
-        let v: ron::Value = ron::from_str("(z: 5.0e19, activation_energy: 2.2e5)").unwrap();
-        let m = (p.parse)(v).unwrap();
+        let (m, params) = (p.parse)("(z: 5.0e19, activation_energy: 2.2e5)").unwrap();
         assert_eq!(m.rate(&at(500.0), 0.0), HMX_LIKE.rate_constant(500.0));
-        let bad: ron::Value = ron::from_str("(z: -1.0, activation_energy: 2.2e5)").unwrap();
+        assert_eq!(
+            (p.parse)("z: 5e19,activation_energy: 220000.0").unwrap().1,
+            params
+        );
+        let bad = "(z: -1.0, activation_energy: 2.2e5)";
         assert!((p.parse)(bad).unwrap_err().contains("z:"));
-        let unknown: ron::Value =
-            ron::from_str("(z: 1.0, activation_energy: 2.2e5, n: 1.0)").unwrap();
+        let unknown = "(z: 1.0, activation_energy: 2.2e5, n: 1.0)";
         assert!((p.parse)(unknown).unwrap_err().contains('n'));
     }
 

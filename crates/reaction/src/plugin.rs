@@ -12,13 +12,17 @@
 //!
 //! The built-in models keep their own enum variants in each pipeline's
 //! schema, and the solvers their static dispatch; a plugin model costs a
-//! virtual call per evaluation. The same scheme serves the equations of
-//! state (`brisance_eos::plugin`).
+//! virtual call per evaluation. The registry, its installed slot and the
+//! parameters as RON text are `brisance_plugin`'s, shared with the
+//! equations of state (`brisance_eos::plugin`) and the constitutive
+//! models: a plugin receives the RON text of its parameters, so a
+//! parameter holding an enum keeps its variant name.
 
 use std::fmt;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use brisance_core::ReactionModel;
+use brisance_plugin::{Installed, Params, PluginInfo, PluginInstance, Registry};
 
 /// The names of the built-in reaction models, which no plugin may take.
 pub const BUILT_IN: &[&str] = &[
@@ -29,11 +33,12 @@ pub const BUILT_IN: &[&str] = &[
     "Arrhenius",
 ];
 
-/// Builds a model from the parameters a config wrote (a RON struct such as
-/// `(z: 5.0e19, activation_energy: 2.2e5)`, here a [`ron::Value`] map);
-/// the message of an error names the field (an unknown one, a missing
-/// one, one of the wrong type, one out of range).
-pub type ParseFn = fn(ron::Value) -> Result<Arc<dyn ReactionModel>, String>;
+/// Builds a model from the RON text of the parameters a config wrote (a
+/// struct such as `(z: 5.0e19, activation_energy: 2.2e5)`, or its fields
+/// alone): the model and its parameters as canonical text. The message of
+/// an error names the field (an unknown one, a missing one, one of the
+/// wrong type, one out of range).
+pub type ParseFn = brisance_plugin::ParseFn<dyn ReactionModel>;
 
 /// What a plugin crate registers for one reaction model.
 #[derive(Clone, Copy)]
@@ -60,143 +65,94 @@ impl fmt::Debug for ReactionPlugin {
     }
 }
 
-/// The plugin reaction models of one program, in registration order.
-#[derive(Debug, Default)]
-pub struct ReactionRegistry {
-    plugins: Vec<ReactionPlugin>,
-}
-
-impl ReactionRegistry {
-    /// An empty registry.
-    pub fn new() -> Self {
-        Self::default()
+impl PluginInfo for ReactionPlugin {
+    const FAMILY: &'static str = "reaction model";
+    const BUILT_IN: &'static [&'static str] = BUILT_IN;
+    type Model = dyn ReactionModel;
+    fn name(&self) -> &'static str {
+        self.name
     }
-
-    /// Adds `plugin`. Panics if its name is a built-in model's or already
-    /// registered: two crates claiming one config name is a programming
-    /// error that the first test run must show.
-    pub fn register(&mut self, plugin: ReactionPlugin) {
-        assert!(
-            !BUILT_IN.contains(&plugin.name),
-            "reaction model `{}` is a built-in model",
-            plugin.name
-        );
-        assert!(
-            self.get(plugin.name).is_none(),
-            "reaction model `{}` registered twice",
-            plugin.name
-        );
-        self.plugins.push(plugin);
+    fn summary(&self) -> &'static str {
+        self.summary
     }
-
-    /// The plugin registered under `name`.
-    pub fn get(&self, name: &str) -> Option<&ReactionPlugin> {
-        self.plugins.iter().find(|p| p.name == name)
+    fn docs(&self) -> &'static str {
+        self.docs
     }
-
-    /// Every registered plugin, in registration order.
-    pub fn plugins(&self) -> &[ReactionPlugin] {
-        &self.plugins
+    fn example(&self) -> &'static str {
+        self.example
+    }
+    fn parse(&self, params: &str) -> Result<(Arc<dyn ReactionModel>, Params), String> {
+        (self.parse)(params)
     }
 }
 
-static INSTALLED: OnceLock<ReactionRegistry> = OnceLock::new();
+/// The plugin reaction models of one program, in registration order;
+/// [`Registry::register`] refuses a built-in name or a name registered
+/// twice.
+pub type ReactionRegistry = Registry<ReactionPlugin>;
+
+static INSTALLED: Installed<ReactionPlugin> = Installed::new();
 
 /// Makes `registry` the program's plugin registry, the one the pipelines'
 /// schemas resolve names through. The first call wins; a later one gives
 /// its registry back.
 pub fn install(registry: ReactionRegistry) -> Result<(), ReactionRegistry> {
-    INSTALLED.set(registry)
+    INSTALLED.install(registry)
 }
 
 /// The installed registry, if any.
 pub fn installed() -> Option<&'static ReactionRegistry> {
-    INSTALLED.get()
+    INSTALLED.registry()
+}
+
+/// The installed slot, for a pipeline schema's serde
+/// ([`brisance_plugin::PluginEnum::installed`]).
+pub fn slot() -> &'static Installed<ReactionPlugin> {
+    &INSTALLED
 }
 
 /// The installed plugin registered under `name`.
 pub fn find(name: &str) -> Option<&'static ReactionPlugin> {
-    installed().and_then(|r| r.get(name))
+    INSTALLED.find(name)
 }
 
 /// The names of the installed plugins, in registration order.
-pub fn plugin_names() -> Vec<&'static str> {
-    installed().map_or_else(Vec::new, |r| r.plugins.iter().map(|p| p.name).collect())
+pub fn plugin_names() -> &'static [&'static str] {
+    INSTALLED.plugin_names()
 }
 
 /// A plugin model as a pipeline's schema holds it: the registration, the
-/// parameters as written (so that it serializes back and compares by
-/// value), and the model.
-#[derive(Clone)]
-pub struct PluginReaction {
-    plugin: &'static ReactionPlugin,
-    params: Arc<ron::Value>,
-    model: Arc<dyn ReactionModel>,
-}
-
-impl PluginReaction {
-    /// Builds the model of `plugin` from `params`; the message of an
-    /// error names the field.
-    pub fn new(plugin: &'static ReactionPlugin, params: ron::Value) -> Result<Self, String> {
-        let model = (plugin.parse)(params.clone())?;
-        Ok(Self {
-            plugin,
-            params: Arc::new(params),
-            model,
-        })
-    }
-
-    /// The registration this model came from.
-    pub fn plugin(&self) -> &'static ReactionPlugin {
-        self.plugin
-    }
-
-    /// The parameters as the config wrote them.
-    pub fn params(&self) -> &ron::Value {
-        &self.params
-    }
-
-    /// The model, for a solver that takes any [`ReactionModel`].
-    pub fn model(&self) -> Arc<dyn ReactionModel> {
-        Arc::clone(&self.model)
-    }
-}
-
-impl fmt::Debug for PluginReaction {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_tuple(self.plugin.name).field(&self.model).finish()
-    }
-}
-
-impl PartialEq for PluginReaction {
-    fn eq(&self, other: &Self) -> bool {
-        self.plugin.name == other.plugin.name && self.params == other.params
-    }
-}
+/// parameters as canonical RON text (so that it serializes back and
+/// compares by value), and the model
+/// ([`PluginInstance::model`], for a solver that takes any
+/// [`ReactionModel`]).
+pub type PluginReaction = PluginInstance<ReactionPlugin>;
 
 /// Builds a plugin model whose parameters are the serde struct `T`, with
 /// its own check: the usual [`ParseFn`] of a plugin crate,
-/// `parse: |v| parse_params::<MyModel>(v, MyModel::validate)`.
+/// `parse: |v| parse_params::<MyModel>(v, MyModel::validate)`. The text
+/// may be the struct `(a: 1.0, ...)` or its fields alone; the message of
+/// an error names the field.
 pub fn parse_params<T>(
-    params: ron::Value,
+    params: &str,
     validate: fn(&T) -> Result<(), String>,
-) -> Result<Arc<dyn ReactionModel>, String>
+) -> Result<(Arc<dyn ReactionModel>, Params), String>
 where
-    T: ReactionModel + serde::de::DeserializeOwned + 'static,
+    T: ReactionModel + serde::Serialize + serde::de::DeserializeOwned + 'static,
 {
-    let model: T = params.into_rust().map_err(|e| e.to_string())?;
+    let (model, params) = brisance_plugin::parse_params::<T>(params)?;
     validate(&model)?;
-    Ok(Arc::new(model))
+    Ok((Arc::new(model), params))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use brisance_core::ReactionState;
-    use serde::Deserialize;
+    use serde::{Deserialize, Serialize};
 
     /// dF/dt = k.
-    #[derive(Debug, Deserialize)]
+    #[derive(Debug, Serialize, Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Steady {
         k: f64,
@@ -227,17 +183,13 @@ mod tests {
         parse: |v| parse_params::<Steady>(v, check),
     };
 
-    fn params(text: &str) -> ron::Value {
-        ron::from_str(text).unwrap()
-    }
-
     #[test]
     fn a_registered_model_builds_from_its_parameters_and_names_a_bad_field() {
         let mut registry = ReactionRegistry::new();
         registry.register(STEADY);
         let plugin = registry.get("Steady").unwrap();
         let leaked: &'static ReactionPlugin = Box::leak(Box::new(*plugin));
-        let m = PluginReaction::new(leaked, params("(k: 2.5)")).unwrap();
+        let m = PluginReaction::new(leaked, "(k: 2.5)").unwrap();
         let state = ReactionState {
             pressure: 0.0,
             temperature: 300.0,
@@ -247,11 +199,12 @@ mod tests {
             surface_area_density: 0.0,
         };
         assert_eq!(m.model().rate(&state, 0.0), 2.5);
-        assert_eq!(m, PluginReaction::new(leaked, params("(k: 2.5)")).unwrap());
-        assert_ne!(m, PluginReaction::new(leaked, params("(k: 2.0)")).unwrap());
-        let bad = PluginReaction::new(leaked, params("(k: -1.0)")).unwrap_err();
+        assert_eq!(m.params(), "(k:2.5)");
+        assert_eq!(m, PluginReaction::new(leaked, "(k: 2.5)").unwrap());
+        assert_ne!(m, PluginReaction::new(leaked, "(k: 2.0)").unwrap());
+        let bad = PluginReaction::new(leaked, "(k: -1.0)").unwrap_err();
         assert!(bad.contains("k"), "{bad}");
-        let unknown = PluginReaction::new(leaked, params("(k: 1.0, q: 2.0)")).unwrap_err();
+        let unknown = PluginReaction::new(leaked, "(k: 1.0, q: 2.0)").unwrap_err();
         assert!(unknown.contains('q'), "{unknown}");
     }
 
