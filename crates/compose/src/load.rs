@@ -69,11 +69,11 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
     Ok(())
 }
 
-/// The position of parse error `e`. A plugin model (an equation of state
-/// or a constitutive model) reads its parameters after the parser has
-/// passed them, so for a parameter it does not know the parser stands at
-/// the model's closing parenthesis; the position is moved back to that
-/// parameter, inside the model's parentheses.
+/// The position of parse error `e`. A plugin model (an equation of state,
+/// a reaction model or a constitutive model) reads its parameters after
+/// the parser has passed them, so for a parameter it does not know the
+/// parser stands at the model's closing parenthesis; the position is
+/// moved back to that parameter, inside the model's parentheses.
 fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, usize) {
     let at = (e.span.start.line, e.span.start.col);
     let message = e.code.to_string();
@@ -81,11 +81,12 @@ fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, us
         .into_iter()
         .flat_map(|r| r.plugins())
         .map(|p| p.name);
-    let materials = brisance_constitutive::plugin::installed()
-        .into_iter()
-        .flat_map(|r| r.plugins())
-        .map(|p| p.name);
+    let reactions = brisance_reaction::plugin::plugin_names().iter().copied();
+    let materials = brisance_constitutive::plugin::plugin_names()
+        .iter()
+        .copied();
     let Some(plugin) = eos
+        .chain(reactions)
         .chain(materials)
         .find(|name| message.starts_with(&format!("{name}: ")))
     else {

@@ -5,6 +5,8 @@
 //! and constitutive models of the plugin crates ([`crate::plugins`]) from
 //! their own registration.
 
+use brisance_plugin::{PluginInfo, Registry};
+
 /// One named component.
 #[derive(Debug, Clone, Copy)]
 pub struct Entry {
@@ -373,34 +375,36 @@ pub const ENTRIES: &[Entry] = &[
 /// registered.
 pub fn entries() -> Vec<Entry> {
     crate::plugins::install();
-    let plugins = brisance_eos::plugin::installed().map_or(&[][..], |r| r.plugins());
-    let reactions = brisance_reaction::plugin::installed().map_or(&[][..], |r| r.plugins());
-    let materials = brisance_constitutive::plugin::installed().map_or(&[][..], |r| r.plugins());
     ENTRIES
         .iter()
         .copied()
-        .chain(plugins.iter().map(|p| Entry {
-            family: "eos",
-            name: p.name,
-            summary: p.summary,
-            example: p.example,
-            docs: Some(p.docs),
-        }))
-        .chain(reactions.iter().map(|p| Entry {
-            family: "reaction",
-            name: p.name,
-            summary: p.summary,
-            example: p.example,
-            docs: Some(p.docs),
-        }))
-        .chain(materials.iter().map(|p| Entry {
-            family: "material",
-            name: p.name,
-            summary: p.summary,
-            example: p.example,
-            docs: Some(p.docs),
-        }))
+        .chain(plugin_entries("eos", brisance_eos::plugin::installed()))
+        .chain(plugin_entries(
+            "reaction",
+            brisance_reaction::plugin::installed(),
+        ))
+        .chain(plugin_entries(
+            "material",
+            brisance_constitutive::plugin::installed(),
+        ))
         .collect()
+}
+
+/// The entries of the plugins of one family, in registration order.
+fn plugin_entries<P: PluginInfo>(
+    family: &'static str,
+    registry: Option<&'static Registry<P>>,
+) -> impl Iterator<Item = Entry> {
+    registry
+        .map_or(&[][..], |r| r.plugins())
+        .iter()
+        .map(move |p| Entry {
+            family,
+            name: p.name(),
+            summary: p.summary(),
+            example: p.example(),
+            docs: Some(p.docs()),
+        })
 }
 
 /// Families in display order, with what is still to come.
