@@ -102,7 +102,7 @@ pub trait PluginEnum: Sized {
     /// The config names of the enum's built-in variants, in order.
     const VARIANTS: &'static [&'static str];
     /// What a config should write here, for serde's "expected ..."
-    /// messages (`an equation of state such as `IdealGas(...)``).
+    /// messages ("an equation of state such as `IdealGas(...)`").
     const EXPECTING: &'static str;
 
     /// The family's installed registry.
