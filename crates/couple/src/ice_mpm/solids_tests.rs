@@ -197,9 +197,9 @@ fn the_burning_block_energy_error_falls_with_the_time_step() {
     }
 }
 
-/// Particles burnt below 10⁻⁶ of their initial mass go whole to the
-/// products and are removed: at the capped rate (20 % a step) the whole
-/// reactant is gone after 62 steps; every kilogram is in the products
+/// Particles burnt below 1 % of their initial mass go whole to the
+/// products and are removed: at the capped rate (20 % a step, 0.8ⁿ < 0.01
+/// from n = 21) the whole reactant is gone after 21 steps; every kilogram is in the products
 /// and the totals close to round-off; the run goes on with no particle.
 #[test]
 fn burnt_out_particles_are_removed_and_booked() {
@@ -211,9 +211,9 @@ fn burnt_out_particles_are_removed_and_booked() {
     while !s.mpm().particles().is_empty() {
         step(&mut s, 1);
         steps += 1;
-        assert!(steps <= 70, "{} particles left", s.mpm().particles().len());
+        assert!(steps <= 30, "{} particles left", s.mpm().particles().len());
     }
-    assert!((60..=64).contains(&steps), "{steps} steps");
+    assert!((20..=22).contains(&steps), "{steps} steps");
     assert!(s.unburnt_reactant()[0].abs() <= 1e-12 * m0);
     let gained = products(&s) - products0;
     assert!((gained - m0).abs() <= 1e-12 * m0, "{gained:e} vs {m0:e}");
@@ -336,16 +336,19 @@ fn burns_its_two_faces(s: &mut IceMpm, law: brisance_ice::Deflagration) {
 /// The same block over a regression of one cell on each face
 /// ([`particle_deflagration`]), its products shut in the tube (the
 /// pressure climbs from 100 to 205 MPa): over the last 80 % of the run the
-/// particles lose the mass the law burns within 0.2 % (measured −0.05 %;
-/// ρ_r at 300 K, the particles warm a little as they are compressed), and
-/// the pass's summed area is the two faces', 2 A_x, to round-off at every
-/// step.
+/// particles lose the mass the law burns within 1 %, and the pass's summed
+/// area is the two faces', 2 A_x, to round-off at every step. Measured
+/// +0.69 %: the surface particles burn their last per cent whole one step
+/// early ([`BURNT_OUT_FRACTION`]), an offset of the burnt mass that a run
+/// of one cell's regression does not outgrow (−0.05 % with the floor at
+/// 10⁻⁶; ρ_r at 300 K, the particles warm a little as they are
+/// compressed).
 #[test]
 fn a_particle_reactant_burns_its_mass_at_a_p_to_the_n() {
     let r = particle_deflagration().unwrap();
     assert!(r.area_error < 1e-12, "{r:?}");
     assert!(r.surface_pressure > 1.5 * r.held_pressure, "{r:?}");
-    assert!(r.error().abs() < 2e-3, "{r:?}");
+    assert!(r.error() > 0.0 && r.error() < 1e-2, "{r:?}");
 }
 
 /// The block of [`a_particle_reactant_deflagrates_on_its_faces_at_a_p_to_the_n`]
