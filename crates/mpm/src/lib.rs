@@ -65,7 +65,7 @@ pub use particles::{
     matrix_to_voigt, voigt_to_matrix, MaterialId, ParticleError, ParticleInit, Particles,
 };
 pub use shape::{ShapeError, ShapeFunction, ShapeStencil, MAX_STENCIL_NODES};
-pub use solver::{GridCoupling, MemoryUse, MpmOptions, MpmSetupError, MpmSolver};
+pub use solver::{CoupledStep, MemoryUse, MpmOptions, MpmSetupError, MpmSolver};
 pub use step::UpdateScheme;
 pub use traction::{LoadHistory, SurfaceLoad, SurfaceLoadKind};
 pub use viscosity::{BulkViscosity, BulkViscosityState};

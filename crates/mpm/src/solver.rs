@@ -1776,7 +1776,7 @@ impl Solver for MpmSolver {
 }
 
 mod coupled;
-pub use coupled::GridCoupling;
+pub use coupled::CoupledStep;
 
 #[cfg(test)]
 mod tests;

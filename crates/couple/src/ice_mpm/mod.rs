@@ -2,22 +2,22 @@
 //! Lagrangian solids (MPM particles) on one grid, sharing one equilibration
 //! pressure and exchanging momentum and heat in every cell.
 //!
-//! One [`Solver::advance`] is the seed's step list:
+//! One [`Solver::advance`] is the seed's step list, in `IceMpm::step`:
 //!
 //! | step | where |
 //! |---|---|
-//! | 1 particles → nodes (eq 12) → cells (eq 18) | [`MpmSolver::advance_coupled`], [`steps::project_to_cells`] |
+//! | 1 particles → nodes (eq 12) → cells (eq 18) | [`CoupledStep::project`], [`steps::project_to_cells`] |
 //! | 2 equilibration pressure, θ as shares of the materials' volume | [`IceSolver::compute_equilibration_pressure`] |
 //! | 3 face velocities with face exchange (eq 19) | [`IceSolver::compute_face_centred_velocities`] |
 //! | 4 reactions: fluid reactants | inside [`IceSolver::compute_lagrangian_values`] |
-//! | 4 reactions: solid reactants | [`IceSolver::lagrangian_burn_fraction`] after step 2; the particles' loss after step 14 (`FluidFrame::consume_particles`), given to the product by [`IceSolver::add_burnt_particles`] |
+//! | 4 reactions: solid reactants | [`IceSolver::lagrangian_burn_fraction`] after step 2; the particles' loss after step 14 ([`CoupledStep::consume_particles`]), given to the product by [`IceSolver::add_burnt_particles`] |
 //! | 5 Δp (eqs 20–21) | [`IceSolver::compute_pressure_increment`] |
 //! | 6 face pressure (eq 22) | inside [`IceSolver::compute_lagrangian_values`] |
-//! | 7 particle stresses (eq 13); internal force from σ + p I (eq 14) | [`MpmSolver::advance_coupled`] |
+//! | 7 particle stresses (eq 13); internal force from σ + p I (eq 14) | [`CoupledStep::internal_forces`]; the stresses with step 14 |
 //! | 8–11 cell sources, Lagrangian values, exchange, specific volume | [`IceSolver::compute_lagrangian_values`] |
 //! | 12 advect fluids | [`IceSolver::advect_fluids`] |
-//! | 13 cell changes → nodes | [`steps::cells_to_nodes`] |
-//! | 14 particles updated (eqs 16–17) | [`MpmSolver::advance_coupled`] |
+//! | 13 cell changes → nodes | [`steps::cells_to_nodes`], [`CoupledStep::add_node_velocity_change`] |
+//! | 14 particles updated (eqs 16–17) | [`CoupledStep::update_particles`] |
 //!
 //! Each solid (particle material) is one ICE material flagged Lagrangian
 //! ([`IceSolver::set_lagrangian`]) whose state in each cell is imported
@@ -37,7 +37,9 @@ use brisance_core::{
 };
 use brisance_eos::EosModel;
 use brisance_ice::{BurntMass, IceSolver, LagrangianCells};
-use brisance_mpm::{GridCoupling, GridNodes, MaterialId, MpmSolver, Particles};
+#[cfg(doc)]
+use brisance_mpm::CoupledStep;
+use brisance_mpm::{GridNodes, MaterialId, MpmSolver, Particles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -188,8 +190,8 @@ impl Scratch {
     }
 }
 
-/// The fluid frame as the MPM step sees it (the hooks of
-/// [`GridCoupling`]).
+/// The fluid frame within one coupled step: the ICE and the cell arrays
+/// that join it to the particles.
 struct FluidFrame<'a> {
     ice: &'a mut IceSolver<EosModel>,
     solids: &'a [Solid],
@@ -442,12 +444,14 @@ impl Scratch {
     }
 }
 
-impl GridCoupling for FluidFrame<'_> {
-    fn before_forces(
+impl FluidFrame<'_> {
+    /// Step 1 from the nodes' mass and velocity v_I^n (eq 12): each
+    /// solid's cell state (eq 18, [`FluidFrame::project_particles_to_cells`])
+    /// imported into the ICE as its Lagrangian material's.
+    fn import_solids(
         &mut self,
         nodes: &GridNodes,
         particles: &Particles,
-        dt: f64,
     ) -> Result<(), SolverError> {
         self.project_particles_to_cells(nodes, particles);
         for (solid, c) in self.solids.iter().zip(&self.s.solids) {
@@ -461,10 +465,13 @@ impl GridCoupling for FluidFrame<'_> {
                 },
             )?;
         }
-        self.ice.compute_equilibration_pressure()?;
-        // Step 4 for reactants the particles carry: the fraction of their
-        // mass each cell burns this step (taken from the particles in
-        // `consume_particles`).
+        Ok(())
+    }
+
+    /// Step 4 for reactants the particles carry, after step 2: the fraction
+    /// of their mass each cell burns this step (taken from the particles in
+    /// [`FluidFrame::consume_particles`]).
+    fn burn_fractions(&mut self, dt: f64) {
         for b in self.burns.iter_mut() {
             self.ice.lagrangian_burn_fraction(
                 b.reaction,
@@ -473,22 +480,26 @@ impl GridCoupling for FluidFrame<'_> {
                 &mut b.specific_volume,
             );
         }
-        self.ice.compute_face_centred_velocities(dt);
-        self.ice.compute_pressure_increment(dt);
-        self.ice.advanced_pressure(&mut self.s.pressure);
-        Ok(())
     }
 
+    /// The advanced pressure of step 5 in every cell, which the particles
+    /// feel in the internal force ([`FluidFrame::pressure_at`]).
+    fn take_advanced_pressure(&mut self) {
+        self.ice.advanced_pressure(&mut self.s.pressure);
+    }
+
+    /// The mixture pressure at point `x`, Pa: added to each particle's
+    /// stress as +p I in the internal force.
     fn pressure_at(&self, x: [f64; 3]) -> f64 {
         steps::interpolate_cell_field(&self.grid, &self.s.pressure, x)
     }
 
-    fn after_forces(
-        &mut self,
-        nodes: &GridNodes,
-        dt: f64,
-        dv: &mut [[f64; 3]],
-    ) -> Result<(), SolverError> {
+    /// Steps 8–11 (6 and the fluid reactants' 4 inside) from the nodes'
+    /// v*_I after the internal and body forces: the solids' cell
+    /// velocities (eq 18 again), the Lagrangian values with the momentum
+    /// and heat exchange, and each solid's cell changes, with the momentum
+    /// its trace took returned to the fluids.
+    fn lagrangian_values(&mut self, nodes: &GridNodes, dt: f64) -> Result<(), SolverError> {
         let g = self.grid;
         {
             let s = &mut *self.s;
@@ -528,14 +539,21 @@ impl GridCoupling for FluidFrame<'_> {
             self.share_trace_momentum();
         }
         self.ice.add_eulerian_momentum(&self.s.trace_momentum);
+        Ok(())
+    }
+
+    /// Step 13: the cells' velocity change to the nodes (the adjoint of eq
+    /// 18), written into `dv` (node storage order).
+    fn changes_to_nodes(&self, nodes: &GridNodes, dv: &mut [[f64; 3]]) {
         let change = match self.s.solids.as_slice() {
             [one] => &one.change,
             _ => &self.s.cell_change,
         };
-        steps::cells_to_nodes(&g, self.rz, &nodes.lattice, change, dv);
-        Ok(())
+        steps::cells_to_nodes(&self.grid, self.rz, &nodes.lattice, change, dv);
     }
 
+    /// The temperature change of the heat exchange at point `x` over the
+    /// step for a particle of `material`, K.
     fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64 {
         steps::cell_value_at(
             &self.grid,
@@ -654,6 +672,62 @@ struct SavedState {
 }
 
 impl IceMpm {
+    /// One time step: seed 000 §3.3's step list in its order (the module
+    /// doc's table). The particle phases are [`brisance_mpm::CoupledStep`]'s,
+    /// the cell steps [`IceSolver`]'s, and what joins them (eq 18 and its
+    /// adjoint, the solids' cell states, the burning particles) the fluid
+    /// frame's.
+    fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        let grid = self.mpm.level().geometry;
+        let mut frame = FluidFrame {
+            ice: &mut self.ice,
+            solids: &self.solids,
+            burns: &mut self.burns,
+            grid,
+            rz: self.rz,
+            volumes: &self.volumes,
+            s: &mut self.scratch,
+        };
+        let mut mpm = self.mpm.begin_coupled_step(dt)?;
+        // 1. Particles → nodes (eq 12) → cells (eq 18): each solid's state
+        //    in every cell.
+        mpm.project();
+        frame.import_solids(mpm.nodes(), mpm.particles())?;
+        // 2. The equilibration pressure, θ as shares of the materials'
+        //    volume.
+        frame.ice.compute_equilibration_pressure()?;
+        // 4. Solid reactants: the fraction of the particles' reactant each
+        //    cell burns this step (its mass leaves them after step 14).
+        frame.burn_fractions(dt);
+        // 3. Face-centred velocities with the face exchange (eq 19).
+        frame.ice.compute_face_centred_velocities(dt);
+        // 5. The pressure increment (eqs 20–21) and the advanced pressure.
+        frame.ice.compute_pressure_increment(dt);
+        frame.take_advanced_pressure();
+        // 7. The internal force from σ_p + p I (eq 14), the nodes' v*_I.
+        mpm.internal_forces(|x| frame.pressure_at(x));
+        // 6, 8–11. Face pressure (eq 22), cell sources, Lagrangian values,
+        //    momentum and heat exchange, specific volume (fluid reactants'
+        //    step 4 inside).
+        frame.lagrangian_values(mpm.nodes(), dt)?;
+        // 13. The cells' changes to the nodes.
+        mpm.add_node_velocity_change(|nodes, dv| {
+            frame.changes_to_nodes(nodes, dv);
+            Ok(())
+        })?;
+        // 14. The particles from the nodes (eqs 16–17) with their stress
+        //     (eq 13, step 7) and the heat exchange's temperature change.
+        mpm.update_particles(|x, m| frame.temperature_change(x, m))?;
+        // 4. Solid reactants: the burnt mass leaves the particles for the
+        //    product.
+        mpm.consume_particles(|particles, consumed| frame.consume_particles(particles, consumed))?;
+        mpm.finish()?;
+        // 12. Advection of the fluids.
+        self.ice.advect_fluids(dt)?;
+        self.ice.finish_coupled_step(dt);
+        Ok(())
+    }
+
     /// Couples `ice` with `mpm` on the same grid; particle material k is
     /// ICE material `solids[k]` (its EOS gives that solid's pressure in
     /// step 2). Several particle materials share the nodes' one velocity
@@ -865,21 +939,10 @@ impl Solver for IceMpm {
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         let _span = tracing::trace_span!("ice_mpm_step", dt).entered();
-        let mut frame = FluidFrame {
-            ice: &mut self.ice,
-            solids: &self.solids,
-            burns: &mut self.burns,
-            grid: self.mpm.level().geometry,
-            rz: self.rz,
-            volumes: &self.volumes,
-            s: &mut self.scratch,
-        };
-        // Steps 1–11, 13 and 14 (the module doc's table).
-        self.mpm.advance_coupled(dt, &mut frame)?;
-        // Step 12.
-        self.ice.advect_fluids(dt)?;
-        self.ice.finish_coupled_step(dt);
-        Ok(())
+        // The whole step runs as one task of the thread pool, so that each
+        // of its parallel loops starts on a worker instead of being handed
+        // over from this thread and waited for.
+        rayon::scope(|_| self.step(dt))
     }
 
     /// The fluids' totals (ICE, the solids' traces left out) plus the

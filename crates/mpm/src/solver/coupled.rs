@@ -1,100 +1,71 @@
 //! The particle half of the coupled fluid–structure step of seed 000 §3.3
-//! (the ICE–MPM pipeline of `brisance-couple`).
+//! (the ICE–MPM pipeline of `brisance-couple`, whose `IceMpm::advance`
+//! holds the seed's step list and calls these phases in its order).
 //!
-//! [`MpmSolver::advance_coupled`] is the explicit MPM step of
-//! [`crate::step`] (USL or MUSL) with the Eulerian frame called at the two
-//! points where the seed's step list needs it:
+//! [`MpmSolver::begin_coupled_step`] opens one explicit MPM step (USL or
+//! MUSL: the particles sorted into their bins, heat conducted inside the
+//! solids when conduction is on, the surface tractions of the step) as a
+//! [`CoupledStep`], whose phases are the MPM parts of the step list:
 //!
-//! 1. P2G of mass and momentum (eq 12), v_I^n = p_I/m_I on every node with
-//!    mass, those below the mass cut-off included (their mass enters the
-//!    cells of eq 18: [`crate::grid_nodes::NodeUpdate::light_nodes_move`]); then
-//!    [`GridCoupling::before_forces`] — the nodes to cell centres (eq 18),
-//!    the equilibration pressure, face velocities and the advanced pressure
-//!    p (steps 1–6).
-//! 2. The internal force (eq 14) from σ_p + p(x_p) I: the fluid frame
-//!    applies the mixture pressure to the solid as −θ_s ∇p* at the cell
-//!    centres (eq 24), so the nodes carry only the divergence of the
-//!    solid's stress in excess of it, ∇·θ_r(σ_r − σ) with σ = −p I; then
-//!    f_I += m_I g, a_I = f_I/m_I and v*_I = v_I^n + a_I Δt (eq 15), with
-//!    a_I = 0 on the nodes below the cut-off.
-//! 3. [`GridCoupling::after_forces`] — the cell-centred Lagrangian values,
-//!    momentum and heat exchange (steps 8–10) — returns the velocity
-//!    change Δv_I of every node, which is added to v*_I and, as Δv_I/Δt,
-//!    to a_I (step 13), on every node with mass and the components no face
-//!    condition holds.
-//! 4. G2P (eqs 16–17) and the stress update from the grid velocity
-//!    gradient (eq 13, step 7; MUSL re-maps v_I^{n+1} on light nodes too),
-//!    the temperature change of the heat exchange at each particle
-//!    ([`GridCoupling::temperature_change`]), the particles' loss of mass
-//!    to the fluids where a solid reactant burns
-//!    ([`GridCoupling::consume_particles`], step 4's source applied to the
-//!    particles), and the removal of particles that left through outflow
-//!    faces (step 14).
+//! 1. [`CoupledStep::project`]: P2G of mass and momentum (eq 12),
+//!    v_I^n = p_I/m_I on every node with mass, those below the mass
+//!    cut-off included (their mass enters the cells of eq 18:
+//!    [`crate::grid_nodes::NodeUpdate::light_nodes_move`]). The fluid frame
+//!    then takes the nodes to the cell centres (eq 18) and runs steps 2–6.
+//! 2. [`CoupledStep::internal_forces`] (eq 14) from σ_p + p(x_p) I: the
+//!    fluid frame applies the mixture pressure to the solid as −θ_s ∇p* at
+//!    the cell centres (eq 24), so the nodes carry only the divergence of
+//!    the solid's stress in excess of it, ∇·θ_r(σ_r − σ) with σ = −p I;
+//!    then f_I += m_I g, a_I = f_I/m_I and v*_I = v_I^n + a_I Δt (eq 15),
+//!    with a_I = 0 on the nodes below the cut-off. The fluid frame then
+//!    runs steps 8–11 from v*_I.
+//! 3. [`CoupledStep::add_node_velocity_change`] (step 13): the velocity
+//!    change Δv_I the fluid frame gives every node is added to v*_I and,
+//!    as Δv_I/Δt, to a_I, on every node with mass and the components no
+//!    face condition holds.
+//! 4. [`CoupledStep::update_particles`] (step 14 and the stress of step
+//!    7): G2P (eqs 16–17) and the stress update from the grid velocity
+//!    gradient (eq 13; MUSL re-maps v_I^{n+1} on light nodes too), then
+//!    the temperature change of the heat exchange at each particle.
+//! 5. [`CoupledStep::consume_particles`]: the particles' loss of mass to
+//!    the fluids where a solid reactant burns (step 4's source applied to
+//!    the particles).
+//! 6. [`CoupledStep::finish`]: the external work, the removal of the
+//!    particles that left through outflow faces, and the step counted.
 //!
-//! With heat conduction on ([`crate::conduction`]), the particles'
-//! temperatures first conduct over the step, as in the standalone step.
-//!
-//! Advection of the fluids (step 12) is the pipeline's, after this step.
+//! A step dropped before [`CoupledStep::finish`] (an error in a phase)
+//! keeps the solver's surface tractions and counts no step.
 
 use super::*;
 use crate::step::{G2pParts, NodeVelocity, Transfer};
 
-/// What the Eulerian frame does inside [`MpmSolver::advance_coupled`].
-pub trait GridCoupling: Sync + Send {
-    /// Steps 1–6 of seed 000 §3.3: `nodes` holds the particles' lumped
-    /// mass m_I and velocity v_I^n = p_I/m_I (eq 12, on every node with
-    /// mass, after the boundary conditions); `particles` are those of the
-    /// start of the step.
-    fn before_forces(
-        &mut self,
-        nodes: &GridNodes,
-        particles: &Particles,
-        dt: f64,
-    ) -> Result<(), SolverError>;
+/// One coupled MPM step of Δt in progress (see the module doc): the
+/// phases are called in the order of the module doc, each once.
+#[derive(Debug)]
+pub struct CoupledStep<'a> {
+    solver: &'a mut MpmSolver,
+    dt: f64,
+    /// The surface tractions' nodal forces of this step, taken from the
+    /// solver for the step and given back when it ends.
+    surface_forces: Vec<(usize, [f64; 3])>,
+}
 
-    /// The mixture pressure at point `x`, Pa: added to each particle's
-    /// stress as +p I in the internal force.
-    fn pressure_at(&self, x: [f64; 3]) -> f64;
-
-    /// Steps 8–10 and 13: `nodes.velocity_new` holds v*_I after the
-    /// internal and body forces; writes each node's velocity change from
-    /// the cell-centred pressure gradient and exchange into `dv` (node
-    /// storage order, zeroed on entry).
-    fn after_forces(
-        &mut self,
-        nodes: &GridNodes,
-        dt: f64,
-        dv: &mut [[f64; 3]],
-    ) -> Result<(), SolverError>;
-
-    /// The temperature change of the heat exchange at point `x` over the
-    /// step for a particle of `material`, K.
-    fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64;
-
-    /// After G2P and the heat exchange: the Eulerian frame may take mass
-    /// from the particles (a solid reactant burning into a fluid product,
-    /// seed 000 step 4), changing their mass, volumes and whatever else it
-    /// books, and lists in `consumed` (ascending) the particles it took
-    /// whole; the solver removes those without booking them anywhere (the
-    /// frame has). Nothing by default.
-    fn consume_particles(
-        &mut self,
-        particles: &mut Particles,
-        consumed: &mut Vec<usize>,
-    ) -> Result<(), SolverError> {
-        let _ = (particles, consumed);
-        Ok(())
-    }
+/// The step's parameters and the solver's parts a phase works on,
+/// borrowed field by field.
+struct Parts<'s> {
+    params: StepParams<'s>,
+    transfer: Transfer<'s>,
+    nodes: &'s mut GridNodes,
+    particles: &'s mut Particles,
+    bulk: &'s mut Vec<BulkViscosityState>,
+    shifted: &'s mut Vec<[f64; 6]>,
+    node_change: &'s mut Vec<[f64; 3]>,
 }
 
 impl MpmSolver {
-    /// One coupled step of Δt = `dt` (see the module doc). USL and MUSL
-    /// only; the ΔF̄ anti-locking option is not available here.
-    pub fn advance_coupled(
-        &mut self,
-        dt: f64,
-        coupling: &mut impl GridCoupling,
-    ) -> Result<(), SolverError> {
+    /// Opens one coupled step of Δt = `dt` (see the module doc). USL and
+    /// MUSL only; the ΔF̄ anti-locking option is not available here.
+    pub fn begin_coupled_step(&mut self, dt: f64) -> Result<CoupledStep<'_>, SolverError> {
         brisance_core::solver::check_step("MPM", dt)?;
         if self.options.scheme == UpdateScheme::Usf {
             return Err(SolverError::Other(
@@ -107,7 +78,16 @@ impl MpmSolver {
                     .into(),
             ));
         }
-        rayon::scope(|_| self.step_coupled(dt, coupling))
+        self.sort_particles()?;
+        // Heat conduction inside the solids, from the state of the start
+        // of the step (crate::conduction; temperatures only).
+        self.conduct_heat(dt);
+        let surface_forces = self.take_surface_forces()?;
+        Ok(CoupledStep {
+            solver: self,
+            dt,
+            surface_forces,
+        })
     }
 
     /// Adds the isotropic stress −p(x_p) I to every particle's stress:
@@ -147,68 +127,107 @@ impl MpmSolver {
         step::p2g_velocity(&t, &self.particles, &mut self.work.nodes, &params);
         Ok(&self.work.nodes)
     }
+}
 
-    fn step_coupled(
-        &mut self,
-        dt: f64,
-        coupling: &mut impl GridCoupling,
-    ) -> Result<(), SolverError> {
-        self.sort_particles()?;
-        // Heat conduction inside the solids, from the state of the start
-        // of the step (crate::conduction; temperatures only).
-        self.conduct_heat(dt);
-        let surface_forces = self.take_surface_forces()?;
-        let grid = self.level.geometry;
-        let params = StepParams {
-            surface_forces: &surface_forces,
-            light_nodes_move: true,
-            ..step_params(
-                &self.options,
-                &self.materials,
-                self.reference_particle_mass,
-                &grid,
-                dt,
-            )
-        };
-        let work = &mut self.work;
-        let t = Transfer {
-            map: &work.map,
-            bins: &work.bins,
-        };
-        let nodes = &mut work.nodes;
-        let ps = &mut self.particles;
-        // 1. Mass and momentum to the nodes; the fluid frame's steps 1–6.
-        // Light nodes (below the mass cut-off) keep p_I/m_I: their mass
-        // enters the cells of eq 18 (NodeUpdate::light_nodes_move).
-        step::p2g_velocity(&t, ps, nodes, &params);
-        coupling.before_forces(nodes, ps, dt)?;
-        // 2. Internal force from σ_p + p I, and the momentum update.
-        let shifted = &mut work.shifted_stress;
-        shifted.clear();
-        shifted.resize(ps.len(), [0.0; 6]);
-        {
-            let c: &dyn GridCoupling = coupling;
-            shifted
-                .par_iter_mut()
-                .zip(ps.stress.par_iter().zip(ps.position.par_iter()))
-                .with_min_len(1024)
-                .for_each(|(s, (sigma, x))| {
-                    let p = c.pressure_at(*x);
-                    *s = *sigma;
-                    for x in &mut s[..3] {
-                        *x += p;
-                    }
-                });
+impl CoupledStep<'_> {
+    /// The step's parameters (light nodes move with p_I/m_I: their mass
+    /// enters the cells of eq 18) and the parts of the solver a phase
+    /// works on.
+    fn parts(&mut self) -> Parts<'_> {
+        let s = &mut *self.solver;
+        let work = &mut s.work;
+        Parts {
+            params: StepParams {
+                surface_forces: &self.surface_forces,
+                light_nodes_move: true,
+                ..step_params(
+                    &s.options,
+                    &s.materials,
+                    s.reference_particle_mass,
+                    &s.level.geometry,
+                    self.dt,
+                )
+            },
+            transfer: Transfer {
+                map: &work.map,
+                bins: &work.bins,
+            },
+            nodes: &mut work.nodes,
+            particles: &mut s.particles,
+            bulk: &mut s.bulk,
+            shifted: &mut work.shifted_stress,
+            node_change: &mut work.node_change,
         }
-        step::p2g_integrate_stress(&t, ps, shifted, nodes, &params);
-        // 3. The cell-centred changes back to the nodes.
-        let dv = &mut work.node_change;
-        dv.clear();
-        dv.resize(nodes.mass.len(), [0.0; 3]);
-        coupling.after_forces(nodes, dt, dv)?;
-        nodes.add_velocity_change(dv, &params.node_update());
-        // 4. G2P and the stress update.
-        let bulk = &mut self.bulk;
+    }
+
+    /// The nodes: after [`CoupledStep::project`] their mass m_I and
+    /// velocity v_I^n (eq 12, on every node with mass, after the boundary
+    /// conditions); after [`CoupledStep::internal_forces`] also v*_I.
+    pub fn nodes(&self) -> &GridNodes {
+        &self.solver.work.nodes
+    }
+
+    /// The particles (those of the start of the step until
+    /// [`CoupledStep::update_particles`]).
+    pub fn particles(&self) -> &Particles {
+        &self.solver.particles
+    }
+
+    /// Phase 1 (step 1's eq 12): the particles' mass and momentum to the
+    /// nodes.
+    pub fn project(&mut self) {
+        let p = self.parts();
+        step::p2g_velocity(&p.transfer, p.particles, p.nodes, &p.params);
+    }
+
+    /// Phase 2 (eq 14 of step 7): the internal force from σ_p + p(x_p) I,
+    /// with `pressure_at` the mixture pressure at a point (Pa), the body
+    /// force and the momentum update v*_I.
+    pub fn internal_forces(&mut self, pressure_at: impl Fn([f64; 3]) -> f64 + Sync) {
+        let p = self.parts();
+        let ps = &*p.particles;
+        p.shifted.clear();
+        p.shifted.resize(ps.len(), [0.0; 6]);
+        p.shifted
+            .par_iter_mut()
+            .zip(ps.stress.par_iter().zip(ps.position.par_iter()))
+            .with_min_len(1024)
+            .for_each(|(s, (sigma, x))| {
+                let pressure = pressure_at(*x);
+                *s = *sigma;
+                for x in &mut s[..3] {
+                    *x += pressure;
+                }
+            });
+        step::p2g_integrate_stress(&p.transfer, ps, p.shifted, p.nodes, &p.params);
+    }
+
+    /// Phase 3 (step 13): `change` writes each node's velocity change from
+    /// the cell-centred values into its second argument (node storage
+    /// order, zeroed on entry), reading the nodes (v*_I in
+    /// `velocity_new`); the change is then added to the nodes.
+    pub fn add_node_velocity_change(
+        &mut self,
+        change: impl FnOnce(&GridNodes, &mut [[f64; 3]]) -> Result<(), SolverError>,
+    ) -> Result<(), SolverError> {
+        let p = self.parts();
+        p.node_change.clear();
+        p.node_change.resize(p.nodes.mass.len(), [0.0; 3]);
+        change(p.nodes, p.node_change)?;
+        p.nodes
+            .add_velocity_change(p.node_change, &p.params.node_update());
+        Ok(())
+    }
+
+    /// Phase 4 (step 14 and the stress update of step 7): G2P and the
+    /// stress update, then each particle's temperature change of the heat
+    /// exchange, `temperature_change(x_p, material)` in K.
+    pub fn update_particles(
+        &mut self,
+        temperature_change: impl Fn([f64; 3], MaterialId) -> f64 + Sync,
+    ) -> Result<(), SolverError> {
+        let p = self.parts();
+        let (t, ps, nodes, params) = (&p.transfer, &mut *p.particles, p.nodes, &p.params);
         let failure = match params.scheme {
             UpdateScheme::Usl => {
                 let parts = G2pParts {
@@ -216,7 +235,7 @@ impl MpmSolver {
                     position: true,
                     gradient: Some(NodeVelocity::End),
                 };
-                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
+                step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts)
             }
             _ => {
                 let parts = G2pParts {
@@ -224,38 +243,64 @@ impl MpmSolver {
                     position: true,
                     gradient: Some(NodeVelocity::Remapped),
                 };
-                step::g2p_velocity_and_remap(&t, ps, nodes, &params);
-                step::g2p_and_update_stresses(&t, ps, bulk, nodes, &params, parts)
+                step::g2p_velocity_and_remap(t, ps, nodes, params);
+                step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts)
             }
         };
-        self.surface_forces = surface_forces;
         if let Some(f) = failure {
-            return Err(self.particle_error(f.index, f.describe()));
+            return Err(self.solver.particle_error(f.index, f.describe()));
         }
-        {
-            let c: &dyn GridCoupling = coupling;
-            let ps = &mut self.particles;
-            ps.temperature
-                .par_iter_mut()
-                .zip(ps.position.par_iter().zip(ps.material.par_iter()))
-                .with_min_len(1024)
-                .for_each(|(temp, (x, m))| *temp += c.temperature_change(*x, *m));
-        }
-        let mut consumed = std::mem::take(&mut self.work.consumed);
-        consumed.clear();
-        coupling.consume_particles(&mut self.particles, &mut consumed)?;
-        if !consumed.is_empty() {
-            self.remove_sorted(&consumed);
-        }
-        self.work.consumed = consumed;
-        self.external_work +=
-            self.work
-                .nodes
-                .external_work(&self.surface_forces, self.options.gravity, dt);
-        self.handle_leaving_particles()?;
-        self.time += dt;
-        self.steps += 1;
+        let ps = &mut self.solver.particles;
+        ps.temperature
+            .par_iter_mut()
+            .zip(ps.position.par_iter().zip(ps.material.par_iter()))
+            .with_min_len(1024)
+            .for_each(|(temp, (x, m))| *temp += temperature_change(*x, *m));
         Ok(())
+    }
+
+    /// Phase 5: `consume(particles, consumed)` may take mass from the
+    /// particles (a solid reactant burning into a fluid product, seed 000
+    /// step 4), changing their mass, volumes and whatever else it books,
+    /// and lists in `consumed` (ascending) the particles it took whole;
+    /// those are removed without being booked anywhere (the caller has).
+    pub fn consume_particles(
+        &mut self,
+        consume: impl FnOnce(&mut Particles, &mut Vec<usize>) -> Result<(), SolverError>,
+    ) -> Result<(), SolverError> {
+        let s = &mut *self.solver;
+        let mut consumed = std::mem::take(&mut s.work.consumed);
+        consumed.clear();
+        let result = consume(&mut s.particles, &mut consumed);
+        if result.is_ok() && !consumed.is_empty() {
+            s.remove_sorted(&consumed);
+        }
+        s.work.consumed = consumed;
+        result
+    }
+
+    /// Phase 6: the work of the external forces, the particles that left
+    /// through outflow faces, and the step counted.
+    pub fn finish(mut self) -> Result<(), SolverError> {
+        let s = &mut *self.solver;
+        s.surface_forces = std::mem::take(&mut self.surface_forces);
+        s.external_work +=
+            s.work
+                .nodes
+                .external_work(&s.surface_forces, s.options.gravity, self.dt);
+        s.handle_leaving_particles()?;
+        s.time += self.dt;
+        s.steps += 1;
+        Ok(())
+    }
+}
+
+impl Drop for CoupledStep<'_> {
+    /// The surface tractions go back to the solver however the step ends.
+    fn drop(&mut self) {
+        if !self.surface_forces.is_empty() {
+            self.solver.surface_forces = std::mem::take(&mut self.surface_forces);
+        }
     }
 }
 
@@ -264,44 +309,6 @@ mod tests {
     use super::*;
     use crate::{fill_shape, FillSpec, Shape};
     use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
-
-    /// A fluid frame that exerts nothing and hands every node the same
-    /// velocity change `dv`; it records the nodal fields it is shown.
-    struct Recorder {
-        dv: [f64; 3],
-        mass: Vec<f64>,
-        velocity: Vec<[f64; 3]>,
-        velocity_new: Vec<[f64; 3]>,
-    }
-
-    impl GridCoupling for Recorder {
-        fn before_forces(
-            &mut self,
-            nodes: &GridNodes,
-            _: &Particles,
-            _: f64,
-        ) -> Result<(), SolverError> {
-            self.mass.clone_from(&nodes.mass);
-            self.velocity.clone_from(&nodes.velocity);
-            Ok(())
-        }
-        fn pressure_at(&self, _: [f64; 3]) -> f64 {
-            0.0
-        }
-        fn after_forces(
-            &mut self,
-            nodes: &GridNodes,
-            _: f64,
-            dv: &mut [[f64; 3]],
-        ) -> Result<(), SolverError> {
-            self.velocity_new.clone_from(&nodes.velocity_new);
-            dv.fill(self.dv);
-            Ok(())
-        }
-        fn temperature_change(&self, _: [f64; 3], _: MaterialId) -> f64 {
-            0.0
-        }
-    }
 
     /// A stress-free 1D bar at 2 m/s whose leading particle lies 10⁻⁴ of a
     /// cell past a node (8 cells of 1/8 m, 2 particles per cell, cut-off
@@ -353,29 +360,34 @@ mod tests {
             };
             let mut s = MpmSolver::new(level, vec![model], particles, options).unwrap();
             let m_p = s.particles().mass[0];
-            let mut frame = Recorder {
-                dv: [1.0, 0.0, 0.0],
-                mass: Vec::new(),
-                velocity: Vec::new(),
-                velocity_new: Vec::new(),
-            };
-            s.advance_coupled(1e-6, &mut frame).unwrap();
-            let light: Vec<usize> = (0..frame.mass.len())
-                .filter(|&i| frame.mass[i] > 0.0 && frame.mass[i] <= 1e-3 * m_p)
+            // A fluid frame that exerts nothing and hands every node the
+            // same velocity change, 1 m/s along x; the nodal fields it is
+            // shown are recorded.
+            let mut step = s.begin_coupled_step(1e-6).unwrap();
+            step.project();
+            let mass = step.nodes().mass.clone();
+            let velocity = step.nodes().velocity.clone();
+            step.internal_forces(|_| 0.0);
+            let velocity_new = step.nodes().velocity_new.clone();
+            step.add_node_velocity_change(|_, dv| {
+                dv.fill([1.0, 0.0, 0.0]);
+                Ok(())
+            })
+            .unwrap();
+            step.update_particles(|_, _| 0.0).unwrap();
+            step.consume_particles(|_, _| Ok(())).unwrap();
+            step.finish().unwrap();
+            let light: Vec<usize> = (0..mass.len())
+                .filter(|&i| mass[i] > 0.0 && mass[i] <= 1e-3 * m_p)
                 .collect();
-            assert_eq!(
-                light.len(),
-                1,
-                "{scheme:?}: one light node, {:?}",
-                frame.mass
-            );
-            assert!((frame.mass[light[0]] / m_p - 1e-4).abs() < 1e-9);
-            for i in (0..frame.mass.len()).filter(|&i| frame.mass[i] > 0.0) {
-                for v in [frame.velocity[i], frame.velocity_new[i]] {
+            assert_eq!(light.len(), 1, "{scheme:?}: one light node, {:?}", mass);
+            assert!((mass[light[0]] / m_p - 1e-4).abs() < 1e-9);
+            for i in (0..mass.len()).filter(|&i| mass[i] > 0.0) {
+                for v in [velocity[i], velocity_new[i]] {
                     assert!(
                         (v[0] - 2.0).abs() < 1e-12 && v[1] == 0.0 && v[2] == 0.0,
                         "{scheme:?}: node {i} (mass {:e} kg) at {v:?}",
-                        frame.mass[i]
+                        mass[i]
                     );
                 }
             }
