@@ -199,7 +199,11 @@ impl Gather for AvxGather {
         ui: [f64; 4],
     ) -> Gathered {
         use std::arch::x86_64::*;
-        assert!(js.iter().all(|&j| j < reference.len() && j < state.len()));
+        // Every index clamped to both arrays (the identity for the valid
+        // indices the trait asks for, and branch-free: an `assert!` over
+        // the eight lanes here slowed the kernel by a third).
+        let last = reference.len().min(state.len()) - 1;
+        let js = &js.map(|j| j.min(last));
         let mut g = Gathered {
             x: [[0.0; LANES]; 3],
             vol: [0.0; LANES],
@@ -208,7 +212,7 @@ impl Gather for AvxGather {
         };
         // SAFETY: AvxGather is only used by `rows_serial_avx2` and
         // `rows_serial_avx512`, which run after the processor was checked
-        // for AVX2; every index is in bounds (asserted above), and the
+        // for AVX2; every index is in bounds (clamped above), and the
         // unaligned loads and stores read and write 4 f64 inside
         // `[f64; 4]` records and `[f64; LANES]` arrays at offsets 0 and 4.
         unsafe {
@@ -292,7 +296,8 @@ impl Gather for Avx512Gather {
         let last = reference.len().min(state.len()) - 1;
         let js = js.map(|j| (j as usize).min(last));
         // SAFETY: Avx512Gather is only used by `rows_serial_avx512`, which
-        // runs after the processor was checked for AVX-512F/VL/DQ and AVX2.
+        // runs after the processor was checked for AVX-512F/VL/DQ and AVX2;
+        // every index was clamped to both arrays just above.
         unsafe { avx512::solid_group(row, reference, state, &js, w_io, sp_io, sums) }
     }
 }
@@ -432,6 +437,58 @@ fn solid_row<G: Gather>(
         node_critical_stretch: input.state[i][3] as f32,
         plastic: plastic_law,
     };
+    // The row's groups compiled twice, with the law's plastic flag a
+    // constant in each: no test of it inside the group loop.
+    let sums = if plastic_law {
+        solid_groups::<G>(
+            &SolidRow {
+                plastic: true,
+                ..row
+            },
+            input,
+            neighbours,
+            factor,
+            plastic,
+        )
+    } else {
+        solid_groups::<G>(
+            &SolidRow {
+                plastic: false,
+                ..row
+            },
+            input,
+            neighbours,
+            factor,
+            plastic,
+        )
+    };
+    let mut f = [0.0f64; 3];
+    for d in 0..3 {
+        for l in 0..LANES {
+            f[d] += sums.force[d][l];
+        }
+    }
+    let min_stretch = sums
+        .min_stretch
+        .iter()
+        .fold(f32::INFINITY, |a, &b| a.min(b));
+    NodeForce {
+        force: f.map(|v| v * micromodulus),
+        min_stretch,
+        intact: sums.intact.iter().sum(),
+    }
+}
+
+/// The groups of eight bonds of one solid row ([`solid_row`]), their
+/// per-lane sums.
+#[inline(always)]
+fn solid_groups<G: Gather>(
+    row: &SolidRow,
+    input: &ForceInput,
+    neighbours: &[u32],
+    factor: &mut [f32],
+    plastic: &mut [f32],
+) -> SolidSums {
     let mut sums = SolidSums {
         force: [[0.0; LANES]; 3],
         min_stretch: [f32::INFINITY; LANES],
@@ -449,7 +506,7 @@ fn solid_row<G: Gather>(
         let j: &[u32; LANES] = j.try_into().unwrap_or(&[0; LANES]);
         let w: &mut [f32; LANES] = w.try_into().expect("chunk of LANES");
         let sp: &mut [f32; LANES] = sp.try_into().expect("chunk of LANES");
-        G::solid_group(&row, reference, state, j, w, sp, &mut sums);
+        G::solid_group(row, reference, state, j, w, sp, &mut sums);
     }
     let (jt, wt, spt) = (js.remainder(), ws.into_remainder(), sps.into_remainder());
     if let Some(&pad) = jt.last() {
@@ -460,25 +517,11 @@ fn solid_row<G: Gather>(
         j[..n].copy_from_slice(jt);
         w[..n].copy_from_slice(wt);
         sp[..n].copy_from_slice(spt);
-        G::solid_group(&row, reference, state, &j, &mut w, &mut sp, &mut sums);
+        G::solid_group(row, reference, state, &j, &mut w, &mut sp, &mut sums);
         wt.copy_from_slice(&w[..n]);
         spt.copy_from_slice(&sp[..n]);
     }
-    let mut f = [0.0f64; 3];
-    for d in 0..3 {
-        for l in 0..LANES {
-            f[d] += sums.force[d][l];
-        }
-    }
-    let min_stretch = sums
-        .min_stretch
-        .iter()
-        .fold(f32::INFINITY, |a, &b| a.min(b));
-    NodeForce {
-        force: f.map(|v| v * micromodulus),
-        min_stretch,
-        intact: sums.intact.iter().sum(),
-    }
+    sums
 }
 
 /// Gas row: the pair force between gas nodes i and j is the mean of the two
