@@ -6,6 +6,7 @@ use super::*;
 use crate::generate::fill_shape_in;
 use crate::{FillSpec, Shape};
 use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+use brisance_core::Solver;
 use std::f64::consts::PI;
 
 fn elastic(bulk_modulus: f64, shear_modulus: f64) -> MaterialModel {

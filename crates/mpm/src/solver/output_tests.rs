@@ -6,6 +6,7 @@ use super::*;
 use crate::traction::{LoadHistory, SurfaceLoadKind};
 use crate::{fill_shape, FillSpec, ParticleInit, ParticleSet, Shape};
 use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+use brisance_core::Solver;
 
 fn elastic() -> MaterialModel {
     MaterialModel::Hypoelastic(Hypoelastic {

@@ -3,8 +3,9 @@
 //! checkpoints, outflow bookkeeping and setup errors.
 
 use super::*;
-use crate::{fill_shape, FillSpec, Shape};
+use crate::{fill_shape, FillSpec, ParticleInit, Shape};
 use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+use brisance_core::Solver;
 
 fn hypoelastic(bulk_modulus: f64, shear_modulus: f64) -> MaterialModel {
     MaterialModel::Hypoelastic(Hypoelastic {
