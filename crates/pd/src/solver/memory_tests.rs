@@ -1,7 +1,7 @@
 //! The solver's memory count (`PdSolver::memory_use`) against hand counts.
 
 use super::*;
-use crate::material::Proportional;
+use crate::material::{Proportional, ProportionalKind};
 
 /// A micro-elastic steel block of n³ nodes, δ = 3h, as the bond-force
 /// bench uses, with or without short-range forces.

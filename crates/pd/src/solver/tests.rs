@@ -1,5 +1,6 @@
 use super::*;
-use crate::material::Proportional;
+use crate::material::{Proportional, ProportionalKind};
+use brisance_core::Solver;
 
 fn steel(kind: ProportionalKind, critical_stretch: f64) -> PdMaterial {
     PdMaterial::Proportional(Proportional {
