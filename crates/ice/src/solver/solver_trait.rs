@@ -1,0 +1,365 @@
+//! The [`Solver`] implementation of [`IceSolver`], with the checkpoint it
+//! saves and restores.
+
+use super::*;
+
+/// A checkpoint: the interior state fields in global order, and the
+/// running totals of the coupled equilibration's rescaling and of step 2's
+/// cold-material rule, so that a restarted run books from where it was.
+#[derive(Serialize, Deserialize)]
+struct SavedState {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    materials: usize,
+    fields: Vec<Vec<f64>>,
+    rescaled: ConservationTotals,
+    /// Per material (firings, energy), step 2's rule and step 12's.
+    kept_warm: Vec<(u64, f64)>,
+    kept_warm_advection: Vec<(u64, f64)>,
+    /// What has left through each domain face ([`IceSolver::outflow`]).
+    outflow: [ConservationTotals; 6],
+}
+
+/// A checkpoint written before the faces' outflow was booked: read as
+/// one with nothing booked yet.
+#[derive(Deserialize)]
+struct SavedStateWithoutOutflow {
+    time: f64,
+    steps: u64,
+    cells: [usize; 3],
+    materials: usize,
+    fields: Vec<Vec<f64>>,
+    rescaled: ConservationTotals,
+    kept_warm: Vec<(u64, f64)>,
+    kept_warm_advection: Vec<(u64, f64)>,
+}
+
+impl<E: Eos> Solver for IceSolver<E> {
+    fn name(&self) -> &str {
+        "ice"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Δt = cfl / max over cells of Σ_d max_r (|u_r,d| + c_r)/Δx_d: the
+    /// unsplit face fluxes move at most a fraction cfl of a cell's content
+    /// per step, and pressure waves cross at most that fraction of a cell.
+    /// With the implicit pressure c_r is left out (pressure waves are
+    /// implicit) and moving walls count with their velocity.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        let acoustic = if self.options.pressure == PressureSolve::Explicit {
+            1.0
+        } else {
+            0.0
+        };
+        let params = solver_params!(self);
+        let max_rate = self
+            .state
+            .par_iter()
+            .zip(self.level.patches.par_iter())
+            .zip(self.ranks.owned.par_iter())
+            .map(|((pf, patch), &own)| {
+                if !own {
+                    return 0.0;
+                }
+                let d = &pf.data;
+                let max_of = |a: f64, b: f64| {
+                    if a.is_nan() || b.is_nan() {
+                        f64::NAN
+                    } else {
+                        a.max(b)
+                    }
+                };
+                par_interior(
+                    patch,
+                    || 0.0_f64,
+                    |max_rate, c| {
+                        let rate = cell_cfl_rate(&params, d, c, acoustic).0;
+                        // NaN propagates as "not finite" through max below.
+                        *max_rate = max_of(*max_rate, rate);
+                    },
+                    max_of,
+                )
+            })
+            .reduce(
+                || 0.0,
+                |a, b| {
+                    if a.is_nan() || b.is_nan() {
+                        f64::NAN
+                    } else {
+                        a.max(b)
+                    }
+                },
+            );
+        let max_rate = self.max_over_ranks(max_rate);
+        let max_rate = if acoustic == 0.0 {
+            max_rate.max(self.wall_rate())
+        } else {
+            max_rate
+        };
+        // A burning front moves at most `cfl` of a cell a step; NaN stays
+        // NaN.
+        let max_rate = if max_rate.is_nan() {
+            max_rate
+        } else {
+            max_rate.max(self.surface_front_rate())
+        };
+        let dt = if max_rate > 0.0 {
+            self.options.cfl / max_rate
+        } else if max_rate == 0.0 {
+            f64::INFINITY
+        } else {
+            f64::NAN
+        };
+        // The viscous and conduction limits (diffusion_pass) and the
+        // largest step allowed; NaN stays NaN.
+        let dt = if dt.is_nan() {
+            dt
+        } else {
+            dt.min(self.diffusive_time_step()).min(self.options.max_dt)
+        };
+        if !(dt >= self.options.min_dt) {
+            return Err(SolverError::TimeStepCollapse {
+                dt,
+                min_dt: self.options.min_dt,
+                time: self.time,
+                detail: format!(
+                    "the fastest signal speed of the ICE materials is too large for the cell size: {}",
+                    self.fastest_signal()
+                ),
+            });
+        }
+        Ok(dt)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        brisance_core::solver::check_step("ICE", dt)?;
+        let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
+        match self.options.pressure {
+            PressureSolve::Explicit => {
+                self.compute_face_centred_velocities(dt);
+                self.compute_pressure_increment(dt);
+            }
+            PressureSolve::Implicit(s) => self.compute_implicit_pressure(dt, s)?,
+        }
+        self.compute_lagrangian_values(dt)?;
+        self.advect_fluids(dt)?;
+        self.time += dt;
+        self.steps += 1;
+        self.compute_equilibration_pressure()
+    }
+
+    /// The outflow faces whose diode has held back a flow into the domain
+    /// ([`crate::boundary::holds_back_inflow`]).
+    ///
+    /// Across ranks this is a collective call (every rank calls it).
+    fn blocked_inflow(&self) -> [bool; 6] {
+        if !self.ranks.several() {
+            return self.blocked_inflow;
+        }
+        let mut any = self.blocked_inflow.map(u64::from);
+        self.ranks.comm.sum(&mut any);
+        any.map(|n| n > 0)
+    }
+
+    /// Totals summed in global cell order: the bits do not depend on the
+    /// patch split or thread count.
+    ///
+    /// On an axisymmetric grid each cell counts with its ring's volume:
+    /// mass, axial momentum (y) and energy are the whole body's; the
+    /// radial momentum (x) is the sum of the rings' ρu_r V, no conserved
+    /// quantity (the hoop source changes it).
+    fn conservation_totals(&self) -> ConservationTotals {
+        let n = self.eos.len();
+        let mut t = ConservationTotals::default();
+        let axisymmetric = self.options.geometry.is_axisymmetric();
+        let vols = self.volumes();
+        let state = self.gathered_state();
+        self.level.for_each_cell_in_order(|g, pid, c| {
+            let d = &state[pid].data;
+            // Axisymmetric: this cell's totals per unit volume, then times
+            // its ring; Cartesian: straight into the sum (times the common
+            // cell volume at the end).
+            let mut ring = ConservationTotals::default();
+            let acc = if axisymmetric { &mut ring } else { &mut t };
+            for r in 0..n {
+                if self.lagrangian[r] {
+                    // Counted on the particles that carry it.
+                    continue;
+                }
+                let b = r * NS;
+                let rho = d[b + RHO][c];
+                let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+                acc.mass += rho;
+                for a in 0..3 {
+                    acc.momentum[a] += rho * u[a];
+                }
+                acc.energy +=
+                    rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+            }
+            // Chemical energy of the reactants, in the products' reference.
+            // A reactant carried by particles is counted on them.
+            for rx in self
+                .reactions
+                .iter()
+                .filter(|rx| !self.lagrangian[rx.reactant])
+            {
+                acc.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
+            }
+            if axisymmetric {
+                let v = vols.column(g[0]);
+                t.mass += ring.mass * v;
+                for a in 0..3 {
+                    t.momentum[a] += ring.momentum[a] * v;
+                }
+                t.energy += ring.energy * v;
+            }
+        });
+        if !axisymmetric {
+            let vol: f64 = self.level.geometry.spacing.iter().product();
+            t.mass *= vol;
+            t.momentum = t.momentum.map(|m| m * vol);
+            t.energy *= vol;
+        }
+        // What has left through the domain faces belongs to the total.
+        let o = self.outflow_sum();
+        t.mass += o.mass;
+        for a in 0..3 {
+            t.momentum[a] += o.momentum[a];
+        }
+        t.energy += o.energy;
+        t
+    }
+
+    fn outflow_totals(&self) -> Option<ConservationTotals> {
+        // Walls and symmetry planes book only a pressure impulse; a
+        // periodic pair nothing.
+        let open = self.boundaries.iter().enumerate().any(|(f, b)| {
+            self.level.geometry.cells[f / 2] > 1
+                && !matches!(b, IceBoundary::Symmetry | IceBoundary::Periodic)
+                && !matches!(b, IceBoundary::FixedVelocity(v) if *v == [0.0; 3])
+        });
+        open.then(|| self.outflow_sum())
+    }
+
+    fn cell_field_names(&self) -> Vec<&'static str> {
+        self.field_names()
+    }
+
+    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
+        let ids = fields
+            .iter()
+            .map(|f| self.field_index(f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let state = self.gathered_state();
+        Ok(self
+            .level
+            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&state, pid, n, id)))
+    }
+
+    fn sample(
+        &self,
+        point: [f64; 3],
+        fields: &[String],
+        out: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let (pid, c) = self.level.locate_point(point)?;
+        out.clear();
+        for f in fields {
+            out.push(self.derived(&self.state, pid, c, self.field_index(f)?));
+        }
+        // The owner's values (another rank's copy of the patch is stale).
+        if self.ranks.several() {
+            self.ranks.comm.broadcast(self.ranks.owner[pid], out);
+        }
+        Ok(())
+    }
+
+    fn work_per_step(&self) -> (f64, &'static str) {
+        (self.level.geometry.cell_count() as f64, "cell-updates")
+    }
+
+    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
+        let fields = self.level.gather_fields(&self.gathered_state());
+        let saved = SavedState {
+            time: self.time,
+            steps: self.steps,
+            cells: self.level.geometry.cells,
+            materials: self.eos.len(),
+            fields,
+            rescaled: self.rescaled,
+            kept_warm: self
+                .kept_warm_totals()
+                .iter()
+                .map(|t| (t.firings, t.energy))
+                .collect(),
+            kept_warm_advection: self
+                .kept_warm_advection_totals()
+                .iter()
+                .map(|t| (t.firings, t.energy))
+                .collect(),
+            outflow: self.outflow,
+        };
+        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let saved: SavedState = match bincode::deserialize(bytes) {
+            Ok(s) => s,
+            Err(e) => {
+                let old: SavedStateWithoutOutflow = bincode::deserialize(bytes)
+                    .map_err(|_| SolverError::Checkpoint(e.to_string()))?;
+                SavedState {
+                    time: old.time,
+                    steps: old.steps,
+                    cells: old.cells,
+                    materials: old.materials,
+                    fields: old.fields,
+                    rescaled: old.rescaled,
+                    kept_warm: old.kept_warm,
+                    kept_warm_advection: old.kept_warm_advection,
+                    outflow: [ConservationTotals::default(); 6],
+                }
+            }
+        };
+        let cells = self.level.geometry.cells;
+        let nf = self.eos.len() * NS + 1;
+        if saved.cells != cells
+            || saved.materials != self.eos.len()
+            || saved.fields.len() != nf
+            || saved.kept_warm.len() != self.eos.len()
+            || saved.kept_warm_advection.len() != self.eos.len()
+            || saved
+                .fields
+                .iter()
+                .any(|f| f.len() != cells.iter().product())
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint of {} materials on grid {:?} does not match the scenario's {} materials on {:?}",
+                saved.materials,
+                saved.cells,
+                self.eos.len(),
+                cells
+            )));
+        }
+        self.level.scatter_fields(&mut self.state, &saved.fields);
+        self.time = saved.time;
+        self.steps = saved.steps;
+        self.rescaled = saved.rescaled;
+        self.outflow = saved.outflow;
+        for (t, &(firings, energy)) in self.kept_warm.iter_mut().zip(&saved.kept_warm) {
+            *t = KeptWarmTotals { firings, energy };
+        }
+        for (t, &(firings, energy)) in self
+            .kept_warm_advection
+            .iter_mut()
+            .zip(&saved.kept_warm_advection)
+        {
+            *t = KeptWarmTotals { firings, energy };
+        }
+        self.find_reaction_surfaces().map_err(SolverError::Other)
+    }
+}
