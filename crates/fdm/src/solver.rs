@@ -1,11 +1,13 @@
 //! The FDM solver: Yanenko splitting (seed 001 eq 6), CFL time step,
 //! positivity diagnostics and the [`Solver`] implementation.
+//!
+//! [`Solver`]: brisance_core::Solver
 
 use std::borrow::Cow;
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use brisance_core::{CellData, ConservationTotals, Geometry, SafeguardUse, Solver, SolverError};
+use brisance_core::{ConservationTotals, Geometry, SolverError};
 use brisance_grid::comm::{self, Communicator};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
@@ -25,6 +27,8 @@ use crate::sweep::{
     GHOST_RZ,
 };
 use crate::viscosity::ArtificialViscosity;
+
+mod solver_trait;
 
 /// Why the FDM solver cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -97,18 +101,6 @@ pub enum FdmBoundary {
     Periodic,
     /// A fixed inflow/ambient state (pure air, Y = 0, with a species).
     Fixed(PrimitiveState),
-}
-
-/// What a checkpoint holds: the interior conservative fields in global
-/// order, so a restart may use another patch split or thread count.
-#[derive(Serialize, Deserialize)]
-struct SavedState {
-    time: f64,
-    steps: u64,
-    cells: [usize; 3],
-    fields: Vec<Vec<f64>>,
-    outflow: [Vec<[f64; NVAR]>; 6],
-    limiter: LimiterCount,
 }
 
 /// Faces swept and faces whose flux the face limiter changed (for
@@ -1033,251 +1025,5 @@ impl<E: GasLaw> FdmSolver<E> {
         self.level
             .for_each_cell_in_order(|_, pid, n| m += fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
-    }
-}
-
-impl<E: GasLaw> Solver for FdmSolver<E> {
-    fn name(&self) -> &str {
-        "fdm"
-    }
-
-    fn time(&self) -> f64 {
-        self.time
-    }
-
-    /// Δt = 2·cfl·min over cells and active directions of Δx_d/(|u_d| + c):
-    /// each of the six sweeps of eq 6 advances Δt/2 at Courant number ≤ cfl.
-    fn stable_dt(&self) -> Result<f64, SolverError> {
-        let spacing = self.level.geometry.spacing;
-        let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
-        // (min over cells, all cells physical); min is exact, so the
-        // reduction order cannot change the result. Rows of a patch are
-        // spread over the threads too, so that a single-patch grid (a 2D
-        // run) does not scan its cells on one thread.
-        let (min_t, all_ok) = self
-            .level
-            .patches
-            .par_iter()
-            .zip(self.fields.par_iter())
-            .enumerate()
-            .filter(|(id, _)| self.owns(*id))
-            .map(|(_, (p, f))| {
-                let d = &f.data;
-                (0..p.size[1] * p.size[2])
-                    .into_par_iter()
-                    .with_min_len(8)
-                    .map(|row_id| {
-                        let (j, k) = (row_id % p.size[1], row_id / p.size[1]);
-                        let mut min_t = f64::INFINITY;
-                        let mut ok = true;
-                        let start = p.local_index([p.ghost[0], p.ghost[1] + j, p.ghost[2] + k]);
-                        let row = |f: usize| &d[f][start..start + p.size[0]];
-                        let (r, mx, my, mz, en) =
-                            (row(RHO), row(MOM), row(MOM + 1), row(MOM + 2), row(ENERGY));
-                        let ry = if E::SPECIES { row(SPECIES) } else { &[][..] };
-                        for n in 0..r.len() {
-                            let rho = r[n];
-                            let m = [mx[n], my[n], mz[n]];
-                            let e = specific_internal_energy(rho, m[0], m[1], m[2], en[n]);
-                            let y = if E::SPECIES { ry[n] / rho } else { 0.0 };
-                            let (p, c) = self.eos.gas_pressure_and_sound_speed(rho, e, y);
-                            ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
-                            for ((&on, dx), mom) in active.iter().zip(spacing).zip(m) {
-                                if on {
-                                    min_t = min_t.min(dx / ((mom / rho).abs() + c));
-                                }
-                            }
-                        }
-                        (min_t, ok)
-                    })
-                    .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1))
-            })
-            .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 & b.1));
-        // Over the ranks: the minimum is exact, and every rank learns
-        // whether any cell was bad, so all stop with the same error.
-        let (min_t, all_ok) = if self.comm.size() > 1 {
-            let mut bad = [u64::from(!all_ok)];
-            self.comm.sum(&mut bad);
-            (self.comm.min(min_t), bad[0] == 0)
-        } else {
-            (min_t, all_ok)
-        };
-        if !all_ok {
-            return Err(self.non_physical_error("at the start of a step"));
-        }
-        // A domain with no active direction has no CFL limit.
-        let dt = if min_t.is_finite() {
-            2.0 * self.options.cfl * min_t
-        } else {
-            f64::INFINITY
-        };
-        if !(dt >= self.options.min_dt) {
-            return Err(SolverError::TimeStepCollapse {
-                dt,
-                min_dt: self.options.min_dt,
-                time: self.time,
-                detail: "the fastest signal speed has become too large for the cell size".into(),
-            });
-        }
-        Ok(dt)
-    }
-
-    /// U^{n+1} = L_z L_y L_x L_x L_y L_z U^n, each over Δt/2 (seed 001
-    /// eq 6); directions with a single cell are skipped.
-    fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
-        brisance_core::solver::check_step("FDM", dt)?;
-        let _span = tracing::trace_span!("fdm_step", step = self.steps, dt).entered();
-        for axis in [2, 1, 0, 0, 1, 2] {
-            if self.level.is_active(axis) {
-                self.sweep(axis, 0.5 * dt)?;
-            }
-        }
-        self.time += dt;
-        self.steps += 1;
-        Ok(())
-    }
-
-    /// The interior's totals plus what has left through the domain faces
-    /// ([`FdmSolver::outflow`]), so a flow-out or inflow face does not read
-    /// as a loss: the sum is conserved to round-off. Summed in global cell
-    /// order so the bits do not depend on the patch split or thread count.
-    fn conservation_totals(&self) -> ConservationTotals {
-        let t = self.interior_totals();
-        let o = self.outflow();
-        ConservationTotals {
-            mass: t.mass + o.mass,
-            momentum: std::array::from_fn(|d| t.momentum[d] + o.momentum[d]),
-            energy: t.energy + o.energy,
-        }
-    }
-
-    /// [`FdmSolver::outflow`] where a face is open; `None` between walls
-    /// and periodic faces, where it is only a wall's pressure impulse and
-    /// round-off.
-    fn outflow_totals(&self) -> Option<ConservationTotals> {
-        let open = self.bcs.faces.iter().enumerate().any(|(f, bc)| {
-            self.level.is_active(f / 2)
-                && matches!(
-                    bc,
-                    FaceBc::Outflow | FaceBc::OutflowOnly { .. } | FaceBc::Fixed(_)
-                )
-        });
-        open.then(|| self.outflow())
-    }
-
-    /// The faces the face limiter changed ([`FdmOptions::limiter`]), for
-    /// positivity and for the density bounds at a shock, when it is on.
-    fn safeguards(&self) -> Vec<SafeguardUse> {
-        let l = self.options.limiter;
-        let count = |name, acted| SafeguardUse {
-            name,
-            unit: "faces",
-            acted,
-            checked: self.limited.faces,
-        };
-        let mut out = Vec::new();
-        if l.positivity() {
-            out.push(count("face limiter, positivity", self.limited.limited[0]));
-        }
-        if l.shock_bounds() {
-            out.push(count(
-                "face limiter, density bounds at shocks",
-                self.limited.limited[1],
-            ));
-        }
-        out
-    }
-
-    /// The outflow-only faces whose ghosts have zeroed an inward flow
-    /// ([`brisance_grid::InProcessExchange::blocked_inflow`]).
-    fn blocked_inflow(&self) -> [bool; 6] {
-        self.exchange.blocked_inflow()
-    }
-
-    fn cell_field_names(&self) -> Vec<&'static str> {
-        Self::field_names()
-    }
-
-    fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError> {
-        let ids = fields
-            .iter()
-            .map(|f| Self::field_index(f))
-            .collect::<Result<Vec<_>, _>>()?;
-        let data = self.gathered();
-        Ok(self
-            .level
-            .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&data, pid, n, id)))
-    }
-
-    /// Values of `fields` in the cell that contains `point`; on an
-    /// axisymmetric grid `point` is (r, z, ·), its third coordinate
-    /// ignored.
-    fn sample(
-        &self,
-        point: [f64; 3],
-        fields: &[String],
-        out: &mut Vec<f64>,
-    ) -> Result<(), SolverError> {
-        let mut point = point;
-        if self.options.geometry.is_axisymmetric() {
-            let g = &self.level.geometry;
-            point[2] = g.origin[2] + 0.5 * g.spacing[2];
-        }
-        let (pid, n) = self.level.locate_point(point)?;
-        out.clear();
-        for f in fields {
-            out.push(self.derived(&self.fields, pid, n, Self::field_index(f)?));
-        }
-        // The owner's values (another rank's copy of the patch is stale).
-        if self.comm.size() > 1 {
-            self.comm.broadcast(self.owner[pid], out);
-        }
-        Ok(())
-    }
-
-    fn work_per_step(&self) -> (f64, &'static str) {
-        (self.level.geometry.cell_count() as f64, "cell-updates")
-    }
-
-    fn save_state(&self) -> Result<Vec<u8>, SolverError> {
-        let fields = self.level.gather_fields(&self.gathered());
-        let saved = SavedState {
-            time: self.time,
-            steps: self.steps,
-            cells: self.level.geometry.cells,
-            fields,
-            outflow: self.gathered_outflow().into_owned(),
-            limiter: self.limited,
-        };
-        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
-    }
-
-    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
-        let saved: SavedState =
-            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
-        let cells = self.level.geometry.cells;
-        if saved.cells != cells
-            || saved.fields.len() != Self::NFIELDS
-            || saved
-                .outflow
-                .iter()
-                .zip(&self.outflow)
-                .any(|(a, b)| a.len() != b.len())
-            || saved
-                .fields
-                .iter()
-                .any(|f| f.len() != cells.iter().product())
-        {
-            return Err(SolverError::Checkpoint(format!(
-                "checkpoint grid {:?} does not match the scenario's {:?}",
-                saved.cells, cells
-            )));
-        }
-        self.level.scatter_fields(&mut self.fields, &saved.fields);
-        self.outflow = saved.outflow;
-        self.limited = saved.limiter;
-        self.time = saved.time;
-        self.steps = saved.steps;
-        Ok(())
     }
 }
