@@ -81,7 +81,6 @@ mod surface;
 #[cfg(test)]
 mod advection_cold_rule_tests;
 #[cfg(test)]
-#[path = "solver/axisymmetric_tests.rs"]
 mod axisymmetric_tests;
 #[cfg(test)]
 mod cold_trace_tests;
