@@ -678,17 +678,8 @@ impl IceMpm {
     /// adjoint, the solids' cell states, the burning particles) the fluid
     /// frame's.
     fn step(&mut self, dt: f64) -> Result<(), SolverError> {
-        let grid = self.mpm.level().geometry;
-        let mut frame = FluidFrame {
-            ice: &mut self.ice,
-            solids: &self.solids,
-            burns: &mut self.burns,
-            grid,
-            rz: self.rz,
-            volumes: &self.volumes,
-            s: &mut self.scratch,
-        };
-        let mut mpm = self.mpm.begin_coupled_step(dt)?;
+        let (mut frame, mpm) = self.frames();
+        let mut mpm = mpm.begin_coupled_step(dt)?;
         // 1. Particles → nodes (eq 12) → cells (eq 18): each solid's state
         //    in every cell.
         mpm.project();
@@ -853,24 +844,32 @@ impl IceMpm {
         Ok(coupled)
     }
 
+    /// The fluid frame and the particle solver, borrowed side by side.
+    fn frames(&mut self) -> (FluidFrame<'_>, &mut MpmSolver) {
+        (
+            FluidFrame {
+                ice: &mut self.ice,
+                solids: &self.solids,
+                burns: &mut self.burns,
+                grid: self.mpm.level().geometry,
+                rz: self.rz,
+                volumes: &self.volumes,
+                s: &mut self.scratch,
+            },
+            &mut self.mpm,
+        )
+    }
+
     /// Before the first step: the solids' volume fraction as step 1 will
     /// see it (nodal mass by eq 12, cells by eq 18, the particles'
     /// specific volume), and the fluids fitted around it
     /// ([`IceSolver::fit_eulerian_volume`]), so that the first
     /// equilibration finds the materials' volumes summing to the cell's.
     fn fit_fluids_around_solid(&mut self) -> Result<(), SolverError> {
-        let grid = self.mpm.level().geometry;
-        let nodes = self.mpm.project_to_nodes()?.clone();
-        let mut frame = FluidFrame {
-            ice: &mut self.ice,
-            solids: &self.solids,
-            burns: &mut self.burns,
-            grid,
-            rz: self.rz,
-            volumes: &self.volumes,
-            s: &mut self.scratch,
-        };
-        frame.project_particles_to_cells(&nodes, self.mpm.particles());
+        let (mut frame, mpm) = self.frames();
+        let grid = frame.grid;
+        let nodes = mpm.project_to_nodes()?.clone();
+        frame.project_particles_to_cells(&nodes, mpm.particles());
         let s = &self.scratch;
         let theta: Vec<f64> = (0..grid.cell_count())
             .map(|k| {
