@@ -34,7 +34,8 @@
 //!    particles that left through outflow faces, and the step counted.
 //!
 //! A step dropped before [`CoupledStep::finish`] (an error in a phase)
-//! keeps the solver's surface tractions and counts no step.
+//! hands its buffer of surface forces back to the solver (rebuilt from the
+//! loads every step) and counts no step.
 
 use super::*;
 use crate::step::{G2pParts, NodeVelocity, Transfer};
@@ -296,7 +297,8 @@ impl CoupledStep<'_> {
 }
 
 impl Drop for CoupledStep<'_> {
-    /// The surface tractions go back to the solver however the step ends.
+    /// The buffer of surface forces goes back to the solver however the
+    /// step ends (the next step refills it from the loads).
     fn drop(&mut self) {
         if !self.surface_forces.is_empty() {
             self.solver.surface_forces = std::mem::take(&mut self.surface_forces);
