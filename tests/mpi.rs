@@ -1,8 +1,8 @@
 //! `mpirun -np N brisance run CONFIG` (cargo feature `mpi`, docs/cluster.md):
-//! an Fdm or Ice run on 2 and 4 ranks writes the bytes of the same run on
-//! one, file for file; a restart may change the rank count; other
-//! pipelines, what the ICE cannot spread and impossible splits refuse with
-//! one clear message instead of hanging.
+//! an Fdm, Ice or Peridynamics run on 2 and 4 ranks writes the bytes of
+//! the same run on one, file for file; a restart may change the rank
+//! count; other pipelines, what the ICE cannot spread and impossible
+//! splits refuse with one clear message instead of hanging.
 //!
 //! Needs `mpirun` (Open MPI) on the PATH: `cargo test --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
@@ -18,6 +18,7 @@ const BIN: &str = env!("CARGO_BIN_EXE_brisance");
 const BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/blast3d.ron");
 const ICE_RZ: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_rz.ron");
 const ICE_3D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_bubble3d.ron");
+const PD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/pd_fragment.ron");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// `brisance run CONFIG --out OUT --quiet EXTRA…` on `ranks` ranks
@@ -146,6 +147,14 @@ fn ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
     same_bytes_on_two_and_four_ranks(ICE_3D);
 }
 
+/// Peridynamics: a detonating tube whose wall tears into fragments, with
+/// contacts and the products' artificial viscosity (the rows in which
+/// bonds break cross between ranks).
+#[test]
+fn peridynamics_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks(PD);
+}
+
 /// Runs `config` on one rank, then on two ranks to step `stop` and on
 /// four from that step's checkpoint, and compares what both wrote.
 fn restart_on_other_ranks(config: &str, stop: u64) {
@@ -184,6 +193,7 @@ fn restart_on_other_ranks(config: &str, stop: u64) {
 fn a_restart_may_change_the_rank_count() {
     restart_on_other_ranks(BLAST, 10);
     restart_on_other_ranks(ICE_RZ, 40);
+    restart_on_other_ranks(PD, 40);
 }
 
 /// Stderr of a failed run, checked to carry `message` exactly once.

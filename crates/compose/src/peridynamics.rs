@@ -371,13 +371,17 @@ pub fn validate(s: &Scenario, pd: &PdConfig) -> Result<(), Problem> {
     Ok(())
 }
 
-/// Builds the peridynamic solver.
+/// Builds the peridynamic solver, its nodes spread over the ranks of the
+/// run ([`brisance_grid::comm::world`]; docs/cluster.md).
 pub fn build(s: &Scenario, pd: &PdConfig) -> Result<PdSolver, Problem> {
     let setup = setup(s, pd)?;
     let mut solver = PdSolver::new(setup).map_err(|e| ("pipeline".to_string(), e.to_string()))?;
     solver
         .set_gas_viscosity(pd.gas_viscosity)
         .map_err(|e| ("pipeline.gas_viscosity".to_string(), e.to_string()))?;
+    solver
+        .distribute(brisance_grid::comm::world())
+        .map_err(|e| ("pipeline.spacing".to_string(), e))?;
     Ok(solver)
 }
 

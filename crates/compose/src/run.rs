@@ -660,7 +660,7 @@ pub fn run_until_stopped(
                     position: None,
                     field: Some("pipeline".into()),
                     message: format!(
-                        "the {name} pipeline does not run on several ranks ({} here): only Fdm and Ice are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
+                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice and Peridynamics are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
                         ranks.size()
                     ),
                 },
@@ -873,7 +873,9 @@ pub fn run_until_stopped(
 /// over ranks.
 fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static str> {
     match pipeline {
-        crate::config::Pipeline::Fdm(_) | crate::config::Pipeline::Ice(_) => None,
+        crate::config::Pipeline::Fdm(_)
+        | crate::config::Pipeline::Ice(_)
+        | crate::config::Pipeline::Peridynamics(_) => None,
         other => Some(other.name()),
     }
 }

@@ -46,7 +46,7 @@
 
 use crate::cell_list::CellList;
 use crate::family::Families;
-use crate::forces::for_each_node;
+use crate::forces::{for_each_node, for_each_node_in};
 
 /// Parameters of the short-range forces.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -192,8 +192,20 @@ pub fn contact_forces(
     params: &ContactParams,
     out: &mut [([f64; 3], f64)],
 ) {
+    contact_forces_in(input, cells, params, 0..out.len(), out);
+}
+
+/// [`contact_forces`] for the nodes of `nodes` only (`out` is the whole
+/// per-node array; the other entries are left as they are).
+pub fn contact_forces_in(
+    input: &ContactInput,
+    cells: &CellList,
+    params: &ContactParams,
+    nodes: std::ops::Range<usize>,
+    out: &mut [([f64; 3], f64)],
+) {
     let k0 = stiffness_factor(params);
-    for_each_node(out, |i, o| {
+    for_each_node_in(out, nodes, |i, o| {
         let mut f = [0.0; 3];
         let mut stiff = 0.0;
         for_each_contact(input, cells, params, k0, i, |_, k, p, pc, d| {

@@ -677,11 +677,38 @@ pub fn bond_forces(
     plastic: &mut [f32],
     out: &mut [NodeForce],
 ) {
+    bond_forces_in(input, 0..out.len(), factor, plastic, out);
+}
+
+/// [`bond_forces`] over the rows of `nodes` only (one rank's share of a
+/// run spread over MPI ranks): `factor`, `plastic` and `out` are the whole
+/// arrays, and only the entries of those rows are read and written. Each
+/// row is computed as in the whole pass, so its bits do not depend on the
+/// range.
+pub fn bond_forces_in(
+    input: &ForceInput,
+    nodes: std::ops::Range<usize>,
+    factor: &mut [f32],
+    plastic: &mut [f32],
+    out: &mut [NodeForce],
+) {
     let n = out.len();
     assert_eq!(input.offsets.len(), n + 1, "one row per node");
     assert_eq!(factor.len(), input.neighbours.len());
     assert_eq!(plastic.len(), input.neighbours.len());
-    rows_parallel(rows_for_this_cpu(), 0..n, input, factor, plastic, out);
+    assert!(
+        nodes.start <= nodes.end && nodes.end <= n,
+        "rows within the nodes"
+    );
+    let bonds = input.offsets[nodes.start] as usize..input.offsets[nodes.end] as usize;
+    rows_parallel(
+        rows_for_this_cpu(),
+        nodes.clone(),
+        input,
+        &mut factor[bonds.clone()],
+        &mut plastic[bonds],
+        &mut out[nodes],
+    );
 }
 
 /// Gas state of a node from its family (seed 004 eq 17):
@@ -731,6 +758,21 @@ pub fn for_each_node<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
         .with_min_len(GRAIN)
         .enumerate()
         .for_each(|(i, o)| f(i, o));
+}
+
+/// [`for_each_node`] over the nodes of `nodes` only: `out` is the whole
+/// per-node array, `f` gets the node's index in it.
+pub fn for_each_node_in<T: Send>(
+    out: &mut [T],
+    nodes: std::ops::Range<usize>,
+    f: impl Fn(usize, &mut T) + Sync,
+) {
+    let start = nodes.start;
+    out[nodes]
+        .par_iter_mut()
+        .with_min_len(GRAIN)
+        .enumerate()
+        .for_each(|(k, o)| f(start + k, o));
 }
 
 #[cfg(target_arch = "x86_64")]

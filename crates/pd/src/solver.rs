@@ -21,14 +21,16 @@
 
 use crate::cell_list::CellList;
 use crate::contact::{
-    bin_current_positions, contact_energies, contact_forces, ContactInput, ContactParams,
+    bin_current_positions, contact_energies, contact_forces_in, ContactInput, ContactParams,
 };
 use crate::family::Families;
-use crate::forces::{bond_forces, for_each_node, gas_expansion, BondLaw, ForceInput, NodeForce};
+use crate::forces::{
+    bond_forces_in, for_each_node, for_each_node_in, gas_expansion, BondLaw, ForceInput, NodeForce,
+};
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{BodySpec, Dimension};
 use crate::material::PdMaterial;
-use crate::viscosity::{viscous_forces, GasViscosity, ViscousInput, ViscousNode, ViscousOut};
+use crate::viscosity::{viscous_forces_in, GasViscosity, ViscousInput, ViscousNode, ViscousOut};
 use brisance_core::SolverError;
 use brisance_core::{ReactionModel, ReactionState};
 use brisance_grid::Shape;
@@ -296,6 +298,9 @@ pub struct PdSolver {
     factor: Vec<f32>,
     plastic: Vec<f32>,
     cells: CellList,
+    /// The nodes this rank evaluates, on a run spread over MPI ranks
+    /// (`ranks.rs`).
+    ranks: ranks::Ranks,
 }
 
 impl PdSolver {
@@ -471,6 +476,7 @@ impl PdSolver {
         self.impose_velocities();
         // The viscous force depends on the velocities.
         self.viscous_pass();
+        self.share_viscous();
     }
 
     /// Body index per node.
@@ -702,7 +708,13 @@ impl PdSolver {
         let family_volume = &self.node_scale;
         let time = self.time;
         let detonation_time = &self.detonation_time;
-        for_each_node(&mut self.gas, |i, g| {
+        let own = self.ranks.nodes();
+        let gas_nodes = if self.gas.is_empty() {
+            0..0
+        } else {
+            own.clone()
+        };
+        for_each_node_in(&mut self.gas, gas_nodes, |i, g| {
             if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
                 let row = families.row(i);
                 let vf = family_volume[i];
@@ -748,7 +760,7 @@ impl PdSolver {
             // The viscous pass's node data: a = 6 X^{4/3}/V, ρ = ρ₀/X and
             // the sound speed c² = dP/dρ = −X² (dP/dX)/ρ₀ of detonated
             // products (eq 25's density); a = 0 elsewhere.
-            for_each_node(&mut self.viscous_node, |i, o| {
+            for_each_node_in(&mut self.viscous_node, own.clone(), |i, o| {
                 *o = match materials[material[i] as usize] {
                     PdMaterial::Gas(g) if detonated(time, detonation_time[i]) => {
                         let [x, _, xd, heat] = gas[i];
@@ -766,7 +778,7 @@ impl PdSolver {
             });
         }
         let bond_out = &self.bond_out;
-        for_each_node(&mut self.state, |i, s| {
+        for_each_node_in(&mut self.state, own, |i, s| {
             match materials[material[i] as usize] {
                 PdMaterial::Gas(g) => {
                     // Before detonation: the reactant's P_u(X), or 0
@@ -793,6 +805,7 @@ impl PdSolver {
                 }
             }
         });
+        self.share_node_scalars();
     }
 
     /// Step 4: bond and short-range forces of the current state.
@@ -805,8 +818,10 @@ impl PdSolver {
             material: &self.material,
             laws: &self.laws,
         };
-        bond_forces(
+        let own = self.ranks.nodes();
+        bond_forces_in(
             &input,
+            own.clone(),
             &mut self.factor,
             &mut self.plastic,
             &mut self.bond_out,
@@ -816,10 +831,11 @@ impl PdSolver {
             // Taken out for the pass (no copy) so the inputs can borrow
             // the solver.
             let mut out = std::mem::take(&mut self.contact);
-            contact_forces(&self.contact_input(), &self.cells, &params, &mut out);
+            contact_forces_in(&self.contact_input(), &self.cells, &params, own, &mut out);
             self.contact = out;
         }
         self.viscous_pass();
+        self.share_forces();
     }
 
     /// The products' artificial viscosity at the current positions and
@@ -837,7 +853,7 @@ impl PdSolver {
                 spacing: self.options.spacing,
                 params,
             };
-            viscous_forces(&input, &mut self.viscous);
+            viscous_forces_in(&input, self.ranks.nodes(), &mut self.viscous);
         }
     }
 
@@ -912,7 +928,11 @@ impl PdSolver {
 
     /// Elastic energy stored in the bonds of proportional solids, J:
     /// Σ_i V_i · ½ Σ_j w V_j with the micro-potential w = r ∫ g ds (eq 6).
+    ///
+    /// On a run spread over MPI ranks this is a collective call (it
+    /// gathers the plastic stretches).
     pub fn bond_energy(&self) -> f64 {
+        let plastic_stretch = self.gathered_plastic();
         let mut total = 0.0;
         for i in 0..self.node_count() {
             let BondLaw::Solid {
@@ -942,7 +962,7 @@ impl PdSolver {
                 );
                 let s = (p - r) / r;
                 let e = if plastic {
-                    s - self.plastic[k] as f64
+                    s - plastic_stretch[k] as f64
                 } else {
                     s
                 };
@@ -1045,6 +1065,7 @@ impl PdSolver {
 }
 
 mod build;
+mod ranks;
 mod solver_trait;
 
 #[cfg(test)]

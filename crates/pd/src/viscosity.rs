@@ -40,7 +40,7 @@
 //! How the heat enters the products' isentrope: `solver.rs`,
 //! `products_pressure`, and `docs/physics/pd/gas.md`.
 
-use crate::forces::for_each_node;
+use crate::forces::for_each_node_in;
 use serde::{Deserialize, Serialize};
 
 /// ε of μ_ij: keeps μ finite as two nodes meet (Monaghan 1992: 0.01).
@@ -150,8 +150,18 @@ pub fn pair_pressure(
 /// The viscous pass over all nodes (deterministic, allocation-free): each
 /// node sums its own row and writes only its own output.
 pub fn viscous_forces(input: &ViscousInput, out: &mut [ViscousOut]) {
+    viscous_forces_in(input, 0..out.len(), out);
+}
+
+/// [`viscous_forces`] for the nodes of `nodes` only (`out` is the whole
+/// per-node array; the other entries are left as they are).
+pub fn viscous_forces_in(
+    input: &ViscousInput,
+    nodes: std::ops::Range<usize>,
+    out: &mut [ViscousOut],
+) {
     assert_eq!(input.offsets.len(), out.len() + 1, "one row per node");
-    for_each_node(out, |i, o| *o = viscous_row(input, i));
+    for_each_node_in(out, nodes, |i, o| *o = viscous_row(input, i));
 }
 
 /// One node's row of [`viscous_forces`].

@@ -327,3 +327,74 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
         assert!(yielded > 100, "{yielded}");
     }
 }
+
+/// The pass over contiguous node ranges (one rank's share each, as a run
+/// spread over MPI ranks evaluates them) writes, range by range, the bits
+/// of the pass over all nodes, and leaves every entry outside its range
+/// as it was: rows are independent of the range they are evaluated in.
+#[test]
+fn passes_over_node_ranges_give_the_bits_of_the_whole_pass() {
+    let block = crate::cases::BondBenchBlock::new(6, 1.0e-3);
+    let n = block.reference.len();
+    let laws = [BondLaw::Solid {
+        micromodulus: 3.0e21,
+        yield_stretch: 1.5e-3,
+        plastic: true,
+        critical_stretch: 6.0e-3,
+    }];
+    let material = vec![0u16; n];
+    let state: Vec<[f64; 4]> = block
+        .reference
+        .iter()
+        .map(|x| {
+            [
+                4e-6 * (x[0] * 2.0e3).sin(),
+                2e-6 * (x[2] * 3.0e3).cos(),
+                -1e-6 * x[1] * 1e3,
+                6.0e-3,
+            ]
+        })
+        .collect();
+    let input = ForceInput {
+        reference: &block.reference,
+        state: &state,
+        offsets: &block.families.offsets,
+        neighbours: &block.families.neighbours,
+        material: &material,
+        laws: &laws,
+    };
+    let bonds = block.factor.len();
+    let (mut f0, mut p0) = (block.factor.clone(), vec![0f32; bonds]);
+    let mut o0 = vec![NodeForce::default(); n];
+    bond_forces(&input, &mut f0, &mut p0, &mut o0);
+    assert!(f0.contains(&0.0), "some bonds break");
+    assert!(p0.iter().any(|&s| s != 0.0), "some bonds yield");
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let marker = NodeForce {
+        force: [7.0; 3],
+        min_stretch: 7.0,
+        intact: 7,
+    };
+    let cuts = [0, 1, n / 3, n / 3 + 1, 2 * n / 3, n];
+    for range in cuts.windows(2).map(|w| w[0]..w[1]) {
+        let (mut f1, mut p1) = (block.factor.clone(), vec![0f32; bonds]);
+        let mut o1 = vec![marker; n];
+        bond_forces_in(&input, range.clone(), &mut f1, &mut p1, &mut o1);
+        let rows = block.families.offsets[range.start] as usize
+            ..block.families.offsets[range.end] as usize;
+        for i in 0..n {
+            let (a, b) = (o0[i], o1[i]);
+            if range.contains(&i) {
+                assert_eq!(a.force.map(f64::to_bits), b.force.map(f64::to_bits));
+                assert_eq!(a.min_stretch.to_bits(), b.min_stretch.to_bits());
+                assert_eq!(a.intact, b.intact);
+            } else {
+                assert_eq!(b.intact, 7, "node {i} outside {range:?} untouched");
+            }
+        }
+        assert_eq!(bits(&f0[rows.clone()]), bits(&f1[rows.clone()]));
+        assert_eq!(bits(&p0[rows.clone()]), bits(&p1[rows.clone()]));
+        assert_eq!(bits(&f1[..rows.start]), bits(&block.factor[..rows.start]));
+        assert_eq!(bits(&f1[rows.end..]), bits(&block.factor[rows.end..]));
+    }
+}

@@ -281,6 +281,7 @@ impl PdSolver {
             plastic: vec![0.0; factor.len()],
             factor,
             cells: CellList::default(),
+            ranks: super::ranks::Ranks::serial(n),
         };
         // Arrays grown by pushing keep their spare capacity otherwise.
         solver.body.shrink_to_fit();

@@ -31,7 +31,7 @@ impl PdSolver {
             state: self.state.clone(),
             velocity: self.velocity.clone(),
             factor: self.factor.clone(),
-            plastic: self.plastic.clone(),
+            plastic: self.gathered_plastic().into_owned(),
             bond_out: self
                 .bond_out
                 .iter()
@@ -292,6 +292,7 @@ impl Solver for PdSolver {
         }
         self.contact = s.contact;
         self.gas = s.gas;
+        self.ranks_restored();
         // The viscous pass's node data are formed again from the restored
         // state before they are next read (`update_node_scalars`).
         self.viscous = s.viscous;
