@@ -267,23 +267,31 @@ impl Runner<'_> {
                     })?;
             if let Some(nodes) = nodes {
                 let rel = format!("vtk/{}_nodes_{index:05}.vti", self.scenario.name);
-                io::write_vti_nodes(&self.out.join(&rel), &nodes)?;
+                if self.writes {
+                    io::write_vti_nodes(&self.out.join(&rel), &nodes)?;
+                }
                 self.state.node_pvd.push(t, rel);
-                self.state
-                    .node_pvd
-                    .write(&self.out.join(format!("{}_nodes.pvd", self.scenario.name)))?;
+                if self.writes {
+                    self.state
+                        .node_pvd
+                        .write(&self.out.join(format!("{}_nodes.pvd", self.scenario.name)))?;
+                }
             }
         }
         if o.vtk {
             if let Some(particles) = self.solver.particle_data() {
                 let rel = format!("vtk/{}_particles_{index:05}.vtu", self.scenario.name);
-                io::write_vtu(&self.out.join(&rel), &particles)?;
+                if self.writes {
+                    io::write_vtu(&self.out.join(&rel), &particles)?;
+                }
                 self.state.particle_pvd.push(t, rel);
-                self.state.particle_pvd.write(
-                    &self
-                        .out
-                        .join(format!("{}_particles.pvd", self.scenario.name)),
-                )?;
+                if self.writes {
+                    self.state.particle_pvd.write(
+                        &self
+                            .out
+                            .join(format!("{}_particles.pvd", self.scenario.name)),
+                    )?;
+                }
             }
         }
         self.write_lineouts(&index.to_string())?;
