@@ -1,6 +1,6 @@
 //! `mpirun -np N brisance run CONFIG` (cargo feature `mpi`, docs/cluster.md):
-//! an Fdm, Ice or Peridynamics run on 2 and 4 ranks writes the bytes of
-//! the same run on one, file for file; a restart may change the rank
+//! an Fdm, Ice, Peridynamics or Lattice run on 2 and 4 ranks writes the
+//! bytes of the same run on one, file for file; a restart may change the rank
 //! count; other pipelines, what the ICE cannot spread and impossible
 //! splits refuse with one clear message instead of hanging.
 //!
@@ -19,6 +19,7 @@ const BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/blast3d.ron"
 const ICE_RZ: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_rz.ron");
 const ICE_3D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_bubble3d.ron");
 const PD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/pd_fragment.ron");
+const LATTICE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/lattice_impact.ron");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// `brisance run CONFIG --out OUT --quiet EXTRA…` on `ranks` ranks
@@ -123,13 +124,22 @@ fn same_outputs(a: &Path, b: &Path, what: &str) {
 
 /// Runs `config` on one rank and on 2 and 4, and compares the outputs.
 fn same_bytes_on_two_and_four_ranks(config: &str) {
+    same_bytes_on_two_and_four_ranks_with(config, &[]);
+}
+
+/// [`same_bytes_on_two_and_four_ranks`] with `extra` arguments (`--set`).
+fn same_bytes_on_two_and_four_ranks_with(config: &str, extra: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let one = tmp.path().join("one");
-    succeeded(&run(0, Path::new(config), &one, &[]), "one rank");
+    succeeded(&run(0, Path::new(config), &one, extra), "one rank");
     for ranks in [2, 4] {
         let out = tmp.path().join(format!("np{ranks}"));
-        succeeded(&run(ranks, Path::new(config), &out, &[]), "mpirun");
-        same_outputs(&one, &out, &format!("{config}: {ranks} ranks against one"));
+        succeeded(&run(ranks, Path::new(config), &out, extra), "mpirun");
+        same_outputs(
+            &one,
+            &out,
+            &format!("{config} {extra:?}: {ranks} ranks against one"),
+        );
     }
 }
 
@@ -153,6 +163,34 @@ fn ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
 #[test]
 fn peridynamics_on_two_and_four_ranks_writes_the_bytes_of_one() {
     same_bytes_on_two_and_four_ranks(PD);
+}
+
+/// The lattice: two materials whose springs break, yield and carry
+/// dashpots (the general passes, velocity Verlet); one material without
+/// spring state (the row-stencil passes, explicit Euler); and in 3D.
+#[test]
+fn the_lattice_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks(LATTICE);
+    same_bytes_on_two_and_four_ranks_with(
+        LATTICE,
+        &[
+            "--set",
+            r#"pipeline.materials={"hmx": (young: 25.325e9, conductivity: 0.4)}"#,
+            "--set",
+            r#"initial=[(region: Box(min: (0.0, 0.0, -1.0), max: (0.5e-3, 0.3e-3, 1.0)), material: "hmx", state: (density: 1580.0, pressure: 1.0e5, velocity: (-300.0, 0.0, 0.0)))]"#,
+            "--set",
+            "pipeline.integrator=ExplicitEuler",
+        ],
+    );
+    same_bytes_on_two_and_four_ranks_with(
+        LATTICE,
+        &[
+            "--set",
+            "pipeline.dimension=Three",
+            "--set",
+            "domain.upper=(0.5e-3, 0.3e-3, 0.2e-3)",
+        ],
+    );
 }
 
 /// Runs `config` on one rank, then on two ranks to step `stop` and on
@@ -194,6 +232,7 @@ fn a_restart_may_change_the_rank_count() {
     restart_on_other_ranks(BLAST, 10);
     restart_on_other_ranks(ICE_RZ, 40);
     restart_on_other_ranks(PD, 40);
+    restart_on_other_ranks(LATTICE, 20);
 }
 
 /// Stderr of a failed run, checked to carry `message` exactly once.
@@ -214,6 +253,29 @@ fn other_pipelines_refuse_several_ranks_by_name() {
     let out = run(2, &coupled, &tmp.path().join("icempm"), &[]);
     fails_once_with(&out, "the IceMpm pipeline does not run on several ranks");
     assert!(!tmp.path().join("icempm").join("summary.json").exists());
+}
+
+/// The lattice's implicit integrators (one linear solve over every node)
+/// refuse several ranks at their field.
+#[test]
+fn the_implicit_lattice_refuses_several_ranks_at_its_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run(
+        2,
+        Path::new(LATTICE),
+        &tmp.path().join("implicit"),
+        &[
+            "--set",
+            "pipeline.integrator=ImplicitEuler",
+            "--set",
+            "pipeline.time_step=1e-9",
+        ],
+    );
+    fails_once_with(
+        &out,
+        "`pipeline.integrator`: lattice: the implicit integrator",
+    );
+    assert!(!tmp.path().join("implicit").join("summary.json").exists());
 }
 
 /// The ICE's whole-grid passes refuse, naming their field.

@@ -549,6 +549,15 @@ pub fn build(s: &Scenario, cfg: &LatticeConfig) -> Result<MsdmLattice, Problem> 
         }
     }
     lat.mark_modified();
+    // Spread over the ranks of the run (docs/cluster.md): an implicit
+    // integrator refuses at its field, too few planes at the spacing.
+    let field = if lat.options.integrator.is_implicit() {
+        "pipeline.integrator"
+    } else {
+        "pipeline.spacing"
+    };
+    lat.distribute(brisance_grid::comm::world())
+        .map_err(|e| (field.to_string(), e.to_string()))?;
     Ok(lat)
 }
 

@@ -668,7 +668,7 @@ pub fn run_until_stopped(
                     position: None,
                     field: Some("pipeline".into()),
                     message: format!(
-                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice and Peridynamics are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
+                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice, Peridynamics and Lattice are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
                         ranks.size()
                     ),
                 },
@@ -883,7 +883,8 @@ fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static s
     match pipeline {
         crate::config::Pipeline::Fdm(_)
         | crate::config::Pipeline::Ice(_)
-        | crate::config::Pipeline::Peridynamics(_) => None,
+        | crate::config::Pipeline::Peridynamics(_)
+        | crate::config::Pipeline::Lattice(_) => None,
         other => Some(other.name()),
     }
 }

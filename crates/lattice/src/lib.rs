@@ -34,6 +34,7 @@ pub mod integrate;
 pub mod law;
 pub mod model;
 pub mod pack;
+mod ranks;
 pub mod regress;
 pub mod solver;
 pub mod sparse;

@@ -46,6 +46,13 @@ pub enum Integrator {
     ImplicitRk2,
 }
 
+impl Integrator {
+    /// Whether the step solves a linear system over every node.
+    pub fn is_implicit(self) -> bool {
+        matches!(self, Self::ImplicitEuler | Self::ImplicitRk2)
+    }
+}
+
 /// The medium the exterior (ghost) nodes stand for.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Surroundings {
@@ -226,6 +233,9 @@ pub struct MsdmLattice {
     /// Take the general passes even where the row-stencil passes apply
     /// (the tests compare the two).
     pub(crate) general_passes: bool,
+    /// The nodes this rank evaluates, on a run spread over MPI ranks
+    /// (`ranks.rs`).
+    pub(crate) ranks: crate::ranks::Ranks,
 }
 
 /// The kinematics and force of one spring.
@@ -515,6 +525,7 @@ impl MsdmLattice {
             row_bonds: Vec::new(),
             flags_fresh: false,
             general_passes: false,
+            ranks: crate::ranks::Ranks::serial(n),
             x,
             geom,
         };
@@ -698,6 +709,7 @@ impl MsdmLattice {
         let nd = self.geom.directions.len();
         let mut status = std::mem::take(&mut self.status);
         let mut spring = std::mem::take(&mut self.spring);
+        let own = self.owned_nodes();
         let (broken, changed) = {
             let this = &*self;
             status
@@ -707,6 +719,9 @@ impl MsdmLattice {
                 .map(|(i, (st, sp))| {
                     let mut broken = 0usize;
                     let mut changed = false;
+                    if !own.contains(&i) {
+                        return (broken, changed);
+                    }
                     for d in 0..nd {
                         if st[d] != INTACT {
                             continue;
@@ -732,6 +747,7 @@ impl MsdmLattice {
         };
         self.status = status;
         self.spring = spring;
+        let (broken, changed) = self.share_springs(broken, changed);
         if changed {
             self.forces_current = false;
             self.flags_fresh = false;
@@ -789,6 +805,7 @@ impl MsdmLattice {
         }
         let axial = &axial[..n_axial];
         let two = self.geom.dim == super::geometry::Dim::Two;
+        let own = self.owned_nodes();
         {
             let this = &*self;
             v_new
@@ -798,6 +815,9 @@ impl MsdmLattice {
                 .zip(t_new.par_iter_mut())
                 .enumerate()
                 .for_each(|(i, (((v, e), p), t))| {
+                    if !own.contains(&i) {
+                        return;
+                    }
                     let Some(m) = this.material_of(i) else {
                         *v = 0.0;
                         *e = this.energy[i];
@@ -853,6 +873,7 @@ impl MsdmLattice {
         nm: usize,
         dt: f64,
     ) {
+        self.share_thermal_state([&mut v_new, &mut e_new, &mut p_new, &mut t_new]);
         std::mem::swap(&mut self.volume, &mut v_new);
         std::mem::swap(&mut self.energy, &mut e_new);
         std::mem::swap(&mut self.pressure, &mut p_new);

@@ -300,6 +300,7 @@ builds!(
 /// into `buf`, laid out by row: entry `((r·nd + d)·2 + a)·nx + c` for node
 /// (c, r). Entries of boundary nodes and of bonds that are not intact are
 /// +0 (`buf` must start zeroed; the boundary entries are never written).
+/// Only the rows of `rows` are evaluated; the others are left as they are.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bond_pass(
     b: Box2,
@@ -310,6 +311,7 @@ pub(crate) fn bond_pass(
     u0: &[f64],
     u1: &[f64],
     buf: &mut [f64],
+    rows: std::ops::Range<usize>,
 ) {
     let (nx, ny, nd, l) = (b.nx, b.ny, dirs.len(), b.inner());
     assert!(nd <= MAX_DIRS && buf.len() == b.len() * nd * 2);
@@ -317,7 +319,7 @@ pub(crate) fn bond_pass(
     buf.par_chunks_mut(nd * 2 * nx)
         .enumerate()
         .for_each(|(r, row)| {
-            if r == 0 || r + 1 >= ny {
+            if r == 0 || r + 1 >= ny || !rows.contains(&r) {
                 return;
             }
             let i = r * nx + 1;
@@ -462,7 +464,9 @@ builds!(
 
 /// The gather of the bond forces into the net force of every node (+ for
 /// its own bonds, − for those of its lower neighbours, in direction order),
-/// and with `dt` the explicit Euler update, row by row.
+/// and with `dt` the explicit Euler update, row by row, over the rows of
+/// `rows` (the other rows are left as they are; `buf` must hold the bonds
+/// of those rows and of the row below them).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn gather_pass(
     b: Box2,
@@ -475,6 +479,7 @@ pub(crate) fn gather_pass(
     u: [&mut [f64]; 2],
     force: [&mut [f64]; 3],
     dt: Option<f64>,
+    rows: std::ops::Range<usize>,
 ) {
     let (nx, ny, nd, l) = (b.nx, b.ny, dirs.len(), b.inner());
     let isa = isa();
@@ -491,6 +496,9 @@ pub(crate) fn gather_pass(
         .zip(u1.par_chunks_mut(nx))
         .enumerate()
         .for_each(|(r, ((((((f0, f1), f2), x0), x1), u0), u1))| {
+            if !rows.contains(&r) {
+                return;
+            }
             if r == 0 || r + 1 >= ny {
                 f0.fill(0.0);
                 f1.fill(0.0);
@@ -711,8 +719,8 @@ builds!(
 );
 
 /// The dual volumes and the energy update of every node into the `new`
-/// arrays (V, e, P, T), row by row; exterior nodes get V = 0 and keep e,
-/// P and T.
+/// arrays (V, e, P, T), row by row over the rows of `own_rows` (the other rows
+/// are left as they are); exterior nodes get V = 0 and keep e, P and T.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn energy_pass(
     b: Box2,
@@ -726,6 +734,7 @@ pub(crate) fn energy_pass(
     pressure: &[f64],
     rate: Option<&[f64]>,
     new: [&mut [f64]; 4],
+    own_rows: std::ops::Range<usize>,
 ) {
     let (nx, ny, l) = (b.nx, b.ny, b.inner());
     let isa = isa();
@@ -737,6 +746,9 @@ pub(crate) fn energy_pass(
         .zip(t_new.par_chunks_mut(nx))
         .enumerate()
         .for_each(|(r, (((v, e), p), t))| {
+            if !own_rows.contains(&r) {
+                return;
+            }
             let row = r * nx;
             if r == 0 || r + 1 >= ny {
                 v.fill(0.0);

@@ -35,6 +35,7 @@ impl MsdmLattice {
         if self.stencil_applies() && !self.has_spring_state {
             self.forces_stencil(euler);
             self.forces_current = euler.is_none();
+            self.share_forces(euler.is_some());
             return;
         }
         let mut bf = std::mem::take(&mut self.bond_force);
@@ -57,6 +58,7 @@ impl MsdmLattice {
         self.x = x;
         self.u = u;
         self.forces_current = euler.is_none();
+        self.share_forces(euler.is_some());
     }
 
     /// The two passes of [`MsdmLattice::forces_and_update`] on the
@@ -92,6 +94,8 @@ impl MsdmLattice {
         let single = nm == 1;
         let has_state = self.has_spring_state;
         let spring = &self.spring[..];
+        // This rank's nodes, and those below whose bonds they gather.
+        let (own, bond_nodes) = (self.owned_nodes(), self.bond_nodes());
         {
             let (xr, ur) = (&*x, &*u);
             let [b0, b1, b2] = bf;
@@ -100,6 +104,9 @@ impl MsdmLattice {
                 .zip(b2.par_chunks_mut(nd))
                 .enumerate()
                 .for_each(|(i, ((c0, c1), c2))| {
+                    if !bond_nodes.contains(&i) {
+                        return;
+                    }
                     let NodeKind::Solid(mi) = kind[i] else {
                         return;
                     };
@@ -165,6 +172,9 @@ impl MsdmLattice {
                 let uc = [u0, u1, u2];
                 for k in 0..fc[0].len() {
                     let i = c * CHUNK + k;
+                    if !own.contains(&i) {
+                        continue;
+                    }
                     if !matches!(kind[i], NodeKind::Solid(_)) {
                         for a in 0..3 {
                             fc[a][k] = 0.0;
@@ -289,9 +299,21 @@ impl MsdmLattice {
         if self.row_bonds.len() != n * nd * 2 {
             self.row_bonds = vec![0.0; n * nd * 2];
         }
+        let rows = |r: std::ops::Range<usize>| r.start / b.nx..r.end.div_ceil(b.nx);
+        let (bond_rows, own_rows) = (rows(self.bond_nodes()), rows(self.owned_nodes()));
         let [x0, x1, _] = &mut self.x;
         let [u0, u1, _] = &mut self.u;
-        stencil::bond_pass(b, dirs, &self.flags, x0, x1, u0, u1, &mut self.row_bonds);
+        stencil::bond_pass(
+            b,
+            dirs,
+            &self.flags,
+            x0,
+            x1,
+            u0,
+            u1,
+            &mut self.row_bonds,
+            bond_rows,
+        );
         let (x, u) = ([&mut x0[..], &mut x1[..]], [&mut u0[..], &mut u1[..]]);
         let [f0, f1, f2] = &mut self.force;
         stencil::gather_pass(
@@ -305,6 +327,7 @@ impl MsdmLattice {
             u,
             [f0, f1, f2],
             euler,
+            own_rows,
         );
     }
 
@@ -332,6 +355,8 @@ impl MsdmLattice {
         }
         self.flags_fresh = false;
         let [mut v_new, mut e_new, mut p_new, mut t_new] = std::mem::take(&mut self.scratch);
+        let own = self.owned_nodes();
+        let own_rows = own.start / self.geom.n[0]..own.end.div_ceil(self.geom.n[0]);
         stencil::energy_pass(
             self.box2(),
             &th,
@@ -344,6 +369,7 @@ impl MsdmLattice {
             &self.pressure,
             chem_on.then_some(&self.mass_rate[..n]),
             [&mut v_new, &mut e_new, &mut p_new, &mut t_new],
+            own_rows,
         );
         self.commit_thermal_state([v_new, e_new, p_new, t_new], chem_on, 1, dt);
     }
