@@ -48,6 +48,15 @@ impl Ranks {
         self.starts[r]..self.starts[r + 1]
     }
 
+    /// The largest `x` over the ranks (exact in any order).
+    pub(crate) fn max(&self, x: f64) -> f64 {
+        if self.several() {
+            -self.comm.min(-x)
+        } else {
+            x
+        }
+    }
+
     /// Sums `values` over the ranks (integers: exact in any order).
     pub(crate) fn sum(&self, values: &mut [u64]) {
         if self.several() {

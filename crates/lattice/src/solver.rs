@@ -71,10 +71,13 @@ impl MsdmLattice {
     /// without `mechanics` the spring limit does not apply.
     pub fn explicit_stable_dt(&self) -> f64 {
         let nd = self.geom.directions.len();
-        let n = self.len();
         // Per node, over its springs in both directions; no allocation, and
-        // the maximum does not depend on the order.
-        let w2 = (0..n)
+        // the maximum does not depend on the order. On several ranks each
+        // takes its own nodes, and the ranks' maxima are combined (a
+        // maximum is exact in any order).
+        let own = self.owned_nodes();
+        let w2 = own
+            .clone()
             .into_par_iter()
             .filter(|&i| self.geom.is_solid(i))
             .map(|i| {
@@ -97,6 +100,7 @@ impl MsdmLattice {
                 sum
             })
             .reduce(|| 0.0, f64::max);
+        let w2 = self.ranks.max(w2);
         let mut dt = if w2 > 0.0 && self.mechanics {
             2.0 / w2.sqrt()
         } else {
@@ -104,7 +108,7 @@ impl MsdmLattice {
         };
         if self.options.thermal {
             let mut lam = 0.0f64;
-            for i in 0..n {
+            for i in own {
                 if let Some(m) = self.material_of(i) {
                     let g = self.materials[m].conductivity * self.geom.spacing;
                     let c = self.mass[i] * self.materials[m].eos.cv;
@@ -116,6 +120,7 @@ impl MsdmLattice {
                     );
                 }
             }
+            let lam = self.ranks.max(lam);
             if lam > 0.0 {
                 dt = dt.min(2.0 / lam);
             }
