@@ -20,6 +20,7 @@ mod ice_mpm_cases;
 mod lattice_cases;
 mod mpm_throughput;
 mod noble_abel;
+mod particle_balance;
 mod pd_cases;
 mod plate_cases;
 use brisance_plot as plot;
@@ -808,7 +809,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 40] = [
+const CASES: [&str; 41] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -848,6 +849,7 @@ const CASES: [&str; 40] = [
     "plate-rz",
     "slab",
     "mpm-throughput",
+    "mpi-balance",
     "throughput",
 ];
 
@@ -994,6 +996,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("mpm-throughput") {
         mpm_throughput::mpm_throughput(&mut body)?;
+    }
+    if run("mpi-balance") {
+        particle_balance::particle_balance(&mut body)?;
     }
     if run("throughput") {
         throughput(&mut body)?;
