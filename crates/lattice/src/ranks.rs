@@ -126,8 +126,9 @@ pub fn slab_starts(planes: usize, plane: usize, ranks: usize) -> Result<Vec<usiz
 impl MsdmLattice {
     /// Spreads the nodes over the ranks of `comm` (nothing to do on one
     /// rank): from now on this rank evaluates the spring passes of its
-    /// slab ([`slab_starts`]) and receives the others'. Every rank builds
-    /// the same lattice and calls this last. The implicit integrators
+    /// slab (`slab_starts`: whole planes, as even as they divide) and
+    /// receives the others'. Every rank builds the same lattice and calls
+    /// this last. The implicit integrators
     /// (one linear solve over every node) refuse several ranks.
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), SolverError> {
         if comm.size() == 1 {

@@ -104,9 +104,9 @@ fn push<const N: usize>(buf: &mut Vec<f64>, a: &[f64; N]) {
 impl PdSolver {
     /// Spreads the nodes over the ranks of `comm` (nothing to do on one
     /// rank): from now on this rank evaluates the node scalars and forces
-    /// of the nodes it owns ([`node_starts`]) and receives the others'.
-    /// Every rank builds the same solver and calls this last, after the
-    /// setters.
+    /// of the nodes it owns (`node_starts`: equal shares of the bonds)
+    /// and receives the others'. Every rank builds the same solver and
+    /// calls this last, after the setters.
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), String> {
         if comm.size() == 1 {
             return Ok(());
