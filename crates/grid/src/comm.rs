@@ -180,9 +180,137 @@ pub fn patch_owners(patches: usize, ranks: usize) -> Result<Vec<usize>, String> 
     Ok((0..patches).map(|p| owner_of(p, patches, ranks)).collect())
 }
 
+/// Items (nodes) shared among the ranks in contiguous runs, every rank
+/// holding every item: rank r owns `starts[r]..starts[r + 1]`, works out
+/// what costs per bond or spring for its own items and copies the results
+/// to every rank ([`NodeRuns::exchange`], [`NodeRuns::received`]), so the
+/// per-item passes that follow run on every rank over the same values.
+/// What peridynamics and the lattice spread over ranks with.
+#[derive(Debug, Clone)]
+pub struct NodeRuns {
+    comm: Arc<dyn Communicator>,
+    /// First item of each rank, then the item count (ranks + 1 entries).
+    starts: Vec<usize>,
+}
+
+impl NodeRuns {
+    /// One rank owning all `items`.
+    pub fn serial(items: usize) -> Self {
+        Self {
+            comm: Arc::new(Serial),
+            starts: vec![0, items],
+        }
+    }
+
+    /// The ranks of `comm` owning the runs that begin at `starts` (one
+    /// entry per rank, then the item count).
+    pub fn new(comm: Arc<dyn Communicator>, starts: Vec<usize>) -> Self {
+        debug_assert_eq!(starts.len(), comm.size() + 1);
+        Self { comm, starts }
+    }
+
+    /// The communicator.
+    pub fn comm(&self) -> &dyn Communicator {
+        &*self.comm
+    }
+
+    /// Whether the items are spread over more than one rank.
+    pub fn several(&self) -> bool {
+        self.comm.size() > 1
+    }
+
+    /// The items this rank owns.
+    pub fn nodes(&self) -> std::ops::Range<usize> {
+        self.nodes_of(self.comm.rank())
+    }
+
+    /// The items rank `r` owns.
+    pub fn nodes_of(&self, r: usize) -> std::ops::Range<usize> {
+        self.starts[r]..self.starts[r + 1]
+    }
+
+    /// The largest `x` over the ranks (exact in any order).
+    pub fn max(&self, x: f64) -> f64 {
+        if self.several() {
+            -self.comm.min(-x)
+        } else {
+            x
+        }
+    }
+
+    /// Sums `values` over the ranks (integers: exact in any order).
+    pub fn sum(&self, values: &mut [u64]) {
+        if self.several() {
+            self.comm.sum(values);
+        }
+    }
+
+    /// Every rank's `width` values per owned item, as `pack` writes them
+    /// (item by item, in order), on every rank: `None` on one rank or
+    /// when `width` is 0. A collective call on several ranks. Store what
+    /// arrived with [`NodeRuns::received`].
+    pub fn exchange(
+        &self,
+        width: usize,
+        pack: impl Fn(usize, &mut Vec<f64>),
+    ) -> Option<Vec<Vec<f64>>> {
+        if !self.several() || width == 0 {
+            return None;
+        }
+        let own = self.nodes();
+        let mut buf = Vec::with_capacity(width * own.len());
+        for i in own {
+            pack(i, &mut buf);
+        }
+        debug_assert_eq!(buf.len(), width * self.nodes().len());
+        Some(self.comm.all_gather(&buf))
+    }
+
+    /// The other ranks' items and the part each sent, from an all-gather
+    /// over these ranks.
+    pub fn others<'a>(
+        &'a self,
+        all: &'a [Vec<f64>],
+    ) -> impl Iterator<Item = (std::ops::Range<usize>, &'a [f64])> + 'a {
+        let me = self.comm.rank();
+        all.iter()
+            .enumerate()
+            .filter(move |&(r, _)| r != me)
+            .map(move |(r, part)| (self.nodes_of(r), part.as_slice()))
+    }
+
+    /// The other ranks' items and their `width` values from an
+    /// [`NodeRuns::exchange`].
+    pub fn received<'a>(
+        &'a self,
+        all: &'a [Vec<f64>],
+        width: usize,
+    ) -> impl Iterator<Item = (usize, &'a [f64])> + 'a {
+        self.others(all)
+            .flat_map(move |(nodes, part)| nodes.zip(part.chunks_exact(width)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_rank_owns_every_node_and_exchanges_nothing() {
+        let runs = NodeRuns::serial(5);
+        assert!(!runs.several());
+        assert_eq!(runs.nodes(), 0..5);
+        assert_eq!(runs.max(2.5), 2.5);
+        let mut v = [3, 4];
+        runs.sum(&mut v);
+        assert_eq!(v, [3, 4]);
+        assert!(runs
+            .exchange(2, |i, buf| buf.extend([i as f64; 2]))
+            .is_none());
+        // What arrived from the others: none but this rank's own part.
+        let all = vec![vec![1.0, 2.0]];
+        assert_eq!(runs.received(&all, 2).count(), 0);
+    }
 
     #[test]
     fn patches_are_shared_in_contiguous_runs_differing_by_at_most_one() {

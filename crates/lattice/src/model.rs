@@ -235,7 +235,7 @@ pub struct MsdmLattice {
     pub(crate) general_passes: bool,
     /// The nodes this rank evaluates, on a run spread over MPI ranks
     /// (`ranks.rs`).
-    pub(crate) ranks: crate::ranks::Ranks,
+    pub(crate) ranks: brisance_grid::comm::NodeRuns,
 }
 
 /// The kinematics and force of one spring.
@@ -525,7 +525,7 @@ impl MsdmLattice {
             row_bonds: Vec::new(),
             flags_fresh: false,
             general_passes: false,
-            ranks: crate::ranks::Ranks::serial(n),
+            ranks: brisance_grid::comm::NodeRuns::serial(n),
             x,
             geom,
         };

@@ -16,91 +16,9 @@
 
 use crate::model::MsdmLattice;
 use brisance_core::SolverError;
-use brisance_grid::comm::{Communicator, Serial};
+use brisance_grid::comm::{Communicator, NodeRuns};
 use std::ops::Range;
 use std::sync::Arc;
-
-/// How the nodes are shared among the ranks.
-#[derive(Debug, Clone)]
-pub(crate) struct Ranks {
-    comm: Arc<dyn Communicator>,
-    /// First node of each rank, then the node count (ranks + 1 entries).
-    starts: Vec<usize>,
-}
-
-impl Ranks {
-    /// One rank owning all `nodes`.
-    pub(crate) fn serial(nodes: usize) -> Self {
-        Self {
-            comm: Arc::new(Serial),
-            starts: vec![0, nodes],
-        }
-    }
-
-    /// Whether the nodes are spread over more than one rank.
-    pub(crate) fn several(&self) -> bool {
-        self.comm.size() > 1
-    }
-
-    /// The nodes this rank owns.
-    pub(crate) fn nodes(&self) -> Range<usize> {
-        let r = self.comm.rank();
-        self.starts[r]..self.starts[r + 1]
-    }
-
-    /// The largest `x` over the ranks (exact in any order).
-    pub(crate) fn max(&self, x: f64) -> f64 {
-        if self.several() {
-            -self.comm.min(-x)
-        } else {
-            x
-        }
-    }
-
-    /// Sums `values` over the ranks (integers: exact in any order).
-    pub(crate) fn sum(&self, values: &mut [u64]) {
-        if self.several() {
-            self.comm.sum(values);
-        }
-    }
-
-    /// Every rank's `width` values per owned node, as `pack` writes them
-    /// (node by node, in order), on every rank: `None` on one rank or
-    /// when `width` is 0. A collective call on several ranks. Store what
-    /// arrived with [`Ranks::received`].
-    pub(crate) fn exchange(
-        &self,
-        width: usize,
-        pack: impl Fn(usize, &mut Vec<f64>),
-    ) -> Option<Vec<Vec<f64>>> {
-        if !self.several() || width == 0 {
-            return None;
-        }
-        let own = self.nodes();
-        let mut buf = Vec::with_capacity(width * own.len());
-        for i in own {
-            pack(i, &mut buf);
-        }
-        debug_assert_eq!(buf.len(), width * self.nodes().len());
-        Some(self.comm.all_gather(&buf))
-    }
-
-    /// The other ranks' nodes and their `width` values from an
-    /// [`Ranks::exchange`].
-    pub(crate) fn received<'a>(
-        &'a self,
-        all: &'a [Vec<f64>],
-        width: usize,
-    ) -> impl Iterator<Item = (usize, &'a [f64])> + 'a {
-        let me = self.comm.rank();
-        all.iter()
-            .enumerate()
-            .filter(move |&(r, _)| r != me)
-            .flat_map(move |(r, part)| {
-                (self.starts[r]..self.starts[r + 1]).zip(part.chunks_exact(width))
-            })
-    }
-}
 
 /// The first node of each of `ranks` ranks, then `planes · plane` (the
 /// node count): contiguous runs of whole planes of `plane` nodes, the
@@ -148,7 +66,7 @@ impl MsdmLattice {
             _ => (n[2], n[0] * n[1]),
         };
         let starts = slab_starts(planes, plane, comm.size()).map_err(SolverError::Other)?;
-        self.ranks = Ranks { comm, starts };
+        self.ranks = NodeRuns::new(comm, starts);
         Ok(())
     }
 

@@ -21,7 +21,7 @@
 use super::PdSolver;
 use crate::forces::NodeForce;
 use crate::viscosity::ViscousOut;
-use brisance_grid::comm::{Communicator, Serial};
+use brisance_grid::comm::{Communicator, NodeRuns};
 use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Arc;
@@ -29,9 +29,7 @@ use std::sync::Arc;
 /// How the nodes are shared among the ranks.
 #[derive(Debug, Clone)]
 pub(super) struct Ranks {
-    comm: Arc<dyn Communicator>,
-    /// First node of each rank, then the node count (ranks + 1 entries).
-    starts: Vec<usize>,
+    runs: NodeRuns,
     /// Intact bonds of each owned node after the last exchange, to find
     /// the rows in which a bond broke.
     intact: Vec<u32>,
@@ -41,21 +39,19 @@ impl Ranks {
     /// One rank owning all `nodes`.
     pub(super) fn serial(nodes: usize) -> Self {
         Self {
-            comm: Arc::new(Serial),
-            starts: vec![0, nodes],
+            runs: NodeRuns::serial(nodes),
             intact: Vec::new(),
         }
     }
 
     /// Whether the nodes are spread over more than one rank.
     pub(super) fn several(&self) -> bool {
-        self.comm.size() > 1
+        self.runs.several()
     }
 
     /// The nodes this rank owns.
     pub(super) fn nodes(&self) -> Range<usize> {
-        let r = self.comm.rank();
-        self.starts[r]..self.starts[r + 1]
+        self.runs.nodes()
     }
 }
 
@@ -118,8 +114,7 @@ impl PdSolver {
                 .iter()
                 .map(|b| b.intact)
                 .collect(),
-            comm,
-            starts,
+            runs: NodeRuns::new(comm, starts),
         };
         Ok(())
     }
@@ -141,39 +136,30 @@ impl PdSolver {
     /// Copies what step 3 wrote for each rank's nodes to every rank: the
     /// node's `state[3]`, its gas state and its viscous node data.
     pub(super) fn share_node_scalars(&mut self) {
-        if !self.ranks.several() {
-            return;
-        }
-        let own = self.ranks.nodes();
         let gas = !self.gas.is_empty();
         let viscous = !self.viscous_node.is_empty();
         let width = 1 + if gas { 4 } else { 0 } + if viscous { 4 } else { 0 };
-        let mut buf = Vec::with_capacity(width * own.len());
-        for i in own.clone() {
-            buf.push(self.state[i][3]);
+        let (state, gas_state, viscous_node) = (&self.state, &self.gas, &self.viscous_node);
+        let Some(all) = self.ranks.runs.exchange(width, |i, buf| {
+            buf.push(state[i][3]);
             if gas {
-                push(&mut buf, &self.gas[i]);
+                push(buf, &gas_state[i]);
             }
             if viscous {
-                push(&mut buf, &self.viscous_node[i]);
+                push(buf, &viscous_node[i]);
             }
-        }
-        let all = self.ranks.comm.all_gather(&buf);
-        for (r, part) in all.iter().enumerate() {
-            if r == self.ranks.comm.rank() {
-                continue;
+        }) else {
+            return;
+        };
+        for (i, v) in self.ranks.runs.received(&all, width) {
+            self.state[i][3] = v[0];
+            let mut at = 1;
+            if gas {
+                self.gas[i].copy_from_slice(&v[at..at + 4]);
+                at += 4;
             }
-            let nodes = self.ranks.starts[r]..self.ranks.starts[r + 1];
-            for (i, v) in nodes.zip(part.chunks_exact(width)) {
-                self.state[i][3] = v[0];
-                let mut at = 1;
-                if gas {
-                    self.gas[i].copy_from_slice(&v[at..at + 4]);
-                    at += 4;
-                }
-                if viscous {
-                    self.viscous_node[i].copy_from_slice(&v[at..at + 4]);
-                }
+            if viscous {
+                self.viscous_node[i].copy_from_slice(&v[at..at + 4]);
             }
         }
     }
@@ -215,12 +201,8 @@ impl PdSolver {
                 buf.extend(self.factor[self.families.row(i)].iter().map(|&w| w as f64));
             }
         }
-        let all = self.ranks.comm.all_gather(&buf);
-        for (r, part) in all.iter().enumerate() {
-            if r == self.ranks.comm.rank() {
-                continue;
-            }
-            let nodes = self.ranks.starts[r]..self.ranks.starts[r + 1];
+        let all = self.ranks.runs.comm().all_gather(&buf);
+        for (nodes, part) in self.ranks.runs.others(&all) {
             let (fixed, rows) = part.split_at(width * nodes.len());
             for (i, v) in nodes.zip(fixed.chunks_exact(width)) {
                 self.bond_out[i] = NodeForce {
@@ -255,27 +237,21 @@ impl PdSolver {
         if !self.ranks.several() || self.viscous.is_empty() {
             return;
         }
-        let own = self.ranks.nodes();
-        let mut buf = Vec::with_capacity(6 * own.len());
-        for v in &self.viscous[own] {
+        let viscous = &self.viscous;
+        let Some(all) = self.ranks.runs.exchange(6, |i, buf| {
             let ViscousOut {
                 force,
                 heating,
                 damping,
                 stiffness,
-            } = *v;
-            push(&mut buf, &force);
-            push(&mut buf, &[heating, damping, stiffness]);
-        }
-        let all = self.ranks.comm.all_gather(&buf);
-        for (r, part) in all.iter().enumerate() {
-            if r == self.ranks.comm.rank() {
-                continue;
-            }
-            let nodes = self.ranks.starts[r]..self.ranks.starts[r + 1];
-            for (i, v) in nodes.zip(part.chunks_exact(6)) {
-                self.viscous[i] = viscous_out(v);
-            }
+            } = viscous[i];
+            push(buf, &force);
+            push(buf, &[heating, damping, stiffness]);
+        }) else {
+            return;
+        };
+        for (i, v) in self.ranks.runs.received(&all, 6) {
+            self.viscous[i] = viscous_out(v);
         }
     }
 
@@ -290,7 +266,7 @@ impl PdSolver {
         let offsets = &self.families.offsets;
         let bonds = offsets[own.start] as usize..offsets[own.end] as usize;
         let mine: Vec<f64> = self.plastic[bonds].iter().map(|&s| s as f64).collect();
-        let all = self.ranks.comm.all_gather(&mine);
+        let all = self.ranks.runs.comm().all_gather(&mine);
         Cow::Owned(all.iter().flatten().map(|&s| s as f32).collect())
     }
 }
