@@ -157,6 +157,15 @@ fn ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
     same_bytes_on_two_and_four_ranks(ICE_3D);
 }
 
+/// The `Patches` VTK layout: each rank writes the pieces of its own
+/// patches, and the files are those of one rank.
+#[test]
+fn patch_pieces_on_two_and_four_ranks_are_the_bytes_of_one() {
+    let pieces = ["--set", "outputs.vtk_layout=Patches"];
+    same_bytes_on_two_and_four_ranks_with(BLAST, &pieces);
+    same_bytes_on_two_and_four_ranks_with(ICE_RZ, &pieces);
+}
+
 /// Peridynamics: a detonating tube whose wall tears into fragments, with
 /// contacts and the products' artificial viscosity (the rows in which
 /// bonds break cross between ranks).

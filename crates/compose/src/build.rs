@@ -28,6 +28,9 @@ pub struct PipelineLimits {
     /// Background-grid node field names (empty: the pipeline has no node
     /// grid).
     pub node_fields: &'static [&'static str],
+    /// Whether its cells are split into patches that can be written as
+    /// VTK pieces ([`crate::config::VtkLayout::Patches`]).
+    pub patch_pieces: bool,
 }
 
 /// The limits of a pipeline.
@@ -38,36 +41,42 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             max_cfl: brisance_fdm::solver::MAX_CFL,
             ghost: brisance_fdm::sweep::GHOST,
             node_fields: &[],
+            patch_pieces: false,
         },
         Pipeline::Ice(_) => PipelineLimits {
             fields: &crate::ice::FIELDS,
             max_cfl: 1.0,
             ghost: brisance_ice::GHOST,
             node_fields: &[],
+            patch_pieces: true,
         },
         Pipeline::IceMpm(_) => PipelineLimits {
             fields: &crate::ice::FIELDS,
             max_cfl: 1.0,
             ghost: brisance_ice::GHOST,
             node_fields: &MpmSolver::NODE_FIELDS,
+            patch_pieces: true,
         },
         Pipeline::Lattice(_) => PipelineLimits {
             fields: &brisance_lattice::MsdmLattice::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
             node_fields: &[],
+            patch_pieces: false,
         },
         Pipeline::Peridynamics(_) => PipelineLimits {
             fields: &brisance_pd::PdSolver::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
             node_fields: &[],
+            patch_pieces: false,
         },
         Pipeline::Mpm(_) => PipelineLimits {
             fields: &MpmSolver::FIELDS,
             max_cfl: 1.0,
             ghost: 1,
             node_fields: &MpmSolver::NODE_FIELDS,
+            patch_pieces: false,
         },
         Pipeline::Fdm(f) => PipelineLimits {
             fields: if f.products.is_some() {
@@ -78,6 +87,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             max_cfl: brisance_fdm::solver::MAX_CFL,
             ghost: brisance_fdm::sweep::GHOST,
             node_fields: &[],
+            patch_pieces: true,
         },
     }
 }

@@ -448,6 +448,8 @@ pub struct Outputs {
     pub node_fields: Vec<String>,
     /// Whether to write VTK files.
     pub vtk: bool,
+    /// How the cell fields' VTK files are laid out (default `Whole`).
+    pub vtk_layout: VtkLayout,
     /// Point gauges (sampled every step).
     pub gauges: Vec<Gauge>,
     /// Particle gauges (Mpm): averages over a set of particles chosen by
@@ -481,6 +483,7 @@ impl Default for Outputs {
             .to_vec(),
             node_fields: Vec::new(),
             vtk: true,
+            vtk_layout: VtkLayout::Whole,
             gauges: Vec::new(),
             particle_gauges: Vec::new(),
             lineouts: Vec::new(),
@@ -488,6 +491,21 @@ impl Default for Outputs {
             plots: Vec::new(),
         }
     }
+}
+
+/// How the cell fields of a field output are laid out in VTK files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum VtkLayout {
+    /// One `vtk/<name>_<k>.vti` of the whole grid, gathered and written by
+    /// rank 0.
+    #[default]
+    Whole,
+    /// One `.vti` piece per patch, `vtk/<name>_<k>/<name>_<k>_<patch>.vti`,
+    /// each written by the rank that owns the patch (nothing gathered),
+    /// under a `vtk/<name>_<k>.pvti` master that ParaView opens as one
+    /// dataset. The files do not depend on the rank count. Grid pipelines
+    /// (`Fdm`, `Ice`, the `IceMpm` gas) only.
+    Patches,
 }
 
 /// A point gauge: one CSV `gauges/<name>.csv`.

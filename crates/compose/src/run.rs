@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::build::{build, Built};
-use crate::config::Scenario;
+use crate::config::{Scenario, VtkLayout};
 use crate::error::{ConfigError, RunError};
 use crate::load::LoadedScenario;
 use crate::ron_path;
@@ -239,17 +239,23 @@ impl Runner<'_> {
         let t = self.solver.time();
         let o = &self.scenario.outputs;
         if o.vtk && !o.fields.is_empty() {
-            let data = self
-                .solver
-                .cell_data(&o.fields)
-                .map_err(|source| RunError::Solver {
-                    step: self.state.steps,
-                    source,
-                })?;
-            let rel = format!("vtk/{}_{index:05}.vti", self.scenario.name);
-            if self.writes {
-                io::write_vti(&self.out.join(&rel), &data)?;
-            }
+            let rel = match o.vtk_layout {
+                VtkLayout::Whole => {
+                    let data =
+                        self.solver
+                            .cell_data(&o.fields)
+                            .map_err(|source| RunError::Solver {
+                                step: self.state.steps,
+                                source,
+                            })?;
+                    let rel = format!("vtk/{}_{index:05}.vti", self.scenario.name);
+                    if self.writes {
+                        io::write_vti(&self.out.join(&rel), &data)?;
+                    }
+                    rel
+                }
+                VtkLayout::Patches => self.write_pieces(index)?,
+            };
             self.state.pvd.push(t, rel);
             if self.writes {
                 self.state
@@ -310,6 +316,46 @@ impl Runner<'_> {
             self.state.external_work_rows.push(w);
         }
         self.write_histories()
+    }
+
+    /// Field output number `index` as one `.vti` piece per patch, each
+    /// written by the rank that owns the patch, and the `.pvti` master
+    /// listing them all (rank 0); the master's path relative to the
+    /// output folder.
+    fn write_pieces(&self, index: usize) -> Result<String, RunError> {
+        let fields = &self.scenario.outputs.fields;
+        let step = self.state.steps;
+        let pieces = self
+            .solver
+            .cell_pieces(fields)
+            .map_err(|source| RunError::Solver { step, source })?
+            .ok_or_else(|| RunError::Solver {
+                step,
+                source: brisance_core::SolverError::Other(
+                    "this pipeline's cells are not split into patches; outputs.vtk_layout must be `Whole`".into(),
+                ),
+            })?;
+        let stem = format!("{}_{index:05}", self.scenario.name);
+        let sources: Vec<String> = (0..pieces.extents.len())
+            .map(|p| format!("{stem}/{stem}_{p:05}.vti"))
+            .collect();
+        let vtk = self.out.join("vtk");
+        if !pieces.pieces.is_empty() {
+            io::ensure_dir(&vtk.join(&stem))?;
+        }
+        for piece in &pieces.pieces {
+            io::write_vti_piece(&vtk.join(&sources[piece.patch]), &pieces.geometry, piece)?;
+        }
+        if self.writes {
+            io::write_pvti(
+                &vtk.join(format!("{stem}.pvti")),
+                &pieces.geometry,
+                fields,
+                &pieces.extents,
+                &sources,
+            )?;
+        }
+        Ok(format!("vtk/{stem}.pvti"))
     }
 
     fn write_histories(&self) -> Result<(), RunError> {
@@ -1019,6 +1065,113 @@ mod tests {
             "W = {w}, hand {hand}"
         );
         assert!((rows[1][7] - e0).abs() < 1e-12 * e0, "{rows:?}");
+    }
+
+    /// The cell-data arrays of an ImageData file, or of every piece of a
+    /// `.pvti` master put back in global x-fastest order, by name.
+    fn cell_arrays(path: &Path) -> Vec<(String, Vec<f64>)> {
+        use vtkio::model::{Attribute, DataSet, Extent, Piece};
+        let mut vtk = vtkio::Vtk::import(path).unwrap();
+        vtk.load_all_pieces().unwrap();
+        let DataSet::ImageData { extent, pieces, .. } = vtk.data else {
+            panic!("not ImageData");
+        };
+        let range = |e: &Extent| -> [(usize, usize); 3] {
+            let Extent::Ranges(r) = e else {
+                panic!("extent not given as ranges")
+            };
+            std::array::from_fn(|d| (*r[d].start() as usize, *r[d].end() as usize))
+        };
+        let whole = range(&extent);
+        let n: [usize; 3] = std::array::from_fn(|d| whole[d].1 - whole[d].0);
+        let mut out: Vec<(String, Vec<f64>)> = Vec::new();
+        for piece in pieces {
+            let Piece::Inline(piece) = piece else {
+                panic!("piece not loaded");
+            };
+            let r = range(&piece.extent);
+            for (f, a) in piece.data.cell.into_iter().enumerate() {
+                let Attribute::DataArray(a) = a else {
+                    panic!("not a data array");
+                };
+                let vtkio::IOBuffer::F64(v) = a.data else {
+                    panic!("not Float64");
+                };
+                if out.len() == f {
+                    out.push((a.name.clone(), vec![f64::NAN; n.iter().product()]));
+                }
+                assert_eq!(out[f].0, a.name);
+                let mut values = v.into_iter();
+                for k in r[2].0..r[2].1 {
+                    for j in r[1].0..r[1].1 {
+                        for i in r[0].0..r[0].1 {
+                            out[f].1[i + n[0] * (j + n[1] * k)] = values.next().unwrap();
+                        }
+                    }
+                }
+                assert!(values.next().is_none(), "piece {r:?} has too many values");
+            }
+        }
+        out
+    }
+
+    /// The `Patches` layout writes one piece per patch under a `.pvti`
+    /// master, and the pieces put together hold the bits of the `Whole`
+    /// layout's file at every output, for the FDM (3D) and the ICE (r–z).
+    #[test]
+    fn patch_pieces_put_together_are_the_whole_grid_bit_for_bit() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/mpi");
+        for (file, name, patches, outputs) in [
+            ("blast3d.ron", "blast3d", 8, 5),
+            ("ice_rz.ron", "ice_rz", 4, 4),
+        ] {
+            let dirs = [tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap()];
+            for (dir, layout) in dirs.iter().zip(["Whole", "Patches"]) {
+                let sets = [
+                    format!("outputs.vtk_layout={layout}"),
+                    "outputs.checkpoint_every=None".to_string(),
+                ];
+                let loaded = crate::load_file(&root.join(file), &sets).unwrap();
+                let opts = RunOptions {
+                    out_dir: dir.path().to_path_buf(),
+                    restart: None,
+                    progress: false,
+                };
+                run(&loaded, &opts).unwrap();
+            }
+            let pvd = std::fs::read_to_string(dirs[1].path().join(format!("{name}.pvd"))).unwrap();
+            for k in 0..outputs {
+                let stem = format!("{name}_{k:05}");
+                assert!(pvd.contains(&format!("file=\"vtk/{stem}.pvti\"")), "{pvd}");
+                let vtk = dirs[1].path().join("vtk");
+                let written = std::fs::read_dir(vtk.join(&stem)).unwrap().count();
+                assert_eq!(written, patches, "{stem}");
+                let whole = cell_arrays(&dirs[0].path().join(format!("vtk/{stem}.vti")));
+                let pieces = cell_arrays(&vtk.join(format!("{stem}.pvti")));
+                assert_eq!(whole.len(), pieces.len());
+                for ((a, va), (b, vb)) in whole.iter().zip(&pieces) {
+                    assert_eq!(a, b);
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(va), bits(vb), "{stem}: {a}");
+                }
+            }
+            assert!(!dirs[1]
+                .path()
+                .join(format!("vtk/{name}_00000.vti"))
+                .exists());
+        }
+    }
+
+    #[test]
+    fn the_patches_layout_is_refused_where_cells_are_not_in_patches() {
+        let text = one_particle("[]");
+        let sets = ["outputs.vtk_layout=Patches".to_string()];
+        let err = crate::load_str("nodes.ron", &text, &sets).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("outputs.vtk_layout"));
+        assert!(
+            err.message.contains("only the Fdm, Ice and IceMpm"),
+            "{err}"
+        );
     }
 
     #[test]

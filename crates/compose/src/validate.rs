@@ -786,6 +786,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 .into(),
         ));
     }
+    if o.vtk_layout == crate::config::VtkLayout::Patches && !limits.patch_pieces {
+        return Err((
+            "outputs.vtk_layout".into(),
+            "the `Patches` layout writes one piece per patch of a grid: only the Fdm, Ice and IceMpm pipelines split their cells into patches; use `Whole`".into(),
+        ));
+    }
     for (k, f) in o.node_fields.iter().enumerate() {
         if !node_fields.contains(&f.as_str()) {
             return Err((

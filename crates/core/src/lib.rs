@@ -12,6 +12,7 @@
 
 pub mod eos;
 pub mod error;
+pub mod exact_sum;
 pub mod geometry;
 pub mod material;
 pub mod output;
@@ -26,11 +27,12 @@ pub mod solver_contract;
 
 pub use eos::Eos;
 pub use error::{EosError, SolverError};
+pub use exact_sum::{ExactSum, ExactTotals};
 pub use geometry::Geometry;
 pub use material::{Material, StressUpdate, StressUpdateInput};
 pub use output::{
-    AxisWindow, CellData, ConservationTotals, NodeData, ParticleData, SafeguardUse,
-    UniformGridGeometry,
+    AxisWindow, CellData, CellPiece, CellPieces, ConservationTotals, NodeData, ParticleData,
+    SafeguardUse, UniformGridGeometry,
 };
 pub use reaction::{ReactionModel, ReactionState};
 pub use solver::Solver;

@@ -141,6 +141,34 @@ impl CellData {
     }
 }
 
+/// One patch's share of a cell output: the cells `lo .. lo + cells`
+/// (global cell indices) of patch `patch`, each field one value per cell
+/// in x-fastest order within the patch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellPiece {
+    /// The patch's id.
+    pub patch: usize,
+    /// Global index of the piece's first cell.
+    pub lo: [usize; 3],
+    /// Cells per direction.
+    pub cells: [usize; 3],
+    /// `(name, values)` pairs, snake_case names, as in [`CellData`].
+    pub fields: Vec<(String, Vec<f64>)>,
+}
+
+/// Cell-centred fields as one piece per patch, with no gather: every
+/// patch's extent (for a master file that lists them all) and the pieces
+/// of the patches this rank owns (every patch on one rank).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellPieces {
+    /// The whole grid.
+    pub geometry: UniformGridGeometry,
+    /// `(lo, cells)` of every patch, by patch id.
+    pub extents: Vec<([usize; 3], [usize; 3])>,
+    /// The pieces of this rank's patches, in patch order.
+    pub pieces: Vec<CellPiece>,
+}
+
 /// Point data of a particle or node set (MPM particles, PD nodes): one
 /// position per point and named per-point fields in the same order.
 #[derive(Debug, Clone, PartialEq)]

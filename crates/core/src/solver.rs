@@ -2,7 +2,9 @@
 
 use std::path::Path;
 
-use crate::{CellData, ConservationTotals, NodeData, ParticleData, SafeguardUse, SolverError};
+use crate::{
+    CellData, CellPieces, ConservationTotals, NodeData, ParticleData, SafeguardUse, SolverError,
+};
 
 /// A numerical method, or a coupled pipeline of methods, that owns its state
 /// and advances it in time.
@@ -42,6 +44,16 @@ pub trait Solver: Send {
     /// The requested cell fields on the whole grid (unknown names are an
     /// error naming the known ones).
     fn cell_data(&self, fields: &[String]) -> Result<CellData, SolverError>;
+
+    /// The requested cell fields as one piece per patch, each rank
+    /// holding the pieces of its own patches and nothing gathered (the
+    /// `Patches` VTK layout); `None` for methods whose cells are not split
+    /// into patches (the default). A call on one rank of several is not
+    /// collective: it reads this rank's patches only.
+    fn cell_pieces(&self, fields: &[String]) -> Result<Option<CellPieces>, SolverError> {
+        let _ = fields;
+        Ok(None)
+    }
 
     /// Values of `fields` at `point` (the containing cell's value for
     /// cell-centred methods), written into `out`.

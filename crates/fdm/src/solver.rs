@@ -7,7 +7,7 @@ use std::borrow::Cow;
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use brisance_core::{ConservationTotals, Geometry, SolverError};
+use brisance_core::{ConservationTotals, ExactTotals, Geometry, SolverError};
 use brisance_grid::comm::{self, Communicator};
 use brisance_grid::{
     BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
@@ -778,7 +778,9 @@ impl<E: GasLaw> FdmSolver<E> {
     }
 
     /// Mass (kg), momentum (kg m/s) and energy (J) of the interior cells,
-    /// summed in global cell order.
+    /// each summed exactly and rounded once ([`ExactTotals`]), so the bits
+    /// do not depend on the order: each rank sums its own patches and the
+    /// sums are merged (a collective call on several ranks).
     ///
     /// On an axisymmetric grid each cell counts with its ring volume
     /// π(r₊² − r₋²)Δz: the mass, the axial momentum (y) and the energy
@@ -787,29 +789,35 @@ impl<E: GasLaw> FdmSolver<E> {
     /// changes it; by symmetry the body's momentum normal to the axis is
     /// zero), and the third component stays 0.
     pub fn interior_totals(&self) -> ConservationTotals {
-        let mut t = ConservationTotals::default();
-        let fields = self.gathered();
-        if self.options.geometry.is_axisymmetric() {
-            self.level.for_each_cell_in_order(|g, pid, n| {
-                let d = &fields[pid].data;
-                let v = self.ring_volume(g[0]);
-                t.mass += d[RHO][n] * v;
-                for a in 0..3 {
-                    t.momentum[a] += d[MOM + a][n] * v;
+        let rank = self.comm.rank();
+        let axisymmetric = self.options.geometry.is_axisymmetric();
+        let mut t = ExactTotals::default();
+        self.level.for_each_cell_of(
+            |pid| self.owner[pid] == rank,
+            |g, pid, n| {
+                let d = &self.fields[pid].data;
+                if axisymmetric {
+                    let v = self.ring_volume(g[0]);
+                    t.add(
+                        d[RHO][n] * v,
+                        std::array::from_fn(|a| d[MOM + a][n] * v),
+                        d[ENERGY][n] * v,
+                    );
+                } else {
+                    t.add(
+                        d[RHO][n],
+                        std::array::from_fn(|a| d[MOM + a][n]),
+                        d[ENERGY][n],
+                    );
                 }
-                t.energy += d[ENERGY][n] * v;
-            });
-            return t;
+            },
+        );
+        comm::merge_exact(&*self.comm, &mut t.sums);
+        if axisymmetric {
+            t.totals()
+        } else {
+            self.scaled_by_cell_volume(t.totals())
         }
-        self.level.for_each_cell_in_order(|_, pid, n| {
-            let d = &fields[pid].data;
-            t.mass += d[RHO][n];
-            for a in 0..3 {
-                t.momentum[a] += d[MOM + a][n];
-            }
-            t.energy += d[ENERGY][n];
-        });
-        self.scaled_by_cell_volume(t)
     }
 
     /// Volume of the ring of an axisymmetric grid's cells in column `i`,
@@ -859,33 +867,41 @@ impl<E: GasLaw> FdmSolver<E> {
     /// [`Self::outflow`] through the face cells `keep(face, cell)` accepts:
     /// `face` = 2d + s (s = 0 the low face normal to axis d, 1 the high
     /// one) and `cell` the global index of the interior cell at it. Summed
-    /// face by face, each in global cell order.
+    /// exactly, each face cell's entry by the rank that owns its patch (a
+    /// collective call on several ranks).
     pub fn outflow_where(&self, keep: impl Fn(usize, [usize; 3]) -> bool) -> ConservationTotals {
         let cells = self.level.geometry.cells;
         let axisymmetric = self.options.geometry.is_axisymmetric();
-        let mut t = ConservationTotals::default();
-        let outflow = self.gathered_outflow();
-        for (f, acc) in outflow.iter().enumerate() {
+        let several = self.comm.size() > 1;
+        let rank = self.comm.rank();
+        let mut t = ExactTotals::default();
+        for (f, acc) in self.outflow.iter().enumerate() {
             for (n, u) in acc.iter().enumerate() {
                 let c = face_cell(cells, f, n);
-                if keep(f, c) {
+                // Each face cell's entry from the rank that owns it.
+                let mine = !several || {
+                    let (pid, _) = self.level.locate(c).expect("a face cell lies in the grid");
+                    self.owner[pid] == rank
+                };
+                if mine && keep(f, c) {
                     let w = if axisymmetric {
                         self.ring_face_weight(f, c)
                     } else {
                         1.0
                     };
-                    t.mass += w * u[RHO];
-                    for d in 0..3 {
-                        t.momentum[d] += w * u[MOM + d];
-                    }
-                    t.energy += w * u[ENERGY];
+                    t.add(
+                        w * u[RHO],
+                        std::array::from_fn(|d| w * u[MOM + d]),
+                        w * u[ENERGY],
+                    );
                 }
             }
         }
+        comm::merge_exact(&*self.comm, &mut t.sums);
         if axisymmetric {
-            return t;
+            return t.totals();
         }
-        self.scaled_by_cell_volume(t)
+        self.scaled_by_cell_volume(t.totals())
     }
 
     fn scaled_by_cell_volume(&self, mut t: ConservationTotals) -> ConservationTotals {

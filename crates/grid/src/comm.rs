@@ -169,6 +169,26 @@ pub fn owners_fields<'a>(
     std::borrow::Cow::Owned(all)
 }
 
+/// Merges every rank's `sums` into each rank's (one collective over
+/// [`brisance_core::ExactSum::WORDS`] words per sum), so that every rank
+/// holds the exact sum of what all ranks added: a total each rank sums
+/// over its own cells comes out with the bits of one rank summing them
+/// all. Nothing is sent on one rank.
+pub fn merge_exact(comm: &dyn Communicator, sums: &mut [brisance_core::ExactSum]) {
+    if comm.size() == 1 || sums.is_empty() {
+        return;
+    }
+    let mut words: Vec<u64> = sums.iter().flat_map(|s| s.to_words()).collect();
+    comm.sum(&mut words);
+    for (s, w) in sums
+        .iter_mut()
+        .zip(words.chunks_exact(brisance_core::ExactSum::WORDS))
+    {
+        *s = brisance_core::ExactSum::new();
+        s.add_words(w);
+    }
+}
+
 /// The owner of every patch of a level of `patches` patches on `ranks`
 /// ranks, or why the split cannot be made.
 pub fn patch_owners(patches: usize, ranks: usize) -> Result<Vec<usize>, String> {

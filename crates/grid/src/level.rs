@@ -1,6 +1,6 @@
 //! Levels and patches.
 
-use brisance_core::{CellData, SolverError, UniformGridGeometry};
+use brisance_core::{CellData, CellPiece, CellPieces, SolverError, UniformGridGeometry};
 
 use crate::fields::PatchFields;
 
@@ -217,6 +217,30 @@ impl Level {
         }
     }
 
+    /// Calls `f(global cell, patch id, local index)` for every interior
+    /// cell of the patches `mine` accepts, patch by patch (x fastest
+    /// within a patch): for sums whose order does not matter
+    /// ([`brisance_core::ExactSum`]), which a rank can then take over its
+    /// own patches alone.
+    pub fn for_each_cell_of(
+        &self,
+        mine: impl Fn(usize) -> bool,
+        mut f: impl FnMut([usize; 3], usize, usize),
+    ) {
+        for (pid, p) in self.patches.iter().enumerate() {
+            if !mine(pid) {
+                continue;
+            }
+            for k in p.lo[2]..p.lo[2] + p.size[2] {
+                for j in p.lo[1]..p.lo[1] + p.size[1] {
+                    for i in p.lo[0]..p.lo[0] + p.size[0] {
+                        f([i, j, k], pid, p.index_of_global([i, j, k]));
+                    }
+                }
+            }
+        }
+    }
+
     /// Every field of `patches` (one [`PatchFields`] per patch) over the
     /// interior cells in global order, one array per field: a layout that
     /// does not depend on the patch split (checkpoints).
@@ -270,11 +294,108 @@ impl Level {
             fields: out,
         }
     }
+
+    /// The cell fields `names` (field ids `ids`) as one piece per patch
+    /// for the patches `mine` accepts, each piece's cells in x-fastest
+    /// order within the patch, `value(patch id, local index, field id)`
+    /// giving each value; no value of another patch is read, so a rank
+    /// needs only its own patches to be current.
+    pub fn cell_pieces(
+        &self,
+        mine: impl Fn(usize) -> bool,
+        names: &[String],
+        ids: &[usize],
+        value: impl Fn(usize, usize, usize) -> f64,
+    ) -> CellPieces {
+        let pieces = self
+            .patches
+            .iter()
+            .enumerate()
+            .filter(|&(pid, _)| mine(pid))
+            .map(|(pid, p)| {
+                let count = p.interior_cells();
+                let mut fields: Vec<(String, Vec<f64>)> = names
+                    .iter()
+                    .map(|f| (f.clone(), Vec::with_capacity(count)))
+                    .collect();
+                for k in p.lo[2]..p.lo[2] + p.size[2] {
+                    for j in p.lo[1]..p.lo[1] + p.size[1] {
+                        for i in p.lo[0]..p.lo[0] + p.size[0] {
+                            let n = p.index_of_global([i, j, k]);
+                            for (slot, &id) in fields.iter_mut().zip(ids) {
+                                slot.1.push(value(pid, n, id));
+                            }
+                        }
+                    }
+                }
+                CellPiece {
+                    patch: pid,
+                    lo: p.lo,
+                    cells: p.size,
+                    fields,
+                }
+            })
+            .collect();
+        CellPieces {
+            geometry: self.geometry,
+            extents: self.patches.iter().map(|p| (p.lo, p.size)).collect(),
+            pieces,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cell_pieces_hold_each_patch_in_its_own_x_fastest_order() {
+        let level = Level::new([0.0; 3], [1.0; 3], [5, 3, 2], [2, 1, 2], 1).unwrap();
+        // The value of a cell is its global linear index.
+        let global = |pid: usize, n: usize| {
+            let p = &level.patches[pid];
+            let d = p.dims();
+            let l = [n % d[0], (n / d[0]) % d[1], n / (d[0] * d[1])];
+            level.geometry.linear_index(p.global_of_local(l)) as f64
+        };
+        let names = ["index".to_string(), "twice".to_string()];
+        let all = level.cell_pieces(
+            |_| true,
+            &names,
+            &[0, 1],
+            |pid, n, id| global(pid, n) * (id + 1) as f64,
+        );
+        assert_eq!(all.geometry, level.geometry);
+        assert_eq!(
+            all.extents,
+            vec![
+                ([0, 0, 0], [3, 3, 1]),
+                ([3, 0, 0], [2, 3, 1]),
+                ([0, 0, 1], [3, 3, 1]),
+                ([3, 0, 1], [2, 3, 1]),
+            ]
+        );
+        assert_eq!(all.pieces.len(), 4);
+        // Patch 1 holds cells i = 3, 4 of rows j = 0, 1, 2 in plane k = 0.
+        let p1 = &all.pieces[1];
+        assert_eq!((p1.patch, p1.lo, p1.cells), (1, [3, 0, 0], [2, 3, 1]));
+        assert_eq!(p1.fields[0].0, "index");
+        assert_eq!(p1.fields[0].1, vec![3.0, 4.0, 8.0, 9.0, 13.0, 14.0]);
+        assert_eq!(p1.fields[1].1, vec![6.0, 8.0, 16.0, 18.0, 26.0, 28.0]);
+        // Every cell once, over all pieces.
+        let mut seen: Vec<f64> = all
+            .pieces
+            .iter()
+            .flat_map(|p| p.fields[0].1.iter().copied())
+            .collect();
+        seen.sort_by(f64::total_cmp);
+        assert_eq!(seen, (0..30).map(|i| i as f64).collect::<Vec<_>>());
+        // A rank's share: its patches only, every extent still listed.
+        let odd = level.cell_pieces(|pid| pid % 2 == 1, &names, &[0, 1], |_, _, _| 0.0);
+        assert_eq!(odd.extents, all.extents);
+        let ids: Vec<usize> = odd.pieces.iter().map(|p| p.patch).collect();
+        assert_eq!(ids, vec![1, 3]);
+    }
 
     #[test]
     fn cells_are_visited_in_global_order_whatever_the_patch_split() {

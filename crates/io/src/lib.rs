@@ -3,7 +3,9 @@
 //! - [`atomic`]: crash-safe file replacement ([`write_atomic`]) and
 //!   output-directory checks ([`ensure_dir`], [`check_writable_dir`]).
 //! - [`vti`]: VTK XML ImageData snapshots of cell fields ([`write_vti`])
-//!   and of grid node fields ([`write_vti_nodes`]).
+//!   and of grid node fields ([`write_vti_nodes`]); cell fields as one
+//!   piece per patch ([`write_vti_piece`]) under a `.pvti` master
+//!   ([`write_pvti`]).
 //! - [`pvd`]: ParaView collections tying snapshots to times ([`PvdSeries`]).
 //! - [`csv`]: gauge, line-out and conservation tables, and a reader.
 //! - [`summary`]: the end-of-run JSON summary ([`RunSummary`]).
@@ -40,5 +42,5 @@ pub use error::IoError;
 pub use number::format_f64;
 pub use pvd::PvdSeries;
 pub use summary::{read_summary, relative_change, write_summary, RunSummary, Safeguard, WallPart};
-pub use vti::{write_vti, write_vti_nodes};
+pub use vti::{pvti_text, write_pvti, write_vti, write_vti_nodes, write_vti_piece};
 pub use vtu::write_vtu;

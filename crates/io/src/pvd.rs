@@ -68,7 +68,7 @@ impl PvdSeries {
 
 /// `s` with the characters that are special inside a double-quoted XML
 /// attribute replaced by entities.
-fn escape_attribute(s: &str) -> String {
+pub(crate) fn escape_attribute(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {

@@ -972,6 +972,13 @@ impl Solver for IceMpm {
         self.ice.cell_data(fields)
     }
 
+    fn cell_pieces(
+        &self,
+        fields: &[String],
+    ) -> Result<Option<brisance_core::CellPieces>, SolverError> {
+        self.ice.cell_pieces(fields)
+    }
+
     fn sample(
         &self,
         point: [f64; 3],

@@ -1,7 +1,7 @@
 //! The [`Solver`] implementation of [`FdmSolver`], with the checkpoint it
 //! saves and restores.
 
-use brisance_core::{CellData, ConservationTotals, SafeguardUse, Solver, SolverError};
+use brisance_core::{CellData, CellPieces, ConservationTotals, SafeguardUse, Solver, SolverError};
 use brisance_grid::FaceBc;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -195,6 +195,22 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         Ok(self
             .level
             .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&data, pid, n, id)))
+    }
+
+    /// This rank's patches from its own copy, which is current for the
+    /// patches it owns.
+    fn cell_pieces(&self, fields: &[String]) -> Result<Option<CellPieces>, SolverError> {
+        let ids = fields
+            .iter()
+            .map(|f| Self::field_index(f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let rank = self.comm.rank();
+        Ok(Some(self.level.cell_pieces(
+            |pid| self.owner[pid] == rank,
+            fields,
+            &ids,
+            |pid, n, id| self.derived(&self.fields, pid, n, id),
+        )))
     }
 
     /// Values of `fields` in the cell that contains `point`; on an

@@ -2,6 +2,8 @@
 //! saves and restores.
 
 use super::*;
+use brisance_core::ExactTotals;
+use brisance_grid::comm;
 
 /// A checkpoint: the interior state fields in global order, and the
 /// running totals of the coupled equilibration's rescaling and of step 2's
@@ -165,8 +167,10 @@ impl<E: Eos> Solver for IceSolver<E> {
         any.map(|n| n > 0)
     }
 
-    /// Totals summed in global cell order: the bits do not depend on the
-    /// patch split or thread count.
+    /// Totals summed exactly and rounded once ([`ExactTotals`]): the bits
+    /// do not depend on the order, so they are the same for any patch
+    /// split, thread count or rank count; each rank sums its own patches
+    /// and the sums are merged (a collective call on several ranks).
     ///
     /// On an axisymmetric grid each cell counts with its ring's volume:
     /// mass, axial momentum (y) and energy are the whole body's; the
@@ -174,50 +178,61 @@ impl<E: Eos> Solver for IceSolver<E> {
     /// quantity (the hoop source changes it).
     fn conservation_totals(&self) -> ConservationTotals {
         let n = self.eos.len();
-        let mut t = ConservationTotals::default();
+        let mut sums = ExactTotals::default();
         let axisymmetric = self.options.geometry.is_axisymmetric();
         let vols = self.volumes();
-        let state = self.gathered_state();
-        self.level.for_each_cell_in_order(|g, pid, c| {
-            let d = &state[pid].data;
-            // Axisymmetric: this cell's totals per unit volume, then times
-            // its ring; Cartesian: straight into the sum (times the common
-            // cell volume at the end).
-            let mut ring = ConservationTotals::default();
-            let acc = if axisymmetric { &mut ring } else { &mut t };
-            for r in 0..n {
-                if self.lagrangian[r] {
-                    // Counted on the particles that carry it.
-                    continue;
+        let rank = self.ranks.comm.rank();
+        self.level.for_each_cell_of(
+            |pid| self.ranks.owner[pid] == rank,
+            |g, pid, c| {
+                let d = &self.state[pid].data;
+                // Axisymmetric: this cell's totals per unit volume, then
+                // times its ring; Cartesian: each term straight into the
+                // sums (times the common cell volume at the end).
+                let mut ring = ConservationTotals::default();
+                for r in 0..n {
+                    if self.lagrangian[r] {
+                        // Counted on the particles that carry it.
+                        continue;
+                    }
+                    let b = r * NS;
+                    let rho = d[b + RHO][c];
+                    let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
+                    let energy =
+                        rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+                    if axisymmetric {
+                        ring.mass += rho;
+                        for a in 0..3 {
+                            ring.momentum[a] += rho * u[a];
+                        }
+                        ring.energy += energy;
+                    } else {
+                        sums.add(rho, u.map(|ua| rho * ua), energy);
+                    }
                 }
-                let b = r * NS;
-                let rho = d[b + RHO][c];
-                let u = [d[b + VEL][c], d[b + VEL + 1][c], d[b + VEL + 2][c]];
-                acc.mass += rho;
-                for a in 0..3 {
-                    acc.momentum[a] += rho * u[a];
+                // Chemical energy of the reactants, in the products'
+                // reference. A reactant carried by particles is counted on
+                // them.
+                for rx in self
+                    .reactions
+                    .iter()
+                    .filter(|rx| !self.lagrangian[rx.reactant])
+                {
+                    let chemical = d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
+                    if axisymmetric {
+                        ring.energy += chemical;
+                    } else {
+                        sums.sums[4].add(chemical);
+                    }
                 }
-                acc.energy +=
-                    rho * (d[b + ENERGY][c] + 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
-            }
-            // Chemical energy of the reactants, in the products' reference.
-            // A reactant carried by particles is counted on them.
-            for rx in self
-                .reactions
-                .iter()
-                .filter(|rx| !self.lagrangian[rx.reactant])
-            {
-                acc.energy += d[rx.reactant * NS + RHO][c] * rx.heat_of_reaction;
-            }
-            if axisymmetric {
-                let v = vols.column(g[0]);
-                t.mass += ring.mass * v;
-                for a in 0..3 {
-                    t.momentum[a] += ring.momentum[a] * v;
+                if axisymmetric {
+                    let v = vols.column(g[0]);
+                    sums.add(ring.mass * v, ring.momentum.map(|m| m * v), ring.energy * v);
                 }
-                t.energy += ring.energy * v;
-            }
-        });
+            },
+        );
+        comm::merge_exact(&*self.ranks.comm, &mut sums.sums);
+        let mut t = sums.totals();
         if !axisymmetric {
             let vol: f64 = self.level.geometry.spacing.iter().product();
             t.mass *= vol;
@@ -258,6 +273,25 @@ impl<E: Eos> Solver for IceSolver<E> {
         Ok(self
             .level
             .gather_cell_data(fields, &ids, |pid, n, id| self.derived(&state, pid, n, id)))
+    }
+
+    /// This rank's patches from its own copy, which is current for the
+    /// patches it owns.
+    fn cell_pieces(
+        &self,
+        fields: &[String],
+    ) -> Result<Option<brisance_core::CellPieces>, SolverError> {
+        let ids = fields
+            .iter()
+            .map(|f| self.field_index(f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let rank = self.ranks.comm.rank();
+        Ok(Some(self.level.cell_pieces(
+            |pid| self.ranks.owner[pid] == rank,
+            fields,
+            &ids,
+            |pid, c, id| self.derived(&self.state, pid, c, id),
+        )))
     }
 
     fn sample(
