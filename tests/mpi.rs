@@ -205,13 +205,20 @@ fn the_lattice_on_two_and_four_ranks_writes_the_bytes_of_one() {
 /// Runs `config` on one rank, then on two ranks to step `stop` and on
 /// four from that step's checkpoint, and compares what both wrote.
 fn restart_on_other_ranks(config: &str, stop: u64) {
+    restart_on_other_ranks_with(config, stop, &[]);
+}
+
+/// [`restart_on_other_ranks`] with `extra` arguments (`--set`) for both
+/// parts of the restarted run.
+fn restart_on_other_ranks_with(config: &str, stop: u64, extra: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let one = tmp.path().join("one");
     succeeded(&run(0, Path::new(config), &one, &[]), "one rank");
     let out = tmp.path().join("restarted");
     let max = format!("time.max_steps={stop}");
+    let first = [&["--set", max.as_str()][..], extra].concat();
     succeeded(
-        &run(2, Path::new(config), &out, &["--set", &max]),
+        &run(2, Path::new(config), &out, &first),
         "two ranks to the stop",
     );
     let ck = out
@@ -220,8 +227,9 @@ fn restart_on_other_ranks(config: &str, stop: u64) {
     // The stopped run wrote its last state as an extra output; the
     // continued run writes the rest over it.
     let ck_arg = ck.to_string_lossy().into_owned();
+    let second = [&["--restart", ck_arg.as_str()][..], extra].concat();
     succeeded(
-        &run(4, Path::new(config), &out, &["--restart", &ck_arg]),
+        &run(4, Path::new(config), &out, &second),
         "four ranks from the checkpoint",
     );
     for rel in files(&one).keys() {
@@ -244,6 +252,16 @@ fn a_restart_may_change_the_rank_count() {
     restart_on_other_ranks(LATTICE, 20);
 }
 
+/// Checkpoints written per patch (each rank its own patches' files,
+/// nothing gathered) restart on another rank count too, and the run goes
+/// on with the bits of one rank.
+#[test]
+fn a_checkpoint_written_per_patch_restarts_on_another_rank_count() {
+    let patches = ["--set", "outputs.checkpoint_layout=Patches"];
+    restart_on_other_ranks_with(BLAST, 10, &patches);
+    restart_on_other_ranks_with(ICE_RZ, 40, &patches);
+}
+
 /// Stderr of a failed run, checked to carry `message` exactly once.
 fn fails_once_with(out: &Output, message: &str) {
     assert!(!out.status.success(), "the run should fail");
@@ -253,6 +271,58 @@ fn fails_once_with(out: &Output, message: &str) {
         1,
         "one message `{message}` expected in:\n{err}"
     );
+}
+
+/// A run that fails some steps in (streams colliding under the bare
+/// scheme, as in `tests/cli.rs`) rewinds, on every rank, its own
+/// snapshot (nothing gathered) and writes the state before the failed
+/// step: the outputs of 2 and 4 ranks are those of one, the last field
+/// output included.
+#[test]
+fn a_failed_step_leaves_the_last_good_state_of_one_rank() {
+    let sod = Path::new(ROOT).join("configs/sod.ron");
+    let sets = [
+        "--set",
+        "domain.cells=(200,1,1)",
+        "--set",
+        "domain.patches=(4,1,1)",
+        "--set",
+        "pipeline.limiter=Off",
+        "--set",
+        "pipeline.viscosity=Off",
+        "--set",
+        r#"initial=[(region: Everywhere, material: "gas", state: (density: 1.0, velocity: (1.35, 0, 0), pressure: 0.6)), (region: HalfSpace(point: (0.5, 0, 0), normal: (1, 0, 0)), material: "gas", state: (density: 0.125, velocity: (-1.35, 0, 0), pressure: 0.6))]"#,
+    ];
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    let out = run(0, &sod, &one, &sets);
+    assert!(!out.status.success(), "the run should fail");
+    let vtk = |dir: &Path| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = files(&dir.join("vtk")).into_keys().collect();
+        v.sort();
+        v
+    };
+    assert!(vtk(&one).len() >= 2, "the last good state is written");
+    for ranks in [2, 4] {
+        let dir = tmp.path().join(format!("np{ranks}"));
+        let out = run(ranks, &sod, &dir, &sets);
+        assert!(
+            !out.status.success(),
+            "the run on {ranks} ranks should fail"
+        );
+        assert_eq!(vtk(&one), vtk(&dir), "{ranks} ranks: the same snapshots");
+        for rel in vtk(&one)
+            .iter()
+            .map(|f| Path::new("vtk").join(f))
+            .chain([PathBuf::from("conservation.csv"), PathBuf::from("sod.pvd")])
+        {
+            assert!(
+                fs::read(one.join(&rel)).unwrap() == fs::read(dir.join(&rel)).unwrap(),
+                "{ranks} ranks: {} differs",
+                rel.display()
+            );
+        }
+    }
 }
 
 #[test]

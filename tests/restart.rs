@@ -128,6 +128,84 @@ fn restart_ends_bit_identical_to_an_uninterrupted_run() {
     }
 }
 
+/// `outputs.checkpoint_layout: Patches`: a checkpoint file and a folder
+/// of one file per patch beside it; the restart ends bit-identical to the
+/// uninterrupted run, needs the same patches, and refuses a damaged
+/// patch file naming it.
+#[test]
+fn a_checkpoint_written_per_patch_restarts_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let patches = [
+        "--set",
+        "domain.patches=(4,1,1)",
+        "--set",
+        "outputs.checkpoint_layout=Patches",
+    ];
+    let a = dir.path().join("A");
+    assert_success(&run_sod(&a, &patches));
+    let mut checkpoints: Vec<PathBuf> = fs::read_dir(a.join("checkpoints"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "bin"))
+        .collect();
+    checkpoints.sort();
+    assert!(checkpoints.len() >= 2, "{checkpoints:?}");
+    let middle = checkpoints[checkpoints.len() / 2].clone();
+    let folder = middle.with_extension("");
+    let names: Vec<String> = {
+        let mut v: Vec<String> = fs::read_dir(&folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(
+        names,
+        [
+            "patch_00000.bin",
+            "patch_00001.bin",
+            "patch_00002.bin",
+            "patch_00003.bin"
+        ]
+    );
+
+    let b = dir.path().join("B");
+    let restart = ["--restart", middle.to_str().unwrap()];
+    assert_success(&run_sod(&b, &[&patches[..], &restart].concat()));
+    let mut compared = Vec::new();
+    for sub in ["vtk", "lineouts", "gauges"] {
+        compared.extend(files_under(&b, sub));
+    }
+    compared.push(PathBuf::from("conservation.csv"));
+    assert!(compared.contains(&final_outputs(&a)[0]), "{compared:?}");
+    for rel in &compared {
+        assert_same_bytes(&a, &b, rel);
+    }
+
+    // Other patches cannot read the pieces.
+    let c = dir.path().join("C");
+    let other = [
+        "--set",
+        "domain.patches=(2,1,1)",
+        "--set",
+        "outputs.checkpoint_layout=Patches",
+    ];
+    let line = single_error_line(&run_sod(&c, &[&other[..], &restart].concat()));
+    assert!(line.contains("restarts with the same patches"), "{line}");
+
+    // A damaged patch file is refused, naming it.
+    let piece = folder.join("patch_00002.bin");
+    let mut bytes = fs::read(&piece).unwrap();
+    let at = bytes.len() / 2;
+    bytes[at] ^= 1;
+    fs::write(&piece, &bytes).unwrap();
+    let d = dir.path().join("D");
+    let line = single_error_line(&run_sod(&d, &[&patches[..], &restart].concat()));
+    assert!(line.contains("patch_00002.bin"), "{line}");
+    assert!(line.contains("checksum"), "{line}");
+}
+
 #[test]
 fn restart_on_other_threads_and_patches_ends_bit_identical() {
     let dir = tempfile::tempdir().unwrap();

@@ -31,6 +31,9 @@ pub struct PipelineLimits {
     /// Whether its cells are split into patches that can be written as
     /// VTK pieces ([`crate::config::VtkLayout::Patches`]).
     pub patch_pieces: bool,
+    /// Whether its state can be checkpointed per patch
+    /// ([`crate::config::CheckpointLayout::Patches`]).
+    pub patch_checkpoints: bool,
 }
 
 /// The limits of a pipeline.
@@ -42,6 +45,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: brisance_fdm::sweep::GHOST,
             node_fields: &[],
             patch_pieces: false,
+            patch_checkpoints: false,
         },
         Pipeline::Ice(_) => PipelineLimits {
             fields: &crate::ice::FIELDS,
@@ -49,6 +53,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: brisance_ice::GHOST,
             node_fields: &[],
             patch_pieces: true,
+            patch_checkpoints: true,
         },
         Pipeline::IceMpm(_) => PipelineLimits {
             fields: &crate::ice::FIELDS,
@@ -56,6 +61,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: brisance_ice::GHOST,
             node_fields: &MpmSolver::NODE_FIELDS,
             patch_pieces: true,
+            patch_checkpoints: false,
         },
         Pipeline::Lattice(_) => PipelineLimits {
             fields: &brisance_lattice::MsdmLattice::FIELDS,
@@ -63,6 +69,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: 1,
             node_fields: &[],
             patch_pieces: false,
+            patch_checkpoints: false,
         },
         Pipeline::Peridynamics(_) => PipelineLimits {
             fields: &brisance_pd::PdSolver::FIELDS,
@@ -70,6 +77,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: 1,
             node_fields: &[],
             patch_pieces: false,
+            patch_checkpoints: false,
         },
         Pipeline::Mpm(_) => PipelineLimits {
             fields: &MpmSolver::FIELDS,
@@ -77,6 +85,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: 1,
             node_fields: &MpmSolver::NODE_FIELDS,
             patch_pieces: false,
+            patch_checkpoints: false,
         },
         Pipeline::Fdm(f) => PipelineLimits {
             fields: if f.products.is_some() {
@@ -88,6 +97,7 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             ghost: brisance_fdm::sweep::GHOST,
             node_fields: &[],
             patch_pieces: true,
+            patch_checkpoints: true,
         },
     }
 }

@@ -459,6 +459,8 @@ pub struct Outputs {
     pub lineouts: Vec<Lineout>,
     /// Write a checkpoint every this many steps.
     pub checkpoint_every: Option<u64>,
+    /// How checkpoints are laid out (default `Whole`).
+    pub checkpoint_layout: CheckpointLayout,
     /// Figures of gauge histories against time, `plots/<name>.png`,
     /// redrawn whenever the gauge CSVs are written (so a run that stops
     /// early still has them up to its last good state).
@@ -488,6 +490,7 @@ impl Default for Outputs {
             particle_gauges: Vec::new(),
             lineouts: Vec::new(),
             checkpoint_every: None,
+            checkpoint_layout: CheckpointLayout::Whole,
             plots: Vec::new(),
         }
     }
@@ -505,6 +508,23 @@ pub enum VtkLayout {
     /// under a `vtk/<name>_<k>.pvti` master that ParaView opens as one
     /// dataset. The files do not depend on the rank count. Grid pipelines
     /// (`Fdm`, `Ice`, the `IceMpm` gas) only.
+    Patches,
+}
+
+/// How a checkpoint is laid out in files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum CheckpointLayout {
+    /// One `checkpoints/checkpoint_<step>.bin` of the whole state,
+    /// gathered and written by rank 0; a restart may change the patch
+    /// split as well as the rank count.
+    #[default]
+    Whole,
+    /// `checkpoints/checkpoint_<step>.bin` with the shared part (written
+    /// by rank 0, last) and one file per patch in
+    /// `checkpoints/checkpoint_<step>/patch_<p>.bin`, written by the rank
+    /// that owns it (nothing gathered but the face accumulators); a
+    /// restart keeps the patches and may change the rank count. Grid
+    /// pipelines (`Fdm`, `Ice`) only.
     Patches,
 }
 

@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::build::{build, Built};
-use crate::config::{Scenario, VtkLayout};
+use crate::config::{CheckpointLayout, Scenario, VtkLayout};
 use crate::error::{ConfigError, RunError};
 use crate::load::LoadedScenario;
 use crate::ron_path;
@@ -57,8 +57,9 @@ struct RunState {
 /// cells by about a third, one every 64 steps is lost in the noise.
 const SNAPSHOT_EVERY: usize = 64;
 
-/// What recovers the state before a failed step: a snapshot
-/// ([`Solver::save_state`]) and the time steps taken since.
+/// What recovers the state before a failed step: a snapshot of this
+/// rank's state ([`Solver::save_snapshot`], nothing gathered) and the
+/// time steps taken since.
 #[derive(Default)]
 struct LastGood {
     state: Option<Vec<u8>>,
@@ -468,13 +469,14 @@ impl Runner<'_> {
         let _span = tracing::debug_span!("checkpoint", step = self.state.steps).entered();
         let run_state =
             bincode::serialize(&self.state).map_err(|e| RunError::Checkpoint(e.to_string()))?;
-        let solver_state = self
-            .solver
-            .save_state()
-            .map_err(|source| RunError::Solver {
-                step: self.state.steps,
-                source,
-            })?;
+        let solver_state = match self.scenario.outputs.checkpoint_layout {
+            CheckpointLayout::Whole => self.solver.save_state(),
+            CheckpointLayout::Patches => self.write_checkpoint_pieces(),
+        }
+        .map_err(|source| RunError::Solver {
+            step: self.state.steps,
+            source,
+        })?;
         let ck = io::Checkpoint::new(self.text.to_string(), run_state, solver_state);
         let path = self
             .out
@@ -487,6 +489,50 @@ impl Runner<'_> {
         io::write_checkpoint(&path, &ck)?;
         tracing::info!(path = %path.display(), "checkpoint written");
         Ok(path)
+    }
+
+    /// The pieces of a checkpoint written per patch, each by the rank that
+    /// owns the patch, into `checkpoints/checkpoint_<step>/`; returns the
+    /// shared part, which rank 0 then writes as the checkpoint file
+    /// itself, after every rank has written its pieces (so a checkpoint
+    /// file stands for a complete set). A collective call.
+    fn write_checkpoint_pieces(&self) -> Result<Vec<u8>, brisance_core::SolverError> {
+        use brisance_core::SolverError;
+        let pieces = self.solver.save_pieces()?.ok_or_else(|| {
+            SolverError::Checkpoint(
+                "this pipeline does not write checkpoints per patch; outputs.checkpoint_layout must be `Whole`".into(),
+            )
+        })?;
+        let dir = self
+            .out
+            .join("checkpoints")
+            .join(io::checkpoint_pieces_dir_name(self.state.steps));
+        let written = (|| {
+            if !pieces.pieces.is_empty() {
+                io::ensure_dir(&dir)?;
+            }
+            for (patch, bytes) in &pieces.pieces {
+                io::write_checkpoint_piece(
+                    &dir.join(io::checkpoint_piece_file_name(*patch)),
+                    bytes,
+                )?;
+            }
+            Ok::<(), io::IoError>(())
+        })();
+        // Every rank's pieces are on disk (or one failed) before rank 0
+        // writes the file that stands for them.
+        let ranks = brisance_grid::comm::world();
+        let mut failed = [u64::from(written.is_err())];
+        ranks.sum(&mut failed);
+        written.map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        if failed[0] > 0 {
+            return Err(SolverError::Checkpoint(format!(
+                "{} of the ranks could not write their pieces into {}",
+                failed[0],
+                dir.display()
+            )));
+        }
+        Ok(pieces.common)
     }
 
     /// After a failed step: puts the solver back to the state before it
@@ -510,7 +556,7 @@ impl Runner<'_> {
         } else {
             &last_good.steps[..]
         };
-        if let Err(e) = self.solver.restore_state(bytes) {
+        if let Err(e) = self.solver.restore_snapshot(bytes) {
             tracing::warn!("cannot restore the state before the failed step: {e}");
             return;
         }
@@ -761,9 +807,18 @@ pub fn run_until_stopped(
                 path.display()
             )));
         }
-        solver
-            .restore_state(&ck.solver_state)
-            .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
+        // Laid out as the run that wrote it asked.
+        let restored = match old.outputs.checkpoint_layout {
+            CheckpointLayout::Whole => solver.restore_state(&ck.solver_state),
+            CheckpointLayout::Patches => {
+                let dir = path.with_extension("");
+                solver.restore_pieces(&ck.solver_state, &mut |patch| {
+                    io::read_checkpoint_piece(&dir.join(io::checkpoint_piece_file_name(patch)))
+                        .map_err(|e| e.to_string())
+                })
+            }
+        };
+        restored.map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
     }
     if writes {
         io::check_writable_dir(&opts.out_dir)?;
@@ -832,7 +887,7 @@ pub fn run_until_stopped(
                 let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
                 if last_good.steps.len() >= SNAPSHOT_EVERY || last_good.state.is_none() {
                     last_good = LastGood {
-                        state: r.solver.save_state().ok(),
+                        state: r.solver.save_snapshot().ok(),
                         steps: Vec::new(),
                     };
                 }
@@ -1163,7 +1218,7 @@ mod tests {
     }
 
     #[test]
-    fn the_patches_layout_is_refused_where_cells_are_not_in_patches() {
+    fn the_patches_layouts_are_refused_where_cells_are_not_in_patches() {
         let text = one_particle("[]");
         let sets = ["outputs.vtk_layout=Patches".to_string()];
         let err = crate::load_str("nodes.ron", &text, &sets).unwrap_err();
@@ -1172,6 +1227,10 @@ mod tests {
             err.message.contains("only the Fdm, Ice and IceMpm"),
             "{err}"
         );
+        let sets = ["outputs.checkpoint_layout=Patches".to_string()];
+        let err = crate::load_str("nodes.ron", &text, &sets).unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("outputs.checkpoint_layout"));
+        assert!(err.message.contains("only the Fdm and Ice"), "{err}");
     }
 
     #[test]

@@ -792,6 +792,13 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             "the `Patches` layout writes one piece per patch of a grid: only the Fdm, Ice and IceMpm pipelines split their cells into patches; use `Whole`".into(),
         ));
     }
+    if o.checkpoint_layout == crate::config::CheckpointLayout::Patches && !limits.patch_checkpoints
+    {
+        return Err((
+            "outputs.checkpoint_layout".into(),
+            "the `Patches` layout writes one checkpoint file per patch of a grid: only the Fdm and Ice pipelines write them; use `Whole`".into(),
+        ));
+    }
     for (k, f) in o.node_fields.iter().enumerate() {
         if !node_fields.contains(&f.as_str()) {
             return Err((

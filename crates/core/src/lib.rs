@@ -35,5 +35,5 @@ pub use output::{
     SafeguardUse, UniformGridGeometry,
 };
 pub use reaction::{ReactionModel, ReactionState};
-pub use solver::Solver;
+pub use solver::{Solver, StatePieces};
 pub use tensor::{Mat3, Vec3};

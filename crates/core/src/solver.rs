@@ -6,6 +6,15 @@ use crate::{
     CellData, CellPieces, ConservationTotals, NodeData, ParticleData, SafeguardUse, SolverError,
 };
 
+/// A checkpoint's state split per patch ([`Solver::save_pieces`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StatePieces {
+    /// What every rank shares: written once.
+    pub common: Vec<u8>,
+    /// `(patch id, bytes)` of each patch this rank owns, in patch order.
+    pub pieces: Vec<(usize, Vec<u8>)>,
+}
+
 /// A numerical method, or a coupled pipeline of methods, that owns its state
 /// and advances it in time.
 ///
@@ -53,6 +62,46 @@ pub trait Solver: Send {
     fn cell_pieces(&self, fields: &[String]) -> Result<Option<CellPieces>, SolverError> {
         let _ = fields;
         Ok(None)
+    }
+
+    /// This rank's state as it holds it, for the run loop's in-memory
+    /// snapshot that rewinds a failed step: the bytes go back into the
+    /// same solver on the same rank ([`Solver::restore_snapshot`]), so
+    /// unlike [`Solver::save_state`] nothing needs gathering from other
+    /// ranks. The default is [`Solver::save_state`].
+    fn save_snapshot(&self) -> Result<Vec<u8>, SolverError> {
+        self.save_state()
+    }
+
+    /// Puts back a state saved by [`Solver::save_snapshot`] on this rank
+    /// of this run. The default is [`Solver::restore_state`].
+    fn restore_snapshot(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        self.restore_state(bytes)
+    }
+
+    /// The state for a checkpoint written per patch: a part every rank
+    /// shares (time, step count, running totals) and one part per patch
+    /// this rank owns, nothing gathered but what is small; `None` for
+    /// methods whose cells are not split into patches (the default). A
+    /// collective call on several ranks.
+    fn save_pieces(&self) -> Result<Option<StatePieces>, SolverError> {
+        Ok(None)
+    }
+
+    /// Puts back a state saved by [`Solver::save_pieces`] with the same
+    /// patches, on any rank count: `common` is the shared part, and
+    /// `piece(patch)` reads the part of a patch, which this rank calls
+    /// for the patches it owns.
+    fn restore_pieces(
+        &mut self,
+        common: &[u8],
+        piece: &mut dyn FnMut(usize) -> Result<Vec<u8>, String>,
+    ) -> Result<(), SolverError> {
+        let _ = (common, piece);
+        Err(SolverError::Checkpoint(format!(
+            "the {} solver does not read checkpoints written per patch",
+            self.name()
+        )))
     }
 
     /// Values of `fields` at `point` (the containing cell's value for

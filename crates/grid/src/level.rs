@@ -241,6 +241,60 @@ impl Level {
         }
     }
 
+    /// Every field of patch `pid` over its interior cells, x fastest
+    /// (a checkpoint piece).
+    pub fn patch_interior(&self, pid: usize, fields: &PatchFields) -> Vec<Vec<f64>> {
+        let p = &self.patches[pid];
+        fields
+            .data
+            .iter()
+            .map(|values| {
+                let mut out = Vec::with_capacity(p.interior_cells());
+                for k in p.lo[2]..p.lo[2] + p.size[2] {
+                    for j in p.lo[1]..p.lo[1] + p.size[1] {
+                        for i in p.lo[0]..p.lo[0] + p.size[0] {
+                            out.push(values[p.index_of_global([i, j, k])]);
+                        }
+                    }
+                }
+                out
+            })
+            .collect()
+    }
+
+    /// Writes arrays laid out as [`Level::patch_interior`] gives them
+    /// back into the interior cells of patch `pid`, or says why they do
+    /// not fit it.
+    pub fn set_patch_interior(
+        &self,
+        pid: usize,
+        fields: &mut PatchFields,
+        values: &[Vec<f64>],
+    ) -> Result<(), String> {
+        let p = &self.patches[pid];
+        if values.len() != fields.data.len() || values.iter().any(|v| v.len() != p.interior_cells())
+        {
+            return Err(format!(
+                "patch {pid} holds {} fields of {} cells, not {} fields of {:?}",
+                values.len(),
+                values.first().map_or(0, Vec::len),
+                fields.data.len(),
+                p.size
+            ));
+        }
+        for (dst, src) in fields.data.iter_mut().zip(values) {
+            let mut src = src.iter();
+            for k in p.lo[2]..p.lo[2] + p.size[2] {
+                for j in p.lo[1]..p.lo[1] + p.size[1] {
+                    for i in p.lo[0]..p.lo[0] + p.size[0] {
+                        dst[p.index_of_global([i, j, k])] = *src.next().expect("sizes checked");
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Every field of `patches` (one [`PatchFields`] per patch) over the
     /// interior cells in global order, one array per field: a layout that
     /// does not depend on the patch split (checkpoints).

@@ -326,6 +326,31 @@ fn restore_continues_bit_identically() {
     assert!(other.restore_state(&saved).is_err());
 }
 
+/// The run loop's snapshot rewinds the solver it was taken of, counters
+/// included: the steps taken again give the same bits.
+#[test]
+fn a_snapshot_rewinds_the_solver_bit_identically() {
+    let mut s = bump_solver([2, 1, 1], [16, 4, 1]);
+    let step = |s: &mut IceSolver<_>| {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    };
+    step(&mut s);
+    let snapshot = s.save_snapshot().unwrap();
+    for _ in 0..3 {
+        step(&mut s);
+    }
+    let after = s.save_state().unwrap();
+    s.restore_snapshot(&snapshot).unwrap();
+    assert_ne!(s.save_state().unwrap(), after);
+    for _ in 0..3 {
+        step(&mut s);
+    }
+    assert_eq!(s.save_state().unwrap(), after);
+    let mut other = bump_solver([1, 1, 1], [8, 4, 1]);
+    assert!(other.restore_snapshot(&snapshot).is_err());
+}
+
 #[test]
 fn contacting_materials_move_together_after_one_step() {
     let level = Level::new([0.0; 3], [1.0, 1.0, 1.0], [4, 1, 1], [1, 1, 1], GHOST).unwrap();

@@ -141,9 +141,112 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
         })
 }
 
+/// The first 8 bytes of every checkpoint piece file (one patch's part of
+/// a checkpoint written per patch).
+pub const PIECE_MAGIC: [u8; 8] = *b"BRISPIEC";
+
+/// What [`read_checkpoint_piece`] calls its files in errors.
+const PIECE_KIND: &str = "Brisance checkpoint piece";
+
+/// The folder beside `checkpoint_{step:08}.bin` that holds the pieces of
+/// a checkpoint written per patch: `checkpoint_{step:08}`.
+pub fn checkpoint_pieces_dir_name(step: u64) -> String {
+    format!("checkpoint_{step:08}")
+}
+
+/// The file of patch `patch`'s piece in that folder: `patch_{patch:05}.bin`.
+pub fn checkpoint_piece_file_name(patch: usize) -> String {
+    format!("patch_{patch:05}.bin")
+}
+
+/// Writes one patch's part of a checkpoint to `path` (atomically): the 8
+/// bytes [`PIECE_MAGIC`], the format version (4 bytes), the part's
+/// length (8 bytes), the part, and the CRC-32 of everything before it, all
+/// little-endian.
+pub fn write_checkpoint_piece(path: &Path, piece: &[u8]) -> Result<(), IoError> {
+    let mut bytes = Vec::with_capacity(PIECE_MAGIC.len() + 12 + piece.len() + CHECKSUM_LEN);
+    bytes.extend_from_slice(&PIECE_MAGIC);
+    bytes.extend_from_slice(&CHECKPOINT_FORMAT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&(piece.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(piece);
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    write_atomic(path, &bytes)
+}
+
+/// Reads a piece written by [`write_checkpoint_piece`], refusing a file
+/// that does not start with [`PIECE_MAGIC`], has another format version,
+/// is truncated or longer than it says, or whose checksum does not match.
+pub fn read_checkpoint_piece(path: &Path) -> Result<Vec<u8>, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::read(path, e))?;
+    let malformed = |message: String| IoError::malformed(path, PIECE_KIND, message);
+    let head = PIECE_MAGIC.len() + 12;
+    if bytes.len() < head + CHECKSUM_LEN {
+        return Err(malformed(format!(
+            "the file is truncated ({} bytes)",
+            bytes.len()
+        )));
+    }
+    if bytes[..PIECE_MAGIC.len()] != PIECE_MAGIC {
+        return Err(malformed(
+            "it does not start with the checkpoint piece magic bytes".into(),
+        ));
+    }
+    let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+    if version != CHECKPOINT_FORMAT_VERSION {
+        return Err(malformed(format!(
+            "format version {version} is not the version {CHECKPOINT_FORMAT_VERSION} this build reads"
+        )));
+    }
+    let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes"));
+    if len != (bytes.len() - head - CHECKSUM_LEN) as u64 {
+        return Err(malformed(format!(
+            "it says it holds {len} bytes but holds {}: the file is truncated or damaged",
+            bytes.len() - head - CHECKSUM_LEN
+        )));
+    }
+    let (body, trailer) = bytes.split_at(bytes.len() - CHECKSUM_LEN);
+    let stored = u32::from_le_bytes(trailer.try_into().expect("4 bytes"));
+    let computed = crc32fast::hash(body);
+    if stored != computed {
+        return Err(malformed(format!(
+            "its checksum does not match its content (stored {stored:08x}, computed {computed:08x}): the file is truncated or damaged"
+        )));
+    }
+    Ok(body[head..].to_vec())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_piece_round_trips_and_any_damage_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(checkpoint_pieces_dir_name(42), "checkpoint_00000042");
+        assert_eq!(checkpoint_piece_file_name(7), "patch_00007.bin");
+        let path = dir.path().join(checkpoint_piece_file_name(7));
+        let piece: Vec<u8> = (0..=255).collect();
+        write_checkpoint_piece(&path, &piece).unwrap();
+        assert_eq!(read_checkpoint_piece(&path).unwrap(), piece);
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(bytes.len(), 8 + 4 + 8 + 256 + 4);
+        // Every truncation, and a flipped bit anywhere, is an error naming
+        // the file.
+        for len in 0..bytes.len() {
+            std::fs::write(&path, &bytes[..len]).unwrap();
+            let err = read_checkpoint_piece(&path).unwrap_err().to_string();
+            assert!(err.contains(&path.display().to_string()), "{err}");
+        }
+        for at in [0, 9, 13, 100, bytes.len() - 1] {
+            let mut bad = bytes.clone();
+            bad[at] ^= 0x10;
+            std::fs::write(&path, &bad).unwrap();
+            assert!(read_checkpoint_piece(&path).is_err(), "byte {at}");
+        }
+        let err = read_checkpoint_piece(&dir.path().join("none.bin")).unwrap_err();
+        assert!(err.to_string().contains("none.bin"), "{err}");
+    }
 
     fn f64_bytes(values: &[f64]) -> Vec<u8> {
         values.iter().flat_map(|x| x.to_le_bytes()).collect()

@@ -31,8 +31,9 @@ pub mod vtu;
 
 pub use atomic::{check_writable_dir, ensure_dir, write_atomic};
 pub use checkpoint::{
-    checkpoint_file_name, read_checkpoint, write_checkpoint, Checkpoint, CHECKPOINT_FORMAT_VERSION,
-    CHECKPOINT_MAGIC,
+    checkpoint_file_name, checkpoint_piece_file_name, checkpoint_pieces_dir_name, read_checkpoint,
+    read_checkpoint_piece, write_checkpoint, write_checkpoint_piece, Checkpoint,
+    CHECKPOINT_FORMAT_VERSION, CHECKPOINT_MAGIC, PIECE_MAGIC,
 };
 pub use csv::{
     read_csv, write_conservation_csv, write_conservation_csv_with_work, write_gauge_csv,

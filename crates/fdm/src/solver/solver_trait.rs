@@ -1,7 +1,9 @@
 //! The [`Solver`] implementation of [`FdmSolver`], with the checkpoint it
 //! saves and restores.
 
-use brisance_core::{CellData, CellPieces, ConservationTotals, SafeguardUse, Solver, SolverError};
+use brisance_core::{
+    CellData, CellPieces, ConservationTotals, SafeguardUse, Solver, SolverError, StatePieces,
+};
 use brisance_grid::FaceBc;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -18,6 +20,41 @@ struct SavedState {
     steps: u64,
     cells: [usize; 3],
     fields: Vec<Vec<f64>>,
+    outflow: [Vec<[f64; NVAR]>; 6],
+    limiter: LimiterCount,
+}
+
+/// The shared part of a checkpoint written per patch
+/// ([`Solver::save_pieces`]): a checkpoint without its fields, and the
+/// patch layout the pieces belong to.
+#[derive(Serialize, Deserialize)]
+struct PiecesCommon {
+    layout: [usize; 3],
+    saved: SavedState,
+}
+
+/// `value` in bincode, for a checkpoint.
+fn encode<T: Serialize>(value: &T) -> Result<Vec<u8>, SolverError> {
+    bincode::serialize(value).map_err(|e| SolverError::Checkpoint(e.to_string()))
+}
+
+/// The in-memory snapshot ([`Solver::save_snapshot`]): this rank's
+/// patches (ghosts included) and face accumulators as it holds them.
+#[derive(Serialize)]
+struct SnapshotRef<'a> {
+    time: f64,
+    steps: u64,
+    patches: Vec<&'a Vec<Vec<f64>>>,
+    outflow: &'a [Vec<[f64; NVAR]>; 6],
+    limiter: LimiterCount,
+}
+
+/// [`SnapshotRef`] read back.
+#[derive(Deserialize)]
+struct Snapshot {
+    time: f64,
+    steps: u64,
+    patches: Vec<Vec<Vec<f64>>>,
     outflow: [Vec<[f64; NVAR]>; 6],
     limiter: LimiterCount,
 }
@@ -254,6 +291,124 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
             limiter: self.limited,
         };
         bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    /// This rank's own patches and accumulators, with no gather (the
+    /// patches of other ranks are not read until their owners send them).
+    fn save_snapshot(&self) -> Result<Vec<u8>, SolverError> {
+        let rank = self.comm.rank();
+        let snapshot = SnapshotRef {
+            time: self.time,
+            steps: self.steps,
+            patches: (0..self.fields.len())
+                .filter(|&p| self.owner[p] == rank)
+                .map(|p| &self.fields[p].data)
+                .collect(),
+            outflow: &self.outflow,
+            limiter: self.limited,
+        };
+        bincode::serialize(&snapshot).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_snapshot(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: Snapshot =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let rank = self.comm.rank();
+        let own: Vec<usize> = (0..self.fields.len())
+            .filter(|&p| self.owner[p] == rank)
+            .collect();
+        let fits = s.patches.len() == own.len()
+            && own.iter().zip(&s.patches).all(|(&p, data)| {
+                data.len() == self.fields[p].data.len()
+                    && data
+                        .iter()
+                        .zip(&self.fields[p].data)
+                        .all(|(a, b)| a.len() == b.len())
+            })
+            && s.outflow
+                .iter()
+                .zip(&self.outflow)
+                .all(|(a, b)| a.len() == b.len());
+        if !fits {
+            return Err(SolverError::Checkpoint(
+                "the snapshot was taken of another solver".into(),
+            ));
+        }
+        for (&p, data) in own.iter().zip(s.patches) {
+            self.fields[p].data = data;
+        }
+        self.outflow = s.outflow;
+        self.limited = s.limiter;
+        self.time = s.time;
+        self.steps = s.steps;
+        Ok(())
+    }
+
+    /// The shared part: the checkpoint's counters and face accumulators
+    /// (gathered: one value set per face cell) with the patch layout;
+    /// a piece: the patch's interior fields.
+    fn save_pieces(&self) -> Result<Option<StatePieces>, SolverError> {
+        let common = PiecesCommon {
+            layout: self.level.layout,
+            saved: SavedState {
+                time: self.time,
+                steps: self.steps,
+                cells: self.level.geometry.cells,
+                fields: Vec::new(),
+                outflow: self.gathered_outflow().into_owned(),
+                limiter: self.limited,
+            },
+        };
+        let rank = self.comm.rank();
+        let mut pieces = Vec::new();
+        for p in (0..self.fields.len()).filter(|&p| self.owner[p] == rank) {
+            let interior = self.level.patch_interior(p, &self.fields[p]);
+            pieces.push((p, encode(&interior)?));
+        }
+        Ok(Some(StatePieces {
+            common: encode(&common)?,
+            pieces,
+        }))
+    }
+
+    fn restore_pieces(
+        &mut self,
+        common: &[u8],
+        piece: &mut dyn FnMut(usize) -> Result<Vec<u8>, String>,
+    ) -> Result<(), SolverError> {
+        let c: PiecesCommon =
+            bincode::deserialize(common).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let cells = self.level.geometry.cells;
+        if c.saved.cells != cells || c.layout != self.level.layout {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint of grid {:?} in {:?} patches does not match the scenario's {:?} in {:?}: a checkpoint written per patch restarts with the same patches",
+                c.saved.cells, c.layout, cells, self.level.layout
+            )));
+        }
+        if c.saved
+            .outflow
+            .iter()
+            .zip(&self.outflow)
+            .any(|(a, b)| a.len() != b.len())
+        {
+            return Err(SolverError::Checkpoint(
+                "checkpoint face accumulators do not match the grid".into(),
+            ));
+        }
+        let rank = self.comm.rank();
+        for p in (0..self.fields.len()).filter(|&p| self.owner[p] == rank) {
+            let bytes = piece(p).map_err(SolverError::Checkpoint)?;
+            let interior: Vec<Vec<f64>> = bincode::deserialize(&bytes)
+                .map_err(|e| SolverError::Checkpoint(format!("patch {p}: {e}")))?;
+            self.level
+                .set_patch_interior(p, &mut self.fields[p], &interior)
+                .map_err(SolverError::Checkpoint)?;
+        }
+        self.outflow = c.saved.outflow;
+        self.limited = c.saved.limiter;
+        self.time = c.saved.time;
+        self.steps = c.saved.steps;
+        Ok(())
     }
 
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {

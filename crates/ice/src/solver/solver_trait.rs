@@ -318,26 +318,8 @@ impl<E: Eos> Solver for IceSolver<E> {
 
     fn save_state(&self) -> Result<Vec<u8>, SolverError> {
         let fields = self.level.gather_fields(&self.gathered_state());
-        let saved = SavedState {
-            time: self.time,
-            steps: self.steps,
-            cells: self.level.geometry.cells,
-            materials: self.eos.len(),
-            fields,
-            rescaled: self.rescaled,
-            kept_warm: self
-                .kept_warm_totals()
-                .iter()
-                .map(|t| (t.firings, t.energy))
-                .collect(),
-            kept_warm_advection: self
-                .kept_warm_advection_totals()
-                .iter()
-                .map(|t| (t.firings, t.energy))
-                .collect(),
-            outflow: self.outflow,
-        };
-        bincode::serialize(&saved).map_err(|e| SolverError::Checkpoint(e.to_string()))
+        bincode::serialize(&self.saved_state(fields))
+            .map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
 
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
@@ -380,6 +362,163 @@ impl<E: Eos> Solver for IceSolver<E> {
             )));
         }
         self.level.scatter_fields(&mut self.state, &saved.fields);
+        self.restore_counters(&saved)
+    }
+
+    /// The shared part: the checkpoint's counters with the patch layout;
+    /// a piece: the patch's interior fields.
+    fn save_pieces(&self) -> Result<Option<brisance_core::StatePieces>, SolverError> {
+        let encode = |bytes: bincode::Result<Vec<u8>>| {
+            bytes.map_err(|e| SolverError::Checkpoint(e.to_string()))
+        };
+        let common = PiecesCommon {
+            layout: self.level.layout,
+            saved: self.saved_state(Vec::new()),
+        };
+        let rank = self.ranks.comm.rank();
+        let mut pieces = Vec::new();
+        for p in (0..self.state.len()).filter(|&p| self.ranks.owner[p] == rank) {
+            let interior = self.level.patch_interior(p, &self.state[p]);
+            pieces.push((p, encode(bincode::serialize(&interior))?));
+        }
+        Ok(Some(brisance_core::StatePieces {
+            common: encode(bincode::serialize(&common))?,
+            pieces,
+        }))
+    }
+
+    fn restore_pieces(
+        &mut self,
+        common: &[u8],
+        piece: &mut dyn FnMut(usize) -> Result<Vec<u8>, String>,
+    ) -> Result<(), SolverError> {
+        let c: PiecesCommon =
+            bincode::deserialize(common).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let cells = self.level.geometry.cells;
+        if c.saved.cells != cells
+            || c.layout != self.level.layout
+            || c.saved.materials != self.eos.len()
+            || c.saved.kept_warm.len() != self.eos.len()
+            || c.saved.kept_warm_advection.len() != self.eos.len()
+        {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint of {} materials on grid {:?} in {:?} patches does not match the scenario's {} materials on {:?} in {:?}: a checkpoint written per patch restarts with the same patches",
+                c.saved.materials,
+                c.saved.cells,
+                c.layout,
+                self.eos.len(),
+                cells,
+                self.level.layout
+            )));
+        }
+        let rank = self.ranks.comm.rank();
+        for p in (0..self.state.len()).filter(|&p| self.ranks.owner[p] == rank) {
+            let bytes = piece(p).map_err(SolverError::Checkpoint)?;
+            let interior: Vec<Vec<f64>> = bincode::deserialize(&bytes)
+                .map_err(|e| SolverError::Checkpoint(format!("patch {p}: {e}")))?;
+            self.level
+                .set_patch_interior(p, &mut self.state[p], &interior)
+                .map_err(SolverError::Checkpoint)?;
+        }
+        self.restore_counters(&c.saved)
+    }
+
+    /// This rank's own patches (ghosts included) and the run's counters,
+    /// with no gather (the patches of other ranks are not read until
+    /// their owners send them).
+    fn save_snapshot(&self) -> Result<Vec<u8>, SolverError> {
+        let rank = self.ranks.comm.rank();
+        let snapshot = SnapshotRef {
+            counters: self.saved_state(Vec::new()),
+            patches: (0..self.state.len())
+                .filter(|&p| self.ranks.owner[p] == rank)
+                .map(|p| &self.state[p].data)
+                .collect(),
+        };
+        bincode::serialize(&snapshot).map_err(|e| SolverError::Checkpoint(e.to_string()))
+    }
+
+    fn restore_snapshot(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
+        let s: Snapshot =
+            bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
+        let rank = self.ranks.comm.rank();
+        let own: Vec<usize> = (0..self.state.len())
+            .filter(|&p| self.ranks.owner[p] == rank)
+            .collect();
+        let fits = s.patches.len() == own.len()
+            && s.counters.kept_warm.len() == self.eos.len()
+            && s.counters.kept_warm_advection.len() == self.eos.len()
+            && own.iter().zip(&s.patches).all(|(&p, data)| {
+                data.len() == self.state[p].data.len()
+                    && data
+                        .iter()
+                        .zip(&self.state[p].data)
+                        .all(|(a, b)| a.len() == b.len())
+            });
+        if !fits {
+            return Err(SolverError::Checkpoint(
+                "the snapshot was taken of another solver".into(),
+            ));
+        }
+        for (&p, data) in own.iter().zip(s.patches) {
+            self.state[p].data = data;
+        }
+        self.restore_counters(&s.counters)
+    }
+}
+
+/// The in-memory snapshot ([`Solver::save_snapshot`]): the counters of a
+/// checkpoint (without its fields) and this rank's patches as it holds
+/// them.
+#[derive(Serialize)]
+struct SnapshotRef<'a> {
+    counters: SavedState,
+    patches: Vec<&'a Vec<Vec<f64>>>,
+}
+
+/// The shared part of a checkpoint written per patch
+/// ([`Solver::save_pieces`]): a checkpoint without its fields, and the
+/// patch layout the pieces belong to.
+#[derive(Serialize, Deserialize)]
+struct PiecesCommon {
+    layout: [usize; 3],
+    saved: SavedState,
+}
+
+/// [`SnapshotRef`] read back.
+#[derive(Deserialize)]
+struct Snapshot {
+    counters: SavedState,
+    patches: Vec<Vec<Vec<f64>>>,
+}
+
+impl<E: Eos> IceSolver<E> {
+    /// A checkpoint's content with the interior `fields` given.
+    fn saved_state(&self, fields: Vec<Vec<f64>>) -> SavedState {
+        SavedState {
+            time: self.time,
+            steps: self.steps,
+            cells: self.level.geometry.cells,
+            materials: self.eos.len(),
+            fields,
+            rescaled: self.rescaled,
+            kept_warm: self
+                .kept_warm_totals()
+                .iter()
+                .map(|t| (t.firings, t.energy))
+                .collect(),
+            kept_warm_advection: self
+                .kept_warm_advection_totals()
+                .iter()
+                .map(|t| (t.firings, t.energy))
+                .collect(),
+            outflow: self.outflow,
+        }
+    }
+
+    /// Puts back the time, the step count and the running totals of
+    /// `saved`, then finds the reaction surfaces of the restored state.
+    fn restore_counters(&mut self, saved: &SavedState) -> Result<(), SolverError> {
         self.time = saved.time;
         self.steps = saved.steps;
         self.rescaled = saved.rescaled;
