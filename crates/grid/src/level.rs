@@ -174,9 +174,22 @@ impl Level {
         self.geometry.cells[d] > 1
     }
 
-    /// The patch that owns global cell `g`, and the local storage index.
+    /// The patch that owns global cell `g`, and the local storage index;
+    /// `None` outside the grid. Found from the split of each axis (the
+    /// first `cells mod patches` patches one cell longer, as
+    /// [`Level::new`] cuts them), not by a scan of the patches, so it
+    /// costs the same for any patch count.
     pub fn locate(&self, g: [usize; 3]) -> Option<(usize, usize)> {
-        let id = self.patches.iter().position(|p| p.contains_global(g))?;
+        let cells = self.geometry.cells;
+        if (0..3).any(|d| g[d] >= cells[d]) {
+            return None;
+        }
+        let index = std::array::from_fn(|d| crate::comm::owner_of(g[d], cells[d], self.layout[d]));
+        let mut id = self.patch_id(index);
+        if !self.patches.get(id).is_some_and(|p| p.contains_global(g)) {
+            // Patches cut otherwise than by `new`: look for the cell.
+            id = self.patches.iter().position(|p| p.contains_global(g))?;
+        }
         Some((id, self.patches[id].index_of_global(g)))
     }
 
@@ -461,6 +474,9 @@ mod tests {
                 seen.push(level.geometry.linear_index(g));
             });
             assert_eq!(seen, (0..140).collect::<Vec<_>>(), "layout {layout:?}");
+            assert_eq!(level.locate([7, 0, 0]), None);
+            assert_eq!(level.locate([0, 5, 0]), None);
+            assert_eq!(level.locate([0, 0, 4]), None);
         }
     }
 
