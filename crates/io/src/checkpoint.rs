@@ -118,14 +118,7 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
     if bytes.len() < magic_len + 4 + CHECKSUM_LEN {
         return Err(truncated());
     }
-    let (body, trailer) = bytes.split_at(bytes.len() - CHECKSUM_LEN);
-    let stored = u32::from_le_bytes(trailer.try_into().expect("4 bytes"));
-    let computed = crc32fast::hash(body);
-    if stored != computed {
-        return Err(malformed(format!(
-            "its checksum does not match its content (stored {stored:08x}, computed {computed:08x}): the file is truncated or damaged"
-        )));
-    }
+    let body = checked_body(&bytes).map_err(malformed)?;
     let payload = &body[magic_len..];
     bincode::DefaultOptions::new()
         .with_fixint_encoding()
@@ -139,6 +132,20 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, IoError> {
             }
             other => malformed(other.to_string()),
         })
+}
+
+/// `bytes` without their CRC-32 trailer, or why the trailer does not
+/// match them; the caller has checked that the trailer is there.
+fn checked_body(bytes: &[u8]) -> Result<&[u8], String> {
+    let (body, trailer) = bytes.split_at(bytes.len() - CHECKSUM_LEN);
+    let stored = u32::from_le_bytes(trailer.try_into().expect("4 bytes"));
+    let computed = crc32fast::hash(body);
+    if stored != computed {
+        return Err(format!(
+            "its checksum does not match its content (stored {stored:08x}, computed {computed:08x}): the file is truncated or damaged"
+        ));
+    }
+    Ok(body)
 }
 
 /// The first 8 bytes of every checkpoint piece file (one patch's part of
@@ -205,14 +212,7 @@ pub fn read_checkpoint_piece(path: &Path) -> Result<Vec<u8>, IoError> {
             bytes.len() - head - CHECKSUM_LEN
         )));
     }
-    let (body, trailer) = bytes.split_at(bytes.len() - CHECKSUM_LEN);
-    let stored = u32::from_le_bytes(trailer.try_into().expect("4 bytes"));
-    let computed = crc32fast::hash(body);
-    if stored != computed {
-        return Err(malformed(format!(
-            "its checksum does not match its content (stored {stored:08x}, computed {computed:08x}): the file is truncated or damaged"
-        )));
-    }
+    let body = checked_body(&bytes).map_err(malformed)?;
     Ok(body[head..].to_vec())
 }
 
