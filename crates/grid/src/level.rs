@@ -68,6 +68,18 @@ impl Patch {
         (0..3).all(|d| g[d] >= self.lo[d] && g[d] < self.lo[d] + self.size[d])
     }
 
+    /// Calls `f(global cell, local storage index)` for every interior
+    /// cell, x fastest.
+    pub fn for_each_interior(&self, mut f: impl FnMut([usize; 3], usize)) {
+        for k in self.lo[2]..self.lo[2] + self.size[2] {
+            for j in self.lo[1]..self.lo[1] + self.size[1] {
+                for i in self.lo[0]..self.lo[0] + self.size[0] {
+                    f([i, j, k], self.index_of_global([i, j, k]));
+                }
+            }
+        }
+    }
+
     /// Global index of the interior cell at local storage index `l`.
     pub fn global_of_local(&self, l: [usize; 3]) -> [usize; 3] {
         std::array::from_fn(|d| l[d] + self.lo[d] - self.ghost[d])
@@ -244,13 +256,7 @@ impl Level {
             if !mine(pid) {
                 continue;
             }
-            for k in p.lo[2]..p.lo[2] + p.size[2] {
-                for j in p.lo[1]..p.lo[1] + p.size[1] {
-                    for i in p.lo[0]..p.lo[0] + p.size[0] {
-                        f([i, j, k], pid, p.index_of_global([i, j, k]));
-                    }
-                }
-            }
+            p.for_each_interior(|g, n| f(g, pid, n));
         }
     }
 
@@ -263,13 +269,7 @@ impl Level {
             .iter()
             .map(|values| {
                 let mut out = Vec::with_capacity(p.interior_cells());
-                for k in p.lo[2]..p.lo[2] + p.size[2] {
-                    for j in p.lo[1]..p.lo[1] + p.size[1] {
-                        for i in p.lo[0]..p.lo[0] + p.size[0] {
-                            out.push(values[p.index_of_global([i, j, k])]);
-                        }
-                    }
-                }
+                p.for_each_interior(|_, n| out.push(values[n]));
                 out
             })
             .collect()
@@ -297,13 +297,7 @@ impl Level {
         }
         for (dst, src) in fields.data.iter_mut().zip(values) {
             let mut src = src.iter();
-            for k in p.lo[2]..p.lo[2] + p.size[2] {
-                for j in p.lo[1]..p.lo[1] + p.size[1] {
-                    for i in p.lo[0]..p.lo[0] + p.size[0] {
-                        dst[p.index_of_global([i, j, k])] = *src.next().expect("sizes checked");
-                    }
-                }
-            }
+            p.for_each_interior(|_, n| dst[n] = *src.next().expect("sizes checked"));
         }
         Ok(())
     }
@@ -385,16 +379,11 @@ impl Level {
                     .iter()
                     .map(|f| (f.clone(), Vec::with_capacity(count)))
                     .collect();
-                for k in p.lo[2]..p.lo[2] + p.size[2] {
-                    for j in p.lo[1]..p.lo[1] + p.size[1] {
-                        for i in p.lo[0]..p.lo[0] + p.size[0] {
-                            let n = p.index_of_global([i, j, k]);
-                            for (slot, &id) in fields.iter_mut().zip(ids) {
-                                slot.1.push(value(pid, n, id));
-                            }
-                        }
+                p.for_each_interior(|_, n| {
+                    for (slot, &id) in fields.iter_mut().zip(ids) {
+                        slot.1.push(value(pid, n, id));
                     }
-                }
+                });
                 CellPiece {
                     patch: pid,
                     lo: p.lo,

@@ -20,6 +20,7 @@ pub mod comm;
 pub mod fields;
 pub mod halo;
 pub mod level;
+pub mod pieces;
 pub mod shape;
 
 pub use boundary::{BoundaryConditions, Face, FaceBc};

@@ -4,7 +4,7 @@
 use brisance_core::{
     CellData, CellPieces, ConservationTotals, SafeguardUse, Solver, SolverError, StatePieces,
 };
-use brisance_grid::FaceBc;
+use brisance_grid::{pieces, FaceBc};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -300,10 +300,7 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         let snapshot = SnapshotRef {
             time: self.time,
             steps: self.steps,
-            patches: (0..self.fields.len())
-                .filter(|&p| self.owner[p] == rank)
-                .map(|p| &self.fields[p].data)
-                .collect(),
+            patches: pieces::own_data(&self.fields, &self.owner, rank),
             outflow: &self.outflow,
             limiter: self.limited,
         };
@@ -313,30 +310,17 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
     fn restore_snapshot(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
         let s: Snapshot =
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
-        let rank = self.comm.rank();
-        let own: Vec<usize> = (0..self.fields.len())
-            .filter(|&p| self.owner[p] == rank)
-            .collect();
-        let fits = s.patches.len() == own.len()
-            && own.iter().zip(&s.patches).all(|(&p, data)| {
-                data.len() == self.fields[p].data.len()
-                    && data
-                        .iter()
-                        .zip(&self.fields[p].data)
-                        .all(|(a, b)| a.len() == b.len())
-            })
-            && s.outflow
-                .iter()
-                .zip(&self.outflow)
-                .all(|(a, b)| a.len() == b.len());
-        if !fits {
+        let outflow_fits = s
+            .outflow
+            .iter()
+            .zip(&self.outflow)
+            .all(|(a, b)| a.len() == b.len());
+        if !outflow_fits {
             return Err(SolverError::Checkpoint(
                 "the snapshot was taken of another solver".into(),
             ));
         }
-        for (&p, data) in own.iter().zip(s.patches) {
-            self.fields[p].data = data;
-        }
+        pieces::put_own_data(&mut self.fields, &self.owner, self.comm.rank(), s.patches)?;
         self.outflow = s.outflow;
         self.limited = s.limiter;
         self.time = s.time;
@@ -359,15 +343,14 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                 limiter: self.limited,
             },
         };
-        let rank = self.comm.rank();
-        let mut pieces = Vec::new();
-        for p in (0..self.fields.len()).filter(|&p| self.owner[p] == rank) {
-            let interior = self.level.patch_interior(p, &self.fields[p]);
-            pieces.push((p, encode(&interior)?));
-        }
         Ok(Some(StatePieces {
             common: encode(&common)?,
-            pieces,
+            pieces: pieces::save_interiors(
+                &self.level,
+                &self.fields,
+                &self.owner,
+                self.comm.rank(),
+            )?,
         }))
     }
 
@@ -395,15 +378,13 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                 "checkpoint face accumulators do not match the grid".into(),
             ));
         }
-        let rank = self.comm.rank();
-        for p in (0..self.fields.len()).filter(|&p| self.owner[p] == rank) {
-            let bytes = piece(p).map_err(SolverError::Checkpoint)?;
-            let interior: Vec<Vec<f64>> = bincode::deserialize(&bytes)
-                .map_err(|e| SolverError::Checkpoint(format!("patch {p}: {e}")))?;
-            self.level
-                .set_patch_interior(p, &mut self.fields[p], &interior)
-                .map_err(SolverError::Checkpoint)?;
-        }
+        pieces::restore_interiors(
+            &self.level,
+            &mut self.fields,
+            &self.owner,
+            self.comm.rank(),
+            piece,
+        )?;
         self.outflow = c.saved.outflow;
         self.limited = c.saved.limiter;
         self.time = c.saved.time;

@@ -3,7 +3,7 @@
 
 use super::*;
 use brisance_core::ExactTotals;
-use brisance_grid::comm;
+use brisance_grid::{comm, pieces};
 
 /// A checkpoint: the interior state fields in global order, and the
 /// running totals of the coupled equilibration's rescaling and of step 2's
@@ -375,15 +375,14 @@ impl<E: Eos> Solver for IceSolver<E> {
             layout: self.level.layout,
             saved: self.saved_state(Vec::new()),
         };
-        let rank = self.ranks.comm.rank();
-        let mut pieces = Vec::new();
-        for p in (0..self.state.len()).filter(|&p| self.ranks.owner[p] == rank) {
-            let interior = self.level.patch_interior(p, &self.state[p]);
-            pieces.push((p, encode(bincode::serialize(&interior))?));
-        }
         Ok(Some(brisance_core::StatePieces {
             common: encode(bincode::serialize(&common))?,
-            pieces,
+            pieces: pieces::save_interiors(
+                &self.level,
+                &self.state,
+                &self.ranks.owner,
+                self.ranks.comm.rank(),
+            )?,
         }))
     }
 
@@ -411,15 +410,13 @@ impl<E: Eos> Solver for IceSolver<E> {
                 self.level.layout
             )));
         }
-        let rank = self.ranks.comm.rank();
-        for p in (0..self.state.len()).filter(|&p| self.ranks.owner[p] == rank) {
-            let bytes = piece(p).map_err(SolverError::Checkpoint)?;
-            let interior: Vec<Vec<f64>> = bincode::deserialize(&bytes)
-                .map_err(|e| SolverError::Checkpoint(format!("patch {p}: {e}")))?;
-            self.level
-                .set_patch_interior(p, &mut self.state[p], &interior)
-                .map_err(SolverError::Checkpoint)?;
-        }
+        pieces::restore_interiors(
+            &self.level,
+            &mut self.state,
+            &self.ranks.owner,
+            self.ranks.comm.rank(),
+            piece,
+        )?;
         self.restore_counters(&c.saved)
     }
 
@@ -430,10 +427,7 @@ impl<E: Eos> Solver for IceSolver<E> {
         let rank = self.ranks.comm.rank();
         let snapshot = SnapshotRef {
             counters: self.saved_state(Vec::new()),
-            patches: (0..self.state.len())
-                .filter(|&p| self.ranks.owner[p] == rank)
-                .map(|p| &self.state[p].data)
-                .collect(),
+            patches: pieces::own_data(&self.state, &self.ranks.owner, rank),
         };
         bincode::serialize(&snapshot).map_err(|e| SolverError::Checkpoint(e.to_string()))
     }
@@ -441,28 +435,19 @@ impl<E: Eos> Solver for IceSolver<E> {
     fn restore_snapshot(&mut self, bytes: &[u8]) -> Result<(), SolverError> {
         let s: Snapshot =
             bincode::deserialize(bytes).map_err(|e| SolverError::Checkpoint(e.to_string()))?;
-        let rank = self.ranks.comm.rank();
-        let own: Vec<usize> = (0..self.state.len())
-            .filter(|&p| self.ranks.owner[p] == rank)
-            .collect();
-        let fits = s.patches.len() == own.len()
-            && s.counters.kept_warm.len() == self.eos.len()
-            && s.counters.kept_warm_advection.len() == self.eos.len()
-            && own.iter().zip(&s.patches).all(|(&p, data)| {
-                data.len() == self.state[p].data.len()
-                    && data
-                        .iter()
-                        .zip(&self.state[p].data)
-                        .all(|(a, b)| a.len() == b.len())
-            });
-        if !fits {
+        let counters_fit = s.counters.kept_warm.len() == self.eos.len()
+            && s.counters.kept_warm_advection.len() == self.eos.len();
+        if !counters_fit {
             return Err(SolverError::Checkpoint(
                 "the snapshot was taken of another solver".into(),
             ));
         }
-        for (&p, data) in own.iter().zip(s.patches) {
-            self.state[p].data = data;
-        }
+        pieces::put_own_data(
+            &mut self.state,
+            &self.ranks.owner,
+            self.ranks.comm.rank(),
+            s.patches,
+        )?;
         self.restore_counters(&s.counters)
     }
 }
