@@ -34,15 +34,10 @@ const CASES: [(&str, &str); 3] = [
 const RANKS: [usize; 5] = [2, 4, 8, 16, 64];
 
 /// Contiguous runs of `planes` planes for `ranks` ranks, the first
-/// `planes mod ranks` one plane longer: the first plane of each rank,
-/// then `planes`.
+/// `planes mod ranks` one plane longer (the split the grid pipelines make
+/// of their patches): the first plane of each rank, then `planes`.
 fn equal_cells(planes: usize, ranks: usize) -> Vec<usize> {
-    let (base, extra) = (planes / ranks, planes % ranks);
-    let mut starts = vec![0];
-    for r in 0..ranks {
-        starts.push(starts[r] + base + usize::from(r < extra));
-    }
-    starts
+    brisance::grid::comm::equal_runs(planes, ranks)
 }
 
 /// Runs of whole planes cut where the running count of `per_plane` first

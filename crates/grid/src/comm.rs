@@ -12,12 +12,16 @@
 //!
 //! Without the cargo feature `mpi` there is one rank ([`Serial`]); with it
 //! the program installs an MPI communicator ([`install`]) before it builds
-//! a solver, and solvers pick it up with [`world`].
+//! a solver, and solvers pick it up with [`world`]. [`InProcess`] makes
+//! ranks of threads, to test a solver's rank logic without MPI.
 
 use std::sync::{Arc, OnceLock};
 
+mod in_process;
 #[cfg(feature = "mpi")]
 pub mod mpi;
+
+pub use in_process::InProcess;
 
 /// The collective and point-to-point operations the solvers need. Every
 /// rank calls the collectives (all but [`Communicator::exchange`]'s
@@ -129,6 +133,21 @@ pub fn install(comm: Arc<dyn Communicator>) -> Result<(), Arc<dyn Communicator>>
 /// The ranks of this run: the installed communicator, or [`Serial`].
 pub fn world() -> Arc<dyn Communicator> {
     WORLD.get().cloned().unwrap_or_else(|| Arc::new(Serial))
+}
+
+/// `items` shared among `ranks` in contiguous runs, the first
+/// `items mod ranks` ranks taking one more: the first item of each rank,
+/// then `items` (ranks + 1 entries; a rank may get none when there are
+/// fewer items than ranks). The split [`owner_of`] makes of patches.
+pub fn equal_runs(items: usize, ranks: usize) -> Vec<usize> {
+    let ranks = ranks.max(1);
+    let (base, extra) = (items / ranks, items % ranks);
+    let mut starts = Vec::with_capacity(ranks + 1);
+    starts.push(0);
+    for r in 0..ranks {
+        starts.push(starts[r] + base + usize::from(r < extra));
+    }
+    starts
 }
 
 /// The rank that owns patch `patch` of `patches` shared among `ranks`:
@@ -330,6 +349,23 @@ mod tests {
         // What arrived from the others: none but this rank's own part.
         let all = vec![vec![1.0, 2.0]];
         assert_eq!(runs.received(&all, 2).count(), 0);
+    }
+
+    #[test]
+    fn equal_runs_are_the_runs_of_owner_of() {
+        assert_eq!(equal_runs(10, 4), vec![0, 3, 6, 8, 10]);
+        assert_eq!(equal_runs(2, 4), vec![0, 1, 2, 2, 2]);
+        assert_eq!(equal_runs(0, 2), vec![0, 0, 0]);
+        for (items, ranks) in [(8, 2), (8, 3), (7, 4), (4, 4), (5, 1), (13, 5)] {
+            let starts = equal_runs(items, ranks);
+            for i in 0..items {
+                let r = owner_of(i, items, ranks);
+                assert!(
+                    (starts[r]..starts[r + 1]).contains(&i),
+                    "{i} of {items} on {ranks}"
+                );
+            }
+        }
     }
 
     #[test]

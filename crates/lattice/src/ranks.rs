@@ -16,7 +16,7 @@
 
 use crate::model::MsdmLattice;
 use brisance_core::SolverError;
-use brisance_grid::comm::{Communicator, NodeRuns};
+use brisance_grid::comm::{equal_runs, Communicator, NodeRuns};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -30,15 +30,10 @@ pub fn slab_starts(planes: usize, plane: usize, ranks: usize) -> Result<Vec<usiz
             "{ranks} ranks for a lattice of {planes} nodes along its slowest axis: every rank needs at least one plane of nodes; run on fewer ranks"
         ));
     }
-    let (base, extra) = (planes / ranks, planes % ranks);
-    let mut starts = Vec::with_capacity(ranks + 1);
-    let mut at = 0;
-    for r in 0..ranks {
-        starts.push(at * plane);
-        at += base + usize::from(r < extra);
-    }
-    starts.push(planes * plane);
-    Ok(starts)
+    Ok(equal_runs(planes, ranks)
+        .into_iter()
+        .map(|p| p * plane)
+        .collect())
 }
 
 impl MsdmLattice {
