@@ -435,6 +435,7 @@ fn mpm_kernels(c: &mut Criterion) {
             bulk_viscosity: None,
             surface_forces: &[],
             reservoir: &[],
+            own: None,
         };
         let mut group = c.benchmark_group("mpm_stress_update");
         group.sample_size(10);

@@ -1,8 +1,8 @@
 //! `mpirun -np N brisance run CONFIG` (cargo feature `mpi`, docs/cluster.md):
-//! an Fdm, Ice, Peridynamics or Lattice run on 2 and 4 ranks writes the
-//! bytes of the same run on one, file for file; a restart may change the rank
-//! count; other pipelines, what the ICE cannot spread and impossible
-//! splits refuse with one clear message instead of hanging.
+//! an Fdm, Ice, Mpm, Peridynamics or Lattice run on 2 and 4 ranks writes
+//! the bytes of the same run on one, file for file; a restart may change
+//! the rank count; the coupled pipelines, what the ICE cannot spread and
+//! impossible splits refuse with one clear message instead of hanging.
 //!
 //! Needs `mpirun` (Open MPI) on the PATH: `cargo test --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
@@ -20,6 +20,7 @@ const ICE_RZ: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_rz.ron"
 const ICE_3D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_bubble3d.ron");
 const PD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/pd_fragment.ron");
 const LATTICE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/lattice_impact.ron");
+const MPM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/mpm_taylor.ron");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// `brisance run CONFIG --out OUT --quiet EXTRA…` on `ranks` ranks
@@ -174,6 +175,53 @@ fn peridynamics_on_two_and_four_ranks_writes_the_bytes_of_one() {
     same_bytes_on_two_and_four_ranks(PD);
 }
 
+/// MPM: a copper rod hitting a wall (Johnson–Cook plasticity, heating,
+/// bulk viscosity, cpGIMP) under each update scheme, and with the ΔF̄
+/// averaging (whose G2P runs on every rank, the stress update split);
+/// particle gauges and particle output included.
+#[test]
+fn mpm_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks(MPM);
+    for scheme in ["Usf", "Usl"] {
+        let set = format!("pipeline.scheme={scheme}");
+        same_bytes_on_two_and_four_ranks_with(MPM, &["--set", &set]);
+    }
+    same_bytes_on_two_and_four_ranks_with(MPM, &["--set", "pipeline.anti_locking=FBar"]);
+}
+
+/// An MPM particle whose update fails on one rank's share stops every
+/// rank with the message of one rank, naming the same particle.
+#[test]
+fn an_mpm_failure_on_one_rank_stops_all_with_the_message_of_one() {
+    // The rod at 20 km/s against the wall inverts a particle's volume
+    // within a few steps of the bare scheme (no bulk viscosity).
+    let sets = [
+        "--set",
+        "pipeline.bulk_viscosity=Off",
+        "--set",
+        r#"initial=[(region: Cylinder(base: (0.0, 0.0, 0.0), axis: (0.0, 0.0, 1.0), radius: 0.00381, length: 0.0254), material: "copper", state: (density: 8930.0, velocity: (0.0, 0.0, -20000.0), temperature: 300.0))]"#,
+    ];
+    let tmp = tempfile::tempdir().unwrap();
+    let one = run(0, Path::new(MPM), &tmp.path().join("one"), &sets);
+    assert!(!one.status.success(), "the run should fail");
+    let err = String::from_utf8_lossy(&one.stderr).into_owned();
+    let line = err
+        .lines()
+        .find(|l| l.contains("error:"))
+        .unwrap_or_else(|| panic!("an error line in:\n{err}"))
+        .to_string();
+    assert!(line.contains("particle"), "{line}");
+    for ranks in [2, 4] {
+        let out = run(
+            ranks,
+            Path::new(MPM),
+            &tmp.path().join(format!("np{ranks}")),
+            &sets,
+        );
+        fails_once_with(&out, &line);
+    }
+}
+
 /// The lattice: two materials whose springs break, yield and carry
 /// dashpots (the general passes, velocity Verlet); one material without
 /// spring state (the row-stencil passes, explicit Euler); and in 3D.
@@ -250,6 +298,7 @@ fn a_restart_may_change_the_rank_count() {
     restart_on_other_ranks(ICE_RZ, 40);
     restart_on_other_ranks(PD, 40);
     restart_on_other_ranks(LATTICE, 20);
+    restart_on_other_ranks(MPM, 40);
 }
 
 /// Checkpoints written per patch (each rank its own patches' files,
@@ -326,12 +375,19 @@ fn a_failed_step_leaves_the_last_good_state_of_one_rank() {
 }
 
 #[test]
-fn other_pipelines_refuse_several_ranks_by_name() {
+fn the_coupled_pipelines_refuse_several_ranks_by_name() {
     let tmp = tempfile::tempdir().unwrap();
     let coupled = Path::new(ROOT).join("configs/piston_icempm.ron");
     let out = run(2, &coupled, &tmp.path().join("icempm"), &[]);
     fails_once_with(&out, "the IceMpm pipeline does not run on several ranks");
     assert!(!tmp.path().join("icempm").join("summary.json").exists());
+    let bridge = Path::new(ROOT).join("configs/slab_4kg.ron");
+    let out = run(2, &bridge, &tmp.path().join("bridge"), &[]);
+    fails_once_with(
+        &out,
+        "the FdmMpmBridge pipeline does not run on several ranks",
+    );
+    assert!(!tmp.path().join("bridge").join("summary.json").exists());
 }
 
 /// The lattice's implicit integrators (one linear solve over every node)

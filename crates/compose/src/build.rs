@@ -502,7 +502,10 @@ fn particle_thermodynamics(
 /// selects the particles that start in its region (and material); an empty
 /// selection is an error naming the gauge.
 fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
-    let (solver, particle_gauges) = mpm_parts(s, mpm)?;
+    let (mut solver, particle_gauges) = mpm_parts(s, mpm)?;
+    // The particle updates spread over the ranks of the run
+    // (docs/cluster.md); nothing changes on one rank.
+    solver.distribute(brisance_grid::comm::world());
     Ok(Built::Mpm {
         solver: Box::new(solver),
         particle_gauges,

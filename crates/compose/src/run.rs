@@ -760,7 +760,7 @@ pub fn run_until_stopped(
                     position: None,
                     field: Some("pipeline".into()),
                     message: format!(
-                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice, Peridynamics and Lattice are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
+                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice, Mpm, Peridynamics and Lattice are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
                         ranks.size()
                     ),
                 },
@@ -977,13 +977,13 @@ pub fn run_until_stopped(
     }
 }
 
-/// The config name of `pipeline` when it runs on one rank only (every
-/// pipeline but `Fdm` so far), `None` when its patches may be spread
-/// over ranks.
+/// The config name of `pipeline` when it runs on one rank only (the
+/// coupled pipelines so far), `None` when it may be spread over ranks.
 fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static str> {
     match pipeline {
         crate::config::Pipeline::Fdm(_)
         | crate::config::Pipeline::Ice(_)
+        | crate::config::Pipeline::Mpm(_)
         | crate::config::Pipeline::Peridynamics(_)
         | crate::config::Pipeline::Lattice(_) => None,
         other => Some(other.name()),

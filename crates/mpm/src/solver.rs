@@ -298,6 +298,9 @@ pub struct MpmSolver {
     /// The conductivity and specific heat of every material
     /// ([`crate::conduction`]); empty when no material conducts.
     thermal: Vec<ThermalProperties>,
+    /// The ranks the particle updates are spread over
+    /// ([`MpmSolver::distribute`]); `None` on one rank.
+    comm: Option<std::sync::Arc<dyn brisance_grid::comm::Communicator>>,
 }
 
 /// The node fields of [`MpmSolver::NODE_FIELDS`].
@@ -511,6 +514,7 @@ impl MpmSolver {
             inflow,
             held_back: [false; 6],
             thermal: Vec::new(),
+            comm: None,
         })
     }
 
@@ -779,9 +783,11 @@ impl MpmSolver {
         let mut surface_forces = self.take_surface_forces()?;
         surface_forces.extend_from_slice(self.inflow.forces());
         let grid = self.level.geometry;
+        let runs = self.particle_runs();
         let params = StepParams {
             surface_forces: &surface_forces,
             reservoir: self.inflow.shares(),
+            own: runs.as_ref().map(|r| (r.nodes().start, r.nodes().end)),
             ..step_params(
                 &self.options,
                 &self.materials,
@@ -824,6 +830,7 @@ impl MpmSolver {
                     parts,
                     average.as_deref_mut(),
                 );
+                let failure = share(&runs, ps, bulk, parts, failure);
                 if failure.is_none() {
                     let parts = G2pParts {
                         velocity: true,
@@ -843,7 +850,10 @@ impl MpmSolver {
                 };
                 let all = P2gSums::All;
                 step::p2g_integrate_averaged(&t, ps, nodes, &params, all, average.as_deref_mut());
-                step::g2p_and_update_stresses_averaged(&t, ps, bulk, nodes, &params, parts, average)
+                let failure = step::g2p_and_update_stresses_averaged(
+                    &t, ps, bulk, nodes, &params, parts, average,
+                );
+                share(&runs, ps, bulk, parts, failure)
             }
             UpdateScheme::Musl => {
                 let parts = G2pParts {
@@ -876,7 +886,10 @@ impl MpmSolver {
                 } else {
                     step::g2p_velocity_and_remap(&t, ps, nodes, &params);
                 }
-                step::g2p_and_update_stresses_averaged(&t, ps, bulk, nodes, &params, parts, average)
+                let failure = step::g2p_and_update_stresses_averaged(
+                    &t, ps, bulk, nodes, &params, parts, average,
+                );
+                share(&runs, ps, bulk, parts, failure)
             }
         };
         self.surface_forces = surface_forces;
@@ -910,6 +923,20 @@ impl MpmSolver {
             centre: grid.cell_centre(cell),
             detail: format!("particle {index} at {x:?} m: {detail}"),
         }
+    }
+}
+
+/// [`ranks::share_updated`] on several ranks; `failure` unchanged on one.
+fn share(
+    runs: &Option<brisance_grid::comm::NodeRuns>,
+    ps: &mut Particles,
+    bulk: &mut [BulkViscosityState],
+    parts: G2pParts,
+    failure: Option<step::ParticleFailure>,
+) -> Option<step::ParticleFailure> {
+    match runs {
+        Some(runs) => ranks::share_updated(runs, ps, bulk, parts, failure),
+        None => failure,
     }
 }
 
@@ -992,6 +1019,7 @@ fn step_params<'a>(
         bulk_viscosity: viscosity_params(options, grid),
         surface_forces: &[],
         reservoir: &[],
+        own: None,
     }
 }
 
@@ -1014,6 +1042,7 @@ fn particle_energy(m: f64, v: [f64; 3], e: f64) -> f64 {
 
 mod coupled;
 mod particle_flow;
+mod ranks;
 mod solver_trait;
 pub use coupled::CoupledStep;
 

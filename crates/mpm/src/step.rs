@@ -92,7 +92,20 @@ pub struct StepParams<'a> {
     /// nodes ([`crate::inflow::NodeShare`]), after every P2G of mass and
     /// momentum and after MUSL's re-mapping; empty without reservoirs.
     pub reservoir: &'a [crate::inflow::NodeShare],
+    /// The particles `(first, end)` whose stress update (and the G2P fused
+    /// with it) this process computes when the particles are spread over
+    /// MPI ranks (docs/cluster.md); `None`: every particle.
+    pub own: Option<(usize, usize)>,
 }
+
+/// Every reason [`update_particle_stress`] gives for refusing an update,
+/// so that a failure can cross between ranks as a number.
+pub const FAILURE_REASONS: [&str; 4] = [
+    "det F is not positive",
+    "the updated stress is not finite",
+    "the bulk viscosity is not finite",
+    "the specific internal energy is not finite",
+];
 
 /// Why a particle's stress update was refused.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -405,7 +418,7 @@ pub fn update_stresses(
         particles.len(),
         "one L per particle"
     );
-    for_each_chunk(particles, bulk, |mut chunk| {
+    for_each_chunk(particles, bulk, params.own, |mut chunk| {
         let l = &velocity_gradient[chunk.first..chunk.first + chunk.len()];
         chunk.update_stresses(l, params)
     })
@@ -436,7 +449,7 @@ pub fn g2p_and_update_stresses(
         update_position: parts.position,
         velocity_gradient: true,
     };
-    for_each_chunk(particles, bulk, |mut chunk| {
+    for_each_chunk(particles, bulk, params.own, |mut chunk| {
         let mut l = [Mat3::zeros(); STRESS_CHUNK];
         let l = &mut l[..chunk.len()];
         transfer::g2p_range(
@@ -596,38 +609,46 @@ impl ParticleChunk<'_> {
     }
 }
 
-/// Runs `f` on the particles in chunks of [`STRESS_CHUNK`], in parallel;
-/// returns the failure of the lowest index that any chunk reported.
+/// Runs `f` on the particles `own` (every particle when `None`, see
+/// [`StepParams::own`]) in chunks of [`STRESS_CHUNK`], in parallel;
+/// returns the failure of the lowest index that any chunk reported. A
+/// particle's update reads and writes only its own state, so which chunk
+/// it falls in changes nothing of its bits.
 fn for_each_chunk(
     particles: &mut Particles,
     bulk: &mut [BulkViscosityState],
+    own: Option<(usize, usize)>,
     f: impl Fn(ParticleChunk) -> Option<ParticleFailure> + Sync + Send,
 ) -> Option<ParticleFailure> {
     const C: usize = STRESS_CHUNK;
     let n = particles.len();
     assert_eq!(bulk.len(), n, "one bulk-viscosity state per particle");
+    let (lo, hi) = own.unwrap_or((0, n));
+    assert!(lo <= hi && hi <= n, "particles {lo}..{hi} of {n}");
     let stride = particles.history_stride();
     let history = if stride > 0 {
-        Either::Left(particles.history.par_chunks_mut(C * stride))
+        Either::Left(particles.history[lo * stride..hi * stride].par_chunks_mut(C * stride))
     } else {
-        Either::Right(rayon::iter::repeat_n((), n.div_ceil(C)).map(|()| -> &mut [f64] { &mut [] }))
+        Either::Right(
+            rayon::iter::repeat_n((), (hi - lo).div_ceil(C)).map(|()| -> &mut [f64] { &mut [] }),
+        )
     };
     (
-        particles.position.par_chunks_mut(C),
-        particles.velocity.par_chunks_mut(C),
-        particles.stress.par_chunks_mut(C),
-        particles.deformation_gradient.par_chunks_mut(C),
-        particles.volume.par_chunks_mut(C),
-        particles.temperature.par_chunks_mut(C),
-        particles.specific_internal_energy.par_chunks_mut(C),
-        particles.failed.par_chunks_mut(C),
+        particles.position[lo..hi].par_chunks_mut(C),
+        particles.velocity[lo..hi].par_chunks_mut(C),
+        particles.stress[lo..hi].par_chunks_mut(C),
+        particles.deformation_gradient[lo..hi].par_chunks_mut(C),
+        particles.volume[lo..hi].par_chunks_mut(C),
+        particles.temperature[lo..hi].par_chunks_mut(C),
+        particles.specific_internal_energy[lo..hi].par_chunks_mut(C),
+        particles.failed[lo..hi].par_chunks_mut(C),
         history,
-        particles.material.par_chunks(C),
-        particles.mass.par_chunks(C),
-        particles.initial_volume.par_chunks(C),
+        particles.material[lo..hi].par_chunks(C),
+        particles.mass[lo..hi].par_chunks(C),
+        particles.initial_volume[lo..hi].par_chunks(C),
     )
         .into_par_iter()
-        .zip(bulk.par_chunks_mut(C))
+        .zip(bulk[lo..hi].par_chunks_mut(C))
         .enumerate()
         .filter_map(
             |(
@@ -651,7 +672,7 @@ fn for_each_chunk(
                 ),
             )| {
                 f(ParticleChunk {
-                    first: k * C,
+                    first: lo + k * C,
                     stride,
                     position,
                     velocity,
@@ -791,7 +812,7 @@ pub fn update_particle_stress(
         f_new.determinant()
     };
     if !(j > 0.0) || !j.is_finite() {
-        return Err((j, "det F is not positive"));
+        return Err((j, FAILURE_REASONS[0]));
     }
     if fluid && fluid_deformation_is_distorted(&f_new, j) {
         f_new = Mat3::identity() * j.cbrt();
@@ -820,7 +841,7 @@ pub fn update_particle_stress(
         history,
     );
     if update.stress.iter().any(|s| !s.is_finite()) {
-        return Err((j, "the updated stress is not finite"));
+        return Err((j, FAILURE_REASONS[1]));
     }
     let d = 0.5 * (l + l.transpose());
     let trace_d = d.trace();
@@ -832,7 +853,7 @@ pub fn update_particle_stress(
         None => 0.0,
     };
     if !q_new.is_finite() {
-        return Err((j, "the bulk viscosity is not finite"));
+        return Err((j, FAILURE_REASONS[2]));
     }
     let sigma_new = if q_new != 0.0 {
         update.stress - Mat3::identity() * q_new
@@ -843,7 +864,7 @@ pub fn update_particle_stress(
     let rho_mid = 2.0 * mass / (v_old + v_new);
     let e_new = *state.specific_internal_energy + dt * power / rho_mid;
     if !e_new.is_finite() {
-        return Err((j, "the specific internal energy is not finite"));
+        return Err((j, FAILURE_REASONS[3]));
     }
     if let (Some(d_temp), Some(specific_heat)) = (
         material.temperature_increment(history),
@@ -953,6 +974,7 @@ mod tests {
                 bulk_viscosity: None,
                 surface_forces: &[],
                 reservoir: &[],
+                own: None,
             };
             let t = Transfer {
                 map: &map,

@@ -975,3 +975,107 @@ fn particle_data_gives_each_models_damage_and_the_particle_identity() {
     // Identities are those of creation order before any step.
     assert!(id.iter().enumerate().all(|(p, &i)| i == p as f64));
 }
+
+/// `make()` on each of `ranks` threads acting as ranks
+/// ([`brisance_grid::comm::InProcess`]; each with a thread pool of its
+/// own), the particle updates spread over
+/// them ([`MpmSolver::distribute`]), `steps` steps at the stable Δt: each
+/// rank's saved state, or its first error.
+fn on_thread_ranks(
+    ranks: usize,
+    make: &(dyn Fn() -> MpmSolver + Sync),
+    steps: usize,
+) -> Vec<Result<Vec<u8>, String>> {
+    let world = brisance_grid::comm::InProcess::world(ranks);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = world
+            .into_iter()
+            .map(|comm| {
+                scope.spawn(move || {
+                    // Each rank its own thread pool, as each MPI process
+                    // has: a rank waiting for the others must not hold a
+                    // worker that another rank's step needs.
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(2)
+                        .build()
+                        .unwrap();
+                    pool.install(|| {
+                        let mut s = make();
+                        s.distribute(comm);
+                        for _ in 0..steps {
+                            let dt = s.stable_dt().map_err(|e| e.to_string())?;
+                            s.advance(dt).map_err(|e| e.to_string())?;
+                        }
+                        s.save_state().map_err(|e| e.to_string())
+                    })
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// [`collision`] with the ΔF̄ averaging (its G2P runs on every rank, the
+/// stress update on each rank's share).
+fn averaged(mut s: MpmSolver) -> MpmSolver {
+    let mut options = *s.options();
+    options.anti_locking = AntiLocking::FBar;
+    let (level, materials, particles) = (s.level.clone(), s.materials.clone(), s.particles);
+    s = MpmSolver::new(level, materials, particles, options).unwrap();
+    s
+}
+
+#[test]
+fn particle_updates_spread_over_ranks_give_the_bits_of_one() {
+    type Variant = fn(MpmSolver) -> MpmSolver;
+    let variants: [(&str, Variant); 3] =
+        [("plain", |s| s), ("viscous", viscous), ("FBar", averaged)];
+    for shape in ShapeFunction::ALL {
+        for scheme in [UpdateScheme::Usf, UpdateScheme::Usl, UpdateScheme::Musl] {
+            if (shape, scheme) == (ShapeFunction::Linear, UpdateScheme::Usl) {
+                continue; // inverts a particle: the next test
+            }
+            for (name, variant) in variants {
+                let make = || variant(collision(shape, scheme));
+                let one = on_thread_ranks(1, &make, 60).remove(0).unwrap();
+                for ranks in [2, 3] {
+                    for (r, state) in on_thread_ranks(ranks, &make, 60).into_iter().enumerate() {
+                        assert!(
+                            state.as_ref() == Ok(&one),
+                            "{shape:?} {scheme:?} {name}: rank {r} of {ranks}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Linear USL inverts a contact-corner particle of [`collision`] after
+/// about 25 steps ([`linear_usl_runs_the_block_impact`]): on several ranks
+/// every rank stops at the same step with the error of one rank, whichever
+/// rank's share holds the particle.
+#[test]
+fn a_failed_particle_update_on_ranks_stops_every_rank_with_the_error_of_one() {
+    let make = || collision(ShapeFunction::Linear, UpdateScheme::Usl);
+    let one = on_thread_ranks(1, &make, 60).remove(0).unwrap_err();
+    assert!(one.contains("J = det F"), "{one}");
+    let index: usize = one
+        .split("particle ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("a particle index in {one}"));
+    let n = make().particles.len();
+    let mut owners = Vec::new();
+    for ranks in [2, 3, 5] {
+        let starts = brisance_grid::comm::equal_runs(n, ranks);
+        owners.push(starts.partition_point(|&s| s <= index) - 1);
+        for (r, got) in on_thread_ranks(ranks, &make, 60).into_iter().enumerate() {
+            assert_eq!(got.as_ref(), Err(&one), "rank {r} of {ranks}");
+        }
+    }
+    // The failing particle lies outside rank 0's share at least once, so
+    // the failure crossed between ranks.
+    assert!(owners.iter().any(|&o| o > 0), "owners {owners:?}");
+}
