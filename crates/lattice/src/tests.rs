@@ -1034,3 +1034,69 @@ fn stiff_chain_implicit_euler_is_stable_at_ten_times_the_explicit_limit() {
     lat.reset_implicit_timing();
     assert_eq!(lat.implicit_timing(), ImplicitTiming::default());
 }
+
+/// `make()` on `ranks` threads acting as ranks
+/// ([`brisance_grid::comm::InProcess`], each with a thread pool of its
+/// own), spread over them in slabs ([`MsdmLattice::distribute`]), 30 steps
+/// of 2e-8 s: each rank's [`state_digest`].
+fn digests_on_thread_ranks(ranks: usize, make: &(dyn Fn() -> MsdmLattice + Sync)) -> Vec<u64> {
+    let world = brisance_grid::comm::InProcess::world(ranks);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = world
+            .into_iter()
+            .map(|comm| {
+                scope.spawn(move || {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(2)
+                        .build()
+                        .unwrap();
+                    pool.install(|| {
+                        let mut lat = make();
+                        lat.distribute(comm).unwrap();
+                        for _ in 0..30 {
+                            lat.step(2e-8).unwrap();
+                        }
+                        state_digest(&lat)
+                    })
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// The rank logic of `ranks.rs` without MPI: blocks with plasticity and
+/// fracture (the general passes), and with dashpots, f⊥, conduction and
+/// chemistry (the row-stencil passes), each integrator that spreads, on 2
+/// and 3 ranks: every rank ends with the bits of one.
+#[test]
+fn slabs_spread_over_ranks_give_the_bits_of_one() {
+    type Make = Box<dyn Fn() -> MsdmLattice + Sync>;
+    let mut cases: Vec<(String, Make)> = Vec::new();
+    for integ in [Integrator::ExplicitEuler, Integrator::VelocityVerlet] {
+        cases.push((
+            format!("plastic block, {integ:?}"),
+            Box::new(move || perturbed_block(Dim::Two, 3, integ)),
+        ));
+        cases.push((
+            format!("stencil block, {integ:?}"),
+            Box::new(move || stencil_block(true, integ, true, true)),
+        ));
+    }
+    for (name, make) in &cases {
+        let one = digests_on_thread_ranks(1, &**make)[0];
+        let mut plain = make();
+        for _ in 0..30 {
+            plain.step(2e-8).unwrap();
+        }
+        assert_eq!(state_digest(&plain), one, "{name}: one thread rank");
+        for ranks in [2, 3] {
+            for (r, d) in digests_on_thread_ranks(ranks, &**make)
+                .into_iter()
+                .enumerate()
+            {
+                assert_eq!(d, one, "{name}: rank {r} of {ranks}");
+            }
+        }
+    }
+}

@@ -717,3 +717,60 @@ fn a_node_detonates_at_its_time_through_program_burn() {
 }
 
 mod products;
+
+/// [`block`] (bonds yield and break) on `ranks` threads acting as ranks
+/// ([`brisance_grid::comm::InProcess`], each with a thread pool of its
+/// own), the nodes spread over them ([`PdSolver::distribute`]), 20 steps:
+/// each rank's saved state.
+fn block_on_thread_ranks(ranks: usize) -> Vec<Vec<u8>> {
+    let world = brisance_grid::comm::InProcess::world(ranks);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = world
+            .into_iter()
+            .map(|comm| {
+                scope.spawn(move || {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(2)
+                        .build()
+                        .unwrap();
+                    pool.install(|| {
+                        let mut s = block(12, 200.0, 0.004);
+                        s.distribute(comm).unwrap();
+                        for _ in 0..20 {
+                            let dt = s.stable_dt().unwrap();
+                            s.advance(dt).unwrap();
+                        }
+                        s.save_state().unwrap()
+                    })
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// The rank logic of `ranks.rs` without MPI: a block whose bonds break,
+/// spread over 2 and 3 ranks, ends with the bits of one rank on every
+/// rank (the rows in which bonds broke and the plastic stretches cross).
+#[test]
+fn nodes_spread_over_ranks_give_the_bits_of_one() {
+    let one = block_on_thread_ranks(1).remove(0);
+    let mut s = block(12, 200.0, 0.004);
+    for _ in 0..20 {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    assert!(
+        s.save_state().unwrap() == one,
+        "one thread rank is one rank"
+    );
+    assert!(
+        (0..s.node_count()).any(|i| s.damage(i) > 0.0),
+        "bonds were meant to break"
+    );
+    for ranks in [2, 3] {
+        for (r, state) in block_on_thread_ranks(ranks).into_iter().enumerate() {
+            assert!(state == one, "rank {r} of {ranks}");
+        }
+    }
+}
