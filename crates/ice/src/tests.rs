@@ -897,3 +897,49 @@ fn deflagration_burns_the_surface_cell_at_a_p_to_the_n() {
 
 mod lagrangian;
 mod open_faces;
+
+/// The rank logic of `solver/ranks.rs` without MPI: the pressure bump on
+/// 3 × 2 × 2 patches spread over 2, 3 and 4 thread ranks
+/// ([`brisance_grid::comm::InProcess`], each with a thread pool of its
+/// own; ghost layers cross through its mailbox) ends, on every rank, with
+/// the saved state of one rank.
+#[test]
+fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
+    let steps = |s: &mut IceSolver<IdealGas>| {
+        for _ in 0..4 {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        s.save_state().unwrap()
+    };
+    let one = steps(&mut bump_solver([3, 2, 2], [12, 8, 4]));
+    for ranks in [2, 3, 4] {
+        let world = brisance_grid::comm::InProcess::world(ranks);
+        let states: Vec<Vec<u8>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = world
+                .into_iter()
+                .map(|comm| {
+                    scope.spawn(move || {
+                        let pool = rayon::ThreadPoolBuilder::new()
+                            .num_threads(2)
+                            .build()
+                            .unwrap();
+                        pool.install(|| {
+                            let mut s = bump_solver([3, 2, 2], [12, 8, 4]);
+                            s.distribute(comm).unwrap();
+                            // The rank holds its share of the 12 patches,
+                            // not all of them.
+                            let own = s.cell_pieces(&["pressure".into()]).unwrap().unwrap();
+                            assert!(own.pieces.len() <= 12_usize.div_ceil(ranks));
+                            steps(&mut s)
+                        })
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for (r, state) in states.into_iter().enumerate() {
+            assert!(state == one, "rank {r} of {ranks}");
+        }
+    }
+}

@@ -1052,7 +1052,10 @@ fn digests_on_thread_ranks(ranks: usize, make: &(dyn Fn() -> MsdmLattice + Sync)
                         .unwrap();
                     pool.install(|| {
                         let mut lat = make();
+                        let nodes = lat.owned_nodes().len();
                         lat.distribute(comm).unwrap();
+                        // The rank updates its slab, not every node.
+                        assert!(ranks == 1 || lat.owned_nodes().len() < nodes);
                         for _ in 0..30 {
                             lat.step(2e-8).unwrap();
                         }

@@ -736,6 +736,8 @@ fn block_on_thread_ranks(ranks: usize) -> Vec<Vec<u8>> {
                     pool.install(|| {
                         let mut s = block(12, 200.0, 0.004);
                         s.distribute(comm).unwrap();
+                        // The rank evaluates its share of the nodes.
+                        assert!(ranks == 1 || s.owned_nodes().len() < s.node_count());
                         for _ in 0..20 {
                             let dt = s.stable_dt().unwrap();
                             s.advance(dt).unwrap();
