@@ -354,14 +354,7 @@ impl<E: GasLaw> FdmSolver<E> {
             fields.push(pf);
         }
         let comm = comm::world();
-        let (owner, exchange) = if comm.size() > 1 {
-            let owner =
-                comm::patch_owners(level.patches.len(), comm.size()).map_err(FdmError::Invalid)?;
-            let exchange = InProcessExchange::distributed(comm.clone(), owner.clone());
-            (owner, exchange)
-        } else {
-            (vec![0; level.patches.len()], InProcessExchange::new())
-        };
+        let (owner, exchange) = patch_ranks(&level, &comm)?;
         let radial = if options.geometry.is_axisymmetric() {
             let g = &level.geometry;
             level
@@ -404,6 +397,18 @@ impl<E: GasLaw> FdmSolver<E> {
             time: 0.0,
             steps: 0,
         })
+    }
+
+    /// Shares the patches among the ranks of `comm` instead of those of
+    /// [`comm::world`] it was built with (the program's world; ranks of
+    /// threads, `brisance_grid::comm::InProcess`, in tests). Call it on
+    /// every rank before the first step.
+    pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), FdmError> {
+        let (owner, exchange) = patch_ranks(&self.level, &comm)?;
+        self.owner = owner;
+        self.exchange = exchange;
+        self.comm = comm;
+        Ok(())
     }
 
     /// Whether this rank updates patch `id`.
@@ -1041,5 +1046,21 @@ impl<E: GasLaw> FdmSolver<E> {
         self.level
             .for_each_cell_in_order(|_, pid, n| m += fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
+    }
+}
+
+/// The owner of every patch of `level` among the ranks of `comm`
+/// ([`comm::patch_owners`]) and the ghost exchange between them.
+fn patch_ranks(
+    level: &Level,
+    comm: &Arc<dyn Communicator>,
+) -> Result<(Vec<usize>, InProcessExchange), FdmError> {
+    if comm.size() > 1 {
+        let owner =
+            comm::patch_owners(level.patches.len(), comm.size()).map_err(FdmError::Invalid)?;
+        let exchange = InProcessExchange::distributed(comm.clone(), owner.clone());
+        Ok((owner, exchange))
+    } else {
+        Ok((vec![0; level.patches.len()], InProcessExchange::new()))
     }
 }

@@ -689,3 +689,77 @@ fn interior_plus_outflow_is_conserved_to_round_off() {
     assert!(((i1.energy - i0.energy) / i0.energy).abs() > 1e-3);
     assert_conserved(t0, t1, t0.mass + t0.energy);
 }
+
+/// One rank's fields (name, bits), totals and limiter counts.
+type RankResult = (
+    Vec<(String, Vec<u64>)>,
+    brisance_core::ConservationTotals,
+    (u64, u64, u64),
+);
+
+/// `make()` on each of `ranks` threads acting as ranks
+/// ([`brisance_grid::comm::InProcess`], each with a thread pool of its
+/// own), the patches shared among them ([`FdmSolver::distribute`]),
+/// `steps` steps: each rank's fields' bits and totals (both read collectively,
+/// as the run loop reads them) and limiter counts.
+fn on_thread_ranks<E: crate::GasLaw + 'static>(
+    ranks: usize,
+    make: &(dyn Fn() -> FdmSolver<E> + Sync),
+    steps: usize,
+) -> Vec<RankResult> {
+    let world = brisance_grid::comm::InProcess::world(ranks);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = world
+            .into_iter()
+            .map(|comm| {
+                scope.spawn(move || {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(2)
+                        .build()
+                        .unwrap();
+                    pool.install(|| {
+                        let mut s = make();
+                        let patches = s.cell_pieces(&["density".into()]).unwrap().unwrap();
+                        s.distribute(comm).unwrap();
+                        let own = s.cell_pieces(&["density".into()]).unwrap().unwrap();
+                        // The rank updates its share of the patches.
+                        assert!(ranks == 1 || own.pieces.len() < patches.pieces.len());
+                        run(&mut s, steps);
+                        let bits = all_fields(&s)
+                            .into_iter()
+                            .map(|(name, v)| (name, v.iter().map(|x| x.to_bits()).collect()))
+                            .collect();
+                        (bits, s.conservation_totals(), limited(&s))
+                    })
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// The rank logic without MPI: the blast on 2 × 2 × 2 patches and the
+/// separating streams whose face limiter acts on 4 patches, spread over
+/// thread ranks, give on every rank the bits of one rank (fields, exact
+/// totals, limiter counts).
+#[test]
+fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
+    let blast_8 = || blast([2, 2, 2]);
+    let one = on_thread_ranks(1, &blast_8, 8).remove(0);
+    for ranks in [2, 3, 4] {
+        for (r, got) in on_thread_ranks(ranks, &blast_8, 8).into_iter().enumerate() {
+            assert!(got == one, "blast: rank {r} of {ranks}");
+        }
+    }
+    let streams = || separating(FaceLimiter::Full, [4, 1, 1]);
+    let one = on_thread_ranks(1, &streams, 120).remove(0);
+    assert!(one.2 .0 > 0 && one.2 .1 > 0, "the limiter acts");
+    for ranks in [2, 4] {
+        for (r, got) in on_thread_ranks(ranks, &streams, 120)
+            .into_iter()
+            .enumerate()
+        {
+            assert!(got == one, "streams: rank {r} of {ranks}");
+        }
+    }
+}
