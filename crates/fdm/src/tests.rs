@@ -707,34 +707,19 @@ fn on_thread_ranks<E: crate::GasLaw + 'static>(
     make: &(dyn Fn() -> FdmSolver<E> + Sync),
     steps: usize,
 ) -> Vec<RankResult> {
-    let world = brisance_grid::comm::InProcess::world(ranks);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = world
+    brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+        let mut s = make();
+        let patches = s.cell_pieces(&["density".into()]).unwrap().unwrap();
+        s.distribute(comm).unwrap();
+        let own = s.cell_pieces(&["density".into()]).unwrap().unwrap();
+        // The rank updates its share of the patches.
+        assert!(ranks == 1 || own.pieces.len() < patches.pieces.len());
+        run(&mut s, steps);
+        let bits = all_fields(&s)
             .into_iter()
-            .map(|comm| {
-                scope.spawn(move || {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(2)
-                        .build()
-                        .unwrap();
-                    pool.install(|| {
-                        let mut s = make();
-                        let patches = s.cell_pieces(&["density".into()]).unwrap().unwrap();
-                        s.distribute(comm).unwrap();
-                        let own = s.cell_pieces(&["density".into()]).unwrap().unwrap();
-                        // The rank updates its share of the patches.
-                        assert!(ranks == 1 || own.pieces.len() < patches.pieces.len());
-                        run(&mut s, steps);
-                        let bits = all_fields(&s)
-                            .into_iter()
-                            .map(|(name, v)| (name, v.iter().map(|x| x.to_bits()).collect()))
-                            .collect();
-                        (bits, s.conservation_totals(), limited(&s))
-                    })
-                })
-            })
+            .map(|(name, v)| (name, v.iter().map(|x| x.to_bits()).collect()))
             .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+        (bits, s.conservation_totals(), limited(&s))
     })
 }
 

@@ -914,29 +914,13 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
     };
     let one = steps(&mut bump_solver([3, 2, 2], [12, 8, 4]));
     for ranks in [2, 3, 4] {
-        let world = brisance_grid::comm::InProcess::world(ranks);
-        let states: Vec<Vec<u8>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = world
-                .into_iter()
-                .map(|comm| {
-                    scope.spawn(move || {
-                        let pool = rayon::ThreadPoolBuilder::new()
-                            .num_threads(2)
-                            .build()
-                            .unwrap();
-                        pool.install(|| {
-                            let mut s = bump_solver([3, 2, 2], [12, 8, 4]);
-                            s.distribute(comm).unwrap();
-                            // The rank holds its share of the 12 patches,
-                            // not all of them.
-                            let own = s.cell_pieces(&["pressure".into()]).unwrap().unwrap();
-                            assert!(own.pieces.len() <= 12_usize.div_ceil(ranks));
-                            steps(&mut s)
-                        })
-                    })
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        let states = brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+            let mut s = bump_solver([3, 2, 2], [12, 8, 4]);
+            s.distribute(comm).unwrap();
+            // The rank holds its share of the 12 patches, not all of them.
+            let own = s.cell_pieces(&["pressure".into()]).unwrap().unwrap();
+            assert!(own.pieces.len() <= 12_usize.div_ceil(ranks));
+            steps(&mut s)
         });
         for (r, state) in states.into_iter().enumerate() {
             assert!(state == one, "rank {r} of {ranks}");

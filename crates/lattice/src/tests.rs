@@ -1040,31 +1040,16 @@ fn stiff_chain_implicit_euler_is_stable_at_ten_times_the_explicit_limit() {
 /// own), spread over them in slabs ([`MsdmLattice::distribute`]), 30 steps
 /// of 2e-8 s: each rank's [`state_digest`].
 fn digests_on_thread_ranks(ranks: usize, make: &(dyn Fn() -> MsdmLattice + Sync)) -> Vec<u64> {
-    let world = brisance_grid::comm::InProcess::world(ranks);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = world
-            .into_iter()
-            .map(|comm| {
-                scope.spawn(move || {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(2)
-                        .build()
-                        .unwrap();
-                    pool.install(|| {
-                        let mut lat = make();
-                        let nodes = lat.owned_nodes().len();
-                        lat.distribute(comm).unwrap();
-                        // The rank updates its slab, not every node.
-                        assert!(ranks == 1 || lat.owned_nodes().len() < nodes);
-                        for _ in 0..30 {
-                            lat.step(2e-8).unwrap();
-                        }
-                        state_digest(&lat)
-                    })
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+        let mut lat = make();
+        let nodes = lat.owned_nodes().len();
+        lat.distribute(comm).unwrap();
+        // The rank updates its slab, not every node.
+        assert!(ranks == 1 || lat.owned_nodes().len() < nodes);
+        for _ in 0..30 {
+            lat.step(2e-8).unwrap();
+        }
+        state_digest(&lat)
     })
 }
 

@@ -5,10 +5,10 @@
 //! the point-to-point messages go through a shared mailbox, in the order
 //! sent per (from, to, tag), as MPI delivers them.
 //!
-//! Give each rank's thread a rayon pool of its own (`ThreadPoolBuilder`
-//! … `install`), as each MPI process has: a rank that waits at a
-//! collective inside a rayon task holds its worker, and ranks sharing one
-//! pool could wait there for a worker none of them gives back.
+//! Each rank's thread needs a rayon pool of its own, as each MPI process
+//! has: a rank that waits at a collective inside a rayon task holds its
+//! worker, and ranks sharing one pool could wait there for a worker none
+//! of them gives back. [`InProcess::run`] sets that up.
 
 use super::Communicator;
 use std::sync::{Arc, Barrier, Condvar, Mutex, MutexGuard, PoisonError};
@@ -64,6 +64,36 @@ impl InProcess {
                 }) as Arc<dyn Communicator>
             })
             .collect()
+    }
+
+    /// Runs `f` on every rank of a world of `size` threads, each thread
+    /// with a rayon pool of its own of `threads` workers (see the module
+    /// doc); the results in rank order. A rank's panic is passed on.
+    pub fn run<T: Send>(
+        size: usize,
+        threads: usize,
+        f: impl Fn(Arc<dyn Communicator>) -> T + Sync,
+    ) -> Vec<T> {
+        let world = Self::world(size);
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = world
+                .into_iter()
+                .map(|comm| {
+                    let f = &f;
+                    scope.spawn(move || {
+                        rayon::ThreadPoolBuilder::new()
+                            .num_threads(threads)
+                            .build()
+                            .expect("a thread pool for the rank")
+                            .install(|| f(comm))
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        })
     }
 
     /// Puts `mine` in this rank's slot, waits for every rank, and returns
@@ -162,25 +192,9 @@ impl Communicator for InProcess {
 mod tests {
     use super::*;
 
-    /// Runs `f` on every rank of a world of `size` threads; the results in
-    /// rank order.
-    fn on_ranks<T: Send>(size: usize, f: impl Fn(&dyn Communicator) -> T + Sync) -> Vec<T> {
-        let world = InProcess::world(size);
-        std::thread::scope(|s| {
-            let handles: Vec<_> = world
-                .iter()
-                .map(|c| {
-                    let f = &f;
-                    s.spawn(move || f(&**c))
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
-        })
-    }
-
     #[test]
     fn collectives_give_every_rank_the_same_answer() {
-        let out = on_ranks(3, |c| {
+        let out = InProcess::run(3, 1, |c| {
             let r = c.rank() as f64;
             let mut b = [r, r];
             c.broadcast(1, &mut b);
@@ -199,7 +213,7 @@ mod tests {
 
     #[test]
     fn messages_arrive_in_the_order_sent() {
-        let out = on_ranks(2, |c| {
+        let out = InProcess::run(2, 1, |c| {
             let other = 1 - c.rank();
             let me = c.rank() as f64;
             let (a, b) = ([me, 1.0], [me, 2.0]);

@@ -986,32 +986,14 @@ fn on_thread_ranks(
     make: &(dyn Fn() -> MpmSolver + Sync),
     steps: usize,
 ) -> Vec<Result<Vec<u8>, String>> {
-    let world = brisance_grid::comm::InProcess::world(ranks);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = world
-            .into_iter()
-            .map(|comm| {
-                scope.spawn(move || {
-                    // Each rank its own thread pool, as each MPI process
-                    // has: a rank waiting for the others must not hold a
-                    // worker that another rank's step needs.
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(2)
-                        .build()
-                        .unwrap();
-                    pool.install(|| {
-                        let mut s = make();
-                        s.distribute(comm);
-                        for _ in 0..steps {
-                            let dt = s.stable_dt().map_err(|e| e.to_string())?;
-                            s.advance(dt).map_err(|e| e.to_string())?;
-                        }
-                        s.save_state().map_err(|e| e.to_string())
-                    })
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+        let mut s = make();
+        s.distribute(comm);
+        for _ in 0..steps {
+            let dt = s.stable_dt().map_err(|e| e.to_string())?;
+            s.advance(dt).map_err(|e| e.to_string())?;
+        }
+        s.save_state().map_err(|e| e.to_string())
     })
 }
 

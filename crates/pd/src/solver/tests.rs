@@ -723,31 +723,16 @@ mod products;
 /// own), the nodes spread over them ([`PdSolver::distribute`]), 20 steps:
 /// each rank's saved state.
 fn block_on_thread_ranks(ranks: usize) -> Vec<Vec<u8>> {
-    let world = brisance_grid::comm::InProcess::world(ranks);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = world
-            .into_iter()
-            .map(|comm| {
-                scope.spawn(move || {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(2)
-                        .build()
-                        .unwrap();
-                    pool.install(|| {
-                        let mut s = block(12, 200.0, 0.004);
-                        s.distribute(comm).unwrap();
-                        // The rank evaluates its share of the nodes.
-                        assert!(ranks == 1 || s.owned_nodes().len() < s.node_count());
-                        for _ in 0..20 {
-                            let dt = s.stable_dt().unwrap();
-                            s.advance(dt).unwrap();
-                        }
-                        s.save_state().unwrap()
-                    })
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+        let mut s = block(12, 200.0, 0.004);
+        s.distribute(comm).unwrap();
+        // The rank evaluates its share of the nodes.
+        assert!(ranks == 1 || s.owned_nodes().len() < s.node_count());
+        for _ in 0..20 {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        s.save_state().unwrap()
     })
 }
 
