@@ -181,7 +181,10 @@ pub fn owners_fields<'a>(
     }
     let mut all = fields.to_vec();
     for (f, &o) in all.iter_mut().zip(owner) {
+        // A patch this rank does not store gets arrays to receive into.
+        let n: usize = f.dims.iter().product();
         for values in &mut f.data {
+            values.resize(n, 0.0);
             comm.broadcast(o, values);
         }
     }

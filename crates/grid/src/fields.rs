@@ -52,6 +52,31 @@ impl PatchFields {
             data: (0..n_fields).map(|_| vec![0.0; n]).collect(),
         }
     }
+
+    /// `n_fields` fields on `patch` with no storage: the place of a patch
+    /// that another rank owns (its arrays are empty; see
+    /// [`PatchFields::is_stored`]).
+    pub fn unstored(patch: &Patch, n_fields: usize) -> Self {
+        Self {
+            dims: patch.dims(),
+            data: vec![Vec::new(); n_fields],
+        }
+    }
+
+    /// Whether the arrays hold the patch's values (false for a patch of
+    /// another rank, [`PatchFields::unstored`]).
+    pub fn is_stored(&self) -> bool {
+        let n: usize = self.dims.iter().product();
+        self.data.iter().all(|v| v.len() == n)
+    }
+
+    /// Frees the arrays (keeping their number and the dims): the patch
+    /// now belongs to another rank.
+    pub fn release(&mut self) {
+        for v in &mut self.data {
+            *v = Vec::new();
+        }
+    }
 }
 
 /// Node-centred storage layout for a patch (the MPM background grid): a

@@ -320,12 +320,17 @@ impl Level {
 
     /// Writes arrays laid out as [`Level::gather_fields`] gives them back
     /// into the interior cells of `patches`; the caller has checked that
-    /// there is one array per field, each with one value per cell.
+    /// there is one array per field, each with one value per cell. Patches
+    /// without storage (another rank's, [`PatchFields::unstored`]) are
+    /// skipped.
     pub fn scatter_fields(&self, patches: &mut [PatchFields], fields: &[Vec<f64>]) {
+        let stored: Vec<bool> = patches.iter().map(PatchFields::is_stored).collect();
         let mut i = 0;
         self.for_each_cell_in_order(|_, pid, n| {
-            for (f, values) in fields.iter().enumerate() {
-                patches[pid].data[f][n] = values[i];
+            if stored[pid] {
+                for (f, values) in fields.iter().enumerate() {
+                    patches[pid].data[f][n] = values[i];
+                }
             }
             i += 1;
         });

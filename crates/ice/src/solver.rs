@@ -219,6 +219,22 @@ struct PatchScratch {
     surface: Vec<surface::SurfaceCells>,
 }
 
+impl PatchScratch {
+    /// Frees the arrays: the patch belongs to another rank.
+    fn release(&mut self) {
+        *self = Self {
+            divergence: Vec::new(),
+            face_velocity: Default::default(),
+            volume_flux: Default::default(),
+            flux: Default::default(),
+            carried_energy: Vec::new(),
+            ring_lo: Vec::new(),
+            ring_hi: Vec::new(),
+            surface: Vec::new(),
+        };
+    }
+}
+
 /// The face-radius ratios of [`PatchScratch::ring_lo`] and `ring_hi` for
 /// the local columns of `patch` (ghosts included) on an axisymmetric
 /// `level`. A ring's volume is 2π r_c Δr Δz

@@ -917,10 +917,15 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
         let states = brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
             let mut s = bump_solver([3, 2, 2], [12, 8, 4]);
             s.distribute(comm).unwrap();
-            // The rank holds its share of the 12 patches, not all of them.
+            // The rank updates its share of the 12 patches, not all of
+            // them, and stores those only, before and after the steps.
             let own = s.cell_pieces(&["pressure".into()]).unwrap().unwrap();
             assert!(own.pieces.len() <= 12_usize.div_ceil(ranks));
-            steps(&mut s)
+            let mine: Vec<usize> = own.pieces.iter().map(|p| p.patch).collect();
+            assert_eq!(s.stored_patches(), mine);
+            let state = steps(&mut s);
+            assert_eq!(s.stored_patches(), mine);
+            state
         });
         for (r, state) in states.into_iter().enumerate() {
             assert!(state == one, "rank {r} of {ranks}");

@@ -164,7 +164,8 @@ const SECTIONS: usize = 5;
 impl<E: Eos> IceSolver<E> {
     /// Spreads the solver's patches over the ranks of `comm` (nothing to
     /// do on one rank): from now on this rank updates only the patches it
-    /// owns ([`comm::patch_owners`]). Called once the solver is set up
+    /// owns ([`comm::patch_owners`]), and frees the state and work arrays
+    /// of the others. Called once the solver is set up
     /// (materials, reactions, transport); every rank builds the same
     /// solver and calls it.
     ///
@@ -179,6 +180,16 @@ impl<E: Eos> IceSolver<E> {
         let owner =
             comm::patch_owners(self.level.patches.len(), comm.size()).map_err(IceError::Invalid)?;
         let rank = comm.rank();
+        // The other ranks' patches: no storage here (a rank's memory is
+        // its share of the grid once built).
+        for (id, &o) in owner.iter().enumerate() {
+            if o != rank {
+                self.state[id].release();
+                self.lag[id].release();
+                self.press[id].release();
+                self.scratch[id].release();
+            }
+        }
         self.halo = InProcessExchange::distributed(comm.clone(), owner.clone());
         self.ranks = Ranks {
             owned: owner.iter().map(|&o| o == rank).collect(),
@@ -186,6 +197,19 @@ impl<E: Eos> IceSolver<E> {
             comm,
         };
         Ok(())
+    }
+
+    /// The patches whose state and work arrays this rank stores: its own,
+    /// in patch order (every patch on one rank).
+    pub fn stored_patches(&self) -> Vec<usize> {
+        (0..self.state.len())
+            .filter(|&id| {
+                self.state[id].is_stored()
+                    && self.lag[id].is_stored()
+                    && self.press[id].is_stored()
+                    && !self.scratch[id].divergence.is_empty()
+            })
+            .collect()
     }
 
     /// The first part of this solver's step that passes over the whole

@@ -302,10 +302,16 @@ impl<E: Eos> Solver for IceSolver<E> {
     ) -> Result<(), SolverError> {
         let (pid, c) = self.level.locate_point(point)?;
         out.clear();
+        let stored = self.ranks.owned[pid];
         for f in fields {
-            out.push(self.derived(&self.state, pid, c, self.field_index(f)?));
+            let id = self.field_index(f)?;
+            out.push(if stored {
+                self.derived(&self.state, pid, c, id)
+            } else {
+                0.0
+            });
         }
-        // The owner's values (another rank's copy of the patch is stale).
+        // The owner's values (the other ranks do not store the patch).
         if self.ranks.several() {
             self.ranks.comm.broadcast(self.ranks.owner[pid], out);
         }
