@@ -392,7 +392,12 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
         geometry: s.domain.geometry,
         ..Default::default()
     };
-    let solver = FdmSolver::with_species(law, level, boundaries, options, init)
+    // The patches spread over the ranks of the run (docs/cluster.md), each
+    // rank storing its own.
+    let ranks = brisance_grid::comm::world();
+    brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
+        .map_err(|e| located("domain.patches", e))?;
+    let solver = FdmSolver::with_species_on(ranks, law, level, boundaries, options, init)
         .map_err(|e| located("pipeline", e.to_string()))?;
     Ok(Box::new(solver))
 }

@@ -153,12 +153,12 @@ pub struct FdmSolver<E: GasLaw> {
     /// Per patch, the ring weights (α₊, α₋) of the rows of its radial
     /// sweep ([`RadialWeights`]); empty on a Cartesian grid.
     radial: Vec<[Vec<f64>; 3]>,
-    /// The ranks the patches are shared among ([`comm::world`] when the
-    /// solver was built); one without the cargo feature `mpi`.
+    /// The ranks the patches are shared among ([`Self::with_species_on`],
+    /// [`Self::distribute`]); one rank ([`comm::Serial`]) otherwise.
     comm: Arc<dyn Communicator>,
     /// The owner rank of every patch ([`comm::patch_owners`]). A rank
-    /// updates only its own patches; the others' entries of `fields` keep
-    /// stale values that nothing reads.
+    /// stores and updates only its own patches; the others' entries of
+    /// `fields` and `back` hold no arrays ([`PatchFields::unstored`]).
     owner: Vec<usize>,
     time: f64,
     steps: u64,
@@ -211,6 +211,23 @@ impl<E: GasLaw> FdmSolver<E> {
     /// As [`Self::new`] with `init` returning the state and the products
     /// mass fraction Y ∈ [0, 1] (ignored by a one-species gas law).
     pub fn with_species(
+        eos: E,
+        level: Level,
+        boundaries: [FdmBoundary; 6],
+        options: FdmOptions,
+        init: impl Fn([f64; 3]) -> (PrimitiveState, f64) + Sync,
+    ) -> Result<Self, FdmError> {
+        let serial: Arc<dyn Communicator> = Arc::new(comm::Serial);
+        Self::with_species_on(serial, eos, level, boundaries, options, init)
+    }
+
+    /// As [`Self::with_species`], the patches shared among the ranks of
+    /// `comm` from the start (docs/cluster.md): this rank stores the
+    /// fields of its own patches only, so a rank's memory is its share of
+    /// the grid. Every rank checks `init` on every cell, so all meet the
+    /// same error.
+    pub fn with_species_on(
+        comm: Arc<dyn Communicator>,
         eos: E,
         level: Level,
         boundaries: [FdmBoundary; 6],
@@ -318,9 +335,15 @@ impl<E: GasLaw> FdmSolver<E> {
                 Vec::new()
             }
         });
+        let (owner, exchange) = patch_ranks(&level, &comm)?;
         let mut fields = Vec::with_capacity(level.patches.len());
-        for patch in &level.patches {
-            let mut pf = PatchFields::zeros(patch, Self::NFIELDS);
+        for (id, patch) in level.patches.iter().enumerate() {
+            let stored = owner[id] == comm.rank();
+            let mut pf = if stored {
+                PatchFields::zeros(patch, Self::NFIELDS)
+            } else {
+                PatchFields::unstored(patch, Self::NFIELDS)
+            };
             for k in 0..patch.size[2] {
                 for j in 0..patch.size[1] {
                     for i in 0..patch.size[0] {
@@ -341,6 +364,9 @@ impl<E: GasLaw> FdmSolver<E> {
                         let (u, ry) = state.to_conservative_mixed(&eos, y).map_err(|e| {
                             FdmError::Invalid(format!("initial state in cell {g:?}: {e}"))
                         })?;
+                        if !stored {
+                            continue;
+                        }
                         let n = patch.index_of_global(g);
                         for (values, v) in pf.data.iter_mut().zip(u) {
                             values[n] = v;
@@ -353,8 +379,6 @@ impl<E: GasLaw> FdmSolver<E> {
             }
             fields.push(pf);
         }
-        let comm = comm::world();
-        let (owner, exchange) = patch_ranks(&level, &comm)?;
         let radial = if options.geometry.is_axisymmetric() {
             let g = &level.geometry;
             level
@@ -399,16 +423,41 @@ impl<E: GasLaw> FdmSolver<E> {
         })
     }
 
-    /// Shares the patches among the ranks of `comm` instead of those of
-    /// [`comm::world`] it was built with (the program's world; ranks of
-    /// threads, `brisance_grid::comm::InProcess`, in tests). Call it on
-    /// every rank before the first step.
+    /// Shares the patches of a solver built on one rank among the ranks
+    /// of `comm` (ranks of threads, `brisance_grid::comm::InProcess`, in
+    /// tests; a run builds with [`Self::with_species_on`] instead, never
+    /// holding the whole grid) and frees the fields of the patches other
+    /// ranks own. Every rank builds the same solver and calls this before
+    /// the first step. Fails when the patches cannot be shared, or when
+    /// the solver was already spread (a patch it would own is not
+    /// stored here).
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), FdmError> {
         let (owner, exchange) = patch_ranks(&self.level, &comm)?;
+        let rank = comm.rank();
+        if (0..owner.len()).any(|id| owner[id] == rank && !self.fields[id].is_stored()) {
+            return Err(FdmError::Invalid(
+                "the patches are already shared among ranks: distribute a solver built on one rank"
+                    .into(),
+            ));
+        }
+        for (id, &o) in owner.iter().enumerate() {
+            if o != rank {
+                self.fields[id].release();
+                self.back[id].release();
+            }
+        }
         self.owner = owner;
         self.exchange = exchange;
         self.comm = comm;
         Ok(())
+    }
+
+    /// The patches whose fields this rank stores: its own, in patch order
+    /// (every patch on one rank).
+    pub fn stored_patches(&self) -> Vec<usize> {
+        (0..self.fields.len())
+            .filter(|&id| self.fields[id].is_stored() && self.back[id].is_stored())
+            .collect()
     }
 
     /// Whether this rank updates patch `id`.
@@ -528,7 +577,8 @@ impl<E: GasLaw> FdmSolver<E> {
     }
 
     /// Overwrites the stored conservative values of global cell `g` (the
-    /// sixth value, ρY, is ignored without a species). Fails outside the
+    /// sixth value, ρY, is ignored without a species); on several ranks
+    /// the rank that owns the cell's patch stores them. Fails outside the
     /// grid.
     pub fn set_cell_conservative(
         &mut self,
@@ -539,8 +589,10 @@ impl<E: GasLaw> FdmSolver<E> {
             .level
             .locate(g)
             .ok_or_else(|| FdmError::Invalid(format!("cell {g:?} lies outside the FDM grid")))?;
-        for (f, v) in self.fields[pid].data.iter_mut().enumerate() {
-            v[n] = values[f];
+        if self.owns(pid) {
+            for (f, v) in self.fields[pid].data.iter_mut().enumerate() {
+                v[n] = values[f];
+            }
         }
         Ok(())
     }

@@ -20,6 +20,15 @@ fn state(density: f64, velocity: [f64; 3], pressure: f64) -> PrimitiveState {
 
 /// A 3D blast: a dense hot sphere off-centre in a box with mixed boundaries.
 fn blast(layout: [usize; 3]) -> FdmSolver<IdealGas> {
+    blast_on(std::sync::Arc::new(brisance_grid::comm::Serial), layout)
+}
+
+/// [`blast`] built with its patches shared among the ranks of `comm`
+/// ([`FdmSolver::with_species_on`]).
+fn blast_on(
+    comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>,
+    layout: [usize; 3],
+) -> FdmSolver<IdealGas> {
     let level = Level::new(
         [0.0; 3],
         [1.0, 0.8, 0.6],
@@ -36,13 +45,14 @@ fn blast(layout: [usize; 3]) -> FdmSolver<IdealGas> {
         FdmBoundary::Fixed(state(1.0, [0.0, 0.0, 0.1], 1.0)),
         FdmBoundary::Outflow,
     ];
-    FdmSolver::new(gas(), level, bcs, FdmOptions::default(), |x| {
+    FdmSolver::with_species_on(comm, gas(), level, bcs, FdmOptions::default(), |x| {
         let r2 = (x[0] - 0.3).powi(2) + (x[1] - 0.4).powi(2) + (x[2] - 0.25).powi(2);
-        if r2 < 0.04 {
+        let s = if r2 < 0.04 {
             state(4.0, [0.1, 0.0, 0.0], 10.0)
         } else {
             state(1.0, [0.0, 0.2 * x[0], 0.0], 1.0)
-        }
+        };
+        (s, 0.0)
     })
     .unwrap()
 }
@@ -707,14 +717,35 @@ fn on_thread_ranks<E: crate::GasLaw + 'static>(
     make: &(dyn Fn() -> FdmSolver<E> + Sync),
     steps: usize,
 ) -> Vec<RankResult> {
+    on_thread_ranks_built(
+        ranks,
+        &|comm| {
+            let mut s = make();
+            s.distribute(comm).unwrap();
+            s
+        },
+        steps,
+    )
+}
+
+/// As [`on_thread_ranks`], each rank's solver `make(comm)`, already spread
+/// over `comm`.
+fn on_thread_ranks_built<E: crate::GasLaw + 'static>(
+    ranks: usize,
+    make: &(dyn Fn(std::sync::Arc<dyn brisance_grid::comm::Communicator>) -> FdmSolver<E> + Sync),
+    steps: usize,
+) -> Vec<RankResult> {
     brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
-        let mut s = make();
-        let patches = s.cell_pieces(&["density".into()]).unwrap().unwrap();
-        s.distribute(comm).unwrap();
+        let rank = comm.rank();
+        let mut s = make(comm);
         let own = s.cell_pieces(&["density".into()]).unwrap().unwrap();
-        // The rank updates its share of the patches.
-        assert!(ranks == 1 || own.pieces.len() < patches.pieces.len());
+        // The rank updates its share of the patches, and stores those only.
+        let mine: Vec<usize> = own.pieces.iter().map(|p| p.patch).collect();
+        let all = own.extents.len();
+        assert!(ranks == 1 || mine.len() < all, "rank {rank}: {mine:?}");
+        assert_eq!(s.stored_patches(), mine, "rank {rank} of {ranks}");
         run(&mut s, steps);
+        assert_eq!(s.stored_patches(), mine, "rank {rank} of {ranks}");
         let bits = all_fields(&s)
             .into_iter()
             .map(|(name, v)| (name, v.iter().map(|x| x.to_bits()).collect()))
@@ -734,6 +765,17 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
     for ranks in [2, 3, 4] {
         for (r, got) in on_thread_ranks(ranks, &blast_8, 8).into_iter().enumerate() {
             assert!(got == one, "blast: rank {r} of {ranks}");
+        }
+    }
+    // Built spread (FdmSolver::with_species_on), never storing the others'
+    // patches: the same bits.
+    let built = |comm| blast_on(comm, [2, 2, 2]);
+    for ranks in [1, 3] {
+        for (r, got) in on_thread_ranks_built(ranks, &built, 8)
+            .into_iter()
+            .enumerate()
+        {
+            assert!(got == one, "blast built on ranks: rank {r} of {ranks}");
         }
     }
     let streams = || separating(FaceLimiter::Full, [4, 1, 1]);

@@ -266,10 +266,16 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         }
         let (pid, n) = self.level.locate_point(point)?;
         out.clear();
+        let stored = self.owns(pid);
         for f in fields {
-            out.push(self.derived(&self.fields, pid, n, Self::field_index(f)?));
+            let id = Self::field_index(f)?;
+            out.push(if stored {
+                self.derived(&self.fields, pid, n, id)
+            } else {
+                0.0
+            });
         }
-        // The owner's values (another rank's copy of the patch is stale).
+        // The owner's values (the other ranks do not store the patch).
         if self.comm.size() > 1 {
             self.comm.broadcast(self.owner[pid], out);
         }
