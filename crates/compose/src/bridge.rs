@@ -725,7 +725,7 @@ fn build_with<'a, E: GasLaw + 'static>(
         },
     )
     .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
-    let coupled = Cfdmp::new(
+    let mut coupled = Cfdmp::new(
         regions,
         fdm,
         mpm,
@@ -750,6 +750,9 @@ fn build_with<'a, E: GasLaw + 'static>(
         },
     )
     .map_err(|m| ("pipeline".to_string(), m))?;
+    // The particle updates spread over the ranks of the run
+    // (docs/cluster.md); nothing changes on one rank.
+    coupled.distribute(brisance_grid::comm::world());
     Ok(Box::new(coupled))
 }
 

@@ -221,8 +221,11 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
         .iter()
         .map(|n| fluids + cfg.solid.names().iter().position(|m| m == *n).unwrap_or(0))
         .collect();
-    let solver =
+    let mut solver =
         IceMpm::new(ice, mpm, &solids).map_err(|e| located(("pipeline".into(), e.to_string())))?;
+    // The particle updates spread over the ranks of the run
+    // (docs/cluster.md); nothing changes on one rank.
+    solver.distribute(brisance_grid::comm::world());
     Ok(Built::IceMpm {
         solver: Box::new(solver),
         particle_gauges,

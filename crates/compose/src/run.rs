@@ -751,22 +751,6 @@ pub fn run_until_stopped(
     };
     let scenario = &loaded.scenario;
     let ranks = brisance_grid::comm::world();
-    if ranks.size() > 1 {
-        if let Some(name) = single_rank_pipeline(&scenario.pipeline) {
-            return Err(RunError::Config(located(
-                loaded,
-                ConfigError {
-                    file: String::new(),
-                    position: None,
-                    field: Some("pipeline".into()),
-                    message: format!(
-                        "the {name} pipeline does not run on several ranks ({} here): only Fdm, Ice, Mpm, Peridynamics and Lattice are spread over MPI ranks so far; run it as one process (without mpirun, or with -np 1)",
-                        ranks.size()
-                    ),
-                },
-            )));
-        }
-    }
     let writes = ranks.rank() == 0;
     let started = Instant::now();
     let mut solver = {
@@ -974,19 +958,6 @@ pub fn run_until_stopped(
             }
             Err(err)
         }
-    }
-}
-
-/// The config name of `pipeline` when it runs on one rank only (the
-/// coupled pipelines so far), `None` when it may be spread over ranks.
-fn single_rank_pipeline(pipeline: &crate::config::Pipeline) -> Option<&'static str> {
-    match pipeline {
-        crate::config::Pipeline::Fdm(_)
-        | crate::config::Pipeline::Ice(_)
-        | crate::config::Pipeline::Mpm(_)
-        | crate::config::Pipeline::Peridynamics(_)
-        | crate::config::Pipeline::Lattice(_) => None,
-        other => Some(other.name()),
     }
 }
 

@@ -206,6 +206,18 @@ pub struct Cfdmp<E: GasLaw> {
 }
 
 impl<E: GasLaw> Cfdmp<E> {
+    /// Spreads the coupled step over the ranks of `comm` (nothing to do on
+    /// one rank; docs/cluster.md): every rank holds the whole FDM grid and
+    /// every particle and runs every pass over all of them, except the MPM
+    /// step's fused G2P and stress update, which each rank runs for its run
+    /// of particles ([`MpmSolver::distribute`]). The FDM's patches are not
+    /// split: the bridge's fictitious cells and transport read and write
+    /// FDM cells along the whole interface. Every rank builds the same
+    /// solver and calls this before the first step.
+    pub fn distribute(&mut self, comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>) {
+        self.mpm.distribute(comm);
+    }
+
     /// Couples `fdm`, built on `regions.fdm_grid(layers)`, and `mpm`,
     /// built on `regions.mpm_grid()`, whose air particles are `options.air`.
     pub fn new(

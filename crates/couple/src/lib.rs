@@ -28,3 +28,6 @@ pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals};
 pub use ice_mpm::{IceMpm, IceMpmError};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{remap, RadialProfile, RemapError, RemapReport, RemapTarget, Remapped};
+
+#[cfg(test)]
+mod thread_ranks;

@@ -1161,3 +1161,42 @@ fn the_mpm_region_starts_the_step_the_shock_reaches_the_watched_cells() {
     assert_eq!(c.stable_dt().unwrap(), f.min(m));
     assert!(m != f);
 }
+
+/// The shock tube of [`coupled`] on 2 and 3 ranks of threads
+/// ([`Cfdmp::distribute`]), through activation and the inflow of new
+/// particles to 0.6 ms: every rank holds the state of one rank, bit for
+/// bit, and each received at least the 21 values a particle a step of the
+/// others' particle updates (Σ over the MPM steps of n − ⌈n/ranks⌉), so
+/// the update was split.
+#[test]
+fn the_bridge_on_thread_ranks_gives_the_bits_of_one() {
+    let t_end = 6.0e-4;
+    let run = |ranks: usize| {
+        crate::thread_ranks::on_thread_ranks(ranks, |comm| {
+            let mut c = coupled();
+            c.distribute(comm);
+            let mut mpm_steps = 0u64;
+            while c.time() < t_end {
+                mpm_steps += u64::from(c.is_active());
+                let dt = c.stable_dt().unwrap().min(t_end - c.time());
+                c.advance(dt).unwrap();
+            }
+            let counts = c.particle_counts();
+            assert!(counts.created > 0, "{counts:?}");
+            (c.save_state().unwrap(), counts.particle_steps, mpm_steps)
+        })
+    };
+    let ((one, particle_steps, mpm_steps), none) = run(1).remove(0);
+    assert_eq!(none, 0);
+    assert!(mpm_steps > 0);
+    for ranks in [2u64, 3] {
+        for (r, ((state, _, _), received)) in run(ranks as usize).into_iter().enumerate() {
+            assert!(state == one, "rank {r} of {ranks}: the state differs");
+            let bound = 21 * (particle_steps - particle_steps / ranks - mpm_steps);
+            assert!(
+                received >= bound,
+                "rank {r} of {ranks} received {received} values, fewer than {bound}"
+            );
+        }
+    }
+}

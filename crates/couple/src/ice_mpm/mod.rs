@@ -661,6 +661,10 @@ pub struct IceMpm {
     rz: bool,
     /// Each cell's volume, m³ (global order).
     volumes: Vec<f64>,
+    /// This process's rank ([`IceMpm::distribute`]; 0 on one rank): every
+    /// rank holds the whole fluid, and rank 0 alone hands out its patch
+    /// pieces for output.
+    rank: usize,
 }
 
 /// A checkpoint: both frames', and the reactant mass not burnt yet.
@@ -672,6 +676,19 @@ struct SavedState {
 }
 
 impl IceMpm {
+    /// Spreads the coupled step over the ranks of `comm` (nothing to do on
+    /// one rank; docs/cluster.md): every rank holds the whole fluid and
+    /// every particle and runs every phase over all of them, except the
+    /// particles' fused G2P and stress update of step 14, which each rank
+    /// runs for its run of particles ([`MpmSolver::distribute`]). The
+    /// fluid's patches are not split: the cell passes of the step read the
+    /// particles' projection over the whole grid. Every rank builds the
+    /// same solver and calls this before the first step.
+    pub fn distribute(&mut self, comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>) {
+        self.rank = comm.rank();
+        self.mpm.distribute(comm);
+    }
+
     /// One time step: seed 000 §3.3's step list in its order (the module
     /// doc's table). The particle phases are [`brisance_mpm::CoupledStep`]'s,
     /// the cell steps [`IceSolver`]'s, and what joins them (eq 18 and its
@@ -829,6 +846,7 @@ impl IceMpm {
             scratch: Scratch::sized(cells, solids.len()),
             rz: geometry.is_axisymmetric(),
             volumes,
+            rank: 0,
         };
         coupled
             .fit_fluids_around_solid()
@@ -972,11 +990,19 @@ impl Solver for IceMpm {
         self.ice.cell_data(fields)
     }
 
+    /// The fluid's patch pieces: all of them on rank 0, none on the
+    /// others (each holds the same whole fluid: [`IceMpm::distribute`]).
     fn cell_pieces(
         &self,
         fields: &[String],
     ) -> Result<Option<brisance_core::CellPieces>, SolverError> {
-        self.ice.cell_pieces(fields)
+        let mut pieces = self.ice.cell_pieces(fields)?;
+        if self.rank != 0 {
+            if let Some(p) = &mut pieces {
+                p.pieces.clear();
+            }
+        }
+        Ok(pieces)
     }
 
     fn sample(
@@ -1091,5 +1117,53 @@ mod determinism_tests {
         let (one, two) = (run(1), run(2));
         assert!(!one.is_empty());
         assert!(one == two, "the state differs between 1 and 2 threads");
+    }
+
+    /// The same cube spread over 2 and 3 ranks of threads
+    /// ([`super::IceMpm::distribute`]): after four coupled steps every
+    /// rank holds the state of one rank, bit for bit, and each received
+    /// the other ranks' share of the particle updates (at least the 21
+    /// values of stress, F, volume, temperature, energy, flags and bulk
+    /// viscosity per particle a step), so the update was split.
+    #[test]
+    fn the_coupled_step_on_thread_ranks_gives_the_bits_of_one() {
+        const STEPS: usize = 4;
+        let h = 1e-3;
+        let setup = || Setup {
+            lower: [0.0; 3],
+            upper: [16.0 * h; 3],
+            cells: [16; 3],
+            solids: vec![([4.0 * h; 3], [10.0 * h; 3])],
+            solid_velocity: [50.0, 0.0, 0.0],
+            gas_velocity: [0.0; 3],
+            ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+            mpm_faces: [GridBoundary::Free; 6],
+        };
+        let run = |ranks: usize| {
+            crate::thread_ranks::on_thread_ranks(ranks, |comm| {
+                let mut s = build(&setup());
+                s.distribute(comm);
+                for _ in 0..STEPS {
+                    let dt = s.stable_dt().unwrap();
+                    s.advance(dt).unwrap();
+                }
+                s.save_state().unwrap()
+            })
+        };
+        let (one, none) = run(1).remove(0);
+        assert_eq!(none, 0);
+        let n = build(&setup()).mpm.particles().len();
+        assert_eq!(n, 1728);
+        for ranks in [2, 3] {
+            let starts = brisance_grid::comm::equal_runs(n, ranks);
+            for (r, (state, received)) in run(ranks).into_iter().enumerate() {
+                assert!(state == one, "rank {r} of {ranks}: the state differs");
+                let others = (n - (starts[r + 1] - starts[r])) as u64;
+                assert!(
+                    received >= STEPS as u64 * 21 * others,
+                    "rank {r} of {ranks} received {received} values"
+                );
+            }
+        }
     }
 }

@@ -223,11 +223,18 @@ impl CoupledStep<'_> {
     /// Phase 4 (step 14 and the stress update of step 7): G2P and the
     /// stress update, then each particle's temperature change of the heat
     /// exchange, `temperature_change(x_p, material)` in K.
+    ///
+    /// On several ranks ([`MpmSolver::distribute`]) each rank runs the
+    /// fused G2P and stress update for its run of particles and the
+    /// updated state crosses to every rank, as in [`MpmSolver`]'s own step
+    /// (`solver::ranks`); the rest of the phase runs whole on every rank.
     pub fn update_particles(
         &mut self,
         temperature_change: impl Fn([f64; 3], MaterialId) -> f64 + Sync,
     ) -> Result<(), SolverError> {
-        let p = self.parts();
+        let runs = self.solver.particle_runs();
+        let mut p = self.parts();
+        p.params.own = runs.as_ref().map(|r| (r.nodes().start, r.nodes().end));
         let (t, ps, nodes, params) = (&p.transfer, &mut *p.particles, p.nodes, &p.params);
         let failure = match params.scheme {
             UpdateScheme::Usl => {
@@ -236,7 +243,8 @@ impl CoupledStep<'_> {
                     position: true,
                     gradient: Some(NodeVelocity::End),
                 };
-                step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts)
+                let failure = step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts);
+                share(&runs, ps, p.bulk, parts, failure)
             }
             _ => {
                 let parts = G2pParts {
@@ -245,7 +253,8 @@ impl CoupledStep<'_> {
                     gradient: Some(NodeVelocity::Remapped),
                 };
                 step::g2p_velocity_and_remap(t, ps, nodes, params);
-                step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts)
+                let failure = step::g2p_and_update_stresses(t, ps, p.bulk, nodes, params, parts);
+                share(&runs, ps, p.bulk, parts, failure)
             }
         };
         if let Some(f) = failure {

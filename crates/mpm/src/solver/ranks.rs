@@ -13,6 +13,10 @@
 //! (one `MPI_Allgatherv`), which copies it in: copied, not combined, so the
 //! result is the bits of one rank for any rank count.
 //!
+//! The coupled pipelines' particle update
+//! ([`crate::CoupledStep::update_particles`]) splits the same pass the
+//! same way.
+//!
 //! The failure of an update crosses with the state: each rank sends its
 //! lowest failing particle (if any) in front of its run, and every rank
 //! takes the lowest over the ranks, which is the one a single rank finds.
