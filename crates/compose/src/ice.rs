@@ -537,27 +537,14 @@ pub fn validate(s: &Scenario, cfg: &IceConfig) -> Result<(), Problem> {
 }
 
 /// Builds the solver, its patches spread over the ranks of the run
-/// ([`brisance_grid::comm::world`]; docs/cluster.md).
+/// ([`brisance_grid::comm::world`]; docs/cluster.md) from the start: each
+/// rank allocates and fills only its own patches.
 pub fn build(s: &Scenario, cfg: &IceConfig) -> Result<IceSolver<EosModel>, Problem> {
-    let mut solver = build_with_traces(s, cfg, false)?;
-    let ranks = brisance_grid::comm::world();
-    if ranks.size() > 1 {
-        // What the ICE cannot spread over ranks, named at its field.
-        let field = match solver.whole_grid_pass() {
-            Some(WholeGridPass::ImplicitPressure) => "pipeline.pressure",
-            Some(WholeGridPass::Transport) => "pipeline.transport",
-            Some(WholeGridPass::SurfaceBurn) => "pipeline.reactions",
-            Some(WholeGridPass::Particles) => "pipeline",
-            None => "domain.patches",
-        };
-        solver
-            .distribute(ranks)
-            .map_err(|e| (field.to_string(), e.to_string()))?;
-    }
-    Ok(solver)
+    build_with_traces(s, cfg, false, brisance_grid::comm::world())
 }
 
-/// Builds the solver; with `own_density` every trace material takes its
+/// Builds the solver, its patches shared among `ranks` from the start;
+/// with `own_density` every trace material takes its
 /// own density at the region's pressure and temperature, or at 300 K where
 /// it has none at the region's temperature (the IceMpm pipeline, whose
 /// solid and gases must not trace each other's density), else the rule of
@@ -566,6 +553,7 @@ pub(crate) fn build_with_traces(
     s: &Scenario,
     cfg: &IceConfig,
     own_density: bool,
+    ranks: std::sync::Arc<dyn brisance_grid::comm::Communicator>,
 ) -> Result<IceSolver<EosModel>, Problem> {
     validate(s, cfg)?;
     let eos = material_eos(s, cfg)?;
@@ -573,6 +561,19 @@ pub(crate) fn build_with_traces(
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
+    if ranks.size() > 1 {
+        // What the ICE cannot spread over ranks, named at its field: the
+        // implicit pressure here, transport and surface reactions by their
+        // setters below.
+        if matches!(cfg.pressure, PressureSolve::Implicit(_)) {
+            return Err((
+                "pipeline.pressure".to_string(),
+                WholeGridPass::ImplicitPressure.refusal(ranks.size()),
+            ));
+        }
+        brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
+            .map_err(|e| ("domain.patches".to_string(), e))?;
+    }
     // The cell state of material m with state `state` (`path` for the
     // errors): the rule of the module doc, that of every initial region
     // and of the ghosts of a `Fixed` face.
@@ -727,7 +728,7 @@ pub(crate) fn build_with_traces(
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);
     let reactions = reactions(s, cfg)?;
-    let mut solver = IceSolver::new(eos, level, boundaries, exchange, options, init)
+    let mut solver = IceSolver::new_on(ranks, eos, level, boundaries, exchange, options, init)
         .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
     solver
         .set_reactions(reactions)

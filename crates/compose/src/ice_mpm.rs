@@ -203,8 +203,13 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
     let located = |(path, message): Problem| located(&path, message);
     validate(s, cfg).map_err(located)?;
     let (si, ice_cfg) = ice_scenario(s, cfg);
-    let ice =
-        crate::ice::build_with_traces(&si, &ice_cfg, true).map_err(|e| located(under("ice", e)))?;
+    let ice = crate::ice::build_with_traces(
+        &si,
+        &ice_cfg,
+        true,
+        std::sync::Arc::new(brisance_grid::comm::Serial),
+    )
+    .map_err(|e| located(under("ice", e)))?;
     let sm = mpm_scenario(s, cfg);
     let (mpm, particle_gauges) = mpm_parts(&sm, &cfg.mpm).map_err(|mut e| {
         if let Some(f) = e.field.take() {

@@ -220,9 +220,36 @@ struct PatchScratch {
 }
 
 impl PatchScratch {
-    /// Frees the arrays: the patch belongs to another rank.
-    fn release(&mut self) {
-        *self = Self {
+    /// The zeroed work arrays of `patch` of `level` for `n` materials (and
+    /// its ring weights on an axisymmetric grid).
+    fn zeros(level: &Level, p: &Patch, n: usize, axisymmetric: bool) -> Self {
+        let cells = p.allocated_cells();
+        let (ring_lo, ring_hi) = if axisymmetric {
+            ring_weights(level, p)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        Self {
+            divergence: vec![0.0; cells],
+            face_velocity: std::array::from_fn(|d| {
+                if level.is_active(d) {
+                    (0..n).map(|_| vec![0.0; cells]).collect()
+                } else {
+                    Vec::new()
+                }
+            }),
+            volume_flux: std::array::from_fn(|_| vec![0.0; cells]),
+            flux: std::array::from_fn(|_| vec![0.0; cells]),
+            carried_energy: vec![0.0; cells],
+            ring_lo,
+            ring_hi,
+            surface: Vec::new(),
+        }
+    }
+
+    /// No arrays: the patch belongs to another rank.
+    fn empty() -> Self {
+        Self {
             divergence: Vec::new(),
             face_velocity: Default::default(),
             volume_flux: Default::default(),
@@ -231,7 +258,12 @@ impl PatchScratch {
             ring_lo: Vec::new(),
             ring_hi: Vec::new(),
             surface: Vec::new(),
-        };
+        }
+    }
+
+    /// Frees the arrays: the patch belongs to another rank.
+    fn release(&mut self) {
+        *self = Self::empty();
     }
 }
 

@@ -8,8 +8,8 @@ use brisance_grid::Level;
 use crate::cases::{contact_width, run_to, sod_one, sod_two};
 use crate::solver::GHOST;
 use crate::{
-    Advection, CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceRate, IceReaction,
-    IceSolver, MaterialState,
+    Advection, CellState, ExchangeCoefficients, IceBoundary, IceError, IceOptions, IceRate,
+    IceReaction, IceSolver, MaterialState, PressureSolve,
 };
 
 /// The totals of the cells alone: the conservation totals less what has
@@ -195,6 +195,23 @@ fn bump_solver_with(
     cells: [usize; 3],
     options: IceOptions,
 ) -> IceSolver<IdealGas> {
+    bump_solver_on(
+        std::sync::Arc::new(brisance_grid::comm::Serial),
+        layout,
+        cells,
+        options,
+    )
+    .unwrap()
+}
+
+/// [`bump_solver_with`] built with its patches shared among the ranks of
+/// `comm` ([`IceSolver::new_on`]).
+fn bump_solver_on(
+    comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>,
+    layout: [usize; 3],
+    cells: [usize; 3],
+    options: IceOptions,
+) -> Result<IceSolver<IdealGas>, IceError> {
     let level = Level::new([0.0; 3], [1.0, 0.5, 0.25], cells, layout, GHOST).unwrap();
     let bcs: [IceBoundary; 6] = std::array::from_fn(|f| {
         if f < 2 {
@@ -203,7 +220,8 @@ fn bump_solver_with(
             IceBoundary::Symmetry
         }
     });
-    IceSolver::new(
+    IceSolver::new_on(
+        comm,
         two_gases(),
         level,
         bcs,
@@ -229,7 +247,6 @@ fn bump_solver_with(
             }
         },
     )
-    .unwrap()
 }
 
 #[test]
@@ -930,5 +947,44 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
         for (r, state) in states.into_iter().enumerate() {
             assert!(state == one, "rank {r} of {ranks}");
         }
+    }
+    // Built spread (IceSolver::new_on), never storing the others'
+    // patches: the same bits; a solver built spread is not spread again.
+    for ranks in [1, 3] {
+        let states = brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+            let rank = comm.rank();
+            let mut s =
+                bump_solver_on(comm.clone(), [3, 2, 2], [12, 8, 4], IceOptions::default()).unwrap();
+            let owners = brisance_grid::comm::patch_owners(12, ranks).unwrap();
+            let mine: Vec<usize> = (0..12).filter(|&id| owners[id] == rank).collect();
+            assert_eq!(s.stored_patches(), mine, "rank {rank} of {ranks}");
+            if ranks > 1 {
+                assert!(s.distribute(comm).is_err());
+            }
+            let state = steps(&mut s);
+            assert_eq!(s.stored_patches(), mine, "rank {rank} of {ranks}");
+            state
+        });
+        for (r, state) in states.into_iter().enumerate() {
+            assert!(state == one, "built spread: rank {r} of {ranks}");
+        }
+    }
+    // What needs the whole grid is refused when built spread: the
+    // implicit pressure at the build, a surface burn by its setter.
+    let refused = brisance_grid::comm::InProcess::run(2, 1, |comm| {
+        let options = IceOptions {
+            pressure: PressureSolve::Implicit(Default::default()),
+            ..Default::default()
+        };
+        bump_solver_on(comm, [3, 2, 2], [12, 8, 4], options)
+            .err()
+            .map(|e| e.to_string())
+    });
+    for e in refused {
+        let e = e.expect("refused");
+        assert!(
+            e.contains("implicit pressure") && e.contains("several ranks"),
+            "{e}"
+        );
     }
 }

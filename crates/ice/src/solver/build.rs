@@ -1,6 +1,10 @@
 //! Building an [`IceSolver`]: the checks of the grid's shape, the field
 //! sets, the initial state and the ghost values of fixed-state faces.
 
+use std::sync::Arc;
+
+use brisance_grid::comm::{self, Communicator};
+
 use super::*;
 
 /// The shape an axisymmetric grid must have: one cell along z, radii
@@ -58,8 +62,30 @@ impl<E: Eos> IceSolver<E> {
     /// Builds the solver for `eos` (one per material, at most
     /// [`MAX_MATERIALS`]) on `level` (built with [`GHOST`] ghost layers),
     /// with the state `init(cell centre)` in every cell, and equilibrates
-    /// it (step 2).
+    /// it (step 2). It runs on one rank; [`Self::distribute`] spreads it.
     pub fn new(
+        eos: Vec<E>,
+        level: Level,
+        boundaries: [IceBoundary; 6],
+        exchange: ExchangeCoefficients,
+        options: IceOptions,
+        init: impl Fn([f64; 3]) -> CellState + Sync,
+    ) -> Result<Self, IceError> {
+        let serial: Arc<dyn Communicator> = Arc::new(comm::Serial);
+        Self::new_on(serial, eos, level, boundaries, exchange, options, init)
+    }
+
+    /// As [`Self::new`], the patches shared among the ranks of `comm` from
+    /// the start (docs/cluster.md): this rank allocates, fills and
+    /// equilibrates its own patches only, so at no time does it hold the
+    /// whole grid. Every rank evaluates `init` on every cell, so all meet
+    /// the same error; the equilibration's first failure is gathered from
+    /// every rank. Fails when the patches cannot be shared among the ranks
+    /// ([`comm::patch_owners`]) or the options need one rank
+    /// ([`Self::whole_grid_pass`]); a whole-grid pass set later (reactions,
+    /// transport, Lagrangian materials) is refused by its setter.
+    pub fn new_on(
+        comm: Arc<dyn Communicator>,
         eos: Vec<E>,
         level: Level,
         boundaries: [IceBoundary; 6],
@@ -114,50 +140,35 @@ impl<E: Eos> IceSolver<E> {
             kinds: vec![FieldKind::Scalar],
         };
         let patches = level.patches.len();
+        let owner = comm::patch_owners(patches, comm.size()).map_err(IceError::Invalid)?;
+        let owned: Vec<bool> = owner.iter().map(|&o| o == comm.rank()).collect();
+        // Storage for this rank's own patches only.
+        let fields = |p: &Patch, id: usize, count: usize| {
+            if owned[id] {
+                PatchFields::zeros(p, count)
+            } else {
+                PatchFields::unstored(p, count)
+            }
+        };
         let mut solver = Self {
             eos,
             reactions: Vec::new(),
-            state: level
-                .patches
-                .iter()
-                .map(|p| PatchFields::zeros(p, n * NS + 1))
+            state: (level.patches.iter().enumerate())
+                .map(|(id, p)| fields(p, id, n * NS + 1))
                 .collect(),
-            lag: level
-                .patches
-                .iter()
-                .map(|p| PatchFields::zeros(p, n * NL))
+            lag: (level.patches.iter().enumerate())
+                .map(|(id, p)| fields(p, id, n * NL))
                 .collect(),
-            press: level
-                .patches
-                .iter()
-                .map(|p| PatchFields::zeros(p, 1))
+            press: (level.patches.iter().enumerate())
+                .map(|(id, p)| fields(p, id, 1))
                 .collect(),
-            scratch: level
-                .patches
-                .iter()
-                .map(|p| PatchScratch {
-                    divergence: vec![0.0; p.allocated_cells()],
-                    face_velocity: std::array::from_fn(|d| {
-                        if level.is_active(d) {
-                            (0..n).map(|_| vec![0.0; p.allocated_cells()]).collect()
-                        } else {
-                            Vec::new()
-                        }
-                    }),
-                    volume_flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
-                    flux: std::array::from_fn(|_| vec![0.0; p.allocated_cells()]),
-                    carried_energy: vec![0.0; p.allocated_cells()],
-                    ring_lo: if axisymmetric {
-                        ring_weights(&level, p).0
+            scratch: (level.patches.iter().enumerate())
+                .map(|(id, p)| {
+                    if owned[id] {
+                        PatchScratch::zeros(&level, p, n, axisymmetric)
                     } else {
-                        Vec::new()
-                    },
-                    ring_hi: if axisymmetric {
-                        ring_weights(&level, p).1
-                    } else {
-                        Vec::new()
-                    },
-                    surface: Vec::new(),
+                        PatchScratch::empty()
+                    }
                 })
                 .collect(),
             level,
@@ -170,7 +181,11 @@ impl<E: Eos> IceSolver<E> {
             state_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
             lag_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
             press_bcs: BoundaryConditions::uniform(FaceBc::Outflow),
-            halo: InProcessExchange::new(),
+            halo: if comm.size() > 1 {
+                InProcessExchange::distributed(comm.clone(), owner.clone())
+            } else {
+                InProcessExchange::new()
+            },
             time: 0.0,
             steps: 0,
             last_equilibration: EquilibrationStats::default(),
@@ -183,7 +198,15 @@ impl<E: Eos> IceSolver<E> {
             blocked_inflow: [false; 6],
             outflow: [ConservationTotals::default(); 6],
             surface_pass: Default::default(),
-            ranks: ranks::Ranks::serial(patches),
+            ranks: if comm.size() > 1 {
+                ranks::Ranks {
+                    comm: comm.clone(),
+                    owner,
+                    owned: owned.clone(),
+                }
+            } else {
+                ranks::Ranks::serial(patches)
+            },
         };
         // Boundary conditions per group.
         for (f, b) in boundaries.iter().enumerate() {
@@ -215,10 +238,14 @@ impl<E: Eos> IceSolver<E> {
             .state_bcs
             .validate(n * NS + 1)
             .map_err(IceError::Invalid)?;
-        // Initial state.
+        // The options' whole-grid pass (the implicit pressure) refused
+        // before any work on several ranks.
+        solver.still_distributable()?;
+        // Initial state: every cell checked, the own patches' stored.
         let geometry = solver.level.geometry;
         for (pid, patch) in solver.level.patches.iter().enumerate() {
             let data = &mut solver.state[pid].data;
+            let stored = owned[pid];
             let mut err = None;
             for_interior(patch, |c| {
                 if err.is_some() {
@@ -227,11 +254,12 @@ impl<E: Eos> IceSolver<E> {
                 let g = global_of(patch, c);
                 let cs = init(geometry.cell_centre(g));
                 match Self::material_values(&solver.eos, &cs) {
-                    Ok(vals) => {
+                    Ok(vals) if stored => {
                         for (f, v) in vals.iter().enumerate() {
                             data[f][c] = *v;
                         }
                     }
+                    Ok(_) => {}
                     Err(e) => err = Some(format!("ice: initial state in cell {g:?}: {e}")),
                 }
             });

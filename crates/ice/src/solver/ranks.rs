@@ -147,6 +147,14 @@ pub enum WholeGridPass {
 }
 
 impl WholeGridPass {
+    /// The error that refuses this pass on `ranks` ranks.
+    pub fn refusal(self, ranks: usize) -> String {
+        format!(
+            "ice: {} does not run on several ranks ({ranks} here); run it as one process",
+            self.describe()
+        )
+    }
+
     /// What the error message calls it.
     pub fn describe(self) -> &'static str {
         match self {
@@ -167,7 +175,9 @@ impl<E: Eos> IceSolver<E> {
     /// owns ([`comm::patch_owners`]), and frees the state and work arrays
     /// of the others. Called once the solver is set up
     /// (materials, reactions, transport); every rank builds the same
-    /// solver and calls it.
+    /// solver and calls it. A run builds the ICE spread instead
+    /// ([`Self::new_on`]), never holding the whole grid; a solver built
+    /// so is refused here.
     ///
     /// The implicit pressure, particles, viscosity and conduction, and
     /// reactions that burn on a surface need passes over the whole grid
@@ -180,6 +190,14 @@ impl<E: Eos> IceSolver<E> {
         let owner =
             comm::patch_owners(self.level.patches.len(), comm.size()).map_err(IceError::Invalid)?;
         let rank = comm.rank();
+        if self.ranks.several()
+            || (0..owner.len()).any(|id| owner[id] == rank && !self.state[id].is_stored())
+        {
+            return Err(IceError::Invalid(
+                "ice: the patches are already shared among ranks: distribute a solver built on one rank"
+                    .into(),
+            ));
+        }
         // The other ranks' patches: no storage here (a rank's memory is
         // its share of the grid once built).
         for (id, &o) in owner.iter().enumerate() {
@@ -231,10 +249,7 @@ impl<E: Eos> IceSolver<E> {
     /// An error when this solver cannot run on `ranks` ranks.
     fn single_rank_only(&self, ranks: usize) -> Result<(), IceError> {
         match self.whole_grid_pass() {
-            Some(pass) => Err(IceError::Invalid(format!(
-                "ice: {} does not run on several ranks ({ranks} here); run it as one process",
-                pass.describe()
-            ))),
+            Some(pass) => Err(IceError::Invalid(pass.refusal(ranks))),
             None => Ok(()),
         }
     }
