@@ -224,8 +224,10 @@ impl<E: GasLaw> FdmSolver<E> {
     /// As [`Self::with_species`], the patches shared among the ranks of
     /// `comm` from the start (docs/cluster.md): this rank stores the
     /// fields of its own patches only, so a rank's memory is its share of
-    /// the grid. Every rank checks `init` on every cell, so all meet the
-    /// same error.
+    /// the grid, and evaluates `init` on its own cells only, so its build
+    /// costs its share. An initial state that fails stops every rank
+    /// with the error of the first failing cell in patch order (found by
+    /// one minimum over the ranks), as on one rank.
     pub fn with_species_on(
         comm: Arc<dyn Communicator>,
         eos: E,
@@ -336,7 +338,33 @@ impl<E: GasLaw> FdmSolver<E> {
             }
         });
         let (owner, exchange) = patch_ranks(&level, &comm)?;
+        // The conservative values (and ρY) of global cell `g`, or why its
+        // initial state is not one.
+        let cell_values = |g: [usize; 3]| -> Result<([f64; 5], f64), FdmError> {
+            let (state, y) = init(geometry.cell_centre(g));
+            if !(state.density > 0.0 && state.pressure > 0.0) {
+                return Err(FdmError::Invalid(format!(
+                    "initial state in cell {g:?} has density {} and pressure {}: both must be positive",
+                    state.density, state.pressure
+                )));
+            }
+            let y = if E::SPECIES { y } else { 0.0 };
+            if !(0.0..=1.0).contains(&y) {
+                return Err(FdmError::Invalid(format!(
+                    "initial products mass fraction in cell {g:?} is {y}: it must lie in [0, 1]"
+                )));
+            }
+            state
+                .to_conservative_mixed(&eos, y)
+                .map_err(|e| FdmError::Invalid(format!("initial state in cell {g:?}: {e}")))
+        };
+        // Each rank evaluates its own patches' cells only; the first
+        // failure in patch order over all ranks (`comm.min` of its
+        // ordinal) is then found again by every rank, so all meet the
+        // same error.
         let mut fields = Vec::with_capacity(level.patches.len());
+        let mut first_failure = f64::INFINITY;
+        let mut ordinal = 0_usize;
         for (id, patch) in level.patches.iter().enumerate() {
             let stored = owner[id] == comm.rank();
             let mut pf = if stored {
@@ -344,40 +372,44 @@ impl<E: GasLaw> FdmSolver<E> {
             } else {
                 PatchFields::unstored(patch, Self::NFIELDS)
             };
-            for k in 0..patch.size[2] {
-                for j in 0..patch.size[1] {
-                    for i in 0..patch.size[0] {
-                        let g = [patch.lo[0] + i, patch.lo[1] + j, patch.lo[2] + k];
-                        let (state, y) = init(geometry.cell_centre(g));
-                        if !(state.density > 0.0 && state.pressure > 0.0) {
-                            return Err(FdmError::Invalid(format!(
-                                "initial state in cell {g:?} has density {} and pressure {}: both must be positive",
-                                state.density, state.pressure
-                            )));
+            let cells = patch.size.iter().product::<usize>();
+            if stored && first_failure.is_infinite() {
+                'cells: for (m, g) in patch_cells(patch).enumerate() {
+                    let (u, ry) = match cell_values(g) {
+                        Ok(v) => v,
+                        Err(_) => {
+                            first_failure = (ordinal + m) as f64;
+                            break 'cells;
                         }
-                        let y = if E::SPECIES { y } else { 0.0 };
-                        if !(0.0..=1.0).contains(&y) {
-                            return Err(FdmError::Invalid(format!(
-                                "initial products mass fraction in cell {g:?} is {y}: it must lie in [0, 1]"
-                            )));
-                        }
-                        let (u, ry) = state.to_conservative_mixed(&eos, y).map_err(|e| {
-                            FdmError::Invalid(format!("initial state in cell {g:?}: {e}"))
-                        })?;
-                        if !stored {
-                            continue;
-                        }
-                        let n = patch.index_of_global(g);
-                        for (values, v) in pf.data.iter_mut().zip(u) {
-                            values[n] = v;
-                        }
-                        if E::SPECIES {
-                            pf.data[SPECIES][n] = ry;
-                        }
+                    };
+                    let n = patch.index_of_global(g);
+                    for (values, v) in pf.data.iter_mut().zip(u) {
+                        values[n] = v;
+                    }
+                    if E::SPECIES {
+                        pf.data[SPECIES][n] = ry;
                     }
                 }
             }
+            ordinal += cells;
             fields.push(pf);
+        }
+        let first_failure = comm.min(first_failure);
+        if first_failure.is_finite() {
+            let mut m = first_failure as usize;
+            for patch in &level.patches {
+                let cells = patch.size.iter().product::<usize>();
+                if m < cells {
+                    if let Some(g) = patch_cells(patch).nth(m) {
+                        cell_values(g)?;
+                    }
+                    break;
+                }
+                m -= cells;
+            }
+            return Err(FdmError::Invalid(
+                "an initial state failed on another rank but not here".into(),
+            ));
         }
         let radial = if options.geometry.is_axisymmetric() {
             let g = &level.geometry;
@@ -1099,6 +1131,15 @@ impl<E: GasLaw> FdmSolver<E> {
             .for_each_cell_in_order(|_, pid, n| m += fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
     }
+}
+
+/// The global cells of `patch`'s interior, x fastest, then y, then z.
+fn patch_cells(patch: &brisance_grid::Patch) -> impl Iterator<Item = [usize; 3]> + '_ {
+    (0..patch.size[2]).flat_map(move |k| {
+        (0..patch.size[1]).flat_map(move |j| {
+            (0..patch.size[0]).map(move |i| [patch.lo[0] + i, patch.lo[1] + j, patch.lo[2] + k])
+        })
+    })
 }
 
 /// The owner of every patch of `level` among the ranks of `comm`

@@ -57,6 +57,45 @@ fn blast_on(
     .unwrap()
 }
 
+/// An initial state that fails in cells of the last patches: built spread
+/// over 1, 2 and 4 thread ranks, every rank meets the error of the first
+/// failing cell in patch order, as one rank does, though it evaluates
+/// only its own patches' cells.
+#[test]
+fn a_failing_initial_state_gives_every_rank_the_error_of_one() {
+    let build = |comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>| {
+        let level = Level::new(
+            [0.0; 3],
+            [1.0; 3],
+            [8, 4, 8],
+            [2, 1, 2],
+            crate::sweep::GHOST,
+        )
+        .unwrap();
+        let bcs = [FdmBoundary::Outflow; 6];
+        FdmSolver::with_species_on(comm, gas(), level, bcs, FdmOptions::default(), |x| {
+            // Negative pressure in the upper half of z at x > 0.6 (patch 3)
+            // and zero density at x > 0.3 there (patches 2 and 3).
+            let p = if x[0] > 0.6 { -1.0 } else { 1.0 };
+            let rho = if x[0] > 0.3 && x[2] > 0.5 { 0.0 } else { 1.0 };
+            (state(rho, [0.0; 3], if x[2] > 0.5 { p } else { 1.0 }), 0.0)
+        })
+        .err()
+        .map(|e| e.to_string())
+    };
+    let one = build(std::sync::Arc::new(brisance_grid::comm::Serial)).expect("fails");
+    // Patch 2 (x < 0.5, upper z) holds the first failing cell, (2, 0, 4).
+    assert!(one.contains("cell [2, 0, 4]"), "{one}");
+    for ranks in [1, 2, 4] {
+        for (r, e) in brisance_grid::comm::InProcess::run(ranks, 1, build)
+            .into_iter()
+            .enumerate()
+        {
+            assert_eq!(e.as_deref(), Some(one.as_str()), "rank {r} of {ranks}");
+        }
+    }
+}
+
 /// A box from the origin to `upper` on `cells` (split into `layout`
 /// patches) holding the uniform state `s0`.
 fn uniform(

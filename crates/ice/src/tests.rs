@@ -915,6 +915,52 @@ fn deflagration_burns_the_surface_cell_at_a_p_to_the_n() {
 mod lagrangian;
 mod open_faces;
 
+/// An initial state that fails in cells of the last patches: built spread
+/// over 1, 2 and 4 thread ranks, every rank meets the error of the first
+/// failing cell in patch order, as one rank does, though it evaluates
+/// only its own patches' cells.
+#[test]
+fn a_failing_initial_state_gives_every_rank_the_error_of_one() {
+    let build = |comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>| {
+        let level = Level::new([0.0; 3], [1.0; 3], [8, 4, 8], [2, 1, 2], GHOST).unwrap();
+        IceSolver::new_on(
+            comm,
+            two_gases(),
+            level,
+            std::array::from_fn(|_| IceBoundary::Symmetry),
+            ExchangeCoefficients::uniform(2, 1e15, 1e6),
+            IceOptions::default(),
+            |x| {
+                // No pressure at x > 0.3 in the upper half of z (patches 2
+                // and 3).
+                let bad = x[0] > 0.3 && x[2] > 0.5;
+                let gas = |th: f64| MaterialState {
+                    volume_fraction: th,
+                    density: 1.2,
+                    velocity: [0.0; 3],
+                };
+                CellState {
+                    pressure: if bad { 0.0 } else { 1.0e5 },
+                    materials: vec![gas(0.5), gas(0.5)],
+                }
+            },
+        )
+        .err()
+        .map(|e| e.to_string())
+    };
+    let one = build(std::sync::Arc::new(brisance_grid::comm::Serial)).expect("fails");
+    // Patch 2 (x < 0.5, upper z) holds the first failing cell, (2, 0, 4).
+    assert!(one.contains("cell [2, 0, 4]"), "{one}");
+    for ranks in [1, 2, 4] {
+        for (r, e) in brisance_grid::comm::InProcess::run(ranks, 1, build)
+            .into_iter()
+            .enumerate()
+        {
+            assert_eq!(e.as_deref(), Some(one.as_str()), "rank {r} of {ranks}");
+        }
+    }
+}
+
 /// The rank logic of `solver/ranks.rs` without MPI: the pressure bump on
 /// 3 × 2 × 2 patches spread over 2, 3 and 4 thread ranks
 /// ([`brisance_grid::comm::InProcess`], each with a thread pool of its

@@ -76,11 +76,13 @@ impl<E: Eos> IceSolver<E> {
     }
 
     /// As [`Self::new`], the patches shared among the ranks of `comm` from
-    /// the start (docs/cluster.md): this rank allocates, fills and
-    /// equilibrates its own patches only, so at no time does it hold the
-    /// whole grid. Every rank evaluates `init` on every cell, so all meet
-    /// the same error; the equilibration's first failure is gathered from
-    /// every rank. Fails when the patches cannot be shared among the ranks
+    /// the start (docs/cluster.md): this rank allocates, evaluates `init`
+    /// on, fills and equilibrates its own patches only, so at no time
+    /// does it hold the whole grid, and its build costs its share. A
+    /// failing initial state stops every rank with the error of the first
+    /// failing cell in patch order (one minimum over the ranks), as on one
+    /// rank; the equilibration's first failure is gathered from every
+    /// rank. Fails when the patches cannot be shared among the ranks
     /// ([`comm::patch_owners`]) or the options need one rank
     /// ([`Self::whole_grid_pass`]); a whole-grid pass set later (reactions,
     /// transport, Lagrangian materials) is refused by its setter.
@@ -241,31 +243,63 @@ impl<E: Eos> IceSolver<E> {
         // The options' whole-grid pass (the implicit pressure) refused
         // before any work on several ranks.
         solver.still_distributable()?;
-        // Initial state: every cell checked, the own patches' stored.
+        // Initial state: each rank evaluates and stores its own patches'
+        // cells only; the first failure in patch order over all ranks
+        // (`comm.min` of its ordinal) is then found again by every rank,
+        // so all meet the same error.
         let geometry = solver.level.geometry;
+        let cell_error = |eos: &[E], g: [usize; 3]| {
+            Self::material_values(eos, &init(geometry.cell_centre(g)))
+                .map_err(|e| format!("ice: initial state in cell {g:?}: {e}"))
+        };
+        let mut first_failure = f64::INFINITY;
+        let mut ordinal = 0_usize;
         for (pid, patch) in solver.level.patches.iter().enumerate() {
-            let data = &mut solver.state[pid].data;
-            let stored = owned[pid];
-            let mut err = None;
-            for_interior(patch, |c| {
-                if err.is_some() {
-                    return;
-                }
-                let g = global_of(patch, c);
-                let cs = init(geometry.cell_centre(g));
-                match Self::material_values(&solver.eos, &cs) {
-                    Ok(vals) if stored => {
-                        for (f, v) in vals.iter().enumerate() {
-                            data[f][c] = *v;
-                        }
+            let cells = patch.size.iter().product::<usize>();
+            if owned[pid] && first_failure.is_infinite() {
+                let data = &mut solver.state[pid].data;
+                let mut m = 0_usize;
+                for_interior(patch, |c| {
+                    if first_failure.is_finite() {
+                        return;
                     }
-                    Ok(_) => {}
-                    Err(e) => err = Some(format!("ice: initial state in cell {g:?}: {e}")),
-                }
-            });
-            if let Some(e) = err {
-                return Err(IceError::Invalid(e));
+                    match cell_error(&solver.eos, global_of(patch, c)) {
+                        Ok(vals) => {
+                            for (f, v) in vals.iter().enumerate() {
+                                data[f][c] = *v;
+                            }
+                        }
+                        Err(_) => first_failure = (ordinal + m) as f64,
+                    }
+                    m += 1;
+                });
             }
+            ordinal += cells;
+        }
+        let first_failure = comm.min(first_failure);
+        if first_failure.is_finite() {
+            let mut m = first_failure as usize;
+            for patch in &solver.level.patches {
+                let cells = patch.size.iter().product::<usize>();
+                if m < cells {
+                    let mut seen = 0_usize;
+                    let mut err = None;
+                    for_interior(patch, |c| {
+                        if seen == m {
+                            err = cell_error(&solver.eos, global_of(patch, c)).err();
+                        }
+                        seen += 1;
+                    });
+                    if let Some(e) = err {
+                        return Err(IceError::Invalid(e));
+                    }
+                    break;
+                }
+                m -= cells;
+            }
+            return Err(IceError::Invalid(
+                "ice: an initial state failed on another rank but not here".into(),
+            ));
         }
         solver
             .compute_equilibration_pressure()
