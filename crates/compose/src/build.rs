@@ -120,6 +120,44 @@ pub fn primitive_state<E: Eos>(eos: &E, s: &StateConfig) -> Result<PrimitiveStat
     })
 }
 
+/// An error naming the first cell of `level` in global order (x fastest)
+/// whose centre `covered` rejects: every cell must lie in an initial
+/// region. Each rank of `ranks` tests the cells of its own patches
+/// ([`brisance_grid::comm::patch_owners`], which must accept the split),
+/// and one minimum over the ranks finds the first, so every rank gives
+/// the error one rank gives without testing the whole grid.
+pub(crate) fn uncovered_cell(
+    level: &Level,
+    ranks: &dyn brisance_grid::comm::Communicator,
+    covered: impl Fn([f64; 3]) -> bool,
+) -> Result<(), String> {
+    let geometry = level.geometry;
+    let owner = brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())?;
+    let mut first = f64::INFINITY;
+    for (patch, _) in (level.patches.iter().zip(&owner)).filter(|(_, &o)| o == ranks.rank()) {
+        for k in patch.lo[2]..patch.lo[2] + patch.size[2] {
+            for j in patch.lo[1]..patch.lo[1] + patch.size[1] {
+                for i in patch.lo[0]..patch.lo[0] + patch.size[0] {
+                    if !covered(geometry.cell_centre([i, j, k])) {
+                        first = first.min(geometry.linear_index([i, j, k]) as f64);
+                    }
+                }
+            }
+        }
+    }
+    let first = ranks.min(first);
+    if !first.is_finite() {
+        return Ok(());
+    }
+    let n = geometry.cells;
+    let g = first as usize;
+    let (i, j, k) = (g % n[0], g / n[0] % n[1], g / (n[0] * n[1]));
+    let x = geometry.cell_centre([i, j, k]);
+    Err(format!(
+        "cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first"
+    ))
+}
+
 pub(crate) fn located(path: &str, message: String) -> ConfigError {
     ConfigError {
         file: String::new(),
@@ -320,7 +358,6 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
     let Pipeline::Fdm(fdm) = &s.pipeline else {
         unreachable!("build_fdm is called for Fdm pipelines");
     };
-    let d = &s.domain;
     let mut boundaries = [FdmBoundary::Outflow; 6];
     for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
         boundaries[k] = match bc {
@@ -351,7 +388,6 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
     // On an (r, z) grid a region is tested at the point (r, z, 0): the
     // (r, z) half plane through the axis, so a sphere centred on the axis
     // at (0, z0, 0) fills the rings of its hemisphere of that plane.
-    let geometry = level.geometry;
     let axisymmetric = s.domain.geometry.is_axisymmetric();
     let plane = move |x: [f64; 3]| {
         if axisymmetric {
@@ -360,17 +396,13 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
             x
         }
     };
-    let covered = |x: [f64; 3]| s.initial.iter().any(|r| r.region.contains(plane(x)));
-    for k in 0..d.cells[2] {
-        for j in 0..d.cells[1] {
-            for i in 0..d.cells[0] {
-                let x = geometry.cell_centre([i, j, k]);
-                if !covered(x) {
-                    return Err(located("initial", format!("cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first")));
-                }
-            }
-        }
-    }
+    let ranks = brisance_grid::comm::world();
+    brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
+        .map_err(|e| located("domain.patches", e))?;
+    uncovered_cell(&level, &*ranks, |x| {
+        s.initial.iter().any(|r| r.region.contains(plane(x)))
+    })
+    .map_err(|e| located("initial", e))?;
     let init = |x: [f64; 3]| {
         // Later regions override earlier ones.
         let x = plane(x);
@@ -394,9 +426,6 @@ fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
     };
     // The patches spread over the ranks of the run (docs/cluster.md), each
     // rank storing its own.
-    let ranks = brisance_grid::comm::world();
-    brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
-        .map_err(|e| located("domain.patches", e))?;
     let solver = FdmSolver::with_species_on(ranks, law, level, boundaries, options, init)
         .map_err(|e| located("pipeline", e.to_string()))?;
     Ok(Box::new(solver))

@@ -687,7 +687,6 @@ pub(crate) fn build_with_traces(
         .collect::<Result<Vec<_>, Problem>>()?;
     // Every cell must be covered. On an (r, z) grid a region is tested at
     // the point (r, z, 0) of the half plane through the axis.
-    let geometry = level.geometry;
     let axisymmetric = d.geometry.is_axisymmetric();
     let plane = move |x: [f64; 3]| {
         if axisymmetric {
@@ -696,16 +695,10 @@ pub(crate) fn build_with_traces(
             x
         }
     };
-    for k in 0..d.cells[2] {
-        for j in 0..d.cells[1] {
-            for i in 0..d.cells[0] {
-                let x = geometry.cell_centre([i, j, k]);
-                if !s.initial.iter().any(|r| r.region.contains(plane(x))) {
-                    return Err(("initial".into(), format!("cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first")));
-                }
-            }
-        }
-    }
+    crate::build::uncovered_cell(&level, &*ranks, |x| {
+        s.initial.iter().any(|r| r.region.contains(plane(x)))
+    })
+    .map_err(|e| ("initial".to_string(), e))?;
     let init = |x: [f64; 3]| {
         let x = plane(x);
         let idx = s
