@@ -133,25 +133,14 @@ pub(crate) fn uncovered_cell(
 ) -> Result<(), String> {
     let geometry = level.geometry;
     let owner = brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())?;
-    let mut first = f64::INFINITY;
-    for (patch, _) in (level.patches.iter().zip(&owner)).filter(|(_, &o)| o == ranks.rank()) {
-        for k in patch.lo[2]..patch.lo[2] + patch.size[2] {
-            for j in patch.lo[1]..patch.lo[1] + patch.size[1] {
-                for i in patch.lo[0]..patch.lo[0] + patch.size[0] {
-                    if !covered(geometry.cell_centre([i, j, k])) {
-                        first = first.min(geometry.linear_index([i, j, k]) as f64);
-                    }
-                }
-            }
-        }
-    }
-    let first = ranks.min(first);
-    if !first.is_finite() {
+    let Some([i, j, k]) = level.first_failing_cell(
+        ranks,
+        &owner,
+        brisance_grid::CellOrder::Global,
+        |g, _, _| covered(geometry.cell_centre(g)),
+    ) else {
         return Ok(());
-    }
-    let n = geometry.cells;
-    let g = first as usize;
-    let (i, j, k) = (g % n[0], g / n[0] % n[1], g / (n[0] * n[1]));
+    };
     let x = geometry.cell_centre([i, j, k]);
     Err(format!(
         "cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first"

@@ -10,8 +10,8 @@ use std::sync::Arc;
 use brisance_core::{ConservationTotals, ExactTotals, Geometry, SolverError};
 use brisance_grid::comm::{self, Communicator};
 use brisance_grid::{
-    BoundaryConditions, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange, Level,
-    PatchFields,
+    BoundaryConditions, CellOrder, FaceBc, FieldKind, FieldSet, HaloExchange, InProcessExchange,
+    Level, PatchFields,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -358,55 +358,33 @@ impl<E: GasLaw> FdmSolver<E> {
                 .to_conservative_mixed(&eos, y)
                 .map_err(|e| FdmError::Invalid(format!("initial state in cell {g:?}: {e}")))
         };
-        // Each rank evaluates its own patches' cells only; the first
-        // failure in patch order over all ranks (`comm.min` of its
-        // ordinal) is then found again by every rank, so all meet the
-        // same error.
-        let mut fields = Vec::with_capacity(level.patches.len());
-        let mut first_failure = f64::INFINITY;
-        let mut ordinal = 0_usize;
-        for (id, patch) in level.patches.iter().enumerate() {
-            let stored = owner[id] == comm.rank();
-            let mut pf = if stored {
-                PatchFields::zeros(patch, Self::NFIELDS)
-            } else {
-                PatchFields::unstored(patch, Self::NFIELDS)
+        // Each rank evaluates and stores its own patches' cells only; the
+        // first failure in patch order over all ranks is evaluated again
+        // by every rank, so all meet the same error.
+        let mut fields: Vec<PatchFields> = (level.patches.iter().enumerate())
+            .map(|(id, patch)| {
+                if owner[id] == comm.rank() {
+                    PatchFields::zeros(patch, Self::NFIELDS)
+                } else {
+                    PatchFields::unstored(patch, Self::NFIELDS)
+                }
+            })
+            .collect();
+        let failing = level.first_failing_cell(&*comm, &owner, CellOrder::Patches, |g, id, n| {
+            let Ok((u, ry)) = cell_values(g) else {
+                return false;
             };
-            let cells = patch.size.iter().product::<usize>();
-            if stored && first_failure.is_infinite() {
-                'cells: for (m, g) in patch_cells(patch).enumerate() {
-                    let (u, ry) = match cell_values(g) {
-                        Ok(v) => v,
-                        Err(_) => {
-                            first_failure = (ordinal + m) as f64;
-                            break 'cells;
-                        }
-                    };
-                    let n = patch.index_of_global(g);
-                    for (values, v) in pf.data.iter_mut().zip(u) {
-                        values[n] = v;
-                    }
-                    if E::SPECIES {
-                        pf.data[SPECIES][n] = ry;
-                    }
-                }
+            let pf = &mut fields[id];
+            for (values, v) in pf.data.iter_mut().zip(u) {
+                values[n] = v;
             }
-            ordinal += cells;
-            fields.push(pf);
-        }
-        let first_failure = comm.min(first_failure);
-        if first_failure.is_finite() {
-            let mut m = first_failure as usize;
-            for patch in &level.patches {
-                let cells = patch.size.iter().product::<usize>();
-                if m < cells {
-                    if let Some(g) = patch_cells(patch).nth(m) {
-                        cell_values(g)?;
-                    }
-                    break;
-                }
-                m -= cells;
+            if E::SPECIES {
+                pf.data[SPECIES][n] = ry;
             }
+            true
+        });
+        if let Some(g) = failing {
+            cell_values(g)?;
             return Err(FdmError::Invalid(
                 "an initial state failed on another rank but not here".into(),
             ));
@@ -1131,15 +1109,6 @@ impl<E: GasLaw> FdmSolver<E> {
             .for_each_cell_in_order(|_, pid, n| m += fields[pid].data[SPECIES][n]);
         m * self.level.geometry.spacing.iter().product::<f64>()
     }
-}
-
-/// The global cells of `patch`'s interior, x fastest, then y, then z.
-fn patch_cells(patch: &brisance_grid::Patch) -> impl Iterator<Item = [usize; 3]> + '_ {
-    (0..patch.size[2]).flat_map(move |k| {
-        (0..patch.size[1]).flat_map(move |j| {
-            (0..patch.size[0]).map(move |i| [patch.lo[0] + i, patch.lo[1] + j, patch.lo[2] + k])
-        })
-    })
 }
 
 /// The owner of every patch of `level` among the ranks of `comm`

@@ -86,6 +86,15 @@ impl Patch {
     }
 }
 
+/// The order in which [`Level::first_failing_cell`] ranks cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellOrder {
+    /// Patch by patch, x fastest within a patch.
+    Patches,
+    /// Over the whole grid, x fastest ([`UniformGridGeometry::linear_index`]).
+    Global,
+}
+
 /// A Cartesian level: the grid geometry and its split into patches.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Level {
@@ -260,6 +269,63 @@ impl Level {
         }
     }
 
+    /// The first interior cell, in `order`, for which `check(global cell,
+    /// patch id, local index)` fails (returns false), over the cells of
+    /// every rank of `comm`: each rank checks only the cells of its own
+    /// patches (`owner[p]` is the rank of patch `p`,
+    /// [`crate::comm::patch_owners`]), patch by patch, and one minimum over
+    /// the ranks picks the first, so every rank returns the cell one rank
+    /// finds. In [`CellOrder::Patches`] a rank stops at its first failure
+    /// (`check` may fill the cells it accepts); in [`CellOrder::Global`]
+    /// it checks all its cells. A collective call.
+    pub fn first_failing_cell(
+        &self,
+        comm: &dyn crate::comm::Communicator,
+        owner: &[usize],
+        order: CellOrder,
+        mut check: impl FnMut([usize; 3], usize, usize) -> bool,
+    ) -> Option<[usize; 3]> {
+        let mut first = f64::INFINITY;
+        let mut ordinal = 0_usize;
+        for (pid, p) in self.patches.iter().enumerate() {
+            if owner[pid] == comm.rank() && !(order == CellOrder::Patches && first.is_finite()) {
+                let mut m = ordinal;
+                p.for_each_interior(|g, n| {
+                    let key = match order {
+                        CellOrder::Patches if first.is_finite() => return,
+                        CellOrder::Patches => m,
+                        CellOrder::Global => self.geometry.linear_index(g),
+                    };
+                    if !check(g, pid, n) {
+                        first = first.min(key as f64);
+                    }
+                    m += 1;
+                });
+            }
+            ordinal += p.interior_cells();
+        }
+        let first = comm.min(first);
+        if !first.is_finite() {
+            return None;
+        }
+        let key = first as usize;
+        let unravel = |m: usize, n: [usize; 3]| [m % n[0], m / n[0] % n[1], m / (n[0] * n[1])];
+        match order {
+            CellOrder::Global => Some(unravel(key, self.geometry.cells)),
+            CellOrder::Patches => {
+                let mut m = key;
+                for p in &self.patches {
+                    if m < p.interior_cells() {
+                        let l = unravel(m, p.size);
+                        return Some(std::array::from_fn(|d| p.lo[d] + l[d]));
+                    }
+                    m -= p.interior_cells();
+                }
+                None
+            }
+        }
+    }
+
     /// Every field of patch `pid` over its interior cells, x fastest
     /// (a checkpoint piece).
     pub fn patch_interior(&self, pid: usize, fields: &PatchFields) -> Vec<Vec<f64>> {
@@ -408,6 +474,38 @@ impl Level {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two patches along x: cell (5, 0, 0) of patch 1 comes first in
+    /// global order, (1, 1, 0) of patch 0 first in patch order; each
+    /// order finds its own, and with the patches on two thread ranks each
+    /// rank finds the same cell.
+    #[test]
+    fn the_first_failing_cell_in_either_order_on_one_rank_or_two() {
+        let level = Level::new([0.0; 3], [1.0; 3], [8, 2, 1], [2, 1, 1], 0).unwrap();
+        let fails = |g: [usize; 3]| g == [5, 0, 0] || g == [1, 1, 0] || g == [7, 1, 0];
+        let first = |comm: &dyn crate::comm::Communicator, order| {
+            let owner: Vec<usize> = (0..2).map(|p| p % comm.size()).collect();
+            let mut checked = 0;
+            let cell = level.first_failing_cell(comm, &owner, order, |g, _, _| {
+                checked += 1;
+                !fails(g)
+            });
+            (cell, checked)
+        };
+        let serial = crate::comm::Serial;
+        // Patch order stops at the first failure: patch 0's cells up to
+        // (1, 1, 0), the sixth.
+        assert_eq!(first(&serial, CellOrder::Patches), (Some([1, 1, 0]), 6));
+        assert_eq!(first(&serial, CellOrder::Global), (Some([5, 0, 0]), 16));
+        for order in [CellOrder::Patches, CellOrder::Global] {
+            let one = first(&serial, order).0;
+            for got in crate::comm::InProcess::run(2, 1, |comm| first(&*comm, order).0) {
+                assert_eq!(got, one, "{order:?}");
+            }
+        }
+        let none = level.first_failing_cell(&serial, &[0, 0], CellOrder::Patches, |_, _, _| true);
+        assert_eq!(none, None);
+    }
 
     #[test]
     fn cell_pieces_hold_each_patch_in_its_own_x_fastest_order() {

@@ -26,5 +26,5 @@ pub mod shape;
 pub use boundary::{BoundaryConditions, Face, FaceBc};
 pub use fields::{FieldKind, FieldSet, NodeLayout, PatchFields};
 pub use halo::{close_inward_flow, HaloExchange, InProcessExchange, BLOCKED_FLOW_FRACTION};
-pub use level::{GridError, Level, Patch};
+pub use level::{CellOrder, GridError, Level, Patch};
 pub use shape::{Shape, ShapeError};

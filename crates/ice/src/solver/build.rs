@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use brisance_grid::comm::{self, Communicator};
+use brisance_grid::CellOrder;
 
 use super::*;
 
@@ -203,7 +204,7 @@ impl<E: Eos> IceSolver<E> {
             ranks: if comm.size() > 1 {
                 ranks::Ranks {
                     comm: comm.clone(),
-                    owner,
+                    owner: owner.clone(),
                     owned: owned.clone(),
                 }
             } else {
@@ -244,59 +245,28 @@ impl<E: Eos> IceSolver<E> {
         // before any work on several ranks.
         solver.still_distributable()?;
         // Initial state: each rank evaluates and stores its own patches'
-        // cells only; the first failure in patch order over all ranks
-        // (`comm.min` of its ordinal) is then found again by every rank,
-        // so all meet the same error.
+        // cells only; the first failure in patch order over all ranks is
+        // evaluated again by every rank, so all meet the same error.
         let geometry = solver.level.geometry;
-        let cell_error = |eos: &[E], g: [usize; 3]| {
+        let cell_values = |eos: &[E], g: [usize; 3]| {
             Self::material_values(eos, &init(geometry.cell_centre(g)))
                 .map_err(|e| format!("ice: initial state in cell {g:?}: {e}"))
         };
-        let mut first_failure = f64::INFINITY;
-        let mut ordinal = 0_usize;
-        for (pid, patch) in solver.level.patches.iter().enumerate() {
-            let cells = patch.size.iter().product::<usize>();
-            if owned[pid] && first_failure.is_infinite() {
-                let data = &mut solver.state[pid].data;
-                let mut m = 0_usize;
-                for_interior(patch, |c| {
-                    if first_failure.is_finite() {
-                        return;
+        let (eos, state) = (&solver.eos, &mut solver.state);
+        let failing =
+            solver
+                .level
+                .first_failing_cell(&*comm, &owner, CellOrder::Patches, |g, pid, n| {
+                    let Ok(vals) = cell_values(eos, g) else {
+                        return false;
+                    };
+                    for (f, v) in vals.iter().enumerate() {
+                        state[pid].data[f][n] = *v;
                     }
-                    match cell_error(&solver.eos, global_of(patch, c)) {
-                        Ok(vals) => {
-                            for (f, v) in vals.iter().enumerate() {
-                                data[f][c] = *v;
-                            }
-                        }
-                        Err(_) => first_failure = (ordinal + m) as f64,
-                    }
-                    m += 1;
+                    true
                 });
-            }
-            ordinal += cells;
-        }
-        let first_failure = comm.min(first_failure);
-        if first_failure.is_finite() {
-            let mut m = first_failure as usize;
-            for patch in &solver.level.patches {
-                let cells = patch.size.iter().product::<usize>();
-                if m < cells {
-                    let mut seen = 0_usize;
-                    let mut err = None;
-                    for_interior(patch, |c| {
-                        if seen == m {
-                            err = cell_error(&solver.eos, global_of(patch, c)).err();
-                        }
-                        seen += 1;
-                    });
-                    if let Some(e) = err {
-                        return Err(IceError::Invalid(e));
-                    }
-                    break;
-                }
-                m -= cells;
-            }
+        if let Some(g) = failing {
+            cell_values(&solver.eos, g).map_err(IceError::Invalid)?;
             return Err(IceError::Invalid(
                 "ice: an initial state failed on another rank but not here".into(),
             ));
