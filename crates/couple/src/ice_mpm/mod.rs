@@ -1089,6 +1089,22 @@ mod determinism_tests {
     use brisance_ice::IceBoundary;
     use brisance_mpm::GridBoundary;
 
+    /// A steel cube moving at 50 m/s through still air, 16³ cells of 1 mm
+    /// (1728 particles), every face open.
+    fn moving_cube() -> Setup {
+        let h = 1e-3;
+        Setup {
+            lower: [0.0; 3],
+            upper: [16.0 * h; 3],
+            cells: [16; 3],
+            solids: vec![([4.0 * h; 3], [10.0 * h; 3])],
+            solid_velocity: [50.0, 0.0, 0.0],
+            gas_velocity: [0.0; 3],
+            ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+            mpm_faces: [GridBoundary::Free; 6],
+        }
+    }
+
     /// Three coupled steps of a steel cube moving through air (16³ cells,
     /// 1728 particles: the parallel loops split into several chunks)
     /// leave both frames' state with the same bits on 1 and 2 threads.
@@ -1096,17 +1112,7 @@ mod determinism_tests {
     fn the_coupled_step_gives_the_same_bits_on_one_and_two_threads() {
         let run = |threads: usize| {
             super::in_pool(threads, || {
-                let h = 1e-3;
-                let mut s = build(&Setup {
-                    lower: [0.0; 3],
-                    upper: [16.0 * h; 3],
-                    cells: [16; 3],
-                    solids: vec![([4.0 * h; 3], [10.0 * h; 3])],
-                    solid_velocity: [50.0, 0.0, 0.0],
-                    gas_velocity: [0.0; 3],
-                    ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
-                    mpm_faces: [GridBoundary::Free; 6],
-                });
+                let mut s = build(&moving_cube());
                 for _ in 0..3 {
                     let dt = s.stable_dt().unwrap();
                     s.advance(dt).unwrap();
@@ -1128,20 +1134,9 @@ mod determinism_tests {
     #[test]
     fn the_coupled_step_on_thread_ranks_gives_the_bits_of_one() {
         const STEPS: usize = 4;
-        let h = 1e-3;
-        let setup = || Setup {
-            lower: [0.0; 3],
-            upper: [16.0 * h; 3],
-            cells: [16; 3],
-            solids: vec![([4.0 * h; 3], [10.0 * h; 3])],
-            solid_velocity: [50.0, 0.0, 0.0],
-            gas_velocity: [0.0; 3],
-            ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
-            mpm_faces: [GridBoundary::Free; 6],
-        };
         let run = |ranks: usize| {
             crate::thread_ranks::on_thread_ranks(ranks, |comm| {
-                let mut s = build(&setup());
+                let mut s = build(&moving_cube());
                 s.distribute(comm);
                 for _ in 0..STEPS {
                     let dt = s.stable_dt().unwrap();
@@ -1152,7 +1147,7 @@ mod determinism_tests {
         };
         let (one, none) = run(1).remove(0);
         assert_eq!(none, 0);
-        let n = build(&setup()).mpm.particles().len();
+        let n = build(&moving_cube()).mpm.particles().len();
         assert_eq!(n, 1728);
         for ranks in [2, 3] {
             let starts = brisance_grid::comm::equal_runs(n, ranks);
