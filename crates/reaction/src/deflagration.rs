@@ -43,6 +43,13 @@ pub enum DeflagrationError {
         /// The expected range.
         expected: &'static str,
     },
+    /// The upwind area estimate was asked for where only the surface
+    /// cells' normals are given.
+    #[error(
+        "deflagration: the `upwind` surface area reads the reactant's volume fraction; \
+         use `upwind_area_densities`"
+    )]
+    FieldNeeded,
     /// A field or output slice does not match the grid.
     #[error("deflagration: `{field}` has {len} entries, the grid has {cells} cells")]
     LengthMismatch {
@@ -78,6 +85,11 @@ pub struct Deflagration {
     pub n: f64,
     /// Surface temperature below which nothing burns, K.
     pub ignition_temperature: f64,
+    /// How the solver estimates the surface's area in a cell from the
+    /// reactant's volume fraction (seed 000 §4.1.2 leaves it open;
+    /// [`SurfaceArea`]). Default `column`.
+    #[serde(default)]
+    pub surface_area: SurfaceArea,
 }
 
 impl Deflagration {
@@ -94,6 +106,7 @@ impl Deflagration {
             a: PBX_9501_A,
             n: PBX_9501_N,
             ignition_temperature: 450.0,
+            surface_area: SurfaceArea::Column,
         }
     }
 
@@ -103,6 +116,7 @@ impl Deflagration {
             a,
             n,
             ignition_temperature,
+            surface_area: SurfaceArea::Column,
         };
         model.validate()?;
         Ok(model)
@@ -259,16 +273,35 @@ pub enum SurfaceArea {
     /// the cell over plane offsets times an empirical factor tuned for
     /// Uintah's own surface-cell rule.
     Uintah,
+    /// The upwind estimate: in every cell holding reactant,
+    /// a/V = Σ_k |n_k| J_k / h_k, J_k the drop of the reactant's volume
+    /// fraction from the cell to its face neighbour on the side the normal
+    /// points to along k (0 where it rises; a neighbour at or below the
+    /// detection threshold counts as empty). The one-sided difference is
+    /// the upwind (Godunov) discretisation of the front's level-set
+    /// equation ∂θ/∂t + D|∇θ| = 0 (Osher & Sethian 1988, J. Comput. Phys.
+    /// 79, 12–49), projected on the normal. Along each grid row the drops
+    /// of a monotone front add up to the whole jump, so the summed area is
+    /// exact for a plane of any orientation whatever the fractions of its
+    /// cells (a ragged, partly burnt front included), and an error δ in the
+    /// normal's direction changes it only by a factor cos δ. It reads the
+    /// field, not only the normal: it has no per-cell form
+    /// ([`SurfaceArea::area`] is `None`); see
+    /// [`upwind_area_densities`]. The field must be a volume fraction.
+    Upwind,
 }
 
 impl SurfaceArea {
-    /// Area in a box cell of size `cell` (m) with unit normal `normal`, m².
+    /// Area in a box cell of size `cell` (m) with unit normal `normal`, m²;
+    /// `None` for [`SurfaceArea::Upwind`], which reads the field's jumps
+    /// as well.
     #[inline]
-    pub fn area(self, cell: [f64; 3], normal: [f64; 3]) -> f64 {
+    pub fn area(self, cell: [f64; 3], normal: [f64; 3]) -> Option<f64> {
         match self {
-            Self::Column => column_area(cell, normal),
-            Self::ClippedPlane => clipped_plane_area(cell, normal),
-            Self::Uintah => uintah_area(cell, normal),
+            Self::Column => Some(column_area(cell, normal)),
+            Self::ClippedPlane => Some(clipped_plane_area(cell, normal)),
+            Self::Uintah => Some(uintah_area(cell, normal)),
+            Self::Upwind => None,
         }
     }
 
@@ -276,11 +309,12 @@ impl SurfaceArea {
     /// of size (dr, dz) at centre radius `r_centre` sweeps a ring, and the
     /// surface, a line in (r, z) with unit normal (n_r, n_z), a cone or
     /// disc of area 2π r_c × (its length in the cell, estimated as in 3D
-    /// with a unit third side and n_θ = 0).
+    /// with a unit third side and n_θ = 0); `None` for
+    /// [`SurfaceArea::Upwind`].
     #[inline]
-    pub fn ring_area(self, dr: f64, dz: f64, r_centre: f64, normal_rz: [f64; 2]) -> f64 {
-        let length = self.area([dr, dz, 1.0], [normal_rz[0], normal_rz[1], 0.0]);
-        2.0 * std::f64::consts::PI * r_centre * length
+    pub fn ring_area(self, dr: f64, dz: f64, r_centre: f64, normal_rz: [f64; 2]) -> Option<f64> {
+        let length = self.area([dr, dz, 1.0], [normal_rz[0], normal_rz[1], 0.0])?;
+        Some(2.0 * std::f64::consts::PI * r_centre * length)
     }
 }
 
@@ -474,111 +508,31 @@ pub fn detect_surface(
             return Err(DeflagrationError::LengthMismatch { field, len, cells });
         }
     }
-    for (axis, &h) in grid.spacing.iter().enumerate() {
-        if !(h > 0.0 && h.is_finite()) {
-            return invalid(
-                ["spacing[0]", "spacing[1]", "spacing[2]"][axis],
-                h,
-                "a finite value > 0 (m)",
-            );
-        }
-    }
-    if !options.present_threshold.is_finite() {
-        return invalid(
-            "present_threshold",
-            options.present_threshold,
-            "a finite value",
-        );
-    }
+    check_grid(grid, options)?;
     let [nx_out, ny_out, nz_out] = normal;
     let threshold = options.present_threshold;
-    let n = grid.n;
-    let at = |i: isize, j: isize, k: isize| -> f64 {
-        let c = |x: isize, m: usize| x.clamp(0, m as isize - 1) as usize;
-        reactant[grid.index(c(i, n[0]), c(j, n[1]), c(k, n[2]))]
-    };
-    const AXES: [[isize; 3]; 3] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
-    // The field in the face neighbour of (i, j, k) at s·e, where it lies
-    // inside the grid.
-    let neighbour = |i: isize, j: isize, k: isize, e: [isize; 3], s: isize| {
-        let (ni, nj, nk) = (i + s * e[0], j + s * e[1], k + s * e[2]);
-        let inside = ni >= 0
-            && nj >= 0
-            && nk >= 0
-            && (ni as usize) < n[0]
-            && (nj as usize) < n[1]
-            && (nk as usize) < n[2];
-        inside.then(|| at(ni, nj, nk))
-    };
+    let field = Field { grid, reactant };
     let mut count = 0;
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
+    for k in 0..grid.n[2] {
+        for j in 0..grid.n[1] {
+            for i in 0..grid.n[0] {
                 let c = grid.index(i, j, k);
-                let (ii, jj, kk) = (i as isize, j as isize, k as isize);
-                let mut surface = false;
-                let mut toward_empty = [0.0; 3];
-                let mut first_empty = None;
-                if reactant[c] > threshold {
-                    for (axis, e) in AXES.iter().enumerate() {
-                        for s in [1_isize, -1] {
-                            if neighbour(ii, jj, kk, *e, s).is_some_and(|v| v <= threshold) {
-                                surface = true;
-                                toward_empty[axis] += s as f64;
-                                first_empty.get_or_insert((axis, s as f64));
-                            }
-                        }
-                    }
-                }
-                on_surface[c] = surface;
-                if !surface {
+                let at = [i as isize, j as isize, k as isize];
+                let empty = if reactant[c] > threshold {
+                    field.empty_neighbours(at, threshold)
+                } else {
+                    None
+                };
+                let Some((toward_empty, first_empty)) = empty else {
+                    on_surface[c] = false;
                     nx_out[c] = 0.0;
                     ny_out[c] = 0.0;
                     nz_out[c] = 0.0;
                     continue;
-                }
-                let mut g = [0.0; 3];
-                for (axis, e) in AXES.iter().enumerate() {
-                    let diff = |a: isize, b: isize| {
-                        // offsets a, b along the two transverse axes
-                        let (t1, t2) = (AXES[(axis + 1) % 3], AXES[(axis + 2) % 3]);
-                        let p = |s: isize| {
-                            at(
-                                ii + s * e[0] + a * t1[0] + b * t2[0],
-                                jj + s * e[1] + a * t1[1] + b * t2[1],
-                                kk + s * e[2] + a * t1[2] + b * t2[2],
-                            )
-                        };
-                        p(1) - p(-1)
-                    };
-                    let d = match options.stencil {
-                        GradientStencil::Central => diff(0, 0),
-                        GradientStencil::Youngs => {
-                            const W: [f64; 3] = [0.25, 0.5, 0.25];
-                            let mut sum = 0.0;
-                            for (wa, a) in W.iter().zip(-1..=1) {
-                                for (wb, b) in W.iter().zip(-1..=1) {
-                                    sum += wa * wb * diff(a, b);
-                                }
-                            }
-                            sum
-                        }
-                    };
-                    g[axis] = d / (2.0 * grid.spacing[axis]);
-                }
-                let mut m = [-g[0], -g[1], -g[2]];
-                let mut len = norm(m);
-                if !(len > 0.0) {
-                    m = toward_empty;
-                    len = norm(m);
-                    if !(len > 0.0) {
-                        let (axis, s) = first_empty.unwrap_or((0, 1.0));
-                        m = [0.0; 3];
-                        m[axis] = s;
-                        len = 1.0;
-                    }
-                }
-                let unit = [m[0] / len, m[1] / len, m[2] / len];
+                };
+                let g = field.gradient(at, options.stencil);
+                let unit = outward_normal(g, Some((toward_empty, first_empty)));
+                on_surface[c] = true;
                 if options.outermost_in_column {
                     // The dominant axis (largest h_k |n_k|, the first on a
                     // tie) and the neighbour the normal points to along it.
@@ -589,7 +543,7 @@ pub fn detect_surface(
                         }
                     }
                     let s = if unit[axis] >= 0.0 { 1 } else { -1 };
-                    if neighbour(ii, jj, kk, AXES[axis], s).is_some_and(|v| v > threshold) {
+                    if field.neighbour(at, axis, s).is_some_and(|v| v > threshold) {
                         on_surface[c] = false;
                         nx_out[c] = 0.0;
                         ny_out[c] = 0.0;
@@ -607,13 +561,140 @@ pub fn detect_surface(
     Ok(count)
 }
 
+/// Checks the cell sizes and the detection threshold, naming the bad one.
+fn check_grid(grid: &CellGrid, options: &SurfaceDetection) -> Result<(), DeflagrationError> {
+    for (axis, &h) in grid.spacing.iter().enumerate() {
+        if !(h > 0.0 && h.is_finite()) {
+            return invalid(
+                ["spacing[0]", "spacing[1]", "spacing[2]"][axis],
+                h,
+                "a finite value > 0 (m)",
+            );
+        }
+    }
+    if !options.present_threshold.is_finite() {
+        return invalid(
+            "present_threshold",
+            options.present_threshold,
+            "a finite value",
+        );
+    }
+    Ok(())
+}
+
+/// The field of [`detect_surface`] on its grid, continued outside the grid
+/// by its edge value.
+struct Field<'a> {
+    grid: &'a CellGrid,
+    reactant: &'a [f64],
+}
+
+const AXES: [[isize; 3]; 3] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+
+impl Field<'_> {
+    /// The value at cell `at`, clamped into the grid.
+    fn at(&self, at: [isize; 3]) -> f64 {
+        let n = self.grid.n;
+        let c = |x: isize, m: usize| x.clamp(0, m as isize - 1) as usize;
+        self.reactant[self
+            .grid
+            .index(c(at[0], n[0]), c(at[1], n[1]), c(at[2], n[2]))]
+    }
+
+    /// The value in the face neighbour of `at` at s·e_axis, where it lies
+    /// inside the grid.
+    fn neighbour(&self, at: [isize; 3], axis: usize, s: isize) -> Option<f64> {
+        let mut p = at;
+        p[axis] += s;
+        let inside = (0..3).all(|d| p[d] >= 0 && (p[d] as usize) < self.grid.n[d]);
+        inside.then(|| self.at(p))
+    }
+
+    /// Where cell `at` has face neighbours inside the grid at or below
+    /// `threshold`: the sum of their directions and the first of them.
+    fn empty_neighbours(&self, at: [isize; 3], threshold: f64) -> Option<([f64; 3], (usize, f64))> {
+        let mut toward_empty = [0.0; 3];
+        let mut first_empty = None;
+        for (axis, toward) in toward_empty.iter_mut().enumerate() {
+            for s in [1_isize, -1] {
+                if self.neighbour(at, axis, s).is_some_and(|v| v <= threshold) {
+                    *toward += s as f64;
+                    first_empty.get_or_insert((axis, s as f64));
+                }
+            }
+        }
+        first_empty.map(|first| (toward_empty, first))
+    }
+
+    /// The gradient of the field at cell `at` by `stencil`, per metre.
+    fn gradient(&self, at: [isize; 3], stencil: GradientStencil) -> [f64; 3] {
+        let mut g = [0.0; 3];
+        for (axis, e) in AXES.iter().enumerate() {
+            let diff = |a: isize, b: isize| {
+                // offsets a, b along the two transverse axes
+                let (t1, t2) = (AXES[(axis + 1) % 3], AXES[(axis + 2) % 3]);
+                let p = |s: isize| {
+                    self.at(std::array::from_fn(|d| {
+                        at[d] + s * e[d] + a * t1[d] + b * t2[d]
+                    }))
+                };
+                p(1) - p(-1)
+            };
+            let d = match stencil {
+                GradientStencil::Central => diff(0, 0),
+                GradientStencil::Youngs => {
+                    const W: [f64; 3] = [0.25, 0.5, 0.25];
+                    let mut sum = 0.0;
+                    for (wa, a) in W.iter().zip(-1..=1) {
+                        for (wb, b) in W.iter().zip(-1..=1) {
+                            sum += wa * wb * diff(a, b);
+                        }
+                    }
+                    sum
+                }
+            };
+            g[axis] = d / (2.0 * self.grid.spacing[axis]);
+        }
+        g
+    }
+}
+
+/// The unit outward normal −g/|g|; where the gradient vanishes (a sliver
+/// one cell thick), the mean direction of the empty neighbours, or the
+/// first of them if they cancel (along +x without either).
+fn outward_normal(g: [f64; 3], empty: Option<([f64; 3], (usize, f64))>) -> [f64; 3] {
+    let mut m = [-g[0], -g[1], -g[2]];
+    let mut len = norm(m);
+    if !(len > 0.0) {
+        let (toward_empty, (axis, s)) = empty.unwrap_or(([0.0; 3], (0, 1.0)));
+        m = toward_empty;
+        len = norm(m);
+        if !(len > 0.0) {
+            m = [0.0; 3];
+            m[axis] = s;
+            len = 1.0;
+        }
+    }
+    [m[0] / len, m[1] / len, m[2] / len]
+}
+
 fn norm(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
+/// Refuses [`SurfaceArea::Upwind`] where only the surface cells' normals
+/// are given.
+fn cell_form(method: SurfaceArea) -> Result<(), DeflagrationError> {
+    match method {
+        SurfaceArea::Upwind => Err(DeflagrationError::FieldNeeded),
+        _ => Ok(()),
+    }
+}
+
 /// Surface area in each cell from [`detect_surface`]'s output, m² (0 off
 /// the surface); returns the total. For an (r, z) grid use
-/// [`ring_surface_areas`].
+/// [`ring_surface_areas`]. [`SurfaceArea::Upwind`] reads the field, not
+/// only the normals: refused here ([`upwind_area_densities`]).
 pub fn surface_areas(
     grid: &CellGrid,
     method: SurfaceArea,
@@ -622,10 +703,13 @@ pub fn surface_areas(
     area: &mut [f64],
 ) -> Result<f64, DeflagrationError> {
     check_lengths(grid, on_surface, normal, area)?;
+    cell_form(method)?;
     let mut total = 0.0;
     for c in 0..grid.cells() {
         area[c] = if on_surface[c] {
-            method.area(grid.spacing, [normal[0][c], normal[1][c], normal[2][c]])
+            method
+                .area(grid.spacing, [normal[0][c], normal[1][c], normal[2][c]])
+                .unwrap_or(0.0)
         } else {
             0.0
         };
@@ -636,7 +720,8 @@ pub fn surface_areas(
 
 /// Ring surface area in each cell of an axisymmetric grid (`n = [nr, nz,
 /// 1]`, r along the first axis, the first cell's inner radius `r_min`),
-/// m²; returns the total.
+/// m²; returns the total. [`SurfaceArea::Upwind`] is refused, as by
+/// [`surface_areas`].
 pub fn ring_surface_areas(
     grid: &CellGrid,
     r_min: f64,
@@ -646,6 +731,7 @@ pub fn ring_surface_areas(
     area: &mut [f64],
 ) -> Result<f64, DeflagrationError> {
     check_lengths(grid, on_surface, normal, area)?;
+    cell_form(method)?;
     let [dr, dz, _] = grid.spacing;
     let mut total = 0.0;
     for k in 0..grid.n[2] {
@@ -654,7 +740,9 @@ pub fn ring_surface_areas(
                 let c = grid.index(i, j, k);
                 let r_centre = r_min + (i as f64 + 0.5) * dr;
                 area[c] = if on_surface[c] {
-                    method.ring_area(dr, dz, r_centre, [normal[0][c], normal[1][c]])
+                    method
+                        .ring_area(dr, dz, r_centre, [normal[0][c], normal[1][c]])
+                        .unwrap_or(0.0)
                 } else {
                     0.0
                 };
@@ -713,15 +801,106 @@ pub fn surface_area_densities(
         });
     }
     let [nx, ny, nz] = &mut work.normal;
+    if method == SurfaceArea::Upwind {
+        return upwind_area_densities(
+            grid,
+            reactant,
+            options,
+            &mut work.on_surface,
+            [nx, ny, nz],
+            out,
+        );
+    }
     let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
     let volume = grid.cell_volume();
     for (c, a) in out.iter_mut().enumerate() {
         *a = if work.on_surface[c] {
             let n = [work.normal[0][c], work.normal[1][c], work.normal[2][c]];
-            method.area(grid.spacing, n) / volume
+            method.area(grid.spacing, n).unwrap_or(0.0) / volume
         } else {
             0.0
         };
+    }
+    Ok(count)
+}
+
+/// The reactant's surface by the upwind estimate ([`SurfaceArea::Upwind`]):
+/// a/V in every cell of `grid` (1/m), the cells where it is > 0 flagged in
+/// `on_surface` with their unit outward normals; returns their number.
+///
+/// In a cell holding reactant (φ > `options.present_threshold`) with a
+/// non-zero gradient of `options.stencil` or an empty face neighbour, the
+/// normal is n = −∇φ/|∇φ| (as [`detect_surface`] gives it) and
+/// a/V = Σ_k |n_k| J_k / h_k with J_k = max(0, φ − φ_k), φ_k the face
+/// neighbour on the side n points to along k (0 where it is at or below
+/// the threshold; no drop toward a grid edge, which is neither a surface
+/// nor an empty neighbour). `reactant` is a volume fraction (a full cell
+/// 1). Unlike [`detect_surface`], a cell behind a partly burnt one (its
+/// neighbour still holds reactant) is on the surface for the drop it
+/// holds: the front's area is shared between the cells its jump spans.
+/// `options.outermost_in_column` plays no part.
+pub fn upwind_area_densities(
+    grid: &CellGrid,
+    reactant: &[f64],
+    options: &SurfaceDetection,
+    on_surface: &mut [bool],
+    normal: [&mut [f64]; 3],
+    out: &mut [f64],
+) -> Result<usize, DeflagrationError> {
+    let cells = grid.cells();
+    for (field, len) in [
+        ("reactant", reactant.len()),
+        ("on_surface", on_surface.len()),
+        ("normal[0]", normal[0].len()),
+        ("normal[1]", normal[1].len()),
+        ("normal[2]", normal[2].len()),
+        ("out", out.len()),
+    ] {
+        if len != cells {
+            return Err(DeflagrationError::LengthMismatch { field, len, cells });
+        }
+    }
+    check_grid(grid, options)?;
+    let [nx_out, ny_out, nz_out] = normal;
+    let threshold = options.present_threshold;
+    let field = Field { grid, reactant };
+    let mut count = 0;
+    for k in 0..grid.n[2] {
+        for j in 0..grid.n[1] {
+            for i in 0..grid.n[0] {
+                let c = grid.index(i, j, k);
+                let at = [i as isize, j as isize, k as isize];
+                let phi = reactant[c];
+                let mut density = 0.0;
+                let mut unit = [0.0; 3];
+                if phi > threshold {
+                    let g = field.gradient(at, options.stencil);
+                    let empty = field.empty_neighbours(at, threshold);
+                    if norm(g) > 0.0 || empty.is_some() {
+                        unit = outward_normal(g, empty);
+                        for (axis, &n) in unit.iter().enumerate() {
+                            if n == 0.0 {
+                                continue;
+                            }
+                            let s = if n > 0.0 { 1 } else { -1 };
+                            let Some(next) = field.neighbour(at, axis, s) else {
+                                continue;
+                            };
+                            let next = if next > threshold { next } else { 0.0 };
+                            density += n.abs() * (phi - next).max(0.0) / grid.spacing[axis];
+                        }
+                    }
+                }
+                let surface = density > 0.0;
+                on_surface[c] = surface;
+                out[c] = density;
+                let unit = if surface { unit } else { [0.0; 3] };
+                nx_out[c] = unit[0];
+                ny_out[c] = unit[1];
+                nz_out[c] = unit[2];
+                count += usize::from(surface);
+            }
+        }
     }
     Ok(count)
 }

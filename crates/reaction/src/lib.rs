@@ -38,8 +38,8 @@ pub mod program_burn;
 
 pub use arrhenius::Arrhenius;
 pub use deflagration::{
-    surface_area_densities, Deflagration, DeflagrationError, SurfaceArea, SurfaceDetection,
-    SurfaceWork,
+    surface_area_densities, upwind_area_densities, Deflagration, DeflagrationError, SurfaceArea,
+    SurfaceDetection, SurfaceWork,
 };
 pub use jwlpp::JwlPlusPlus;
 pub use products::{ProductsError, ProductsIsentrope};

@@ -3,9 +3,11 @@
 //! §4.1.2): after step 2, the surface cells of each such reactant and the
 //! surface's area per unit cell volume a/V, from the reactant's volume
 //! fraction θ_r over the whole grid
-//! ([`brisance_reaction::surface_area_densities`]: the reactant cells
-//! with an empty face neighbour, the outermost of each column along the
-//! normal, the Youngs normal, the `Column` area). A
+//! ([`brisance_reaction::surface_area_densities`] with the Youngs normal
+//! and the deflagration's `surface_area` estimate: for `Column`, the
+//! default, the reactant cells with an empty face neighbour, the outermost
+//! of each column along the normal; for `Upwind`, every reactant cell
+//! holding a drop of the reactant toward the normal's side). A
 //! cell holds reactant where θ_r > [`crate::reaction::SURFACE_PRESENT`]
 //! (10⁻⁴), so the traces an absent material keeps (10⁻⁶) count as empty.
 //! A reactant carried by particles does not hold a cell that another
@@ -37,7 +39,7 @@ use brisance_reaction::{surface_area_densities, SurfaceArea, SurfaceDetection, S
 
 use super::cell_steps::reaction_state;
 use super::{make_params, IceSolver, NS, TEMP, THETA, VSP};
-use crate::reaction::{REACTANT_LEFT, SURFACE_PRESENT};
+use crate::reaction::{IceRate, REACTANT_LEFT, SURFACE_PRESENT};
 
 /// How many cells behind a surface cell, along its column, a step's burn
 /// may reach ([`IceSolver::carry_surface_burns`]).
@@ -175,9 +177,13 @@ impl<E: Eos> IceSolver<E> {
                 pass.hottest.push(hottest);
             });
             pass.density.resize(count, 0.0);
+            let method = match &rx.rate {
+                IceRate::Deflagration(m) => m.surface_area,
+                _ => SurfaceArea::Column,
+            };
             surface_area_densities(
                 &grid,
-                SurfaceArea::Column,
+                method,
                 &SurfaceDetection {
                     present_threshold: SURFACE_PRESENT,
                     outermost_in_column: true,
@@ -402,5 +408,45 @@ impl<E: Eos> IceSolver<E> {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use brisance_core::Solver;
+    use brisance_reaction::SurfaceArea;
+
+    use crate::burn_rate::{burning_slab, BurnRate, BurnSurface};
+    use crate::PressureSolve;
+
+    /// a/V per cell along the plane slab's row after one step, with the
+    /// deflagration's `surface_area` set to `method`.
+    fn areas_after_one_step(method: SurfaceArea) -> Vec<f64> {
+        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
+        cfg.law.surface_area = method;
+        let mut s = burning_slab(&cfg, PressureSolve::Explicit).expect("builds");
+        let dt = s.stable_dt().expect("dt");
+        s.advance(dt).expect("step");
+        let mut out = Vec::new();
+        s.level
+            .for_each_cell_in_order(|_, pid, c| out.push(s.scratch[pid].surface[0].area[c]));
+        out
+    }
+
+    #[test]
+    fn the_surface_pass_uses_the_deflagrations_area_estimate() {
+        // The slab fills cells 0–7; after one step the front cell 7 holds a
+        // little less than the full cell 6 behind it. `Column` burns only
+        // the outermost cell; `Upwind` gives cell 6 its small drop too,
+        // and the two share the face's area 1/h.
+        let h = 1.0e-4;
+        let column = areas_after_one_step(SurfaceArea::Column);
+        let upwind = areas_after_one_step(SurfaceArea::Upwind);
+        assert!(column[7] > 0.0 && column[6] == 0.0, "{column:?}");
+        assert!(upwind[6] > 0.0 && upwind[6] < 0.1 / h, "{upwind:?}");
+        // (a full cell holds 1 − 10⁻⁶ of reactant: the products' trace)
+        let total: f64 = upwind.iter().sum();
+        assert!((total * h - 1.0).abs() < 2e-6, "{total}");
+        assert!((column[7] * h - 1.0).abs() < 1e-12, "{}", column[7]);
     }
 }
