@@ -61,19 +61,24 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
         cfg.regress_cells = 1.0;
         rows.push(run(format!("A/100, 100 MPa, {}", surface.name()), cfg));
     }
-    for surface in [
-        BurnSurface::Plane,
-        BurnSurface::Diagonal,
-        BurnSurface::Sphere,
+    for (method, name) in [
+        (SurfaceArea::ExposedFaces, "exposed_faces"),
+        (SurfaceArea::Upwind, "upwind"),
     ] {
-        let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
-        cfg.law.a /= 100.0;
-        cfg.law.surface_area = SurfaceArea::Upwind;
-        cfg.regress_cells = 1.0;
-        rows.push(run(
-            format!("A/100, 100 MPa, {}, `upwind` area", surface.name()),
-            cfg,
-        ));
+        for surface in [
+            BurnSurface::Plane,
+            BurnSurface::Diagonal,
+            BurnSurface::Sphere,
+        ] {
+            let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
+            cfg.law.a /= 100.0;
+            cfg.law.surface_area = method;
+            cfg.regress_cells = 1.0;
+            rows.push(run(
+                format!("A/100, 100 MPa, {}, `{name}` area", surface.name()),
+                cfg,
+            ));
+        }
     }
     let particles = tubes::particle_deflagration();
     match &particles {
@@ -112,10 +117,11 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
          area estimate makes. The PBX-9501 \
          law is `Deflagration::pbx_9501()` (A = 5.218 × 10⁻⁶ m·s⁻¹·Pa⁻⁰·⁷⁷⁸, n = 0.778), run over 3 cells; \
          the A/100 rows burn 100 times slower, so that the gas made leaves the pressure at the held one, \
-         and isolate the surface estimate on each shape, run over 1 cell. The rows marked `upwind` area \
-         burn the A/100 shapes with the other estimate, `SurfaceArea::Upwind` (the front's area shared \
-         between the cells its jump spans; docs/physics/reaction/deflagration.md): a comparison, not a \
-         figure of merit.\n"
+         and isolate the surface estimate on each shape, run over 1 cell. The rows marked \
+         `exposed_faces` and `upwind` area burn the A/100 shapes with two other estimates, \
+         `SurfaceArea::ExposedFaces` (the open faces of every surface cell projected on the normal) and \
+         `SurfaceArea::Upwind` (the front's area shared between the cells its jump spans; \
+         docs/physics/reaction/deflagration.md): a comparison, not figures of merit.\n"
     );
     let _ = writeln!(
         md,

@@ -43,11 +43,12 @@ pub enum DeflagrationError {
         /// The expected range.
         expected: &'static str,
     },
-    /// The upwind area estimate was asked for where only the surface
-    /// cells' normals are given.
+    /// An estimate that reads the reactant's field (`upwind`,
+    /// `exposed_faces`) was asked for where only the surface cells'
+    /// normals are given.
     #[error(
-        "deflagration: the `upwind` surface area reads the reactant's volume fraction; \
-         use `upwind_area_densities`"
+        "deflagration: this surface area estimate reads the reactant's field, not only the \
+         normals; use `surface_area_densities`"
     )]
     FieldNeeded,
     /// A field or output slice does not match the grid.
@@ -289,19 +290,31 @@ pub enum SurfaceArea {
     /// ([`SurfaceArea::area`] is `None`); see
     /// [`upwind_area_densities`]. The field must be a volume fraction.
     Upwind,
+    /// The exposed faces' flux: on each surface cell of [`detect_surface`]
+    /// (every one, not only the outermost of a column),
+    /// a = max(0, Σ_f (n·e_f) A_f) over the cell's faces f whose neighbour
+    /// is empty, e_f the face's outward unit normal and A_f its area. By
+    /// the divergence theorem the exposed faces of a staircase give a
+    /// constant n the area of the plane they cover, whatever the
+    /// staircase: exact for a digitised plane at any orientation and for
+    /// a ragged front (cells of a layer burnt at different times), and an
+    /// error δ in the normal changes it by cos δ. It reads the field's
+    /// neighbours: no per-cell form ([`SurfaceArea::area`] is `None`).
+    ExposedFaces,
 }
 
 impl SurfaceArea {
     /// Area in a box cell of size `cell` (m) with unit normal `normal`, m²;
-    /// `None` for [`SurfaceArea::Upwind`], which reads the field's jumps
-    /// as well.
+    /// `None` for [`SurfaceArea::Upwind`] and
+    /// [`SurfaceArea::ExposedFaces`], which read the field's neighbours as
+    /// well.
     #[inline]
     pub fn area(self, cell: [f64; 3], normal: [f64; 3]) -> Option<f64> {
         match self {
             Self::Column => Some(column_area(cell, normal)),
             Self::ClippedPlane => Some(clipped_plane_area(cell, normal)),
             Self::Uintah => Some(uintah_area(cell, normal)),
-            Self::Upwind => None,
+            Self::Upwind | Self::ExposedFaces => None,
         }
     }
 
@@ -686,7 +699,7 @@ fn norm(v: [f64; 3]) -> f64 {
 /// are given.
 fn cell_form(method: SurfaceArea) -> Result<(), DeflagrationError> {
     match method {
-        SurfaceArea::Upwind => Err(DeflagrationError::FieldNeeded),
+        SurfaceArea::Upwind | SurfaceArea::ExposedFaces => Err(DeflagrationError::FieldNeeded),
         _ => Ok(()),
     }
 }
@@ -810,6 +823,37 @@ pub fn surface_area_densities(
             [nx, ny, nz],
             out,
         );
+    }
+    if method == SurfaceArea::ExposedFaces {
+        let every = SurfaceDetection {
+            outermost_in_column: false,
+            ..*options
+        };
+        let count = detect_surface(grid, reactant, &every, &mut work.on_surface, [nx, ny, nz])?;
+        let field = Field { grid, reactant };
+        let threshold = options.present_threshold;
+        for k in 0..grid.n[2] {
+            for j in 0..grid.n[1] {
+                for i in 0..grid.n[0] {
+                    let c = grid.index(i, j, k);
+                    if !work.on_surface[c] {
+                        out[c] = 0.0;
+                        continue;
+                    }
+                    let at = [i as isize, j as isize, k as isize];
+                    let mut flux = 0.0;
+                    for axis in 0..3 {
+                        for s in [1_isize, -1] {
+                            if field.neighbour(at, axis, s).is_some_and(|v| v <= threshold) {
+                                flux += s as f64 * work.normal[axis][c] / grid.spacing[axis];
+                            }
+                        }
+                    }
+                    out[c] = flux.max(0.0);
+                }
+            }
+        }
+        return Ok(count);
     }
     let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
     let volume = grid.cell_volume();

@@ -6,7 +6,8 @@
 //! ([`brisance_reaction::surface_area_densities`] with the Youngs normal
 //! and the deflagration's `surface_area` estimate: for `Column`, the
 //! default, the reactant cells with an empty face neighbour, the outermost
-//! of each column along the normal; for `Upwind`, every reactant cell
+//! of each column along the normal; for `ExposedFaces`, every reactant
+//! cell with an empty face neighbour; for `Upwind`, every reactant cell
 //! holding a drop of the reactant toward the normal's side). A
 //! cell holds reactant where θ_r > [`crate::reaction::SURFACE_PRESENT`]
 //! (10⁻⁴), so the traces an absent material keeps (10⁻⁶) count as empty.
