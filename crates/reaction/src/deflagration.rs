@@ -695,7 +695,8 @@ fn norm(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
-/// Refuses [`SurfaceArea::Upwind`] where only the surface cells' normals
+/// Refuses the estimates that read the field ([`SurfaceArea::Upwind`],
+/// [`SurfaceArea::ExposedFaces`]) where only the surface cells' normals
 /// are given.
 fn cell_form(method: SurfaceArea) -> Result<(), DeflagrationError> {
     match method {
@@ -706,8 +707,9 @@ fn cell_form(method: SurfaceArea) -> Result<(), DeflagrationError> {
 
 /// Surface area in each cell from [`detect_surface`]'s output, m² (0 off
 /// the surface); returns the total. For an (r, z) grid use
-/// [`ring_surface_areas`]. [`SurfaceArea::Upwind`] reads the field, not
-/// only the normals: refused here ([`upwind_area_densities`]).
+/// [`ring_surface_areas`]. [`SurfaceArea::Upwind`] and
+/// [`SurfaceArea::ExposedFaces`] read the field, not only the normals:
+/// refused here ([`surface_area_densities`] takes them).
 pub fn surface_areas(
     grid: &CellGrid,
     method: SurfaceArea,
@@ -733,8 +735,8 @@ pub fn surface_areas(
 
 /// Ring surface area in each cell of an axisymmetric grid (`n = [nr, nz,
 /// 1]`, r along the first axis, the first cell's inner radius `r_min`),
-/// m²; returns the total. [`SurfaceArea::Upwind`] is refused, as by
-/// [`surface_areas`].
+/// m²; returns the total. The estimates that read the field are refused,
+/// as by [`surface_areas`].
 pub fn ring_surface_areas(
     grid: &CellGrid,
     r_min: f64,
@@ -789,11 +791,15 @@ impl SurfaceWork {
 /// The reactant's surface area per unit cell volume a/V in every cell of
 /// `grid`, 1/m (0 off the surface), from the field `reactant` (volume
 /// fraction or density): [`detect_surface`], then `method`'s area over
-/// the cell volume. The same a/V holds on an axisymmetric (r, z) grid
-/// (`n = [nr, nz, 1]`): a ring's surface area 2π r_c ℓ
-/// ([`SurfaceArea::ring_area`]) and its volume 2π r_c Δr Δz carry the same
-/// 2π r_c, and ℓ/(Δr Δz) is the area density of the (r, z) cell taken
-/// as a Cartesian one. Returns the number of surface cells.
+/// the cell volume; [`SurfaceArea::ExposedFaces`] and
+/// [`SurfaceArea::Upwind`] read the field's neighbours (the latter needs
+/// a volume fraction; [`upwind_area_densities`]). The same a/V holds on
+/// an axisymmetric (r, z) grid (`n = [nr, nz, 1]`): a ring's surface area
+/// 2π r_c ℓ ([`SurfaceArea::ring_area`]) and its volume 2π r_c Δr Δz carry
+/// the same 2π r_c, and ℓ/(Δr Δz) is the area density of the (r, z) cell
+/// taken as a Cartesian one (for the two field estimates, a ring's faces
+/// at r_c ± Δr/2 taken at r_c: an error of order Δr / r_c). Returns the
+/// number of surface cells.
 pub fn surface_area_densities(
     grid: &CellGrid,
     method: SurfaceArea,
@@ -825,35 +831,7 @@ pub fn surface_area_densities(
         );
     }
     if method == SurfaceArea::ExposedFaces {
-        let every = SurfaceDetection {
-            outermost_in_column: false,
-            ..*options
-        };
-        let count = detect_surface(grid, reactant, &every, &mut work.on_surface, [nx, ny, nz])?;
-        let field = Field { grid, reactant };
-        let threshold = options.present_threshold;
-        for k in 0..grid.n[2] {
-            for j in 0..grid.n[1] {
-                for i in 0..grid.n[0] {
-                    let c = grid.index(i, j, k);
-                    if !work.on_surface[c] {
-                        out[c] = 0.0;
-                        continue;
-                    }
-                    let at = [i as isize, j as isize, k as isize];
-                    let mut flux = 0.0;
-                    for axis in 0..3 {
-                        for s in [1_isize, -1] {
-                            if field.neighbour(at, axis, s).is_some_and(|v| v <= threshold) {
-                                flux += s as f64 * work.normal[axis][c] / grid.spacing[axis];
-                            }
-                        }
-                    }
-                    out[c] = flux.max(0.0);
-                }
-            }
-        }
-        return Ok(count);
+        return exposed_face_densities(grid, reactant, options, work, out);
     }
     let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
     let volume = grid.cell_volume();
@@ -864,6 +842,49 @@ pub fn surface_area_densities(
         } else {
             0.0
         };
+    }
+    Ok(count)
+}
+
+/// [`surface_area_densities`] for [`SurfaceArea::ExposedFaces`]: every
+/// surface cell of [`detect_surface`] (`outermost_in_column` off) gets
+/// a/V = max(0, Σ_f (n·e_f) / h_f) over its faces f whose neighbour is
+/// empty (A_f / V = 1 / h_f along the face's axis).
+fn exposed_face_densities(
+    grid: &CellGrid,
+    reactant: &[f64],
+    options: &SurfaceDetection,
+    work: &mut SurfaceWork,
+    out: &mut [f64],
+) -> Result<usize, DeflagrationError> {
+    let every = SurfaceDetection {
+        outermost_in_column: false,
+        ..*options
+    };
+    let [nx, ny, nz] = &mut work.normal;
+    let count = detect_surface(grid, reactant, &every, &mut work.on_surface, [nx, ny, nz])?;
+    let field = Field { grid, reactant };
+    let threshold = options.present_threshold;
+    for k in 0..grid.n[2] {
+        for j in 0..grid.n[1] {
+            for i in 0..grid.n[0] {
+                let c = grid.index(i, j, k);
+                if !work.on_surface[c] {
+                    out[c] = 0.0;
+                    continue;
+                }
+                let at = [i as isize, j as isize, k as isize];
+                let mut flux = 0.0;
+                for axis in 0..3 {
+                    for s in [1_isize, -1] {
+                        if field.neighbour(at, axis, s).is_some_and(|v| v <= threshold) {
+                            flux += s as f64 * work.normal[axis][c] / grid.spacing[axis];
+                        }
+                    }
+                }
+                out[c] = flux.max(0.0);
+            }
+        }
     }
     Ok(count)
 }
