@@ -172,6 +172,33 @@ fn a_config_names_the_deflagration() {
         "{err}"
     );
     assert!(err.to_string().contains("`n`"), "{err}");
+    // The surface-area estimate is the model's optional field; a name
+    // that is not an estimate is refused at its line, with the names.
+    let upwind = text.replace(
+        "ignition_temperature: 450.0)",
+        "ignition_temperature: 450.0, surface_area: upwind)",
+    );
+    let loaded = load_str("ratestick_1d.ron", &upwind, &[]).unwrap();
+    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+        panic!("an Ice pipeline");
+    };
+    let rx = super::reactions(&loaded.scenario, ice).unwrap();
+    let super::IceRate::Deflagration(m) = &rx[0].rate else {
+        panic!("a deflagration");
+    };
+    assert_eq!(m.surface_area, brisance_reaction::SurfaceArea::Upwind);
+    let bad = text.replace(
+        "ignition_temperature: 450.0)",
+        "ignition_temperature: 450.0, surface_area: columns)",
+    );
+    let err = load_str("ratestick_1d.ron", &bad, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("ratestick_1d.ron:25:"), "{err}");
+    assert!(
+        err.contains("`columns`") && err.contains("`exposed_faces`"),
+        "{err}"
+    );
 }
 
 /// A reaction naming a material outside the pipeline, or products
