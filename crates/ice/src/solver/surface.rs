@@ -450,4 +450,71 @@ mod tests {
         assert!((total * h - 1.0).abs() < 2e-6, "{total}");
         assert!((column[7] * h - 1.0).abs() < 1e-12, "{}", column[7]);
     }
+
+    /// Splits the `Column` estimate's excess area on the burning 45° front
+    /// of V-BURNRATE (A/100, 100 MPa) into the part from having more
+    /// surface cells than the digitised plane (each counted at the true
+    /// normal's area √2 h²) and the part from the normals, and gives the
+    /// share of the area in cells holding under 5 % of reactant. A
+    /// diagnostic (about three minutes in release):
+    /// `cargo test -p brisance-ice --release -- --ignored --nocapture
+    /// the_burning_diagonal_front`.
+    #[test]
+    #[ignore = "a diagnostic run of minutes; prints its split"]
+    fn the_burning_diagonal_fronts_excess_area_split() {
+        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Diagonal);
+        cfg.law.a /= 100.0;
+        cfg.regress_cells = 1.0;
+        let h = cfg.h;
+        let mut s = burning_slab(&cfg, PressureSolve::Explicit).expect("builds");
+        let t_end = cfg.regress_cells * h / cfg.law.burn_speed(cfg.pressure, 2500.0);
+        let cell_area = std::f64::consts::SQRT_2 * h * h;
+        let (mut window, mut cells_part, mut normals_part, mut thin, mut total) =
+            (0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut outside = 0usize;
+        while s.time() < t_end * (1.0 - 1e-12) {
+            let dt = s.stable_dt().expect("dt").min(t_end - s.time());
+            s.advance(dt).expect("step");
+            if s.time() < 0.2 * t_end {
+                continue;
+            }
+            let pass = &s.surface_pass;
+            let v = h * h * h;
+            let reactant: f64 = pass.phi.iter().sum::<f64>() * v;
+            let x = (2.0 * reactant / h).sqrt() / std::f64::consts::SQRT_2;
+            let true_area = 2.0 * x * h;
+            let (mut area, mut count, mut thin_area) = (0.0, 0usize, 0.0);
+            let n = s.level.geometry.cells[0];
+            for (i, &a) in pass.density.iter().enumerate() {
+                if a > 0.0 {
+                    area += a * v;
+                    count += 1;
+                    if pass.phi[i] < 0.05 {
+                        thin_area += a * v;
+                    }
+                    // a surface cell more than 1.5 cells off the plane
+                    // the reactant's volume gives
+                    let (ci, cj) = ((i % n) as f64 + 0.5, (i / n) as f64 + 0.5);
+                    let off = ((ci + cj) * h / std::f64::consts::SQRT_2 - x) / h;
+                    outside += usize::from(off.abs() > 1.5);
+                }
+            }
+            let counted = count as f64 * cell_area;
+            cells_part += (counted / true_area - 1.0) * dt;
+            normals_part += (area - counted) / true_area * dt;
+            thin += thin_area / area * dt;
+            total += (area / true_area - 1.0) * dt;
+            window += dt;
+        }
+        eprintln!(
+            "45° front, time means: area error {:+.3} % = cells {:+.3} % + normals {:+.3} %; \
+             area in cells under 5 % reactant {:.3} %; surface cells more than 1.5 h off the plane \
+             (summed over steps) {outside}",
+            100.0 * total / window,
+            100.0 * cells_part / window,
+            100.0 * normals_part / window,
+            100.0 * thin / window,
+        );
+        assert!(window > 0.0);
+    }
 }
