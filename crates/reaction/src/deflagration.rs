@@ -509,18 +509,16 @@ pub fn detect_surface(
     on_surface: &mut [bool],
     normal: [&mut [f64]; 3],
 ) -> Result<usize, DeflagrationError> {
-    let cells = grid.cells();
-    for (field, len) in [
-        ("reactant", reactant.len()),
-        ("on_surface", on_surface.len()),
-        ("normal[0]", normal[0].len()),
-        ("normal[1]", normal[1].len()),
-        ("normal[2]", normal[2].len()),
-    ] {
-        if len != cells {
-            return Err(DeflagrationError::LengthMismatch { field, len, cells });
-        }
-    }
+    same_lengths(
+        grid,
+        &[
+            ("reactant", reactant.len()),
+            ("on_surface", on_surface.len()),
+            ("normal[0]", normal[0].len()),
+            ("normal[1]", normal[1].len()),
+            ("normal[2]", normal[2].len()),
+        ],
+    )?;
     check_grid(grid, options)?;
     let [nx_out, ny_out, nz_out] = normal;
     let threshold = options.present_threshold;
@@ -812,13 +810,7 @@ pub fn surface_area_densities(
     if work.on_surface.len() != cells {
         *work = SurfaceWork::new(cells);
     }
-    if out.len() != cells {
-        return Err(DeflagrationError::LengthMismatch {
-            field: "out",
-            len: out.len(),
-            cells,
-        });
-    }
+    same_lengths(grid, &[("out", out.len())])?;
     let [nx, ny, nz] = &mut work.normal;
     if method == SurfaceArea::Upwind {
         return upwind_area_densities(
@@ -912,19 +904,17 @@ pub fn upwind_area_densities(
     normal: [&mut [f64]; 3],
     out: &mut [f64],
 ) -> Result<usize, DeflagrationError> {
-    let cells = grid.cells();
-    for (field, len) in [
-        ("reactant", reactant.len()),
-        ("on_surface", on_surface.len()),
-        ("normal[0]", normal[0].len()),
-        ("normal[1]", normal[1].len()),
-        ("normal[2]", normal[2].len()),
-        ("out", out.len()),
-    ] {
-        if len != cells {
-            return Err(DeflagrationError::LengthMismatch { field, len, cells });
-        }
-    }
+    same_lengths(
+        grid,
+        &[
+            ("reactant", reactant.len()),
+            ("on_surface", on_surface.len()),
+            ("normal[0]", normal[0].len()),
+            ("normal[1]", normal[1].len()),
+            ("normal[2]", normal[2].len()),
+            ("out", out.len()),
+        ],
+    )?;
     check_grid(grid, options)?;
     let [nx_out, ny_out, nz_out] = normal;
     let threshold = options.present_threshold;
@@ -938,7 +928,17 @@ pub fn upwind_area_densities(
                 let phi = reactant[c];
                 let mut density = 0.0;
                 let mut unit = [0.0; 3];
-                if phi > threshold {
+                // A drop needs a lower face neighbour: without one (the
+                // reactant's interior) the cell holds no surface, and its
+                // gradient is not computed.
+                let lower = (0..3).any(|axis| {
+                    [1, -1].into_iter().any(|s| {
+                        field
+                            .neighbour(at, axis, s)
+                            .is_some_and(|v| (if v > threshold { v } else { 0.0 }) < phi)
+                    })
+                });
+                if phi > threshold && lower {
                     let g = field.gradient(at, options.stencil);
                     let empty = field.empty_neighbours(at, threshold);
                     if norm(g) > 0.0 || empty.is_some() {
@@ -976,19 +976,29 @@ fn check_lengths(
     normal: [&[f64]; 3],
     area: &[f64],
 ) -> Result<(), DeflagrationError> {
+    same_lengths(
+        grid,
+        &[
+            ("on_surface", on_surface.len()),
+            ("normal[0]", normal[0].len()),
+            ("normal[1]", normal[1].len()),
+            ("normal[2]", normal[2].len()),
+            ("area", area.len()),
+        ],
+    )
+}
+
+/// The first of the named slice lengths that is not the grid's cell count,
+/// as an error naming it.
+fn same_lengths(
+    grid: &CellGrid,
+    slices: &[(&'static str, usize)],
+) -> Result<(), DeflagrationError> {
     let cells = grid.cells();
-    for (field, len) in [
-        ("on_surface", on_surface.len()),
-        ("normal[0]", normal[0].len()),
-        ("normal[1]", normal[1].len()),
-        ("normal[2]", normal[2].len()),
-        ("area", area.len()),
-    ] {
-        if len != cells {
-            return Err(DeflagrationError::LengthMismatch { field, len, cells });
-        }
+    match slices.iter().find(|&&(_, len)| len != cells) {
+        Some(&(field, len)) => Err(DeflagrationError::LengthMismatch { field, len, cells }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// Least-squares fit of log D = log A + n log p over (p, D) pairs (Pa,
