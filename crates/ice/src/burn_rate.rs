@@ -144,37 +144,6 @@ pub fn burning_slab(
     let rho_p = eos[1]
         .density(p0, cfg.products_temperature)
         .map_err(|e| e.to_string())?;
-    let h = cfg.h;
-    let m = cfg.extent_cells as f64;
-    // Cells across: the reactant plus as much again of products.
-    let across = 2 * cfg.extent_cells + 4;
-    let (cells, geometry) = match cfg.surface {
-        BurnSurface::Plane => ([across, 1, 1], Geometry::Cartesian),
-        BurnSurface::Diagonal => {
-            // The corner triangle reaches about 2·extent along each axis.
-            let n = 2 * cfg.extent_cells + cfg.extent_cells + 4;
-            ([n, n, 1], Geometry::Cartesian)
-        }
-        BurnSurface::Sphere => ([across, across, 1], Geometry::Axisymmetric),
-    };
-    let level = Level::new(
-        [0.0; 3],
-        std::array::from_fn(|d| cells[d] as f64 * h),
-        cells,
-        [1, 1, 1],
-        GHOST,
-    )
-    .map_err(|e| e.to_string())?;
-    // Inside the reactant at the start.
-    let inside = move |x: [f64; 3]| match cfg.surface {
-        BurnSurface::Plane => x[0] < m * h,
-        // c₀ = (2m + ½) h: no sampling point lies on the plane, so every
-        // cell of a diagonal layer starts with the same volume fraction.
-        BurnSurface::Diagonal => x[0] + x[1] < (2.0 * m + 0.5) * h,
-        BurnSurface::Sphere => x[0] * x[0] + x[1] * x[1] < (m * h) * (m * h),
-    };
-    const TRACE: f64 = 1.0e-6;
-    const SAMPLES: usize = 8;
     let state = move |theta: f64| CellState {
         pressure: p0,
         materials: vec![
@@ -190,52 +159,18 @@ pub fn burning_slab(
             },
         ],
     };
-    let held = IceBoundary::FixedState(state(TRACE));
-    // x (or r) from a symmetry wall (the axis) to the held state; y (or z)
-    // the same in 2D, from the symmetry plane z = 0 for the sphere.
-    let boundaries = [
-        IceBoundary::Symmetry,
-        held.clone(),
-        IceBoundary::Symmetry,
-        if cfg.surface == BurnSurface::Plane {
-            IceBoundary::Symmetry
-        } else {
-            held
-        },
-        IceBoundary::Symmetry,
-        IceBoundary::Symmetry,
-    ];
+    let boundaries = slab_boundaries(cfg, IceBoundary::FixedState(state(TRACE)));
     let mut s = IceSolver::new(
         eos,
-        level,
+        slab_level(cfg)?,
         boundaries,
         ExchangeCoefficients::uniform(2, 1e15, 0.0),
         IceOptions {
-            geometry,
+            geometry: slab_geometry(cfg.surface),
             pressure,
             ..Default::default()
         },
-        |x| {
-            // The reactant's volume fraction by SAMPLES² points over the
-            // cell (x–y; z is one cell thick).
-            let mut n_in = 0;
-            for a in 0..SAMPLES {
-                for b in 0..SAMPLES {
-                    let dx = (a as f64 + 0.5) / SAMPLES as f64 - 0.5;
-                    let dy = (b as f64 + 0.5) / SAMPLES as f64 - 0.5;
-                    let y = if cfg.surface == BurnSurface::Plane {
-                        x[1]
-                    } else {
-                        x[1] + dy * h
-                    };
-                    if inside([x[0] + dx * h, y, x[2]]) {
-                        n_in += 1;
-                    }
-                }
-            }
-            let f = n_in as f64 / (SAMPLES * SAMPLES) as f64;
-            state(f.clamp(TRACE, 1.0 - TRACE))
-        },
+        |x| state(initial_fraction(cfg, x).clamp(TRACE, 1.0 - TRACE)),
     )
     .map_err(|e| e.to_string())?;
     s.set_reactions(vec![IceReaction {
@@ -246,23 +181,225 @@ pub fn burning_slab(
     Ok(s)
 }
 
+/// A trace of the other material where a cell holds only one.
+const TRACE: f64 = 1.0e-6;
+
+/// The geometry of a V-BURNRATE grid: (r, z) rings for the sphere.
+pub fn slab_geometry(surface: BurnSurface) -> Geometry {
+    match surface {
+        BurnSurface::Sphere => Geometry::Axisymmetric,
+        BurnSurface::Plane | BurnSurface::Diagonal => Geometry::Cartesian,
+    }
+}
+
+/// The grid of a V-BURNRATE case: cells of `h`, the reactant and as much
+/// again of products (the corner triangle reaches about twice its extent
+/// along each axis), one patch.
+pub fn slab_level(cfg: &BurnRate) -> Result<Level, String> {
+    let across = 2 * cfg.extent_cells + 4;
+    let cells = match cfg.surface {
+        BurnSurface::Plane => [across, 1, 1],
+        BurnSurface::Diagonal => {
+            let n = 3 * cfg.extent_cells + 4;
+            [n, n, 1]
+        }
+        BurnSurface::Sphere => [across, across, 1],
+    };
+    Level::new(
+        [0.0; 3],
+        std::array::from_fn(|d| cells[d] as f64 * cfg.h),
+        cells,
+        [1, 1, 1],
+        GHOST,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// The faces of a V-BURNRATE grid: x (or r) from a symmetry wall (the
+/// axis) to `held`; y (or z) the same in 2D, from the symmetry plane z = 0
+/// for the sphere; symmetry elsewhere.
+pub fn slab_boundaries(cfg: &BurnRate, held: IceBoundary) -> [IceBoundary; 6] {
+    [
+        IceBoundary::Symmetry,
+        held.clone(),
+        IceBoundary::Symmetry,
+        if cfg.surface == BurnSurface::Plane {
+            IceBoundary::Symmetry
+        } else {
+            held
+        },
+        IceBoundary::Symmetry,
+        IceBoundary::Symmetry,
+    ]
+}
+
+/// Whether point `x` lies inside the reactant at the start.
+pub fn initially_inside(cfg: &BurnRate, x: [f64; 3]) -> bool {
+    let (h, m) = (cfg.h, cfg.extent_cells as f64);
+    match cfg.surface {
+        BurnSurface::Plane => x[0] < m * h,
+        // c₀ = (2m + ½) h: no sampling point lies on the plane, so every
+        // cell of a diagonal layer starts with the same volume fraction.
+        BurnSurface::Diagonal => x[0] + x[1] < (2.0 * m + 0.5) * h,
+        BurnSurface::Sphere => x[0] * x[0] + x[1] * x[1] < (m * h) * (m * h),
+    }
+}
+
+/// The reactant's volume fraction at the start in the cell centred at
+/// `x`, by 8 × 8 points over the cell in x–y (z is one cell thick).
+pub fn initial_fraction(cfg: &BurnRate, x: [f64; 3]) -> f64 {
+    const SAMPLES: usize = 8;
+    let h = cfg.h;
+    let mut n_in = 0;
+    for a in 0..SAMPLES {
+        for b in 0..SAMPLES {
+            let dx = (a as f64 + 0.5) / SAMPLES as f64 - 0.5;
+            let dy = (b as f64 + 0.5) / SAMPLES as f64 - 0.5;
+            let y = if cfg.surface == BurnSurface::Plane {
+                x[1]
+            } else {
+                x[1] + dy * h
+            };
+            if initially_inside(cfg, [x[0] + dx * h, y, x[2]]) {
+                n_in += 1;
+            }
+        }
+    }
+    n_in as f64 / (SAMPLES * SAMPLES) as f64
+}
+
+/// The measure of a V-BURNRATE run, fed after every step: the surface's
+/// position from the reactant's volume, its speed by least squares over
+/// the last 80 % of the run, the law's speed and the area error over the
+/// same window.
+#[derive(Debug, Clone)]
+pub struct Regression {
+    surface: BurnSurface,
+    h: f64,
+    law: Deflagration,
+    held_speed: f64,
+    t_end: f64,
+    ts: Vec<f64>,
+    xs: Vec<f64>,
+    law_sum: f64,
+    area_sum: f64,
+    window: f64,
+}
+
+impl Regression {
+    /// The measure of case `cfg`; an error where the law does not burn at
+    /// the held pressure.
+    pub fn new(cfg: &BurnRate) -> Result<Self, String> {
+        let held_speed = cfg.law.burn_speed(cfg.pressure, cfg.products_temperature);
+        if !(held_speed > 0.0) {
+            return Err("the law gives no burn at the held pressure".into());
+        }
+        Ok(Self {
+            surface: cfg.surface,
+            h: cfg.h,
+            law: cfg.law,
+            held_speed,
+            t_end: cfg.regress_cells * cfg.h / held_speed,
+            ts: Vec::new(),
+            xs: Vec::new(),
+            law_sum: 0.0,
+            area_sum: 0.0,
+            window: 0.0,
+        })
+    }
+
+    /// The run's length: `regress_cells` at A pⁿ of the held pressure, s.
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// The surface's position for a reactant volume `v` (m³; on (r, z)
+    /// rings the whole ring's): plane V/A, 45° the corner triangle's
+    /// c/√2, sphere the hemisphere's radius.
+    pub fn position(&self, v: f64) -> f64 {
+        let h = self.h;
+        match self.surface {
+            BurnSurface::Plane => v / (h * h),
+            BurnSurface::Diagonal => (2.0 * v / h).sqrt() / SQRT_2,
+            BurnSurface::Sphere => (1.5 * v / PI).cbrt(),
+        }
+    }
+
+    /// Whether a step ending at `time` lies in the measuring window.
+    pub fn measuring(&self, time: f64) -> bool {
+        time >= 0.2 * self.t_end
+    }
+
+    /// The true area of the surface at distance `x` from the wall, the
+    /// corner or the centre, m².
+    pub fn true_area(&self, x: f64) -> f64 {
+        match self.surface {
+            BurnSurface::Plane => self.h * self.h,
+            BurnSurface::Diagonal => 2.0 * x * self.h,
+            BurnSurface::Sphere => 2.0 * PI * x * x,
+        }
+    }
+
+    /// Records the state after a step of `dt` ending at `time`: the
+    /// reactant's volume `v` and the burning surface's (area, mean A pⁿ)
+    /// ([`crate::IceSolver::burning_surface`]).
+    pub fn record(&mut self, time: f64, dt: f64, v: f64, surface: Option<(f64, f64)>) {
+        if !self.measuring(time) {
+            return;
+        }
+        let x = self.position(v);
+        self.ts.push(time);
+        self.xs.push(x);
+        if let Some((area, speed)) = surface {
+            self.law_sum += speed * dt;
+            self.area_sum += (area / self.true_area(x) - 1.0) * dt;
+            self.window += dt;
+        }
+    }
+
+    /// The result after `steps` steps; an error where the window holds
+    /// too few.
+    pub fn finish(&self, steps: u64) -> Result<BurnRateResult, String> {
+        if self.ts.len() < 3 || !(self.window > 0.0) {
+            return Err(format!(
+                "too few steps in the measuring window ({} steps, {:e} s with a burning surface, t_end {:e} s)",
+                self.ts.len(),
+                self.window,
+                self.t_end,
+            ));
+        }
+        let law_speed = self.law_sum / self.window;
+        Ok(BurnRateResult {
+            speed: -least_squares_slope(&self.ts, &self.xs),
+            law_speed,
+            surface_pressure: (law_speed / self.law.a).powf(1.0 / self.law.n),
+            held_speed: self.held_speed,
+            area_error: self.area_sum / self.window,
+            steps,
+        })
+    }
+}
+
 /// Runs the slab `s` of [`burning_slab`] over the case's time and measures.
 fn run_slab(cfg: &BurnRate, mut s: IceSolver<EosModel>) -> Result<BurnRateResult, String> {
-    let p0 = cfg.pressure;
+    let mut measure = Regression::new(cfg)?;
+    let t_end = measure.t_end();
     let h = cfg.h;
     let cells = s.level().geometry.cells;
     let geometry = s.options().geometry;
-    let held_speed = cfg.law.burn_speed(p0, cfg.products_temperature);
-    if !(held_speed > 0.0) {
-        return Err("the law gives no burn at the held pressure".into());
-    }
-    let t_end = cfg.regress_cells * h / held_speed;
-    // The surface's position from the reactant's volume.
     let volume_per_cell = |n: usize| {
         let r_lo = (n % cells[0]) as f64 * h;
         geometry.cell_volume(r_lo, h, h, h)
     };
-    let position = |s: &IceSolver<EosModel>| -> Result<f64, String> {
+    while s.time() < t_end * (1.0 - 1e-12) {
+        let dt = s
+            .stable_dt()
+            .map_err(|e| e.to_string())?
+            .min(t_end - s.time());
+        s.advance(dt).map_err(|e| e.to_string())?;
+        if !measure.measuring(s.time()) {
+            continue;
+        }
         let d = s
             .cell_data(&["volume_fraction_1".into()])
             .map_err(|e| e.to_string())?;
@@ -272,55 +409,9 @@ fn run_slab(cfg: &BurnRate, mut s: IceSolver<EosModel>) -> Result<BurnRateResult
             .enumerate()
             .map(|(n, t)| t * volume_per_cell(n))
             .sum();
-        Ok(match cfg.surface {
-            BurnSurface::Plane => v / (h * h),
-            BurnSurface::Diagonal => (2.0 * v / h).sqrt() / SQRT_2,
-            BurnSurface::Sphere => (1.5 * v / PI).cbrt(),
-        })
-    };
-    // The true area of the surface at distance x from the wall, the
-    // corner or the centre.
-    let true_area = |x: f64| match cfg.surface {
-        BurnSurface::Plane => h * h,
-        BurnSurface::Diagonal => 2.0 * x * h,
-        BurnSurface::Sphere => 2.0 * PI * x * x,
-    };
-    let t_start = 0.2 * t_end;
-    let (mut ts, mut xs) = (Vec::new(), Vec::new());
-    let (mut law_sum, mut area_sum, mut window) = (0.0, 0.0, 0.0);
-    while s.time() < t_end * (1.0 - 1e-12) {
-        let dt = s
-            .stable_dt()
-            .map_err(|e| e.to_string())?
-            .min(t_end - s.time());
-        s.advance(dt).map_err(|e| e.to_string())?;
-        if s.time() >= t_start {
-            let x = position(&s)?;
-            ts.push(s.time());
-            xs.push(x);
-            if let Some((area, speed)) = s.burning_surface(0) {
-                law_sum += speed * dt;
-                area_sum += (area / true_area(x) - 1.0) * dt;
-                window += dt;
-            }
-        }
+        measure.record(s.time(), dt, v, s.burning_surface(0));
     }
-    if ts.len() < 3 || !(window > 0.0) {
-        return Err(format!(
-            "too few steps in the measuring window ({} steps, {window:e} s with a burning surface, t_end {t_end:e} s)",
-            ts.len(),
-        ));
-    }
-    let slope = least_squares_slope(&ts, &xs);
-    let law_speed = law_sum / window;
-    Ok(BurnRateResult {
-        speed: -slope,
-        law_speed,
-        surface_pressure: (law_speed / cfg.law.a).powf(1.0 / cfg.law.n),
-        held_speed,
-        area_error: area_sum / window,
-        steps: s.steps(),
-    })
+    measure.finish(s.steps())
 }
 
 /// Least-squares slope of y against x.
@@ -338,6 +429,29 @@ fn least_squares_slope(x: &[f64], y: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The position the measure gives for the volume of each shape at a
+    /// known distance is that distance, and the true area there is the
+    /// shape's: h² (plane), the corner triangle's hypotenuse √2 c times h
+    /// (45°), 2πx² (hemisphere).
+    #[test]
+    fn the_measure_inverts_each_shapes_volume() {
+        let x = 7.25e-4;
+        for (surface, v, area) in [
+            (BurnSurface::Plane, x * 1e-8, 1e-8),
+            // c = √2 x, V = c² h / 2
+            (BurnSurface::Diagonal, x * x * 1e-4, 2.0 * x * 1e-4),
+            (
+                BurnSurface::Sphere,
+                2.0 / 3.0 * PI * x * x * x,
+                2.0 * PI * x * x,
+            ),
+        ] {
+            let m = Regression::new(&BurnRate::pbx_9501(1.0e8, surface)).unwrap();
+            assert!((m.position(v) / x - 1.0).abs() < 1e-14, "{surface:?}");
+            assert!((m.true_area(x) / area - 1.0).abs() < 1e-14, "{surface:?}");
+        }
+    }
 
     #[test]
     fn least_squares_slope_of_a_line_is_exact() {
