@@ -57,7 +57,7 @@ pub mod water_air;
 pub use advection::Advection;
 pub use boundary::IceBoundary;
 pub use brisance_reaction::jwlpp::JwlPlusPlus;
-pub use brisance_reaction::Deflagration;
+pub use brisance_reaction::{Deflagration, SurfaceArea};
 pub use diffusion::{MaterialTransport, TimeStepLimit, TimeStepLimits};
 pub use equilibration::{
     equilibration_pressure, EquilibrationError, EquilibrationReport, EquilibrationSettings,

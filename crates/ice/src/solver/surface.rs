@@ -130,6 +130,7 @@ impl<E: Eos> IceSolver<E> {
             spacing: geometry.spacing,
         };
         let n_mat = self.eos.len();
+        let axisymmetric = self.options.geometry.is_axisymmetric();
         // The patch split is fixed for the solver's life: the map from
         // global order to patch cells is built once, and only where a
         // reaction burns on a surface (not on every step of every run).
@@ -188,6 +189,7 @@ impl<E: Eos> IceSolver<E> {
                 &SurfaceDetection {
                     present_threshold: SURFACE_PRESENT,
                     outermost_in_column: true,
+                    ring_inner_radius: axisymmetric.then_some(geometry.origin[0]),
                     ..SurfaceDetection::default()
                 },
                 &pass.phi,
