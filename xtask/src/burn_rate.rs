@@ -2,11 +2,13 @@
 //! Γ = a D ρ, eq 39) burning a slab of reactant in the ICE solver at a held
 //! pressure (`brisance_ice::burn_rate`): the surface's speed against A pⁿ
 //! at the surface's pressure, for a grid-aligned plane, a plane at 45° and
-//! a sphere on (r, z) rings.
+//! a sphere on (r, z) rings; the same shapes with a particle reactant
+//! (ICE–MPM, `brisance_couple::ice_mpm::burn_rate`).
 
 use std::fmt::Write as _;
 
 use anyhow::Result;
+use brisance::couple::ice_mpm::burn_rate::particle_burn_rate;
 use brisance::couple::ice_mpm::tubes;
 use brisance::ice::burn_rate::{burn_rate, BurnRate, BurnRateResult, BurnSurface};
 use brisance::reaction::SurfaceArea;
@@ -22,7 +24,12 @@ struct Row {
 
 fn run(label: String, cfg: BurnRate) -> Row {
     let result = burn_rate(&cfg);
-    match &result {
+    print_row(&label, &result);
+    Row { label, cfg, result }
+}
+
+fn print_row(label: &str, result: &Result<BurnRateResult, String>) {
+    match result {
         Ok(r) => println!(
             "  {label:<44} speed {:.5e} m/s, A p^n {:.5e} m/s at {:.4e} Pa: {:+.3} %, area {:+.3} % ({} steps)",
             r.speed,
@@ -34,11 +41,38 @@ fn run(label: String, cfg: BurnRate) -> Row {
         ),
         Err(e) => println!("  {label:<44} stopped: {e}"),
     }
-    Row { label, cfg, result }
+}
+
+/// The A/100 shapes with a particle reactant (ICE–MPM), each shape's
+/// configuration that of the fluid rows, with the default `column` area
+/// and with the `gradient` area.
+fn particle_rows() -> Vec<Row> {
+    let mut rows = Vec::new();
+    for (method, marker) in [
+        (SurfaceArea::Column, ""),
+        (SurfaceArea::Gradient, ", `gradient` area"),
+    ] {
+        for surface in [
+            BurnSurface::Plane,
+            BurnSurface::Diagonal,
+            BurnSurface::Sphere,
+        ] {
+            let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
+            cfg.law.a /= 100.0;
+            cfg.law.surface_area = method;
+            cfg.regress_cells = 1.0;
+            let label = format!("particles, A/100, 100 MPa, {}{marker}", surface.name());
+            let result = particle_burn_rate(&cfg);
+            rows.push(Row { label, cfg, result });
+        }
+    }
+    rows
 }
 
 pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
     println!("V-BURNRATE: a reactant slab deflagrating at a held pressure (ICE)");
+    // The particle rows (ICE–MPM) run beside the fluid ones.
+    let particle_thread = std::thread::spawn(particle_rows);
     let mut rows = Vec::new();
     for p in [1.0e6, 1.0e7, 1.0e8] {
         let cfg = BurnRate::pbx_9501(p, BurnSurface::Plane);
@@ -73,6 +107,13 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
             ));
         }
     }
+    let particle_shapes = particle_thread
+        .join()
+        .map_err(|_| anyhow::anyhow!("the particle rows' thread panicked"))?;
+    for r in &particle_shapes {
+        print_row(&r.label, &r.result);
+    }
+    rows.extend(particle_shapes);
     let particles = tubes::particle_deflagration();
     match &particles {
         Ok(b) => println!(
@@ -114,7 +155,15 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
          `exposed_faces` and `upwind` area burn the A/100 shapes with two other estimates, \
          `SurfaceArea::ExposedFaces` (the open faces of every surface cell projected on the normal) and \
          `SurfaceArea::Upwind` (the front's area shared between the cells its jump spans; \
-         docs/physics/reaction/deflagration.md): a comparison, not figures of merit.\n"
+         docs/physics/reaction/deflagration.md): a comparison, not figures of merit. The rows marked \
+         particles burn the same A/100 shapes with the reactant as particles in the ICE–MPM pipeline \
+         (`brisance_couple::ice_mpm::burn_rate`: 2 × 2 particles a cell over the shape, hypoelastic with the \
+         reactant's bulk modulus; the reactant's volume is the particles' mass over its EOS density at the \
+         held pressure), the cook-off's kind of explosive, which the gas does not move, with the default \
+         `column` area and with the `gradient` area (`SurfaceArea::Gradient`: every cell's |∇θ| V gathered \
+         onto the surface cell its column meets; by the coarea formula the mean area of the front's level \
+         sets, which does not depend on how far the particles' projection spreads their face). The particle \
+         rows are figures of merit.\n"
     );
     let _ = writeln!(
         md,
@@ -179,10 +228,12 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
         md,
         "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
     );
-    for r in rows
-        .iter()
-        .filter(|r| r.cfg.law.surface_area == SurfaceArea::Column)
-    {
+    // The figures of merit: the default estimate's rows, and every
+    // particle row (the cook-off's explosive; `gradient` is the estimate
+    // for it).
+    for r in rows.iter().filter(|r| {
+        r.cfg.law.surface_area == SurfaceArea::Column || r.label.starts_with("particles")
+    }) {
         let (measured, ok) = match &r.result {
             Ok(x) => (
                 format!("{:+.3} %", 100.0 * x.error()),

@@ -28,6 +28,7 @@
 //! the cell holds, so that the momentum exchange moves nothing there.
 //! Choices the seed leaves open are in `docs/physics/couple/ice_mpm.md`.
 
+pub mod burn_rate;
 pub mod cases;
 pub mod steps;
 pub mod tubes;
