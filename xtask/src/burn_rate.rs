@@ -43,6 +43,16 @@ fn print_row(label: &str, result: &Result<BurnRateResult, String>) {
     }
 }
 
+/// The A/100 row of `surface` with the area estimate `method`: PBX-9501's
+/// law with A over 100 at 100 MPa, run over one cell.
+fn slow(surface: BurnSurface, method: SurfaceArea) -> BurnRate {
+    let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
+    cfg.law.a /= 100.0;
+    cfg.law.surface_area = method;
+    cfg.regress_cells = 1.0;
+    cfg
+}
+
 /// The A/100 shapes with a particle reactant (ICE–MPM), each shape's
 /// configuration that of the fluid rows, with the default `column` area
 /// and with the `gradient` area.
@@ -57,10 +67,7 @@ fn particle_rows() -> Vec<Row> {
             BurnSurface::Diagonal,
             BurnSurface::Sphere,
         ] {
-            let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
-            cfg.law.a /= 100.0;
-            cfg.law.surface_area = method;
-            cfg.regress_cells = 1.0;
+            let cfg = slow(surface, method);
             let label = format!("particles, A/100, 100 MPa, {}{marker}", surface.name());
             let result = particle_burn_rate(&cfg);
             rows.push(Row { label, cfg, result });
@@ -97,13 +104,9 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
             BurnSurface::Diagonal,
             BurnSurface::Sphere,
         ] {
-            let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
-            cfg.law.a /= 100.0;
-            cfg.law.surface_area = method;
-            cfg.regress_cells = 1.0;
             rows.push(run(
                 format!("A/100, 100 MPa, {}{marker}", surface.name()),
-                cfg,
+                slow(surface, method),
             ));
         }
     }
