@@ -109,17 +109,14 @@ pub fn gauge_histories(
     let mut hist: Vec<Vec<(f64, f64)>> = vec![Vec::new(); points.len()];
     let mut v = Vec::new();
     let pressure = ["pressure".to_string()];
-    while s.time() < end * (1.0 - 1e-12) {
-        let dt = s
-            .stable_dt()
-            .map_err(|e| e.to_string())?
-            .min(end - s.time());
-        s.advance(dt).map_err(|e| e.to_string())?;
+    brisance_core::solver::step_to(s, end, |s, _| {
         for (h, &x) in hist.iter_mut().zip(points) {
-            s.sample(x, &pressure, &mut v).map_err(|e| e.to_string())?;
+            s.sample(x, &pressure, &mut v)?;
             h.push((s.time(), v[0]));
         }
-    }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
     hist.iter()
         .zip(points)
         .map(|(h, x)| {

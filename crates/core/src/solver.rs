@@ -212,3 +212,19 @@ pub fn check_step(method: &str, dt: f64) -> Result<(), SolverError> {
         )))
     }
 }
+
+/// Advances `s` to `t_end` at its stable step, the last step shortened to
+/// land on it, calling `after_step(s, dt)` after each step; stops at the
+/// first error of either.
+pub fn step_to<S: Solver + ?Sized>(
+    s: &mut S,
+    t_end: f64,
+    mut after_step: impl FnMut(&mut S, f64) -> Result<(), SolverError>,
+) -> Result<(), SolverError> {
+    while s.time() < t_end * (1.0 - 1e-12) {
+        let dt = s.stable_dt()?.min(t_end - s.time());
+        s.advance(dt)?;
+        after_step(s, dt)?;
+    }
+    Ok(())
+}

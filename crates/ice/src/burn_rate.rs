@@ -27,6 +27,7 @@
 
 use std::f64::consts::{PI, SQRT_2};
 
+use brisance_core::solver::step_to;
 use brisance_core::{Eos, Geometry, Solver};
 use brisance_eos::EosModel;
 use brisance_grid::Level;
@@ -391,18 +392,11 @@ fn run_slab(cfg: &BurnRate, mut s: IceSolver<EosModel>) -> Result<BurnRateResult
         let r_lo = (n % cells[0]) as f64 * h;
         geometry.cell_volume(r_lo, h, h, h)
     };
-    while s.time() < t_end * (1.0 - 1e-12) {
-        let dt = s
-            .stable_dt()
-            .map_err(|e| e.to_string())?
-            .min(t_end - s.time());
-        s.advance(dt).map_err(|e| e.to_string())?;
+    step_to(&mut s, t_end, |s, dt| {
         if !measure.measuring(s.time()) {
-            continue;
+            return Ok(());
         }
-        let d = s
-            .cell_data(&["volume_fraction_1".into()])
-            .map_err(|e| e.to_string())?;
+        let d = s.cell_data(&["volume_fraction_1".into()])?;
         let v: f64 = d.fields[0]
             .1
             .iter()
@@ -410,7 +404,9 @@ fn run_slab(cfg: &BurnRate, mut s: IceSolver<EosModel>) -> Result<BurnRateResult
             .map(|(n, t)| t * volume_per_cell(n))
             .sum();
         measure.record(s.time(), dt, v, s.burning_surface(0));
-    }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
     measure.finish(s.steps())
 }
 

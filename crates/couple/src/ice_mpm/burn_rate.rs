@@ -7,6 +7,7 @@
 //! burn makes (docs/physics/reaction/deflagration.md); a particle reactant
 //! keeps its shape, as a pressed explosive does.
 
+use brisance_core::solver::step_to;
 use brisance_core::{Eos, Solver};
 use brisance_eos::EosModel;
 use brisance_ice::burn_rate::{
@@ -141,15 +142,12 @@ pub fn particle_burn_rate(cfg: &BurnRate) -> Result<BurnRateResult, String> {
         .map_err(|e| e.to_string())?;
     let mut measure = Regression::new(cfg)?;
     let t_end = measure.t_end();
-    while s.time() < t_end * (1.0 - 1e-12) {
-        let dt = s
-            .stable_dt()
-            .map_err(|e| e.to_string())?
-            .min(t_end - s.time());
-        s.advance(dt).map_err(|e| e.to_string())?;
+    step_to(&mut s, t_end, |s, dt| {
         let mass: f64 = s.mpm().particles().mass.iter().sum();
         measure.record(s.time(), dt, mass / rho_r, s.ice().burning_surface(0));
-    }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
     measure.finish(s.ice().steps())
 }
 
