@@ -21,12 +21,21 @@
 //!   ([`crate::MpmOptions::reservoirs`], [`crate::inflow`]) matter enters
 //!   through it.
 //!
-//! On the other three faces a particle that leaves the domain stops the run
-//! with an error. Faces of inactive directions (one cell) impose nothing:
-//! the single node layer there is the whole thickness of a 1D or 2D model.
+//! A particle that crosses a `Symmetry` or `Fixed` face by at most
+//! [`MIRROR_DEPTH`] cells is put back at its mirror image, its normal
+//! velocity reversed (a particle within a whisker of a wall can cross it
+//! in one step; see `MpmSolver`'s `handle_leaving_particles`); one that
+//! crosses deeper, or crosses a `Free` face, stops the run with an error.
+//! Faces of inactive directions (one cell) impose nothing: the single node
+//! layer there is the whole thickness of a 1D or 2D model.
 
 use crate::grid_nodes::NodeLattice;
 use serde::{Deserialize, Serialize};
+
+/// The farthest, in cells of the face's axis, a particle may cross a
+/// `Symmetry` or `Fixed` face in one step and be mirrored back; deeper
+/// crossings stop the run.
+pub const MIRROR_DEPTH: f64 = 0.5;
 
 /// The condition on one face of the domain.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]

@@ -15,7 +15,9 @@
 //!    deterministic coloured-scatter P2G of [`crate::transfer`], G2P and the
 //!    stress update in one visit of each particle;
 //! 4. particles that crossed an [`GridBoundary::Outflow`] face are removed
-//!    and booked; a particle that crossed any other face stops the run;
+//!    and booked; those that crossed a `Symmetry` or `Fixed` face by at
+//!    most [`crate::boundary::MIRROR_DEPTH`] cells are mirrored back; a
+//!    particle that crossed any other face, or deeper, stops the run;
 //!    fixed reservoirs move on.
 //!
 //! The step runs as one task of the rayon pool; see

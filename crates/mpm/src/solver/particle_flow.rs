@@ -1,9 +1,9 @@
 //! Particles that join and leave an [`MpmSolver`] run: insertion and
-//! removal, the reservoirs' inflow, and the particles that leave through
-//! outflow faces.
+//! removal, the reservoirs' inflow, the particles that leave through
+//! outflow faces and those mirrored back at walls.
 
 use super::{particle_energy, MpmSetupError, MpmSolver};
-use crate::boundary::{GridBoundary, FACE_NAMES};
+use crate::boundary::{GridBoundary, FACE_NAMES, MIRROR_DEPTH};
 use crate::viscosity::BulkViscosityState;
 use crate::ParticleInit;
 use brisance_core::{Material, SolverError};
@@ -212,8 +212,26 @@ impl MpmSolver {
         }
     }
 
-    /// Removes particles that left through outflow faces; errors for any
-    /// other face.
+    /// Mirrors back the particles that crossed a wall face (`Symmetry` or
+    /// `Fixed`) by at most [`MIRROR_DEPTH`] cells, removes those that left
+    /// through outflow faces, and errors for any other crossing.
+    ///
+    /// A particle within a whisker of a wall crosses it without any fault
+    /// of the step: the wall holds the normal velocity of the nodes on the
+    /// face, but a light node one layer in, which the particle barely
+    /// reaches (weight N ≪ 1), takes an acceleration f_I/m_I ∝ 1/N from
+    /// the particle's own stress, and the position update
+    /// Δx = Δt Σ_I N_Ip v_I^{n+1} carries N times that: a displacement
+    /// Δt² σ/(ρ h) towards the wall for a particle in tension, whatever
+    /// its distance to the wall. In the mirrored domain of a symmetry
+    /// plane the particle's image does the same from the other side: the
+    /// two pass each other, so the particle that left is the image that
+    /// came in. It is put at its mirror position, its normal velocity
+    /// reversed; its other state is kept (the stress and deformation
+    /// components that change sign under the mirror vanish on the plane
+    /// by symmetry, and the particle is within half a cell of it). Mass,
+    /// kinetic and internal energy are unchanged; the normal momentum
+    /// changes as at the wall's nodes, which hold it.
     pub(super) fn handle_leaving_particles(&mut self) -> Result<(), SolverError> {
         let grid = self.level.geometry;
         // Nearly always every particle is still inside: check that first,
@@ -236,13 +254,18 @@ impl MpmSolver {
         }
         let upper = grid.upper();
         let mut leaving = Vec::new();
-        for (p, x) in self.particles.position.iter().enumerate() {
-            if grid.cell_containing(*x).is_some() {
+        for p in 0..self.particles.len() {
+            let x = self.particles.position[p];
+            if grid.cell_containing(x).is_some() {
                 continue;
             }
             if x.iter().any(|c| !c.is_finite()) {
                 return Err(self.particle_error(p, "position is not finite".into()));
             }
+            if self.mirror_at_walls(p) {
+                continue;
+            }
+            let x = self.particles.position[p];
             let mut face = None;
             for d in 0..3 {
                 if x[d] < grid.origin[d] {
@@ -258,9 +281,11 @@ impl MpmSolver {
             let bc = self.options.boundaries[face];
             if bc != GridBoundary::Outflow {
                 return Err(SolverError::Other(format!(
-                    "MPM at t = {:e} s: particle {p} at {x:?} m left the domain through face {} \
-                     (boundary {bc:?}); only Outflow faces let particles leave",
-                    self.time, FACE_NAMES[face]
+                    "MPM at t = {:e} s: particle {p} at {x:?} m (velocity {:?} m/s) left the \
+                     domain through face {} (boundary {bc:?}); only Outflow faces let particles \
+                     leave, and Symmetry and Fixed faces mirror back those within {MIRROR_DEPTH} \
+                     of a cell",
+                    self.time, self.particles.velocity[p], FACE_NAMES[face]
                 )));
             }
             leaving.push(p);
@@ -279,5 +304,37 @@ impl MpmSolver {
         }
         self.remove_sorted(&leaving);
         Ok(())
+    }
+
+    /// Puts particle `p`, outside the domain, at its mirror image across
+    /// every `Symmetry` or `Fixed` face it crossed by at most
+    /// [`MIRROR_DEPTH`] cells, reversing its velocity normal to that face
+    /// (see [`Self::handle_leaving_particles`]); true if it is then inside
+    /// (if not, it is outside only across the faces it did not cross
+    /// mirrored).
+    fn mirror_at_walls(&mut self, p: usize) -> bool {
+        let grid = self.level.geometry;
+        let upper = grid.upper();
+        let mut x = self.particles.position[p];
+        let mut v = self.particles.velocity[p];
+        for d in 0..3 {
+            let depth = MIRROR_DEPTH * grid.spacing[d];
+            let wall = |face: usize| {
+                matches!(
+                    self.options.boundaries[face],
+                    GridBoundary::Symmetry | GridBoundary::Fixed
+                )
+            };
+            if x[d] < grid.origin[d] && wall(2 * d) && grid.origin[d] - x[d] <= depth {
+                x[d] = 2.0 * grid.origin[d] - x[d];
+                v[d] = -v[d];
+            } else if x[d] > upper[d] && wall(2 * d + 1) && x[d] - upper[d] <= depth {
+                x[d] = 2.0 * upper[d] - x[d];
+                v[d] = -v[d];
+            }
+        }
+        self.particles.position[p] = x;
+        self.particles.velocity[p] = v;
+        grid.cell_containing(x).is_some()
     }
 }
