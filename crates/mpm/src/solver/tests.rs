@@ -50,6 +50,23 @@ fn soft() -> MaterialModel {
     hypoelastic(1.0e7, 5.0e6)
 }
 
+/// The soft solid's particles `ps` on `level`, every face `Free` but
+/// face `face` (in the order of [`FACE_NAMES`]), which is `bc`.
+fn soft_with_face(level: Level, ps: Particles, face: usize, bc: GridBoundary) -> MpmSolver {
+    let mut boundaries = [GridBoundary::Free; 6];
+    boundaries[face] = bc;
+    MpmSolver::new(
+        level,
+        vec![soft()],
+        ps,
+        MpmOptions {
+            boundaries,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 // V-BAR lives in the workspace's validation cases (tests/v_bar.rs,
 // brisance::verification::cases::v_bar), shared with `cargo xtask validate`.
 
@@ -329,18 +346,7 @@ fn leaving_block(face: GridBoundary) -> MpmSolver {
         [64.0, 0.0, 0.0],
         0,
     );
-    let mut boundaries = [GridBoundary::Free; 6];
-    boundaries[1] = face;
-    MpmSolver::new(
-        level,
-        vec![soft()],
-        ps,
-        MpmOptions {
-            boundaries,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    soft_with_face(level, ps, 1, face)
 }
 
 #[test]
@@ -516,19 +522,7 @@ fn bulk_viscosity_states_follow_their_particles_through_sort_and_outflow() {
         [0.0; 3],
         0,
     );
-    let mut boundaries = [GridBoundary::Free; 6];
-    boundaries[1] = GridBoundary::Outflow;
-    let mut s = MpmSolver::new(
-        level,
-        vec![soft()],
-        ps,
-        MpmOptions {
-            boundaries,
-            bulk_viscosity: Some(crate::BulkViscosity::LS_DYNA),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut s = viscous(soft_with_face(level, ps, 1, GridBoundary::Outflow));
     let tag = |s: &mut MpmSolver| {
         for p in 0..s.particles.len() {
             s.bulk[p].trace_d = s.particles.mass[p] + s.particles.position[p][1];
@@ -1083,18 +1077,7 @@ fn strip_on_a_symmetry_plane(gap: f64) -> MpmSolver {
             x[1] = gap;
         }
     }
-    let mut boundaries = [GridBoundary::Free; 6];
-    boundaries[2] = GridBoundary::Symmetry;
-    MpmSolver::new(
-        level,
-        vec![soft()],
-        ps,
-        MpmOptions {
-            boundaries,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    soft_with_face(level, ps, 2, GridBoundary::Symmetry)
 }
 
 #[test]
@@ -1103,10 +1086,11 @@ fn a_particle_in_tension_a_whisker_from_a_symmetry_plane_is_mirrored_back() {
     // particle in a tension of 1 MPa. The node row one cell up, which only
     // this row reaches, carries its weight N = 2e-3 (above the mass
     // cut-off, 1e-3) and takes the tension's whole force towards the plane
-    // (the plane's nodes hold): the position
-    // update moves the row towards the plane by about Δt² σ/(ρ h) =
-    // 1e-6 · 1e6 / (1024 · 0.125) ≈ 7.8e-3 m whatever its distance, so it
-    // crosses, and comes back mirrored.
+    // (the plane's nodes hold): the position update moves the row towards
+    // the plane by about Δt² σ/(ρ h) = 1e-6 · 1e6 / (1024 · 0.125) ≈
+    // 7.8e-3 m whatever its distance, so it crosses, and comes back
+    // mirrored.
+    //
     // MUSL (the coupled pipeline's scheme): its velocity gradient comes
     // from the re-mapped node velocities; USL's, from v_I^{n+1}, would
     // invert the particle first (L Δt ≈ Δy/(N h) > 1).
