@@ -353,9 +353,10 @@ pub struct EquilibrationStats {
     pub total_iterations: u64,
 }
 
-/// What step 2's cold-material rule (`kept_warm`) did to one material:
-/// the cells in which it replaced the material's specific internal energy
-/// by the energy at its held temperature, and the energy that added.
+/// What step 2's cold-material rule (`kept_warm`) and trace hold did to
+/// one material, there and in steps 8–11: the cell-steps in which they
+/// replaced the material's specific internal energy by the energy at its
+/// held temperature, and the energy that added.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct KeptWarmTotals {
     /// Cell-steps in which the rule fired.
@@ -364,8 +365,8 @@ pub struct KeptWarmTotals {
     pub energy: f64,
 }
 
-/// Step 2's cold-material rule in one cell: per material, whether it
-/// fired and ρ_r Δe_r (J/m³).
+/// Step 2's cold-material rule, or the trace hold of steps 8–11, in one
+/// cell: per material, whether it fired and ρ_r Δe_r (J/m³).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct KeptWarmCell {
     fired: [bool; MAX_MATERIALS],
@@ -748,10 +749,13 @@ impl<E: Eos> IceSolver<E> {
     }
 
     /// Per material, the cell-steps in which step 2's cold-material rule
-    /// fired and the energy it added since the start of the run
-    /// (checkpoints carry it): the rule trades energy conservation for a
-    /// positive temperature (docs/physics/ice/steps.md), and this is its
-    /// price.
+    /// or its trace hold fired, in step 2 or carried through steps 8–11
+    /// (a fluid trace held at the particles' temperature keeps it in the
+    /// Lagrangian values, and leaves the energy closure's residual to the
+    /// fluids that are not held), and the energy they added since the
+    /// start of the run (checkpoints carry it): the rules trade energy
+    /// conservation for a positive temperature and a bounded trace
+    /// (docs/physics/ice/steps.md), and this is their price.
     pub fn kept_warm_totals(&self) -> &[KeptWarmTotals] {
         &self.kept_warm[..self.eos.len()]
     }

@@ -378,7 +378,21 @@ pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// Steps 8–11 on one interior cell: returns, per material, the Lagrangian
-/// (ρ, u, e, v).
+/// (ρ, u, e, v), and what the trace hold did to the cell's energy.
+///
+/// In a coupled run the fluid traces step 2 held at the particles'
+/// temperature ([`trace_temperature`], the same test on the same state)
+/// stay held through the Lagrangian step: they take no share of the
+/// energy closure's residual (the Eulerian materials that are not held
+/// take it), and their Lagrangian energy is the one at the particles'
+/// temperature and their Lagrangian density. Inside a particle-filled
+/// cell every fluid is such a trace, and the closure gave them the cell's
+/// whole residual — ±10¹⁹ to 10⁵¹ J/kg in the 2 mm cook-off, which step
+/// 12's carried-energy slope then spread to the neighbours
+/// (docs/physics/couple/cookoff.md). What the hold adds to the cell's
+/// energy (its residual left unplaced where no fluid is free to take it,
+/// and the held traces' energy change) is returned per material, booked
+/// with step 2's rule in [`IceSolver::kept_warm_totals`].
 #[allow(clippy::too_many_arguments)]
 pub(super) fn lagrangian_cell<E: Eos>(
     params: &Params<'_, E>,
@@ -390,13 +404,29 @@ pub(super) fn lagrangian_cell<E: Eos>(
     pressure_work: Option<f64>,
     surface: &[super::surface::SurfaceCells],
     dt: f64,
-) -> Result<[[f64; NL]; MAX_MATERIALS], String> {
+) -> Result<([[f64; NL]; MAX_MATERIALS], KeptWarmCell), String> {
     let n = params.eos.len();
     // The cell's state values, gathered once (one double index each).
     let mut sv = [0.0; MAX_MATERIALS * NS + 1];
     for (x, f) in sv.iter_mut().zip(&d[..n * NS + 1]) {
         *x = f[c];
     }
+    // The fluid traces step 2 held at the particles' temperature, and
+    // that temperature (step 2's test on the state it left).
+    let mut held = [false; MAX_MATERIALS];
+    let mut held_temp = [0.0; MAX_MATERIALS];
+    if params.coupled {
+        let total: f64 = (0..n).map(|r| sv[r * NS + RHO] * sv[r * NS + VSP]).sum();
+        if total > 0.0 && total.is_finite() {
+            let mut share = [0.0; MAX_MATERIALS];
+            for r in 0..n {
+                share[r] = sv[r * NS + RHO] / total;
+                held_temp[r] = sv[r * NS + TEMP];
+            }
+            trace_temperature(params, &sv, &share[..n], &mut held_temp[..n], &mut held);
+        }
+    }
+    let mut kept = KeptWarmCell::default();
     let mut rho = [0.0; MAX_MATERIALS];
     let mut theta = [0.0; MAX_MATERIALS];
     let mut tk = [0.0; MAX_MATERIALS];
@@ -546,7 +576,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
         let mut heat = [0.0; MAX_MATERIALS];
         let mut heat_sum = 0.0;
         for r in 0..n {
-            if params.lagrangian[r] {
+            if params.lagrangian[r] || held[r] {
                 continue;
             }
             let b = r * NS;
@@ -556,7 +586,11 @@ pub(super) fn lagrangian_cell<E: Eos>(
         }
         if !(heat_sum > 0.0 && heat_sum.is_finite()) {
             for r in 0..n {
-                heat[r] = if params.lagrangian[r] { 0.0 } else { rho[r] };
+                heat[r] = if params.lagrangian[r] || held[r] {
+                    0.0
+                } else {
+                    rho[r]
+                };
             }
             heat_sum = heat[..n].iter().sum();
         }
@@ -575,9 +609,19 @@ pub(super) fn lagrangian_cell<E: Eos>(
             .sum();
         let delta =
             work + gravity_work + heat_released - (energy_end - energy_start) - solid_flow_work;
-        for r in 0..n {
-            if heat[r] > 0.0 {
-                e[r] += heat[r] / heat_sum * delta / rho[r];
+        if heat_sum > 0.0 && heat_sum.is_finite() {
+            for r in 0..n {
+                if heat[r] > 0.0 {
+                    e[r] += heat[r] / heat_sum * delta / rho[r];
+                }
+            }
+        } else {
+            // Every fluid is a held trace: the residual is left unplaced,
+            // booked on the held traces by their mass.
+            let held_mass: f64 = (0..n).filter(|&r| held[r]).map(|r| rho[r]).sum();
+            for r in (0..n).filter(|&r| held[r] && held_mass > 0.0) {
+                kept.fired[r] = true;
+                kept.energy_density[r] -= rho[r] / held_mass * delta;
             }
         }
     } else if dissipated != 0.0 {
@@ -637,6 +681,15 @@ pub(super) fn lagrangian_cell<E: Eos>(
         };
         let compensation = dt * (thermal_expansion_term(&tbt[..n], r, f) - tbt[r]);
         let theta_l = mechanical * (1.0 + own) + compensation;
+        if held[r] && theta_l > 0.0 {
+            let e_held = params.eos[r]
+                .specific_internal_energy_from_temperature(rho[r] / theta_l, held_temp[r]);
+            if e_held.is_finite() && e_held != e[r] {
+                kept.fired[r] = true;
+                kept.energy_density[r] += rho[r] * (e_held - e[r]);
+                e[r] = e_held;
+            }
+        }
         out[r][L_RHO] = rho[r];
         out[r][L_VEL..L_VEL + 3].copy_from_slice(&vel[r]);
         out[r][L_ENERGY] = e[r];
@@ -668,7 +721,7 @@ pub(super) fn lagrangian_cell<E: Eos>(
             ));
         }
     }
-    Ok(out)
+    Ok((out, kept))
 }
 
 /// The local state step 4 hands reaction `rx`'s rate in a cell whose

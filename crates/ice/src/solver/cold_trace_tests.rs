@@ -162,3 +162,104 @@ fn the_solver_books_the_cold_rule_per_material() {
     assert_eq!(s.kept_warm_totals(), &totals[..]);
     assert_eq!(s.rescaled_totals(), ConservationTotals::default());
 }
+
+/// One coupled cell for `lagrangian_cell`: fluids (ideal gases γ 1.4,
+/// c_v 717.5, at 2000 K and ρ_micro 1.2) of the given macroscopic
+/// densities and volume fractions, then a Lagrangian material (γ 1.67,
+/// c_v 3115, ρ_micro 1000, 300 K) filling the rest; all at rest, p 10⁵ Pa.
+/// Returns the equations of state and the state values, one cell each.
+fn coupled_cell(fluids: &[(f64, f64)]) -> (Vec<EosModel>, Vec<Vec<f64>>) {
+    let air = EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.0));
+    let solid = EosModel::IdealGas(IdealGas::new(1.67, 3115.0, 1.0));
+    let n = fluids.len() + 1;
+    let mut eos = vec![air; fluids.len()];
+    eos.push(solid);
+    let mut vals = vec![0.0; n * NS + 1];
+    let theta_solid = 1.0 - fluids.iter().map(|f| f.1).sum::<f64>();
+    for r in 0..n {
+        let b = r * NS;
+        let (rho, theta, rho_micro, t) = match fluids.get(r) {
+            Some(&(rho, theta)) => (rho, theta, 1.2, 2000.0),
+            None => (theta_solid * 1000.0, theta_solid, 1000.0, 300.0),
+        };
+        vals[b + RHO] = rho;
+        vals[b + THETA] = theta;
+        vals[b + VSP] = 1.0 / rho_micro;
+        vals[b + TEMP] = t;
+        vals[b + ENERGY] = eos[r].specific_internal_energy_from_temperature(rho_micro, t);
+        vals[b + SOUND] = eos[r].sound_speed(rho_micro, vals[b + ENERGY]);
+    }
+    vals[n * NS] = 1e5;
+    (eos, vals.into_iter().map(|v| vec![v]).collect())
+}
+
+/// Steps 8–11 on [`coupled_cell`] with the face pressure work `work`
+/// (J/m³) into a cell at rest with no volume change: the Lagrangian
+/// values and the hold's booking.
+fn lagrangian_values(
+    eos: &[EosModel],
+    d: &[Vec<f64>],
+    work: f64,
+) -> ([[f64; NL]; MAX_MATERIALS], KeptWarmCell) {
+    let n = eos.len();
+    let level = Level::new([0.0; 3], [1.0; 3], [1, 1, 1], [1, 1, 1], GHOST).unwrap();
+    let exchange = ExchangeCoefficients::uniform(n, 1e15, 0.0);
+    let mut lagrangian = vec![false; n];
+    lagrangian[n - 1] = true;
+    let params = make_params(
+        eos,
+        &[],
+        &exchange,
+        IceOptions::default(),
+        &level,
+        &lagrangian,
+        0.0,
+    );
+    lagrangian_cell(&params, d, 0, 1e5, 0.0, [0.0; 3], Some(work), &[], 1e-6).unwrap()
+}
+
+/// A fluid trace in a cell the particles fill (θ = 10⁻⁵, held at their
+/// 300 K by step 2) stays held in the Lagrangian values: e = c_v · 300 K,
+/// not the cell's residual. Without the hold the face work of 10³ J/m³
+/// went to it, the only Eulerian material: +8.3·10⁷ J/kg on its
+/// 1.2·10⁻⁵ kg/m³. The residual, left unplaced, and the trace's change
+/// ρ c_v (300 − 2000) K are booked: −10³ − 14.637 J/m³.
+#[test]
+fn a_held_trace_stays_held_through_the_lagrangian_step() {
+    let (eos, d) = coupled_cell(&[(1.2e-5, 1e-5)]);
+    let (out, kept) = lagrangian_values(&eos, &d, 1e3);
+    assert_eq!(out[0][L_ENERGY], 717.5 * 300.0);
+    assert_eq!(out[0][L_RHO], 1.2e-5);
+    assert_eq!(kept.fired[..2], [true, false]);
+    let expected = -1e3 + 1.2e-5 * 717.5 * (300.0 - 2000.0);
+    assert!(
+        (kept.energy_density[0] - expected).abs() < 1e-12 * expected.abs(),
+        "{} {expected}",
+        kept.energy_density[0]
+    );
+    // The cell's energy is the start's, plus the work, plus the booking.
+    let energy = |rho: f64, e: f64| rho * e;
+    let start = energy(d[RHO][0], d[ENERGY][0]) + energy(d[NS + RHO][0], d[NS + ENERGY][0]);
+    let end = energy(out[0][L_RHO], out[0][L_ENERGY]) + energy(out[1][L_RHO], out[1][L_ENERGY]);
+    let gap = end - (start + 1e3 + kept.energy_density[0]);
+    assert!(gap.abs() < 1e-9 * start, "{gap:e}");
+}
+
+/// Beside a fluid that is not a trace (θ 0.3) the held trace (a mass
+/// share of 10⁻¹³) takes nothing of the residual: the other fluid takes
+/// all 10³ J/m³, and only the trace's own change is booked.
+#[test]
+fn the_closure_residual_goes_to_the_fluids_that_are_not_held() {
+    let (eos, d) = coupled_cell(&[(1e-10, 1e-5), (0.36, 0.3)]);
+    let (out, kept) = lagrangian_values(&eos, &d, 1e3);
+    assert_eq!(out[0][L_ENERGY], 717.5 * 300.0);
+    let gained = 0.36 * (out[1][L_ENERGY] - d[NS + ENERGY][0]);
+    assert!((gained / 1e3 - 1.0).abs() < 1e-12, "{gained}");
+    assert_eq!(kept.fired[..3], [true, false, false]);
+    let own = 1e-10 * 717.5 * (300.0 - 2000.0);
+    assert!(
+        (kept.energy_density[0] - own).abs() < 1e-9 * own.abs(),
+        "{} {own}",
+        kept.energy_density[0]
+    );
+}

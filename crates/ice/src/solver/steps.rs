@@ -129,25 +129,9 @@ impl<E: Eos> IceSolver<E> {
             stats,
             ..Default::default()
         });
-        let mut warm = warm;
         self.last_equilibration = stats;
-        if fail.is_none() && !warm.is_empty() {
-            // Summed in global cell order: the same bits for any split.
-            warm.sort_unstable_by_key(|x| x.0);
-            let vols = self.volumes();
-            for (g, k) in &warm {
-                let vol = vols.cell(*g);
-                for (t, (&fired, &e)) in self
-                    .kept_warm
-                    .iter_mut()
-                    .zip(k.fired.iter().zip(&k.energy_density))
-                {
-                    if fired {
-                        t.firings += 1;
-                        t.energy += e * vol;
-                    }
-                }
-            }
+        if fail.is_none() {
+            self.book_kept_warm(warm);
         }
         if fail.is_none() && !rescaled.is_empty() {
             // Summed in global cell order: the same bits for any split.
@@ -430,6 +414,30 @@ impl<E: Eos> IceSolver<E> {
             });
     }
 
+    /// Adds per-cell firings of the cold-material rule and the trace hold
+    /// (global cell, ρ_r Δe_r per material) to [`Self::kept_warm_totals`],
+    /// summed in global cell order: the same bits for any split.
+    fn book_kept_warm(&mut self, mut warm: Vec<(usize, KeptWarmCell)>) {
+        if warm.is_empty() {
+            return;
+        }
+        warm.sort_unstable_by_key(|x| x.0);
+        let vols = self.volumes();
+        for (g, k) in &warm {
+            let vol = vols.cell(*g);
+            for (t, (&fired, &e)) in self
+                .kept_warm
+                .iter_mut()
+                .zip(k.fired.iter().zip(&k.energy_density))
+            {
+                if fired {
+                    t.firings += 1;
+                    t.energy += e * vol;
+                }
+            }
+        }
+    }
+
     /// Steps 6, 8, 9, 10 and 11 (seed 000 eqs 22–32) in one visit of each
     /// cell: face pressures p* (eq 22) and their gradient, the Lagrangian
     /// momentum and flow-work energy (eqs 23–28), the implicit momentum and
@@ -459,7 +467,7 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.ranks.owned.par_iter())
             .map(|(((((lg, pr), sc), pf), patch), &own)| {
                 if !own {
-                    return (None, Vec::new());
+                    return (None, Vec::new(), Vec::new());
                 }
                 let n = params.eos.len();
                 let st = patch.strides();
@@ -515,10 +523,10 @@ impl<E: Eos> IceSolver<E> {
                     }
                 }
                 let dims0 = patch.dims()[0];
-                let fail = par_interior(
+                let (fail, warm) = par_interior(
                     patch,
-                    || None,
-                    |fail: &mut Failure, c| {
+                    || (None, Vec::new()),
+                    |(fail, warm): &mut (Failure, Vec<(usize, KeptWarmCell)>), c| {
                         let rho_c = rho_cell(c);
                         let mut grad = [0.0; 3];
                         let mut work = 0.0;
@@ -548,11 +556,14 @@ impl<E: Eos> IceSolver<E> {
                         let work = params.options.conserve_total_energy.then_some(work);
                         let (div, surface) = (sc.divergence[c], &sc.surface);
                         match lagrangian_cell(&params, d, c, p[c], div, grad, work, surface, dt) {
-                            Ok(values) => {
+                            Ok((values, kept)) => {
                                 for r in 0..n {
                                     for f in 0..NL {
                                         out[r * NL + f].write(c, values[r][f]);
                                     }
+                                }
+                                if kept.any() {
+                                    warm.push((geometry.linear_index(global_of(patch, c)), kept));
                                 }
                             }
                             Err(msg) => {
@@ -564,26 +575,37 @@ impl<E: Eos> IceSolver<E> {
                             }
                         }
                     },
-                    first_failure,
+                    |(fa, mut wa), (fb, wb)| {
+                        wa.extend(wb);
+                        (first_failure(fa, fb), wa)
+                    },
                 );
-                (fail, booking)
+                (fail, booking, warm)
             })
             .reduce(
-                || (None, Vec::new()),
-                |(fa, mut ba), (fb, bb)| {
+                || (None, Vec::new(), Vec::new()),
+                |(fa, mut ba, mut wa), (fb, bb, wb)| {
                     ba.extend(bb);
-                    (first_failure(fa, fb), ba)
+                    wa.extend(wb);
+                    (first_failure(fa, fb), ba, wa)
                 },
             );
-        let (fail, booking) = fail;
-        let ranks::Found { fail, booking, .. } = self.gather_pass(ranks::Found {
+        let (fail, booking, warm) = fail;
+        let ranks::Found {
             fail,
             booking,
+            warm,
+            ..
+        } = self.gather_pass(ranks::Found {
+            fail,
+            booking,
+            warm,
             ..Default::default()
         });
         match fail {
             None => {
                 book_faces(booking, self.volumes(), &mut self.outflow);
+                self.book_kept_warm(warm);
                 self.compute_diffusion_sources(dt);
                 Ok(())
             }
