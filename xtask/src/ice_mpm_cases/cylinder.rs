@@ -327,7 +327,8 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
          least squares over the arrivals at z = {:.0}–{:.0} cm, {:.0} m/s against D_CJ = {:.0} m/s of the QM-100 \
          products ({:+.1} %); the whole wall at the gauge (particles starting within h/2 of z = {:.1} cm) \
          ends at a kinetic-energy mean radial velocity of {slice_end:.0} m/s{}. Step 2's cold-material \
-         rule (`kept_warm`, docs/physics/ice/steps.md) fired over the run: {warm}; step 12's: {warm12} \
+         rule and trace hold (`kept_warm`, in step 2 and carried through steps 8–11; \
+         docs/physics/ice/steps.md) fired over the run: {warm}; step 12's: {warm12} \
          (initial total energy of the quarter model {energy_start:.4e} J).\n",
         fronts.first().map_or(f64::NAN, |f| f.0 * 100.0),
         fronts.last().map_or(f64::NAN, |f| f.0 * 100.0),

@@ -21,7 +21,8 @@ struct RzRun {
     /// Largest |E(t)/E(0) − 1| of the coupled total energy, and its end value.
     energy: (f64, f64),
     /// What steps 2 and 12's cold-material rules (with the fluid traces
-    /// held at the solid's temperature) added over the run, relative to
+    /// held at the solid's temperature in steps 2 and 8–11) added over
+    /// the run, relative to
     /// E(0) (`IceSolver::kept_warm_totals`).
     kept_warm: f64,
     /// What step 2's rescale gave the fluids over the run (booked in the
@@ -328,7 +329,8 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
          outer-wall particles starting at r 29.6–30.7 mm within 1 mm of z = 25 cm, terminal = mean over \
          the last 10 % of the record; energy: the coupled total (fluids + particles + unburnt chemical \
          energy, conservation.csv's), largest |E(t)/E(0) − 1| sampled every µs, and the energy \
-         steps 2 and 12's cold-material rules added (`kept_warm_totals`, inside the drift). D_CJ {d_cj:.0} m/s; \
+         steps 2 and 12's cold-material rules and the trace hold of steps 2 and 8–11 added \
+         (`kept_warm_totals`, inside the drift). D_CJ {d_cj:.0} m/s; \
          Gurney: √(2E_G) = {:.0} m/s at V = 7, M/C = {:.2}: {:.0} m/s. Wall times on 2 cores shared \
          with other work.\n",
         g.estimate.gurney_velocity, g.m_over_c, g.wall
