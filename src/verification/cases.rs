@@ -219,7 +219,7 @@ pub fn advected_sine_l1(
         [1.0, 0.01, 0.01],
         [cells, 1, 1],
         [1, 1, 1],
-        brisance_fdm::sweep::GHOST,
+        brisance_fdm::GHOST,
     )
     .map_err(|e| e.to_string())?;
     let gas = IdealGas::new(1.4, 1.0, 1.0);
@@ -259,14 +259,8 @@ pub fn advected_sine_l1(
 /// A 3D box of `n³` cells holding a spherical blast (ideal gas, reflective
 /// walls), the throughput benchmark's problem.
 pub fn blast_box(n: usize, layout: [usize; 3]) -> Result<FdmSolver<IdealGas>, String> {
-    let level = Level::new(
-        [0.0; 3],
-        [1.0; 3],
-        [n, n, n],
-        layout,
-        brisance_fdm::sweep::GHOST,
-    )
-    .map_err(|e| e.to_string())?;
+    let level = Level::new([0.0; 3], [1.0; 3], [n, n, n], layout, brisance_fdm::GHOST)
+        .map_err(|e| e.to_string())?;
     let gas = IdealGas::air();
     FdmSolver::new(
         gas,
@@ -296,7 +290,7 @@ pub fn blast_plane(n: usize, axisymmetric: bool) -> Result<FdmSolver<IdealGas>, 
     } else {
         brisance_core::Geometry::Cartesian
     };
-    let ghost = brisance_fdm::sweep::ghost_layers(geometry);
+    let ghost = brisance_fdm::ghost_layers(geometry);
     let level = Level::new([0.0; 3], [1.0, 1.0, 0.01], [n, n, 1], [1, 1, 1], ghost)
         .map_err(|e| e.to_string())?;
     let options = FdmOptions {

@@ -40,7 +40,7 @@
 
 use brisance_core::{ConservationTotals, Geometry, Solver};
 use brisance_eos::IdealGas;
-use brisance_fdm::{sweep::ghost_layers, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+use brisance_fdm::{ghost_layers, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
 use brisance_ice::{
     CellState, ExchangeCoefficients, IceBoundary, IceOptions, IceSolver, MaterialState, GHOST,

@@ -328,14 +328,8 @@ fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> 
         coordinates: brisance::core::Geometry::Cartesian,
     };
     let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
-    let level = Level::new(
-        [0.0; 3],
-        [side; 3],
-        [n; 3],
-        [1, 1, 1],
-        brisance::fdm::sweep::GHOST,
-    )
-    .map_err(|e| anyhow!("{e}"))?;
+    let level = Level::new([0.0; 3], [side; 3], [n; 3], [1, 1, 1], brisance::fdm::GHOST)
+        .map_err(|e| anyhow!("{e}"))?;
     let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).map_err(|e| anyhow!("{e}"))?;
     let p0 = setup.air_pressure;
     let ambient = PrimitiveState {

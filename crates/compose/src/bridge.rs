@@ -27,9 +27,7 @@
 
 use brisance_constitutive::{MaterialModel, NullMaterial};
 use brisance_core::{Eos, Material, Solver};
-use brisance_couple::cfdmp::{Cfdmp, CfdmpOptions};
-use brisance_couple::regions::{BridgeRegions, RegionBox, Side};
-use brisance_couple::remap::{Charge, Remapped};
+use brisance_couple::{BridgeRegions, Cfdmp, CfdmpOptions, Charge, RegionBox, Remapped, Side};
 use brisance_eos::EosModel;
 use brisance_fdm::{
     ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, GasLaw, PrimitiveState, ProductsInAir,
@@ -181,7 +179,7 @@ fn regions(s: &Scenario, cfg: &BridgeConfig) -> Result<BridgeRegions, Problem> {
         b(&cfg.fdm_region),
         b(&cfg.mpm_region),
         spacing(s),
-        brisance_fdm::sweep::GHOST,
+        brisance_fdm::GHOST,
     )
     .map_err(|e| ("pipeline.mpm_region".to_string(), e.to_string()))?;
     let a = r.axis;
@@ -252,7 +250,7 @@ fn width_mismatch(s: &Scenario, cfg: &BridgeConfig, r: &BridgeRegions, w: usize)
     let valid: Vec<String> = moves
         .iter()
         .filter(|(_, _, _, f, m)| {
-            BridgeRegions::from_boxes(*f, *m, spacing(s), brisance_fdm::sweep::GHOST)
+            BridgeRegions::from_boxes(*f, *m, spacing(s), brisance_fdm::GHOST)
                 .is_ok_and(|moved| moved.width == w)
         })
         .map(|(region, face, at, _, _)| format!("{region}'s {face} {axis} to {}", tidy(*at)))
@@ -442,7 +440,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     law: E,
     gas_of: impl Fn(&str) -> Option<(&'a EosModel, f64)>,
 ) -> Result<Box<dyn Solver>, Problem> {
-    use brisance_fdm::sweep::GHOST;
+    use brisance_fdm::GHOST;
     let air = air_gas(s, cfg)?;
     let a = regions.axis;
     // On an (r, z) grid (x = r, y = z) a region is tested at (r, z, 0), the
@@ -468,7 +466,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     };
     // FDM.
     let (fg, offset) = regions.fdm_grid(GHOST);
-    let ghost = brisance_fdm::sweep::ghost_layers(geometry);
+    let ghost = brisance_fdm::ghost_layers(geometry);
     let level = Level::new(fg.origin, fg.upper(), fg.cells, [1, 1, 1], ghost)
         .map_err(|e| ("pipeline.fdm_region".to_string(), e.to_string()))?;
     let boundaries: [FdmBoundary; 6] = std::array::from_fn(|k| match faces[k].1 {

@@ -41,8 +41,8 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
     match p {
         Pipeline::FdmMpmBridge(_) => PipelineLimits {
             fields: &crate::bridge::FIELDS,
-            max_cfl: brisance_fdm::solver::MAX_CFL,
-            ghost: brisance_fdm::sweep::GHOST,
+            max_cfl: brisance_fdm::MAX_CFL,
+            ghost: brisance_fdm::GHOST,
             node_fields: &[],
             patch_pieces: false,
             patch_checkpoints: false,
@@ -93,8 +93,8 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             } else {
                 &FdmSolver::<IdealGas>::FIELDS
             },
-            max_cfl: brisance_fdm::solver::MAX_CFL,
-            ghost: brisance_fdm::sweep::GHOST,
+            max_cfl: brisance_fdm::MAX_CFL,
+            ghost: brisance_fdm::GHOST,
             node_fields: &[],
             patch_pieces: true,
             patch_checkpoints: true,
@@ -292,7 +292,7 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         }
     };
     // An (r, z) grid's radial sweep reaches one ghost layer further.
-    let ghost = brisance_fdm::sweep::ghost_layers(d.geometry);
+    let ghost = brisance_fdm::ghost_layers(d.geometry);
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, ghost)
         .map_err(|e| located("domain.patches", e.to_string()))?;
     let eos = s

@@ -370,7 +370,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     let (known_fields, max_cfl, mut ghost) = (limits.fields, limits.max_cfl, limits.ghost);
     // The FDM's radial sweep on an (r, z) grid reaches one layer further.
     if s.domain.geometry.is_axisymmetric() && matches!(s.pipeline, Pipeline::Fdm(_)) {
-        ghost = ghost.max(brisance_fdm::sweep::GHOST_RZ);
+        ghost = ghost.max(brisance_fdm::GHOST_RZ);
     }
     const AXES: [&str; 3] = ["x", "y", "z"];
     if !file_safe(&s.name) {

@@ -27,7 +27,9 @@ pub mod remap;
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals};
 pub use ice_mpm::{IceMpm, IceMpmError};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
-pub use remap::{remap, RadialProfile, RemapError, RemapReport, RemapTarget, Remapped};
+pub use remap::{
+    remap, Charge, RadialProfile, RemapError, RemapReport, RemapTarget, RemapTotals, Remapped,
+};
 
 #[cfg(test)]
 mod thread_ranks;

@@ -1034,14 +1034,8 @@ mod remapped_run {
         let path = std::env::var("BRISANCE_REMAP").expect("set BRISANCE_REMAP");
         let r = Remapped::load(std::path::Path::new(&path)).unwrap();
         let g = r.geometry;
-        let level = Level::new(
-            g.origin,
-            g.upper(),
-            g.cells,
-            [1, 1, 1],
-            brisance_fdm::sweep::GHOST,
-        )
-        .unwrap();
+        let level =
+            Level::new(g.origin, g.upper(), g.cells, [1, 1, 1], brisance_fdm::GHOST).unwrap();
         let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).unwrap();
         let ambient = PrimitiveState {
             density: 1.225,

@@ -27,14 +27,8 @@ fn main() {
         .collect();
     let n = args.first().copied().unwrap_or(24);
     let steps = args.get(1).copied().unwrap_or(10);
-    let level = Level::new(
-        [0.0; 3],
-        [1.0; 3],
-        [n; 3],
-        [1, 1, 1],
-        brisance_fdm::sweep::GHOST,
-    )
-    .expect("level");
+    let level =
+        Level::new([0.0; 3], [1.0; 3], [n; 3], [1, 1, 1], brisance_fdm::GHOST).expect("level");
     let options = FdmOptions {
         limiter,
         ..Default::default()

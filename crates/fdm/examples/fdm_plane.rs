@@ -14,7 +14,7 @@ use brisance_fdm::{FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
 
 fn solver(n: usize, geometry: Geometry) -> FdmSolver<IdealGas> {
-    let ghost = brisance_fdm::sweep::ghost_layers(geometry);
+    let ghost = brisance_fdm::ghost_layers(geometry);
     let level = Level::new([0.0; 3], [1.0, 1.0, 0.01], [n, n, 1], [1, 1, 1], ghost).expect("level");
     let options = FdmOptions {
         geometry,

@@ -14,6 +14,11 @@
 //! - [`solver`]: the [`FdmSolver`], the Yanenko splitting of eq 6, the CFL
 //!   time step and the `Solver` implementation.
 //!
+//! A grid built for the solver needs [`ghost_layers`] ghost layers
+//! ([`GHOST`], or [`GHOST_RZ`] on an (r, z) grid), and its Courant number
+//! is at most [`MAX_CFL`]; builders outside this crate take them from the
+//! crate root, not from the modules that use them.
+//!
 //! The numerical choices the paper leaves open are written down in
 //! `docs/physics/fdm.md`.
 
@@ -27,8 +32,9 @@ pub mod viscosity;
 
 pub use gas::{GasLaw, ProductsInAir};
 pub use limiter::FaceLimiter;
-pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver};
+pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver, MAX_CFL};
 pub use state::PrimitiveState;
+pub use sweep::{ghost_layers, GHOST, GHOST_RZ};
 pub use viscosity::ArtificialViscosity;
 
 #[cfg(test)]

@@ -443,7 +443,7 @@ fn pure_mpm(file: &str, air: &str) -> String {
 /// ρY 800), (0, 1) half products (ρ 1, E 3, ρY 0.5: air), (1, 1) air at
 /// rest (ρ 4, E 8).
 fn write_remap(tag: &str, origin: [f64; 3]) -> std::path::PathBuf {
-    use brisance_couple::remap::{RemapReport, RemapTotals};
+    use brisance_couple::{RemapReport, RemapTotals};
     let fields = vec![
         vec![2.0, 1000.0, 1.0, 4.0],
         vec![4.0, 0.0, 0.0, 0.0],

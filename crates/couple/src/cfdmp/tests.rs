@@ -3,7 +3,7 @@ use crate::regions::RegionBox;
 use brisance_constitutive::{MaterialModel, NullMaterial};
 use brisance_core::Eos;
 use brisance_eos::IdealGas;
-use brisance_fdm::sweep::GHOST;
+use brisance_fdm::GHOST;
 use brisance_fdm::{FdmBoundary, FdmOptions, PrimitiveState};
 use brisance_grid::Level;
 use brisance_mpm::{BulkViscosity, GridBoundary, MpmOptions, Particles};
@@ -922,7 +922,7 @@ fn coupled_rz(deposit: bool) -> Cfdmp<IdealGas> {
         fg.upper(),
         fg.cells,
         [1, 1, 1],
-        brisance_fdm::sweep::GHOST_RZ,
+        brisance_fdm::GHOST_RZ,
     )
     .unwrap();
     let mut bcs = [FdmBoundary::Outflow; 6];
