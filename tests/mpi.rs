@@ -437,7 +437,8 @@ fn the_implicit_lattice_refuses_several_ranks_at_its_field() {
     assert!(!tmp.path().join("implicit").join("summary.json").exists());
 }
 
-/// The ICE's whole-grid passes refuse, naming their field.
+/// The ICE's implicit pressure (one solve over the whole grid) refuses,
+/// naming its field.
 #[test]
 fn the_implicit_ice_pressure_refuses_several_ranks_at_its_field() {
     let tmp = tempfile::tempdir().unwrap();
@@ -451,20 +452,21 @@ fn the_implicit_ice_pressure_refuses_several_ranks_at_its_field() {
         &out,
         "`pipeline.pressure`: ice: the implicit pressure (one solve over the whole grid) does not run on several ranks (2 here)",
     );
-    let out = run(
-        2,
-        Path::new(ICE_3D),
-        &tmp.path().join("viscous"),
+}
+
+/// Viscosity and heat conduction spread over the ranks: the 3D bubble with
+/// both gases viscous and conducting (strongly enough that the viscous
+/// limit sets the step), its outflow faces booking the tractions and heat
+/// fluxes that cross them.
+#[test]
+fn viscous_conducting_ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    same_bytes_on_two_and_four_ranks_with(
+        ICE_3D,
         &[
             "--set",
-            r#"pipeline.transport={"air": (viscosity: 1.8e-5)}"#,
+            r#"pipeline.transport={"air": (viscosity: 20.0, thermal_conductivity: 50.0), "helium": (viscosity: 20.0, thermal_conductivity: 300.0)}"#,
         ],
     );
-    fails_once_with(
-        &out,
-        "`pipeline.transport`: ice: viscosity or heat conduction does not run on several ranks",
-    );
-    assert!(!tmp.path().join("viscous").join("summary.json").exists());
 }
 
 #[test]

@@ -961,6 +961,55 @@ fn a_failing_initial_state_gives_every_rank_the_error_of_one() {
     }
 }
 
+/// Viscosity and heat conduction (step 8) on ranks: the pressure bump of
+/// [`patches_spread_over_thread_ranks_give_the_bits_of_one`] with both
+/// gases viscous and conducting, strongly enough that the diffusive limits
+/// set the step, spread over 2 and 4 thread ranks (the face stencil reads
+/// the ghost layers' edges and corners; the time step's limit and the
+/// faces' bookings are reduced over the ranks): every rank ends with the
+/// saved state and the conservation totals of one rank.
+#[test]
+fn viscosity_and_conduction_spread_over_thread_ranks_give_the_bits_of_one() {
+    let transport = crate::MaterialTransport {
+        viscosity: 20.0,
+        thermal_conductivity: 400.0,
+    };
+    let build = |comm| {
+        let mut s = bump_solver_on(comm, [3, 2, 2], [12, 8, 4], IceOptions::default()).unwrap();
+        s.set_transport(vec![transport; 2]).unwrap();
+        s
+    };
+    let steps = |s: &mut IceSolver<IdealGas>| {
+        let limits = s.time_step_limits().unwrap();
+        for _ in 0..4 {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        (limits, s.save_state().unwrap(), s.conservation_totals())
+    };
+    let (limits, one, totals) = steps(&mut build(std::sync::Arc::new(brisance_grid::comm::Serial)));
+    // The transport is felt: a diffusive limit sets the step, and the
+    // state differs from the inviscid bump's.
+    assert!(
+        limits.viscous.min(limits.conduction) <= limits.stable,
+        "{limits:?}"
+    );
+    let mut inviscid = bump_solver([3, 2, 2], [12, 8, 4]);
+    for _ in 0..4 {
+        let dt = inviscid.stable_dt().unwrap();
+        inviscid.advance(dt).unwrap();
+    }
+    assert!(inviscid.save_state().unwrap() != one);
+    for ranks in [2, 4] {
+        let runs = brisance_grid::comm::InProcess::run(ranks, 2, |comm| steps(&mut build(comm)));
+        for (r, (l, state, t)) in runs.into_iter().enumerate() {
+            assert_eq!(l, limits, "rank {r} of {ranks}");
+            assert!(state == one, "rank {r} of {ranks}");
+            assert_eq!(t, totals, "rank {r} of {ranks}");
+        }
+    }
+}
+
 /// The rank logic of `solver/ranks.rs` without MPI: the pressure bump on
 /// 3 × 2 × 2 patches spread over 2, 3 and 4 thread ranks
 /// ([`brisance_grid::comm::InProcess`], each with a thread pool of its

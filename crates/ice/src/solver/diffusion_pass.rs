@@ -35,9 +35,18 @@ pub(super) struct Transport {
 }
 
 impl Transport {
-    /// Whether any material has a coefficient > 0.
-    pub(super) fn is_active(&self) -> bool {
-        self.active
+    /// Frees patch `id`'s face arrays (a patch another rank owns).
+    pub(super) fn release(&mut self, id: usize) {
+        if let Some(faces) = self.faces.get_mut(id) {
+            *faces = Default::default();
+        }
+    }
+
+    /// Per patch, whether its face arrays are stored (empty while no
+    /// material has a coefficient).
+    #[cfg(test)]
+    pub(super) fn stored(&self) -> Vec<bool> {
+        self.faces.iter().map(|f| !f[0].is_empty()).collect()
     }
 }
 
@@ -77,11 +86,16 @@ impl<E: Eos> IceSolver<E> {
             t.validate(&format!("transport of material {}", r + 1))?;
         }
         let active = transport.iter().any(|t| t.is_active());
+        // A patch another rank owns gets no arrays.
         self.transport.faces = if active {
             self.level
                 .patches
                 .iter()
-                .map(|p| std::array::from_fn(|_| vec![0.0; p.allocated_cells()]))
+                .zip(&self.ranks.owned)
+                .map(|(p, &own)| {
+                    let len = if own { p.allocated_cells() } else { 0 };
+                    std::array::from_fn(|_| vec![0.0; len])
+                })
                 .collect()
         } else {
             Vec::new()
@@ -105,6 +119,10 @@ impl<E: Eos> IceSolver<E> {
     /// [`IceSolver::compute_lagrangian_values`] (which calls it) with the
     /// state's ghost cells filled by
     /// [`IceSolver::compute_face_centred_velocities`] of the same step.
+    /// On several ranks each rank updates its own patches (their ghost
+    /// layers hold the neighbours' state, corners included) and the faces'
+    /// bookings are gathered, so every rank books every face
+    /// ([`IceSolver::gather_pass`]).
     // Kept out of line so that profiles attribute each step's cost.
     #[inline(never)]
     pub fn compute_diffusion_sources(&mut self, dt: f64) {
@@ -129,8 +147,12 @@ impl<E: Eos> IceSolver<E> {
             .zip(self.state.par_iter())
             .zip(self.scratch.par_iter())
             .zip(self.level.patches.par_iter())
-            .map(|((((lg, faces), pf), sc), patch)| {
+            .zip(self.ranks.owned.par_iter())
+            .map(|(((((lg, faces), pf), sc), patch), &own)| {
                 let mut booking: FaceBooking = Vec::new();
+                if !own {
+                    return booking;
+                }
                 let st = patch.strides();
                 let dims = patch.dims();
                 // Axisymmetric: the centre radius of local column la, and
@@ -334,6 +356,12 @@ impl<E: Eos> IceSolver<E> {
                 a.extend(b);
                 a
             });
+        let booking = self
+            .gather_pass(super::ranks::Found {
+                booking,
+                ..Default::default()
+            })
+            .booking;
         book_faces(booking, self.volumes(), &mut self.outflow);
     }
 
@@ -341,7 +369,9 @@ impl<E: Eos> IceSolver<E> {
     /// Courant number; infinite without such a coefficient): per cell and
     /// Eulerian material, [`viscous_time_step`] with the material's own
     /// specific volume and [`conduction_time_step`] with its c_v at the
-    /// cell's temperature. Cell-local, so the same for any patch split.
+    /// cell's temperature. Cell-local, so the same for any patch split;
+    /// on several ranks each rank takes its own patches and the minimum
+    /// over the ranks (exact, so the same bits).
     pub(super) fn diffusive_time_steps(&self) -> (f64, f64) {
         if !self.transport.active {
             return (f64::INFINITY, f64::INFINITY);
@@ -357,7 +387,11 @@ impl<E: Eos> IceSolver<E> {
             .state
             .par_iter()
             .zip(self.level.patches.par_iter())
-            .map(|(pf, patch)| {
+            .zip(self.ranks.owned.par_iter())
+            .map(|((pf, patch), &own)| {
+                if !own {
+                    return (f64::INFINITY, f64::INFINITY);
+                }
                 let d = &pf.data;
                 par_interior(
                     patch,
@@ -387,6 +421,11 @@ impl<E: Eos> IceSolver<E> {
                 )
             })
             .reduce(|| (f64::INFINITY, f64::INFINITY), min2);
+        let (v, k) = if self.ranks.several() {
+            (self.ranks.comm.min(v), self.ranks.comm.min(k))
+        } else {
+            (v, k)
+        };
         (self.options.cfl * v, self.options.cfl * k)
     }
 

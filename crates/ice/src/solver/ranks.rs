@@ -140,8 +140,6 @@ pub enum WholeGridPass {
     ImplicitPressure,
     /// Materials carried by particles (the coupled pipeline).
     Particles,
-    /// Viscosity or heat conduction.
-    Transport,
     /// A reaction that burns on a surface, found in global order.
     SurfaceBurn,
 }
@@ -160,7 +158,6 @@ impl WholeGridPass {
         match self {
             Self::ImplicitPressure => "the implicit pressure (one solve over the whole grid)",
             Self::Particles => "materials carried by particles",
-            Self::Transport => "viscosity or heat conduction",
             Self::SurfaceBurn => "a reaction that burns on a surface",
         }
     }
@@ -206,6 +203,7 @@ impl<E: Eos> IceSolver<E> {
                 self.lag[id].release();
                 self.press[id].release();
                 self.scratch[id].release();
+                self.transport.release(id);
             }
         }
         self.halo = InProcessExchange::distributed(comm.clone(), owner.clone());
@@ -237,8 +235,6 @@ impl<E: Eos> IceSolver<E> {
             Some(WholeGridPass::ImplicitPressure)
         } else if self.lagrangian.iter().any(|&l| l) {
             Some(WholeGridPass::Particles)
-        } else if self.transport.is_active() {
-            Some(WholeGridPass::Transport)
         } else if self.reactions.iter().any(|r| r.rate.burns_on_a_surface()) {
             Some(WholeGridPass::SurfaceBurn)
         } else {
@@ -426,18 +422,15 @@ mod tests {
         let mut s = two_gases(2, PressureSolve::Explicit);
         s.distribute(two()).unwrap();
         assert_eq!(s.ranks.owned, vec![true, false]);
-        // Nothing that needs the whole grid may be added afterwards.
+        // Viscosity and heat conduction spread: the faces' work arrays of
+        // the other rank's patch are not stored.
         let viscous = crate::MaterialTransport {
             viscosity: 1e-3,
             ..Default::default()
         };
-        let e = s.set_transport(vec![viscous, Default::default()]);
-        assert!(e
-            .unwrap_err()
-            .to_string()
-            .contains("viscosity or heat conduction does not run on several ranks (2 here)"));
-        let mut s = two_gases(2, PressureSolve::Explicit);
-        s.distribute(two()).unwrap();
+        s.set_transport(vec![viscous, Default::default()]).unwrap();
+        assert_eq!(s.transport.stored(), vec![true, false]);
+        // Nothing that needs the whole grid may be added afterwards.
         let e = s.set_lagrangian(&[true, false]).unwrap_err().to_string();
         assert!(e.contains("materials carried by particles"), "{e}");
         // The implicit pressure, and a split with fewer patches than ranks.
