@@ -340,6 +340,28 @@ fn short(stop: &str) -> String {
     first.chars().take(240).collect()
 }
 
+/// The last mid-wall hoop strain of a record: the last finite one, with
+/// its time where the mid-wall particles left the domain after it (their
+/// mean radius is then undefined), or "—" where there is none.
+fn hoop_text(record: &[Sample]) -> String {
+    let last_t = record.last().map_or(0.0, |s| s.t);
+    record
+        .iter()
+        .rev()
+        .find(|s| s.hoop.is_finite())
+        .map_or("—".into(), |s| {
+            if s.t < last_t {
+                format!(
+                    "{:+.3e} (at {:.1} µs; then out of the domain)",
+                    s.hoop,
+                    s.t * 1e6
+                )
+            } else {
+                format!("{:+.3e}", s.hoop)
+            }
+        })
+}
+
 pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-COOKOFF: fast cook-off of a steel container of PBX-9501 (configs/cookoff_rz.ron)");
     let hs = crate::env_cell_sizes("BRISANCE_COOKOFF_H", "2,1,0.5")?;
@@ -349,14 +371,14 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
         let r = cookoff_run(h, budget_s, img)?;
         let last = r.record.last().copied();
         println!(
-            "  h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {:+.3e}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
+            "  h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
             h * 1e3,
             r.steps,
             r.wall_s,
             last.map_or(0.0, |s| s.t * 1e6),
             last.map_or(f64::NAN, |s| s.p_wall),
             last.map_or(f64::NAN, |s| s.burnt),
-            last.map_or(f64::NAN, |s| s.hoop),
+            hoop_text(&r.record),
             last.map_or(0, |s| s.failed),
             r.vented,
             r.hottest.0,
@@ -451,15 +473,7 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
             last.p_wall / 1e6,
             last.p_centre / 1e6,
             last.burnt,
-            r.record
-                .iter()
-                .rev()
-                .find(|s| s.hoop.is_finite())
-                .map_or("—".into(), |s| if s.t < last.t {
-                    format!("{:+.3e} (at {:.1} µs; then out of the domain)", s.hoop, s.t * 1e6)
-                } else {
-                    format!("{:+.3e}", s.hoop)
-                }),
+            hoop_text(&r.record),
             r.rupture.map_or("none".into(), |(t, x)| format!(
                 "{:.2} µs at (r, z) = ({:.1}, {:.1}) mm",
                 t * 1e6,
