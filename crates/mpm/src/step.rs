@@ -735,15 +735,39 @@ pub const FLUID_DISTORTION_LIMIT: f64 = 100.0;
 /// flows, F = diag(J, 1, 1), the limit is reached only at J < 10⁻⁶ or
 /// J > 10³, so such runs keep their stretched cpGIMP domains.
 pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
-    // Every entry with |x|³ < (1 − 10⁻⁶) 10⁶ J lies below 100 J^{1/3}
+    deformation_beyond(f, j, FLUID_DISTORTION_LIMIT)
+}
+
+/// Largest entry of a solid particle's isochoric deformation J^{−1/3} F
+/// below which its J is det F; beyond it J is carried by the product rule
+/// (see [`solid_deformation_is_distorted`]).
+pub const SOLID_DISTORTION_LIMIT: f64 = 1.0e4;
+
+/// Whether a solid particle's F is so distorted that det F can no longer
+/// be trusted: any entry of J^{−1/3} F beyond [`SOLID_DISTORTION_LIMIT`]
+/// (det F is then a sum of products up to 10¹² times J, and has lost
+/// twelve of its sixteen digits). Such a particle takes
+/// J = det(I + L Δt) Jⁿ, the same quantity formed from a well-conditioned
+/// matrix, as fluid points do; its F is kept (its shape, for cpGIMP and the
+/// surface tractions). The constitutive updates read L and the density,
+/// not F. A solid reaches the limit only where it has flowed like a fluid
+/// (a burning explosive particle near the axis of the cook-off, sheared to
+/// entries of 10⁸, docs/physics/mpm/explicit_mpm.md); below it J is det F
+/// as before.
+pub fn solid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
+    deformation_beyond(f, j, SOLID_DISTORTION_LIMIT)
+}
+
+/// Whether any entry of J^{−1/3} F lies beyond `limit` (or is not finite).
+#[inline]
+fn deformation_beyond(f: &Mat3, j: f64, limit: f64) -> bool {
+    // Every entry with |x|³ < (1 − 10⁻⁶) limit³ J lies below limit J^{1/3}
     // whatever the rounding of the cube, of the product and of `cbrt`
     // (each a few ulp), so the common undistorted point is settled without
     // the cube root; NaN, overflow, and J too small for the cubes to be
     // trusted (below 10⁻²⁰⁰) take the exact test.
-    const CUBE: f64 =
-        (1.0 - 1e-6) * FLUID_DISTORTION_LIMIT * FLUID_DISTORTION_LIMIT * FLUID_DISTORTION_LIMIT;
     if j >= 1e-200 {
-        let bound = CUBE * j;
+        let bound = (1.0 - 1e-6) * limit * limit * limit * j;
         if f.iter().all(|x| {
             let a = x.abs();
             a * a * a < bound
@@ -751,7 +775,7 @@ pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
             return false;
         }
     }
-    let limit = FLUID_DISTORTION_LIMIT * j.cbrt();
+    let limit = limit * j.cbrt();
     f.iter().any(|x| !(x.abs() <= limit))
 }
 
@@ -759,7 +783,9 @@ pub fn fluid_deformation_is_distorted(f: &Mat3, j: f64) -> bool {
 ///
 /// 1. F ← (I + L Δt) F; J = det F must be positive and finite (for a
 ///    fluid, J = det(I + L Δt) Vⁿ/V⁰, and F is re-initialised to J^{1/3} I
-///    once its isochoric part is distorted, [`fluid_deformation_is_distorted`]);
+///    once its isochoric part is distorted, [`fluid_deformation_is_distorted`];
+///    for a solid whose Fⁿ is distorted beyond
+///    [`solid_deformation_is_distorted`]'s limit, the same J, F kept);
 /// 2. V = J V⁰ and ρ = m/V = ρ₀/J (seed 001 eqs 12, 29);
 /// 3. σ from [`Material::update_stress`] (the Jaumann rate of eq 30 or the
 ///    model's own objective rate) at the new density;
@@ -799,14 +825,16 @@ pub fn update_particle_stress(
     let mut f_new = increment * f_old;
     let v_old = *state.volume;
     let fluid = matches!(material, MaterialModel::Null(_));
-    let j = if fluid {
+    let j_old = v_old / initial_volume;
+    let j = if fluid || solid_deformation_is_distorted(&f_old, j_old) {
         // A fluid's F has no elastic meaning and, in a vortical flow, its
         // isochoric part grows without bound; det F then comes from the
         // difference of products many orders of magnitude larger than
         // itself and loses every digit (E-PLATE: J = −0.2 from a step with
         // |L_ij Δt| < 0.007). J is carried instead by the product rule
         // det(F + L Δt F) = det(I + L Δt) · Jⁿ with Jⁿ = Vⁿ/V⁰, the
-        // volume-only update of fluid material points.
+        // volume-only update of fluid material points. A solid whose F
+        // has distorted as far takes the same rule.
         v_old / initial_volume * increment.determinant()
     } else {
         f_new.determinant()
@@ -1024,7 +1052,39 @@ mod tests {
         dt: f64,
     ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
         use brisance_constitutive::NullMaterial;
-        let m = MaterialModel::Null(NullMaterial::air());
+        update_point(&MaterialModel::Null(NullMaterial::air()), f, v, v0, l, dt)
+    }
+
+    /// A hypoelastic solid point (K 8 GPa, G 3 GPa, Jaumann rate), as
+    /// [`update_gas`].
+    fn update_solid(
+        f: [f64; 9],
+        v: f64,
+        v0: f64,
+        l: &Mat3,
+        dt: f64,
+    ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
+        use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+        let m = MaterialModel::Hypoelastic(Hypoelastic {
+            shear_modulus: 3.0e9,
+            pressure: PressureModel::Linear {
+                bulk_modulus: 8.0e9,
+            },
+            rate: ObjectiveRate::Jaumann,
+        });
+        update_point(&m, f, v, v0, l, dt)
+    }
+
+    /// A point of model `m` (mass 1.2e-3 kg, stress −1 bar, 300 K) as
+    /// [`update_gas`].
+    fn update_point(
+        m: &MaterialModel,
+        f: [f64; 9],
+        v: f64,
+        v0: f64,
+        l: &Mat3,
+        dt: f64,
+    ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
         let (mut stress, mut f, mut volume) = ([-1e5, -1e5, -1e5, 0.0, 0.0, 0.0], f, v);
         let (mut t, mut e, mut failed) = (300.0, 2.5e5, false);
         let mut history = vec![0.0; m.history_len()];
@@ -1039,8 +1099,56 @@ mod tests {
             history: &mut history,
             bulk_viscosity: &mut bulk,
         };
-        let r = update_particle_stress(&m, MaterialId(0), state, l, 1.2e-3, v0, dt, None);
+        let r = update_particle_stress(m, MaterialId(0), state, l, 1.2e-3, v0, dt, None);
         (r, f, volume)
+    }
+
+    #[test]
+    fn a_solid_sheared_past_the_limit_takes_its_volume_from_the_product_rule() {
+        // The sheared F of the gas test below (det F = 1 exactly, entries
+        // 10⁸ and 10¹⁶): det F evaluates to 0, and the solid, which used
+        // to take J = det F, was refused.
+        let (a, b) = (1e8, 1e8);
+        let f = [1.0 + a * b, a, 0.0, b, 1.0, 0.0, 0.0, 0.0, 1.0];
+        assert!(!(Mat3::from_row_slice(&f).determinant() > 0.0));
+        assert!(solid_deformation_is_distorted(
+            &Mat3::from_row_slice(&f),
+            1.0
+        ));
+        // L = diag(−0.1, 0, 0.05) /s over Δt = 0.1 s: J = 0.99495.
+        let l = Mat3::new(-0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05);
+        let (r, f_new, v_new) = update_solid(f, 1e-3, 1e-3, &l, 0.1);
+        assert_eq!(r, Ok(()));
+        assert!((v_new - 0.99495e-3).abs() < 1e-18, "{v_new}");
+        // A solid keeps its F: (I + L Δt) F.
+        let want =
+            Mat3::new(0.99, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.005) * Mat3::from_row_slice(&f);
+        assert_eq!(Mat3::from_row_slice(&f_new), want);
+    }
+
+    #[test]
+    fn a_solid_below_the_limit_keeps_det_f() {
+        // F = [[1, a, 0], [0, 1, 0], [0, 0, 1]] with a below 10⁴ (J = 1)
+        // and L Δt = [[0, 0, 0], [g, 0, 0], [0, 0, 0]]: J is det F_new as
+        // before, not the product rule det(I + L Δt) = 1. The two differ in
+        // the last bits for some (a, g), det F_new = 1 + a g − a g; the
+        // test takes the first such pair, so that it can tell them apart.
+        let mut checked = 0;
+        for a in [9000.0, 7777.7, 5432.1, 1234.5, 987.65] {
+            for g in [1e-2, 3.3e-3, 7.1e-4, 1.7e-2] {
+                let f = [1.0, a, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+                assert!(!solid_deformation_is_distorted(&Mat3::from_row_slice(&f), 1.0));
+                let l = Mat3::new(0.0, 0.0, 0.0, g, 0.0, 0.0, 0.0, 0.0, 0.0);
+                let (r, f_new, v_new) = update_solid(f, 1e-3, 1e-3, &l, 0.1);
+                assert_eq!(r, Ok(()));
+                let det = Mat3::from_row_slice(&f_new).determinant();
+                if det != 1.0 {
+                    assert_eq!(v_new, det * 1e-3, "a {a}, g {g}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 0, "no pair told the two rules apart");
     }
 
     #[test]
@@ -1091,6 +1199,17 @@ mod tests {
         let (j, reason) = r.unwrap_err();
         assert_eq!(reason, "det F is not positive");
         assert!((j + 0.5).abs() < 1e-15, "{j}");
+    }
+
+    #[test]
+    fn solid_distortion_limit_is_relative_to_the_volume() {
+        let j: f64 = 8.0; // J^{1/3} = 2: entries up to 2·10⁴ pass.
+        let ok = Mat3::new(2.0e4, 0.0, 0.0, 0.0, 4e-4, 0.0, 0.0, 0.0, 1.0);
+        let bad = Mat3::new(2.0001e4, 0.0, 0.0, 0.0, 4e-4, 0.0, 0.0, 0.0, 1.0);
+        assert!(!solid_deformation_is_distorted(&ok, j));
+        assert!(solid_deformation_is_distorted(&bad, j));
+        // The fluid limit, 100 J^{1/3}, is far below it.
+        assert!(fluid_deformation_is_distorted(&ok, j));
     }
 
     #[test]
