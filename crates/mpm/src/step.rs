@@ -1137,7 +1137,10 @@ mod tests {
         for a in [9000.0, 7777.7, 5432.1, 1234.5, 987.65] {
             for g in [1e-2, 3.3e-3, 7.1e-4, 1.7e-2] {
                 let f = [1.0, a, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
-                assert!(!solid_deformation_is_distorted(&Mat3::from_row_slice(&f), 1.0));
+                assert!(!solid_deformation_is_distorted(
+                    &Mat3::from_row_slice(&f),
+                    1.0
+                ));
                 let l = Mat3::new(0.0, 0.0, 0.0, g, 0.0, 0.0, 0.0, 0.0, 0.0);
                 let (r, f_new, v_new) = update_solid(f, 1e-3, 1e-3, &l, 0.1);
                 assert_eq!(r, Ok(()));
