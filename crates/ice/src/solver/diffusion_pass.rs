@@ -121,8 +121,8 @@ impl<E: Eos> IceSolver<E> {
     /// [`IceSolver::compute_face_centred_velocities`] of the same step.
     /// On several ranks each rank updates its own patches (their ghost
     /// layers hold the neighbours' state, corners included) and the faces'
-    /// bookings are gathered, so every rank books every face
-    /// ([`IceSolver::gather_pass`]).
+    /// bookings are gathered as the other passes' are, so every rank books
+    /// every face.
     // Kept out of line so that profiles attribute each step's cost.
     #[inline(never)]
     pub fn compute_diffusion_sources(&mut self, dt: f64) {
