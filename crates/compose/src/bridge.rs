@@ -148,7 +148,7 @@ fn default_min_particle_mass() -> f64 {
 }
 
 /// Output fields.
-pub const FIELDS: [&str; 6] = brisance_couple::cfdmp::FIELDS;
+pub const FIELDS: [&str; 6] = brisance_couple::CFDMP_FIELDS;
 
 fn spacing(s: &Scenario) -> [f64; 3] {
     let d = &s.domain;

@@ -316,7 +316,7 @@ fn brisance_reaction_energy(
     m: &brisance_eos::Murnaghan,
     j: &brisance_eos::JwlCTerm,
 ) -> Result<f64, String> {
-    brisance_ice::reaction::detonation_energy(m, j)
+    brisance_ice::detonation_energy(m, j)
 }
 
 fn default_cfl() -> f64 {

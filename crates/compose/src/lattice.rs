@@ -13,19 +13,18 @@
 //! library's `hmx_crystal`, `estane`).
 //!
 //! A material with an `arrhenius` law regresses where it meets the fluid
-//! (seed 003 §2.4, `brisance_lattice::regress`); `regression` says which
+//! (seed 003 §2.4, `brisance_lattice::SurfaceRegression`); `regression` says which
 //! exterior nodes are fluid. A `pack` replaces the material of the solid
 //! nodes by a crystal/binder image (PGM or PNG, one node per pixel) or a random
-//! pack of discs (`brisance_lattice::pack`).
+//! pack of discs (`brisance_lattice::random_disc_pack`).
 
 use std::collections::BTreeMap;
 
 use brisance_eos::EosModel;
-use brisance_lattice::pack::{area_fraction, random_disc_pack, read_image, GrayImage};
-use brisance_lattice::regress::{Arrhenius, SurfaceRegression};
 use brisance_lattice::{
-    Damping, Dim, Geometry, Hysteretic, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions,
-    Plasticity, Surroundings,
+    area_fraction, random_disc_pack, read_image, Arrhenius, Damping, Dim, Geometry, GrayImage,
+    Hysteretic, Integrator, LatticeMaterial, MsdmLattice, MsdmOptions, Plasticity,
+    SurfaceRegression, Surroundings,
 };
 use serde::{Deserialize, Serialize};
 
@@ -825,7 +824,7 @@ mod tests {
     #[test]
     fn propellant_pack_loads_and_regresses_from_the_top() {
         use brisance_core::Solver;
-        use brisance_lattice::pack::node_mass_fraction;
+        use brisance_lattice::node_mass_fraction;
         let text = include_str!("../../../configs/lattice_burn.ron");
         let loaded = load_str("lattice_burn.ron", text, &[]).unwrap();
         let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
@@ -889,7 +888,7 @@ mod tests {
     /// size mismatch names `pipeline.pack.path`.
     #[test]
     fn image_pack_is_one_node_per_pixel() {
-        use brisance_lattice::pack::node_mass_fraction;
+        use brisance_lattice::node_mass_fraction;
         let dir = std::env::temp_dir().join(format!("lattice_pack_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("centre.pgm");

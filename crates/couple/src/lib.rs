@@ -24,7 +24,7 @@ pub mod ice_mpm;
 pub mod regions;
 pub mod remap;
 
-pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals};
+pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use ice_mpm::{IceMpm, IceMpmError};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{

@@ -64,7 +64,7 @@ pub use equilibration::{
     MAX_MATERIALS,
 };
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
-pub use reaction::{BurntMass, IceRate, IceReaction};
+pub use reaction::{detonation_energy, BurntMass, IceRate, IceReaction};
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
 pub use solver::{
     EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, WholeGridPass,

@@ -47,5 +47,7 @@ pub use model::{
     bond_force, bond_jacobian, BondEval, ImplicitTiming, Integrator, LinearSolver, MsdmError,
     MsdmLattice, MsdmOptions, StepReport, Surroundings,
 };
+pub use pack::{area_fraction, node_mass_fraction, random_disc_pack, read_image, GrayImage};
+pub use regress::{Arrhenius, SurfaceRegression};
 #[cfg(test)]
 mod tests;
