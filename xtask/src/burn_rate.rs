@@ -43,9 +43,10 @@ fn print_row(label: &str, result: &Result<BurnRateResult, String>) {
     }
 }
 
-/// The A/100 row of `surface` with the area estimate `method`: PBX-9501's
-/// law with A over 100 at 100 MPa, run over one cell.
-fn slow(surface: BurnSurface, method: SurfaceArea) -> BurnRate {
+/// The A/100 row of `surface` with the area estimate `method` (`None`: the
+/// reactant's default): PBX-9501's law with A over 100 at 100 MPa, run
+/// over one cell.
+fn slow(surface: BurnSurface, method: Option<SurfaceArea>) -> BurnRate {
     let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
     cfg.law.a /= 100.0;
     cfg.law.surface_area = method;
@@ -54,14 +55,11 @@ fn slow(surface: BurnSurface, method: SurfaceArea) -> BurnRate {
 }
 
 /// The A/100 shapes with a particle reactant (ICE–MPM), each shape's
-/// configuration that of the fluid rows, with the default `column` area
-/// and with the `gradient` area.
+/// configuration that of the fluid rows, with a particle reactant's
+/// default `gradient` area and with the `column` area.
 fn particle_rows() -> Vec<Row> {
     let mut rows = Vec::new();
-    for (method, marker) in [
-        (SurfaceArea::Column, ""),
-        (SurfaceArea::Gradient, ", `gradient` area"),
-    ] {
+    for (method, marker) in [(None, ""), (Some(SurfaceArea::Column), ", `column` area")] {
         for surface in [
             BurnSurface::Plane,
             BurnSurface::Diagonal,
@@ -95,9 +93,9 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
     // The default estimate's rows, then the comparison rows of the two
     // estimates that read the field.
     for (method, marker) in [
-        (SurfaceArea::Column, ""),
-        (SurfaceArea::ExposedFaces, ", `exposed_faces` area"),
-        (SurfaceArea::Upwind, ", `upwind` area"),
+        (None, ""),
+        (Some(SurfaceArea::ExposedFaces), ", `exposed_faces` area"),
+        (Some(SurfaceArea::Upwind), ", `upwind` area"),
     ] {
         for surface in [
             BurnSurface::Plane,
@@ -162,11 +160,12 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
          particles burn the same A/100 shapes with the reactant as particles in the ICE–MPM pipeline \
          (`brisance_couple::ice_mpm::burn_rate`: 2 × 2 particles a cell over the shape, hypoelastic with the \
          reactant's bulk modulus; the reactant's volume is the particles' mass over its EOS density at the \
-         held pressure), the cook-off's kind of explosive, which the gas does not move, with the default \
-         `column` area and with the `gradient` area (`SurfaceArea::Gradient`: every cell's |∇θ| V gathered \
+         held pressure), the cook-off's kind of explosive, which the gas does not move, with a particle \
+         reactant's default, the `gradient` area (`SurfaceArea::Gradient`: every cell's |∇θ| V gathered \
          onto the surface cell its column meets; by the coarea formula the mean area of the front's level \
-         sets, which does not depend on how far the particles' projection spreads their face). The particle \
-         rows are figures of merit.\n"
+         sets, which does not depend on how far the particles' projection spreads their face), and with the \
+         `column` area, the fluids' default, whose surface cells lie outside the particles' spread face. The \
+         figures of merit are the rows of each reactant's default estimate.\n"
     );
     let _ = writeln!(
         md,
@@ -231,12 +230,9 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
         md,
         "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
     );
-    // The figures of merit: the default estimate's rows, and every
-    // particle row (the cook-off's explosive; `gradient` is the estimate
-    // for it).
-    for r in rows.iter().filter(|r| {
-        r.cfg.law.surface_area == SurfaceArea::Column || r.label.starts_with("particles")
-    }) {
+    // The figures of merit: the rows of each reactant's default estimate
+    // (`column` for the fluid, `gradient` for particles).
+    for r in rows.iter().filter(|r| r.cfg.law.surface_area.is_none()) {
         let (measured, ok) = match &r.result {
             Ok(x) => (
                 format!("{:+.3} %", 100.0 * x.error()),

@@ -441,7 +441,8 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
         "configs/cookoff_rz.ron: the seed's container (4340 steel, `steel_4340_cookoff`: inner diameter and \
          length 10.16 cm, wall and end caps 0.635 cm) filled with PBX-9501 particles (`pbx_9501_reactant`: \
          ViscoSCRAM, Murnaghan pressure), air outside, the steel at 451 K (1 K above the deflagration's \
-         ignition temperature), D = A pⁿ with `Deflagration::pbx_9501`'s A and n into JWL products \
+         ignition temperature), D = A pⁿ with `Deflagration::pbx_9501`'s A and n on the surface the \
+         `gradient` area estimate gives (a particle reactant's default) into JWL products \
          (`pbx_9501`, heat of reaction E₀/ρ₀ = 5.54 MJ/kg); r and z to 9 cm (the seed's domain), the \
          mid-plane a symmetry plane, zero-gradient outflow outside; to the seed's last frame, 0.312 ms. \
          Recorded every step: the cell pressure just inside the wall at the mid-plane, the burnt share of \

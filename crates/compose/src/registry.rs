@@ -99,7 +99,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry {
         family: "reaction",
         name: "Deflagration",
-        summary: "surface burn D = A p^n with an ignition temperature, Gamma = a D rho on the reactant surface found after each equilibration (seed 000 eqs 38-39), optional `surface_area: column | clipped_plane | uintah | exposed_faces | upwind | gradient`; ICE and IceMpm `reactions`",
+        summary: "surface burn D = A p^n with an ignition temperature, Gamma = a D rho on the reactant surface found after each equilibration (seed 000 eqs 38-39), optional `surface_area: column | clipped_plane | uintah | exposed_faces | upwind | gradient` (default column for a fluid reactant, gradient for particles); ICE and IceMpm `reactions`",
         example: "Deflagration(a: 5.218307e-6, n: 0.778, ignition_temperature: 450.0)",
         docs: Some("docs/physics/reaction/deflagration.md"),
     },

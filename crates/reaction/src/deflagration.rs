@@ -10,10 +10,12 @@
 //!   ([`detect_surface`]);
 //! - the surface area a in such a cell ("estimated based on the direction of
 //!   the gradient"): [`SurfaceArea`], three estimates from the unit normal
-//!   n = −∇ρ/|∇ρ| and the cell size. The default,
-//!   [`SurfaceArea::Column`], is exact for a plane digitised by the
-//!   detection rule above (one surface cell per grid column along the
-//!   normal's dominant axis); see docs/physics/reaction/deflagration.md.
+//!   n = −∇ρ/|∇ρ| and the cell size, and three that read the field. The
+//!   default for a fluid reactant, [`SurfaceArea::Column`], is exact for a
+//!   plane digitised by the detection rule above (one surface cell per grid
+//!   column along the normal's dominant axis); for a particle reactant it is
+//!   [`SurfaceArea::Gradient`] ([`Deflagration::surface_area_for`]); see
+//!   docs/physics/reaction/deflagration.md.
 //!
 //! The burn only starts where the surface has reached the ignition
 //! temperature (seed: "initiation of the burn depends on reaching a
@@ -88,9 +90,11 @@ pub struct Deflagration {
     pub ignition_temperature: f64,
     /// How the solver estimates the surface's area in a cell from the
     /// reactant's volume fraction (seed 000 §4.1.2 leaves it open;
-    /// [`SurfaceArea`]). Default `column`.
+    /// [`SurfaceArea`]). Unset, the estimate follows the reactant
+    /// ([`Deflagration::surface_area_for`]): `gradient` for a particle
+    /// reactant, `column` for a fluid one.
     #[serde(default)]
-    pub surface_area: SurfaceArea,
+    pub surface_area: Option<SurfaceArea>,
 }
 
 impl Deflagration {
@@ -107,7 +111,7 @@ impl Deflagration {
             a: PBX_9501_A,
             n: PBX_9501_N,
             ignition_temperature: 450.0,
-            surface_area: SurfaceArea::Column,
+            surface_area: None,
         }
     }
 
@@ -117,10 +121,27 @@ impl Deflagration {
             a,
             n,
             ignition_temperature,
-            surface_area: SurfaceArea::Column,
+            surface_area: None,
         };
         model.validate()?;
         Ok(model)
+    }
+
+    /// The surface-area estimate the solver uses for a reactant that is
+    /// particles (`particles`, a Lagrangian material of the ICE–MPM) or a
+    /// fluid: the configured one, or by default [`SurfaceArea::Gradient`]
+    /// for particles, whose projection spreads their face over about four
+    /// cells (there the outermost cells holding reactant lie outside the
+    /// face, and [`SurfaceArea::Column`] counts a curved surface too large:
+    /// +42.6 % on V-BURNRATE's sphere against +0.4 %), and
+    /// [`SurfaceArea::Column`] for a fluid, whose sharp face it digitises
+    /// exactly when plane (docs/physics/reaction/deflagration.md).
+    pub fn surface_area_for(&self, particles: bool) -> SurfaceArea {
+        self.surface_area.unwrap_or(if particles {
+            SurfaceArea::Gradient
+        } else {
+            SurfaceArea::Column
+        })
     }
 
     /// Checks every parameter is finite and > 0, naming the bad field.
@@ -306,8 +327,11 @@ pub enum SurfaceArea {
     /// [`detect_surface`] met along the column of the cell's own normal
     /// (outward from a cell holding reactant, inward from an empty one,
     /// within [`GATHER_DEPTH`] cells), and a surface cell's area is the sum
-    /// of what it gathers. By the coarea formula ∫|∇φ| dV over a front is
-    /// the mean area of its level sets 0 < φ < 1 (Federer 1959; the
+    /// of what it gathers over the span of the field along its normal
+    /// (the largest value inward less the smallest outward, within
+    /// [`SPAN_DEPTH`] steps; 1 for a front from empty to full). By the
+    /// coarea formula ∫|∇φ| dV over a front over that span is the mean
+    /// area of its level sets (Federer 1959; the
     /// diffuse-interface area of phase-field and level-set methods): exact
     /// for a plane whatever the width of its profile, and for a curved
     /// front the area of its middle level to second order in the profile's
@@ -325,6 +349,14 @@ pub enum SurfaceArea {
 /// surface cell that gathers it ([`SurfaceArea::Gradient`]); a gradient
 /// further from the surface is not counted.
 pub const GATHER_DEPTH: usize = 5;
+
+/// How many steps the `Gradient` estimate looks along a surface cell's
+/// normal, inward and outward, for the largest and smallest reactant
+/// fraction it divides by ([`SurfaceArea::Gradient`]; a step is one cell
+/// along the normal's dominant axis): twice the gathering's reach and one
+/// more, so that a profile as wide as the gathering reaches is spanned
+/// whole from its outermost cell.
+pub const SPAN_DEPTH: usize = 2 * GATHER_DEPTH + 1;
 
 impl SurfaceArea {
     /// Area in a box cell of size `cell` (m) with unit normal `normal`, m²;
@@ -805,6 +837,9 @@ pub struct SurfaceWork {
     pub on_surface: Vec<bool>,
     /// The unit outward normal per cell (structure of arrays).
     pub normal: [Vec<f64>; 3],
+    /// Per surface cell, the largest field value inward and the smallest
+    /// outward along its normal ([`SurfaceArea::Gradient`]; sized on use).
+    pub span: [Vec<f64>; 2],
 }
 
 impl SurfaceWork {
@@ -813,6 +848,7 @@ impl SurfaceWork {
         Self {
             on_surface: vec![false; cells],
             normal: std::array::from_fn(|_| vec![0.0; cells]),
+            span: [Vec::new(), Vec::new()],
         }
     }
 }
@@ -925,7 +961,18 @@ fn exposed_face_densities(
 /// cell; inward from an empty cell, up to the first cell holding
 /// reactant, which must be a surface cell; either within
 /// [`GATHER_DEPTH`] cells. A gradient whose column meets no surface cell
-/// is not counted.
+/// is not counted. Each surface cell's sum is then divided by the span
+/// φ_peak − φ_low of the reactant along the surface cell's own normal
+/// (the cells nearest the line through its centre, one a step along the
+/// normal's dominant axis): the largest φ inward and the smallest outward
+/// within [`SPAN_DEPTH`] steps, itself included, clamped to [0, 1]. By
+/// the coarea formula the sum is ∫ A(s) ds over the levels s between
+/// them, so the quotient is the mean area of the level sets that exist. A front from empty (φ = 0) to a full cell (φ = 1) keeps
+/// its sum; a layer thinner than its projected profile (a particle block
+/// burnt down to a few cells, whose two faces' profiles overlap below
+/// φ = 1) keeps the area of its faces instead of shrinking with its peak,
+/// and a front into a trace of the reactant (a particle reactant's floor
+/// outside the particles) counts the trace's level sets too.
 fn gradient_densities(
     grid: &CellGrid,
     reactant: &[f64],
@@ -941,6 +988,11 @@ fn gradient_densities(
     let [nx, ny, nz] = &mut work.normal;
     let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
     out.fill(0.0);
+    let [peak, low] = &mut work.span;
+    peak.clear();
+    peak.resize(reactant.len(), f64::NEG_INFINITY);
+    low.clear();
+    low.resize(reactant.len(), f64::INFINITY);
     let field = Field { grid, reactant };
     let threshold = options.present_threshold;
     // A ring's volume is proportional to its centre radius.
@@ -988,6 +1040,48 @@ fn gradient_densities(
                 }
                 if let Some((c, i_gather)) = gatherer {
                     out[c] += size * weight(i) / weight(i_gather);
+                }
+            }
+        }
+    }
+    // Each surface cell's span: the largest φ inward along its own normal
+    // and the smallest outward, within SPAN_DEPTH cells.
+    for k in 0..grid.n[2] {
+        for j in 0..grid.n[1] {
+            for i in 0..grid.n[0] {
+                let c = grid.index(i, j, k);
+                if !(work.on_surface[c] && out[c] > 0.0) {
+                    continue;
+                }
+                // Along the normal, one cell a step on its dominant axis.
+                let n = [work.normal[0][c], work.normal[1][c], work.normal[2][c]];
+                let d = [0, 1, 2].map(|a| n[a] / grid.spacing[a]);
+                let m = d[0].abs().max(d[1].abs()).max(d[2].abs());
+                if !(m > 0.0) {
+                    continue;
+                }
+                let e = d.map(|x| x / m);
+                let at = [i as f64, j as f64, k as f64];
+                let (mut top, mut bottom) = (reactant[c], reactant[c]);
+                for side in [-1.0, 1.0] {
+                    for t in 1..=SPAN_DEPTH {
+                        let q = [0, 1, 2].map(|a| (at[a] + side * t as f64 * e[a]).round());
+                        if (0..3).any(|a| q[a] < 0.0 || q[a] >= grid.n[a] as f64) {
+                            break;
+                        }
+                        let phi = reactant[grid.index(q[0] as usize, q[1] as usize, q[2] as usize)];
+                        if side > 0.0 {
+                            bottom = bottom.min(phi);
+                        } else {
+                            top = top.max(phi);
+                        }
+                    }
+                }
+                peak[c] = top;
+                low[c] = bottom;
+                let span = top.min(1.0) - bottom.max(0.0);
+                if span > 0.0 {
+                    out[c] /= span;
                 }
             }
         }

@@ -186,7 +186,7 @@ fn a_config_names_the_deflagration() {
     let super::IceRate::Deflagration(m) = &rx[0].rate else {
         panic!("a deflagration");
     };
-    assert_eq!(m.surface_area, brisance_reaction::SurfaceArea::Upwind);
+    assert_eq!(m.surface_area, Some(brisance_reaction::SurfaceArea::Upwind));
     let bad = text.replace(
         "ignition_temperature: 450.0)",
         "ignition_temperature: 450.0, surface_area: columns)",

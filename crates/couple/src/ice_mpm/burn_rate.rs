@@ -187,8 +187,9 @@ mod tests {
 
     /// A grid-aligned particle slab at 100 MPa with PBX-9501's A over 100
     /// regresses one cell at A pⁿ of its surface pressure within 1 %
-    /// (V-BURNRATE measures +0.54 %), the surface pass's area the slab's
-    /// cross-section at every step.
+    /// (V-BURNRATE measures +0.54 %), the surface pass's area (the
+    /// default `gradient` estimate of a particle reactant) the slab's
+    /// cross-section within 10⁻⁶ at every step (measured 9·10⁻⁸).
     #[test]
     fn a_particle_plane_regresses_at_a_p_to_the_n() {
         let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
@@ -197,6 +198,6 @@ mod tests {
         let r = particle_burn_rate(&cfg).unwrap();
         assert!(r.error().abs() < 0.01, "{r:?}");
         assert!((r.surface_pressure / 1.0e8 - 1.0).abs() < 1e-3, "{r:?}");
-        assert!(r.area_error.abs() < 1e-12, "{r:?}");
+        assert!(r.area_error.abs() < 1e-6, "{r:?}");
     }
 }

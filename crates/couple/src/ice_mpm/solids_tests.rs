@@ -337,8 +337,11 @@ fn burns_its_two_faces(s: &mut IceMpm, law: brisance_ice::Deflagration) {
 /// ([`particle_deflagration`]), its products shut in the tube (the
 /// pressure climbs from 100 to 205 MPa): over the last 80 % of the run the
 /// particles lose the mass the law burns within 1 %, and the pass's summed
-/// area is the two faces', 2 A_x, to round-off at every step. Measured
-/// +0.69 %: the surface particles burn their last per cent whole one step
+/// area (a particle reactant's default `gradient` estimate) is the two
+/// faces', 2 A_x, within 10⁻⁶ at every step (measured 2.4·10⁻⁹; without
+/// the division by the profile's span the block's faces, whose profiles
+/// overlap below θ = 1 once it has burnt to four cells, lost 10.7 % of
+/// their area by the end). Measured +0.69 %: the surface particles burn their last per cent whole one step
 /// early ([`BURNT_OUT_FRACTION`]), an offset of the burnt mass that a run
 /// of one cell's regression does not outgrow (−0.05 % with the floor at
 /// 10⁻⁶; ρ_r at 300 K, the particles warm a little as they are
@@ -346,7 +349,7 @@ fn burns_its_two_faces(s: &mut IceMpm, law: brisance_ice::Deflagration) {
 #[test]
 fn a_particle_reactant_burns_its_mass_at_a_p_to_the_n() {
     let r = particle_deflagration().unwrap();
-    assert!(r.area_error < 1e-12, "{r:?}");
+    assert!(r.area_error < 1e-6, "{r:?}");
     assert!(r.surface_pressure > 1.5 * r.held_pressure, "{r:?}");
     assert!(r.error() > 0.0 && r.error() < 1e-2, "{r:?}");
 }

@@ -180,7 +180,7 @@ impl<E: Eos> IceSolver<E> {
             });
             pass.density.resize(count, 0.0);
             let method = match &rx.rate {
-                IceRate::Deflagration(m) => m.surface_area,
+                IceRate::Deflagration(m) => m.surface_area_for(self.lagrangian[rx.reactant]),
                 _ => SurfaceArea::Column,
             };
             surface_area_densities(
@@ -426,7 +426,7 @@ mod tests {
     /// deflagration's `surface_area` set to `method`.
     fn areas_after_one_step(method: SurfaceArea) -> Vec<f64> {
         let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
-        cfg.law.surface_area = method;
+        cfg.law.surface_area = Some(method);
         let mut s = burning_slab(&cfg, PressureSolve::Explicit).expect("builds");
         let dt = s.stable_dt().expect("dt");
         s.advance(dt).expect("step");

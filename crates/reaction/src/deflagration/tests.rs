@@ -905,24 +905,35 @@ fn upwind_needs_the_field_not_only_the_normals() {
     assert!(close(density[0], 0.7, 1e-15), "{density:?}");
 }
 
+/// The config loader's RON options (a bare value for an optional field).
+fn from_config(text: &str) -> Result<Deflagration, ron::error::SpannedError> {
+    ron::Options::default()
+        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+        .from_str(text)
+}
+
 #[test]
-fn the_surface_area_estimate_is_a_config_field_defaulting_to_column() {
-    let m: Deflagration =
-        ron::from_str("(a: 1e-6, n: 0.8, ignition_temperature: 450.0)").expect("parses");
-    assert_eq!(m.surface_area, SurfaceArea::Column);
-    let m: Deflagration =
-        ron::from_str("(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: upwind)")
+fn the_surface_area_estimate_is_a_config_field_defaulting_by_the_reactant() {
+    let m = from_config("(a: 1e-6, n: 0.8, ignition_temperature: 450.0)").expect("parses");
+    assert_eq!(m.surface_area, None);
+    assert_eq!(m.surface_area_for(false), SurfaceArea::Column);
+    assert_eq!(m.surface_area_for(true), SurfaceArea::Gradient);
+    let m = from_config("(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: upwind)")
+        .expect("parses");
+    assert_eq!(m.surface_area, Some(SurfaceArea::Upwind));
+    assert_eq!(m.surface_area_for(false), SurfaceArea::Upwind);
+    assert_eq!(m.surface_area_for(true), SurfaceArea::Upwind);
+    let m =
+        from_config("(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: exposed_faces)")
             .expect("parses");
-    assert_eq!(m.surface_area, SurfaceArea::Upwind);
-    let m: Deflagration = ron::from_str(
-        "(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: exposed_faces)",
-    )
-    .expect("parses");
-    assert_eq!(m.surface_area, SurfaceArea::ExposedFaces);
-    assert!(ron::from_str::<Deflagration>(
-        "(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: columns)"
-    )
-    .is_err());
+    assert_eq!(m.surface_area, Some(SurfaceArea::ExposedFaces));
+    let m = from_config("(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: column)")
+        .expect("parses");
+    assert_eq!(m.surface_area_for(true), SurfaceArea::Column);
+    assert!(
+        from_config("(a: 1e-6, n: 0.8, ignition_temperature: 450.0, surface_area: columns)")
+            .is_err()
+    );
 }
 
 proptest::proptest! {
@@ -1145,4 +1156,33 @@ proptest::proptest! {
         let section = 6.0 * h * h;
         proptest::prop_assert!((total / section - 1.0).abs() < 1e-12, "{total} against {section}");
     }
+}
+
+/// The `Gradient` estimate divides what a surface cell gathered by the
+/// span of the values it gathered from: a layer whose two faces' profiles
+/// overlap below φ = 1 keeps both faces' area, and a front into a trace
+/// floor counts the whole face, where the gathered |∇φ| V alone gives the
+/// span's share of them (0.5 and 1 − 10⁻⁶ of the faces here).
+#[test]
+fn gradient_area_is_the_mean_of_the_level_sets_between_the_profiles_extremes() {
+    let h = 1.0e-3;
+    let grid = CellGrid {
+        n: [9, 3, 1],
+        spacing: [h; 3],
+    };
+    let rows = |line: [f64; 9]| -> Vec<f64> { (0..3).flat_map(|_| line).collect() };
+    // A thin layer along x, its top at ½: two faces of area h·h each in
+    // each of the three rows.
+    let thin = rows([0.0, 0.0, 0.25, 0.5, 0.5, 0.5, 0.25, 0.0, 0.0]);
+    let total = field_total(&grid, &thin, SurfaceArea::Gradient, false);
+    assert!(
+        (total / (2.0 * 3.0 * h * h) - 1.0).abs() < 1e-12,
+        "{total:e}"
+    );
+    // A full front into a floor of 10⁻⁶ (a particle reactant's trace):
+    // one face per row.
+    let t = 1e-6;
+    let floor = rows([t, t, t, 0.25, 0.75, 1.0, 1.0, 1.0, 1.0]);
+    let total = field_total(&grid, &floor, SurfaceArea::Gradient, false);
+    assert!((total / (3.0 * h * h) - 1.0).abs() < 1e-12, "{total:e}");
 }
