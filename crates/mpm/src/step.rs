@@ -1041,42 +1041,26 @@ mod tests {
 
     // ----------------------------------------- fluid points: J, not det F
 
-    /// A gas point (γ = 1.4 ideal gas) with deformation `f`, volume `v`
-    /// and initial volume `v0`, updated with `l` over `dt`: the result and
-    /// the state after it.
-    fn update_gas(
-        f: [f64; 9],
-        v: f64,
-        v0: f64,
-        l: &Mat3,
-        dt: f64,
-    ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
-        use brisance_constitutive::NullMaterial;
-        update_point(&MaterialModel::Null(NullMaterial::air()), f, v, v0, l, dt)
+    /// A gas point's model: the γ = 1.4 ideal gas.
+    fn gas() -> MaterialModel {
+        MaterialModel::Null(brisance_constitutive::NullMaterial::air())
     }
 
-    /// A hypoelastic solid point (K 8 GPa, G 3 GPa, Jaumann rate), as
-    /// [`update_gas`].
-    fn update_solid(
-        f: [f64; 9],
-        v: f64,
-        v0: f64,
-        l: &Mat3,
-        dt: f64,
-    ) -> (Result<(), (f64, &'static str)>, [f64; 9], f64) {
+    /// A hypoelastic solid point's model (K 8 GPa, G 3 GPa, Jaumann rate).
+    fn solid() -> MaterialModel {
         use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
-        let m = MaterialModel::Hypoelastic(Hypoelastic {
+        MaterialModel::Hypoelastic(Hypoelastic {
             shear_modulus: 3.0e9,
             pressure: PressureModel::Linear {
                 bulk_modulus: 8.0e9,
             },
             rate: ObjectiveRate::Jaumann,
-        });
-        update_point(&m, f, v, v0, l, dt)
+        })
     }
 
-    /// A point of model `m` (mass 1.2e-3 kg, stress −1 bar, 300 K) as
-    /// [`update_gas`].
+    /// A point of model `m` (mass 1.2e-3 kg, stress −1 bar, 300 K) with
+    /// deformation `f`, volume `v` and initial volume `v0`, updated with `l`
+    /// over `dt`: the result and the state after it.
     fn update_point(
         m: &MaterialModel,
         f: [f64; 9],
@@ -1117,7 +1101,7 @@ mod tests {
         ));
         // L = diag(−0.1, 0, 0.05) /s over Δt = 0.1 s: J = 0.99495.
         let l = Mat3::new(-0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05);
-        let (r, f_new, v_new) = update_solid(f, 1e-3, 1e-3, &l, 0.1);
+        let (r, f_new, v_new) = update_point(&solid(), f, 1e-3, 1e-3, &l, 0.1);
         assert_eq!(r, Ok(()));
         assert!((v_new - 0.99495e-3).abs() < 1e-18, "{v_new}");
         // A solid keeps its F: (I + L Δt) F.
@@ -1142,7 +1126,7 @@ mod tests {
                     1.0
                 ));
                 let l = Mat3::new(0.0, 0.0, 0.0, g, 0.0, 0.0, 0.0, 0.0, 0.0);
-                let (r, f_new, v_new) = update_solid(f, 1e-3, 1e-3, &l, 0.1);
+                let (r, f_new, v_new) = update_point(&solid(), f, 1e-3, 1e-3, &l, 0.1);
                 assert_eq!(r, Ok(()));
                 let det = Mat3::from_row_slice(&f_new).determinant();
                 if det != 1.0 {
@@ -1165,7 +1149,7 @@ mod tests {
         // A small compression, L = diag(−0.1, 0, 0.05) /s over Δt = 0.1 s:
         // det(I + L Δt) = 0.99 · 1 · 1.005 = 0.99495; Vⁿ = V⁰ = 1e-3 m³.
         let l = Mat3::new(-0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05);
-        let (r, f_new, v_new) = update_gas(f, 1e-3, 1e-3, &l, 0.1);
+        let (r, f_new, v_new) = update_point(&gas(), f, 1e-3, 1e-3, &l, 0.1);
         assert_eq!(r, Ok(()));
         assert!((v_new - 0.99495e-3).abs() < 1e-18, "{v_new}");
         // The distorted F is re-initialised to J^{1/3} I.
@@ -1185,7 +1169,7 @@ mod tests {
         // [0, 0.98, 0], [0, 0, 1]], kept (no entry beyond 100 J^{1/3}).
         let l = Mat3::new(0.0, 0.5, 0.0, 0.0, -0.2, 0.0, 0.0, 0.0, 0.0);
         let f = [2.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
-        let (r, f_new, v_new) = update_gas(f, 2e-3, 1e-3, &l, 0.1);
+        let (r, f_new, v_new) = update_point(&gas(), f, 2e-3, 1e-3, &l, 0.1);
         assert_eq!(r, Ok(()));
         assert!((v_new - 1.96e-3).abs() < 1e-18, "{v_new}");
         let want = [2.0, 0.05, 0.0, 0.0, 0.98, 0.0, 0.0, 0.0, 1.0];
@@ -1198,7 +1182,7 @@ mod tests {
     fn a_gas_point_whose_volume_would_invert_in_one_step_is_still_refused() {
         // tr(L) Δt = −1.5 along x: det(I + L Δt) = −0.5 < 0.
         let l = Mat3::new(-15.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-        let (r, _, _) = update_gas(crate::particles::IDENTITY, 1e-3, 1e-3, &l, 0.1);
+        let (r, _, _) = update_point(&gas(), crate::particles::IDENTITY, 1e-3, 1e-3, &l, 0.1);
         let (j, reason) = r.unwrap_err();
         assert_eq!(reason, "det F is not positive");
         assert!((j + 0.5).abs() < 1e-15, "{j}");
