@@ -841,9 +841,6 @@ pub struct SurfaceWork {
     pub on_surface: Vec<bool>,
     /// The unit outward normal per cell (structure of arrays).
     pub normal: [Vec<f64>; 3],
-    /// Per surface cell, the largest field value inward and the smallest
-    /// outward along its normal ([`SurfaceArea::Gradient`]; sized on use).
-    pub span: [Vec<f64>; 2],
 }
 
 impl SurfaceWork {
@@ -852,7 +849,6 @@ impl SurfaceWork {
         Self {
             on_surface: vec![false; cells],
             normal: std::array::from_fn(|_| vec![0.0; cells]),
-            span: [Vec::new(), Vec::new()],
         }
     }
 }

@@ -64,10 +64,10 @@ pub(super) fn exposed_face_densities(
 /// normal's dominant axis): the largest φ inward and the smallest outward
 /// within [`SPAN_DEPTH`] steps, itself included, clamped to [0, 1]. By
 /// the coarea formula the sum is ∫ A(s) ds over the levels s between
-/// them, so the quotient is the mean area of the level sets that exist. A front from empty (φ = 0) to a full cell (φ = 1) keeps
-/// its sum; a layer thinner than its projected profile (a particle block
-/// burnt down to a few cells, whose two faces' profiles overlap below
-/// φ = 1) keeps the area of its faces instead of shrinking with its peak,
+/// them, so the quotient is the mean area of the level sets that exist.
+/// A front from empty (φ = 0) to a full cell (φ = 1) keeps its sum; a
+/// layer thinner than its projected profile (a particle block burnt down
+/// to a few cells, whose two faces' profiles overlap below φ = 1) keeps the area of its faces instead of shrinking with its peak,
 /// and a front into a trace of the reactant (a particle reactant's floor
 /// outside the particles) counts the trace's level sets too.
 pub(super) fn gradient_densities(
@@ -85,11 +85,6 @@ pub(super) fn gradient_densities(
     let [nx, ny, nz] = &mut work.normal;
     let count = detect_surface(grid, reactant, options, &mut work.on_surface, [nx, ny, nz])?;
     out.fill(0.0);
-    let [peak, low] = &mut work.span;
-    peak.clear();
-    peak.resize(reactant.len(), f64::NEG_INFINITY);
-    low.clear();
-    low.resize(reactant.len(), f64::INFINITY);
     let field = Field { grid, reactant };
     let threshold = options.present_threshold;
     // A ring's volume is proportional to its centre radius.
@@ -174,8 +169,6 @@ pub(super) fn gradient_densities(
                         }
                     }
                 }
-                peak[c] = top;
-                low[c] = bottom;
                 let span = top.min(1.0) - bottom.max(0.0);
                 if span > 0.0 {
                     out[c] /= span;
