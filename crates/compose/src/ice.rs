@@ -51,7 +51,7 @@ use brisance_grid::Level;
 use brisance_ice::{
     Advection, CellState, Deflagration, ExchangeCoefficients, IceBoundary, IceOptions, IceRate,
     IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve,
-    WholeGridPass, GHOST, MAX_MATERIALS,
+    SolidExchange, WholeGridPass, GHOST, MAX_MATERIALS,
 };
 use brisance_plugin::{Installed, PluginEnum};
 use brisance_reaction::plugin::{PluginReaction, ReactionPlugin};
@@ -132,6 +132,13 @@ pub struct IceConfig {
     /// at rest; this bounds it (Uintah's `max_delt`).
     #[serde(default)]
     pub max_dt: Option<f64>,
+    /// The momentum exchange with the solids carried by particles in the
+    /// cells of their surface (the IceMpm pipeline only): `Isotropic`
+    /// (default, seed 000 eq 29 as printed) or `Slip` (eq 29 across the
+    /// surface, the fluids free along it; docs/physics/couple/ice_mpm.md,
+    /// "Slip exchange").
+    #[serde(default)]
+    pub solid_exchange: SolidExchange,
 }
 
 /// One reaction of the Ice pipeline.
@@ -400,6 +407,20 @@ fn material_eos(s: &Scenario, cfg: &IceConfig) -> Result<Vec<EosModel>, Problem>
             }),
         })
         .collect()
+}
+
+/// The checks of the Ice pipeline run alone (not as the fluid side of
+/// IceMpm): no solid carried by particles, so no slip exchange.
+pub fn validate_alone(cfg: &IceConfig) -> Result<(), Problem> {
+    if cfg.solid_exchange != SolidExchange::Isotropic {
+        return Err((
+            "pipeline.solid_exchange".into(),
+            "the slip exchange acts between the fluids and solids carried by particles; \
+             the Ice pipeline has none (use IceMpm, or leave the field out)"
+                .into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Checks the pipeline; errors carry the field path.
@@ -716,6 +737,7 @@ pub(crate) fn build_with_traces(
         geometry: d.geometry,
         face_pressure_courant: cfg.face_pressure_courant,
         max_dt: cfg.max_dt.unwrap_or(f64::INFINITY),
+        solid_exchange: cfg.solid_exchange,
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);

@@ -556,7 +556,10 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         }
         Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
         Pipeline::Lattice(l) => crate::lattice::validate(s, l)?,
-        Pipeline::Ice(ice) => crate::ice::validate(s, ice)?,
+        Pipeline::Ice(ice) => {
+            crate::ice::validate_alone(ice)?;
+            crate::ice::validate(s, ice)?
+        }
         Pipeline::IceMpm(c) => crate::ice_mpm::validate(s, c)?,
         Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
         Pipeline::Mpm(mpm) => {

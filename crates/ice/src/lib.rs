@@ -63,6 +63,7 @@ pub use equilibration::{
     equilibration_pressure, EquilibrationError, EquilibrationReport, EquilibrationSettings,
     MAX_MATERIALS,
 };
+pub use exchange::SolidExchange;
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::{detonation_energy, BurntMass, IceRate, IceReaction};
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};

@@ -35,7 +35,9 @@ use crate::boundary::{holds_back_inflow, outflow_face_velocity};
 use crate::equilibration::{
     equilibration_pressure, EquilibrationReport, EquilibrationSettings, MAX_MATERIALS,
 };
-use crate::exchange::{heat_exchange, momentum_exchange};
+use crate::exchange::{
+    heat_exchange, momentum_exchange, slip_coefficients, slip_momentum_exchange, SolidExchange,
+};
 use crate::face_velocity::{face_velocity_damped, pressure_term_time};
 use crate::lagrangian::{
     isentropic_energy_change, lagrangian_energy, lagrangian_momentum, lagrangian_volume,
@@ -76,6 +78,7 @@ mod solver_trait;
 mod steps;
 
 pub use ranks::WholeGridPass;
+mod slip;
 mod surface;
 
 #[cfg(test)]
@@ -169,6 +172,12 @@ pub struct IceOptions {
     /// of shocks does not fade with Δt. 0 (default): eq 19 as printed.
     /// Ignored with the implicit pressure.
     pub face_pressure_courant: f64,
+    /// The momentum exchange between the fluids and the materials carried
+    /// by particles in the cells and faces of their surface (steps 3 and
+    /// 10): seed 000 eq 29 on every component (`Isotropic`, the default)
+    /// or across the surface only (`Slip`, [`crate::exchange`]). Without
+    /// particle materials the two are the same.
+    pub solid_exchange: SolidExchange,
 }
 
 impl Default for IceOptions {
@@ -185,6 +194,7 @@ impl Default for IceOptions {
             pressure: PressureSolve::Explicit,
             geometry: Geometry::Cartesian,
             face_pressure_courant: 0.0,
+            solid_exchange: SolidExchange::Isotropic,
         }
     }
 }

@@ -377,6 +377,21 @@ pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// What the pass over the cells gives [`lagrangian_cell`] besides the
+/// fields: the cell's pressure p (Pa), the divergence ∇·Σθ*u* (1/s), the
+/// face pressures' gradient ∇p* (Pa/m), the face pressure work per unit
+/// volume (J/m³, with the total-energy closure) and, under
+/// [`SolidExchange::Slip`] in a cell on a particle material's surface,
+/// that surface's unit normal.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct CellInputs {
+    pub p: f64,
+    pub divergence: f64,
+    pub grad: [f64; 3],
+    pub pressure_work: Option<f64>,
+    pub slip_normal: Option<[f64; 3]>,
+}
+
 /// Steps 8–11 on one interior cell: returns, per material, the Lagrangian
 /// (ρ, u, e, v), and what the trace hold did to the cell's energy.
 ///
@@ -393,18 +408,21 @@ pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// energy (its residual left unplaced where no fluid is free to take it,
 /// and the held traces' energy change) is returned per material, booked
 /// with step 2's rule in [`IceSolver::kept_warm_totals`].
-#[allow(clippy::too_many_arguments)]
 pub(super) fn lagrangian_cell<E: Eos>(
     params: &Params<'_, E>,
     d: &[Vec<f64>],
     c: usize,
-    p: f64,
-    divergence: f64,
-    grad: [f64; 3],
-    pressure_work: Option<f64>,
+    cell: CellInputs,
     surface: &[super::surface::SurfaceCells],
     dt: f64,
 ) -> Result<([[f64; NL]; MAX_MATERIALS], KeptWarmCell), String> {
+    let CellInputs {
+        p,
+        divergence,
+        grad,
+        pressure_work,
+        slip_normal,
+    } = cell;
     let n = params.eos.len();
     // The cell's state values, gathered once (one double index each).
     let mut sv = [0.0; MAX_MATERIALS * NS + 1];
@@ -553,7 +571,18 @@ pub(super) fn lagrangian_cell<E: Eos>(
     }
     let rho_sum: f64 = rho[..n].iter().sum();
     // Step 10: momentum exchange.
-    let dissipated = momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]);
+    let dissipated = match slip_normal {
+        Some(normal) => slip_momentum_exchange(
+            &rho[..n],
+            &theta[..n],
+            params.k,
+            &super::slip::with_solid(params, &rho[..n], &theta[..n])[..n],
+            normal,
+            dt,
+            &mut vel[..n],
+        ),
+        None => momentum_exchange(&rho[..n], &theta[..n], params.k, dt, &mut vel[..n]),
+    };
     if let Some(work) = pressure_work {
         // Energy-conserving closure of steps 8–10: the cell's total energy
         // changes by the face pressure work −Δt ∇·(p* Σθ*u*), gravity's

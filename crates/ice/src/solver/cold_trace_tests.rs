@@ -215,7 +215,14 @@ fn lagrangian_values(
         &lagrangian,
         0.0,
     );
-    lagrangian_cell(&params, d, 0, 1e5, 0.0, [0.0; 3], Some(work), &[], 1e-6).unwrap()
+    let cell = CellInputs {
+        p: 1e5,
+        divergence: 0.0,
+        grad: [0.0; 3],
+        pressure_work: Some(work),
+        slip_normal: None,
+    };
+    lagrangian_cell(&params, d, 0, cell, &[], 1e-6).unwrap()
 }
 
 /// A fluid trace in a cell the particles fill (θ = 10⁻⁵, held at their

@@ -51,7 +51,7 @@ use super::{
     SOUND, THETA, VSP,
 };
 use crate::equilibration::MAX_MATERIALS;
-use crate::exchange::momentum_exchange;
+use crate::exchange::{momentum_exchange, slip_coefficients};
 use crate::IceBoundary;
 use brisance_core::Geometry;
 
@@ -536,11 +536,27 @@ impl<E: Eos> IceSolver<E> {
                 })
                 .sum()
         });
-        let face = |pid: usize, l: usize, h: usize| {
+        // The face exchange of step 3, with its slip weights where step 3
+        // takes them (super::slip).
+        let face = |pid: usize, l: usize, h: usize, a: usize| {
             let d = &self.state[pid].data;
             let get = |f: usize, i: usize| -> [f64; MAX_MATERIALS] {
                 std::array::from_fn(|r| if r < n { d[r * NS + f][i] } else { 0.0 })
             };
+            let st = self.level.patches[pid].strides();
+            let mut k = [0.0; MAX_MATERIALS * MAX_MATERIALS];
+            match super::slip::SolidFraction::new(&params, d).and_then(|s| s.face_weight(h, a, st))
+            {
+                Some(w) => {
+                    let (rl, rh, tl, th) = (get(RHO, l), get(RHO, h), get(THETA, l), get(THETA, h));
+                    let rho: [f64; MAX_MATERIALS] = std::array::from_fn(|r| 0.5 * (rl[r] + rh[r]));
+                    let theta: [f64; MAX_MATERIALS] =
+                        std::array::from_fn(|r| 0.5 * (tl[r] + th[r]));
+                    let group = super::slip::with_solid(&params, &rho[..n], &theta[..n]);
+                    slip_coefficients(params.k, &group[..n], w, &mut k)
+                }
+                None => k[..n * n].copy_from_slice(params.k),
+            }
             face_coefficient(
                 &get(RHO, l)[..n],
                 &get(RHO, h)[..n],
@@ -548,7 +564,7 @@ impl<E: Eos> IceSolver<E> {
                 &get(THETA, h)[..n],
                 &get(VSP, l)[..n],
                 &get(VSP, h)[..n],
-                params.k,
+                &k[..n * n],
                 dt,
             )
         };
@@ -562,12 +578,12 @@ impl<E: Eos> IceSolver<E> {
             ws.beta_lo[a].resize(count, 0.0);
             par_gather(&self.level, &mut ws.beta_hi[a], |pid, c| {
                 let st = self.level.patches[pid].strides();
-                face(pid, c, c + st[a])
+                face(pid, c, c + st[a], a)
             });
             par_gather(&self.level, &mut ws.beta_lo[a], |pid, c| {
                 let p = &self.level.patches[pid];
                 if global_of(p, c)[a] == 0 {
-                    face(pid, c - p.strides()[a], c)
+                    face(pid, c - p.strides()[a], c, a)
                 } else {
                     0.0
                 }

@@ -231,6 +231,7 @@ impl<E: Eos> IceSolver<E> {
                     let (rho_s, vel_s, vsp_s, th_s) =
                         (mat(RHO), mat(VEL + a), mat(VSP), mat(THETA));
                     let pe = &d[pidx][..];
+                    let solid = slip::SolidFraction::new(&params, d);
                     par_faces(patch, a, |c| {
                         let l = c - st[a];
                         let la = (c / st[a]) % dims[a];
@@ -270,7 +271,29 @@ impl<E: Eos> IceSolver<E> {
                             rho_f[r] = 0.5 * (rho[l] + rho[c]);
                             th_f[r] = 0.5 * (th[l] + th[c]);
                         }
-                        momentum_exchange(&rho_f[..n], &th_f[..n], params.k, dt, &mut u[..n]);
+                        match solid.as_ref().and_then(|s| s.face_weight(c, a, st)) {
+                            Some(w) => {
+                                let mut k = [0.0; MAX_MATERIALS * MAX_MATERIALS];
+                                let group = slip::with_solid(&params, &rho_f[..n], &th_f[..n]);
+                                slip_coefficients(params.k, &group[..n], w, &mut k);
+                                momentum_exchange(
+                                    &rho_f[..n],
+                                    &th_f[..n],
+                                    &k[..n * n],
+                                    dt,
+                                    &mut u[..n],
+                                );
+                            }
+                            None => {
+                                momentum_exchange(
+                                    &rho_f[..n],
+                                    &th_f[..n],
+                                    params.k,
+                                    dt,
+                                    &mut u[..n],
+                                );
+                            }
+                        }
                         for r in 0..n {
                             let u = match outward {
                                 Some(sign) => {
@@ -523,6 +546,7 @@ impl<E: Eos> IceSolver<E> {
                     }
                 }
                 let dims0 = patch.dims()[0];
+                let solid = slip::SolidFraction::new(&params, d);
                 let (fail, warm) = par_interior(
                     patch,
                     || (None, Vec::new()),
@@ -555,7 +579,15 @@ impl<E: Eos> IceSolver<E> {
                         }
                         let work = params.options.conserve_total_energy.then_some(work);
                         let (div, surface) = (sc.divergence[c], &sc.surface);
-                        match lagrangian_cell(&params, d, c, p[c], div, grad, work, surface, dt) {
+                        let normal = solid.as_ref().and_then(|s| s.cell_normal(c, st));
+                        let cell = CellInputs {
+                            p: p[c],
+                            divergence: div,
+                            grad,
+                            pressure_work: work,
+                            slip_normal: normal,
+                        };
+                        match lagrangian_cell(&params, d, c, cell, surface, dt) {
                             Ok((values, kept)) => {
                                 for r in 0..n {
                                     for f in 0..NL {
