@@ -90,12 +90,13 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
             cfg,
         ));
     }
-    // The default estimate's rows, then the comparison rows of the two
+    // The default estimate's rows, then the comparison rows of the three
     // estimates that read the field.
     for (method, marker) in [
         (None, ""),
         (Some(SurfaceArea::ExposedFaces), ", `exposed_faces` area"),
         (Some(SurfaceArea::Upwind), ", `upwind` area"),
+        (Some(SurfaceArea::Gradient), ", `gradient` area"),
     ] {
         for surface in [
             BurnSurface::Plane,
@@ -153,9 +154,10 @@ pub(crate) fn v_burnrate(report: &mut Report) -> Result<()> {
          law is `Deflagration::pbx_9501()` (A = 5.218 × 10⁻⁶ m·s⁻¹·Pa⁻⁰·⁷⁷⁸, n = 0.778), run over 3 cells; \
          the A/100 rows burn 100 times slower, so that the gas made leaves the pressure at the held one, \
          and isolate the surface estimate on each shape, run over 1 cell. The rows marked \
-         `exposed_faces` and `upwind` area burn the A/100 shapes with two other estimates, \
-         `SurfaceArea::ExposedFaces` (the open faces of every surface cell projected on the normal) and \
-         `SurfaceArea::Upwind` (the front's area shared between the cells its jump spans; \
+         `exposed_faces`, `upwind` and `gradient` area burn the A/100 shapes with three other estimates, \
+         `SurfaceArea::ExposedFaces` (the open faces of every surface cell projected on the normal), \
+         `SurfaceArea::Upwind` (the front's area shared between the cells its jump spans) and \
+         `SurfaceArea::Gradient` (a particle reactant's default, below; \
          docs/physics/reaction/deflagration.md): a comparison, not figures of merit. The rows marked \
          particles burn the same A/100 shapes with the reactant as particles in the ICE–MPM pipeline \
          (`brisance_couple::ice_mpm::burn_rate`: 2 × 2 particles a cell over the shape, hypoelastic with the \
