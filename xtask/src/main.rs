@@ -809,7 +809,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 41] = [
+const CASES: [&str; 42] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -824,6 +824,7 @@ const CASES: [&str; 41] = [
     "mpm-shock",
     "cylinder",
     "cylinder-rz",
+    "cylinder-rz-slip",
     "cookoff",
     "smooth",
     "cj",
@@ -921,6 +922,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cylinder-rz") {
         ice_mpm_cases::e_cylinder_rz(&mut body, &img)?;
+    }
+    if run("cylinder-rz-slip") {
+        ice_mpm_cases::e_cylinder_rz_slip(&mut body)?;
     }
     if run("cookoff") {
         cookoff::e_cookoff(&mut body, &img)?;
