@@ -270,9 +270,9 @@ pub fn slip_momentum_exchange(
     let mut dissipated = momentum_exchange(rho, theta, k, dt, &mut un[..n]);
     // The tangential parts: the slipping fluids among themselves, the
     // materials that move with the solid among themselves, each group
-    // solved as its own system so
-    // that the removal of the solve's drift (solve_exchange) acts on the
-    // group's own common motion, which the exchange cannot change.
+    // solved as its own system so that the removal of the solve's drift
+    // (solve_exchange) acts on the group's own common motion, which the
+    // exchange cannot change.
     for group in [false, true] {
         let mut idx = [0; MAX_MATERIALS];
         let mut m = 0;

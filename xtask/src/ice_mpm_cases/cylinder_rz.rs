@@ -67,6 +67,15 @@ const RZ_BUDGET_S: f64 = 900.0;
 /// at r 29.6–30.7 mm and within 1 mm of z = 25 cm.
 const RZ_WALL: ([f64; 2], f64, f64) = ([0.0296, 0.0307], 0.25, 1e-3);
 
+/// The CJ state and Gurney wall velocity of configs/cylinder_rz.ron as
+/// shipped.
+fn rz_gurney() -> Result<super::TubeGurney> {
+    let text = include_str!("../../../configs/cylinder_rz.ron");
+    let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
+        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
+    tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")
+}
+
 /// Runs configs/cylinder_rz.ron at cell size `h` (m) with `sets` added.
 fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
     use brisance::compose::build::{build, Built};
@@ -229,10 +238,7 @@ fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
 pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     println!("E-CYLINDER r-z: copper cylinder test on rings (configs/cylinder_rz.ron)");
     let hs = crate::env_cell_sizes("BRISANCE_CYLINDER_RZ_H", "2,1,0.5")?;
-    let text = include_str!("../../../configs/cylinder_rz.ron");
-    let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
-        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
-    let g = tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")?;
+    let g = rz_gurney()?;
     let d_cj = g.cj.detonation_velocity;
     // The target's 15 minutes bound each run unless told otherwise: a run
     // that cannot meet it stops there and says where it got to and what
@@ -441,10 +447,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
 pub fn e_cylinder_rz_slip(report: &mut Report) -> Result<()> {
     println!("E-CYLINDER r-z, slip exchange: configs/cylinder_rz.ron with and without slip");
     let hs = crate::env_cell_sizes("BRISANCE_CYLINDER_RZ_SLIP_H", "2,1")?;
-    let text = include_str!("../../../configs/cylinder_rz.ron");
-    let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
-        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
-    let g = tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")?;
+    let g = rz_gurney()?;
     let budget_s = crate::env_seconds("BRISANCE_CYLINDER_RZ_BUDGET", RZ_BUDGET_S)?;
     let mut rows = Vec::new();
     for &h in &hs {

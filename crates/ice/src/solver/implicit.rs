@@ -51,7 +51,7 @@ use super::{
     SOUND, THETA, VSP,
 };
 use crate::equilibration::MAX_MATERIALS;
-use crate::exchange::{momentum_exchange, slip_coefficients};
+use crate::exchange::momentum_exchange;
 use crate::IceBoundary;
 use brisance_core::Geometry;
 
@@ -538,33 +538,39 @@ impl<E: Eos> IceSolver<E> {
         });
         // The face exchange of step 3, with its slip weights where step 3
         // takes them (super::slip).
+        let solids: Vec<_> = self
+            .state
+            .iter()
+            .map(|pf| super::slip::SolidFraction::new(&params, &pf.data))
+            .collect();
         let face = |pid: usize, l: usize, h: usize, a: usize| {
             let d = &self.state[pid].data;
             let get = |f: usize, i: usize| -> [f64; MAX_MATERIALS] {
                 std::array::from_fn(|r| if r < n { d[r * NS + f][i] } else { 0.0 })
             };
+            let (rho_l, rho_h, th_l, th_h) =
+                (get(RHO, l), get(RHO, h), get(THETA, l), get(THETA, h));
             let st = self.level.patches[pid].strides();
-            let mut k = [0.0; MAX_MATERIALS * MAX_MATERIALS];
-            match super::slip::SolidFraction::new(&params, d).and_then(|s| s.face_weight(h, a, st))
-            {
+            let slip_k;
+            let k = match solids[pid].as_ref().and_then(|s| s.face_weight(h, a, st)) {
                 Some(w) => {
-                    let (rl, rh, tl, th) = (get(RHO, l), get(RHO, h), get(THETA, l), get(THETA, h));
-                    let rho: [f64; MAX_MATERIALS] = std::array::from_fn(|r| 0.5 * (rl[r] + rh[r]));
+                    let rho: [f64; MAX_MATERIALS] =
+                        std::array::from_fn(|r| 0.5 * (rho_l[r] + rho_h[r]));
                     let theta: [f64; MAX_MATERIALS] =
-                        std::array::from_fn(|r| 0.5 * (tl[r] + th[r]));
-                    let group = super::slip::with_solid(&params, &rho[..n], &theta[..n]);
-                    slip_coefficients(params.k, &group[..n], w, &mut k)
+                        std::array::from_fn(|r| 0.5 * (th_l[r] + th_h[r]));
+                    slip_k = super::slip::face_coefficients(&params, &rho[..n], &theta[..n], w);
+                    &slip_k[..n * n]
                 }
-                None => k[..n * n].copy_from_slice(params.k),
-            }
+                None => params.k,
+            };
             face_coefficient(
-                &get(RHO, l)[..n],
-                &get(RHO, h)[..n],
-                &get(THETA, l)[..n],
-                &get(THETA, h)[..n],
+                &rho_l[..n],
+                &rho_h[..n],
+                &th_l[..n],
+                &th_h[..n],
                 &get(VSP, l)[..n],
                 &get(VSP, h)[..n],
-                &k[..n * n],
+                k,
                 dt,
             )
         };

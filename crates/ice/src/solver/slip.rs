@@ -99,3 +99,21 @@ pub(super) fn with_solid<E: Eos>(
     let mass: f64 = rho.iter().sum();
     std::array::from_fn(|r| r < n && (params.lagrangian[r] || is_trace(theta[r], rho[r] / mass)))
 }
+
+/// The face exchange's coefficients under [`SolidExchange::Slip`] on a face
+/// of face-averaged densities `rho` and volume fractions `theta` whose
+/// weight [`SolidFraction::face_weight`] is `weight`: K with each pair of
+/// one material that moves with the solid ([`with_solid`]) and one that
+/// slips scaled by it ([`slip_coefficients`]); the first N×N entries.
+pub(super) fn face_coefficients<E: Eos>(
+    params: &Params<'_, E>,
+    rho: &[f64],
+    theta: &[f64],
+    weight: f64,
+) -> [f64; MAX_MATERIALS * MAX_MATERIALS] {
+    let n = rho.len();
+    let group = with_solid(params, rho, theta);
+    let mut k = [0.0; MAX_MATERIALS * MAX_MATERIALS];
+    slip_coefficients(params.k, &group[..n], weight, &mut k[..n * n]);
+    k
+}

@@ -271,29 +271,18 @@ impl<E: Eos> IceSolver<E> {
                             rho_f[r] = 0.5 * (rho[l] + rho[c]);
                             th_f[r] = 0.5 * (th[l] + th[c]);
                         }
-                        match solid.as_ref().and_then(|s| s.face_weight(c, a, st)) {
+                        // The slip exchange's coefficients on a surface
+                        // face, K elsewhere.
+                        let slip_k;
+                        let k = match solid.as_ref().and_then(|s| s.face_weight(c, a, st)) {
                             Some(w) => {
-                                let mut k = [0.0; MAX_MATERIALS * MAX_MATERIALS];
-                                let group = slip::with_solid(&params, &rho_f[..n], &th_f[..n]);
-                                slip_coefficients(params.k, &group[..n], w, &mut k);
-                                momentum_exchange(
-                                    &rho_f[..n],
-                                    &th_f[..n],
-                                    &k[..n * n],
-                                    dt,
-                                    &mut u[..n],
-                                );
+                                slip_k =
+                                    slip::face_coefficients(&params, &rho_f[..n], &th_f[..n], w);
+                                &slip_k[..n * n]
                             }
-                            None => {
-                                momentum_exchange(
-                                    &rho_f[..n],
-                                    &th_f[..n],
-                                    params.k,
-                                    dt,
-                                    &mut u[..n],
-                                );
-                            }
-                        }
+                            None => params.k,
+                        };
+                        momentum_exchange(&rho_f[..n], &th_f[..n], k, dt, &mut u[..n]);
                         for r in 0..n {
                             let u = match outward {
                                 Some(sign) => {
