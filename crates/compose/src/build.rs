@@ -4,6 +4,7 @@ use brisance_core::{Eos, Solver};
 use brisance_eos::IdealGas;
 use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
+use brisance_scene::PipelineSpec;
 
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
@@ -275,9 +276,10 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 .map_err(|(path, message)| located(&path, message))
         }
         Pipeline::Lattice(l) => {
-            return crate::lattice::build(s, l)
+            return l
+                .build(&crate::scene::scene_of(s))
                 .map(|solver| Built::Solver(Box::new(solver)))
-                .map_err(|(path, message)| located(&path, message))
+                .map_err(|e| located(&e.field, e.message))
         }
         Pipeline::FdmMpmBridge(b) => {
             return crate::bridge::build(s, b)
@@ -427,7 +429,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
         Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
-        Pipeline::Lattice(l) => return crate::lattice::describe(s, l),
+        Pipeline::Lattice(l) => return l.describe(&crate::scene::scene_of(s)),
         Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
         Pipeline::IceMpm(c) => return crate::ice_mpm::describe(s, c),
         Pipeline::FdmMpmBridge(b) => return crate::bridge::describe(s, b),

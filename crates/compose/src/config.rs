@@ -209,7 +209,7 @@ pub enum Pipeline {
     /// Bond-based peridynamics with the detonation model of seed 004.
     Peridynamics(crate::peridynamics::PdConfig),
     /// The thermo-mechanical mass–spring–damper lattice of seed 003.
-    Lattice(crate::lattice::LatticeConfig),
+    Lattice(brisance_lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.
     Ice(crate::ice::IceConfig),
     /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.

@@ -9,8 +9,11 @@
 //!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline ([`lattice`],
-//!   [`peridynamics`], [`ice`] and [`bridge`] hold their own pipelines).
+//! - [`build`]: assembling the solver for a pipeline ([`peridynamics`],
+//!   [`ice`] and [`bridge`] hold their own pipelines; the `Lattice`
+//!   pipeline's section and builder are `brisance_lattice`'s, called
+//!   through `brisance_scene::PipelineSpec` with the [`scene`] of the
+//!   scenario).
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
 pub mod bridge;
@@ -19,7 +22,8 @@ pub mod config;
 pub mod error;
 pub mod ice;
 pub mod ice_mpm;
-pub mod lattice;
+#[cfg(test)]
+mod lattice;
 pub mod library;
 pub mod load;
 pub mod peridynamics;
@@ -27,6 +31,7 @@ pub mod plugins;
 pub mod registry;
 pub mod ron_path;
 pub mod run;
+pub mod scene;
 pub mod validate;
 
 #[cfg(test)]

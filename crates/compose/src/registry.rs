@@ -6,6 +6,7 @@
 //! their own registration.
 
 use brisance_plugin::{PluginInfo, Registry};
+use brisance_scene::{PipelineInfo, PipelineSpec};
 
 /// One named component.
 #[derive(Debug, Clone, Copy)]
@@ -22,6 +23,20 @@ pub struct Entry {
     /// The model's or pipeline's docs page, relative to the repository
     /// root, where it has one.
     pub docs: Option<&'static str>,
+}
+
+impl Entry {
+    /// The entry of a pipeline whose crate owns its config section
+    /// ([`PipelineSpec`]), from the crate's own registration.
+    pub const fn pipeline(info: PipelineInfo) -> Self {
+        Self {
+            family: "pipeline",
+            name: info.name,
+            summary: info.summary,
+            example: info.example,
+            docs: Some(info.docs),
+        }
+    }
 }
 
 /// Every registered component.
@@ -180,13 +195,7 @@ pub const ENTRIES: &[Entry] = &[
         example: "Peridynamics(spacing: 0.001, materials: {\"steel\": Proportional(density: 7850, sound_speed: 3212, yield_strength: Some(7.5e8), critical_stretch: Some(0.11), kind: MicroPlastic)})",
         docs: Some("docs/physics/pd/bond_based.md"),
     },
-    Entry {
-        family: "pipeline",
-        name: "Lattice",
-        summary: "thermo-mechanical mass-spring-damper lattice (MSDM): springs k = E|ξ| with damping, plasticity and fracture, energy equation with Mie-Grüneisen heating and conduction; explicit Euler, Verlet, implicit Euler, implicit RK2 (seed 003 ch. 2)",
-        example: "Lattice(dimension: Two, spacing: 2e-5, materials: {\"hmx\": (young: 25.325e9, conductivity: 0.4)})",
-        docs: Some("docs/physics/lattice/model.md"),
-    },
+    Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
     Entry {
         family: "pipeline",
         name: "Ice",

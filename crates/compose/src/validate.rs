@@ -10,6 +10,7 @@ use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
 use brisance_eos::EosModel;
 use brisance_mpm::{HeatConduction, ThermalProperties};
+use brisance_scene::PipelineSpec;
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
@@ -555,7 +556,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             }
         }
         Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
-        Pipeline::Lattice(l) => crate::lattice::validate(s, l)?,
+        Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
         Pipeline::Ice(ice) => {
             crate::ice::validate_alone(ice)?;
             crate::ice::validate(s, ice)?

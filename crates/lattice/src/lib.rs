@@ -34,6 +34,7 @@ pub mod integrate;
 pub mod law;
 pub mod model;
 pub mod pack;
+pub mod pipeline;
 mod ranks;
 pub mod regress;
 pub mod solver;
@@ -48,6 +49,9 @@ pub use model::{
     MsdmLattice, MsdmOptions, StepReport, Surroundings,
 };
 pub use pack::{area_fraction, node_mass_fraction, random_disc_pack, read_image, GrayImage};
+pub use pipeline::{
+    LatticeBoundaryConfig, LatticeConfig, LatticeMaterialConfig, PackConfig, RegressionConfig,
+};
 pub use regress::{Arrhenius, SurfaceRegression};
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,234 @@
+//! What a pipeline crate reads of a scenario, and the trait through which
+//! it owns its part of the configuration.
+//!
+//! A scenario (one RON file) has parts every pipeline shares — the
+//! domain, the end time, the materials and their equations of state, the
+//! initial regions, the requested cell fields — and one section that
+//! belongs to its pipeline (`pipeline: Lattice(...)`). The composer
+//! (`brisance_compose`) parses the file, applies `--set`, resolves the
+//! material library, and hands the shared parts to the pipeline as a
+//! [`Scene`] beside the pipeline's own section, a type of the pipeline's
+//! crate that implements [`PipelineSpec`]: the pipeline checks its section
+//! against the scene ([`PipelineSpec::validate`]), builds its solver from
+//! both ([`PipelineSpec::build`]) and says in a paragraph what it will run
+//! ([`PipelineSpec::describe`], for `brisance check`). Its name, summary,
+//! RON example and docs page ([`PipelineInfo`]) are what `brisance list`
+//! prints. The composer so never names the pipeline's schema or its
+//! internals, and the pipeline never sees the RON text.
+//!
+//! Errors name the offending field by its path in the scenario
+//! ([`FieldError`], e.g. `pipeline.materials.hmx.young` or
+//! `initial.2.material`); the composer turns the path into the file, line
+//! and column it was read from.
+//!
+//! The crate sits between the model crates and the solvers: it depends on
+//! `brisance_core` (the grid geometry), `brisance_grid` (the region shapes)
+//! and `brisance_eos` (the equations of state), and knows no solver.
+
+use std::fmt;
+
+use brisance_core::Geometry;
+use brisance_eos::EosModel;
+use brisance_grid::Shape;
+
+/// The scenario's domain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    /// Low corner, m.
+    pub lower: [f64; 3],
+    /// High corner, m.
+    pub upper: [f64; 3],
+    /// Cells per direction (1 in unused directions).
+    pub cells: [usize; 3],
+    /// Patches per direction.
+    pub patches: [usize; 3],
+    /// Cartesian or axisymmetric (r, z).
+    pub geometry: Geometry,
+}
+
+/// One material of the scenario, by name.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material<'a> {
+    /// The name the scenario gives it (a key of `materials`).
+    pub name: &'a str,
+    /// Its equation of state, where it has one.
+    pub eos: Option<&'a EosModel>,
+}
+
+/// One entry of the scenario's `initial` list (later entries override
+/// earlier ones where they overlap).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialRegion<'a> {
+    /// Where.
+    pub region: &'a Shape,
+    /// Which material (a key of `materials`).
+    pub material: &'a str,
+    /// Initial velocity, m/s.
+    pub velocity: [f64; 3],
+}
+
+/// The parts of a scenario every pipeline shares, as the composer has
+/// loaded them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene<'a> {
+    /// The scenario's name.
+    pub name: &'a str,
+    /// The domain.
+    pub domain: Domain,
+    /// End time, s.
+    pub end_time: f64,
+    /// The materials, in the scenario's (name) order.
+    pub materials: Vec<Material<'a>>,
+    /// The initial regions, in the scenario's order.
+    pub initial: Vec<InitialRegion<'a>>,
+    /// The cell fields the outputs ask for (`outputs.fields`).
+    pub cell_fields: &'a [String],
+}
+
+impl<'a> Scene<'a> {
+    /// The material called `name`, if the scenario has one.
+    pub fn material(&self, name: &str) -> Option<&Material<'a>> {
+        self.materials.iter().find(|m| m.name == name)
+    }
+
+    /// The first initial region (in the scenario's order) that contains
+    /// the point `p`, by its index in [`Self::initial`].
+    pub fn region_of(&self, p: [f64; 3]) -> Option<usize> {
+        self.initial.iter().position(|r| r.region.contains(p))
+    }
+}
+
+/// A problem with one field of the scenario: its path (`pipeline.spacing`,
+/// `initial.0.material`) and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldError {
+    /// The field's path in the scenario.
+    pub field: String,
+    /// What is wrong, in a sentence.
+    pub message: String,
+}
+
+impl FieldError {
+    /// The problem `message` with the field at `field`.
+    pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for FieldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.field, self.message)
+    }
+}
+
+impl std::error::Error for FieldError {}
+
+impl From<FieldError> for (String, String) {
+    fn from(e: FieldError) -> Self {
+        (e.field, e.message)
+    }
+}
+
+/// What `brisance list` prints of a pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PipelineInfo {
+    /// The name a scenario writes (`pipeline: Lattice(...)`).
+    pub name: &'static str,
+    /// One line on what it is, with its seed reference.
+    pub summary: &'static str,
+    /// A RON example of the pipeline's section.
+    pub example: &'static str,
+    /// Its docs page, relative to the repository root.
+    pub docs: &'static str,
+}
+
+/// A pipeline's section of the scenario (its config schema, a serde type
+/// of the pipeline's crate), with what the pipeline does with it.
+pub trait PipelineSpec {
+    /// Name, summary, example and docs page.
+    const INFO: PipelineInfo;
+    /// What [`Self::build`] makes.
+    type Solver;
+
+    /// Checks the section against the scene; the error names the field.
+    fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError>;
+
+    /// Builds the solver (validating first).
+    fn build(&self, scene: &Scene<'_>) -> Result<Self::Solver, FieldError>;
+
+    /// One paragraph on what the run will do, for `brisance check`.
+    fn describe(&self, scene: &Scene<'_>) -> String;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene<'a>(shapes: &'a [Shape], fields: &'a [String]) -> Scene<'a> {
+        Scene {
+            name: "t",
+            domain: Domain {
+                lower: [0.0; 3],
+                upper: [1.0; 3],
+                cells: [1; 3],
+                patches: [1; 3],
+                geometry: Geometry::Cartesian,
+            },
+            end_time: 1.0,
+            materials: vec![
+                Material {
+                    name: "a",
+                    eos: None,
+                },
+                Material {
+                    name: "b",
+                    eos: None,
+                },
+            ],
+            initial: shapes
+                .iter()
+                .zip(["a", "b"])
+                .map(|(region, material)| InitialRegion {
+                    region,
+                    material,
+                    velocity: [0.0; 3],
+                })
+                .collect(),
+            cell_fields: fields,
+        }
+    }
+
+    /// Materials are found by name; a point takes the first region that
+    /// holds it, in the scenario's order.
+    #[test]
+    fn materials_by_name_and_regions_in_order() {
+        let shapes = [
+            Shape::Box {
+                min: [0.0; 3],
+                max: [0.5, 1.0, 1.0],
+            },
+            Shape::Everywhere,
+        ];
+        let s = scene(&shapes, &[]);
+        assert_eq!(s.material("b").map(|m| m.name), Some("b"));
+        assert!(s.material("c").is_none());
+        assert_eq!(s.region_of([0.25, 0.5, 0.5]), Some(0));
+        assert_eq!(s.region_of([0.75, 0.5, 0.5]), Some(1));
+    }
+
+    /// A field error prints its path first and converts to the composer's
+    /// (path, message) pair.
+    #[test]
+    fn a_field_error_names_its_path() {
+        let e = FieldError::new("pipeline.spacing", "must be > 0");
+        assert_eq!(e.to_string(), "pipeline.spacing: must be > 0");
+        let (f, m): (String, String) = e.into();
+        assert_eq!(
+            (f.as_str(), m.as_str()),
+            ("pipeline.spacing", "must be > 0")
+        );
+    }
+}
