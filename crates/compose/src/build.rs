@@ -271,9 +271,10 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return build_mpm(s, mpm),
         Pipeline::Peridynamics(pd) => {
-            return crate::peridynamics::build(s, pd)
+            return pd
+                .build(&crate::scene::scene_of(s))
                 .map(|solver| Built::Solver(Box::new(solver)))
-                .map_err(|(path, message)| located(&path, message))
+                .map_err(|e| located(&e.field, e.message))
         }
         Pipeline::Lattice(l) => {
             return l
@@ -428,7 +429,7 @@ pub fn describe(s: &Scenario) -> String {
     let fdm = match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
-        Pipeline::Peridynamics(pd) => return crate::peridynamics::describe(s, pd),
+        Pipeline::Peridynamics(pd) => return pd.describe(&crate::scene::scene_of(s)),
         Pipeline::Lattice(l) => return l.describe(&crate::scene::scene_of(s)),
         Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
         Pipeline::IceMpm(c) => return crate::ice_mpm::describe(s, c),

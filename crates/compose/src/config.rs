@@ -207,7 +207,7 @@ pub enum Pipeline {
     /// The explicit material point method (seed 001 §2.2, seed 000 §3.2).
     Mpm(MpmConfig),
     /// Bond-based peridynamics with the detonation model of seed 004.
-    Peridynamics(crate::peridynamics::PdConfig),
+    Peridynamics(brisance_pd::PdConfig),
     /// The thermo-mechanical mass–spring–damper lattice of seed 003.
     Lattice(brisance_lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.

@@ -9,11 +9,11 @@
 //!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline ([`peridynamics`],
-//!   [`ice`] and [`bridge`] hold their own pipelines; the `Lattice`
-//!   pipeline's section and builder are `brisance_lattice`'s, called
-//!   through `brisance_scene::PipelineSpec` with the [`scene`] of the
-//!   scenario).
+//! - [`build`]: assembling the solver for a pipeline ([`ice`],
+//!   [`ice_mpm`] and [`bridge`] hold their own pipelines; the `Lattice`
+//!   and `Peridynamics` pipelines' sections and builders are
+//!   `brisance_lattice`'s and `brisance_pd`'s, called through
+//!   `brisance_scene::PipelineSpec` with the [`scene`] of the scenario).
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
 pub mod bridge;
@@ -26,7 +26,8 @@ pub mod ice_mpm;
 mod lattice;
 pub mod library;
 pub mod load;
-pub mod peridynamics;
+#[cfg(test)]
+mod peridynamics;
 pub mod plugins;
 pub mod registry;
 pub mod ron_path;

@@ -188,13 +188,7 @@ pub const ENTRIES: &[Entry] = &[
         example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2, bulk_viscosity: On(quadratic: 1.5, linear: 0.06))",
         docs: Some("docs/physics/mpm/explicit_mpm.md"),
     },
-    Entry {
-        family: "pipeline",
-        name: "Peridynamics",
-        summary: "bond-based peridynamics: proportional micro-elastic/plastic solids with critical stretch, JWL or ideal-gas products as PD gases, program burn, short-range forces, fragments (seed 004)",
-        example: "Peridynamics(spacing: 0.001, materials: {\"steel\": Proportional(density: 7850, sound_speed: 3212, yield_strength: Some(7.5e8), critical_stretch: Some(0.11), kind: MicroPlastic)})",
-        docs: Some("docs/physics/pd/bond_based.md"),
-    },
+    Entry::pipeline(<brisance_pd::PdConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
     Entry {
         family: "pipeline",
@@ -476,7 +470,7 @@ mod tests {
                 "pipeline" => ron_options().from_str::<Pipeline>(e.example).map(|_| ()),
                 "reaction" => match e.name {
                     "ProgramBurn" => ron_options()
-                        .from_str::<crate::peridynamics::PdDetonationConfig>(e.example)
+                        .from_str::<brisance_pd::PdDetonationConfig>(e.example)
                         .map(|_| ()),
                     "ProgramBurnRamp" => ron_options()
                         .from_str::<brisance_reaction::ProgramBurnRamp>(e.example)

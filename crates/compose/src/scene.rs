@@ -35,5 +35,6 @@ pub fn scene_of(s: &Scenario) -> Scene<'_> {
             })
             .collect(),
         cell_fields: &s.outputs.fields,
+        line_outs: s.outputs.lineouts.len(),
     }
 }

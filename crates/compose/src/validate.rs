@@ -555,7 +555,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 }
             }
         }
-        Pipeline::Peridynamics(pd) => crate::peridynamics::validate(s, pd)?,
+        Pipeline::Peridynamics(pd) => pd.validate(&crate::scene::scene_of(s))?,
         Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
         Pipeline::Ice(ice) => {
             crate::ice::validate_alone(ice)?;

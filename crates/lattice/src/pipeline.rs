@@ -735,6 +735,7 @@ mod tests {
                 })
                 .collect(),
             cell_fields: fields,
+            line_outs: 0,
         }
     }
 

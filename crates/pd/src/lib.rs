@@ -32,6 +32,7 @@ pub mod forces;
 pub mod fragments;
 pub mod lattice;
 pub mod material;
+pub mod pipeline;
 pub mod solver;
 pub mod surface;
 pub mod viscosity;
@@ -45,6 +46,9 @@ pub use fragments::{
 pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec, NodeCloud};
 pub use material::{
     micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind, Reactant,
+};
+pub use pipeline::{
+    PdBoundaryConfig, PdConfig, PdContactConfig, PdDetonationConfig, PdMaterialConfig,
 };
 pub use solver::{
     BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,

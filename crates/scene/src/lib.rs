@@ -83,6 +83,8 @@ pub struct Scene<'a> {
     pub initial: Vec<InitialRegion<'a>>,
     /// The cell fields the outputs ask for (`outputs.fields`).
     pub cell_fields: &'a [String],
+    /// How many line-outs the outputs ask for (`outputs.lineouts`).
+    pub line_outs: usize,
 }
 
 impl<'a> Scene<'a> {
@@ -198,6 +200,7 @@ mod tests {
                 })
                 .collect(),
             cell_fields: fields,
+            line_outs: 0,
         }
     }
 
