@@ -270,18 +270,8 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
     let fdm = match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm,
         Pipeline::Mpm(mpm) => return build_mpm(s, mpm),
-        Pipeline::Peridynamics(pd) => {
-            return pd
-                .build(&crate::scene::scene_of(s))
-                .map(|solver| Built::Solver(Box::new(solver)))
-                .map_err(|e| located(&e.field, e.message))
-        }
-        Pipeline::Lattice(l) => {
-            return l
-                .build(&crate::scene::scene_of(s))
-                .map(|solver| Built::Solver(Box::new(solver)))
-                .map_err(|e| located(&e.field, e.message))
-        }
+        Pipeline::Peridynamics(pd) => return build_owned(pd, s),
+        Pipeline::Lattice(l) => return build_owned(l, s),
         Pipeline::FdmMpmBridge(b) => {
             return crate::bridge::build(s, b)
                 .map(Built::Solver)
@@ -335,6 +325,17 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         other => build_fdm(s, level, other.clone(), eos, state),
     }
     .map(Built::Solver)
+}
+
+/// The solver of a pipeline whose crate owns its section
+/// ([`PipelineSpec`]), built from the scenario's [`crate::scene`].
+fn build_owned<P: PipelineSpec>(p: &P, s: &Scenario) -> Result<Built, ConfigError>
+where
+    P::Solver: Solver + 'static,
+{
+    p.build(&crate::scene::scene_of(s))
+        .map(|solver| Built::Solver(Box::new(solver)))
+        .map_err(|e| located(&e.field, e.message))
 }
 
 /// The FDM solver of scenario `s` for gas law `law` on `level`; `gas`

@@ -59,9 +59,13 @@ const RZ_AXIS: [f64; 2] = [0.20, 0.25];
 /// Length of configs/cylinder_rz.ron's charge, m (booster included).
 const RZ_CHARGE: f64 = 0.35;
 
-/// Wall-time bound of one E-CYLINDER-RZ run, s: the 15 minutes at
-/// h = 0.5 mm (`BRISANCE_CYLINDER_RZ_BUDGET` sets another).
-const RZ_BUDGET_S: f64 = 900.0;
+/// Wall-time bound of one E-CYLINDER-RZ run, s (`BRISANCE_CYLINDER_RZ_BUDGET`
+/// sets another): an hour, room for the h = 0.5 mm run to reach 80 µs on
+/// 2 cores, so that its wall velocity and closure are measured; the wall
+/// time is checked against the 15-minute target separately.
+const RZ_BUDGET_S: f64 = 3600.0;
+/// The wall-time target of the h = 0.5 mm run, s.
+const RZ_TARGET_S: f64 = 900.0;
 
 /// The wall gauge of configs/cylinder_rz.ron: outer-wall particles starting
 /// at r 29.6–30.7 mm and within 1 mm of z = 25 cm.
@@ -229,7 +233,7 @@ fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
 /// QM-100 column at the same h, the outer wall's terminal velocity at
 /// 25 cm against the Gurney estimate, the closure of the coupled total
 /// energy and the wall time. Each run stops at the wall-time budget
-/// (`BRISANCE_CYLINDER_RZ_BUDGET`, s; default the target's 900) and its
+/// (`BRISANCE_CYLINDER_RZ_BUDGET`, s; default 3600) and its
 /// row then says where it got to and what set its step;
 /// `BRISANCE_CYLINDER_RZ_WHY=1` prints the fluids' and the particles'
 /// steps and the fluids' fastest signal every 1000 steps;
@@ -240,9 +244,9 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let hs = crate::env_cell_sizes("BRISANCE_CYLINDER_RZ_H", "2,1,0.5")?;
     let g = rz_gurney()?;
     let d_cj = g.cj.detonation_velocity;
-    // The target's 15 minutes bound each run unless told otherwise: a run
-    // that cannot meet it stops there and says where it got to and what
-    // set its step.
+    // An hour bounds each run unless told otherwise: a run that cannot
+    // finish in it stops there and says where it got to and what set its
+    // step. The 15-minute target is checked on the wall time measured.
     let budget_s = crate::env_seconds("BRISANCE_CYLINDER_RZ_BUDGET", RZ_BUDGET_S)?;
     let sets: Vec<String> = std::env::var("BRISANCE_CYLINDER_RZ_SET")
         .unwrap_or_default()
@@ -424,7 +428,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
                 ),
             },
             "≤ 900 s",
-            r.failure.is_none() && r.wall_s <= 900.0,
+            r.failure.is_none() && r.wall_s <= RZ_TARGET_S,
         );
     } else {
         // The seed's resolution must be shown, not skipped quietly.
