@@ -485,11 +485,10 @@ fn build_lattice(s: &Scene<'_>, cfg: &LatticeConfig) -> Result<MsdmLattice, Fiel
         }
         p
     };
-    let region_of = |p: [f64; 3]| s.initial.iter().position(|r| r.region.contains(p));
     let index_of = |name: &str| names.iter().position(|m| *m == name).unwrap_or(0) as u16;
     let pack = pack_materials(s, cfg, n, &index_of)?;
     let geom = Geometry::new(cfg.dimension, n, h, cfg.diagonals, |ix, iy, iz| {
-        region_of(position(ix, iy, iz)).map(|r| match &pack {
+        s.region_of(position(ix, iy, iz)).map(|r| match &pack {
             Some(m) => m[ix + n[0] * iy],
             None => index_of(s.initial[r].material),
         })
@@ -529,7 +528,7 @@ fn build_lattice(s: &Scene<'_>, cfg: &LatticeConfig) -> Result<MsdmLattice, Fiel
             continue;
         }
         let p = lat.geom.reference_position(i);
-        if let Some(r) = region_of(p) {
+        if let Some(r) = s.region_of(p) {
             for a in 0..d {
                 lat.u[a][i] = s.initial[r].velocity[a];
             }
