@@ -762,8 +762,33 @@ pub fn e_ratestick(report: &mut Report, img: &Path) -> Result<()> {
 /// 12.5, 20 mm), m.
 const RZ_RADII: [f64; 5] = [4e-3, 6e-3, 8e-3, 12.5e-3, 20e-3];
 
-/// The cell sizes of the r–z sticks, m.
+/// The cell sizes of the r–z sticks by default, m.
 const RZ_H: [f64; 3] = [1e-3, 0.5e-3, 0.25e-3];
+
+/// The cell sizes of the r–z sticks, m: `BRISANCE_RATESTICK_RZ_H` (mm,
+/// comma-separated, coarsest first, e.g. `1,0.5,0.25,0.125`) or
+/// [`RZ_H`].
+fn rz_h() -> Result<Vec<f64>> {
+    let Ok(text) = std::env::var("BRISANCE_RATESTICK_RZ_H") else {
+        return Ok(RZ_H.to_vec());
+    };
+    let h = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>().map(|mm| mm * 1e-3))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| anyhow::anyhow!("BRISANCE_RATESTICK_RZ_H = {text}: {e}"))?;
+    if h.len() < 2 || h.windows(2).any(|w| !(w[1] < w[0])) || !(h[h.len() - 1] > 0.0) {
+        anyhow::bail!(
+            "BRISANCE_RATESTICK_RZ_H = {text}: give two or more positive cell sizes in mm, coarsest first"
+        );
+    }
+    Ok(h)
+}
+
+/// A cell size in mm as the report prints it (`0.25`).
+fn mm(h: f64) -> String {
+    format!("{}", (h * 1e6).round() / 1e3)
+}
 
 /// E-RATESTICK-RZ section: the seed's sticks (10 cm, R = 4–20 mm, 6 mm of
 /// air) on axisymmetric (r, z) grids at h = 1, 0.5 and 0.25 mm
@@ -784,11 +809,12 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
             RateStick::rz(h, r).damped()
         }),
     ];
+    let hs = rz_h()?;
     // runs[set][h][radius]
     let mut runs: Vec<Vec<Vec<Option<StickRun>>>> = Vec::new();
     for (name, _, make) in &sets {
         let mut set = Vec::new();
-        for &h in &RZ_H {
+        for &h in &hs {
             let mut row = Vec::new();
             for &r in &RZ_RADII {
                 let label = format!("r-z stick R = {:.1} mm, {name}", r * 1e3);
@@ -805,14 +831,31 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
         runs.push(set);
     }
     let d_of = |x: &Option<StickRun>| x.as_ref().and_then(|r| r.result.detonation_velocity);
+    let h_list = {
+        let names: Vec<String> = hs.iter().map(|&h| mm(h)).collect();
+        let (last, rest) = names.split_last().expect("two or more cell sizes");
+        format!("{} and {last}", rest.join(", "))
+    };
+    let rings: Vec<usize> = runs
+        .iter()
+        .flatten()
+        .flatten()
+        .flatten()
+        .map(|r| r.result.cells)
+        .collect();
+    let (fewest, most) = (
+        rings.iter().min().copied().unwrap_or(0),
+        rings.iter().max().copied().unwrap_or(0),
+    );
     let _ = writeln!(
         report.md,
         "## E-RATESTICK-RZ — the rate sticks on (r, z) grids\n\n\
          The sticks of E-RATESTICK (same ANFO-K1 JWL++ model, 10 cm long, radius R in 6 mm of air, \
          D from the axis gauges at 6 and 9 cm into the unreacted explosive) as rings on an \
          axisymmetric grid (`RateStick::rz`, x = r with the axis a symmetry face, y along the stick; \
-         docs/physics/axisymmetric.md, \"The ICE in r–z\"), at h = 1, 0.5 and 0.25 mm: 1000 to \
-         41 600 rings, seconds to minutes a stick where the 3D quarter takes minutes to hours. Two \
+         docs/physics/axisymmetric.md, \"The ICE in r–z\"), at h = {h_list} mm: {fewest} to \
+         {most} rings, seconds to minutes a stick where the 3D quarter takes minutes to hours \
+         (`BRISANCE_RATESTICK_RZ_H` sets the cell sizes, in mm, coarsest first). Two \
          sets. **As printed**: the explosive moving at 90 m/s onto a wall, eq 19 as printed \
          (`face_pressure_courant` 0); the impact's Hugoniot (175 MPa) is below the 200 MPa \
          threshold and what initiates is the undamped shock's ringing at the wall. **Booster, \
@@ -831,18 +874,27 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
             .find(|p| (p.0 - x).abs() < 0.006 && p.0 > 0.0)
             .map(|p| p.1)
     };
-    let last = RZ_H.len() - 1;
+    let last = hs.len() - 1;
+    let change = |a: Option<f64>, b: Option<f64>| match (a, b) {
+        (Some(a), Some(b)) => format!("{:+.1} %", 100.0 * (b / a - 1.0)),
+        _ => "—".into(),
+    };
     for ((name, _, _), set) in sets.iter().zip(&runs) {
         let mut head = format!("| {name}: R (mm) | 1/R (1/mm) |");
         let mut rule = String::from("|---:|---:|");
-        for &h in &RZ_H {
-            head.push_str(&format!(" D, h = {} mm (m/s) |", h * 1e3));
+        for &h in &hs {
+            head.push_str(&format!(" D, h = {} mm (m/s) |", mm(h)));
+            rule.push_str("---:|");
+        }
+        // The change of D per halving of h, coarsest pair first.
+        for w in hs.windows(2) {
+            head.push_str(&format!(" change {} → {} mm |", mm(w[0]), mm(w[1])));
             rule.push_str("---:|");
         }
         head.push_str(
-            " change 0.5 → 0.25 mm | LLNL parabola (m/s) | finest vs LLNL | seed 000 Fig. 3 | finest vs Fig. 3 |",
+            " LLNL parabola (m/s) | finest vs LLNL | seed 000 Fig. 3 | finest vs Fig. 3 |",
         );
-        rule.push_str("---:|---:|---:|---:|---:|");
+        rule.push_str("---:|---:|---:|---:|");
         let _ = writeln!(report.md, "{head}\n{rule}");
         for (k, &r) in RZ_RADII.iter().enumerate() {
             let x = 1.0 / (r * 1e3);
@@ -854,10 +906,9 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
                 });
             }
             let finest = d_of(&set[last][k]);
-            let change = match (d_of(&set[last - 1][k]), finest) {
-                (Some(a), Some(b)) => format!("{:+.1} %", 100.0 * (b / a - 1.0)),
-                _ => "—".into(),
-            };
+            for w in set.windows(2) {
+                line.push_str(&format!(" {} |", change(d_of(&w[0][k]), d_of(&w[1][k]))));
+            }
             let (llnl_d, vs) = if x <= x_max {
                 let p = parabola(x);
                 (
@@ -874,22 +925,19 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
                 ),
                 None => ("—".into(), "—".into()),
             };
-            let _ = writeln!(
-                report.md,
-                "{line} {change} | {llnl_d} | {vs} | {seed} | {vs_seed} |"
-            );
+            let _ = writeln!(report.md, "{line} {llnl_d} | {vs} | {seed} | {vs_seed} |");
         }
         let _ = writeln!(report.md);
     }
     let _ = writeln!(report.md, "| run | h (mm) | rings | steps | peak p at gauge 2 (GPa) | burnt | wall (s) |\n|---|---:|---:|---:|---:|---:|---:|");
     for set in &runs {
-        for (row, &h) in set.iter().zip(&RZ_H) {
+        for (row, &h) in set.iter().zip(&hs) {
             for x in row.iter().flatten() {
                 let _ = writeln!(
                     report.md,
-                    "| {} | {:.2} | {} | {} | {:.2} | {:.3} | {:.1} |",
+                    "| {} | {} | {} | {} | {:.2} | {:.3} | {:.1} |",
                     x.label,
-                    h * 1e3,
+                    mm(h),
                     x.result.cells,
                     x.result.steps,
                     x.result.peak_pressure / 1e9,
@@ -913,20 +961,29 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
         );
     };
     for ((_, tag, _), set) in sets.iter().zip(&runs) {
-        for (k, &r) in RZ_RADII.iter().enumerate() {
-            if r < 6e-3 {
+        // The change per halving from 0.5 mm down (the target's 0.5 →
+        // 0.25 mm, and each finer halving run).
+        for (j, w) in hs.windows(2).enumerate() {
+            if w[0] > 0.5e-3 * (1.0 + 1e-9) {
                 continue;
             }
-            let (a, b) = (d_of(&set[last - 1][k]), d_of(&set[last][k]));
-            percent_row(
-                format!(
-                    "E-RATESTICK-RZ ({tag}) D change 0.5 → 0.25 mm, R = {:.1} mm",
-                    r * 1e3
-                ),
-                a.zip(b).map(|(a, b)| b / a - 1.0),
-                "within ±2 %",
-                0.02,
-            );
+            for (k, &r) in RZ_RADII.iter().enumerate() {
+                if r < 6e-3 {
+                    continue;
+                }
+                let (a, b) = (d_of(&set[j][k]), d_of(&set[j + 1][k]));
+                percent_row(
+                    format!(
+                        "E-RATESTICK-RZ ({tag}) D change {} → {} mm, R = {:.1} mm",
+                        mm(w[0]),
+                        mm(w[1]),
+                        r * 1e3
+                    ),
+                    a.zip(b).map(|(a, b)| b / a - 1.0),
+                    "within ±2 %",
+                    0.02,
+                );
+            }
         }
         for (k, &r) in RZ_RADII.iter().enumerate() {
             let x = 1.0 / (r * 1e3);
@@ -935,7 +992,8 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
             }
             percent_row(
                 format!(
-                    "E-RATESTICK-RZ ({tag}) D vs LLNL parabola at h = 0.25 mm, R = {:.1} mm",
+                    "E-RATESTICK-RZ ({tag}) D vs LLNL parabola at h = {} mm, R = {:.1} mm",
+                    mm(hs[last]),
                     r * 1e3
                 ),
                 d_of(&set[last][k]).map(|d| d / parabola(x) - 1.0),
@@ -945,7 +1003,10 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
         }
     }
     let _ = writeln!(report.md);
-    let labels = ["r–z, h = 1 mm", "r–z, h = 0.5 mm", "r–z, h = 0.25 mm"];
+    let labels: Vec<String> = hs
+        .iter()
+        .map(|&h| format!("r–z, h = {} mm", mm(h)))
+        .collect();
     let (llnl_x, llnl_y): (Vec<f64>, Vec<f64>) = LLNL_ANFO_K1.iter().copied().unzip();
     let (seed_x, seed_y): (Vec<f64>, Vec<f64>) = SEED_000_FIG3.iter().copied().unzip();
     let mut curves: Vec<Vec<(Vec<f64>, Vec<f64>)>> = Vec::new();
@@ -986,7 +1047,7 @@ pub fn e_ratestick_rz(report: &mut Report, img: &Path) -> Result<()> {
             ];
             for (label, (x, y)) in labels.iter().zip(set) {
                 series.push(Series {
-                    label,
+                    label: label.as_str(),
                     x,
                     y,
                     style: SeriesStyle::Points,

@@ -1,45 +1,25 @@
 //! Assembling a solver from a validated scenario.
 
-use brisance_core::{Eos, Solver};
-use brisance_eos::IdealGas;
-use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
+use brisance_core::Solver;
 use brisance_grid::Level;
 use brisance_scene::PipelineSpec;
 
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
-use brisance_eos::EosModel;
 use brisance_mpm::{
     GridBoundary, HeatConduction, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet,
     Particles, Reservoir, ReservoirKind, ReservoirState, SetQuantity, SurfaceLoad,
 };
 
-use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig, ViscosityConfig};
+use crate::config::{BoundaryConfig, MpmConfig, Pipeline, Scenario, StateConfig};
 use crate::error::ConfigError;
 
-/// What validation needs to know about a pipeline.
-#[derive(Debug, Clone, Copy)]
-pub struct PipelineLimits {
-    /// Output field names.
-    pub fields: &'static [&'static str],
-    /// Largest Courant number the scheme is stable at.
-    pub max_cfl: f64,
-    /// Ghost layers each patch must hold.
-    pub ghost: usize,
-    /// Background-grid node field names (empty: the pipeline has no node
-    /// grid).
-    pub node_fields: &'static [&'static str],
-    /// Whether its cells are split into patches that can be written as
-    /// VTK pieces ([`crate::config::VtkLayout::Patches`]).
-    pub patch_pieces: bool,
-    /// Whether its state can be checkpointed per patch
-    /// ([`crate::config::CheckpointLayout::Patches`]).
-    pub patch_checkpoints: bool,
-}
+pub use brisance_scene::PipelineLimits;
 
-/// The limits of a pipeline.
-pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
-    match p {
+/// The limits of a scenario's pipeline on its grid.
+pub fn pipeline_limits(s: &Scenario) -> PipelineLimits {
+    let geometry = s.domain.geometry;
+    match &s.pipeline {
         Pipeline::FdmMpmBridge(_) => PipelineLimits {
             fields: &crate::bridge::FIELDS,
             max_cfl: brisance_fdm::MAX_CFL,
@@ -48,38 +28,16 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             patch_pieces: false,
             patch_checkpoints: false,
         },
-        Pipeline::Ice(_) => PipelineLimits {
-            fields: &crate::ice::FIELDS,
-            max_cfl: 1.0,
-            ghost: brisance_ice::GHOST,
-            node_fields: &[],
-            patch_pieces: true,
-            patch_checkpoints: true,
-        },
-        Pipeline::IceMpm(_) => PipelineLimits {
-            fields: &crate::ice::FIELDS,
-            max_cfl: 1.0,
-            ghost: brisance_ice::GHOST,
+        Pipeline::Ice(ice) => ice.limits(geometry),
+        // The fluids' grid with the particles' node fields; the coupled
+        // state is checkpointed whole.
+        Pipeline::IceMpm(c) => PipelineLimits {
             node_fields: &MpmSolver::NODE_FIELDS,
-            patch_pieces: true,
             patch_checkpoints: false,
+            ..c.ice.limits(geometry)
         },
-        Pipeline::Lattice(_) => PipelineLimits {
-            fields: &brisance_lattice::MsdmLattice::FIELDS,
-            max_cfl: 1.0,
-            ghost: 1,
-            node_fields: &[],
-            patch_pieces: false,
-            patch_checkpoints: false,
-        },
-        Pipeline::Peridynamics(_) => PipelineLimits {
-            fields: &brisance_pd::PdSolver::FIELDS,
-            max_cfl: 1.0,
-            ghost: 1,
-            node_fields: &[],
-            patch_pieces: false,
-            patch_checkpoints: false,
-        },
+        Pipeline::Lattice(l) => l.limits(geometry),
+        Pipeline::Peridynamics(pd) => pd.limits(geometry),
         Pipeline::Mpm(_) => PipelineLimits {
             fields: &MpmSolver::FIELDS,
             max_cfl: 1.0,
@@ -88,65 +46,11 @@ pub fn pipeline_limits(p: &Pipeline) -> PipelineLimits {
             patch_pieces: false,
             patch_checkpoints: false,
         },
-        Pipeline::Fdm(f) => PipelineLimits {
-            fields: if f.products.is_some() {
-                &FDM_SPECIES_FIELDS
-            } else {
-                &FdmSolver::<IdealGas>::FIELDS
-            },
-            max_cfl: brisance_fdm::MAX_CFL,
-            ghost: brisance_fdm::GHOST,
-            node_fields: &[],
-            patch_pieces: true,
-            patch_checkpoints: true,
-        },
+        Pipeline::Fdm(f) => f.limits(geometry),
     }
 }
 
-/// The primitive state a [`StateConfig`] describes, for material `eos`.
-pub fn primitive_state<E: Eos>(eos: &E, s: &StateConfig) -> Result<PrimitiveState, String> {
-    let pressure = match (s.pressure, s.specific_internal_energy, s.temperature) {
-        (Some(p), _, _) => p,
-        (None, Some(e), _) => eos.pressure(s.density, e),
-        (None, None, Some(t)) => eos.pressure(
-            s.density,
-            eos.specific_internal_energy_from_temperature(s.density, t),
-        ),
-        _ => return Err("no pressure, energy or temperature".into()),
-    };
-    Ok(PrimitiveState {
-        density: s.density,
-        velocity: s.velocity,
-        pressure,
-    })
-}
-
-/// An error naming the first cell of `level` in global order (x fastest)
-/// whose centre `covered` rejects: every cell must lie in an initial
-/// region. Each rank of `ranks` tests the cells of its own patches
-/// ([`brisance_grid::comm::patch_owners`], which must accept the split),
-/// and one minimum over the ranks finds the first, so every rank gives
-/// the error one rank gives without testing the whole grid.
-pub(crate) fn uncovered_cell(
-    level: &Level,
-    ranks: &dyn brisance_grid::comm::Communicator,
-    covered: impl Fn([f64; 3]) -> bool,
-) -> Result<(), String> {
-    let geometry = level.geometry;
-    let owner = brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())?;
-    let Some([i, j, k]) = level.first_failing_cell(
-        ranks,
-        &owner,
-        brisance_grid::CellOrder::Global,
-        |g, _, _| covered(geometry.cell_centre(g)),
-    ) else {
-        return Ok(());
-    };
-    let x = geometry.cell_centre([i, j, k]);
-    Err(format!(
-        "cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first"
-    ))
-}
+pub use brisance_fdm::pipeline::primitive_state;
 
 pub(crate) fn located(path: &str, message: String) -> ConfigError {
     ConfigError {
@@ -239,24 +143,6 @@ impl Built {
     }
 }
 
-/// Output fields of an FDM run with a products species.
-const FDM_SPECIES_FIELDS: [&str; 11] = {
-    let f = FdmSolver::<IdealGas>::FIELDS;
-    [
-        f[0],
-        f[1],
-        f[2],
-        f[3],
-        f[4],
-        f[5],
-        f[6],
-        f[7],
-        f[8],
-        f[9],
-        FdmSolver::<IdealGas>::MASS_FRACTION_FIELD,
-    ]
-};
-
 /// Builds the solver a scenario describes. Errors carry the field path;
 /// the caller fills in the file and position.
 pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
@@ -266,65 +152,20 @@ pub fn build_solver(s: &Scenario) -> Result<Box<dyn Solver>, ConfigError> {
 /// Builds the solver a scenario describes with its particle gauges. Errors
 /// carry the field path; the caller fills in the file and position.
 pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
-    let d = &s.domain;
-    let fdm = match &s.pipeline {
-        Pipeline::Fdm(fdm) => fdm,
-        Pipeline::Mpm(mpm) => return build_mpm(s, mpm),
-        Pipeline::Peridynamics(pd) => return build_owned(pd, s),
-        Pipeline::Lattice(l) => return build_owned(l, s),
-        Pipeline::FdmMpmBridge(b) => {
-            return crate::bridge::build(s, b)
-                .map(Built::Solver)
-                .map_err(|(path, message)| located(&path, message))
-        }
-        Pipeline::IceMpm(c) => return crate::ice_mpm::build(s, c),
-        Pipeline::Ice(ice) => {
-            return crate::ice::build(s, ice)
-                .map(|solver| Built::Solver(Box::new(solver)))
-                .map_err(|(path, message)| located(&path, message))
-        }
-    };
-    // An (r, z) grid's radial sweep reaches one ghost layer further.
-    let ghost = brisance_fdm::ghost_layers(d.geometry);
-    let level = Level::new(d.lower, d.upper, d.cells, d.patches, ghost)
-        .map_err(|e| located("domain.patches", e.to_string()))?;
-    let eos = s
-        .materials
-        .get(&fdm.material)
-        .and_then(|m| m.eos())
-        .ok_or_else(|| located("pipeline.material", "unknown material".into()))?;
-    if let Some(products) = &fdm.products {
-        let products_eos = s
-            .materials
-            .get(products)
-            .and_then(|m| m.eos())
-            .ok_or_else(|| {
-                located(
-                    "pipeline.products",
-                    format!("unknown material `{products}`"),
-                )
-            })?;
-        let mixture = brisance_fdm::ProductsInAir::new(products_eos.clone(), eos.clone())
-            .map_err(|m| located("pipeline.products", m))?;
-        let state = |r: &crate::config::InitialRegion| {
-            let law = if &r.material == products {
-                products_eos
-            } else {
-                eos
-            };
-            let y = if &r.material == products { 1.0 } else { 0.0 };
-            primitive_state(law, &r.state).map(|p| (p, y))
-        };
-        return build_fdm(s, level, mixture, eos, state).map(Built::Solver);
+    match &s.pipeline {
+        Pipeline::Fdm(fdm) => fdm
+            .build(&crate::scene::scene_of(s))
+            .map(Built::Solver)
+            .map_err(|e| located(&e.field, e.message)),
+        Pipeline::Mpm(mpm) => build_mpm(s, mpm),
+        Pipeline::Peridynamics(pd) => build_owned(pd, s),
+        Pipeline::Lattice(l) => build_owned(l, s),
+        Pipeline::FdmMpmBridge(b) => crate::bridge::build(s, b)
+            .map(Built::Solver)
+            .map_err(|(path, message)| located(&path, message)),
+        Pipeline::IceMpm(c) => crate::ice_mpm::build(s, c),
+        Pipeline::Ice(ice) => build_owned(ice, s),
     }
-    let state = |r: &crate::config::InitialRegion| primitive_state(eos, &r.state).map(|p| (p, 0.0));
-    // The ideal gas gets its own monomorphic solver; other gases go through
-    // the model enum.
-    match eos {
-        EosModel::IdealGas(gas) => build_fdm(s, level, *gas, eos, state),
-        other => build_fdm(s, level, other.clone(), eos, state),
-    }
-    .map(Built::Solver)
 }
 
 /// The solver of a pipeline whose crate owns its section
@@ -338,151 +179,16 @@ where
         .map_err(|e| located(&e.field, e.message))
 }
 
-/// The FDM solver of scenario `s` for gas law `law` on `level`; `gas`
-/// converts boundary states, `region_state` gives each initial region's
-/// state and products mass fraction.
-fn build_fdm<E: brisance_fdm::GasLaw + 'static>(
-    s: &Scenario,
-    level: Level,
-    law: E,
-    gas: &EosModel,
-    region_state: impl Fn(&crate::config::InitialRegion) -> Result<(PrimitiveState, f64), String>,
-) -> Result<Box<dyn Solver>, ConfigError> {
-    let Pipeline::Fdm(fdm) = &s.pipeline else {
-        unreachable!("build_fdm is called for Fdm pipelines");
-    };
-    let mut boundaries = [FdmBoundary::Outflow; 6];
-    for (k, (face, bc)) in s.boundaries.faces().into_iter().enumerate() {
-        boundaries[k] = match bc {
-            // The Fdm pipeline's `Outflow` is the two-way zero gradient.
-            BoundaryConfig::Outflow | BoundaryConfig::ZeroGradient => FdmBoundary::Outflow,
-            BoundaryConfig::OutflowOnly => FdmBoundary::OutflowOnly,
-            BoundaryConfig::Reflective => FdmBoundary::Reflective,
-            BoundaryConfig::Periodic => FdmBoundary::Periodic,
-            BoundaryConfig::Fixed(state) => FdmBoundary::Fixed(
-                primitive_state(gas, state)
-                    .map_err(|m| located(&format!("boundaries.{face}"), m))?,
-            ),
-            BoundaryConfig::Wall => {
-                return Err(located(
-                    &format!("boundaries.{face}"),
-                    "`Wall` is a particle boundary; use `Reflective`".into(),
-                ))
-            }
-        };
-    }
-    let states = s
-        .initial
-        .iter()
-        .enumerate()
-        .map(|(i, r)| region_state(r).map_err(|m| located(&format!("initial.{i}.state"), m)))
-        .collect::<Result<Vec<_>, _>>()?;
-    // Every cell must be covered; find an uncovered one before building.
-    // On an (r, z) grid a region is tested at the point (r, z, 0): the
-    // (r, z) half plane through the axis, so a sphere centred on the axis
-    // at (0, z0, 0) fills the rings of its hemisphere of that plane.
-    let axisymmetric = s.domain.geometry.is_axisymmetric();
-    let plane = move |x: [f64; 3]| {
-        if axisymmetric {
-            [x[0], x[1], 0.0]
-        } else {
-            x
-        }
-    };
-    let ranks = brisance_grid::comm::world();
-    brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
-        .map_err(|e| located("domain.patches", e))?;
-    uncovered_cell(&level, &*ranks, |x| {
-        s.initial.iter().any(|r| r.region.contains(plane(x)))
-    })
-    .map_err(|e| located("initial", e))?;
-    let init = |x: [f64; 3]| {
-        // Later regions override earlier ones.
-        let x = plane(x);
-        let idx = s
-            .initial
-            .iter()
-            .rposition(|r| r.region.contains(x))
-            .unwrap_or(0);
-        states[idx]
-    };
-    let options = FdmOptions {
-        cfl: s.time.cfl,
-        viscosity: match fdm.viscosity {
-            ViscosityConfig::Adaptive => ArtificialViscosity::Adaptive,
-            ViscosityConfig::Constant(eta) => ArtificialViscosity::Constant(eta),
-            ViscosityConfig::Off => ArtificialViscosity::Off,
-        },
-        limiter: fdm.limiter.option(),
-        geometry: s.domain.geometry,
-        ..Default::default()
-    };
-    // The patches spread over the ranks of the run (docs/cluster.md), each
-    // rank storing its own.
-    let solver = FdmSolver::with_species_on(ranks, law, level, boundaries, options, init)
-        .map_err(|e| located("pipeline", e.to_string()))?;
-    Ok(Box::new(solver))
-}
-
 /// A one-paragraph description of the assembled pipeline (for `check`).
 pub fn describe(s: &Scenario) -> String {
-    let d = &s.domain;
-    let fdm = match &s.pipeline {
-        Pipeline::Fdm(fdm) => fdm,
-        Pipeline::Mpm(mpm) => return describe_mpm(s, mpm),
-        Pipeline::Peridynamics(pd) => return pd.describe(&crate::scene::scene_of(s)),
-        Pipeline::Lattice(l) => return l.describe(&crate::scene::scene_of(s)),
-        Pipeline::Ice(ice) => return crate::ice::describe(s, ice),
-        Pipeline::IceMpm(c) => return crate::ice_mpm::describe(s, c),
-        Pipeline::FdmMpmBridge(b) => return crate::bridge::describe(s, b),
-    };
-    let dims = d.cells.iter().filter(|&&c| c > 1).count();
-    format!(
-        "scenario `{}`: Fdm pipeline (Lax-Wendroff Euler, seed 001 §2.1), {dims}D {}\n  \
-         grid: {} x {} x {} cells = {} cells in {} x {} x {} patches, from {:?} to {:?} m\n  \
-         gas: `{}` ({}), viscosity {:?}\n  \
-         time: to {} s at cfl {}\n  \
-         boundaries: {}\n  \
-         initial regions: {}\n  \
-         outputs: interval {:?}, fields [{}], {} gauges, {} line-outs, checkpoints every {:?} steps",
-        s.name,
-        d.geometry.name(),
-        d.cells[0],
-        d.cells[1],
-        d.cells[2],
-        d.cells.iter().product::<usize>(),
-        d.patches[0],
-        d.patches[1],
-        d.patches[2],
-        d.lower,
-        d.upper,
-        fdm.material,
-        s.materials
-            .get(&fdm.material)
-            .and_then(|m| m.eos())
-            .map_or("?", |e| e.variant()),
-        fdm.viscosity,
-        s.time.end,
-        s.time.cfl,
-        s.boundaries.faces().iter().map(|(f, b)| format!("{f}={}", bc_name(b))).collect::<Vec<_>>().join(" "),
-        s.initial.len(),
-        s.outputs.interval,
-        s.outputs.fields.join(", "),
-        s.outputs.gauges.len(),
-        s.outputs.lineouts.len(),
-        s.outputs.checkpoint_every,
-    )
-}
-
-fn bc_name(b: &BoundaryConfig) -> &'static str {
-    match b {
-        BoundaryConfig::Outflow => "outflow",
-        BoundaryConfig::ZeroGradient => "zero_gradient",
-        BoundaryConfig::OutflowOnly => "outflow_only",
-        BoundaryConfig::Reflective => "reflective",
-        BoundaryConfig::Periodic => "periodic",
-        BoundaryConfig::Fixed(_) => "fixed",
-        BoundaryConfig::Wall => "wall",
+    match &s.pipeline {
+        Pipeline::Fdm(fdm) => fdm.describe(&crate::scene::scene_of(s)),
+        Pipeline::Mpm(mpm) => describe_mpm(s, mpm),
+        Pipeline::Peridynamics(pd) => pd.describe(&crate::scene::scene_of(s)),
+        Pipeline::Lattice(l) => l.describe(&crate::scene::scene_of(s)),
+        Pipeline::Ice(ice) => ice.describe(&crate::scene::scene_of(s)),
+        Pipeline::IceMpm(c) => crate::ice_mpm::describe(s, c),
+        Pipeline::FdmMpmBridge(b) => crate::bridge::describe(s, b),
     }
 }
 
@@ -873,7 +579,7 @@ fn describe_mpm(s: &Scenario, mpm: &MpmConfig) -> String {
         materials.join(", "),
         s.time.end,
         s.time.cfl,
-        s.boundaries.faces().iter().map(|(f, b)| format!("{f}={}", bc_name(b))).collect::<Vec<_>>().join(" "),
+        s.boundaries.summary(),
         s.initial.len(),
         mpm.surface_loads.len(),
         s.outputs.interval,

@@ -12,6 +12,10 @@ use brisance_mpm::{
 };
 use serde::{Deserialize, Serialize};
 
+pub use brisance_fdm::pipeline::{FdmConfig, LimiterConfig, ViscosityConfig};
+pub use brisance_ice::pipeline::{IceConfig, IceReactionConfig, IceReactionModel};
+pub use brisance_scene::{Boundaries, BoundaryConfig, StateConfig};
+
 /// A whole scenario: one RON file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -58,82 +62,6 @@ pub struct Domain {
 
 fn one_patch() -> [usize; 3] {
     [1, 1, 1]
-}
-
-/// Boundary conditions on the six faces.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields, default)]
-pub struct Boundaries {
-    /// x = x_min
-    pub x_low: BoundaryConfig,
-    /// x = x_max
-    pub x_high: BoundaryConfig,
-    /// y = y_min
-    pub y_low: BoundaryConfig,
-    /// y = y_max
-    pub y_high: BoundaryConfig,
-    /// z = z_min
-    pub z_low: BoundaryConfig,
-    /// z = z_max
-    pub z_high: BoundaryConfig,
-}
-
-impl Boundaries {
-    /// The faces in storage order with their config names.
-    pub fn faces(&self) -> [(&'static str, &BoundaryConfig); 6] {
-        [
-            ("x_low", &self.x_low),
-            ("x_high", &self.x_high),
-            ("y_low", &self.y_low),
-            ("y_high", &self.y_high),
-            ("z_low", &self.z_low),
-            ("z_high", &self.z_high),
-        ]
-    }
-}
-
-/// One face's boundary condition. What each does in each pipeline, and
-/// which pipeline takes which, is the boundary table of
-/// `docs/user-guide.md`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-pub enum BoundaryConfig {
-    /// The default open face, each pipeline's own: `ZeroGradient` for Fdm
-    /// (and the bridge's FDM region), `OutflowOnly` for Ice and IceMpm, and
-    /// for Mpm a free face through which particles leave and are booked
-    /// and none enter.
-    #[default]
-    Outflow,
-    /// Transmissive both ways: what leaves goes freely, and where the flow
-    /// at the face points inwards the boundary cell's state (for Mpm, that
-    /// of the particles in it) enters.
-    ZeroGradient,
-    /// Zero gradient for what leaves; where the flow at the face points
-    /// inwards the face holds it back, as a wall would.
-    OutflowOnly,
-    /// Slip wall / symmetry plane.
-    Reflective,
-    /// Periodic (set on both faces of the axis).
-    Periodic,
-    /// A fixed state beyond the face, which enters where its velocity
-    /// points inwards (an inflow reservoir): Fdm, Ice, Mpm.
-    Fixed(StateConfig),
-    /// A rigid no-slip wall: every grid velocity component is zero (Mpm).
-    Wall,
-}
-
-impl BoundaryConfig {
-    /// The name a scenario writes.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Outflow => "Outflow",
-            Self::ZeroGradient => "ZeroGradient",
-            Self::OutflowOnly => "OutflowOnly",
-            Self::Reflective => "Reflective",
-            Self::Periodic => "Periodic",
-            Self::Fixed(_) => "Fixed",
-            Self::Wall => "Wall",
-        }
-    }
 }
 
 /// Time control.
@@ -211,7 +139,7 @@ pub enum Pipeline {
     /// The thermo-mechanical mass–spring–damper lattice of seed 003.
     Lattice(brisance_lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.
-    Ice(crate::ice::IceConfig),
+    Ice(brisance_ice::pipeline::IceConfig),
     /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
     IceMpm(crate::ice_mpm::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
@@ -331,90 +259,6 @@ fn default_ppc() -> usize {
 
 fn default_mass_cutoff() -> f64 {
     1e-5
-}
-
-/// Options of the FDM pipeline.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FdmConfig {
-    /// The gas (a key of `materials`).
-    pub material: String,
-    /// Detonation products carried as a second species (a key of
-    /// `materials`, a JWL): initial regions of this material hold products
-    /// (mass fraction Y = 1), all others the gas `material` (Y = 0); the
-    /// pressure of mixed cells follows docs/physics/fdm_mixture.md. None: one
-    /// gas.
-    #[serde(default)]
-    pub products: Option<String>,
-    /// Artificial viscosity (seed 001 eqs 3–5).
-    #[serde(default)]
-    pub viscosity: ViscosityConfig,
-    /// The face limiter of the Lax–Wendroff step (docs/physics/fdm.md,
-    /// "Face limiter"): `Full` (the default), `Positivity` or `Off`.
-    #[serde(default)]
-    pub limiter: LimiterConfig,
-}
-
-/// The face limiter of the FDM's Lax–Wendroff step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum LimiterConfig {
-    /// Positivity everywhere and the local density bounds at shocks.
-    #[default]
-    Full,
-    /// Positivity only.
-    Positivity,
-    /// None: the scheme of seed 001 as printed, which stops at a
-    /// non-physical state.
-    Off,
-}
-
-impl LimiterConfig {
-    /// The solver option.
-    pub fn option(self) -> brisance_fdm::FaceLimiter {
-        match self {
-            Self::Full => brisance_fdm::FaceLimiter::Full,
-            Self::Positivity => brisance_fdm::FaceLimiter::Positivity,
-            Self::Off => brisance_fdm::FaceLimiter::Off,
-        }
-    }
-}
-
-/// Artificial viscosity law.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub enum ViscosityConfig {
-    /// η = ν(1 − ν) (seed 001 eq 5).
-    #[default]
-    Adaptive,
-    /// A constant η in [0, 0.25].
-    Constant(f64),
-    /// None.
-    Off,
-}
-
-/// A thermodynamic state: density, velocity and exactly one of pressure,
-/// specific internal energy or temperature.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StateConfig {
-    /// Density, kg/m³.
-    pub density: f64,
-    /// Velocity, m/s.
-    #[serde(default)]
-    pub velocity: [f64; 3],
-    /// Pressure, Pa.
-    #[serde(default)]
-    pub pressure: Option<f64>,
-    /// Specific internal energy, J/kg.
-    #[serde(default)]
-    pub specific_internal_energy: Option<f64>,
-    /// Temperature, K.
-    #[serde(default)]
-    pub temperature: Option<f64>,
-    /// The material of a `Fixed` face's state (a key of `materials`),
-    /// needed where the pipeline carries several; initial regions name
-    /// theirs beside the state instead.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub material: Option<String>,
 }
 
 /// A geometric region: the shapes every method shares (see

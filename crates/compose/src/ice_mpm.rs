@@ -31,8 +31,8 @@ use brisance_mpm::{AntiLocking, UpdateScheme};
 use serde::{Deserialize, Serialize};
 
 use crate::build::{located, mpm_parts, Built};
+use crate::config::IceConfig;
 use crate::config::{MpmConfig, Pipeline, Scenario};
-use crate::ice::IceConfig;
 
 type Problem = (String, String);
 
@@ -81,14 +81,12 @@ fn under(sub: &str, (path, message): Problem) -> Problem {
     (path, message)
 }
 
-/// The scenario the ICE side sees: the fluids and the solids (last, in
+/// The section the ICE side runs: the fluids and the solids (last, in
 /// the order given).
-fn ice_scenario(s: &Scenario, cfg: &IceMpmConfig) -> (Scenario, IceConfig) {
+fn ice_section(cfg: &IceMpmConfig) -> IceConfig {
     let mut ice = cfg.ice.clone();
     ice.materials.extend(cfg.solid.names().iter().cloned());
-    let mut si = s.clone();
-    si.pipeline = Pipeline::Ice(ice.clone());
-    (si, ice)
+    ice
 }
 
 /// The scenario the particle side sees: the solids and their regions only.
@@ -152,8 +150,9 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             _ => "; its particles have no reservoir to enter from",
         },
     )?;
-    let (si, ice) = ice_scenario(s, cfg);
-    crate::ice::validate(&si, &ice).map_err(|e| under("ice", e))?;
+    ice_section(cfg)
+        .check_fluids(&crate::scene::scene_of(s))
+        .map_err(|e| under("ice", e.into()))?;
     Ok(())
 }
 
@@ -202,14 +201,13 @@ fn validate_solid(s: &Scenario, cfg: &IceMpmConfig, name: &str) -> Result<(), Pr
 pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigError> {
     let located = |(path, message): Problem| located(&path, message);
     validate(s, cfg).map_err(located)?;
-    let (si, ice_cfg) = ice_scenario(s, cfg);
-    let ice = crate::ice::build_with_traces(
-        &si,
-        &ice_cfg,
-        true,
-        std::sync::Arc::new(brisance_grid::comm::Serial),
-    )
-    .map_err(|e| located(under("ice", e)))?;
+    let ice = ice_section(cfg)
+        .build_on(
+            &crate::scene::scene_of(s),
+            true,
+            std::sync::Arc::new(brisance_grid::comm::Serial),
+        )
+        .map_err(|e| located(under("ice", e.into())))?;
     let sm = mpm_scenario(s, cfg);
     let (mpm, particle_gauges) = mpm_parts(&sm, &cfg.mpm).map_err(|mut e| {
         if let Some(f) = e.field.take() {

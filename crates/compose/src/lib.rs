@@ -9,18 +9,20 @@
 //!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline ([`ice`],
-//!   [`ice_mpm`] and [`bridge`] hold their own pipelines; the `Lattice`
-//!   and `Peridynamics` pipelines' sections and builders are
-//!   `brisance_lattice`'s and `brisance_pd`'s, called through
-//!   `brisance_scene::PipelineSpec` with the [`scene`] of the scenario).
+//! - [`build`]: assembling the solver for a pipeline ([`ice_mpm`] and
+//!   [`bridge`] hold their own pipelines; the `Fdm`, `Ice`, `Lattice` and
+//!   `Peridynamics` pipelines' sections and builders are `brisance_fdm`'s,
+//!   `brisance_ice`'s, `brisance_lattice`'s and `brisance_pd`'s, called
+//!   through `brisance_scene::PipelineSpec` with the [`scene`] of the
+//!   scenario).
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
 pub mod bridge;
 pub mod build;
 pub mod config;
 pub mod error;
-pub mod ice;
+#[cfg(test)]
+mod ice;
 pub mod ice_mpm;
 #[cfg(test)]
 mod lattice;

@@ -178,14 +178,11 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
         field: Some(path),
         message: format!("{message}{suffix}"),
     })?;
-    validate(&scenario, &pipeline_limits(&scenario.pipeline)).map_err(|(path, message)| {
-        ConfigError {
-            file: file.to_string(),
-            position: ron_path::find_nearest(&text, &path)
-                .map(|r| ron_path::line_col(&text, r.start)),
-            field: Some(path),
-            message: format!("{message}{suffix}"),
-        }
+    validate(&scenario, &pipeline_limits(&scenario)).map_err(|(path, message)| ConfigError {
+        file: file.to_string(),
+        position: ron_path::find_nearest(&text, &path).map(|r| ron_path::line_col(&text, r.start)),
+        field: Some(path),
+        message: format!("{message}{suffix}"),
     })?;
     let warnings = crate::validate::unused_materials(&scenario)
         .into_iter()

@@ -67,7 +67,7 @@ mod tests {
             assert_eq!(ron_options().from_str::<EosModel>(&back).unwrap(), m);
         }
         for p in reaction_registry().plugins() {
-            let m: crate::ice::IceReactionModel = ron_options()
+            let m: crate::config::IceReactionModel = ron_options()
                 .from_str(p.example)
                 .unwrap_or_else(|e| panic!("{}: {e}", p.name));
             assert_eq!(m.variant(), p.name);

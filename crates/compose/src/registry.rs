@@ -174,13 +174,7 @@ pub const ENTRIES: &[Entry] = &[
         example: "ViscoScram(shear_moduli: (3.5e8, 1.739e8, 5.212e8, 9.085e8, 6.875e8), inverse_relaxation_times: (0.0, 7.32e3, 7.32e4, 7.32e5, 2.0e6), pressure: Linear(bulk_modulus: 5.722e9), crack_size: 1.0e-3, initial_crack_radius: 3.0e-5, crack_power: 10.0, max_crack_speed: 300.0, fracture_toughness: 500.0, crack_friction: 0.35, rate: GreenNaghdi)",
         docs: Some("docs/physics/constitutive/viscoscram.md"),
     },
-    Entry {
-        family: "pipeline",
-        name: "Fdm",
-        summary: "3D Lax-Wendroff finite-difference Euler solver, Yanenko splitting, adaptive viscosity (seed 001 §2.1)",
-        example: "Fdm(material: \"air\", viscosity: Adaptive)",
-        docs: Some("docs/physics/fdm.md"),
-    },
+    Entry::pipeline(<brisance_fdm::FdmConfig as PipelineSpec>::INFO),
     Entry {
         family: "pipeline",
         name: "Mpm",
@@ -190,13 +184,7 @@ pub const ENTRIES: &[Entry] = &[
     },
     Entry::pipeline(<brisance_pd::PdConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
-    Entry {
-        family: "pipeline",
-        name: "Ice",
-        summary: "multi-material cell-centred ICE: equilibration pressure, momentum and heat exchange, van Leer or donor-cell advection, total-energy closure (seed 000 §3.3)",
-        example: "Ice(materials: [\"air\", \"products\"], cfl: 0.4, advection: VanLeer, momentum_exchange: 1e15)",
-        docs: Some("docs/physics/ice/README.md"),
-    },
+    Entry::pipeline(<brisance_ice::pipeline::IceConfig as PipelineSpec>::INFO),
     Entry {
         family: "pipeline",
         name: "IceMpm",
@@ -476,7 +464,7 @@ mod tests {
                         .from_str::<brisance_reaction::ProgramBurnRamp>(e.example)
                         .map(|_| ()),
                     _ => ron_options()
-                        .from_str::<crate::ice::IceReactionModel>(e.example)
+                        .from_str::<crate::config::IceReactionModel>(e.example)
                         .map(|_| ()),
                 },
                 "region" => ron_options().from_str::<Region>(e.example).map(|_| ()),
@@ -515,9 +503,9 @@ mod tests {
     #[test]
     fn every_reaction_plugin_is_registered() {
         let all = entries();
-        let names = crate::ice::IceReactionModel::names();
+        let names = crate::config::IceReactionModel::names();
         // The plugin crates' models are nameable once installed.
-        assert!(names.len() > crate::ice::IceReactionModel::VARIANTS.len());
+        assert!(names.len() > crate::config::IceReactionModel::VARIANTS.len());
         for v in names {
             assert!(
                 all.iter().any(|e| e.family == "reaction" && e.name == v),

@@ -3,12 +3,13 @@
 //! owns its config section, validation and builder
 //! ([`brisance_scene::PipelineSpec`]).
 
-use brisance_scene::{Domain, InitialRegion, Material, Scene};
+use brisance_scene::{Domain, InitialRegion, Material, OutputsSummary, Scene};
 
 use crate::config::Scenario;
 
-/// The scene of `s`: its domain, end time, materials (with their EOS once
-/// the scenario is loaded), initial regions and requested cell fields.
+/// The scene of `s`: its domain, end time, Courant number, faces, materials
+/// (with their EOS once the scenario is loaded), initial regions and
+/// requested outputs.
 pub fn scene_of(s: &Scenario) -> Scene<'_> {
     Scene {
         name: &s.name,
@@ -20,6 +21,8 @@ pub fn scene_of(s: &Scenario) -> Scene<'_> {
             geometry: s.domain.geometry,
         },
         end_time: s.time.end,
+        cfl: s.time.cfl,
+        boundaries: &s.boundaries,
         materials: s
             .materials
             .iter()
@@ -31,10 +34,31 @@ pub fn scene_of(s: &Scenario) -> Scene<'_> {
             .map(|r| InitialRegion {
                 region: &r.region,
                 material: &r.material,
-                velocity: r.state.velocity,
+                state: &r.state,
             })
             .collect(),
         cell_fields: &s.outputs.fields,
         line_outs: s.outputs.lineouts.len(),
+        field_lists: std::iter::once(("outputs.fields".to_string(), s.outputs.fields.as_slice()))
+            .chain(
+                s.outputs
+                    .gauges
+                    .iter()
+                    .enumerate()
+                    .map(|(k, g)| (format!("outputs.gauges.{k}.fields"), g.fields.as_slice())),
+            )
+            .chain(
+                s.outputs
+                    .lineouts
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| (format!("outputs.lineouts.{k}.fields"), l.fields.as_slice())),
+            )
+            .collect(),
+        outputs: OutputsSummary {
+            interval: s.outputs.interval,
+            gauges: s.outputs.gauges.len(),
+            checkpoint_every: s.outputs.checkpoint_every,
+        },
     }
 }

@@ -3,27 +3,14 @@
 //! its line and column.
 
 use crate::build::PipelineLimits;
-use crate::config::{
-    BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ThermalConfig, ViscosityConfig,
-};
+use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ThermalConfig};
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
-use brisance_eos::EosModel;
 use brisance_mpm::{HeatConduction, ThermalProperties};
 use brisance_scene::PipelineSpec;
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
-
-/// The faces the Fdm pipeline takes.
-pub(crate) const FDM_FACES: &[&str] = &[
-    "Outflow",
-    "ZeroGradient",
-    "OutflowOnly",
-    "Reflective",
-    "Periodic",
-    "Fixed",
-];
 
 /// The faces the Mpm pipeline takes.
 pub(crate) const MPM_FACES: &[&str] = &[
@@ -37,45 +24,6 @@ pub(crate) const MPM_FACES: &[&str] = &[
 
 fn finite3(v: &[f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
-}
-
-fn check_state(path: &str, s: &StateConfig) -> Result<(), Problem> {
-    if !(s.density > 0.0 && s.density.is_finite()) {
-        return Err((
-            format!("{path}.density"),
-            format!("density must be positive and finite, got {}", s.density),
-        ));
-    }
-    if !finite3(&s.velocity) {
-        return Err((format!("{path}.velocity"), "velocity must be finite".into()));
-    }
-    let given: Vec<(&str, f64)> = [
-        ("pressure", s.pressure),
-        ("specific_internal_energy", s.specific_internal_energy),
-        ("temperature", s.temperature),
-    ]
-    .into_iter()
-    .filter_map(|(n, v)| v.map(|v| (n, v)))
-    .collect();
-    match given.as_slice() {
-        [(name, v)] => {
-            if !(*v > 0.0 && v.is_finite()) {
-                return Err((
-                    format!("{path}.{name}"),
-                    format!("{name} must be positive and finite, got {v}"),
-                ));
-            }
-            Ok(())
-        }
-        [] => Err((
-            path.into(),
-            "give one of `pressure`, `specific_internal_energy` or `temperature`".into(),
-        )),
-        _ => Err((
-            path.into(),
-            "give only one of `pressure`, `specific_internal_energy` or `temperature`".into(),
-        )),
-    }
 }
 
 /// A material's `thermal` (at `path`) is for the particles of an `Mpm`
@@ -144,73 +92,28 @@ pub(crate) fn thermal_properties(
     }
 }
 
-/// `a`, `b` or `c`, each in backticks.
-fn either(names: &[&str]) -> String {
-    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
-    match quoted.split_last() {
-        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
-        _ => quoted.join(""),
-    }
-}
-
 /// Every face of `s` must be one of `accepted` (config names) for the
-/// pipeline `pipeline`; otherwise the error names the face, says what the
-/// pipeline takes and adds `hint(condition)` (empty, or a sentence that
-/// starts with "; ").
+/// pipeline `pipeline` ([`brisance_scene::Boundaries::check_faces`]).
 pub(crate) fn check_faces(
     s: &Scenario,
     pipeline: &str,
     accepted: &[&str],
     hint: impl Fn(&BoundaryConfig) -> &'static str,
 ) -> Result<(), Problem> {
-    for (face, bc) in s.boundaries.faces() {
-        if !accepted.contains(&bc.name()) {
-            return Err((
-                format!("boundaries.{face}"),
-                format!(
-                    "the {pipeline} pipeline takes {} faces, not `{}`{}",
-                    either(accepted),
-                    bc.name(),
-                    hint(bc)
-                ),
-            ));
-        }
-    }
-    Ok(())
+    Ok(s.boundaries.check_faces(pipeline, accepted, hint)?)
 }
 
-/// The material of the state of `Fixed` face `face`: the one it names, or
-/// the only one of `materials` (the pipeline's materials of that kind);
-/// `kind` says what they are in the messages ("gas", "particle material").
+/// The material of the state of `Fixed` face `face`
+/// ([`brisance_scene::fixed_face_material`]).
 pub(crate) fn fixed_face_material<'a>(
     face: &str,
     state: &'a StateConfig,
     materials: &'a [String],
     kind: &str,
 ) -> Result<&'a str, Problem> {
-    let listed = || {
-        materials
-            .iter()
-            .map(|m| format!("`{m}`"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    match (&state.material, materials) {
-        (Some(m), _) if materials.contains(m) => Ok(m),
-        (Some(m), _) => Err((
-            format!("boundaries.{face}.material"),
-            format!("`{m}` is not a {kind} of this pipeline; it has {}", listed()),
-        )),
-        (None, [only]) => Ok(only),
-        (None, _) => Err((
-            format!("boundaries.{face}"),
-            format!(
-                "the pipeline carries several {kind}s ({}): say which fills this face's state, e.g. `Fixed(material: \"{}\", density: ..., pressure: ...)`",
-                listed(),
-                materials.first().map_or("", |m| m.as_str())
-            ),
-        )),
-    }
+    Ok(brisance_scene::fixed_face_material(
+        face, state, materials, kind,
+    )?)
 }
 
 /// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
@@ -368,11 +271,7 @@ fn file_safe(name: &str) -> bool {
 /// Validates a scenario against its pipeline's limits (output fields,
 /// Courant-number limit, ghost layers per patch).
 pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
-    let (known_fields, max_cfl, mut ghost) = (limits.fields, limits.max_cfl, limits.ghost);
-    // The FDM's radial sweep on an (r, z) grid reaches one layer further.
-    if s.domain.geometry.is_axisymmetric() && matches!(s.pipeline, Pipeline::Fdm(_)) {
-        ghost = ghost.max(brisance_fdm::GHOST_RZ);
-    }
+    let (known_fields, max_cfl, ghost) = (limits.fields, limits.max_cfl, limits.ghost);
     const AXES: [&str; 3] = ["x", "y", "z"];
     if !file_safe(&s.name) {
         return Err((
@@ -509,58 +408,10 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         }
     }
     match &s.pipeline {
-        Pipeline::Fdm(fdm) => {
-            match s.materials.get(&fdm.material).and_then(|m| m.eos()) {
-                None => {
-                    return Err((
-                        "pipeline.material".into(),
-                        format!(
-                            "unknown material `{}`; known materials: {}",
-                            fdm.material,
-                            known_materials()
-                        ),
-                    ));
-                }
-                Some(eos) if !eos.is_gas() => {
-                    return Err((
-                        "pipeline.material".into(),
-                        format!(
-                            "the Fdm pipeline carries a gas ({}); `{}` is `{}`",
-                            EosModel::gas_names().join(", "),
-                            fdm.material,
-                            eos.variant()
-                        ),
-                    ));
-                }
-                Some(_) => {}
-            }
-            if let ViscosityConfig::Constant(eta) = fdm.viscosity {
-                if !(0.0..=0.25).contains(&eta) {
-                    return Err((
-                        "pipeline.viscosity".into(),
-                        format!("constant η = {eta} must lie in [0, 0.25]"),
-                    ));
-                }
-            }
-            check_faces(s, "Fdm", FDM_FACES, |bc| {
-                if matches!(bc, BoundaryConfig::Wall) {
-                    "; `Wall` is a particle boundary: use `Reflective` for a slip wall"
-                } else {
-                    ""
-                }
-            })?;
-            for (face, bc) in s.boundaries.faces() {
-                if let BoundaryConfig::Fixed(state) = bc {
-                    fixed_face_material(face, state, std::slice::from_ref(&fdm.material), "gas")?;
-                }
-            }
-        }
+        Pipeline::Fdm(fdm) => fdm.validate(&crate::scene::scene_of(s))?,
         Pipeline::Peridynamics(pd) => pd.validate(&crate::scene::scene_of(s))?,
         Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
-        Pipeline::Ice(ice) => {
-            crate::ice::validate_alone(ice)?;
-            crate::ice::validate(s, ice)?
-        }
+        Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
         Pipeline::IceMpm(c) => crate::ice_mpm::validate(s, c)?,
         Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
         Pipeline::Mpm(mpm) => {
@@ -682,7 +533,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     }
     for (face, bc) in s.boundaries.faces() {
         if let BoundaryConfig::Fixed(state) = bc {
-            check_state(&format!("boundaries.{face}"), state)?;
+            state.check(&format!("boundaries.{face}"))?;
         }
     }
     for (a, pair) in s.boundaries.faces().chunks(2).enumerate() {
@@ -715,20 +566,6 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
         match &s.pipeline {
-            Pipeline::Fdm(fdm)
-                if r.material != fdm.material && fdm.products.as_ref() != Some(&r.material) =>
-            {
-                return Err((
-                    format!("{path}.material"),
-                    match &fdm.products {
-                        None => format!("the Fdm pipeline carries one gas, `{}`", fdm.material),
-                        Some(p) => format!(
-                            "the Fdm pipeline carries the gas `{}` and the products `{p}`",
-                            fdm.material
-                        ),
-                    },
-                ));
-            }
             Pipeline::Mpm(_) if s.materials[&r.material].model.is_none() => {
                 return Err((
                     format!("{path}.material"),
@@ -750,7 +587,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 ),
             ));
         }
-        check_state(&format!("{path}.state"), &r.state)?;
+        r.state.check(&format!("{path}.state"))?;
         if r.state.material.is_some() {
             return Err((
                 format!("{path}.state.material"),

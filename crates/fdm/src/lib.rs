@@ -13,6 +13,9 @@
 //!   two-step (Richtmyer) Lax–Wendroff step (the scheme eqs 7–9 stand for).
 //! - [`solver`]: the [`FdmSolver`], the Yanenko splitting of eq 6, the CFL
 //!   time step and the `Solver` implementation.
+//! - [`pipeline`]: the `Fdm` pipeline's section of a scenario
+//!   ([`FdmConfig`]), its checks, builder and description, through which
+//!   the composer runs it.
 //!
 //! A grid built for the solver needs [`ghost_layers`] ghost layers
 //! ([`GHOST`], or [`GHOST_RZ`] on an (r, z) grid), and its Courant number
@@ -25,6 +28,7 @@
 pub mod detonation;
 pub mod gas;
 pub mod limiter;
+pub mod pipeline;
 pub mod solver;
 pub mod state;
 pub mod sweep;
@@ -32,6 +36,7 @@ pub mod viscosity;
 
 pub use gas::{GasLaw, ProductsInAir};
 pub use limiter::FaceLimiter;
+pub use pipeline::FdmConfig;
 pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver, MAX_CFL};
 pub use state::PrimitiveState;
 pub use sweep::{ghost_layers, GHOST, GHOST_RZ};

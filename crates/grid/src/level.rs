@@ -326,6 +326,33 @@ impl Level {
         }
     }
 
+    /// An error naming the first cell in global order (x fastest) whose
+    /// centre `covered` rejects: every cell must lie in an initial region.
+    /// Each rank of `ranks` tests the cells of its own patches
+    /// ([`crate::comm::patch_owners`], which must accept the split, else
+    /// its message is the error), and one minimum over the ranks finds the
+    /// first, so every rank gives the error one rank gives without testing
+    /// the whole grid. A collective call.
+    pub fn first_uncovered_cell(
+        &self,
+        ranks: &dyn crate::comm::Communicator,
+        covered: impl Fn([f64; 3]) -> bool,
+    ) -> Result<(), String> {
+        let geometry = self.geometry;
+        let owner = crate::comm::patch_owners(self.patches.len(), ranks.size())?;
+        let Some([i, j, k]) =
+            self.first_failing_cell(ranks, &owner, CellOrder::Global, |g, _, _| {
+                covered(geometry.cell_centre(g))
+            })
+        else {
+            return Ok(());
+        };
+        let x = geometry.cell_centre([i, j, k]);
+        Err(format!(
+            "cell ({i}, {j}, {k}) at {x:?} is in no initial region; add an `Everywhere` region first"
+        ))
+    }
+
     /// Every field of patch `pid` over its interior cells, x fastest
     /// (a checkpoint piece).
     pub fn patch_interior(&self, pid: usize, fields: &PatchFields) -> Vec<Vec<f64>> {
@@ -662,5 +689,38 @@ mod tests {
         assert!(e.to_string().contains("thinner"));
         let e = Level::new([0.0; 3], [0.0, 1.0, 1.0], [10, 1, 1], [1, 1, 1], 3).unwrap_err();
         assert!(e.to_string().contains("upper bound"));
+    }
+
+    /// The first cell outside every initial region, in global order, is the
+    /// same on one rank and on 1, 2 and 4 thread ranks that each test only
+    /// their own patches.
+    #[test]
+    fn the_first_uncovered_cell_is_found_alike_on_thread_ranks() {
+        let level = Level::new([0.0; 3], [1.0; 3], [8, 4, 8], [2, 1, 2], 2).unwrap();
+        // Uncovered in the upper half of z: at x > 0.6 (patch 3), and in the
+        // column x = 0.3125 at y > 0.25 (patch 2). Patch 2's first, (2, 1, 4),
+        // comes first in patch order; the first in global order (x fastest)
+        // is patch 3's (5, 0, 4), found by the rank that owns patch 3.
+        let covered = |x: [f64; 3]| {
+            !(x[2] > 0.5 && (x[0] > 0.6 || (x[0] > 0.25 && x[0] < 0.375 && x[1] > 0.25)))
+        };
+        let one = level
+            .first_uncovered_cell(&crate::comm::Serial, covered)
+            .unwrap_err();
+        assert!(one.starts_with("cell (5, 0, 4) at "), "{one}");
+        for ranks in [1, 2, 4] {
+            let got = crate::comm::InProcess::run(ranks, 1, |comm| {
+                level.first_uncovered_cell(&*comm, covered).err()
+            });
+            for (r, e) in got.into_iter().enumerate() {
+                assert_eq!(e.as_deref(), Some(one.as_str()), "rank {r} of {ranks}");
+            }
+        }
+        // Covered everywhere: no error on any rank.
+        for e in crate::comm::InProcess::run(4, 1, |comm| {
+            level.first_uncovered_cell(&*comm, |_| true).err()
+        }) {
+            assert_eq!(e, None);
+        }
     }
 }

@@ -31,6 +31,9 @@
 //!   iterated with the face velocities.
 //! - [`solver`]: the [`IceSolver`], the step sequence, the CFL time step and
 //!   the `Solver` implementation.
+//! - [`pipeline`]: the `Ice` pipeline's section of a scenario
+//!   ([`pipeline::IceConfig`]), its checks, builder and description,
+//!   through which the composer runs it (and the fluid side of IceMpm).
 //!
 //! Choices the seed leaves open are written down in `docs/physics/ice/`.
 
@@ -48,6 +51,7 @@ pub mod exchange;
 pub mod face_velocity;
 pub mod lagrangian;
 pub mod material;
+pub mod pipeline;
 pub mod pressure;
 pub mod reaction;
 pub mod riemann;

@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 
 use brisance_eos::EosModel;
 use brisance_grid::Shape as Region;
-use brisance_scene::{FieldError, PipelineInfo, PipelineSpec, Scene};
+use brisance_scene::{FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::{
@@ -530,7 +530,7 @@ fn build_lattice(s: &Scene<'_>, cfg: &LatticeConfig) -> Result<MsdmLattice, Fiel
         let p = lat.geom.reference_position(i);
         if let Some(r) = s.region_of(p) {
             for a in 0..d {
-                lat.u[a][i] = s.initial[r].velocity[a];
+                lat.u[a][i] = s.initial[r].state.velocity[a];
             }
         }
         if let Some((k, b)) = cfg
@@ -681,6 +681,19 @@ impl PipelineSpec for LatticeConfig {
     };
     type Solver = MsdmLattice;
 
+    /// One ghost layer (the node grid's), no patches; the step's own
+    /// stability limit is not a Courant number.
+    fn limits(&self, _geometry: brisance_core::Geometry) -> PipelineLimits {
+        PipelineLimits {
+            fields: &MsdmLattice::FIELDS,
+            max_cfl: 1.0,
+            ghost: 1,
+            node_fields: &[],
+            patch_pieces: false,
+            patch_checkpoints: false,
+        }
+    }
+
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError> {
         check(scene, self)
     }
@@ -706,6 +719,19 @@ mod tests {
     use crate::cases::inert_eos;
 
     /// A 2D box 4 × 2 spacings of 1 mm: 5 × 3 nodes.
+    /// A state moving at `velocity` (the only part of it these pipelines
+    /// read), for the life of the test.
+    fn moving(velocity: [f64; 3]) -> &'static brisance_scene::StateConfig {
+        Box::leak(Box::new(brisance_scene::StateConfig {
+            density: 1.0,
+            velocity,
+            pressure: Some(1.0),
+            specific_internal_energy: None,
+            temperature: None,
+            material: None,
+        }))
+    }
+
     fn scene<'a>(
         eos: &'a [(&'a str, EosModel)],
         initial: &'a [(Region, &'a str, [f64; 3])],
@@ -721,6 +747,8 @@ mod tests {
                 geometry: GridGeometry::Cartesian,
             },
             end_time: 1e-6,
+            cfl: 0.5,
+            boundaries: &brisance_scene::OPEN_FACES,
             materials: eos
                 .iter()
                 .map(|(name, e)| Material { name, eos: Some(e) })
@@ -730,11 +758,13 @@ mod tests {
                 .map(|(region, material, velocity)| InitialRegion {
                     region,
                     material,
-                    velocity: *velocity,
+                    state: moving(*velocity),
                 })
                 .collect(),
             cell_fields: fields,
             line_outs: 0,
+            field_lists: vec![],
+            outputs: Default::default(),
         }
     }
 

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 
 use brisance_eos::Jwl;
 use brisance_grid::Shape as Region;
-use brisance_scene::{FieldError, PipelineInfo, PipelineSpec, Scene};
+use brisance_scene::{FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::{
@@ -287,7 +287,7 @@ fn setup_of(s: &Scene<'_>, pd: &PdConfig) -> Result<PdSetup, Problem> {
         bodies.push(BodySpec {
             shape: r.region.clone(),
             material: index as u16,
-            velocity: r.velocity,
+            velocity: r.state.velocity,
         });
     }
     Ok(PdSetup {
@@ -430,6 +430,19 @@ impl PipelineSpec for PdConfig {
     };
     type Solver = PdSolver;
 
+    /// One ghost layer (the node grid's), no patches; the step's own
+    /// stability limit is not a Courant number.
+    fn limits(&self, _geometry: brisance_core::Geometry) -> PipelineLimits {
+        PipelineLimits {
+            fields: &PdSolver::FIELDS,
+            max_cfl: 1.0,
+            ghost: 1,
+            node_fields: &[],
+            patch_pieces: false,
+            patch_checkpoints: false,
+        }
+    }
+
     /// Checks the section without building the node lattice.
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError> {
         check(scene, self).map_err(located)
@@ -461,6 +474,19 @@ mod tests {
         ron::from_str(text).unwrap()
     }
 
+    /// A state moving at `velocity` (the only part of it these pipelines
+    /// read), for the life of the test.
+    fn moving(velocity: [f64; 3]) -> &'static brisance_scene::StateConfig {
+        Box::leak(Box::new(brisance_scene::StateConfig {
+            density: 1.0,
+            velocity,
+            pressure: Some(1.0),
+            specific_internal_energy: None,
+            temperature: None,
+            material: None,
+        }))
+    }
+
     fn scene<'a>(
         initial: &'a [(Region, &'a str, [f64; 3])],
         fields: &'a [String],
@@ -476,6 +502,8 @@ mod tests {
                 geometry: Geometry::Cartesian,
             },
             end_time: 1e-6,
+            cfl: 0.5,
+            boundaries: &brisance_scene::OPEN_FACES,
             materials: vec![Material {
                 name: "steel",
                 eos: None,
@@ -485,11 +513,13 @@ mod tests {
                 .map(|(region, material, velocity)| InitialRegion {
                     region,
                     material,
-                    velocity: *velocity,
+                    state: moving(*velocity),
                 })
                 .collect(),
             cell_fields: fields,
             line_outs,
+            field_lists: vec![],
+            outputs: Default::default(),
         }
     }
 

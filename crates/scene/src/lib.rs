@@ -31,6 +31,10 @@ use brisance_core::Geometry;
 use brisance_eos::EosModel;
 use brisance_grid::Shape;
 
+mod faces;
+
+pub use faces::{fixed_face_material, Boundaries, BoundaryConfig, StateConfig, OPEN_FACES};
+
 /// The scenario's domain.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Domain {
@@ -63,8 +67,9 @@ pub struct InitialRegion<'a> {
     pub region: &'a Shape,
     /// Which material (a key of `materials`).
     pub material: &'a str,
-    /// Initial velocity, m/s.
-    pub velocity: [f64; 3],
+    /// Its initial state (density, velocity and one of pressure, energy
+    /// or temperature).
+    pub state: &'a StateConfig,
 }
 
 /// The parts of a scenario every pipeline shares, as the composer has
@@ -77,6 +82,10 @@ pub struct Scene<'a> {
     pub domain: Domain,
     /// End time, s.
     pub end_time: f64,
+    /// The Courant number of the time step (`time.cfl`).
+    pub cfl: f64,
+    /// The six faces' boundary conditions.
+    pub boundaries: &'a Boundaries,
     /// The materials, in the scenario's (name) order.
     pub materials: Vec<Material<'a>>,
     /// The initial regions, in the scenario's order.
@@ -85,6 +94,41 @@ pub struct Scene<'a> {
     pub cell_fields: &'a [String],
     /// How many line-outs the outputs ask for (`outputs.lineouts`).
     pub line_outs: usize,
+    /// Every list of cell fields the outputs name, with its path:
+    /// `outputs.fields`, then `outputs.gauges.k.fields` and
+    /// `outputs.lineouts.k.fields` in order.
+    pub field_lists: Vec<(String, &'a [String])>,
+    /// What else the outputs ask for, as `brisance check` describes it.
+    pub outputs: OutputsSummary,
+}
+
+/// The outputs of a scenario, as far as a pipeline's description names
+/// them.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct OutputsSummary {
+    /// Simulation time between field outputs, s (None: start and end
+    /// only).
+    pub interval: Option<f64>,
+    /// How many point gauges.
+    pub gauges: usize,
+    /// Steps between checkpoints (None: none).
+    pub checkpoint_every: Option<u64>,
+}
+
+impl OutputsSummary {
+    /// `interval …, fields […], n gauges, m line-outs, checkpoints every …`
+    /// of `scene`, the outputs line of the pipelines' descriptions.
+    pub fn describe(scene: &Scene<'_>) -> String {
+        let o = scene.outputs;
+        format!(
+            "interval {:?}, fields [{}], {} gauges, {} line-outs, checkpoints every {:?} steps",
+            o.interval,
+            scene.cell_fields.join(", "),
+            o.gauges,
+            scene.line_outs,
+            o.checkpoint_every
+        )
+    }
 }
 
 impl<'a> Scene<'a> {
@@ -97,6 +141,26 @@ impl<'a> Scene<'a> {
     /// the point `p`, by its index in [`Self::initial`].
     pub fn region_of(&self, p: [f64; 3]) -> Option<usize> {
         self.initial.iter().position(|r| r.region.contains(p))
+    }
+
+    /// The point at which the initial regions are tested for a cell
+    /// centred at `x`: `x` on a Cartesian grid, (r, z, 0) on an (r, z)
+    /// grid — the half plane through the axis, so a sphere centred on the
+    /// axis at (0, z₀, 0) fills the rings of its hemisphere of that plane.
+    pub fn region_point(&self, x: [f64; 3]) -> [f64; 3] {
+        if self.domain.geometry.is_axisymmetric() {
+            [x[0], x[1], 0.0]
+        } else {
+            x
+        }
+    }
+
+    /// The initial region whose state a grid cell centred at `x` takes:
+    /// the last (later entries override earlier ones) that contains
+    /// [`Self::region_point`] of `x`, by its index in [`Self::initial`].
+    pub fn cell_region(&self, x: [f64; 3]) -> Option<usize> {
+        let p = self.region_point(x);
+        self.initial.iter().rposition(|r| r.region.contains(p))
     }
 }
 
@@ -147,6 +211,27 @@ pub struct PipelineInfo {
     pub docs: &'static str,
 }
 
+/// What the composer's checks of the shared parts need to know about a
+/// pipeline: which output fields it writes, its stability limit and its
+/// patches' stencil.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PipelineLimits {
+    /// Output field names.
+    pub fields: &'static [&'static str],
+    /// Largest Courant number the scheme is stable at.
+    pub max_cfl: f64,
+    /// Ghost layers each patch must hold.
+    pub ghost: usize,
+    /// Background-grid node field names (empty: the pipeline has no node
+    /// grid).
+    pub node_fields: &'static [&'static str],
+    /// Whether its cells are split into patches that can be written as
+    /// VTK pieces, one per patch.
+    pub patch_pieces: bool,
+    /// Whether its state can be checkpointed per patch.
+    pub patch_checkpoints: bool,
+}
+
 /// A pipeline's section of the scenario (its config schema, a serde type
 /// of the pipeline's crate), with what the pipeline does with it.
 pub trait PipelineSpec {
@@ -154,6 +239,10 @@ pub trait PipelineSpec {
     const INFO: PipelineInfo;
     /// What [`Self::build`] makes.
     type Solver;
+
+    /// What the composer's checks need to know (output fields, Courant
+    /// limit, ghost layers) for this section on `geometry`'s grid.
+    fn limits(&self, geometry: Geometry) -> PipelineLimits;
 
     /// Checks the section against the scene; the error names the field.
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError>;
@@ -169,6 +258,15 @@ pub trait PipelineSpec {
 mod tests {
     use super::*;
 
+    static AT_REST: StateConfig = StateConfig {
+        density: 1.0,
+        velocity: [0.0; 3],
+        pressure: Some(1.0),
+        specific_internal_energy: None,
+        temperature: None,
+        material: None,
+    };
+
     fn scene<'a>(shapes: &'a [Shape], fields: &'a [String]) -> Scene<'a> {
         Scene {
             name: "t",
@@ -180,6 +278,8 @@ mod tests {
                 geometry: Geometry::Cartesian,
             },
             end_time: 1.0,
+            cfl: 0.5,
+            boundaries: &OPEN_FACES,
             materials: vec![
                 Material {
                     name: "a",
@@ -196,11 +296,13 @@ mod tests {
                 .map(|(region, material)| InitialRegion {
                     region,
                     material,
-                    velocity: [0.0; 3],
+                    state: &AT_REST,
                 })
                 .collect(),
             cell_fields: fields,
             line_outs: 0,
+            field_lists: vec![],
+            outputs: OutputsSummary::default(),
         }
     }
 
@@ -220,6 +322,24 @@ mod tests {
         assert!(s.material("c").is_none());
         assert_eq!(s.region_of([0.25, 0.5, 0.5]), Some(0));
         assert_eq!(s.region_of([0.75, 0.5, 0.5]), Some(1));
+        // A grid cell takes the last region that holds it.
+        assert_eq!(s.cell_region([0.25, 0.5, 0.5]), Some(1));
+        assert_eq!(s.cell_region([0.25, 0.5, 2.0]), Some(1));
+    }
+
+    /// On an (r, z) grid a cell's region is tested in the half plane
+    /// through the axis.
+    #[test]
+    fn an_rz_cell_is_tested_at_r_z_0() {
+        let shapes = [Shape::Box {
+            min: [0.0, 0.0, -0.1],
+            max: [1.0, 1.0, 0.1],
+        }];
+        let mut s = scene(&shapes, &[]);
+        assert_eq!(s.cell_region([0.5, 0.5, 0.5]), None);
+        s.domain.geometry = Geometry::Axisymmetric;
+        assert_eq!(s.region_point([0.5, 0.5, 0.5]), [0.5, 0.5, 0.0]);
+        assert_eq!(s.cell_region([0.5, 0.5, 0.5]), Some(0));
     }
 
     /// A field error prints its path first and converts to the composer's

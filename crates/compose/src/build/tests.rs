@@ -390,33 +390,3 @@ fn thermal_on_a_material_without_particles_is_refused() {
     assert_eq!(e.field.as_deref(), Some("materials.air.thermal"), "{e}");
     assert!(e.message.contains("no constitutive `model`"), "{e}");
 }
-
-/// The first cell outside every initial region, in global order, is the
-/// same on one rank and on 1, 2 and 4 thread ranks that each test only
-/// their own patches.
-#[test]
-fn the_first_uncovered_cell_is_found_alike_on_thread_ranks() {
-    let level = Level::new([0.0; 3], [1.0; 3], [8, 4, 8], [2, 1, 2], 2).unwrap();
-    // Uncovered in the upper half of z: at x > 0.6 (patch 3), and in the
-    // column x = 0.3125 at y > 0.25 (patch 2). Patch 2's first, (2, 1, 4),
-    // comes first in patch order; the first in global order (x fastest)
-    // is patch 3's (5, 0, 4), found by the rank that owns patch 3.
-    let covered =
-        |x: [f64; 3]| !(x[2] > 0.5 && (x[0] > 0.6 || (x[0] > 0.25 && x[0] < 0.375 && x[1] > 0.25)));
-    let one = uncovered_cell(&level, &brisance_grid::comm::Serial, covered).unwrap_err();
-    assert!(one.starts_with("cell (5, 0, 4) at "), "{one}");
-    for ranks in [1, 2, 4] {
-        let got = brisance_grid::comm::InProcess::run(ranks, 1, |comm| {
-            uncovered_cell(&level, &*comm, covered).err()
-        });
-        for (r, e) in got.into_iter().enumerate() {
-            assert_eq!(e.as_deref(), Some(one.as_str()), "rank {r} of {ranks}");
-        }
-    }
-    // Covered everywhere: no error on any rank.
-    for e in brisance_grid::comm::InProcess::run(4, 1, |comm| {
-        uncovered_cell(&level, &*comm, |_| true).err()
-    }) {
-        assert_eq!(e, None);
-    }
-}
