@@ -711,61 +711,30 @@ impl PipelineSpec for LatticeConfig {
 
 #[cfg(test)]
 mod tests {
-    use brisance_core::Geometry as GridGeometry;
     use brisance_eos::IdealGas;
-    use brisance_scene::{Domain, InitialRegion, Material};
+    use brisance_scene::{Domain, OwnedScene, StateConfig};
 
     use super::*;
     use crate::cases::inert_eos;
 
-    /// A 2D box 4 × 2 spacings of 1 mm: 5 × 3 nodes.
-    /// A state moving at `velocity` (the only part of it these pipelines
-    /// read), for the life of the test.
-    fn moving(velocity: [f64; 3]) -> &'static brisance_scene::StateConfig {
-        Box::leak(Box::new(brisance_scene::StateConfig {
-            density: 1.0,
-            velocity,
-            pressure: Some(1.0),
-            specific_internal_energy: None,
-            temperature: None,
-            material: None,
-        }))
-    }
-
-    fn scene<'a>(
-        eos: &'a [(&'a str, EosModel)],
-        initial: &'a [(Region, &'a str, [f64; 3])],
-        fields: &'a [String],
-    ) -> Scene<'a> {
-        Scene {
-            name: "box",
-            domain: Domain {
-                lower: [0.0; 3],
-                upper: [4e-3, 2e-3, 1e-3],
-                cells: [4, 2, 1],
-                patches: [1; 3],
-                geometry: GridGeometry::Cartesian,
-            },
-            end_time: 1e-6,
-            cfl: 0.5,
-            boundaries: &brisance_scene::OPEN_FACES,
-            materials: eos
-                .iter()
-                .map(|(name, e)| Material { name, eos: Some(e) })
-                .collect(),
-            initial: initial
-                .iter()
-                .map(|(region, material, velocity)| InitialRegion {
-                    region,
-                    material,
-                    state: moving(*velocity),
-                })
-                .collect(),
-            cell_fields: fields,
-            line_outs: 0,
-            field_lists: vec![],
-            outputs: Default::default(),
+    /// A 2D box 4 × 2 spacings of 1 mm: 5 × 3 nodes, with the materials
+    /// `eos` and the regions `initial` (shape, material, velocity).
+    fn scene(
+        eos: &[(&str, EosModel)],
+        initial: &[(Region, &str, [f64; 3])],
+        fields: &[String],
+    ) -> OwnedScene {
+        let mut o = OwnedScene::new(Domain::cartesian([0.0; 3], [4e-3, 2e-3, 1e-3], [4, 2, 1]));
+        for (name, e) in eos {
+            o = o.with_material(name, Some(e.clone()));
         }
+        for (region, material, velocity) in initial {
+            let state = StateConfig::at_pressure(1.0, 1.0).moving(*velocity);
+            o = o.with_region(region.clone(), material, state);
+        }
+        o.name = "box".into();
+        o.cell_fields = fields.to_vec();
+        o
     }
 
     fn config(text: &str) -> LatticeConfig {
@@ -817,7 +786,8 @@ mod tests {
                 [0.0; 3],
             ),
         ];
-        let s = scene(&eos, &initial, &[]);
+        let o = scene(&eos, &initial, &[]);
+        let s = o.scene();
         let c = config(HMX);
         c.validate(&s).unwrap();
         let lat = c.build(&s).unwrap();
@@ -855,8 +825,10 @@ mod tests {
         let fields = ["density".to_string()];
         let field = |eos: &[(&str, EosModel)], material: &str, fields: &[String], text: &str| {
             let initial = [(region.clone(), material, [0.0; 3])];
-            let s = scene(eos, &initial, fields);
-            config(text).validate(&s).unwrap_err().field
+            config(text)
+                .validate(&scene(eos, &initial, fields).scene())
+                .unwrap_err()
+                .field
         };
         assert_eq!(field(&hmx, "hmx", &fields, HMX), "outputs.fields");
         assert_eq!(field(&hmx, "rdx", &[], HMX), "initial.0.material");

@@ -461,8 +461,7 @@ impl PipelineSpec for PdConfig {
 
 #[cfg(test)]
 mod tests {
-    use brisance_core::Geometry;
-    use brisance_scene::{Domain, InitialRegion, Material};
+    use brisance_scene::{Domain, OwnedScene, StateConfig};
 
     use super::*;
 
@@ -474,53 +473,23 @@ mod tests {
         ron::from_str(text).unwrap()
     }
 
-    /// A state moving at `velocity` (the only part of it these pipelines
-    /// read), for the life of the test.
-    fn moving(velocity: [f64; 3]) -> &'static brisance_scene::StateConfig {
-        Box::leak(Box::new(brisance_scene::StateConfig {
-            density: 1.0,
-            velocity,
-            pressure: Some(1.0),
-            specific_internal_energy: None,
-            temperature: None,
-            material: None,
-        }))
-    }
-
-    fn scene<'a>(
-        initial: &'a [(Region, &'a str, [f64; 3])],
-        fields: &'a [String],
+    /// A 1 cm box with the material `steel` (no EOS) and the regions
+    /// `initial` (shape, material, velocity).
+    fn scene(
+        initial: &[(Region, &str, [f64; 3])],
+        fields: &[String],
         line_outs: usize,
-    ) -> Scene<'a> {
-        Scene {
-            name: "pd",
-            domain: Domain {
-                lower: [0.0; 3],
-                upper: [1e-2; 3],
-                cells: [1; 3],
-                patches: [1; 3],
-                geometry: Geometry::Cartesian,
-            },
-            end_time: 1e-6,
-            cfl: 0.5,
-            boundaries: &brisance_scene::OPEN_FACES,
-            materials: vec![Material {
-                name: "steel",
-                eos: None,
-            }],
-            initial: initial
-                .iter()
-                .map(|(region, material, velocity)| InitialRegion {
-                    region,
-                    material,
-                    state: moving(*velocity),
-                })
-                .collect(),
-            cell_fields: fields,
-            line_outs,
-            field_lists: vec![],
-            outputs: Default::default(),
+    ) -> OwnedScene {
+        let mut o = OwnedScene::new(Domain::cartesian([0.0; 3], [1e-2; 3], [1; 3]))
+            .with_material("steel", None);
+        for (region, material, velocity) in initial {
+            let state = StateConfig::at_pressure(1.0, 1.0).moving(*velocity);
+            o = o.with_region(region.clone(), material, state);
         }
+        o.name = "pd".into();
+        o.cell_fields = fields.to_vec();
+        o.line_outs = line_outs;
+        o
     }
 
     fn cube(lo: f64, hi: f64) -> Region {
@@ -538,14 +507,16 @@ mod tests {
             (cube(0.0, 2e-3), "steel", [10.0, 0.0, 0.0]),
             (cube(4e-3, 6e-3), "steel", [0.0, -5.0, 0.0]),
         ];
-        let setup = config(STEEL).setup(&scene(&initial, &[], 0)).unwrap();
+        let setup = config(STEEL)
+            .setup(&scene(&initial, &[], 0).scene())
+            .unwrap();
         assert_eq!(setup.materials.len(), 1);
         assert_eq!(setup.bodies.len(), 2);
         assert_eq!(setup.bodies[1].velocity, [0.0, -5.0, 0.0]);
         assert_eq!(setup.bodies[1].material, 0);
         assert_eq!(setup.options.spacing, 1e-3);
         assert!(setup.options.contact.is_some());
-        let d = config(STEEL).describe(&scene(&initial, &[], 0));
+        let d = config(STEEL).describe(&scene(&initial, &[], 0).scene());
         assert!(d.contains("bodies: `steel`, `steel`"), "{d}");
         assert_eq!(PdConfig::INFO.name, "Peridynamics");
     }
@@ -556,7 +527,7 @@ mod tests {
         let field = |text: &str, material: &str, fields: &[String], line_outs: usize| {
             let initial = [(cube(0.0, 2e-3), material, [0.0; 3])];
             config(text)
-                .validate(&scene(&initial, fields, line_outs))
+                .validate(&scene(&initial, fields, line_outs).scene())
                 .unwrap_err()
                 .field
         };

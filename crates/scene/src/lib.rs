@@ -32,8 +32,10 @@ use brisance_eos::EosModel;
 use brisance_grid::Shape;
 
 mod faces;
+mod owned;
 
 pub use faces::{fixed_face_material, Boundaries, BoundaryConfig, StateConfig, OPEN_FACES};
+pub use owned::OwnedScene;
 
 /// The scenario's domain.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -258,52 +260,15 @@ pub trait PipelineSpec {
 mod tests {
     use super::*;
 
-    static AT_REST: StateConfig = StateConfig {
-        density: 1.0,
-        velocity: [0.0; 3],
-        pressure: Some(1.0),
-        specific_internal_energy: None,
-        temperature: None,
-        material: None,
-    };
-
-    fn scene<'a>(shapes: &'a [Shape], fields: &'a [String]) -> Scene<'a> {
-        Scene {
-            name: "t",
-            domain: Domain {
-                lower: [0.0; 3],
-                upper: [1.0; 3],
-                cells: [1; 3],
-                patches: [1; 3],
-                geometry: Geometry::Cartesian,
-            },
-            end_time: 1.0,
-            cfl: 0.5,
-            boundaries: &OPEN_FACES,
-            materials: vec![
-                Material {
-                    name: "a",
-                    eos: None,
-                },
-                Material {
-                    name: "b",
-                    eos: None,
-                },
-            ],
-            initial: shapes
-                .iter()
-                .zip(["a", "b"])
-                .map(|(region, material)| InitialRegion {
-                    region,
-                    material,
-                    state: &AT_REST,
-                })
-                .collect(),
-            cell_fields: fields,
-            line_outs: 0,
-            field_lists: vec![],
-            outputs: OutputsSummary::default(),
+    /// Materials `a` and `b` (no EOS), a region of each over `shapes`.
+    fn scene(shapes: &[Shape]) -> OwnedScene {
+        let mut o = OwnedScene::new(Domain::cartesian([0.0; 3], [1.0; 3], [1; 3]))
+            .with_material("a", None)
+            .with_material("b", None);
+        for (shape, m) in shapes.iter().zip(["a", "b"]) {
+            o = o.with_region(shape.clone(), m, StateConfig::at_pressure(1.0, 1.0));
         }
+        o
     }
 
     /// Materials are found by name; a point takes the first region that
@@ -317,7 +282,8 @@ mod tests {
             },
             Shape::Everywhere,
         ];
-        let s = scene(&shapes, &[]);
+        let o = scene(&shapes);
+        let s = o.scene();
         assert_eq!(s.material("b").map(|m| m.name), Some("b"));
         assert!(s.material("c").is_none());
         assert_eq!(s.region_of([0.25, 0.5, 0.5]), Some(0));
@@ -335,9 +301,10 @@ mod tests {
             min: [0.0, 0.0, -0.1],
             max: [1.0, 1.0, 0.1],
         }];
-        let mut s = scene(&shapes, &[]);
-        assert_eq!(s.cell_region([0.5, 0.5, 0.5]), None);
-        s.domain.geometry = Geometry::Axisymmetric;
+        let mut o = scene(&shapes);
+        assert_eq!(o.scene().cell_region([0.5, 0.5, 0.5]), None);
+        o.domain.geometry = Geometry::Axisymmetric;
+        let s = o.scene();
         assert_eq!(s.region_point([0.5, 0.5, 0.5]), [0.5, 0.5, 0.0]);
         assert_eq!(s.cell_region([0.5, 0.5, 0.5]), Some(0));
     }

@@ -5,10 +5,7 @@
 use brisance_core::Geometry;
 use brisance_eos::{EosModel, IdealGas, Jwl, Murnaghan};
 use brisance_grid::Shape;
-use brisance_scene::{
-    Boundaries, BoundaryConfig, Domain, InitialRegion, Material, OutputsSummary, PipelineSpec,
-    Scene, StateConfig, OPEN_FACES,
-};
+use brisance_scene::{BoundaryConfig, Domain, OwnedScene, PipelineSpec, Scene, StateConfig};
 
 use super::*;
 
@@ -16,78 +13,29 @@ fn config(text: &str) -> FdmConfig {
     ron::from_str(text).unwrap()
 }
 
-fn state(density: f64, pressure: f64) -> StateConfig {
-    StateConfig {
-        density,
-        velocity: [0.0; 3],
-        pressure: Some(pressure),
-        specific_internal_energy: None,
-        temperature: None,
-        material: None,
-    }
-}
-
-/// The materials of the scenes: an ideal gas (γ = 1.4), the TNT products
-/// (JWL) and a solid (Murnaghan).
-fn materials() -> Vec<(&'static str, EosModel)> {
-    vec![
-        ("air", EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.2))),
-        ("tnt", EosModel::Jwl(Jwl::tnt())),
-        ("solid", EosModel::Murnaghan(Murnaghan::anfo_k1())),
-    ]
-}
-
-/// A 1D tube of four 0.25 m cells along x, one patch.
-fn scene<'a>(
-    eos: &'a [(&'static str, EosModel)],
-    initial: &'a [(Shape, &'static str, StateConfig)],
-    boundaries: &'a Boundaries,
-    geometry: Geometry,
-) -> Scene<'a> {
-    Scene {
-        name: "tube",
-        domain: Domain {
-            lower: [0.0; 3],
-            upper: [1.0, 1.0, 1.0],
-            cells: [4, 1, 1],
-            patches: [1; 3],
-            geometry,
-        },
-        end_time: 1e-3,
-        cfl: 0.5,
-        boundaries,
-        materials: eos
-            .iter()
-            .map(|(name, e)| Material { name, eos: Some(e) })
-            .collect(),
-        initial: initial
-            .iter()
-            .map(|(region, material, state)| InitialRegion {
-                region,
-                material,
-                state,
-            })
-            .collect(),
-        cell_fields: &[],
-        line_outs: 0,
-        field_lists: vec![],
-        outputs: OutputsSummary::default(),
-    }
-}
-
-/// Air everywhere at 1 bar, high pressure (10 bar, 5 kg/m³) in x < 0.5.
-fn shock_tube(material: &'static str) -> Vec<(Shape, &'static str, StateConfig)> {
-    vec![
-        (Shape::Everywhere, "air", state(1.2, 1e5)),
-        (
+/// A 1D tube of four 0.25 m cells along x with an ideal gas (`air`,
+/// γ = 1.4), the TNT products (`tnt`, JWL) and a solid (`solid`,
+/// Murnaghan): air everywhere at 1 bar, and `material` at 10 bar and
+/// 5 kg/m³ in x < 0.5.
+fn shock_tube(material: &str) -> OwnedScene {
+    let mut o = OwnedScene::new(Domain::cartesian([0.0; 3], [1.0; 3], [4, 1, 1]))
+        .with_material(
+            "air",
+            Some(EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.2))),
+        )
+        .with_material("tnt", Some(EosModel::Jwl(Jwl::tnt())))
+        .with_material("solid", Some(EosModel::Murnaghan(Murnaghan::anfo_k1())))
+        .with_region(Shape::Everywhere, "air", StateConfig::at_pressure(1.2, 1e5))
+        .with_region(
             Shape::Box {
                 min: [-1.0; 3],
                 max: [0.5, 2.0, 2.0],
             },
             material,
-            state(5.0, 1e6),
-        ),
-    ]
+            StateConfig::at_pressure(5.0, 1e6),
+        );
+    o.name = "tube".into();
+    o
 }
 
 /// The gas must be a known gas, a constant η must lie in [0, 0.25], every
@@ -95,9 +43,8 @@ fn shock_tube(material: &'static str) -> Vec<(Shape, &'static str, StateConfig)>
 /// pipeline's: each error names its field.
 #[test]
 fn each_bad_section_names_its_field() {
-    let eos = materials();
-    let initial = shock_tube("air");
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
+    let air = shock_tube("air");
+    let s = air.scene();
     let field = |text: &str, s: &Scene<'_>| config(text).validate(s).err().map(|e| e.field);
     assert_eq!(field("(material: \"air\")", &s), None);
     let e = config("(material: \"argon\")").validate(&s).unwrap_err();
@@ -118,8 +65,8 @@ fn each_bad_section_names_its_field() {
         None
     );
     // A region of the products is the gas's unless the products are named.
-    let initial = shock_tube("tnt");
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
+    let mut tnt = shock_tube("tnt");
+    let s = tnt.scene();
     let e = config("(material: \"air\")").validate(&s).unwrap_err();
     assert_eq!(
         (e.field.as_str(), e.message.as_str()),
@@ -134,9 +81,8 @@ fn each_bad_section_names_its_field() {
     );
     // A particle wall is no face of this pipeline; a fixed face's state is
     // the gas's.
-    let mut faces = OPEN_FACES.clone();
-    faces.x_high = BoundaryConfig::Wall;
-    let s = scene(&eos, &initial, &faces, Geometry::Cartesian);
+    tnt.boundaries.x_high = BoundaryConfig::Wall;
+    let s = tnt.scene();
     let e = config("(material: \"air\", products: Some(\"tnt\"))")
         .validate(&s)
         .unwrap_err();
@@ -145,10 +91,10 @@ fn each_bad_section_names_its_field() {
         e.message.ends_with("use `Reflective` for a slip wall"),
         "{e}"
     );
-    let mut fixed = state(1.2, 1e5);
+    let mut fixed = StateConfig::at_pressure(1.2, 1e5);
     fixed.material = Some("tnt".into());
-    faces.x_high = BoundaryConfig::Fixed(fixed);
-    let s = scene(&eos, &initial, &faces, Geometry::Cartesian);
+    tnt.boundaries.x_high = BoundaryConfig::Fixed(fixed);
+    let s = tnt.scene();
     assert_eq!(
         field("(material: \"air\", products: Some(\"tnt\"))", &s).as_deref(),
         Some("boundaries.x_high.material")
@@ -159,19 +105,16 @@ fn each_bad_section_names_its_field() {
 /// products carried, a products region holds Y = 1.
 #[test]
 fn the_builder_fills_each_cell_from_the_last_region_holding_it() {
-    let eos = materials();
-    let initial = shock_tube("air");
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
-    let solver = config("(material: \"air\")").build(&s).unwrap();
+    let solver = config("(material: \"air\")")
+        .build(&shock_tube("air").scene())
+        .unwrap();
     let data = solver
         .cell_data(&["density".into(), "pressure".into()])
         .unwrap();
     assert_eq!(data.field("density").unwrap(), &[5.0, 5.0, 1.2, 1.2]);
     assert_eq!(data.field("pressure").unwrap(), &[1e6, 1e6, 1e5, 1e5]);
-    let initial = shock_tube("tnt");
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
     let solver = config("(material: \"air\", products: Some(\"tnt\"))")
-        .build(&s)
+        .build(&shock_tube("tnt").scene())
         .unwrap();
     let y = solver
         .cell_data(&[FdmSolver::<IdealGas>::MASS_FRACTION_FIELD.into()])
@@ -182,17 +125,19 @@ fn the_builder_fills_each_cell_from_the_last_region_holding_it() {
 /// A cell in no region is an error naming `initial` and the cell.
 #[test]
 fn an_uncovered_cell_stops_the_build() {
-    let eos = materials();
-    let initial = vec![(
+    let mut o = shock_tube("air");
+    o.initial = vec![(
         Shape::Box {
             min: [0.0; 3],
             max: [0.6, 2.0, 2.0],
         },
-        "air",
-        state(1.2, 1e5),
+        "air".into(),
+        StateConfig::at_pressure(1.2, 1e5),
     )];
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
-    let e = config("(material: \"air\")").build(&s).err().unwrap();
+    let e = config("(material: \"air\")")
+        .build(&o.scene())
+        .err()
+        .unwrap();
     assert_eq!(e.field, "initial");
     assert!(e.message.starts_with("cell (2, 0, 0) at [0.625, "), "{e}");
 }
@@ -217,10 +162,7 @@ fn the_limits_follow_the_species_and_the_grid() {
 /// outputs.
 #[test]
 fn the_description_names_gas_faces_and_outputs() {
-    let eos = materials();
-    let initial = shock_tube("air");
-    let s = scene(&eos, &initial, &OPEN_FACES, Geometry::Cartesian);
-    let text = config("(material: \"air\")").describe(&s);
+    let text = config("(material: \"air\")").describe(&shock_tube("air").scene());
     assert!(text.starts_with("scenario `tube`: Fdm pipeline"), "{text}");
     assert!(
         text.contains("gas: `air` (IdealGas), viscosity Adaptive"),

@@ -5,10 +5,7 @@
 use brisance_core::{Geometry, Solver};
 use brisance_eos::{EosModel, IdealGas, JwlCTerm, Murnaghan};
 use brisance_grid::Shape;
-use brisance_scene::{
-    BoundaryConfig, Domain, InitialRegion, Material, OutputsSummary, PipelineSpec, Scene,
-    StateConfig, OPEN_FACES,
-};
+use brisance_scene::{BoundaryConfig, Domain, OwnedScene, PipelineSpec, Scene, StateConfig};
 
 use super::*;
 
@@ -24,89 +21,39 @@ fn config(text: &str) -> IceConfig {
         .unwrap()
 }
 
-fn state(density: f64, pressure: f64) -> StateConfig {
-    StateConfig {
-        density,
-        velocity: [0.0; 3],
-        pressure: Some(pressure),
-        specific_internal_energy: None,
-        temperature: None,
-        material: None,
-    }
-}
-
-/// Air and helium (ideal gases), ANFO-K1 and its products.
-fn materials() -> Vec<(&'static str, EosModel)> {
-    vec![
-        ("air", EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.2))),
-        (
+/// A 1D tube of four 0.25 m cells along x with air and helium (ideal
+/// gases), ANFO-K1 and its products: air everywhere, helium at 10 bar in
+/// x < 0.5.
+fn tube() -> OwnedScene {
+    let mut o = OwnedScene::new(Domain::cartesian([0.0; 3], [1.0; 3], [4, 1, 1]))
+        .with_material(
+            "air",
+            Some(EosModel::IdealGas(IdealGas::new(1.4, 717.5, 1.2))),
+        )
+        .with_material(
             "helium",
-            EosModel::IdealGas(IdealGas::new(5.0 / 3.0, 3116.0, 0.17)),
-        ),
-        ("anfo", EosModel::Murnaghan(Murnaghan::anfo_k1())),
-        ("products", EosModel::JwlCTerm(JwlCTerm::anfo_k1())),
-    ]
-}
-
-/// A 1D tube of four 0.25 m cells along x: air everywhere, helium at
-/// 10 bar in x < 0.5.
-fn tube() -> Vec<(Shape, &'static str, StateConfig)> {
-    vec![
-        (Shape::Everywhere, "air", state(1.2, 1e5)),
-        (
+            Some(EosModel::IdealGas(IdealGas::new(5.0 / 3.0, 3116.0, 0.17))),
+        )
+        .with_material("anfo", Some(EosModel::Murnaghan(Murnaghan::anfo_k1())))
+        .with_material("products", Some(EosModel::JwlCTerm(JwlCTerm::anfo_k1())))
+        .with_region(Shape::Everywhere, "air", StateConfig::at_pressure(1.2, 1e5))
+        .with_region(
             Shape::Box {
                 min: [-1.0; 3],
                 max: [0.5, 2.0, 2.0],
             },
             "helium",
-            state(1.5, 1e6),
-        ),
-    ]
-}
-
-fn scene<'a>(
-    eos: &'a [(&'static str, EosModel)],
-    initial: &'a [(Shape, &'static str, StateConfig)],
-    boundaries: &'a brisance_scene::Boundaries,
-    field_lists: Vec<(String, &'a [String])>,
-) -> Scene<'a> {
-    Scene {
-        name: "tube",
-        domain: Domain {
-            lower: [0.0; 3],
-            upper: [1.0; 3],
-            cells: [4, 1, 1],
-            patches: [1; 3],
-            geometry: Geometry::Cartesian,
-        },
-        end_time: 1e-3,
-        cfl: 0.5,
-        boundaries,
-        materials: eos
-            .iter()
-            .map(|(name, e)| Material { name, eos: Some(e) })
-            .collect(),
-        initial: initial
-            .iter()
-            .map(|(region, material, state)| InitialRegion {
-                region,
-                material,
-                state,
-            })
-            .collect(),
-        cell_fields: &[],
-        line_outs: 0,
-        field_lists,
-        outputs: OutputsSummary::default(),
-    }
+            StateConfig::at_pressure(1.5, 1e6),
+        );
+    o.name = "tube".into();
+    o
 }
 
 /// Each bad part of the section is reported at its field.
 #[test]
 fn each_bad_section_names_its_field() {
-    let eos = materials();
-    let initial = tube();
-    let s = scene(&eos, &initial, &OPEN_FACES, vec![]);
+    let mut o = tube();
+    let s = o.scene();
     let field = |text: &str, s: &Scene<'_>| config(text).validate(s).err().map(|e| e.field);
     assert_eq!(field("(materials: [\"air\", \"helium\"])", &s), None);
     assert_eq!(
@@ -152,21 +99,19 @@ fn each_bad_section_names_its_field() {
     );
     // A fixed face's state names one of the materials where there are
     // several.
-    let mut faces = OPEN_FACES.clone();
-    faces.x_low = BoundaryConfig::Fixed(state(1.2, 1e5));
-    let s = scene(&eos, &initial, &faces, vec![]);
+    o.boundaries.x_low = BoundaryConfig::Fixed(StateConfig::at_pressure(1.2, 1e5));
+    let s = o.scene();
     assert_eq!(
         field("(materials: [\"air\", \"helium\"])", &s).as_deref(),
         Some("boundaries.x_low")
     );
     // A per-material output field beyond the materials given.
-    let fields = ["pressure".to_string(), "density_3".to_string()];
-    let s = scene(
-        &eos,
-        &initial,
-        &OPEN_FACES,
-        vec![("outputs.gauges.0.fields".into(), &fields[..])],
-    );
+    let mut o = tube();
+    o.field_lists = vec![(
+        "outputs.gauges.0.fields".into(),
+        vec!["pressure".into(), "density_3".into()],
+    )];
+    let s = o.scene();
     assert_eq!(
         field("(materials: [\"air\", \"helium\"])", &s).as_deref(),
         Some("outputs.gauges.0.fields.1")
@@ -178,11 +123,8 @@ fn each_bad_section_names_its_field() {
 /// (`density_k` is material k's mass per cell volume, θ_k ρ_k).
 #[test]
 fn the_builder_fills_cells_with_the_region_and_a_trace() {
-    let eos = materials();
-    let initial = tube();
-    let s = scene(&eos, &initial, &OPEN_FACES, vec![]);
     let solver = config("(materials: [\"air\", \"helium\"])")
-        .build(&s)
+        .build(&tube().scene())
         .unwrap();
     let names = [
         "pressure",
@@ -216,9 +158,13 @@ fn the_builder_fills_cells_with_the_region_and_a_trace() {
 /// JWL++ detonation energy; another pair must give it.
 #[test]
 fn a_reaction_takes_the_jwlpp_heat_by_default() {
-    let eos = materials();
-    let initial = vec![(Shape::Everywhere, "anfo", state(1160.0, 1e5))];
-    let s = scene(&eos, &initial, &OPEN_FACES, vec![]);
+    let mut o = tube();
+    o.initial = vec![(
+        Shape::Everywhere,
+        "anfo".into(),
+        StateConfig::at_pressure(1160.0, 1e5),
+    )];
+    let s = o.scene();
     let rx = config(
         "(materials: [\"anfo\", \"products\"], reactions: [(reactant: \"anfo\", product: \"products\", model: JwlPlusPlus(g: 3.5083e-7, b: 1.3))])",
     )
@@ -239,9 +185,8 @@ fn a_reaction_takes_the_jwlpp_heat_by_default() {
 /// the materials with their equations of state.
 #[test]
 fn limits_and_description() {
-    let eos = materials();
-    let initial = tube();
-    let s = scene(&eos, &initial, &OPEN_FACES, vec![]);
+    let o = tube();
+    let s = o.scene();
     let c = config("(materials: [\"air\", \"helium\"])");
     let l = c.limits(Geometry::Axisymmetric);
     assert_eq!((l.ghost, l.fields.len()), (GHOST, 8 + 4 * MAX_MATERIALS));
