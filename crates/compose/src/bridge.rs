@@ -386,8 +386,7 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
             ));
         }
     }
-    crate::validate::check_faces(
-        s,
+    s.boundaries.check_faces(
         "FdmMpmBridge",
         &["Outflow", "Reflective", "Wall"],
         |bc| {

@@ -370,13 +370,13 @@ pub(crate) fn mpm_parts(
             BoundaryConfig::Fixed(st) => {
                 let path = format!("boundaries.{face}");
                 let particle_names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
-                let name = crate::validate::fixed_face_material(
+                let name = brisance_scene::fixed_face_material(
                     face,
                     st,
                     &particle_names,
                     "particle material",
                 )
-                .map_err(|(p, m)| located(&p, m))?;
+                .map_err(|e| located(&e.field, e.message))?;
                 let id = names
                     .iter()
                     .position(|n| n.as_str() == name)

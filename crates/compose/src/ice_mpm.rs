@@ -139,8 +139,7 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             "the coupled step runs the explicit pressure only; use `Explicit`".into(),
         ));
     }
-    crate::validate::check_faces(
-        s,
+    s.boundaries.check_faces(
         "IceMpm",
         &["Outflow", "Reflective", "Wall", "Periodic"],
         |bc| match bc {

@@ -3,7 +3,7 @@
 //! its line and column.
 
 use crate::build::PipelineLimits;
-use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, StateConfig, ThermalConfig};
+use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, ThermalConfig};
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
 use brisance_mpm::{HeatConduction, ThermalProperties};
@@ -90,30 +90,6 @@ pub(crate) fn thermal_properties(
             Err((format!("{path}.{field}"), format!("{field} = {value}: {expected}")))
         }
     }
-}
-
-/// Every face of `s` must be one of `accepted` (config names) for the
-/// pipeline `pipeline` ([`brisance_scene::Boundaries::check_faces`]).
-pub(crate) fn check_faces(
-    s: &Scenario,
-    pipeline: &str,
-    accepted: &[&str],
-    hint: impl Fn(&BoundaryConfig) -> &'static str,
-) -> Result<(), Problem> {
-    Ok(s.boundaries.check_faces(pipeline, accepted, hint)?)
-}
-
-/// The material of the state of `Fixed` face `face`
-/// ([`brisance_scene::fixed_face_material`]).
-pub(crate) fn fixed_face_material<'a>(
-    face: &str,
-    state: &'a StateConfig,
-    materials: &'a [String],
-    kind: &str,
-) -> Result<&'a str, Problem> {
-    Ok(brisance_scene::fixed_face_material(
-        face, state, materials, kind,
-    )?)
 }
 
 /// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
@@ -505,7 +481,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                     format!("bulk viscosity coefficient {name} = {value} must be finite and ≥ 0"),
                 ));
             }
-            check_faces(s, "Mpm", MPM_FACES, |_| "")?;
+            s.boundaries.check_faces("Mpm", MPM_FACES, |_| "")?;
             let particle_materials: Vec<String> = s
                 .materials
                 .iter()
@@ -514,8 +490,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 .collect();
             for (face, bc) in s.boundaries.faces() {
                 if let BoundaryConfig::Fixed(state) = bc {
-                    let m =
-                        fixed_face_material(face, state, &particle_materials, "particle material")?;
+                    let m = brisance_scene::fixed_face_material(
+                        face,
+                        state,
+                        &particle_materials,
+                        "particle material",
+                    )?;
                     if s.materials[m]
                         .model
                         .as_ref()

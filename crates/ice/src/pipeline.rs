@@ -263,7 +263,12 @@ impl<'de> Deserialize<'de> for IceReactionModel {
 
 /// The solver's reactions of `cfg`, checked; errors carry the field path.
 fn reactions(s: &Scene<'_>, cfg: &IceConfig) -> Result<Vec<IceReaction>, Problem> {
-    let eos = material_eos(s, cfg)?;
+    reactions_of(cfg, &material_eos(s, cfg)?)
+}
+
+/// The solver's reactions of `cfg` with `eos` the EOS of each of its
+/// materials ([`material_eos`]), checked.
+fn reactions_of(cfg: &IceConfig, eos: &[EosModel]) -> Result<Vec<IceReaction>, Problem> {
     let mut out: Vec<IceReaction> = Vec::new();
     for (k, r) in cfg.reactions.iter().enumerate() {
         let path = |f: &str| format!("pipeline.reactions.{k}.{f}");
@@ -432,6 +437,15 @@ fn check_alone(cfg: &IceConfig) -> Result<(), Problem> {
 /// The checks of the fluids' section, alone or as the fluid side of
 /// IceMpm (with the solids appended to `materials`).
 fn check_fluids(s: &Scene<'_>, cfg: &IceConfig) -> Result<(), Problem> {
+    checked_fluids(s, cfg).map(|_| ())
+}
+
+/// [`check_fluids`], returning what the checks found on the way: the EOS
+/// of each material and the reactions, which the builder takes.
+fn checked_fluids(
+    s: &Scene<'_>,
+    cfg: &IceConfig,
+) -> Result<(Vec<EosModel>, Vec<IceReaction>), Problem> {
     let n = cfg.materials.len();
     if n == 0 || n > MAX_MATERIALS {
         return Err((
@@ -447,8 +461,8 @@ fn check_fluids(s: &Scene<'_>, cfg: &IceConfig) -> Result<(), Problem> {
             ));
         }
     }
-    material_eos(s, cfg)?;
-    reactions(s, cfg)?;
+    let eos = material_eos(s, cfg)?;
+    let reactions = reactions_of(cfg, &eos)?;
     if !(cfg.cfl > 0.0 && cfg.cfl <= 1.0) {
         return Err((
             "pipeline.cfl".into(),
@@ -547,7 +561,7 @@ fn check_fluids(s: &Scene<'_>, cfg: &IceConfig) -> Result<(), Problem> {
             }
         }
     }
-    Ok(())
+    Ok((eos, reactions))
 }
 
 /// Builds the solver, its patches shared among `ranks` from the start;
@@ -562,8 +576,7 @@ fn build_with_traces(
     own_density: bool,
     ranks: Arc<dyn Communicator>,
 ) -> Result<IceSolver<EosModel>, Problem> {
-    check_fluids(s, cfg)?;
-    let eos = material_eos(s, cfg)?;
+    let (eos, reactions) = checked_fluids(s, cfg)?;
     let n = eos.len();
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
@@ -718,7 +731,6 @@ fn build_with_traces(
         ..Default::default()
     };
     let exchange = ExchangeCoefficients::uniform(n, cfg.momentum_exchange, cfg.heat_exchange);
-    let reactions = reactions(s, cfg)?;
     let mut solver = IceSolver::new_on(ranks, eos, level, boundaries, exchange, options, init)
         .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
     solver
@@ -853,7 +865,7 @@ impl PipelineSpec for IceConfig {
     /// Builds the solver, its patches spread over the ranks of the run
     /// ([`brisance_grid::comm::world`]; docs/cluster.md) from the start.
     fn build(&self, scene: &Scene<'_>) -> Result<IceSolver<EosModel>, FieldError> {
-        self.validate(scene)?;
+        check_alone(self).map_err(|(f, m)| FieldError::new(f, m))?;
         self.build_on(scene, false, brisance_grid::comm::world())
     }
 
