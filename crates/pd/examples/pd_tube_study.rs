@@ -17,7 +17,8 @@
 //! also counts the reactant's compression energy handed to the products at
 //! detonation. The products' kinetic energy is split into axial,
 //! transverse, about the family mean and non-affine parts
-//! (`cases::ProductsMotion`).
+//! (`cases::ProductsMotion`); the case's kinetic energy along the tube
+//! and its axial momentum follow them.
 
 use brisance_core::Solver;
 use brisance_pd::cases::{
@@ -119,8 +120,16 @@ fn main() -> Result<(), String> {
             let (axial, transverse) = (motion.axial, motion.transverse);
             let (pz_products, pz) = (motion.products_momentum_z, motion.total_momentum_z);
             let (through, counted) = products_through_case(&s, h, (0.15 * length, 0.85 * length));
+            let (mut case_axial, mut case_pz) = (0.0, 0.0);
+            for i in 0..s.node_count() {
+                if s.materials()[i] == 0 {
+                    let vz = s.velocities()[i][2];
+                    case_axial += 0.5 * s.mass(i) * vz * vz;
+                    case_pz += s.mass(i) * vz;
+                }
+            }
             println!(
-                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s",
+                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % contacts {:.2} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s  case KE axial {:.1} % p_z {:.2} N s",
                 s.time() * 1e6,
                 dt,
                 mid(&s),
@@ -128,6 +137,7 @@ fn main() -> Result<(), String> {
                 100.0 * e.case_kinetic / released,
                 100.0 * e.products_kinetic / released,
                 100.0 * e.bonds / released,
+                100.0 * e.contact / released,
                 released * 1e-3,
                 100.0 * disorder / released,
                 100.0 * nonaffine / released,
@@ -136,6 +146,8 @@ fn main() -> Result<(), String> {
                 100.0 * transverse / released,
                 pz_products,
                 pz,
+                100.0 * case_axial / released,
+                case_pz,
             );
         }
     }

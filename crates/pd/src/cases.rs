@@ -236,7 +236,9 @@ pub fn run_cylinder(
 
 /// Where the energy of a tube run is (J): the products' stored energy
 /// W(X)V and chemical energy not yet released, the kinetic energy of the
-/// case and of the products, and the elastic energy of the case bonds.
+/// case and of the products, the elastic energy of the case bonds and the
+/// energy stored in the short-range contacts (eq 27's pair potential,
+/// [`PdSolver::contact_energy`]) — the terms of the run summary's total.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyBudget {
     /// Σ W(X_i) V_i over the explosive nodes (W(1) V_i before detonation).
@@ -247,6 +249,9 @@ pub struct EnergyBudget {
     pub products_kinetic: f64,
     /// Bond energy of the case.
     pub bonds: f64,
+    /// Energy stored in the short-range contacts (products on the case,
+    /// case on case, and products on products where that contact is on).
+    pub contact: f64,
 }
 
 impl EnergyBudget {
@@ -268,12 +273,13 @@ impl EnergyBudget {
             case_kinetic,
             products_kinetic,
             bonds: s.bond_energy(),
+            contact: s.contact_energy(),
         }
     }
 
-    /// The sum of the four parts.
+    /// The sum of the five parts.
     pub fn total(&self) -> f64 {
-        self.products + self.case_kinetic + self.products_kinetic + self.bonds
+        self.products + self.case_kinetic + self.products_kinetic + self.bonds + self.contact
     }
 }
 
@@ -634,8 +640,8 @@ mod tests {
         let w1 = gas.isentrope.energy(1.0) * volume;
         assert!((b.products - w1).abs() <= 1e-12 * w1, "{b:?} vs {w1}");
         assert_eq!(
-            (b.case_kinetic, b.products_kinetic, b.bonds),
-            (0.0, 0.0, 0.0)
+            (b.case_kinetic, b.products_kinetic, b.bonds, b.contact),
+            (0.0, 0.0, 0.0, 0.0)
         );
         s.set_velocities(|_| [3.0, 0.0, 4.0]);
         let b = EnergyBudget::of(&s);
@@ -650,6 +656,29 @@ mod tests {
         assert!((b.case_kinetic - 12.5 * mc).abs() <= 1e-12 * 12.5 * mc);
         assert!((b.products_kinetic - 12.5 * mg).abs() <= 1e-12 * 12.5 * mg);
         assert!((b.total() - (w1 + 12.5 * (mc + mg))).abs() <= 1e-12 * b.total());
+    }
+
+    /// The budget is the run summary's total
+    /// (`Solver::conservation_totals`), the contact energy included: a
+    /// slice squeezed radially until its products press on the case
+    /// within the contact distance holds energy in the contacts, and the
+    /// two totals agree to round-off.
+    #[test]
+    fn the_budget_counts_the_contact_energy_as_the_run_summary_does() {
+        let (_, mut s) = slice();
+        s.set_velocities(|x| [-4.0e4 * x[0], -4.0e4 * x[1], 0.0]);
+        let e0 = s.conservation_totals().energy;
+        let mut steps = 0;
+        while s.contact_energy() <= 1e-6 * e0 && steps < 400 {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+            steps += 1;
+        }
+        let b = EnergyBudget::of(&s);
+        assert!(b.contact > 1e-6 * e0, "{} J in contacts after {steps} steps", b.contact);
+        let e = s.conservation_totals().energy;
+        assert!((b.total() - e).abs() <= 1e-12 * e.abs(), "{b:?}: {} vs {e}", b.total());
+        assert!((b.total() - b.contact - e).abs() > 1e-7 * e.abs());
     }
 
     #[test]
