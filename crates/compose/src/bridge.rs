@@ -34,8 +34,8 @@ use brisance_fdm::{
 };
 use brisance_grid::Level;
 use brisance_mpm::{
-    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, Particles, ShapeFunction,
-    UpdateScheme,
+    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
+    ShapeFunction, UpdateScheme,
 };
 use serde::{Deserialize, Serialize};
 
@@ -401,8 +401,29 @@ pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
     regions(s, cfg).map(|_| ())
 }
 
-/// Builds the coupled solver.
-pub fn build(s: &Scenario, cfg: &BridgeConfig) -> Result<Box<dyn Solver>, Problem> {
+/// A bridge solver, seen as its solver and its MPM side (what particle
+/// gauges follow).
+pub trait BridgeSolver: Solver {
+    /// The MPM side: the particles of the MPM region.
+    fn mpm(&self) -> &MpmSolver;
+}
+
+impl<E: GasLaw + 'static> BridgeSolver for Cfdmp<E> {
+    fn mpm(&self) -> &MpmSolver {
+        Cfdmp::mpm(self)
+    }
+}
+
+/// The built bridge: the solver and the particle sets of the scenario's
+/// particle gauges (in that order).
+pub type BuiltBridge = (Box<dyn BridgeSolver>, Vec<ParticleSet>);
+
+/// Builds the coupled solver and the particle sets of its particle
+/// gauges: each follows the MPM region's particles that start inside its
+/// region (tested at (r, z, 0) on an (r, z) grid, as the initial regions
+/// are) and, with a `material`, are of that material (a structure, or the
+/// `air` or `products` gas).
+pub fn build(s: &Scenario, cfg: &BridgeConfig) -> Result<BuiltBridge, Problem> {
     let regions = regions(s, cfg)?;
     let air = air_gas(s, cfg)?;
     let air_eos = EosModel::IdealGas(air);
@@ -438,7 +459,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     regions: BridgeRegions,
     law: E,
     gas_of: impl Fn(&str) -> Option<(&'a EosModel, f64)>,
-) -> Result<Box<dyn Solver>, Problem> {
+) -> Result<BuiltBridge, Problem> {
     use brisance_fdm::GHOST;
     let air = air_gas(s, cfg)?;
     let a = regions.axis;
@@ -701,6 +722,51 @@ fn build_with<'a, E: GasLaw + 'static>(
             "the MPM region holds no air particle: the bridge needs air at the interface".into(),
         ));
     }
+    // The particle gauges' sets, by the particles' identities (their
+    // order here).
+    let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());
+    for (i, g) in s.outputs.particle_gauges.iter().enumerate() {
+        let path = format!("outputs.particle_gauges.{i}");
+        let material = match &g.material {
+            None => None,
+            Some(name) if *name == cfg.air => Some(MaterialId(0)),
+            Some(name) if products_eos.is_some() && cfg.products.as_ref() == Some(name) => {
+                Some(MaterialId(1))
+            }
+            Some(name) => Some(
+                structures
+                    .iter()
+                    .position(|n| *n == name)
+                    .map(|k| MaterialId((first_structure + k) as u16))
+                    .ok_or_else(|| {
+                        (
+                            format!("{path}.material"),
+                            format!(
+                                "particle gauge `{}`: `{name}` has no particles in the bridge's MPM region (the air, the products or a material with a constitutive `model`)",
+                                g.name
+                            ),
+                        )
+                    })?,
+            ),
+        };
+        let set = ParticleSet::select(&particles, |x, m| {
+            g.region.contains(plane(x)) && (material.is_none() || material == Some(m))
+        });
+        if set.is_empty() {
+            let of = g
+                .material
+                .as_ref()
+                .map_or(String::new(), |m| format!(" of material `{m}`"));
+            return Err((
+                format!("{path}.region"),
+                format!(
+                    "particle gauge `{}`: no particle{of} of the MPM region starts inside its region",
+                    g.name
+                ),
+            ));
+        }
+        particle_gauges.push(set);
+    }
     let boundary = |k: usize| match faces[k].1 {
         _ if k == inner_mpm => GridBoundary::Outflow,
         BoundaryConfig::Wall => GridBoundary::Fixed,
@@ -750,7 +816,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     // The particle updates spread over the ranks of the run
     // (docs/cluster.md); nothing changes on one rank.
     coupled.distribute(brisance_grid::comm::world());
-    Ok(Box::new(coupled))
+    Ok((Box::new(coupled), particle_gauges))
 }
 
 /// Gas particles of the `Mpm` pipeline from a detonation remapped by

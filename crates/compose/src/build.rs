@@ -81,6 +81,13 @@ pub enum Built {
         /// One set per particle gauge (of the solid's particles).
         particle_gauges: Vec<ParticleSet>,
     },
+    /// The FDM–MPM bridge and the particle sets of its gauges.
+    Bridge {
+        /// The solver.
+        solver: Box<dyn crate::bridge::BridgeSolver>,
+        /// One set per particle gauge (of the MPM region's particles).
+        particle_gauges: Vec<ParticleSet>,
+    },
 }
 
 impl std::ops::Deref for Built {
@@ -90,6 +97,7 @@ impl std::ops::Deref for Built {
             Built::Solver(s) => s.as_ref(),
             Built::Mpm { solver, .. } => solver.as_ref(),
             Built::IceMpm { solver, .. } => solver.as_ref(),
+            Built::Bridge { solver, .. } => solver.as_ref(),
         }
     }
 }
@@ -100,6 +108,7 @@ impl std::ops::DerefMut for Built {
             Built::Solver(s) => s.as_mut(),
             Built::Mpm { solver, .. } => solver.as_mut(),
             Built::IceMpm { solver, .. } => solver.as_mut(),
+            Built::Bridge { solver, .. } => solver.as_mut(),
         }
     }
 }
@@ -111,6 +120,7 @@ impl Built {
             Built::Solver(s) => s,
             Built::Mpm { solver, .. } => solver,
             Built::IceMpm { solver, .. } => solver,
+            Built::Bridge { solver, .. } => solver,
         }
     }
 
@@ -132,6 +142,13 @@ impl Built {
                 true
             }
             Built::IceMpm {
+                solver,
+                particle_gauges,
+            } if k < particle_gauges.len() => {
+                particle_gauges[k].sample(solver.mpm(), quantities, out);
+                true
+            }
+            Built::Bridge {
                 solver,
                 particle_gauges,
             } if k < particle_gauges.len() => {
@@ -161,7 +178,10 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
         Pipeline::Peridynamics(pd) => build_owned(pd, s),
         Pipeline::Lattice(l) => build_owned(l, s),
         Pipeline::FdmMpmBridge(b) => crate::bridge::build(s, b)
-            .map(Built::Solver)
+            .map(|(solver, particle_gauges)| Built::Bridge {
+                solver,
+                particle_gauges,
+            })
             .map_err(|(path, message)| located(&path, message)),
         Pipeline::IceMpm(c) => crate::ice_mpm::build(s, c),
         Pipeline::Ice(ice) => build_owned(ice, s),

@@ -661,10 +661,13 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     let mut names = std::collections::BTreeSet::new();
     for (i, g) in o.particle_gauges.iter().enumerate() {
         let path = format!("outputs.particle_gauges.{i}");
-        if !matches!(s.pipeline, Pipeline::Mpm(_) | Pipeline::IceMpm(_)) {
+        if !matches!(
+            s.pipeline,
+            Pipeline::Mpm(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_)
+        ) {
             return Err((
                 path,
-                "particle gauges follow particles: they need the Mpm or IceMpm pipeline".into(),
+                "particle gauges follow particles: they need the Mpm, IceMpm or FdmMpmBridge pipeline".into(),
             ));
         }
         if !file_safe(&g.name) || !names.insert(g.name.clone()) {
@@ -677,7 +680,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
         check_region(&format!("{path}.region"), &g.region)?;
-        if let Some(m) = &g.material {
+        // The bridge's gases are particles too (its air and products).
+        let bridge_gas = |m: &String| match &s.pipeline {
+            Pipeline::FdmMpmBridge(b) => *m == b.air || b.products.as_ref() == Some(m),
+            _ => false,
+        };
+        if let Some(m) = g.material.as_ref().filter(|m| !bridge_gas(m)) {
             if s.materials.get(m).and_then(|m| m.model.as_ref()).is_none() {
                 return Err((
                     format!("{path}.material"),

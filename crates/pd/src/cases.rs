@@ -675,9 +675,17 @@ mod tests {
             steps += 1;
         }
         let b = EnergyBudget::of(&s);
-        assert!(b.contact > 1e-6 * e0, "{} J in contacts after {steps} steps", b.contact);
+        assert!(
+            b.contact > 1e-6 * e0,
+            "{} J in contacts after {steps} steps",
+            b.contact
+        );
         let e = s.conservation_totals().energy;
-        assert!((b.total() - e).abs() <= 1e-12 * e.abs(), "{b:?}: {} vs {e}", b.total());
+        assert!(
+            (b.total() - e).abs() <= 1e-12 * e.abs(),
+            "{b:?}: {} vs {e}",
+            b.total()
+        );
         assert!((b.total() - b.contact - e).abs() > 1e-7 * e.abs());
     }
 

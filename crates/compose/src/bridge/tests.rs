@@ -588,3 +588,91 @@ fn a_bad_mpm_remap_is_named() {
         "{e}"
     );
 }
+
+/// `RZ_BOX` with the 5-bar region driving a shock onto the disc, and the
+/// outputs' `particle_gauges` list `gauges`.
+fn rz_shock_with_gauges(gauges: &str) -> String {
+    RZ_BOX
+        .replace(
+            "pressure: 1.0e5)),
+    ],",
+            &format!("pressure: 1.0e5)),
+        (region: HalfSpace(point: (0, 0.01, 0), normal: (0, -1, 0)), material: \"air\", state: (density: 4.9, pressure: 5.0e5)),
+        {PLATE}
+    ],"),
+        )
+        .replace("activation_pressure: 5.0e4", "activation_pressure: 1.1e5")
+        .replace(
+            "vtk: false)",
+            &format!("vtk: false, particle_gauges: [{gauges}])"),
+        )
+}
+
+#[test]
+fn particle_gauges_follow_the_bridge_particles_of_a_structure_and_of_the_air() {
+    // The disc (r 0–14 mm, z 50–56 mm, its edges on sub-cell boundaries)
+    // and the air particles that start between z = 40 and 50 mm. The
+    // disc's gauge has its whole mass, π r² L ρ, and the mass-weighted mean
+    // velocity of the MPM's steel particles; the shock moves it along +z.
+    let text = rz_shock_with_gauges(
+        r#"(name: "disc", region: Box(min: (0.0, 0.05, -1.0), max: (0.014, 0.056, 1.0)), material: Some("rha"), quantities: [Mass, MeanVelocity]),
+           (name: "air", region: Box(min: (0.0, 0.04, -1.0), max: (0.02, 0.05, 1.0)), material: Some("air"), quantities: [Mass])"#,
+    );
+    let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+    let mut built = crate::build::build(&loaded.scenario).unwrap();
+    assert!(matches!(built, crate::build::Built::Bridge { .. }));
+    let quantities = [
+        brisance_mpm::SetQuantity::Mass,
+        brisance_mpm::SetQuantity::MeanVelocity,
+    ];
+    let mut out = Vec::new();
+    assert!(built.sample_particle_gauge(0, &quantities, &mut out));
+    let pi = std::f64::consts::PI;
+    let disc = pi * 0.014f64.powi(2) * 0.006 * 7850.0;
+    assert!(
+        (out[0] - disc).abs() <= 1e-12 * disc,
+        "{} vs {disc}",
+        out[0]
+    );
+    assert_eq!(&out[1..], &[0.0, 0.0, 0.0]);
+    assert!(built.sample_particle_gauge(1, &quantities[..1], &mut out));
+    let air = pi * 0.02f64.powi(2) * 0.01 * 1.225;
+    assert!((out[0] - air).abs() <= 1e-12 * air, "{} vs {air}", out[0]);
+    assert!(!built.sample_particle_gauge(2, &quantities, &mut out));
+    while built.time() < 8.0e-5 {
+        let dt = built.stable_dt().unwrap().min(8.0e-5 - built.time());
+        built.advance(dt).unwrap();
+    }
+    assert!(built.sample_particle_gauge(0, &quantities, &mut out));
+    let crate::build::Built::Bridge { solver, .. } = &built else {
+        unreachable!()
+    };
+    let p = solver.mpm().particles();
+    let steel = (0..p.len()).filter(|&i| p.material[i].0 == 1);
+    let (m, mv) = steel.fold((0.0, 0.0), |(m, mv), i| {
+        (m + p.mass[i], mv + p.mass[i] * p.velocity[i][1])
+    });
+    eprintln!("disc: mass {} kg, mean v_z {} m/s", out[0], out[2]);
+    assert!((out[0] - m).abs() <= 1e-12 * m);
+    assert!((out[2] - mv / m).abs() <= 1e-12 * (mv / m).abs());
+    assert!(out[2] > 0.0, "{}", out[2]);
+}
+
+#[test]
+fn a_bridge_particle_gauge_without_particles_is_named() {
+    // A region in the FDM's part only (z < 30 mm) holds no particle.
+    let text = rz_shock_with_gauges(
+        r#"(name: "low", region: Box(min: (0.0, 0.0, -1.0), max: (0.02, 0.02, 1.0)), material: Some("air"), quantities: [Mass])"#,
+    );
+    let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+    let e = crate::build::build(&loaded.scenario).err().unwrap();
+    assert_eq!(
+        e.field.as_deref(),
+        Some("outputs.particle_gauges.0.region"),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("no particle of material `air`"),
+        "{e}"
+    );
+}
