@@ -8,11 +8,18 @@
 //! config's header), builds the bridge from the config and advances it
 //! step by step, following the plate's centre: the mean z position and
 //! velocity of the plate particles within one cell of the axis (x, y < h),
-//! sampled every [`SAMPLE_EVERY`] steps. The run stops once the centre has
-//! moved more than half the thickness and its velocity has been negative
-//! in two samples running (the peak deflection is past), or at the config's end time.
-//! The figure of merit is the largest centre deflection over the
-//! thickness, δ/t, against the experiment within 10 %.
+//! sampled every [`SAMPLE_EVERY`] steps. The figure of merit is the
+//! largest centre deflection over the thickness, δ/t (seed 001's "maximum
+//! deflection ... measured during the experiments"), against the
+//! experiment within 10 %. The centre rings: its velocity turns negative
+//! for a few samples long before the largest deflection (case 1 in r–z at
+//! 2.5 mm: at 451 µs and 24.2 mm, against 27.6 mm at 734 µs), so the run
+//! stops only once the peak is clearly past: the centre has moved more
+//! than half the thickness and has fallen back below [`REBOUND`] of its
+//! largest deflection, or has not passed it for [`HOLD`] of the time it
+//! took to reach it; or at the config's end time. The deflection at the
+//! first reversal (velocity negative in two samples running), the stop
+//! rule of earlier reports, is kept beside it.
 //!
 //! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset; the
 //! rows of each finished case are spliced into docs/validation.md at once.
@@ -44,6 +51,13 @@ const REMAP_MARGIN: f64 = 0.16e-6;
 const STEEL: f64 = 2.0;
 /// Steps between two samples of the plate's centre.
 const SAMPLE_EVERY: u64 = 4;
+/// The run stops once the centre has fallen back below this fraction of
+/// its largest deflection (the plate rebounds: series 1 is "mostly
+/// dynamic elastic", seed 001 §5.4) …
+const REBOUND: f64 = 0.9;
+/// … or has not passed its largest deflection for this fraction of the
+/// time it took to reach it (a plate that stays deformed).
+const HOLD: f64 = 0.5;
 /// Cell size of the scale-4 configs, m; a case's is [`PlateCase::cell`].
 const CELL: f64 = 0.005;
 /// Plate thickness of the scale-4 cases, m: the length a case's geometry
@@ -427,9 +441,12 @@ pub(crate) struct PlateRun {
     pub(crate) history: Vec<(f64, f64, f64)>,
     pub(crate) peak: f64,
     pub(crate) peak_time: f64,
-    /// The centre's velocity turned negative after moving (the peak is
-    /// past).
+    /// The peak is past: the centre fell back below [`REBOUND`] of it, or
+    /// did not pass it for [`HOLD`] of the time to it.
     pub(crate) peak_reached: bool,
+    /// Time and deflection where the centre's velocity first turned
+    /// negative (two samples running) after moving half the thickness.
+    pub(crate) first_reversal: Option<(f64, f64)>,
     pub(crate) stop: Option<String>,
     pub(crate) steps: u64,
     pub(crate) finished: Finished,
@@ -492,6 +509,7 @@ pub(crate) fn run_case(
         vec![span_momentum(run.solver.as_ref(), grid, 0.5 * case.diameter).unwrap_or(f64::NAN)];
     let (mut peak, mut peak_time, mut peak_reached) = (0.0f64, 0.0, false);
     let mut falling = 0u32;
+    let mut first_reversal = None;
     run.step(SAMPLE_EVERY, |solver, steps, _| {
         let (z, v, _) = sample_centre(solver, grid, cell)?;
         let d = z - z0;
@@ -521,7 +539,12 @@ pub(crate) fn run_case(
             );
         }
         falling = if v < 0.0 { falling + 1 } else { 0 };
-        peak_reached = peak > 0.5 * case.thickness && falling >= 2;
+        let moved = peak > 0.5 * case.thickness;
+        if moved && falling >= 2 && first_reversal.is_none() {
+            first_reversal = Some((solver.time(), d));
+        }
+        let t = solver.time();
+        peak_reached = moved && (d < REBOUND * peak || t - peak_time > HOLD * peak_time);
         Ok(peak_reached)
     })?;
     let wall = run.elapsed();
@@ -569,6 +592,7 @@ pub(crate) fn run_case(
         peak,
         peak_time,
         peak_reached,
+        first_reversal,
         stop,
         steps: run.steps,
         finished,
@@ -704,9 +728,13 @@ fn write_section(report: &mut Report, runs: &[PlateRun], section: Section) -> Re
          comes from what does not scale, the strain-rate term of Johnson–Cook (rates are 1/k) and the \
          0.2 %. Clamp: outside r = D/2 the plate is bonded to an RHA ring 6 t thick behind it, held by the \
          fixed MPM face; void behind the plate inside r = D/2. Each FDM region starts from the 1D \
-         spherical detonation (800 cells over 80 k mm) remapped at r_c/D + 0.16 k µs. The run stops when \
-         the centre's velocity (mean over the plate particles with x, y < one cell) is negative in two \
-         samples running (4 steps apart) after it has moved 0.5 t; δ is the largest centre displacement. \
+         spherical detonation (800 cells over 80 k mm) remapped at r_c/D + 0.16 k µs. δ is the largest \
+         displacement of the centre (mean over the plate particles with x, y < one cell, sampled every 4 \
+         steps; seed 001: \"the maximum deflection of the plate δ is measured\"). The centre rings, its \
+         velocity turning negative for a few samples before the largest deflection, so the run stops once \
+         it has moved 0.5 t and then fallen back below 0.9 δ or not passed δ for half the time it took to \
+         reach it; the column \"at the first reversal\" is δ/t where its velocity first turned negative in \
+         two samples running, the stop rule of earlier reports. \
          Wall times on the shared 2-CPU machine; memory: growth of this process's resident set over the \
          build and run, and its peak during the case (the process's peak reset at the build; — where the kernel refuses the reset). FDM / MPM: the bridge's split of the wall time \
          (`time_split.json`).\n"
@@ -756,7 +784,7 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "| case | scale | t (m) | D (m) | W (kg) | R (m) | δ/t measured | experiment | seed CFDMP | seed LS-DYNA | peak at (µs) | steps | wall (s) | FDM / MPM (s) | memory growth / peak (MB) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| case | scale | t (m) | D (m) | W (kg) | R (m) | δ/t measured | experiment | seed CFDMP | seed LS-DYNA | peak at (µs) | δ/t at the first reversal (µs) | steps | wall (s) | FDM / MPM (s) | memory growth / peak (MB) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for c in &PLATE_CASES {
         let of_case: Vec<&PlateRun> = runs.iter().filter(|r| r.case.id == c.id).collect();
@@ -779,7 +807,7 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
                     let mb = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.0}", v / 1e6));
                     let _ = writeln!(
                     md,
-                    "| {} | {} | {} | {} | {} | {} | {:.2}{} | {} | {} | {} | {:.0} | {} | {:.0} | {} / {} | {} / {} |",
+                    "| {} | {} | {} | {} | {} | {} | {:.2}{} | {} | {} | {} | {:.0} | {} | {} | {:.0} | {} / {} | {} / {} |",
                     label(r),
                     c.scale,
                     c.thickness,
@@ -792,6 +820,11 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
                     c.cfdmp,
                     opt(c.lsdyna),
                     r.peak_time * 1e6,
+                    r.first_reversal.map_or("—".into(), |(t, d)| format!(
+                        "{:.2} ({:.0})",
+                        d / c.thickness,
+                        t * 1e6
+                    )),
                     r.steps,
                     r.finished.wall,
                     split("fdm"),
@@ -803,7 +836,7 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
                 None => {
                     let _ = writeln!(
                     md,
-                    "| {} | {} | {} | {} | {} | {} | not run | {} | {} | {} | — | — | — | — | — |",
+                    "| {} | {} | {} | {} | {} | {} | not run | {} | {} | {} | — | — | — | — | — | — |",
                     c.id,
                     c.scale,
                     c.thickness,
@@ -880,7 +913,8 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
                     }
                 ),
                 None if r.peak_reached => format!(
-                    "the centre's velocity turned negative at {:.1} µs",
+                    "the largest deflection at {:.1} µs, the run stopped at {:.1} µs past it",
+                    r.peak_time * 1e6,
                     r.finished.final_time * 1e6
                 ),
                 None => format!("the run reached its end time {:.1} µs", r.finished.final_time * 1e6),
