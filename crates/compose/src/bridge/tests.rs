@@ -183,14 +183,7 @@ fn an_rz_bridge_carries_a_shock_onto_a_plate_and_its_cell_data_are_rings() {
     // A 5-bar region z < 10 mm drives a shock through the interface at
     // z = 30–40 mm onto the disc; the whole system's mass is the
     // cylinder's, π r² L ρ, not a slab's.
-    let text = RZ_BOX.replace(
-        "pressure: 1.0e5)),
-    ],",
-        &format!("pressure: 1.0e5)),
-        (region: HalfSpace(point: (0, 0.01, 0), normal: (0, -1, 0)), material: \"air\", state: (density: 4.9, pressure: 5.0e5)),
-        {PLATE}
-    ],"),
-    ).replace("activation_pressure: 5.0e4", "activation_pressure: 1.1e5");
+    let text = rz_shock_with_gauges("");
     let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
     let mut solver = crate::build::build_solver(&loaded.scenario).unwrap();
     let m0 = solver.conservation_totals().mass;
