@@ -23,6 +23,8 @@
 //!
 //! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset; the
 //! rows of each finished case are spliced into docs/validation.md at once.
+//! `BRISANCE_PLATE_RZ_H` (mm, default `5,1.25`) sets the r–z case 1's h
+//! sequence beside the configs' 2.5 mm.
 //!
 //! Cases 2, 3, 5 and 6 (scale 2 and full scale) are cases 1 and 4 with
 //! every length and time multiplied by k = 2 and 4 (Hopkinson–Cranz
@@ -622,8 +624,25 @@ pub(crate) fn e_plate_rz(report: &mut Report, img: &Path) -> Result<()> {
     let mut runs: Vec<(u8, Grid)> = [4, 5, 6, 1, 2, 3]
         .map(|id| (id, Grid::Rz { h4: RZ_CELL }))
         .to_vec();
-    runs.push((1, Grid::Rz { h4: 2.0 * RZ_CELL }));
-    runs.push((1, Grid::Rz { h4: 0.5 * RZ_CELL }));
+    // Case 1's h sequence: `BRISANCE_PLATE_RZ_H` (mm, e.g. `5,1.25,0.625`)
+    // or 5 and 1.25 mm, beside the configs' 2.5 mm.
+    let extra: Vec<f64> = match std::env::var("BRISANCE_PLATE_RZ_H") {
+        Ok(list) => list
+            .split(',')
+            .map(|h| h.trim().parse::<f64>().map(|h| h * 1e-3))
+            .collect::<Result<_, _>>()
+            .context("BRISANCE_PLATE_RZ_H takes cell sizes in mm, e.g. 5,1.25,0.625")?,
+        Err(_) => vec![2.0 * RZ_CELL, 0.5 * RZ_CELL],
+    };
+    if let Some(bad) = extra.iter().find(|h| !(**h > 0.0 && h.is_finite())) {
+        bail!("BRISANCE_PLATE_RZ_H: a cell size must be > 0 mm, got {}", bad * 1e3);
+    }
+    runs.extend(
+        extra
+            .into_iter()
+            .filter(|h| (h - RZ_CELL).abs() > 1e-12)
+            .map(|h4| (1, Grid::Rz { h4 })),
+    );
     run_plates(report, img, &runs, Section::Rz)
 }
 
@@ -758,8 +777,8 @@ fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
          6 t thick behind it outside r = D/2 held by the fixed z_high face, void behind the plate, \
          FDM region r 0–270 k mm, z −60 .. 80 k mm, MPM region z 60 .. 170 k mm, bridge 20 k mm wide, \
          2 particles per cell per direction, MPM Courant 0.4, bulk viscosity on. **2.5 k mm cells** \
-         (half the quarter's: the plate is 4 cells, 8 particles, thick); case 1 also at 5 and 1.25 mm \
-         (the rows marked with their cells), the FDM region's remap made for each grid \
+         (half the quarter's: the plate is 4 cells, 8 particles, thick); case 1 also at other cells \
+         (the rows marked with their cells; `BRISANCE_PLATE_RZ_H`, mm, default 5 and 1.25), the FDM region's remap made for each grid \
          (`brisance remap --axisymmetric`: the 1D spherical detonation onto the rings, the charge on \
          the axis). The centre is the plate particles within one cell of the axis; the stop rule and \
          the columns are the 3D section's.\n"
