@@ -635,7 +635,10 @@ pub(crate) fn e_plate_rz(report: &mut Report, img: &Path) -> Result<()> {
         Err(_) => vec![2.0 * RZ_CELL, 0.5 * RZ_CELL],
     };
     if let Some(bad) = extra.iter().find(|h| !(**h > 0.0 && h.is_finite())) {
-        bail!("BRISANCE_PLATE_RZ_H: a cell size must be > 0 mm, got {}", bad * 1e3);
+        bail!(
+            "BRISANCE_PLATE_RZ_H: a cell size must be > 0 mm, got {}",
+            bad * 1e3
+        );
     }
     runs.extend(
         extra
