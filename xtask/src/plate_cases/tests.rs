@@ -73,8 +73,9 @@ fn the_scaled_configs_are_the_scale_4_configs_with_lengths_and_times_times_k() {
         }
         // The non-zero lengths and the time: domain 4, end time 1, FDM
         // and MPM regions 4 + 4, the air and plate boxes 4 + 4, the
-        // ring 4 (base z, radii, length), the gauge 3.
-        assert_eq!(scaled, 28, "{}", case.config);
+        // ring 4 (base z, radii, length), the gauge 3, the centre
+        // particle gauge's box 4 (its half-width and its z range).
+        assert_eq!(scaled, 32, "{}", case.config);
         let loaded = load_file(&workspace_root().join(case.config), &[]).unwrap();
         assert_eq!(loaded.scenario.domain.cells, [54, 54, 46]);
         assert!((loaded.scenario.time.end - k * 1.5e-3).abs() < 1e-15);
