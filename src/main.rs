@@ -428,6 +428,9 @@ fn run_command() -> ExitCode {
                     for g in &s.safeguards {
                         println!("{}", safeguard_line(g));
                     }
+                    for line in time_step_lines(&s) {
+                        println!("{line}");
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e @ compose::RunError::Interrupted { .. }) => {
@@ -586,6 +589,24 @@ fn safeguard_line(g: &brisance::io::Safeguard) -> String {
     )
 }
 
+/// The summary's lines on the time step, e.g.
+/// `  time step: first 2.500e-7 s, smallest 1.000e-9 s at t = 7.500e-4 s, last 3.000e-8 s`
+/// and, where the method says what sets it at the end,
+/// `  last step set by: MPM particle 7 ...`; empty for a run without a step.
+fn time_step_lines(s: &brisance::io::RunSummary) -> Vec<String> {
+    let Some(t) = &s.time_step else {
+        return Vec::new();
+    };
+    let mut lines = vec![format!(
+        "  time step: first {:.3e} s, smallest {:.3e} s at t = {:.3e} s, last {:.3e} s",
+        t.first, t.smallest, t.smallest_at, t.last
+    )];
+    if let Some(limit) = &t.limit {
+        lines.push(format!("  last step set by: {limit}"));
+    }
+    lines
+}
+
 /// The summary's line on a coupled method's split of its wall time, e.g.
 /// `  wall split: fdm 33.0 s (42 %), mpm 46.0 s (58 %)` (shares of the
 /// whole run's wall time); `None` for a method with one part.
@@ -613,7 +634,9 @@ fn wall_split_line(parts: &[brisance::io::WallPart], wall_seconds: f64) -> Optio
 
 #[cfg(test)]
 mod tests {
-    use super::{outflow_line, panic_line, restart_command, shell_word, wall_split_line};
+    use super::{
+        outflow_line, panic_line, restart_command, shell_word, time_step_lines, wall_split_line,
+    };
 
     #[test]
     fn a_panic_is_one_line_saying_what_where_and_where_to_report() {
@@ -690,9 +713,26 @@ mod tests {
             outflow: None,
             wall_split: Vec::new(),
             safeguards: Vec::new(),
+            time_step: None,
             warnings: Vec::new(),
         };
         assert_eq!(outflow_line(&s), None);
+        assert!(time_step_lines(&s).is_empty());
+        s.time_step = Some(brisance::io::TimeStepSummary {
+            first: 2.5e-7,
+            smallest: 1e-9,
+            smallest_at: 7.5e-4,
+            last: 3e-8,
+            limit: None,
+        });
+        assert_eq!(
+            time_step_lines(&s),
+            ["  time step: first 2.500e-7 s, smallest 1.000e-9 s at t = 7.500e-4 s, last 3.000e-8 s"]
+        );
+        if let Some(t) = s.time_step.as_mut() {
+            t.limit = Some("MPM particle 7".into());
+        }
+        assert_eq!(time_step_lines(&s)[1], "  last step set by: MPM particle 7");
         // 1 of 4 kg and 2 J of an initial −8 J (scaled by |E₀|).
         s.outflow = Some(totals(1.0, 2.0));
         assert_eq!(

@@ -340,6 +340,22 @@ fn set_overrides_the_grid_and_the_run_completes() {
     assert_eq!(summary["completed"], Value::Bool(true), "{summary}");
     assert!(summary["steps"].as_u64().unwrap() > 0, "{summary}");
     assert_eq!(summary["final_time"].as_f64(), Some(0.2), "{summary}");
+    // The steps and what set the last one: a cell of the 60.
+    let steps = &summary["time_step"];
+    let (first, smallest, last) = (
+        steps["first"].as_f64().unwrap(),
+        steps["smallest"].as_f64().unwrap(),
+        steps["last"].as_f64().unwrap(),
+    );
+    assert!(smallest > 0.0 && smallest <= first.min(last), "{summary}");
+    let limit = steps["limit"].as_str().unwrap();
+    assert!(limit.starts_with("FDM cell ["), "{limit}");
+    let text = stdout(&output);
+    assert!(text.contains("  time step: first "), "{text}");
+    assert!(
+        text.contains(&format!("  last step set by: {limit}")),
+        "{text}"
+    );
     // The field files hold 60 cells along x.
     let vti = fs::read_to_string(out.join("vtk").join("sod_00000.vti")).unwrap();
     assert!(

@@ -50,6 +50,40 @@ struct RunState {
     /// summed step by step because the particle count changes when
     /// particles leave through outflow faces.
     work: f64,
+    /// The steps taken: first, smallest (and the time it started at) and
+    /// last, s; `None` before the first.
+    time_steps: Option<TimeSteps>,
+}
+
+/// The run's time steps so far, for the summary.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+struct TimeSteps {
+    first: f64,
+    smallest: f64,
+    smallest_at: f64,
+    last: f64,
+}
+
+impl TimeSteps {
+    /// These steps and one of `dt` from time `t`.
+    fn with(self_: Option<Self>, dt: f64, t: f64) -> Self {
+        match self_ {
+            None => Self {
+                first: dt,
+                smallest: dt,
+                smallest_at: t,
+                last: dt,
+            },
+            Some(mut s) => {
+                if dt < s.smallest {
+                    s.smallest = dt;
+                    s.smallest_at = t;
+                }
+                s.last = dt;
+                s
+            }
+        }
+    }
 }
 
 /// Steps between the snapshots [`LastGood`] takes: a snapshot costs about
@@ -639,6 +673,13 @@ impl Runner<'_> {
                 })
                 .collect(),
             wall_split: self.wall_split(),
+            time_step: self.state.time_steps.map(|t| io::TimeStepSummary {
+                first: t.first,
+                smallest: t.smallest,
+                smallest_at: t.smallest_at,
+                last: t.last,
+                limit: self.solver.time_step_limit(),
+            }),
             warnings: self.warnings.clone(),
         }
     }
@@ -866,6 +907,7 @@ pub fn run_until_stopped(
                 }
             };
             let (dt, hits) = next_step(stable, remaining);
+            let t_start = r.solver.time();
             let work = r.solver.work_per_step().0;
             {
                 let _span = tracing::trace_span!("step", step = r.state.steps, dt).entered();
@@ -885,6 +927,7 @@ pub fn run_until_stopped(
                 last_good.steps.push(dt);
             }
             r.state.compute_seconds += t0.elapsed().as_secs_f64();
+            r.state.time_steps = Some(TimeSteps::with(r.state.time_steps, dt, t_start));
             r.state.work += work;
             r.state.steps += 1;
             r.note_blocked_inflow(|w| bar.suspend(|| tracing::warn!("{w}")));

@@ -165,6 +165,15 @@ pub trait Solver: Send {
         [false; 6]
     }
 
+    /// What sets [`Solver::stable_dt`] in the current state, in words,
+    /// for the run summary: the particle or cell whose signal speed binds
+    /// (with where it is and the speed's parts), or the limit that does.
+    /// Computed on demand, once a run, outside the step; `None` (the
+    /// default) for a method that does not say.
+    fn time_step_limit(&self) -> Option<String> {
+        None
+    }
+
     /// Wall-clock seconds spent so far in each named part of a method made
     /// of several (the FDM and the MPM of a bridge, for instance), for the
     /// run summary; empty (the default) for a method with one part.

@@ -819,6 +819,20 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         Cfdmp::stable_dt(self)
     }
 
+    /// The FDM's or the MPM's limit, whichever step is the smaller (the
+    /// FDM's alone before activation, as in step 1).
+    /// A part whose step fails (a collapsed or non-physical one) is named.
+    fn time_step_limit(&self) -> Option<String> {
+        let Ok(f) = self.fdm.stable_dt() else {
+            return self.fdm.time_step_limit();
+        };
+        match self.active.then(|| self.mpm.stable_dt()) {
+            Some(Err(_)) => self.mpm.time_step_limit(),
+            Some(Ok(m)) if m < f => self.mpm.time_step_limit(),
+            _ => self.fdm.time_step_limit(),
+        }
+    }
+
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         Cfdmp::advance(self, dt)
     }

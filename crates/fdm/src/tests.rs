@@ -519,6 +519,36 @@ fn time_step_follows_the_cfl_formula() {
     assert!((s.stable_dt().unwrap() - expected).abs() < 1e-15);
 }
 
+#[test]
+fn the_time_step_limit_names_the_fastest_cell() {
+    // At rest but for cell 6, which moves at 3 along x: its
+    // Δx / (|u| + c) is the smallest, and its centre is x = 0.65.
+    let level = Level::new(
+        [0.0; 3],
+        [1.0; 3],
+        [10, 1, 1],
+        [2, 1, 1],
+        crate::sweep::GHOST,
+    )
+    .unwrap();
+    let s = FdmSolver::new(
+        gas(),
+        level,
+        [FdmBoundary::Outflow; 6],
+        FdmOptions::default(),
+        |x| {
+            let u = if (x[0] - 0.65).abs() < 0.01 { 3.0 } else { 0.0 };
+            state(1.0, [u, 0.0, 0.0], 1.0)
+        },
+    )
+    .unwrap();
+    let limit = s.time_step_limit().unwrap();
+    assert_eq!(
+        limit,
+        "FDM cell [6, 0, 0] at (0.6500, 0.5000, 0.5000) m: sound speed 1 m/s + |u_x| 3 m/s"
+    );
+}
+
 mod contract {
     //! Property tests of the `Solver` contract on random initial data.
     use super::*;

@@ -42,6 +42,8 @@ pub use csv::{
 pub use error::IoError;
 pub use number::format_f64;
 pub use pvd::PvdSeries;
-pub use summary::{read_summary, relative_change, write_summary, RunSummary, Safeguard, WallPart};
+pub use summary::{
+    read_summary, relative_change, write_summary, RunSummary, Safeguard, TimeStepSummary, WallPart,
+};
 pub use vti::{pvti_text, write_pvti, write_vti, write_vti_nodes, write_vti_piece};
 pub use vtu::write_vtu;

@@ -56,6 +56,10 @@ pub struct RunSummary {
     /// positivity limiter); empty for a method without one.
     #[serde(default)]
     pub safeguards: Vec<Safeguard>,
+    /// The steps the run took and what set the last one; absent in a
+    /// run that took no step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_step: Option<TimeStepSummary>,
     /// What the run warned of (a one-way open face that held back an
     /// inflow, for instance), in the order it happened; left out of the
     /// file when there is none.
@@ -74,6 +78,22 @@ pub struct Safeguard {
     pub acted: u64,
     /// How many it checked.
     pub checked: u64,
+}
+
+/// The time steps of a run: where a step collapsed, and what set it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TimeStepSummary {
+    /// The first step, s.
+    pub first: f64,
+    /// The smallest step, s (output times cut a step short too).
+    pub smallest: f64,
+    /// The time at the start of the smallest step, s.
+    pub smallest_at: f64,
+    /// The last step, s.
+    pub last: f64,
+    /// What sets the stable step at the end of the run, in the method's
+    /// words (`Solver::time_step_limit`), where it says.
+    pub limit: Option<String>,
 }
 
 /// Wall-clock seconds one named part of a coupled method took.
@@ -161,6 +181,13 @@ mod tests {
                     seconds: 8.0,
                 },
             ],
+            time_step: Some(TimeStepSummary {
+                first: 2.5e-7,
+                smallest: 1.0e-9,
+                smallest_at: 7.5e-4,
+                last: 3.0e-8,
+                limit: Some("MPM particle 7 (material 0, ideal gas)".to_string()),
+            }),
             warnings: vec!["x_low held back an inflow".to_string()],
         }
     }

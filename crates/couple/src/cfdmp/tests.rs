@@ -227,6 +227,36 @@ fn conservative5(c: &Cfdmp<IdealGas>, g: [usize; 3]) -> [f64; 5] {
 }
 
 #[test]
+fn the_time_step_limit_is_the_smaller_step_s_part() {
+    let mut c = coupled();
+    // Before activation the FDM's step alone (step 1).
+    c.active = false;
+    let fdm = c.fdm.time_step_limit().unwrap();
+    assert_eq!(Solver::time_step_limit(&c).as_deref(), Some(fdm.as_str()));
+    // Active: the MPM's once a particle is faster than any cell.
+    c.active = true;
+    let ps = c.mpm.particles();
+    let fast = ps.len();
+    let twin = brisance_mpm::ParticleInit {
+        position: ps.position[0],
+        velocity: [3.0e3, 0.0, 0.0],
+        mass: ps.mass[0],
+        volume: ps.volume[0],
+        specific_internal_energy: ps.specific_internal_energy[0],
+        material: ps.material[0],
+        ..Default::default()
+    };
+    c.mpm.insert_particles(&[twin]).unwrap();
+    assert!(c.mpm.stable_dt().unwrap() < c.fdm.stable_dt().unwrap());
+    let limit = Solver::time_step_limit(&c).unwrap();
+    assert!(
+        limit.starts_with(&format!("MPM particle {fast} ")),
+        "{limit}"
+    );
+    assert_eq!(Some(limit), c.mpm.time_step_limit());
+}
+
+#[test]
 fn an_empty_mpm_cell_gives_its_fictitious_cell_the_state_inside_it() {
     let mut c = coupled();
     let dt = c.mpm.stable_dt().unwrap().min(c.fdm.stable_dt().unwrap());

@@ -1043,6 +1043,17 @@ impl Solver for IceMpm {
         self.ice.blocked_inflow()
     }
 
+    /// The fluids' limit or the particles', whichever gives the smaller
+    /// step (the one whose step fails, if one does).
+    fn time_step_limit(&self) -> Option<String> {
+        match (self.ice.stable_dt(), self.mpm.stable_dt()) {
+            (Err(_), _) => self.ice.time_step_limit(),
+            (_, Err(_)) => self.mpm.time_step_limit(),
+            (Ok(i), Ok(m)) if m < i => self.mpm.time_step_limit(),
+            _ => self.ice.time_step_limit(),
+        }
+    }
+
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         let _span = tracing::trace_span!("ice_mpm_step", dt).entered();
         // The whole step runs as one task of the thread pool, so that each

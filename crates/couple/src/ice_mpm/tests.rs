@@ -167,3 +167,31 @@ fn particles_leaving_through_an_outflow_face_are_booked() {
     let particles = s.mpm().conservation_totals().mass;
     assert!((particles - m0).abs() <= 1e-12 * m0, "{particles} vs {m0}");
 }
+
+/// The run summary's limit is the particles' when their step is the
+/// smaller (a steel block at 200 m/s in air at rest: steel's sound speed
+/// against air's) and names the particle.
+#[test]
+fn the_time_step_limit_is_the_smaller_step_s_part() {
+    use brisance_core::Solver;
+    let h = 1e-3;
+    let s = build(&Setup {
+        lower: [0.0; 3],
+        upper: [0.04, h, h],
+        cells: [40, 1, 1],
+        solids: vec![([0.03, 0.0, 0.0], [0.038, h, h])],
+        solid_velocity: [200.0, 0.0, 0.0],
+        gas_velocity: [0.0; 3],
+        ice_faces: std::array::from_fn(|_| IceBoundary::Outflow),
+        mpm_faces: [GridBoundary::Symmetry; 6],
+    });
+    let (ice, mpm) = (s.ice().stable_dt().unwrap(), s.mpm().stable_dt().unwrap());
+    assert!(mpm < ice, "{mpm:e} {ice:e}");
+    assert_eq!(s.stable_dt().unwrap(), mpm);
+    let limit = s.time_step_limit().unwrap();
+    assert_eq!(Some(limit.clone()), s.mpm().time_step_limit());
+    assert!(
+        limit.starts_with("MPM particle ") && limit.contains("|v| 200 m/s"),
+        "{limit}"
+    );
+}

@@ -145,6 +145,51 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         Ok(dt)
     }
 
+    /// The cell of this rank's patches with the smallest Δx_d/(|u_d| + c)
+    /// (the first in patch and cell order among equals), with its centre
+    /// and the speed's parts.
+    fn time_step_limit(&self) -> Option<String> {
+        let spacing = self.level.geometry.spacing;
+        let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
+        // (Δx/(|u|+c), global cell, axis, c, |u_d|)
+        let mut best: Option<(f64, [usize; 3], usize, f64, f64)> = None;
+        for (id, (p, f)) in self.level.patches.iter().zip(&self.fields).enumerate() {
+            if !self.owns(id) {
+                continue;
+            }
+            let d = &f.data;
+            for k in 0..p.size[2] {
+                for j in 0..p.size[1] {
+                    for i in 0..p.size[0] {
+                        let n = p.local_index([p.ghost[0] + i, p.ghost[1] + j, p.ghost[2] + k]);
+                        let rho = d[RHO][n];
+                        let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
+                        let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
+                        let y = if E::SPECIES { d[SPECIES][n] / rho } else { 0.0 };
+                        let (_, c) = self.eos.gas_pressure_and_sound_speed(rho, e, y);
+                        for a in (0..3).filter(|&a| active[a]) {
+                            let u = (m[a] / rho).abs();
+                            let t = spacing[a] / (u + c);
+                            if t.is_finite() && best.is_none_or(|b| t < b.0) {
+                                let cell = [p.lo[0] + i, p.lo[1] + j, p.lo[2] + k];
+                                best = Some((t, cell, a, c, u));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let (_, cell, axis, c, u) = best?;
+        let x = self.level.geometry.cell_centre(cell);
+        Some(format!(
+            "FDM cell {cell:?} at ({:.4}, {:.4}, {:.4}) m: sound speed {c:.0} m/s + |u_{}| {u:.0} m/s",
+            x[0],
+            x[1],
+            x[2],
+            ["x", "y", "z"][axis]
+        ))
+    }
+
     /// U^{n+1} = L_z L_y L_x L_x L_y L_z U^n, each over Δt/2 (seed 001
     /// eq 6); directions with a single cell are skipped.
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {

@@ -237,6 +237,7 @@ fn the_time_step_takes_the_diffusive_limits() {
     assert!((l.stable - convective).abs() < 1e-15 * convective);
     assert_eq!((l.viscous, l.conduction), (f64::INFINITY, f64::INFINITY));
     assert_eq!(l.binding(), TimeStepLimit::Convective);
+    assert!(s.time_step_limit().unwrap().starts_with("ICE cell ["));
     s.set_transport(vec![transport(0.4, 0.9)]).unwrap();
     let l = s.time_step_limits().unwrap();
     let inv = 2.0 * (cells * cells) as f64;
@@ -249,6 +250,10 @@ fn the_time_step_takes_the_diffusive_limits() {
     assert!(conduction < viscous.min(convective));
     assert_eq!(l.binding(), TimeStepLimit::Conduction);
     assert_eq!(s.stable_dt().unwrap(), l.stable);
+    assert_eq!(
+        s.time_step_limit().unwrap(),
+        format!("ICE heat conduction limit {conduction:.3e} s")
+    );
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! saves and restores.
 
 use super::*;
+use crate::diffusion::TimeStepLimit;
 use brisance_core::ExactTotals;
 use brisance_grid::{comm, pieces};
 
@@ -135,6 +136,41 @@ impl<E: Eos> Solver for IceSolver<E> {
             });
         }
         Ok(dt)
+    }
+
+    /// Which limit of [`Solver::stable_dt`] binds: the viscous or the
+    /// conduction step, the largest step allowed, a burning front, a
+    /// moving wall (implicit pressure), or else the cell of largest
+    /// Σ_d max_r (|u_r,d| + c_r)/Δx_d ([`IceSolver::fastest_signal`]). On
+    /// several MPI ranks a collective call, as every summary is.
+    fn time_step_limit(&self) -> Option<String> {
+        let Ok(limits) = self.time_step_limits() else {
+            return Some(format!("ICE {}", self.fastest_signal()));
+        };
+        let dt = limits.stable;
+        let binds = |rate: f64| rate > 0.0 && self.options.cfl / rate <= dt;
+        Some(match limits.binding() {
+            TimeStepLimit::Viscous => format!("ICE viscous limit {:.3e} s", limits.viscous),
+            TimeStepLimit::Conduction => {
+                format!("ICE heat conduction limit {:.3e} s", limits.conduction)
+            }
+            TimeStepLimit::Convective if dt >= self.options.max_dt => {
+                format!(
+                    "ICE largest step allowed (max_dt {:e} s)",
+                    self.options.max_dt
+                )
+            }
+            TimeStepLimit::Convective if binds(self.surface_front_rate()) => format!(
+                "ICE burning front: {:.3e} 1/s across a cell's depth",
+                self.surface_front_rate()
+            ),
+            TimeStepLimit::Convective
+                if self.options.pressure != PressureSolve::Explicit && binds(self.wall_rate()) =>
+            {
+                format!("ICE moving wall: Σ|w|/Δx {:.3e} 1/s", self.wall_rate())
+            }
+            TimeStepLimit::Convective => format!("ICE {}", self.fastest_signal()),
+        })
     }
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {

@@ -56,6 +56,22 @@ fn a_collapsed_step_names_the_cell_and_the_material() {
     );
 }
 
+/// The run summary's limit names the cell whose CFL rate sets the step
+/// and the material whose speed does.
+#[test]
+fn the_time_step_limit_names_the_fastest_cell() {
+    let mut s = solver_at(0.5, false, 0.0);
+    let c = s.level.patches[0].index_of_global([1, 0, 0]);
+    s.state[0].data[NS + VEL][c] = 3e4;
+    let limit = s.time_step_limit().unwrap();
+    assert!(
+        limit.starts_with("ICE cell [1, 0, 0] (centre [1.5, 0.5, 0.5] m)")
+            && limit.contains("set by material 2")
+            && limit.contains("u = (3e4"),
+        "{limit}"
+    );
+}
+
 /// [`solver_at`] at 30 km/s.
 fn solver(theta: f64, lagrangian: bool) -> IceSolver<EosModel> {
     solver_at(theta, lagrangian, 3e4)

@@ -227,6 +227,79 @@ impl Solver for MpmSolver {
         Ok(dt)
     }
 
+    /// The particle of the largest signal speed c + |v| (the lowest index
+    /// among equals), with its material, position and the speed's parts,
+    /// or the heat conduction's diffusive limit where that binds.
+    fn time_step_limit(&self) -> Option<String> {
+        let ps = &self.particles;
+        let viscosity = self.viscosity_params();
+        let speeds = |p: usize| {
+            let rho = ps.mass[p] / ps.volume[p];
+            let m = &self.materials[ps.material[p].0 as usize];
+            let c = m.wave_speed(rho, ps.specific_internal_energy[p]);
+            let s = viscosity.map_or(c, |v| {
+                v.model.signal_speed(self.bulk[p].trace_d, c, v.length)
+            });
+            let v = ps.velocity[p];
+            (c, s, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        };
+        let (_, p) = (0..ps.len())
+            .map(|p| {
+                let (_, s, v) = speeds(p);
+                (s + v, p)
+            })
+            .filter(|(s, _)| s.is_finite())
+            .fold((f64::NEG_INFINITY, usize::MAX), |a, b| {
+                if b.0 > a.0 {
+                    b
+                } else {
+                    a
+                }
+            });
+        let grid = &self.level.geometry;
+        let dx_min = (0..3)
+            .filter(|&d| grid.cells[d] > 1)
+            .map(|d| grid.spacing[d])
+            .fold(f64::INFINITY, f64::min);
+        let dt_wave = if p == usize::MAX {
+            f64::INFINITY
+        } else {
+            let (_, s, v) = speeds(p);
+            self.options.cfl * dx_min / (s + v)
+        };
+        if !self.thermal.is_empty() {
+            let alpha = crate::conduction::max_diffusivity(ps, &self.thermal).ok()?;
+            let dt_heat = crate::conduction::diffusive_time_step(alpha, grid, self.options.cfl);
+            if dt_heat < dt_wave {
+                return Some(format!(
+                    "MPM heat conduction: largest thermal diffusivity {alpha:.4e} m²/s"
+                ));
+            }
+        }
+        if p == usize::MAX {
+            return None;
+        }
+        let (c, s, v) = speeds(p);
+        let x = ps.position[p];
+        let material = ps.material[p].0 as usize;
+        let q = if s > c {
+            format!(" (bulk viscosity: signal speed {s:.0} m/s)")
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "MPM particle {p} (material {material}, {}) at ({:.4}, {:.4}, {:.4}) m: \
+             sound speed {c:.0} m/s{q} + |v| {v:.0} m/s, density {:.4e} kg/m³, \
+             V/V₀ {:.3}",
+            self.materials[material].name(),
+            x[0],
+            x[1],
+            x[2],
+            ps.mass[p] / ps.volume[p],
+            ps.volume[p] / ps.initial_volume[p],
+        ))
+    }
+
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         brisance_core::solver::check_step("MPM", dt)?;
         // The whole step runs as one task of the thread pool, so that each of

@@ -449,6 +449,43 @@ fn setup_errors_name_the_bad_option_or_particle() {
 }
 
 #[test]
+fn the_time_step_limit_names_the_fastest_particle() {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [3.0, 4.0, 0.0],
+        0,
+    );
+    // One particle of the block is faster than the rest.
+    let fast = ps.len() / 2;
+    ps.velocity[fast] = [0.0, 60.0, 0.0];
+    let x = ps.position[fast];
+    let s = MpmSolver::new(level, vec![soft()], ps, MpmOptions::default()).unwrap();
+    let c = ((1.0e7 + 4.0 * 5.0e6 / 3.0) / 1024.0f64).sqrt();
+    // The stable step is the fast particle's, and the limit names it.
+    let expected = 0.4 * 0.125 / (c + 60.0);
+    assert!((s.stable_dt().unwrap() - expected).abs() < 1e-12 * expected);
+    let limit = s.time_step_limit().unwrap();
+    let head = format!(
+        "MPM particle {fast} (material 0, {}) at ({:.4}, {:.4}, {:.4}) m: sound speed {c:.0} m/s + |v| 60 m/s",
+        soft().name(),
+        x[0],
+        x[1],
+        x[2]
+    );
+    assert!(limit.starts_with(&head), "{limit}\n{head}");
+    assert!(
+        limit.ends_with("density 1.0240e3 kg/m³, V/V₀ 1.000"),
+        "{limit}"
+    );
+}
+
+#[test]
 fn stable_dt_is_cfl_times_cell_over_wave_speed_plus_velocity() {
     let level = dyadic_level();
     let mut ps = Particles::new(0);

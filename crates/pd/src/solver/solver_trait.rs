@@ -81,6 +81,28 @@ impl Solver for PdSolver {
         Ok(dt)
     }
 
+    /// The node of smallest eq 24 step ([`PdSolver::limiting_node`]) with
+    /// its position, or the program burn's step while the burn lasts and
+    /// it is the smaller.
+    fn time_step_limit(&self) -> Option<String> {
+        if self.node_count() == 0 {
+            return None;
+        }
+        let (at, what) = self.limiting_node();
+        let node = self.node_dt(at) * self.options.safety_factor;
+        if self.time < self.burn_end && self.burn_step < node {
+            return Some(format!(
+                "PD program burn step {:.3e} s (until {:.3e} s)",
+                self.burn_step, self.burn_end
+            ));
+        }
+        let x = self.current_position(at);
+        Some(format!(
+            "PD {what}, at ({:.4}, {:.4}, {:.4}) m",
+            x[0], x[1], x[2]
+        ))
+    }
+
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SolverError::Other(format!(

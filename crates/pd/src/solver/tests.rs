@@ -650,6 +650,46 @@ fn a_contact_pair_shortens_the_stable_step_to_the_hand_value() {
     assert!(with < without);
 }
 
+/// The run summary's limit names the node of the smallest step with its
+/// position: apart, one of the four nodes (equal to round-off) at the
+/// hand step √(2ρ/S_bond) = 1.655467e-6 s before the safety factor (see
+/// `contact_step`) and no contact stiffness; in contact, one of the
+/// touching pair (nodes 1 and 2) with a contact stiffness.
+#[test]
+fn the_time_step_limit_names_the_node_that_sets_the_step() {
+    let h = 1.0e-3;
+    let mut s = two_steel_bodies(true);
+    let named = |s: &PdSolver| {
+        let limit = s.time_step_limit().unwrap();
+        let i: usize = limit
+            .strip_prefix("PD node ")
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{limit}"));
+        let x = s.current_position(i);
+        let tail = format!(", at ({:.4}, {:.4}, {:.4}) m", x[0], x[1], x[2]);
+        assert!(limit.ends_with(&tail), "{limit}");
+        assert_eq!(s.limiting_node().0, i);
+        let dt: f64 = limit
+            .split(" dt ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|d| d.parse().ok())
+            .unwrap_or_else(|| panic!("{limit}"));
+        (i, dt, limit)
+    };
+    let (_, dt, apart) = named(&s);
+    assert!((dt / 1.655467e-6 - 1.0).abs() < 1e-6, "{apart}");
+    assert!(apart.contains("contact 0e0"), "{apart}");
+    while s.current_position(2)[0] - s.current_position(1)[0] >= 1.35 * h {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let (i, _, touching) = named(&s);
+    assert!(i == 1 || i == 2, "{touching}");
+    assert!(!touching.contains("contact 0e0"), "{touching}");
+}
+
 /// The two two-node steel bodies of `contact_step`, B thrown at A at
 /// 100 m/s, through their whole collision at a step `1/refine` of the
 /// stable one: the largest relative change of the booked total (kinetic +
