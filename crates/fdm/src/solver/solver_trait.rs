@@ -145,18 +145,17 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
         Ok(dt)
     }
 
-    /// The cell of this rank's patches with the smallest Δx_d/(|u_d| + c)
-    /// (the first in patch and cell order among equals), with its centre
-    /// and the speed's parts.
+    /// The cell with the smallest Δx_d/(|u_d| + c) (the first in patch
+    /// and cell order among equals), with its centre and the speed's
+    /// parts. On several MPI ranks a collective call (it reads every
+    /// patch as its owner holds it), so every rank names the same cell.
     fn time_step_limit(&self) -> Option<String> {
         let spacing = self.level.geometry.spacing;
         let active: [bool; 3] = std::array::from_fn(|d| self.level.is_active(d));
         // (Δx/(|u|+c), global cell, axis, c, |u_d|)
         let mut best: Option<(f64, [usize; 3], usize, f64, f64)> = None;
-        for (id, (p, f)) in self.level.patches.iter().zip(&self.fields).enumerate() {
-            if !self.owns(id) {
-                continue;
-            }
+        let fields = self.gathered();
+        for (p, f) in self.level.patches.iter().zip(fields.iter()) {
             let d = &f.data;
             for k in 0..p.size[2] {
                 for j in 0..p.size[1] {
