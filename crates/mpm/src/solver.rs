@@ -706,6 +706,34 @@ impl MpmSolver {
         viscosity_params(&self.options, &self.level.geometry)
     }
 
+    /// Particle `p`'s sound speed [`Material::wave_speed`] at ρ = m/V and
+    /// its e, the signal speed the step takes for it (the bulk viscosity's
+    /// Q + √(Q² + c²) at its last tr D when `viscosity` is on, else c) and
+    /// its |v|, m/s: what [`Solver::stable_dt`] and
+    /// [`Solver::time_step_limit`] read.
+    #[inline]
+    fn signal_speed(&self, p: usize, viscosity: Option<ViscosityParams>) -> (f64, f64, f64) {
+        let ps = &self.particles;
+        let rho = ps.mass[p] / ps.volume[p];
+        let c = self.materials[ps.material[p].0 as usize]
+            .wave_speed(rho, ps.specific_internal_energy[p]);
+        let s = viscosity.map_or(c, |v| {
+            v.model.signal_speed(self.bulk[p].trace_d, c, v.length)
+        });
+        let v = ps.velocity[p];
+        (c, s, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+    }
+
+    /// The smallest cell size over the axes with more than one cell, m
+    /// (infinite on a grid of one cell).
+    fn smallest_active_spacing(&self) -> f64 {
+        let grid = &self.level.geometry;
+        (0..3)
+            .filter(|&d| grid.cells[d] > 1)
+            .map(|d| grid.spacing[d])
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Every [`RESORT_INTERVAL`] steps, sorts the particles by cell (a
     /// stable counting sort, skipped when they are sorted); every step, bins
     /// them for the transfers (see [`crate::transfer`]).

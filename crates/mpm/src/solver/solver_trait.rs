@@ -163,27 +163,17 @@ impl Solver for MpmSolver {
     /// [`BulkViscosity::signal_speed`]: crate::viscosity::BulkViscosity::signal_speed
     fn stable_dt(&self) -> Result<f64, SolverError> {
         let grid = &self.level.geometry;
-        let dx_min = (0..3)
-            .filter(|&d| grid.cells[d] > 1)
-            .map(|d| grid.spacing[d])
-            .fold(f64::INFINITY, f64::min);
+        let dx_min = self.smallest_active_spacing();
         let ps = &self.particles;
         let mats = &self.materials;
         let viscosity = self.viscosity_params();
-        let bulk = &self.bulk;
         // max is exact, so the reduction order cannot change the result;
         // a NaN speed is reported.
         let (speed, bad) = (0..ps.len())
             .into_par_iter()
             .map(|p| {
-                let rho = ps.mass[p] / ps.volume[p];
-                let mut c =
-                    mats[ps.material[p].0 as usize].wave_speed(rho, ps.specific_internal_energy[p]);
-                if let Some(v) = viscosity {
-                    c = v.model.signal_speed(bulk[p].trace_d, c, v.length);
-                }
-                let v = ps.velocity[p];
-                let s = c + (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                let (_, c, v) = self.signal_speed(p, viscosity);
+                let s = c + v;
                 if s.is_finite() {
                     (s, usize::MAX)
                 } else {
@@ -229,23 +219,14 @@ impl Solver for MpmSolver {
 
     /// The particle of the largest signal speed c + |v| (the lowest index
     /// among equals), with its material, position and the speed's parts,
-    /// or the heat conduction's diffusive limit where that binds.
+    /// or a fixed inflow reservoir's state or the heat conduction's
+    /// diffusive limit where that binds.
     fn time_step_limit(&self) -> Option<String> {
         let ps = &self.particles;
         let viscosity = self.viscosity_params();
-        let speeds = |p: usize| {
-            let rho = ps.mass[p] / ps.volume[p];
-            let m = &self.materials[ps.material[p].0 as usize];
-            let c = m.wave_speed(rho, ps.specific_internal_energy[p]);
-            let s = viscosity.map_or(c, |v| {
-                v.model.signal_speed(self.bulk[p].trace_d, c, v.length)
-            });
-            let v = ps.velocity[p];
-            (c, s, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-        };
-        let (_, p) = (0..ps.len())
+        let (speed, p) = (0..ps.len())
             .map(|p| {
-                let (_, s, v) = speeds(p);
+                let (_, s, v) = self.signal_speed(p, viscosity);
                 (s + v, p)
             })
             .filter(|(s, _)| s.is_finite())
@@ -256,17 +237,10 @@ impl Solver for MpmSolver {
                     a
                 }
             });
+        let reservoir = self.inflow.max_signal_speed(&self.materials);
         let grid = &self.level.geometry;
-        let dx_min = (0..3)
-            .filter(|&d| grid.cells[d] > 1)
-            .map(|d| grid.spacing[d])
-            .fold(f64::INFINITY, f64::min);
-        let dt_wave = if p == usize::MAX {
-            f64::INFINITY
-        } else {
-            let (_, s, v) = speeds(p);
-            self.options.cfl * dx_min / (s + v)
-        };
+        let dx_min = self.smallest_active_spacing();
+        let dt_wave = self.options.cfl * dx_min / speed.max(reservoir);
         if !self.thermal.is_empty() {
             let alpha = crate::conduction::max_diffusivity(ps, &self.thermal).ok()?;
             let dt_heat = crate::conduction::diffusive_time_step(alpha, grid, self.options.cfl);
@@ -276,10 +250,15 @@ impl Solver for MpmSolver {
                 ));
             }
         }
+        if reservoir > speed.max(0.0) {
+            return Some(format!(
+                "MPM inflow reservoir: signal speed c + |v| {reservoir:.0} m/s"
+            ));
+        }
         if p == usize::MAX {
             return None;
         }
-        let (c, s, v) = speeds(p);
+        let (c, s, v) = self.signal_speed(p, viscosity);
         let x = ps.position[p];
         let material = ps.material[p].0 as usize;
         let q = if s > c {

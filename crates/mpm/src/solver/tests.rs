@@ -485,6 +485,48 @@ fn the_time_step_limit_names_the_fastest_particle() {
     );
 }
 
+/// A fixed inflow reservoir faster than every particle sets the step, as
+/// in [`Solver::stable_dt`], and the limit says so.
+#[test]
+fn the_time_step_limit_names_a_faster_inflow_reservoir() {
+    use crate::inflow::{ReservoirKind, ReservoirState};
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let mut options = MpmOptions::default();
+    options.boundaries[0] = GridBoundary::Outflow;
+    options.reservoirs[0] = Some(Reservoir {
+        kind: ReservoirKind::Fixed(ReservoirState {
+            material: MaterialId(0),
+            density: 1024.0,
+            velocity: [1000.0, 0.0, 0.0],
+            specific_internal_energy: 0.0,
+            temperature: 300.0,
+            stress: [0.0; 6],
+        }),
+        ppc: 2,
+    });
+    let s = MpmSolver::new(level, vec![soft()], ps, options).unwrap();
+    let c = ((1.0e7 + 4.0 * 5.0e6 / 3.0) / 1024.0f64).sqrt();
+    let expected = 0.4 * 0.125 / (c + 1000.0);
+    assert!((s.stable_dt().unwrap() - expected).abs() < 1e-12 * expected);
+    assert_eq!(
+        s.time_step_limit().unwrap(),
+        format!(
+            "MPM inflow reservoir: signal speed c + |v| {:.0} m/s",
+            c + 1000.0
+        )
+    );
+}
+
 #[test]
 fn stable_dt_is_cfl_times_cell_over_wave_speed_plus_velocity() {
     let level = dyadic_level();
