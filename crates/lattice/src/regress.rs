@@ -266,16 +266,21 @@ impl SurfaceRegression {
     pub fn max_speed(&self, lat: &MsdmLattice) -> f64 {
         (0..lat.len())
             .into_par_iter()
-            .filter_map(|i| {
-                let m = lat.material_of(i)?;
-                let law = self.laws[m]?;
-                Some(front_speed(
-                    &law,
-                    lat.materials[m].eos.rho0,
-                    lat.temperature[i],
-                ))
-            })
+            .filter_map(|i| self.speed_at(lat, i))
             .reduce(|| 0.0, f64::max)
+    }
+
+    /// The regression speed of node `i` at its current temperature, m/s;
+    /// `None` for a node outside the solid or of a material that does not
+    /// regress.
+    fn speed_at(&self, lat: &MsdmLattice, i: usize) -> Option<f64> {
+        let m = lat.material_of(i)?;
+        let law = self.laws[m]?;
+        Some(front_speed(
+            &law,
+            lat.materials[m].eos.rho0,
+            lat.temperature[i],
+        ))
     }
 }
 
@@ -293,6 +298,30 @@ impl MsdmLattice {
         }
         self.regression = Some(regression);
         Ok(())
+    }
+
+    /// The regression's step and what sets it, for the run summary: the
+    /// node of the fastest front (the lowest index among equals), its
+    /// temperature and speed; `None` without regression or at zero speed.
+    pub(crate) fn regression_limit(&self) -> Option<(f64, String)> {
+        let r = self.regression.as_ref()?;
+        let (v, i) = (0..self.len())
+            .filter_map(|i| r.speed_at(self, i).map(|v| (v, i)))
+            .fold((0.0f64, usize::MAX), |a, b| if b.0 > a.0 { b } else { a });
+        (v > 0.0).then(|| {
+            let m = self.material_of(i).map_or(String::new(), |m| {
+                format!(" (`{}`)", self.materials[m].name)
+            });
+            (
+                r.step_fraction * self.geom.spacing / v,
+                format!(
+                    "the surface regression at node {:?}{m}: front speed {v:.4e} m/s at {:.1} K, step {} h / speed",
+                    self.geom.coords(i),
+                    self.temperature[i],
+                    r.step_fraction
+                ),
+            )
+        })
     }
 
     /// Largest step of the regression: `step_fraction` h over the largest

@@ -70,7 +70,6 @@ impl MsdmLattice {
     /// [`MsdmLattice::regression_dt`] (not scaled by the safety factor);
     /// without `mechanics` the spring limit does not apply.
     pub fn explicit_stable_dt(&self) -> f64 {
-        let nd = self.geom.directions.len();
         // Per node, over its springs in both directions; no allocation, and
         // the maximum does not depend on the order. On several ranks each
         // takes its own nodes, and the ranks' maxima are combined (a
@@ -80,25 +79,7 @@ impl MsdmLattice {
             .clone()
             .into_par_iter()
             .filter(|&i| self.geom.is_solid(i))
-            .map(|i| {
-                let mut sum = 0.0;
-                for (d, dir) in self.geom.directions.iter().enumerate() {
-                    for sign in [1isize, -1] {
-                        let j = (i as isize + sign * dir.offset) as usize;
-                        let (lo, bond) = if sign > 0 {
-                            (i, i * nd + d)
-                        } else {
-                            (j, j * nd + d)
-                        };
-                        if self.status[bond] != super::model::INTACT {
-                            continue;
-                        }
-                        let b = self.eval_bond(lo, d, self.spring[bond]);
-                        sum += (b.k_t.abs() + b.k_perp) * (1.0 / self.mass[i] + 1.0 / self.mass[j]);
-                    }
-                }
-                sum
-            })
+            .map(|i| self.spring_bound(i))
             .reduce(|| 0.0, f64::max);
         let w2 = self.ranks.max(w2);
         let mut dt = if w2 > 0.0 && self.mechanics {
@@ -107,25 +88,79 @@ impl MsdmLattice {
             f64::INFINITY
         };
         if self.options.thermal {
-            let mut lam = 0.0f64;
-            for i in own {
-                if let Some(m) = self.material_of(i) {
-                    let g = self.materials[m].conductivity * self.geom.spacing;
-                    let c = self.mass[i] * self.materials[m].eos.cv;
-                    // At most 2 d neighbours with g ≤ max(κ) h each.
-                    lam = lam.max(
-                        4.0 * self.geom.dim.count() as f64
-                            * g.max(self.options.surroundings.conductivity * self.geom.spacing)
-                            / c,
-                    );
-                }
-            }
+            let lam = own
+                .filter_map(|i| self.conduction_bound(i))
+                .fold(0.0, f64::max);
             let lam = self.ranks.max(lam);
             if lam > 0.0 {
                 dt = dt.min(2.0 / lam);
             }
         }
         (dt * self.options.safety_factor).min(self.regression_dt())
+    }
+
+    /// Gershgorin's bound on ω² at solid node `i`: Σ_j k_ij (1/m_i + 1/m_j)
+    /// over its intact springs in both directions of every lattice
+    /// direction, k_ij the tangent plus perpendicular stiffness.
+    fn spring_bound(&self, i: usize) -> f64 {
+        let nd = self.geom.directions.len();
+        let mut sum = 0.0;
+        for (d, dir) in self.geom.directions.iter().enumerate() {
+            for sign in [1isize, -1] {
+                let j = (i as isize + sign * dir.offset) as usize;
+                let (lo, bond) = if sign > 0 {
+                    (i, i * nd + d)
+                } else {
+                    (j, j * nd + d)
+                };
+                if self.status[bond] != super::model::INTACT {
+                    continue;
+                }
+                let b = self.eval_bond(lo, d, self.spring[bond]);
+                sum += (b.k_t.abs() + b.k_perp) * (1.0 / self.mass[i] + 1.0 / self.mass[j]);
+            }
+        }
+        sum
+    }
+
+    /// The bound on the conduction's rate at node `i`, 4 d g_max / C_i
+    /// (at most 2 d neighbours with g ≤ max(κ) h each, C = m c_v), or
+    /// `None` for a node outside the solid.
+    fn conduction_bound(&self, i: usize) -> Option<f64> {
+        let m = self.material_of(i)?;
+        let g = self.materials[m].conductivity * self.geom.spacing;
+        let c = self.mass[i] * self.materials[m].eos.cv;
+        Some(
+            4.0 * self.geom.dim.count() as f64
+                * g.max(self.options.surroundings.conductivity * self.geom.spacing)
+                / c,
+        )
+    }
+
+    /// The largest `bound` over this rank's nodes and then over the ranks,
+    /// with the lowest node index that attains it (`None` where no node
+    /// gives a positive bound): the same on every rank.
+    fn largest_bound(&self, bound: impl Fn(usize) -> Option<f64>) -> Option<(f64, usize)> {
+        let (value, node) = self
+            .owned_nodes()
+            .filter_map(|i| bound(i).map(|b| (b, i)))
+            .fold((0.0f64, usize::MAX), |a, b| if b.0 > a.0 { b } else { a });
+        let value_all = self.ranks.max(value);
+        let mine = if value == value_all && node != usize::MAX {
+            node as f64
+        } else {
+            f64::INFINITY
+        };
+        let node = -self.ranks.max(-mine);
+        (value_all > 0.0 && node.is_finite()).then_some((value_all, node as usize))
+    }
+
+    /// Node `i` as `node (ix, iy, iz) of `material``, for the run summary.
+    fn node_label(&self, i: usize) -> String {
+        let material = self.material_of(i).map_or("exterior".to_string(), |m| {
+            format!("`{}`", self.materials[m].name)
+        });
+        format!("node {:?} ({material})", self.geom.coords(i))
     }
 }
 
@@ -153,6 +188,56 @@ impl Solver for MsdmLattice {
             )));
         }
         Ok(dt)
+    }
+
+    /// What sets the step: the configured `time_step` of an implicit
+    /// integrator, the springs of the node of the largest ω² bound, the
+    /// conduction at the node of the largest rate bound, or the surface
+    /// regression's fastest front, whichever gives the smallest step.
+    fn time_step_limit(&self) -> Option<String> {
+        let safety = self.options.safety_factor;
+        let mut limits: Vec<(f64, String)> = Vec::new();
+        match (self.options.integrator, self.options.time_step) {
+            (Integrator::ImplicitEuler | Integrator::ImplicitRk2, Some(dt)) => {
+                limits.push((dt, format!("the configured time_step ({dt:e} s)")));
+            }
+            _ => {
+                if self.mechanics {
+                    let spring =
+                        self.largest_bound(|i| self.geom.is_solid(i).then(|| self.spring_bound(i)));
+                    if let Some((w2, i)) = spring {
+                        limits.push((
+                            2.0 * safety / w2.sqrt(),
+                            format!(
+                                "the springs of {}: Σ k (1/m_i + 1/m_j) = {w2:.4e} s⁻², step 2/√Σ × safety factor {safety}",
+                                self.node_label(i)
+                            ),
+                        ));
+                    }
+                }
+                if self.options.thermal {
+                    if let Some((lam, i)) = self.largest_bound(|i| self.conduction_bound(i)) {
+                        limits.push((
+                            2.0 * safety / lam,
+                            format!(
+                                "the conduction at {}: 4 d g_max / (m c_v) = {lam:.4e} s⁻¹, step 2/rate × safety factor {safety}",
+                                self.node_label(i)
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        if let Some((dt, text)) = self.regression_limit() {
+            limits.push((dt, text));
+        }
+        limits
+            .into_iter()
+            .fold(None, |a: Option<(f64, String)>, b| match a {
+                Some(a) if a.0 <= b.0 => Some(a),
+                _ => Some(b),
+            })
+            .map(|(_, text)| text)
     }
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
@@ -412,6 +497,54 @@ mod tests {
         lat.options.integrator = Integrator::ImplicitEuler;
         lat.options.time_step = Some(0.5);
         assert_eq!(lat.stable_dt().unwrap(), 0.5);
+    }
+
+    /// The summary's limit: the springs of the node of the largest ω²
+    /// bound (both ends of the oscillator's spring carry the same, so the
+    /// lower index), then the conduction where it binds, then an implicit
+    /// integrator's configured step; each the step stable_dt takes.
+    #[test]
+    fn the_time_step_limit_names_the_springs_the_conduction_or_the_configured_step() {
+        let mut lat = oscillator(Integrator::VelocityVerlet).unwrap();
+        lat.options.safety_factor = 0.5;
+        let (a, b) = (lat.geom.solid_index(0, 0, 0), lat.geom.solid_index(1, 0, 0));
+        let w2 = 0.35 * (1.0 / lat.mass[a] + 1.0 / lat.mass[b]);
+        let first = a.min(b);
+        let text = lat.time_step_limit().unwrap();
+        assert!(text.starts_with("the springs of node"), "{text}");
+        assert!(
+            text.contains(&format!("node {:?}", lat.geom.coords(first))),
+            "{text}"
+        );
+        assert!(text.contains(&format!("{w2:.4e} s⁻²")), "{text}");
+        assert!((lat.stable_dt().unwrap() - 2.0 * 0.5 / w2.sqrt()).abs() < 1e-15);
+        // κ = 1 W/(m K), h = 1 m, c_v = 1e-3: rate 4 κ h / (m c_v), the
+        // lighter node's, far above ω.
+        lat.options.thermal = true;
+        lat.materials[0].conductivity = 1.0;
+        let cv = lat.materials[0].eos.cv;
+        let rate = |i: usize| 4.0 / (lat.mass[i] * cv);
+        let hot = if rate(a) > rate(b) {
+            a
+        } else if rate(b) > rate(a) {
+            b
+        } else {
+            first
+        };
+        let text = lat.time_step_limit().unwrap();
+        assert!(text.starts_with("the conduction at node"), "{text}");
+        assert!(
+            text.contains(&format!("node {:?}", lat.geom.coords(hot))),
+            "{text}"
+        );
+        assert!(text.contains(&format!("{:.4e} s⁻¹", rate(hot))), "{text}");
+        assert!((lat.stable_dt().unwrap() - 2.0 * 0.5 / rate(hot)).abs() < 1e-18);
+        lat.options.integrator = Integrator::ImplicitEuler;
+        lat.options.time_step = Some(0.5);
+        assert_eq!(
+            lat.time_step_limit().unwrap(),
+            "the configured time_step (5e-1 s)"
+        );
     }
 
     #[test]
