@@ -897,9 +897,9 @@ impl PdSolver {
         }
     }
 
-    /// The node that limits the stable step and a description of why
-    /// (material, expansion, stiffness sums), for diagnostics.
-    pub fn limiting_node(&self) -> (usize, String) {
+    /// The smallest eq 24 step over the nodes (without the safety factor)
+    /// and the first node that has it; (∞, 0) without nodes.
+    pub(crate) fn smallest_node_dt(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
         for i in 0..self.node_count() {
             let d = self.node_dt(i);
@@ -907,13 +907,19 @@ impl PdSolver {
                 best = (d, i);
             }
         }
-        let i = best.1;
+        best
+    }
+
+    /// The node that limits the stable step and a description of why
+    /// (material, expansion, stiffness sums), for diagnostics.
+    pub fn limiting_node(&self) -> (usize, String) {
+        let (dt, i) = self.smallest_node_dt();
         (
             i,
             format!(
                 "node {i} material {} dt {:e} s: X = {:.4}, gas stiffness {:e}, contact {:e}, solid {:e}, detonated {}",
                 self.material[i],
-                best.0,
+                dt,
                 self.expansion(i),
                 self.gas.get(i).map_or(0.0, |g| g[1]),
                 self.contact.get(i).map_or(0.0, |c| c.1),

@@ -59,6 +59,24 @@ struct Snapshot {
     limiter: LimiterCount,
 }
 
+impl<E: GasLaw> FdmSolver<E> {
+    /// The pressure and sound speed of a cell from its conserved values
+    /// ρ, ρu, E and (with species) ρY, as the stable step and its limit
+    /// read them.
+    #[inline(always)]
+    fn cell_pressure_and_sound_speed(
+        &self,
+        rho: f64,
+        m: [f64; 3],
+        energy: f64,
+        rho_y: f64,
+    ) -> (f64, f64) {
+        let e = specific_internal_energy(rho, m[0], m[1], m[2], energy);
+        let y = if E::SPECIES { rho_y / rho } else { 0.0 };
+        self.eos.gas_pressure_and_sound_speed(rho, e, y)
+    }
+}
+
 impl<E: GasLaw> Solver for FdmSolver<E> {
     fn name(&self) -> &str {
         "fdm"
@@ -101,9 +119,8 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                         for n in 0..r.len() {
                             let rho = r[n];
                             let m = [mx[n], my[n], mz[n]];
-                            let e = specific_internal_energy(rho, m[0], m[1], m[2], en[n]);
-                            let y = if E::SPECIES { ry[n] / rho } else { 0.0 };
-                            let (p, c) = self.eos.gas_pressure_and_sound_speed(rho, e, y);
+                            let rho_y = if E::SPECIES { ry[n] } else { 0.0 };
+                            let (p, c) = self.cell_pressure_and_sound_speed(rho, m, en[n], rho_y);
                             ok &= (rho > 0.0) & (p > 0.0) & (p < f64::INFINITY);
                             for ((&on, dx), mom) in active.iter().zip(spacing).zip(m) {
                                 if on {
@@ -163,9 +180,9 @@ impl<E: GasLaw> Solver for FdmSolver<E> {
                         let n = p.local_index([p.ghost[0] + i, p.ghost[1] + j, p.ghost[2] + k]);
                         let rho = d[RHO][n];
                         let m = [d[MOM][n], d[MOM + 1][n], d[MOM + 2][n]];
-                        let e = specific_internal_energy(rho, m[0], m[1], m[2], d[ENERGY][n]);
-                        let y = if E::SPECIES { d[SPECIES][n] / rho } else { 0.0 };
-                        let (_, c) = self.eos.gas_pressure_and_sound_speed(rho, e, y);
+                        let rho_y = if E::SPECIES { d[SPECIES][n] } else { 0.0 };
+                        let (_, c) =
+                            self.cell_pressure_and_sound_speed(rho, m, d[ENERGY][n], rho_y);
                         for a in (0..3).filter(|&a| active[a]) {
                             let u = (m[a] / rho).abs();
                             let t = spacing[a] / (u + c);

@@ -8,7 +8,7 @@
 //! `accumulateEnergySourceSinks` read from the old data warehouse).
 //! See docs/physics/ice/diffusion.md.
 
-use brisance_core::{Eos, Solver, SolverError};
+use brisance_core::{Eos, SolverError};
 use rayon::prelude::*;
 
 use super::{
@@ -429,12 +429,6 @@ impl<E: Eos> IceSolver<E> {
         (self.options.cfl * v, self.options.cfl * k)
     }
 
-    /// The smaller of the two diffusive limits of [`Self::diffusive_time_steps`].
-    pub(super) fn diffusive_time_step(&self) -> f64 {
-        let (v, k) = self.diffusive_time_steps();
-        v.min(k)
-    }
-
     /// Sets material `r`'s temperature to `temperature(cell centre)` at its
     /// present specific volume (the energy from its EOS), then
     /// re-equilibrates (step 2): an initial temperature field that a
@@ -462,8 +456,7 @@ impl<E: Eos> IceSolver<E> {
     /// The stable time step and the viscous and conduction limits, so that
     /// a run can report which one set Δt ([`TimeStepLimits::binding`]).
     pub fn time_step_limits(&self) -> Result<TimeStepLimits, SolverError> {
-        let stable = self.stable_dt()?;
-        let (viscous, conduction) = self.diffusive_time_steps();
+        let (stable, (viscous, conduction)) = self.stable_dt_and_diffusive_steps()?;
         Ok(TimeStepLimits {
             stable,
             viscous,

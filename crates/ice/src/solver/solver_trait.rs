@@ -38,21 +38,11 @@ struct SavedStateWithoutOutflow {
     kept_warm_advection: Vec<(u64, f64)>,
 }
 
-impl<E: Eos> Solver for IceSolver<E> {
-    fn name(&self) -> &str {
-        "ice"
-    }
-
-    fn time(&self) -> f64 {
-        self.time
-    }
-
-    /// Δt = cfl / max over cells of Σ_d max_r (|u_r,d| + c_r)/Δx_d: the
-    /// unsplit face fluxes move at most a fraction cfl of a cell's content
-    /// per step, and pressure waves cross at most that fraction of a cell.
-    /// With the implicit pressure c_r is left out (pressure waves are
-    /// implicit) and moving walls count with their velocity.
-    fn stable_dt(&self) -> Result<f64, SolverError> {
+impl<E: Eos> IceSolver<E> {
+    /// [`Solver::stable_dt`] and the viscous and conduction steps it took
+    /// the smaller of ([`Self::diffusive_time_steps`], collective on
+    /// several ranks, so every rank computes them whatever its own rate).
+    pub(super) fn stable_dt_and_diffusive_steps(&self) -> Result<(f64, (f64, f64)), SolverError> {
         let acoustic = if self.options.pressure == PressureSolve::Explicit {
             1.0
         } else {
@@ -119,10 +109,11 @@ impl<E: Eos> Solver for IceSolver<E> {
         };
         // The viscous and conduction limits (diffusion_pass) and the
         // largest step allowed; NaN stays NaN.
+        let (viscous, conduction) = self.diffusive_time_steps();
         let dt = if dt.is_nan() {
             dt
         } else {
-            dt.min(self.diffusive_time_step()).min(self.options.max_dt)
+            dt.min(viscous.min(conduction)).min(self.options.max_dt)
         };
         if !(dt >= self.options.min_dt) {
             return Err(SolverError::TimeStepCollapse {
@@ -135,7 +126,26 @@ impl<E: Eos> Solver for IceSolver<E> {
                 ),
             });
         }
-        Ok(dt)
+        Ok((dt, (viscous, conduction)))
+    }
+}
+
+impl<E: Eos> Solver for IceSolver<E> {
+    fn name(&self) -> &str {
+        "ice"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Δt = cfl / max over cells of Σ_d max_r (|u_r,d| + c_r)/Δx_d: the
+    /// unsplit face fluxes move at most a fraction cfl of a cell's content
+    /// per step, and pressure waves cross at most that fraction of a cell.
+    /// With the implicit pressure c_r is left out (pressure waves are
+    /// implicit) and moving walls count with their velocity.
+    fn stable_dt(&self) -> Result<f64, SolverError> {
+        self.stable_dt_and_diffusive_steps().map(|(dt, _)| dt)
     }
 
     /// Which limit of [`Solver::stable_dt`] binds: the viscous or the

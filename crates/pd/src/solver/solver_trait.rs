@@ -57,14 +57,7 @@ impl Solver for PdSolver {
     }
 
     fn stable_dt(&self) -> Result<f64, SolverError> {
-        let (mut dt, mut at) = (f64::INFINITY, 0);
-        for i in 0..self.node_count() {
-            let d = self.node_dt(i);
-            if d < dt {
-                dt = d;
-                at = i;
-            }
-        }
+        let (dt, at) = self.smallest_node_dt();
         let mut dt = dt * self.options.safety_factor;
         if self.time < self.burn_end {
             dt = dt.min(self.burn_step);
