@@ -305,6 +305,30 @@ fn truncated_or_garbage_checkpoint_is_refused_naming_the_file() {
     assert!(!out.exists());
 }
 
+/// A checkpoint whose run state has another layout, as one written by an
+/// older build before the run loop kept its time steps (the state ends
+/// without them), is refused with one line that names the file and says
+/// to rerun; nothing is written.
+#[test]
+fn a_checkpoint_of_another_run_state_layout_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_a, checkpoint) = reference_run(dir.path());
+    let mut ck = brisance_io::read_checkpoint(&checkpoint).unwrap();
+    // `time_steps: Some(..)` is the state's last field: a tag byte and
+    // four f64.
+    let old_len = ck.run_state.len() - 33;
+    ck.run_state.truncate(old_len);
+    let file = dir.path().join("older.bin");
+    brisance_io::write_checkpoint(&file, &ck).unwrap();
+    let out = dir.path().join("out_older");
+    let output = run_sod(&out, &["--restart", file.to_str().unwrap()]);
+    let line = single_error_line(&output);
+    assert!(line.contains(&file.display().to_string()), "{line}");
+    assert!(line.contains("run state does not decode"), "{line}");
+    assert!(line.contains("rerun from the start"), "{line}");
+    assert!(!out.exists(), "nothing should be written");
+}
+
 #[test]
 fn restart_of_a_scenario_with_library_materials_continues() {
     // The same tube with the gas taken from the material library: the

@@ -822,8 +822,15 @@ pub fn run_until_stopped(
                 path.display()
             ))
         })?;
-        state = bincode::deserialize(&ck.run_state)
-            .map_err(|e| RunError::Checkpoint(format!("{}: {e}", path.display())))?;
+        // The run loop's state is encoded by this build's layout; one
+        // written by another version of the program (a field added since)
+        // does not decode.
+        state = bincode::deserialize(&ck.run_state).map_err(|e| {
+            RunError::Checkpoint(format!(
+                "{}: its run state does not decode ({e}): it was probably written by another version of Brisance; rerun from the start",
+                path.display()
+            ))
+        })?;
         if state.gauge_rows.len() != scenario.outputs.gauges.len()
             || state.particle_gauge_rows.len() != scenario.outputs.particle_gauges.len()
         {
