@@ -270,6 +270,16 @@ impl SurfaceRegression {
             .reduce(|| 0.0, f64::max)
     }
 
+    /// The step of a front at speed `v` on a lattice of spacing `h`:
+    /// `step_fraction` h / v, ∞ at zero speed, s.
+    fn step_at_speed(&self, h: f64, v: f64) -> f64 {
+        if v > 0.0 {
+            self.step_fraction * h / v
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// The regression speed of node `i` at its current temperature, m/s;
     /// `None` for a node outside the solid or of a material that does not
     /// regress.
@@ -313,7 +323,7 @@ impl MsdmLattice {
                 format!(" (`{}`)", self.materials[m].name)
             });
             (
-                r.step_fraction * self.geom.spacing / v,
+                r.step_at_speed(self.geom.spacing, v),
                 format!(
                     "the surface regression at node {:?}{m}: front speed {v:.4e} m/s at {:.1} K, step {} h / speed",
                     self.geom.coords(i),
@@ -328,14 +338,7 @@ impl MsdmLattice {
     /// regression speed (∞ without regression or at zero speed), s.
     pub fn regression_dt(&self) -> f64 {
         match &self.regression {
-            Some(r) => {
-                let v = r.max_speed(self);
-                if v > 0.0 {
-                    r.step_fraction * self.geom.spacing / v
-                } else {
-                    f64::INFINITY
-                }
-            }
+            Some(r) => r.step_at_speed(self.geom.spacing, r.max_speed(self)),
             None => f64::INFINITY,
         }
     }
