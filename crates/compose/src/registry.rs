@@ -120,6 +120,13 @@ pub const ENTRIES: &[Entry] = &[
     },
     Entry {
         family: "reaction",
+        name: "Arrhenius",
+        summary: "surface pyrolysis mass flux m = Omega A exp(-Ea/(R T)) at the surface's temperature, regression r = m/rho (seed 003 §2.4, §3.1-3.2); Lattice `materials.<name>.arrhenius`, ICE and IceMpm `reactions` (Gamma = a m on the reactant surface, as the deflagration)",
+        example: "Arrhenius(pre_exponential: 5.0e6, activation_energy: 92109.6, catalytic_factor: 1.0)",
+        docs: Some("docs/physics/reaction/arrhenius.md"),
+    },
+    Entry {
+        family: "reaction",
         name: "ProgramBurn",
         summary: "program burn: each explosive node detonates at its Huygens or straight-line time from the detonation points (seed 004); Peridynamics `detonation`",
         example: "ProgramBurn(points: [(position: (0.0, 0.0, 0.0), time: 0.0)], method: Huygens)",
@@ -600,6 +607,12 @@ mod tests {
             brisance_reaction::JwlPlusPlus::anfo_k1().name(),
             brisance_reaction::ProgramBurn.name(),
             ReactionModel::name(&brisance_reaction::Deflagration::pbx_9501()),
+            brisance_reaction::Arrhenius {
+                pre_exponential: 5.0e6,
+                activation_energy: 92_109.6,
+                catalytic_factor: 1.0,
+            }
+            .name(),
             brisance_reaction::ProgramBurnRamp {
                 detonation_velocity: 6930.0,
                 cell_size: 1e-4,

@@ -25,7 +25,10 @@
 //! `(reactant: "...", product: "...", model: JwlPlusPlus(g: ..., b: ...))`
 //! or `model: Deflagration(a: ..., n: ..., ignition_temperature: ...)` (the
 //! surface burn D = A pⁿ of seed 000 eqs 38–39, on the surface the solver
-//! finds after each step 2) between two of `materials`;
+//! finds after each step 2) or `model: Arrhenius(pre_exponential: ...,
+//! activation_energy: ...)` (the surface pyrolysis ṁ'' = Ω A exp(−Eₐ/(R T))
+//! of seed 003 §2.4, on the same surface at its temperature) between two of
+//! `materials`;
 //! `heat_of_reaction` (J/kg) may be left out
 //! when the reactant is `Murnaghan` and the product `JwlCTerm` with the same
 //! ρ₀, and is then the JWL++ detonation energy of the products
@@ -53,6 +56,7 @@ use brisance_grid::comm::Communicator;
 use brisance_grid::Level;
 use brisance_plugin::{Installed, PluginEnum};
 use brisance_reaction::plugin::{PluginReaction, ReactionPlugin};
+use brisance_reaction::Arrhenius;
 use brisance_scene::{
     fixed_face_material, BoundaryConfig, FieldError, PipelineInfo, PipelineLimits, PipelineSpec,
     Scene, StateConfig,
@@ -172,6 +176,9 @@ pub enum IceReactionModel {
     JwlPlusPlus(JwlPlusPlus),
     /// The surface burn D = A pⁿ of seed 000 §4.1.2 (eqs 38–39).
     Deflagration(Deflagration),
+    /// The Arrhenius surface pyrolysis of seed 003 (§2.4, §3.1–3.2), the
+    /// lattice's regression law, on the reactant surface the ICE finds.
+    Arrhenius(Arrhenius),
     /// A model from a plugin crate (`ThermalDecomposition(...)`), never
     /// written as `Plugin`.
     Plugin(PluginReaction),
@@ -179,13 +186,14 @@ pub enum IceReactionModel {
 
 impl IceReactionModel {
     /// The config names of the built-in variants.
-    pub const VARIANTS: &'static [&'static str] = &["JwlPlusPlus", "Deflagration"];
+    pub const VARIANTS: &'static [&'static str] = &["JwlPlusPlus", "Deflagration", "Arrhenius"];
 
     /// The config name of this model.
     pub fn variant(&self) -> &'static str {
         match self {
             Self::JwlPlusPlus(_) => "JwlPlusPlus",
             Self::Deflagration(_) => "Deflagration",
+            Self::Arrhenius(_) => "Arrhenius",
             Self::Plugin(m) => m.plugin().name,
         }
     }
@@ -203,6 +211,7 @@ impl IceReactionModel {
         match self {
             Self::JwlPlusPlus(m) => m.validate().map(|_| (*m).into()).map_err(|e| e.to_string()),
             Self::Deflagration(m) => m.validate().map(|_| (*m).into()).map_err(|e| e.to_string()),
+            Self::Arrhenius(m) => m.validate("Arrhenius").map(|_| (*m).into()),
             Self::Plugin(m) => Ok(IceRate::Model(Arc::clone(m.model()))),
         }
     }
@@ -214,6 +223,7 @@ impl Serialize for IceReactionModel {
         match self {
             Self::JwlPlusPlus(m) => s.serialize_newtype_variant(NAME, 0, "JwlPlusPlus", m),
             Self::Deflagration(m) => s.serialize_newtype_variant(NAME, 1, "Deflagration", m),
+            Self::Arrhenius(m) => s.serialize_newtype_variant(NAME, 2, "Arrhenius", m),
             Self::Plugin(m) => brisance_plugin::serialize_plugin::<Self, S>(m, s),
         }
     }
@@ -236,6 +246,7 @@ impl PluginEnum for IceReactionModel {
         match name {
             "JwlPlusPlus" => variant.newtype_variant().map(Self::JwlPlusPlus),
             "Deflagration" => variant.newtype_variant().map(Self::Deflagration),
+            "Arrhenius" => variant.newtype_variant().map(Self::Arrhenius),
             _ => Err(Self::unknown(name)),
         }
     }

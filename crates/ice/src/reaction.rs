@@ -2,8 +2,9 @@
 //! and the u_rs⁺Γ_rs, h_rs⁺Γ_rs terms of eqs 2–3), for the JWL++
 //! detonation model of §4.1.1 ([`brisance_reaction::jwlpp`]), the
 //! deflagration of §4.1.2 ([`brisance_reaction::deflagration`], which burns
-//! on the reactant surface step 2 finds) or any other [`ReactionModel`]
-//! ([`IceRate`]).
+//! on the reactant surface step 2 finds), the Arrhenius surface pyrolysis
+//! of seed 003 §2.4 ([`brisance_reaction::arrhenius`], on that surface too)
+//! or any other [`ReactionModel`] ([`IceRate`]).
 //!
 //! Each [`IceReaction`] turns material `reactant` into material `product`
 //! at its model's rate, called through [`ReactionModel::burnt_density`]
@@ -40,7 +41,7 @@ use std::sync::Arc;
 use brisance_core::{ReactionModel, ReactionState};
 use brisance_eos::{JwlCTerm, Murnaghan};
 use brisance_reaction::jwlpp::JwlPlusPlus;
-use brisance_reaction::Deflagration;
+use brisance_reaction::{Arrhenius, Deflagration};
 
 /// Chemical energy of a JWL++ reactant → products pair, J/kg
 /// ([`brisance_reaction::jwlpp::detonation_energy`]), the message naming
@@ -52,8 +53,8 @@ pub fn detonation_energy(reactant: &Murnaghan, products: &JwlCTerm) -> Result<f6
 /// The rate law of an [`IceReaction`]: step 4 calls it through
 /// [`ReactionModel::burnt_density`] with the cell's equilibration pressure,
 /// the reactant's temperature and density and the two materials'
-/// macroscopic densities. The built-in JWL++ is a variant of its own, so
-/// the cell loop calls it without an indirect call; any other
+/// macroscopic densities. The built-in models are variants of their own, so
+/// the cell loop calls them without an indirect call; any other
 /// [`ReactionModel`] (a model crate's own) comes as [`IceRate::Model`].
 #[derive(Debug, Clone)]
 pub enum IceRate {
@@ -63,6 +64,9 @@ pub enum IceRate {
     /// the reactant's surface before each step
     /// ([`ReactionModel::burns_on_a_surface`]).
     Deflagration(Deflagration),
+    /// The Arrhenius surface pyrolysis ṁ'' = Ω A exp(−Eₐ/(R T)) of seed
+    /// 003 (§2.4, §3.1–3.2), on the reactant surface as the deflagration.
+    Arrhenius(Arrhenius),
     /// Any other reaction model.
     Model(Arc<dyn ReactionModel>),
 }
@@ -79,12 +83,19 @@ impl From<Deflagration> for IceRate {
     }
 }
 
+impl From<Arrhenius> for IceRate {
+    fn from(rate: Arrhenius) -> Self {
+        Self::Arrhenius(rate)
+    }
+}
+
 impl PartialEq for IceRate {
     /// Built-in laws by their parameters; other models by identity.
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
             (Self::JwlPlusPlus(a), Self::JwlPlusPlus(b)) => a == b,
             (Self::Deflagration(a), Self::Deflagration(b)) => a == b,
+            (Self::Arrhenius(a), Self::Arrhenius(b)) => a == b,
             (Self::Model(a), Self::Model(b)) => Arc::ptr_eq(a, b),
             _ => false,
         }
@@ -98,6 +109,7 @@ impl IceRate {
         match self {
             Self::JwlPlusPlus(m) => m.validate().map_err(|e| e.to_string()),
             Self::Deflagration(m) => m.validate().map_err(|e| e.to_string()),
+            Self::Arrhenius(m) => m.validate("model"),
             Self::Model(_) => Ok(()),
         }
     }
@@ -108,6 +120,7 @@ impl ReactionModel for IceRate {
         match self {
             Self::JwlPlusPlus(m) => m.name(),
             Self::Deflagration(m) => ReactionModel::name(m),
+            Self::Arrhenius(m) => m.name(),
             Self::Model(m) => m.name(),
         }
     }
@@ -116,7 +129,7 @@ impl ReactionModel for IceRate {
     fn burns_on_a_surface(&self) -> bool {
         match self {
             Self::JwlPlusPlus(_) => false,
-            Self::Deflagration(_) => true,
+            Self::Deflagration(_) | Self::Arrhenius(_) => true,
             Self::Model(m) => m.burns_on_a_surface(),
         }
     }
@@ -125,6 +138,7 @@ impl ReactionModel for IceRate {
         match self {
             Self::JwlPlusPlus(m) => ReactionModel::rate(m, state, burn_fraction),
             Self::Deflagration(m) => m.rate(state, burn_fraction),
+            Self::Arrhenius(m) => m.rate(state, burn_fraction),
             Self::Model(m) => m.rate(state, burn_fraction),
         }
     }
@@ -133,6 +147,7 @@ impl ReactionModel for IceRate {
         match self {
             Self::JwlPlusPlus(m) => m.advance(state, burn_fraction, dt),
             Self::Deflagration(m) => m.advance(state, burn_fraction, dt),
+            Self::Arrhenius(m) => m.advance(state, burn_fraction, dt),
             Self::Model(m) => m.advance(state, burn_fraction, dt),
         }
     }
@@ -141,6 +156,7 @@ impl ReactionModel for IceRate {
         match self {
             Self::JwlPlusPlus(m) => m.mass_converted(initial_mass, f_old, f_new),
             Self::Deflagration(m) => m.mass_converted(initial_mass, f_old, f_new),
+            Self::Arrhenius(m) => m.mass_converted(initial_mass, f_old, f_new),
             Self::Model(m) => m.mass_converted(initial_mass, f_old, f_new),
         }
     }
@@ -158,6 +174,7 @@ impl ReactionModel for IceRate {
                 ReactionModel::burnt_density(m, state, rho_reactant, rho_product, dt)
             }
             Self::Deflagration(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
+            Self::Arrhenius(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
             Self::Model(m) => m.burnt_density(state, rho_reactant, rho_product, dt),
         }
     }

@@ -133,19 +133,11 @@ impl Deflagration {
 
     /// The surface-area estimate the solver uses for a reactant that is
     /// particles (`particles`, a Lagrangian material of the ICE–MPM) or a
-    /// fluid: the configured one, or by default [`SurfaceArea::Gradient`]
-    /// for particles, whose projection spreads their face over about four
-    /// cells (there the outermost cells holding reactant lie outside the
-    /// face, and [`SurfaceArea::Column`] counts a curved surface too large:
-    /// +42.6 % on V-BURNRATE's sphere against +0.4 %), and
-    /// [`SurfaceArea::Column`] for a fluid, whose sharp face it digitises
-    /// exactly when plane (docs/physics/reaction/deflagration.md).
+    /// fluid: the configured one, or by default
+    /// [`SurfaceArea::default_for`].
     pub fn surface_area_for(&self, particles: bool) -> SurfaceArea {
-        self.surface_area.unwrap_or(if particles {
-            SurfaceArea::Gradient
-        } else {
-            SurfaceArea::Column
-        })
+        self.surface_area
+            .unwrap_or(SurfaceArea::default_for(particles))
     }
 
     /// Checks every parameter is finite and > 0, naming the bad field.
@@ -363,6 +355,23 @@ pub const GATHER_DEPTH: usize = 5;
 pub const SPAN_DEPTH: usize = 2 * GATHER_DEPTH + 1;
 
 impl SurfaceArea {
+    /// The estimate a surface burn uses where its model names none:
+    /// [`SurfaceArea::Gradient`] for a reactant that is particles
+    /// (`particles`, a Lagrangian material of the ICE–MPM), whose
+    /// projection spreads their face over about four cells (there the
+    /// outermost cells holding reactant lie outside the face, and
+    /// [`SurfaceArea::Column`] counts a curved surface too large: +42.6 %
+    /// on V-BURNRATE's sphere against +0.4 %), and [`SurfaceArea::Column`]
+    /// for a fluid, whose sharp face it digitises exactly when plane
+    /// (docs/physics/reaction/deflagration.md).
+    pub fn default_for(particles: bool) -> Self {
+        if particles {
+            Self::Gradient
+        } else {
+            Self::Column
+        }
+    }
+
     /// Area in a box cell of size `cell` (m) with unit normal `normal`, m²;
     /// `None` for [`SurfaceArea::Upwind`] and
     /// [`SurfaceArea::ExposedFaces`], which read the field's neighbours as

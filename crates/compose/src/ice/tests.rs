@@ -201,6 +201,45 @@ fn a_config_names_the_deflagration() {
     );
 }
 
+/// `model: Arrhenius(...)` builds the surface pyrolysis of seed 003 (the
+/// lattice's law) as a surface burn of the ICE, its heat of reaction the
+/// JWL++ default of the pair or the one given; a bad parameter is reported
+/// at the model's field with its name.
+#[test]
+fn a_config_names_the_arrhenius_pyrolysis() {
+    let law = "model: Arrhenius(pre_exponential: 5.0e6, activation_energy: 92109.6)";
+    let text = STICK.replace("model: JwlPlusPlus(g: 3.5083e-7, b: 1.3)", law);
+    let loaded = load_str("ratestick_1d.ron", &text, &[]).unwrap();
+    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+        panic!("an Ice pipeline");
+    };
+    let rx = super::reactions(&loaded.scenario, ice).unwrap();
+    let expect = brisance_reaction::Arrhenius {
+        pre_exponential: 5.0e6,
+        activation_energy: 92_109.6,
+        catalytic_factor: 1.0,
+    };
+    assert_eq!(rx[0].rate, super::IceRate::Arrhenius(expect));
+    assert!(brisance_core::ReactionModel::burns_on_a_surface(
+        &rx[0].rate
+    ));
+    assert!(rx[0].heat_of_reaction > 0.0);
+    let bad = text.replace("activation_energy: 92109.6", "activation_energy: -1.0");
+    let err = load_str("ratestick_1d.ron", &bad, &[]).unwrap_err();
+    assert_eq!(
+        err.field.as_deref(),
+        Some("pipeline.reactions.0.model"),
+        "{err}"
+    );
+    assert!(err.to_string().contains("activation_energy"), "{err}");
+    // The law's fields are its own: a deflagration's is refused, naming it.
+    let bad = text.replace("activation_energy: 92109.6", "ignition_temperature: 450.0");
+    let err = load_str("ratestick_1d.ron", &bad, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("ignition_temperature"), "{err}");
+}
+
 /// A reaction naming a material outside the pipeline, or products
 /// without a default heat of reaction, is reported at its field.
 #[test]

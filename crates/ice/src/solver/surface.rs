@@ -179,9 +179,10 @@ impl<E: Eos> IceSolver<E> {
                 pass.hottest.push(hottest);
             });
             pass.density.resize(count, 0.0);
+            let particles = self.lagrangian[rx.reactant];
             let method = match &rx.rate {
-                IceRate::Deflagration(m) => m.surface_area_for(self.lagrangian[rx.reactant]),
-                _ => SurfaceArea::Column,
+                IceRate::Deflagration(m) => m.surface_area_for(particles),
+                _ => SurfaceArea::default_for(particles),
             };
             surface_area_densities(
                 &grid,
