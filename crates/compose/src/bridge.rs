@@ -883,13 +883,13 @@ impl GasRemap {
     /// field.
     pub(crate) fn new(
         cfg: &MpmRemapConfig,
-        names: &[&String],
+        names: &[&str],
         models: &[MaterialModel],
         grid: &brisance_core::UniformGridGeometry,
         coordinates: brisance_core::Geometry,
     ) -> Result<Self, Problem> {
         let fluid = |name: &str, field: &str| -> Result<(MaterialId, EosModel), Problem> {
-            let id = names.iter().position(|n| n.as_str() == name);
+            let id = names.iter().position(|n| *n == name);
             match id.map(|i| (i, &models[i])) {
                 Some((i, MaterialModel::Null(m))) => Ok((MaterialId(i as u16), m.eos.clone())),
                 _ => Err((

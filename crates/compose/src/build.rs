@@ -2,7 +2,7 @@
 
 use brisance_core::Solver;
 use brisance_grid::Level;
-use brisance_scene::PipelineSpec;
+use brisance_scene::{PipelineSpec, Scene};
 
 use brisance_constitutive::MaterialModel;
 use brisance_core::Material;
@@ -255,7 +255,7 @@ fn particle_thermodynamics(
 /// selects the particles that start in its region (and material); an empty
 /// selection is an error naming the gauge.
 fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
-    let (mut solver, particle_gauges) = mpm_parts(s, mpm)?;
+    let (mut solver, particle_gauges) = mpm_parts(&crate::scene::scene_of(s), mpm, false)?;
     // The particle updates spread over the ranks of the run
     // (docs/cluster.md); nothing changes on one rank.
     solver.distribute(brisance_grid::comm::world());
@@ -265,43 +265,48 @@ fn build_mpm(s: &Scenario, mpm: &MpmConfig) -> Result<Built, ConfigError> {
     })
 }
 
-/// The MPM solver of scenario `s` (every initial region of a material with
+/// The MPM solver of the scene `s` (every initial region of a material with
 /// a constitutive model becomes particles) and the particle sets of its
-/// gauges.
+/// gauges. A region of a material without one is refused at its
+/// `material`, unless `fluids_beside` (the coupled pipelines, whose other
+/// regions are the fluids'), which leaves it out; errors name a region by
+/// its index in the scenario's `initial`.
 pub(crate) fn mpm_parts(
-    s: &Scenario,
+    s: &Scene<'_>,
     mpm: &MpmConfig,
+    fluids_beside: bool,
 ) -> Result<(MpmSolver, Vec<ParticleSet>), ConfigError> {
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, 1)
         .map_err(|e| located("domain.patches", e.to_string()))?;
     let grid = level.geometry;
     // Materials with a constitutive model, numbered in name order.
-    let names: Vec<&String> = s
+    let names: Vec<&str> = s
         .materials
         .iter()
-        .filter(|(_, m)| m.model.is_some())
-        .map(|(n, _)| n)
+        .filter(|m| m.model.is_some())
+        .map(|m| m.name)
         .collect();
-    let models: Vec<MaterialModel> = names
+    let models: Vec<MaterialModel> = s
+        .materials
         .iter()
-        .filter_map(|n| s.materials[*n].model.clone())
+        .filter_map(|m| m.model.cloned())
         .collect();
     let stride = models.iter().map(|m| m.history_len()).max().unwrap_or(0);
     let mut regions = Vec::with_capacity(s.initial.len());
     for (i, r) in s.initial.iter().enumerate() {
         let path = format!("initial.{i}");
-        let id = names
-            .iter()
-            .position(|n| **n == r.material)
-            .ok_or_else(|| {
-                located(
-                    &format!("{path}.material"),
-                    "the material has no constitutive `model`".into(),
-                )
-            })?;
+        let Some(id) = names.iter().position(|n| *n == r.material) else {
+            if fluids_beside {
+                continue;
+            }
+            return Err(located(
+                &format!("{path}.material"),
+                "the material has no constitutive `model`".into(),
+            ));
+        };
         let (temperature, energy) =
-            particle_thermodynamics(&models[id], &r.state, &format!("{path}.state"))?;
+            particle_thermodynamics(&models[id], r.state, &format!("{path}.state"))?;
         regions.push((r, MaterialId(id as u16), temperature, energy));
     }
     let ppc = mpm.ppc;
@@ -399,7 +404,7 @@ pub(crate) fn mpm_parts(
                 .map_err(|e| located(&e.field, e.message))?;
                 let id = names
                     .iter()
-                    .position(|n| n.as_str() == name)
+                    .position(|n| *n == name)
                     .expect("a particle material");
                 let model = &models[id];
                 let (temperature, energy) = particle_thermodynamics(model, st, &path)?;
@@ -423,7 +428,7 @@ pub(crate) fn mpm_parts(
     let options = MpmOptions {
         shape: mpm.shape_function,
         scheme: mpm.scheme,
-        cfl: s.time.cfl,
+        cfl: s.cfl,
         gravity: mpm.gravity,
         boundaries: std::array::from_fn(|k| boundary(faces[k].1)),
         mass_cutoff: mpm.mass_cutoff,
@@ -433,9 +438,9 @@ pub(crate) fn mpm_parts(
         geometry: d.geometry,
         ..Default::default()
     };
-    let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());
-    for (i, g) in s.outputs.particle_gauges.iter().enumerate() {
-        let material = match &g.material {
+    let mut particle_gauges = Vec::with_capacity(s.particle_gauges.len());
+    for (i, g) in s.particle_gauges.iter().enumerate() {
+        let material = match g.material {
             Some(name) => Some(
                 names
                     .iter()
@@ -456,7 +461,6 @@ pub(crate) fn mpm_parts(
         if set.is_empty() {
             let of = g
                 .material
-                .as_ref()
                 .map_or(String::new(), |m| format!(" of material `{m}`"));
             return Err(located(
                 &format!("outputs.particle_gauges.{i}.region"),
@@ -473,7 +477,7 @@ pub(crate) fn mpm_parts(
             .map(|n| {
                 names
                     .iter()
-                    .position(|m| *m == n)
+                    .position(|m| *m == n.as_str())
                     .map(|id| MaterialId(id as u16))
                     .ok_or_else(|| located(path, format!("`{n}` has no constitutive `model`")))
             })
@@ -540,16 +544,17 @@ pub(crate) fn mpm_parts(
 /// and c_v per material, k = 0 for a material without one; `None` when
 /// no material has one (the solver is then built as without the option).
 fn heat_conduction(
-    s: &Scenario,
-    names: &[&String],
+    s: &Scene<'_>,
+    names: &[&str],
     models: &[MaterialModel],
 ) -> Result<Option<HeatConduction>, ConfigError> {
-    if names.iter().all(|n| s.materials[*n].thermal.is_none()) {
+    let thermal = |name: &str| s.material(name).and_then(|m| m.thermal);
+    if names.iter().all(|n| thermal(n).is_none()) {
         return Ok(None);
     }
     let mut heat = HeatConduction::default();
     for (name, model) in names.iter().zip(models) {
-        let (k, c) = match &s.materials[*name].thermal {
+        let (k, c) = match thermal(name) {
             Some(t) => {
                 crate::validate::thermal_properties(&format!("materials.{name}.thermal"), t, model)
                     .map_err(|(path, message)| located(&path, message))?;

@@ -104,21 +104,8 @@ pub struct MaterialConfig {
     pub thermal: Option<ThermalConfig>,
 }
 
-/// The thermal properties of a particle material for the heat conduction
-/// inside the MPM solids (Fourier's law, seed 000 §2 eq 3):
-/// `thermal: (conductivity: 44.5, specific_heat: Some(477.0))`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ThermalConfig {
-    /// Thermal conductivity k, W/(m·K), finite and ≥ 0.
-    pub conductivity: f64,
-    /// Specific heat c_v, J/(kg·K), finite and > 0; `None`: the
-    /// constitutive model's own (the `ElasticPlastic` metal's
-    /// `specific_heat`), which a conducting material whose model has none
-    /// must replace.
-    #[serde(default)]
-    pub specific_heat: Option<f64>,
-}
+/// The thermal properties of a particle material (`materials.<name>.thermal`).
+pub use brisance_scene::ThermalConfig;
 
 impl MaterialConfig {
     /// The equation of state (present once the scenario is loaded).

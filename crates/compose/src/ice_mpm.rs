@@ -32,7 +32,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::build::{located, mpm_parts, Built};
 use crate::config::IceConfig;
-use crate::config::{MpmConfig, Pipeline, Scenario};
+use crate::config::{MpmConfig, Scenario};
+use brisance_scene::Scene;
 
 type Problem = (String, String);
 
@@ -89,13 +90,12 @@ fn ice_section(cfg: &IceMpmConfig) -> IceConfig {
     ice
 }
 
-/// The scenario the particle side sees: the solids and their regions only.
-fn mpm_scenario(s: &Scenario, cfg: &IceMpmConfig) -> Scenario {
-    let mut sm = s.clone();
-    sm.materials.retain(|name, _| cfg.solid.contains(name));
-    sm.initial.retain(|r| cfg.solid.contains(&r.material));
-    sm.pipeline = Pipeline::Mpm(cfg.mpm.clone());
-    sm
+/// The scene the particle side sees: the solids as its only materials (the
+/// regions of the fluids are the ICE's, [`mpm_parts`] leaves them out).
+fn particle_scene<'a>(s: &'a Scenario, cfg: &IceMpmConfig) -> Scene<'a> {
+    let mut scene = crate::scene::scene_of(s);
+    scene.materials.retain(|m| cfg.solid.contains(m.name));
+    scene
 }
 
 /// Checks the pipeline; errors carry the field path.
@@ -207,13 +207,13 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
             std::sync::Arc::new(brisance_grid::comm::Serial),
         )
         .map_err(|e| located(under("ice", e.into())))?;
-    let sm = mpm_scenario(s, cfg);
-    let (mpm, particle_gauges) = mpm_parts(&sm, &cfg.mpm).map_err(|mut e| {
-        if let Some(f) = e.field.take() {
-            e.field = Some(under("mpm", (f, String::new())).0);
-        }
-        e
-    })?;
+    let (mpm, particle_gauges) =
+        mpm_parts(&particle_scene(s, cfg), &cfg.mpm, true).map_err(|mut e| {
+            if let Some(f) = e.field.take() {
+                e.field = Some(under("mpm", (f, String::new())).0);
+            }
+            e
+        })?;
     // Particle materials are numbered in name order (mpm_parts); the
     // solids are ICE materials N + 1, … in the order given.
     let mut sorted: Vec<&String> = cfg.solid.names().iter().collect();
@@ -301,6 +301,22 @@ mod tests {
             ((x - exact) / 1e-3).abs() < 2.0,
             "shock at {x} m, exact {exact} m"
         );
+    }
+
+    /// A solid's region is named by its index in the scenario's
+    /// `initial`, the fluids' regions before it counted: the piston's steel
+    /// (a `Linear` pressure, no equation of state in its model) given a
+    /// pressure instead of its temperature is refused at `initial.1.state`.
+    #[test]
+    fn a_solid_region_is_named_by_its_index_among_all_regions() {
+        let bad = PISTON.replace(
+            "velocity: (100.0, 0.0, 0.0), temperature: 300.0)",
+            "velocity: (100.0, 0.0, 0.0), pressure: 101325.0)",
+        );
+        let loaded = load_str("piston_icempm.ron", &bad, &[]).unwrap();
+        let err = build(&loaded.scenario).err().expect("refused");
+        assert_eq!(err.field.as_deref(), Some("initial.1.state"), "{err}");
+        assert!(err.to_string().contains("temperature"), "{err}");
     }
 
     #[test]

@@ -3,13 +3,13 @@
 //! owns its config section, validation and builder
 //! ([`brisance_scene::PipelineSpec`]).
 
-use brisance_scene::{Domain, InitialRegion, Material, OutputsSummary, Scene};
+use brisance_scene::{Domain, InitialRegion, Material, OutputsSummary, ParticleGauge, Scene};
 
 use crate::config::Scenario;
 
 /// The scene of `s`: its domain, end time, Courant number, faces, materials
-/// (with their EOS once the scenario is loaded), initial regions and
-/// requested outputs.
+/// (with their EOS once the scenario is loaded, their constitutive models
+/// and thermal properties), initial regions and requested outputs.
 pub fn scene_of(s: &Scenario) -> Scene<'_> {
     Scene {
         name: &s.name,
@@ -26,7 +26,12 @@ pub fn scene_of(s: &Scenario) -> Scene<'_> {
         materials: s
             .materials
             .iter()
-            .map(|(name, m)| Material { name, eos: m.eos() })
+            .map(|(name, m)| Material {
+                name,
+                eos: m.eos(),
+                model: m.model.as_ref(),
+                thermal: m.thermal.as_ref(),
+            })
             .collect(),
         initial: s
             .initial
@@ -39,6 +44,16 @@ pub fn scene_of(s: &Scenario) -> Scene<'_> {
             .collect(),
         cell_fields: &s.outputs.fields,
         line_outs: s.outputs.lineouts.len(),
+        particle_gauges: s
+            .outputs
+            .particle_gauges
+            .iter()
+            .map(|g| ParticleGauge {
+                name: &g.name,
+                region: &g.region,
+                material: g.material.as_deref(),
+            })
+            .collect(),
         field_lists: std::iter::once(("outputs.fields".to_string(), s.outputs.fields.as_slice()))
             .chain(
                 s.outputs

@@ -22,14 +22,18 @@
 //! and column it was read from.
 //!
 //! The crate sits between the model crates and the solvers: it depends on
-//! `brisance_core` (the grid geometry), `brisance_grid` (the region shapes)
-//! and `brisance_eos` (the equations of state), and knows no solver.
+//! `brisance_core` (the grid geometry), `brisance_grid` (the region shapes),
+//! `brisance_eos` (the equations of state) and `brisance_constitutive` (the
+//! constitutive models of materials carried by particles), and knows no
+//! solver.
 
 use std::fmt;
 
+use brisance_constitutive::MaterialModel;
 use brisance_core::Geometry;
 use brisance_eos::EosModel;
 use brisance_grid::Shape;
+use serde::{Deserialize, Serialize};
 
 mod faces;
 mod owned;
@@ -59,6 +63,40 @@ pub struct Material<'a> {
     pub name: &'a str,
     /// Its equation of state, where it has one.
     pub eos: Option<&'a EosModel>,
+    /// Its constitutive model, where it has one (the solids a particle
+    /// pipeline carries).
+    pub model: Option<&'a MaterialModel>,
+    /// Heat conduction inside its particles, where it is given.
+    pub thermal: Option<&'a ThermalConfig>,
+}
+
+/// The thermal properties of a particle material for the heat conduction
+/// inside the MPM solids (Fourier's law, seed 000 §2 eq 3):
+/// `thermal: (conductivity: 44.5, specific_heat: Some(477.0))`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThermalConfig {
+    /// Thermal conductivity k, W/(m·K), finite and ≥ 0.
+    pub conductivity: f64,
+    /// Specific heat c_v, J/(kg·K), finite and > 0; `None`: the
+    /// constitutive model's own (the `ElasticPlastic` metal's
+    /// `specific_heat`), which a conducting material whose model has none
+    /// must replace.
+    #[serde(default)]
+    pub specific_heat: Option<f64>,
+}
+
+/// One entry of the scenario's `outputs.particle_gauges`, as far as a
+/// particle pipeline selects its particles: the particles that start in
+/// `region` (and are of `material`, where given).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParticleGauge<'a> {
+    /// The gauge's name (its file stem).
+    pub name: &'a str,
+    /// Where its particles start.
+    pub region: &'a Shape,
+    /// Only particles of this material (a key of `materials`).
+    pub material: Option<&'a str>,
 }
 
 /// One entry of the scenario's `initial` list (later entries override
@@ -96,6 +134,9 @@ pub struct Scene<'a> {
     pub cell_fields: &'a [String],
     /// How many line-outs the outputs ask for (`outputs.lineouts`).
     pub line_outs: usize,
+    /// The particle gauges the outputs ask for
+    /// (`outputs.particle_gauges`), in order.
+    pub particle_gauges: Vec<ParticleGauge<'a>>,
     /// Every list of cell fields the outputs name, with its path:
     /// `outputs.fields`, then `outputs.gauges.k.fields` and
     /// `outputs.lineouts.k.fields` in order.
