@@ -734,6 +734,22 @@ impl MpmSolver {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The diffusive limit of the heat conduction
+    /// ([`crate::conduction::diffusive_time_step`]) and the largest thermal
+    /// diffusivity k V/(m c) that sets it, m²/s: (∞, 0) when no material
+    /// conducts. The error is the first particle whose diffusivity is not
+    /// finite.
+    fn conduction_step(&self) -> Result<(f64, f64), usize> {
+        let alpha = if self.thermal.is_empty() {
+            0.0
+        } else {
+            crate::conduction::max_diffusivity(&self.particles, &self.thermal)?
+        };
+        let dt =
+            crate::conduction::diffusive_time_step(alpha, &self.level.geometry, self.options.cfl);
+        Ok((dt, alpha))
+    }
+
     /// Every [`RESORT_INTERVAL`] steps, sorts the particles by cell (a
     /// stable counting sort, skipped when they are sorted); every step, bins
     /// them for the transfers (see [`crate::transfer`]).

@@ -162,7 +162,6 @@ impl Solver for MpmSolver {
     ///
     /// [`BulkViscosity::signal_speed`]: crate::viscosity::BulkViscosity::signal_speed
     fn stable_dt(&self) -> Result<f64, SolverError> {
-        let grid = &self.level.geometry;
         let dx_min = self.smallest_active_spacing();
         let ps = &self.particles;
         let mats = &self.materials;
@@ -192,14 +191,9 @@ impl Solver for MpmSolver {
             f64::INFINITY
         };
         // The diffusive limit of the heat conduction (crate::conduction).
-        let alpha = if self.thermal.is_empty() {
-            0.0
-        } else {
-            crate::conduction::max_diffusivity(ps, &self.thermal).map_err(|p| {
-                self.particle_error(p, "thermal diffusivity k V/(m c) is not finite".into())
-            })?
-        };
-        let dt_heat = crate::conduction::diffusive_time_step(alpha, grid, self.options.cfl);
+        let (dt_heat, alpha) = self.conduction_step().map_err(|p| {
+            self.particle_error(p, "thermal diffusivity k V/(m c) is not finite".into())
+        })?;
         let dt = dt_wave.min(dt_heat);
         if !(dt >= self.options.min_dt) {
             let detail = if dt_heat < dt_wave {
@@ -238,17 +232,13 @@ impl Solver for MpmSolver {
                 }
             });
         let reservoir = self.inflow.max_signal_speed(&self.materials);
-        let grid = &self.level.geometry;
         let dx_min = self.smallest_active_spacing();
         let dt_wave = self.options.cfl * dx_min / speed.max(reservoir);
-        if !self.thermal.is_empty() {
-            let alpha = crate::conduction::max_diffusivity(ps, &self.thermal).ok()?;
-            let dt_heat = crate::conduction::diffusive_time_step(alpha, grid, self.options.cfl);
-            if dt_heat < dt_wave {
-                return Some(format!(
-                    "MPM heat conduction: largest thermal diffusivity {alpha:.4e} m²/s"
-                ));
-            }
+        let (dt_heat, alpha) = self.conduction_step().ok()?;
+        if dt_heat < dt_wave {
+            return Some(format!(
+                "MPM heat conduction: largest thermal diffusivity {alpha:.4e} m²/s"
+            ));
         }
         if reservoir > speed.max(0.0) {
             return Some(format!(
