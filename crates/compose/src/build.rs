@@ -317,7 +317,7 @@ pub(crate) fn mpm_parts(
     let remap = mpm
         .remap
         .as_ref()
-        .map(|r| crate::bridge::GasRemap::new(r, &names, &models, &grid, d.geometry))
+        .map(|r| brisance_couple::GasRemap::new(r, &names, &models, &grid, d.geometry))
         .transpose()
         .map_err(|(path, message)| located(&path, message))?;
     let mut particles = Particles::new(stride);

@@ -186,7 +186,7 @@ pub struct MpmConfig {
     /// and `products` materials inside the remap's grid take their cell's
     /// remapped state (docs/physics/couple/bridge.md, pure MPM).
     #[serde(default)]
-    pub remap: Option<crate::bridge::MpmRemapConfig>,
+    pub remap: Option<brisance_couple::MpmRemapConfig>,
 }
 
 /// A prescribed traction or pressure on the particles that start in

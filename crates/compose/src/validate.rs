@@ -410,7 +410,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
             }
             if let Some(r) = &mpm.remap {
-                crate::bridge::validate_mpm_remap(r)?;
+                r.validate()?;
             }
             let mut load_names = std::collections::BTreeSet::new();
             for (i, l) in mpm.surface_loads.iter().enumerate() {

@@ -20,11 +20,13 @@
 
 pub mod bridge;
 pub mod cfdmp;
+pub mod gas_remap;
 pub mod ice_mpm;
 pub mod regions;
 pub mod remap;
 
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
+pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
 pub use ice_mpm::{IceMpm, IceMpmError};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{
