@@ -47,10 +47,8 @@ fn print_row(label: &str, result: &Result<BurnRateResult, String>) {
 /// reactant's default): PBX-9501's law with A over 100 at 100 MPa, run
 /// over one cell.
 fn slow(surface: BurnSurface, method: Option<SurfaceArea>) -> BurnRate {
-    let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
-    cfg.law.a /= 100.0;
+    let mut cfg = BurnRate::a_over_100(surface);
     cfg.law.surface_area = method;
-    cfg.regress_cells = 1.0;
     cfg
 }
 

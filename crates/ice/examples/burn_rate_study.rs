@@ -33,10 +33,8 @@ fn main() -> Result<(), String> {
         Some(name) => Some(ron::from_str(name).map_err(|e| format!("estimate `{name}`: {e}"))?),
         None => None,
     };
-    let mut cfg = BurnRate::pbx_9501(1.0e8, surface);
-    cfg.law.a /= 100.0;
+    let mut cfg = BurnRate::a_over_100(surface);
     cfg.law.surface_area = estimate;
-    cfg.regress_cells = 1.0;
     cfg.extent_cells = extent;
     let r = burn_rate(&cfg)?;
     println!(

@@ -96,6 +96,16 @@ impl BurnRate {
             products_temperature: 2500.0,
         }
     }
+
+    /// V-BURNRATE's A/100 rows: PBX-9501's law with A over 100 (a burn
+    /// slow enough that the gas it makes leaves the pressure held) at
+    /// 100 MPa on `surface`, burnt back one cell.
+    pub fn a_over_100(surface: BurnSurface) -> Self {
+        let mut cfg = Self::pbx_9501(1.0e8, surface);
+        cfg.law.a /= 100.0;
+        cfg.regress_cells = 1.0;
+        cfg
+    }
 }
 
 /// What a V-BURNRATE run measured.
@@ -463,10 +473,7 @@ mod tests {
     /// slab's cross-section.
     #[test]
     fn plane_slab_regresses_at_a_p_to_the_n() {
-        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
-        cfg.law.a /= 100.0;
-        cfg.regress_cells = 1.0;
-        let r = burn_rate(&cfg).unwrap();
+        let r = burn_rate(&BurnRate::a_over_100(BurnSurface::Plane)).unwrap();
         assert!(r.error().abs() < 1e-3, "{r:?}");
         assert!((r.surface_pressure / 1.0e8 - 1.0).abs() < 1e-3, "{r:?}");
         assert!(r.area_error.abs() < 1e-12, "{r:?}");

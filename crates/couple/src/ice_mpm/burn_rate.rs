@@ -192,10 +192,7 @@ mod tests {
     /// cross-section within 10⁻⁶ at every step (measured 9·10⁻⁸).
     #[test]
     fn a_particle_plane_regresses_at_a_p_to_the_n() {
-        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Plane);
-        cfg.law.a /= 100.0;
-        cfg.regress_cells = 1.0;
-        let r = particle_burn_rate(&cfg).unwrap();
+        let r = particle_burn_rate(&BurnRate::a_over_100(BurnSurface::Plane)).unwrap();
         assert!(r.error().abs() < 0.01, "{r:?}");
         assert!((r.surface_pressure / 1.0e8 - 1.0).abs() < 1e-3, "{r:?}");
         assert!(r.area_error.abs() < 1e-6, "{r:?}");

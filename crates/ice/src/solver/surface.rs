@@ -465,9 +465,7 @@ mod tests {
     #[test]
     #[ignore = "a diagnostic run of minutes; prints its split"]
     fn the_burning_diagonal_fronts_excess_area_split() {
-        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Diagonal);
-        cfg.law.a /= 100.0;
-        cfg.regress_cells = 1.0;
+        let cfg = BurnRate::a_over_100(BurnSurface::Diagonal);
         let h = cfg.h;
         let mut s = burning_slab(&cfg, PressureSolve::Explicit).expect("builds");
         let t_end = cfg.regress_cells * h / cfg.law.burn_speed(cfg.pressure, 2500.0);
