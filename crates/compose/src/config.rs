@@ -6,12 +6,10 @@ use std::collections::BTreeMap;
 use brisance_constitutive::MaterialModel;
 pub use brisance_core::Geometry;
 use brisance_eos::EosModel;
-use brisance_mpm::{
-    AntiLocking, BulkViscosity, LoadHistory, SetQuantity, ShapeFunction, SurfaceLoadKind,
-    UpdateScheme,
-};
+use brisance_mpm::SetQuantity;
 use serde::{Deserialize, Serialize};
 
+pub use brisance_couple::mpm_pipeline::{BulkViscosityConfig, MpmConfig, SurfaceLoadConfig};
 pub use brisance_fdm::pipeline::{FdmConfig, LimiterConfig, ViscosityConfig};
 pub use brisance_ice::pipeline::{IceConfig, IceReactionConfig, IceReactionModel};
 pub use brisance_scene::{Boundaries, BoundaryConfig, StateConfig};
@@ -146,106 +144,6 @@ impl Pipeline {
             Self::FdmMpmBridge(_) => "FdmMpmBridge",
         }
     }
-}
-
-/// Options of the MPM pipeline. Every initial region becomes particles of
-/// its material, which must name a constitutive `model`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MpmConfig {
-    /// Shape function: `Linear`, `Gimp` (uGIMP), `CpGimp` (contiguous-particle
-    /// GIMP, docs/physics/mpm/gimp.md) or `QuadraticBSpline`.
-    #[serde(default)]
-    pub shape_function: ShapeFunction,
-    /// Update scheme: `Usf`, `Usl` or `Musl`.
-    #[serde(default)]
-    pub scheme: UpdateScheme,
-    /// Particles per cell per active direction.
-    #[serde(default = "default_ppc")]
-    pub ppc: usize,
-    /// Body force per unit mass (gravity), m/s².
-    #[serde(default)]
-    pub gravity: [f64; 3],
-    /// Nodes lighter than this fraction of the mean particle mass are
-    /// treated as empty.
-    #[serde(default = "default_mass_cutoff")]
-    pub mass_cutoff: f64,
-    /// Artificial bulk viscosity of the particles (default `Off`).
-    #[serde(default)]
-    pub bulk_viscosity: BulkViscosityConfig,
-    /// Volumetric anti-locking of the stress update: `Off` (the default)
-    /// or `FBar`, the ΔF̄ volume averaging of Coombs et al. (2018) over
-    /// the particles of each cell (docs/physics/mpm/anti_locking.md).
-    #[serde(default)]
-    pub anti_locking: AntiLocking,
-    /// Prescribed tractions on particle surfaces (seed 001 eq 20).
-    #[serde(default)]
-    pub surface_loads: Vec<SurfaceLoadConfig>,
-    /// Gas particles from a remapped 1D detonation, a `brisance remap`
-    /// file or a `charge` the run remaps itself: particles of its `air`
-    /// and `products` materials inside the remap's grid take their cell's
-    /// remapped state (docs/physics/couple/bridge.md, pure MPM).
-    #[serde(default)]
-    pub remap: Option<brisance_couple::MpmRemapConfig>,
-}
-
-/// A prescribed traction or pressure on the particles that start in
-/// `region` (docs/physics/mpm/traction.md): each stands for the area
-/// V⁰/h of the surface with outward normal `normal`, carried along by its
-/// deformation.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SurfaceLoadConfig {
-    /// Name, for messages.
-    pub name: String,
-    /// Where the loaded particles start (one layer of particles).
-    pub region: Region,
-    /// Only particles of this material.
-    #[serde(default)]
-    pub material: Option<String>,
-    /// `Traction((tx, ty, tz))` per unit area or `Pressure(p)`, Pa.
-    pub load: SurfaceLoadKind,
-    /// Outward normal of the loaded surface at the start (normalised).
-    pub normal: [f64; 3],
-    /// Thickness h of the loaded particle layer, m (default: the particle
-    /// spacing along the normal, 1/Σ_d |n_d| ppc/Δx_d).
-    #[serde(default)]
-    pub thickness: Option<f64>,
-    /// Time factor: `Constant` (default), `Ramp(rise_time: t)` or
-    /// `Table([(t, s), ...])`.
-    #[serde(default)]
-    pub history: LoadHistory,
-}
-
-/// The artificial bulk viscosity of the particles
-/// (docs/physics/mpm/bulk_viscosity.md): q = ρ l (Q₁ l (tr D)² − Q₂ c tr D)
-/// in compression, added to the pressure.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub enum BulkViscosityConfig {
-    /// No bulk viscosity (the default).
-    #[default]
-    Off,
-    /// On, with `quadratic` Q₁ (default 1.5) and `linear` Q₂ (default
-    /// 0.06), LS-DYNA's defaults: `On()` or `On(quadratic: 1.5, linear: 0.06)`.
-    On(BulkViscosity),
-}
-
-impl BulkViscosityConfig {
-    /// The solver option.
-    pub fn option(&self) -> Option<BulkViscosity> {
-        match self {
-            Self::Off => None,
-            Self::On(v) => Some(*v),
-        }
-    }
-}
-
-fn default_ppc() -> usize {
-    2
-}
-
-fn default_mass_cutoff() -> f64 {
-    1e-5
 }
 
 /// A geometric region: the shapes every method shares (see

@@ -30,7 +30,9 @@ use brisance_couple::IceMpm;
 use brisance_mpm::{AntiLocking, UpdateScheme};
 use serde::{Deserialize, Serialize};
 
-use crate::build::{located, mpm_parts, Built};
+use brisance_couple::mpm_pipeline::mpm_parts;
+
+use crate::build::{located, Built};
 use crate::config::IceConfig;
 use crate::config::{MpmConfig, Scenario};
 use brisance_scene::Scene;
@@ -133,6 +135,9 @@ pub fn validate(s: &Scenario, cfg: &IceMpmConfig) -> Result<(), Problem> {
             "the coupled step has no anti-locking option; use `Off`".into(),
         ));
     }
+    cfg.mpm
+        .check_section(&particle_scene(s, cfg))
+        .map_err(|e| under("mpm", e.into()))?;
     if cfg.ice.pressure != brisance_ice::PressureSolve::Explicit {
         return Err((
             "pipeline.ice.pressure".into(),
@@ -207,13 +212,8 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
             std::sync::Arc::new(brisance_grid::comm::Serial),
         )
         .map_err(|e| located(under("ice", e.into())))?;
-    let (mpm, particle_gauges) =
-        mpm_parts(&particle_scene(s, cfg), &cfg.mpm, true).map_err(|mut e| {
-            if let Some(f) = e.field.take() {
-                e.field = Some(under("mpm", (f, String::new())).0);
-            }
-            e
-        })?;
+    let run = mpm_parts(&particle_scene(s, cfg), &cfg.mpm, true)
+        .map_err(|e| located(under("mpm", e.into())))?;
     // Particle materials are numbered in name order (mpm_parts); the
     // solids are ICE materials N + 1, … in the order given.
     let mut sorted: Vec<&String> = cfg.solid.names().iter().collect();
@@ -223,14 +223,14 @@ pub fn build(s: &Scenario, cfg: &IceMpmConfig) -> Result<Built, crate::ConfigErr
         .iter()
         .map(|n| fluids + cfg.solid.names().iter().position(|m| m == *n).unwrap_or(0))
         .collect();
-    let mut solver =
-        IceMpm::new(ice, mpm, &solids).map_err(|e| located(("pipeline".into(), e.to_string())))?;
+    let mut solver = IceMpm::new(ice, run.solver, &solids)
+        .map_err(|e| located(("pipeline".into(), e.to_string())))?;
     // The particle updates spread over the ranks of the run
     // (docs/cluster.md); nothing changes on one rank.
     solver.distribute(brisance_grid::comm::world());
     Ok(Built::IceMpm {
         solver: Box::new(solver),
-        particle_gauges,
+        particle_gauges: run.particle_gauges,
     })
 }
 
@@ -317,6 +317,29 @@ mod tests {
         let err = build(&loaded.scenario).err().expect("refused");
         assert_eq!(err.field.as_deref(), Some("initial.1.state"), "{err}");
         assert!(err.to_string().contains("temperature"), "{err}");
+    }
+
+    /// The particles' section is checked as the `Mpm` pipeline's is, at
+    /// its paths under `pipeline.mpm` (`--set` reaches it there too).
+    #[test]
+    fn the_particle_section_is_checked_under_pipeline_mpm() {
+        for (set, field) in [
+            ("pipeline.mpm.ppc=0", "pipeline.mpm.ppc"),
+            ("pipeline.mpm.ppc=9", "pipeline.mpm.ppc"),
+            ("pipeline.mpm.mass_cutoff=1.5", "pipeline.mpm.mass_cutoff"),
+            (
+                "pipeline.mpm.bulk_viscosity=On(quadratic: -1.0, linear: 0.06)",
+                "pipeline.mpm.bulk_viscosity.quadratic",
+            ),
+        ] {
+            let err = load_str("piston_icempm.ron", PISTON, &[set.to_string()])
+                .err()
+                .unwrap_or_else(|| panic!("`{set}` refused"));
+            assert!(
+                err.to_string().contains(field),
+                "`{set}`: {err} does not name {field}"
+            );
+        }
     }
 
     #[test]

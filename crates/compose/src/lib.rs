@@ -10,11 +10,11 @@
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
 //! - [`build`]: assembling the solver for a pipeline ([`ice_mpm`] and
-//!   [`bridge`] hold their own pipelines; the `Fdm`, `Ice`, `Lattice` and
-//!   `Peridynamics` pipelines' sections and builders are `brisance_fdm`'s,
-//!   `brisance_ice`'s, `brisance_lattice`'s and `brisance_pd`'s, called
-//!   through `brisance_scene::PipelineSpec` with the [`scene`] of the
-//!   scenario).
+//!   [`bridge`] hold their own pipelines; the `Fdm`, `Mpm`, `Ice`,
+//!   `Lattice` and `Peridynamics` pipelines' sections and builders are
+//!   `brisance_fdm`'s, `brisance_couple`'s, `brisance_ice`'s,
+//!   `brisance_lattice`'s and `brisance_pd`'s, called through
+//!   `brisance_scene::PipelineSpec` with the [`scene`] of the scenario).
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
 pub mod bridge;

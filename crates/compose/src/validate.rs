@@ -3,93 +3,29 @@
 //! its line and column.
 
 use crate::build::PipelineLimits;
-use crate::config::{BoundaryConfig, Pipeline, Region, Scenario, ThermalConfig};
-use brisance_constitutive::MaterialModel;
-use brisance_core::Material;
-use brisance_mpm::{HeatConduction, ThermalProperties};
+use crate::config::{BoundaryConfig, Pipeline, Region, Scenario};
 use brisance_scene::PipelineSpec;
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
 
-/// The faces the Mpm pipeline takes.
-pub(crate) const MPM_FACES: &[&str] = &[
-    "Outflow",
-    "ZeroGradient",
-    "OutflowOnly",
-    "Fixed",
-    "Reflective",
-    "Wall",
-];
-
-fn finite3(v: &[f64; 3]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
 /// A material's `thermal` (at `path`) is for the particles of an `Mpm`
-/// pipeline or the solids of an `IceMpm` one: the heat conduction is a
-/// part of the MPM step and of no other method.
+/// pipeline (whose section checks its materials' entries,
+/// [`brisance_couple::MpmConfig`]) or the solids of an `IceMpm` one: the
+/// heat conduction is a part of the MPM step and of no other method.
 fn check_thermal_use(s: &Scenario, name: &str, path: &str) -> Result<(), Problem> {
     let why = match &s.pipeline {
-        Pipeline::Mpm(_) if s.materials[name].model.is_some() => return Ok(()),
-        Pipeline::Mpm(_) => format!(
-            "`{name}` has no constitutive `model`, so it is no particle material of the Mpm pipeline"
-        ),
+        Pipeline::Mpm(_) => return Ok(()),
         Pipeline::IceMpm(c) if c.solid.contains(name) => return Ok(()),
-        Pipeline::IceMpm(_) => format!(
-            "`{name}` is not a `solid` of the IceMpm pipeline (the fluids do not conduct)"
-        ),
+        Pipeline::IceMpm(_) => {
+            format!("`{name}` is not a `solid` of the IceMpm pipeline (the fluids do not conduct)")
+        }
         other => format!("the {} pipeline has no heat conduction", other.name()),
     };
     Err((
         path.into(),
         format!("{why}; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`"),
     ))
-}
-
-/// The conductivity and specific heat of the particles of `model` that
-/// `thermal` (at `path`) gives: k finite and ≥ 0, c_v finite and > 0 when
-/// given, and a c_v from the model (the J2 metal's) when not and k > 0.
-/// The MPM solver's own resolution, so that the config refuses what the
-/// solver would.
-pub(crate) fn thermal_properties(
-    path: &str,
-    thermal: &ThermalConfig,
-    model: &MaterialModel,
-) -> Result<ThermalProperties, Problem> {
-    let k = thermal.conductivity;
-    if !(k >= 0.0 && k.is_finite()) {
-        return Err((
-            format!("{path}.conductivity"),
-            format!("conductivity must be finite and ≥ 0 W/(m·K), got {k}"),
-        ));
-    }
-    if let Some(c) = thermal.specific_heat {
-        if !(c > 0.0 && c.is_finite()) {
-            return Err((
-                format!("{path}.specific_heat"),
-                format!("specific_heat must be finite and > 0 J/(kg·K), got {c}"),
-            ));
-        }
-    }
-    let option = HeatConduction {
-        conductivity: vec![k],
-        specific_heat: vec![thermal.specific_heat],
-    };
-    match option.resolve(std::slice::from_ref(model)) {
-        Ok(p) => Ok(p[0]),
-        Err(("heat_conduction.specific_heat", ..)) if thermal.specific_heat.is_none() => Err((
-            path.into(),
-            format!(
-                "give `specific_heat`: a conducting material needs one, and the `{}` model carries none",
-                model.name()
-            ),
-        )),
-        Err((option, value, expected)) => {
-            let field = option.rsplit('.').next().unwrap_or(option);
-            Err((format!("{path}.{field}"), format!("{field} = {value}: {expected}")))
-        }
-    }
 }
 
 /// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
@@ -106,24 +42,15 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
         Pipeline::Lattice(_) => Some(
             "the MSDM lattice is a 3D network of bonds with no axisymmetric form; run the Lattice pipeline on a 3D Cartesian grid",
         ),
-        Pipeline::Mpm(_) => s
-            .boundaries
-            .faces()
-            .iter()
-            .any(|(_, bc)| {
-                matches!(
-                    bc,
-                    BoundaryConfig::ZeroGradient | BoundaryConfig::OutflowOnly | BoundaryConfig::Fixed(_)
-                )
-            })
-            .then_some(
-                "the Mpm pipeline's particle reservoirs (faces `ZeroGradient`, `OutflowOnly`, `Fixed`) do not run on Axisymmetric grids yet; use `Outflow`, `Reflective` or `Wall`",
-            ),
+        // The Mpm section checks its reservoir faces on (r, z) grids
+        // (`brisance_couple::MpmConfig`).
         // The bridge's own limits on (r, z) grids (the split along z) are
         // checked with its options (`crate::bridge::validate`).
-        Pipeline::Fdm(_) | Pipeline::Ice(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_) => {
-            None
-        }
+        Pipeline::Mpm(_)
+        | Pipeline::Fdm(_)
+        | Pipeline::Ice(_)
+        | Pipeline::IceMpm(_)
+        | Pipeline::FdmMpmBridge(_) => None,
     };
     if let Some(why) = unsupported {
         return Err(("domain.geometry".into(), why.into()));
@@ -358,8 +285,12 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         }
         if let Some(thermal) = &m.thermal {
             check_thermal_use(s, name, &format!("{path}.thermal"))?;
-            if let Some(model) = &m.model {
-                thermal_properties(&format!("{path}.thermal"), thermal, model)?;
+            if let (Some(model), Pipeline::IceMpm(_)) = (&m.model, &s.pipeline) {
+                brisance_couple::mpm_pipeline::thermal_properties(
+                    &format!("{path}.thermal"),
+                    thermal,
+                    model,
+                )?;
             }
         }
     }
@@ -390,126 +321,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
         Pipeline::IceMpm(c) => crate::ice_mpm::validate(s, c)?,
         Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
-        Pipeline::Mpm(mpm) => {
-            if mpm.ppc == 0 || mpm.ppc > 8 {
-                return Err((
-                    "pipeline.ppc".into(),
-                    format!(
-                        "ppc = {} must lie in 1..=8 particles per cell per direction",
-                        mpm.ppc
-                    ),
-                ));
-            }
-            if !(mpm.mass_cutoff >= 0.0 && mpm.mass_cutoff < 1.0) {
-                return Err((
-                    "pipeline.mass_cutoff".into(),
-                    format!("mass_cutoff = {} must lie in [0, 1)", mpm.mass_cutoff),
-                ));
-            }
-            if !finite3(&mpm.gravity) {
-                return Err(("pipeline.gravity".into(), "gravity must be finite".into()));
-            }
-            if let Some(r) = &mpm.remap {
-                r.validate()?;
-            }
-            let mut load_names = std::collections::BTreeSet::new();
-            for (i, l) in mpm.surface_loads.iter().enumerate() {
-                let path = format!("pipeline.surface_loads.{i}");
-                if l.name.is_empty() || !load_names.insert(l.name.clone()) {
-                    return Err((
-                        format!("{path}.name"),
-                        format!(
-                            "surface load name `{}` must be non-empty and unique",
-                            l.name
-                        ),
-                    ));
-                }
-                check_region(&format!("{path}.region"), &l.region)?;
-                if let Some(m) = &l.material {
-                    if s.materials.get(m).and_then(|m| m.model.as_ref()).is_none() {
-                        return Err((
-                            format!("{path}.material"),
-                            format!(
-                                "surface load `{}`: `{m}` is not a particle material (one with a constitutive `model`); known materials: {}",
-                                l.name,
-                                known_materials()
-                            ),
-                        ));
-                    }
-                }
-                let n2: f64 = l.normal.iter().map(|c| c * c).sum();
-                if !finite3(&l.normal) || !(n2 > 0.0) {
-                    return Err((
-                        format!("{path}.normal"),
-                        format!(
-                            "surface load `{}`: normal {:?} must be finite and non-zero",
-                            l.name, l.normal
-                        ),
-                    ));
-                }
-                if let Some(h) = l.thickness {
-                    if !(h > 0.0 && h.is_finite()) {
-                        return Err((
-                            format!("{path}.thickness"),
-                            format!(
-                                "surface load `{}`: thickness {h} m must be positive",
-                                l.name
-                            ),
-                        ));
-                    }
-                }
-                let finite = match l.load {
-                    brisance_mpm::SurfaceLoadKind::Traction(t) => finite3(&t),
-                    brisance_mpm::SurfaceLoadKind::Pressure(p) => p.is_finite(),
-                };
-                if !finite {
-                    return Err((
-                        format!("{path}.load"),
-                        format!("surface load `{}`: the load must be finite", l.name),
-                    ));
-                }
-                l.history.validate().map_err(|m| {
-                    (
-                        format!("{path}.history"),
-                        format!("surface load `{}`: {m}", l.name),
-                    )
-                })?;
-            }
-            if let Some(Err((name, value))) = mpm.bulk_viscosity.option().map(|v| v.validate()) {
-                return Err((
-                    format!("pipeline.bulk_viscosity.{name}"),
-                    format!("bulk viscosity coefficient {name} = {value} must be finite and ≥ 0"),
-                ));
-            }
-            s.boundaries.check_faces("Mpm", MPM_FACES, |_| "")?;
-            let particle_materials: Vec<String> = s
-                .materials
-                .iter()
-                .filter(|(_, m)| m.model.is_some())
-                .map(|(n, _)| n.clone())
-                .collect();
-            for (face, bc) in s.boundaries.faces() {
-                if let BoundaryConfig::Fixed(state) = bc {
-                    let m = brisance_scene::fixed_face_material(
-                        face,
-                        state,
-                        &particle_materials,
-                        "particle material",
-                    )?;
-                    if s.materials[m]
-                        .model
-                        .as_ref()
-                        .and_then(|x| x.eos())
-                        .is_none()
-                    {
-                        return Err((
-                            format!("boundaries.{face}"),
-                            format!("the particles a `Fixed` face brings in push with their pressure, which needs an equation of state; `{m}`'s model has none"),
-                        ));
-                    }
-                }
-            }
-        }
+        Pipeline::Mpm(mpm) => mpm.validate(&crate::scene::scene_of(s))?,
     }
     for (face, bc) in s.boundaries.faces() {
         if let BoundaryConfig::Fixed(state) = bc {
@@ -544,18 +356,6 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                     known_materials()
                 ),
             ));
-        }
-        match &s.pipeline {
-            Pipeline::Mpm(_) if s.materials[&r.material].model.is_none() => {
-                return Err((
-                    format!("{path}.material"),
-                    format!(
-                        "`{}` has no constitutive `model`, which Mpm particles need",
-                        r.material
-                    ),
-                ));
-            }
-            _ => {}
         }
         check_region(&format!("{path}.region"), &r.region)?;
         if !may_meet_box(&r.region, &d.lower, &d.upper) {

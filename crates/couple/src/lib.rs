@@ -14,6 +14,9 @@
 //! - [`ice_mpm`]: the ICE–MPM step of seed 000 §3.3 — Eulerian fluids and
 //!   Lagrangian solids on one grid, one equilibration pressure, momentum
 //!   and heat exchange in every cell.
+//! - [`mpm_pipeline`]: the `Mpm` pipeline's section, checks and builder
+//!   (`brisance_scene::PipelineSpec`), whose particles the coupled
+//!   pipelines build too ([`mpm_pipeline::mpm_parts`]).
 //!
 //! Choices the paper leaves open are written down in
 //! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
@@ -22,12 +25,14 @@ pub mod bridge;
 pub mod cfdmp;
 pub mod gas_remap;
 pub mod ice_mpm;
+pub mod mpm_pipeline;
 pub mod regions;
 pub mod remap;
 
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
 pub use ice_mpm::{IceMpm, IceMpmError};
+pub use mpm_pipeline::{BulkViscosityConfig, MpmConfig, MpmRun, SurfaceLoadConfig};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{
     remap, Charge, RadialProfile, RemapError, RemapReport, RemapTarget, RemapTotals, Remapped,
