@@ -25,11 +25,7 @@ pub fn pipeline_limits(s: &Scenario) -> PipelineLimits {
         Pipeline::Ice(ice) => ice.limits(geometry),
         // The fluids' grid with the particles' node fields; the coupled
         // state is checkpointed whole.
-        Pipeline::IceMpm(c) => PipelineLimits {
-            node_fields: &MpmSolver::NODE_FIELDS,
-            patch_checkpoints: false,
-            ..c.ice.limits(geometry)
-        },
+        Pipeline::IceMpm(c) => c.limits(geometry),
         Pipeline::Lattice(l) => l.limits(geometry),
         Pipeline::Peridynamics(pd) => pd.limits(geometry),
         Pipeline::Mpm(mpm) => mpm.limits(geometry),
@@ -176,7 +172,13 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
                 particle_gauges,
             })
             .map_err(|(path, message)| located(&path, message)),
-        Pipeline::IceMpm(c) => crate::ice_mpm::build(s, c),
+        Pipeline::IceMpm(c) => c
+            .build(&crate::scene::scene_of(s))
+            .map(|run| Built::IceMpm {
+                solver: Box::new(run.solver),
+                particle_gauges: run.particle_gauges,
+            })
+            .map_err(|e| located(&e.field, e.message)),
         Pipeline::Ice(ice) => build_owned(ice, s),
     }
 }
@@ -200,7 +202,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Peridynamics(pd) => pd.describe(&crate::scene::scene_of(s)),
         Pipeline::Lattice(l) => l.describe(&crate::scene::scene_of(s)),
         Pipeline::Ice(ice) => ice.describe(&crate::scene::scene_of(s)),
-        Pipeline::IceMpm(c) => crate::ice_mpm::describe(s, c),
+        Pipeline::IceMpm(c) => c.describe(&crate::scene::scene_of(s)),
         Pipeline::FdmMpmBridge(b) => crate::bridge::describe(s, b),
     }
 }

@@ -126,7 +126,7 @@ pub enum Pipeline {
     /// The multi-material ICE method of seed 000 §3.3.
     Ice(brisance_ice::pipeline::IceConfig),
     /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
-    IceMpm(crate::ice_mpm::IceMpmConfig),
+    IceMpm(brisance_couple::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
     FdmMpmBridge(crate::bridge::BridgeConfig),
 }

@@ -9,10 +9,10 @@
 //!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline ([`ice_mpm`] and
-//!   [`bridge`] hold their own pipelines; the `Fdm`, `Mpm`, `Ice`,
-//!   `Lattice` and `Peridynamics` pipelines' sections and builders are
-//!   `brisance_fdm`'s, `brisance_couple`'s, `brisance_ice`'s,
+//! - [`build`]: assembling the solver for a pipeline ([`bridge`] holds
+//!   its own pipeline; the `Fdm`, `Mpm`, `Ice`, `IceMpm`, `Lattice` and
+//!   `Peridynamics` pipelines' sections and builders are `brisance_fdm`'s,
+//!   `brisance_couple`'s, `brisance_ice`'s, `brisance_couple`'s,
 //!   `brisance_lattice`'s and `brisance_pd`'s, called through
 //!   `brisance_scene::PipelineSpec` with the [`scene`] of the scenario).
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
@@ -23,7 +23,8 @@ pub mod config;
 pub mod error;
 #[cfg(test)]
 mod ice;
-pub mod ice_mpm;
+#[cfg(test)]
+mod ice_mpm;
 #[cfg(test)]
 mod lattice;
 pub mod library;

@@ -186,13 +186,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry::pipeline(<brisance_pd::PdConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_ice::pipeline::IceConfig as PipelineSpec>::INFO),
-    Entry {
-        family: "pipeline",
-        name: "IceMpm",
-        summary: "ICE fluids and one MPM solid on one grid: one equilibration pressure, momentum and heat exchange in every cell, solid stress from σ + p I (seed 000 §3.3)",
-        example: "IceMpm(ice: (materials: [\"air\"]), solid: \"steel\", mpm: (shape_function: Linear, scheme: Musl, ppc: 2))",
-        docs: Some("docs/physics/couple/ice_mpm.md"),
-    },
+    Entry::pipeline(<brisance_couple::IceMpmConfig as PipelineSpec>::INFO),
     Entry {
         family: "pipeline",
         name: "FdmMpmBridge",

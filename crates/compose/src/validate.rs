@@ -10,22 +10,20 @@ use brisance_scene::PipelineSpec;
 pub type Problem = (String, String);
 
 /// A material's `thermal` (at `path`) is for the particles of an `Mpm`
-/// pipeline (whose section checks its materials' entries,
-/// [`brisance_couple::MpmConfig`]) or the solids of an `IceMpm` one: the
+/// pipeline or the solids of an `IceMpm` one, whose sections check their
+/// materials' entries (`brisance_couple::{MpmConfig, IceMpmConfig}`): the
 /// heat conduction is a part of the MPM step and of no other method.
-fn check_thermal_use(s: &Scenario, name: &str, path: &str) -> Result<(), Problem> {
-    let why = match &s.pipeline {
-        Pipeline::Mpm(_) => return Ok(()),
-        Pipeline::IceMpm(c) if c.solid.contains(name) => return Ok(()),
-        Pipeline::IceMpm(_) => {
-            format!("`{name}` is not a `solid` of the IceMpm pipeline (the fluids do not conduct)")
-        }
-        other => format!("the {} pipeline has no heat conduction", other.name()),
-    };
-    Err((
-        path.into(),
-        format!("{why}; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`"),
-    ))
+fn check_thermal_use(s: &Scenario, path: &str) -> Result<(), Problem> {
+    match &s.pipeline {
+        Pipeline::Mpm(_) | Pipeline::IceMpm(_) => Ok(()),
+        other => Err((
+            path.into(),
+            format!(
+                "the {} pipeline has no heat conduction; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`",
+                other.name()
+            ),
+        )),
+    }
 }
 
 /// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
@@ -283,15 +281,8 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 .validate()
                 .map_err(|msg| (format!("{path}.model"), msg.to_string()))?;
         }
-        if let Some(thermal) = &m.thermal {
-            check_thermal_use(s, name, &format!("{path}.thermal"))?;
-            if let (Some(model), Pipeline::IceMpm(_)) = (&m.model, &s.pipeline) {
-                brisance_couple::mpm_pipeline::thermal_properties(
-                    &format!("{path}.thermal"),
-                    thermal,
-                    model,
-                )?;
-            }
+        if m.thermal.is_some() {
+            check_thermal_use(s, &format!("{path}.thermal"))?;
         }
     }
     let known_materials = || {
@@ -319,7 +310,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Pipeline::Peridynamics(pd) => pd.validate(&crate::scene::scene_of(s))?,
         Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
         Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
-        Pipeline::IceMpm(c) => crate::ice_mpm::validate(s, c)?,
+        Pipeline::IceMpm(c) => c.validate(&crate::scene::scene_of(s))?,
         Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
         Pipeline::Mpm(mpm) => mpm.validate(&crate::scene::scene_of(s))?,
     }

@@ -16,7 +16,8 @@
 //!   and heat exchange in every cell.
 //! - [`mpm_pipeline`]: the `Mpm` pipeline's section, checks and builder
 //!   (`brisance_scene::PipelineSpec`), whose particles the coupled
-//!   pipelines build too ([`mpm_pipeline::mpm_parts`]).
+//!   pipelines build too ([`mpm_pipeline::mpm_parts`]); the `IceMpm`
+//!   pipeline's are [`ice_mpm::pipeline`].
 //!
 //! Choices the paper leaves open are written down in
 //! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
@@ -31,6 +32,7 @@ pub mod remap;
 
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
+pub use ice_mpm::pipeline::{IceMpmConfig, IceMpmRun, Solids};
 pub use ice_mpm::{IceMpm, IceMpmError};
 pub use mpm_pipeline::{BulkViscosityConfig, MpmConfig, MpmRun, SurfaceLoadConfig};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};

@@ -30,6 +30,7 @@
 
 pub mod burn_rate;
 pub mod cases;
+pub mod pipeline;
 pub mod steps;
 pub mod tubes;
 
