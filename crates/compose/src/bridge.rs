@@ -1,851 +1,677 @@
-//! The `FdmMpmBridge` pipeline: the coupled finite-difference /
-//! material-point method of seed 001 §3 (`brisance_couple`,
-//! docs/physics/couple/bridge.md).
-//!
-//! The scenario's domain is the union of `fdm_region` and `mpm_region`,
-//! two boxes on the domain's cells that differ along one axis and overlap
-//! there by the bridge width w, the config's `w` (default 5): boxes whose
-//! overlap is not w cells are refused. Initial regions are read per point,
-//! the last region containing it winning:
-//!
-//! - FDM cells take the state of the last region of a gas (`air`, or the
-//!   `products` with mass fraction 1) containing their centre; a `remap`
-//!   file written by `brisance remap` on the FDM region's grid then replaces
-//!   the FDM region's cells (it needs `products`).
-//! - MPM particles (`ppc` per cell per active direction) fill the MPM
-//!   region: where the last region is a material with a constitutive
-//!   `model` (other than the gases), particles of that material; where it is
-//!   a gas, air particles (material 0, a `Null` fluid with the air's ideal
-//!   gas) or, for the products, products particles (material 1, a `Null`
-//!   fluid with the products' EOS) of that state. Inflow from the FDM
-//!   becomes products particles where the donor cell is mostly products.
-//!
-//! Faces: as for `Fdm` on the FDM grid (its face inside the MPM region is
-//! an outflow past the fictitious cells) and as for `Mpm` on the MPM grid
-//! (`Reflective` a symmetry plane, `Wall` a fixed wall, others outflow; its
-//! face inside the FDM region is an outflow).
+//! The `FdmMpmBridge` pipeline through the composer: its shipped
+//! scenarios, `--set` paths, remap files and error positions. The
+//! section, its checks and its builder are
+//! `brisance_couple::bridge_pipeline`'s.
 
-use brisance_constitutive::{MaterialModel, NullMaterial};
-use brisance_core::{Eos, Material, Solver};
-use brisance_couple::{
-    cached_remap, BridgeRegions, Cfdmp, CfdmpOptions, Charge, RegionBox, Remapped, Side,
-};
-use brisance_eos::EosModel;
-use brisance_fdm::{
-    ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, GasLaw, PrimitiveState, ProductsInAir,
-};
-use brisance_grid::Level;
-use brisance_mpm::{
-    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
-    ShapeFunction, UpdateScheme,
-};
-use serde::{Deserialize, Serialize};
+use crate::load_str;
 
-use crate::build::primitive_state;
-use crate::config::{BoundaryConfig, BulkViscosityConfig, Scenario, ViscosityConfig};
+/// A 2D tube: FDM (0, 40) mm, MPM (30, 60) mm at 2 mm (w = 5), a
+/// 5-bar region at x < 10 mm and a concrete block in the MPM region.
+const TUBE: &str = r#"Scenario(
+    name: "bridge2d",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (0.06, 0.02, 0.002), cells: (30, 10, 1)),
+    boundaries: (x_low: Reflective, x_high: Reflective, y_low: Reflective, y_high: Reflective),
+    time: (end: 8.0e-5, cfl: 0.8),
+    materials: {"air": (library: "air"), "concrete": (library: "concrete_48mpa")},
+    pipeline: FdmMpmBridge(
+        fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.04, 0.02, 0.002)),
+        mpm_region: (lower: (0.03, 0.0, 0.0), upper: (0.06, 0.02, 0.002)),
+        air: "air",
+        bulk_viscosity: On(),
+        activation_pressure: 1.1e5,
+    ),
+    initial: [
+        (region: Everywhere, material: "air", state: (density: 1.225, pressure: 1.0e5)),
+        (region: HalfSpace(point: (0.01, 0, 0), normal: (-1, 0, 0)), material: "air", state: (density: 4.9, pressure: 5.0e5)),
+        (region: Box(min: (0.05, 0.004, 0.0), max: (0.056, 0.016, 0.002)), material: "concrete", state: (density: 2440.0, temperature: 293.15)),
+    ],
+    outputs: (fields: ["density", "pressure"], vtk: false),
+)"#;
 
-type Problem = (String, String);
-
-/// An axis-aligned box, m.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoxConfig {
-    /// Low corner, m.
-    pub lower: [f64; 3],
-    /// High corner, m.
-    pub upper: [f64; 3],
-}
-
-/// Options of the `FdmMpmBridge` pipeline.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BridgeConfig {
-    /// The FDM region.
-    pub fdm_region: BoxConfig,
-    /// The MPM region; it overlaps one end of the FDM region by whole cells
-    /// (the bridge).
-    pub mpm_region: BoxConfig,
-    /// Bridge width w, cells (default 5): the overlap of `fdm_region` and
-    /// `mpm_region` along the split axis must be exactly w cells, or the
-    /// config is refused. It checks the boxes and changes nothing else.
-    #[serde(default)]
-    pub w: Option<usize>,
-    /// The air (a key of `materials` with an `IdealGas`): the FDM gas and
-    /// the MPM fluid.
-    pub air: String,
-    /// Detonation products carried by the FDM as a second species (a key of
-    /// `materials`, a JWL).
-    #[serde(default)]
-    pub products: Option<String>,
-    /// FDM artificial viscosity (seed 001 eqs 3–5).
-    #[serde(default)]
-    pub viscosity: ViscosityConfig,
-    /// Initial state of the FDM region from `brisance remap` (path relative
-    /// to the working directory).
-    #[serde(default)]
-    pub remap: Option<String>,
-    /// The charge whose 1D detonation the run remaps onto the FDM region
-    /// itself (instead of a `remap` file): explosive, symmetry, centre,
-    /// radius, 1D grid and time. The result is cached by its inputs
-    /// ([`brisance_couple::remap_cache_dir`]).
-    #[serde(default)]
-    pub charge: Option<Charge>,
-    /// MPM particles per cell per active direction.
-    #[serde(default = "default_ppc")]
-    pub ppc: usize,
-    /// MPM Courant number (the FDM's is `time.cfl`).
-    #[serde(default = "default_mpm_cfl")]
-    pub mpm_cfl: f64,
-    /// MPM artificial bulk viscosity.
-    #[serde(default)]
-    pub bulk_viscosity: BulkViscosityConfig,
-    /// Pressure near the interface that starts the MPM region, Pa.
-    pub activation_pressure: f64,
-    /// FDM cells on the donor side of the interface watched for it.
-    #[serde(default = "default_activation_cells")]
-    pub activation_cells: usize,
-    /// Smallest mass of a particle created by the inflow, as a fraction of
-    /// an initial air particle's (eqs 45–46): a face's inflow waits in
-    /// transit until its 4 or more particles weigh at least this much
-    /// each. 0 is the paper's rule (particles every step, at least 4 per
-    /// face however small the inflow).
-    #[serde(default = "default_min_particle_mass")]
-    pub min_particle_mass: f64,
-    /// Size the inflow's particles like the initial ones (default true):
-    /// m_e (eq 45) at a face is the larger of an initial air particle's
-    /// mass and the donor density times an initial particle's volume.
-    /// false: m_e is the air particle's mass everywhere (the paper's
-    /// rule), which makes ρ/ρ₀ times as many particles of compressed air
-    /// and products.
-    #[serde(default = "default_true")]
-    pub inflow_particle_volume: bool,
-    /// Deposit a face's inflow into the air or products particles already
-    /// in its first bridge cell (default true), creating particles only
-    /// where that cell holds none of the inflow's material, at once: the
-    /// inflow is inside the MPM region the step it crosses the interface
-    /// (docs/physics/couple/bridge.md). false: `min_particle_mass` batches
-    /// (or, with `min_particle_mass: 0.0` and `inflow_particle_volume:
-    /// false`, the paper's rule).
-    #[serde(default = "default_true")]
-    pub inflow_deposit: bool,
-}
-
-/// Bridge width when `w` is omitted, cells (the issue's default).
-pub const DEFAULT_BRIDGE_WIDTH: usize = 5;
-
-fn default_ppc() -> usize {
-    2
-}
-fn default_mpm_cfl() -> f64 {
-    0.4
-}
-fn default_activation_cells() -> usize {
-    3
-}
-fn default_true() -> bool {
-    true
-}
-fn default_min_particle_mass() -> f64 {
-    0.25
-}
-
-/// Output fields.
-pub const FIELDS: [&str; 6] = brisance_couple::CFDMP_FIELDS;
-
-fn spacing(s: &Scenario) -> [f64; 3] {
-    let d = &s.domain;
-    std::array::from_fn(|a| (d.upper[a] - d.lower[a]) / d.cells[a] as f64)
-}
-
-/// `x` rounded to 1e-12 (for coordinates in messages: 0.11 + 0.01 shows
-/// as 0.12).
-fn tidy(x: f64) -> f64 {
-    (x * 1e12).round() / 1e12
-}
-
-fn regions(s: &Scenario, cfg: &BridgeConfig) -> Result<BridgeRegions, Problem> {
-    let w = cfg.w.unwrap_or(DEFAULT_BRIDGE_WIDTH);
-    if w == 0 {
-        return Err((
-            "pipeline.w".into(),
-            format!(
-                "w = 0: the bridge must be at least one cell wide (omit w for the default {DEFAULT_BRIDGE_WIDTH})"
-            ),
-        ));
+#[test]
+fn a_2d_bridge_scenario_builds_activates_and_loads_the_concrete() {
+    let loaded = load_str("bridge2d.ron", TUBE, &[]).unwrap();
+    let described = crate::build::describe(&loaded.scenario);
+    assert!(described.contains("w = 5 cells along x"), "{described}");
+    let mut solver = crate::build::build_solver(&loaded.scenario).unwrap();
+    assert_eq!(solver.name(), "fdm-mpm");
+    let m0 = solver.conservation_totals().mass;
+    while solver.time() < 8.0e-5 {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt.min(8.0e-5 - solver.time())).unwrap();
     }
-    let b = |c: &BoxConfig| RegionBox {
-        lower: c.lower,
-        upper: c.upper,
-    };
-    let r = BridgeRegions::from_boxes(
-        b(&cfg.fdm_region),
-        b(&cfg.mpm_region),
-        spacing(s),
-        brisance_fdm::GHOST,
-    )
-    .map_err(|e| ("pipeline.mpm_region".to_string(), e.to_string()))?;
-    let a = r.axis;
-    let d = &s.domain;
-    let lo = cfg.fdm_region.lower[a].min(cfg.mpm_region.lower[a]);
-    let hi = cfg.fdm_region.upper[a].max(cfg.mpm_region.upper[a]);
-    let h = spacing(s);
-    let same = |x: f64, y: f64, h: f64| (x - y).abs() <= 1e-6 * h;
-    let union_ok = (0..3).all(|k| {
-        if k == a {
-            same(d.lower[k], lo, h[k]) && same(d.upper[k], hi, h[k])
-        } else {
-            same(d.lower[k], cfg.fdm_region.lower[k], h[k])
-                && same(d.upper[k], cfg.fdm_region.upper[k], h[k])
-        }
-    });
-    if !union_ok {
-        return Err((
-            "domain".into(),
-            format!(
-                "the domain ({:?} .. {:?}) must be the union of fdm_region and mpm_region",
-                d.lower, d.upper
-            ),
-        ));
-    }
-    if r.width != w {
-        return Err(("pipeline.w".into(), width_mismatch(s, cfg, &r, w)));
-    }
-    Ok(r)
-}
-
-/// The message for boxes that overlap by `r.width` cells where the config
-/// asks for `w`: both widths, and the moves of the interface-side face of
-/// either box (the MPM box's first: it keeps the FDM grid, and with it a
-/// remap file) that give w cells while keeping the boxes a valid bridge
-/// on the same domain.
-fn width_mismatch(s: &Scenario, cfg: &BridgeConfig, r: &BridgeRegions, w: usize) -> String {
-    let a = r.axis;
-    let axis = ["x", "y", "z"][a];
-    let h = spacing(s)[a];
-    let b = |c: &BoxConfig| RegionBox {
-        lower: c.lower,
-        upper: c.upper,
-    };
-    let (fdm, mpm) = (b(&cfg.fdm_region), b(&cfg.mpm_region));
-    let span = w as f64 * h;
-    // (region, face, new coordinate, the moved boxes).
-    let moves = match r.mpm_side {
-        Side::High => {
-            let (mut m, mut f) = (mpm, fdm);
-            m.lower[a] = fdm.upper[a] - span;
-            f.upper[a] = mpm.lower[a] + span;
-            [
-                ("mpm_region", "lower", m.lower[a], fdm, m),
-                ("fdm_region", "upper", f.upper[a], f, mpm),
-            ]
-        }
-        Side::Low => {
-            let (mut m, mut f) = (mpm, fdm);
-            m.upper[a] = fdm.lower[a] + span;
-            f.lower[a] = mpm.upper[a] - span;
-            [
-                ("mpm_region", "upper", m.upper[a], fdm, m),
-                ("fdm_region", "lower", f.lower[a], f, mpm),
-            ]
-        }
-    };
-    let valid: Vec<String> = moves
-        .iter()
-        .filter(|(_, _, _, f, m)| {
-            BridgeRegions::from_boxes(*f, *m, spacing(s), brisance_fdm::GHOST)
-                .is_ok_and(|moved| moved.width == w)
-        })
-        .map(|(region, face, at, _, _)| format!("{region}'s {face} {axis} to {}", tidy(*at)))
-        .collect();
-    let fix = match valid.as_slice() {
-        [] => String::new(),
-        [one] => format!("move {one} or "),
-        [first, second, ..] => format!("move {first} (or {second}) or "),
-    };
-    format!(
-        "the fdm_region and mpm_region overlap by {} {} ({} m) along {axis} but w = {w}; {fix}set w: Some({})",
-        r.width,
-        if r.width == 1 { "cell" } else { "cells" },
-        tidy(r.width as f64 * h),
-        r.width
-    )
-}
-
-fn air_gas(s: &Scenario, cfg: &BridgeConfig) -> Result<brisance_eos::IdealGas, Problem> {
-    match s.materials.get(&cfg.air).and_then(|m| m.eos()) {
-        Some(EosModel::IdealGas(g)) => Ok(*g),
-        Some(other) => Err((
-            "pipeline.air".into(),
-            format!(
-                "the bridge's air needs an IdealGas (eq 48); `{}` is `{}`",
-                cfg.air,
-                other.variant()
-            ),
-        )),
-        None => Err((
-            "pipeline.air".into(),
-            format!("unknown material `{}` or one without an `eos`", cfg.air),
-        )),
-    }
-}
-
-fn is_gas(cfg: &BridgeConfig, name: &str) -> bool {
-    name == cfg.air || cfg.products.as_deref() == Some(name)
-}
-
-/// The checks of the pipeline's options.
-pub fn validate(s: &Scenario, cfg: &BridgeConfig) -> Result<(), Problem> {
-    air_gas(s, cfg)?;
-    if let Some(p) = &cfg.products {
-        match s.materials.get(p).and_then(|m| m.eos()) {
-            Some(e) if e.is_gas() => {}
-            _ => {
-                return Err((
-                    "pipeline.products".into(),
-                    format!("`{p}` must be a material with a gas EOS (Jwl)"),
-                ))
-            }
-        }
-    }
-    if cfg.remap.is_some() && cfg.products.is_none() {
-        return Err((
-            "pipeline.remap".into(),
-            "a remapped detonation carries products: set `products`".into(),
-        ));
-    }
-    if let Some(charge) = &cfg.charge {
-        if cfg.remap.is_some() {
-            return Err((
-                "pipeline.charge".into(),
-                "give the charge (the run remaps it) or a `remap` file, not both".into(),
-            ));
-        }
-        if cfg.products.is_none() {
-            return Err((
-                "pipeline.charge".into(),
-                "a detonated charge carries products: set `products`".into(),
-            ));
-        }
-        charge
-            .validate()
-            .map_err(|e| ("pipeline.charge".to_string(), e.to_string()))?;
-    }
-    if cfg.ppc == 0 || cfg.ppc > 8 {
-        return Err((
-            "pipeline.ppc".into(),
-            format!("ppc = {} must lie in 1..=8", cfg.ppc),
-        ));
-    }
-    if !(cfg.mpm_cfl > 0.0 && cfg.mpm_cfl <= 1.0) {
-        return Err((
-            "pipeline.mpm_cfl".into(),
-            format!("mpm_cfl = {} must lie in (0, 1]", cfg.mpm_cfl),
-        ));
-    }
-    if !(cfg.activation_pressure > 0.0 && cfg.activation_pressure.is_finite()) {
-        return Err((
-            "pipeline.activation_pressure".into(),
-            format!("{} Pa must be positive", cfg.activation_pressure),
-        ));
-    }
-    if !(0.0..=1.0).contains(&cfg.min_particle_mass) {
-        return Err((
-            "pipeline.min_particle_mass".into(),
-            format!("{} must lie in [0, 1]", cfg.min_particle_mass),
-        ));
-    }
-    if let ViscosityConfig::Constant(eta) = cfg.viscosity {
-        if !(0.0..=0.25).contains(&eta) {
-            return Err((
-                "pipeline.viscosity".into(),
-                format!("constant η = {eta} must lie in [0, 0.25]"),
-            ));
-        }
-    }
-    for (i, r) in s.initial.iter().enumerate() {
-        let Some(m) = s.materials.get(&r.material) else {
-            return Err((
-                format!("initial.{i}.material"),
-                format!("unknown material `{}`", r.material),
-            ));
-        };
-        if !is_gas(cfg, &r.material) && m.model.is_none() {
-            return Err((
-                format!("initial.{i}.material"),
-                format!(
-                    "`{}` is neither the air, the products nor a material with a constitutive `model`",
-                    r.material
-                ),
-            ));
-        }
-    }
-    if s.domain.geometry.is_axisymmetric() {
-        let r = regions(s, cfg)?;
-        if r.axis != 1 {
-            return Err((
-                "pipeline.mpm_region".into(),
-                "on an Axisymmetric grid the fdm_region and mpm_region must be split along z (y), the interface a plane z = const; a cylindrical interface r = const is not supported yet".into(),
-            ));
-        }
-    }
-    s.boundaries.check_faces(
-        "FdmMpmBridge",
-        &["Outflow", "Reflective", "Wall"],
-        |bc| {
-            match bc {
-            BoundaryConfig::ZeroGradient | BoundaryConfig::OutflowOnly => {
-                "; its `Outflow` is zero gradient in the FDM region and lets particles leave the MPM region"
-            }
-            _ => "",
-        }
-        },
-    )?;
-    regions(s, cfg).map(|_| ())
-}
-
-/// A bridge solver, seen as its solver and its MPM side (what particle
-/// gauges follow).
-pub trait BridgeSolver: Solver {
-    /// The MPM side: the particles of the MPM region.
-    fn mpm(&self) -> &MpmSolver;
-}
-
-impl<E: GasLaw + 'static> BridgeSolver for Cfdmp<E> {
-    fn mpm(&self) -> &MpmSolver {
-        Cfdmp::mpm(self)
-    }
-}
-
-/// The built bridge: the solver and the particle sets of the scenario's
-/// particle gauges (in that order).
-pub type BuiltBridge = (Box<dyn BridgeSolver>, Vec<ParticleSet>);
-
-/// Builds the coupled solver and the particle sets of its particle
-/// gauges: each follows the MPM region's particles that start inside its
-/// region (tested at (r, z, 0) on an (r, z) grid, as the initial regions
-/// are) and, with a `material`, are of that material (a structure, or the
-/// `air` or `products` gas).
-pub fn build(s: &Scenario, cfg: &BridgeConfig) -> Result<BuiltBridge, Problem> {
-    let regions = regions(s, cfg)?;
-    let air = air_gas(s, cfg)?;
-    let air_eos = EosModel::IdealGas(air);
-    match &cfg.products {
-        Some(p) => {
-            let products = s
-                .materials
-                .get(p)
-                .and_then(|m| m.eos())
-                .cloned()
-                .ok_or_else(|| ("pipeline.products".to_string(), format!("`{p}` has no eos")))?;
-            let law = ProductsInAir::new(products.clone(), air_eos.clone())
-                .map_err(|m| ("pipeline.products".to_string(), m))?;
-            build_with(s, cfg, regions, law, |name| {
-                if name == p {
-                    Some((&products, 1.0))
-                } else if name == cfg.air {
-                    Some((&air_eos, 0.0))
-                } else {
-                    None
-                }
-            })
-        }
-        None => build_with(s, cfg, regions, air, |name| {
-            (name == cfg.air).then_some((&air_eos, 0.0))
-        }),
-    }
-}
-
-fn build_with<'a, E: GasLaw + 'static>(
-    s: &'a Scenario,
-    cfg: &BridgeConfig,
-    regions: BridgeRegions,
-    law: E,
-    gas_of: impl Fn(&str) -> Option<(&'a EosModel, f64)>,
-) -> Result<BuiltBridge, Problem> {
-    use brisance_fdm::GHOST;
-    let air = air_gas(s, cfg)?;
-    let a = regions.axis;
-    // On an (r, z) grid (x = r, y = z) a region is tested at (r, z, 0), the
-    // half plane through the axis, as the other pipelines do, and every
-    // cell and particle is a ring (docs/physics/couple/bridge.md).
-    let geometry = s.domain.geometry;
-    let axisymmetric = geometry.is_axisymmetric();
-    let plane = move |x: [f64; 3]| {
-        if axisymmetric {
-            [x[0], x[1], 0.0]
-        } else {
-            x
-        }
-    };
-    let faces = s.boundaries.faces();
-    let inner_fdm = match regions.mpm_side {
-        Side::High => 2 * a + 1,
-        Side::Low => 2 * a,
-    };
-    let inner_mpm = match regions.mpm_side {
-        Side::High => 2 * a,
-        Side::Low => 2 * a + 1,
-    };
-    // FDM.
-    let (fg, offset) = regions.fdm_grid(GHOST);
-    let ghost = brisance_fdm::ghost_layers(geometry);
-    let level = Level::new(fg.origin, fg.upper(), fg.cells, [1, 1, 1], ghost)
-        .map_err(|e| ("pipeline.fdm_region".to_string(), e.to_string()))?;
-    let boundaries: [FdmBoundary; 6] = std::array::from_fn(|k| match faces[k].1 {
-        BoundaryConfig::Reflective | BoundaryConfig::Wall if k != inner_fdm => {
-            FdmBoundary::Reflective
-        }
-        _ => FdmBoundary::Outflow,
-    });
-    let mut states = Vec::with_capacity(s.initial.len());
-    for (i, r) in s.initial.iter().enumerate() {
-        states.push(match gas_of(&r.material) {
-            Some((eos, y)) => Some((
-                primitive_state(eos, &r.state).map_err(|m| (format!("initial.{i}.state"), m))?,
-                y,
-            )),
-            None => None,
-        });
-    }
-    let gas_at = |x: [f64; 3]| -> Option<(PrimitiveState, f64)> {
-        s.initial
-            .iter()
-            .zip(&states)
-            .rev()
-            .find(|(r, st)| st.is_some() && r.region.contains(plane(x)))
-            .and_then(|(_, st)| *st)
-    };
-    for k in 0..fg.cells[2] {
-        for j in 0..fg.cells[1] {
-            for i in 0..fg.cells[0] {
-                let x = fg.cell_centre([i, j, k]);
-                if gas_at(x).is_none() {
-                    return Err((
-                        "initial".into(),
-                        format!("FDM cell at {x:?} is in no region of a gas; add an `Everywhere` region of the air first"),
-                    ));
-                }
-            }
-        }
-    }
-    let options = FdmOptions {
-        cfl: s.time.cfl,
-        viscosity: match cfg.viscosity {
-            ViscosityConfig::Adaptive => ArtificialViscosity::Adaptive,
-            ViscosityConfig::Constant(eta) => ArtificialViscosity::Constant(eta),
-            ViscosityConfig::Off => ArtificialViscosity::Off,
-        },
-        geometry,
-        ..Default::default()
-    };
-    let mut fdm = FdmSolver::with_species(law, level, boundaries, options, |x| {
-        gas_at(x).expect("checked above")
-    })
-    .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
-    let remapped = match (&cfg.remap, &cfg.charge) {
-        (Some(path), _) => Some((
-            "pipeline.remap",
-            path.clone(),
-            Remapped::load(std::path::Path::new(path))
-                .map_err(|e| ("pipeline.remap".to_string(), e.to_string()))?,
-        )),
-        (None, Some(charge)) => Some((
-            "pipeline.charge",
-            "the charge's remap".to_string(),
-            cached_remap(charge, regions.fdm, geometry)
-                .map_err(|e| ("pipeline.charge".to_string(), e))?,
-        )),
-        (None, None) => None,
-    };
-    if let Some((field, path, r)) = remapped {
-        let want = regions.fdm;
-        let same_origin =
-            (0..3).all(|d| (r.geometry.origin[d] - want.origin[d]).abs() <= 1e-6 * want.spacing[d]);
-        if r.geometry.cells != want.cells || !same_origin {
-            return Err((
-                field.into(),
-                format!(
-                    "{path} was remapped onto {:?} cells from {:?}; the FDM region has {:?} cells from {:?}",
-                    r.geometry.cells, r.geometry.origin, want.cells, want.origin
-                ),
-            ));
-        }
-        let mut fields = fdm.conservative_fields();
-        for k in 0..want.cells[2] {
-            for j in 0..want.cells[1] {
-                for i in 0..want.cells[0] {
-                    let src = want.linear_index([i, j, k]);
-                    let mut g = [i, j, k];
-                    g[a] += offset;
-                    let dst = fg.linear_index(g);
-                    for (f, values) in fields.iter_mut().enumerate() {
-                        values[dst] = r.fields[f][src];
-                    }
-                }
-            }
-        }
-        fdm.set_conservative_fields(&fields)
-            .map_err(|e| (field.to_string(), e.to_string()))?;
-    }
-    // MPM: the air first, then the other modelled materials in name order.
-    let structures: Vec<&String> = s
-        .materials
-        .iter()
-        .filter(|(n, m)| !is_gas(cfg, n) && m.model.is_some())
-        .map(|(n, _)| n)
-        .collect();
-    let mut models = vec![MaterialModel::Null(NullMaterial::inviscid(
-        s.materials[&cfg.air].eos().cloned().expect("validated"),
-    ))];
-    // Products as MPM particles (material 1) when the FDM carries them.
-    let products_eos = cfg
-        .products
-        .as_ref()
-        .and_then(|p| s.materials[p].eos().cloned());
-    if let Some(eos) = &products_eos {
-        models.push(MaterialModel::Null(NullMaterial::inviscid(eos.clone())));
-    }
-    let first_structure = models.len();
-    models.extend(
-        structures
-            .iter()
-            .filter_map(|n| s.materials[*n].model.clone()),
+    // The shock crossed the interface (30 mm) and reached the concrete.
+    let mut p = Vec::new();
+    solver
+        .sample([0.045, 0.011, 0.001], &["pressure".to_string()], &mut p)
+        .unwrap();
+    eprintln!("pressure at 45 mm: {:e} Pa", p[0]);
+    assert!(p[0] > 1.6e5, "{}", p[0]);
+    let data = solver.cell_data(&["density".to_string()]).unwrap();
+    assert_eq!(data.geometry.cells, [30, 10, 1]);
+    // Concrete cell (26, 5): the particles' density.
+    let rho = data.fields[0].1[26 + 30 * 5];
+    assert!((rho - 2440.0).abs() < 50.0, "{rho}");
+    let m1 = solver.conservation_totals().mass;
+    eprintln!(
+        "mass change of the FDM cells outside the MPM region plus particles: {:e}",
+        (m1 - m0) / m0
     );
-    let stride = models.iter().map(|m| m.history_len()).max().unwrap_or(0);
-    let (mg, _) = regions.mpm_grid();
-    let mpm_level = Level::new(mg.origin, mg.upper(), mg.cells, [1, 1, 1], 1)
-        .map_err(|e| ("pipeline.mpm_region".to_string(), e.to_string()))?;
-    let m = regions.mpm;
-    let active: [bool; 3] = std::array::from_fn(|d| m.cells[d] > 1);
-    let per: [usize; 3] = std::array::from_fn(|d| if active[d] { cfg.ppc } else { 1 });
-    let sub_volume = m.spacing.iter().product::<f64>() / per.iter().product::<usize>() as f64;
-    // A particle's volume at `x`: the sub-cell's, or on an (r, z) grid the
-    // ring its cross-section sweeps at its centre's radius, 2π r_p A_p
-    // (exact for the ring; docs/physics/mpm/axisymmetric.md).
-    let volume_at = |x: [f64; 3]| {
-        if axisymmetric {
-            2.0 * std::f64::consts::PI * x[0] * sub_volume / m.spacing[2]
-        } else {
-            sub_volume
-        }
-    };
-    // What m_e and V_e (eq 45) are per: a particle, or on an (r, z) grid a
-    // metre of its radius (`CfdmpOptions::existing_mass`).
-    let per_particle = |x: [f64; 3]| if axisymmetric { x[0] } else { 1.0 };
-    let mut particles = Particles::new(stride);
-    let history = vec![0.0; stride];
-    let (mut air_mass, mut air_count) = (0.0, 0usize);
-    for k in 0..m.cells[2] * per[2] {
-        for j in 0..m.cells[1] * per[1] {
-            for i in 0..m.cells[0] * per[0] {
-                let sub = [i, j, k];
-                let x: [f64; 3] = std::array::from_fn(|d| {
-                    m.origin[d] + (sub[d] as f64 + 0.5) / per[d] as f64 * m.spacing[d]
-                });
-                let Some((idx, r)) = s
-                    .initial
-                    .iter()
-                    .enumerate()
-                    .rev()
-                    .find(|(_, r)| r.region.contains(plane(x)))
-                else {
-                    continue;
-                };
-                let sub_volume = volume_at(x);
-                let init = if let Some((st, y)) = states[idx] {
-                    let p = st.pressure;
-                    let products = y > 0.5 && products_eos.is_some();
-                    let (e, material) = match (&products_eos, products) {
-                        (Some(eos), true) => (
-                            eos.specific_internal_energy(st.density, p)
-                                .map_err(|e| (format!("initial.{idx}.state"), e.to_string()))?,
-                            MaterialId(1),
-                        ),
-                        _ => {
-                            air_mass += st.density * sub_volume / per_particle(x);
-                            air_count += 1;
-                            (
-                                air.specific_internal_energy(st.density, p)
-                                    .map_err(|e| (format!("initial.{idx}.state"), e.to_string()))?,
-                                MaterialId(0),
-                            )
-                        }
-                    };
-                    ParticleInit {
-                        position: x,
-                        velocity: st.velocity,
-                        mass: st.density * sub_volume,
-                        volume: sub_volume,
-                        stress: [-p, -p, -p, 0.0, 0.0, 0.0],
-                        temperature: if products {
-                            293.15
-                        } else {
-                            air.temperature(st.density, e)
-                        },
-                        specific_internal_energy: e,
-                        material,
-                        ..Default::default()
-                    }
-                } else {
-                    let id = first_structure
-                        + structures
-                            .iter()
-                            .position(|n| **n == r.material)
-                            .expect("validated");
-                    let model = &models[id];
-                    let t = r.state.temperature.unwrap_or(293.15);
-                    let e = match (model.eos(), r.state.specific_internal_energy) {
-                        (_, Some(e)) => e,
-                        (Some(eos), None) => {
-                            eos.specific_internal_energy_from_temperature(r.state.density, t)
-                        }
-                        (None, None) => 0.0,
-                    };
-                    ParticleInit {
-                        position: x,
-                        velocity: r.state.velocity,
-                        mass: r.state.density * sub_volume,
-                        volume: sub_volume,
-                        temperature: t,
-                        specific_internal_energy: e,
-                        material: MaterialId(id as u16),
-                        ..Default::default()
-                    }
-                };
-                particles
-                    .push(&init, &history)
-                    .map_err(|e| ("initial".to_string(), e.to_string()))?;
-            }
-        }
-    }
-    if air_count == 0 {
-        return Err((
-            "initial".into(),
-            "the MPM region holds no air particle: the bridge needs air at the interface".into(),
-        ));
-    }
-    // The particle gauges' sets, by the particles' identities (their
-    // order here).
-    let mut particle_gauges = Vec::with_capacity(s.outputs.particle_gauges.len());
-    for (i, g) in s.outputs.particle_gauges.iter().enumerate() {
-        let path = format!("outputs.particle_gauges.{i}");
-        let material = match &g.material {
-            None => None,
-            Some(name) if *name == cfg.air => Some(MaterialId(0)),
-            Some(name) if products_eos.is_some() && cfg.products.as_ref() == Some(name) => {
-                Some(MaterialId(1))
-            }
-            Some(name) => Some(
-                structures
-                    .iter()
-                    .position(|n| *n == name)
-                    .map(|k| MaterialId((first_structure + k) as u16))
-                    .ok_or_else(|| {
-                        (
-                            format!("{path}.material"),
-                            format!(
-                                "particle gauge `{}`: `{name}` has no particles in the bridge's MPM region (the air, the products or a material with a constitutive `model`)",
-                                g.name
-                            ),
-                        )
-                    })?,
-            ),
-        };
-        let set = ParticleSet::select(&particles, |x, m| {
-            g.region.contains(plane(x)) && (material.is_none() || material == Some(m))
-        });
-        if set.is_empty() {
-            let of = g
-                .material
-                .as_ref()
-                .map_or(String::new(), |m| format!(" of material `{m}`"));
-            return Err((
-                format!("{path}.region"),
-                format!(
-                    "particle gauge `{}`: no particle{of} of the MPM region starts inside its region",
-                    g.name
+}
+
+/// An (r, z) box, r 0–20 mm, z 0–60 mm at 2 mm: FDM z 0–40 mm, MPM
+/// z 30–60 mm (w = 5), closed (the axis, an outer wall and walls at
+/// both ends), air at rest, the MPM region started at once (the
+/// activation pressure below the ambient's); a steel disc (z 50–56 mm,
+/// r < 14 mm) in the MPM region when `PLATE` is appended to `initial`.
+const RZ_BOX: &str = r#"Scenario(
+    name: "bridge_rz",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (0.02, 0.06, 0.002), cells: (10, 30, 1), geometry: Axisymmetric),
+    boundaries: (x_low: Reflective, x_high: Reflective, y_low: Reflective, y_high: Wall),
+    time: (end: 1.0e-4, cfl: 0.8),
+    materials: {"air": (library: "air"), "rha": (library: "rha_steel")},
+    pipeline: FdmMpmBridge(
+        fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.02, 0.04, 0.002)),
+        mpm_region: (lower: (0.0, 0.03, 0.0), upper: (0.02, 0.06, 0.002)),
+        air: "air",
+        bulk_viscosity: On(),
+        activation_pressure: 5.0e4,
+    ),
+    initial: [
+        (region: Everywhere, material: "air", state: (density: 1.225, pressure: 1.0e5)),
+    ],
+    outputs: (fields: ["density", "pressure"], vtk: false),
+)"#;
+
+const PLATE: &str = r#"(region: Box(min: (0.0, 0.05, -1.0), max: (0.014, 0.056, 1.0)), material: "rha", state: (density: 7850.0, temperature: 300.0)),"#;
+
+/// Largest |v| over the bridge's cells (FDM and MPM), m/s.
+fn largest_speed(solver: &dyn brisance_core::Solver) -> f64 {
+    let names: Vec<String> = ["velocity_x", "velocity_y", "velocity_z"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let data = solver.cell_data(&names).unwrap();
+    let n = data.fields[0].1.len();
+    (0..n)
+        .map(|c| {
+            (0..3)
+                .map(|k| data.fields[k].1[c].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn an_rz_bridge_of_gas_at_rest_with_a_plate_at_rest_stays_at_rest() {
+    // Gas alone: every exchange of the bridge (donor rings, fictitious
+    // rings, inflow and absorption over annuli) balances, and nothing
+    // moves beyond round-off of the velocity scale p/(ρc) ≈ 240 m/s
+    // (the MPM region starts after step 1); sixty steps in
+    // `gas_at_rest_stays_at_rest_through_sixty_coupled_steps_cartesian_and_rz`.
+    // With the steel disc: it starts stress-free in 1 bar
+    // of air, so it is squeezed elastically; its speeds are of the
+    // order p/(ρ_s c_s) ≈ 2.5 mm/s.
+    for (plate, steps, bound) in [(false, 3, 1e-9), (true, 3, 1e-2)] {
+        let text = if plate {
+            RZ_BOX.replace(
+                "pressure: 1.0e5)),
+    ],",
+                &format!(
+                    "pressure: 1.0e5)),
+        {PLATE}
+    ],"
                 ),
-            ));
+            )
+        } else {
+            RZ_BOX.to_string()
+        };
+        let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+        let mut solver = crate::build::build_solver(&loaded.scenario).unwrap();
+        for _ in 0..steps {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
         }
-        particle_gauges.push(set);
+        let v = largest_speed(&*solver);
+        eprintln!(
+            "plate {plate}: t = {:e} s, largest speed {v:e} m/s",
+            solver.time()
+        );
+        assert!(v < bound, "plate {plate}: {v} m/s");
     }
-    let boundary = |k: usize| match faces[k].1 {
-        _ if k == inner_mpm => GridBoundary::Outflow,
-        BoundaryConfig::Wall => GridBoundary::Fixed,
-        BoundaryConfig::Reflective => GridBoundary::Symmetry,
-        _ => GridBoundary::Outflow,
+}
+
+#[test]
+fn gas_at_rest_stays_at_rest_through_sixty_coupled_steps_cartesian_and_rz() {
+    // The box of `RZ_BOX` on its (r, z) grid and on the Cartesian grid
+    // of the same cells: 60 coupled steps (the MPM region starts after
+    // the first). The donor cells load the interface nodes (eqs 37–39)
+    // but are kept out of MUSL's re-mapping (eq 26), so the first
+    // bridge layer's strain rate sees only its own particles' velocity
+    // (zero). Before, its particles expanded at rest from the second
+    // coupled step (1.225 → 1.159 → 1.103 kg/m³), the gas reached
+    // 60–90 m/s and lost 2.4–2.6 % of its energy by step 60
+    // (docs/physics/couple/bridge.md, "At rest"). Now the largest
+    // speed stays near 1e-11 m/s and the energy to round-off. The
+    // mass is not checked: the FDM cells beside the interface still
+    // lose density at constant pressure, fastest at the side walls
+    // (−2.4e-4 of the mass by step 60), a defect of their own left
+    // open in that section.
+    for axisymmetric in [false, true] {
+        let text = if axisymmetric {
+            RZ_BOX.to_string()
+        } else {
+            RZ_BOX.replace(", geometry: Axisymmetric", "")
+        };
+        let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+        let mut solver = crate::build::build_solver(&loaded.scenario).unwrap();
+        let e0 = solver.conservation_totals().energy;
+        let mut fastest = 0.0f64;
+        for _ in 0..60 {
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
+            fastest = fastest.max(largest_speed(&*solver));
+        }
+        let de = (solver.conservation_totals().energy - e0) / e0;
+        eprintln!(
+            "axisymmetric {axisymmetric}: t = {:e} s, largest speed {fastest:e} m/s, energy change {de:e}",
+            solver.time()
+        );
+        assert!(fastest < 1e-9, "axisymmetric {axisymmetric}: {fastest} m/s");
+        assert!(de.abs() < 1e-12, "axisymmetric {axisymmetric}: {de}");
+    }
+}
+
+#[test]
+fn an_rz_bridge_carries_a_shock_onto_a_plate_and_its_cell_data_are_rings() {
+    // A 5-bar region z < 10 mm drives a shock through the interface at
+    // z = 30–40 mm onto the disc; the whole system's mass is the
+    // cylinder's, π r² L ρ, not a slab's.
+    let text = rz_shock_with_gauges("");
+    let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+    let mut solver = crate::build::build_solver(&loaded.scenario).unwrap();
+    let m0 = solver.conservation_totals().mass;
+    let pi = std::f64::consts::PI;
+    let fdm_gas = pi * 0.02f64.powi(2) * (1.225 * 0.026 + 4.9 * 0.01);
+    let mpm_gas = pi * 0.02f64.powi(2) * 0.03 * 1.225 - pi * 0.014f64.powi(2) * 0.006 * 1.225;
+    let disc = pi * 0.014f64.powi(2) * 0.006 * 7850.0;
+    // The FDM cells the bridge owns (z < 32 mm... the donor cell and
+    // before) plus the particles: within a cell of gas of the sum.
+    let expected = fdm_gas - pi * 0.02f64.powi(2) * 0.004 * 1.225 + mpm_gas + disc;
+    assert!(((m0 - expected) / expected).abs() < 1e-3, "{m0} {expected}");
+    while solver.time() < 8.0e-5 {
+        let dt = solver.stable_dt().unwrap();
+        solver.advance(dt.min(8.0e-5 - solver.time())).unwrap();
+    }
+    let mut p = Vec::new();
+    solver
+        .sample([0.005, 0.045, 0.001], &["pressure".to_string()], &mut p)
+        .unwrap();
+    eprintln!("pressure at z = 45 mm: {:e} Pa", p[0]);
+    assert!(p[0] > 1.6e5, "{}", p[0]);
+}
+
+#[test]
+fn an_rz_bridge_split_along_r_is_refused_by_name() {
+    let text = RZ_BOX
+        .replace(
+            "fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.02, 0.04, 0.002))",
+            "fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.012, 0.06, 0.002))",
+        )
+        .replace(
+            "mpm_region: (lower: (0.0, 0.03, 0.0), upper: (0.02, 0.06, 0.002))",
+            "mpm_region: (lower: (0.002, 0.0, 0.0), upper: (0.02, 0.06, 0.002))",
+        );
+    let e = load_str("bridge_rz.ron", &text, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("pipeline.mpm_region") && e.contains("split along z"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_bridge_options_are_named() {
+    let err = |from: &str, to: &str| {
+        let text = TUBE.replace(from, to);
+        load_str("bridge2d.ron", &text, &[])
+            .unwrap_err()
+            .to_string()
     };
-    let mpm = MpmSolver::new(
-        mpm_level,
-        models,
-        particles,
-        MpmOptions {
-            shape: ShapeFunction::Linear,
-            scheme: UpdateScheme::Musl,
-            cfl: cfg.mpm_cfl,
-            boundaries: std::array::from_fn(boundary),
-            bulk_viscosity: cfg.bulk_viscosity.option(),
-            geometry,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
-    let mut coupled = Cfdmp::new(
-        regions,
-        fdm,
-        mpm,
-        GHOST,
-        CfdmpOptions {
-            air: MaterialId(0),
-            products: products_eos.as_ref().map(|_| MaterialId(1)),
-            gamma: air.gamma,
-            existing_mass: air_mass / air_count as f64,
-            activation_pressure: cfg.activation_pressure,
-            activation_cells: cfg.activation_cells,
-            min_particle_mass: cfg.min_particle_mass,
-            existing_volume: if cfg.inflow_particle_volume {
-                // V_e of a particle at radius r is this times r on an
-                // (r, z) grid.
-                volume_at([1.0, 0.0, 0.0])
-            } else {
-                0.0
-            },
-            deposit: cfg.inflow_deposit,
-            donor_rings: per[0],
-        },
-    )
-    .map_err(|m| ("pipeline".to_string(), m))?;
-    // The particle updates spread over the ranks of the run
-    // (docs/cluster.md); nothing changes on one rank.
-    coupled.distribute(brisance_grid::comm::world());
-    Ok((Box::new(coupled), particle_gauges))
+    let e = err("upper: (0.04, 0.02, 0.002)", "upper: (0.041, 0.02, 0.002)");
+    assert!(
+        e.contains("pipeline.mpm_region") && e.contains("whole number"),
+        "{e}"
+    );
+    let e = err("air: \"air\",\n", "air: \"concrete\",\n");
+    assert!(e.contains("pipeline.air"), "{e}");
+    let e = err("activation_pressure: 1.1e5", "activation_pressure: -1.0");
+    assert!(e.contains("pipeline.activation_pressure"), "{e}");
+    let e = err(
+        "activation_pressure: 1.1e5",
+        "activation_pressure: 1.1e5, min_particle_mass: 1.5",
+    );
+    assert!(e.contains("pipeline.min_particle_mass"), "{e}");
+    let e = err(
+        "upper: (0.06, 0.02, 0.002), cells: (30",
+        "upper: (0.08, 0.02, 0.002), cells: (40",
+    );
+    assert!(e.contains("union"), "{e}");
 }
 
-/// A one-paragraph description (for `check`).
-pub fn describe(s: &Scenario, cfg: &BridgeConfig) -> String {
-    match regions(s, cfg) {
-        Ok(r) => format!(
-            "FdmMpmBridge (seed 001 §3): FDM {:?} cells, MPM {:?} cells, bridge w = {} cells along {}, \
-             air `{}`{}, {} particles per cell per direction, MPM starts at {:e} Pa near the interface{}",
-            r.fdm.cells,
-            r.mpm.cells,
-            r.width,
-            ["x", "y", "z"][r.axis],
-            cfg.air,
-            cfg.products
-                .as_ref()
-                .map(|p| format!(", products `{p}`"))
-                .unwrap_or_default(),
-            cfg.ppc,
-            cfg.activation_pressure,
-            cfg.remap
-                .as_ref()
-                .map(|p| format!(", FDM initial state from {p}"))
-                .unwrap_or_default()
-        ),
-        Err((_, m)) => format!("FdmMpmBridge: {m}"),
+const BLAST2D: &str = include_str!("../../../configs/blast2d.ron");
+
+/// `text` with `w: {w},` before its `air`.
+fn with_w(text: &str, w: &str) -> String {
+    let air = "air: \"air\",\n";
+    assert!(text.contains(air));
+    text.replace(air, &format!("w: {w},\n            {air}"))
+}
+
+#[test]
+fn the_default_bridge_width_is_5_and_fits_the_blast2d_geometry() {
+    // configs/blast2d.ron omits w: FDM to 120 mm, MPM from 110 mm,
+    // 2 mm cells.
+    assert!(!BLAST2D.contains("w: "));
+    let loaded = load_str("blast2d.ron", BLAST2D, &[]).unwrap();
+    let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+        panic!("blast2d.ron is a bridge");
+    };
+    assert_eq!(b.w, None);
+    let described = crate::build::describe(&loaded.scenario);
+    assert!(described.contains("w = 5 cells along x"), "{described}");
+    // Written out, the same.
+    let set = ["pipeline.w=Some(5)".to_string()];
+    let explicit = load_str("blast2d.ron", BLAST2D, &set).unwrap();
+    let crate::config::Pipeline::FdmMpmBridge(e) = &explicit.scenario.pipeline else {
+        unreachable!()
+    };
+    assert_eq!(e.w, Some(5));
+    assert_eq!(brisance_couple::bridge_pipeline::DEFAULT_BRIDGE_WIDTH, 5);
+}
+
+#[test]
+fn an_explicit_bridge_width_that_matches_the_overlap_is_accepted() {
+    // TUBE's boxes overlap by 5 cells.
+    load_str("bridge2d.ron", &with_w(TUBE, "Some(5)"), &[]).unwrap();
+    // IMPLICIT_SOME: `w: 5` is the same.
+    load_str("bridge2d.ron", &with_w(TUBE, "5"), &[]).unwrap();
+    // 8 cells: the MPM region from 24 mm.
+    let text = with_w(
+        &TUBE.replace("lower: (0.03, 0.0, 0.0)", "lower: (0.024, 0.0, 0.0)"),
+        "Some(8)",
+    );
+    let loaded = load_str("bridge2d.ron", &text, &[]).unwrap();
+    let described = crate::build::describe(&loaded.scenario);
+    assert!(described.contains("w = 8 cells along x"), "{described}");
+    // xtask's E-BLAST2D width study: w = 2 and 8 by --set.
+    for (lower, w) in [("0.116", 2), ("0.104", 8)] {
+        let sets = [
+            format!("pipeline.mpm_region.lower=({lower},0.0,0.0)"),
+            format!("pipeline.w=Some({w})"),
+        ];
+        let loaded = load_str("blast2d.ron", BLAST2D, &sets).unwrap();
+        let described = crate::build::describe(&loaded.scenario);
+        assert!(
+            described.contains(&format!("w = {w} cells along x")),
+            "{described}"
+        );
+        // Without w the default 5 refuses the moved box.
+        let e = load_str("blast2d.ron", BLAST2D, &sets[..1]).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
     }
 }
 
-#[cfg(test)]
-mod tests;
+#[test]
+fn a_bridge_width_that_does_not_match_the_overlap_is_named() {
+    // The MPM region from 32 mm: 4 cells of overlap, default w = 5.
+    let text = TUBE.replace("lower: (0.03, 0.0, 0.0)", "lower: (0.032, 0.0, 0.0)");
+    let e = load_str("bridge2d.ron", &text, &[]).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+    assert!(e.position.is_some(), "{e}");
+    assert_eq!(
+        e.message,
+        "the fdm_region and mpm_region overlap by 4 cells (0.008 m) along x but w = 5; \
+         move mpm_region's lower x to 0.03 (or fdm_region's upper x to 0.042) or set w: Some(4)"
+    );
+    assert!(e.to_string().contains("`pipeline.w`"), "{e}");
+    // An explicit w, and no move that keeps a valid bridge (20 cells
+    // would swallow the FDM region).
+    let e = load_str("bridge2d.ron", &with_w(TUBE, "Some(20)"), &[]).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+    assert_eq!(
+        e.message,
+        "the fdm_region and mpm_region overlap by 5 cells (0.01 m) along x but w = 20; set w: Some(5)"
+    );
+    // Mirrored: the MPM region on the low side, (0, 30) mm, the FDM
+    // region (20, 60) mm.
+    let text = TUBE
+        .replace(
+            "fdm_region: (lower: (0.0, 0.0, 0.0), upper: (0.04, 0.02, 0.002))",
+            "fdm_region: (lower: (0.02, 0.0, 0.0), upper: (0.06, 0.02, 0.002))",
+        )
+        .replace(
+            "mpm_region: (lower: (0.03, 0.0, 0.0), upper: (0.06, 0.02, 0.002))",
+            "mpm_region: (lower: (0.0, 0.0, 0.0), upper: (0.03, 0.02, 0.002)), w: Some(3)",
+        );
+    let e = load_str("bridge2d.ron", &text, &[]).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+    assert_eq!(
+        e.message,
+        "the fdm_region and mpm_region overlap by 5 cells (0.01 m) along x but w = 3; \
+         move mpm_region's upper x to 0.026 (or fdm_region's lower x to 0.024) or set w: Some(5)"
+    );
+    // Following either suggestion loads.
+    for (from, to) in [
+        (
+            "upper: (0.03, 0.02, 0.002)), w",
+            "upper: (0.026, 0.02, 0.002)), w",
+        ),
+        ("lower: (0.02, 0.0, 0.0)", "lower: (0.024, 0.0, 0.0)"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        load_str("bridge2d.ron", &text.replace(from, to), &[]).unwrap();
+    }
+}
+
+/// Every bridge config in configs/ states its width or has the
+/// default's overlap (the plate cases are w = 4).
+#[test]
+fn every_bridge_config_has_the_overlap_its_w_says() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    let mut bridges = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        if path.extension().is_some_and(|e| e == "ron") && text.contains("FdmMpmBridge(") {
+            let loaded =
+                crate::load_file(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+                panic!("{} is a bridge", path.display());
+            };
+            let w =
+                b.w.unwrap_or(brisance_couple::bridge_pipeline::DEFAULT_BRIDGE_WIDTH);
+            let described = crate::build::describe(&loaded.scenario);
+            assert!(
+                described.contains(&format!("w = {w} cells")),
+                "{}: {described}",
+                path.display()
+            );
+            bridges += 1;
+        }
+    }
+    assert!(bridges >= 9, "{bridges}");
+}
+
+#[test]
+fn a_zero_bridge_width_is_refused() {
+    let e = load_str("bridge2d.ron", &with_w(TUBE, "Some(0)"), &[]).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("pipeline.w"), "{e}");
+    assert!(e.message.contains("w = 0"), "{e}");
+    assert!(e.position.is_some(), "{e}");
+}
+
+/// A 4 × 2 domain of 1 mm cells, the remap `file` on its cells
+/// x = 1..3 (all y), air and TNT products as `Null` fluids, concrete
+/// from the library.
+fn pure_mpm(file: &str, air: &str) -> String {
+    format!(
+        r#"Scenario(
+    name: "gas_remap",
+    domain: (lower: (0.0, 0.0, 0.0), upper: (0.004, 0.002, 0.001), cells: (4, 2, 1)),
+    time: (end: 1.0e-6, cfl: 0.4),
+    materials: {{
+        "air": (model: Null(eos: IdealGas(gamma: 1.4, cv: 717.6, rho0: 1.225))),
+        "tnt": (model: Null(eos: Jwl(a: 3.712e11, b: 3.21e9, r1: 4.15, r2: 0.95, omega: 0.3, e0: 6.993e9, rho0: 1630.0, cv: 613.4969325153374))),
+        "concrete": (library: "concrete_48mpa"),
+    }},
+    pipeline: Mpm(ppc: 2, remap: (file: Some("{file}"), air: "{air}", products: "tnt")),
+    initial: [
+        (region: Everywhere, material: "air", state: (density: 1.225, specific_internal_energy: 2.0685e5)),
+        (region: Box(min: (0.003, 0.0, 0.0), max: (0.004, 0.001, 0.001)), material: "concrete", state: (density: 2440.0, temperature: 293.15)),
+    ],
+    outputs: (fields: ["density"], vtk: false),
+)"#
+    )
+}
+
+/// Writes a remap of 2 × 2 cells of 1 mm from `origin`: cell (0, 0)
+/// air (ρ 2, ρu (4, −2, 0), E 10), (1, 0) products (ρ 1000, E 4e9,
+/// ρY 800), (0, 1) half products (ρ 1, E 3, ρY 0.5: air), (1, 1) air at
+/// rest (ρ 4, E 8).
+fn write_remap(tag: &str, origin: [f64; 3]) -> std::path::PathBuf {
+    use brisance_couple::{RemapReport, RemapTotals};
+    let fields = vec![
+        vec![2.0, 1000.0, 1.0, 4.0],
+        vec![4.0, 0.0, 0.0, 0.0],
+        vec![-2.0, 0.0, 0.0, 0.0],
+        vec![0.0; 4],
+        vec![10.0, 4.0e9, 3.0, 8.0],
+        vec![0.0, 800.0, 0.5, 0.0],
+    ];
+    let r = brisance_couple::Remapped {
+        geometry: brisance_core::UniformGridGeometry {
+            origin,
+            spacing: [0.001; 3],
+            cells: [2, 2, 1],
+        },
+        fields,
+        report: RemapReport {
+            charge: RemapTotals::default(),
+            ambient: RemapTotals::default(),
+            grid_mass: 0.0,
+            grid_momentum: [0.0; 3],
+            grid_energy: 0.0,
+            grid_products: 0.0,
+            subsamples: 1,
+            radius: 0.0,
+            symmetry_planes: 0,
+            merged_shells: 0,
+            max_correction: 0.0,
+        },
+    };
+    let path = std::env::temp_dir().join(format!(
+        "brisance_gas_remap_{}_{tag}.bin",
+        std::process::id()
+    ));
+    r.save(&path).unwrap();
+    path
+}
+
+#[test]
+fn mpm_gas_particles_take_the_remapped_cells_and_conserve_them() {
+    use brisance_mpm::MaterialId;
+    let path = write_remap("ok", [0.001, 0.0, 0.0]);
+    let loaded = load_str(
+        "gas_remap.ron",
+        &pure_mpm(&path.display().to_string(), "air"),
+        &[],
+    )
+    .unwrap();
+    let built = crate::build::build(&loaded.scenario).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let crate::build::Built::Mpm { solver, .. } = built else {
+        panic!("an Mpm scenario builds the MPM solver");
+    };
+    let p = solver.particles();
+    // 8 cells × 4 particles; materials numbered by name: air 0,
+    // concrete 1, tnt 2.
+    assert_eq!(p.len(), 32);
+    let v = 1.0e-9 / 4.0;
+    // Per remapped cell: (cell x, cell y, material, ρ, u, e).
+    let want = [
+        (1, 0, 0, 2.0, [2.0, -1.0, 0.0], 2.5),
+        (2, 0, 2, 1000.0, [0.0; 3], 4.0e6),
+        (1, 1, 0, 1.0, [0.0; 3], 3.0),
+        (2, 1, 0, 4.0, [0.0; 3], 2.0),
+    ];
+    for (i, j, m, rho, u, e) in want {
+        let inside: Vec<usize> = (0..p.len())
+            .filter(|&k| {
+                let x = p.position[k];
+                (x[0] * 1e3).floor() as usize == i && (x[1] * 1e3).floor() as usize == j
+            })
+            .collect();
+        assert_eq!(inside.len(), 4);
+        for &k in &inside {
+            assert_eq!(p.material[k], MaterialId(m));
+            assert_eq!(p.mass[k], rho * v);
+            assert_eq!(p.velocity[k], u);
+            assert_eq!(p.specific_internal_energy[k], e);
+        }
+        // The cell's mass and total energy E V: 4 m (e + ½|u|²).
+        let mass: f64 = inside.iter().map(|&k| p.mass[k]).sum();
+        assert!((mass - rho * 1e-9).abs() <= 1e-15 * rho * 1e-9);
+        let energy: f64 = inside
+            .iter()
+            .map(|&k| p.mass[k] * (e + 0.5 * u.iter().map(|c| c * c).sum::<f64>()))
+            .sum();
+        let total = rho * (e + 0.5 * u.iter().map(|c| c * c).sum::<f64>()) * 1e-9;
+        assert!((energy - total).abs() <= 1e-15 * total, "{energy} {total}");
+    }
+    // The air particle of cell (1, 0): p = 0.4 ρ e = 2 Pa.
+    let k = (0..p.len())
+        .find(|&k| p.velocity[k] == [2.0, -1.0, 0.0])
+        .unwrap();
+    assert!((p.stress[k][0] + 2.0).abs() < 1e-14, "{:?}", p.stress[k]);
+    assert_eq!(p.stress[k][0], p.stress[k][1]);
+    // Outside the remap: the initial regions (air at x < 1 mm, the
+    // concrete's cell keeps its material).
+    for k in 0..p.len() {
+        let x = p.position[k];
+        if x[0] < 0.001 {
+            assert_eq!((p.material[k], p.mass[k]), (MaterialId(0), 1.225 * v));
+            assert_eq!(p.specific_internal_energy[k], 2.0685e5);
+        }
+        if x[0] > 0.003 && x[1] < 0.001 {
+            assert_eq!(p.material[k], MaterialId(1));
+        }
+    }
+}
+
+#[test]
+fn a_bad_mpm_remap_is_named() {
+    let build_err = |path: &std::path::Path, air: &str| {
+        let loaded = load_str(
+            "gas_remap.ron",
+            &pure_mpm(&path.display().to_string(), air),
+            &[],
+        )
+        .unwrap();
+        match crate::build::build(&loaded.scenario) {
+            Ok(_) => panic!("built with {} and air `{air}`", path.display()),
+            Err(e) => e.to_string(),
+        }
+    };
+    let shifted = write_remap("shifted", [0.0015, 0.0, 0.0]);
+    let e = build_err(&shifted, "air");
+    assert!(
+        e.contains("pipeline.remap.file") && e.contains("does not lie on"),
+        "{e}"
+    );
+    let outside = write_remap("outside", [0.003, 0.0, 0.0]);
+    let e = build_err(&outside, "air");
+    assert!(e.contains("does not lie on"), "{e}");
+    let e = build_err(&outside, "concrete");
+    assert!(
+        e.contains("pipeline.remap.air") && e.contains("Null"),
+        "{e}"
+    );
+    std::fs::remove_file(&shifted).unwrap();
+    std::fs::remove_file(&outside).unwrap();
+    let e = build_err(&shifted, "air");
+    assert!(
+        e.contains("pipeline.remap.file") && e.contains("cannot read"),
+        "{e}"
+    );
+}
+
+/// `RZ_BOX` with the 5-bar region driving a shock onto the disc, and the
+/// outputs' `particle_gauges` list `gauges`.
+fn rz_shock_with_gauges(gauges: &str) -> String {
+    RZ_BOX
+        .replace(
+            "pressure: 1.0e5)),
+    ],",
+            &format!("pressure: 1.0e5)),
+        (region: HalfSpace(point: (0, 0.01, 0), normal: (0, -1, 0)), material: \"air\", state: (density: 4.9, pressure: 5.0e5)),
+        {PLATE}
+    ],"),
+        )
+        .replace("activation_pressure: 5.0e4", "activation_pressure: 1.1e5")
+        .replace(
+            "vtk: false)",
+            &format!("vtk: false, particle_gauges: [{gauges}])"),
+        )
+}
+
+#[test]
+fn particle_gauges_follow_the_bridge_particles_of_a_structure_and_of_the_air() {
+    // The disc (r 0–14 mm, z 50–56 mm, its edges on sub-cell boundaries)
+    // and the air particles that start between z = 40 and 50 mm. The
+    // disc's gauge has its whole mass, π r² L ρ, and the mass-weighted mean
+    // velocity of the MPM's steel particles; the shock moves it along +z.
+    let text = rz_shock_with_gauges(
+        r#"(name: "disc", region: Box(min: (0.0, 0.05, -1.0), max: (0.014, 0.056, 1.0)), material: Some("rha"), quantities: [Mass, MeanVelocity]),
+           (name: "air", region: Box(min: (0.0, 0.04, -1.0), max: (0.02, 0.05, 1.0)), material: Some("air"), quantities: [Mass])"#,
+    );
+    let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+    let mut built = crate::build::build(&loaded.scenario).unwrap();
+    assert!(matches!(built, crate::build::Built::Bridge { .. }));
+    let quantities = [
+        brisance_mpm::SetQuantity::Mass,
+        brisance_mpm::SetQuantity::MeanVelocity,
+    ];
+    let mut out = Vec::new();
+    assert!(built.sample_particle_gauge(0, &quantities, &mut out));
+    let pi = std::f64::consts::PI;
+    let disc = pi * 0.014f64.powi(2) * 0.006 * 7850.0;
+    assert!(
+        (out[0] - disc).abs() <= 1e-12 * disc,
+        "{} vs {disc}",
+        out[0]
+    );
+    assert_eq!(&out[1..], &[0.0, 0.0, 0.0]);
+    assert!(built.sample_particle_gauge(1, &quantities[..1], &mut out));
+    let air = pi * 0.02f64.powi(2) * 0.01 * 1.225;
+    assert!((out[0] - air).abs() <= 1e-12 * air, "{} vs {air}", out[0]);
+    assert!(!built.sample_particle_gauge(2, &quantities, &mut out));
+    while built.time() < 8.0e-5 {
+        let dt = built.stable_dt().unwrap().min(8.0e-5 - built.time());
+        built.advance(dt).unwrap();
+    }
+    assert!(built.sample_particle_gauge(0, &quantities, &mut out));
+    let crate::build::Built::Bridge { solver, .. } = &built else {
+        unreachable!()
+    };
+    let p = solver.mpm().particles();
+    let steel = (0..p.len()).filter(|&i| p.material[i].0 == 1);
+    let (m, mv) = steel.fold((0.0, 0.0), |(m, mv), i| {
+        (m + p.mass[i], mv + p.mass[i] * p.velocity[i][1])
+    });
+    eprintln!("disc: mass {} kg, mean v_z {} m/s", out[0], out[2]);
+    assert!((out[0] - m).abs() <= 1e-12 * m);
+    assert!((out[2] - mv / m).abs() <= 1e-12 * (mv / m).abs());
+    assert!(out[2] > 0.0, "{}", out[2]);
+}
+
+#[test]
+fn a_bridge_particle_gauge_without_particles_is_named() {
+    // A region in the FDM's part only (z < 30 mm) holds no particle.
+    let text = rz_shock_with_gauges(
+        r#"(name: "low", region: Box(min: (0.0, 0.0, -1.0), max: (0.02, 0.02, 1.0)), material: Some("air"), quantities: [Mass])"#,
+    );
+    let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
+    let e = crate::build::build(&loaded.scenario).err().unwrap();
+    assert_eq!(
+        e.field.as_deref(),
+        Some("outputs.particle_gauges.0.region"),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("no particle of material `air`"),
+        "{e}"
+    );
+}

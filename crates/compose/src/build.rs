@@ -14,14 +14,7 @@ pub use brisance_scene::PipelineLimits;
 pub fn pipeline_limits(s: &Scenario) -> PipelineLimits {
     let geometry = s.domain.geometry;
     match &s.pipeline {
-        Pipeline::FdmMpmBridge(_) => PipelineLimits {
-            fields: &crate::bridge::FIELDS,
-            max_cfl: brisance_fdm::MAX_CFL,
-            ghost: brisance_fdm::GHOST,
-            node_fields: &[],
-            patch_pieces: false,
-            patch_checkpoints: false,
-        },
+        Pipeline::FdmMpmBridge(b) => b.limits(geometry),
         Pipeline::Ice(ice) => ice.limits(geometry),
         // The fluids' grid with the particles' node fields; the coupled
         // state is checkpointed whole.
@@ -67,7 +60,7 @@ pub enum Built {
     /// The FDM–MPM bridge and the particle sets of its gauges.
     Bridge {
         /// The solver.
-        solver: Box<dyn crate::bridge::BridgeSolver>,
+        solver: Box<dyn brisance_couple::BridgeSolver>,
         /// One set per particle gauge (of the MPM region's particles).
         particle_gauges: Vec<ParticleSet>,
     },
@@ -166,12 +159,13 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
             .map_err(|e| located(&e.field, e.message)),
         Pipeline::Peridynamics(pd) => build_owned(pd, s),
         Pipeline::Lattice(l) => build_owned(l, s),
-        Pipeline::FdmMpmBridge(b) => crate::bridge::build(s, b)
-            .map(|(solver, particle_gauges)| Built::Bridge {
-                solver,
-                particle_gauges,
+        Pipeline::FdmMpmBridge(b) => b
+            .build(&crate::scene::scene_of(s))
+            .map(|run| Built::Bridge {
+                solver: run.solver,
+                particle_gauges: run.particle_gauges,
             })
-            .map_err(|(path, message)| located(&path, message)),
+            .map_err(|e| located(&e.field, e.message)),
         Pipeline::IceMpm(c) => c
             .build(&crate::scene::scene_of(s))
             .map(|run| Built::IceMpm {
@@ -203,7 +197,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Lattice(l) => l.describe(&crate::scene::scene_of(s)),
         Pipeline::Ice(ice) => ice.describe(&crate::scene::scene_of(s)),
         Pipeline::IceMpm(c) => c.describe(&crate::scene::scene_of(s)),
-        Pipeline::FdmMpmBridge(b) => crate::bridge::describe(s, b),
+        Pipeline::FdmMpmBridge(b) => b.describe(&crate::scene::scene_of(s)),
     }
 }
 

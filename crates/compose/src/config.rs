@@ -128,7 +128,7 @@ pub enum Pipeline {
     /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
     IceMpm(brisance_couple::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
-    FdmMpmBridge(crate::bridge::BridgeConfig),
+    FdmMpmBridge(brisance_couple::BridgeConfig),
 }
 
 impl Pipeline {

@@ -9,15 +9,16 @@
 //!   such as `NobleAbel`, reaction models such as `ThermalDecomposition`,
 //!   constitutive models such as `SteinbergGuinan`).
 //! - [`library`]: the named materials of `configs/materials/`.
-//! - [`build`]: assembling the solver for a pipeline ([`bridge`] holds
-//!   its own pipeline; the `Fdm`, `Mpm`, `Ice`, `IceMpm`, `Lattice` and
-//!   `Peridynamics` pipelines' sections and builders are `brisance_fdm`'s,
-//!   `brisance_couple`'s, `brisance_ice`'s, `brisance_couple`'s,
-//!   `brisance_lattice`'s and `brisance_pd`'s, called through
-//!   `brisance_scene::PipelineSpec` with the [`scene`] of the scenario).
+//! - [`build`]: assembling the solver for a pipeline: every pipeline's
+//!   section, checks and builder are its crate's (`Fdm`: `brisance_fdm`;
+//!   `Ice`: `brisance_ice`; `Mpm`, `IceMpm` and `FdmMpmBridge`:
+//!   `brisance_couple`; `Lattice`: `brisance_lattice`; `Peridynamics`:
+//!   `brisance_pd`), called through `brisance_scene::PipelineSpec` with
+//!   the [`scene`] of the scenario.
 //! - [`run`](mod@run): the run loop, outputs, checkpoints and restart.
 
-pub mod bridge;
+#[cfg(test)]
+mod bridge;
 pub mod build;
 pub mod config;
 pub mod error;

@@ -187,13 +187,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_ice::pipeline::IceConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_couple::IceMpmConfig as PipelineSpec>::INFO),
-    Entry {
-        family: "pipeline",
-        name: "FdmMpmBridge",
-        summary: "coupled FDM-MPM (CFDMP): FDM far field, MPM near structures, a bridge region w cells wide, activation by the shock's arrival, optional remapped 1D detonation (seed 001 §3)",
-        example: "FdmMpmBridge(fdm_region: (lower: (-0.18, 0.0, 0.0), upper: (0.12, 0.5, 0.002)), mpm_region: (lower: (0.11, 0.0, 0.0), upper: (0.16, 0.5, 0.002)), air: \"air\", products: Some(\"tnt\"), activation_pressure: 1.2e5)",
-        docs: Some("docs/physics/couple/bridge.md"),
-    },
+    Entry::pipeline(<brisance_couple::BridgeConfig as PipelineSpec>::INFO),
     Entry {
         family: "load",
         name: "Traction",

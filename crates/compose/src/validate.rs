@@ -43,7 +43,7 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
         // The Mpm section checks its reservoir faces on (r, z) grids
         // (`brisance_couple::MpmConfig`).
         // The bridge's own limits on (r, z) grids (the split along z) are
-        // checked with its options (`crate::bridge::validate`).
+        // checked with its options (`brisance_couple::BridgeConfig`).
         Pipeline::Mpm(_)
         | Pipeline::Fdm(_)
         | Pipeline::Ice(_)
@@ -311,7 +311,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
         Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
         Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
         Pipeline::IceMpm(c) => c.validate(&crate::scene::scene_of(s))?,
-        Pipeline::FdmMpmBridge(b) => crate::bridge::validate(s, b)?,
+        Pipeline::FdmMpmBridge(b) => b.validate(&crate::scene::scene_of(s))?,
         Pipeline::Mpm(mpm) => mpm.validate(&crate::scene::scene_of(s))?,
     }
     for (face, bc) in s.boundaries.faces() {

@@ -17,12 +17,14 @@
 //! - [`mpm_pipeline`]: the `Mpm` pipeline's section, checks and builder
 //!   (`brisance_scene::PipelineSpec`), whose particles the coupled
 //!   pipelines build too ([`mpm_pipeline::mpm_parts`]); the `IceMpm`
-//!   pipeline's are [`ice_mpm::pipeline`].
+//!   pipeline's are [`ice_mpm::pipeline`], the `FdmMpmBridge` pipeline's
+//!   [`bridge_pipeline`].
 //!
 //! Choices the paper leaves open are written down in
 //! `docs/physics/couple/remap.md` and `docs/physics/couple/bridge.md`.
 
 pub mod bridge;
+pub mod bridge_pipeline;
 pub mod cfdmp;
 pub mod gas_remap;
 pub mod ice_mpm;
@@ -30,6 +32,7 @@ pub mod mpm_pipeline;
 pub mod regions;
 pub mod remap;
 
+pub use bridge_pipeline::{BridgeConfig, BridgeRun, BridgeSolver};
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
 pub use ice_mpm::pipeline::{IceMpmConfig, IceMpmRun, Solids};
