@@ -44,4 +44,6 @@ pub use remap::{
 };
 
 #[cfg(test)]
+mod scenario_text;
+#[cfg(test)]
 mod thread_ranks;

@@ -1,16 +1,7 @@
 use super::*;
+use crate::scenario_text::parse;
 use brisance_grid::Shape;
 use brisance_scene::{Domain, OwnedScene, StateConfig};
-
-/// `text` read as a scenario reads it (implicit `Some`, unwrapped newtype
-/// variants).
-fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
-    use ron::extensions::Extensions;
-    ron::Options::default()
-        .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
-        .from_str(text)
-        .unwrap_or_else(|e| panic!("{text}: {e}"))
-}
 
 /// A 1D tube at 2 mm: FDM (0, 40) mm, MPM (30, 60) mm, overlapping by
 /// 5 cells; `extra` adds options to the section.

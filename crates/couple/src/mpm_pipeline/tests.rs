@@ -1,4 +1,5 @@
 use super::*;
+use crate::scenario_text::parse;
 use brisance_constitutive::NullMaterial;
 use brisance_scene::{Domain, OwnedScene};
 
@@ -6,7 +7,7 @@ const RHO: f64 = 1.225;
 const P: f64 = 1.0e5;
 
 fn section(ppc: usize) -> MpmConfig {
-    ron::from_str(&format!("(ppc: {ppc})")).expect("an Mpm section")
+    parse(&format!("(ppc: {ppc})"))
 }
 
 /// Air as particles (`gas`, a Null material on the ideal gas) over `x` in
@@ -104,8 +105,7 @@ fn the_checks_name_their_fields() {
     let mut fall = section(2);
     fall.gravity[1] = f64::NAN;
     assert_eq!(fall.validate(&s).unwrap_err().field, "pipeline.gravity");
-    let mut q: MpmConfig =
-        ron::from_str("(bulk_viscosity: On((quadratic: -1.0, linear: 0.06)))").unwrap();
+    let mut q: MpmConfig = parse("(bulk_viscosity: On(quadratic: -1.0, linear: 0.06))");
     assert_eq!(
         q.validate(&s).unwrap_err().field,
         "pipeline.bulk_viscosity.quadratic"

@@ -1,4 +1,5 @@
 use super::*;
+use crate::scenario_text::parse;
 use brisance_constitutive::MaterialModel;
 use brisance_eos::EosModel;
 use brisance_grid::Shape;
@@ -7,16 +8,6 @@ use brisance_scene::{Domain, OwnedScene, StateConfig, ThermalConfig};
 const STEEL_EOS: &str = "SolidThreshold(solid: Murnaghan(n: 4.0, kappa: 6.25e-12, rho0: 7850.0, cv: 460.0, t_ref: 300.0), threshold_pressure: 101325.0)";
 const STEEL: &str =
     "Hypoelastic(shear_modulus: 80.0e9, pressure: Linear(bulk_modulus: 160.0e9), rate: Jaumann)";
-
-/// `text` read as a scenario reads it (implicit `Some`, unwrapped
-/// newtype variants).
-fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
-    use ron::extensions::Extensions;
-    ron::Options::default()
-        .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
-        .from_str(text)
-        .unwrap_or_else(|e| panic!("{text}: {e}"))
-}
 
 fn section(text: &str) -> IceMpmConfig {
     parse(text)
