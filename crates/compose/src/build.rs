@@ -19,7 +19,7 @@ pub fn pipeline_limits(s: &Scenario) -> PipelineLimits {
         // The fluids' grid with the particles' node fields; the coupled
         // state is checkpointed whole.
         Pipeline::IceMpm(c) => c.limits(geometry),
-        Pipeline::Lattice(l) => l.limits(geometry),
+        Pipeline::Plugin(p) => p.section().limits(geometry),
         Pipeline::Peridynamics(pd) => pd.limits(geometry),
         Pipeline::Mpm(mpm) => mpm.limits(geometry),
         Pipeline::Fdm(f) => f.limits(geometry),
@@ -158,7 +158,11 @@ pub fn build(s: &Scenario) -> Result<Built, ConfigError> {
             })
             .map_err(|e| located(&e.field, e.message)),
         Pipeline::Peridynamics(pd) => build_owned(pd, s),
-        Pipeline::Lattice(l) => build_owned(l, s),
+        Pipeline::Plugin(p) => p
+            .section()
+            .build(&crate::scene::scene_of(s))
+            .map(Built::Solver)
+            .map_err(|e| located(&e.field, e.message)),
         Pipeline::FdmMpmBridge(b) => b
             .build(&crate::scene::scene_of(s))
             .map(|run| Built::Bridge {
@@ -194,7 +198,7 @@ pub fn describe(s: &Scenario) -> String {
         Pipeline::Fdm(fdm) => fdm.describe(&crate::scene::scene_of(s)),
         Pipeline::Mpm(mpm) => mpm.describe(&crate::scene::scene_of(s)),
         Pipeline::Peridynamics(pd) => pd.describe(&crate::scene::scene_of(s)),
-        Pipeline::Lattice(l) => l.describe(&crate::scene::scene_of(s)),
+        Pipeline::Plugin(p) => p.section().describe(&crate::scene::scene_of(s)),
         Pipeline::Ice(ice) => ice.describe(&crate::scene::scene_of(s)),
         Pipeline::IceMpm(c) => c.describe(&crate::scene::scene_of(s)),
         Pipeline::FdmMpmBridge(b) => b.describe(&crate::scene::scene_of(s)),

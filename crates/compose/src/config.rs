@@ -7,6 +7,8 @@ use brisance_constitutive::MaterialModel;
 pub use brisance_core::Geometry;
 use brisance_eos::EosModel;
 use brisance_mpm::SetQuantity;
+use brisance_plugin::{Installed, PluginEnum, PluginInstance};
+use brisance_scene::plugin::{PipelinePlugin, PluginSection};
 use serde::{Deserialize, Serialize};
 
 pub use brisance_couple::mpm_pipeline::{BulkViscosityConfig, MpmConfig, SurfaceLoadConfig};
@@ -112,8 +114,10 @@ impl MaterialConfig {
     }
 }
 
-/// The numerical method(s) of the run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The numerical method(s) of the run: the built-in pipelines, and those
+/// their crates register (`brisance_scene::plugin`; the MSDM `Lattice`),
+/// read into [`Pipeline::Plugin`] under their own names.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Pipeline {
     /// The Lax–Wendroff finite-difference Euler solver (seed 001 §2.1).
     Fdm(FdmConfig),
@@ -121,14 +125,66 @@ pub enum Pipeline {
     Mpm(MpmConfig),
     /// Bond-based peridynamics with the detonation model of seed 004.
     Peridynamics(brisance_pd::PdConfig),
-    /// The thermo-mechanical mass–spring–damper lattice of seed 003.
-    Lattice(brisance_lattice::LatticeConfig),
     /// The multi-material ICE method of seed 000 §3.3.
     Ice(brisance_ice::pipeline::IceConfig),
     /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
     IceMpm(brisance_couple::IceMpmConfig),
     /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
     FdmMpmBridge(brisance_couple::BridgeConfig),
+    /// A pipeline its crate registered (written under its own name, such
+    /// as `Lattice(...)`, never as `Plugin`).
+    Plugin(PluginSection),
+}
+
+impl PluginEnum for Pipeline {
+    type Plugin = PipelinePlugin;
+    const NAME: &'static str = "Pipeline";
+    const VARIANTS: &'static [&'static str] = brisance_scene::plugin::BUILT_IN;
+    const EXPECTING: &'static str = "a pipeline such as `Fdm(...)`";
+
+    fn installed() -> &'static Installed<PipelinePlugin> {
+        brisance_scene::plugin::slot()
+    }
+
+    fn read_builtin<'de, A: serde::de::VariantAccess<'de>>(
+        name: &'static str,
+        variant: A,
+    ) -> Result<Self, A::Error> {
+        match name {
+            "Fdm" => variant.newtype_variant().map(Self::Fdm),
+            "Mpm" => variant.newtype_variant().map(Self::Mpm),
+            "Peridynamics" => variant.newtype_variant().map(Self::Peridynamics),
+            "Ice" => variant.newtype_variant().map(Self::Ice),
+            "IceMpm" => variant.newtype_variant().map(Self::IceMpm),
+            "FdmMpmBridge" => variant.newtype_variant().map(Self::FdmMpmBridge),
+            _ => Err(Self::unknown(name)),
+        }
+    }
+
+    fn from_plugin(section: PluginInstance<PipelinePlugin>) -> Self {
+        Self::Plugin(PluginSection(section))
+    }
+}
+
+impl<'de> Deserialize<'de> for Pipeline {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        brisance_plugin::deserialize(d)
+    }
+}
+
+impl Serialize for Pipeline {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        const NAME: &str = <Pipeline as PluginEnum>::NAME;
+        match self {
+            Self::Fdm(c) => s.serialize_newtype_variant(NAME, 0, "Fdm", c),
+            Self::Mpm(c) => s.serialize_newtype_variant(NAME, 1, "Mpm", c),
+            Self::Peridynamics(c) => s.serialize_newtype_variant(NAME, 2, "Peridynamics", c),
+            Self::Ice(c) => s.serialize_newtype_variant(NAME, 3, "Ice", c),
+            Self::IceMpm(c) => s.serialize_newtype_variant(NAME, 4, "IceMpm", c),
+            Self::FdmMpmBridge(c) => s.serialize_newtype_variant(NAME, 5, "FdmMpmBridge", c),
+            Self::Plugin(p) => brisance_plugin::serialize_plugin::<Self, S>(&p.0, s),
+        }
+    }
 }
 
 impl Pipeline {
@@ -138,10 +194,10 @@ impl Pipeline {
             Self::Fdm(_) => "Fdm",
             Self::Mpm(_) => "Mpm",
             Self::Peridynamics(_) => "Peridynamics",
-            Self::Lattice(_) => "Lattice",
             Self::Ice(_) => "Ice",
             Self::IceMpm(_) => "IceMpm",
             Self::FdmMpmBridge(_) => "FdmMpmBridge",
+            Self::Plugin(p) => p.plugin().info.name,
         }
     }
 }

@@ -9,6 +9,14 @@ use brisance_scene::PipelineSpec;
 use crate::build::build_solver;
 use crate::load_str;
 
+/// The scenario's `Lattice` section (a registered pipeline), if it has one.
+fn lattice_section(s: &crate::Scenario) -> Option<&brisance_lattice::LatticeConfig> {
+    match &s.pipeline {
+        crate::config::Pipeline::Plugin(p) => p.downcast(),
+        _ => None,
+    }
+}
+
 /// The example scenario loads, validates, builds and steps; a region
 /// naming a material without lattice parameters is reported with its
 /// field path.
@@ -77,7 +85,7 @@ fn boundary_axes_hold_only_the_listed_components() {
         let t = text.replace(wall, with);
         let sets = [format!("pipeline.integrator={integrator}")];
         let loaded = load_str("lattice_impact.ron", &t, &sets).map_err(|e| e.to_string())?;
-        let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+        let Some(cfg) = lattice_section(&loaded.scenario) else {
             return Err("not a lattice".to_string());
         };
         cfg.build(&crate::scene::scene_of(&loaded.scenario))
@@ -160,7 +168,7 @@ fn propellant_pack_loads_and_regresses_from_the_top() {
     use brisance_lattice::node_mass_fraction;
     let text = include_str!("../../../configs/lattice_burn.ron");
     let loaded = load_str("lattice_burn.ron", text, &[]).unwrap();
-    let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+    let Some(cfg) = lattice_section(&loaded.scenario) else {
         panic!("not a lattice");
     };
     let mut lat = cfg
@@ -238,7 +246,7 @@ fn image_pack_is_one_node_per_pixel() {
         )
         .replace("upper: (2.4e-3, 2.4e-3, 2.4e-5)", "upper: (4.8e-5, 4.8e-5, 2.4e-5)");
     let loaded = load_str("lattice_burn.ron", &text, &[]).unwrap();
-    let crate::config::Pipeline::Lattice(cfg) = &loaded.scenario.pipeline else {
+    let Some(cfg) = lattice_section(&loaded.scenario) else {
         panic!("not a lattice");
     };
     let lat = cfg

@@ -70,7 +70,7 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
 }
 
 /// The position of parse error `e`. A plugin model (an equation of state,
-/// a reaction model or a constitutive model) reads its parameters after
+/// a reaction model, a constitutive model or a pipeline) reads its parameters after
 /// the parser has passed them, so for a parameter it does not know the
 /// parser stands at the model's closing parenthesis; the position is
 /// moved back to that parameter, inside the model's parentheses.
@@ -85,9 +85,15 @@ fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, us
     let materials = brisance_constitutive::plugin::plugin_names()
         .iter()
         .copied();
+    let pipelines = brisance_scene::plugin::slot()
+        .registry()
+        .into_iter()
+        .flat_map(|r| r.plugins())
+        .map(|p| p.info.name);
     let Some(plugin) = eos
         .chain(reactions)
         .chain(materials)
+        .chain(pipelines)
         .find(|name| message.starts_with(&format!("{name}: ")))
     else {
         return at;

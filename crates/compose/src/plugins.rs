@@ -9,6 +9,7 @@ use std::sync::Once;
 use brisance_constitutive::MaterialRegistry;
 use brisance_eos::EosRegistry;
 use brisance_reaction::plugin::ReactionRegistry;
+use brisance_scene::plugin::PipelineRegistry;
 
 /// The equations of state that live in their own crates.
 pub fn eos_registry() -> EosRegistry {
@@ -31,9 +32,17 @@ pub fn material_registry() -> MaterialRegistry {
     registry
 }
 
-/// Installs [`eos_registry`], [`reaction_registry`] and
-/// [`material_registry`] as the ones every config reader resolves model
-/// names through; the first call does it, later ones do nothing.
+/// The pipelines that register from their own crates.
+pub fn pipeline_registry() -> PipelineRegistry {
+    let mut registry = PipelineRegistry::new();
+    brisance_lattice::register(&mut registry);
+    registry
+}
+
+/// Installs [`eos_registry`], [`reaction_registry`],
+/// [`material_registry`] and [`pipeline_registry`] as the ones every
+/// config reader resolves names through; the first call does it, later
+/// ones do nothing.
 pub fn install() {
     static INSTALL: Once = Once::new();
     INSTALL.call_once(|| {
@@ -42,6 +51,7 @@ pub fn install() {
         let _ = brisance_eos::plugin::install(eos_registry());
         let _ = brisance_reaction::plugin::install(reaction_registry());
         let _ = brisance_constitutive::plugin::install(material_registry());
+        let _ = brisance_scene::plugin::install(pipeline_registry());
     });
 }
 
@@ -220,6 +230,74 @@ mod tests {
         assert!(
             yielded_low > 0 && elastic_high > 0 && signed > 0,
             "{yielded_low} {elastic_high} {signed}"
+        );
+    }
+
+    const LATTICE: &str = include_str!("../../../configs/lattice_impact.ron");
+
+    /// The MSDM lattice is a pipeline its crate registers (one line in
+    /// [`pipeline_registry`]): a scenario names it as `Lattice(...)`, reads
+    /// into the `Plugin` variant, writes itself back to an equal scenario,
+    /// builds through the registration, and is listed with its docs page.
+    #[test]
+    fn the_lattice_is_a_registered_pipeline() {
+        let registry = pipeline_registry();
+        let names: Vec<&str> = registry.plugins().iter().map(|p| p.info.name).collect();
+        assert_eq!(names, ["Lattice"]);
+        let loaded = crate::load_str("lattice_impact.ron", LATTICE, &[]).unwrap();
+        let crate::config::Pipeline::Plugin(p) = &loaded.scenario.pipeline else {
+            panic!("the lattice reads into the Plugin variant");
+        };
+        assert_eq!(loaded.scenario.pipeline.name(), "Lattice");
+        let cfg: &brisance_lattice::LatticeConfig = p.downcast().expect("a lattice section");
+        assert_eq!(cfg.spacing, 2.0e-5);
+        let text = ron_options().to_string(&loaded.scenario).unwrap();
+        assert!(text.contains("pipeline:Lattice("), "{text}");
+        let back: crate::Scenario = ron_options().from_str(&text).unwrap();
+        assert_eq!(back, loaded.scenario);
+        let solver = crate::build::build_solver(&loaded.scenario).unwrap();
+        assert_eq!(solver.name(), "lattice");
+        let entry = crate::registry::entries()
+            .into_iter()
+            .find(|e| e.family == "pipeline" && e.name == "Lattice")
+            .expect("listed");
+        assert_eq!(entry.docs, Some("docs/physics/lattice/model.md"));
+    }
+
+    /// A registered pipeline's errors are located as a built-in one's: a
+    /// misspelt field of its section names the field at the section's
+    /// line, a check of its section names the field's path, its refusal
+    /// of (r, z) grids comes first, and a misspelt pipeline name lists
+    /// every pipeline, the registered ones included.
+    #[test]
+    fn a_registered_pipeline_reports_errors_as_a_built_in_one() {
+        let typo = LATTICE.replace("spacing: 2.0e-5", "spacin: 2.0e-5");
+        let err = crate::load_str("lattice_impact.ron", &typo, &[]).unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("lattice_impact.ron:22:9:"), "{text}");
+        assert!(text.contains("spacin"), "{text}");
+        let err = crate::load_str(
+            "lattice_impact.ron",
+            LATTICE,
+            &["pipeline.spacing=-1.0".to_string()],
+        )
+        .unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("pipeline.spacing"), "{err}");
+        let err = crate::load_str(
+            "lattice_impact.ron",
+            LATTICE,
+            &["domain.geometry=Axisymmetric".to_string()],
+        )
+        .unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("domain.geometry"), "{err}");
+        assert!(err.message.contains("no axisymmetric form"), "{err}");
+        let wrong = LATTICE.replace("pipeline: Lattice(", "pipeline: Latice(");
+        let text = crate::load_str("lattice_impact.ron", &wrong, &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            text.contains("`Lattice`") && text.contains("`Fdm`"),
+            "{text}"
         );
     }
 }

@@ -184,7 +184,6 @@ pub const ENTRIES: &[Entry] = &[
     Entry::pipeline(<brisance_fdm::FdmConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_couple::MpmConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_pd::PdConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_lattice::LatticeConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_ice::pipeline::IceConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_couple::IceMpmConfig as PipelineSpec>::INFO),
     Entry::pipeline(<brisance_couple::BridgeConfig as PipelineSpec>::INFO),
@@ -350,7 +349,8 @@ pub const ENTRIES: &[Entry] = &[
 ];
 
 /// Every registered component: [`ENTRIES`], then the equations of state,
-/// the reaction models and the constitutive models of the plugin crates,
+/// the reaction models, the constitutive models and the pipelines of the
+/// plugin crates,
 /// each under the name, summary, example and docs page its crate
 /// registered.
 pub fn entries() -> Vec<Entry> {
@@ -366,6 +366,10 @@ pub fn entries() -> Vec<Entry> {
         .chain(plugin_entries(
             "material",
             brisance_constitutive::plugin::installed(),
+        ))
+        .chain(plugin_entries(
+            "pipeline",
+            brisance_scene::plugin::slot().registry(),
         ))
         .collect()
 }

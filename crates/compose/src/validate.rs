@@ -33,17 +33,12 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
     if !d.geometry.is_axisymmetric() {
         return Ok(());
     }
+    // Bond-based peridynamics and the MSDM lattice have no (r, z) form;
+    // the Mpm section checks its reservoir faces on (r, z) grids and the
+    // bridge its split along z with their options.
     let unsupported = match &s.pipeline {
-        Pipeline::Peridynamics(_) => Some(
-            "bond-based peridynamics has no axisymmetric form (a bond joins two points, not two rings); run the Peridynamics pipeline on a 3D Cartesian grid",
-        ),
-        Pipeline::Lattice(_) => Some(
-            "the MSDM lattice is a 3D network of bonds with no axisymmetric form; run the Lattice pipeline on a 3D Cartesian grid",
-        ),
-        // The Mpm section checks its reservoir faces on (r, z) grids
-        // (`brisance_couple::MpmConfig`).
-        // The bridge's own limits on (r, z) grids (the split along z) are
-        // checked with its options (`brisance_couple::BridgeConfig`).
+        Pipeline::Peridynamics(pd) => pd.unsupported(d.geometry),
+        Pipeline::Plugin(p) => p.section().unsupported(d.geometry),
         Pipeline::Mpm(_)
         | Pipeline::Fdm(_)
         | Pipeline::Ice(_)
@@ -308,7 +303,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     match &s.pipeline {
         Pipeline::Fdm(fdm) => fdm.validate(&crate::scene::scene_of(s))?,
         Pipeline::Peridynamics(pd) => pd.validate(&crate::scene::scene_of(s))?,
-        Pipeline::Lattice(l) => l.validate(&crate::scene::scene_of(s))?,
+        Pipeline::Plugin(p) => p.section().validate(&crate::scene::scene_of(s))?,
         Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
         Pipeline::IceMpm(c) => c.validate(&crate::scene::scene_of(s))?,
         Pipeline::FdmMpmBridge(b) => b.validate(&crate::scene::scene_of(s))?,

@@ -50,7 +50,8 @@ pub use model::{
 };
 pub use pack::{area_fraction, node_mass_fraction, random_disc_pack, read_image, GrayImage};
 pub use pipeline::{
-    LatticeBoundaryConfig, LatticeConfig, LatticeMaterialConfig, PackConfig, RegressionConfig,
+    register, LatticeBoundaryConfig, LatticeConfig, LatticeMaterialConfig, PackConfig,
+    RegressionConfig,
 };
 pub use regress::{Arrhenius, SurfaceRegression};
 #[cfg(test)]

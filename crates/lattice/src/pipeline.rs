@@ -694,6 +694,13 @@ impl PipelineSpec for LatticeConfig {
         }
     }
 
+    /// The lattice is a 3D network of bonds: no (r, z) form.
+    fn unsupported(&self, geometry: brisance_core::Geometry) -> Option<&'static str> {
+        geometry.is_axisymmetric().then_some(
+            "the MSDM lattice is a 3D network of bonds with no axisymmetric form; run the Lattice pipeline on a 3D Cartesian grid",
+        )
+    }
+
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError> {
         check(scene, self)
     }
@@ -709,6 +716,14 @@ impl PipelineSpec for LatticeConfig {
     }
 }
 
+/// Registers the lattice as the `Lattice` pipeline: a config writes
+/// `pipeline: Lattice(dimension: Two, spacing: 2e-5, materials: {...})`,
+/// and the composer checks, builds and describes it through
+/// [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<LatticeConfig>());
+}
+
 #[cfg(test)]
 mod tests {
     use brisance_eos::IdealGas;
@@ -716,6 +731,28 @@ mod tests {
 
     use super::*;
     use crate::cases::inert_eos;
+
+    /// The registration reads its own example into a section equal to
+    /// the one serde reads, under the name of [`PipelineSpec::INFO`].
+    #[test]
+    fn the_registered_example_reads_as_the_section() {
+        let mut r = brisance_scene::plugin::PipelineRegistry::new();
+        register(&mut r);
+        let p = r.get("Lattice").expect("registered");
+        assert_eq!(p.info, LatticeConfig::INFO);
+        let args = p.info.example.strip_prefix("Lattice").unwrap();
+        let (section, params) = (p.parse)(args).unwrap();
+        let cfg: &LatticeConfig = section.as_any().downcast_ref().unwrap();
+        assert_eq!(cfg.spacing, 2e-5);
+        assert_eq!(cfg.materials["hmx"].young, 25.325e9);
+        assert_eq!((p.parse)(params.as_str()).unwrap().1, params);
+        assert!(section
+            .unsupported(brisance_core::Geometry::Axisymmetric)
+            .is_some());
+        assert!(section
+            .unsupported(brisance_core::Geometry::Cartesian)
+            .is_none());
+    }
 
     /// A 2D box 4 × 2 spacings of 1 mm: 5 × 3 nodes, with the materials
     /// `eos` and the regions `initial` (shape, material, velocity).

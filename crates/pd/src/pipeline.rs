@@ -444,6 +444,14 @@ impl PipelineSpec for PdConfig {
     }
 
     /// Checks the section without building the node lattice.
+    /// Bond-based peridynamics joins two points, not two rings: no
+    /// (r, z) form.
+    fn unsupported(&self, geometry: brisance_core::Geometry) -> Option<&'static str> {
+        geometry.is_axisymmetric().then_some(
+            "bond-based peridynamics has no axisymmetric form (a bond joins two points, not two rings); run the Peridynamics pipeline on a 3D Cartesian grid",
+        )
+    }
+
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError> {
         check(scene, self).map_err(located)
     }

@@ -37,6 +37,7 @@ use serde::{Deserialize, Serialize};
 
 mod faces;
 mod owned;
+pub mod plugin;
 
 pub use faces::{fixed_face_material, Boundaries, BoundaryConfig, StateConfig, OPEN_FACES};
 pub use owned::OwnedScene;
@@ -286,6 +287,13 @@ pub trait PipelineSpec {
     /// What the composer's checks need to know (output fields, Courant
     /// limit, ghost layers) for this section on `geometry`'s grid.
     fn limits(&self, geometry: Geometry) -> PipelineLimits;
+
+    /// Why the pipeline has no form on `geometry`'s grids, if it has
+    /// none: the composer refuses the scenario at `domain.geometry` with
+    /// this sentence before it checks the grid's shape. None by default.
+    fn unsupported(&self, _geometry: Geometry) -> Option<&'static str> {
+        None
+    }
 
     /// Checks the section against the scene; the error names the field.
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError>;
