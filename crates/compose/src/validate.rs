@@ -466,23 +466,8 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
         check_region(&format!("{path}.region"), &g.region)?;
-        // The bridge's gases are particles too (its air and products).
-        let bridge_gas = |m: &String| match &s.pipeline {
-            Pipeline::FdmMpmBridge(b) => *m == b.air || b.products.as_ref() == Some(m),
-            _ => false,
-        };
-        if let Some(m) = g.material.as_ref().filter(|m| !bridge_gas(m)) {
-            if s.materials.get(m).and_then(|m| m.model.as_ref()).is_none() {
-                return Err((
-                    format!("{path}.material"),
-                    format!(
-                        "particle gauge `{}`: `{m}` is not a particle material (one with a constitutive `model`); known materials: {}",
-                        g.name,
-                        known_materials()
-                    ),
-                ));
-            }
-        }
+        // Which materials have particles is the pipeline's to say: its
+        // section checks a gauge's `material`.
         if g.quantities.is_empty() {
             return Err((
                 format!("{path}.quantities"),

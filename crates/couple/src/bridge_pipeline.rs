@@ -382,6 +382,18 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
             ));
         }
     }
+    for (i, g) in s.particle_gauges.iter().enumerate() {
+        let Some(m) = g.material else { continue };
+        if !is_gas(cfg, m) && s.material(m).and_then(|m| m.model).is_none() {
+            return Err((
+                format!("outputs.particle_gauges.{i}.material"),
+                format!(
+                    "particle gauge `{}`: `{m}` is not a particle material of the bridge (the air, the products or a material with a constitutive `model`)",
+                    g.name
+                ),
+            ));
+        }
+    }
     if s.domain.geometry.is_axisymmetric() {
         let r = regions(s, cfg)?;
         if r.axis != 1 {

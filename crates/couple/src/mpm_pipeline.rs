@@ -229,7 +229,8 @@ impl MpmConfig {
     /// The checks of the section alone and against the scene that the
     /// particles of the coupled pipelines share (the `IceMpm` solids'
     /// section runs them too): ppc, mass cut-off, gravity, the remap, the
-    /// surface loads, the bulk viscosity. Paths under `pipeline`.
+    /// surface loads, the bulk viscosity (paths under `pipeline`), and
+    /// that a particle gauge's `material` is a particle material.
     pub fn check_section(&self, s: &Scene<'_>) -> Result<(), FieldError> {
         if self.ppc == 0 || self.ppc > 8 {
             return Err(FieldError::new(
@@ -320,7 +321,22 @@ impl MpmConfig {
                 )
             })?;
         }
-        self.bulk_viscosity.check("pipeline.bulk_viscosity")
+        self.bulk_viscosity.check("pipeline.bulk_viscosity")?;
+        for (i, g) in s.particle_gauges.iter().enumerate() {
+            if let Some(m) = g.material {
+                if s.material(m).and_then(|m| m.model).is_none() {
+                    return Err(FieldError::new(
+                        format!("outputs.particle_gauges.{i}.material"),
+                        format!(
+                            "particle gauge `{}`: `{m}` is not a particle material (one with a constitutive `model`); known materials: {}",
+                            g.name,
+                            known_materials(s)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 }
 

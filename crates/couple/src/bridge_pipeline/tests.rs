@@ -87,4 +87,16 @@ fn the_checks_name_their_fields() {
         section("").validate(&owned.scene()).unwrap_err().field,
         "pipeline.air"
     );
+    // A particle gauge follows the air, the products or a modelled
+    // material.
+    let mut owned = tube().with_material("stone", None);
+    owned
+        .particle_gauges
+        .push(("g".into(), Shape::Everywhere, Some("stone".into())));
+    assert_eq!(
+        section("").validate(&owned.scene()).unwrap_err().field,
+        "outputs.particle_gauges.0.material"
+    );
+    owned.particle_gauges[0].2 = Some("air".into());
+    assert!(section("").validate(&owned.scene()).is_ok());
 }

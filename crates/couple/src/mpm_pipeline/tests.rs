@@ -139,6 +139,15 @@ fn the_checks_name_their_fields() {
         section(2).validate(&rz.scene()).unwrap_err().field,
         "domain.geometry"
     );
+    // A particle gauge's material is a particle material.
+    let mut gauged = gas_scene();
+    gauged
+        .particle_gauges
+        .push(("g".into(), Shape::Everywhere, Some("ghost".into())));
+    assert_eq!(
+        section(2).validate(&gauged.scene()).unwrap_err().field,
+        "outputs.particle_gauges.0.material"
+    );
     // … and a periodic face is no MPM face at all.
     let mut periodic = gas_scene();
     periodic.boundaries.y_low = BoundaryConfig::Periodic;
