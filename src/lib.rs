@@ -18,7 +18,8 @@
 //! - [`reaction`]: program burn and the detonation-products isentrope.
 //! - [`io`]: VTK, CSV, summary and checkpoint writers.
 //! - [`compose`]: the RON scenario schema, registry and run loop.
-//! - [`verification`]: exact solutions the validation suite compares against.
+//! - [`verification`]: exact solutions the validation suite compares
+//!   against (the `brisance-validation` crate).
 
 pub use brisance_compose as compose;
 pub use brisance_constitutive as constitutive;
@@ -34,7 +35,7 @@ pub use brisance_mpm as mpm;
 pub use brisance_pd as pd;
 pub use brisance_reaction as reaction;
 
-pub mod verification;
+pub use brisance_validation as verification;
 
 /// Number of threads in the current rayon pool (what the kernels use).
 pub fn rayon_threads() -> usize {

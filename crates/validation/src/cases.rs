@@ -12,7 +12,7 @@ use super::riemann::{sod, RiemannSolution};
 use super::smooth::AdvectedSine;
 
 /// The V-SOD scenario file.
-pub const SOD_CONFIG: &str = include_str!("../../configs/sod.ron");
+pub const SOD_CONFIG: &str = include_str!("../../../configs/sod.ron");
 
 /// Observed orders of accuracy between successive refinements:
 /// log(e_k / e_{k+1}) / log(n_{k+1} / n_k).

@@ -62,7 +62,7 @@ use brisance_mpm::{
 };
 
 /// The V-TAYLOR scenario file.
-pub const TAYLOR3D_CONFIG: &str = include_str!("../../configs/taylor3d.ron");
+pub const TAYLOR3D_CONFIG: &str = include_str!("../../../configs/taylor3d.ron");
 
 /// Cells across the rod's radius in `configs/taylor3d.ron` as shipped.
 pub const CONFIG_CELLS_ACROSS_RADIUS: usize = 12;

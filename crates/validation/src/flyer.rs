@@ -156,7 +156,7 @@ pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
     use brisance_compose::load_str;
     use brisance_core::Solver;
 
-    let text = include_str!("../../configs/flyer_icempm.ron");
+    let text = include_str!("../../../configs/flyer_icempm.ron");
     let h = TUBE / cells as f64;
     let sets = [
         format!("domain.cells=({cells},1,1)"),
@@ -236,7 +236,7 @@ pub fn run_shock_plate(cells: usize, shape: &str) -> Result<ShockPlateRun, Strin
     use brisance_compose::load_str;
     use brisance_core::Solver;
 
-    let text = include_str!("../../configs/shock_plate_mpm.ron");
+    let text = include_str!("../../../configs/shock_plate_mpm.ron");
     let h = TUBE / cells as f64;
     // The plate's rear face and its first particle layer (2 per cell).
     let rear = 0.02;
