@@ -33,17 +33,19 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
     if !d.geometry.is_axisymmetric() {
         return Ok(());
     }
-    // Bond-based peridynamics and the MSDM lattice have no (r, z) form;
-    // the Mpm section checks its reservoir faces on (r, z) grids and the
-    // bridge its split along z with their options.
+    // Each section says which grids it has no form on (bond-based PD and
+    // the MSDM lattice: (r, z)); the Mpm section checks its reservoir
+    // faces on (r, z) grids and the bridge its split along z with their
+    // options.
+    let g = d.geometry;
     let unsupported = match &s.pipeline {
-        Pipeline::Peridynamics(pd) => pd.unsupported(d.geometry),
-        Pipeline::Plugin(p) => p.section().unsupported(d.geometry),
-        Pipeline::Mpm(_)
-        | Pipeline::Fdm(_)
-        | Pipeline::Ice(_)
-        | Pipeline::IceMpm(_)
-        | Pipeline::FdmMpmBridge(_) => None,
+        Pipeline::Fdm(c) => c.unsupported(g),
+        Pipeline::Mpm(c) => c.unsupported(g),
+        Pipeline::Peridynamics(c) => c.unsupported(g),
+        Pipeline::Ice(c) => c.unsupported(g),
+        Pipeline::IceMpm(c) => c.unsupported(g),
+        Pipeline::FdmMpmBridge(c) => c.unsupported(g),
+        Pipeline::Plugin(p) => p.section().unsupported(g),
     };
     if let Some(why) = unsupported {
         return Err(("domain.geometry".into(), why.into()));

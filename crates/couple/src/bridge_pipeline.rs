@@ -440,14 +440,12 @@ pub struct BridgeRun {
     pub particle_gauges: Vec<ParticleSet>,
 }
 
-type BuiltBridge = BridgeRun;
-
 /// Builds the coupled solver and the particle sets of its particle
 /// gauges: each follows the MPM region's particles that start inside its
 /// region (tested at (r, z, 0) on an (r, z) grid, as the initial regions
 /// are) and, with a `material`, are of that material (a structure, or the
 /// `air` or `products` gas).
-fn build(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<BuiltBridge, Problem> {
+fn build(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<BridgeRun, Problem> {
     let regions = regions(s, cfg)?;
     let air = air_gas(s, cfg)?;
     let air_eos = EosModel::IdealGas(air);
@@ -481,7 +479,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     regions: BridgeRegions,
     law: E,
     gas_of: impl Fn(&str) -> Option<(&'a EosModel, f64)>,
-) -> Result<BuiltBridge, Problem> {
+) -> Result<BridgeRun, Problem> {
     use brisance_fdm::GHOST;
     let air = air_gas(s, cfg)?;
     let a = regions.axis;

@@ -342,8 +342,7 @@ impl MpmConfig {
 
 /// The checks of the `Mpm` pipeline's own faces, regions and thermal
 /// entries (those that do not hold for the coupled pipelines' particles).
-fn check_alone(mpm: &MpmConfig, s: &Scene<'_>) -> Result<(), FieldError> {
-    let _ = mpm;
+fn check_alone(s: &Scene<'_>) -> Result<(), FieldError> {
     let reservoir = |bc: &BoundaryConfig| {
         matches!(
             bc,
@@ -359,9 +358,7 @@ fn check_alone(mpm: &MpmConfig, s: &Scene<'_>) -> Result<(), FieldError> {
         ));
     }
     for m in &s.materials {
-        if m.thermal.is_none() {
-            continue;
-        }
+        let Some(thermal) = m.thermal else { continue };
         let path = format!("materials.{}.thermal", m.name);
         let Some(model) = m.model else {
             return Err(FieldError::new(
@@ -372,7 +369,7 @@ fn check_alone(mpm: &MpmConfig, s: &Scene<'_>) -> Result<(), FieldError> {
                 ),
             ));
         };
-        thermal_properties(&path, m.thermal.expect("checked above"), model)?;
+        thermal_properties(&path, thermal, model)?;
     }
     s.boundaries.check_faces("Mpm", MPM_FACES, |_| "")?;
     let particle_materials: Vec<String> = s
@@ -434,7 +431,7 @@ impl PipelineSpec for MpmConfig {
     }
 
     fn validate(&self, scene: &Scene<'_>) -> Result<(), FieldError> {
-        check_alone(self, scene)?;
+        check_alone(scene)?;
         self.check_section(scene)
     }
 
