@@ -106,13 +106,30 @@ pub struct FluxedSlab {
     pub centroid: f64,
 }
 
+/// The width a = min(|courant|, 1) of the donor's slab that crosses a
+/// face, in cell widths.
+///
+/// A slab is part of its donor cell, so it is at most the whole cell: a
+/// face whose Courant number exceeds one (no step of a stable run has one)
+/// takes the whole donor, its flux courant · ρ̂ growing linearly in the
+/// face velocity instead of quadratically through the reconstruction
+/// evaluated outside the cell. The implicit pressure's outer iterations
+/// meet such faces on their way to a converged step (the first iterate's
+/// face velocities are those of eq 19 at p_eq over a step that is not an
+/// acoustic one), and a slab reaching outside its cell there made the
+/// iteration diverge (docs/physics/ice/implicit_pressure.md).
+#[inline]
+pub fn slab_width(courant: f64) -> f64 {
+    courant.abs().min(1.0)
+}
+
 /// The slab that crosses a face whose Courant number is `courant` =
 /// u* Δt/Δx (signed: positive when the donor is the low-side cell), taken
 /// from a donor with cell average `rho` and limited difference `drho`
 /// (ρ(ξ) = rho + drho·ξ, ξ in cell widths from its centre).
 ///
-/// The slab is ξ ∈ [½ − a, ½] for a = |courant| on the donor's high side
-/// (or its mirror); its mean is ρ(ξ_m) at the slab centre
+/// The slab is ξ ∈ [½ − a, ½] for a = [`slab_width`] on the donor's high
+/// side (or its mirror); its mean is ρ(ξ_m) at the slab centre
 /// ξ_m = ±(1 − a)/2 and its centre of mass is
 /// (rho ξ_m + drho (ξ_m² + a²/12)) / ρ(ξ_m).
 #[inline]
@@ -123,7 +140,7 @@ pub fn fluxed_slab(courant: f64, rho: f64, drho: f64, scheme: Advection) -> Flux
             centroid: 0.0,
         },
         Advection::VanLeer | Advection::Compressive => {
-            let a = courant.abs();
+            let a = slab_width(courant);
             let xi_m = 0.5 * (1.0 - a) * courant.signum();
             let mean = rho + drho * xi_m;
             let centroid = if mean > 0.0 {
@@ -172,7 +189,7 @@ fn ln_cosh(z: f64) -> f64 {
 /// position X̃ fixed by the cell average, tanh(βX̃) = (cosh β − e^D)/sinh β,
 /// D = β(2θ − 1)/α. Returns the mean of θ(X) over the slab that crosses
 /// a face with Courant number `courant` (X ∈ [1 − a, 1] for courant > 0,
-/// [0, a] for courant < 0, a = |courant|):
+/// [0, a] for courant < 0, a = [`slab_width`]):
 ///
 /// ½ [1 + α/(β a) (ln cosh β(X₁ − X̃) − ln cosh β(X₀ − X̃))],
 ///
@@ -189,7 +206,7 @@ pub fn thinc_slab_fraction(courant: f64, back: f64, theta: f64, forward: f64) ->
     let d = beta * (2.0 * theta - 1.0) / alpha;
     let t = (beta.cosh() - d.exp()) / beta.sinh();
     let x_jump = t.atanh() / beta;
-    let a = courant.abs();
+    let a = slab_width(courant);
     let (x0, x1) = if courant > 0.0 {
         (1.0 - a, 1.0)
     } else {
@@ -260,7 +277,7 @@ pub fn donor_volume_slab(
         ) {
             let slab = FluxedSlab {
                 mean_density: f / v,
-                centroid: 0.5 * (1.0 - courant.abs()) * courant.signum(),
+                centroid: 0.5 * (1.0 - slab_width(courant)) * courant.signum(),
             };
             return (slab, v);
         }
@@ -341,6 +358,32 @@ mod tests {
         let m = fluxed_slab(-0.5, 1.0, -0.2, Advection::VanLeer);
         assert!((m.mean_density - 1.05).abs() < 1e-15);
         assert!((m.centroid + xc).abs() < 1e-15);
+    }
+
+    /// A slab is at most its donor cell: past a Courant number of one the
+    /// slab (mean, centre of mass, THINC fraction) is the whole cell's, so
+    /// the flux courant · ρ̂ grows linearly in the face velocity. Without
+    /// the bound, ρ = 1 + 0.2ξ at courant 3 gave ρ̂ = 1 + 0.2·(−1) = 0.8 and
+    /// at courant 6 a negative slab density.
+    #[test]
+    fn a_slab_is_at_most_its_donor_cell() {
+        for scheme in [Advection::VanLeer, Advection::Compressive] {
+            let whole = fluxed_slab(1.0, 1.0, 0.2, scheme);
+            assert_eq!(whole.mean_density, 1.0);
+            assert_eq!(whole.centroid, 0.2 / 12.0);
+            for courant in [1.0 + 1e-12, 3.0, 6.0, 1e8] {
+                assert_eq!(fluxed_slab(courant, 1.0, 0.2, scheme), whole);
+                let m = fluxed_slab(-courant, 1.0, -0.2, scheme);
+                assert_eq!(m.mean_density, 1.0);
+                assert_eq!(m.centroid, -0.2 / 12.0);
+            }
+        }
+        let f = thinc_slab_fraction(1.0, 0.1, 0.3, 0.9).unwrap();
+        for courant in [2.0, 50.0] {
+            assert_eq!(thinc_slab_fraction(courant, 0.1, 0.3, 0.9), Some(f));
+            assert_eq!(slab_width(-courant), 1.0);
+        }
+        assert_eq!(slab_width(-0.25), 0.25);
     }
 
     #[test]
