@@ -273,7 +273,7 @@ fn mpm_step(c: &mut Criterion) {
 /// `steps` steps of the full solver, so the kernels see a deforming,
 /// partly plastic state.
 fn mpm_bench_block(shape: &str, steps: usize) -> brisance::mpm::MpmSolver {
-    use brisance::compose::{build::build, build::Built, load_str};
+    use brisance::compose::{build::build_section, load_str};
     let text = include_str!("../configs/taylor2d.ron");
     let sets = [
         "domain.cells=(16,32,16)".to_string(),
@@ -284,15 +284,17 @@ fn mpm_bench_block(shape: &str, steps: usize) -> brisance::mpm::MpmSolver {
         format!("pipeline.shape_function={shape}"),
     ];
     let loaded = load_str("taylor2d.ron", text, &sets).expect("benchmark scenario loads");
-    let Built::Mpm { mut solver, .. } = build(&loaded.scenario).expect("benchmark scenario builds")
-    else {
-        panic!("the benchmark scenario is an Mpm pipeline");
-    };
+    let section = loaded
+        .scenario
+        .pipeline
+        .section::<brisance::couple::MpmConfig>();
+    let section = section.expect("the benchmark scenario is an Mpm pipeline");
+    let mut solver = build_section(section, &loaded.scenario).expect("benchmark scenario builds");
     for _ in 0..steps {
         let dt = solver.stable_dt().expect("stable");
         solver.advance(dt).expect("advances");
     }
-    *solver
+    solver
 }
 
 /// The transfer kernels' inputs for one state of [`mpm_bench_block`].

@@ -7,7 +7,7 @@
 use std::fs;
 use std::path::Path;
 
-use brisance::compose::{build::build, load_str, run, RunOptions};
+use brisance::compose::{build::build_solver, load_str, run, RunOptions};
 
 /// 8 × 8 cells of 1/8 m, 1/8 m thick; two soft blocks, 2 × 2 particles per
 /// cell; free-flying, so no face is touched.
@@ -127,7 +127,7 @@ fn a_particle_gauge_that_selects_nothing_is_an_error_naming_it() {
             .to_string(),
     ];
     let loaded = load_str("blocks.ron", BLOCKS, &sets).unwrap();
-    let err = build(&loaded.scenario).err().unwrap();
+    let err = build_solver(&loaded.scenario).err().unwrap();
     assert_eq!(
         err.field.as_deref(),
         Some("outputs.particle_gauges.0.region")
@@ -139,7 +139,7 @@ fn a_particle_gauge_that_selects_nothing_is_an_error_naming_it() {
     // A material filter that excludes every particle of the region.
     let sets = ["outputs.particle_gauges.0.material=Some(\"hard\")".to_string()];
     let loaded = load_str("blocks.ron", BLOCKS, &sets).unwrap();
-    let err = build(&loaded.scenario).err().unwrap();
+    let err = build_solver(&loaded.scenario).err().unwrap();
     assert!(err.message.contains("of material `hard`"), "{err}");
     // Through the run entry point the error is located in the file.
     let dir = tempfile::tempdir().unwrap();

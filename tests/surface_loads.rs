@@ -5,7 +5,7 @@
 
 use std::fs;
 
-use brisance::compose::{build::build, load_str, run, RunOptions};
+use brisance::compose::{build::build_solver, load_str, run, RunOptions};
 
 /// A bar 0 ≤ x ≤ 1 m, 0.25 m² section, 1000 kg/m³ (250 kg), on a 1D grid
 /// of 0.025 m cells, 2 particles per cell, pulled on its last particle
@@ -71,14 +71,13 @@ fn a_free_bar_pulled_at_one_end_accelerates_at_force_over_mass() {
 fn the_default_layer_thickness_is_the_particle_spacing_along_the_normal() {
     // With the thickness given as that spacing (0.0125 m) the run is the
     // same to the bit.
-    let a = build(&load_str("bar.ron", BAR, &[]).unwrap().scenario)
+    let mut a = build_solver(&load_str("bar.ron", BAR, &[]).unwrap().scenario)
         .ok()
         .unwrap();
     let sets = ["pipeline.surface_loads.0.thickness=Some(0.0125)".to_string()];
-    let b = build(&load_str("bar.ron", BAR, &sets).unwrap().scenario)
+    let mut b = build_solver(&load_str("bar.ron", BAR, &sets).unwrap().scenario)
         .ok()
         .unwrap();
-    let (mut a, mut b) = (a.into_solver(), b.into_solver());
     for _ in 0..50 {
         let dt = a.stable_dt().unwrap();
         a.advance(dt).unwrap();
@@ -87,10 +86,9 @@ fn the_default_layer_thickness_is_the_particle_spacing_along_the_normal() {
     assert!(a.save_state().unwrap() == b.save_state().unwrap());
     // Half the thickness doubles each particle's area, and the pull.
     let sets = ["pipeline.surface_loads.0.thickness=Some(0.00625)".to_string()];
-    let mut c = build(&load_str("bar.ron", BAR, &sets).unwrap().scenario)
+    let mut c = build_solver(&load_str("bar.ron", BAR, &sets).unwrap().scenario)
         .ok()
-        .unwrap()
-        .into_solver();
+        .unwrap();
     let dt = 1e-5;
     c.advance(dt).unwrap();
     let p = c.conservation_totals().momentum[0];
@@ -136,7 +134,7 @@ fn bad_surface_loads_are_refused_naming_the_field() {
             .to_string(),
     ];
     let loaded = load_str("bar.ron", BAR, &sets).unwrap();
-    let err = build(&loaded.scenario).err().unwrap();
+    let err = build_solver(&loaded.scenario).err().unwrap();
     assert_eq!(
         err.field.as_deref(),
         Some("pipeline.surface_loads.0.region")

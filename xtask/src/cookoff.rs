@@ -15,7 +15,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{anyhow, Result};
-use brisance::compose::build::{build, Built};
+use brisance::compose::build::build_section;
 use brisance::compose::load_str;
 use brisance::core::Solver;
 use brisance::couple::IceMpm;
@@ -146,10 +146,10 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         .map_err(|e| anyhow!("configs/cookoff_rz.ron: {e}"))?;
     let s = &loaded.scenario;
     let t_end = s.time.end;
-    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
         return Err(anyhow!("configs/cookoff_rz.ron is not an IceMpm pipeline"));
     };
-    let mut solver = solver;
+    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
     let ps = solver.mpm().particles();
     // The explosive is the material of the particle nearest the origin;
     // the other is the steel.

@@ -14,11 +14,10 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use brisance::compose::build::{build, Built};
+use brisance::compose::build::build_section;
 use brisance::compose::load_str;
 use brisance::constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
 use brisance::core::Solver;
-use brisance::mpm::MpmSolver;
 
 use crate::{resident_bytes, Report};
 
@@ -94,12 +93,15 @@ fn measure(shape: &'static str) -> Result<Run> {
     let t0 = Instant::now();
     let loaded = load_str("taylor2d.ron", text, &overrides(shape))
         .map_err(|e| anyhow::anyhow!("the throughput block does not load: {e}"))?;
-    let Built::Mpm { solver, .. } = build(&loaded.scenario)
-        .map_err(|e| anyhow::anyhow!("the throughput block does not build: {e}"))?
+    let Some(section) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance::couple::MpmConfig>()
     else {
         bail!("the throughput block is not an Mpm pipeline");
     };
-    let mut solver: Box<MpmSolver> = solver;
+    let mut solver = build_section(section, &loaded.scenario)
+        .map_err(|e| anyhow::anyhow!("the throughput block does not build: {e}"))?;
     let particles = solver.particles().len();
     if particles < MIN_PARTICLES {
         bail!("the throughput block has {particles} particles, fewer than {MIN_PARTICLES}");

@@ -490,11 +490,13 @@ fn mpm_gas_particles_take_the_remapped_cells_and_conserve_them() {
         &[],
     )
     .unwrap();
-    let built = crate::build::build(&loaded.scenario).unwrap();
+    let section = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_couple::MpmConfig>();
+    let solver =
+        crate::build::build_section(section.expect("an Mpm scenario"), &loaded.scenario).unwrap();
     std::fs::remove_file(&path).unwrap();
-    let crate::build::Built::Mpm { solver, .. } = built else {
-        panic!("an Mpm scenario builds the MPM solver");
-    };
     let p = solver.particles();
     // 8 cells × 4 particles; materials numbered by name: air 0,
     // concrete 1, tnt 2.
@@ -560,7 +562,7 @@ fn a_bad_mpm_remap_is_named() {
             &[],
         )
         .unwrap();
-        match crate::build::build(&loaded.scenario) {
+        match crate::build::build_solver(&loaded.scenario) {
             Ok(_) => panic!("built with {} and air `{air}`", path.display()),
             Err(e) => e.to_string(),
         }
@@ -618,8 +620,12 @@ fn particle_gauges_follow_the_bridge_particles_of_a_structure_and_of_the_air() {
            (name: "air", region: Box(min: (0.0, 0.04, -1.0), max: (0.02, 0.05, 1.0)), material: Some("air"), quantities: [Mass])"#,
     );
     let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
-    let mut built = crate::build::build(&loaded.scenario).unwrap();
-    assert!(matches!(built, crate::build::Built::Bridge { .. }));
+    let section = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_couple::BridgeConfig>();
+    let mut built =
+        crate::build::build_section(section.expect("a bridge scenario"), &loaded.scenario).unwrap();
     let quantities = [
         brisance_mpm::SetQuantity::Mass,
         brisance_mpm::SetQuantity::MeanVelocity,
@@ -638,15 +644,17 @@ fn particle_gauges_follow_the_bridge_particles_of_a_structure_and_of_the_air() {
     let air = pi * 0.02f64.powi(2) * 0.01 * 1.225;
     assert!((out[0] - air).abs() <= 1e-12 * air, "{} vs {air}", out[0]);
     assert!(!built.sample_particle_gauge(2, &quantities, &mut out));
+    // The run loop's solver, boxed as any pipeline's, samples the same.
+    let boxed = crate::build::build_solver(&loaded.scenario).unwrap();
+    let mut again = Vec::new();
+    assert!(boxed.sample_particle_gauge(1, &quantities[..1], &mut again));
+    assert_eq!(again, out);
     while built.time() < 8.0e-5 {
         let dt = built.stable_dt().unwrap().min(8.0e-5 - built.time());
         built.advance(dt).unwrap();
     }
     assert!(built.sample_particle_gauge(0, &quantities, &mut out));
-    let crate::build::Built::Bridge { solver, .. } = &built else {
-        unreachable!()
-    };
-    let p = solver.mpm().particles();
+    let p = built.mpm().particles();
     let steel = (0..p.len()).filter(|&i| p.material[i].0 == 1);
     let (m, mv) = steel.fold((0.0, 0.0), |(m, mv), i| {
         (m + p.mass[i], mv + p.mass[i] * p.velocity[i][1])
@@ -664,7 +672,7 @@ fn a_bridge_particle_gauge_without_particles_is_named() {
         r#"(name: "low", region: Box(min: (0.0, 0.0, -1.0), max: (0.02, 0.02, 1.0)), material: Some("air"), quantities: [Mass])"#,
     );
     let loaded = load_str("bridge_rz.ron", &text, &[]).unwrap();
-    let e = crate::build::build(&loaded.scenario).err().unwrap();
+    let e = crate::build::build_solver(&loaded.scenario).err().unwrap();
     assert_eq!(
         e.field.as_deref(),
         Some("outputs.particle_gauges.0.region"),

@@ -188,6 +188,22 @@ impl Serialize for Pipeline {
 }
 
 impl Pipeline {
+    /// The section as its own crate's type `T` (`brisance_couple::IceMpmConfig`,
+    /// say), for a tool that builds that pipeline's solver by its type
+    /// ([`crate::build::build_section`]); `None` for another pipeline.
+    pub fn section<T: std::any::Any>(&self) -> Option<&T> {
+        let any: &dyn std::any::Any = match self {
+            Self::Fdm(c) => c,
+            Self::Mpm(c) => c,
+            Self::Peridynamics(c) => c,
+            Self::Ice(c) => c,
+            Self::IceMpm(c) => c,
+            Self::FdmMpmBridge(c) => c,
+            Self::Plugin(p) => p.section().as_any(),
+        };
+        any.downcast_ref()
+    }
+
     /// The name a scenario writes (`Fdm`, `IceMpm`, …).
     pub fn name(&self) -> &'static str {
         match self {

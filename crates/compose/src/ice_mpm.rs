@@ -2,8 +2,15 @@
 //! `--set` paths and error positions. The section, its checks and its
 //! builder are `brisance_couple::ice_mpm::pipeline`'s.
 
+/// The coupled solver of an `IceMpm` scenario, by its section's type.
+#[cfg(test)]
+fn icempm(s: &crate::config::Scenario) -> brisance_couple::IceMpm {
+    let section = s.pipeline.section::<brisance_couple::IceMpmConfig>();
+    crate::build::build_section(section.expect("an IceMpm pipeline"), s).unwrap()
+}
+
 mod tests {
-    use crate::build::build;
+    use crate::build::build_solver;
     use crate::load_str;
 
     const PISTON: &str = include_str!("../../../configs/piston_icempm.ron");
@@ -15,7 +22,7 @@ mod tests {
     #[test]
     fn the_piston_config_drives_the_exact_shock() {
         let loaded = load_str("piston_icempm.ron", PISTON, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
+        let mut built = build_solver(&loaded.scenario).unwrap();
         while built.time() < 1e-4 * (1.0 - 1e-12) {
             let dt = built.stable_dt().unwrap().min(1e-4 - built.time());
             built.advance(dt).unwrap();
@@ -49,7 +56,7 @@ mod tests {
             "velocity: (100.0, 0.0, 0.0), pressure: 101325.0)",
         );
         let loaded = load_str("piston_icempm.ron", &bad, &[]).unwrap();
-        let err = build(&loaded.scenario).err().expect("refused");
+        let err = build_solver(&loaded.scenario).err().expect("refused");
         assert_eq!(err.field.as_deref(), Some("initial.1.state"), "{err}");
         assert!(err.to_string().contains("temperature"), "{err}");
     }
@@ -90,7 +97,7 @@ mod tests {
 }
 
 mod slip_tests {
-    use crate::build::build;
+    use crate::build::build_solver;
     use crate::load_str;
 
     /// Air streaming at 50 m/s along a steel slab at rest (periodic along
@@ -130,7 +137,7 @@ mod slip_tests {
     fn run_on(exchange: &str, set: &[String]) -> Vec<(f64, f64, f64)> {
         let text = SHEAR.replace("EXCHANGE", exchange);
         let loaded = load_str("shear.ron", &text, set).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
+        let mut built = build_solver(&loaded.scenario).unwrap();
         for _ in 0..20 {
             let dt = built.stable_dt().unwrap();
             built.advance(dt).unwrap();
@@ -213,7 +220,7 @@ mod slip_tests {
 }
 
 mod cylinder_tests {
-    use crate::build::build;
+    use crate::build::build_solver;
     use crate::load_str;
 
     const CYLINDER_RZ: &str = include_str!("../../../configs/cylinder_rz.ron");
@@ -225,7 +232,7 @@ mod cylinder_tests {
     #[test]
     fn the_cylinder_config_builds_and_steps() {
         let loaded = load_str("cylinder_icempm.ron", CYLINDER, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
+        let mut built = build_solver(&loaded.scenario).unwrap();
         for _ in 0..3 {
             let dt = built.stable_dt().unwrap();
             built.advance(dt).unwrap();
@@ -249,10 +256,7 @@ mod cylinder_tests {
     fn the_rescale_of_a_reactant_books_its_heat_of_reaction() {
         use brisance_core::Solver;
         let loaded = load_str("cylinder_rz.ron", CYLINDER_RZ, &[]).unwrap();
-        let crate::build::Built::IceMpm { mut solver, .. } = build(&loaded.scenario).unwrap()
-        else {
-            panic!("cylinder_rz.ron is not an IceMpm pipeline");
-        };
+        let mut solver = super::icempm(&loaded.scenario);
         let (e0, r0) = (
             solver.conservation_totals().energy,
             solver.rescaled_totals().energy,
@@ -269,8 +273,9 @@ mod cylinder_tests {
 }
 
 mod solids_tests {
-    use crate::build::{build, Built};
+    use super::icempm;
     use crate::load_str;
+    use brisance_core::Solver;
 
     const PISTON: &str = include_str!("../../../configs/piston_icempm.ron");
 
@@ -300,11 +305,8 @@ mod solids_tests {
     fn a_list_of_solids_builds_in_the_order_given_and_runs() {
         let text = two_steels();
         let loaded = load_str("two_steels.ron", &text, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
-        let Built::IceMpm { solver, .. } = &built else {
-            panic!("not an IceMpm pipeline");
-        };
-        assert_eq!(solver.solids(), vec![2, 1]);
+        let mut built = icempm(&loaded.scenario);
+        assert_eq!(built.solids(), vec![2, 1]);
         for _ in 0..50 {
             let dt = built.stable_dt().unwrap();
             built.advance(dt).unwrap();
@@ -357,11 +359,8 @@ mod solids_tests {
         );
         assert!(text.contains("thermal"));
         let loaded = load_str("thermal.ron", &text, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
-        let Built::IceMpm { solver, .. } = &built else {
-            panic!("not an IceMpm pipeline");
-        };
-        let th = solver.mpm().thermal_properties();
+        let mut built = icempm(&loaded.scenario);
+        let th = built.mpm().thermal_properties();
         assert_eq!(th.len(), 2);
         assert_eq!((th[0].conductivity, th[0].specific_heat), (0.0, 0.0));
         assert_eq!((th[1].conductivity, th[1].specific_heat), (45.0, 460.0));
@@ -413,12 +412,9 @@ mod solids_tests {
     #[test]
     fn a_solid_reactant_burns_from_a_config() {
         let loaded = load_str("burning.ron", BURNING, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
+        let mut built = icempm(&loaded.scenario);
         let m0 = built.conservation_totals().mass;
-        let reactant = |b: &Built| match b {
-            Built::IceMpm { solver, .. } => solver.mpm().particles().mass.iter().sum::<f64>(),
-            _ => unreachable!(),
-        };
+        let reactant = |b: &brisance_couple::IceMpm| b.mpm().particles().mass.iter().sum::<f64>();
         let r0 = reactant(&built);
         for _ in 0..10 {
             let r = reactant(&built);

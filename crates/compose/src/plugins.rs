@@ -108,16 +108,16 @@ mod tests {
             .unwrap_or_else(|e| panic!("{e}\n{text}"))
     }
 
-    fn steps(loaded: &crate::LoadedScenario, n: usize) -> Box<brisance_mpm::MpmSolver> {
-        let mut built = crate::build::build(&loaded.scenario).unwrap();
+    fn steps(loaded: &crate::LoadedScenario, n: usize) -> brisance_mpm::MpmSolver {
+        use brisance_core::Solver;
+        let s = &loaded.scenario;
+        let section = s.pipeline.section::<brisance_couple::MpmConfig>();
+        let mut solver = crate::build::build_section(section.expect("an Mpm pipeline"), s).unwrap();
         for _ in 0..n {
-            let dt = built.stable_dt().unwrap();
-            built.advance(dt).unwrap();
+            let dt = solver.stable_dt().unwrap();
+            solver.advance(dt).unwrap();
         }
-        match built {
-            crate::build::Built::Mpm { solver, .. } => solver,
-            _ => panic!("not an Mpm pipeline"),
-        }
+        solver
     }
 
     const COPPER_EOS: &str = "Eos(MieGruneisenLinear(c0: 3940.0, s: 1.489, gamma0: 2.02, rho0: 8930.0, cv: 383.0, t0: 300.0))";

@@ -11,7 +11,7 @@ use brisance_io as io;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::build::{build, Built};
+use crate::build::build_solver;
 use crate::config::{CheckpointLayout, Scenario, VtkLayout};
 use crate::error::{ConfigError, RunError};
 use crate::load::LoadedScenario;
@@ -164,7 +164,7 @@ struct Runner<'a> {
     scenario: &'a Scenario,
     text: &'a str,
     out: PathBuf,
-    solver: Built,
+    solver: Box<dyn Solver>,
     state: RunState,
     times: Vec<f64>,
     sample: Vec<f64>,
@@ -223,7 +223,7 @@ impl Runner<'_> {
                 return Err(RunError::Solver {
                     step: self.state.steps,
                     source: brisance_core::SolverError::Other(format!(
-                        "particle gauge `{}` has no particle set (not an Mpm run)",
+                        "particle gauge `{}` has no particle set (the pipeline carries no particles)",
                         g.name
                     )),
                 });
@@ -796,7 +796,7 @@ pub fn run_until_stopped(
     let started = Instant::now();
     let mut solver = {
         let _span = tracing::info_span!("build").entered();
-        build(scenario).map_err(|e| located(loaded, e))?
+        build_solver(scenario).map_err(|e| located(loaded, e))?
     };
     let mut state = RunState {
         gauge_rows: vec![Vec::new(); scenario.outputs.gauges.len()],

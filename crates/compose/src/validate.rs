@@ -613,7 +613,7 @@ pub(crate) fn plot_columns(
 
 #[cfg(test)]
 mod tests {
-    use crate::build::build;
+    use crate::build::build_solver;
     use crate::load_str;
 
     const SOD: &str = include_str!("../../../configs/sod.ron");
@@ -657,7 +657,8 @@ mod tests {
             ] {
                 let loaded = load_str(name, text, &extra)
                     .unwrap_or_else(|e| panic!("{name} with {face}: {e}"));
-                build(&loaded.scenario).unwrap_or_else(|e| panic!("{name} with {face}: {e}"));
+                build_solver(&loaded.scenario)
+                    .unwrap_or_else(|e| panic!("{name} with {face}: {e}"));
             }
         }
     }
@@ -729,7 +730,7 @@ mod tests {
         assert!(err.message.contains("`anfo`, `products`"), "{err}");
         let named = "boundaries.x_high=Fixed(material: \"anfo\", density: 1160.045, velocity: (-90, 0, 0), temperature: 298.15)";
         let loaded = load_str("stick", STICK, &sets(&[named])).unwrap();
-        build(&loaded.scenario).unwrap();
+        build_solver(&loaded.scenario).unwrap();
         let unknown = "boundaries.x_high=Fixed(material: \"air\", density: 1.0, temperature: 300)";
         let err = load_str("stick", STICK, &sets(&[unknown])).unwrap_err();
         assert_eq!(err.field.as_deref(), Some("boundaries.x_high.material"));

@@ -32,8 +32,8 @@ pub use geometry::Geometry;
 pub use material::{Material, StressUpdate, StressUpdateInput};
 pub use output::{
     AxisWindow, CellData, CellPiece, CellPieces, ConservationTotals, NodeData, ParticleData,
-    SafeguardUse, UniformGridGeometry,
+    SafeguardUse, SetQuantity, UniformGridGeometry,
 };
 pub use reaction::{ReactionModel, ReactionState};
-pub use solver::{Solver, StatePieces};
+pub use solver::{IntoSolver, Solver, StatePieces};
 pub use tensor::{Mat3, Vec3};

@@ -210,6 +210,59 @@ impl NodeData {
     }
 }
 
+/// A quantity a particle gauge records: a set average over the particles
+/// of a gauge (the table of `brisance_mpm::particle_sets` gives each
+/// average's weighting), sampled through [`crate::Solver::sample_particle_gauge`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum SetQuantity {
+    /// Mass-weighted mean velocity, m/s.
+    MeanVelocity,
+    /// Centre of mass, m.
+    MeanPosition,
+    /// Centre of mass minus its initial value, m.
+    MeanDisplacement,
+    /// Volume-weighted mean material stress (Voigt), Pa.
+    MeanStress,
+    /// Volume-weighted mean material pressure, Pa.
+    MeanPressure,
+    /// Volume-weighted mean von Mises stress, Pa.
+    MeanVonMisesStress,
+    /// Mass-weighted mean temperature, K.
+    MeanTemperature,
+    /// Mass-weighted mean specific internal energy, J/kg.
+    MeanSpecificInternalEnergy,
+    /// Mass of the members present, kg.
+    Mass,
+}
+
+impl SetQuantity {
+    /// The CSV column names of the quantity.
+    pub fn columns(self) -> &'static [&'static str] {
+        match self {
+            Self::MeanVelocity => &["mean_velocity_x", "mean_velocity_y", "mean_velocity_z"],
+            Self::MeanPosition => &["mean_position_x", "mean_position_y", "mean_position_z"],
+            Self::MeanDisplacement => &[
+                "mean_displacement_x",
+                "mean_displacement_y",
+                "mean_displacement_z",
+            ],
+            Self::MeanStress => &[
+                "mean_stress_xx",
+                "mean_stress_yy",
+                "mean_stress_zz",
+                "mean_stress_yz",
+                "mean_stress_xz",
+                "mean_stress_xy",
+            ],
+            Self::MeanPressure => &["mean_pressure"],
+            Self::MeanVonMisesStress => &["mean_von_mises_stress"],
+            Self::MeanTemperature => &["mean_temperature"],
+            Self::MeanSpecificInternalEnergy => &["mean_specific_internal_energy"],
+            Self::Mass => &["mass"],
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,8 +3,30 @@
 use std::path::Path;
 
 use crate::{
-    CellData, CellPieces, ConservationTotals, NodeData, ParticleData, SafeguardUse, SolverError,
+    CellData, CellPieces, ConservationTotals, NodeData, ParticleData, SafeguardUse, SetQuantity,
+    SolverError,
 };
+
+/// A solver as the run loop drives it, boxed: any [`Solver`], a box of
+/// one, or a box of a method's own trait object over [`Solver`] that
+/// hands itself over (the FDM–MPM bridge's). What a pipeline's build
+/// makes implements it.
+pub trait IntoSolver {
+    /// The solver, boxed.
+    fn into_solver(self) -> Box<dyn Solver>;
+}
+
+impl<S: Solver + 'static> IntoSolver for S {
+    fn into_solver(self) -> Box<dyn Solver> {
+        Box::new(self)
+    }
+}
+
+impl IntoSolver for Box<dyn Solver> {
+    fn into_solver(self) -> Box<dyn Solver> {
+        self
+    }
+}
 
 /// A checkpoint's state split per patch ([`Solver::save_pieces`]).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -112,6 +134,21 @@ pub trait Solver: Send {
         fields: &[String],
         out: &mut Vec<f64>,
     ) -> Result<(), SolverError>;
+
+    /// Samples particle gauge `k` of the run (`outputs.particle_gauges`,
+    /// in order): the set averages of `quantities` over the gauge's
+    /// particles, their columns ([`SetQuantity::columns`]) in order, into
+    /// `out`. False when the solver holds no such gauge: methods without
+    /// particles (the default), or `k` past the gauges the run was built
+    /// with.
+    fn sample_particle_gauge(
+        &self,
+        _k: usize,
+        _quantities: &[SetQuantity],
+        _out: &mut Vec<f64>,
+    ) -> bool {
+        false
+    }
 
     /// Every particle (or node) with its state, for methods that carry
     /// them; `None` for purely Eulerian methods.

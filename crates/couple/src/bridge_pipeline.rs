@@ -39,7 +39,7 @@ use brisance_mpm::{
     ShapeFunction, UpdateScheme,
 };
 use brisance_scene::{
-    BoundaryConfig, FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene,
+    BoundaryConfig, FieldError, IntoSolver, PipelineInfo, PipelineLimits, PipelineSpec, Scene,
 };
 use serde::{Deserialize, Serialize};
 
@@ -423,29 +423,31 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
 pub trait BridgeSolver: Solver {
     /// The MPM side: the particles of the MPM region.
     fn mpm(&self) -> &MpmSolver;
+    /// The solver as the run loop drives it.
+    fn into_solver(self: Box<Self>) -> Box<dyn Solver>;
 }
 
 impl<E: GasLaw + 'static> BridgeSolver for Cfdmp<E> {
     fn mpm(&self) -> &MpmSolver {
         Cfdmp::mpm(self)
     }
+    fn into_solver(self: Box<Self>) -> Box<dyn Solver> {
+        self
+    }
 }
 
-/// The built bridge: the solver and the particle sets of the scenario's
-/// particle gauges (in that order).
-pub struct BridgeRun {
-    /// The solver.
-    pub solver: Box<dyn BridgeSolver>,
-    /// One set per particle gauge (of the MPM region's particles).
-    pub particle_gauges: Vec<ParticleSet>,
+impl IntoSolver for Box<dyn BridgeSolver> {
+    fn into_solver(self) -> Box<dyn Solver> {
+        BridgeSolver::into_solver(self)
+    }
 }
 
-/// Builds the coupled solver and the particle sets of its particle
-/// gauges: each follows the MPM region's particles that start inside its
+/// Builds the coupled solver with the particle sets of its particle
+/// gauges ([`MpmSolver::set_particle_gauges`]): each follows the MPM region's particles that start inside its
 /// region (tested at (r, z, 0) on an (r, z) grid, as the initial regions
 /// are) and, with a `material`, are of that material (a structure, or the
 /// `air` or `products` gas).
-fn build(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<BridgeRun, Problem> {
+fn build(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<Box<dyn BridgeSolver>, Problem> {
     let regions = regions(s, cfg)?;
     let air = air_gas(s, cfg)?;
     let air_eos = EosModel::IdealGas(air);
@@ -479,7 +481,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     regions: BridgeRegions,
     law: E,
     gas_of: impl Fn(&str) -> Option<(&'a EosModel, f64)>,
-) -> Result<BridgeRun, Problem> {
+) -> Result<Box<dyn BridgeSolver>, Problem> {
     use brisance_fdm::GHOST;
     let air = air_gas(s, cfg)?;
     let a = regions.axis;
@@ -790,7 +792,7 @@ fn build_with<'a, E: GasLaw + 'static>(
         BoundaryConfig::Reflective => GridBoundary::Symmetry,
         _ => GridBoundary::Outflow,
     };
-    let mpm = MpmSolver::new(
+    let mut mpm = MpmSolver::new(
         mpm_level,
         models,
         particles,
@@ -805,6 +807,7 @@ fn build_with<'a, E: GasLaw + 'static>(
         },
     )
     .map_err(|e| ("pipeline".to_string(), e.to_string()))?;
+    mpm.set_particle_gauges(particle_gauges);
     let mut coupled = Cfdmp::new(
         regions,
         fdm,
@@ -833,10 +836,7 @@ fn build_with<'a, E: GasLaw + 'static>(
     // The particle updates spread over the ranks of the run
     // (docs/cluster.md); nothing changes on one rank.
     coupled.distribute(brisance_grid::comm::world());
-    Ok(BridgeRun {
-        solver: Box::new(coupled),
-        particle_gauges,
-    })
+    Ok(Box::new(coupled))
 }
 
 /// A one-paragraph description (for `check`).
@@ -872,7 +872,7 @@ impl PipelineSpec for BridgeConfig {
         example: "FdmMpmBridge(fdm_region: (lower: (-0.18, 0.0, 0.0), upper: (0.12, 0.5, 0.002)), mpm_region: (lower: (0.11, 0.0, 0.0), upper: (0.16, 0.5, 0.002)), air: \"air\", products: Some(\"tnt\"), activation_pressure: 1.2e5)",
         docs: "docs/physics/couple/bridge.md",
     };
-    type Solver = BridgeRun;
+    type Solver = Box<dyn BridgeSolver>;
 
     /// The FDM's fields, Courant limit (`time.cfl` is the FDM's; the
     /// MPM's is `mpm_cfl`) and ghost layers; one patch, written and
@@ -892,7 +892,7 @@ impl PipelineSpec for BridgeConfig {
         validate(scene, self).map_err(|(f, m)| FieldError::new(f, m))
     }
 
-    fn build(&self, scene: &Scene<'_>) -> Result<BridgeRun, FieldError> {
+    fn build(&self, scene: &Scene<'_>) -> Result<Box<dyn BridgeSolver>, FieldError> {
         validate(scene, self)
             .and_then(|()| build(scene, self))
             .map_err(|(f, m)| FieldError::new(f, m))

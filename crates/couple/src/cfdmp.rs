@@ -951,6 +951,16 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         }
     }
 
+    /// The MPM side's particle gauges.
+    fn sample_particle_gauge(
+        &self,
+        k: usize,
+        quantities: &[brisance_core::SetQuantity],
+        out: &mut Vec<f64>,
+    ) -> bool {
+        self.mpm().sample_particle_gauge(k, quantities, out)
+    }
+
     fn particle_data(&self) -> Option<brisance_core::ParticleData> {
         self.mpm.particle_data()
     }

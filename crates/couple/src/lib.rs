@@ -32,12 +32,12 @@ pub mod mpm_pipeline;
 pub mod regions;
 pub mod remap;
 
-pub use bridge_pipeline::{BridgeConfig, BridgeRun, BridgeSolver};
+pub use bridge_pipeline::{BridgeConfig, BridgeSolver};
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
-pub use ice_mpm::pipeline::{IceMpmConfig, IceMpmRun, Solids};
+pub use ice_mpm::pipeline::{IceMpmConfig, Solids};
 pub use ice_mpm::{IceMpm, IceMpmError};
-pub use mpm_pipeline::{BulkViscosityConfig, MpmConfig, MpmRun, SurfaceLoadConfig};
+pub use mpm_pipeline::{BulkViscosityConfig, MpmConfig, SurfaceLoadConfig};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{
     remap, Charge, RadialProfile, RemapError, RemapReport, RemapTarget, RemapTotals, Remapped,

@@ -153,15 +153,6 @@ pub const MPM_FACES: &[&str] = &[
     "Wall",
 ];
 
-/// The MPM solver of a scene and the particle sets of its particle gauges
-/// (in the order of `outputs.particle_gauges`).
-pub struct MpmRun {
-    /// The solver.
-    pub solver: MpmSolver,
-    /// One set per particle gauge.
-    pub particle_gauges: Vec<ParticleSet>,
-}
-
 fn finite3(v: &[f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
@@ -414,7 +405,7 @@ impl PipelineSpec for MpmConfig {
         example: "Mpm(shape_function: Linear, scheme: Musl, ppc: 2, bulk_viscosity: On(quadratic: 1.5, linear: 0.06))",
         docs: "docs/physics/mpm/explicit_mpm.md",
     };
-    type Solver = MpmRun;
+    type Solver = MpmSolver;
 
     /// The particles' fields and the nodes' (their background grid); the
     /// time step's Courant number `time.cfl` at most 1; the particles are
@@ -438,11 +429,11 @@ impl PipelineSpec for MpmConfig {
     /// Builds the solver, its particle updates spread over the ranks of
     /// the run ([`brisance_grid::comm::world`]; docs/cluster.md; nothing
     /// changes on one rank).
-    fn build(&self, scene: &Scene<'_>) -> Result<MpmRun, FieldError> {
+    fn build(&self, scene: &Scene<'_>) -> Result<MpmSolver, FieldError> {
         self.validate(scene)?;
-        let mut run = mpm_parts(scene, self, false)?;
-        run.solver.distribute(brisance_grid::comm::world());
-        Ok(run)
+        let mut solver = mpm_parts(scene, self, false)?;
+        solver.distribute(brisance_grid::comm::world());
+        Ok(solver)
     }
 
     fn describe(&self, s: &Scene<'_>) -> String {
@@ -531,8 +522,8 @@ fn particle_thermodynamics(
     )
 }
 
-/// The MPM solver of the scene `s` and the particle sets of its gauges:
-/// every sub-cell point (`ppc` per active direction) inside an initial
+/// The MPM solver of the scene `s`, holding the particle sets of its
+/// gauges ([`MpmSolver::set_particle_gauges`]): every sub-cell point (`ppc` per active direction) inside an initial
 /// region of a material with a constitutive model becomes a particle of
 /// that region's material (the last region containing the point wins, as
 /// for cells); each particle gauge selects the particles that start in its
@@ -547,7 +538,7 @@ pub fn mpm_parts(
     s: &Scene<'_>,
     mpm: &MpmConfig,
     fluids_beside: bool,
-) -> Result<MpmRun, FieldError> {
+) -> Result<MpmSolver, FieldError> {
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, 1)
         .map_err(|e| FieldError::new("domain.patches", e.to_string()))?;
@@ -781,16 +772,14 @@ pub fn mpm_parts(
             ),
             other => FieldError::new("pipeline", other.to_string()),
         })?;
-    let solver = match heat {
+    let mut solver = match heat {
         Some(heat) => solver
             .with_heat_conduction(heat)
             .map_err(|e| FieldError::new("materials", e.to_string()))?,
         None => solver,
     };
-    Ok(MpmRun {
-        solver,
-        particle_gauges,
-    })
+    solver.set_particle_gauges(particle_gauges);
+    Ok(solver)
 }
 
 /// The heat-conduction option of the particle materials `names` (with

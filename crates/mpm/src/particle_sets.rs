@@ -29,58 +29,7 @@
 //! when none is left every value is NaN (and `Mass` is 0).
 
 use crate::{MaterialId, MpmSolver, Particles};
-use serde::{Deserialize, Serialize};
-
-/// A quantity a particle gauge records (see the module table).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum SetQuantity {
-    /// Mass-weighted mean velocity, m/s.
-    MeanVelocity,
-    /// Centre of mass, m.
-    MeanPosition,
-    /// Centre of mass minus its initial value, m.
-    MeanDisplacement,
-    /// Volume-weighted mean material stress (Voigt), Pa.
-    MeanStress,
-    /// Volume-weighted mean material pressure, Pa.
-    MeanPressure,
-    /// Volume-weighted mean von Mises stress, Pa.
-    MeanVonMisesStress,
-    /// Mass-weighted mean temperature, K.
-    MeanTemperature,
-    /// Mass-weighted mean specific internal energy, J/kg.
-    MeanSpecificInternalEnergy,
-    /// Mass of the members present, kg.
-    Mass,
-}
-
-impl SetQuantity {
-    /// The CSV column names of the quantity.
-    pub fn columns(self) -> &'static [&'static str] {
-        match self {
-            Self::MeanVelocity => &["mean_velocity_x", "mean_velocity_y", "mean_velocity_z"],
-            Self::MeanPosition => &["mean_position_x", "mean_position_y", "mean_position_z"],
-            Self::MeanDisplacement => &[
-                "mean_displacement_x",
-                "mean_displacement_y",
-                "mean_displacement_z",
-            ],
-            Self::MeanStress => &[
-                "mean_stress_xx",
-                "mean_stress_yy",
-                "mean_stress_zz",
-                "mean_stress_yz",
-                "mean_stress_xz",
-                "mean_stress_xy",
-            ],
-            Self::MeanPressure => &["mean_pressure"],
-            Self::MeanVonMisesStress => &["mean_von_mises_stress"],
-            Self::MeanTemperature => &["mean_temperature"],
-            Self::MeanSpecificInternalEnergy => &["mean_specific_internal_energy"],
-            Self::Mass => &["mass"],
-        }
-    }
-}
+pub use brisance_core::SetQuantity;
 
 /// A set of particles chosen by their initial state (see the module doc).
 #[derive(Debug, Clone, PartialEq)]
@@ -317,6 +266,19 @@ mod tests {
         assert!((out[3] - 1.0 / 32.0).abs() < 1e-14);
         still.sample(&s, &q, &mut out);
         assert_eq!(out, vec![0.0; 6]);
+        // The solver holding the sets samples them as the run loop does,
+        // through the trait object, by the gauges' order; there is no
+        // third gauge.
+        let mut direct = Vec::new();
+        moving.sample(&s, &q, &mut direct);
+        s.set_particle_gauges(vec![still.clone(), moving.clone()]);
+        let dyn_solver: &dyn Solver = &s;
+        let mut through = Vec::new();
+        assert!(dyn_solver.sample_particle_gauge(1, &q, &mut through));
+        assert_eq!(through, direct);
+        assert!(dyn_solver.sample_particle_gauge(0, &q, &mut through));
+        assert_eq!(through, vec![0.0; 6]);
+        assert!(!dyn_solver.sample_particle_gauge(2, &q, &mut through));
     }
 
     #[test]

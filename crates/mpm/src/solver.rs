@@ -303,6 +303,9 @@ pub struct MpmSolver {
     /// The ranks the particle updates are spread over
     /// ([`MpmSolver::distribute`]); `None` on one rank.
     comm: Option<std::sync::Arc<dyn brisance_grid::comm::Communicator>>,
+    /// The particle sets of the run's particle gauges, in order
+    /// ([`MpmSolver::set_particle_gauges`]).
+    gauges: Vec<crate::ParticleSet>,
 }
 
 /// The node fields of [`MpmSolver::NODE_FIELDS`].
@@ -517,7 +520,21 @@ impl MpmSolver {
             held_back: [false; 6],
             thermal: Vec::new(),
             comm: None,
+            gauges: Vec::new(),
         })
+    }
+
+    /// Hands the solver the particle sets of the run's particle gauges
+    /// (`outputs.particle_gauges`, in order), which
+    /// [`brisance_core::Solver::sample_particle_gauge`] samples; they
+    /// replace any held before.
+    pub fn set_particle_gauges(&mut self, gauges: Vec<crate::ParticleSet>) {
+        self.gauges = gauges;
+    }
+
+    /// The particle sets of the run's particle gauges, in order.
+    pub fn particle_gauges(&self) -> &[crate::ParticleSet] {
+        &self.gauges
     }
 
     /// One step of heat conduction inside the solids

@@ -276,6 +276,8 @@ pub struct PipelineLimits {
     pub patch_checkpoints: bool,
 }
 
+pub use brisance_core::solver::IntoSolver;
+
 /// A pipeline's section of the scenario (its config schema, a serde type
 /// of the pipeline's crate), with what the pipeline does with it.
 pub trait PipelineSpec {

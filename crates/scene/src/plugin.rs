@@ -21,7 +21,7 @@ use std::sync::Arc;
 use brisance_core::{Geometry, Solver};
 use brisance_plugin::{Installed, Params, PluginInfo, PluginInstance, Registry};
 
-use crate::{FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
+use crate::{FieldError, IntoSolver, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
 
 /// A pipeline's section behind a virtual call: what the composer does with
 /// a registered pipeline. Every [`PipelineSpec`] whose solver is a
@@ -45,7 +45,7 @@ pub trait DynPipeline: Send + Sync + fmt::Debug {
 impl<P> DynPipeline for P
 where
     P: PipelineSpec + Send + Sync + fmt::Debug + 'static,
-    P::Solver: Solver + 'static,
+    P::Solver: IntoSolver,
 {
     fn limits(&self, geometry: Geometry) -> PipelineLimits {
         PipelineSpec::limits(self, geometry)
@@ -57,7 +57,7 @@ where
         PipelineSpec::validate(self, scene)
     }
     fn build(&self, scene: &Scene<'_>) -> Result<Box<dyn Solver>, FieldError> {
-        PipelineSpec::build(self, scene).map(|s| Box::new(s) as Box<dyn Solver>)
+        PipelineSpec::build(self, scene).map(IntoSolver::into_solver)
     }
     fn describe(&self, scene: &Scene<'_>) -> String {
         PipelineSpec::describe(self, scene)
@@ -106,7 +106,7 @@ impl PipelinePlugin {
             + serde::Serialize
             + serde::de::DeserializeOwned
             + 'static,
-        P::Solver: Solver + 'static,
+        P::Solver: IntoSolver,
     {
         Self {
             info: P::INFO,

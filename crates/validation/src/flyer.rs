@@ -152,7 +152,7 @@ pub struct FlyerRun {
 /// Runs configs/flyer_icempm.ron on `cells` cells along the tube (cubic
 /// cells) with the MPM shape function `shape` (`Linear`, `Gimp`, ...).
 pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
-    use brisance_compose::build::{build, Built};
+    use brisance_compose::build::build_section;
     use brisance_compose::load_str;
     use brisance_core::Solver;
 
@@ -167,9 +167,10 @@ pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
     let loaded = load_str("flyer_icempm.ron", text, &sets)
         .map_err(|e| format!("configs/flyer_icempm.ron: {e}"))?;
     let s = &loaded.scenario;
-    let Built::IceMpm { mut solver, .. } = build(s).map_err(|e| e.to_string())? else {
+    let Some(section) = s.pipeline.section::<brisance_couple::IceMpmConfig>() else {
         return Err("configs/flyer_icempm.ron is not an IceMpm pipeline".into());
     };
+    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
     let t_end = s.time.end;
     let plate_mass: f64 = solver.mpm().particles().mass.iter().sum();
     let fluids = solver.conservation_totals().mass - plate_mass;
@@ -232,7 +233,7 @@ pub struct ShockPlateRun {
 /// cells, the load on the first particle layer) with the MPM shape
 /// function `shape` (`Linear`, `Gimp`, `CpGimp`, ...).
 pub fn run_shock_plate(cells: usize, shape: &str) -> Result<ShockPlateRun, String> {
-    use brisance_compose::build::{build, Built};
+    use brisance_compose::build::build_section;
     use brisance_compose::load_str;
     use brisance_core::Solver;
 
@@ -252,9 +253,10 @@ pub fn run_shock_plate(cells: usize, shape: &str) -> Result<ShockPlateRun, Strin
     let loaded = load_str("shock_plate_mpm.ron", text, &sets)
         .map_err(|e| format!("configs/shock_plate_mpm.ron: {e}"))?;
     let s = &loaded.scenario;
-    let Built::Mpm { mut solver, .. } = build(s).map_err(|e| e.to_string())? else {
+    let Some(section) = s.pipeline.section::<brisance_couple::MpmConfig>() else {
         return Err("configs/shock_plate_mpm.ron is not an Mpm pipeline".into());
     };
+    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
     let t_end = s.time.end;
     let rearmost = |ps: &brisance_mpm::Particles| {
         ps.position

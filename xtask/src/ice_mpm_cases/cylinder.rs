@@ -21,7 +21,7 @@ const GAUGE_Z: f64 = 0.15;
 /// detonation's arrival there (products volume fraction on the axis above
 /// 1/2), and its terminal value against the Gurney estimate.
 pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
-    use brisance::compose::build::{build, Built};
+    use brisance::compose::build::build_section;
     use brisance::compose::load_str;
     use brisance::core::Solver;
     use brisance::eos::tools::{cylinder_wall_velocity, gurney_estimate};
@@ -34,14 +34,14 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let loaded = load_str("cylinder_icempm.ron", text, &[])
         .map_err(|e| anyhow!("configs/cylinder_icempm.ron: {e}"))?;
     let s = &loaded.scenario;
-    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
         return Err(anyhow!(
             "configs/cylinder_icempm.ron is not an IceMpm pipeline"
         ));
     };
-    let mut solver = solver;
+    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
     let t_end = s.time.end;
-    let energy_start = brisance::core::Solver::conservation_totals(solver.as_ref()).energy;
+    let energy_start = brisance::core::Solver::conservation_totals(&solver).energy;
     // The outer-wall particles at the gauge, by identity.
     let (r_in, r_out, _) = TUBE;
     let h = s
@@ -367,7 +367,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
 /// `BRISANCE_CYLINDER_AUDIT_EVERY` (steps between lines, default 20) and
 /// `BRISANCE_CYLINDER_AUDIT_Z` (slice position, m, default GAUGE_Z).
 pub fn cylinder_audit(path: &str) -> Result<()> {
-    use brisance::compose::build::{build, Built};
+    use brisance::compose::build::build_section;
     use brisance::compose::load_str;
     use brisance::core::{Eos, Solver};
     use brisance::eos::tools::{cj_on_jwl_cterm_isentrope, principal_isentrope};
@@ -376,10 +376,10 @@ pub fn cylinder_audit(path: &str) -> Result<()> {
     let text = std::fs::read_to_string(path).map_err(|e| anyhow!("{path}: {e}"))?;
     let loaded = load_str(path, &text, &[]).map_err(|e| anyhow!("{path}: {e}"))?;
     let s = &loaded.scenario;
-    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
         return Err(anyhow!("{path} is not an IceMpm pipeline"));
     };
-    let mut solver = solver;
+    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
     let every: usize = std::env::var("BRISANCE_CYLINDER_AUDIT_EVERY")
         .ok()
         .and_then(|v| v.parse().ok())

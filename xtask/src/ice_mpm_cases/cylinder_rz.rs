@@ -82,7 +82,7 @@ fn rz_gurney() -> Result<super::TubeGurney> {
 
 /// Runs configs/cylinder_rz.ron at cell size `h` (m) with `sets` added.
 fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
-    use brisance::compose::build::{build, Built};
+    use brisance::compose::build::build_section;
     use brisance::compose::load_str;
     use brisance::core::Solver;
     use brisance::ice::column::{run_column, Column};
@@ -101,10 +101,10 @@ fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
         brisance::compose::config::Pipeline::IceMpm(c) => c.ice.face_pressure_courant,
         _ => return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline")),
     };
-    let Built::IceMpm { solver, .. } = build(s).map_err(|e| anyhow!("{e}"))? else {
+    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
         return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline"));
     };
-    let mut solver = solver;
+    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
     let t_end = s.time.end;
     let e0 = solver.conservation_totals().energy;
     let rescaled0 = solver.rescaled_totals().energy;

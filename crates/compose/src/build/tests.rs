@@ -250,11 +250,31 @@ fn taylor_with_thermal(thermal: &str) -> String {
     )
 }
 
-fn mpm_solver(built: &Built) -> &MpmSolver {
-    match built {
-        Built::Mpm { solver, .. } => solver,
-        _ => panic!("not an Mpm pipeline"),
-    }
+/// A pipeline without particles holds no particle gauge; an `Mpm` run
+/// holds one per `outputs.particle_gauges` entry, sampled through the
+/// boxed solver the run loop drives.
+#[test]
+fn only_particle_pipelines_sample_particle_gauges() {
+    let q = [brisance_mpm::SetQuantity::Mass];
+    let mut out = Vec::new();
+    let sod = build_solver(&load_str("sod.ron", SOD, &[]).unwrap().scenario).unwrap();
+    assert!(!sod.sample_particle_gauge(0, &q, &mut out));
+    let gauge = "outputs.particle_gauges=[(name: \"all\", region: Everywhere, quantities: [Mass])]";
+    let loaded = load_str("t.ron", TAYLOR, &[gauge.to_string()]).unwrap();
+    let mpm = build_solver(&loaded.scenario).unwrap();
+    assert!(mpm.sample_particle_gauge(0, &q, &mut out));
+    assert!(!mpm.sample_particle_gauge(1, &q, &mut out));
+    let total = mpm.conservation_totals().mass;
+    assert!(
+        (out[0] - total).abs() <= 1e-12 * total,
+        "{out:?} vs {total}"
+    );
+}
+
+/// The MPM solver of an `Mpm` scenario, by its section's type.
+fn mpm_build(s: &Scenario) -> brisance_mpm::MpmSolver {
+    let section = s.pipeline.section::<brisance_couple::MpmConfig>();
+    build_section(section.expect("an Mpm pipeline"), s).unwrap()
 }
 
 /// The 1-based line and column of the value of the first `key: value`
@@ -273,9 +293,9 @@ fn a_thermal_entry_turns_on_the_heat_conduction_of_its_particles() {
         ("(conductivity: 386.0, specific_heat: 385.0)", 385.0),
     ] {
         let loaded = load_str("t.ron", &taylor_with_thermal(thermal), &[]).unwrap();
-        let built = build(&loaded.scenario).unwrap();
+        let built = mpm_build(&loaded.scenario);
         assert_eq!(
-            mpm_solver(&built).thermal_properties(),
+            built.thermal_properties(),
             &[brisance_mpm::ThermalProperties {
                 conductivity: 386.0,
                 specific_heat: c
@@ -289,7 +309,7 @@ fn a_thermal_entry_turns_on_the_heat_conduction_of_its_particles() {
 fn a_scenario_without_thermal_builds_and_steps_as_before() {
     let run = |text: &str| {
         let loaded = load_str("t.ron", text, &[]).unwrap();
-        let mut built = build(&loaded.scenario).unwrap();
+        let mut built = mpm_build(&loaded.scenario);
         for _ in 0..5 {
             let dt = built.stable_dt().unwrap();
             built.advance(dt).unwrap();
@@ -297,13 +317,13 @@ fn a_scenario_without_thermal_builds_and_steps_as_before() {
         (loaded.scenario, built)
     };
     let (plain_scenario, plain) = run(TAYLOR);
-    assert!(mpm_solver(&plain).thermal_properties().is_empty());
+    assert!(plain.thermal_properties().is_empty());
     // Written back, a scenario without the key does not gain it.
     assert!(!ron::to_string(&plain_scenario).unwrap().contains("thermal"));
     // No conductivity: the option stays off and the steps are the same.
     let (_, off) = run(&taylor_with_thermal("(conductivity: 0.0)"));
-    assert!(mpm_solver(&off).thermal_properties().is_empty());
-    let (a, b) = (mpm_solver(&plain).particles(), mpm_solver(&off).particles());
+    assert!(off.thermal_properties().is_empty());
+    let (a, b) = (plain.particles(), off.particles());
     assert_eq!(a.position, b.position);
     assert_eq!(a.velocity, b.velocity);
     assert_eq!(a.stress, b.stress);
@@ -360,11 +380,8 @@ fn bad_thermal_values_name_their_field_and_line() {
         "(conductivity: 386.0)",
         "(conductivity: 386.0, specific_heat: 385.0)",
     );
-    let built = build(&load_str("t.ron", &text, &[]).unwrap().scenario).unwrap();
-    assert_eq!(
-        mpm_solver(&built).thermal_properties()[0].specific_heat,
-        385.0
-    );
+    let built = mpm_build(&load_str("t.ron", &text, &[]).unwrap().scenario);
+    assert_eq!(built.thermal_properties()[0].specific_heat, 385.0);
 }
 
 #[test]

@@ -521,7 +521,7 @@ fn a_plugin_reaction_model_burns_by_its_registered_name() {
     // pressure, which carries no temperature for it.
     let hot = BOX.replace("temperature: 298.15", "temperature: 550.0");
     let loaded = load_str("box.ron", &hot, &[]).unwrap();
-    let err = crate::build::build(&loaded.scenario)
+    let err = crate::build::build_solver(&loaded.scenario)
         .err()
         .expect("refused");
     assert_eq!(

@@ -42,14 +42,14 @@ fn a_tube_of_air_builds_its_two_regions() {
     let cfg = section("");
     cfg.validate(&s).expect("valid");
     assert!(cfg.describe(&s).contains("w = 5 cells along x"));
-    let run = cfg.build(&s).expect("builds");
-    assert_eq!(run.solver.name(), "fdm-mpm");
-    let p = run.solver.mpm().particles();
+    let solver = cfg.build(&s).expect("builds");
+    assert_eq!(solver.name(), "fdm-mpm");
+    let p = solver.mpm().particles();
     assert_eq!(p.len(), 30);
     let m = 1.225 * 0.002 * 0.002 * 0.002 / 2.0;
     assert!(p.mass.iter().all(|&x| (x - m).abs() < 1e-15 * m));
     assert!((p.position[0][0] - 0.0305).abs() < 1e-15);
-    assert_eq!(run.particle_gauges[0].len(), 30);
+    assert_eq!(solver.mpm().particle_gauges()[0].len(), 30);
 }
 
 /// The section's checks name their fields.

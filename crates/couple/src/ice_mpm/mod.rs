@@ -1115,6 +1115,16 @@ impl Solver for IceMpm {
         self.ice.sample(point, fields, out)
     }
 
+    /// The MPM side's particle gauges.
+    fn sample_particle_gauge(
+        &self,
+        k: usize,
+        quantities: &[brisance_core::SetQuantity],
+        out: &mut Vec<f64>,
+    ) -> bool {
+        self.mpm().sample_particle_gauge(k, quantities, out)
+    }
+
     fn particle_data(&self) -> Option<ParticleData> {
         self.mpm.particle_data()
     }

@@ -29,7 +29,7 @@
 
 use brisance_core::Geometry;
 use brisance_ice::pipeline::IceConfig;
-use brisance_mpm::{AntiLocking, MpmSolver, ParticleSet, UpdateScheme};
+use brisance_mpm::{AntiLocking, MpmSolver, UpdateScheme};
 use brisance_scene::{
     BoundaryConfig, FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene,
 };
@@ -221,16 +221,6 @@ fn check_solid(s: &Scene<'_>, cfg: &IceMpmConfig, name: &str) -> Result<(), Fiel
     Ok(())
 }
 
-/// The coupled solver of a scene and the particle sets of its particle
-/// gauges (of the solids' particles, in the order of
-/// `outputs.particle_gauges`).
-pub struct IceMpmRun {
-    /// The solver.
-    pub solver: IceMpm,
-    /// One set per particle gauge.
-    pub particle_gauges: Vec<ParticleSet>,
-}
-
 impl PipelineSpec for IceMpmConfig {
     const INFO: PipelineInfo = PipelineInfo {
         name: "IceMpm",
@@ -238,7 +228,7 @@ impl PipelineSpec for IceMpmConfig {
         example: "IceMpm(ice: (materials: [\"air\"]), solid: \"steel\", mpm: (shape_function: Linear, scheme: Musl, ppc: 2))",
         docs: "docs/physics/couple/ice_mpm.md",
     };
-    type Solver = IceMpmRun;
+    type Solver = IceMpm;
 
     /// The fluids' grid with the particles' node fields; the coupled state
     /// is checkpointed whole.
@@ -259,7 +249,7 @@ impl PipelineSpec for IceMpmConfig {
     /// solids ([`mpm_parts`]), their updates spread over the ranks of the
     /// run ([`brisance_grid::comm::world`]; docs/cluster.md; nothing
     /// changes on one rank).
-    fn build(&self, scene: &Scene<'_>) -> Result<IceMpmRun, FieldError> {
+    fn build(&self, scene: &Scene<'_>) -> Result<IceMpm, FieldError> {
         check(scene, self)?;
         let ice = ice_section(self)
             .build_on(
@@ -268,7 +258,7 @@ impl PipelineSpec for IceMpmConfig {
                 std::sync::Arc::new(brisance_grid::comm::Serial),
             )
             .map_err(|e| under("ice", e))?;
-        let run = mpm_parts(&particle_scene(scene, self), &self.mpm, true)
+        let mpm = mpm_parts(&particle_scene(scene, self), &self.mpm, true)
             .map_err(|e| under("mpm", e))?;
         // Particle materials are numbered in name order (mpm_parts); the
         // solids are ICE materials N + 1, … in the order given.
@@ -279,13 +269,10 @@ impl PipelineSpec for IceMpmConfig {
             .iter()
             .map(|n| fluids + self.solid.names().iter().position(|m| m == *n).unwrap_or(0))
             .collect();
-        let mut solver = IceMpm::new(ice, run.solver, &solids)
+        let mut solver = IceMpm::new(ice, mpm, &solids)
             .map_err(|e| FieldError::new("pipeline", e.to_string()))?;
         solver.distribute(brisance_grid::comm::world());
-        Ok(IceMpmRun {
-            solver,
-            particle_gauges: run.particle_gauges,
-        })
+        Ok(solver)
     }
 
     fn describe(&self, s: &Scene<'_>) -> String {

@@ -28,8 +28,8 @@ fn gas_scene() -> OwnedScene {
 #[test]
 fn every_sub_cell_point_becomes_a_particle_of_its_share_of_the_mass() {
     let owned = gas_scene();
-    let run = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
-    let p = run.solver.particles();
+    let solver = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
+    let p = solver.particles();
     assert_eq!(p.len(), 4);
     for (k, x) in [0.025, 0.075, 0.125, 0.175].into_iter().enumerate() {
         assert!((p.position[k][0] - x).abs() < 1e-15, "{:?}", p.position[k]);
@@ -43,7 +43,7 @@ fn every_sub_cell_point_becomes_a_particle_of_its_share_of_the_mass() {
             p.specific_internal_energy[k]
         );
     }
-    assert!(run.particle_gauges.is_empty());
+    assert!(solver.particle_gauges().is_empty());
 }
 
 /// On an (r, z) grid a particle is a ring: its sub-cell's cross-section
@@ -52,8 +52,8 @@ fn every_sub_cell_point_becomes_a_particle_of_its_share_of_the_mass() {
 fn an_rz_particle_is_a_ring_about_the_axis() {
     let mut owned = gas_scene();
     owned.domain.geometry = Geometry::Axisymmetric;
-    let run = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
-    let p = run.solver.particles();
+    let solver = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
+    let p = solver.particles();
     for (k, r) in [0.025, 0.075, 0.125, 0.175].into_iter().enumerate() {
         let volume = 2.0 * std::f64::consts::PI * r * (0.1 / 2.0) * 1.0;
         assert!(
@@ -83,11 +83,11 @@ fn a_region_without_a_model_is_refused_alone_and_left_out_beside_fluids() {
     let e = section(1).validate(&s).expect_err("refused");
     assert_eq!(e.field, "initial.1.material");
     assert!(e.message.contains("no constitutive `model`"), "{e}");
-    let e = mpm_parts(&s, &section(1), false).err().expect("refused");
+    let e = mpm_parts(&s, &section(1), false).expect_err("refused");
     assert_eq!(e.field, "initial.1.material");
-    let run = mpm_parts(&s, &section(1), true).expect("the fluids' region is left out");
-    assert_eq!(run.solver.particles().len(), 1);
-    assert!((run.solver.particles().position[0][0] - 0.05).abs() < 1e-15);
+    let solver = mpm_parts(&s, &section(1), true).expect("the fluids' region is left out");
+    assert_eq!(solver.particles().len(), 1);
+    assert!((solver.particles().position[0][0] - 0.05).abs() < 1e-15);
 }
 
 /// The section's own fields and the scene's parts it owns are checked with
@@ -166,17 +166,15 @@ fn a_particle_gauge_takes_the_particles_that_start_in_its_region() {
         max: [0.1, 1.0, 1.0],
     };
     owned.particle_gauges.push(("left".into(), left, None));
-    let run = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
-    assert_eq!(run.particle_gauges.len(), 1);
-    assert_eq!(run.particle_gauges[0].len(), 2);
+    let solver = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
+    assert_eq!(solver.particle_gauges().len(), 1);
+    assert_eq!(solver.particle_gauges()[0].len(), 2);
     let outside = Shape::Box {
         min: [1.0, 0.0, 0.0],
         max: [2.0, 1.0, 1.0],
     };
     owned.particle_gauges.push(("away".into(), outside, None));
-    let e = mpm_parts(&owned.scene(), &section(2), false)
-        .err()
-        .expect("an empty gauge");
+    let e = mpm_parts(&owned.scene(), &section(2), false).expect_err("an empty gauge");
     assert_eq!(e.field, "outputs.particle_gauges.1.region");
     assert!(e.message.contains("`away`"), "{e}");
 }

@@ -402,6 +402,23 @@ impl Solver for MpmSolver {
         (self.particles.len() as f64, "particle-steps")
     }
 
+    /// The set averages of particle gauge `k`
+    /// ([`crate::ParticleSet::sample`]).
+    fn sample_particle_gauge(
+        &self,
+        k: usize,
+        quantities: &[brisance_core::SetQuantity],
+        out: &mut Vec<f64>,
+    ) -> bool {
+        match self.gauges.get(k) {
+            Some(set) => {
+                set.sample(self, quantities, out);
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Every particle with its mass, volume, density, velocity, pressure
     /// p = −tr σ/3 − q (the material's, without the bulk viscosity), von
     /// Mises stress, temperature, specific internal energy, material id,

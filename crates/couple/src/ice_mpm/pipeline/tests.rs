@@ -62,15 +62,16 @@ fn a_piston_scene_builds_its_particles_beside_its_fluid() {
     let s = owned.scene();
     let cfg = piston();
     cfg.validate(&s).expect("valid");
-    let run = cfg.build(&s).expect("builds");
-    let p = run.solver.mpm().particles();
+    let solver = cfg.build(&s).expect("builds");
+    let p = solver.mpm().particles();
     assert_eq!(p.len(), 2);
     for (k, x) in [0.00525, 0.00575].into_iter().enumerate() {
         assert!((p.position[k][0] - x).abs() < 1e-15, "{:?}", p.position[k]);
         assert_eq!(p.velocity[k], [100.0, 0.0, 0.0]);
     }
-    assert_eq!(run.particle_gauges.len(), 1);
-    assert_eq!(run.particle_gauges[0].len(), 2);
+    let gauges = solver.mpm().particle_gauges();
+    assert_eq!(gauges.len(), 1);
+    assert_eq!(gauges[0].len(), 2);
     assert!(cfg.describe(&s).contains("solid `steel` as particles"));
 }
 
