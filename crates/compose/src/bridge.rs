@@ -276,7 +276,11 @@ fn the_default_bridge_width_is_5_and_fits_the_blast2d_geometry() {
     // 2 mm cells.
     assert!(!BLAST2D.contains("w: "));
     let loaded = load_str("blast2d.ron", BLAST2D, &[]).unwrap();
-    let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+    let Some(b) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_couple::BridgeConfig>()
+    else {
         panic!("blast2d.ron is a bridge");
     };
     assert_eq!(b.w, None);
@@ -285,7 +289,11 @@ fn the_default_bridge_width_is_5_and_fits_the_blast2d_geometry() {
     // Written out, the same.
     let set = ["pipeline.w=Some(5)".to_string()];
     let explicit = load_str("blast2d.ron", BLAST2D, &set).unwrap();
-    let crate::config::Pipeline::FdmMpmBridge(e) = &explicit.scenario.pipeline else {
+    let Some(e) = explicit
+        .scenario
+        .pipeline
+        .section::<brisance_couple::BridgeConfig>()
+    else {
         unreachable!()
     };
     assert_eq!(e.w, Some(5));
@@ -388,7 +396,11 @@ fn every_bridge_config_has_the_overlap_its_w_says() {
         if path.extension().is_some_and(|e| e == "ron") && text.contains("FdmMpmBridge(") {
             let loaded =
                 crate::load_file(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            let crate::config::Pipeline::FdmMpmBridge(b) = &loaded.scenario.pipeline else {
+            let Some(b) = loaded
+                .scenario
+                .pipeline
+                .section::<brisance_couple::BridgeConfig>()
+            else {
                 panic!("{} is a bridge", path.display());
             };
             let w =

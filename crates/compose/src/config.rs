@@ -114,27 +114,12 @@ impl MaterialConfig {
     }
 }
 
-/// The numerical method(s) of the run: the built-in pipelines, and those
-/// their crates register (`brisance_scene::plugin`; the MSDM `Lattice`),
-/// read into [`Pipeline::Plugin`] under their own names.
+/// The numerical method(s) of the run: a pipeline its crate registered
+/// (`brisance_scene::plugin`; the program's are listed by
+/// [`crate::plugins::pipeline_registry`]), written under its own name
+/// (`Fdm(...)`, `IceMpm(...)`, `Lattice(...)`, …).
 #[derive(Debug, Clone, PartialEq)]
-pub enum Pipeline {
-    /// The Lax–Wendroff finite-difference Euler solver (seed 001 §2.1).
-    Fdm(FdmConfig),
-    /// The explicit material point method (seed 001 §2.2, seed 000 §3.2).
-    Mpm(MpmConfig),
-    /// Bond-based peridynamics with the detonation model of seed 004.
-    Peridynamics(brisance_pd::PdConfig),
-    /// The multi-material ICE method of seed 000 §3.3.
-    Ice(brisance_ice::pipeline::IceConfig),
-    /// ICE fluids and an MPM solid coupled by the step of seed 000 §3.3.
-    IceMpm(brisance_couple::IceMpmConfig),
-    /// The coupled FDM-MPM method of seed 001 §3 (CFDMP).
-    FdmMpmBridge(brisance_couple::BridgeConfig),
-    /// A pipeline its crate registered (written under its own name, such
-    /// as `Lattice(...)`, never as `Plugin`).
-    Plugin(PluginSection),
-}
+pub struct Pipeline(pub PluginSection);
 
 impl PluginEnum for Pipeline {
     type Plugin = PipelinePlugin;
@@ -146,23 +131,16 @@ impl PluginEnum for Pipeline {
         brisance_scene::plugin::slot()
     }
 
+    /// There are no built-in pipelines: every name is a registration's.
     fn read_builtin<'de, A: serde::de::VariantAccess<'de>>(
         name: &'static str,
-        variant: A,
+        _variant: A,
     ) -> Result<Self, A::Error> {
-        match name {
-            "Fdm" => variant.newtype_variant().map(Self::Fdm),
-            "Mpm" => variant.newtype_variant().map(Self::Mpm),
-            "Peridynamics" => variant.newtype_variant().map(Self::Peridynamics),
-            "Ice" => variant.newtype_variant().map(Self::Ice),
-            "IceMpm" => variant.newtype_variant().map(Self::IceMpm),
-            "FdmMpmBridge" => variant.newtype_variant().map(Self::FdmMpmBridge),
-            _ => Err(Self::unknown(name)),
-        }
+        Err(Self::unknown(name))
     }
 
     fn from_plugin(section: PluginInstance<PipelinePlugin>) -> Self {
-        Self::Plugin(PluginSection(section))
+        Self(PluginSection(section))
     }
 }
 
@@ -174,16 +152,7 @@ impl<'de> Deserialize<'de> for Pipeline {
 
 impl Serialize for Pipeline {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        const NAME: &str = <Pipeline as PluginEnum>::NAME;
-        match self {
-            Self::Fdm(c) => s.serialize_newtype_variant(NAME, 0, "Fdm", c),
-            Self::Mpm(c) => s.serialize_newtype_variant(NAME, 1, "Mpm", c),
-            Self::Peridynamics(c) => s.serialize_newtype_variant(NAME, 2, "Peridynamics", c),
-            Self::Ice(c) => s.serialize_newtype_variant(NAME, 3, "Ice", c),
-            Self::IceMpm(c) => s.serialize_newtype_variant(NAME, 4, "IceMpm", c),
-            Self::FdmMpmBridge(c) => s.serialize_newtype_variant(NAME, 5, "FdmMpmBridge", c),
-            Self::Plugin(p) => brisance_plugin::serialize_plugin::<Self, S>(&p.0, s),
-        }
+        brisance_plugin::serialize_plugin::<Self, S>(&self.0 .0, s)
     }
 }
 
@@ -192,29 +161,18 @@ impl Pipeline {
     /// say), for a tool that builds that pipeline's solver by its type
     /// ([`crate::build::build_section`]); `None` for another pipeline.
     pub fn section<T: std::any::Any>(&self) -> Option<&T> {
-        let any: &dyn std::any::Any = match self {
-            Self::Fdm(c) => c,
-            Self::Mpm(c) => c,
-            Self::Peridynamics(c) => c,
-            Self::Ice(c) => c,
-            Self::IceMpm(c) => c,
-            Self::FdmMpmBridge(c) => c,
-            Self::Plugin(p) => p.section().as_any(),
-        };
-        any.downcast_ref()
+        self.0.downcast()
+    }
+
+    /// The section behind the registration's virtual calls: its limits,
+    /// checks, builder and description.
+    pub fn spec(&self) -> &dyn brisance_scene::plugin::DynPipeline {
+        self.0.section()
     }
 
     /// The name a scenario writes (`Fdm`, `IceMpm`, …).
     pub fn name(&self) -> &'static str {
-        match self {
-            Self::Fdm(_) => "Fdm",
-            Self::Mpm(_) => "Mpm",
-            Self::Peridynamics(_) => "Peridynamics",
-            Self::Ice(_) => "Ice",
-            Self::IceMpm(_) => "IceMpm",
-            Self::FdmMpmBridge(_) => "FdmMpmBridge",
-            Self::Plugin(p) => p.plugin().info.name,
-        }
+        self.0.plugin().info.name
     }
 }
 

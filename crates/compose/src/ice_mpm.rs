@@ -212,7 +212,11 @@ mod slip_tests {
         );
         let ok = SHEAR.replace("EXCHANGE", ", solid_exchange: Slip");
         let loaded = load_str("shear.ron", &ok, &[]).unwrap();
-        let crate::config::Pipeline::IceMpm(c) = &loaded.scenario.pipeline else {
+        let Some(c) = loaded
+            .scenario
+            .pipeline
+            .section::<brisance_couple::IceMpmConfig>()
+        else {
             panic!("an IceMpm pipeline");
         };
         assert_eq!(c.ice.solid_exchange, brisance_ice::SolidExchange::Slip);

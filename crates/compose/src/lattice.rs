@@ -11,10 +11,7 @@ use crate::load_str;
 
 /// The scenario's `Lattice` section (a registered pipeline), if it has one.
 fn lattice_section(s: &crate::Scenario) -> Option<&brisance_lattice::LatticeConfig> {
-    match &s.pipeline {
-        crate::config::Pipeline::Plugin(p) => p.downcast(),
-        _ => None,
-    }
+    s.pipeline.section()
 }
 
 /// The example scenario loads, validates, builds and steps; a region

@@ -69,14 +69,18 @@ fn resolve_library(s: &mut Scenario) -> Result<(), (String, String)> {
     Ok(())
 }
 
-/// The position of parse error `e`. A plugin model (an equation of state,
-/// a reaction model, a constitutive model or a pipeline) reads its parameters after
-/// the parser has passed them, so for a parameter it does not know the
-/// parser stands at the model's closing parenthesis; the position is
-/// moved back to that parameter, inside the model's parentheses.
-fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, usize) {
+/// The position and message of parse error `e`. A plugin model (an
+/// equation of state, a reaction model, a constitutive model or a
+/// pipeline) reads its parameters after the parser has passed them, so
+/// the parser stands at the model's closing parenthesis; the plugin's
+/// error says where in its parameters it is
+/// ([`brisance_plugin::parameter_position`]), and that position, inside
+/// the model's parentheses, is the file's. Without one, an unknown
+/// parameter is found by its name inside the parentheses. The message
+/// loses the position in the parameters.
+fn plugin_error(text: &str, e: &ron::error::SpannedError) -> ((usize, usize), String) {
     let at = (e.span.start.line, e.span.start.col);
-    let message = e.code.to_string();
+    let (message, inner) = brisance_plugin::parameter_position(&e.code.to_string());
     let eos = brisance_eos::plugin::installed()
         .into_iter()
         .flat_map(|r| r.plugins())
@@ -96,14 +100,7 @@ fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, us
         .chain(pipelines)
         .find(|name| message.starts_with(&format!("{name}: ")))
     else {
-        return at;
-    };
-    let Some(field) = message
-        .split("field named `")
-        .nth(1)
-        .and_then(|rest| rest.split('`').next())
-    else {
-        return at;
+        return (at, message);
     };
     // The byte offset of `at` (line and column count from 1, columns in
     // characters).
@@ -119,19 +116,51 @@ fn plugin_field_position(text: &str, e: &ron::error::SpannedError) -> (usize, us
                 .unwrap_or(0),
         )
     else {
-        return at;
+        return (at, message);
     };
     let Some(start) = text[..end].rfind(&format!("{plugin}(")) else {
-        return at;
+        return (at, message);
+    };
+    // The parameters' text starts after the model's opening parenthesis
+    // and the white space after it (the parser hands a nested value over
+    // without its surrounding white space).
+    let open = start + plugin.len() + 1;
+    let params = (open + (text[open..].len() - text[open..].trim_start().len())).min(end);
+    if let Some((line, col)) = inner {
+        let line_start = if line == 1 {
+            Some(params)
+        } else {
+            text[params..end]
+                .match_indices('\n')
+                .nth(line - 2)
+                .map(|(i, _)| params + i + 1)
+        };
+        let offset = line_start.and_then(|l| {
+            text[l..end]
+                .char_indices()
+                .nth(col.saturating_sub(1))
+                .map(|(i, _)| l + i)
+        });
+        if let Some(offset) = offset {
+            return (ron_path::line_col(text, offset), message);
+        }
+    }
+    let Some(field) = message
+        .split("field named `")
+        .nth(1)
+        .and_then(|rest| rest.split('`').next())
+    else {
+        return (at, message);
     };
     let is_ident = |c: char| c.is_alphanumeric() || c == '_';
-    text[start..end]
+    let position = text[start..end]
         .match_indices(field)
         .map(|(i, _)| start + i)
         .find(|&i| {
             !text[..i].ends_with(is_ident) && text[i + field.len()..].trim_start().starts_with(':')
         })
-        .map_or(at, |i| ron_path::line_col(text, i))
+        .map_or(at, |i| ron_path::line_col(text, i));
+    (position, message)
 }
 
 /// Reads and validates a scenario file, applying `PATH=VALUE` overrides.
@@ -172,11 +201,14 @@ pub fn load_str(file: &str, text: &str, sets: &[String]) -> Result<LoadedScenari
     } else {
         " (after --set overrides)"
     };
-    let mut scenario: Scenario = ron_options().from_str(&text).map_err(|e| ConfigError {
-        file: file.to_string(),
-        position: Some(plugin_field_position(&text, &e)),
-        field: None,
-        message: format!("{}{suffix}", e.code),
+    let mut scenario: Scenario = ron_options().from_str(&text).map_err(|e| {
+        let (position, message) = plugin_error(&text, &e);
+        ConfigError {
+            file: file.to_string(),
+            position: Some(position),
+            field: None,
+            message: format!("{message}{suffix}"),
+        }
     })?;
     resolve_library(&mut scenario).map_err(|(path, message)| ConfigError {
         file: file.to_string(),

@@ -134,7 +134,7 @@ fn pd_configs_are_the_cases_the_validation_runs() {
         ),
     ] {
         let loaded = load_str(name, text, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+        let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
             panic!("{name}: not a Peridynamics pipeline");
         };
         let setup = pd.setup(&crate::scene::scene_of(&loaded.scenario)).unwrap();
@@ -218,7 +218,7 @@ fn gas_viscosity_is_read_and_checked() {
     let text = include_str!("../../../configs/pd_cylinder.ron");
     let ok = "pipeline.gas_viscosity=(linear: 1.0, quadratic: 2.0)";
     let loaded = load_str("v.ron", text, &[ok.into()]).unwrap();
-    let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+    let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
         panic!("not a Peridynamics pipeline");
     };
     assert_eq!(
@@ -241,7 +241,7 @@ fn gas_viscosity_is_read_and_checked() {
 fn reactant_is_read_and_checked() {
     let text = include_str!("../../../configs/pd_cylinder.ron");
     let loaded = load_str("r.ron", text, &[]).unwrap();
-    let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+    let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
         panic!("not a Peridynamics pipeline");
     };
     let Some(brisance_pd::PdMaterialConfig::JwlExplosive { reactant, .. }) =
@@ -287,7 +287,7 @@ initial: [
 outputs: (interval: 1.0e-6, fields: [], vtk: false),
 )"#;
     let loaded = load_str("pinned_bar.ron", text, &[]).unwrap();
-    let crate::config::Pipeline::Peridynamics(pd) = &loaded.scenario.pipeline else {
+    let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
         panic!("not a Peridynamics pipeline");
     };
     let setup = pd.setup(&crate::scene::scene_of(&loaded.scenario)).unwrap();

@@ -32,9 +32,16 @@ pub fn material_registry() -> MaterialRegistry {
     registry
 }
 
-/// The pipelines that register from their own crates.
+/// The pipelines, each registered by its own crate, in the order
+/// `brisance list` shows them.
 pub fn pipeline_registry() -> PipelineRegistry {
     let mut registry = PipelineRegistry::new();
+    brisance_fdm::pipeline::register(&mut registry);
+    brisance_couple::mpm_pipeline::register(&mut registry);
+    brisance_pd::pipeline::register(&mut registry);
+    brisance_ice::pipeline::register(&mut registry);
+    brisance_couple::ice_mpm::pipeline::register(&mut registry);
+    brisance_couple::bridge_pipeline::register(&mut registry);
     brisance_lattice::register(&mut registry);
     registry
 }
@@ -92,6 +99,26 @@ mod tests {
             assert!(m.validate().is_ok(), "{}: {:?}", p.name, m.validate());
             let back = ron_options().to_string(&m).unwrap();
             assert_eq!(ron_options().from_str::<MaterialModel>(&back).unwrap(), m);
+        }
+        // Every pipeline, each registered by its crate: its example reads
+        // as the composer's `Pipeline` under its name, as the section type
+        // the registration names, and writes itself back to an equal one.
+        let pipelines = pipeline_registry();
+        assert_eq!(pipelines.plugins().len(), 7);
+        for p in pipelines.plugins() {
+            let name = p.info.name;
+            let m: crate::config::Pipeline = ron_options()
+                .from_str(p.info.example)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(m.name(), name);
+            let back = ron_options().to_string(&m).unwrap();
+            assert_eq!(
+                ron_options()
+                    .from_str::<crate::config::Pipeline>(&back)
+                    .unwrap(),
+                m,
+                "{name}"
+            );
         }
     }
 
@@ -235,21 +262,34 @@ mod tests {
 
     const LATTICE: &str = include_str!("../../../configs/lattice_impact.ron");
 
-    /// The MSDM lattice is a pipeline its crate registers (one line in
-    /// [`pipeline_registry`]): a scenario names it as `Lattice(...)`, reads
-    /// into the `Plugin` variant, writes itself back to an equal scenario,
-    /// builds through the registration, and is listed with its docs page.
+    /// Every pipeline is registered by its crate, one line each in
+    /// [`pipeline_registry`], in the order `brisance list` shows. The MSDM
+    /// lattice so: a scenario names it as `Lattice(...)`, reads into its
+    /// section type, writes itself back to an equal scenario, builds
+    /// through the registration, and is listed with its docs page.
     #[test]
-    fn the_lattice_is_a_registered_pipeline() {
+    fn every_pipeline_is_registered_the_lattice_as_the_others() {
         let registry = pipeline_registry();
         let names: Vec<&str> = registry.plugins().iter().map(|p| p.info.name).collect();
-        assert_eq!(names, ["Lattice"]);
+        assert_eq!(
+            names,
+            [
+                "Fdm",
+                "Mpm",
+                "Peridynamics",
+                "Ice",
+                "IceMpm",
+                "FdmMpmBridge",
+                "Lattice"
+            ]
+        );
         let loaded = crate::load_str("lattice_impact.ron", LATTICE, &[]).unwrap();
-        let crate::config::Pipeline::Plugin(p) = &loaded.scenario.pipeline else {
-            panic!("the lattice reads into the Plugin variant");
-        };
         assert_eq!(loaded.scenario.pipeline.name(), "Lattice");
-        let cfg: &brisance_lattice::LatticeConfig = p.downcast().expect("a lattice section");
+        let cfg: &brisance_lattice::LatticeConfig = loaded
+            .scenario
+            .pipeline
+            .section()
+            .expect("a lattice section");
         assert_eq!(cfg.spacing, 2.0e-5);
         let text = ron_options().to_string(&loaded.scenario).unwrap();
         assert!(text.contains("pipeline:Lattice("), "{text}");

@@ -1,12 +1,11 @@
 //! The registry of named components: what `brisance list` prints and what a
 //! config may name. Each entry carries a RON example that the tests parse,
 //! so the list cannot drift from the schema. The built-in components are
-//! [`ENTRIES`]; [`entries`] adds the equations of state, reaction models
-//! and constitutive models of the plugin crates ([`crate::plugins`]) from
-//! their own registration.
+//! [`ENTRIES`]; [`entries`] adds the equations of state, reaction models,
+//! constitutive models and pipelines of the plugin crates
+//! ([`crate::plugins`]) from their own registration.
 
 use brisance_plugin::{PluginInfo, Registry};
-use brisance_scene::{PipelineInfo, PipelineSpec};
 
 /// One named component.
 #[derive(Debug, Clone, Copy)]
@@ -23,20 +22,6 @@ pub struct Entry {
     /// The model's or pipeline's docs page, relative to the repository
     /// root, where it has one.
     pub docs: Option<&'static str>,
-}
-
-impl Entry {
-    /// The entry of a pipeline whose crate owns its config section
-    /// ([`PipelineSpec`]), from the crate's own registration.
-    pub const fn pipeline(info: PipelineInfo) -> Self {
-        Self {
-            family: "pipeline",
-            name: info.name,
-            summary: info.summary,
-            example: info.example,
-            docs: Some(info.docs),
-        }
-    }
 }
 
 /// Every registered component.
@@ -181,12 +166,6 @@ pub const ENTRIES: &[Entry] = &[
         example: "ViscoScram(shear_moduli: (3.5e8, 1.739e8, 5.212e8, 9.085e8, 6.875e8), inverse_relaxation_times: (0.0, 7.32e3, 7.32e4, 7.32e5, 2.0e6), pressure: Linear(bulk_modulus: 5.722e9), crack_size: 1.0e-3, initial_crack_radius: 3.0e-5, crack_power: 10.0, max_crack_speed: 300.0, fracture_toughness: 500.0, crack_friction: 0.35, rate: GreenNaghdi)",
         docs: Some("docs/physics/constitutive/viscoscram.md"),
     },
-    Entry::pipeline(<brisance_fdm::FdmConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_couple::MpmConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_pd::PdConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_ice::pipeline::IceConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_couple::IceMpmConfig as PipelineSpec>::INFO),
-    Entry::pipeline(<brisance_couple::BridgeConfig as PipelineSpec>::INFO),
     Entry {
         family: "load",
         name: "Traction",
@@ -349,8 +328,8 @@ pub const ENTRIES: &[Entry] = &[
 ];
 
 /// Every registered component: [`ENTRIES`], then the equations of state,
-/// the reaction models, the constitutive models and the pipelines of the
-/// plugin crates,
+/// the reaction models, the constitutive models and the pipelines (all of
+/// them) of the plugin crates,
 /// each under the name, summary, example and docs page its crate
 /// registered.
 pub fn entries() -> Vec<Entry> {

@@ -3,27 +3,27 @@
 //! its line and column.
 
 use crate::build::PipelineLimits;
-use crate::config::{BoundaryConfig, Pipeline, Region, Scenario};
-use brisance_scene::PipelineSpec;
+use crate::config::{BoundaryConfig, Region, Scenario};
 
 /// A validation problem: the field path and the message.
 pub type Problem = (String, String);
 
-/// A material's `thermal` (at `path`) is for the particles of an `Mpm`
-/// pipeline or the solids of an `IceMpm` one, whose sections check their
-/// materials' entries (`brisance_couple::{MpmConfig, IceMpmConfig}`): the
-/// heat conduction is a part of the MPM step and of no other method.
+/// A material's `thermal` (at `path`) is for a pipeline whose particles
+/// conduct heat (`PipelineLimits::heat_conduction`: the particles of
+/// `Mpm`, the solids of `IceMpm`), whose sections check their materials'
+/// entries (`brisance_couple::{MpmConfig, IceMpmConfig}`): the heat
+/// conduction is a part of the MPM step and of no other method.
 fn check_thermal_use(s: &Scenario, path: &str) -> Result<(), Problem> {
-    match &s.pipeline {
-        Pipeline::Mpm(_) | Pipeline::IceMpm(_) => Ok(()),
-        other => Err((
-            path.into(),
-            format!(
-                "the {} pipeline has no heat conduction; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`",
-                other.name()
-            ),
-        )),
+    if crate::build::pipeline_limits(s).heat_conduction {
+        return Ok(());
     }
+    Err((
+        path.into(),
+        format!(
+            "the {} pipeline has no heat conduction; `thermal` is the heat conduction inside the particles of `Mpm` and the solids of `IceMpm`",
+            s.pipeline.name()
+        ),
+    ))
 }
 
 /// The axisymmetric grid's shape (one cell along z, r ≥ 0, a reflective
@@ -38,16 +38,7 @@ fn check_geometry(s: &Scenario) -> Result<(), Problem> {
     // faces on (r, z) grids and the bridge its split along z with their
     // options.
     let g = d.geometry;
-    let unsupported = match &s.pipeline {
-        Pipeline::Fdm(c) => c.unsupported(g),
-        Pipeline::Mpm(c) => c.unsupported(g),
-        Pipeline::Peridynamics(c) => c.unsupported(g),
-        Pipeline::Ice(c) => c.unsupported(g),
-        Pipeline::IceMpm(c) => c.unsupported(g),
-        Pipeline::FdmMpmBridge(c) => c.unsupported(g),
-        Pipeline::Plugin(p) => p.section().unsupported(g),
-    };
-    if let Some(why) = unsupported {
+    if let Some(why) = s.pipeline.spec().unsupported(g) {
         return Err(("domain.geometry".into(), why.into()));
     }
     if d.cells[2] != 1 {
@@ -302,15 +293,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
             ));
         }
     }
-    match &s.pipeline {
-        Pipeline::Fdm(fdm) => fdm.validate(&crate::scene::scene_of(s))?,
-        Pipeline::Peridynamics(pd) => pd.validate(&crate::scene::scene_of(s))?,
-        Pipeline::Plugin(p) => p.section().validate(&crate::scene::scene_of(s))?,
-        Pipeline::Ice(ice) => ice.validate(&crate::scene::scene_of(s))?,
-        Pipeline::IceMpm(c) => c.validate(&crate::scene::scene_of(s))?,
-        Pipeline::FdmMpmBridge(b) => b.validate(&crate::scene::scene_of(s))?,
-        Pipeline::Mpm(mpm) => mpm.validate(&crate::scene::scene_of(s))?,
-    }
+    s.pipeline.spec().validate(&crate::scene::scene_of(s))?;
     for (face, bc) in s.boundaries.faces() {
         if let BoundaryConfig::Fixed(state) = bc {
             state.check(&format!("boundaries.{face}"))?;
@@ -449,13 +432,13 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     let mut names = std::collections::BTreeSet::new();
     for (i, g) in o.particle_gauges.iter().enumerate() {
         let path = format!("outputs.particle_gauges.{i}");
-        if !matches!(
-            s.pipeline,
-            Pipeline::Mpm(_) | Pipeline::IceMpm(_) | Pipeline::FdmMpmBridge(_)
-        ) {
+        if !crate::build::pipeline_limits(s).particle_gauges {
             return Err((
                 path,
-                "particle gauges follow particles: they need the Mpm, IceMpm or FdmMpmBridge pipeline".into(),
+                format!(
+                    "particle gauges follow particles, and the {} pipeline carries none: they need a particle pipeline (Mpm, IceMpm or FdmMpmBridge)",
+                    s.pipeline.name()
+                ),
             ));
         }
         if !file_safe(&g.name) || !names.insert(g.name.clone()) {

@@ -885,6 +885,8 @@ impl PipelineSpec for BridgeConfig {
             node_fields: &[],
             patch_pieces: false,
             patch_checkpoints: false,
+            particle_gauges: true,
+            heat_conduction: false,
         }
     }
 
@@ -901,6 +903,13 @@ impl PipelineSpec for BridgeConfig {
     fn describe(&self, scene: &Scene<'_>) -> String {
         describe(scene, self)
     }
+}
+
+/// Registers the coupled FDM–MPM as the `FdmMpmBridge` pipeline: a config
+/// writes `pipeline: FdmMpmBridge(...)`, and the composer checks, builds
+/// and describes it through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<BridgeConfig>());
 }
 
 #[cfg(test)]

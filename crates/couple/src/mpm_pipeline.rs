@@ -418,6 +418,8 @@ impl PipelineSpec for MpmConfig {
             node_fields: &MpmSolver::NODE_FIELDS,
             patch_pieces: false,
             patch_checkpoints: false,
+            particle_gauges: true,
+            heat_conduction: true,
         }
     }
 
@@ -483,6 +485,13 @@ impl PipelineSpec for MpmConfig {
             o.checkpoint_every,
         )
     }
+}
+
+/// Registers the explicit MPM as the `Mpm` pipeline: a config writes
+/// `pipeline: Mpm(...)`, and the composer checks, builds and describes it
+/// through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<MpmConfig>());
 }
 
 /// The temperature and specific internal energy of particles of `model`

@@ -267,6 +267,8 @@ impl PipelineSpec for FdmConfig {
             node_fields: &[],
             patch_pieces: true,
             patch_checkpoints: true,
+            particle_gauges: false,
+            heat_conduction: false,
         }
     }
 
@@ -393,6 +395,13 @@ impl PipelineSpec for FdmConfig {
             OutputsSummary::describe(scene),
         )
     }
+}
+
+/// Registers the Lax–Wendroff Euler solver as the `Fdm` pipeline: a config
+/// writes `pipeline: Fdm(...)`, and the composer checks, builds and
+/// describes it through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<FdmConfig>());
 }
 
 #[cfg(test)]

@@ -864,6 +864,8 @@ impl PipelineSpec for IceConfig {
             node_fields: &[],
             patch_pieces: true,
             patch_checkpoints: true,
+            particle_gauges: false,
+            heat_conduction: false,
         }
     }
 
@@ -883,6 +885,13 @@ impl PipelineSpec for IceConfig {
     fn describe(&self, scene: &Scene<'_>) -> String {
         description(scene, self)
     }
+}
+
+/// Registers the multi-material ICE as the `Ice` pipeline: a config writes
+/// `pipeline: Ice(...)`, and the composer checks, builds and describes it
+/// through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<IceConfig>());
 }
 
 #[cfg(test)]

@@ -691,6 +691,8 @@ impl PipelineSpec for LatticeConfig {
             node_fields: &[],
             patch_pieces: false,
             patch_checkpoints: false,
+            particle_gauges: false,
+            heat_conduction: false,
         }
     }
 

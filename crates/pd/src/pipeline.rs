@@ -440,6 +440,8 @@ impl PipelineSpec for PdConfig {
             node_fields: &[],
             patch_pieces: false,
             patch_checkpoints: false,
+            particle_gauges: false,
+            heat_conduction: false,
         }
     }
 
@@ -465,6 +467,13 @@ impl PipelineSpec for PdConfig {
     fn describe(&self, scene: &Scene<'_>) -> String {
         description(scene, self)
     }
+}
+
+/// Registers bond-based peridynamics as the `Peridynamics` pipeline: a config
+/// writes `pipeline: Peridynamics(...)`, and the composer checks, builds
+/// and describes it through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<PdConfig>());
 }
 
 #[cfg(test)]

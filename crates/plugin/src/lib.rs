@@ -32,7 +32,7 @@ pub mod params;
 pub mod registry;
 pub mod variant;
 
-pub use params::{parse_params, ron_options, Params, ParamsText};
+pub use params::{at_parameter, parameter_position, parse_params, ron_options, Params, ParamsText};
 pub use registry::{Installed, PluginInfo, Registry};
 pub use variant::{deserialize, serialize_plugin, variant_index, PluginEnum, PluginInstance};
 

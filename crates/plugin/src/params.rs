@@ -124,28 +124,101 @@ impl<'de> Deserialize<'de> for ParamsText {
 /// struct `T`: the model and its canonical text. The text may be the
 /// struct `(a: 1.0, ...)` or its fields alone (how a config writes them
 /// inside `Name(...)`); an error carries serde's message, which names the
-/// field, without the position inside the parameters.
+/// field, and where in `text` it is ([`at_parameter`]), which the config
+/// reader turns into the file's line and column.
 pub fn parse_params<T>(text: &str) -> Result<(T, Params), String>
 where
     T: DeserializeOwned + Serialize,
 {
     let wrapped;
-    let text = if text.trim_start().starts_with('(') {
-        text
+    let (source, shifted) = if text.trim_start().starts_with('(') {
+        (text, false)
     } else {
         wrapped = format!("({text}\n)");
-        &wrapped
+        (wrapped.as_str(), true)
     };
-    let model: T = ron_options()
-        .from_str(text)
-        .map_err(|e| e.code.to_string())?;
+    let model: T = ron_options().from_str(source).map_err(|e| {
+        let (line, col) = (e.span.start.line, e.span.start.col);
+        // The opening parenthesis added in front of the first line.
+        let col = if shifted && line == 1 { col - 1 } else { col };
+        at_parameter(&e.code.to_string(), line, col)
+    })?;
     let params = Params::of(&model)?;
     Ok((model, params))
+}
+
+/// The text [`parse_params`] appends to an error: its position in the
+/// parameters' text (line and column from 1, columns in characters).
+const AT: (&str, &str) = (" (at ", " of the parameters)");
+
+/// `message` with its position in a plugin's parameters,
+/// `… (at 3:14 of the parameters)`.
+pub fn at_parameter(message: &str, line: usize, col: usize) -> String {
+    format!("{message}{}{line}:{col}{}", AT.0, AT.1)
+}
+
+/// Splits a message of [`at_parameter`] (possibly nested: a plugin inside
+/// another's parameters) into the message without any position and the
+/// outermost position (the last one appended), if there is one.
+pub fn parameter_position(message: &str) -> (String, Option<(usize, usize)>) {
+    let mut rest = String::with_capacity(message.len());
+    let mut outer = None;
+    let mut from = 0;
+    while let Some(i) = message[from..].find(AT.0).map(|i| from + i) {
+        let after = &message[i + AT.0.len()..];
+        let parsed = after.find(AT.1).and_then(|n| {
+            let (l, c) = after[..n].split_once(':')?;
+            let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+            if !(digits(l) && digits(c)) {
+                return None;
+            }
+            Some(((l.parse().ok()?, c.parse().ok()?), n))
+        });
+        match parsed {
+            Some((position, n)) => {
+                rest.push_str(&message[from..i]);
+                from = i + AT.0.len() + n + AT.1.len();
+                if from == message.len() {
+                    outer = Some(position);
+                }
+            }
+            None => {
+                rest.push_str(&message[from..i + AT.0.len()]);
+                from = i + AT.0.len();
+            }
+        }
+    }
+    rest.push_str(&message[from..]);
+    (rest, outer)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An error in a plugin's parameters says where in them it is, on
+    /// the parameters as written (the added parenthesis of a text of fields
+    /// alone does not count), and the position comes back off the message,
+    /// also through a nested plugin's.
+    #[test]
+    fn a_parameter_error_is_located_in_the_parameters() {
+        let e = parse_params::<Solid>("shear_modulus: 1.0,\n  rate: Sideways").unwrap_err();
+        let (message, at) = parameter_position(&e);
+        assert!(message.contains("`Sideways`"), "{message}");
+        assert!(!message.contains("of the parameters"), "{message}");
+        assert_eq!(at, Some((2, 9)), "{e}");
+        let e = parse_params::<Solid>("shaer_modulus: 1.0").unwrap_err();
+        assert_eq!(parameter_position(&e).1, Some((1, 1)), "{e}");
+        let e = parse_params::<Solid>("(shaer_modulus: 1.0)").unwrap_err();
+        assert_eq!(parameter_position(&e).1, Some((1, 2)), "{e}");
+        let nested = at_parameter(&format!("Inner: {}", at_parameter("bad", 1, 3)), 4, 7);
+        assert_eq!(
+            parameter_position(&nested),
+            ("Inner: bad".to_string(), Some((4, 7)))
+        );
+        let plain = "at least one (at most two)";
+        assert_eq!(parameter_position(plain), (plain.to_string(), None));
+    }
 
     #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
     enum Rate {

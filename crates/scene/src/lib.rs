@@ -274,6 +274,13 @@ pub struct PipelineLimits {
     pub patch_pieces: bool,
     /// Whether its state can be checkpointed per patch.
     pub patch_checkpoints: bool,
+    /// Whether its solver carries particles that the scenario's
+    /// `outputs.particle_gauges` can follow
+    /// ([`brisance_core::Solver::sample_particle_gauge`]).
+    pub particle_gauges: bool,
+    /// Whether a material's `thermal` entry means something to it: heat
+    /// conduction inside its particles.
+    pub heat_conduction: bool,
 }
 
 pub use brisance_core::solver::IntoSolver;

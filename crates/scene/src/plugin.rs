@@ -7,7 +7,7 @@
 //! ([`parse_section`]). The composer builds the one registry of the program
 //! from every pipeline crate's `register` and [`install`]s it; from then on
 //! a config may write `pipeline: Name(...)` for it, the composer's
-//! `Pipeline` enum reads it into its `Plugin` variant, and checks, builds
+//! `Pipeline` reads it into a [`PluginSection`], and checks, builds
 //! and describes it through [`DynPipeline`], the object-safe face of
 //! [`PipelineSpec`] (one virtual call per run, none per step: the solver
 //! it builds runs as every other behind `brisance_core::Solver`). The
@@ -73,16 +73,9 @@ where
 /// names the field.
 pub type ParseFn = brisance_plugin::ParseFn<dyn DynPipeline>;
 
-/// The pipelines built into the composer's `Pipeline` enum, which no
-/// registration may take.
-pub const BUILT_IN: &[&str] = &[
-    "Fdm",
-    "Mpm",
-    "Peridynamics",
-    "Ice",
-    "IceMpm",
-    "FdmMpmBridge",
-];
+/// Pipelines built into the composer rather than registered: none. Every
+/// pipeline, the program's own included, joins by its crate's `register`.
+pub const BUILT_IN: &[&str] = &[];
 
 /// What a pipeline crate registers for its pipeline.
 #[derive(Clone, Copy)]
@@ -153,7 +146,7 @@ pub type PipelineRegistry = Registry<PipelinePlugin>;
 static INSTALLED: Installed<PipelinePlugin> = Installed::new();
 
 /// Makes `registry` the program's pipeline registry, the one the
-/// composer's `Pipeline` enum resolves names through. The first call
+/// composer's `Pipeline` resolves names through. The first call
 /// wins; a later one gives its registry back.
 pub fn install(registry: PipelineRegistry) -> Result<(), PipelineRegistry> {
     INSTALLED.install(registry)
@@ -176,7 +169,7 @@ where
     Ok((Arc::new(section), params))
 }
 
-/// A registered pipeline's section as the composer's `Pipeline` enum holds
+/// A registered pipeline's section as the composer's `Pipeline` holds
 /// it: the registration, the parameters as canonical RON text (so that it
 /// serializes back and compares by value), and the section.
 #[derive(Clone, PartialEq)]

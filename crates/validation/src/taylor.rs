@@ -51,7 +51,7 @@
 //!   particle are left out).
 
 use brisance_compose::build::build_solver;
-use brisance_compose::config::{BoundaryConfig, Pipeline, Scenario};
+use brisance_compose::config::{BoundaryConfig, Scenario};
 use brisance_compose::{load_str, run::advance_to};
 use brisance_constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
 use brisance_constitutive::MaterialModel;
@@ -286,7 +286,7 @@ pub fn taylor_scenario(
 /// from the same sub-cell rule as [`brisance_mpm::fill_shape`]), but as an [`MpmSolver`]
 /// so its particles can be measured.
 pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
-    let Pipeline::Mpm(mpm) = &s.pipeline else {
+    let Some(mpm) = s.pipeline.section::<brisance_couple::MpmConfig>() else {
         return Err("pipeline: V-TAYLOR needs the Mpm pipeline".into());
     };
     let [region] = s.initial.as_slice() else {

@@ -216,16 +216,13 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
     let slice_end = slice_speeds.last().copied().unwrap_or(f64::NAN);
     // Step 2's cold-material rule: its firings and the energy it added,
     // per material (the pipeline's fluids, then the solids).
-    let names: Vec<String> = match &s.pipeline {
-        brisance::compose::config::Pipeline::IceMpm(c) => c
-            .ice
-            .materials
-            .iter()
-            .cloned()
-            .chain(c.solid.names().iter().cloned())
-            .collect(),
-        _ => Vec::new(),
-    };
+    let names: Vec<String> = section
+        .ice
+        .materials
+        .iter()
+        .cloned()
+        .chain(section.solid.names().iter().cloned())
+        .collect();
     let booked = |totals: &[brisance::ice::KeptWarmTotals]| {
         totals
             .iter()

@@ -97,13 +97,10 @@ fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
     let loaded = load_str("cylinder_rz.ron", text, &all)
         .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
     let s = &loaded.scenario;
-    let nu = match &s.pipeline {
-        brisance::compose::config::Pipeline::IceMpm(c) => c.ice.face_pressure_courant,
-        _ => return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline")),
-    };
     let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
         return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline"));
     };
+    let nu = section.ice.face_pressure_courant;
     let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
     let t_end = s.time.end;
     let e0 = solver.conservation_totals().energy;

@@ -84,10 +84,15 @@ fn the_scaled_configs_are_the_scale_4_configs_with_lengths_and_times_times_k() {
         // and the time's printed digits.
         let charge = |config: &str| {
             let loaded = load_file(&workspace_root().join(config), &[]).unwrap();
-            match loaded.scenario.pipeline {
-                brisance::compose::config::Pipeline::FdmMpmBridge(b) => b.charge.unwrap(),
-                _ => panic!("{config} is not a bridge"),
-            }
+            let bridge = loaded
+                .scenario
+                .pipeline
+                .section::<brisance::couple::BridgeConfig>();
+            bridge
+                .unwrap_or_else(|| panic!("{config} is not a bridge"))
+                .charge
+                .clone()
+                .unwrap()
         };
         let (c0, c) = (charge(base.config), charge(case.config));
         assert_eq!((c.cells_1d, c.centre), (c0.cells_1d, c0.centre));

@@ -162,7 +162,11 @@ fn the_mpm_scenario_builds_particles_and_steps() {
 fn bulk_viscosity_is_off_by_default_and_on_takes_ls_dyna_defaults() {
     use crate::config::BulkViscosityConfig;
     let loaded = load_str("taylor2d.ron", TAYLOR, &[]).unwrap();
-    let Pipeline::Mpm(mpm) = &loaded.scenario.pipeline else {
+    let Some(mpm) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_couple::MpmConfig>()
+    else {
         panic!("taylor2d is an Mpm scenario");
     };
     assert_eq!(mpm.bulk_viscosity, BulkViscosityConfig::Off);
@@ -175,7 +179,11 @@ fn bulk_viscosity_is_off_by_default_and_on_takes_ls_dyna_defaults() {
         ),
     ] {
         let loaded = load_str("taylor2d.ron", TAYLOR, &[set.to_string()]).unwrap();
-        let Pipeline::Mpm(mpm) = &loaded.scenario.pipeline else {
+        let Some(mpm) = loaded
+            .scenario
+            .pipeline
+            .section::<brisance_couple::MpmConfig>()
+        else {
             unreachable!()
         };
         let v = mpm.bulk_viscosity.option().unwrap();

@@ -155,7 +155,11 @@ fn a_config_names_the_deflagration() {
     let law = "model: Deflagration(a: 5.218307e-6, n: 0.778, ignition_temperature: 450.0)";
     let text = STICK.replace("model: JwlPlusPlus(g: 3.5083e-7, b: 1.3)", law);
     let loaded = load_str("ratestick_1d.ron", &text, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     let rx = super::reactions(&loaded.scenario, ice).unwrap();
@@ -179,7 +183,11 @@ fn a_config_names_the_deflagration() {
         "ignition_temperature: 450.0, surface_area: upwind)",
     );
     let loaded = load_str("ratestick_1d.ron", &upwind, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     let rx = super::reactions(&loaded.scenario, ice).unwrap();
@@ -210,7 +218,11 @@ fn a_config_names_the_arrhenius_pyrolysis() {
     let law = "model: Arrhenius(pre_exponential: 5.0e6, activation_energy: 92109.6)";
     let text = STICK.replace("model: JwlPlusPlus(g: 3.5083e-7, b: 1.3)", law);
     let loaded = load_str("ratestick_1d.ron", &text, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     let rx = super::reactions(&loaded.scenario, ice).unwrap();
@@ -290,7 +302,11 @@ fn implicit_pressure_is_reachable_from_the_config() {
     };
     let cfg = with("Implicit(tolerance: 1e-9)");
     let loaded = load_str("sod_ice.ron", &cfg, &["domain.cells=(20,1,1)".into()]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     assert_eq!(
@@ -317,7 +333,11 @@ fn implicit_pressure_is_reachable_from_the_config() {
     }
     assert!(load_str("sod_ice.ron", &with("Implicit(tol: 1.0)"), &[]).is_err());
     let default = load_str("sod_ice.ron", SOD, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &default.scenario.pipeline else {
+    let Some(ice) = default
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     assert_eq!(ice.pressure, PressureSolve::Explicit);
@@ -329,7 +349,11 @@ fn implicit_pressure_is_reachable_from_the_config() {
 fn face_pressure_courant_is_reachable_from_the_config() {
     let options = |text: &str| {
         let loaded = load_str("sod_ice.ron", text, &["domain.cells=(20,1,1)".into()]).unwrap();
-        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+        let Some(ice) = loaded
+            .scenario
+            .pipeline
+            .section::<brisance_ice::pipeline::IceConfig>()
+        else {
             panic!("an Ice pipeline");
         };
         *super::build(&loaded.scenario, ice).unwrap().options()
@@ -359,7 +383,11 @@ fn max_dt_bounds_the_step() {
     use brisance_core::Solver;
     let build = |text: &str| {
         let loaded = load_str("sod_ice.ron", text, &["domain.cells=(20,1,1)".into()]).unwrap();
-        let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+        let Some(ice) = loaded
+            .scenario
+            .pipeline
+            .section::<brisance_ice::pipeline::IceConfig>()
+        else {
             panic!("an Ice pipeline");
         };
         super::build(&loaded.scenario, ice).unwrap()
@@ -428,7 +456,11 @@ fn transport_reaches_the_solver_and_bad_values_name_the_field() {
     };
     let cfg = with("{\"gas\": (viscosity: 0.01, thermal_conductivity: 0.02)}");
     let loaded = load_str("sod_ice.ron", &cfg, &["domain.cells=(20,1,1)".into()]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     let solver = super::build(&loaded.scenario, ice).unwrap();
@@ -439,7 +471,11 @@ fn transport_reaches_the_solver_and_bad_values_name_the_field() {
     assert!(limits.viscous.is_finite() && limits.conduction.is_finite());
     let cfg = with("{\"gas\": (thermal_conductivity: 0.5)}");
     let loaded = load_str("sod_ice.ron", &cfg, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     assert_eq!(ice.transport["gas"].viscosity, 0.0);
@@ -485,7 +521,11 @@ fn a_plugin_reaction_model_burns_by_its_registered_name() {
         initial: [(region: Everywhere, material: "qm100", state: (density: 1260.1302, temperature: 298.15))],
     )"#;
     let loaded = load_str("box.ron", BOX, &[]).unwrap();
-    let crate::config::Pipeline::Ice(ice) = &loaded.scenario.pipeline else {
+    let Some(ice) = loaded
+        .scenario
+        .pipeline
+        .section::<brisance_ice::pipeline::IceConfig>()
+    else {
         panic!("an Ice pipeline");
     };
     let model = &ice.reactions[0].model;

@@ -231,11 +231,14 @@ impl PipelineSpec for IceMpmConfig {
     type Solver = IceMpm;
 
     /// The fluids' grid with the particles' node fields; the coupled state
-    /// is checkpointed whole.
+    /// is checkpointed whole; the solids' particles take particle gauges
+    /// and conduct heat.
     fn limits(&self, geometry: Geometry) -> PipelineLimits {
         PipelineLimits {
             node_fields: &MpmSolver::NODE_FIELDS,
             patch_checkpoints: false,
+            particle_gauges: true,
+            heat_conduction: true,
             ..self.ice.limits(geometry)
         }
     }
@@ -302,6 +305,13 @@ impl PipelineSpec for IceMpmConfig {
             s.end_time
         )
     }
+}
+
+/// Registers the coupled ICE–MPM as the `IceMpm` pipeline: a config writes
+/// `pipeline: IceMpm(...)`, and the composer checks, builds and describes
+/// it through [`PipelineSpec`].
+pub fn register(registry: &mut brisance_scene::plugin::PipelineRegistry) {
+    registry.register(brisance_scene::plugin::PipelinePlugin::of::<IceMpmConfig>());
 }
 
 #[cfg(test)]
