@@ -339,6 +339,10 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
             format!("ppc = {} must lie in 1..=8", cfg.ppc),
         ));
     }
+    // The MPM region's bulk viscosity, as the Mpm section checks it.
+    cfg.bulk_viscosity
+        .check("pipeline.bulk_viscosity")
+        .map_err(|e| (e.field, e.message))?;
     if !(cfg.mpm_cfl > 0.0 && cfg.mpm_cfl <= 1.0) {
         return Err((
             "pipeline.mpm_cfl".into(),

@@ -62,6 +62,14 @@ fn the_checks_name_their_fields() {
     assert_eq!(field(", w: Some(4)"), "pipeline.w");
     assert_eq!(field(", mpm_cfl: 1.5"), "pipeline.mpm_cfl");
     assert_eq!(
+        field(", bulk_viscosity: On(quadratic: 1.5, linear: -0.06)"),
+        "pipeline.bulk_viscosity.linear"
+    );
+    assert_eq!(
+        field(", bulk_viscosity: On(quadratic: NaN, linear: 0.06)"),
+        "pipeline.bulk_viscosity.quadratic"
+    );
+    assert_eq!(
         field(", min_particle_mass: 2.0"),
         "pipeline.min_particle_mass"
     );
