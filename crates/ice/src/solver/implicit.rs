@@ -479,6 +479,17 @@ impl<E: Eos> IceSolver<E> {
                 [g % c[0], (g / c[0]) % c[1], g / (c[0] * c[1])]
             };
             if worst.0 <= settings.tolerance {
+                // The converged face velocities may not move more than a
+                // cell's content through a face in the step: the
+                // advection (step 12) takes its slabs from one donor cell.
+                let (courant, face) = self.largest_face_courant(dt);
+                if courant > 1.0 {
+                    return Err(fail(format!(
+                        "the converged face velocities move {courant:.3} cells' content through the low {} face of cell {:?} in one step (Courant number above 1): lower `time.cfl`",
+                        ["x", "y", "z"][face.1],
+                        face.0
+                    )));
+                }
                 let s = &mut ws.stats;
                 s.iterations = k;
                 s.residual = worst.0;
@@ -517,6 +528,47 @@ impl<E: Eos> IceSolver<E> {
             }
             k += 1;
         }
+    }
+
+    /// The largest Courant number |u*_r| Δt/Δx of any material on any face
+    /// of the owned patches (the largest over the ranks), and the face:
+    /// the global index of the cell on its high side and the axis.
+    fn largest_face_courant(&self, dt: f64) -> (f64, ([usize; 3], usize)) {
+        let mut worst = (0.0_f64, ([0; 3], 0));
+        for ((sc, patch), &own) in self
+            .scratch
+            .iter()
+            .zip(&self.level.patches)
+            .zip(&self.ranks.owned)
+        {
+            if !own {
+                continue;
+            }
+            let (g, st) = (patch.ghost, patch.strides());
+            for a in (0..3).filter(|&a| self.level.is_active(a)) {
+                let mut hi = [
+                    g[0] + patch.size[0],
+                    g[1] + patch.size[1],
+                    g[2] + patch.size[2],
+                ];
+                hi[a] += 1;
+                let lam = dt / self.level.geometry.spacing[a];
+                for k in g[2]..hi[2] {
+                    for j in g[1]..hi[1] {
+                        for i in g[0]..hi[0] {
+                            let c = i + j * st[1] + k * st[2];
+                            for fv in &sc.face_velocity[a] {
+                                let courant = (fv[c] * lam).abs();
+                                if courant > worst.0 || courant.is_nan() {
+                                    worst = (courant, (global_of(patch, c), a));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (self.max_over_ranks(worst.0), worst.1)
     }
 
     /// Σθκ per cell and β on every face (global order), from the state at

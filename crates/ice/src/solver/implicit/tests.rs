@@ -360,6 +360,34 @@ fn non_convergence_stops_the_run_naming_the_step() {
     );
 }
 
+/// A step whose converged face velocities would carry more than a cell's
+/// content through a face (a pressure jump at rest, where the implicit
+/// step has no velocity bound) stops the run naming the face and the
+/// remedy, before the advection takes slabs from beyond their cells; a
+/// small step is taken.
+#[test]
+fn a_step_moving_more_than_a_cell_stops_the_run() {
+    let make = || {
+        gas(
+            [10, 1, 1],
+            [1, 1, 1],
+            [1.0, 0.1, 0.1],
+            walls(),
+            implicit(1e-10, 20),
+            |x| CellState::single(if x[0] < 0.5 { 2.0 * P0 } else { P0 }, RHO0, [0.0; 3]),
+        )
+    };
+    let err = make().advance(1e-2).unwrap_err().to_string();
+    assert!(
+        err.contains("implicit pressure, step 1")
+            && err.contains("Courant number above 1")
+            && err.contains("face of cell [5, 0, 0]")
+            && err.contains("lower `time.cfl`"),
+        "{err}"
+    );
+    make().advance(1e-5).unwrap();
+}
+
 /// Implicit: Δt = cfl Δx / max(|u|, wall speed) — no sound speed.
 #[test]
 fn implicit_time_step_follows_the_material_velocity() {
