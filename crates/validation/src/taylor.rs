@@ -50,16 +50,12 @@
 //!   whose centres fall in each slice of height h (slices without a
 //!   particle are left out).
 
-use brisance_compose::build::build_solver;
+use brisance_compose::build::build_section;
 use brisance_compose::config::{BoundaryConfig, Scenario};
 use brisance_compose::{load_str, run::advance_to};
 use brisance_constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
-use brisance_constitutive::MaterialModel;
-use brisance_core::{Material, Solver};
-use brisance_grid::Level;
-use brisance_mpm::{
-    fill_shape_in, FillSpec, GridBoundary, MaterialId, MpmOptions, MpmSolver, Particles,
-};
+use brisance_core::Solver;
+use brisance_mpm::{MpmSolver, Particles};
 
 /// The V-TAYLOR scenario file.
 pub const TAYLOR3D_CONFIG: &str = include_str!("../../../configs/taylor3d.ron");
@@ -281,58 +277,22 @@ pub fn taylor_scenario(
         .map_err(|e| e.to_string())
 }
 
-/// Builds the MPM solver of a one-region `Mpm` scenario exactly as
-/// `brisance run` does (the particles of `brisance_compose::build` come
-/// from the same sub-cell rule as [`brisance_mpm::fill_shape`]), but as an [`MpmSolver`]
-/// so its particles can be measured.
+/// Builds the MPM solver of a one-region `Mpm` scenario by the `Mpm`
+/// pipeline's own builder (`brisance run`'s path,
+/// [`brisance_compose::build::build_section`]), as an [`MpmSolver`] so its
+/// particles can be measured. The rod needs one initial region (its
+/// material's particles are the rod) and `Wall`, `Reflective` or
+/// `Outflow` faces.
 pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
     let Some(mpm) = s.pipeline.section::<brisance_couple::MpmConfig>() else {
         return Err("pipeline: V-TAYLOR needs the Mpm pipeline".into());
     };
-    let [region] = s.initial.as_slice() else {
+    if s.initial.len() != 1 {
         return Err(format!(
             "initial: V-TAYLOR expects one initial region, the scenario has {}",
             s.initial.len()
         ));
-    };
-    let model: MaterialModel = s
-        .materials
-        .get(&region.material)
-        .and_then(|m| m.model.clone())
-        .ok_or_else(|| {
-            format!(
-                "initial.0.material: `{}` has no constitutive model",
-                region.material
-            )
-        })?;
-    let eos = model
-        .eos()
-        .ok_or("materials: the rod's model has no equation of state")?;
-    let st = &region.state;
-    let energy = match (st.temperature, st.specific_internal_energy, st.pressure) {
-        (Some(t), None, None) => eos.specific_internal_energy_from_temperature(st.density, t),
-        (None, Some(e), None) => e,
-        (None, None, Some(p)) => eos
-            .specific_internal_energy(st.density, p)
-            .map_err(|e| format!("initial.0.state.pressure: {e}"))?,
-        _ => return Err("initial.0.state: give one of temperature, energy, pressure".into()),
-    };
-    let temperature = eos.temperature(st.density, energy);
-    let d = &s.domain;
-    let level =
-        Level::new(d.lower, d.upper, d.cells, d.patches, 1).map_err(|e| format!("domain: {e}"))?;
-    let mut particles = Particles::new(model.history_len());
-    let spec = FillSpec {
-        shape: region.region.clone(),
-        ppc: mpm.ppc,
-        density: st.density,
-        material: MaterialId(0),
-        velocity: st.velocity,
-        temperature,
-        specific_internal_energy: energy,
-    };
-    fill_shape_in(&mut particles, &level.geometry, &spec, d.geometry)
-        .map_err(|e| format!("initial.0: {e}"))?;
+    }
     let faces = s.boundaries.faces();
     if let Some((face, bc)) = faces.iter().find(|(_, bc)| {
         !matches!(
@@ -345,24 +305,7 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
             bc.name()
         ));
     }
-    let boundaries = std::array::from_fn(|k| match faces[k].1 {
-        BoundaryConfig::Wall => GridBoundary::Fixed,
-        BoundaryConfig::Reflective => GridBoundary::Symmetry,
-        _ => GridBoundary::Outflow,
-    });
-    let options = MpmOptions {
-        shape: mpm.shape_function,
-        scheme: mpm.scheme,
-        cfl: s.time.cfl,
-        gravity: mpm.gravity,
-        boundaries,
-        mass_cutoff: mpm.mass_cutoff,
-        bulk_viscosity: mpm.bulk_viscosity.option(),
-        anti_locking: mpm.anti_locking,
-        geometry: d.geometry,
-        ..Default::default()
-    };
-    MpmSolver::new(level, vec![model], particles, options).map_err(|e| format!("pipeline: {e}"))
+    build_section(mpm, s).map_err(|e| e.to_string())
 }
 
 /// `configs/taylor3d.ron` on an axisymmetric (r, z) grid with
@@ -624,20 +567,10 @@ pub fn bilinear_bar_case(
     run_rod(&scenario, cells_across_radius, b::RADIUS, b::LENGTH, b::END)
 }
 
-/// Builds `configs/taylor3d.ron` at `cells_across_radius` through the
-/// composer (`brisance run`'s path) for comparison with [`taylor_solver`].
-pub fn taylor_solver_via_composer(
-    cells_across_radius: usize,
-    end: f64,
-    extra: &[String],
-) -> Result<Box<dyn Solver>, String> {
-    let s = taylor_scenario(cells_across_radius, end, extra)?;
-    build_solver(&s).map_err(|e| e.to_string())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use brisance_constitutive::MaterialModel;
     use brisance_mpm::ParticleInit;
 
     fn particle(ps: &mut Particles, x: [f64; 3], f: [f64; 9], volume: f64) {
@@ -754,30 +687,6 @@ mod tests {
         assert_eq!(copper.eos.as_ref(), Some(&eos));
         let test = JOHNSON_COOK_1983_OFHC_190;
         assert_eq!(s.initial[0].state.velocity, [0.0, 0.0, -test.velocity]);
-    }
-
-    #[test]
-    fn the_direct_solver_matches_the_composer_step_for_step() {
-        // As shipped, and with the pipeline's bulk viscosity switched on.
-        for extra in [vec![], vec!["pipeline.bulk_viscosity=On()".to_string()]] {
-            let scenario = taylor_scenario(3, 1e-6, &extra).unwrap();
-            let mut direct = taylor_solver(&scenario).unwrap();
-            let mut composed = taylor_solver_via_composer(3, 1e-6, &extra).unwrap();
-            assert_eq!(
-                direct.work_per_step().0,
-                composed.work_per_step().0,
-                "particle count"
-            );
-            for _ in 0..5 {
-                assert_eq!(direct.conservation_totals(), composed.conservation_totals());
-                let dt = direct.stable_dt().unwrap();
-                assert_eq!(dt, composed.stable_dt().unwrap());
-                direct.advance(dt).unwrap();
-                composed.advance(dt).unwrap();
-            }
-            let (a, b) = (direct.conservation_totals(), composed.conservation_totals());
-            assert_eq!(a, b, "{extra:?}");
-        }
     }
 
     #[test]
