@@ -3,8 +3,6 @@
 
 use std::path::Path;
 
-use ron::extensions::Extensions;
-
 use crate::build::pipeline_limits;
 use crate::config::Scenario;
 use crate::error::ConfigError;
@@ -39,8 +37,7 @@ pub struct LoadedScenario {
 /// ([`crate::plugins::install`]).
 pub fn ron_options() -> ron::Options {
     crate::plugins::install();
-    ron::Options::default()
-        .with_default_extension(Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)
+    brisance_plugin::ron_options()
 }
 
 /// Fills the equation of state and the constitutive model of every
