@@ -13,8 +13,8 @@ pub type Problem = (String, String);
 /// `Mpm`, the solids of `IceMpm`), whose sections check their materials'
 /// entries (`brisance_couple::{MpmConfig, IceMpmConfig}`): the heat
 /// conduction is a part of the MPM step and of no other method.
-fn check_thermal_use(s: &Scenario, path: &str) -> Result<(), Problem> {
-    if crate::build::pipeline_limits(s).heat_conduction {
+fn check_thermal_use(s: &Scenario, limits: &PipelineLimits, path: &str) -> Result<(), Problem> {
+    if limits.heat_conduction {
         return Ok(());
     }
     Err((
@@ -270,7 +270,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
                 .map_err(|msg| (format!("{path}.model"), msg.to_string()))?;
         }
         if m.thermal.is_some() {
-            check_thermal_use(s, &format!("{path}.thermal"))?;
+            check_thermal_use(s, limits, &format!("{path}.thermal"))?;
         }
     }
     let known_materials = || {
@@ -432,7 +432,7 @@ pub fn validate(s: &Scenario, limits: &PipelineLimits) -> Result<(), Problem> {
     let mut names = std::collections::BTreeSet::new();
     for (i, g) in o.particle_gauges.iter().enumerate() {
         let path = format!("outputs.particle_gauges.{i}");
-        if !crate::build::pipeline_limits(s).particle_gauges {
+        if !limits.particle_gauges {
             return Err((
                 path,
                 format!(
