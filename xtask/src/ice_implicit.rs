@@ -161,6 +161,7 @@ pub fn v_ice_implicit(report: &mut Report, img: &Path) -> Result<()> {
     let implicit = PressureSolve::Implicit(ImplicitPressure {
         tolerance: TOLERANCE,
         max_iterations: 20,
+        ..Default::default()
     });
     let dt_ac = tube(PressureSolve::Explicit)?
         .stable_dt()

@@ -70,7 +70,7 @@ pub use equilibration::{
 pub use exchange::SolidExchange;
 pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::{detonation_energy, BurntMass, IceRate, IceReaction};
-pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats};
+pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats, MAX_STEP_RETRIES};
 pub use solver::{
     EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, WholeGridPass,
     GHOST,

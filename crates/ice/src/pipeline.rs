@@ -124,8 +124,9 @@ pub struct IceConfig {
     #[serde(default)]
     pub transport: std::collections::BTreeMap<String, MaterialTransport>,
     /// Pressure of steps 3 and 5: `Explicit` (default; Δt at the
-    /// sound-speed CFL) or `Implicit(tolerance: 1e-10, max_iterations: 20)`
-    /// (both fields optional; Δt at the material-velocity CFL; see
+    /// sound-speed CFL) or `Implicit(tolerance: 1e-10, max_iterations: 20,
+    /// retries: 4)` (every field optional; Δt at the material-velocity CFL,
+    /// a failed step retried as two half steps `retries` deep; see
     /// docs/physics/ice/implicit_pressure.md).
     #[serde(default)]
     pub pressure: PressureSolve,
@@ -529,11 +530,10 @@ fn checked_fluids(
     }
     if let PressureSolve::Implicit(p) = cfg.pressure {
         p.validate().map_err(|e| {
-            let field = if e.contains("`max_iterations`") {
-                "max_iterations"
-            } else {
-                "tolerance"
-            };
+            let field = ["max_iterations", "retries"]
+                .into_iter()
+                .find(|f| e.contains(&format!("`{f}`")))
+                .unwrap_or("tolerance");
             (format!("pipeline.pressure.{field}"), e)
         })?;
     }

@@ -313,7 +313,8 @@ fn implicit_pressure_is_reachable_from_the_config() {
         ice.pressure,
         PressureSolve::Implicit(ImplicitPressure {
             tolerance: 1e-9,
-            max_iterations: 20
+            max_iterations: 20,
+            retries: 4,
         })
     );
     let solver = super::build(&loaded.scenario, ice).unwrap();
@@ -327,6 +328,7 @@ fn implicit_pressure_is_reachable_from_the_config() {
             "Implicit(max_iterations: 0)",
             "pipeline.pressure.max_iterations",
         ),
+        ("Implicit(retries: 21)", "pipeline.pressure.retries"),
     ] {
         let err = load_str("sod_ice.ron", &with(p), &[]).unwrap_err();
         assert_eq!(err.field.as_deref(), Some(field), "{err}");

@@ -116,6 +116,7 @@ fn implicit() -> IceOptions {
         pressure: PressureSolve::Implicit(ImplicitPressure {
             tolerance: 1e-12,
             max_iterations: 30,
+            ..Default::default()
         }),
         cfl: 0.3,
         ..Default::default()

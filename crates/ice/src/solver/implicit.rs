@@ -76,16 +76,26 @@ pub struct ImplicitPressure {
     /// Σθκ (p − p_eq): the volume misfit of one step as a fraction of the
     /// cell (dimensionless, > 0; default 1e-10).
     pub tolerance: f64,
-    /// Outer iterations (Helmholtz solves) allowed per step before the run
-    /// stops (≥ 1; default 20).
+    /// Outer iterations (Helmholtz solves) allowed per step before the
+    /// step fails (≥ 1; default 20).
     pub max_iterations: usize,
+    /// Times a failed step is retried as two steps of half its Δt (0 to
+    /// [`MAX_STEP_RETRIES`]; default 4, down to Δt/16): a solve that does not
+    /// converge, diverges or converges to face velocities that move more
+    /// than a cell's content in the step. A step that still fails at the
+    /// last halving stops the run.
+    pub retries: u32,
 }
+
+/// The most halvings [`ImplicitPressure::retries`] admits (Δt/2²⁰ ≈ 10⁻⁶ Δt).
+pub const MAX_STEP_RETRIES: u32 = 20;
 
 impl Default for ImplicitPressure {
     fn default() -> Self {
         Self {
             tolerance: 1e-10,
             max_iterations: 20,
+            retries: 4,
         }
     }
 }
@@ -101,6 +111,12 @@ impl ImplicitPressure {
         }
         if self.max_iterations == 0 {
             return Err("field `max_iterations` = 0, expected at least 1".into());
+        }
+        if self.retries > MAX_STEP_RETRIES {
+            return Err(format!(
+                "field `retries` = {}, expected at most {MAX_STEP_RETRIES}",
+                self.retries
+            ));
         }
         Ok(())
     }
@@ -126,6 +142,9 @@ pub struct PressureSolveStats {
     pub symbolic_factorisations: u64,
     /// Numeric Cholesky factorisations (at most one per step).
     pub numeric_factorisations: u64,
+    /// Steps whose solve failed and that were retried as two steps of
+    /// half their Δt ([`ImplicitPressure::retries`]).
+    pub halved_steps: u64,
 }
 
 /// The sparsity of the Helmholtz matrix (lower triangle, CSC) and its

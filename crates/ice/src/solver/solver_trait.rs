@@ -185,19 +185,7 @@ impl<E: Eos> Solver for IceSolver<E> {
 
     fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         brisance_core::solver::check_step("ICE", dt)?;
-        let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
-        match self.options.pressure {
-            PressureSolve::Explicit => {
-                self.compute_face_centred_velocities(dt);
-                self.compute_pressure_increment(dt);
-            }
-            PressureSolve::Implicit(s) => self.compute_implicit_pressure(dt, s)?,
-        }
-        self.compute_lagrangian_values(dt)?;
-        self.advect_fluids(dt)?;
-        self.time += dt;
-        self.steps += 1;
-        self.compute_equilibration_pressure()
+        self.step_halving(dt, 0)
     }
 
     /// The outflow faces whose diode has held back a flow into the domain
@@ -571,5 +559,54 @@ impl<E: Eos> IceSolver<E> {
             *t = KeptWarmTotals { firings, energy };
         }
         self.find_reaction_surfaces().map_err(SolverError::Other)
+    }
+}
+
+impl<E: Eos> IceSolver<E> {
+    /// One step of `dt` (steps 3–12, then step 2 of the next). With the
+    /// implicit pressure a step whose solve fails (not converged, diverged,
+    /// a converged face moving more than a cell's content) is taken again
+    /// as two steps of Δt/2, up to [`ImplicitPressure::retries`] halvings
+    /// deep, as Uintah's implicit ICE restarts a time step with a smaller
+    /// Δt (docs/physics/ice/implicit_pressure.md, "Retried steps"). A
+    /// failed solve leaves the state as the step found it (p_eq is put
+    /// back, the face velocities and Δp are the step's scratch), so the
+    /// two halves give the bits of two steps of Δt/2 taken in turn.
+    fn step_halving(&mut self, dt: f64, halvings: u32) -> Result<(), SolverError> {
+        let _span = tracing::trace_span!("ice_step", step = self.steps, dt).entered();
+        match self.options.pressure {
+            PressureSolve::Explicit => {
+                self.compute_face_centred_velocities(dt);
+                self.compute_pressure_increment(dt);
+            }
+            PressureSolve::Implicit(s) => {
+                let blocked = self.blocked_inflow;
+                if let Err(e) = self.compute_implicit_pressure(dt, s) {
+                    if halvings >= s.retries {
+                        return Err(match e {
+                            SolverError::Other(m) if halvings > 0 => SolverError::Other(format!(
+                                "{m} (the step of Δt = {:e} s, halved {halvings} times)",
+                                dt * f64::from(1u32 << halvings)
+                            )),
+                            e => e,
+                        });
+                    }
+                    // The diode flags of the failed attempt are not the
+                    // step's.
+                    self.blocked_inflow = blocked;
+                    self.implicit.stats.halved_steps += 1;
+                    let t0 = self.time;
+                    self.step_halving(0.5 * dt, halvings + 1)?;
+                    self.step_halving(0.5 * dt, halvings + 1)?;
+                    self.time = t0 + dt;
+                    return Ok(());
+                }
+            }
+        }
+        self.compute_lagrangian_values(dt)?;
+        self.advect_fluids(dt)?;
+        self.time += dt;
+        self.steps += 1;
+        self.compute_equilibration_pressure()
     }
 }
