@@ -149,9 +149,9 @@ pub(crate) fn v_rz(report: &mut Report) -> Result<()> {
             d.steps, d.mass, d.axial_momentum, d.energy, d.wall_overpressure
         );
     }
-    // The MPM's thin ring (brisance_mpm::cases::thin_ring_breathing).
-    use brisance::mpm::cases::thin_ring_breathing;
+    // The MPM's thin ring (V-RING, configs/validation/ring_breathing_rz.ron).
     use brisance::mpm::ShapeFunction;
+    use brisance::verification::ring::ring_breathing;
     let mut ring_rows = Vec::new();
     for shape in [
         ShapeFunction::Linear,
@@ -159,13 +159,13 @@ pub(crate) fn v_rz(report: &mut Report) -> Result<()> {
         ShapeFunction::CpGimp,
         ShapeFunction::QuadraticBSpline,
     ] {
-        let r = thin_ring_breathing(shape, 8).map_err(anyhow::Error::msg)?;
+        let r = ring_breathing(shape, 8).map_err(anyhow::Error::msg)?;
         println!("  MPM ring {shape:?}: period {:+.3} %", 100.0 * r.error());
         ring_rows.push((shape, r));
     }
     let _ = writeln!(
         md,
-        "\n**MPM, a thin elastic ring breathing** (`brisance_mpm::cases::thin_ring_breathing`): a free steel ring \
+        "\n**MPM, a thin elastic ring breathing** (`configs/validation/ring_breathing_rz.ron` through the composer, `brisance::verification::ring`): a free steel ring \
          (K 160 GPa, G 80 GPa, ρ 7800 kg/m³) of mean radius R = 80 mm and section 5 × 5 mm on an (r, z) grid, 8 cells \
          across the section, 2 × 2 particles per cell, MUSL, no mass cut-off, set breathing by 0.5 m/s outwards; the \
          period between the last two downward zero crossings of the mean radial velocity in 2.6 periods, against \

@@ -38,7 +38,6 @@
 
 pub mod anti_locking;
 pub mod boundary;
-pub mod cases;
 pub mod conduction;
 pub mod generate;
 pub mod grid_nodes;

@@ -10,6 +10,7 @@ pub mod flyer;
 pub mod kingery_bulmash;
 pub mod open_faces;
 pub mod riemann;
+pub mod ring;
 pub mod rz_octant;
 pub mod shock_tubes;
 pub mod smooth;

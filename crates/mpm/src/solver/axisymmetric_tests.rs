@@ -51,13 +51,6 @@ fn options(
     }
 }
 
-const SHAPES: [ShapeFunction; 4] = [
-    ShapeFunction::Linear,
-    ShapeFunction::Gimp,
-    ShapeFunction::CpGimp,
-    ShapeFunction::QuadraticBSpline,
-];
-
 #[test]
 fn rings_weigh_what_the_solid_of_revolution_weighs() {
     // A tube 0.25 ≤ r ≤ 0.5, 0 ≤ z ≤ 0.25 m: the sub-cell rings sum to the
@@ -126,34 +119,8 @@ fn a_uniformly_stressed_closed_box_stays_at_rest() {
     }
 }
 
-/// The breathing mode of a free thin ring of mean radius R: ω = c/R with
-/// c = √(E/ρ) (`crate::cases::thin_ring_breathing`), within 1 % for a
-/// ring of section t × t, t = R/16, 8 cells across it, on every shape
-/// function. The case runs without a mass cut-off: as the ring swells,
-/// the GIMP domains of its outer particles reach one node further (by
-/// δ ≈ 8 µm, 1.3 % of a cell); that node's mass ~ (δ/Δx)² m_p lies below
-/// the default cut-off, and its share of the internal force, ~ δ/Δx of a
-/// node's, is dropped with it, a net radial force that shortened the
-/// period by 6.5 % here (0.95 % at 4 cells across, 0.15 % at 2)
-/// (docs/physics/mpm/axisymmetric.md).
-#[test]
-fn a_thin_ring_breathes_at_its_analytic_frequency() {
-    for shape in SHAPES {
-        let r = crate::cases::thin_ring_breathing(shape, 8).unwrap();
-        eprintln!(
-            "{shape:?}: period {:+.3} % ({:e} s)",
-            100.0 * r.error(),
-            r.measured
-        );
-        assert!(
-            r.error().abs() < 0.01,
-            "{shape:?}: period {:.4e} s against {:.4e} s ({:+.3} %)",
-            r.measured,
-            r.analytic,
-            100.0 * r.error()
-        );
-    }
-}
+// The thin ring's breathing mode (V-RING) is built from its config
+// through the composer: `brisance_validation::ring`.
 
 #[test]
 fn a_particle_on_the_axis_or_a_reservoir_is_refused() {
