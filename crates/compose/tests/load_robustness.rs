@@ -14,18 +14,26 @@ fn configs_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../configs")
 }
 
-/// (file name, text) of every shipped scenario, sorted by name.
+/// (file name, text) of every shipped scenario, those of the validation
+/// cases (`configs/validation/`) included, sorted by name.
 fn shipped() -> Vec<(String, String)> {
-    let mut v: Vec<(String, String)> = std::fs::read_dir(configs_dir())
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-        .map(|p| {
-            (
-                p.file_name().unwrap().to_string_lossy().into_owned(),
-                std::fs::read_to_string(&p).unwrap(),
-            )
+    let mut v: Vec<(String, String)> = ["", "validation"]
+        .into_iter()
+        .flat_map(|sub| {
+            std::fs::read_dir(configs_dir().join(sub))
+                .unwrap()
+                .filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+                .map(move |p| {
+                    let name = p.file_name().unwrap().to_string_lossy().into_owned();
+                    let name = if sub.is_empty() {
+                        name
+                    } else {
+                        format!("{sub}/{name}")
+                    };
+                    (name, std::fs::read_to_string(&p).unwrap())
+                })
         })
         .collect();
     v.sort();

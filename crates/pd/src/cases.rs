@@ -183,16 +183,48 @@ pub fn run_cylinder(
     end_time: f64,
     every: usize,
 ) -> Result<(PdSolver, WallHistory), String> {
-    let mut s =
-        PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
-    let h = case.spacing;
+    let s = PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    run_tube(
+        s,
+        case.length,
+        case.outer_radius,
+        case.spacing,
+        end_time,
+        every,
+    )
+}
+
+/// The case material of a tube run: the material of the node farthest
+/// from the z axis in the reference configuration (0 as [`TubeCase::setup`]
+/// numbers them; a scenario file numbers its materials in the order of its
+/// regions).
+pub fn case_material(s: &PdSolver) -> u16 {
+    let radius = |x: &[f64; 4]| x[0].hypot(x[1]);
+    (0..s.node_count())
+        .max_by(|&a, &b| radius(&s.reference()[a]).total_cmp(&radius(&s.reference()[b])))
+        .map_or(0, |i| s.materials()[i])
+}
+
+/// [`run_cylinder`] on a solver built elsewhere (a scenario file through
+/// the composer, say): the tube of `length` (m, from z = 0) and
+/// `outer_radius` (m) on the z axis, lattice spacing `h`; the wall ring is
+/// [`case_material`]'s outermost nodes within one spacing of mid-length.
+pub fn run_tube(
+    mut s: PdSolver,
+    length: f64,
+    outer_radius: f64,
+    h: f64,
+    end_time: f64,
+    every: usize,
+) -> Result<(PdSolver, WallHistory), String> {
+    let case_material = case_material(&s);
     let ring: Vec<usize> = (0..s.node_count())
         .filter(|&i| {
             let x = s.reference()[i];
             let r = x[0].hypot(x[1]);
-            s.materials()[i] == 0
-                && (x[2] - 0.5 * case.length).abs() <= h
-                && r > case.outer_radius - h
+            s.materials()[i] == case_material
+                && (x[2] - 0.5 * length).abs() <= h
+                && r > outer_radius - h
         })
         .collect();
     if ring.is_empty() {
@@ -255,14 +287,15 @@ pub struct EnergyBudget {
 }
 
 impl EnergyBudget {
-    /// The budget of the solver's current state (material 0 is the case,
-    /// as [`TubeCase::setup`] builds it).
+    /// The budget of the solver's current state (the case is
+    /// [`case_material`]).
     pub fn of(s: &PdSolver) -> Self {
         let (mut case_kinetic, mut products_kinetic) = (0.0, 0.0);
+        let case = case_material(s);
         for i in 0..s.node_count() {
             let v = s.velocities()[i];
             let k = 0.5 * s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            if s.materials()[i] == 0 {
+            if s.materials()[i] == case {
                 case_kinetic += k;
             } else {
                 products_kinetic += k;
@@ -284,7 +317,7 @@ impl EnergyBudget {
 }
 
 /// The products' kinetic energy split (J) and the axial momentum (N s) of
-/// a tube run (material 0 the case, the tube along z).
+/// a tube run (the case [`case_material`], the tube along z).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ProductsMotion {
     /// Σ ½ m v_z² over the products nodes.
@@ -309,7 +342,8 @@ pub struct ProductsMotion {
 impl ProductsMotion {
     /// The split of the solver's current state.
     pub fn of(s: &PdSolver) -> Self {
-        let gas = |i: usize| s.materials()[i] != 0;
+        let case = case_material(s);
+        let gas = |i: usize| s.materials()[i] != case;
         let f = s.families();
         let mut out = Self::default();
         for i in 0..s.node_count() {
@@ -411,7 +445,8 @@ pub fn products_through_case(s: &PdSolver, spacing: f64, z_range: (f64, f64)) ->
     let slabs = ((z_range.1 - z_range.0) / spacing).ceil().max(0.0) as usize + 3;
     let slab = |z: f64| ((z - z_range.0) / spacing + 1.0).floor();
     let mut outer = vec![f64::NEG_INFINITY; slabs];
-    for i in (0..n).filter(|&i| s.materials()[i] == 0) {
+    let case = case_material(s);
+    for i in (0..n).filter(|&i| s.materials()[i] == case) {
         let y = current(i);
         let b = slab(y[2]);
         if b >= 0.0 && (b as usize) < slabs {
@@ -420,7 +455,7 @@ pub fn products_through_case(s: &PdSolver, spacing: f64, z_range: (f64, f64)) ->
         }
     }
     let (mut through, mut counted) = (0, 0);
-    for i in (0..n).filter(|&i| s.materials()[i] != 0) {
+    for i in (0..n).filter(|&i| s.materials()[i] != case) {
         let y = current(i);
         if y[2] < z_range.0 || y[2] > z_range.1 {
             continue;
@@ -453,8 +488,14 @@ pub fn run_fragmentation(
     case: &TubeCase,
     end_time: f64,
 ) -> Result<(PdSolver, FragmentResult), String> {
-    let mut s =
-        PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    let s = PdSolver::new(case.setup().map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    fragment(s, end_time)
+}
+
+/// [`run_fragmentation`] on a solver built elsewhere (a scenario file
+/// through the composer, say): runs it to `end_time` at its stable step
+/// and cuts the case ([`case_material`]) into fragments.
+pub fn fragment(mut s: PdSolver, end_time: f64) -> Result<(PdSolver, FragmentResult), String> {
     let mut steps = 0;
     while s.time() < end_time {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
@@ -463,11 +504,19 @@ pub fn run_fragmentation(
         steps += 1;
     }
     let fragments = s.fragments();
-    let case_mass: f64 = (0..s.node_count())
-        .filter(|&i| s.materials()[i] == 0)
-        .map(|i| s.mass(i))
-        .sum();
-    let fragment_mass = fragments.iter().map(|f| f.mass).sum();
+    let case = case_material(&s);
+    // Both sums exact, rounded once: their difference is the fragments'
+    // own rounding (≤ ε/2 of the case mass) unless mass is lost.
+    let mut case_mass = brisance_core::ExactSum::new();
+    for i in (0..s.node_count()).filter(|&i| s.materials()[i] == case) {
+        case_mass.add(s.mass(i));
+    }
+    let case_mass = case_mass.value();
+    let mut fragment_mass = brisance_core::ExactSum::new();
+    for f in &fragments {
+        fragment_mass.add(f.mass);
+    }
+    let fragment_mass = fragment_mass.value();
     Ok((
         s,
         FragmentResult {

@@ -3,6 +3,7 @@
 //! the cumulative mass distribution (CMD).
 
 use crate::family::Families;
+use brisance_core::ExactSum;
 use std::io::Write;
 
 /// One fragment.
@@ -29,8 +30,10 @@ fn root(parent: &mut [u32], mut i: usize) -> usize {
 
 /// Connected components of the nodes with `solid[i]` over bonds with
 /// `factor != 0`, sorted by decreasing mass (ties by label). Deterministic:
-/// a component's label is its smallest node index and masses are summed in
-/// node order.
+/// a component's label is its smallest node index; each fragment's mass is
+/// its nodes' masses summed exactly and rounded once (so the fragments'
+/// masses add up to the case's to the rounding of each), its momentum
+/// summed in node order.
 pub fn find_fragments(
     families: &Families,
     factor: &[f32],
@@ -58,6 +61,7 @@ pub fn find_fragments(
     }
     let mut index = vec![usize::MAX; n];
     let mut out: Vec<Fragment> = Vec::new();
+    let mut masses: Vec<ExactSum> = Vec::new();
     for i in 0..n {
         if !solid[i] {
             continue;
@@ -71,15 +75,17 @@ pub fn find_fragments(
                 nodes: 0,
                 label: r,
             });
+            masses.push(ExactSum::new());
         }
+        masses[index[r]].add(mass[i]);
         let f = &mut out[index[r]];
-        f.mass += mass[i];
         f.nodes += 1;
         for (p, v) in f.velocity.iter_mut().zip(velocity[i]) {
             *p += mass[i] * v;
         }
     }
-    for f in &mut out {
+    for (f, m) in out.iter_mut().zip(&masses) {
+        f.mass = m.value();
         f.velocity = f.velocity.map(|p| p / f.mass);
     }
     out.sort_by(|a, b| b.mass.total_cmp(&a.mass).then(a.label.cmp(&b.label)));

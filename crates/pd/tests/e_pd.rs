@@ -49,7 +49,8 @@ fn e_pd_frag_reduced_fragments_conserve_the_case_mass() {
         r.case_mass
     );
     assert!(r.fragments.len() > 1);
-    assert!((r.fragment_mass - r.case_mass).abs() <= 1e-12 * r.case_mass);
+    // Exact sums: only each fragment's one rounding separates them.
+    assert!((r.fragment_mass - r.case_mass).abs() <= 1e-15 * r.case_mass);
     let nodes: usize = r.fragments.iter().map(|f| f.nodes).sum();
     assert!(nodes > 0);
 }
