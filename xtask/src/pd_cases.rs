@@ -262,9 +262,8 @@ pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
             .sum::<f64>()
             / r.fragment_mass)
             .sqrt();
-        let m = wall;
-        let thickness = m.outer_radius - m.inner_radius;
-        let radius = 0.5 * (m.inner_radius + m.outer_radius) * (1.0 + m.critical_stretch);
+        let thickness = wall.outer_radius - wall.inner_radius;
+        let radius = 0.5 * (wall.inner_radius + wall.outer_radius) * (1.0 + wall.critical_stretch);
         let m50 = mass_median(&cmd);
         m50s.push(m50);
         let ten: f64 = r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass;
@@ -278,8 +277,8 @@ pub fn e_pd_frag(report: &mut Report, img: &Path) -> Result<()> {
             ten
         );
         for gamma in MOTT_GAMMAS {
-            let x0 = fracture_spacing(m.yield_strength, m.density, gamma, radius, speed);
-            let mott = MottDistribution::of_patches(x0, thickness, m.density);
+            let x0 = fracture_spacing(wall.yield_strength, wall.density, gamma, radius, speed);
+            let mott = MottDistribution::of_patches(x0, thickness, wall.density);
             let _ = write!(
                 mott_rows,
                 " {:.2} ({:.2} h) / {:.0} / {:.3} |",

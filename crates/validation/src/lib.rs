@@ -13,6 +13,7 @@ pub mod mott;
 pub mod open_faces;
 pub mod pd_cylinder;
 pub mod pd_fragmentation;
+pub mod pd_tube;
 pub mod riemann;
 pub mod ring;
 pub mod rz_octant;

@@ -14,11 +14,20 @@ fn air() -> IdealGas {
 }
 
 fn implicit(tolerance: f64, max_iterations: usize) -> IceOptions {
+    implicit_retrying(
+        tolerance,
+        max_iterations,
+        ImplicitPressure::default().retries,
+    )
+}
+
+/// [`implicit`] with `retries` halvings of a failed step.
+fn implicit_retrying(tolerance: f64, max_iterations: usize, retries: u32) -> IceOptions {
     IceOptions {
         pressure: PressureSolve::Implicit(ImplicitPressure {
             tolerance,
             max_iterations,
-            ..Default::default()
+            retries,
         }),
         ..Default::default()
     }
@@ -366,10 +375,7 @@ fn non_convergence_stops_the_run_naming_the_step() {
     assert_eq!(s.pressure_solve_stats().halved_steps, 4);
     assert_eq!((s.time(), s.steps()), (0.0, 0));
     // Without retries the first failure stops the run, with no note.
-    let mut options = implicit(1e-300, 1);
-    if let PressureSolve::Implicit(p) = &mut options.pressure {
-        p.retries = 0;
-    }
+    let options = implicit_retrying(1e-300, 1, 0);
     let mut s = gas(
         [10, 1, 1],
         [1, 1, 1],
@@ -395,16 +401,12 @@ fn non_convergence_stops_the_run_naming_the_step() {
 #[test]
 fn a_step_moving_more_than_a_cell_is_retried_at_half_its_step() {
     let make = |retries: u32| {
-        let mut options = implicit(1e-10, 20);
-        if let PressureSolve::Implicit(p) = &mut options.pressure {
-            p.retries = retries;
-        }
         gas(
             [10, 1, 1],
             [1, 1, 1],
             [1.0, 0.1, 0.1],
             walls(),
-            options,
+            implicit_retrying(1e-10, 20, retries),
             |x| CellState::single(if x[0] < 0.5 { 2.0 * P0 } else { P0 }, RHO0, [0.0; 3]),
         )
     };
