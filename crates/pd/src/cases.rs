@@ -74,6 +74,7 @@ pub fn steel_fragmenting_cylinder(
             kind: ProportionalKind::MicroPlastic,
             damage_stretch_coefficient: alpha_d,
             minimum_stretch_coefficient: alpha_min,
+            spread: None,
         },
         spacing,
     }

@@ -28,19 +28,10 @@ fn root(parent: &mut [u32], mut i: usize) -> usize {
     i
 }
 
-/// Connected components of the nodes with `solid[i]` over bonds with
-/// `factor != 0`, sorted by decreasing mass (ties by label). Deterministic:
-/// a component's label is its smallest node index; each fragment's mass is
-/// its nodes' masses summed exactly and rounded once (so the fragments'
-/// masses add up to the case's to the rounding of each), its momentum
-/// summed in node order.
-pub fn find_fragments(
-    families: &Families,
-    factor: &[f32],
-    solid: &[bool],
-    mass: &[f64],
-    velocity: &[[f64; 3]],
-) -> Vec<Fragment> {
+/// The fragment of every node: the smallest node index of its connected
+/// component over bonds with `factor != 0` among the nodes with
+/// `solid[i]` (`usize::MAX` for the others).
+pub fn fragment_labels(families: &Families, factor: &[f32], solid: &[bool]) -> Vec<usize> {
     let n = solid.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     for i in 0..n {
@@ -59,6 +50,32 @@ pub fn find_fragments(
             }
         }
     }
+    (0..n)
+        .map(|i| {
+            if solid[i] {
+                root(&mut parent, i)
+            } else {
+                usize::MAX
+            }
+        })
+        .collect()
+}
+
+/// Connected components of the nodes with `solid[i]` over bonds with
+/// `factor != 0` ([`fragment_labels`]), sorted by decreasing mass (ties by
+/// label). Deterministic: a component's label is its smallest node index;
+/// each fragment's mass is its nodes' masses summed exactly and rounded
+/// once (so the fragments' masses add up to the case's to the rounding of
+/// each), its momentum summed in node order.
+pub fn find_fragments(
+    families: &Families,
+    factor: &[f32],
+    solid: &[bool],
+    mass: &[f64],
+    velocity: &[[f64; 3]],
+) -> Vec<Fragment> {
+    let n = solid.len();
+    let labels = fragment_labels(families, factor, solid);
     let mut index = vec![usize::MAX; n];
     let mut out: Vec<Fragment> = Vec::new();
     let mut masses: Vec<ExactSum> = Vec::new();
@@ -66,7 +83,7 @@ pub fn find_fragments(
         if !solid[i] {
             continue;
         }
-        let r = root(&mut parent, i);
+        let r = labels[i];
         if index[r] == usize::MAX {
             index[r] = out.len();
             out.push(Fragment {

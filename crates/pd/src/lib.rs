@@ -34,6 +34,7 @@ pub mod lattice;
 pub mod material;
 pub mod pipeline;
 pub mod solver;
+pub mod strength;
 pub mod surface;
 pub mod viscosity;
 

@@ -44,6 +44,8 @@
 use brisance_reaction::ProductsIsentrope;
 use serde::{Deserialize, Serialize};
 
+use crate::strength::StretchSpread;
+
 /// How a proportional bond unloads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ProportionalKind {
@@ -76,6 +78,12 @@ pub struct Proportional {
     /// bonds (the form of Silling & Askari 2005, seed 004 ref 3; the seed's
     /// footnote c names the model without a reference).
     pub minimum_stretch_coefficient: f64,
+    /// A critical stretch that varies over the material (None: the same
+    /// s_c0 everywhere, seed 004 as printed): the node's s_c0 is multiplied
+    /// by a Weibull strength factor of median 1 drawn per grain
+    /// ([`crate::strength`]).
+    #[serde(default)]
+    pub spread: Option<StretchSpread>,
 }
 
 impl Proportional {
@@ -91,6 +99,7 @@ impl Proportional {
             kind: ProportionalKind::MicroElastic,
             damage_stretch_coefficient: 0.0,
             minimum_stretch_coefficient: 0.0,
+            spread: None,
         }
     }
 
@@ -145,6 +154,9 @@ impl Proportional {
             if !(v >= 0.0 && v.is_finite()) {
                 return Err(format!("`{f}` = {v}: expected a finite value ≥ 0"));
             }
+        }
+        if let Some(spread) = &self.spread {
+            spread.validate()?;
         }
         Ok(())
     }

@@ -19,6 +19,7 @@ use brisance_grid::Shape as Region;
 use brisance_scene::{FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
 use serde::{Deserialize, Serialize};
 
+use crate::strength::StretchSpread;
 use crate::{
     BodySpec, BurnMethod, ContactOptions, DetonationPoint, DetonationSpec, Dimension, Gas,
     PdBoundary, PdMaterial, PdOptions, PdSetup, PdSolver, ProductsIsentrope, Proportional,
@@ -119,6 +120,12 @@ pub enum PdMaterialConfig {
         /// Minimum-stretch coefficient (default 0).
         #[serde(default)]
         minimum_stretch_coefficient: f64,
+        /// A Weibull-distributed critical stretch on a grain field,
+        /// `(weibull_modulus: 4.0, grain_size: 3.0e-3, seed: 1)`
+        /// (omit for the same critical stretch everywhere, seed 004 as
+        /// printed; `docs/physics/pd/strength.md`).
+        #[serde(default)]
+        spread: Option<StretchSpread>,
     },
     /// An explosive whose products are a JWL gas (seed 004 eq 30), P_S0 from
     /// the volume burn (eqs 20–21); the detonation velocity is the CJ one
@@ -195,6 +202,7 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
             kind,
             damage_stretch_coefficient,
             minimum_stretch_coefficient,
+            spread,
         } => {
             let p = Proportional {
                 density: *density,
@@ -204,6 +212,7 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
                 kind: *kind,
                 damage_stretch_coefficient: *damage_stretch_coefficient,
                 minimum_stretch_coefficient: *minimum_stretch_coefficient,
+                spread: *spread,
             };
             p.validate().map_err(|e| (path.to_string(), e))?;
             Ok(PdMaterial::Proportional(p))

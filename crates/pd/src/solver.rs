@@ -294,6 +294,9 @@ pub struct PdSolver {
     hold_unreacted: bool,
     /// Per material: a gas with a reactant (never held).
     has_reactant: Vec<bool>,
+    /// Per node, fixed: the strength factor of a spread critical stretch
+    /// (`strength.rs`); empty when no material has one (factor 1).
+    strength: Vec<f64>,
     // Per bond.
     factor: Vec<f32>,
     plastic: Vec<f32>,
@@ -520,6 +523,12 @@ impl PdSolver {
         self.factor[k] != 0.0
     }
 
+    /// The strength factor of node i's critical stretch (`strength.rs`):
+    /// 1 unless its material has a spread critical stretch.
+    pub fn strength_factor(&self, i: usize) -> f64 {
+        self.strength.get(i).copied().unwrap_or(1.0)
+    }
+
     /// Node damage: the broken fraction of its bonds (0 for gas nodes and
     /// nodes without bonds).
     pub fn damage(&self, i: usize) -> f64 {
@@ -560,6 +569,33 @@ impl PdSolver {
             .collect();
         let mass: Vec<f64> = (0..self.node_count()).map(|i| self.mass(i)).collect();
         find_fragments(&self.families, &self.factor, &solid, &mass, &self.velocity)
+    }
+
+    /// Breaks every bond whose two nodes' reference positions satisfy
+    /// `crosses` (a pre-crack or a notch: e.g. the bonds that cross a
+    /// plane). Broken bonds stay broken, as bonds broken by stretch.
+    pub fn break_bonds(&mut self, crosses: impl Fn([f64; 3], [f64; 3]) -> bool) {
+        let at = |r: [f64; 4]| [r[0], r[1], r[2]];
+        for i in 0..self.node_count() {
+            for k in self.families.row(i) {
+                let j = self.families.neighbours[k] as usize;
+                if crosses(at(self.reference[i]), at(self.reference[j])) {
+                    self.factor[k] = 0.0;
+                }
+            }
+        }
+    }
+
+    /// The fragment of every node: the label (smallest node index) of
+    /// the fragment it belongs to, `usize::MAX` for nodes that are not
+    /// solid ([`crate::fragments::fragment_labels`]).
+    pub fn fragment_labels(&self) -> Vec<usize> {
+        let solid: Vec<bool> = self
+            .material
+            .iter()
+            .map(|&m| self.breakable[m as usize])
+            .collect();
+        crate::fragments::fragment_labels(&self.families, &self.factor, &solid)
     }
 
     fn has_breakable_nodes(&self) -> bool {
@@ -778,6 +814,7 @@ impl PdSolver {
             });
         }
         let bond_out = &self.bond_out;
+        let strength = &self.strength;
         for_each_node_in(&mut self.state, own, |i, s| {
             match materials[material[i] as usize] {
                 PdMaterial::Gas(g) => {
@@ -800,7 +837,8 @@ impl PdSolver {
                     };
                     let smin = bond_out[i].min_stretch as f64;
                     let smin = if smin.is_finite() { smin.min(0.0) } else { 0.0 };
-                    s[3] = p.critical_stretch * (1.0 + p.damage_stretch_coefficient * damage)
+                    let s_c0 = p.critical_stretch * strength.get(i).copied().unwrap_or(1.0);
+                    s[3] = s_c0 * (1.0 + p.damage_stretch_coefficient * damage)
                         - p.minimum_stretch_coefficient * smin;
                 }
             }

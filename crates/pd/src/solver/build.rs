@@ -6,7 +6,7 @@ use crate::cell_list::CellList;
 use crate::family::{build_families, partial_volume};
 use crate::forces::{BondLaw, NodeForce};
 use crate::lattice::{fill_lattice, LatticeSpec};
-use crate::material::{micromodulus, PdMaterial, ProportionalKind};
+use crate::material::{micromodulus, PdMaterial, Proportional, ProportionalKind};
 use brisance_reaction::{huygens_detonation_times, straight_line_detonation_times};
 
 impl PdSolver {
@@ -90,15 +90,43 @@ impl PdSolver {
             return Err(invalid("bodies", "the bodies contain no lattice node"));
         }
         let families = build_families(&cloud.positions, &cloud.body, horizon, h);
+        // Strength factors of the materials with a spread critical stretch
+        // (`strength.rs`; empty when none has one), and per material the
+        // smallest factor among its nodes.
+        let spread = |m: u16| match setup.materials[m as usize] {
+            PdMaterial::Proportional(Proportional {
+                spread: Some(s), ..
+            }) => Some(s),
+            _ => None,
+        };
+        let strength: Vec<f64> = if cloud.material.iter().any(|&m| spread(m).is_some()) {
+            use rayon::prelude::*;
+            cloud
+                .positions
+                .par_iter()
+                .zip(cloud.material.par_iter())
+                .map(|(&x, &m)| spread(m).map_or(1.0, |s| s.factor_at(x)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut weakest = vec![1.0f64; setup.materials.len()];
+        for (i, &f) in strength.iter().enumerate() {
+            let w = &mut weakest[cloud.material[i] as usize];
+            *w = w.min(f);
+        }
         let laws: Vec<BondLaw> = setup
             .materials
             .iter()
-            .map(|m| match m {
+            .zip(&weakest)
+            .map(|(m, &weakest)| match m {
                 PdMaterial::Proportional(p) => BondLaw::Solid {
                     micromodulus: micromodulus(p, o.dimension, horizon, o.cross_section),
                     yield_stretch: p.yield_stretch(),
                     plastic: p.kind == ProportionalKind::MicroPlastic,
-                    critical_stretch: p.critical_stretch,
+                    // The row's first test: no node of the material breaks
+                    // a bond below it.
+                    critical_stretch: p.critical_stretch * weakest,
                 },
                 PdMaterial::Gas(_) => BondLaw::Gas,
             })
@@ -221,7 +249,7 @@ impl PdSolver {
         let mut state = vec![[0.0; 4]; n];
         for (i, s) in state.iter_mut().enumerate() {
             if let PdMaterial::Proportional(p) = setup.materials[cloud.material[i] as usize] {
-                s[3] = p.critical_stretch;
+                s[3] = p.critical_stretch * strength.get(i).copied().unwrap_or(1.0);
             }
         }
         let has_gas = laws.iter().any(|l| matches!(l, BondLaw::Gas));
@@ -280,6 +308,7 @@ impl PdSolver {
             kick_heat: Vec::new(),
             plastic: vec![0.0; factor.len()],
             factor,
+            strength,
             cells: CellList::default(),
             ranks: super::ranks::Ranks::serial(n),
         };

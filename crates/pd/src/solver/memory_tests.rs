@@ -21,6 +21,7 @@ fn block(n: usize, contact: Option<ContactOptions>) -> PdSolver {
             kind: ProportionalKind::MicroElastic,
             damage_stretch_coefficient: 0.0,
             minimum_stretch_coefficient: 0.0,
+            spread: None,
         })],
         bodies: vec![BodySpec {
             shape: Shape::Box {

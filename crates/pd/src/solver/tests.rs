@@ -1,5 +1,6 @@
 use super::*;
 use crate::material::{Proportional, ProportionalKind};
+use crate::strength::StretchSpread;
 use brisance_core::Solver;
 
 fn steel(kind: ProportionalKind, critical_stretch: f64) -> PdMaterial {
@@ -11,6 +12,7 @@ fn steel(kind: ProportionalKind, critical_stretch: f64) -> PdMaterial {
         kind,
         damage_stretch_coefficient: 0.0,
         minimum_stretch_coefficient: 0.0,
+        spread: None,
     })
 }
 
@@ -165,6 +167,7 @@ fn block(nx: usize, amplitude: f64, critical_stretch: f64) -> PdSolver {
             kind: ProportionalKind::MicroPlastic,
             damage_stretch_coefficient: 0.5,
             minimum_stretch_coefficient: 0.25,
+            spread: None,
         })],
         bodies: vec![BodySpec {
             shape: Shape::Box {
@@ -474,7 +477,7 @@ fn a_prescribed_velocity_component_is_imposed_exactly() {
 ///   does not lower it): 0.05 (1 + 0.5/3) = 0.0583333….
 ///
 /// Stretches are carried in f32, hence the 1e-8 tolerance.
-fn bar_with_a_broken_and_a_compressed_bond() -> PdSolver {
+fn bar_with_a_broken_and_a_compressed_bond(spread: Option<StretchSpread>) -> PdSolver {
     let h = 1.0e-3;
     let mut s = PdSolver::new(PdSetup {
         options: PdOptions {
@@ -492,6 +495,7 @@ fn bar_with_a_broken_and_a_compressed_bond() -> PdSolver {
             kind: ProportionalKind::MicroElastic,
             damage_stretch_coefficient: 0.5,
             minimum_stretch_coefficient: 0.25,
+            spread,
         })],
         bodies: vec![BodySpec {
             shape: Shape::Box {
@@ -522,7 +526,7 @@ fn bar_with_a_broken_and_a_compressed_bond() -> PdSolver {
 
 #[test]
 fn the_effective_critical_stretch_by_hand() {
-    let s = bar_with_a_broken_and_a_compressed_bond();
+    let s = bar_with_a_broken_and_a_compressed_bond(None);
     let want: [f64; 5] = [
         0.05 + 0.25 * 0.01 / 3.0,
         0.05 + 0.25 * 0.005,
@@ -537,12 +541,100 @@ fn the_effective_critical_stretch_by_hand() {
     }
 }
 
+/// The same bar with a spread critical stretch (`strength.rs`; m = 4,
+/// grains of 1.5 mm, so the five nodes 1 mm apart sit in a few grains of
+/// different strength): each node's s_c0 is 0.05 times the factor of the
+/// grain field at its position, and the damage and compression terms
+/// act on that s_c0 as on the plain one. The bond law's first test is the
+/// weakest node's s_c0, so no node's own value is cut off by it.
+#[test]
+fn a_spread_critical_stretch_scales_each_nodes_value() {
+    let spread = StretchSpread {
+        weibull_modulus: 4.0,
+        grain_size: 1.5e-3,
+        seed: 3,
+    };
+    let s = bar_with_a_broken_and_a_compressed_bond(Some(spread));
+    let f: Vec<f64> = (0..5)
+        .map(|i| {
+            let r = s.reference[i];
+            spread.factor_at([r[0], r[1], r[2]])
+        })
+        .collect();
+    assert_eq!(s.strength, f);
+    // The field varies over the bar (else the test proves nothing).
+    assert!(f.iter().any(|&v| v != f[0]), "{f:?}");
+    let want: [f64; 5] = [
+        0.05 * f[0] + 0.25 * 0.01 / 3.0,
+        0.05 * f[1] + 0.25 * 0.005,
+        0.05 * f[2] * (1.0 + 0.5 * 0.25) + 0.25 * 0.01,
+        0.05 * f[3] + 0.25 * 0.01,
+        0.05 * f[4] * (1.0 + 0.5 / 3.0),
+    ];
+    for (i, w) in want.iter().enumerate() {
+        let sc = s.state[i][3];
+        assert!((sc - w).abs() < 1e-8, "node {i}: s_c = {sc}, by hand {w}");
+    }
+    let weakest = f.iter().copied().fold(f64::INFINITY, f64::min);
+    match s.laws[0] {
+        BondLaw::Solid {
+            critical_stretch, ..
+        } => assert_eq!(critical_stretch, 0.05 * weakest),
+        BondLaw::Gas => unreachable!(),
+    }
+    // Without a spread the field is not stored.
+    assert!(bar_with_a_broken_and_a_compressed_bond(None)
+        .strength
+        .is_empty());
+}
+
+/// A bond of the spread bar breaks at the weaker of its two nodes' s_c:
+/// stretch the bond 3–4 (both ends intact, not compressed) between the
+/// two values and only the bond of the weaker node's value goes.
+#[test]
+fn a_bond_breaks_at_its_weaker_nodes_critical_stretch() {
+    let spread = StretchSpread {
+        weibull_modulus: 4.0,
+        grain_size: 1.5e-3,
+        seed: 3,
+    };
+    let mut s = bar_with_a_broken_and_a_compressed_bond(Some(spread));
+    let h = 1.0e-3;
+    // Release node 3 and pull node 4 out to a stretch halfway between the
+    // s_c of nodes 3 and 4.
+    s.state[3][0] = 0.0;
+    s.compute_forces();
+    s.update_node_scalars();
+    let (a, b) = (s.state[3][3], s.state[4][3]);
+    let lo = a.min(b);
+    assert!(
+        (a - b).abs() > 1e-3 * lo,
+        "the two nodes' values must differ: {a}, {b}"
+    );
+    let stretch = 0.5 * (a + b);
+    s.state[4][0] = stretch * h;
+    s.compute_forces();
+    let k = s.families().find(3, 4).unwrap();
+    assert_eq!(
+        s.factor[k], 0.0,
+        "s = {stretch}, s_c(3) = {a}, s_c(4) = {b}"
+    );
+    // Below the weaker value the bond holds.
+    let mut t = bar_with_a_broken_and_a_compressed_bond(Some(spread));
+    t.state[3][0] = 0.0;
+    t.compute_forces();
+    t.update_node_scalars();
+    t.state[4][0] = 0.9 * lo * h;
+    t.compute_forces();
+    assert_ne!(t.factor[t.families().find(3, 4).unwrap()], 0.0);
+}
+
 /// The damage written with the nodes: the particle output carries a
 /// `damage` field, one value per node, equal to the broken fraction by
 /// hand (the bar above: 1 of node 2's 4 bonds, 1 of node 4's 3).
 #[test]
 fn particle_output_carries_the_node_damage() {
-    let s = bar_with_a_broken_and_a_compressed_bond();
+    let s = bar_with_a_broken_and_a_compressed_bond(None);
     let data = s.particle_data().unwrap();
     assert_eq!(data.positions.len(), 5);
     let (_, damage) = data
