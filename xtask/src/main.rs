@@ -809,7 +809,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 42] = [
+const CASES: [&str; 43] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -838,6 +838,7 @@ const CASES: [&str; 42] = [
     "rz-cost",
     "pd-cyl",
     "pd-frag",
+    "pd-frag-weibull",
     "osc",
     "rod",
     "impedance",
@@ -964,6 +965,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("pd-frag") {
         pd_cases::e_pd_frag(&mut body, &img)?;
+    }
+    if run("pd-frag-weibull") {
+        pd_cases::e_pd_frag_weibull(&mut body, &img)?;
     }
     if run("osc") {
         lattice_cases::v_osc(&mut body, &img)?;

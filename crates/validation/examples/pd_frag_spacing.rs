@@ -1,0 +1,65 @@
+//! One spacing of the E-PD-FRAG resolution study, outside the report:
+//! `cargo run --release -p brisance-validation --example pd_frag_spacing --
+//! printed|weibull SPACING_M`. Prints the figures of the report's rows
+//! (fragments, m₅₀, the share of the ten largest, the census).
+
+use brisance_pd::cumulative_mass_distribution;
+use brisance_validation::pd_fragmentation::{census, fragmenting_cylinder_with, Strength};
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let strength = match args.next().as_deref() {
+        Some("printed") => Strength::Printed,
+        Some("weibull") => Strength::Weibull,
+        other => {
+            eprintln!("usage: pd_frag_spacing printed|weibull SPACING_M (got {other:?})");
+            std::process::exit(2);
+        }
+    };
+    let spacing: f64 = match args.next().map(|s| s.parse()) {
+        Some(Ok(h)) => h,
+        _ => {
+            eprintln!("usage: pd_frag_spacing printed|weibull SPACING_M");
+            std::process::exit(2);
+        }
+    };
+    let t0 = std::time::Instant::now();
+    let run = match fragmenting_cylinder_with(strength, spacing) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(1);
+        }
+    };
+    let r = &run.result;
+    let cmd = cumulative_mass_distribution(&r.fragments);
+    let m50 = cmd
+        .iter()
+        .find(|c| c.mass_fraction_at_least >= 0.5)
+        .map_or(0.0, |c| c.mass);
+    let ten: f64 = r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass;
+    let c = census(&run.solver, &run.case, spacing);
+    println!(
+        "{strength:?} h = {spacing:e} m: {} nodes, {} steps, {:.0} s",
+        run.solver.node_count(),
+        r.steps,
+        t0.elapsed().as_secs_f64()
+    );
+    println!(
+        "fragments {} (>= 2 nodes {}), m50 {:.2} g, ten largest {:.3}, across mid-length {}, full-length {} ({:.1} %)",
+        r.fragments.len(),
+        r.fragments.iter().filter(|f| f.nodes >= 2).count(),
+        m50 * 1e3,
+        ten,
+        c.across_mid,
+        c.full_length,
+        100.0 * c.full_length_mass
+    );
+    let top: Vec<String> = r
+        .fragments
+        .iter()
+        .take(12)
+        .map(|f| format!("{:.2}", f.mass * 1e3))
+        .collect();
+    println!("largest (g): {}", top.join(" "));
+}
