@@ -332,11 +332,6 @@ fn frag_study(
             c.full_length,
             100.0 * c.full_length_mass
         );
-        for gamma in MOTT_GAMMAS {
-            let x0 = fracture_spacing(wall.yield_strength, wall.density, gamma, radius, speed);
-            let _ = write!(census_rows, " {:.0} |", std::f64::consts::TAU * radius / x0);
-        }
-        census_rows.push('\n');
         let _ = write!(
             mott_rows,
             "| {:.2} | {:.0} | {} | {:.2} | {:.3} |",
@@ -357,8 +352,10 @@ fn frag_study(
                 mott.count(r.case_mass),
                 mott.mass_median() * 1e3
             );
+            let _ = write!(census_rows, " {:.0} |", std::f64::consts::TAU * radius / x0);
         }
         mott_rows.push('\n');
+        census_rows.push('\n');
         curves.push(FragStats {
             label: format!("h = {:.2} mm", hs * 1e3),
             log_mass_g: cmd.iter().map(|c| (c.mass * 1e3).log10()).collect(),

@@ -562,11 +562,7 @@ impl PdSolver {
 
     /// Fragments: connected components of solid nodes over intact bonds.
     pub fn fragments(&self) -> Vec<Fragment> {
-        let solid: Vec<bool> = self
-            .material
-            .iter()
-            .map(|&m| self.breakable[m as usize])
-            .collect();
+        let solid = self.solid_nodes();
         let mass: Vec<f64> = (0..self.node_count()).map(|i| self.mass(i)).collect();
         find_fragments(&self.families, &self.factor, &solid, &mass, &self.velocity)
     }
@@ -590,12 +586,16 @@ impl PdSolver {
     /// the fragment it belongs to, `usize::MAX` for nodes that are not
     /// solid ([`crate::fragments::fragment_labels`]).
     pub fn fragment_labels(&self) -> Vec<usize> {
-        let solid: Vec<bool> = self
-            .material
+        crate::fragments::fragment_labels(&self.families, &self.factor, &self.solid_nodes())
+    }
+
+    /// Per node: whether its material can break (the nodes fragments are
+    /// made of).
+    fn solid_nodes(&self) -> Vec<bool> {
+        self.material
             .iter()
             .map(|&m| self.breakable[m as usize])
-            .collect();
-        crate::fragments::fragment_labels(&self.families, &self.factor, &solid)
+            .collect()
     }
 
     fn has_breakable_nodes(&self) -> bool {
