@@ -559,6 +559,7 @@ impl BondBenchBlock {
                 origin: [0.0; 3],
                 dimension: crate::Dimension::Three,
                 cross_section: 0.0,
+                jitter: None,
             },
             &[BodySpec {
                 shape: Shape::Box {

@@ -9,9 +9,67 @@
 //! an explosive fill and the case around it never put two nodes at one
 //! place. Every node's reference volume is h³ (3D) or A·h for a bar of
 //! cross-section A (1D, sites on the line y = origin_y, z = origin_z).
+//!
+//! A perturbed lattice ([`LatticeJitter`], off unless asked for) moves each
+//! site by a random offset, uniform in [−a h, a h] along each axis (along x
+//! only for a bar), drawn from a ChaCha8 stream keyed by (seed, site
+//! index); the site joins the first body that holds its moved position, and
+//! keeps the volume h³. A regular lattice cut by a curved surface leaves a
+//! staircase that repeats with the lattice's symmetry, and bonds that only
+//! point along a few directions; both bias where a peridynamic body cracks
+//! (Dipasquale, Sarego, Zaccariotto & Galvanetto, "Dependence of crack
+//! paths on the orientation of regular 2D peridynamic grids", Eng. Fract.
+//! Mech. 160 (2016) 248–263; Chen & Bobaru, "Selecting the kernel in a
+//! peridynamic formulation", Comput. Phys. Commun. 197 (2015) 51–60, use
+//! perturbed grids for the same reason). The offsets depend on the site's
+//! index, the seed and a only, so a run keeps its bits for any thread or
+//! rank count. docs/physics/pd/bond_based.md.
 
 use brisance_grid::Shape;
+use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+
+/// A perturbed lattice: every site moved by a random offset (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LatticeJitter {
+    /// a: the largest offset along each axis as a fraction of the spacing
+    /// (0 ≤ a < 0.5, so two sites never swap places along an axis).
+    pub amplitude: f64,
+    /// Seed of the offsets.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl LatticeJitter {
+    /// Checks the amplitude; the error names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.amplitude >= 0.0 && self.amplitude < 0.5) {
+            return Err(format!(
+                "`jitter.amplitude` = {}: expected 0 <= amplitude < 0.5 (a fraction of the spacing)",
+                self.amplitude
+            ));
+        }
+        Ok(())
+    }
+
+    /// The offset of lattice site `site` (indices along x, y, z) in units
+    /// of the spacing: each component uniform in [−a, a).
+    pub fn offset(&self, site: [i64; 3]) -> [f64; 3] {
+        let mut key = [0u8; 32];
+        key[..8].copy_from_slice(&self.seed.to_le_bytes());
+        for d in 0..3 {
+            key[8 + 8 * d..16 + 8 * d].copy_from_slice(&site[d].to_le_bytes());
+        }
+        let mut rng = ChaCha8Rng::from_seed(key);
+        let a = self.amplitude;
+        std::array::from_fn(|_| {
+            let u = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+            a * (2.0 * u - 1.0)
+        })
+    }
+}
 
 /// Spatial dimension of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -45,6 +103,8 @@ pub struct LatticeSpec {
     pub dimension: Dimension,
     /// Cross-section of a 1D bar, m² (ignored in 3D).
     pub cross_section: f64,
+    /// A perturbed lattice (None: the regular one).
+    pub jitter: Option<LatticeJitter>,
 }
 
 /// Nodes generated from bodies, in lattice order (x fastest) per body.
@@ -131,6 +191,13 @@ pub fn fill_lattice(spec: &LatticeSpec, bodies: &[BodySpec]) -> Result<NodeCloud
             message: "must be finite".into(),
         });
     }
+    if let Some(j) = spec.jitter {
+        j.validate()
+            .map_err(|message| LatticeError::InvalidLattice {
+                field: "jitter.amplitude",
+                message,
+            })?;
+    }
     let volume = match spec.dimension {
         Dimension::Three => h * h * h,
         Dimension::One => {
@@ -206,7 +273,17 @@ pub fn fill_lattice(spec: &LatticeSpec, bodies: &[BodySpec]) -> Result<NodeCloud
     for k in lo[2]..=hi[2] {
         for j in lo[1]..=hi[1] {
             for i in lo[0]..=hi[0] {
-                let x = [site(i, 0), site(j, 1), site(k, 2)];
+                let mut x = [site(i, 0), site(j, 1), site(k, 2)];
+                if let Some(jitter) = spec.jitter {
+                    let o = jitter.offset([i, j, k]);
+                    let axes = match spec.dimension {
+                        Dimension::One => 1,
+                        Dimension::Three => 3,
+                    };
+                    for d in 0..axes {
+                        x[d] += o[d] * h;
+                    }
+                }
                 if let Some(b) = bodies.iter().position(|b| b.shape.contains(x)) {
                     cloud.positions.push(x);
                     cloud.volumes.push(volume);
@@ -236,6 +313,7 @@ mod tests {
             origin: [0.0; 3],
             dimension: Dimension::Three,
             cross_section: 0.0,
+            jitter: None,
         }
     }
 
@@ -308,6 +386,7 @@ mod tests {
             origin: [0.0; 3],
             dimension: Dimension::One,
             cross_section: 2.0e-4,
+            jitter: None,
         };
         let body = BodySpec {
             shape: Shape::Box {
@@ -343,5 +422,132 @@ mod tests {
                 ..
             }
         ));
+    }
+
+    #[test]
+    fn a_jittered_site_moves_by_its_own_offset_within_the_amplitude() {
+        let jitter = LatticeJitter {
+            amplitude: 0.25,
+            seed: 7,
+        };
+        let h = 0.125;
+        let body = BodySpec {
+            shape: Shape::Box {
+                min: [-1.0; 3],
+                max: [2.0; 3],
+            },
+            material: 0,
+            velocity: [0.0; 3],
+        };
+        let regular = fill_lattice(&spec(h), std::slice::from_ref(&body)).unwrap();
+        let moved = fill_lattice(
+            &LatticeSpec {
+                jitter: Some(jitter),
+                ..spec(h)
+            },
+            &[body],
+        )
+        .unwrap();
+        // A box far larger than the offsets: every site inside, in order.
+        assert_eq!(moved.positions.len(), regular.positions.len());
+        let mut largest = 0.0f64;
+        let mut mean = [0.0f64; 3];
+        for (x, y) in moved.positions.iter().zip(&regular.positions) {
+            // The site's indices from its regular position, and its offset
+            // by hand: the same draw, whatever the node's place in the list.
+            let site = [0, 1, 2].map(|d| (y[d] / h - 0.5).round() as i64);
+            let o = jitter.offset(site);
+            for d in 0..3 {
+                assert_eq!(x[d], y[d] + o[d] * h);
+                largest = largest.max((x[d] - y[d]).abs());
+                mean[d] += o[d];
+            }
+        }
+        assert!(largest <= 0.25 * h && largest > 0.24 * h, "{largest}");
+        let n = moved.positions.len() as f64;
+        // Uniform on [−a, a): mean 0 within a few standard errors
+        // (a/√3/√n = 2.4e-4 for 24³ sites).
+        assert!(mean.iter().all(|m| (m / n).abs() < 1.5e-3), "{mean:?}");
+        assert!(moved.volumes.iter().all(|&v| v == h * h * h));
+        // Another seed, other offsets; amplitude 0, the regular lattice.
+        let other = LatticeJitter { seed: 8, ..jitter };
+        assert_ne!(other.offset([3, 4, 5]), jitter.offset([3, 4, 5]));
+        let still = fill_lattice(
+            &LatticeSpec {
+                jitter: Some(LatticeJitter {
+                    amplitude: 0.0,
+                    seed: 7,
+                }),
+                ..spec(h)
+            },
+            &[BodySpec {
+                shape: Shape::Box {
+                    min: [-1.0; 3],
+                    max: [2.0; 3],
+                },
+                material: 0,
+                velocity: [0.0; 3],
+            }],
+        )
+        .unwrap();
+        assert_eq!(still, regular);
+    }
+
+    #[test]
+    fn a_jittered_node_lies_inside_its_body() {
+        let shell = Shape::Shell {
+            base: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            inner_radius: 0.5,
+            outer_radius: 0.75,
+            length: 1.0,
+        };
+        let c = fill_lattice(
+            &LatticeSpec {
+                jitter: Some(LatticeJitter {
+                    amplitude: 0.45,
+                    seed: 1,
+                }),
+                ..spec(0.05)
+            },
+            &[BodySpec {
+                shape: shell.clone(),
+                material: 0,
+                velocity: [0.0; 3],
+            }],
+        )
+        .unwrap();
+        assert!(!c.positions.is_empty());
+        assert!(c.positions.iter().all(|&x| shell.contains(x)));
+        // About the shell's volume: π(0.75² − 0.5²) = 0.982 m³.
+        let v: f64 = c.volumes.iter().sum();
+        assert!((v / 0.981_747 - 1.0).abs() < 0.02, "{v}");
+    }
+
+    #[test]
+    fn a_jitter_of_half_a_spacing_or_more_is_refused() {
+        for a in [0.5, -0.1, f64::NAN] {
+            let e = fill_lattice(
+                &LatticeSpec {
+                    jitter: Some(LatticeJitter {
+                        amplitude: a,
+                        seed: 0,
+                    }),
+                    ..spec(0.1)
+                },
+                &[],
+            )
+            .unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    LatticeError::InvalidLattice {
+                        field: "jitter.amplitude",
+                        ..
+                    }
+                ),
+                "{e:?}"
+            );
+        }
     }
 }

@@ -44,7 +44,7 @@ pub use forces::{bond_forces, BondLaw, ForceInput, NodeForce};
 pub use fragments::{
     cumulative_mass_distribution, write_cmd_csv, write_fragments_csv, CmdPoint, Fragment,
 };
-pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeSpec, NodeCloud};
+pub use lattice::{fill_lattice, BodySpec, Dimension, LatticeJitter, LatticeSpec, NodeCloud};
 pub use material::{
     micromodulus, spring_constant, Gas, PdMaterial, Proportional, ProportionalKind, Reactant,
 };

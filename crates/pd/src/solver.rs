@@ -112,6 +112,8 @@ pub struct PdOptions {
     pub body_force: [f64; 3],
     /// Smallest step before the run is stopped, s.
     pub min_dt: f64,
+    /// A perturbed lattice (`crate::LatticeJitter`; None: the regular one).
+    pub jitter: Option<crate::LatticeJitter>,
 }
 
 impl Default for PdOptions {
@@ -127,6 +129,7 @@ impl Default for PdOptions {
             contact: Some(ContactOptions::default()),
             body_force: [0.0; 3],
             min_dt: 1.0e-15,
+            jitter: None,
         }
     }
 }

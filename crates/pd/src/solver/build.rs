@@ -82,6 +82,7 @@ impl PdSolver {
                 origin: o.origin,
                 dimension: o.dimension,
                 cross_section: o.cross_section,
+                jitter: o.jitter,
             },
             &setup.bodies,
         )?;
