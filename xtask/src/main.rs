@@ -809,7 +809,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 43] = [
+const CASES: [&str; 44] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -839,6 +839,7 @@ const CASES: [&str; 43] = [
     "pd-cyl",
     "pd-frag",
     "pd-frag-weibull",
+    "pd-frag-perturbed",
     "osc",
     "rod",
     "impedance",
@@ -968,6 +969,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("pd-frag-weibull") {
         pd_cases::e_pd_frag_weibull(&mut body, &img)?;
+    }
+    if run("pd-frag-perturbed") {
+        pd_cases::e_pd_frag_perturbed(&mut body, &img)?;
     }
     if run("osc") {
         lattice_cases::v_osc(&mut body, &img)?;

@@ -1,30 +1,35 @@
 //! One spacing of the E-PD-FRAG resolution study, outside the report:
 //! `cargo run --release -p brisance-validation --example pd_frag_spacing --
-//! printed|weibull SPACING_M`. Prints the figures of the report's rows
-//! (fragments, m₅₀, the share of the ten largest, the census).
+//! printed|weibull|perturbed SPACING_M [KEY=VALUE ...]`, the optional arguments
+//! `--set` overrides of the scenario (e.g.
+//! `pipeline.materials.steel.spread.grain_size=6e-3`, `time.end=5e-5`).
+//! Prints the figures of the report's rows (fragments, m₅₀, the share of
+//! the ten largest, the census).
 
 use brisance_pd::cumulative_mass_distribution;
-use brisance_validation::pd_fragmentation::{census, fragmenting_cylinder_with, Strength};
+use brisance_validation::pd_fragmentation::{
+    census, fragmenting_cylinder_set, mean_speed, Strength,
+};
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let strength = match args.next().as_deref() {
-        Some("printed") => Strength::Printed,
-        Some("weibull") => Strength::Weibull,
+    let strength = match args.next().as_deref().map(|a| (a, Strength::named(a))) {
+        Some((_, Some(s))) => s,
         other => {
-            eprintln!("usage: pd_frag_spacing printed|weibull SPACING_M (got {other:?})");
+            eprintln!("usage: pd_frag_spacing printed|weibull|perturbed SPACING_M (got {other:?})");
             std::process::exit(2);
         }
     };
     let spacing: f64 = match args.next().map(|s| s.parse()) {
         Some(Ok(h)) => h,
         _ => {
-            eprintln!("usage: pd_frag_spacing printed|weibull SPACING_M");
+            eprintln!("usage: pd_frag_spacing printed|weibull|perturbed SPACING_M [KEY=VALUE ...]");
             std::process::exit(2);
         }
     };
+    let overrides: Vec<String> = args.collect();
     let t0 = std::time::Instant::now();
-    let run = match fragmenting_cylinder_with(strength, spacing) {
+    let run = match fragmenting_cylinder_set(strength, spacing, &overrides) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("{e}");
@@ -39,21 +44,23 @@ fn main() {
         .map_or(0.0, |c| c.mass);
     let ten: f64 = r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass;
     let c = census(&run.solver, &run.case, spacing);
+    let speed = mean_speed(r);
     println!(
-        "{strength:?} h = {spacing:e} m: {} nodes, {} steps, {:.0} s",
+        "{strength:?} h = {spacing:e} m {overrides:?}: {} nodes, {} steps, {:.0} s",
         run.solver.node_count(),
         r.steps,
         t0.elapsed().as_secs_f64()
     );
     println!(
-        "fragments {} (>= 2 nodes {}), m50 {:.2} g, ten largest {:.3}, across mid-length {}, full-length {} ({:.1} %)",
+        "fragments {} (>= 2 nodes {}), m50 {:.2} g, ten largest {:.3}, across mid-length {}, full-length {} ({:.1} %), mean speed {:.0} m/s",
         r.fragments.len(),
         r.fragments.iter().filter(|f| f.nodes >= 2).count(),
         m50 * 1e3,
         ten,
         c.across_mid,
         c.full_length,
-        100.0 * c.full_length_mass
+        100.0 * c.full_length_mass,
+        speed
     );
     let top: Vec<String> = r
         .fragments

@@ -16,6 +16,11 @@ pub const PD_FRAGMENT_FULL_CONFIG: &str = include_str!("../../../configs/pd_frag
 pub const PD_FRAGMENT_WEIBULL_CONFIG: &str =
     include_str!("../../../configs/validation/pd_fragment_weibull.ron");
 
+/// E-PD-FRAG-PERTURBED's scenario file: the Weibull tube on a perturbed
+/// lattice (`brisance_pd::LatticeJitter`).
+pub const PD_FRAGMENT_PERTURBED_CONFIG: &str =
+    include_str!("../../../configs/validation/pd_fragment_perturbed.ron");
+
 /// The steel's critical stretch: the same everywhere (seed 004 as
 /// printed, `configs/pd_fragment_full.ron`) or spread over a Weibull
 /// grain field (`configs/validation/pd_fragment_weibull.ron`).
@@ -25,9 +30,22 @@ pub enum Strength {
     Printed,
     /// A Weibull strength factor per grain.
     Weibull,
+    /// A Weibull strength factor per grain, on a perturbed lattice.
+    WeibullPerturbed,
 }
 
 impl Strength {
+    /// The variant a study's command line names: `printed`, `weibull` or
+    /// `perturbed`.
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "printed" => Some(Self::Printed),
+            "weibull" => Some(Self::Weibull),
+            "perturbed" => Some(Self::WeibullPerturbed),
+            _ => None,
+        }
+    }
+
     /// The scenario file's path and text.
     pub fn config(self) -> (&'static str, &'static str) {
         match self {
@@ -35,6 +53,10 @@ impl Strength {
             Self::Weibull => (
                 "configs/validation/pd_fragment_weibull.ron",
                 PD_FRAGMENT_WEIBULL_CONFIG,
+            ),
+            Self::WeibullPerturbed => (
+                "configs/validation/pd_fragment_perturbed.ron",
+                PD_FRAGMENT_PERTURBED_CONFIG,
             ),
         }
     }
@@ -74,13 +96,36 @@ pub fn fragmenting_cylinder_with(
     strength: Strength,
     spacing: f64,
 ) -> Result<FragmentationRun, String> {
-    let t = tube_with(strength, spacing)?;
+    fragmenting_cylinder_set(strength, spacing, &[])
+}
+
+/// [`fragmenting_cylinder_with`] with further `--set` overrides of the
+/// scenario (`key=value`; [`Tube::at_with`]), for studies outside the
+/// report.
+pub fn fragmenting_cylinder_set(
+    strength: Strength,
+    spacing: f64,
+    overrides: &[String],
+) -> Result<FragmentationRun, String> {
+    let (file, text) = strength.config();
+    let t = Tube::at_with(file, text, spacing, overrides)?;
     let (solver, result) = fragment(t.solver, t.scenario.time.end)?;
     Ok(FragmentationRun {
         solver,
         result,
         case: t.wall,
     })
+}
+
+/// The fragments' kinetic-energy mean speed, m/s: (Σ m v² / Σ m)^{1/2}
+/// (Mott's V in the report's comparison).
+pub fn mean_speed(r: &FragmentResult) -> f64 {
+    (r.fragments
+        .iter()
+        .map(|f| f.mass * f.velocity.iter().map(|v| v * v).sum::<f64>())
+        .sum::<f64>()
+        / r.fragment_mass)
+        .sqrt()
 }
 
 /// How the case broke up: the fragments a plane across the tube's middle
@@ -138,7 +183,8 @@ pub fn census(s: &PdSolver, wall: &CaseWall, spacing: f64) -> Census {
     Census {
         across_mid: cut.len(),
         full_length: long.len(),
-        full_length_mass: long.iter().map(|f| f.1).sum::<f64>() / total,
+        // Folded from +0 (a float sum of nothing is −0, printed "-0.0").
+        full_length_mass: long.iter().fold(0.0, |m, f| m + f.1) / total,
     }
 }
 
@@ -204,6 +250,82 @@ mod tests {
         assert!((0.3..0.7).contains(&share), "{share}");
     }
 
+    /// The perturbed file is the Weibull tube with every node moved by
+    /// its lattice site's offset (a quarter spacing at most along each
+    /// axis, seed 1), the grain field's factors taken at the moved
+    /// positions.
+    #[test]
+    fn the_perturbed_file_is_the_weibull_tube_on_a_jittered_lattice() {
+        use brisance_pd::LatticeJitter;
+        let h = 1.3e-3;
+        let a = tube_with(Strength::Weibull, h).unwrap();
+        let b = tube_with(Strength::WeibullPerturbed, h).unwrap();
+        assert_eq!(a.wall, b.wall);
+        let jitter = LatticeJitter {
+            amplitude: 0.25,
+            seed: 1,
+        };
+        // Sites by their regular positions (lattice origin 0, sites at
+        // (i + ½) h), and the moved nodes looked up by site.
+        let site = |x: &[f64; 4]| [0, 1, 2].map(|d| (x[d] / h - 0.5).round() as i64);
+        let moved: std::collections::HashMap<[i64; 3], usize> = b
+            .solver
+            .reference()
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (site(x), i))
+            .collect();
+        assert_eq!(moved.len(), b.solver.node_count());
+        let mut same = 0usize;
+        for (i, x) in a.solver.reference().iter().enumerate() {
+            let k = site(x);
+            let Some(&j) = moved.get(&k) else { continue };
+            let y = b.solver.reference()[j];
+            let o = jitter.offset(k);
+            assert!((0..3).all(|d| y[d] == x[d] + o[d] * h));
+            same += usize::from(a.solver.materials()[i] == b.solver.materials()[j]);
+        }
+        // Sites near a surface may move out of (or into) a body: the
+        // counts differ by a few per cent at most.
+        let (na, nb) = (a.solver.node_count(), b.solver.node_count());
+        assert!((na as f64 / nb as f64 - 1.0).abs() < 0.02, "{na} {nb}");
+        assert!(same as f64 > 0.95 * na as f64, "{same} of {na}");
+    }
+
+    /// The mean speed by hand: 1 kg at (3, 4, 0) m/s and 3 kg at
+    /// (0, 0, 1) m/s give (28 / 4)^{1/2} = √7 m/s; the study's names.
+    #[test]
+    fn the_mean_speed_and_the_names_by_hand() {
+        use brisance_pd::Fragment;
+        let r = FragmentResult {
+            fragments: vec![
+                Fragment {
+                    mass: 3.0,
+                    velocity: [0.0, 0.0, 1.0],
+                    nodes: 3,
+                    label: 0,
+                },
+                Fragment {
+                    mass: 1.0,
+                    velocity: [3.0, 4.0, 0.0],
+                    nodes: 1,
+                    label: 3,
+                },
+            ],
+            case_mass: 4.0,
+            fragment_mass: 4.0,
+            steps: 1,
+        };
+        assert!((mean_speed(&r) - 7f64.sqrt()).abs() < 1e-15);
+        assert_eq!(Strength::named("printed"), Some(Strength::Printed));
+        assert_eq!(Strength::named("weibull"), Some(Strength::Weibull));
+        assert_eq!(
+            Strength::named("perturbed"),
+            Some(Strength::WeibullPerturbed)
+        );
+        assert_eq!(Strength::named("regular"), None);
+    }
+
     /// The census by hand: the whole tube is one full-length fragment;
     /// cut along the planes x = 0 and y = 0 (no node lies on them) it is
     /// four full-length quarters, each cut by the middle plane; cut across
@@ -239,6 +361,8 @@ mod tests {
         let eighths = census(&t.solver, &t.wall, h);
         assert_eq!(t.solver.fragments().len(), 8);
         assert_eq!((eighths.full_length, eighths.full_length_mass), (0, 0.0));
+        // +0, so the report prints "0.0 %", not "-0.0 %".
+        assert!(eighths.full_length_mass.is_sign_positive());
         assert_eq!(eighths.across_mid, 4);
     }
 

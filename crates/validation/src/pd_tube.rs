@@ -41,18 +41,31 @@ impl Tube {
     /// Loads `text` once with the spacing set, reads its wall and builds
     /// its solver.
     pub fn at(file: &str, text: &str, spacing: f64) -> Result<Self, String> {
+        Self::at_with(file, text, spacing, &[])
+    }
+
+    /// [`Tube::at`] with further `--set` overrides (`key=value`, as the
+    /// command line's), applied after the spacing and the detonation point:
+    /// the studies of docs/physics/pd/validation.md vary the case this way.
+    pub fn at_with(
+        file: &str,
+        text: &str,
+        spacing: f64,
+        overrides: &[String],
+    ) -> Result<Self, String> {
         if !(spacing > 0.0 && spacing.is_finite()) {
             return Err(format!(
                 "{file}: spacing {spacing} m must be finite and > 0"
             ));
         }
-        let sets = [
+        let mut sets = vec![
             format!("pipeline.spacing={spacing:e}"),
             format!(
                 "pipeline.detonation=Some(points: [(position: (0.0, 0.0, {:e}), time: 0.0)], method: Huygens)",
                 0.5 * spacing
             ),
         ];
+        sets.extend_from_slice(overrides);
         let scenario = load_str(file, text, &sets)
             .map_err(|e| e.to_string())?
             .scenario;
