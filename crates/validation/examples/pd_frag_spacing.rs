@@ -4,7 +4,8 @@
 //! `--set` overrides of the scenario (e.g.
 //! `pipeline.materials.steel.spread.grain_size=6e-3`, `time.end=5e-5`).
 //! Prints the figures of the report's rows (fragments, m₅₀, the share of
-//! the ten largest, the census).
+//! the ten largest, the census), the fragments' mean speed and where the
+//! products' energy went.
 
 use brisance_pd::cumulative_mass_distribution;
 use brisance_validation::pd_fragmentation::{
@@ -61,6 +62,26 @@ fn main() {
         c.full_length,
         100.0 * c.full_length_mass,
         speed
+    );
+    // Where the products' energy went, and the products nodes outside the
+    // case in the middle 70 % of the tube (as E-PD-CYL prints them).
+    let e = brisance_pd::cases::EnergyBudget::of(&run.solver);
+    let released = run.initial_energy.products - e.products;
+    let length = run.case.length;
+    let (through, counted) = brisance_pd::cases::products_through_case(
+        &run.solver,
+        spacing,
+        (0.15 * length, 0.85 * length),
+    );
+    println!(
+        "energy: released {:.1} kJ; case kinetic {:.1} %, products kinetic {:.1} %, case bonds {:.1} %, \
+         contacts {:.2} % of it; total / initial {:.4}; products nodes outside the case {through} of {counted}",
+        released * 1e-3,
+        100.0 * e.case_kinetic / released,
+        100.0 * e.products_kinetic / released,
+        100.0 * e.bonds / released,
+        100.0 * e.contact / released,
+        e.total() / run.initial_energy.total()
     );
     let top: Vec<String> = r
         .fragments

@@ -2,7 +2,7 @@
 //! `configs/pd_fragment_full.ron` through the composer at any lattice
 //! spacing, run to the config's end and cut into fragments.
 
-use brisance_pd::cases::{fragment, FragmentResult};
+use brisance_pd::cases::{fragment, EnergyBudget, FragmentResult};
 use brisance_pd::PdSolver;
 
 use crate::pd_tube::{CaseWall, Tube};
@@ -70,6 +70,9 @@ pub struct FragmentationRun {
     pub result: FragmentResult,
     /// The case as the config gives it (for Mott's comparison).
     pub case: CaseWall,
+    /// Where the energy was at the start (the products' W(1) V and the
+    /// rest zero; [`EnergyBudget`]).
+    pub initial_energy: EnergyBudget,
 }
 
 /// The full tube at lattice spacing `spacing` (m), built
@@ -109,11 +112,13 @@ pub fn fragmenting_cylinder_set(
 ) -> Result<FragmentationRun, String> {
     let (file, text) = strength.config();
     let t = Tube::at_with(file, text, spacing, overrides)?;
+    let initial_energy = EnergyBudget::of(&t.solver);
     let (solver, result) = fragment(t.solver, t.scenario.time.end)?;
     Ok(FragmentationRun {
         solver,
         result,
         case: t.wall,
+        initial_energy,
     })
 }
 
