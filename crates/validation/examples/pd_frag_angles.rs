@@ -15,7 +15,7 @@
 
 use std::f64::consts::PI;
 
-use brisance_validation::pd_fragmentation::{fragmenting_cylinder_set, Strength};
+use brisance_validation::pd_fragmentation::{fragment_tube, study_args};
 use brisance_validation::pd_tube::Tube;
 
 /// Angular samples of L(θ) around the tube.
@@ -75,24 +75,16 @@ fn limit_load(reference: &[[f64; 4]], case: &[bool], families: &brisance_pd::Fam
 }
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let strength = match args.next().as_deref().map(|a| (a, Strength::named(a))) {
-        Some((_, Some(s))) => s,
-        other => {
-            eprintln!("usage: pd_frag_angles printed|weibull|perturbed SPACING_M [run] [KEY=VALUE ...] (got {other:?})");
+    let (strength, spacing, mut rest) = match study_args(
+        std::env::args().skip(1),
+        "pd_frag_angles printed|weibull|perturbed SPACING_M [run] [KEY=VALUE ...]",
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
             std::process::exit(2);
         }
     };
-    let spacing: f64 = match args.next().map(|s| s.parse()) {
-        Some(Ok(h)) => h,
-        _ => {
-            eprintln!(
-                "usage: pd_frag_angles printed|weibull|perturbed SPACING_M [run] [KEY=VALUE ...]"
-            );
-            std::process::exit(2);
-        }
-    };
-    let mut rest: Vec<String> = args.collect();
     let run = rest.first().map(String::as_str) == Some("run");
     if run {
         rest.remove(0);
@@ -138,7 +130,9 @@ fn main() {
     if !run {
         return;
     }
-    let r = match fragmenting_cylinder_set(strength, spacing, &rest) {
+    let wall = tube.wall;
+    // The tube built above, run (not built again).
+    let r = match fragment_tube(tube) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("{e}");
@@ -147,7 +141,7 @@ fn main() {
     };
     let s = &r.solver;
     let labels = s.fragment_labels();
-    let mid = 0.5 * tube.wall.length;
+    let mid = 0.5 * wall.length;
     // Mid-length case nodes by reference angle, with their fragment.
     let mut ring: Vec<(f64, usize)> = (0..s.node_count())
         .filter(|&i| {
@@ -179,7 +173,7 @@ fn main() {
                 c = (0.5 * (a + b + 2.0 * PI)) % (2.0 * PI);
             }
             // L's lowest value within ±one spacing of arc at mid-radius.
-            let half = spacing / (0.5 * (tube.wall.inner_radius + tube.wall.outer_radius));
+            let half = spacing / (0.5 * (wall.inner_radius + wall.outer_radius));
             let m0 = ((c - half) / (2.0 * PI) * SAMPLES as f64).floor() as i64;
             let m1 = ((c + half) / (2.0 * PI) * SAMPLES as f64).ceil() as i64;
             let near = (m0..=m1)

@@ -9,26 +9,20 @@
 
 use brisance_pd::cumulative_mass_distribution;
 use brisance_validation::pd_fragmentation::{
-    census, fragmenting_cylinder_set, mean_speed, Strength,
+    census, fragmenting_cylinder_set, mean_speed, study_args,
 };
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let strength = match args.next().as_deref().map(|a| (a, Strength::named(a))) {
-        Some((_, Some(s))) => s,
-        other => {
-            eprintln!("usage: pd_frag_spacing printed|weibull|perturbed SPACING_M (got {other:?})");
+    let (strength, spacing, overrides) = match study_args(
+        std::env::args().skip(1),
+        "pd_frag_spacing printed|weibull|perturbed SPACING_M [KEY=VALUE ...]",
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
             std::process::exit(2);
         }
     };
-    let spacing: f64 = match args.next().map(|s| s.parse()) {
-        Some(Ok(h)) => h,
-        _ => {
-            eprintln!("usage: pd_frag_spacing printed|weibull|perturbed SPACING_M [KEY=VALUE ...]");
-            std::process::exit(2);
-        }
-    };
-    let overrides: Vec<String> = args.collect();
     let t0 = std::time::Instant::now();
     let run = match fragmenting_cylinder_set(strength, spacing, &overrides) {
         Ok(r) => r,

@@ -111,7 +111,12 @@ pub fn fragmenting_cylinder_set(
     overrides: &[String],
 ) -> Result<FragmentationRun, String> {
     let (file, text) = strength.config();
-    let t = Tube::at_with(file, text, spacing, overrides)?;
+    fragment_tube(Tube::at_with(file, text, spacing, overrides)?)
+}
+
+/// Tube `t`, already built, stepped at its stable step to its scenario's
+/// end time and cut into fragments.
+pub fn fragment_tube(t: Tube) -> Result<FragmentationRun, String> {
     let initial_energy = EnergyBudget::of(&t.solver);
     let (solver, result) = fragment(t.solver, t.scenario.time.end)?;
     Ok(FragmentationRun {
@@ -120,6 +125,21 @@ pub fn fragmenting_cylinder_set(
         case: t.wall,
         initial_energy,
     })
+}
+
+/// The command line of the study examples (`pd_frag_spacing`,
+/// `pd_frag_angles`): `printed|weibull|perturbed SPACING_M` and what
+/// follows, or the usage line `usage` as the error.
+pub fn study_args(
+    mut args: impl Iterator<Item = String>,
+    usage: &str,
+) -> Result<(Strength, f64, Vec<String>), String> {
+    let strength = args.next().as_deref().and_then(Strength::named);
+    let spacing = args.next().and_then(|s| s.parse::<f64>().ok());
+    match (strength, spacing) {
+        (Some(st), Some(h)) => Ok((st, h, args.collect())),
+        _ => Err(format!("usage: {usage}")),
+    }
 }
 
 /// The fragments' kinetic-energy mean speed, m/s: (Σ m v² / Σ m)^{1/2}
@@ -329,6 +349,25 @@ mod tests {
             Some(Strength::WeibullPerturbed)
         );
         assert_eq!(Strength::named("regular"), None);
+        let args = |a: &[&str]| {
+            a.iter()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>()
+                .into_iter()
+        };
+        assert_eq!(
+            study_args(args(&["perturbed", "1.3e-3", "time.end=5e-5"]), "u"),
+            Ok((
+                Strength::WeibullPerturbed,
+                1.3e-3,
+                vec!["time.end=5e-5".to_string()]
+            ))
+        );
+        assert_eq!(study_args(args(&["weibull"]), "u"), Err("usage: u".into()));
+        assert_eq!(
+            study_args(args(&["x", "1e-3"]), "u"),
+            Err("usage: u".into())
+        );
     }
 
     /// The census by hand: the whole tube is one full-length fragment;
