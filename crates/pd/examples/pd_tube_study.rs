@@ -129,7 +129,7 @@ fn main() -> Result<(), String> {
                 }
             }
             println!(
-                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % contacts {:.2} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s  case KE axial {:.1} % p_z {:.2} N s",
+                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % contacts {:.2} % dissipated {:.2} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s  case KE axial {:.1} % p_z {:.2} N s",
                 s.time() * 1e6,
                 dt,
                 mid(&s),
@@ -138,6 +138,7 @@ fn main() -> Result<(), String> {
                 100.0 * e.products_kinetic / released,
                 100.0 * e.bonds / released,
                 100.0 * e.contact / released,
+                100.0 * e.dissipated / released,
                 released * 1e-3,
                 100.0 * disorder / released,
                 100.0 * nonaffine / released,

@@ -269,9 +269,11 @@ pub fn run_tube(
 
 /// Where the energy of a tube run is (J): the products' stored energy
 /// W(X)V and chemical energy not yet released, the kinetic energy of the
-/// case and of the products, the elastic energy of the case bonds and the
+/// case and of the products, the elastic energy of the case bonds, the
 /// energy stored in the short-range contacts (eq 27's pair potential,
-/// [`PdSolver::contact_energy`]) — the terms of the run summary's total.
+/// [`PdSolver::contact_energy`]) and the energy the case bonds dissipated
+/// by yielding and breaking ([`PdSolver::dissipated_energy`]) — the terms
+/// of the run summary's total.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyBudget {
     /// Σ W(X_i) V_i over the explosive nodes (W(1) V_i before detonation).
@@ -285,6 +287,9 @@ pub struct EnergyBudget {
     /// Energy stored in the short-range contacts (products on the case,
     /// case on case, and products on products where that contact is on).
     pub contact: f64,
+    /// Energy the case bonds dissipated: plastic work and what breaking
+    /// bonds held.
+    pub dissipated: f64,
 }
 
 impl EnergyBudget {
@@ -308,12 +313,18 @@ impl EnergyBudget {
             products_kinetic,
             bonds: s.bond_energy(),
             contact: s.contact_energy(),
+            dissipated: s.dissipated_energy(),
         }
     }
 
-    /// The sum of the five parts.
+    /// The sum of the six parts.
     pub fn total(&self) -> f64 {
-        self.products + self.case_kinetic + self.products_kinetic + self.bonds + self.contact
+        self.products
+            + self.case_kinetic
+            + self.products_kinetic
+            + self.bonds
+            + self.contact
+            + self.dissipated
     }
 }
 

@@ -104,6 +104,9 @@ struct SolidSums {
     force: [[f64; LANES]; 3],
     min_stretch: [f32; LANES],
     intact: [u32; LANES],
+    /// Σ β r (s_Y |Δs_p| + ψ_broken) V_j: the energy this pass dissipated
+    /// in the row's bonds, before the factor ½ c V_i ([`solid_row`]).
+    dissipated: [f64; LANES],
 }
 
 /// The neighbour data of one group of bonds in structure-of-arrays lanes:
@@ -331,10 +334,12 @@ fn solid_group<G: Gather>(
     );
     let (dx, de, vol) = (&g.x, &g.u, &g.vol);
     let crit = g.sigma.map(|v| v as f32);
-    let mut w = *w_io;
+    let w_old = *w_io;
+    let mut w = w_old;
     // Lane arithmetic.
     let mut y = [[0.0f64; LANES]; 3];
     let mut s = [0f32; LANES];
+    let mut rr = [0f32; LANES];
     let mut inv_p = [0f32; LANES];
     let mut any_failure = false;
     for l in 0..LANES {
@@ -350,19 +355,24 @@ fn solid_group<G: Gather>(
         let inv = 1.0 / (r * p * (p + r));
         s[l] = (num as f32) * (p * inv);
         inv_p[l] = r * (p + r) * inv;
+        rr[l] = r;
         any_failure |= (s[l] > row.critical_stretch) & (w[l] != 0.0);
     }
+    let mut broke = false;
     if any_failure {
         let sci = row.node_critical_stretch;
         for l in 0..LANES {
             if w[l] != 0.0 && s[l] > row.critical_stretch && s[l] > sci.min(crit[l]) {
                 w[l] = 0.0;
+                broke = true;
             }
         }
         *w_io = w;
     }
     let sy = row.yield_stretch;
     let mut e = [0f32; LANES];
+    // s_Y |Δs_p|: the plastic flow of this pass times the yield stretch.
+    let mut flow = [0f32; LANES];
     if row.plastic {
         let mut sp = *sp_io;
         for l in 0..LANES {
@@ -375,6 +385,7 @@ fn solid_group<G: Gather>(
                 sp[l]
             };
             e[l] = s[l] - shifted;
+            flow[l] = sy * (shifted - sp[l]).abs();
             // A broken bond keeps its last plastic stretch.
             sp[l] = if w[l] != 0.0 { shifted } else { sp[l] };
         }
@@ -382,6 +393,23 @@ fn solid_group<G: Gather>(
     } else {
         for l in 0..LANES {
             e[l] = s[l].clamp(-sy, sy);
+        }
+    }
+    // The energy the pass dissipates: the plastic work s_Y |Δs_p| of a
+    // yielding bond, and all a bond breaking now held, ψ = |e| (a − |e|/2)
+    // with a = |e| (micro-plastic: ½ e²) or |s| (micro-elastic: ½ s²
+    // below yield, s_Y (|s| − s_Y/2) above), as `PdSolver::bond_energy`
+    // counts it. Bonds broken before this pass (β = 0) add nothing.
+    if row.plastic || broke {
+        for l in 0..LANES {
+            let a = e[l].abs();
+            let stretch = if row.plastic { a } else { s[l].abs() };
+            let psi = if w[l] == 0.0 {
+                a * (stretch - 0.5 * a)
+            } else {
+                0.0
+            };
+            sums.dissipated[l] += ((w_old[l] * (flow[l] + psi)) * rr[l]) as f64 * vol[l];
         }
     }
     for l in 0..LANES {
@@ -428,7 +456,7 @@ fn solid_row<G: Gather>(
     neighbours: &[u32],
     factor: &mut [f32],
     plastic: &mut [f32],
-) -> NodeForce {
+) -> (NodeForce, f32) {
     let row = SolidRow {
         xi: input.reference[i],
         ui: input.state[i],
@@ -472,11 +500,15 @@ fn solid_row<G: Gather>(
         .min_stretch
         .iter()
         .fold(f32::INFINITY, |a, &b| a.min(b));
-    NodeForce {
-        force: f.map(|v| v * micromodulus),
-        min_stretch,
-        intact: sums.intact.iter().sum(),
-    }
+    let dissipated = 0.5 * row.xi[3] * micromodulus * sums.dissipated.iter().sum::<f64>();
+    (
+        NodeForce {
+            force: f.map(|v| v * micromodulus),
+            min_stretch,
+            intact: sums.intact.iter().sum(),
+        },
+        dissipated as f32,
+    )
 }
 
 /// The groups of eight bonds of one solid row ([`solid_row`]), their
@@ -493,6 +525,7 @@ fn solid_groups<G: Gather>(
         force: [[0.0; LANES]; 3],
         min_stretch: [f32::INFINITY; LANES],
         intact: [0; LANES],
+        dissipated: [0.0; LANES],
     };
     let (reference, state) = (input.reference, input.state);
     let len = neighbours.len().min(factor.len()).min(plastic.len());
@@ -561,6 +594,8 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
     }
 }
 
+/// The rows of `nodes`: `out` (and `dissipated`, unless it is empty) hold
+/// one entry per node of the range.
 #[inline(always)]
 fn rows_serial<G: Gather>(
     nodes: std::ops::Range<usize>,
@@ -568,12 +603,13 @@ fn rows_serial<G: Gather>(
     factor: &mut [f32],
     plastic: &mut [f32],
     out: &mut [NodeForce],
+    dissipated: &mut [f32],
 ) {
     let base = input.offsets[nodes.start] as usize;
-    for (o, i) in out.iter_mut().zip(nodes) {
+    for (k, (o, i)) in out.iter_mut().zip(nodes).enumerate() {
         let row = input.offsets[i] as usize - base..input.offsets[i + 1] as usize - base;
         let nb = &input.neighbours[row.start + base..row.end + base];
-        *o = match input.laws[input.material[i] as usize] {
+        let (force, lost) = match input.laws[input.material[i] as usize] {
             BondLaw::Solid {
                 micromodulus,
                 yield_stretch,
@@ -590,13 +626,18 @@ fn rows_serial<G: Gather>(
                 &mut factor[row.clone()],
                 &mut plastic[row],
             ),
-            BondLaw::Gas => gas_row(i, input, nb, &factor[row]),
+            BondLaw::Gas => (gas_row(i, input, nb, &factor[row]), 0.0),
         };
+        *o = force;
+        if let Some(d) = dissipated.get_mut(k) {
+            *d = lost;
+        }
     }
 }
 
 /// A serial pass over a node range, compiled for one instruction set.
-type RowsFn = fn(std::ops::Range<usize>, &ForceInput, &mut [f32], &mut [f32], &mut [NodeForce]);
+type RowsFn =
+    fn(std::ops::Range<usize>, &ForceInput, &mut [f32], &mut [f32], &mut [NodeForce], &mut [f32]);
 
 /// [`rows_serial`] compiled with AVX2 (the same IEEE operations: Rust
 /// never fuses a multiply and an add on its own, so the bits are those of
@@ -609,8 +650,9 @@ unsafe fn rows_serial_avx2(
     factor: &mut [f32],
     plastic: &mut [f32],
     out: &mut [NodeForce],
+    dissipated: &mut [f32],
 ) {
-    rows_serial::<AvxGather>(nodes, input, factor, plastic, out)
+    rows_serial::<AvxGather>(nodes, input, factor, plastic, out, dissipated)
 }
 
 /// [`rows_serial`] compiled with AVX-512 (same bits, see above).
@@ -622,8 +664,9 @@ unsafe fn rows_serial_avx512(
     factor: &mut [f32],
     plastic: &mut [f32],
     out: &mut [NodeForce],
+    dissipated: &mut [f32],
 ) {
-    rows_serial::<Avx512Gather>(nodes, input, factor, plastic, out)
+    rows_serial::<Avx512Gather>(nodes, input, factor, plastic, out, dissipated)
 }
 
 /// The widest build of the row pass this processor runs.
@@ -635,16 +678,17 @@ fn rows_for_this_cpu() -> RowsFn {
             && std::arch::is_x86_feature_detected!("avx512dq")
         {
             // SAFETY: the features the function was compiled for are present.
-            return |n, i, f, p, o| unsafe { rows_serial_avx512(n, i, f, p, o) };
+            return |n, i, f, p, o, d| unsafe { rows_serial_avx512(n, i, f, p, o, d) };
         }
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: as above.
-            return |n, i, f, p, o| unsafe { rows_serial_avx2(n, i, f, p, o) };
+            return |n, i, f, p, o, d| unsafe { rows_serial_avx2(n, i, f, p, o, d) };
         }
     }
     rows_serial::<ScalarGather>
 }
 
+#[allow(clippy::too_many_arguments)]
 fn rows_parallel(
     rows: RowsFn,
     nodes: std::ops::Range<usize>,
@@ -652,9 +696,10 @@ fn rows_parallel(
     factor: &mut [f32],
     plastic: &mut [f32],
     out: &mut [NodeForce],
+    dissipated: &mut [f32],
 ) {
     if nodes.len() <= GRAIN {
-        rows(nodes, input, factor, plastic, out);
+        rows(nodes, input, factor, plastic, out, dissipated);
         return;
     }
     let mid = nodes.start + nodes.len() / 2;
@@ -662,9 +707,14 @@ fn rows_parallel(
     let (fa, fb) = factor.split_at_mut(split);
     let (pa, pb) = plastic.split_at_mut(split);
     let (oa, ob) = out.split_at_mut(mid - nodes.start);
+    let (da, db) = if dissipated.is_empty() {
+        (&mut [][..], &mut [][..])
+    } else {
+        dissipated.split_at_mut(mid - nodes.start)
+    };
     rayon::join(
-        || rows_parallel(rows, nodes.start..mid, input, fa, pa, oa),
-        || rows_parallel(rows, mid..nodes.end, input, fb, pb, ob),
+        || rows_parallel(rows, nodes.start..mid, input, fa, pa, oa, da),
+        || rows_parallel(rows, mid..nodes.end, input, fb, pb, ob, db),
     );
 }
 
@@ -692,7 +742,28 @@ pub fn bond_forces_in(
     plastic: &mut [f32],
     out: &mut [NodeForce],
 ) {
+    bond_forces_dissipating_in(input, nodes, factor, plastic, out, &mut []);
+}
+
+/// [`bond_forces_in`] that also writes, per node of `nodes`, the energy
+/// its row dissipated in this pass (J, into `dissipated`, the whole
+/// array like `out`, or empty to skip it): ½ c V_i Σ_j β r V_j
+/// (s_Y |Δs_p| + ψ_j), the plastic work of its yielding bonds and what its
+/// bonds breaking in this pass held (ψ as in `PdSolver::bond_energy`). Each of
+/// a pair's two copies books half. The force bits do not depend on it.
+pub fn bond_forces_dissipating_in(
+    input: &ForceInput,
+    nodes: std::ops::Range<usize>,
+    factor: &mut [f32],
+    plastic: &mut [f32],
+    out: &mut [NodeForce],
+    dissipated: &mut [f32],
+) {
     let n = out.len();
+    assert!(
+        dissipated.is_empty() || dissipated.len() == n,
+        "one dissipated energy per node, or none"
+    );
     assert_eq!(input.offsets.len(), n + 1, "one row per node");
     assert_eq!(factor.len(), input.neighbours.len());
     assert_eq!(plastic.len(), input.neighbours.len());
@@ -707,7 +778,12 @@ pub fn bond_forces_in(
         input,
         &mut factor[bonds.clone()],
         &mut plastic[bonds],
-        &mut out[nodes],
+        &mut out[nodes.clone()],
+        if dissipated.is_empty() {
+            &mut []
+        } else {
+            &mut dissipated[nodes]
+        },
     );
 }
 

@@ -40,7 +40,7 @@ pub mod viscosity;
 
 pub use brisance_reaction::{DetonationPoint, ProductsIsentrope};
 pub use family::{build_families, partial_volume, Families};
-pub use forces::{bond_forces, BondLaw, ForceInput, NodeForce};
+pub use forces::{bond_forces, bond_forces_dissipating_in, BondLaw, ForceInput, NodeForce};
 pub use fragments::{
     cumulative_mass_distribution, write_cmd_csv, write_fragments_csv, CmdPoint, Fragment,
 };

@@ -25,7 +25,8 @@ use crate::contact::{
 };
 use crate::family::Families;
 use crate::forces::{
-    bond_forces_in, for_each_node, for_each_node_in, gas_expansion, BondLaw, ForceInput, NodeForce,
+    bond_forces_dissipating_in, for_each_node, for_each_node_in, gas_expansion, BondLaw,
+    ForceInput, NodeForce,
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{BodySpec, Dimension};
@@ -275,6 +276,14 @@ pub struct PdSolver {
     state: Vec<[f64; 4]>,
     velocity: Vec<[f64; 3]>,
     bond_out: Vec<NodeForce>,
+    /// Per node, the energy its bonds dissipated in the last force pass
+    /// (plastic work and what breaking bonds held, J;
+    /// [`bond_forces_dissipating_in`]); empty when no bond can yield
+    /// plastically or break.
+    dissipated_node: Vec<f32>,
+    /// The energy the bonds dissipated since the start, J: the steps'
+    /// sums of `dissipated_node` in node order.
+    dissipated: f64,
     /// Contact force and stiffness per node; empty when contact is off.
     contact: Vec<([f64; 3], f64)>,
     /// (X, gas stiffness, X_d, ΔC) per node, X_d the expansion at the
@@ -428,6 +437,7 @@ impl PdSolver {
             + heap(&self.state)
             + heap(&self.velocity)
             + heap(&self.bond_out)
+            + heap(&self.dissipated_node)
             + heap(&self.contact)
             + heap(&self.gas)
             + heap(&self.viscous_node)
@@ -860,12 +870,13 @@ impl PdSolver {
             laws: &self.laws,
         };
         let own = self.ranks.nodes();
-        bond_forces_in(
+        bond_forces_dissipating_in(
             &input,
             own.clone(),
             &mut self.factor,
             &mut self.plastic,
             &mut self.bond_out,
+            &mut self.dissipated_node,
         );
         if let Some(params) = self.contact_params() {
             bin_current_positions(&mut self.cells, &self.reference, &self.state, &params);
@@ -1024,6 +1035,27 @@ impl PdSolver {
             total += 0.5 * xi[3] * w_sum;
         }
         total
+    }
+
+    /// Energy the bonds of proportional solids have dissipated since the
+    /// start, J: the plastic work of micro-plastic bonds (c β r s_Y |Δs_p|
+    /// V_i V_j per yielding pass) and the energy [`Self::bond_energy`]
+    /// counted in each bond when it broke. With it the run's total energy
+    /// (kinetic, bond, products, contact and this) is conserved up to the
+    /// time integration; 0 when no bond can yield plastically or break.
+    pub fn dissipated_energy(&self) -> f64 {
+        self.dissipated
+    }
+
+    /// Adds the last force pass's per-node dissipation to the total, in
+    /// node order (the same bits on any thread or rank count: every rank
+    /// holds every node's value after `share_forces`).
+    pub(crate) fn book_dissipation(&mut self) {
+        let mut step = 0.0;
+        for &d in &self.dissipated_node {
+            step += d as f64;
+        }
+        self.dissipated += step;
     }
 
     /// Energy stored in the products (Σ W(X_i/X_d,i) V_i over detonated

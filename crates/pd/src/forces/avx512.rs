@@ -88,10 +88,12 @@ pub(super) unsafe fn solid_group(
     let s = _mm256_mul_ps(_mm512_cvtpd_ps(num), _mm256_mul_ps(p, inv));
     let inv_p = _mm256_mul_ps(_mm256_mul_ps(r, ppr), inv);
     let zero = _mm256_setzero_ps();
-    let mut w = _mm256_loadu_ps(w_io.as_ptr());
+    let w_old = _mm256_loadu_ps(w_io.as_ptr());
+    let mut w = w_old;
     // `w != 0.0` is true for NaN: not-equal, unordered.
     let live = _mm256_cmp_ps_mask::<_CMP_NEQ_UQ>(w, zero);
     let over = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(s, _mm256_set1_ps(row.critical_stretch));
+    let mut broke = false;
     if live & over != 0 {
         let crit = _mm512_cvtpd_ps(sig);
         // sci.min(crit): vminps returns its second operand, sci, when one
@@ -100,11 +102,14 @@ pub(super) unsafe fn solid_group(
         let broken = live & over & _mm256_cmp_ps_mask::<_CMP_GT_OQ>(s, limit);
         w = _mm256_mask_blend_ps(broken, w, zero);
         _mm256_storeu_ps(w_io.as_mut_ptr(), w);
+        broke = broken != 0;
     }
     let live = _mm256_cmp_ps_mask::<_CMP_NEQ_UQ>(w, zero);
     let sy = _mm256_set1_ps(row.yield_stretch);
     let neg_sy = _mm256_set1_ps(-row.yield_stretch);
-    let e = if row.plastic {
+    // f32::abs: the sign bit cleared.
+    let abs = |a: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), a);
+    let (e, flow) = if row.plastic {
         let sp = _mm256_loadu_ps(sp_io.as_ptr());
         let el = _mm256_sub_ps(s, sp);
         let up = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(el, sy);
@@ -116,13 +121,36 @@ pub(super) unsafe fn solid_group(
         );
         // A broken bond keeps its last plastic stretch.
         _mm256_storeu_ps(sp_io.as_mut_ptr(), _mm256_mask_blend_ps(live, sp, shifted));
-        _mm256_sub_ps(s, shifted)
+        (
+            _mm256_sub_ps(s, shifted),
+            _mm256_mul_ps(sy, abs(_mm256_sub_ps(shifted, sp))),
+        )
     } else {
         // f32::clamp: below the minimum → minimum, then above the maximum
         // → maximum.
         let x = _mm256_mask_blend_ps(_mm256_cmp_ps_mask::<_CMP_LT_OQ>(s, neg_sy), s, neg_sy);
-        _mm256_mask_blend_ps(_mm256_cmp_ps_mask::<_CMP_GT_OQ>(x, sy), x, sy)
+        (
+            _mm256_mask_blend_ps(_mm256_cmp_ps_mask::<_CMP_GT_OQ>(x, sy), x, sy),
+            zero,
+        )
     };
+    // The dissipated energy, as the portable kernel forms it: ψ on the
+    // lanes broken now (β = 0 after the pass), β_old (flow + ψ) r.
+    if row.plastic || broke {
+        let a = abs(e);
+        let stretch = if row.plastic { a } else { abs(s) };
+        let psi = _mm256_mul_ps(
+            a,
+            _mm256_sub_ps(stretch, _mm256_mul_ps(_mm256_set1_ps(0.5), a)),
+        );
+        let psi = _mm256_maskz_mov_ps(!live, psi);
+        let t = _mm256_mul_ps(_mm256_mul_ps(w_old, _mm256_add_ps(flow, psi)), r);
+        let acc = _mm512_loadu_pd(sums.dissipated.as_ptr());
+        _mm512_storeu_pd(
+            sums.dissipated.as_mut_ptr(),
+            add(acc, mul(_mm512_cvtps_pd(t), vol)),
+        );
+    }
     let g = mul(
         _mm512_cvtps_pd(_mm256_mul_ps(_mm256_mul_ps(w, e), inv_p)),
         vol,

@@ -120,6 +120,90 @@ fn a_broken_bond_never_carries_force_again() {
     }
 }
 
+impl Pair {
+    /// [`Pair::set`] through the pass that books dissipation: the energy
+    /// each node's row dissipated.
+    fn dissipated(&mut self, eta: [f64; 3], scalar: [f64; 2]) -> [f32; 2] {
+        self.state[0] = [0.0, 0.0, 0.0, scalar[0]];
+        self.state[1] = [eta[0], eta[1], eta[2], scalar[1]];
+        let input = ForceInput {
+            reference: &self.reference,
+            state: &self.state,
+            offsets: &[0, 1, 2],
+            neighbours: &[1, 0],
+            material: &[0, 0],
+            laws: &self.laws,
+        };
+        let mut d = [0f32; 2];
+        bond_forces_dissipating_in(
+            &input,
+            0..2,
+            &mut self.factor,
+            &mut self.plastic,
+            &mut self.out,
+            &mut d,
+        );
+        d
+    }
+}
+
+/// Plastic work by hand: the pair (r = 2, V₀ = 2, V₁ = ½, c = 3) stretched
+/// to s = 0.1 past s_Y = 0.05 flows by Δs_p = 0.05; the pair dissipates
+/// c β r V₀ V₁ s_Y Δs_p = 3·2·1·0.05·0.05 = 0.015, half booked by each
+/// node. Unloading elastically dissipates nothing; compressing to
+/// s = −0.02 flows back by 0.02 (from s_p = 0.05 to 0.03: s − s_p = −0.05).
+#[test]
+fn a_yielding_bond_dissipates_its_plastic_work_by_hand() {
+    let law = BondLaw::Solid {
+        micromodulus: 3.0,
+        yield_stretch: 0.05,
+        plastic: true,
+        critical_stretch: f64::INFINITY,
+    };
+    let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+    let d = p.dissipated([0.2, 0.0, 0.0], [1.0, 1.0]);
+    for v in d {
+        assert!(close(v as f64, 0.0075), "{d:?}");
+    }
+    assert_eq!(p.dissipated([0.16, 0.0, 0.0], [1.0, 1.0]), [0.0; 2]);
+    let d = p.dissipated([-0.04, 0.0, 0.0], [1.0, 1.0]);
+    for v in d {
+        assert!(close(v as f64, 0.5 * 3.0 * 2.0 * 0.05 * 0.02), "{d:?}");
+    }
+}
+
+/// A bond breaking books what it held: ½ s² below yield, s_Y (|s| − s_Y/2)
+/// above it (micro-elastic), ½ (s − s_p)² (micro-plastic); once broken it
+/// books nothing more.
+#[test]
+fn a_breaking_bond_dissipates_the_energy_it_held_by_hand() {
+    let pair = 3.0 * 2.0; // c β r V₀ V₁
+    for (yield_stretch, plastic, want) in [
+        (f64::INFINITY, false, 0.5 * 0.1 * 0.1),
+        (0.04, false, 0.04 * (0.1 - 0.02)),
+        // The pass flows by 0.06 (s_p 0 → 0.06) and then breaks: the
+        // plastic work 0.04·0.06 and ½·0.04².
+        (0.04, true, 0.04 * 0.06 + 0.5 * 0.04 * 0.04),
+    ] {
+        let law = BondLaw::Solid {
+            micromodulus: 3.0,
+            yield_stretch,
+            plastic,
+            critical_stretch: 0.08,
+        };
+        let mut p = Pair::new(law, [2.0, 0.0, 0.0]);
+        let d = p.dissipated([0.2, 0.0, 0.0], [0.08, 0.08]);
+        assert_eq!(p.factor, vec![0.0, 0.0]);
+        for v in d {
+            assert!(
+                (v as f64 / (0.5 * pair * want) - 1.0).abs() < 1e-6,
+                "{d:?} {want}"
+            );
+        }
+        assert_eq!(p.dissipated([0.3, 0.0, 0.0], [0.08, 0.08]), [0.0; 2]);
+    }
+}
+
 #[test]
 fn the_raised_critical_stretch_of_either_node_is_respected() {
     let law = BondLaw::Solid {
@@ -270,15 +354,16 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
     let rows: &[(&str, RowsFn)] = &[
         ("dispatched", rows_for_this_cpu()),
         #[cfg(target_arch = "x86_64")]
-        ("avx2", |n, i, f, p, o| {
+        ("avx2", |n, i, f, p, o, d| {
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: checked just above.
-                unsafe { rows_serial_avx2(n, i, f, p, o) }
+                unsafe { rows_serial_avx2(n, i, f, p, o, d) }
             } else {
-                rows_serial::<ScalarGather>(n, i, f, p, o)
+                rows_serial::<ScalarGather>(n, i, f, p, o, d)
             }
         }),
     ];
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     for (name, rows) in rows {
         let mut states = [block.factor.clone(), block.factor.clone()];
         let mut plastic = [
@@ -286,7 +371,9 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
             vec![0f32; block.factor.len()],
         ];
         let mut out = [vec![NodeForce::default(); n], vec![NodeForce::default(); n]];
+        let mut lost = [vec![0f32; n], vec![0f32; n]];
         let mut broken = 0;
+        let mut dissipated = 0.0;
         for amplitude in [0.5, 2.0, 4.0, 1.0, -3.0, 0.0] {
             let state: Vec<[f64; 4]> = block
                 .reference
@@ -304,8 +391,11 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
             let [f0, f1] = &mut states;
             let [p0, p1] = &mut plastic;
             let [o0, o1] = &mut out;
-            rows_serial::<ScalarGather>(0..n, &input, f0, p0, o0);
-            rows(0..n, &input, f1, p1, o1);
+            let [d0, d1] = &mut lost;
+            rows_serial::<ScalarGather>(0..n, &input, f0, p0, o0, d0);
+            rows(0..n, &input, f1, p1, o1, d1);
+            assert_eq!(bits(d0), bits(d1), "{name}: dissipated energies");
+            dissipated += d0.iter().map(|&d| d as f64).sum::<f64>();
             for (a, b) in o0.iter().zip(o1.iter()) {
                 assert_eq!(
                     a.force.map(f64::to_bits),
@@ -315,7 +405,6 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
                 assert_eq!(a.min_stretch.to_bits(), b.min_stretch.to_bits(), "{name}");
                 assert_eq!(a.intact, b.intact, "{name}");
             }
-            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(f0), bits(f1), "{name}: factors");
             assert_eq!(bits(p0), bits(p1), "{name}: plastic stretches");
             broken = f0.iter().filter(|&&w| w == 0.0).count();
@@ -325,6 +414,7 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
         let yielded = plastic[0].iter().filter(|&&p| p != 0.0).count();
         assert!(broken > 100 && broken < block.factor.len() / 2, "{broken}");
         assert!(yielded > 100, "{yielded}");
+        assert!(dissipated > 0.0, "{dissipated}");
     }
 }
 

@@ -254,6 +254,16 @@ impl PdSolver {
             }
         }
         let has_gas = laws.iter().any(|l| matches!(l, BondLaw::Gas));
+        // Bonds that can yield plastically or break dissipate energy.
+        let dissipating = laws.iter().any(|l| match *l {
+            BondLaw::Solid {
+                yield_stretch,
+                plastic,
+                critical_stretch,
+                ..
+            } => (plastic && yield_stretch.is_finite()) || critical_stretch.is_finite(),
+            BondLaw::Gas => false,
+        });
         let contact_on = o.contact.is_some();
         let has_reactant = setup
             .materials
@@ -299,6 +309,8 @@ impl PdSolver {
             state,
             velocity: cloud.velocity,
             bond_out: vec![NodeForce::default(); n],
+            dissipated_node: vec![0.0; if dissipating { n } else { 0 }],
+            dissipated: 0.0,
             contact: vec![([0.0; 3], 0.0); if contact_on { n } else { 0 }],
             gas: vec![[1.0, 0.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
             viscosity: None,

@@ -165,7 +165,8 @@ impl PdSolver {
     }
 
     /// Copies what step 4 wrote for each rank's nodes to every rank: the
-    /// node force, minimum stretch and intact count, the contact force and
+    /// node force, minimum stretch and intact count, the energy its bonds
+    /// dissipated (when booked), the contact force and
     /// stiffness, the viscous output, and the factors of each row in which
     /// a bond broke (a row's factors change only by breaking, to 0).
     pub(super) fn share_forces(&mut self) {
@@ -175,13 +176,18 @@ impl PdSolver {
         let own = self.ranks.nodes();
         let contact = !self.contact.is_empty();
         let viscous = !self.viscous.is_empty();
-        let width = 5 + if contact { 4 } else { 0 } + if viscous { 6 } else { 0 };
+        let dissipating = !self.dissipated_node.is_empty();
+        let width =
+            5 + if contact { 4 } else { 0 } + if viscous { 6 } else { 0 } + dissipating as usize;
         let mut buf = Vec::with_capacity(width * own.len());
         for i in own.clone() {
             let b = self.bond_out[i];
             push(&mut buf, &b.force);
             buf.push(b.min_stretch as f64);
             buf.push(b.intact as f64);
+            if dissipating {
+                buf.push(self.dissipated_node[i] as f64);
+            }
             if contact {
                 let (f, k) = self.contact[i];
                 push(&mut buf, &f);
@@ -211,6 +217,10 @@ impl PdSolver {
                     intact: v[4] as u32,
                 };
                 let mut at = 5;
+                if dissipating {
+                    self.dissipated_node[i] = v[at] as f32;
+                    at += 1;
+                }
                 if contact {
                     self.contact[i] = ([v[at], v[at + 1], v[at + 2]], v[at + 3]);
                     at += 4;

@@ -21,6 +21,7 @@ struct PdState {
     contact: Vec<([f64; 3], f64)>,
     gas: Vec<[f64; 4]>,
     viscous: Vec<ViscousOut>,
+    dissipated: f64,
 }
 
 impl PdSolver {
@@ -43,6 +44,7 @@ impl PdSolver {
             contact: self.contact.clone(),
             gas: self.gas.clone(),
             viscous: self.viscous.clone(),
+            dissipated: self.dissipated,
         }
     }
 }
@@ -113,6 +115,7 @@ impl Solver for PdSolver {
         self.time += dt;
         self.update_node_scalars();
         self.compute_forces();
+        self.book_dissipation();
         self.kick(0.5 * dt);
         self.impose_velocities();
         self.steps += 1;
@@ -146,7 +149,8 @@ impl Solver for PdSolver {
             energy: self.kinetic_energy()
                 + self.bond_energy()
                 + self.gas_energy()
-                + self.contact_energy(),
+                + self.contact_energy()
+                + self.dissipated_energy(),
         }
     }
 
@@ -307,6 +311,7 @@ impl Solver for PdSolver {
         }
         self.contact = s.contact;
         self.gas = s.gas;
+        self.dissipated = s.dissipated;
         self.ranks_restored();
         // The viscous pass's node data are formed again from the restored
         // state before they are next read (`update_node_scalars`).
