@@ -77,7 +77,8 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     let _ = writeln!(
         report.md,
         "\nEnergy at 45 µs: the products have released {:.0} kJ (W₀ − W); case kinetic {:.0} kJ ({:.0} % of it), \
-         products kinetic {:.0} kJ ({:.0} %), case bonds {:.0} kJ ({:.0} %), contacts {:.1} kJ ({:.1} %); total / initial = {:.4}. \
+         products kinetic {:.0} kJ ({:.0} %), case bonds {:.0} kJ ({:.0} %), contacts {:.1} kJ ({:.1} %), \
+         dissipated by the case bonds (yield and failure) {:.1} kJ ({:.1} %); total / initial = {:.4}. \
          Products nodes outside the case (beyond its outermost node in their axial slab, middle 70 % of the \
          tube): {through} of {counted}. For an ideal open cylinder the Gurney model puts M/(M + C/2) = {:.0} % \
          of the released energy into the case. The study behind these numbers is in docs/physics/pd/validation.md.",
@@ -90,6 +91,8 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         100.0 * e.bonds / released,
         e.contact * 1e-3,
         100.0 * e.contact / released,
+        e.dissipated * 1e-3,
+        100.0 * e.dissipated / released,
         e.total() / h.initial_energy,
         100.0 * case.metal_to_charge() / (case.metal_to_charge() + 0.5),
     );
