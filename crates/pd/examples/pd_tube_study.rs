@@ -13,7 +13,9 @@
 //! `PCONTACT=1` turns on eq 27 between the nodes of the charge
 //! (`PdSolver::set_products_contact`); `LINE=1` lights the charge along its axis at t = 0 (radial flow only);
 //! `STEEL=1` runs the steel tube of E-PD-FRAG; `EVERY=s` sets the print
-//! interval. The "viscous heat" column is `PdSolver::viscous_heat`, which
+//! interval; `JUMP=f` prints each step in which the booked total changes
+//! by more than f of the initial, with the nodes that gained most kinetic
+//! energy in it. The "viscous heat" column is `PdSolver::viscous_heat`, which
 //! also counts the reactant's compression energy handed to the products at
 //! detonation. The products' kinetic energy is split into axial,
 //! transverse, about the family mean and non-affine parts
@@ -106,10 +108,59 @@ fn main() -> Result<(), String> {
         .and_then(|v| v.parse().ok())
         .unwrap_or(2.0e-6);
     let mut next = every;
+    // JUMP=f: print every step whose booked total changes by more than the
+    // fraction f of the initial, with the nodes whose kinetic energy grew
+    // most in it.
+    let jump: Option<f64> = std::env::var("JUMP").ok().and_then(|v| v.parse().ok());
+    let kinetic = |s: &PdSolver| -> Vec<f64> {
+        (0..s.node_count())
+            .map(|i| {
+                let v = s.velocities()[i];
+                0.5 * s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            })
+            .collect()
+    };
     while s.time() < end {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
+        let before = jump.map(|_| (EnergyBudget::of(&s).total(), kinetic(&s)));
         s.advance(dt.min(end - s.time()).max(1e-15))
             .map_err(|e| e.to_string())?;
+        if let (Some(f), Some((e_before, k_before))) = (jump, before) {
+            let e_after = EnergyBudget::of(&s).total();
+            if ((e_after - e_before) / e0).abs() > f {
+                let k_after = kinetic(&s);
+                let mut gain: Vec<(f64, usize)> = (0..s.node_count())
+                    .map(|i| (k_after[i] - k_before[i], i))
+                    .collect();
+                gain.sort_by(|a, b| b.0.total_cmp(&a.0));
+                println!(
+                    "jump at step {} t {:.4} us dt {:.3e}: total {:+.4e} of E0 ({:+.1} J); limit {:?}",
+                    steps + 1,
+                    s.time() * 1e6,
+                    dt,
+                    (e_after - e_before) / e0,
+                    e_after - e_before,
+                    s.limiting_node()
+                );
+                for &(g, i) in gain.iter().take(6) {
+                    let x = s.current_position(i);
+                    let x0 = s.reference()[i];
+                    println!(
+                        "  node {i} material {} KE +{:.1} J (now {:.1} J), at r {:.2} mm z {:.2} mm (from r {:.2} z {:.2}), X {:.3}, p {:.3e} Pa, damage {:.3}",
+                        s.materials()[i],
+                        g,
+                        k_after[i],
+                        x[0].hypot(x[1]) * 1e3,
+                        x[2] * 1e3,
+                        x0[0].hypot(x0[1]) * 1e3,
+                        x0[2] * 1e3,
+                        s.expansion(i),
+                        s.pressure(i),
+                        s.damage(i)
+                    );
+                }
+            }
+        }
         steps += 1;
         if s.time() >= next || s.time() >= end {
             next += every;

@@ -53,6 +53,6 @@ pub use pipeline::{
 };
 pub use solver::{
     BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,
-    PdSolver,
+    PdSolver, CLOSING_STEP_FRACTION,
 };
 pub use viscosity::GasViscosity;

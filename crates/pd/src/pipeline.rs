@@ -67,6 +67,16 @@ pub struct PdConfig {
     /// default none, the regular cubic lattice.
     #[serde(default)]
     pub jitter: Option<crate::LatticeJitter>,
+    /// A products node's step is at most this fraction of the shortest
+    /// closing time p/ṗ of its family (`crate::CLOSING_STEP_FRACTION`,
+    /// docs/physics/pd/gas.md, "Closing pairs"): default `Some(0.25)`;
+    /// `None` sizes the step by eq 24 alone, as seed 004 prints it.
+    #[serde(default = "default_closing")]
+    pub closing_step_fraction: Option<f64>,
+}
+
+fn default_closing() -> Option<f64> {
+    Some(crate::CLOSING_STEP_FRACTION)
 }
 
 fn default_horizon_factor() -> f64 {
@@ -322,6 +332,7 @@ fn setup_of(s: &Scene<'_>, pd: &PdConfig) -> Result<PdSetup, Problem> {
             body_force: pd.body_force,
             min_dt: 1.0e-15,
             jitter: pd.jitter,
+            closing_step_fraction: pd.closing_step_fraction,
         },
         materials,
         bodies,
@@ -363,6 +374,14 @@ fn check(s: &Scene<'_>, pd: &PdConfig) -> Result<(), Problem> {
             "pipeline.safety_factor".into(),
             format!("safety_factor must lie in (0, 1], got {}", pd.safety_factor),
         ));
+    }
+    if let Some(f) = pd.closing_step_fraction {
+        if !(f > 0.0 && f <= 1.0) {
+            return Err((
+                "pipeline.closing_step_fraction".into(),
+                format!("closing_step_fraction must lie in (0, 1], got {f}"),
+            ));
+        }
     }
     // The nodes are written as particles; there is no grid to put cell
     // fields or line-outs on (gauges sample the nearest node).
@@ -582,6 +601,39 @@ mod tests {
             "spacing: 1e-3, jitter: Some((amplitude: 0.5))",
         );
         assert_eq!(field(&shaken, "steel", &[], 0), "pipeline.jitter.amplitude");
+        for bad in ["0.0", "1.5", "-0.1"] {
+            let rushed = STEEL.replace(
+                "spacing: 1e-3",
+                &format!("spacing: 1e-3, closing_step_fraction: Some({bad})"),
+            );
+            assert_eq!(
+                field(&rushed, "steel", &[], 0),
+                "pipeline.closing_step_fraction"
+            );
+        }
+    }
+
+    /// `closing_step_fraction` reaches the solver options: ¼ by default,
+    /// the value given, or off with `None`.
+    #[test]
+    fn the_closing_step_fraction_reaches_the_options() {
+        let initial = [(cube(0.0, 4e-3), "steel", [0.0; 3])];
+        let options = |text: &str| {
+            config(text)
+                .setup(&scene(&initial, &[], 0).scene())
+                .unwrap()
+                .options
+                .closing_step_fraction
+        };
+        assert_eq!(options(STEEL), Some(crate::CLOSING_STEP_FRACTION));
+        let set = |v: &str| {
+            STEEL.replace(
+                "spacing: 1e-3",
+                &format!("spacing: 1e-3, closing_step_fraction: {v}"),
+            )
+        };
+        assert_eq!(options(&set("Some(0.5)")), Some(0.5));
+        assert_eq!(options(&set("None")), None);
     }
 
     /// `jitter` reaches the lattice: the section's nodes are the regular

@@ -27,6 +27,14 @@ impl PdSolver {
                 format!("expected 0 < f ≤ 1, got {}", o.safety_factor),
             ));
         }
+        if let Some(f) = o.closing_step_fraction {
+            if !(f > 0.0 && f <= 1.0) {
+                return Err(invalid(
+                    "closing_step_fraction",
+                    format!("expected 0 < f ≤ 1, got {f}"),
+                ));
+            }
+        }
         if !o.body_force.iter().all(|b| b.is_finite()) {
             return Err(invalid("body_force", "must be finite"));
         }
@@ -313,6 +321,14 @@ impl PdSolver {
             dissipated: 0.0,
             contact: vec![([0.0; 3], 0.0); if contact_on { n } else { 0 }],
             gas: vec![[1.0, 0.0, 0.0, 0.0]; if has_gas { n } else { 0 }],
+            closing: vec![
+                f64::INFINITY;
+                if has_gas && setup.options.closing_step_fraction.is_some() {
+                    n
+                } else {
+                    0
+                }
+            ],
             viscosity: None,
             hold_unreacted: true,
             has_reactant,

@@ -134,16 +134,22 @@ impl PdSolver {
     }
 
     /// Copies what step 3 wrote for each rank's nodes to every rank: the
-    /// node's `state[3]`, its gas state and its viscous node data.
+    /// node's `state[3]`, its gas state and closing time, and its viscous
+    /// node data.
     pub(super) fn share_node_scalars(&mut self) {
         let gas = !self.gas.is_empty();
         let viscous = !self.viscous_node.is_empty();
-        let width = 1 + if gas { 4 } else { 0 } + if viscous { 4 } else { 0 };
+        let closes = !self.closing.is_empty();
+        let width = 1 + if gas { 4 } else { 0 } + closes as usize + if viscous { 4 } else { 0 };
         let (state, gas_state, viscous_node) = (&self.state, &self.gas, &self.viscous_node);
+        let closing = &self.closing;
         let Some(all) = self.ranks.runs.exchange(width, |i, buf| {
             buf.push(state[i][3]);
             if gas {
                 push(buf, &gas_state[i]);
+            }
+            if closes {
+                buf.push(closing[i]);
             }
             if viscous {
                 push(buf, &viscous_node[i]);
@@ -157,6 +163,10 @@ impl PdSolver {
             if gas {
                 self.gas[i].copy_from_slice(&v[at..at + 4]);
                 at += 4;
+            }
+            if closes {
+                self.closing[i] = v[at];
+                at += 1;
             }
             if viscous {
                 self.viscous_node[i].copy_from_slice(&v[at..at + 4]);

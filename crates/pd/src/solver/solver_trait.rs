@@ -22,6 +22,7 @@ struct PdState {
     gas: Vec<[f64; 4]>,
     viscous: Vec<ViscousOut>,
     dissipated: f64,
+    closing: Vec<f64>,
 }
 
 impl PdSolver {
@@ -45,6 +46,7 @@ impl PdSolver {
             gas: self.gas.clone(),
             viscous: self.viscous.clone(),
             dissipated: self.dissipated,
+            closing: self.closing.clone(),
         }
     }
 }
@@ -312,6 +314,14 @@ impl Solver for PdSolver {
         self.contact = s.contact;
         self.gas = s.gas;
         self.dissipated = s.dissipated;
+        if s.closing.len() != self.closing.len() {
+            return Err(SolverError::Checkpoint(format!(
+                "checkpoint has {} products closing times, the scenario {}",
+                s.closing.len(),
+                self.closing.len()
+            )));
+        }
+        self.closing = s.closing;
         self.ranks_restored();
         // The viscous pass's node data are formed again from the restored
         // state before they are next read (`update_node_scalars`).

@@ -456,14 +456,31 @@ fn the_step_is_burn_limited_until_the_front_has_crossed_the_explosive() {
 /// 1e5 Pa, ρ₀ = 1000 kg/m³, h = 1 mm) thrown at each other at 100 m/s
 /// each, on both detonation points at t = 0.
 fn colliding_gas_nodes(viscosity: Option<GasViscosity>) -> PdSolver {
+    colliding_gas_nodes_at(
+        viscosity,
+        100.0,
+        PdOptions::default().closing_step_fraction,
+        None,
+    )
+}
+
+/// [`colliding_gas_nodes`] at `speed` each, with the given closing-step
+/// fraction, of the weak gas or of `gas`.
+fn colliding_gas_nodes_at(
+    viscosity: Option<GasViscosity>,
+    speed: f64,
+    closing_step_fraction: Option<f64>,
+    gas: Option<PdMaterial>,
+) -> PdSolver {
     let h = 1.0e-3;
     let mut s = PdSolver::new(PdSetup {
         options: PdOptions {
             spacing: h,
             contact: None,
+            closing_step_fraction,
             ..PdOptions::default()
         },
-        materials: vec![PdMaterial::Gas(crate::material::Gas {
+        materials: vec![gas.unwrap_or(PdMaterial::Gas(crate::material::Gas {
             density: 1000.0,
             detonation_velocity: 1000.0,
             isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
@@ -471,7 +488,7 @@ fn colliding_gas_nodes(viscosity: Option<GasViscosity>) -> PdSolver {
                 reference_pressure: 1.0e5,
             },
             reactant: None,
-        })],
+        }))],
         bodies: vec![BodySpec {
             shape: Shape::Box {
                 min: [0.0; 3],
@@ -497,8 +514,43 @@ fn colliding_gas_nodes(viscosity: Option<GasViscosity>) -> PdSolver {
     })
     .unwrap();
     s.set_gas_viscosity(viscosity).unwrap();
-    s.set_velocities(|x| [if x[0] < h { 100.0 } else { -100.0 }, 0.0, 0.0]);
+    s.set_velocities(|x| [if x[0] < h { speed } else { -speed }, 0.0, 0.0]);
     s
+}
+
+/// The pair closes at 200 m/s from 1 mm: closing time p/ṗ = 5 µs, so a
+/// node's step is at most ¼ of it, 1.25 µs, where eq 24 of the weak gas
+/// alone allows more; receding, or with the limit off, the node's step is
+/// eq 24's. (The run's step is also held to the program burn's h/(4D)
+/// while the front runs, [`BURN_STEP_FRACTION`].)
+#[test]
+fn the_step_limits_how_far_a_products_pair_closes() {
+    let s = colliding_gas_nodes(None);
+    for c in &s.closing {
+        assert!((c / 5.0e-6 - 1.0).abs() < 1e-12, "{c}");
+    }
+    for i in 0..2 {
+        assert_eq!(s.node_dt(i), 0.25 * s.closing[i]);
+    }
+    let off = colliding_gas_nodes_at(None, 100.0, None, None);
+    assert!(off.closing.is_empty());
+    let free = off.node_dt(0);
+    assert!(free > 2.0 * s.node_dt(0), "{free} vs {}", s.node_dt(0));
+    let apart = colliding_gas_nodes_at(None, -100.0, Some(0.25), None);
+    assert_eq!(apart.closing, vec![f64::INFINITY; 2]);
+    assert_eq!(apart.node_dt(0), free);
+    // After a step the closing time is that of the new state.
+    let mut moved = colliding_gas_nodes(None);
+    let dt = moved.stable_dt().unwrap();
+    moved.advance(dt).unwrap();
+    let gap = moved.current_position(1)[0] - moved.current_position(0)[0];
+    let v = moved.velocities()[0][0] - moved.velocities()[1][0];
+    let half = (gap / v) / moved.closing[0] - 1.0;
+    assert!(
+        moved.closing[0] < 5.0e-6 && half.abs() < 0.05,
+        "{}",
+        moved.closing[0]
+    );
 }
 
 /// The viscous pair force of the solver at the start of the collision, by
