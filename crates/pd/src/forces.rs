@@ -800,9 +800,29 @@ pub fn gas_expansion(
     factor: &[f32],
     family_volume: f64,
 ) -> (f64, f64, f64) {
+    let (x, s3, s4, _) =
+        gas_expansion_closing(i, reference, state, None, neighbours, factor, family_volume);
+    (x, s3, s4)
+}
+
+/// [`gas_expansion`] and, in the same pass when the velocities are given,
+/// the node's shortest closing time p/ṗ over its intact bonds, s: p the
+/// pair's current distance, ṗ = −y·(v_j − v_i)/p the speed at which it
+/// closes; ∞ when no pair closes or without velocities
+/// (`crate::CLOSING_STEP_FRACTION`).
+pub fn gas_expansion_closing(
+    i: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    velocity: Option<&[[f64; 3]]>,
+    neighbours: &[u32],
+    factor: &[f32],
+    family_volume: f64,
+) -> (f64, f64, f64, f64) {
     let xi = reference[i];
     let ui = state[i];
     let (mut sum, mut s3, mut s4) = (0.0, 0.0, 0.0);
+    let mut closing = f64::INFINITY;
     for (k, &j) in neighbours.iter().enumerate() {
         let j = j as usize;
         let xj = reference[j];
@@ -819,13 +839,29 @@ pub fn gas_expansion(
         sum += q * bv;
         s3 += q / (p * p) * bv;
         s4 += q * q / (p * p) * bv;
+        if let Some(v) = velocity {
+            if factor[k] != 0.0 {
+                let (vi, vj) = (v[i], v[j]);
+                let d = [
+                    xj[0] - xi[0] + uj[0] - ui[0],
+                    xj[1] - xi[1] + uj[1] - ui[1],
+                    xj[2] - xi[2] + uj[2] - ui[2],
+                ];
+                let approach =
+                    -(d[0] * (vj[0] - vi[0]) + d[1] * (vj[1] - vi[1]) + d[2] * (vj[2] - vi[2]));
+                if approach > 0.0 {
+                    // p/ṗ = p²/(−y·Δv).
+                    closing = closing.min((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / approach);
+                }
+            }
+        }
     }
     let x = if sum > 0.0 {
         (sum / family_volume).powi(-3)
     } else {
         1.0
     };
-    (x, s3, s4)
+    (x, s3, s4, closing)
 }
 
 /// Parallel map over nodes writing one output each (deterministic).
@@ -834,6 +870,23 @@ pub fn for_each_node<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
         .with_min_len(GRAIN)
         .enumerate()
         .for_each(|(i, o)| f(i, o));
+}
+
+/// [`for_each_node_in`] writing two per-node arrays at once (each the
+/// whole array; `f` gets the node's index and its entries of both).
+pub fn for_each_node_pair_in<A: Send, B: Send>(
+    a: &mut [A],
+    b: &mut [B],
+    nodes: std::ops::Range<usize>,
+    f: impl Fn(usize, &mut A, &mut B) + Sync,
+) {
+    let start = nodes.start;
+    a[nodes.clone()]
+        .par_iter_mut()
+        .zip(b[nodes].par_iter_mut())
+        .with_min_len(GRAIN)
+        .enumerate()
+        .for_each(|(k, (x, y))| f(start + k, x, y));
 }
 
 /// [`for_each_node`] over the nodes of `nodes` only: `out` is the whole

@@ -25,8 +25,8 @@ use crate::contact::{
 };
 use crate::family::Families;
 use crate::forces::{
-    bond_forces_dissipating_in, for_each_node, for_each_node_in, gas_expansion, BondLaw,
-    ForceInput, NodeForce,
+    bond_forces_dissipating_in, for_each_node, for_each_node_in, for_each_node_pair_in,
+    gas_expansion_closing, BondLaw, ForceInput, NodeForce,
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{BodySpec, Dimension};
@@ -795,18 +795,32 @@ impl PdSolver {
         } else {
             own.clone()
         };
-        for_each_node_in(&mut self.gas, gas_nodes, |i, g| {
-            if let PdMaterial::Gas(gas) = materials[material[i] as usize] {
+        let velocity = &self.velocity;
+        // The products' state, and in the same pass over the family the
+        // shortest closing time at the half-step velocities the nodes were
+        // just moved with (`CLOSING_STEP_FRACTION`), when that limit is on.
+        let update = |i: usize, g: &mut [f64; 4], closing: Option<&mut f64>| {
+            let PdMaterial::Gas(gas) = materials[material[i] as usize] else {
+                if let Some(c) = closing {
+                    *c = f64::INFINITY;
+                }
+                return;
+            };
+            {
                 let row = families.row(i);
                 let vf = family_volume[i];
-                let (x, s3, s4) = gas_expansion(
+                let (x, s3, s4, c) = gas_expansion_closing(
                     i,
                     reference,
                     state,
+                    closing.is_some().then_some(&velocity[..]),
                     &families.neighbours[row.clone()],
                     &factor[row],
                     vf,
                 );
+                if let Some(out) = closing {
+                    *out = c;
+                }
                 // The expansion at detonation, fixed once the node has
                 // detonated (`products_pressure`).
                 let xd = if g[2] > 0.0 {
@@ -835,7 +849,14 @@ impl PdSolver {
                     + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
                 *g = [x, stiff, xd, heat];
             }
-        });
+        };
+        if self.closing.is_empty() {
+            for_each_node_in(&mut self.gas, gas_nodes, |i, g| update(i, g, None));
+        } else {
+            for_each_node_pair_in(&mut self.gas, &mut self.closing, gas_nodes, |i, g, c| {
+                update(i, g, Some(c))
+            });
+        }
         let gas = &self.gas;
         if !self.viscous_node.is_empty() {
             // The viscous pass's node data: a = 6 X^{4/3}/V, ρ = ρ₀/X and
@@ -888,14 +909,13 @@ impl PdSolver {
                 }
             }
         });
-        self.update_closing();
         self.share_node_scalars();
     }
 
     /// The shortest closing time of each products node's family
-    /// ([`CLOSING_STEP_FRACTION`]) at the current positions and
-    /// velocities (in a step, the half-step velocities the nodes were just
-    /// moved with); nothing when the limit is off.
+    /// ([`CLOSING_STEP_FRACTION`]) at the current positions and velocities,
+    /// after velocities are set (step 3 forms it with the products' state);
+    /// nothing when the limit is off.
     fn update_closing(&mut self) {
         if self.closing.is_empty() {
             return;
@@ -903,18 +923,21 @@ impl PdSolver {
         let (reference, state, velocity) = (&self.reference, &self.state, &self.velocity);
         let (families, factor) = (&self.families, &self.factor);
         let (material, materials) = (&self.material, &self.materials);
+        let family_volume = &self.node_scale;
         for_each_node_in(&mut self.closing, self.ranks.nodes(), |i, c| {
             *c = match materials[material[i] as usize] {
                 PdMaterial::Gas(_) => {
                     let row = families.row(i);
-                    closing_time(
+                    gas_expansion_closing(
                         i,
                         reference,
                         state,
-                        velocity,
+                        Some(velocity),
                         &families.neighbours[row.clone()],
                         &factor[row],
+                        family_volume[i],
                     )
+                    .3
                 }
                 _ => f64::INFINITY,
             };
@@ -1281,40 +1304,6 @@ fn node_pressure(g: &crate::material::Gas, x: f64, xd: f64, heat: f64) -> (f64, 
             None => (0.0, 0.0),
         }
     }
-}
-
-/// The shortest closing time p/ṗ over node i's intact family bonds, s:
-/// p the pair's current distance, ṗ = −(y·(v_j − v_i))/p the speed at
-/// which it closes; ∞ when no pair closes ([`CLOSING_STEP_FRACTION`]).
-fn closing_time(
-    i: usize,
-    reference: &[[f64; 4]],
-    state: &[[f64; 4]],
-    velocity: &[[f64; 3]],
-    neighbours: &[u32],
-    factor: &[f32],
-) -> f64 {
-    let (xi, ui, vi) = (reference[i], state[i], velocity[i]);
-    let mut best = f64::INFINITY;
-    for (&j, &w) in neighbours.iter().zip(factor) {
-        if w == 0.0 {
-            continue;
-        }
-        let j = j as usize;
-        let (xj, uj, vj) = (reference[j], state[j], velocity[j]);
-        let y = [
-            xj[0] - xi[0] + uj[0] - ui[0],
-            xj[1] - xi[1] + uj[1] - ui[1],
-            xj[2] - xi[2] + uj[2] - ui[2],
-        ];
-        let approach = -(y[0] * (vj[0] - vi[0]) + y[1] * (vj[1] - vi[1]) + y[2] * (vj[2] - vi[2]));
-        if approach > 0.0 {
-            // p/ṗ = p²/(−y·Δv).
-            let t = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) / approach;
-            best = best.min(t);
-        }
-    }
-    best
 }
 
 /// ω of the products' Grüneisen term: ω of JWL (eq 30), γ − 1 of the ideal
