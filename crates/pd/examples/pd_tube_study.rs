@@ -120,13 +120,16 @@ fn main() -> Result<(), String> {
             })
             .collect()
     };
+    // The booked total after the last step (the next step's "before").
+    let mut total = e0;
     while s.time() < end {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
-        let before = jump.map(|_| (EnergyBudget::of(&s).total(), kinetic(&s)));
+        let before = jump.map(|_| (total, kinetic(&s)));
         s.advance(dt.min(end - s.time()).max(1e-15))
             .map_err(|e| e.to_string())?;
         if let (Some(f), Some((e_before, k_before))) = (jump, before) {
             let e_after = EnergyBudget::of(&s).total();
+            total = e_after;
             if ((e_after - e_before) / e0).abs() > f {
                 let k_after = kinetic(&s);
                 let mut gain: Vec<(f64, usize)> = (0..s.node_count())

@@ -37,6 +37,14 @@ impl Pair {
     }
 
     fn set(&mut self, eta: [f64; 3], scalar: [f64; 2]) -> [[f64; 3]; 2] {
+        self.dissipated(eta, scalar);
+        [self.out[0].force, self.out[1].force]
+    }
+
+    /// One force pass at displacement `eta` of node 1 and node scalars
+    /// `scalar` (the pass that also books dissipation, whose forces are
+    /// [`bond_forces`]'): the energy each node's row dissipated.
+    fn dissipated(&mut self, eta: [f64; 3], scalar: [f64; 2]) -> [f32; 2] {
         self.state[0] = [0.0, 0.0, 0.0, scalar[0]];
         self.state[1] = [eta[0], eta[1], eta[2], scalar[1]];
         let input = ForceInput {
@@ -47,8 +55,16 @@ impl Pair {
             material: &[0, 0],
             laws: &self.laws,
         };
-        bond_forces(&input, &mut self.factor, &mut self.plastic, &mut self.out);
-        [self.out[0].force, self.out[1].force]
+        let mut d = [0f32; 2];
+        bond_forces_dissipating_in(
+            &input,
+            0..2,
+            &mut self.factor,
+            &mut self.plastic,
+            &mut self.out,
+            &mut d,
+        );
+        d
     }
 }
 
@@ -117,33 +133,6 @@ fn a_broken_bond_never_carries_force_again() {
     assert_eq!(p.out[0].intact, 0);
     for eta in [[0.0; 3], [-0.5, 0.0, 0.0], [0.01, 0.0, 0.0]] {
         assert_eq!(p.set(eta, [0.08, 0.2]), [[0.0; 3]; 2]);
-    }
-}
-
-impl Pair {
-    /// [`Pair::set`] through the pass that books dissipation: the energy
-    /// each node's row dissipated.
-    fn dissipated(&mut self, eta: [f64; 3], scalar: [f64; 2]) -> [f32; 2] {
-        self.state[0] = [0.0, 0.0, 0.0, scalar[0]];
-        self.state[1] = [eta[0], eta[1], eta[2], scalar[1]];
-        let input = ForceInput {
-            reference: &self.reference,
-            state: &self.state,
-            offsets: &[0, 1, 2],
-            neighbours: &[1, 0],
-            material: &[0, 0],
-            laws: &self.laws,
-        };
-        let mut d = [0f32; 2];
-        bond_forces_dissipating_in(
-            &input,
-            0..2,
-            &mut self.factor,
-            &mut self.plastic,
-            &mut self.out,
-            &mut d,
-        );
-        d
     }
 }
 
