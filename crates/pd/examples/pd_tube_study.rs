@@ -12,7 +12,9 @@
 //! has one, so its unreacted nodes are a Murnaghan solid and never held);
 //! `PCONTACT=1` turns on eq 27 between the nodes of the charge
 //! (`PdSolver::set_products_contact`); `LINE=1` lights the charge along its axis at t = 0 (radial flow only);
-//! `STEEL=1` runs the steel tube of E-PD-FRAG; `EVERY=s` sets the print
+//! `STEEL=1` runs the steel tube of E-PD-FRAG; `DSCALE=k` runs the
+//! program burn's front at k times the CJ detonation velocity (the
+//! products unchanged); `EVERY=s` sets the print
 //! interval; `JUMP=f` prints each step in which the booked total changes
 //! by more than f of the initial, with the nodes that gained most kinetic
 //! energy in it. The "viscous heat" column is `PdSolver::viscous_heat`, which
@@ -20,7 +22,11 @@
 //! detonation. The products' kinetic energy is split into axial,
 //! transverse, about the family mean and non-affine parts
 //! (`cases::ProductsMotion`); the case's kinetic energy along the tube
-//! and its axial momentum follow them.
+//! and its axial momentum follow them, then the mass-weighted mean axial
+//! velocity of the products now in the middle fifth of the
+//! tube. `PROFILE=1` adds the products' axial kinetic energy and momentum
+//! along the tube (`axial_profile`), `SHELLS=1` their motion in shells of
+//! reference radius at mid-length (`shells`).
 
 use brisance_core::Solver;
 use brisance_pd::cases::{
@@ -49,6 +55,18 @@ fn main() -> Result<(), String> {
     };
     let mut setup = case.setup().map_err(|e| e.to_string())?;
     setup.options.contact = Some(contact);
+    // DSCALE=k: the program burn's front runs at k times the CJ detonation
+    // velocity (the products' isentrope unchanged).
+    if let Some(k) = std::env::var("DSCALE")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        for m in &mut setup.materials {
+            if let brisance_pd::PdMaterial::Gas(g) = m {
+                g.detonation_velocity *= k;
+            }
+        }
+    }
     // LINE=1: the charge lit along its whole axis at t = 0 (straight-line
     // burn from points one spacing apart): the products expand radially,
     // with no axial flow away from the ends.
@@ -182,8 +200,9 @@ fn main() -> Result<(), String> {
                     case_pz += s.mass(i) * vz;
                 }
             }
+            let slab_vz = middle_fifth_axial_velocity(&s, length);
             println!(
-                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % contacts {:.2} % dissipated {:.2} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s  case KE axial {:.1} % p_z {:.2} N s",
+                "t {:5.1} us  steps {steps:5}  dt {:.2e}  mid v {:7.1} m/s  E/E0 {:.4}  case KE {:5.1} % prod KE {:5.1} % bonds {:4.1} % contacts {:.2} % dissipated {:.2} % of released {:.1} kJ  through {through}/{counted}  disordered {:.1} % (non-affine {:.1} %)  viscous heat {:.1} %  prod KE axial {:.1} % transverse {:.1} %  p_z products {:.2} total {:.2} N s  case KE axial {:.1} % p_z {:.2} N s  mid-fifth products v_z {:.0} m/s",
                 s.time() * 1e6,
                 dt,
                 mid(&s),
@@ -203,7 +222,14 @@ fn main() -> Result<(), String> {
                 pz,
                 100.0 * case_axial / released,
                 case_pz,
+                slab_vz,
             );
+            if std::env::var_os("PROFILE").is_some() {
+                axial_profile(&s, case.inner_radius, length, released);
+            }
+            if std::env::var_os("SHELLS").is_some() {
+                shells(&s, case.inner_radius, h, length);
+            }
         }
     }
     let f = s.fragments();
@@ -230,4 +256,154 @@ fn main() -> Result<(), String> {
         t0.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// The mass-weighted mean axial velocity of the products now in the
+/// middle fifth of the tube (current z).
+fn middle_fifth_axial_velocity(s: &PdSolver, length: f64) -> f64 {
+    let (mut m, mut mv) = (0.0, 0.0);
+    for i in 0..s.node_count() {
+        let z = s.current_position(i)[2];
+        if s.materials()[i] != 0 && (z - 0.5 * length).abs() <= 0.1 * length {
+            m += s.mass(i);
+            mv += s.mass(i) * s.velocities()[i][2];
+        }
+    }
+    if m > 0.0 {
+        mv / m
+    } else {
+        0.0
+    }
+}
+
+/// `PROFILE=1`: the products' axial kinetic energy (share of the released
+/// energy) and axial momentum in six bins of current z along the tube
+/// (nodes beyond the ends in the end bins), then the mean v_z in twelve
+/// bins of current z by four bins of reference radius (quarters of the
+/// case's inner radius) and the share of the axial kinetic energy those bin
+/// means carry.
+fn axial_profile(s: &PdSolver, inner_radius: f64, length: f64, released: f64) {
+    let (mut ke, mut pz) = ([0.0f64; 6], [0.0f64; 6]);
+    let (mut m, mut mv) = ([[0.0f64; 4]; 12], [[0.0f64; 4]; 12]);
+    for i in 0..s.node_count() {
+        if s.materials()[i] == 0 {
+            continue;
+        }
+        let z = s.current_position(i)[2] / length;
+        let vz = s.velocities()[i][2];
+        let mi = s.mass(i);
+        let b6 = ((z * 6.0).floor().max(0.0) as usize).min(5);
+        ke[b6] += 0.5 * mi * vz * vz;
+        pz[b6] += mi * vz;
+        let b12 = ((z * 12.0).floor().max(0.0) as usize).min(11);
+        let x0 = s.reference()[i];
+        let rb = ((x0[0].hypot(x0[1]) / inner_radius * 4.0) as usize).min(3);
+        m[b12][rb] += mi;
+        mv[b12][rb] += mi * vz;
+    }
+    let ke: Vec<String> = ke
+        .iter()
+        .map(|k| format!("{:.1}", 100.0 * k / released))
+        .collect();
+    let pz: Vec<String> = pz.iter().map(|p| format!("{p:.1}")).collect();
+    println!(
+        "  products axial KE by sixth of the tube (% of released) {}  p_z (N s) {}",
+        ke.join(" "),
+        pz.join(" ")
+    );
+    let mut resolved = 0.0;
+    for b in 0..12 {
+        let row: Vec<String> = (0..4)
+            .map(|rb| {
+                if m[b][rb] > 0.0 {
+                    resolved += 0.5 * mv[b][rb] * mv[b][rb] / m[b][rb];
+                    format!("{:6.0}", mv[b][rb] / m[b][rb])
+                } else {
+                    "     -".into()
+                }
+            })
+            .collect();
+        println!("    z bin {b:2}: v_z by r0 quarter {}", row.join(" "));
+    }
+    println!(
+        "  axial KE of the bin means {:.1} % of released",
+        100.0 * resolved / released
+    );
+}
+
+/// `SHELLS=1`: the products nodes of the middle twelfth of the tube
+/// (reference z) in shells of reference radius one spacing wide: share of
+/// the slab's products mass and kinetic energy (axial + radial), mean and
+/// spread of v_z and of the radial velocity; then the outer two shells by
+/// azimuth folded onto one quadrant of the lattice.
+fn shells(s: &PdSolver, inner_radius: f64, h: f64, length: f64) {
+    let nb = (inner_radius / h).ceil() as usize + 1;
+    let mut acc = vec![[0.0f64; 5]; nb];
+    for i in 0..s.node_count() {
+        let x0 = s.reference()[i];
+        if s.materials()[i] == 0 || (x0[2] - 0.5 * length).abs() >= length / 24.0 {
+            continue;
+        }
+        let b = ((x0[0].hypot(x0[1]) / h) as usize).min(nb - 1);
+        let y = s.current_position(i);
+        let v = s.velocities()[i];
+        let vr = (v[0] * y[0] + v[1] * y[1]) / y[0].hypot(y[1]).max(1e-12);
+        let m = s.mass(i);
+        let a = &mut acc[b];
+        a[0] += m;
+        a[1] += m * v[2];
+        a[2] += m * v[2] * v[2];
+        a[3] += m * vr;
+        a[4] += m * vr * vr;
+    }
+    // The outer two shells by azimuth folded onto one lattice quadrant
+    // (θ mod 90°, nine bins of 10°): share of their mass, rms speed.
+    let mut az = [[0.0f64; 2]; 9];
+    for i in 0..s.node_count() {
+        let x0 = s.reference()[i];
+        let r0 = x0[0].hypot(x0[1]);
+        if s.materials()[i] == 0
+            || (x0[2] - 0.5 * length).abs() >= length / 24.0
+            || ((r0 / h) as usize) + 2 < nb - 1
+        {
+            continue;
+        }
+        let theta = x0[1].atan2(x0[0]).to_degrees().rem_euclid(90.0);
+        let b = ((theta / 10.0) as usize).min(8);
+        let v = s.velocities()[i];
+        az[b][0] += s.mass(i);
+        az[b][1] += s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    let outer: f64 = az.iter().map(|a| a[0]).sum();
+    let row: Vec<String> = az
+        .iter()
+        .map(|a| {
+            if a[0] > 0.0 {
+                format!("{:.0} % {:.0}", 100.0 * a[0] / outer, (a[1] / a[0]).sqrt())
+            } else {
+                "-".into()
+            }
+        })
+        .collect();
+    println!(
+        "    outer two shells by θ mod 90° (10° bins: mass share, rms speed m/s): {}",
+        row.join(" | ")
+    );
+    let (mass, ke) = acc
+        .iter()
+        .fold((0.0, 0.0), |(m, k), a| (m + a[0], k + 0.5 * (a[2] + a[4])));
+    for (b, a) in acc.iter().enumerate() {
+        if a[0] > 0.0 {
+            let (vz, vr) = (a[1] / a[0], a[3] / a[0]);
+            println!(
+                "    shell r0 {:4.1}-{:4.1} mm: mass {:4.1} %  KE (axial + radial) {:4.1} %  v_z {vz:6.0} ± {:4.0}  v_r {vr:6.0} ± {:4.0} m/s",
+                b as f64 * h * 1e3,
+                (b + 1) as f64 * h * 1e3,
+                100.0 * a[0] / mass,
+                100.0 * 0.5 * (a[2] + a[4]) / ke,
+                (a[2] / a[0] - vz * vz).max(0.0).sqrt(),
+                (a[4] / a[0] - vr * vr).max(0.0).sqrt()
+            );
+        }
+    }
 }
