@@ -6,21 +6,31 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/materials");
+    // The manifest directory of this run, not of the build that compiled
+    // the script: cargo shares one compiled build script between copies of
+    // the workspace at different paths (the hash is relative to the
+    // workspace root), so `env!` would read the copy it was compiled in.
+    let manifest = std::env::var("CARGO_MANIFEST_DIR")
+        .expect("cargo sets CARGO_MANIFEST_DIR for build scripts");
+    let dir = Path::new(&manifest).join("../../configs/materials");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut entries: Vec<(String, String)> = std::fs::read_dir(&dir)
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-                .filter_map(|p| {
-                    let stem = p.file_stem()?.to_str()?.to_string();
-                    let abs = p.canonicalize().ok()?.to_str()?.to_string();
-                    Some((stem, abs))
-                })
-                .collect()
+    let read = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("the material library {}: {e}", dir.display()));
+    let mut entries: Vec<(String, String)> = read
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .filter_map(|p| {
+            let stem = p.file_stem()?.to_str()?.to_string();
+            let abs = p.canonicalize().ok()?.to_str()?.to_string();
+            Some((stem, abs))
         })
-        .unwrap_or_default();
+        .collect();
+    assert!(
+        !entries.is_empty(),
+        "the material library {} holds no .ron file",
+        dir.display()
+    );
     entries.sort();
     let mut out = String::from("/// (name, RON text) of every library material, sorted by name.\npub const LIBRARY: &[(&str, &str)] = &[\n");
     for (name, path) in &entries {
