@@ -14,7 +14,8 @@
 //! (`PdSolver::set_products_contact`); `LINE=1` lights the charge along its axis at t = 0 (radial flow only);
 //! `STEEL=1` runs the steel tube of E-PD-FRAG; `DSCALE=k` runs the
 //! program burn's front at k times the CJ detonation velocity (the
-//! products unchanged); `EVERY=s` sets the print
+//! products unchanged); `HEAVY=k` multiplies the case's density by k (a
+//! nearly rigid tube for k ≫ 1); `EVERY=s` sets the print
 //! interval; `JUMP=f` prints each step in which the booked total changes
 //! by more than f of the initial, with the nodes that gained most kinetic
 //! energy in it. The "viscous heat" column is `PdSolver::viscous_heat`, which
@@ -52,6 +53,20 @@ fn main() -> Result<(), String> {
         steel_fragmenting_cylinder(h, length, 0.0, 0.0)
     } else {
         copper_cylinder(h, length)
+    };
+    // HEAVY=k: the case's density times k (its sound speed unchanged, so
+    // its modulus times k too): k ≫ 1 holds the products in a nearly
+    // rigid tube.
+    let case = match std::env::var("HEAVY")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        Some(k) => {
+            let mut c = case;
+            c.metal.density *= k;
+            c
+        }
+        None => case,
     };
     let mut setup = case.setup().map_err(|e| e.to_string())?;
     setup.options.contact = Some(contact);
