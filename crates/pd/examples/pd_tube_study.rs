@@ -49,7 +49,7 @@ fn main() -> Result<(), String> {
         reference_fraction: get(4, d.reference_fraction),
         force_factor: get(5, d.force_factor),
     };
-    let case = if std::env::var_os("STEEL").is_some() {
+    let mut case = if std::env::var_os("STEEL").is_some() {
         steel_fragmenting_cylinder(h, length, 0.0, 0.0)
     } else {
         copper_cylinder(h, length)
@@ -57,17 +57,12 @@ fn main() -> Result<(), String> {
     // HEAVY=k: the case's density times k (its sound speed unchanged, so
     // its modulus times k too): k ≫ 1 holds the products in a nearly
     // rigid tube.
-    let case = match std::env::var("HEAVY")
+    if let Some(k) = std::env::var("HEAVY")
         .ok()
         .and_then(|v| v.parse::<f64>().ok())
     {
-        Some(k) => {
-            let mut c = case;
-            c.metal.density *= k;
-            c
-        }
-        None => case,
-    };
+        case.metal.density *= k;
+    }
     let mut setup = case.setup().map_err(|e| e.to_string())?;
     setup.options.contact = Some(contact);
     // DSCALE=k: the program burn's front runs at k times the CJ detonation
@@ -354,12 +349,16 @@ fn axial_profile(s: &PdSolver, inner_radius: f64, length: f64, released: f64) {
 fn shells(s: &PdSolver, inner_radius: f64, h: f64, length: f64) {
     let nb = (inner_radius / h).ceil() as usize + 1;
     let mut acc = vec![[0.0f64; 5]; nb];
+    // The outer two shells by azimuth folded onto one lattice quadrant
+    // (θ mod 90°, nine bins of 10°): share of their mass, rms speed.
+    let mut az = [[0.0f64; 2]; 9];
     for i in 0..s.node_count() {
         let x0 = s.reference()[i];
         if s.materials()[i] == 0 || (x0[2] - 0.5 * length).abs() >= length / 24.0 {
             continue;
         }
-        let b = ((x0[0].hypot(x0[1]) / h) as usize).min(nb - 1);
+        let shell = (x0[0].hypot(x0[1]) / h) as usize;
+        let b = shell.min(nb - 1);
         let y = s.current_position(i);
         let v = s.velocities()[i];
         let vr = (v[0] * y[0] + v[1] * y[1]) / y[0].hypot(y[1]).max(1e-12);
@@ -370,24 +369,12 @@ fn shells(s: &PdSolver, inner_radius: f64, h: f64, length: f64) {
         a[2] += m * v[2] * v[2];
         a[3] += m * vr;
         a[4] += m * vr * vr;
-    }
-    // The outer two shells by azimuth folded onto one lattice quadrant
-    // (θ mod 90°, nine bins of 10°): share of their mass, rms speed.
-    let mut az = [[0.0f64; 2]; 9];
-    for i in 0..s.node_count() {
-        let x0 = s.reference()[i];
-        let r0 = x0[0].hypot(x0[1]);
-        if s.materials()[i] == 0
-            || (x0[2] - 0.5 * length).abs() >= length / 24.0
-            || ((r0 / h) as usize) + 2 < nb - 1
-        {
-            continue;
+        if shell + 2 >= nb - 1 {
+            let theta = x0[1].atan2(x0[0]).to_degrees().rem_euclid(90.0);
+            let t = ((theta / 10.0) as usize).min(8);
+            az[t][0] += m;
+            az[t][1] += m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         }
-        let theta = x0[1].atan2(x0[0]).to_degrees().rem_euclid(90.0);
-        let b = ((theta / 10.0) as usize).min(8);
-        let v = s.velocities()[i];
-        az[b][0] += s.mass(i);
-        az[b][1] += s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
     let outer: f64 = az.iter().map(|a| a[0]).sum();
     let row: Vec<String> = az

@@ -842,6 +842,9 @@ pub fn gas_expansion_closing(
         if let Some(v) = velocity {
             if factor[k] != 0.0 {
                 let (vi, vj) = (v[i], v[j]);
+                // The bond vector summed as x_j − x_i + u_j − u_i, not
+                // reused from y (x and u differenced first): the closing
+                // time keeps the bits it had as a pass of its own.
                 let d = [
                     xj[0] - xi[0] + uj[0] - ui[0],
                     xj[1] - xi[1] + uj[1] - ui[1],

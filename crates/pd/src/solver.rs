@@ -806,49 +806,47 @@ impl PdSolver {
                 }
                 return;
             };
-            {
-                let row = families.row(i);
-                let vf = family_volume[i];
-                let (x, s3, s4, c) = gas_expansion_closing(
-                    i,
-                    reference,
-                    state,
-                    closing.is_some().then_some(&velocity[..]),
-                    &families.neighbours[row.clone()],
-                    &factor[row],
-                    vf,
-                );
-                if let Some(out) = closing {
-                    *out = c;
-                }
-                // The expansion at detonation, fixed once the node has
-                // detonated (`products_pressure`).
-                let xd = if g[2] > 0.0 {
-                    g[2]
-                } else if detonated(time, detonation_time[i]) {
-                    x
-                } else {
-                    0.0
-                };
-                // Detonating now: the compression energy the reactant
-                // holds, W_u(X_d) per unit reference volume, passes to the
-                // products as heat at y = 1 (ΔC = ω W_u), so the switch
-                // keeps the node's energy.
-                let mut heat = g[3];
-                if g[2] <= 0.0 && xd > 0.0 {
-                    if let Some(r) = gas.reactant {
-                        heat += heat_exponent(&gas) * r.energy(xd);
-                    }
-                }
-                // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
-                // through p and through X(p) (eq 17).
-                let (p, dp) = node_pressure(&gas, x, xd, heat);
-                let x43 = x.powf(4.0 / 3.0);
-                let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
-                let stiff = 12.0 * p.abs() * x43 / vf * s3
-                    + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
-                *g = [x, stiff, xd, heat];
+            let row = families.row(i);
+            let vf = family_volume[i];
+            let (x, s3, s4, c) = gas_expansion_closing(
+                i,
+                reference,
+                state,
+                closing.is_some().then_some(&velocity[..]),
+                &families.neighbours[row.clone()],
+                &factor[row],
+                vf,
+            );
+            if let Some(out) = closing {
+                *out = c;
             }
+            // The expansion at detonation, fixed once the node has
+            // detonated (`products_pressure`).
+            let xd = if g[2] > 0.0 {
+                g[2]
+            } else if detonated(time, detonation_time[i]) {
+                x
+            } else {
+                0.0
+            };
+            // Detonating now: the compression energy the reactant
+            // holds, W_u(X_d) per unit reference volume, passes to the
+            // products as heat at y = 1 (ΔC = ω W_u), so the switch
+            // keeps the node's energy.
+            let mut heat = g[3];
+            if g[2] <= 0.0 && xd > 0.0 {
+                if let Some(r) = gas.reactant {
+                    heat += heat_exponent(&gas) * r.energy(xd);
+                }
+            }
+            // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
+            // through p and through X(p) (eq 17).
+            let (p, dp) = node_pressure(&gas, x, xd, heat);
+            let x43 = x.powf(4.0 / 3.0);
+            let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
+            let stiff =
+                12.0 * p.abs() * x43 / vf * s3 + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
+            *g = [x, stiff, xd, heat];
         };
         if self.closing.is_empty() {
             for_each_node_in(&mut self.gas, gas_nodes, |i, g| update(i, g, None));
