@@ -7,7 +7,11 @@
 //! two nodes of the same body only; different bodies (and a body's
 //! fragments once their bonds are broken) interact by short-range forces.
 //! Each bond appears in both its nodes' rows, so the force loop can run
-//! over nodes without atomics.
+//! over nodes without atomics. The one exception is the products'
+//! families that take in the solid nodes of other bodies
+//! (`crate::ProductsFamily::WithSolids`): those pairs sit in the products
+//! node's row only, and the solid node gathers their reaction from a list
+//! of its own (`crate::solver`, `docs/physics/pd/gas.md`).
 //!
 //! **Partial-volume correction.** A node near the edge of the horizon is
 //! only partly inside it. Brisance weights neighbour j's volume by
@@ -81,6 +85,19 @@ pub fn build_families(
     horizon: f64,
     spacing: f64,
 ) -> Families {
+    build_families_where(positions, horizon, spacing, |i, j| body[i] == body[j])
+}
+
+/// [`build_families`] with the rule of who joins whose family given:
+/// j is in i's family when `joins(i, j)` and β(|x_j − x_i|) > 0. The rule
+/// need not be symmetric (the products' families that take in the case,
+/// `crate::ProductsFamily::WithSolids`, are one-sided).
+pub fn build_families_where(
+    positions: &[[f64; 3]],
+    horizon: f64,
+    spacing: f64,
+    joins: impl Fn(usize, usize) -> bool + Sync,
+) -> Families {
     let n = positions.len();
     let cutoff = horizon + 0.5 * spacing;
     let mut cells = CellList::default();
@@ -91,7 +108,7 @@ pub fn build_families(
             let x = positions[i];
             let mut row = Vec::new();
             cells.for_each_candidate(x, |j| {
-                if j == i || body[j] != body[i] {
+                if j == i || !joins(i, j) {
                     return;
                 }
                 let d = positions[j];
@@ -116,6 +133,80 @@ pub fn build_families(
     Families {
         offsets,
         neighbours,
+    }
+}
+
+/// The one-sided pairs of families that take in other bodies' nodes
+/// (`crate::ProductsFamily::WithSolids`), seen from the side that does not
+/// hold them: for each node j, the nodes i whose rows hold j while j's row
+/// does not hold i, and the position k of j in row i. Row j is
+/// `partner[offsets[j]..offsets[j + 1]]` (and `bond[..]` alike), ascending
+/// in i, so a node sums its pairs in one fixed order. Empty (no offsets)
+/// when there is no such pair.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OneSidedPairs {
+    /// Row starts, one per node plus the end; empty without pairs.
+    pub offsets: Vec<u32>,
+    /// The node whose family holds the row's node.
+    pub partner: Vec<u32>,
+    /// The bond's position in the partner's row of [`Families`].
+    pub bond: Vec<u32>,
+}
+
+impl OneSidedPairs {
+    /// The pairs of `families` whose row node satisfies `holder` and whose
+    /// neighbour does not: with `holder` the products nodes, the solid
+    /// nodes in products families.
+    pub fn of(families: &Families, holder: impl Fn(usize) -> bool) -> Self {
+        let n = families.node_count();
+        let mut count = vec![0u32; n + 1];
+        for i in (0..n).filter(|&i| holder(i)) {
+            for &j in &families.neighbours[families.row(i)] {
+                if !holder(j as usize) {
+                    count[j as usize + 1] += 1;
+                }
+            }
+        }
+        if count.iter().all(|&c| c == 0) {
+            return Self::default();
+        }
+        for j in 0..n {
+            count[j + 1] += count[j];
+        }
+        let total = count[n] as usize;
+        let mut next = count.clone();
+        let (mut partner, mut bond) = (vec![0u32; total], vec![0u32; total]);
+        for i in (0..n).filter(|&i| holder(i)) {
+            for k in families.row(i) {
+                let j = families.neighbours[k] as usize;
+                if !holder(j) {
+                    let at = next[j] as usize;
+                    partner[at] = i as u32;
+                    bond[at] = k as u32;
+                    next[j] += 1;
+                }
+            }
+        }
+        Self {
+            offsets: count,
+            partner,
+            bond,
+        }
+    }
+
+    /// Whether there is no pair.
+    pub fn is_empty(&self) -> bool {
+        self.partner.is_empty()
+    }
+
+    /// The pair range of node `j` (empty without pairs).
+    #[inline]
+    pub fn row(&self, j: usize) -> std::ops::Range<usize> {
+        if self.offsets.is_empty() {
+            0..0
+        } else {
+            self.offsets[j] as usize..self.offsets[j + 1] as usize
+        }
     }
 }
 
@@ -178,5 +269,33 @@ mod tests {
         let f = build_families(&x, &[0, 0, 1], 1.5, 1.0);
         assert_eq!(f.neighbours, vec![1, 0]);
         assert_eq!(f.offsets, vec![0, 1, 2, 2]);
+    }
+
+    /// Products nodes 0 and 1 (body 0) beside solid nodes 2 and 3
+    /// (body 1), on a line at unit spacing, horizon 1.5: with the rule of
+    /// `ProductsFamily::WithSolids` node 1's row gains node 2 and node 2's
+    /// row does not gain node 1; the one-sided list gives node 2 its
+    /// partner 1 and the bond's place in row 1, and nothing to the others.
+    #[test]
+    fn products_families_take_in_the_solid_one_sidedly() {
+        let x = [[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+        let body = [0u32, 0, 1, 1];
+        let gas = [true, true, false, false];
+        let f = build_families_where(&x, 1.5, 1.0, |i, j| {
+            body[i] == body[j] || (gas[i] && !gas[j])
+        });
+        assert_eq!(f.offsets, vec![0, 1, 3, 4, 5]);
+        assert_eq!(f.neighbours, vec![1, 0, 2, 3, 2]);
+        let pairs = OneSidedPairs::of(&f, |i| gas[i]);
+        assert_eq!(pairs.offsets, vec![0, 0, 0, 1, 1]);
+        assert_eq!(pairs.partner, vec![1]);
+        assert_eq!(pairs.bond, vec![2]);
+        assert_eq!(f.neighbours[pairs.bond[0] as usize], 2);
+        assert_eq!(pairs.row(0), 0..0);
+        // Families of one body each: no one-sided pair, nothing stored.
+        let own = build_families(&x, &body, 1.5, 1.0);
+        let none = OneSidedPairs::of(&own, |i| gas[i]);
+        assert!(none.is_empty() && none.offsets.is_empty());
+        assert_eq!(none.row(3), 0..0);
     }
 }

@@ -571,7 +571,14 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
         let j = j as usize;
         let xj = input.reference[j];
         let uj = input.state[j];
-        let coef = 0.5 * (ui[3] + uj[3]);
+        // A solid neighbour (a case node in the products' family,
+        // `crate::ProductsFamily::WithSolids`) has no c: the pair carries
+        // this node's own half alone.
+        let cj = match input.laws[input.material[j] as usize] {
+            BondLaw::Gas => uj[3],
+            BondLaw::Solid { .. } => 0.0,
+        };
+        let coef = 0.5 * (ui[3] + cj);
         if coef == 0.0 {
             continue;
         }
@@ -592,6 +599,55 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
         min_stretch: 0.0,
         intact: neighbours.len() as u32,
     }
+}
+
+/// The reaction on solid node `j` of the eq 19 pair forces of the
+/// products nodes whose families hold it (`crate::ProductsFamily::
+/// WithSolids`; `partners` and `bonds` its row of
+/// [`crate::family::OneSidedPairs`], `factor` the bond weights of the
+/// families), N/m³, and the stiffness of those pairs for the stable step,
+/// Σ c_i β V_i r/p³ (the pair force's derivative in p at fixed c_i; the
+/// products node's own step counts c_i's change, eq 26).
+///
+/// A products node i pushes its pair with j by its own half ½ c_i of
+/// eq 19, −½ c_i r β V_j / p³ · y on i per unit volume (y = x_j + u_j −
+/// x_i − u_i, as in its row); j takes +½ c_i r β V_i / p³ · y, so
+/// V_i f_i + V_j f_j = 0 and the pair force is the gradient of the
+/// products' energy W(X_i) V_i with j in eq 17's sum.
+#[inline]
+pub fn one_sided_gas_reaction(
+    j: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    partners: &[u32],
+    bonds: &[u32],
+    factor: &[f32],
+) -> ([f64; 3], f64) {
+    let xj = reference[j];
+    let uj = state[j];
+    let (mut f, mut stiffness) = ([0.0f64; 3], 0.0);
+    for (&i, &k) in partners.iter().zip(bonds) {
+        let i = i as usize;
+        let xi = reference[i];
+        let ui = state[i];
+        let coef = 0.5 * ui[3];
+        if coef == 0.0 {
+            continue;
+        }
+        // The same arithmetic as the partner's row (`gas_row`).
+        let xi_ = sub3(&xj, &xi);
+        let eta = sub3(&uj, &ui);
+        let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
+        let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
+        let p2 = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).max(1e-30 * r * r);
+        let p = p2.sqrt();
+        let g = coef * r * factor[k as usize] as f64 * xi[3] / (p2 * p);
+        f[0] += g * y[0];
+        f[1] += g * y[1];
+        f[2] += g * y[2];
+        stiffness += 2.0 * g;
+    }
+    (f, stiffness)
 }
 
 /// The rows of `nodes`: `out` (and `dissipated`, unless it is empty) hold

@@ -39,7 +39,7 @@ pub mod surface;
 pub mod viscosity;
 
 pub use brisance_reaction::{DetonationPoint, ProductsIsentrope};
-pub use family::{build_families, partial_volume, Families};
+pub use family::{build_families, build_families_where, partial_volume, Families};
 pub use forces::{bond_forces, bond_forces_dissipating_in, BondLaw, ForceInput, NodeForce};
 pub use fragments::{
     cumulative_mass_distribution, write_cmd_csv, write_fragments_csv, CmdPoint, Fragment,
@@ -53,6 +53,6 @@ pub use pipeline::{
 };
 pub use solver::{
     BurnMethod, ContactOptions, DetonationSpec, PdBoundary, PdOptions, PdSetup, PdSetupError,
-    PdSolver, CLOSING_STEP_FRACTION,
+    PdSolver, ProductsFamily, CLOSING_STEP_FRACTION,
 };
 pub use viscosity::GasViscosity;

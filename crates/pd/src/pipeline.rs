@@ -73,6 +73,12 @@ pub struct PdConfig {
     /// `None` sizes the step by eq 24 alone, as seed 004 prints it.
     #[serde(default = "default_closing")]
     pub closing_step_fraction: Option<f64>,
+    /// Which nodes a products node's family holds (`crate::ProductsFamily`,
+    /// docs/physics/pd/gas.md, "The case in the products' families"):
+    /// `OwnBody` (default, seed 004 as printed) or `WithSolids` (the solid
+    /// nodes of other bodies within the horizon too).
+    #[serde(default)]
+    pub products_family: crate::ProductsFamily,
 }
 
 fn default_closing() -> Option<f64> {
@@ -333,6 +339,7 @@ fn setup_of(s: &Scene<'_>, pd: &PdConfig) -> Result<PdSetup, Problem> {
             min_dt: 1.0e-15,
             jitter: pd.jitter,
             closing_step_fraction: pd.closing_step_fraction,
+            products_family: pd.products_family,
         },
         materials,
         bodies,
@@ -634,6 +641,33 @@ mod tests {
         };
         assert_eq!(options(&set("Some(0.5)")), Some(0.5));
         assert_eq!(options(&set("None")), None);
+    }
+
+    /// `products_family` reaches the solver options: `OwnBody` by default,
+    /// `WithSolids` when given; an unknown variant does not parse.
+    #[test]
+    fn the_products_family_reaches_the_options() {
+        let initial = [(cube(0.0, 4e-3), "steel", [0.0; 3])];
+        let options = |text: &str| {
+            config(text)
+                .setup(&scene(&initial, &[], 0).scene())
+                .unwrap()
+                .options
+                .products_family
+        };
+        assert_eq!(options(STEEL), crate::ProductsFamily::OwnBody);
+        let set = |v: &str| {
+            STEEL.replace(
+                "spacing: 1e-3",
+                &format!("spacing: 1e-3, products_family: {v}"),
+            )
+        };
+        assert_eq!(
+            options(&set("WithSolids")),
+            crate::ProductsFamily::WithSolids
+        );
+        assert_eq!(options(&set("OwnBody")), crate::ProductsFamily::OwnBody);
+        assert!(ron::from_str::<PdConfig>(&set("AllBodies")).is_err());
     }
 
     /// `jitter` reaches the lattice: the section's nodes are the regular

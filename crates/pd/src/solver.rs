@@ -23,10 +23,10 @@ use crate::cell_list::CellList;
 use crate::contact::{
     bin_current_positions, contact_energies, contact_forces_in, ContactInput, ContactParams,
 };
-use crate::family::Families;
+use crate::family::{Families, OneSidedPairs};
 use crate::forces::{
     bond_forces_dissipating_in, for_each_node, for_each_node_in, for_each_node_pair_in,
-    gas_expansion_closing, BondLaw, ForceInput, NodeForce,
+    gas_expansion_closing, one_sided_gas_reaction, BondLaw, ForceInput, NodeForce,
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{BodySpec, Dimension};
@@ -136,6 +136,37 @@ pub struct PdOptions {
     /// closing time of its family (default [`CLOSING_STEP_FRACTION`];
     /// None: eq 24 alone, as seed 004 prints it). 0 < f ≤ 1.
     pub closing_step_fraction: Option<f64>,
+    /// Which nodes a products node's family holds ([`ProductsFamily`];
+    /// default the printed model's, its own body only).
+    pub products_family: ProductsFamily,
+}
+
+/// Which nodes a products (gas) node's family holds.
+///
+/// Seed 004 bonds nodes of one body only (its Fig. 1), so a products node
+/// next to the case has a family cut off by the case: its expansion
+/// (eq 17) counts only the products side, and eq 19's pair forces push it
+/// towards the wall by the sum of its own one-sided family. A uniform
+/// products state against a wall is then not at rest
+/// (`docs/physics/pd/validation.md`). With `WithSolids` the solid nodes of
+/// other bodies within the horizon join the products node's family, as a
+/// wall's particles join a fluid particle's neighbourhood in the wall
+/// boundary of smoothed particle hydrodynamics (Adami, Hu & Adams 2012,
+/// J. Comput. Phys. 231, 7057–7075): eq 17's expansion measures the
+/// products against the wall's current positions, and eq 19's pair force
+/// on such a pair carries the products node's own half ½ c_i alone (a
+/// solid node has no c), with the opposite force on the solid node, so
+/// the pair force is still the gradient of the products' energy
+/// Σ W(X_i) V_i and momentum and energy are conserved as before
+/// (`docs/physics/pd/gas.md`, "The case in the products' families").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ProductsFamily {
+    /// Nodes of the products node's own body only, as seed 004 prints it.
+    #[default]
+    OwnBody,
+    /// Its own body's nodes and, within the horizon, the nodes of solid
+    /// (non-gas) materials in other bodies.
+    WithSolids,
 }
 
 impl Default for PdOptions {
@@ -153,6 +184,7 @@ impl Default for PdOptions {
             min_dt: 1.0e-15,
             jitter: None,
             closing_step_fraction: Some(CLOSING_STEP_FRACTION),
+            products_family: ProductsFamily::OwnBody,
         }
     }
 }
@@ -292,6 +324,9 @@ pub struct PdSolver {
     burn_step: f64,
     prescribed: Vec<(u32, u8, f64)>,
     families: Families,
+    /// Per solid node, the products nodes whose families hold it
+    /// ([`ProductsFamily::WithSolids`]); empty otherwise.
+    one_sided: OneSidedPairs,
     // Per node, evolving.
     time: f64,
     steps: u64,
@@ -478,7 +513,10 @@ impl PdSolver {
             + heap(&self.breakable)
             + heap(&self.has_reactant)
             + heap(&self.material_density)
-            + heap(&self.prescribed);
+            + heap(&self.prescribed)
+            + heap(&self.one_sided.offsets)
+            + heap(&self.one_sided.partner)
+            + heap(&self.one_sided.bond);
         PdMemory {
             nodes: n,
             bonds: self.bond_count(),
@@ -961,6 +999,29 @@ impl PdSolver {
             &mut self.bond_out,
             &mut self.dissipated_node,
         );
+        if !self.one_sided.is_empty() {
+            // The solid nodes in products families take the reaction of
+            // those pairs, each summing its own list in a fixed order.
+            let (reference, state, factor) = (&self.reference, &self.state, &self.factor);
+            let pairs = &self.one_sided;
+            for_each_node_in(&mut self.bond_out, own.clone(), |j, o| {
+                let row = pairs.row(j);
+                if row.is_empty() {
+                    return;
+                }
+                let (f, _) = one_sided_gas_reaction(
+                    j,
+                    reference,
+                    state,
+                    &pairs.partner[row.clone()],
+                    &pairs.bond[row],
+                    factor,
+                );
+                for (o, f) in o.force.iter_mut().zip(f) {
+                    *o += f;
+                }
+            });
+        }
         if let Some(params) = self.contact_params() {
             bin_current_positions(&mut self.cells, &self.reference, &self.state, &params);
             // Taken out for the pass (no copy) so the inputs can borrow
@@ -1012,7 +1073,21 @@ impl PdSolver {
         let mut omega2 = self.contact.get(i).map_or(0.0, |c| c.1) / rho;
         let mut gamma = 0.0;
         match self.laws[self.material[i] as usize] {
-            BondLaw::Solid { .. } => omega2 += self.node_scale[i] / rho,
+            BondLaw::Solid { .. } => {
+                omega2 += self.node_scale[i] / rho;
+                let row = self.one_sided.row(i);
+                if !row.is_empty() {
+                    let (_, k) = one_sided_gas_reaction(
+                        i,
+                        &self.reference,
+                        &self.state,
+                        &self.one_sided.partner[row.clone()],
+                        &self.one_sided.bond[row],
+                        &self.factor,
+                    );
+                    omega2 += k / rho;
+                }
+            }
             BondLaw::Gas => {
                 omega2 += self.gas[i][1] * self.gas[i][0] / rho;
                 if let Some(v) = self.viscous.get(i) {

@@ -1,9 +1,12 @@
 //! Building a [`PdSolver`] from its [`PdSetup`]: the nodes, families, bond
 //! weights and detonation times, and the forces of the initial state.
 
-use super::{distance, invalid, BurnMethod, PdSetup, PdSetupError, PdSolver, BURN_STEP_FRACTION};
+use super::{
+    distance, invalid, BurnMethod, PdSetup, PdSetupError, PdSolver, ProductsFamily,
+    BURN_STEP_FRACTION,
+};
 use crate::cell_list::CellList;
-use crate::family::{build_families, partial_volume};
+use crate::family::{build_families, build_families_where, partial_volume, OneSidedPairs};
 use crate::forces::{BondLaw, NodeForce};
 use crate::lattice::{fill_lattice, LatticeSpec};
 use crate::material::{micromodulus, PdMaterial, Proportional, ProportionalKind};
@@ -98,7 +101,24 @@ impl PdSolver {
         if n == 0 {
             return Err(invalid("bodies", "the bodies contain no lattice node"));
         }
-        let families = build_families(&cloud.positions, &cloud.body, horizon, h);
+        let is_gas: Vec<bool> = cloud
+            .material
+            .iter()
+            .map(|&m| matches!(setup.materials[m as usize], PdMaterial::Gas(_)))
+            .collect();
+        let families = match o.products_family {
+            ProductsFamily::OwnBody => build_families(&cloud.positions, &cloud.body, horizon, h),
+            ProductsFamily::WithSolids => {
+                let body = &cloud.body;
+                build_families_where(&cloud.positions, horizon, h, |i, j| {
+                    body[i] == body[j] || (is_gas[i] && !is_gas[j])
+                })
+            }
+        };
+        let one_sided = match o.products_family {
+            ProductsFamily::OwnBody => OneSidedPairs::default(),
+            ProductsFamily::WithSolids => OneSidedPairs::of(&families, |i| is_gas[i]),
+        };
         // Strength factors of the materials with a spread critical stretch
         // (`strength.rs`; empty when none has one), and per material the
         // smallest factor among its nodes.
@@ -185,11 +205,7 @@ impl PdSolver {
             })
             .collect();
         // Program burn.
-        let explosive: Vec<bool> = cloud
-            .material
-            .iter()
-            .map(|&m| matches!(setup.materials[m as usize], PdMaterial::Gas(_)))
-            .collect();
+        let explosive = is_gas;
         let mut detonation_time = vec![f64::INFINITY; n];
         let mut burn_step = f64::INFINITY;
         if explosive.iter().any(|&e| e) {
@@ -312,6 +328,7 @@ impl PdSolver {
             burn_step,
             prescribed,
             families,
+            one_sided,
             time: 0.0,
             steps: 0,
             state,

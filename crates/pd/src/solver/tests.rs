@@ -851,6 +851,7 @@ fn a_node_detonates_at_its_time_through_program_burn() {
 }
 
 mod products;
+mod wall;
 
 /// [`block`] (bonds yield and break) on `ranks` threads acting as ranks
 /// ([`brisance_grid::comm::InProcess`], each with a thread pool of its
