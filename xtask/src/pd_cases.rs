@@ -98,15 +98,7 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     );
     // The largest sampled wall velocity and when (the wall at mid-length
     // slows after it: docs/physics/pd/validation.md).
-    let (k_peak, v_peak) =
-        h.radial_velocity
-            .iter()
-            .copied()
-            .enumerate()
-            .fold(
-                (0, f64::NEG_INFINITY),
-                |b, (k, v)| if v > b.1 { (k, v) } else { b },
-            );
+    let (k_peak, v_peak) = h.peak();
     let _ = writeln!(
         report.md,
         "\nLargest sampled mid-length wall velocity: {v_peak:.0} m/s at {:.1} µs ({:+.1} % against Gurney).",

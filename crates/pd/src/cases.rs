@@ -177,6 +177,17 @@ pub struct WallHistory {
     pub initial_energy: f64,
 }
 
+impl WallHistory {
+    /// The largest sampled wall velocity and its sample index (index 0
+    /// and −∞ for an empty record).
+    pub fn peak(&self) -> (usize, f64) {
+        self.radial_velocity.iter().copied().enumerate().fold(
+            (0, f64::NEG_INFINITY),
+            |b, (k, v)| if v > b.1 { (k, v) } else { b },
+        )
+    }
+}
+
 /// Runs `case` to `end_time`, sampling the mid-length outer wall every
 /// `every` steps; returns the solver at the end and the history.
 pub fn run_cylinder(

@@ -557,6 +557,21 @@ fn solid_groups<G: Gather>(
     sums
 }
 
+/// A products pair seen from node i: the current bond vector
+/// y = x_j + u_j − x_i − u_i, the reference length r and p³ (p = |y|,
+/// floored at 1e-15 r so a collapsed pair stays finite). Shared by the
+/// gas row and the one-sided reaction on a solid node, so both sides of a
+/// pair use the same arithmetic.
+#[inline(always)]
+fn gas_pair(xi: &[f64; 4], ui: &[f64; 4], xj: &[f64; 4], uj: &[f64; 4]) -> ([f64; 3], f64, f64) {
+    let xi_ = sub3(xj, xi);
+    let eta = sub3(uj, ui);
+    let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
+    let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
+    let p2 = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).max(1e-30 * r * r);
+    (y, r, p2 * p2.sqrt())
+}
+
 /// Gas row: the pair force between gas nodes i and j is the mean of the two
 /// endpoint values of eq 19, ½(f_i + f_j), with f_i = −6 P_i r (X_i)^{4/3}
 /// /(V_i p²) — odd, parallel to the bond, and exactly −∂/∂y of the stored
@@ -582,14 +597,9 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
         if coef == 0.0 {
             continue;
         }
-        let xi_ = sub3(&xj, &xi);
-        let eta = sub3(&uj, &ui);
-        let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
-        let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
-        let p2 = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).max(1e-30 * r * r);
-        let p = p2.sqrt();
+        let (y, r, p3) = gas_pair(&xi, &ui, &xj, &uj);
         // Force on i, repulsive: −coef r/p² along ê = y/p, times β V_j.
-        let g = -coef * r * factor[k] as f64 * xj[3] / (p2 * p);
+        let g = -coef * r * factor[k] as f64 * xj[3] / p3;
         f[0] += g * y[0];
         f[1] += g * y[1];
         f[2] += g * y[2];
@@ -634,14 +644,9 @@ pub fn one_sided_gas_reaction(
         if coef == 0.0 {
             continue;
         }
-        // The same arithmetic as the partner's row (`gas_row`).
-        let xi_ = sub3(&xj, &xi);
-        let eta = sub3(&uj, &ui);
-        let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
-        let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
-        let p2 = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).max(1e-30 * r * r);
-        let p = p2.sqrt();
-        let g = coef * r * factor[k as usize] as f64 * xi[3] / (p2 * p);
+        // The pair as the partner's row sees it (`gas_row`).
+        let (y, r, p3) = gas_pair(&xi, &ui, &xj, &uj);
+        let g = coef * r * factor[k as usize] as f64 * xi[3] / p3;
         f[0] += g * y[0];
         f[1] += g * y[1];
         f[2] += g * y[2];

@@ -48,15 +48,7 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
     )?;
     let n = h.time.len();
     let v_end = h.radial_velocity[n - 1];
-    let (k, v_peak) =
-        h.radial_velocity
-            .iter()
-            .copied()
-            .enumerate()
-            .fold(
-                (0, f64::NEG_INFINITY),
-                |b, (k, v)| if v > b.1 { (k, v) } else { b },
-            );
+    let (k, v_peak) = h.peak();
     println!(
         "h = {:.3} mm, {nodes} nodes, {:.0} s; overrides {overrides:?}",
         spacing * 1e3,
