@@ -620,53 +620,43 @@ mod tests {
         }
     }
 
+    /// The solver options the steel block's config `text` builds.
+    fn steel_options(text: &str) -> crate::PdOptions {
+        let initial = [(cube(0.0, 4e-3), "steel", [0.0; 3])];
+        config(text)
+            .setup(&scene(&initial, &[], 0).scene())
+            .unwrap()
+            .options
+    }
+
+    /// The steel block's config with `field: value` added to its section.
+    fn steel_with(field: &str, value: &str) -> String {
+        STEEL.replace("spacing: 1e-3", &format!("spacing: 1e-3, {field}: {value}"))
+    }
+
     /// `closing_step_fraction` reaches the solver options: ¼ by default,
     /// the value given, or off with `None`.
     #[test]
     fn the_closing_step_fraction_reaches_the_options() {
-        let initial = [(cube(0.0, 4e-3), "steel", [0.0; 3])];
-        let options = |text: &str| {
-            config(text)
-                .setup(&scene(&initial, &[], 0).scene())
-                .unwrap()
-                .options
-                .closing_step_fraction
-        };
-        assert_eq!(options(STEEL), Some(crate::CLOSING_STEP_FRACTION));
-        let set = |v: &str| {
-            STEEL.replace(
-                "spacing: 1e-3",
-                &format!("spacing: 1e-3, closing_step_fraction: {v}"),
-            )
-        };
-        assert_eq!(options(&set("Some(0.5)")), Some(0.5));
-        assert_eq!(options(&set("None")), None);
+        let fraction = |text: &str| steel_options(text).closing_step_fraction;
+        let set = |v: &str| steel_with("closing_step_fraction", v);
+        assert_eq!(fraction(STEEL), Some(crate::CLOSING_STEP_FRACTION));
+        assert_eq!(fraction(&set("Some(0.5)")), Some(0.5));
+        assert_eq!(fraction(&set("None")), None);
     }
 
     /// `products_family` reaches the solver options: `OwnBody` by default,
     /// `WithSolids` when given; an unknown variant does not parse.
     #[test]
     fn the_products_family_reaches_the_options() {
-        let initial = [(cube(0.0, 4e-3), "steel", [0.0; 3])];
-        let options = |text: &str| {
-            config(text)
-                .setup(&scene(&initial, &[], 0).scene())
-                .unwrap()
-                .options
-                .products_family
-        };
-        assert_eq!(options(STEEL), crate::ProductsFamily::OwnBody);
-        let set = |v: &str| {
-            STEEL.replace(
-                "spacing: 1e-3",
-                &format!("spacing: 1e-3, products_family: {v}"),
-            )
-        };
+        let family = |text: &str| steel_options(text).products_family;
+        let set = |v: &str| steel_with("products_family", v);
+        assert_eq!(family(STEEL), crate::ProductsFamily::OwnBody);
         assert_eq!(
-            options(&set("WithSolids")),
+            family(&set("WithSolids")),
             crate::ProductsFamily::WithSolids
         );
-        assert_eq!(options(&set("OwnBody")), crate::ProductsFamily::OwnBody);
+        assert_eq!(family(&set("OwnBody")), crate::ProductsFamily::OwnBody);
         assert!(ron::from_str::<PdConfig>(&set("AllBodies")).is_err());
     }
 

@@ -6,9 +6,8 @@
 //! mean radial velocity at the end against Gurney), its peak and where the
 //! released energy went.
 
-use brisance_pd::cases::{copper_cylinder as case_constants, run_tube, EnergyBudget};
-use brisance_validation::pd_cylinder::PD_CYLINDER_FULL_CONFIG;
-use brisance_validation::pd_tube::Tube;
+use brisance_pd::cases::{copper_cylinder as case_constants, EnergyBudget};
+use brisance_validation::pd_cylinder::copper_cylinder_with;
 
 const USAGE: &str = "pd_cyl_spacing SPACING_M [KEY=VALUE ...]";
 
@@ -30,22 +29,9 @@ fn main() {
 
 fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
     let gurney = case_constants(spacing, 0.258).gurney_wall_velocity()?;
-    let t = Tube::at_with(
-        "configs/pd_cylinder_full.ron",
-        PD_CYLINDER_FULL_CONFIG,
-        spacing,
-        overrides,
-    )?;
-    let nodes = t.solver.node_count();
     let t0 = std::time::Instant::now();
-    let (s, h) = run_tube(
-        t.solver,
-        t.wall.length,
-        t.wall.outer_radius,
-        spacing,
-        t.scenario.time.end,
-        10,
-    )?;
+    let (s, h) = copper_cylinder_with(spacing, 10, overrides)?;
+    let nodes = s.node_count();
     let n = h.time.len();
     let v_end = h.radial_velocity[n - 1];
     let (k, v_peak) = h.peak();
@@ -62,16 +48,6 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
     );
     let e = EnergyBudget::of(&s);
     let released = h.initial_energy - e.products;
-    println!(
-        "released {:.1} kJ: case kinetic {:.1} %, products kinetic {:.1} %, bonds {:.1} %, \
-         contacts {:.2} %, dissipated {:.2} %; total / initial {:.4}",
-        released * 1e-3,
-        100.0 * e.case_kinetic / released,
-        100.0 * e.products_kinetic / released,
-        100.0 * e.bonds / released,
-        100.0 * e.contact / released,
-        100.0 * e.dissipated / released,
-        e.total() / h.initial_energy
-    );
+    println!("{}", e.shares(released, h.initial_energy));
     Ok(())
 }

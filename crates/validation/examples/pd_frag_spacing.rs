@@ -68,16 +68,8 @@ fn main() {
         (0.15 * length, 0.85 * length),
     );
     println!(
-        "energy: released {:.1} kJ; case kinetic {:.1} %, products kinetic {:.1} %, case bonds {:.1} %, \
-         contacts {:.2} %, dissipated by the case bonds {:.1} % of it; total / initial {:.4}; \
-         products nodes outside the case {through} of {counted}",
-        released * 1e-3,
-        100.0 * e.case_kinetic / released,
-        100.0 * e.products_kinetic / released,
-        100.0 * e.bonds / released,
-        100.0 * e.contact / released,
-        100.0 * e.dissipated / released,
-        e.total() / run.initial_energy.total()
+        "energy: {}; products nodes outside the case {through} of {counted}",
+        e.shares(released, run.initial_energy.total())
     );
     let top: Vec<String> = r
         .fragments

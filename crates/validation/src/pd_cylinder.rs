@@ -24,7 +24,23 @@ pub fn tube(spacing: f64) -> Result<Tube, String> {
 /// mid-length outer wall (the config's wall's length and outer radius)
 /// sampled every `every` steps.
 pub fn copper_cylinder(spacing: f64, every: usize) -> Result<(PdSolver, WallHistory), String> {
-    let t = tube(spacing)?;
+    copper_cylinder_with(spacing, every, &[])
+}
+
+/// [`copper_cylinder`] with further `--set` overrides of the scenario file
+/// (`key=value`, [`Tube::at_with`]), e.g.
+/// `pipeline.products_family=WithSolids` for the report's second row.
+pub fn copper_cylinder_with(
+    spacing: f64,
+    every: usize,
+    overrides: &[String],
+) -> Result<(PdSolver, WallHistory), String> {
+    let t = Tube::at_with(
+        "configs/pd_cylinder_full.ron",
+        PD_CYLINDER_FULL_CONFIG,
+        spacing,
+        overrides,
+    )?;
     run_tube(
         t.solver,
         t.wall.length,
