@@ -40,6 +40,17 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     let t0 = Instant::now();
     let (s, h) = pd_cylinder::copper_cylinder(CYL_SPACING, 10).map_err(anyhow::Error::msg)?;
     let wall = t0.elapsed().as_secs_f64();
+    // The same tube with the case in the products' families (a choice
+    // beside seed 004's printed families, docs/physics/pd/gas.md).
+    println!("E-PD-CYL: the same tube with pipeline.products_family = WithSolids");
+    let t1 = Instant::now();
+    let (s_ws, h_ws) = pd_cylinder::copper_cylinder_with(
+        CYL_SPACING,
+        10,
+        &["pipeline.products_family=WithSolids".to_string()],
+    )
+    .map_err(anyhow::Error::msg)?;
+    let wall_ws = t1.elapsed().as_secs_f64();
     let n = h.time.len();
     let v_end = h.radial_velocity[n - 1];
     let err = (v_end - gurney).abs() / gurney;
@@ -74,9 +85,19 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         "within 10 %",
         err <= 0.10,
     );
+    let v_ws = h_ws.radial_velocity[h_ws.time.len() - 1];
+    report.target(
+        "E-PD-CYL, case in the products' families (WithSolids), wall velocity at 45 µs vs Gurney",
+        format!(
+            "{v_ws:.0} m/s vs {gurney:.0} m/s ({:+.1} %)",
+            100.0 * (v_ws / gurney - 1.0)
+        ),
+        "within 10 %",
+        (v_ws - gurney).abs() / gurney <= 0.10,
+    );
     let _ = writeln!(
         report.md,
-        "\nEnergy at 45 µs: the products have released {:.0} kJ (W₀ − W); case kinetic {:.0} kJ ({:.0} % of it), \
+        "\nEnergy at 45 µs (seed 004's families, first row): the products have released {:.0} kJ (W₀ − W); case kinetic {:.0} kJ ({:.0} % of it), \
          products kinetic {:.0} kJ ({:.0} %), case bonds {:.0} kJ ({:.0} %), contacts {:.1} kJ ({:.1} %), \
          dissipated by the case bonds (yield and failure) {:.1} kJ ({:.1} %); total / initial = {:.4}. \
          Products nodes outside the case (beyond its outermost node in their axial slab, middle 70 % of the \
@@ -105,10 +126,26 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         h.time[k_peak] * 1e6,
         100.0 * (v_peak / gurney - 1.0)
     );
+    let (k_ws, v_peak_ws) = h_ws.peak();
+    let e_ws = EnergyBudget::of(&s_ws);
+    let (through_ws, counted_ws) =
+        products_through_case(&s_ws, CYL_SPACING, (0.15 * 0.258, 0.85 * 0.258));
+    let _ = writeln!(
+        report.md,
+        "\n**With the case in the products' families** (`pipeline.products_family: WithSolids`, a choice beside \
+         seed 004's printed families: a products node's expansion measure, eq 17, counts the case nodes within its \
+         horizon; docs/physics/pd/gas.md, \"The case in the products' families\"; second row above, {:.0} s): \
+         largest sampled mid-length wall velocity {v_peak_ws:.0} m/s at {:.1} µs ({:+.1} % against Gurney); energy \
+         at 45 µs: {}; products nodes outside the case {through_ws} of {counted_ws}.",
+        wall_ws,
+        h_ws.time[k_ws] * 1e6,
+        100.0 * (v_peak_ws / gurney - 1.0),
+        e_ws.shares(h_ws.initial_energy - e_ws.products, h_ws.initial_energy),
+    );
     let m = ProductsMotion::of(&s);
     let _ = writeln!(
         report.md,
-        "\nThe products' kinetic energy at 45 µs, as shares of the released energy: axial (½ m v_z²) {:.0} %, \
+        "\nThe products' kinetic energy at 45 µs (seed 004's families), as shares of the released energy: axial (½ m v_z²) {:.0} %, \
          transverse {:.0} %; node-scale (non-affine: about the least-squares affine velocity field of each node's \
          products family) {:.1} %; about the family mean velocity alone (which counts the resolved gradient across \
          a horizon too) {:.0} %. Axial momentum: products {:.2} N s, all nodes {:.2e} N s (0 to round-off: the \
@@ -127,6 +164,8 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     );
     let t_us: Vec<f64> = h.time.iter().map(|t| t * 1e6).collect();
     let u_mm: Vec<f64> = h.radial_displacement.iter().map(|u| u * 1e3).collect();
+    let t_ws_us: Vec<f64> = h_ws.time.iter().map(|t| t * 1e6).collect();
+    let u_ws_mm: Vec<f64> = h_ws.radial_displacement.iter().map(|u| u * 1e3).collect();
     let g = vec![gurney; n];
     plot::plot_panels(
         &img.join("e_pd_cyl.png"),
@@ -135,20 +174,34 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         &[
             Panel {
                 y_label: "radial displacement [mm]",
-                series: vec![Series {
-                    label: "peridynamics",
-                    x: &t_us,
-                    y: &u_mm,
-                    style: SeriesStyle::Line,
-                }],
+                series: vec![
+                    Series {
+                        label: "peridynamics (seed 004's families)",
+                        x: &t_us,
+                        y: &u_mm,
+                        style: SeriesStyle::Line,
+                    },
+                    Series {
+                        label: "case in the products' families",
+                        x: &t_ws_us,
+                        y: &u_ws_mm,
+                        style: SeriesStyle::Line,
+                    },
+                ],
             },
             Panel {
                 y_label: "radial velocity [m/s]",
                 series: vec![
                     Series {
-                        label: "peridynamics",
+                        label: "peridynamics (seed 004's families)",
                         x: &t_us,
                         y: &h.radial_velocity,
+                        style: SeriesStyle::Line,
+                    },
+                    Series {
+                        label: "case in the products' families",
+                        x: &t_ws_us,
+                        y: &h_ws.radial_velocity,
                         style: SeriesStyle::Line,
                     },
                     Series {
