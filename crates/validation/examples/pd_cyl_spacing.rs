@@ -3,7 +3,8 @@
 //! SPACING_M [KEY=VALUE ...]`, the optional arguments `--set` overrides of
 //! `configs/pd_cylinder_full.ron` (e.g. `pipeline.products_family=WithSolids`,
 //! `time.end=3e-5`). Prints the report's figure (the mid-length wall's
-//! mean radial velocity at the end against Gurney), its peak and where the
+//! mean radial velocity at the end against Gurney), its peak, the whole
+//! wall's kinetic-energy mean radial velocity at mid-length and where the
 //! released energy went.
 
 use brisance_pd::cases::{copper_cylinder as case_constants, EnergyBudget};
@@ -45,6 +46,15 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
         h.time[n - 1] * 1e6,
         100.0 * (v_end / gurney - 1.0),
         h.time[k] * 1e6
+    );
+    let (kw, w_peak) = h.wall_peak();
+    println!(
+        "whole wall at mid-length (kinetic-energy mean): {:.0} m/s at {:.1} µs ({:+.1} %); peak {w_peak:.0} m/s at {:.1} µs ({:+.1} %)",
+        h.wall_velocity[n - 1],
+        h.time[n - 1] * 1e6,
+        100.0 * (h.wall_velocity[n - 1] / gurney - 1.0),
+        h.time[kw] * 1e6,
+        100.0 * (w_peak / gurney - 1.0)
     );
     let e = EnergyBudget::of(&s);
     let released = h.initial_energy - e.products;
