@@ -7,7 +7,7 @@
 //! wall's kinetic-energy mean radial velocity at mid-length and where the
 //! released energy went.
 
-use brisance_pd::cases::{copper_cylinder as case_constants, EnergyBudget};
+use brisance_pd::cases::{case_material, copper_cylinder as case_constants, EnergyBudget};
 use brisance_validation::pd_cylinder::copper_cylinder_with;
 
 const USAGE: &str = "pd_cyl_spacing SPACING_M [KEY=VALUE ...]";
@@ -55,6 +55,33 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
         100.0 * (h.wall_velocity[n - 1] / gurney - 1.0),
         h.time[kw] * 1e6,
         100.0 * (w_peak / gurney - 1.0)
+    );
+    // The products of the middle fifth of the tube: how much of their mass
+    // is still there, and how far along z the rest has gone.
+    let case = case_material(&s);
+    let length = 0.258;
+    let middle = |z: f64| (z - 0.5 * length).abs() <= 0.1 * length;
+    let (mut start, mut now, mut kept) = (0.0, 0.0, 0.0);
+    for i in (0..s.node_count()).filter(|&i| s.materials()[i] != case) {
+        let z0 = s.reference()[i][2];
+        let z = z0 + s.displacement(i)[2];
+        let m = s.mass(i);
+        if middle(z0) {
+            start += m;
+            if middle(z) {
+                kept += m;
+            }
+        }
+        if middle(z) {
+            now += m;
+        }
+    }
+    println!(
+        "products in the middle fifth of the tube: {:.1} g at the end against {:.1} g at the start \
+         ({:.1} % of those still there)",
+        now * 1e3,
+        start * 1e3,
+        100.0 * kept / start
     );
     let e = EnergyBudget::of(&s);
     let released = h.initial_energy - e.products;
