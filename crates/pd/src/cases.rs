@@ -272,14 +272,9 @@ pub fn run_tube(
     let mut sample = |s: &PdSolver| {
         let (mut u, mut v) = (0.0, 0.0);
         for &i in &ring {
-            let x = s.reference()[i];
-            let d = s.displacement(i);
-            let r0 = x[0].hypot(x[1]);
-            let (cx, cy) = (x[0] + d[0], x[1] + d[1]);
-            let r = cx.hypot(cy);
+            let (r0, r, vr) = radial(s, i);
             u += r - r0;
-            let vel = s.velocities()[i];
-            v += (vel[0] * cx + vel[1] * cy) / r;
+            v += vr;
         }
         let n = ring.len() as f64;
         history.time.push(s.time());
@@ -304,21 +299,28 @@ pub fn run_tube(
     Ok((s, history))
 }
 
+/// Node `i`'s reference and current radius about the z axis and its
+/// radial velocity along the current radius (0 on the axis).
+fn radial(s: &PdSolver, i: usize) -> (f64, f64, f64) {
+    let x = s.reference()[i];
+    let d = s.displacement(i);
+    let (cx, cy) = (x[0] + d[0], x[1] + d[1]);
+    let r = cx.hypot(cy);
+    let vel = s.velocities()[i];
+    let vr = if r > 0.0 {
+        (vel[0] * cx + vel[1] * cy) / r
+    } else {
+        0.0
+    };
+    (x[0].hypot(x[1]), r, vr)
+}
+
 /// (Σ m v_r|v_r| / Σ m)^{1/2}, signed, over `nodes` (v_r along the
 /// current position's radius about the z axis; 0 at the axis).
 fn signed_ke_mean_radial_velocity(s: &PdSolver, nodes: &[usize]) -> f64 {
     let (mut mv2, mut m) = (0.0, 0.0);
     for &i in nodes {
-        let x = s.reference()[i];
-        let d = s.displacement(i);
-        let (cx, cy) = (x[0] + d[0], x[1] + d[1]);
-        let r = cx.hypot(cy);
-        let vel = s.velocities()[i];
-        let vr = if r > 0.0 {
-            (vel[0] * cx + vel[1] * cy) / r
-        } else {
-            0.0
-        };
+        let (_, _, vr) = radial(s, i);
         mv2 += s.mass(i) * vr * vr.abs();
         m += s.mass(i);
     }

@@ -169,14 +169,11 @@ fn block(nx: usize, amplitude: f64, critical_stretch: f64) -> PdSolver {
             minimum_stretch_coefficient: 0.25,
             spread: None,
         })],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [nx as f64 * h, 0.8 * nx as f64 * h, 0.6 * nx as f64 * h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body(
+            [0.0; 3],
+            [nx as f64 * h, 0.8 * nx as f64 * h, 0.6 * nx as f64 * h],
+            0,
+        )],
         boundaries: vec![],
         detonation: None,
     })
@@ -499,14 +496,7 @@ fn bar_with_a_broken_and_a_compressed_bond(spread: Option<StretchSpread>) -> PdS
             minimum_stretch_coefficient: 0.25,
             spread,
         })],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0, -h, -h],
-                max: [5.0 * h, h, h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0, -h, -h], [5.0 * h, h, h], 0)],
         boundaries: vec![],
         detonation: None,
     })
@@ -666,14 +656,7 @@ fn two_steel_bodies(contact: bool) -> PdSolver {
         },
         materials: vec![steel(ProportionalKind::MicroElastic, f64::INFINITY)],
         bodies: vec![
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0; 3],
-                    max: [2.0 * h, h, h],
-                },
-                material: 0,
-                velocity: [0.0; 3],
-            },
+            box_body([0.0; 3], [2.0 * h, h, h], 0),
             BodySpec {
                 shape: Shape::Box {
                     min: [4.0 * h, 0.0, 0.0],
@@ -848,6 +831,15 @@ fn a_node_detonates_at_its_time_through_program_burn() {
     assert!(!detonated(1.999_999e-6, 2.0e-6));
     assert!(!detonated(1.0, f64::INFINITY));
     assert!(detonated(0.0, 0.0));
+}
+
+/// A body filling the box from `min` to `max` with `material`, at rest.
+fn box_body(min: [f64; 3], max: [f64; 3], material: u16) -> BodySpec {
+    BodySpec {
+        shape: Shape::Box { min, max },
+        material,
+        velocity: [0.0; 3],
+    }
 }
 
 mod products;

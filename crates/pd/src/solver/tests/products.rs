@@ -99,14 +99,7 @@ fn two_explosive_nodes() -> PdSolver {
             ..PdOptions::default()
         },
         materials: vec![tnt_gas()],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [2.0 * h, h, h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0; 3], [2.0 * h, h, h], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
             points: vec![DetonationPoint {
@@ -184,14 +177,7 @@ fn with_a_reactant_the_products_push_unreacted_explosive_and_momentum_is_kept() 
             ..PdOptions::default()
         },
         materials: vec![material],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [2.0 * h, h, h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0; 3], [2.0 * h, h, h], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
             points: vec![DetonationPoint {
@@ -243,14 +229,7 @@ fn products_contact_keeps_the_rest_state_force_free() {
             ..PdOptions::default()
         },
         materials: vec![material],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [4.0 * h, 4.0 * h, 4.0 * h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0; 3], [4.0 * h, 4.0 * h, 4.0 * h], 0)],
         boundaries: vec![],
         // Lit long after the test: every node stays unreacted.
         detonation: Some(DetonationSpec {
@@ -287,22 +266,8 @@ fn momentum_of_a_detonating_charge_and_its_case_is_conserved_to_round_off() {
         },
         materials: vec![tnt_gas_with_reactant(), copper],
         bodies: vec![
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0; 3],
-                    max: [8.0 * h, 4.0 * h, 3.0 * h],
-                },
-                material: 0,
-                velocity: [0.0; 3],
-            },
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0, 4.0 * h, 0.0],
-                    max: [8.0 * h, 6.0 * h, 3.0 * h],
-                },
-                material: 1,
-                velocity: [0.0; 3],
-            },
+            box_body([0.0; 3], [8.0 * h, 4.0 * h, 3.0 * h], 0),
+            box_body([0.0, 4.0 * h, 0.0], [8.0 * h, 6.0 * h, 3.0 * h], 1),
         ],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
@@ -354,14 +319,7 @@ fn explosive_ahead_of_the_front_stays_undisturbed_and_energy_is_kept() {
             ..PdOptions::default()
         },
         materials: vec![tnt_gas()],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [12.0 * h, 4.0 * h, 4.0 * h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0; 3], [12.0 * h, 4.0 * h, 4.0 * h], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
             points: vec![DetonationPoint {
@@ -489,14 +447,7 @@ fn colliding_gas_nodes_at(
             },
             reactant: None,
         }))],
-        bodies: vec![BodySpec {
-            shape: Shape::Box {
-                min: [0.0; 3],
-                max: [2.0 * h, h, h],
-            },
-            material: 0,
-            velocity: [0.0; 3],
-        }],
+        bodies: vec![box_body([0.0; 3], [2.0 * h, h, h], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
             points: vec![

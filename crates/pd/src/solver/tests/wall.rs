@@ -36,22 +36,8 @@ fn products_beside_copper(
         },
         materials: vec![PdMaterial::Gas(gas), PdMaterial::Proportional(copper)],
         bodies: vec![
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0; 3],
-                    max: [6.0 * h, 4.0 * h, 4.0 * h],
-                },
-                material: 0,
-                velocity: [0.0; 3],
-            },
-            BodySpec {
-                shape: Shape::Box {
-                    min: [6.0 * h, 0.0, 0.0],
-                    max: [9.0 * h, 4.0 * h, 4.0 * h],
-                },
-                material: 1,
-                velocity: [0.0; 3],
-            },
+            box_body([0.0; 3], [6.0 * h, 4.0 * h, 4.0 * h], 0),
+            box_body([6.0 * h, 0.0, 0.0], [9.0 * h, 4.0 * h, 4.0 * h], 1),
         ],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
@@ -215,14 +201,7 @@ fn products_at_rest_in_a_rigid_case(family: ProductsFamily) -> (f64, f64) {
         },
         materials: vec![PdMaterial::Gas(gas), PdMaterial::Proportional(copper)],
         bodies: vec![
-            BodySpec {
-                shape: Shape::Box {
-                    min: [0.0; 3],
-                    max: [8.0 * h; 3],
-                },
-                material: 0,
-                velocity: [0.0; 3],
-            },
+            box_body([0.0; 3], [8.0 * h; 3], 0),
             BodySpec {
                 shape: outer.clone(),
                 material: 1,
