@@ -7,7 +7,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use brisance::pd::cases::{copper_cylinder, products_through_case, EnergyBudget, ProductsMotion};
+use brisance::pd::cases::{
+    copper_cylinder, middle_of, products_through_case, EnergyBudget, ProductsMotion,
+};
 use brisance::pd::{cumulative_mass_distribution, write_cmd_csv, write_fragments_csv};
 use brisance::verification::mott::{fracture_spacing, MottDistribution};
 use brisance::verification::pd_cylinder;
@@ -34,8 +36,12 @@ const MOTT_GAMMAS: [f64; 3] = [10.0, 30.0, 100.0];
 /// velocity against the Gurney estimate (10 %).
 pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-PD-CYL: copper cylinder expansion, peridynamics, h = {CYL_SPACING} m");
-    // The case's constants (Gurney, M/C); the run is the scenario file's.
-    let case = copper_cylinder(CYL_SPACING, 0.258);
+    // The case's constants (Gurney, M/C) for the scenario file's wall; the
+    // run is the scenario file's.
+    let tube = pd_cylinder::wall().map_err(anyhow::Error::msg)?;
+    let case = copper_cylinder(CYL_SPACING, tube.length);
+    // Products figures away from the open ends.
+    let middle = middle_of(tube.length);
     let gurney = case.gurney_wall_velocity().map_err(anyhow::Error::msg)?;
     let t0 = Instant::now();
     let (s, h) = pd_cylinder::copper_cylinder(CYL_SPACING, 10).map_err(anyhow::Error::msg)?;
@@ -75,7 +81,7 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     // case (middle 70 % of the tube, away from the open ends).
     let e = EnergyBudget::of(&s);
     let released = h.initial_energy - e.products;
-    let (through, counted) = products_through_case(&s, CYL_SPACING, (0.15 * 0.258, 0.85 * 0.258));
+    let (through, counted) = products_through_case(&s, CYL_SPACING, middle);
     report.target(
         "E-PD-CYL wall velocity at 45 µs vs Gurney",
         format!(
@@ -145,8 +151,7 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
     }
     let (k_ws, v_peak_ws) = h_ws.peak();
     let e_ws = EnergyBudget::of(&s_ws);
-    let (through_ws, counted_ws) =
-        products_through_case(&s_ws, CYL_SPACING, (0.15 * 0.258, 0.85 * 0.258));
+    let (through_ws, counted_ws) = products_through_case(&s_ws, CYL_SPACING, middle);
     let _ = writeln!(
         report.md,
         "\n**With the case in the products' families** (`pipeline.products_family: WithSolids`, a choice beside \

@@ -117,7 +117,7 @@ fn pd_configs_are_the_cases_the_validation_runs() {
         (
             "pd_cylinder_full.ron",
             include_str!("../../../configs/pd_cylinder_full.ron"),
-            copper_cylinder(h, 0.258),
+            copper_cylinder(h, brisance_pd::cases::COPPER_TUBE_LENGTH),
             45.0e-6,
         ),
         (

@@ -7,6 +7,7 @@
 
 use brisance_pd::cases::{
     copper_cylinder, run_cylinder, run_fragmentation, steel_fragmenting_cylinder,
+    COPPER_TUBE_LENGTH,
 };
 use brisance_pd::cumulative_mass_distribution;
 
@@ -17,7 +18,7 @@ fn main() -> Result<(), String> {
     let t = std::time::Instant::now();
     match which {
         "cyl" => {
-            let case = copper_cylinder(h, 0.258);
+            let case = copper_cylinder(h, COPPER_TUBE_LENGTH);
             let gurney = case.gurney_wall_velocity()?;
             let (s, hist) = run_cylinder(&case, 45.0e-6, 20)?;
             for k in 0..hist.time.len() {

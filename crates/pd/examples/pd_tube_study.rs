@@ -31,7 +31,7 @@
 
 use brisance_core::Solver;
 use brisance_pd::cases::{
-    copper_cylinder, products_through_case, steel_fragmenting_cylinder, EnergyBudget,
+    copper_cylinder, middle_of, products_through_case, steel_fragmenting_cylinder, EnergyBudget,
     ProductsMotion,
 };
 use brisance_pd::{ContactOptions, GasViscosity, PdSolver};
@@ -201,7 +201,7 @@ fn main() -> Result<(), String> {
             let (disorder, nonaffine) = (motion.about_family_mean, motion.non_affine);
             let (axial, transverse) = (motion.axial, motion.transverse);
             let (pz_products, pz) = (motion.products_momentum_z, motion.total_momentum_z);
-            let (through, counted) = products_through_case(&s, h, (0.15 * length, 0.85 * length));
+            let (through, counted) = products_through_case(&s, h, middle_of(length));
             let (mut case_axial, mut case_pz) = (0.0, 0.0);
             for i in 0..s.node_count() {
                 if s.materials()[i] == 0 {

@@ -37,6 +37,16 @@ pub struct TubeCase {
     pub spacing: f64,
 }
 
+/// Length of seed 004's copper tube (E-PD-CYL), m.
+pub const COPPER_TUBE_LENGTH: f64 = 0.258;
+
+/// The axial range a tube's figures of the products are taken over: the
+/// middle 70 % of a tube of `length` (m), away from the open ends, where
+/// the products vent axially.
+pub fn middle_of(length: f64) -> (f64, f64) {
+    (0.15 * length, 0.85 * length)
+}
+
 /// E-PD-CYL: the copper tube of seed 004 (25.8 cm long, inner diameter
 /// 2.54 cm, wall 0.26 cm; ρ 8930 kg/m³, bulk sound speed 3602 m/s, yield
 /// 324 MPa, critical stretch 2.0), micro-elastic as the seed's "proportional

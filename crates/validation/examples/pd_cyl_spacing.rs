@@ -8,7 +8,7 @@
 //! released energy went.
 
 use brisance_pd::cases::{case_material, copper_cylinder as case_constants, EnergyBudget};
-use brisance_validation::pd_cylinder::copper_cylinder_with;
+use brisance_validation::pd_cylinder::{copper_cylinder_with, wall};
 
 const USAGE: &str = "pd_cyl_spacing SPACING_M [KEY=VALUE ...]";
 
@@ -29,7 +29,8 @@ fn main() {
 }
 
 fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
-    let gurney = case_constants(spacing, 0.258).gurney_wall_velocity()?;
+    let tube = wall()?;
+    let gurney = case_constants(spacing, tube.length).gurney_wall_velocity()?;
     let t0 = std::time::Instant::now();
     let (s, h) = copper_cylinder_with(spacing, 10, overrides)?;
     let nodes = s.node_count();
@@ -59,7 +60,7 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
     // The products of the middle fifth of the tube: how much of their mass
     // is still there, and how far along z the rest has gone.
     let case = case_material(&s);
-    let length = 0.258;
+    let length = tube.length;
     let middle = |z: f64| (z - 0.5 * length).abs() <= 0.1 * length;
     let (mut start, mut now, mut kept) = (0.0, 0.0, 0.0);
     for i in (0..s.node_count()).filter(|&i| s.materials()[i] != case) {

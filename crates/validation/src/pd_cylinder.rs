@@ -5,7 +5,7 @@
 use brisance_pd::cases::{run_tube, WallHistory};
 use brisance_pd::PdSolver;
 
-use crate::pd_tube::Tube;
+use crate::pd_tube::{wall_of, CaseWall, Tube};
 
 /// The E-PD-CYL scenario file (the full 25.8 cm tube, to 45 µs).
 pub const PD_CYLINDER_FULL_CONFIG: &str = include_str!("../../../configs/pd_cylinder_full.ron");
@@ -18,6 +18,12 @@ pub fn tube(spacing: f64) -> Result<Tube, String> {
         PD_CYLINDER_FULL_CONFIG,
         spacing,
     )
+}
+
+/// The config's case wall (its length and radii), read without building
+/// the tube.
+pub fn wall() -> Result<CaseWall, String> {
+    wall_of("configs/pd_cylinder_full.ron", PD_CYLINDER_FULL_CONFIG)
 }
 
 /// The full tube at `spacing` run to the config's end (45 µs), the
@@ -63,8 +69,9 @@ mod tests {
     fn the_config_is_the_case() {
         let h = 1.3e-3;
         let a = tube(h).unwrap();
-        let case = brisance_pd::cases::copper_cylinder(h, 0.258);
+        let case = brisance_pd::cases::copper_cylinder(h, brisance_pd::cases::COPPER_TUBE_LENGTH);
         assert_eq!(a.wall.length, case.length);
+        assert_eq!(wall().unwrap(), a.wall);
         assert!((a.wall.outer_radius - case.outer_radius).abs() <= 1e-15);
         let b = PdSolver::new(case.setup().unwrap()).unwrap();
         assert_same_tube(&a.solver, &b);
@@ -81,7 +88,7 @@ mod tests {
         let end = 2.0e-7;
         let t = tube(h).unwrap();
         let (_, a) = run_tube(t.solver, t.wall.length, t.wall.outer_radius, h, end, 1).unwrap();
-        let case = brisance_pd::cases::copper_cylinder(h, 0.258);
+        let case = brisance_pd::cases::copper_cylinder(h, brisance_pd::cases::COPPER_TUBE_LENGTH);
         let (_, b) = brisance_pd::cases::run_cylinder(&case, end, 1).unwrap();
         assert_eq!(a, b);
     }

@@ -53,29 +53,11 @@ impl Tube {
         spacing: f64,
         overrides: &[String],
     ) -> Result<Self, String> {
-        if !(spacing > 0.0 && spacing.is_finite()) {
-            return Err(format!(
-                "{file}: spacing {spacing} m must be finite and > 0"
-            ));
-        }
-        let mut sets = vec![
-            format!("pipeline.spacing={spacing:e}"),
-            format!(
-                "pipeline.detonation=Some(points: [(position: (0.0, 0.0, {:e}), time: 0.0)], method: Huygens)",
-                0.5 * spacing
-            ),
-        ];
-        sets.extend_from_slice(overrides);
-        let scenario = load_str(file, text, &sets)
-            .map_err(|e| e.to_string())?
-            .scenario;
+        let (scenario, wall) = load(file, text, spacing, overrides)?;
         let pd = scenario
             .pipeline
             .section::<PdConfig>()
             .ok_or_else(|| format!("{file}: not a Peridynamics pipeline"))?;
-        let wall = case_wall(&scenario, pd).ok_or_else(|| {
-            format!("{file}: no Shell region of a Proportional material with a yield strength and a critical stretch")
-        })?;
         let solver = build_section(pd, &scenario).map_err(|e| e.to_string())?;
         Ok(Self {
             scenario,
@@ -83,6 +65,54 @@ impl Tube {
             wall,
         })
     }
+}
+
+/// The case wall the scenario file `text` (named `file`) describes, read
+/// without building its solver.
+pub fn wall_of(file: &str, text: &str) -> Result<CaseWall, String> {
+    let scenario = load_str(file, text, &[])
+        .map_err(|e| e.to_string())?
+        .scenario;
+    wall_in(file, &scenario)
+}
+
+/// `text` loaded with the spacing, the detonation point and `overrides`
+/// set, and its wall.
+fn load(
+    file: &str,
+    text: &str,
+    spacing: f64,
+    overrides: &[String],
+) -> Result<(Scenario, CaseWall), String> {
+    if !(spacing > 0.0 && spacing.is_finite()) {
+        return Err(format!(
+            "{file}: spacing {spacing} m must be finite and > 0"
+        ));
+    }
+    let mut sets = vec![
+        format!("pipeline.spacing={spacing:e}"),
+        format!(
+            "pipeline.detonation=Some(points: [(position: (0.0, 0.0, {:e}), time: 0.0)], method: Huygens)",
+            0.5 * spacing
+        ),
+    ];
+    sets.extend_from_slice(overrides);
+    let scenario = load_str(file, text, &sets)
+        .map_err(|e| e.to_string())?
+        .scenario;
+    let wall = wall_in(file, &scenario)?;
+    Ok((scenario, wall))
+}
+
+/// The wall of a loaded scenario ([`case_wall`]), or an error naming the file.
+fn wall_in(file: &str, scenario: &Scenario) -> Result<CaseWall, String> {
+    let pd = scenario
+        .pipeline
+        .section::<PdConfig>()
+        .ok_or_else(|| format!("{file}: not a Peridynamics pipeline"))?;
+    case_wall(scenario, pd).ok_or_else(|| {
+        format!("{file}: no Shell region of a Proportional material with a yield strength and a critical stretch")
+    })
 }
 
 /// The first `Shell` region of a `Proportional` material with a yield
