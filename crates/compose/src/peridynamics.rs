@@ -225,9 +225,16 @@ fn gas_viscosity_is_read_and_checked() {
         pd.gas_viscosity,
         Some(brisance_pd::GasViscosity {
             linear: 1.0,
-            quadratic: 2.0
+            quadratic: 2.0,
+            shear: 0.0,
         })
     );
+    let shear = "pipeline.gas_viscosity=(linear: 1.0, quadratic: 2.0, shear: 0.5)";
+    let loaded = load_str("v.ron", text, &[shear.into()]).unwrap();
+    let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
+        panic!("not a Peridynamics pipeline");
+    };
+    assert_eq!(pd.gas_viscosity.map(|v| v.shear), Some(0.5));
     let bad = "pipeline.gas_viscosity=(linear: -1.0, quadratic: 2.0)";
     let e = load_str("v.ron", text, &[bad.into()])
         .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))

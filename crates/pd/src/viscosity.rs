@@ -39,6 +39,28 @@
 //! per unit reference volume is H_i = ½ Σ_j β V_j q_ij ā (r/p³)|v_ij · y_ij|.
 //! How the heat enters the products' isentrope: `solver.rs`,
 //! `products_pressure`, and `docs/physics/pd/gas.md`.
+//!
+//! **Receding pairs (option `shear`, α_s; 0 by default).** The terms
+//! above act only while a pair approaches. With α_s > 0 a linear term
+//! acts on every pair, approaching or receding:
+//!
+//! ```text
+//! q_ij = ρ̄_ij (−(α [v_ij·y_ij < 0] + α_s) c̄_ij μ_ij + β [v_ij·y_ij < 0] μ_ij²)
+//! ```
+//!
+//! (for an approaching pair and α_s = 0 this is the q above). On a
+//! receding pair q < 0 and the pair force pulls the nodes together: it
+//! opposes their relative motion along the bond, so D_ij ≥ 0 still and
+//! the heat goes the same way. This is the form SPH uses for a physical
+//! viscosity (Monaghan 1992 §4 on the linear term as a viscosity;
+//! Monaghan 2005, Rep. Prog. Phys. 68:1703–1759, §4: applied to all
+//! pairs, the linear term is in the continuum limit a Navier–Stokes
+//! viscosity with kinematic coefficients ∝ α h c): it damps sheets of
+//! products sliding past each other through the oblique bonds that
+//! recede as well as those that approach, and it damps the products'
+//! expansion, the kinetic energy of both going to the products' heat.
+//! A departure from seed 004 (whose products have no viscosity),
+//! measured in `docs/physics/pd/validation.md`.
 
 use crate::forces::for_each_node_in;
 use serde::{Deserialize, Serialize};
@@ -55,6 +77,10 @@ pub struct GasViscosity {
     pub linear: f64,
     /// β, the coefficient of the quadratic term.
     pub quadratic: f64,
+    /// α_s, the coefficient of a linear term on every pair, receding
+    /// pairs included (module doc); 0 (the default): approaching pairs only.
+    #[serde(default)]
+    pub shear: f64,
 }
 
 impl Default for GasViscosity {
@@ -62,6 +88,7 @@ impl Default for GasViscosity {
         Self {
             linear: 1.0,
             quadratic: 2.0,
+            shear: 0.0,
         }
     }
 }
@@ -69,7 +96,11 @@ impl Default for GasViscosity {
 impl GasViscosity {
     /// Checks the coefficients; the error names the field.
     pub fn validate(&self) -> Result<(), String> {
-        for (f, v) in [("linear", self.linear), ("quadratic", self.quadratic)] {
+        for (f, v) in [
+            ("linear", self.linear),
+            ("quadratic", self.quadratic),
+            ("shear", self.shear),
+        ] {
             if !(v >= 0.0 && v.is_finite()) {
                 return Err(format!(
                     "`gas_viscosity.{f}` = {v}: expected a finite value ≥ 0"
@@ -123,8 +154,9 @@ pub struct ViscousInput<'a> {
     pub params: GasViscosity,
 }
 
-/// q_ij and ∂q/∂|s| (s the approach speed v_ij · ê) of one pair; (0, 0)
-/// when the nodes separate. `vr` = v_ij · y_ij, `p2` = |y_ij|².
+/// q_ij and ∂q/∂(−s) (s = v_ij · ê, so −s the approach speed) of one
+/// pair; (0, 0) when the nodes separate and `shear` is 0, and q < 0 on a
+/// receding pair with `shear` > 0. `vr` = v_ij · y_ij, `p2` = |y_ij|².
 #[inline]
 pub fn pair_pressure(
     params: GasViscosity,
@@ -134,16 +166,24 @@ pub fn pair_pressure(
     rho: f64,
     c: f64,
 ) -> (f64, f64) {
-    if vr >= 0.0 {
-        return (0.0, 0.0);
-    }
     let h = spacing;
     let denom = p2 + EPSILON * h * h;
-    let mu = h * vr / denom;
-    let q = rho * (params.linear * c * mu.abs() + params.quadratic * mu * mu);
     // μ = h s p/denom with s = vr/p.
     let dmu_ds = h * p2.sqrt() / denom;
-    let dq = rho * (params.linear * c + 2.0 * params.quadratic * mu.abs()) * dmu_ds;
+    if vr >= 0.0 {
+        if params.shear == 0.0 || vr == 0.0 {
+            return (0.0, 0.0);
+        }
+        let mu = h * vr / denom;
+        return (
+            -rho * params.shear * c * mu,
+            rho * params.shear * c * dmu_ds,
+        );
+    }
+    let mu = h * vr / denom;
+    let linear = params.linear + params.shear;
+    let q = rho * (linear * c * mu.abs() + params.quadratic * mu * mu);
+    let dq = rho * (linear * c + 2.0 * params.quadratic * mu.abs()) * dmu_ds;
     (q, dq)
 }
 
@@ -193,7 +233,7 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
         ];
         let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
         let vr = v[0] * y[0] + v[1] * y[1] + v[2] * y[2];
-        if vr >= 0.0 {
+        if vr >= 0.0 && (input.params.shear == 0.0 || vr == 0.0) {
             continue;
         }
         let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
@@ -209,10 +249,11 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
         for (fd, yd) in o.force.iter_mut().zip(y) {
             *fd += g * yd;
         }
-        // g < 0 and vr < 0: half the pair's dissipation per unit volume.
+        // g vr > 0 (g < 0 approaching, g > 0 receding): half the pair's
+        // dissipation per unit volume.
         o.heating += 0.5 * g * vr;
         o.damping += 2.0 * dq * abar * r * bv / p2 / ni[3];
-        o.stiffness += 4.0 * q * abar * r * bv / (p2 * p);
+        o.stiffness += 4.0 * q.abs() * abar * r * bv / (p2 * p);
     }
     o
 }
@@ -292,22 +333,85 @@ mod tests {
         }
     }
 
-    /// ∂q/∂s matches a finite difference of q in the approach speed.
+    /// ∂q/∂(−s) matches a finite difference of q in the approach speed,
+    /// approaching and (with `shear`) receding.
     #[test]
     fn pair_pressure_derivative_is_consistent() {
         let (p2, rho, c, h): (f64, f64, f64, f64) = (1.2e-6, 1800.0, 4000.0, 1e-3);
         let p = p2.sqrt();
-        for s in [-10.0, -300.0, -2000.0] {
-            let (_, dq) = pair_pressure(GasViscosity::default(), h, s * p, p2, rho, c);
-            let d = 1e-3;
-            let qa = pair_pressure(GasViscosity::default(), h, (s - d) * p, p2, rho, c).0;
-            let qb = pair_pressure(GasViscosity::default(), h, (s + d) * p, p2, rho, c).0;
-            let fd = (qa - qb) / (2.0 * d);
-            assert!((fd / dq - 1.0).abs() < 1e-6, "{s}: {fd} vs {dq}");
+        let shear = GasViscosity {
+            shear: 0.5,
+            ..GasViscosity::default()
+        };
+        for params in [GasViscosity::default(), shear] {
+            for s in [-10.0, -300.0, -2000.0, 10.0, 2000.0] {
+                if s > 0.0 && params.shear == 0.0 {
+                    continue;
+                }
+                let (_, dq) = pair_pressure(params, h, s * p, p2, rho, c);
+                let d = 1e-3;
+                let qa = pair_pressure(params, h, (s - d) * p, p2, rho, c).0;
+                let qb = pair_pressure(params, h, (s + d) * p, p2, rho, c).0;
+                let fd = (qa - qb) / (2.0 * d);
+                assert!((fd / dq - 1.0).abs() < 1e-6, "{params:?} {s}: {fd} vs {dq}");
+            }
+            assert_eq!(pair_pressure(params, h, 0.0, p2, rho, c), (0.0, 0.0));
         }
         assert_eq!(
-            pair_pressure(GasViscosity::default(), h, 0.0, p2, rho, c),
+            pair_pressure(GasViscosity::default(), h, 2000.0 * p, p2, rho, c),
             (0.0, 0.0)
+        );
+    }
+
+    /// The receding pair of `pair_force_and_heating_by_hand` (velocities
+    /// reversed) with α_s = 0.5, by hand: μ = +198.0198 m/s,
+    /// q = −2000 · 0.5 · 3000 · 198.0198 = −5.940594e8 Pa (a pull),
+    /// f_x on node 0 = −q · 6 · 1e-3 · 1e-9 · 1e-3/1e-9 = +3.564356e3 N/m³
+    /// (towards node 1), H = ½ f_x · 200 m/s = 3.564356e5 W/m³ per node;
+    /// approaching, α + α_s = 1.5 in the linear term.
+    #[test]
+    fn receding_pairs_feel_the_shear_term_by_hand() {
+        let reference = [[0.0, 0.0, 0.0, 1e-9], [1e-3, 0.0, 0.0, 1e-9]];
+        let state = [[0.0; 4]; 2];
+        let node = [[6.0, 2000.0, 3000.0, 2000.0]; 2];
+        let params = GasViscosity {
+            shear: 0.5,
+            ..GasViscosity::default()
+        };
+        let run = |velocity: [[f64; 3]; 2]| {
+            let input = ViscousInput {
+                reference: &reference,
+                state: &state,
+                velocity: &velocity,
+                offsets: &[0, 1, 2],
+                neighbours: &[1, 0],
+                factor: &[1.0, 1.0],
+                node: &node,
+                spacing: 1e-3,
+                params,
+            };
+            let mut out = [ViscousOut::default(); 2];
+            viscous_forces(&input, &mut out);
+            out
+        };
+        let out = run([[-100.0, 0.0, 0.0], [100.0, 0.0, 0.0]]);
+        let fx = 3.564_356_435_644e3;
+        assert!((out[0].force[0] / fx - 1.0).abs() < 1e-12, "{:?}", out[0]);
+        assert_eq!(out[1].force[0], -out[0].force[0]);
+        assert!((out[0].heating / 3.564_356_435_644e5 - 1.0).abs() < 1e-12);
+        let power = (out[0].force[0] * -100.0 + out[1].force[0] * 100.0) * 1e-9;
+        assert!((power + (out[0].heating + out[1].heating) * 1e-9).abs() < 1e-18);
+        assert!(out[0].stiffness > 0.0 && out[0].damping > 0.0);
+        // Approaching: q = 2000 (1.5 · 3000 · 198.0198 + 2 · 198.0198²).
+        let out = run([[100.0, 0.0, 0.0], [-100.0, 0.0, 0.0]]);
+        let mu: f64 = 1e-3 * 0.2 / (1e-6 + 1e-8);
+        let q = 2000.0 * (1.5 * 3000.0 * mu + 2.0 * mu * mu);
+        let fx = -q * 6.0 * 1e-3 * 1e-9 * 1e-3 / 1e-9;
+        assert!((out[0].force[0] / fx - 1.0).abs() < 1e-12, "{:?}", out[0]);
+        // Side by side (v ⟂ y): nothing, with or without the shear term.
+        assert_eq!(
+            run([[0.0, 50.0, 0.0], [0.0, -50.0, 0.0]]),
+            [ViscousOut::default(); 2]
         );
     }
 
@@ -315,16 +419,21 @@ mod tests {
     fn invalid_coefficients_name_the_field() {
         let v = GasViscosity {
             linear: -1.0,
-            quadratic: 2.0,
+            ..GasViscosity::default()
         };
         assert!(v.validate().unwrap_err().contains("gas_viscosity.linear"));
         let v = GasViscosity {
-            linear: 1.0,
             quadratic: f64::NAN,
+            ..GasViscosity::default()
         };
         assert!(v
             .validate()
             .unwrap_err()
             .contains("gas_viscosity.quadratic"));
+        let v = GasViscosity {
+            shear: -0.1,
+            ..GasViscosity::default()
+        };
+        assert!(v.validate().unwrap_err().contains("gas_viscosity.shear"));
     }
 }

@@ -578,6 +578,44 @@ fn a_two_node_collision_turns_kinetic_energy_into_heat_and_conserves_energy() {
     assert!(off.kinetic_energy() > 0.99e-2, "{}", off.kinetic_energy());
 }
 
+/// Two products nodes moving apart at 100 m/s each: the approach-only
+/// viscosity leaves them alone; with the shear term (α_s = 1) the pull
+/// slows them and the kinetic energy it takes is the products' heat, the
+/// total kept as in the collision above.
+#[test]
+fn the_shear_term_slows_a_receding_pair_and_returns_the_energy_as_heat() {
+    let shear = GasViscosity {
+        shear: 1.0,
+        ..GasViscosity::default()
+    };
+    let run = |viscosity: GasViscosity| {
+        let mut s = colliding_gas_nodes_at(Some(viscosity), -100.0, Some(0.25), None);
+        let e0 = s.conservation_totals().energy;
+        let k0 = s.kinetic_energy();
+        while s.time() < 2.0e-6 {
+            let dt = 0.25 * s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        let p = s.conservation_totals().momentum;
+        assert!(p[0].abs() < 1e-18, "{p:?}");
+        let change = (s.conservation_totals().energy - e0) / k0;
+        (s.viscous_heat(), s.kinetic_energy() / k0, change)
+    };
+    let (heat, kinetic, _) = run(GasViscosity::default());
+    assert_eq!(heat, 0.0);
+    assert!(kinetic > 0.99, "{kinetic}");
+    let (heat, kinetic, change) = run(shear);
+    eprintln!("receding pair, shear 1: heat {heat:e} J, KE/KE0 {kinetic}, ΔE/KE0 {change:e}");
+    assert!(
+        heat > 0.0 && kinetic < 0.99,
+        "heat {heat}, KE/KE0 {kinetic}"
+    );
+    assert!(
+        change.abs() < 1e-2,
+        "energy change {change} of the kinetic energy"
+    );
+}
+
 /// With heat ΔC the products' pressure is still −dW/dX of the stored
 /// energy W(X/X_d) + (ΔC/ω)(X/X_d)^{−ω} (ideal gas: ω = γ − 1), and at
 /// X = X_d = 1 it is P_S0 + ΔC.
