@@ -250,8 +250,22 @@ pub fn case_material(s: &PdSolver) -> u16 {
 /// `outer_radius` (m) on the z axis, lattice spacing `h`; the wall ring is
 /// [`case_material`]'s outermost nodes within one spacing of mid-length.
 pub fn run_tube(
-    mut s: PdSolver,
+    s: PdSolver,
     length: f64,
+    outer_radius: f64,
+    h: f64,
+    end_time: f64,
+    every: usize,
+) -> Result<(PdSolver, WallHistory), String> {
+    run_tube_at(s, 0.5 * length, outer_radius, h, end_time, every)
+}
+
+/// [`run_tube`] with the wall gauge at `gauge_z` (m) instead of
+/// mid-length: the ring is the case's outermost nodes within one spacing
+/// of it, the whole wall all its case nodes there.
+pub fn run_tube_at(
+    mut s: PdSolver,
+    gauge_z: f64,
     outer_radius: f64,
     h: f64,
     end_time: f64,
@@ -262,17 +276,15 @@ pub fn run_tube(
         .filter(|&i| {
             let x = s.reference()[i];
             let r = x[0].hypot(x[1]);
-            s.materials()[i] == case_material
-                && (x[2] - 0.5 * length).abs() <= h
-                && r > outer_radius - h
+            s.materials()[i] == case_material && (x[2] - gauge_z).abs() <= h && r > outer_radius - h
         })
         .collect();
     if ring.is_empty() {
-        return Err("no wall node at mid-length".into());
+        return Err(format!("no wall node at z = {gauge_z} m"));
     }
     let slab: Vec<usize> = (0..s.node_count())
         .filter(|&i| {
-            s.materials()[i] == case_material && (s.reference()[i][2] - 0.5 * length).abs() <= h
+            s.materials()[i] == case_material && (s.reference()[i][2] - gauge_z).abs() <= h
         })
         .collect();
     let mut history = WallHistory {

@@ -14,7 +14,7 @@
 
 use std::collections::BTreeMap;
 
-use brisance_eos::Jwl;
+use brisance_eos::{Jwl, JwlCTerm};
 use brisance_grid::Shape as Region;
 use brisance_scene::{FieldError, PipelineInfo, PipelineLimits, PipelineSpec, Scene};
 use serde::{Deserialize, Serialize};
@@ -164,6 +164,22 @@ pub enum PdMaterialConfig {
         #[serde(default)]
         reactant: Option<Reactant>,
     },
+    /// An explosive whose products are JWL++'s C-term products (seed 000
+    /// §5.2, e.g. QM-100): their reference isentrope is seed 004 eq 30 as
+    /// printed, P_S0 = P_S(1); the detonation velocity is the CJ one on it
+    /// unless given (`ProductsIsentrope::from_jwl_cterm`).
+    JwlCTermExplosive {
+        /// The C-term products, `(a: ..., b: ..., c: ..., r1: ..., r2: ...,
+        /// omega: ..., rho0: ..., cv: ...)` as the `JwlCTerm` EOS.
+        products: JwlCTerm,
+        /// Detonation velocity for program burn, m/s.
+        #[serde(default)]
+        detonation_velocity: Option<f64>,
+        /// The unreacted explosive's Murnaghan response before its
+        /// detonation time, `(n: ..., kappa: ...)` (omit for none).
+        #[serde(default)]
+        reactant: Option<Reactant>,
+    },
     /// An explosive with ideal-gas products (seed 004 eq 29).
     IdealGasExplosive {
         /// γ of the products.
@@ -251,6 +267,27 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
             }
             let g = Gas {
                 density: jwl.rho0,
+                detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
+                isentrope,
+                reactant: *reactant,
+            };
+            PdMaterial::Gas(g)
+                .validate()
+                .map_err(|e| err("detonation_velocity", e))?;
+            Ok(PdMaterial::Gas(g))
+        }
+        PdMaterialConfig::JwlCTermExplosive {
+            products,
+            detonation_velocity,
+            reactant,
+        } => {
+            let (isentrope, cj) = ProductsIsentrope::from_jwl_cterm(products)
+                .map_err(|e| err("products", e.to_string()))?;
+            if let Some(r) = reactant {
+                r.validate().map_err(|e| err("reactant", e))?;
+            }
+            let g = Gas {
+                density: products.rho0,
                 detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
                 isentrope,
                 reactant: *reactant,
@@ -582,6 +619,39 @@ mod tests {
         let d = config(STEEL).describe(&scene(&initial, &[], 0).scene());
         assert!(d.contains("bodies: `steel`, `steel`"), "{d}");
         assert_eq!(PdConfig::INFO.name, "Peridynamics");
+    }
+
+    /// `JwlCTermExplosive` gives the C-term products' printed isentrope,
+    /// its density and the CJ velocity on it (or the one given); bad
+    /// products and a bad reactant are refused naming the field.
+    #[test]
+    fn a_cterm_explosive_is_its_printed_isentrope() {
+        let q = JwlCTerm::qm100();
+        let text = "JwlCTermExplosive(products: (a: 4.8702e11, b: 2.54887e9, c: 5.06568e8, \
+            r1: 5.0, r2: 1.0, omega: 0.3, rho0: 1260.0, cv: 793.65), \
+            reactant: Some((n: 7.0, kappa: 1.02e-9)))";
+        let m: PdMaterialConfig = ron::from_str(text).unwrap();
+        let PdMaterial::Gas(g) = material("pipeline.materials.qm", &m).unwrap() else {
+            panic!("not a gas");
+        };
+        let (iso, cj) = ProductsIsentrope::from_jwl_cterm(&q).unwrap();
+        assert_eq!(g.isentrope, iso);
+        assert_eq!(g.density, 1260.0);
+        assert_eq!(g.detonation_velocity, cj.detonation_velocity);
+        assert_eq!(g.reactant.map(|r| r.n), Some(7.0));
+        let given: PdMaterialConfig = ron::from_str(
+            &text.replace("reactant:", "detonation_velocity: Some(6000.0), reactant:"),
+        )
+        .unwrap();
+        let PdMaterial::Gas(g) = material("m", &given).unwrap() else {
+            panic!("not a gas");
+        };
+        assert_eq!(g.detonation_velocity, 6000.0);
+        let bad: PdMaterialConfig =
+            ron::from_str(&text.replace("a: 4.8702e11", "a: -1.0")).unwrap();
+        assert_eq!(material("m", &bad).unwrap_err().0, "m.products");
+        let bad: PdMaterialConfig = ron::from_str(&text.replace("n: 7.0", "n: -7.0")).unwrap();
+        assert_eq!(material("m", &bad).unwrap_err().0, "m.reactant");
     }
 
     /// What the scene must give the section, each refusal naming its field.

@@ -12,7 +12,7 @@
 //! gas gives up expanding to infinity, and the W of seed 004 eqs 13–18.
 
 use brisance_eos::tools::{chapman_jouguet, volume_burn_reference, CjState, UnreactedState};
-use brisance_eos::{IdealGas, Jwl};
+use brisance_eos::{IdealGas, Jwl, JwlCTerm};
 use serde::{Deserialize, Serialize};
 
 /// Why an isentrope cannot be built.
@@ -84,6 +84,28 @@ impl ProductsIsentrope {
                 r2: jwl.r2,
                 omega: jwl.omega,
                 c,
+            },
+            cj,
+        ))
+    }
+
+    /// The products isentrope of JWL++'s C-term products (seed 000 §5.2,
+    /// Souers et al. 2000), whose pressure is a function of the volume
+    /// alone: their reference isentrope A e^{−R₁X} + B e^{−R₂X} + C
+    /// X^{−(ω+1)} is seed 004 eq 30 term for term, taken as printed (P_S0 =
+    /// P_S(1), the products of a volume burn at the explosive's density),
+    /// with the CJ state where the Rayleigh line from the unreacted state
+    /// touches it (`cj_on_jwl_cterm_isentrope`).
+    pub fn from_jwl_cterm(products: &JwlCTerm) -> Result<(Self, CjState), ProductsError> {
+        let cj = brisance_eos::tools::cj_on_jwl_cterm_isentrope(products)?;
+        Ok((
+            ProductsIsentrope::Jwl {
+                a: products.a,
+                b: products.b,
+                r1: products.r1,
+                r2: products.r2,
+                omega: products.omega,
+                c: products.c,
             },
             cj,
         ))
@@ -208,6 +230,28 @@ mod tests {
         assert!((cj.detonation_velocity - d).abs() < 1e-6 * d);
         // P_S(2) = P_S0 / 8 for γ = 3.
         assert!((iso.pressure(2.0) - iso.reference_pressure() / 8.0).abs() < 1e-6);
+    }
+
+    /// QM-100's C-term products (seed 000 §5.2): the isentrope is the
+    /// printed one term for term, P_S(1) = A e^{−5} + B e^{−1} + C =
+    /// 3.281515e9 + 0.937677e9 + 0.506568e9 = 4.725760e9 Pa by hand, and
+    /// the CJ point lies on it where the Rayleigh line from (X = 1, P = 0)
+    /// is tangent: P_S(X_CJ) = ρ₀D²(1 − X_CJ) and −dP_S/dX = ρ₀D² there.
+    #[test]
+    fn qm100_cterm_isentrope_is_the_printed_one_with_its_cj_point() {
+        let q = JwlCTerm::qm100();
+        let (iso, cj) = ProductsIsentrope::from_jwl_cterm(&q).unwrap();
+        let p1 = iso.reference_pressure();
+        assert!((p1 / 4.725_760e9 - 1.0).abs() < 1e-6, "{p1}");
+        for x in [0.7, 1.0, 2.2, 7.0] {
+            let (a, b) = (iso.pressure(x), q.isentrope_pressure(x));
+            assert!((a - b).abs() <= 1e-12 * b, "{x}: {a} vs {b}");
+        }
+        let x = cj.relative_volume;
+        let rho_d2 = q.rho0 * cj.detonation_velocity.powi(2);
+        assert!((iso.pressure(x) / (rho_d2 * (1.0 - x)) - 1.0).abs() < 1e-6);
+        assert!((-iso.dpressure_dx(x) / rho_d2 - 1.0).abs() < 1e-5);
+        assert!((cj.pressure / iso.pressure(x) - 1.0).abs() < 1e-6);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! `configs/pd_cylinder_full.ron` through the composer and run with the
 //! mid-length wall record of `brisance_pd::cases::run_tube`.
 
-use brisance_pd::cases::{run_tube, WallHistory};
+use brisance_pd::cases::{run_tube, run_tube_at, WallHistory};
 use brisance_pd::PdSolver;
 
 use crate::pd_tube::{wall_of, CaseWall, Tube};
@@ -57,6 +57,34 @@ pub fn copper_cylinder_with(
     )
 }
 
+/// Seed 000's copper cylinder test (configs/cylinder_rz.ron's tube and
+/// QM-100) in peridynamics, for the side-by-side with ICE–MPM.
+pub const PD_SEED000_CONFIG: &str = include_str!("../../../configs/pd_cylinder_seed000.ron");
+
+/// The seed 000 tube at `spacing`, run to the config's end (80 µs), the
+/// outer wall at the config's gauge `wall` (z = 25 cm) sampled every
+/// `every` steps.
+pub fn seed000_cylinder(spacing: f64, every: usize) -> Result<(PdSolver, WallHistory), String> {
+    let file = "configs/pd_cylinder_seed000.ron";
+    let t = Tube::at(file, PD_SEED000_CONFIG, spacing)?;
+    let z = t
+        .scenario
+        .outputs
+        .gauges
+        .iter()
+        .find(|g| g.name == "wall")
+        .map(|g| g.point[2])
+        .ok_or_else(|| format!("{file}: no gauge `wall`"))?;
+    run_tube_at(
+        t.solver,
+        z,
+        t.wall.outer_radius,
+        spacing,
+        t.scenario.time.end,
+        every,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,6 +105,35 @@ mod tests {
         assert_same_tube(&a.solver, &b);
         assert_eq!(brisance_pd::cases::case_material(&a.solver), 1);
         assert_eq!(brisance_pd::cases::case_material(&b), 0);
+    }
+
+    /// The seed 000 file builds seed 000's tube with QM-100's printed
+    /// isentrope, and a few steps record its wall at z = 25 cm.
+    #[test]
+    fn the_seed_000_tube_builds_and_runs() {
+        let h = 4.0e-3;
+        let t = Tube::at("pd_cylinder_seed000.ron", PD_SEED000_CONFIG, h).unwrap();
+        assert_eq!(
+            (t.wall.inner_radius, t.wall.outer_radius, t.wall.length),
+            (0.0254, 0.0306, 0.35)
+        );
+        assert_eq!(t.wall.yield_strength, 70.0e6);
+        let pd = t
+            .scenario
+            .pipeline
+            .section::<brisance_pd::PdConfig>()
+            .unwrap();
+        let Some(brisance_pd::PdMaterialConfig::JwlCTermExplosive { products, .. }) =
+            pd.materials.get("qm100")
+        else {
+            panic!("qm100 is not a C-term explosive");
+        };
+        let q = brisance_eos::JwlCTerm::qm100();
+        let printed = |j: &brisance_eos::JwlCTerm| (j.a, j.b, j.c, j.r1, j.r2, j.omega, j.rho0);
+        assert_eq!(printed(products), printed(&q));
+        let (_, history) = run_tube_at(t.solver, 0.25, t.wall.outer_radius, h, 2.0e-7, 1).unwrap();
+        assert!(history.time.len() > 2);
+        assert!(history.radial_velocity.iter().all(|v| *v == 0.0));
     }
 
     /// A few steps through the composer's solver and the case's give the
