@@ -22,6 +22,10 @@ use crate::Report;
 
 /// Spacing of the full E-PD-CYL run, m (two nodes through the 2.6 mm wall).
 const CYL_SPACING: f64 = 1.3e-3;
+/// The finer spacings of the E-PD-CYL resolution study (seed 004's
+/// families), m: three and three-and-a-bit nodes through the wall (about
+/// 15 and 25 min on two cores).
+const CYL_FINER: [f64; 2] = [1.0e-3, 0.87e-3];
 /// Spacings of the E-PD-FRAG resolution study, m.
 const FRAG_SPACINGS: [f64; 3] = [1.3e-3, 1.06e-3, 0.87e-3];
 /// Spacings of the E-PD-FRAG-WEIBULL study, m: E-PD-FRAG's and 0.71 mm,
@@ -180,10 +184,14 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         m.products_momentum_z,
         m.total_momentum_z,
         match s.gas_viscosity() {
-            Some(v) => format!("on (α = {}, β = {})", v.linear, v.quadratic),
+            Some(v) => format!(
+                "on (α = {}, β = {}, α_s = {})",
+                v.linear, v.quadratic, v.shear
+            ),
             None => "off (the default, docs/physics/pd/gas.md)".into(),
         },
     );
+    cyl_spacing_study(report, img, gurney, (&s, &h, wall))?;
     let t_us: Vec<f64> = h.time.iter().map(|t| t * 1e6).collect();
     let u_mm: Vec<f64> = h.radial_displacement.iter().map(|u| u * 1e3).collect();
     let t_ws_us: Vec<f64> = h_ws.time.iter().map(|t| t * 1e6).collect();
@@ -248,6 +256,169 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
             },
         ],
     )?;
+    Ok(())
+}
+
+/// One spacing of the E-PD-CYL resolution study.
+struct CylRun {
+    spacing: f64,
+    nodes: usize,
+    wall_s: f64,
+    history: brisance::pd::cases::WallHistory,
+}
+
+/// E-PD-CYL at the finer spacings of [`CYL_FINER`] beside the report's
+/// `first` run (seed 004's families): the outer layer's and the whole
+/// wall's mid-length velocity at 45 µs per spacing, the finest against
+/// Gurney and the sequence's convergence as targets, and the curves.
+fn cyl_spacing_study(
+    report: &mut Report,
+    img: &Path,
+    gurney: f64,
+    first: (
+        &brisance::pd::PdSolver,
+        &brisance::pd::cases::WallHistory,
+        f64,
+    ),
+) -> Result<()> {
+    let mut runs = vec![CylRun {
+        spacing: CYL_SPACING,
+        nodes: first.0.node_count(),
+        wall_s: first.2,
+        history: first.1.clone(),
+    }];
+    for h in CYL_FINER {
+        println!("E-PD-CYL: h = {h} m");
+        let t = Instant::now();
+        let (s, history) = pd_cylinder::copper_cylinder(h, 10).map_err(anyhow::Error::msg)?;
+        runs.push(CylRun {
+            spacing: h,
+            nodes: s.node_count(),
+            wall_s: t.elapsed().as_secs_f64(),
+            history,
+        });
+    }
+    let end = |v: &[f64]| v[v.len() - 1];
+    let _ = writeln!(
+        report.md,
+        "\n**Resolution study** (seed 004's families, the full tube to 45 µs at each spacing; the outer layer is \
+         the target's figure, the whole wall the kinetic-energy mean of every case node within one spacing of \
+         mid-length):\n\n\
+         | h (mm) | nodes | outer layer at 45 µs | whole wall at 45 µs | largest outer (µs) | wall time |\n\
+         |---:|---:|---:|---:|---:|---:|"
+    );
+    for r in &runs {
+        let (k, peak) = r.history.peak();
+        let (vo, vw) = (
+            end(&r.history.radial_velocity),
+            end(&r.history.wall_velocity),
+        );
+        let _ = writeln!(
+            report.md,
+            "| {:.2} | {} | {vo:.0} m/s ({:+.1} %) | {vw:.0} m/s ({:+.1} %) | {peak:.0} m/s ({:.1}) | {:.0} s |",
+            r.spacing * 1e3,
+            r.nodes,
+            100.0 * (vo / gurney - 1.0),
+            100.0 * (vw / gurney - 1.0),
+            r.history.time[k] * 1e6,
+            r.wall_s
+        );
+    }
+    let v: Vec<f64> = runs
+        .iter()
+        .map(|r| end(&r.history.radial_velocity))
+        .collect();
+    let n = v.len();
+    let finest = v[n - 1];
+    let _ = writeln!(
+        report.md,
+        "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    report.target(
+        &format!(
+            "E-PD-CYL wall velocity at 45 µs vs Gurney, finest spacing ({:.2} mm)",
+            runs[n - 1].spacing * 1e3
+        ),
+        format!(
+            "{finest:.0} m/s vs {gurney:.0} m/s ({:+.1} %)",
+            100.0 * (finest / gurney - 1.0)
+        ),
+        "within 10 %",
+        (finest - gurney).abs() / gurney <= 0.10,
+    );
+    let (coarse, fine) = (v[n - 2] - v[n - 3], v[n - 1] - v[n - 2]);
+    report.target(
+        "E-PD-CYL wall velocity converging in h: last change smaller than the one before",
+        format!(
+            "{:+.0} m/s ({:.2} → {:.2} mm), then {:+.0} m/s ({:.2} → {:.2} mm)",
+            coarse,
+            runs[n - 3].spacing * 1e3,
+            runs[n - 2].spacing * 1e3,
+            fine,
+            runs[n - 2].spacing * 1e3,
+            runs[n - 1].spacing * 1e3
+        ),
+        "smaller in size",
+        fine.abs() < coarse.abs(),
+    );
+    let t: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| r.history.time.iter().map(|t| t * 1e6).collect())
+        .collect();
+    let labels: Vec<(String, String)> = runs
+        .iter()
+        .map(|r| {
+            let mm = r.spacing * 1e3;
+            (
+                format!("outer layer, h = {mm:.2} mm"),
+                format!("whole wall, h = {mm:.2} mm"),
+            )
+        })
+        .collect();
+    let g = vec![gurney; t[0].len()];
+    let mut outer = Vec::new();
+    let mut whole = Vec::new();
+    for ((r, t), (lo, lw)) in runs.iter().zip(&t).zip(&labels) {
+        outer.push(Series {
+            label: lo,
+            x: t,
+            y: &r.history.radial_velocity,
+            style: SeriesStyle::Line,
+        });
+        whole.push(Series {
+            label: lw,
+            x: t,
+            y: &r.history.wall_velocity,
+            style: SeriesStyle::Line,
+        });
+    }
+    for p in [&mut outer, &mut whole] {
+        p.push(Series {
+            label: "Gurney estimate",
+            x: &t[0],
+            y: &g,
+            style: SeriesStyle::Line,
+        });
+    }
+    plot::plot_panels(
+        &img.join("e_pd_cyl_spacing.png"),
+        "E-PD-CYL: mid-length wall velocity at three spacings (seed 004's families)",
+        "time [µs]",
+        &[
+            Panel {
+                y_label: "outer layer radial velocity [m/s]",
+                series: outer,
+            },
+            Panel {
+                y_label: "whole wall radial velocity [m/s]",
+                series: whole,
+            },
+        ],
+    )?;
+    let _ = writeln!(
+        report.md,
+        "\n![E-PD-CYL spacings](img/e_pd_cyl_spacing.png)\n"
+    );
     Ok(())
 }
 
