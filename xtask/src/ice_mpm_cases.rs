@@ -17,7 +17,7 @@ mod cylinder;
 mod cylinder_rz;
 
 pub use cylinder::e_cylinder;
-pub use cylinder_rz::{e_cylinder_rz, e_cylinder_rz_slip};
+pub use cylinder_rz::{e_cylinder_rz, e_cylinder_rz_slip, e_pd_icempm_cyl};
 
 pub fn v_ice_mpm(report: &mut Report) -> Result<()> {
     println!("V-ICE-MPM: coupling checks of the ICE–MPM step");

@@ -809,7 +809,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 44] = [
+const CASES: [&str; 45] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -837,6 +837,7 @@ const CASES: [&str; 44] = [
     "rz",
     "rz-cost",
     "pd-cyl",
+    "pd-icempm-cyl",
     "pd-frag",
     "pd-frag-weibull",
     "pd-frag-perturbed",
@@ -963,6 +964,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("pd-cyl") {
         pd_cases::e_pd_cyl(&mut body, &img)?;
+    }
+    if run("pd-icempm-cyl") {
+        ice_mpm_cases::e_pd_icempm_cyl(&mut body, &img)?;
     }
     if run("pd-frag") {
         pd_cases::e_pd_frag(&mut body, &img)?;

@@ -516,3 +516,160 @@ pub fn e_cylinder_rz_slip(report: &mut Report) -> Result<()> {
     let _ = writeln!(md);
     Ok(())
 }
+
+/// PD spacings of E-PD-CYL-ICEMPM, m (1.7 and 2.6 nodes through the wall).
+const SIDE_PD: [f64; 2] = [3.0e-3, 2.0e-3];
+/// ICE–MPM (r, z) cell sizes of E-PD-CYL-ICEMPM, m.
+const SIDE_RZ: [f64; 2] = [2.0e-3, 1.0e-3];
+
+/// One curve of the side-by-side: label, h, the wall's radial velocity
+/// against t − (the detonation's arrival on the axis at the gauge), the
+/// terminal velocity (mean of the last 10 % of the record) and the wall time.
+struct SideRun {
+    label: &'static str,
+    h: f64,
+    t_us: Vec<f64>,
+    v: Vec<f64>,
+    terminal: f64,
+    wall_s: f64,
+}
+
+/// E-PD-CYL-ICEMPM: seed 000's copper cylinder (configs/cylinder_rz.ron's
+/// tube and QM-100) in peridynamics (configs/pd_cylinder_seed000.ron) and
+/// in ICE–MPM on rings, the outer wall's radial velocity at z = 25 cm side
+/// by side, at two resolutions each, with the difference at the same h.
+pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()> {
+    println!("E-PD-CYL-ICEMPM: seed 000's copper cylinder in peridynamics and ICE–MPM (r, z)");
+    let g = rz_gurney()?;
+    let mut runs: Vec<SideRun> = Vec::new();
+    for h in SIDE_PD {
+        println!("  peridynamics, h = {h} m");
+        let start = Instant::now();
+        let (s, hist) = brisance::verification::pd_cylinder::seed000_cylinder(h, 10)
+            .map_err(|e| anyhow!("{e}"))?;
+        let wall_s = start.elapsed().as_secs_f64();
+        // The detonation's arrival on the axis at the gauge: the time of
+        // the explosive node nearest (0, 0, 25 cm).
+        let case = brisance::pd::cases::case_material(&s);
+        let near = |i: usize| {
+            let x = s.reference()[i];
+            x[0].hypot(x[1]) + (x[2] - RZ_WALL.1).abs()
+        };
+        let t0 = (0..s.node_count())
+            .filter(|&i| s.materials()[i] != case)
+            .min_by(|&a, &b| near(a).total_cmp(&near(b)))
+            .map(|i| s.detonation_times()[i])
+            .ok_or_else(|| anyhow!("no explosive node"))?;
+        let n = hist.time.len();
+        let k = n - n / 10;
+        runs.push(SideRun {
+            label: "peridynamics",
+            h,
+            t_us: hist.time.iter().map(|t| (t - t0) * 1e6).collect(),
+            v: hist.radial_velocity.clone(),
+            terminal: hist.radial_velocity[k..].iter().sum::<f64>() / (n - k) as f64,
+            wall_s,
+        });
+    }
+    for h in SIDE_RZ {
+        println!("  ICE–MPM (r, z), h = {h} m");
+        let r = cylinder_rz_run(h, &[], RZ_BUDGET_S)?;
+        let t0 = r.arrival[1]
+            .ok_or_else(|| anyhow!("ICE–MPM h = {h}: the detonation never reached the gauge"))?;
+        runs.push(SideRun {
+            label: "ICE–MPM (r, z)",
+            h,
+            t_us: r.record.iter().map(|x| (x.0 - t0) * 1e6).collect(),
+            v: r.record.iter().map(|x| x.1).collect(),
+            terminal: r.terminal(),
+            wall_s: r.wall_s,
+        });
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## E-PD-CYL-ICEMPM — one copper cylinder in peridynamics and in ICE–MPM (r, z)\n\n\
+         Seed 000's cylinder test (`configs/cylinder_rz.ron`: OFHC copper tube, inner radius 25.4 mm, \
+         outer 30.6 mm, 35 cm; QM-100) run by both methods: ICE–MPM on rings as E-CYLINDER-RZ (JWL++ \
+         reactive flow from a 6 mm booster, in air), and bond-based peridynamics \
+         (`configs/pd_cylinder_seed000.ron`: the same tube as a proportional solid, yield 70 MPa; QM-100's \
+         C-term products as their isentrope, seed 004 eq 30, with the Murnaghan reactant ahead of the front; \
+         Huygens program burn at D_CJ = {:.0} m/s from a point on the axis; no air). Gauge: the outer wall's \
+         mean radial velocity at z = 25 cm; terminal: the mean over the last 10 % of the 80 µs record. \
+         Gurney (open cylinder, √(2E) from CJ to V = 7 on the products' isentrope, M/C = {:.3}): {:.0} m/s. \
+         No target: the two methods' difference is the figure.\n\n\
+         ![E-PD-CYL-ICEMPM](img/e_pd_icempm_cyl.png)\n\n\
+         | method | h (mm) | terminal wall velocity | vs Gurney | wall time |\n|---|---:|---:|---:|---:|",
+        g.cj.detonation_velocity,
+        g.m_over_c,
+        g.wall
+    );
+    for r in &runs {
+        let _ = writeln!(
+            md,
+            "| {} | {:.1} | {:.0} m/s | {:+.1} % | {:.0} s |",
+            r.label,
+            r.h * 1e3,
+            r.terminal,
+            100.0 * (r.terminal / g.wall - 1.0),
+            r.wall_s
+        );
+    }
+    let pd_2 = runs
+        .iter()
+        .find(|r| r.label == "peridynamics" && r.h == 2.0e-3);
+    let rz_2 = runs
+        .iter()
+        .find(|r| r.label != "peridynamics" && r.h == 2.0e-3);
+    let rz_fine = runs.last();
+    if let (Some(p), Some(q), Some(f)) = (pd_2, rz_2, rz_fine) {
+        let _ = writeln!(
+            md,
+            "\nPeridynamics against ICE–MPM at h = 2 mm: {:+.1} % ({:.0} against {:.0} m/s); against ICE–MPM at \
+             {:.1} mm: {:+.1} %.\n",
+            100.0 * (p.terminal / q.terminal - 1.0),
+            p.terminal,
+            q.terminal,
+            f.h * 1e3,
+            100.0 * (p.terminal / f.terminal - 1.0)
+        );
+    }
+    use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
+    let labels: Vec<String> = runs
+        .iter()
+        .map(|r| format!("{}, h = {:.1} mm", r.label, r.h * 1e3))
+        .collect();
+    let mut series: Vec<Series> = runs
+        .iter()
+        .zip(&labels)
+        .map(|(r, l)| Series {
+            label: l,
+            x: &r.t_us,
+            y: &r.v,
+            style: SeriesStyle::Line,
+        })
+        .collect();
+    let span = runs
+        .iter()
+        .flat_map(|r| r.t_us.iter().copied())
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |b, t| {
+            [b[0].min(t), b[1].max(t)]
+        });
+    let gy = [g.wall; 2];
+    series.push(Series {
+        label: "Gurney estimate",
+        x: &span,
+        y: &gy,
+        style: SeriesStyle::Line,
+    });
+    plot_panels(
+        &img.join("e_pd_icempm_cyl.png"),
+        "Seed 000's copper cylinder: outer wall at 25 cm, peridynamics and ICE–MPM (r, z)",
+        "time after the detonation reaches 25 cm on the axis [µs]",
+        &[Panel {
+            y_label: "radial velocity [m/s]",
+            series,
+        }],
+    )?;
+    Ok(())
+}
