@@ -262,19 +262,14 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
         } => {
             let (isentrope, cj) =
                 ProductsIsentrope::from_jwl(jwl).map_err(|e| err("jwl", e.to_string()))?;
-            if let Some(r) = reactant {
-                r.validate().map_err(|e| err("reactant", e))?;
-            }
-            let g = Gas {
-                density: jwl.rho0,
-                detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
+            explosive(
+                path,
                 isentrope,
-                reactant: *reactant,
-            };
-            PdMaterial::Gas(g)
-                .validate()
-                .map_err(|e| err("detonation_velocity", e))?;
-            Ok(PdMaterial::Gas(g))
+                cj,
+                jwl.rho0,
+                *detonation_velocity,
+                reactant,
+            )
         }
         PdMaterialConfig::JwlCTermExplosive {
             products,
@@ -283,19 +278,14 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
         } => {
             let (isentrope, cj) = ProductsIsentrope::from_jwl_cterm(products)
                 .map_err(|e| err("products", e.to_string()))?;
-            if let Some(r) = reactant {
-                r.validate().map_err(|e| err("reactant", e))?;
-            }
-            let g = Gas {
-                density: products.rho0,
-                detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
+            explosive(
+                path,
                 isentrope,
-                reactant: *reactant,
-            };
-            PdMaterial::Gas(g)
-                .validate()
-                .map_err(|e| err("detonation_velocity", e))?;
-            Ok(PdMaterial::Gas(g))
+                cj,
+                products.rho0,
+                *detonation_velocity,
+                reactant,
+            )
         }
         PdMaterialConfig::IdealGasExplosive {
             gamma,
@@ -306,21 +296,43 @@ fn material(path: &str, m: &PdMaterialConfig) -> Result<PdMaterial, Problem> {
         } => {
             let (isentrope, cj) = ProductsIsentrope::ideal_gas(*gamma, *density, *heat)
                 .map_err(|e| (path.to_string(), e.to_string()))?;
-            if let Some(r) = reactant {
-                r.validate().map_err(|e| err("reactant", e))?;
-            }
-            let g = Gas {
-                density: *density,
-                detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
+            explosive(
+                path,
                 isentrope,
-                reactant: *reactant,
-            };
-            PdMaterial::Gas(g)
-                .validate()
-                .map_err(|e| err("detonation_velocity", e))?;
-            Ok(PdMaterial::Gas(g))
+                cj,
+                *density,
+                *detonation_velocity,
+                reactant,
+            )
         }
     }
+}
+
+/// An explosive's gas from its products isentrope and CJ state: density
+/// `density`, the detonation velocity given or the CJ one, the reactant
+/// checked; errors name `path`'s field.
+fn explosive(
+    path: &str,
+    isentrope: ProductsIsentrope,
+    cj: brisance_eos::tools::CjState,
+    density: f64,
+    detonation_velocity: Option<f64>,
+    reactant: &Option<Reactant>,
+) -> Result<PdMaterial, Problem> {
+    let err = |field: &str, msg: String| (format!("{path}.{field}"), msg);
+    if let Some(r) = reactant {
+        r.validate().map_err(|e| err("reactant", e))?;
+    }
+    let g = Gas {
+        density,
+        detonation_velocity: detonation_velocity.unwrap_or(cj.detonation_velocity),
+        isentrope,
+        reactant: *reactant,
+    };
+    PdMaterial::Gas(g)
+        .validate()
+        .map_err(|e| err("detonation_velocity", e))?;
+    Ok(PdMaterial::Gas(g))
 }
 
 /// The solver setup a scenario with a `Peridynamics` pipeline describes;
