@@ -262,6 +262,30 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
 mod tests {
     use super::*;
 
+    /// The viscous pass over two nodes 1 mm apart on x (V = 1e-9 m³, one
+    /// bond each way, β = 1, h = 1 mm, at their reference positions) with
+    /// the given velocities, per-node data and coefficients.
+    fn two_nodes(
+        velocity: [[f64; 3]; 2],
+        node: [ViscousNode; 2],
+        params: GasViscosity,
+    ) -> [ViscousOut; 2] {
+        let input = ViscousInput {
+            reference: &[[0.0, 0.0, 0.0, 1e-9], [1e-3, 0.0, 0.0, 1e-9]],
+            state: &[[0.0; 4]; 2],
+            velocity: &velocity,
+            offsets: &[0, 1, 2],
+            neighbours: &[1, 0],
+            factor: &[1.0, 1.0],
+            node: &node,
+            spacing: 1e-3,
+            params,
+        };
+        let mut out = [ViscousOut::default(); 2];
+        viscous_forces(&input, &mut out);
+        out
+    }
+
     /// Two nodes 1 mm apart on x, approaching at 100 m/s each (v_ij·y_ij =
     /// −200 m/s · 1 mm), ρ = 2000 kg/m³, c = 3000 m/s, a = 6, V = 1e-9 m³,
     /// β = 1, h = 1 mm, α = 1, β_q = 2, by hand:
@@ -271,27 +295,15 @@ mod tests {
     /// H = ½ |f_x| · 200 m/s = 8.069797e5 W/m³ on each node.
     #[test]
     fn pair_force_and_heating_by_hand() {
-        let reference = [[0.0, 0.0, 0.0, 1e-9], [1e-3, 0.0, 0.0, 1e-9]];
-        let state = [[0.0; 4]; 2];
-        let velocity = [[100.0, 0.0, 0.0], [-100.0, 0.0, 0.0]];
-        let node = [[6.0, 2000.0, 3000.0, 2000.0]; 2];
-        let input = ViscousInput {
-            reference: &reference,
-            state: &state,
-            velocity: &velocity,
-            offsets: &[0, 1, 2],
-            neighbours: &[1, 0],
-            factor: &[1.0, 1.0],
-            node: &node,
-            spacing: 1e-3,
-            params: GasViscosity::default(),
-        };
         let mu: f64 = 1e-3 * -0.2 / (1e-6 + 1e-8);
         assert!((mu + 198.019_801_98).abs() < 1e-8);
         let q = 2000.0 * (3000.0 * mu.abs() + 2.0 * mu * mu);
         assert!((q / 1.344_966_179_786e9 - 1.0).abs() < 1e-12, "{q}");
-        let mut out = [ViscousOut::default(); 2];
-        viscous_forces(&input, &mut out);
+        let out = two_nodes(
+            [[100.0, 0.0, 0.0], [-100.0, 0.0, 0.0]],
+            [[6.0, 2000.0, 3000.0, 2000.0]; 2],
+            GasViscosity::default(),
+        );
         let fx = -8.069_797_078_718e3;
         assert!((out[0].force[0] / fx - 1.0).abs() < 1e-12, "{:?}", out[0]);
         assert_eq!(out[0].force[1], 0.0);
@@ -307,8 +319,6 @@ mod tests {
     /// has not detonated (a = 0) feel nothing.
     #[test]
     fn no_viscosity_unless_the_pair_approaches_and_both_take_part() {
-        let reference = [[0.0, 0.0, 0.0, 1e-9], [1e-3, 0.0, 0.0, 1e-9]];
-        let state = [[0.0; 4]; 2];
         let cases: [([[f64; 3]; 2], f64); 3] = [
             ([[-100.0, 0.0, 0.0], [100.0, 0.0, 0.0]], 6.0),
             ([[0.0, 50.0, 0.0], [0.0, -50.0, 0.0]], 6.0),
@@ -316,19 +326,7 @@ mod tests {
         ];
         for (velocity, a1) in cases {
             let node = [[6.0, 2000.0, 3000.0, 2000.0], [a1, 2000.0, 3000.0, 2000.0]];
-            let input = ViscousInput {
-                reference: &reference,
-                state: &state,
-                velocity: &velocity,
-                offsets: &[0, 1, 2],
-                neighbours: &[1, 0],
-                factor: &[1.0, 1.0],
-                node: &node,
-                spacing: 1e-3,
-                params: GasViscosity::default(),
-            };
-            let mut out = [ViscousOut::default(); 2];
-            viscous_forces(&input, &mut out);
+            let out = two_nodes(velocity, node, GasViscosity::default());
             assert_eq!(out, [ViscousOut::default(); 2], "{velocity:?} {a1}");
         }
     }
@@ -371,29 +369,11 @@ mod tests {
     /// approaching, α + α_s = 1.5 in the linear term.
     #[test]
     fn receding_pairs_feel_the_shear_term_by_hand() {
-        let reference = [[0.0, 0.0, 0.0, 1e-9], [1e-3, 0.0, 0.0, 1e-9]];
-        let state = [[0.0; 4]; 2];
-        let node = [[6.0, 2000.0, 3000.0, 2000.0]; 2];
         let params = GasViscosity {
             shear: 0.5,
             ..GasViscosity::default()
         };
-        let run = |velocity: [[f64; 3]; 2]| {
-            let input = ViscousInput {
-                reference: &reference,
-                state: &state,
-                velocity: &velocity,
-                offsets: &[0, 1, 2],
-                neighbours: &[1, 0],
-                factor: &[1.0, 1.0],
-                node: &node,
-                spacing: 1e-3,
-                params,
-            };
-            let mut out = [ViscousOut::default(); 2];
-            viscous_forces(&input, &mut out);
-            out
-        };
+        let run = |velocity| two_nodes(velocity, [[6.0, 2000.0, 3000.0, 2000.0]; 2], params);
         let out = run([[-100.0, 0.0, 0.0], [100.0, 0.0, 0.0]]);
         let fx = 3.564_356_435_644e3;
         assert!((out[0].force[0] / fx - 1.0).abs() < 1e-12, "{:?}", out[0]);
