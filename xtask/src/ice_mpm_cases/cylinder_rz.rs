@@ -48,10 +48,15 @@ impl RzRun {
         if self.failure.is_some() || self.arrival[1].is_none() || self.record.is_empty() {
             return f64::NAN;
         }
-        let k = self.record.len() - self.record.len() / 10;
-        let tail = &self.record[k..];
-        tail.iter().map(|x| x.1).sum::<f64>() / tail.len() as f64
+        last_tenth_mean(&self.record, |x| x.1)
     }
+}
+
+/// The mean of `f` over the last 10 % of `record` (the entries from index
+/// n − ⌊n/10⌋ on): the terminal figure of a wall record.
+fn last_tenth_mean<T>(record: &[T], f: impl Fn(&T) -> f64) -> f64 {
+    let tail = &record[record.len() - record.len() / 10..];
+    tail.iter().map(f).sum::<f64>() / tail.len() as f64
 }
 
 /// The axis gauges of configs/cylinder_rz.ron, m (D between them).
@@ -560,14 +565,12 @@ pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()>
             .min_by(|&a, &b| near(a).total_cmp(&near(b)))
             .map(|i| s.detonation_times()[i])
             .ok_or_else(|| anyhow!("no explosive node"))?;
-        let n = hist.time.len();
-        let k = n - n / 10;
         runs.push(SideRun {
             label: "peridynamics",
             h,
             t_us: hist.time.iter().map(|t| (t - t0) * 1e6).collect(),
             v: hist.radial_velocity.clone(),
-            terminal: hist.radial_velocity[k..].iter().sum::<f64>() / (n - k) as f64,
+            terminal: last_tenth_mean(&hist.radial_velocity, |v| *v),
             wall_s,
         });
     }
