@@ -714,7 +714,6 @@ fn v_cj(report: &mut Report) -> Result<()> {
 
 fn throughput(report: &mut Report) -> Result<()> {
     println!("Throughput: 3D 64³ blast box");
-    let before = resident_bytes();
     let mut solver = blast_box(64, [1, 1, 1]).map_err(anyhow::Error::msg)?;
     let cells = 64f64.powi(3);
     // Warm up (scratch buffers, page faults), then time.
@@ -729,10 +728,11 @@ fn throughput(report: &mut Report) -> Result<()> {
         solver.advance(dt)?;
     }
     let rate = cells * steps as f64 / t0.elapsed().as_secs_f64();
-    let bytes = match (before, resident_bytes()) {
-        (Some(a), Some(b)) => (b - a) / cells,
-        _ => f64::NAN,
-    };
+    // What the solver holds after the steps (its arrays' lengths), with
+    // each sweeping thread's scratch.
+    let threads = brisance::rayon_threads();
+    let memory = solver.memory_use();
+    let bytes = memory.total(threads) as f64 / cells;
     // The face limiter's cost: the same steps with each setting, taken in
     // turn three times so that a slow spell of the machine falls on all.
     use brisance::fdm::FaceLimiter;
@@ -761,11 +761,20 @@ fn throughput(report: &mut Report) -> Result<()> {
     let _ = writeln!(report.md, "## Throughput — FDM on a 3D 64³ box\n");
     let _ = writeln!(
         report.md,
-        "A spherical blast in a 64³ box with reflective walls, one patch, {} threads, {steps} timed steps after 2 \
+        "A spherical blast in a 64³ box with reflective walls, one patch, {threads} threads, {steps} timed steps after 2 \
          warm-up steps (`cargo bench --bench kernels` measures the same kernel with criterion). One cell-update = \
-         one cell advanced one full step (all six sweeps of seed 001 eq 6). Memory is the growth of resident \
-         memory while building and stepping the solver, per cell.\n",
-        brisance::rayon_threads()
+         one cell advanced one full step (all six sweeps of seed 001 eq 6). Memory is what the solver holds \
+         after the steps, counted from its arrays' lengths (`FdmSolver::memory_use`), per interior cell: the \
+         five conserved fields with their {ghost}-cell ghost layers {state:.1} B, the second buffer the sweeps \
+         write into {back:.1} B, the ghost exchange's buffers {halo:.1} B, the faces' outflow accumulators \
+         {faces:.1} B, and each sweeping thread's scratch {scratch:.1} B ({threads} threads).\n",
+        threads = threads,
+        ghost = brisance::fdm::GHOST,
+        state = memory.state as f64 / cells,
+        back = memory.back as f64 / cells,
+        halo = memory.halo as f64 / cells,
+        faces = memory.faces as f64 / cells,
+        scratch = memory.scratch_per_thread as f64 / cells,
     );
     let _ = writeln!(
         report.md,

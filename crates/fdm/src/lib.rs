@@ -37,7 +37,7 @@ pub mod viscosity;
 pub use gas::{GasLaw, ProductsInAir};
 pub use limiter::FaceLimiter;
 pub use pipeline::FdmConfig;
-pub use solver::{FdmBoundary, FdmError, FdmOptions, FdmSolver, MAX_CFL};
+pub use solver::{FdmBoundary, FdmError, FdmMemory, FdmOptions, FdmSolver, MAX_CFL};
 pub use state::PrimitiveState;
 pub use sweep::{ghost_layers, GHOST, GHOST_RZ};
 pub use viscosity::ArtificialViscosity;

@@ -28,7 +28,10 @@ use crate::sweep::{
 };
 use crate::viscosity::ArtificialViscosity;
 
+mod memory;
 mod solver_trait;
+
+pub use memory::FdmMemory;
 
 /// Why the FDM solver cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

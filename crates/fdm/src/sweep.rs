@@ -77,12 +77,12 @@ pub fn ghost_layers(geometry: brisance_core::Geometry) -> usize {
 }
 
 /// Most conservative variables per cell: the five flow variables and ρY.
-const NMAX: usize = NVAR + 1;
+pub(crate) const NMAX: usize = NVAR + 1;
 
 /// Number of scratch arrays per slab for `nf` variables: θ, ν, μ, p,
 /// Ū (nf), F(Ū) (nf), F* (nf), and the face limiter's work arrays
 /// (velocity, 2ρ·ρe, U^L (nf), λF^L (nf)).
-const fn nscratch(nf: usize) -> usize {
+pub(crate) const fn nscratch(nf: usize) -> usize {
     8 + 5 * nf
 }
 

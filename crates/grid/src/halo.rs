@@ -108,6 +108,21 @@ impl InProcessExchange {
         }
     }
 
+    /// Bytes of the pack buffers this exchange holds (they grow on first
+    /// use, so this counts what the exchanges so far needed).
+    pub fn bytes(&self) -> usize {
+        let values: usize = self
+            .buffers
+            .iter()
+            .flat_map(|pair| pair.iter().map(Vec::len))
+            .sum::<usize>()
+            + self
+                .ranks
+                .as_ref()
+                .map_or(0, |r| r.outgoing.iter().map(|(_, _, v)| v.len()).sum());
+        values * std::mem::size_of::<f64>()
+    }
+
     /// The domain faces ([`Face`] order) where a [`FaceBc::OutflowOnly`]
     /// condition has held back an inward flow since the exchange was
     /// made: a ghost whose normal flow it zeroed carried a kinetic energy
