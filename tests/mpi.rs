@@ -19,6 +19,7 @@ const BIN: &str = env!("CARGO_BIN_EXE_brisance");
 const BLAST: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/blast3d.ron");
 const ICE_RZ: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_rz.ron");
 const ICE_3D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_bubble3d.ron");
+const ICE_BURN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/ice_burn_rz.ron");
 const PD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/pd_fragment.ron");
 const LATTICE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/lattice_impact.ron");
 const MPM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mpi/mpm_taylor.ron");
@@ -161,12 +162,15 @@ fn fdm_on_two_and_four_ranks_writes_the_bytes_of_one() {
 }
 
 /// The ICE on rings (three materials, a JWL++ detonation, outflow faces
-/// that book what leaves) and in 3D (two gases, symmetry, inflow, both
-/// outflow faces and a periodic pair).
+/// that book what leaves), in 3D (two gases, symmetry, inflow, both
+/// outflow faces and a periodic pair), and on rings with a surface burn
+/// (`Deflagration`, whose surface is found over the whole grid from what
+/// every rank gives).
 #[test]
 fn ice_on_two_and_four_ranks_writes_the_bytes_of_one() {
     same_bytes_on_two_and_four_ranks(ICE_RZ);
     same_bytes_on_two_and_four_ranks(ICE_3D);
+    same_bytes_on_two_and_four_ranks(ICE_BURN);
 }
 
 /// The `Patches` VTK layout: each rank writes the pieces of its own

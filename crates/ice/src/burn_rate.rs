@@ -26,10 +26,12 @@
 //! EOS yet, and the EOS only sets how much gas the burn makes, not its law.
 
 use std::f64::consts::{PI, SQRT_2};
+use std::sync::Arc;
 
 use brisance_core::solver::step_to;
 use brisance_core::{Eos, Geometry, Solver};
 use brisance_eos::EosModel;
+use brisance_grid::comm::{self, Communicator};
 use brisance_grid::Level;
 use brisance_reaction::Deflagration;
 
@@ -149,6 +151,17 @@ pub fn burning_slab(
     cfg: &BurnRate,
     pressure: PressureSolve,
 ) -> Result<IceSolver<EosModel>, String> {
+    burning_slab_on(Arc::new(comm::Serial), cfg, pressure, [1, 1, 1])
+}
+
+/// [`burning_slab`] on `patches` patches shared among the ranks of
+/// `comm` (docs/cluster.md).
+pub fn burning_slab_on(
+    comm: Arc<dyn Communicator>,
+    cfg: &BurnRate,
+    pressure: PressureSolve,
+    patches: [usize; 3],
+) -> Result<IceSolver<EosModel>, String> {
     let (eos, jwlpp) = anfo_k1_jwlpp()?;
     let p0 = cfg.pressure;
     let rho_r = eos[0].density(p0, 298.15).map_err(|e| e.to_string())?;
@@ -171,9 +184,10 @@ pub fn burning_slab(
         ],
     };
     let boundaries = slab_boundaries(cfg, IceBoundary::FixedState(state(TRACE)));
-    let mut s = IceSolver::new(
+    let mut s = IceSolver::new_on(
+        comm,
         eos,
-        slab_level(cfg)?,
+        slab_level_in(cfg, patches)?,
         boundaries,
         ExchangeCoefficients::uniform(2, 1e15, 0.0),
         IceOptions {
@@ -207,6 +221,11 @@ pub fn slab_geometry(surface: BurnSurface) -> Geometry {
 /// again of products (the corner triangle reaches about twice its extent
 /// along each axis), one patch.
 pub fn slab_level(cfg: &BurnRate) -> Result<Level, String> {
+    slab_level_in(cfg, [1, 1, 1])
+}
+
+/// [`slab_level`] split into `patches` patches.
+pub fn slab_level_in(cfg: &BurnRate, patches: [usize; 3]) -> Result<Level, String> {
     let across = 2 * cfg.extent_cells + 4;
     let cells = match cfg.surface {
         BurnSurface::Plane => [across, 1, 1],
@@ -220,7 +239,7 @@ pub fn slab_level(cfg: &BurnRate) -> Result<Level, String> {
         [0.0; 3],
         std::array::from_fn(|d| cells[d] as f64 * cfg.h),
         cells,
-        [1, 1, 1],
+        patches,
         GHOST,
     )
     .map_err(|e| e.to_string())

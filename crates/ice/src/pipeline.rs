@@ -594,7 +594,7 @@ fn build_with_traces(
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
     if ranks.size() > 1 {
         // What the ICE cannot spread over ranks, named at its field: the
-        // implicit pressure here, surface reactions by their setter below.
+        // implicit pressure.
         if matches!(cfg.pressure, PressureSolve::Implicit(_)) {
             return Err((
                 "pipeline.pressure".to_string(),

@@ -1065,7 +1065,7 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
         }
     }
     // What needs the whole grid is refused when built spread: the
-    // implicit pressure at the build, a surface burn by its setter.
+    // implicit pressure at the build.
     let refused = brisance_grid::comm::InProcess::run(2, 1, |comm| {
         let options = IceOptions {
             pressure: PressureSolve::Implicit(Default::default()),

@@ -12,10 +12,17 @@
 //! checkpoints read every patch as its owner holds it
 //! ([`IceSolver::gathered_state`]).
 //!
-//! Across ranks the explicit pressure runs; the implicit pressure (a
-//! solve over the whole grid), particles (the IceMpm pipeline), viscosity
-//! and conduction, and reactions that burn on a surface (passes over the
-//! whole grid in global order) are refused with an error.
+//! A reaction that burns on a surface finds its surface over the whole
+//! grid in global order: each rank gives the reactant's fraction and the
+//! hottest temperature of its own cells, every rank runs the surface pass
+//! on the gathered field (the same bits everywhere), each owner gives the
+//! burn rates of its surface cells, and each rank keeps and carries the
+//! burn in its own patches (`surface.rs`).
+//!
+//! Across ranks the explicit pressure runs, with viscosity, conduction
+//! and every reaction; the implicit pressure (a solve over the whole
+//! grid) and particles (the IceMpm pipeline) are refused with an
+//! error.
 
 use std::borrow::Cow;
 use std::sync::Arc;
@@ -46,6 +53,33 @@ impl Ranks {
 
     pub(super) fn several(&self) -> bool {
         self.comm.size() > 1
+    }
+
+    /// Values each rank computed for its own cells, `width` per cell, put
+    /// in global order on every rank (a collective call on several
+    /// ranks): `owners` gives, in global order, the patch of every cell of
+    /// the pass (this rank's `mine` holds its own of them in that order),
+    /// and `out` gets every cell's values in that order. On one rank
+    /// `mine` itself.
+    pub(super) fn in_global_order(
+        &self,
+        owners: impl Iterator<Item = usize>,
+        mine: &[f64],
+        width: usize,
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        if !self.several() {
+            out.extend_from_slice(mine);
+            return;
+        }
+        let lists = self.comm.all_gather(mine);
+        let mut at = vec![0; lists.len()];
+        for pid in owners {
+            let r = self.owner[pid];
+            out.extend_from_slice(&lists[r][at[r]..at[r] + width]);
+            at[r] += width;
+        }
     }
 }
 
@@ -140,8 +174,6 @@ pub enum WholeGridPass {
     ImplicitPressure,
     /// Materials carried by particles (the coupled pipeline).
     Particles,
-    /// A reaction that burns on a surface, found in global order.
-    SurfaceBurn,
 }
 
 impl WholeGridPass {
@@ -158,7 +190,6 @@ impl WholeGridPass {
         match self {
             Self::ImplicitPressure => "the implicit pressure (one solve over the whole grid)",
             Self::Particles => "materials carried by particles",
-            Self::SurfaceBurn => "a reaction that burns on a surface",
         }
     }
 }
@@ -176,9 +207,8 @@ impl<E: Eos> IceSolver<E> {
     /// ([`Self::new_on`]), never holding the whole grid; a solver built
     /// so is refused here.
     ///
-    /// The implicit pressure, particles, viscosity and conduction, and
-    /// reactions that burn on a surface need passes over the whole grid
-    /// and are refused on several ranks.
+    /// The implicit pressure and particles need passes over the whole
+    /// grid and are refused on several ranks.
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), IceError> {
         if comm.size() == 1 {
             return Ok(());
@@ -235,8 +265,6 @@ impl<E: Eos> IceSolver<E> {
             Some(WholeGridPass::ImplicitPressure)
         } else if self.lagrangian.iter().any(|&l| l) {
             Some(WholeGridPass::Particles)
-        } else if self.reactions.iter().any(|r| r.rate.burns_on_a_surface()) {
-            Some(WholeGridPass::SurfaceBurn)
         } else {
             None
         }

@@ -84,6 +84,13 @@ pub(super) struct SurfacePass {
     density: Vec<f64>,
     /// The hottest temperature of the materials present per cell, K.
     hottest: Vec<f64>,
+    /// The surface's temperature per cell (the hottest of the cell and its
+    /// face neighbours; 0 off the surface), K.
+    temperature: Vec<f64>,
+    /// This rank's values of a gathered pass (its own cells, global
+    /// order), and every rank's in global order.
+    mine: Vec<f64>,
+    gathered: Vec<f64>,
     work: SurfaceWork,
     /// Per reaction: its surface cells with the reactant behind them.
     carry: Vec<Vec<CarryCell>>,
@@ -147,37 +154,59 @@ impl<E: Eos> IceSolver<E> {
         for (k, rx) in self.reactions.iter().enumerate() {
             self.surface_pass.carry[k].clear();
             let surface = rx.rate.burns_on_a_surface();
-            for (sc, patch) in self.scratch.iter_mut().zip(&self.level.patches) {
+            let patches = self.scratch.iter_mut().zip(&self.level.patches);
+            for ((sc, patch), &owned) in patches.zip(&self.ranks.owned) {
                 if sc.surface.len() <= k {
                     sc.surface.resize_with(k + 1, Default::default);
                 }
-                let len = if surface { patch.allocated_cells() } else { 0 };
+                let len = if surface && owned {
+                    patch.allocated_cells()
+                } else {
+                    0
+                };
                 sc.surface[k].area.resize(len, 0.0);
                 sc.surface[k].temperature.resize(len, 0.0);
             }
             if !surface {
                 continue;
             }
+            // The reactant's fraction and the hottest temperature of each
+            // cell, computed by the cell's owner and gathered into global
+            // order on every rank.
             let pass = &mut self.surface_pass;
-            pass.phi.clear();
-            pass.hottest.clear();
+            pass.mine.clear();
             let f = rx.reactant * NS + THETA;
             let state = &self.state;
+            let owned = &self.ranks.owned;
             // The other Lagrangian materials, against which a Lagrangian
             // reactant's projected tail is not the reactant.
             let (lagrangian, reactant) = (&self.lagrangian, rx.reactant);
             let other = |r: usize| r != reactant && lagrangian[reactant] && lagrangian[r];
             self.level.for_each_cell_in_order(|_, pid, c| {
+                if !owned[pid] {
+                    return;
+                }
                 let d = &state[pid].data;
                 let theta = d[f][c];
                 let held = (0..n_mat).any(|r| other(r) && d[r * NS + THETA][c] > theta);
-                pass.phi.push(if held { 0.0 } else { theta });
                 let hottest = (0..n_mat)
                     .filter(|&r| d[r * NS + THETA][c] > SURFACE_PRESENT)
                     .map(|r| d[r * NS + TEMP][c])
                     .fold(f64::NEG_INFINITY, f64::max);
-                pass.hottest.push(hottest);
+                pass.mine.extend([if held { 0.0 } else { theta }, hottest]);
             });
+            self.ranks.in_global_order(
+                pass.locate.iter().map(|&(pid, _)| pid),
+                &pass.mine,
+                2,
+                &mut pass.gathered,
+            );
+            pass.phi.clear();
+            pass.hottest.clear();
+            for x in pass.gathered.chunks_exact(2) {
+                pass.phi.push(x[0]);
+                pass.hottest.push(x[1]);
+            }
             pass.density.resize(count, 0.0);
             let particles = self.lagrangian[rx.reactant];
             let method = match &rx.rate {
@@ -198,59 +227,85 @@ impl<E: Eos> IceSolver<E> {
                 &mut pass.density,
             )
             .map_err(|e| format!("ice: reactions[{k}]: the reactant's surface: {e}"))?;
-            let (pass, scratch) = (&self.surface_pass, &mut self.scratch);
+            // A surface cell's temperature: the hottest of the cell and its
+            // face neighbours inside the grid.
             let cells = geometry.cells;
-            let mut i = 0;
-            self.level.for_each_cell_in_order(|g, pid, c| {
-                let out = &mut scratch[pid].surface[k];
-                out.area[c] = pass.density[i];
-                out.temperature[c] = if pass.work.on_surface[i] {
-                    // The cell and its face neighbours inside the grid.
-                    let mut t = pass.hottest[i];
-                    let mut stride = 1;
-                    for a in 0..3 {
-                        if g[a] > 0 {
-                            t = t.max(pass.hottest[i - stride]);
-                        }
-                        if g[a] + 1 < cells[a] {
-                            t = t.max(pass.hottest[i + stride]);
-                        }
-                        stride *= cells[a];
-                    }
-                    t
-                } else {
-                    0.0
-                };
-                i += 1;
-            });
-            // The surface cells' burn rates and the reactant behind them.
-            let pass = &mut self.surface_pass;
-            let params = solver_params!(self);
             let [nx, ny, _] = cells;
             let strides = [1, nx, nx * ny];
-            let spacing = geometry.spacing;
+            pass.temperature.clear();
+            pass.temperature.resize(count, 0.0);
             for i in 0..count {
-                if !(pass.density[i] > 0.0) {
+                if !pass.work.on_surface[i] {
                     continue;
                 }
+                let g = [i % nx, (i / nx) % ny, i / (nx * ny)];
+                let mut t = pass.hottest[i];
+                for a in 0..3 {
+                    if g[a] > 0 {
+                        t = t.max(pass.hottest[i - strides[a]]);
+                    }
+                    if g[a] + 1 < cells[a] {
+                        t = t.max(pass.hottest[i + strides[a]]);
+                    }
+                }
+                pass.temperature[i] = t;
+            }
+            let (pass, scratch) = (&self.surface_pass, &mut self.scratch);
+            for (i, &(pid, c)) in pass.locate.iter().enumerate() {
+                if owned[pid] {
+                    let out = &mut scratch[pid].surface[k];
+                    out.area[c] = pass.density[i];
+                    out.temperature[c] = pass.temperature[i];
+                }
+            }
+            // The surface cells' burn rates (dF/dt and the products' over
+            // the reactant's specific volume), by each cell's owner.
+            let pass = &mut self.surface_pass;
+            let params = solver_params!(self);
+            pass.mine.clear();
+            for i in 0..count {
                 let (pid, c) = pass.locate[i];
+                if !(pass.density[i] > 0.0) || !owned[pid] {
+                    continue;
+                }
                 let d = &self.state[pid].data;
-                let temperature = self.scratch[pid].surface[k].temperature[c];
                 // Step 4's state of the cell (at the step's start, Δt 0).
                 let state = reaction_state(
                     &params,
                     rx,
                     |f| d[f][c],
-                    Some((pass.density[i], temperature)),
+                    Some((pass.density[i], pass.temperature[i])),
                     0.0,
                 );
                 let rate = rx.rate.rate(&state, 0.0);
+                // The gas the front makes leaves at about D v_p/v_r: the
+                // step's limit takes the faster of the front and that flow.
+                let expansion = if rate > 0.0 {
+                    (d[rx.product * NS + VSP][c] * state.density).max(1.0)
+                } else {
+                    0.0
+                };
+                pass.mine.extend([rate, expansion]);
+            }
+            let surface_owners = (0..count)
+                .filter(|&i| pass.density[i] > 0.0)
+                .map(|i| pass.locate[i].0);
+            self.ranks
+                .in_global_order(surface_owners, &pass.mine, 2, &mut pass.gathered);
+            // The reactant behind each burning surface cell along its
+            // column, the same list on every rank.
+            let spacing = geometry.spacing;
+            let mut rates = pass.gathered.chunks_exact(2);
+            for i in 0..count {
+                if !(pass.density[i] > 0.0) {
+                    continue;
+                }
+                let Some(&[rate, expansion]) = rates.next() else {
+                    break;
+                };
                 if !(rate > 0.0) {
                     continue;
                 }
-                // The gas the front makes leaves at about D v_p/v_r: the
-                // step's limit takes the faster of the front and that flow.
-                let expansion = (d[rx.product * NS + VSP][c] * state.density).max(1.0);
                 pass.max_rate = pass.max_rate.max(rate * expansion);
                 // The column's axis: the one of largest h_a |n_a|; the
                 // reactant lies against the normal.
@@ -268,7 +323,7 @@ impl<E: Eos> IceSolver<E> {
                 let mut cell = CarryCell {
                     cell: i,
                     area: pass.density[i],
-                    temperature,
+                    temperature: pass.temperature[i],
                     rate,
                     theta: pass.phi[i],
                     ..CarryCell::default()
@@ -285,13 +340,11 @@ impl<E: Eos> IceSolver<E> {
                     if !(pass.phi[j] > SURFACE_PRESENT) {
                         break;
                     }
-                    let (pj, cj) = pass.locate[j];
-                    let own = &self.scratch[pj].surface[k];
                     cell.behind[cell.depth] = Behind {
                         cell: j,
                         theta: pass.phi[j],
-                        area: own.area[cj],
-                        temperature: own.temperature[cj],
+                        area: pass.density[j],
+                        temperature: pass.temperature[j],
                     };
                     cell.depth += 1;
                 }
@@ -334,21 +387,41 @@ impl<E: Eos> IceSolver<E> {
         }
         let vols = self.volumes();
         let params = solver_params!(self);
-        let (mut area, mut weighted) = (0.0, 0.0);
+        // Each rank's burning cells (global index, area, rate), summed in
+        // global order on every rank.
+        let owned = &self.ranks.owned;
+        let mut mine = Vec::new();
         let mut g = 0;
         self.level.for_each_cell_in_order(|_, pid, c| {
-            if let Some((a, t)) = surface_at(&self.scratch[pid].surface, k, c) {
+            if let Some((a, t)) = owned[pid]
+                .then(|| surface_at(&self.scratch[pid].surface, k, c))
+                .flatten()
+            {
                 if a > 0.0 {
                     let d = &self.state[pid].data;
                     // Step 4's state of the cell at a unit area density.
                     let unit = reaction_state(&params, rx, |f| d[f][c], Some((1.0, t)), 0.0);
-                    let cell_area = a * vols.cell(g);
-                    area += cell_area;
-                    weighted += cell_area * rx.rate.rate(&unit, 0.0);
+                    mine.extend([g as f64, a * vols.cell(g), rx.rate.rate(&unit, 0.0)]);
                 }
             }
             g += 1;
         });
+        let mut cells: Vec<[f64; 3]> = if self.ranks.several() {
+            self.ranks
+                .comm
+                .all_gather(&mine)
+                .iter()
+                .flat_map(|list| list.chunks_exact(3).map(|x| [x[0], x[1], x[2]]))
+                .collect()
+        } else {
+            mine.chunks_exact(3).map(|x| [x[0], x[1], x[2]]).collect()
+        };
+        cells.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        let (mut area, mut weighted) = (0.0, 0.0);
+        for [_, cell_area, rate] in cells {
+            area += cell_area;
+            weighted += cell_area * rate;
+        }
         (area > 0.0).then(|| (area, weighted / area))
     }
 
@@ -376,15 +449,24 @@ impl<E: Eos> IceSolver<E> {
     /// the same areas.
     pub fn carry_surface_burns(&mut self, dt: f64) {
         let pass = &self.surface_pass;
+        let owned = &self.ranks.owned;
+        // Every rank holds the whole list and writes the cells of its own
+        // patches.
+        let cell_of = |g: usize| {
+            let (pid, c) = pass.locate[g];
+            owned[pid].then_some((pid, c))
+        };
         for (k, list) in pass.carry.iter().enumerate() {
             for cell in list {
-                let (pid, c) = pass.locate[cell.cell];
-                self.scratch[pid].surface[k].area[c] = cell.area;
+                if let Some((pid, c)) = cell_of(cell.cell) {
+                    self.scratch[pid].surface[k].area[c] = cell.area;
+                }
                 for b in &cell.behind[..cell.depth] {
-                    let (pid, c) = pass.locate[b.cell];
-                    let out = &mut self.scratch[pid].surface[k];
-                    out.area[c] = b.area;
-                    out.temperature[c] = b.temperature;
+                    if let Some((pid, c)) = cell_of(b.cell) {
+                        let out = &mut self.scratch[pid].surface[k];
+                        out.area[c] = b.area;
+                        out.temperature[c] = b.temperature;
+                    }
                 }
             }
             for cell in list {
@@ -396,18 +478,20 @@ impl<E: Eos> IceSolver<E> {
                     // the area is own / swept (the burn is the same as the
                     // cap on its reactant gives; the summed area stays the
                     // front's).
-                    let (pid, c) = pass.locate[cell.cell];
-                    self.scratch[pid].surface[k].area[c] = cell.area * own / swept;
+                    if let Some((pid, c)) = cell_of(cell.cell) {
+                        self.scratch[pid].surface[k].area[c] = cell.area * own / swept;
+                    }
                 }
                 for b in &cell.behind[..cell.depth] {
                     if !(rest > 0.0) {
                         break;
                     }
                     let take = rest.min(b.theta * (1.0 - REACTANT_LEFT));
-                    let (pid, c) = pass.locate[b.cell];
-                    let out = &mut self.scratch[pid].surface[k];
-                    out.area[c] += cell.area * take / swept;
-                    out.temperature[c] = out.temperature[c].max(cell.temperature);
+                    if let Some((pid, c)) = cell_of(b.cell) {
+                        let out = &mut self.scratch[pid].surface[k];
+                        out.area[c] += cell.area * take / swept;
+                        out.temperature[c] = out.temperature[c].max(cell.temperature);
+                    }
                     rest -= take;
                 }
             }
@@ -452,6 +536,60 @@ mod tests {
         let total: f64 = upwind.iter().sum();
         assert!((total * h - 1.0).abs() < 2e-6, "{total}");
         assert!((column[7] * h - 1.0).abs() < 1e-12, "{}", column[7]);
+    }
+
+    /// A surface burn spread over thread ranks
+    /// ([`brisance_grid::comm::InProcess`]): V-BURNRATE's 45° slab of
+    /// PBX-9501 at 100 MPa with A × 100, so that the front sweeps about a
+    /// quarter of a cell a step and the carry into the cells behind
+    /// crosses the patches, on 2 × 2 patches over 2, 3 and 4 ranks. Every
+    /// rank ends with the saved state, the burning surface and the front's
+    /// rate limit of one rank.
+    #[test]
+    fn a_surface_burn_spread_over_thread_ranks_gives_the_bits_of_one() {
+        use std::sync::Arc;
+
+        use crate::burn_rate::burning_slab_on;
+        use crate::IceSolver;
+        use brisance_eos::EosModel;
+        use brisance_grid::comm::{InProcess, Serial};
+
+        let mut cfg = BurnRate::pbx_9501(1.0e8, BurnSurface::Diagonal);
+        cfg.law.a *= 100.0;
+        cfg.extent_cells = 6;
+        let steps = |s: &mut IceSolver<EosModel>| {
+            let mut carried = 0;
+            for _ in 0..30 {
+                let dt = s.stable_dt().expect("dt");
+                s.advance(dt).expect("step");
+                carried += s.surface_pass.carry[0].len();
+            }
+            let surface = s.burning_surface(0).expect("burning");
+            (
+                s.save_state().expect("state"),
+                surface,
+                s.surface_front_rate(),
+                carried,
+            )
+        };
+        let build =
+            |comm| burning_slab_on(comm, &cfg, PressureSolve::Explicit, [2, 2, 1]).expect("builds");
+        let one = steps(&mut build(Arc::new(Serial)));
+        // The burn is carried into the cells behind the surface.
+        assert!(one.3 > 0, "nothing carried");
+        // One rank gives the bits of one patch.
+        let mut whole = burning_slab_on(Arc::new(Serial), &cfg, PressureSolve::Explicit, [1, 1, 1])
+            .expect("builds");
+        assert!(steps(&mut whole).0 == one.0);
+        for ranks in [2, 3, 4] {
+            let runs = InProcess::run(ranks, 2, |comm| steps(&mut build(comm)));
+            for (r, run) in runs.into_iter().enumerate() {
+                assert!(run.0 == one.0, "state, rank {r} of {ranks}");
+                assert_eq!(run.1, one.1, "burning surface, rank {r} of {ranks}");
+                assert_eq!(run.2, one.2, "front rate, rank {r} of {ranks}");
+                assert_eq!(run.3, one.3, "carried cells, rank {r} of {ranks}");
+            }
+        }
     }
 
     /// Splits the `Column` estimate's excess area on the burning 45° front
