@@ -66,7 +66,7 @@ use serde::{Deserialize, Serialize};
 use crate::{
     Advection, CellState, Deflagration, ExchangeCoefficients, IceBoundary, IceOptions, IceRate,
     IceReaction, IceSolver, JwlPlusPlus, MaterialState, MaterialTransport, PressureSolve,
-    SolidExchange, WholeGridPass, GHOST, MAX_MATERIALS,
+    SolidExchange, GHOST, MAX_MATERIALS,
 };
 
 /// A problem with a field: its path and what is wrong.
@@ -593,14 +593,6 @@ fn build_with_traces(
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
     if ranks.size() > 1 {
-        // What the ICE cannot spread over ranks, named at its field: the
-        // implicit pressure.
-        if matches!(cfg.pressure, PressureSolve::Implicit(_)) {
-            return Err((
-                "pipeline.pressure".to_string(),
-                WholeGridPass::ImplicitPressure.refusal(ranks.size()),
-            ));
-        }
         brisance_grid::comm::patch_owners(level.patches.len(), ranks.size())
             .map_err(|e| ("domain.patches".to_string(), e))?;
     }

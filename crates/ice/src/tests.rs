@@ -1064,22 +1064,46 @@ fn patches_spread_over_thread_ranks_give_the_bits_of_one() {
             assert!(state == one, "built spread: rank {r} of {ranks}");
         }
     }
-    // What needs the whole grid is refused when built spread: the
-    // implicit pressure at the build.
-    let refused = brisance_grid::comm::InProcess::run(2, 1, |comm| {
-        let options = IceOptions {
-            pressure: PressureSolve::Implicit(Default::default()),
-            ..Default::default()
-        };
-        bump_solver_on(comm, [3, 2, 2], [12, 8, 4], options)
-            .err()
-            .map(|e| e.to_string())
-    });
-    for e in refused {
-        let e = e.expect("refused");
-        assert!(
-            e.contains("implicit pressure") && e.contains("several ranks"),
-            "{e}"
-        );
+}
+
+/// The implicit pressure on ranks (its outer iterations' cell values
+/// gathered from their owners, one solve over the whole grid on every
+/// rank): the pressure bump on 3 × 2 × 2 patches built spread over 2, 3
+/// and 4 thread ranks ends, on every rank, with the saved state and the
+/// solver statistics of one rank.
+#[test]
+fn the_implicit_pressure_spread_over_thread_ranks_gives_the_bits_of_one() {
+    let options = IceOptions {
+        pressure: PressureSolve::Implicit(Default::default()),
+        ..Default::default()
+    };
+    let steps = |s: &mut IceSolver<IdealGas>| {
+        for _ in 0..4 {
+            let dt = s.stable_dt().unwrap();
+            s.advance(dt).unwrap();
+        }
+        (s.save_state().unwrap(), s.pressure_solve_stats())
+    };
+    let build = |comm| bump_solver_on(comm, [3, 2, 2], [12, 8, 4], options).unwrap();
+    let one = steps(&mut build(std::sync::Arc::new(brisance_grid::comm::Serial)));
+    // The solve iterated.
+    assert!(one.1.total_iterations >= 4, "{:?}", one.1);
+    // One rank gives the bits of one patch.
+    let whole = steps(
+        &mut bump_solver_on(
+            std::sync::Arc::new(brisance_grid::comm::Serial),
+            [1, 1, 1],
+            [12, 8, 4],
+            options,
+        )
+        .unwrap(),
+    );
+    assert!(whole.0 == one.0);
+    for ranks in [2, 3, 4] {
+        let runs = brisance_grid::comm::InProcess::run(ranks, 2, |comm| steps(&mut build(comm)));
+        for (r, (state, stats)) in runs.into_iter().enumerate() {
+            assert!(state == one.0, "rank {r} of {ranks}");
+            assert_eq!(stats, one.1, "rank {r} of {ranks}");
+        }
     }
 }

@@ -47,8 +47,8 @@ use faer::Side;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    for_each_cell_global, global_of, make_params, par_gather, CellVolumes, IceSolver, NS, RHO,
-    SOUND, THETA, VSP,
+    for_each_cell_global, global_of, make_params, CellVolumes, IceSolver, NS, RHO, SOUND, THETA,
+    VSP,
 };
 use crate::equilibration::MAX_MATERIALS;
 use crate::exchange::momentum_exchange;
@@ -456,9 +456,7 @@ impl<E: Eos> IceSolver<E> {
                 Some(build_pattern(geometry.cells, active, &self.boundaries).map_err(&fail)?);
             ws.stats.symbolic_factorisations += 1;
         }
-        par_gather(&self.level, &mut ws.p_eq, |pid, c| {
-            self.state[pid].data[pidx][c]
-        });
+        self.gather_cells(&mut ws.p_eq, |pid, c| self.state[pid].data[pidx][c]);
         ws.p.copy_from_slice(&ws.p_eq);
         let mut llt: Option<Llt<usize, f64>> = None;
         let rings = self
@@ -475,9 +473,7 @@ impl<E: Eos> IceSolver<E> {
             // Eq 19 (and the face exchange) at p^k, then eq 20's divergence.
             self.compute_face_centred_velocities(dt);
             self.compute_pressure_increment(dt);
-            par_gather(&self.level, &mut ws.divergence, |pid, c| {
-                self.scratch[pid].divergence[c]
-            });
+            self.gather_cells(&mut ws.divergence, |pid, c| self.scratch[pid].divergence[c]);
             if k == 0 {
                 self.gather_coefficients(ws, dt);
             }
@@ -597,7 +593,7 @@ impl<E: Eos> IceSolver<E> {
         let n = self.eos.len();
         let params = solver_params!(self);
         let count = self.level.geometry.cell_count();
-        par_gather(&self.level, &mut ws.kappa, |pid, c| {
+        self.gather_cells(&mut ws.kappa, |pid, c| {
             let d = &self.state[pid].data;
             (0..n)
                 .map(|r| {
@@ -653,11 +649,11 @@ impl<E: Eos> IceSolver<E> {
             }
             ws.beta_hi[a].resize(count, 0.0);
             ws.beta_lo[a].resize(count, 0.0);
-            par_gather(&self.level, &mut ws.beta_hi[a], |pid, c| {
+            self.gather_cells(&mut ws.beta_hi[a], |pid, c| {
                 let st = self.level.patches[pid].strides();
                 face(pid, c, c + st[a], a)
             });
-            par_gather(&self.level, &mut ws.beta_lo[a], |pid, c| {
+            self.gather_cells(&mut ws.beta_lo[a], |pid, c| {
                 let p = &self.level.patches[pid];
                 if global_of(p, c)[a] == 0 {
                     face(pid, c - p.strides()[a], c, a)

@@ -192,7 +192,8 @@ pub(super) fn par_faces(p: &Patch, axis: usize, f: impl Fn(usize) + Sync + Send)
 }
 
 /// Calls `f(global linear cell index, patch data, local index)` for every
-/// interior cell of `fields`, patches in parallel.
+/// interior cell of `fields`, patches in parallel; a patch this rank does
+/// not store (another rank's, [`PatchFields::is_stored`]) is skipped.
 pub(super) fn for_each_cell_global(
     level: &Level,
     fields: &mut [PatchFields],
@@ -202,6 +203,7 @@ pub(super) fn for_each_cell_global(
     fields
         .par_iter_mut()
         .zip(level.patches.par_iter())
+        .filter(|(pf, _)| pf.is_stored())
         .for_each(|(pf, patch)| {
             for_interior(patch, |c| {
                 f(geometry.linear_index(global_of(patch, c)), &mut pf.data, c);

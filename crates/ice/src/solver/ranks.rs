@@ -19,9 +19,13 @@
 //! burn rates of its surface cells, and each rank keeps and carries the
 //! burn in its own patches (`surface.rs`).
 //!
-//! Across ranks the explicit pressure runs, with viscosity, conduction
-//! and every reaction; the implicit pressure (a solve over the whole
-//! grid) and particles (the IceMpm pipeline) are refused with an
+//! The implicit pressure solves its Helmholtz system over the whole grid
+//! on every rank, from the cell values each rank gives for its own
+//! patches (`IceSolver::gather_cells`): the same system, the same
+//! factorisation, the same bits on every rank.
+//!
+//! Across ranks both pressure solves run, with viscosity, conduction and
+//! every reaction; particles (the IceMpm pipeline) are refused with an
 //! error.
 
 use std::borrow::Cow;
@@ -170,8 +174,6 @@ pub(super) struct Found {
 /// solver runs on one rank only ([`IceSolver::whole_grid_pass`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WholeGridPass {
-    /// The implicit pressure: one linear solve over every cell.
-    ImplicitPressure,
     /// Materials carried by particles (the coupled pipeline).
     Particles,
 }
@@ -188,7 +190,6 @@ impl WholeGridPass {
     /// What the error message calls it.
     pub fn describe(self) -> &'static str {
         match self {
-            Self::ImplicitPressure => "the implicit pressure (one solve over the whole grid)",
             Self::Particles => "materials carried by particles",
         }
     }
@@ -261,9 +262,7 @@ impl<E: Eos> IceSolver<E> {
     /// The first part of this solver's step that passes over the whole
     /// grid, and so keeps it on one rank; `None` when it can spread.
     pub fn whole_grid_pass(&self) -> Option<WholeGridPass> {
-        if matches!(self.options.pressure, PressureSolve::Implicit(_)) {
-            Some(WholeGridPass::ImplicitPressure)
-        } else if self.lagrangian.iter().any(|&l| l) {
+        if self.lagrangian.iter().any(|&l| l) {
             Some(WholeGridPass::Particles)
         } else {
             None
@@ -346,6 +345,29 @@ impl<E: Eos> IceSolver<E> {
             }
         }
         g
+    }
+
+    /// `f(patch, local index)` of every cell in global order into `out`, on
+    /// every rank: [`par_gather`] on one rank; on several, each rank
+    /// evaluates its own cells and the values are gathered in global order
+    /// (a collective call). Each value depends on its own cell only, so
+    /// the bits are those of one rank.
+    pub(super) fn gather_cells(&self, out: &mut Vec<f64>, f: impl Fn(usize, usize) -> f64 + Sync) {
+        let count = self.level.geometry.cell_count();
+        if !self.ranks.several() {
+            out.resize(count, 0.0);
+            par_gather(&self.level, out, f);
+            return;
+        }
+        let owned = &self.ranks.owned;
+        let (mut mine, mut patch) = (Vec::new(), Vec::with_capacity(count));
+        self.level.for_each_cell_in_order(|_, pid, c| {
+            patch.push(pid);
+            if owned[pid] {
+                mine.push(f(pid, c));
+            }
+        });
+        self.ranks.in_global_order(patch.into_iter(), &mine, 1, out);
     }
 
     /// The largest CFL rate over the ranks, NaN when any rank's is NaN (a
@@ -461,13 +483,10 @@ mod tests {
         // Nothing that needs the whole grid may be added afterwards.
         let e = s.set_lagrangian(&[true, false]).unwrap_err().to_string();
         assert!(e.contains("materials carried by particles"), "{e}");
-        // The implicit pressure, and a split with fewer patches than ranks.
+        // The implicit pressure spreads; a split with fewer patches than
+        // ranks does not.
         let implicit = PressureSolve::Implicit(Default::default());
-        let e = two_gases(2, implicit)
-            .distribute(two())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("the implicit pressure"), "{e}");
+        two_gases(2, implicit).distribute(two()).unwrap();
         let e = two_gases(1, PressureSolve::Explicit)
             .distribute(two())
             .unwrap_err()
