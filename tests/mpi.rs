@@ -418,27 +418,23 @@ fn a_failed_step_leaves_the_last_good_state_of_one_rank() {
     }
 }
 
-/// The lattice's implicit integrators (one linear solve over every node)
-/// refuse several ranks at their field.
+/// The lattice's implicit integrators on ranks: the force, commit and
+/// volume passes in slabs, the assembly and the linear solve over every
+/// node on every rank (each holds every node), so the impact writes the
+/// bytes of one rank.
 #[test]
-fn the_implicit_lattice_refuses_several_ranks_at_its_field() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = run(
-        2,
-        Path::new(LATTICE),
-        &tmp.path().join("implicit"),
-        &[
-            "--set",
-            "pipeline.integrator=ImplicitEuler",
-            "--set",
-            "pipeline.time_step=1e-9",
-        ],
-    );
-    fails_once_with(
-        &out,
-        "`pipeline.integrator`: lattice: the implicit integrator",
-    );
-    assert!(!tmp.path().join("implicit").join("summary.json").exists());
+fn the_implicit_lattice_on_two_and_four_ranks_writes_the_bytes_of_one() {
+    for integrator in ["ImplicitEuler", "ImplicitRk2"] {
+        same_bytes_on_two_and_four_ranks_with(
+            LATTICE,
+            &[
+                "--set",
+                &format!("pipeline.integrator={integrator}"),
+                "--set",
+                "pipeline.time_step=1e-9",
+            ],
+        );
+    }
 }
 
 /// The ICE's implicit pressure on ranks: each outer iteration gathers the

@@ -548,15 +548,10 @@ fn build_lattice(s: &Scene<'_>, cfg: &LatticeConfig) -> Result<MsdmLattice, Fiel
         }
     }
     lat.mark_modified();
-    // Spread over the ranks of the run (docs/cluster.md): an implicit
-    // integrator refuses at its field, too few planes at the spacing.
-    let field = if lat.options.integrator.is_implicit() {
-        "pipeline.integrator"
-    } else {
-        "pipeline.spacing"
-    };
+    // Spread over the ranks of the run (docs/cluster.md): too few planes
+    // at the spacing is an error at its field.
     lat.distribute(brisance_grid::comm::world())
-        .map_err(|e| FieldError::new(field.to_string(), e.to_string()))?;
+        .map_err(|e| FieldError::new("pipeline.spacing".to_string(), e.to_string()))?;
     Ok(lat)
 }
 

@@ -41,18 +41,12 @@ impl MsdmLattice {
     /// rank): from now on this rank evaluates the spring passes of its
     /// slab (`slab_starts`: whole planes, as even as they divide) and
     /// receives the others'. Every rank builds the same lattice and calls
-    /// this last. The implicit integrators
-    /// (one linear solve over every node) refuse several ranks.
+    /// this last. The implicit integrators' assembly and linear solve over
+    /// every node run on every rank on the same values (every rank holds
+    /// every node), their force, commit and volume passes in slabs.
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), SolverError> {
         if comm.size() == 1 {
             return Ok(());
-        }
-        if self.options.integrator.is_implicit() {
-            return Err(SolverError::Other(format!(
-                "lattice: the implicit integrator {:?} solves one linear system over every node and does not run on several ranks ({} here); use ExplicitEuler or VelocityVerlet, or run as one process",
-                self.options.integrator,
-                comm.size()
-            )));
         }
         let n = self.geom.n;
         let (planes, plane) = match self.geom.dim.count() {

@@ -1055,13 +1055,19 @@ fn digests_on_thread_ranks(ranks: usize, make: &(dyn Fn() -> MsdmLattice + Sync)
 
 /// The rank logic of `ranks.rs` without MPI: blocks with plasticity and
 /// fracture (the general passes), and with dashpots, f⊥, conduction and
-/// chemistry (the row-stencil passes), each integrator that spreads, on 2
-/// and 3 ranks: every rank ends with the bits of one.
+/// chemistry (the row-stencil passes), each integrator (the implicit ones
+/// assemble and solve over every node on every rank), on 2 and 3 ranks:
+/// every rank ends with the bits of one.
 #[test]
 fn slabs_spread_over_ranks_give_the_bits_of_one() {
     type Make = Box<dyn Fn() -> MsdmLattice + Sync>;
     let mut cases: Vec<(String, Make)> = Vec::new();
-    for integ in [Integrator::ExplicitEuler, Integrator::VelocityVerlet] {
+    for integ in [
+        Integrator::ExplicitEuler,
+        Integrator::VelocityVerlet,
+        Integrator::ImplicitEuler,
+        Integrator::ImplicitRk2,
+    ] {
         cases.push((
             format!("plastic block, {integ:?}"),
             Box::new(move || perturbed_block(Dim::Two, 3, integ)),
