@@ -522,8 +522,9 @@ pub fn e_cylinder_rz_slip(report: &mut Report) -> Result<()> {
     Ok(())
 }
 
-/// PD spacings of E-PD-CYL-ICEMPM, m (1.7 and 2.6 nodes through the wall).
-const SIDE_PD: [f64; 2] = [3.0e-3, 2.0e-3];
+/// PD spacings of E-PD-CYL-ICEMPM, m (1.7, 2.6 and 3.5 nodes through the
+/// wall).
+const SIDE_PD: [f64; 3] = [3.0e-3, 2.0e-3, 1.5e-3];
 /// ICE–MPM (r, z) cell sizes of E-PD-CYL-ICEMPM, m.
 const SIDE_RZ: [f64; 2] = [2.0e-3, 1.0e-3];
 
@@ -542,7 +543,8 @@ struct SideRun {
 /// E-PD-CYL-ICEMPM: seed 000's copper cylinder (configs/cylinder_rz.ron's
 /// tube and QM-100) in peridynamics (configs/pd_cylinder_seed000.ron) and
 /// in ICE–MPM on rings, the outer wall's radial velocity at z = 25 cm side
-/// by side, at two resolutions each, with the difference at the same h.
+/// by side, peridynamics at three spacings and ICE–MPM at two, with the
+/// difference at the same h and the peridynamic sequence in h.
 pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()> {
     println!("E-PD-CYL-ICEMPM: seed 000's copper cylinder in peridynamics and ICE–MPM (r, z)");
     let g = rz_gurney()?;
@@ -635,6 +637,26 @@ pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()>
             q.terminal,
             f.h * 1e3,
             100.0 * (p.terminal / f.terminal - 1.0)
+        );
+    }
+    // The peridynamic sequence in h.
+    let pd: Vec<&SideRun> = runs.iter().filter(|r| r.label == "peridynamics").collect();
+    if pd.len() > 1 {
+        let steps: Vec<String> = pd
+            .windows(2)
+            .map(|w| {
+                format!(
+                    "{:+.0} m/s ({:.1} → {:.1} mm)",
+                    w[1].terminal - w[0].terminal,
+                    w[0].h * 1e3,
+                    w[1].h * 1e3
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "Peridynamics in h: the terminal velocity changes by {}.\n",
+            steps.join(", then ")
         );
     }
     use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
