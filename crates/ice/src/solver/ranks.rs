@@ -208,8 +208,9 @@ impl<E: Eos> IceSolver<E> {
     /// ([`Self::new_on`]), never holding the whole grid; a solver built
     /// so is refused here.
     ///
-    /// The implicit pressure and particles need passes over the whole
-    /// grid and are refused on several ranks.
+    /// Particles (the coupled pipeline) are refused on several ranks; the
+    /// implicit pressure and surface burns run their whole-grid passes on
+    /// every rank from the gathered cell values.
     pub fn distribute(&mut self, comm: Arc<dyn Communicator>) -> Result<(), IceError> {
         if comm.size() == 1 {
             return Ok(());

@@ -379,7 +379,8 @@ impl<E: Eos> IceSolver<E> {
     /// area-weighted mean of the model's front speed dF/dt / (a/V) (m/s;
     /// A pⁿ for the deflagration) at each surface cell's pressure now and
     /// surface temperature. `None` for a reaction that does not burn on a
-    /// surface or a surface with no area.
+    /// surface or a surface with no area. On several ranks a collective
+    /// call (every rank's burning cells are gathered): every rank calls it.
     pub fn burning_surface(&self, k: usize) -> Option<(f64, f64)> {
         let rx = self.reactions.get(k)?;
         if !rx.rate.burns_on_a_surface() {
