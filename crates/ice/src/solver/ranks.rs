@@ -361,14 +361,22 @@ impl<E: Eos> IceSolver<E> {
             return;
         }
         let owned = &self.ranks.owned;
-        let (mut mine, mut patch) = (Vec::new(), Vec::with_capacity(count));
+        let mut mine = Vec::new();
         self.level.for_each_cell_in_order(|_, pid, c| {
-            patch.push(pid);
             if owned[pid] {
                 mine.push(f(pid, c));
             }
         });
-        self.ranks.in_global_order(patch.into_iter(), &mine, 1, out);
+        // Each cell's patch, from the level (no list of the grid's size).
+        let n = self.level.geometry.cells;
+        let patch_of = (0..count).map(|g| {
+            let at = [g % n[0], (g / n[0]) % n[1], g / (n[0] * n[1])];
+            self.level
+                .locate(at)
+                .expect("every cell of the domain has a patch")
+                .0
+        });
+        self.ranks.in_global_order(patch_of, &mine, 1, out);
     }
 
     /// The largest CFL rate over the ranks, NaN when any rank's is NaN (a
