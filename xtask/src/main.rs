@@ -74,6 +74,25 @@ pub(crate) fn env_seconds(name: &str, default: f64) -> Result<f64> {
     }
 }
 
+/// The changes of a figure in m/s between successive spacings,
+/// "+163 m/s (3.0 → 2.0 mm), then +45 m/s (2.0 → 1.5 mm)": `runs` the
+/// (spacing in m, value in m/s) pairs in order, the spacings printed in mm
+/// with `decimals` decimals.
+pub(crate) fn changes_in_h(runs: &[(f64, f64)], decimals: usize) -> String {
+    runs.windows(2)
+        .map(|w| {
+            format!(
+                "{:+.0} m/s ({:.d$} → {:.d$} mm)",
+                w[1].1 - w[0].1,
+                w[0].0 * 1e3,
+                w[1].0 * 1e3,
+                d = decimals
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", then ")
+}
+
 fn verdict(ok: bool) -> &'static str {
     if ok {
         "PASS"
@@ -1099,5 +1118,22 @@ fn main() -> Result<()> {
             );
             std::process::exit(2);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The report's two sequences in h, as the drivers wrote them before
+    /// they shared `changes_in_h`.
+    #[test]
+    fn changes_in_h_writes_the_reports_sequences() {
+        assert_eq!(
+            super::changes_in_h(&[(1.3e-3, 1109.4), (1.0e-3, 1052.3), (0.87e-3, 954.1)], 2),
+            "-57 m/s (1.30 → 1.00 mm), then -98 m/s (1.00 → 0.87 mm)"
+        );
+        assert_eq!(
+            super::changes_in_h(&[(3.0e-3, 648.2), (2.0e-3, 811.0), (1.5e-3, 856.1)], 1),
+            "+163 m/s (3.0 → 2.0 mm), then +45 m/s (2.0 → 1.5 mm)"
+        );
     }
 }

@@ -349,14 +349,11 @@ fn cyl_spacing_study(
     let (coarse, fine) = (v[n - 2] - v[n - 3], v[n - 1] - v[n - 2]);
     report.target(
         "E-PD-CYL wall velocity converging in h: last change smaller than the one before",
-        format!(
-            "{:+.0} m/s ({:.2} → {:.2} mm), then {:+.0} m/s ({:.2} → {:.2} mm)",
-            coarse,
-            runs[n - 3].spacing * 1e3,
-            runs[n - 2].spacing * 1e3,
-            fine,
-            runs[n - 2].spacing * 1e3,
-            runs[n - 1].spacing * 1e3
+        crate::changes_in_h(
+            &(n - 3..n)
+                .map(|k| (runs[k].spacing, v[k]))
+                .collect::<Vec<_>>(),
+            2,
         ),
         "smaller in size",
         fine.abs() < coarse.abs(),

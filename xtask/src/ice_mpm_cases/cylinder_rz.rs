@@ -640,23 +640,16 @@ pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()>
         );
     }
     // The peridynamic sequence in h.
-    let pd: Vec<&SideRun> = runs.iter().filter(|r| r.label == "peridynamics").collect();
+    let pd: Vec<(f64, f64)> = runs
+        .iter()
+        .filter(|r| r.label == "peridynamics")
+        .map(|r| (r.h, r.terminal))
+        .collect();
     if pd.len() > 1 {
-        let steps: Vec<String> = pd
-            .windows(2)
-            .map(|w| {
-                format!(
-                    "{:+.0} m/s ({:.1} → {:.1} mm)",
-                    w[1].terminal - w[0].terminal,
-                    w[0].h * 1e3,
-                    w[1].h * 1e3
-                )
-            })
-            .collect();
         let _ = writeln!(
             md,
             "Peridynamics in h: the terminal velocity changes by {}.\n",
-            steps.join(", then ")
+            crate::changes_in_h(&pd, 1)
         );
     }
     use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
