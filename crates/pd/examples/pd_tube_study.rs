@@ -28,7 +28,14 @@
 //! velocity of the products now in the middle fifth of the
 //! tube. `PROFILE=1` adds the products' axial kinetic energy and momentum
 //! along the tube (`axial_profile`), `SHELLS=1` their motion in shells of
-//! reference radius at mid-length (`shells`).
+//! reference radius at mid-length (`shells`). `FAMILY=WithSolids` or
+//! `FAMILY=MirroredWall` sets the products' families
+//! (`ProductsFamily`). `LAYERS=1` adds, at
+//! each print, the case's mean radial velocity at mid-length in layers of
+//! reference radius one spacing thick (inner to outer) and the mean
+//! pressure and radial velocity of the products within a spacing of the
+//! case there (`layers`), after a first line with the detonation time of
+//! the axis node nearest mid-length.
 
 use brisance_core::Solver;
 use brisance_pd::cases::{
@@ -66,6 +73,20 @@ fn main() -> Result<(), String> {
     }
     let mut setup = case.setup().map_err(|e| e.to_string())?;
     setup.options.contact = Some(contact);
+    // FAMILY=WithSolids|MirroredWall: the products' families
+    // (`ProductsFamily`; the printed `OwnBody` by default).
+    match std::env::var("FAMILY").as_deref() {
+        Ok("WithSolids") => setup.options.products_family = brisance_pd::ProductsFamily::WithSolids,
+        Ok("MirroredWall") => {
+            setup.options.products_family = brisance_pd::ProductsFamily::MirroredWall
+        }
+        Ok("OwnBody") | Err(_) => {}
+        Ok(other) => {
+            return Err(format!(
+                "FAMILY `{other}`: OwnBody, WithSolids or MirroredWall"
+            ))
+        }
+    }
     // DSCALE=k: the program burn's front runs at k times the CJ detonation
     // velocity (the products' isentrope unchanged).
     if let Some(k) = std::env::var("DSCALE")
@@ -153,6 +174,26 @@ fn main() -> Result<(), String> {
     };
     // The booked total after the last step (the next step's "before").
     let mut total = e0;
+    let layered = std::env::var_os("LAYERS").is_some();
+    if layered {
+        let axis = (0..s.node_count())
+            .filter(|&i| s.materials()[i] != 0)
+            .min_by(|&a, &b| {
+                let d = |i: usize| {
+                    let x = s.reference()[i];
+                    x[0].hypot(x[1]) + (x[2] - 0.5 * length).abs()
+                };
+                d(a).total_cmp(&d(b))
+            });
+        if let Some(i) = axis {
+            println!(
+                "front at mid-length on the axis: {:.3} us (node at r {:.2} mm z {:.2} mm)",
+                s.detonation_times()[i] * 1e6,
+                s.reference()[i][0].hypot(s.reference()[i][1]) * 1e3,
+                s.reference()[i][2] * 1e3
+            );
+        }
+    }
     while s.time() < end {
         let dt = s.stable_dt().map_err(|e| e.to_string())?;
         let before = jump.map(|_| (total, kinetic(&s)));
@@ -242,6 +283,9 @@ fn main() -> Result<(), String> {
             }
             if std::env::var_os("SHELLS").is_some() {
                 shells(&s, case.inner_radius, h, length);
+            }
+            if layered {
+                layers(&s, case.inner_radius, h, length);
             }
         }
     }
@@ -411,4 +455,44 @@ fn shells(s: &PdSolver, inner_radius: f64, h: f64, length: f64) {
             );
         }
     }
+}
+
+/// `LAYERS=1`: at mid-length (reference z within a spacing), the case's
+/// mean radial velocity in layers of reference radius one spacing thick
+/// from the inner radius out, and the products within a spacing of the
+/// inner radius: their count, mean pressure and mean radial velocity.
+fn layers(s: &PdSolver, inner_radius: f64, h: f64, length: f64) {
+    let mut case = [[0.0f64; 2]; 8];
+    let (mut n, mut p, mut vr_sum) = (0.0f64, 0.0f64, 0.0f64);
+    for i in 0..s.node_count() {
+        let x0 = s.reference()[i];
+        if (x0[2] - 0.5 * length).abs() > h {
+            continue;
+        }
+        let r0 = x0[0].hypot(x0[1]);
+        let y = s.current_position(i);
+        let v = s.velocities()[i];
+        let vr = (v[0] * y[0] + v[1] * y[1]) / y[0].hypot(y[1]).max(1e-12);
+        if s.materials()[i] == 0 {
+            let l = (((r0 - inner_radius) / h).max(0.0) as usize).min(7);
+            case[l][0] += 1.0;
+            case[l][1] += vr;
+        } else if r0 > inner_radius - h {
+            n += 1.0;
+            p += s.pressure(i);
+            vr_sum += vr;
+        }
+    }
+    let row: Vec<String> = case
+        .iter()
+        .filter(|c| c[0] > 0.0)
+        .map(|c| format!("{:6.0} ({})", c[1] / c[0], c[0]))
+        .collect();
+    println!(
+        "    case v_r by layer (inner to outer, m/s (nodes)): {}  products by the wall: {} nodes, p {:.3e} Pa, v_r {:.0} m/s",
+        row.join(" "),
+        n,
+        p / n.max(1.0),
+        vr_sum / n.max(1.0)
+    );
 }

@@ -742,6 +742,7 @@ impl BondBenchBlock {
             neighbours: &self.families.neighbours,
             material: &self.material,
             laws: &self.laws,
+            mirror_walls: false,
         }
     }
 }

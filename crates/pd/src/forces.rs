@@ -75,6 +75,9 @@ pub struct ForceInput<'a> {
     pub material: &'a [u16],
     /// Law per material.
     pub laws: &'a [BondLaw],
+    /// A products node's pairs with solid nodes carry its c in full
+    /// (`crate::ProductsFamily::MirroredWall`) rather than its own half.
+    pub mirror_walls: bool,
 }
 
 /// Nodes per parallel task.
@@ -588,9 +591,11 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
         let uj = input.state[j];
         // A solid neighbour (a case node in the products' family,
         // `crate::ProductsFamily::WithSolids`) has no c: the pair carries
-        // this node's own half alone.
+        // this node's own half alone; with a mirrored wall
+        // (`MirroredWall`) it stands in for products in this node's state.
         let cj = match input.laws[input.material[j] as usize] {
             BondLaw::Gas => uj[3],
+            BondLaw::Solid { .. } if input.mirror_walls => ui[3],
             BondLaw::Solid { .. } => 0.0,
         };
         let coef = 0.5 * (ui[3] + cj);
@@ -623,7 +628,9 @@ fn gas_row(i: usize, input: &ForceInput, neighbours: &[u32], factor: &[f32]) -> 
 /// eq 19, −½ c_i r β V_j / p³ · y on i per unit volume (y = x_j + u_j −
 /// x_i − u_i, as in its row); j takes +½ c_i r β V_i / p³ · y, so
 /// V_i f_i + V_j f_j = 0 and the pair force is the gradient of the
-/// products' energy W(X_i) V_i with j in eq 17's sum.
+/// products' energy W(X_i) V_i with j in eq 17's sum. With `mirror`
+/// (`crate::ProductsFamily::MirroredWall`) the pair carries c_i in full on
+/// both sides.
 #[inline]
 pub fn one_sided_gas_reaction(
     j: usize,
@@ -632,6 +639,7 @@ pub fn one_sided_gas_reaction(
     partners: &[u32],
     bonds: &[u32],
     factor: &[f32],
+    mirror: bool,
 ) -> ([f64; 3], f64) {
     let xj = reference[j];
     let uj = state[j];
@@ -640,7 +648,7 @@ pub fn one_sided_gas_reaction(
         let i = i as usize;
         let xi = reference[i];
         let ui = state[i];
-        let coef = 0.5 * ui[3];
+        let coef = if mirror { ui[3] } else { 0.5 * ui[3] };
         if coef == 0.0 {
             continue;
         }
@@ -926,6 +934,54 @@ pub fn gas_expansion_closing(
         1.0
     };
     (x, s3, s4, closing)
+}
+
+/// The change over the last drift of the wall part of products node i's
+/// eq 17 sum, ΔS_wall = Σ_k β V_k (r/p_k − r/p_k⁰) over the solid nodes k
+/// of its family (`crate::ProductsFamily::MirroredWall`), m³: p_k the
+/// pair's current length, p_k⁰ its length before the drift, whose bond
+/// vector was y − dt (v_k − v_i) with v the half-step velocities the drift
+/// moved the nodes with. Negative when the wall recedes.
+#[allow(clippy::too_many_arguments)]
+pub fn wall_sum_change(
+    i: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    velocity: &[[f64; 3]],
+    dt: f64,
+    neighbours: &[u32],
+    factor: &[f32],
+    material: &[u16],
+    laws: &[BondLaw],
+) -> f64 {
+    let xi = reference[i];
+    let ui = state[i];
+    let vi = velocity[i];
+    let mut ds = 0.0;
+    for (k, &j) in neighbours.iter().enumerate() {
+        let j = j as usize;
+        if !matches!(laws[material[j] as usize], BondLaw::Solid { .. }) {
+            continue;
+        }
+        let (xj, uj, vj) = (reference[j], state[j], velocity[j]);
+        let xi_ = sub3(&xj, &xi);
+        let eta = sub3(&uj, &ui);
+        let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
+        let y0 = [
+            y[0] - dt * (vj[0] - vi[0]),
+            y[1] - dt * (vj[1] - vi[1]),
+            y[2] - dt * (vj[2] - vi[2]),
+        ];
+        let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
+        let p = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
+            .sqrt()
+            .max(1e-15 * r);
+        let p0 = (y0[0] * y0[0] + y0[1] * y0[1] + y0[2] * y0[2])
+            .sqrt()
+            .max(1e-15 * r);
+        ds += factor[k] as f64 * xj[3] * (r / p - r / p0);
+    }
+    ds
 }
 
 /// Parallel map over nodes writing one output each (deterministic).

@@ -75,8 +75,10 @@ pub struct PdConfig {
     pub closing_step_fraction: Option<f64>,
     /// Which nodes a products node's family holds (`crate::ProductsFamily`,
     /// docs/physics/pd/gas.md, "The case in the products' families"):
-    /// `OwnBody` (default, seed 004 as printed) or `WithSolids` (the solid
-    /// nodes of other bodies within the horizon too).
+    /// `OwnBody` (default, seed 004 as printed), `WithSolids` (the solid
+    /// nodes of other bodies within the horizon too) or `MirroredWall`
+    /// (those families, the wall pairs carrying the products node's
+    /// coefficient in full; "A mirrored wall").
     #[serde(default)]
     pub products_family: crate::ProductsFamily,
 }
@@ -728,7 +730,8 @@ mod tests {
     }
 
     /// `products_family` reaches the solver options: `OwnBody` by default,
-    /// `WithSolids` when given; an unknown variant does not parse.
+    /// `WithSolids` or `MirroredWall` when given; an unknown variant does
+    /// not parse.
     #[test]
     fn the_products_family_reaches_the_options() {
         let family = |text: &str| steel_options(text).products_family;
@@ -739,6 +742,10 @@ mod tests {
             crate::ProductsFamily::WithSolids
         );
         assert_eq!(family(&set("OwnBody")), crate::ProductsFamily::OwnBody);
+        assert_eq!(
+            family(&set("MirroredWall")),
+            crate::ProductsFamily::MirroredWall
+        );
         assert!(ron::from_str::<PdConfig>(&set("AllBodies")).is_err());
     }
 

@@ -26,7 +26,7 @@ use crate::contact::{
 use crate::family::{Families, OneSidedPairs};
 use crate::forces::{
     bond_forces_dissipating_in, for_each_node, for_each_node_in, for_each_node_pair_in,
-    gas_expansion_closing, one_sided_gas_reaction, BondLaw, ForceInput, NodeForce,
+    gas_expansion_closing, one_sided_gas_reaction, wall_sum_change, BondLaw, ForceInput, NodeForce,
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::lattice::{BodySpec, Dimension};
@@ -167,6 +167,23 @@ pub enum ProductsFamily {
     /// Its own body's nodes and, within the horizon, the nodes of solid
     /// (non-gas) materials in other bodies.
     WithSolids,
+    /// The families of `WithSolids`, and a mirrored wall: a pair of a
+    /// products node i and a solid node carries c_i in full, as if the
+    /// solid node were products in i's own state (the mirrored wall
+    /// pressure of Adami, Hu & Adams 2012), so that a uniform products
+    /// state against a wall thicker than the horizon is force-free. The
+    /// half of that force the products' energy does not give (the pair's
+    /// gradient is ½ c_i) does work on the wall which node i pays from its
+    /// heat, so energy is kept to the integrator's order and momentum to
+    /// round-off (`docs/physics/pd/gas.md`, "A mirrored wall").
+    MirroredWall,
+}
+
+impl ProductsFamily {
+    /// Whether solid nodes of other bodies join the products' families.
+    pub fn with_solids(self) -> bool {
+        matches!(self, Self::WithSolids | Self::MirroredWall)
+    }
 }
 
 impl Default for PdOptions {
@@ -818,6 +835,16 @@ impl PdSolver {
     /// Askari 2005 (seed 004 ref 3); the linear damage term is Brisance's
     /// choice, with no source (`material.rs`, `bond_based.md`).
     fn update_node_scalars(&mut self) {
+        self.update_node_scalars_moved(0.0);
+    }
+
+    /// Step 3 after a drift of `dt` (0 when the state is only evaluated
+    /// again): with a mirrored wall ([`ProductsFamily::MirroredWall`]) each
+    /// products node also pays the work its wall pairs' second half did
+    /// over the drift (`wall_work`).
+    fn update_node_scalars_moved(&mut self, dt: f64) {
+        let mirror = dt > 0.0 && self.options.products_family == ProductsFamily::MirroredWall;
+        let laws = &self.laws;
         let reference = &self.reference;
         let state = &self.state;
         let families = &self.families;
@@ -852,7 +879,7 @@ impl PdSolver {
                 state,
                 closing.is_some().then_some(&velocity[..]),
                 &families.neighbours[row.clone()],
-                &factor[row],
+                &factor[row.clone()],
                 vf,
             );
             if let Some(out) = closing {
@@ -875,6 +902,31 @@ impl PdSolver {
             if g[2] <= 0.0 && xd > 0.0 {
                 if let Some(r) = gas.reactant {
                     heat += heat_exponent(&gas) * r.energy(xd);
+                }
+            }
+            if mirror {
+                // The work of the wall pairs' second half over the drift,
+                // per unit reference volume: ¼ (c_i^n + c_i^{n+1}) ΔS_wall
+                // (trapezoidal in c_i, as the kicks are in the force),
+                // taken as heat at fixed y (y = 1 before detonation, where
+                // it waits in ΔC until the node detonates).
+                let ds = wall_sum_change(
+                    i,
+                    reference,
+                    state,
+                    velocity,
+                    dt,
+                    &families.neighbours[row.clone()],
+                    &factor[row.clone()],
+                    material,
+                    laws,
+                );
+                if ds != 0.0 {
+                    let c_new = 6.0 * node_pressure(&gas, x, xd, heat).0 * x.powf(4.0 / 3.0) / vf;
+                    let dq = 0.25 * (state[i][3] + c_new) * ds;
+                    let w = heat_exponent(&gas);
+                    let y = if xd > 0.0 { x / xd } else { 1.0 };
+                    heat += w * y.powf(w) * dq;
                 }
             }
             // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
@@ -989,6 +1041,7 @@ impl PdSolver {
             neighbours: &self.families.neighbours,
             material: &self.material,
             laws: &self.laws,
+            mirror_walls: self.options.products_family == ProductsFamily::MirroredWall,
         };
         let own = self.ranks.nodes();
         bond_forces_dissipating_in(
@@ -1004,6 +1057,7 @@ impl PdSolver {
             // those pairs, each summing its own list in a fixed order.
             let (reference, state, factor) = (&self.reference, &self.state, &self.factor);
             let pairs = &self.one_sided;
+            let mirror = self.options.products_family == ProductsFamily::MirroredWall;
             for_each_node_in(&mut self.bond_out, own.clone(), |j, o| {
                 let row = pairs.row(j);
                 if row.is_empty() {
@@ -1016,6 +1070,7 @@ impl PdSolver {
                     &pairs.partner[row.clone()],
                     &pairs.bond[row],
                     factor,
+                    mirror,
                 );
                 for (o, f) in o.force.iter_mut().zip(f) {
                     *o += f;
@@ -1084,6 +1139,7 @@ impl PdSolver {
                         &self.one_sided.partner[row.clone()],
                         &self.one_sided.bond[row],
                         &self.factor,
+                        self.options.products_family == ProductsFamily::MirroredWall,
                     );
                     omega2 += k / rho;
                 }

@@ -54,6 +54,7 @@ impl Pair {
             neighbours: &[1, 0],
             material: &[0, 0],
             laws: &self.laws,
+            mirror_walls: false,
         };
         let mut d = [0f32; 2];
         bond_forces_dissipating_in(
@@ -219,6 +220,84 @@ fn gas_pair_force_is_the_mean_of_the_endpoint_values_of_eq_19() {
     assert_eq!(p.set([0.2, 0.0, 0.0], [0.0, 0.0]), [[0.0; 3]; 2]);
 }
 
+/// A products node (0, coefficient 4) and a solid node (1) in its
+/// family, r = 2, p = 2.2, β = 1: with a mirrored wall the pair carries
+/// c₀ in full on both sides, −4·2·V/2.2³ · 2.2 on node 0 (V₁ = 0.5) and
+/// the opposite per-volume force on node 1 (V₀ = 2), so V₀f₀ + V₁f₁ = 0;
+/// without, c₀/2 (`one_sided_gas_reaction` gives node 1's side).
+#[test]
+fn a_mirrored_wall_pair_carries_the_products_coefficient_in_full_by_hand() {
+    let reference = vec![[0.0, 0.0, 0.0, 2.0], [2.0, 0.0, 0.0, 0.5]];
+    let state = vec![[0.0, 0.0, 0.0, 4.0], [0.2, 0.0, 0.0, 0.0]];
+    let laws = [BondLaw::Gas, SOLID];
+    for (mirror, coef) in [(false, 2.0), (true, 4.0)] {
+        let input = ForceInput {
+            reference: &reference,
+            state: &state,
+            offsets: &[0, 1, 1],
+            neighbours: &[1],
+            material: &[0, 1],
+            laws: &laws,
+            mirror_walls: mirror,
+        };
+        let f0 = gas_row(0, &input, &[1], &[1.0]).force;
+        let want = -coef * 2.0 * 0.5 / 2.2f64.powi(3) * 2.2;
+        assert!((f0[0] - want).abs() < 1e-15, "{mirror}: {f0:?}");
+        let (f1, k) = one_sided_gas_reaction(1, &reference, &state, &[0], &[0], &[1.0], mirror);
+        assert!(
+            (2.0 * f0[0] + 0.5 * f1[0]).abs() < 1e-15,
+            "{mirror}: {f1:?}"
+        );
+        // Stiffness Σ c β V_i r/p³ at the pair's carried coefficient.
+        assert!(
+            (k - coef * 2.0 * 2.0 * 2.0 / 2.2f64.powi(3)).abs() < 1e-14,
+            "{k}"
+        );
+    }
+}
+
+/// ΔS_wall by hand: products node 0 at rest, solid node 1 (V = 0.5)
+/// moved from 2 to 2.2 along x by v = 1e3 m/s over dt = 2e-4 s (so the
+/// pair was 2.0 long before the drift): 0.5 (2/2.2 − 2/2) = −0.0454…; a
+/// gas neighbour is not counted, and at dt = 0 nothing changed.
+#[test]
+fn the_wall_sum_changes_by_the_solid_pairs_stretch_over_the_drift() {
+    let reference = vec![
+        [0.0, 0.0, 0.0, 2.0],
+        [2.0, 0.0, 0.0, 0.5],
+        [0.0, 1.0, 0.0, 0.7],
+    ];
+    let state = vec![[0.0; 4], [0.2, 0.0, 0.0, 0.0], [0.0, 0.3, 0.0, 0.0]];
+    let velocity = vec![[0.0; 3], [1.0e3, 0.0, 0.0], [0.0, 1.5e3, 0.0]];
+    let laws = [BondLaw::Gas, SOLID];
+    let material = [0u16, 1, 0];
+    let ds = wall_sum_change(
+        0,
+        &reference,
+        &state,
+        &velocity,
+        2.0e-4,
+        &[1, 2],
+        &[1.0, 1.0],
+        &material,
+        &laws,
+    );
+    let want = 0.5 * (2.0 / 2.2 - 1.0);
+    assert!((ds - want).abs() < 1e-15, "{ds} against {want}");
+    let none = wall_sum_change(
+        0,
+        &reference,
+        &state,
+        &velocity,
+        0.0,
+        &[1, 2],
+        &[1.0, 1.0],
+        &material,
+        &laws,
+    );
+    assert_eq!(none, 0.0);
+}
+
 #[test]
 fn gas_expansion_is_one_at_rest_and_eight_when_doubled() {
     let reference = vec![
@@ -376,6 +455,7 @@ fn every_instruction_set_gives_the_bits_of_the_portable_kernel() {
                 neighbours: &block.families.neighbours,
                 material: &material,
                 laws: &laws,
+                mirror_walls: false,
             };
             let [f0, f1] = &mut states;
             let [p0, p1] = &mut plastic;
@@ -441,6 +521,7 @@ fn passes_over_node_ranges_give_the_bits_of_the_whole_pass() {
         neighbours: &block.families.neighbours,
         material: &material,
         laws: &laws,
+        mirror_walls: false,
     };
     let bonds = block.factor.len();
     let (mut f0, mut p0) = (block.factor.clone(), vec![0f32; bonds]);

@@ -1,10 +1,7 @@
 //! Building a [`PdSolver`] from its [`PdSetup`]: the nodes, families, bond
 //! weights and detonation times, and the forces of the initial state.
 
-use super::{
-    distance, invalid, BurnMethod, PdSetup, PdSetupError, PdSolver, ProductsFamily,
-    BURN_STEP_FRACTION,
-};
+use super::{distance, invalid, BurnMethod, PdSetup, PdSetupError, PdSolver, BURN_STEP_FRACTION};
 use crate::cell_list::CellList;
 use crate::family::{build_families, build_families_where, partial_volume, OneSidedPairs};
 use crate::forces::{BondLaw, NodeForce};
@@ -106,18 +103,18 @@ impl PdSolver {
             .iter()
             .map(|&m| matches!(setup.materials[m as usize], PdMaterial::Gas(_)))
             .collect();
-        let families = match o.products_family {
-            ProductsFamily::OwnBody => build_families(&cloud.positions, &cloud.body, horizon, h),
-            ProductsFamily::WithSolids => {
-                let body = &cloud.body;
-                build_families_where(&cloud.positions, horizon, h, |i, j| {
-                    body[i] == body[j] || (is_gas[i] && !is_gas[j])
-                })
-            }
+        let families = if o.products_family.with_solids() {
+            let body = &cloud.body;
+            build_families_where(&cloud.positions, horizon, h, |i, j| {
+                body[i] == body[j] || (is_gas[i] && !is_gas[j])
+            })
+        } else {
+            build_families(&cloud.positions, &cloud.body, horizon, h)
         };
-        let one_sided = match o.products_family {
-            ProductsFamily::OwnBody => OneSidedPairs::default(),
-            ProductsFamily::WithSolids => OneSidedPairs::of(&families, |i| is_gas[i]),
+        let one_sided = if o.products_family.with_solids() {
+            OneSidedPairs::of(&families, |i| is_gas[i])
+        } else {
+            OneSidedPairs::default()
         };
         // Strength factors of the materials with a spread critical stretch
         // (`strength.rs`; empty when none has one), and per material the

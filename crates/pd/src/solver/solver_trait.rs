@@ -115,7 +115,7 @@ impl Solver for PdSolver {
             }
         });
         self.time += dt;
-        self.update_node_scalars();
+        self.update_node_scalars_moved(dt);
         self.compute_forces();
         self.book_dissipation();
         self.kick(0.5 * dt);
