@@ -469,7 +469,9 @@ impl PdSolver {
     /// on, J: Σ_i (ΔC_i/ω) (X_i/X_d,i)^{−ω} V_i, the part of `gas_energy`
     /// that the artificial viscosity returned plus, for an explosive with a
     /// reactant, the compression energy its unreacted nodes held when they
-    /// detonated.
+    /// detonated, and with a mirrored wall ([`ProductsFamily::MirroredWall`])
+    /// the work of the wall pairs' second half (negative while the case
+    /// recedes).
     pub fn viscous_heat(&self) -> f64 {
         (0..self.gas.len())
             .map(|i| match self.materials[self.material[i] as usize] {
