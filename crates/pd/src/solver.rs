@@ -184,6 +184,12 @@ impl ProductsFamily {
     pub fn with_solids(self) -> bool {
         matches!(self, Self::WithSolids | Self::MirroredWall)
     }
+
+    /// Whether a products node's pairs with solid nodes carry its
+    /// coefficient in full (`MirroredWall`).
+    pub fn mirrors_walls(self) -> bool {
+        self == Self::MirroredWall
+    }
 }
 
 impl Default for PdOptions {
@@ -845,7 +851,7 @@ impl PdSolver {
     /// products node also pays the work its wall pairs' second half did
     /// over the drift (`wall_work`).
     fn update_node_scalars_moved(&mut self, dt: f64) {
-        let mirror = dt > 0.0 && self.options.products_family == ProductsFamily::MirroredWall;
+        let mirror = dt > 0.0 && self.options.products_family.mirrors_walls();
         let laws = &self.laws;
         let reference = &self.reference;
         let state = &self.state;
@@ -906,6 +912,7 @@ impl PdSolver {
                     heat += heat_exponent(&gas) * r.energy(xd);
                 }
             }
+            let x43 = x.powf(4.0 / 3.0);
             if mirror {
                 // The work of the wall pairs' second half over the drift,
                 // per unit reference volume: ¼ (c_i^n + c_i^{n+1}) ΔS_wall
@@ -924,7 +931,7 @@ impl PdSolver {
                     laws,
                 );
                 if ds != 0.0 {
-                    let c_new = 6.0 * node_pressure(&gas, x, xd, heat).0 * x.powf(4.0 / 3.0) / vf;
+                    let c_new = 6.0 * node_pressure(&gas, x, xd, heat).0 * x43 / vf;
                     let dq = 0.25 * (state[i][3] + c_new) * ds;
                     let w = heat_exponent(&gas);
                     let y = if xd > 0.0 { x / xd } else { 1.0 };
@@ -934,7 +941,6 @@ impl PdSolver {
             // Eq 26: |∂f/∂p| of eq 19 at the current state, directly
             // through p and through X(p) (eq 17).
             let (p, dp) = node_pressure(&gas, x, xd, heat);
-            let x43 = x.powf(4.0 / 3.0);
             let dq = (dp * x43 + 4.0 / 3.0 * p * x.powf(1.0 / 3.0)).abs();
             let stiff =
                 12.0 * p.abs() * x43 / vf * s3 + 18.0 * dq * x43 * reference[i][3] / (vf * vf) * s4;
@@ -1043,7 +1049,7 @@ impl PdSolver {
             neighbours: &self.families.neighbours,
             material: &self.material,
             laws: &self.laws,
-            mirror_walls: self.options.products_family == ProductsFamily::MirroredWall,
+            mirror_walls: self.options.products_family.mirrors_walls(),
         };
         let own = self.ranks.nodes();
         bond_forces_dissipating_in(
@@ -1059,7 +1065,7 @@ impl PdSolver {
             // those pairs, each summing its own list in a fixed order.
             let (reference, state, factor) = (&self.reference, &self.state, &self.factor);
             let pairs = &self.one_sided;
-            let mirror = self.options.products_family == ProductsFamily::MirroredWall;
+            let mirror = self.options.products_family.mirrors_walls();
             for_each_node_in(&mut self.bond_out, own.clone(), |j, o| {
                 let row = pairs.row(j);
                 if row.is_empty() {
@@ -1141,7 +1147,7 @@ impl PdSolver {
                         &self.one_sided.partner[row.clone()],
                         &self.one_sided.bond[row],
                         &self.factor,
-                        self.options.products_family == ProductsFamily::MirroredWall,
+                        self.options.products_family.mirrors_walls(),
                     );
                     omega2 += k / rho;
                 }

@@ -189,6 +189,15 @@ fn block(nx: usize, amplitude: f64, critical_stretch: f64) -> PdSolver {
     s
 }
 
+/// The last finite detonation time of the run's nodes, s (0 with none).
+fn last_detonation(s: &PdSolver) -> f64 {
+    s.detonation_times()
+        .iter()
+        .cloned()
+        .filter(|t| t.is_finite())
+        .fold(0.0, f64::max)
+}
+
 fn momentum_scale(s: &PdSolver) -> f64 {
     (0..s.node_count())
         .map(|i| {

@@ -280,12 +280,7 @@ fn momentum_of_a_detonating_charge_and_its_case_is_conserved_to_round_off() {
     })
     .unwrap();
     let e0 = s.conservation_totals().energy;
-    let last = s
-        .detonation_times()
-        .iter()
-        .cloned()
-        .filter(|t| t.is_finite())
-        .fold(0.0, f64::max);
+    let last = last_detonation(&s);
     assert!(last > 0.0);
     let mut pushed = false;
     while s.time() < 1.5 * last {

@@ -53,6 +53,15 @@ fn products_beside_copper(
     .unwrap()
 }
 
+/// Steps `s` until every node has detonated.
+fn run_past_the_burn(s: &mut PdSolver) {
+    let last = last_detonation(s);
+    while s.time() <= last {
+        let dt = s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+}
+
 /// The stored energy the forces derive from: products and bonds.
 fn potential(s: &PdSolver) -> f64 {
     s.gas_energy() + s.bond_energy()
@@ -89,16 +98,7 @@ fn the_forces_are_the_gradient_of_the_stored_energy_with_the_case_in_the_familie
         .any(|k| s.families.neighbours[k] as usize == wall));
     assert!(s.families.find(wall, gas).is_none(), "one-sided");
     // Past every detonation (a few steps at this speed).
-    let last = s
-        .detonation_times()
-        .iter()
-        .cloned()
-        .filter(|t| t.is_finite())
-        .fold(0.0, f64::max);
-    while s.time() <= last {
-        let dt = s.stable_dt().unwrap();
-        s.advance(dt).unwrap();
-    }
+    run_past_the_burn(&mut s);
     for i in 0..s.node_count() {
         let k = i as f64;
         for d in 0..3 {
@@ -146,12 +146,7 @@ fn momentum_and_energy_are_kept_with_the_case_in_the_families() {
     ] {
         let mut s = products_beside_copper(family, None, true, true);
         let e0 = s.conservation_totals().energy;
-        let last = s
-            .detonation_times()
-            .iter()
-            .cloned()
-            .filter(|t| t.is_finite())
-            .fold(0.0, f64::max);
+        let last = last_detonation(&s);
         while s.time() < 3.0 * last {
             let dt = s.stable_dt().unwrap();
             s.advance(dt).unwrap();
@@ -252,16 +247,7 @@ fn rigid_case(family: ProductsFamily) -> PdSolver {
 /// products state against the case.
 fn largest_force_at_rest(family: ProductsFamily) -> f64 {
     let mut s = rigid_case(family);
-    let last = s
-        .detonation_times()
-        .iter()
-        .cloned()
-        .filter(|t| t.is_finite())
-        .fold(0.0, f64::max);
-    while s.time() <= last {
-        let dt = s.stable_dt().unwrap();
-        s.advance(dt).unwrap();
-    }
+    run_past_the_burn(&mut s);
     for i in 0..s.node_count() {
         for d in 0..3 {
             s.state[i][d] = 0.0;
@@ -357,12 +343,7 @@ fn a_mirrored_wall_gives_the_bits_of_one_rank_and_of_an_unbroken_run() {
     );
     // Every products node has detonated and the copper moves: the wall's
     // work reaches the products' heat in these steps.
-    let last = s
-        .detonation_times()
-        .iter()
-        .cloned()
-        .filter(|t| t.is_finite())
-        .fold(0.0, f64::max);
+    let last = last_detonation(&s);
     eprintln!("t {:e} s, last detonation {last:e} s", s.time());
     assert!(last < 0.5 * s.time(), "{last:e} at {:e}", s.time());
     assert!((0..s.node_count()).any(|i| s.materials()[i] == 1 && s.velocities()[i][0] > 1.0));
