@@ -1,7 +1,9 @@
 //! The solver's memory count (`PdSolver::memory_use`) against hand counts.
 
 use super::*;
+use crate::lattice::BodySpec;
 use crate::material::{Proportional, ProportionalKind};
+use brisance_grid::Shape;
 
 /// A micro-elastic steel block of n³ nodes, δ = 3h, as the bond-force
 /// bench uses, with or without short-range forces.

@@ -1,7 +1,10 @@
 use super::*;
+use crate::lattice::{BodySpec, Dimension};
 use crate::material::{Proportional, ProportionalKind};
 use crate::strength::StretchSpread;
 use brisance_core::Solver;
+use brisance_grid::Shape;
+use brisance_reaction::DetonationPoint;
 
 fn steel(kind: ProportionalKind, critical_stretch: f64) -> PdMaterial {
     PdMaterial::Proportional(Proportional {
