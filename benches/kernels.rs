@@ -483,6 +483,64 @@ fn pd_bond_forces(c: &mut Criterion) {
     group.finish();
 }
 
+/// The peridynamic short-range (contact) pass of seed 004 eq 27 as a run
+/// steps it: the current positions binned into the cell list, then each
+/// node's contact force over the candidates of the 27 cells around it
+/// (`brisance_pd::contact`). The 28³ block of `pd_bond_forces`, split at
+/// mid-x into two bodies: a breakable solid (K = 1.4e11 Pa, same-body
+/// pairs skipped where their bond is intact, which takes a family lookup)
+/// and an explosive with a contact modulus (K = 9e9 Pa, every pair within
+/// reach, as TNT with its reactant in E-PD-CYL), so the three kinds of
+/// pair of a cased charge are all there. Nodes per second; in the full
+/// E-PD-CYL tube this pass takes about half of a one-thread step
+/// (docs/physics/pd/kernel.md).
+fn pd_contact_forces(c: &mut Criterion) {
+    use brisance::pd::cases::BondBenchBlock;
+    use brisance::pd::cell_list::CellList;
+    use brisance::pd::contact::{
+        bin_current_positions, contact_forces, ContactInput, ContactParams,
+    };
+    let h = 1.0e-3;
+    let block = BondBenchBlock::new(28, h);
+    let n = block.reference.len();
+    let half = 14.0 * h;
+    let body: Vec<u32> = block
+        .reference
+        .iter()
+        .map(|x| u32::from(x[0] >= half))
+        .collect();
+    let material: Vec<u16> = body.iter().map(|&b| b as u16).collect();
+    let params = ContactParams {
+        force_factor: 15.0,
+        contact_distance: 1.35 * h,
+        reference_fraction: 0.9,
+        horizon: 3.0 * h,
+    };
+    let input = ContactInput {
+        reference: &block.reference,
+        state: &block.state,
+        body: &body,
+        material: &material,
+        bulk_modulus: &[1.4e11, 9.0e9],
+        breakable: &[true, false],
+        families: &block.families,
+        factor: &block.factor,
+    };
+    let mut cells = CellList::default();
+    let mut out = vec![([0.0; 3], 0.0); n];
+    let mut group = c.benchmark_group("pd_contact_forces");
+    group.throughput(Throughput::Elements(n as u64));
+    group.sample_size(20);
+    group.bench_function("solid_and_explosive_block_28cubed", |b| {
+        b.iter(|| {
+            bin_current_positions(&mut cells, input.reference, input.state, &params);
+            contact_forces(&input, &cells, &params, &mut out);
+            black_box(&out);
+        })
+    });
+    group.finish();
+}
+
 criterion_group!(
     benches,
     fdm_lax_wendroff,
@@ -492,6 +550,7 @@ criterion_group!(
     eos_density_inversion,
     mpm_step,
     mpm_kernels,
-    pd_bond_forces
+    pd_bond_forces,
+    pd_contact_forces
 );
 criterion_main!(benches);
