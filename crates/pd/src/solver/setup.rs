@@ -1,4 +1,4 @@
-//! What a [`PdSolver`] is built from: its options, the setup and its
+//! What a [`PdSolver`](super::PdSolver) is built from: its options, the setup and its
 //! errors, and the memory report.
 
 use crate::lattice::{BodySpec, Dimension};
@@ -207,7 +207,7 @@ pub(super) fn invalid(field: impl Into<String>, message: impl Into<String>) -> P
     }
 }
 
-/// Heap memory of a [`PdSolver`], summed from the capacities of its arrays.
+/// Heap memory of a [`PdSolver`](super::PdSolver), summed from the capacities of its arrays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PdMemory {
     /// Nodes.
