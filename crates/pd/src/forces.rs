@@ -888,44 +888,206 @@ pub fn gas_expansion_closing(
     factor: &[f32],
     family_volume: f64,
 ) -> (f64, f64, f64, f64) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the feature the function was compiled for is present.
+            return unsafe {
+                gas_expansion_closing_avx512(
+                    i,
+                    reference,
+                    state,
+                    velocity,
+                    neighbours,
+                    factor,
+                    family_volume,
+                )
+            };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: as above.
+            return unsafe {
+                gas_expansion_closing_avx2(
+                    i,
+                    reference,
+                    state,
+                    velocity,
+                    neighbours,
+                    factor,
+                    family_volume,
+                )
+            };
+        }
+    }
+    gas_expansion_closing_lanes(
+        i,
+        reference,
+        state,
+        velocity,
+        neighbours,
+        factor,
+        family_volume,
+    )
+}
+
+/// [`gas_expansion_closing_lanes`] compiled with AVX-512 (the same IEEE
+/// operations, so the same bits, eight lanes at a time).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2")]
+unsafe fn gas_expansion_closing_avx512(
+    i: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    velocity: Option<&[[f64; 3]]>,
+    neighbours: &[u32],
+    factor: &[f32],
+    family_volume: f64,
+) -> (f64, f64, f64, f64) {
+    gas_expansion_closing_lanes(
+        i,
+        reference,
+        state,
+        velocity,
+        neighbours,
+        factor,
+        family_volume,
+    )
+}
+
+/// [`gas_expansion_closing_lanes`] compiled with AVX2 (same bits).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gas_expansion_closing_avx2(
+    i: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    velocity: Option<&[[f64; 3]]>,
+    neighbours: &[u32],
+    factor: &[f32],
+    family_volume: f64,
+) -> (f64, f64, f64, f64) {
+    gas_expansion_closing_lanes(
+        i,
+        reference,
+        state,
+        velocity,
+        neighbours,
+        factor,
+        family_volume,
+    )
+}
+
+/// One products pair's terms of eq 17 and of the stable step:
+/// (q β V, q/p² β V, q²/p² β V) with q = r/p, from the reference bond
+/// ξ = x_j − x_i, the relative displacement η = u_j − u_i, the bond
+/// factor β and the volume V of node j.
+#[inline(always)]
+fn gas_pair_terms(xi_: [f64; 3], eta: [f64; 3], beta: f32, vol: f64) -> [f64; 3] {
+    let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
+    let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
+    let p = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
+        .sqrt()
+        .max(1e-15 * r);
+    let bv = beta as f64 * vol;
+    let q = r / p;
+    [q * bv, q / (p * p) * bv, q * q / (p * p) * bv]
+}
+
+/// One products pair's closing time p²/(−d·Δv) where the pair closes
+/// (∞ where it does not or its bond is broken), d = x_j − x_i + u_j − u_i
+/// summed in that order (x and u differenced first, not reused from
+/// y = ξ + η: the closing time keeps the bits it had as a pass of its own).
+#[inline(always)]
+fn gas_pair_closing(dx: [f64; 3], uj: [f64; 3], ui: [f64; 3], dv: [f64; 3], beta: f32) -> f64 {
+    let d = [
+        dx[0] + uj[0] - ui[0],
+        dx[1] + uj[1] - ui[1],
+        dx[2] + uj[2] - ui[2],
+    ];
+    let approach = -(d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2]);
+    if beta != 0.0 && approach > 0.0 {
+        // p/ṗ = p²/(−y·Δv).
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / approach
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The body of [`gas_expansion_closing`]: the pairs in groups of
+/// `LANES` (eight), each group's terms formed lane by lane (loops the compiler
+/// turns into vector instructions: sqrt and division are exact IEEE
+/// operations in any width) and then added to the sums one pair at a
+/// time in the row's order, so the sums are those of a pair-by-pair loop
+/// to the bit; the rest of the row pair by pair.
+#[inline(always)]
+fn gas_expansion_closing_lanes(
+    i: usize,
+    reference: &[[f64; 4]],
+    state: &[[f64; 4]],
+    velocity: Option<&[[f64; 3]]>,
+    neighbours: &[u32],
+    factor: &[f32],
+    family_volume: f64,
+) -> (f64, f64, f64, f64) {
     let xi = reference[i];
     let ui = state[i];
+    let ui3 = [ui[0], ui[1], ui[2]];
     let (mut sum, mut s3, mut s4) = (0.0, 0.0, 0.0);
     let mut closing = f64::INFINITY;
-    for (k, &j) in neighbours.iter().enumerate() {
-        let j = j as usize;
-        let xj = reference[j];
-        let uj = state[j];
-        let xi_ = sub3(&xj, &xi);
-        let eta = sub3(&uj, &ui);
-        let y = [xi_[0] + eta[0], xi_[1] + eta[1], xi_[2] + eta[2]];
-        let r = (xi_[0] * xi_[0] + xi_[1] * xi_[1] + xi_[2] * xi_[2]).sqrt();
-        let p = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
-            .sqrt()
-            .max(1e-15 * r);
-        let bv = factor[k] as f64 * xj[3];
-        let q = r / p;
-        sum += q * bv;
-        s3 += q / (p * p) * bv;
-        s4 += q * q / (p * p) * bv;
+    let groups = neighbours
+        .chunks_exact(LANES)
+        .zip(factor.chunks_exact(LANES));
+    let done = neighbours.len() / LANES * LANES;
+    for (js, betas) in groups {
+        let mut dx = [[0.0; 3]; LANES];
+        let mut uj = [[0.0; 3]; LANES];
+        let mut vol = [0.0; LANES];
+        for l in 0..LANES {
+            let j = js[l] as usize;
+            let (x, u) = (reference[j], state[j]);
+            dx[l] = [x[0] - xi[0], x[1] - xi[1], x[2] - xi[2]];
+            uj[l] = [u[0], u[1], u[2]];
+            vol[l] = x[3];
+        }
+        let mut terms = [[0.0; 3]; LANES];
+        for l in 0..LANES {
+            let eta = [uj[l][0] - ui[0], uj[l][1] - ui[1], uj[l][2] - ui[2]];
+            terms[l] = gas_pair_terms(dx[l], eta, betas[l], vol[l]);
+        }
+        for t in &terms {
+            sum += t[0];
+            s3 += t[1];
+            s4 += t[2];
+        }
         if let Some(v) = velocity {
-            if factor[k] != 0.0 {
-                let (vi, vj) = (v[i], v[j]);
-                // The bond vector summed as x_j − x_i + u_j − u_i, not
-                // reused from y (x and u differenced first): the closing
-                // time keeps the bits it had as a pass of its own.
-                let d = [
-                    xj[0] - xi[0] + uj[0] - ui[0],
-                    xj[1] - xi[1] + uj[1] - ui[1],
-                    xj[2] - xi[2] + uj[2] - ui[2],
-                ];
-                let approach =
-                    -(d[0] * (vj[0] - vi[0]) + d[1] * (vj[1] - vi[1]) + d[2] * (vj[2] - vi[2]));
-                if approach > 0.0 {
-                    // p/ṗ = p²/(−y·Δv).
-                    closing = closing.min((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / approach);
-                }
+            let vi = v[i];
+            let mut dv = [[0.0; 3]; LANES];
+            for l in 0..LANES {
+                let vj = v[js[l] as usize];
+                dv[l] = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
             }
+            let mut c = [0.0; LANES];
+            for l in 0..LANES {
+                c[l] = gas_pair_closing(dx[l], uj[l], ui3, dv[l], betas[l]);
+            }
+            for &c in &c {
+                closing = closing.min(c);
+            }
+        }
+    }
+    for (&j, &beta) in neighbours[done..].iter().zip(&factor[done..]) {
+        let j = j as usize;
+        let (xj, uj) = (reference[j], state[j]);
+        let dx = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+        let eta = sub3(&uj, &ui);
+        let t = gas_pair_terms(dx, eta, beta, xj[3]);
+        sum += t[0];
+        s3 += t[1];
+        s4 += t[2];
+        if let Some(v) = velocity {
+            let (vi, vj) = (v[i], v[j]);
+            let dv = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
+            closing = closing.min(gas_pair_closing(dx, [uj[0], uj[1], uj[2]], ui3, dv, beta));
         }
     }
     let x = if sum > 0.0 {
