@@ -525,6 +525,7 @@ fn pd_contact_forces(c: &mut Criterion) {
         breakable: &[true, false],
         families: &block.families,
         factor: &block.factor,
+        family_cutoff: 3.5 * h,
     };
     let mut cells = CellList::default();
     let mut out = vec![([0.0; 3], 0.0); n];

@@ -41,8 +41,11 @@
 //! compressing indefinitely". Lattice neighbours start force-free
 //! (d = 0.9 h). Neighbours are found
 //! with a cell list of the *current* positions x + u, rebuilt every step
-//! from the reference positions and displacements (no copy of the current
-//! positions is kept).
+//! from the reference positions and displacements; the list keeps the
+//! current positions in its buckets' order (24 B a node), so a bucket's
+//! candidates are read as contiguous runs and tested against the reach
+//! eight at a time (docs/physics/pd/kernel.md, "The contact pass beside
+//! the bonds").
 
 use crate::cell_list::CellList;
 use crate::family::Families;
@@ -97,6 +100,13 @@ pub struct ContactInput<'a> {
     pub families: &'a Families,
     /// Bond factors (0 = broken).
     pub factor: &'a [f32],
+    /// The families' reference cutoff δ + h/2 (`crate::family`): a pair of
+    /// one body closer than this in the reference configuration is in both
+    /// nodes' rows, one further away in neither. Lets the pass answer the
+    /// family test of a node whose bonds are all intact from the reference
+    /// distance instead of a binary search (same answer, checked against
+    /// the search in the tests); 0 always searches.
+    pub family_cutoff: f64,
 }
 
 /// Current position x + u of node i, m.
@@ -107,14 +117,14 @@ pub fn current_position(reference: &[[f64; 4]], state: &[[f64; 4]], i: usize) ->
 }
 
 /// Rebuilds `cells` over the current positions with cells of the search
-/// reach.
+/// reach, keeping the positions in the buckets' order.
 pub fn bin_current_positions(
     cells: &mut CellList,
     reference: &[[f64; 4]],
     state: &[[f64; 4]],
     params: &ContactParams,
 ) {
-    cells.rebuild(reference.len(), params.reach(), |i| {
+    cells.rebuild_with_positions(reference.len(), params.reach(), |i| {
         current_position(reference, state, i)
     });
 }
@@ -144,23 +154,40 @@ fn for_each_contact<F: FnMut(usize, f64, f64, f64, [f64; 3])>(
     let yi = current_position(input.reference, input.state, i);
     let xi = input.reference[i];
     let mi = input.material[i] as usize;
-    cells.for_each_candidate(yi, |j| {
+    // The family test from the reference distance r: a pair of one body
+    // with r² below `bonded2` is in i's row, above `apart2` in no row;
+    // between the two (a relative band of 1e-9 around the cutoff, wider
+    // than the round-off of the families' own r) the row is searched.
+    // Where i has a broken bond, only "in no row" is answered this way.
+    let cut2 = input.family_cutoff * input.family_cutoff;
+    let (bonded2, apart2) = (cut2 * (1.0 - 1e-9), cut2 * (1.0 + 1e-9));
+    let row_intact = input.breakable[mi]
+        && cut2 > 0.0
+        && input.factor[input.families.row(i)]
+            .iter()
+            .fold(true, |all, &f| all & (f != 0.0));
+    cells.for_each_candidate_within(yi, reach2, |j, d, p2| {
         if j == i {
             return;
         }
-        let yj = current_position(input.reference, input.state, j);
-        let d = [yj[0] - yi[0], yj[1] - yi[1], yj[2] - yi[2]];
-        let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if p2 >= reach2 {
-            return;
-        }
         let mj = input.material[j] as usize;
+        let xj = input.reference[j];
+        let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+        let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
         if input.body[i] == input.body[j] {
             if input.breakable[mi] {
-                if let Some(k) = input.families.find(i, j) {
-                    if input.factor[k] != 0.0 {
-                        return;
-                    }
+                let bonded = if row_intact && r2 < bonded2 {
+                    true
+                } else if cut2 > 0.0 && r2 > apart2 {
+                    false
+                } else {
+                    input
+                        .families
+                        .find(i, j)
+                        .is_some_and(|k| input.factor[k] != 0.0)
+                };
+                if bonded {
+                    return;
                 }
             } else if input.bulk_modulus[mi] == 0.0 {
                 return;
@@ -170,9 +197,7 @@ fn for_each_contact<F: FnMut(usize, f64, f64, f64, [f64; 3])>(
             // not — eq 19 alone lets two of them come arbitrarily
             // close.
         }
-        let xj = input.reference[j];
-        let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
-        let pc = params.pair_distance(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        let pc = params.pair_distance(r2);
         if p2 >= 2.25 * pc * pc {
             return;
         }
@@ -358,6 +383,7 @@ mod tests {
             breakable: &[true, false],
             families: &families,
             factor: &factor,
+            family_cutoff: p.horizon + 0.5 * H,
         };
         pass(&input, &cells, &p)
     }
@@ -536,6 +562,164 @@ mod tests {
         );
         assert!(out[4].0[1].abs() < 1e-9 * expected.abs());
         assert!(out[4].0[2].abs() < 1e-9 * expected.abs());
+    }
+
+    /// The pass as it was before the cell list kept the current positions
+    /// (each candidate's position formed from x + u, the family test by
+    /// binary search for every same-body solid pair): the oracle the pass
+    /// must match bit for bit.
+    fn forces_by_lookup(input: &ContactInput, params: &ContactParams) -> Vec<([f64; 3], f64)> {
+        let n = input.reference.len();
+        let mut cells = CellList::default();
+        cells.rebuild(n, params.reach(), |i| {
+            current_position(input.reference, input.state, i)
+        });
+        let k0 = stiffness_factor(params);
+        let reach2 = params.reach() * params.reach();
+        (0..n)
+            .map(|i| {
+                let yi = current_position(input.reference, input.state, i);
+                let xi = input.reference[i];
+                let mi = input.material[i] as usize;
+                let (mut f, mut stiff) = ([0.0; 3], 0.0);
+                cells.for_each_candidate(yi, |j| {
+                    if j == i {
+                        return;
+                    }
+                    let yj = current_position(input.reference, input.state, j);
+                    let d = [yj[0] - yi[0], yj[1] - yi[1], yj[2] - yi[2]];
+                    let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    if p2 >= reach2 {
+                        return;
+                    }
+                    let mj = input.material[j] as usize;
+                    if input.body[i] == input.body[j] {
+                        if input.breakable[mi] {
+                            if let Some(k) = input.families.find(i, j) {
+                                if input.factor[k] != 0.0 {
+                                    return;
+                                }
+                            }
+                        } else if input.bulk_modulus[mi] == 0.0 {
+                            return;
+                        }
+                    }
+                    let xj = input.reference[j];
+                    let r = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+                    let pc = params.pair_distance(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+                    if p2 >= 2.25 * pc * pc {
+                        return;
+                    }
+                    let k = k0 * input.bulk_modulus[mi].max(input.bulk_modulus[mj]) * xj[3];
+                    let p = p2.sqrt();
+                    stiff += k;
+                    if p < pc && p > 0.0 {
+                        let g = k * (p - pc) / p;
+                        f[0] += g * d[0];
+                        f[1] += g * d[1];
+                        f[2] += g * d[2];
+                    }
+                });
+                (f, stiff)
+            })
+            .collect()
+    }
+
+    /// A 10³ block of three bodies (two breakable solids side by side and
+    /// an explosive with a contact modulus), squeezed along x and shaken by
+    /// up to ±0.45 h, with a third of the nodes' rows fully intact and the
+    /// rest holding broken and partly damaged bonds: the pass gives the
+    /// oracle's forces and stiffnesses to the bit, on every thread count.
+    #[test]
+    fn the_pass_matches_the_lookup_oracle_bit_for_bit() {
+        let n1 = 10;
+        let mut reference = Vec::new();
+        let (mut body, mut material) = (Vec::new(), Vec::new());
+        for k in 0..n1 {
+            for j in 0..n1 {
+                for i in 0..n1 {
+                    reference.push([i as f64 * H, j as f64 * H, k as f64 * H]);
+                    let (b, m) = match i {
+                        0..=3 => (0, 0),
+                        4..=6 => (2, 0),
+                        _ => (1, 1),
+                    };
+                    body.push(b);
+                    material.push(m);
+                }
+            }
+        }
+        let p = params();
+        let families = build_families(&reference, &body, p.horizon, H);
+        let mut factor = vec![1.0f32; families.bond_count()];
+        for i in 0..reference.len() {
+            if i % 3 != 0 {
+                for (m, k) in families.row(i).enumerate() {
+                    factor[k] = match (i + m) % 5 {
+                        0 => 0.0,
+                        1 => 0.5,
+                        _ => 1.0,
+                    };
+                }
+            }
+        }
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let refs: Vec<[f64; 4]> = reference
+            .iter()
+            .map(|x| [x[0], x[1], x[2], H * H * H])
+            .collect();
+        let state: Vec<[f64; 4]> = reference
+            .iter()
+            .map(|x| {
+                let squeeze = -0.12 * (x[0] - 4.5 * H);
+                [
+                    squeeze + 0.9 * H * rnd(),
+                    0.9 * H * rnd(),
+                    0.9 * H * rnd(),
+                    0.0,
+                ]
+            })
+            .collect();
+        let input = ContactInput {
+            reference: &refs,
+            state: &state,
+            body: &body,
+            material: &material,
+            bulk_modulus: &[K, 9.0e9],
+            breakable: &[true, false],
+            families: &families,
+            factor: &factor,
+            family_cutoff: p.horizon + 0.5 * H,
+        };
+        let expected = forces_by_lookup(&input, &p);
+        let touching = expected.iter().filter(|o| o.0 != [0.0; 3]).count();
+        assert!(touching > reference.len() / 2, "{touching}");
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let out = pool.install(|| {
+                let mut cells = CellList::default();
+                bin_current_positions(&mut cells, &refs, &state, &p);
+                let mut out = vec![([0.0; 3], 0.0); refs.len()];
+                contact_forces(&input, &cells, &p, &mut out);
+                out
+            });
+            for (i, (a, b)) in out.iter().zip(&expected).enumerate() {
+                assert_eq!(
+                    (a.0.map(f64::to_bits), a.1.to_bits()),
+                    (b.0.map(f64::to_bits), b.1.to_bits()),
+                    "node {i} on {threads} threads"
+                );
+            }
+        }
     }
 
     /// Same body: gas nodes never touch; solid nodes only where their

@@ -263,14 +263,14 @@ impl PdSolver {
 
     /// Heap memory of the solver, from the capacities of its arrays. The
     /// contact cell list keeps its buffers private (`cell_list.rs`); they
-    /// are counted as `CellList::rebuild` sizes them for n points: a bucket
-    /// table of the power of two ≥ max(2n, 64) plus one `u32` starts, and
-    /// two `u32` per point.
+    /// are counted as the contact pass sizes them for n points
+    /// ([`CellList::bytes_for`]: a bucket table of the power of two
+    /// ≥ max(2n, 64) plus one `u32` starts, two `u32` and the kept current
+    /// position per point).
     pub fn memory_use(&self) -> PdMemory {
         let n = self.node_count();
         let cells = if self.options.contact.is_some() {
-            let table = (2 * n).max(64).next_power_of_two();
-            (table + 1 + 2 * n) * std::mem::size_of::<u32>()
+            CellList::bytes_for(n, true)
         } else {
             0
         };
@@ -992,6 +992,7 @@ impl PdSolver {
             breakable: &self.breakable,
             families: &self.families,
             factor: &self.factor,
+            family_cutoff: self.horizon + 0.5 * self.options.spacing,
         }
     }
 }

@@ -64,12 +64,15 @@ fn a_micro_elastic_block_takes_146_bytes_per_node_and_12_per_bond() {
 }
 
 /// Short-range forces add, per node, the contact force and stiffness (32)
-/// and the cell list: 2 u32 per node and a table of 4096 + 1 u32 starts for
-/// 1728 nodes. The current positions are formed from x + u where they are
-/// needed, not stored.
+/// and the cell list: 2 u32 and the kept current position (24) per node,
+/// a table of 4096 + 1 u32 starts for 1728 nodes and 8 positions of
+/// padding.
 #[test]
 fn contact_adds_its_arrays_and_cell_list() {
     let n = 12 * 12 * 12;
     let m = block(12, Some(ContactOptions::default())).memory_use();
-    assert_eq!(m.node_bytes, (146 + 32 + 8) * n + 4 + 4097 * 4);
+    assert_eq!(
+        m.node_bytes,
+        (146 + 32 + 8 + 24) * n + 4 + 4097 * 4 + 8 * 24
+    );
 }
