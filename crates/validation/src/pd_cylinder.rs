@@ -65,8 +65,19 @@ pub const PD_SEED000_CONFIG: &str = include_str!("../../../configs/pd_cylinder_s
 /// outer wall at the config's gauge `wall` (z = 25 cm) sampled every
 /// `every` steps.
 pub fn seed000_cylinder(spacing: f64, every: usize) -> Result<(PdSolver, WallHistory), String> {
+    seed000_cylinder_with(spacing, every, &[])
+}
+
+/// [`seed000_cylinder`] with further `--set` overrides of the scenario
+/// file (`key=value`, [`Tube::at_with`]), e.g.
+/// `pipeline.products_family=MirroredWall`.
+pub fn seed000_cylinder_with(
+    spacing: f64,
+    every: usize,
+    overrides: &[String],
+) -> Result<(PdSolver, WallHistory), String> {
     let file = "configs/pd_cylinder_seed000.ron";
-    let t = Tube::at(file, PD_SEED000_CONFIG, spacing)?;
+    let t = Tube::at_with(file, PD_SEED000_CONFIG, spacing, overrides)?;
     let z = t
         .scenario
         .outputs
