@@ -88,6 +88,11 @@ impl CellList {
         position: impl Fn(usize) -> [f64; 3],
     ) {
         self.rebuild(n, cell_size, &position);
+        // Exactly n + LANES each, so the capacity (and `bytes_for`) is
+        // what the list holds, not the next power of two.
+        for p in &mut self.positions {
+            p.reserve_exact(n + LANES);
+        }
         let [px, py, pz] = &mut self.positions;
         for &i in &self.sorted {
             let y = position(i as usize);

@@ -103,9 +103,10 @@ pub struct ContactInput<'a> {
     /// The families' reference cutoff δ + h/2 (`crate::family`): a pair of
     /// one body closer than this in the reference configuration is in both
     /// nodes' rows, one further away in neither. Lets the pass answer the
-    /// family test of a node whose bonds are all intact from the reference
-    /// distance instead of a binary search (same answer, checked against
-    /// the search in the tests); 0 always searches.
+    /// family test from the reference distance instead of a binary search
+    /// (same answer, checked against the search in the tests): "bonded and
+    /// intact" for a node whose bonds are all intact, "in no row" for any
+    /// node. Anything but a positive finite value always searches.
     pub family_cutoff: f64,
 }
 
@@ -159,7 +160,11 @@ fn for_each_contact<F: FnMut(usize, f64, f64, f64, [f64; 3])>(
     // between the two (a relative band of 1e-9 around the cutoff, wider
     // than the round-off of the families' own r) the row is searched.
     // Where i has a broken bond, only "in no row" is answered this way.
-    let cut2 = input.family_cutoff * input.family_cutoff;
+    let cut2 = if input.family_cutoff.is_finite() && input.family_cutoff > 0.0 {
+        input.family_cutoff * input.family_cutoff
+    } else {
+        0.0
+    };
     let (bonded2, apart2) = (cut2 * (1.0 - 1e-9), cut2 * (1.0 + 1e-9));
     let row_intact = input.breakable[mi]
         && cut2 > 0.0
@@ -700,7 +705,12 @@ mod tests {
         let expected = forces_by_lookup(&input, &p);
         let touching = expected.iter().filter(|o| o.0 != [0.0; 3]).count();
         assert!(touching > reference.len() / 2, "{touching}");
-        for threads in [1, 2, 3] {
+        // Threads, and the family test by search alone (no cutoff given).
+        let searching = ContactInput {
+            family_cutoff: 0.0,
+            ..input
+        };
+        for (threads, input) in [(1, input), (2, input), (3, input), (2, searching)] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
@@ -716,7 +726,8 @@ mod tests {
                 assert_eq!(
                     (a.0.map(f64::to_bits), a.1.to_bits()),
                     (b.0.map(f64::to_bits), b.1.to_bits()),
-                    "node {i} on {threads} threads"
+                    "node {i} on {threads} threads, cutoff {}",
+                    input.family_cutoff
                 );
             }
         }

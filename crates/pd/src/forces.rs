@@ -890,8 +890,13 @@ pub fn gas_expansion_closing(
 ) -> (f64, f64, f64, f64) {
     #[cfg(target_arch = "x86_64")]
     {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the feature the function was compiled for is present.
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+            && std::arch::is_x86_feature_detected!("avx2")
+        {
+            // SAFETY: the features the function was compiled for are
+            // present.
             return unsafe {
                 gas_expansion_closing_avx512(
                     i,
