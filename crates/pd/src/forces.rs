@@ -738,21 +738,49 @@ unsafe fn rows_serial_avx512(
     rows_serial::<Avx512Gather>(nodes, input, factor, plastic, out, dissipated)
 }
 
+/// The widest instruction set the kernels here are built for that this
+/// processor runs, found once per process.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Build {
+    /// AVX-512 F, VL and DQ (with AVX2).
+    Avx512,
+    /// AVX2.
+    Avx2,
+    /// The baseline build.
+    Portable,
+}
+
+/// [`Build`] of this processor, detected on the first call.
+fn this_cpu() -> Build {
+    static BUILD: std::sync::OnceLock<Build> = std::sync::OnceLock::new();
+    *BUILD.get_or_init(|| {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx2")
+            {
+                return Build::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Build::Avx2;
+            }
+        }
+        Build::Portable
+    })
+}
+
 /// The widest build of the row pass this processor runs.
 fn rows_for_this_cpu() -> RowsFn {
     #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the features the function was compiled for are present.
-            return |n, i, f, p, o, d| unsafe { rows_serial_avx512(n, i, f, p, o, d) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: as above.
-            return |n, i, f, p, o, d| unsafe { rows_serial_avx2(n, i, f, p, o, d) };
-        }
+    match this_cpu() {
+        // SAFETY: the features the function was compiled for are present
+        // (`this_cpu`).
+        Build::Avx512 => return |n, i, f, p, o, d| unsafe { rows_serial_avx512(n, i, f, p, o, d) },
+        // SAFETY: as above.
+        Build::Avx2 => return |n, i, f, p, o, d| unsafe { rows_serial_avx2(n, i, f, p, o, d) },
+        Build::Portable => {}
     }
     rows_serial::<ScalarGather>
 }
@@ -856,6 +884,24 @@ pub fn bond_forces_dissipating_in(
     );
 }
 
+/// One products node's row of eq 17: the positions, the family and its
+/// bond factors, and (for the closing time) the velocities.
+#[derive(Clone, Copy, Debug)]
+pub struct GasRow<'a> {
+    /// Reference positions and volumes (x, y, z, V) of every node.
+    pub reference: &'a [[f64; 4]],
+    /// Displacements (u, ·) of every node.
+    pub state: &'a [[f64; 4]],
+    /// Velocities of every node; `None` leaves the closing time ∞.
+    pub velocity: Option<&'a [[f64; 3]]>,
+    /// The node's family, in its row's order.
+    pub neighbours: &'a [u32],
+    /// The family's bond factors β, one per neighbour.
+    pub factor: &'a [f32],
+    /// The node's family volume V = Σ_j β_j V_j at reference.
+    pub family_volume: f64,
+}
+
 /// Gas state of a node from its family (seed 004 eq 17):
 /// X = [Σ_j (r_j/p_j) β_j V_j / V]^{−3}, V = Σ_j β_j V_j.
 /// Returns (X, Σ_j β_j V_j r_j / p_j³ · r_j-weighted stiffness terms) as
@@ -869,8 +915,15 @@ pub fn gas_expansion(
     factor: &[f32],
     family_volume: f64,
 ) -> (f64, f64, f64) {
-    let (x, s3, s4, _) =
-        gas_expansion_closing(i, reference, state, None, neighbours, factor, family_volume);
+    let row = GasRow {
+        reference,
+        state,
+        velocity: None,
+        neighbours,
+        factor,
+        family_volume,
+    };
+    let (x, s3, s4, _) = gas_expansion_closing(i, &row);
     (x, s3, s4)
 }
 
@@ -878,108 +931,35 @@ pub fn gas_expansion(
 /// the node's shortest closing time p/ṗ over its intact bonds, s: p the
 /// pair's current distance, ṗ = −y·(v_j − v_i)/p the speed at which it
 /// closes; ∞ when no pair closes or without velocities
-/// (`crate::CLOSING_STEP_FRACTION`).
-pub fn gas_expansion_closing(
-    i: usize,
-    reference: &[[f64; 4]],
-    state: &[[f64; 4]],
-    velocity: Option<&[[f64; 3]]>,
-    neighbours: &[u32],
-    factor: &[f32],
-    family_volume: f64,
-) -> (f64, f64, f64, f64) {
+/// (`crate::CLOSING_STEP_FRACTION`). Runs the widest build this
+/// processor has, chosen once per process.
+#[inline]
+pub fn gas_expansion_closing(i: usize, row: &GasRow) -> (f64, f64, f64, f64) {
     #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-            && std::arch::is_x86_feature_detected!("avx2")
-        {
-            // SAFETY: the features the function was compiled for are
-            // present.
-            return unsafe {
-                gas_expansion_closing_avx512(
-                    i,
-                    reference,
-                    state,
-                    velocity,
-                    neighbours,
-                    factor,
-                    family_volume,
-                )
-            };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: as above.
-            return unsafe {
-                gas_expansion_closing_avx2(
-                    i,
-                    reference,
-                    state,
-                    velocity,
-                    neighbours,
-                    factor,
-                    family_volume,
-                )
-            };
-        }
+    match this_cpu() {
+        // SAFETY: the features the function was compiled for are present
+        // (`this_cpu`).
+        Build::Avx512 => return unsafe { gas_expansion_closing_avx512(i, row) },
+        // SAFETY: as above.
+        Build::Avx2 => return unsafe { gas_expansion_closing_avx2(i, row) },
+        Build::Portable => {}
     }
-    gas_expansion_closing_lanes(
-        i,
-        reference,
-        state,
-        velocity,
-        neighbours,
-        factor,
-        family_volume,
-    )
+    gas_expansion_closing_lanes(i, row)
 }
 
 /// [`gas_expansion_closing_lanes`] compiled with AVX-512 (the same IEEE
 /// operations, so the same bits, eight lanes at a time).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2")]
-unsafe fn gas_expansion_closing_avx512(
-    i: usize,
-    reference: &[[f64; 4]],
-    state: &[[f64; 4]],
-    velocity: Option<&[[f64; 3]]>,
-    neighbours: &[u32],
-    factor: &[f32],
-    family_volume: f64,
-) -> (f64, f64, f64, f64) {
-    gas_expansion_closing_lanes(
-        i,
-        reference,
-        state,
-        velocity,
-        neighbours,
-        factor,
-        family_volume,
-    )
+unsafe fn gas_expansion_closing_avx512(i: usize, row: &GasRow) -> (f64, f64, f64, f64) {
+    gas_expansion_closing_lanes(i, row)
 }
 
 /// [`gas_expansion_closing_lanes`] compiled with AVX2 (same bits).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn gas_expansion_closing_avx2(
-    i: usize,
-    reference: &[[f64; 4]],
-    state: &[[f64; 4]],
-    velocity: Option<&[[f64; 3]]>,
-    neighbours: &[u32],
-    factor: &[f32],
-    family_volume: f64,
-) -> (f64, f64, f64, f64) {
-    gas_expansion_closing_lanes(
-        i,
-        reference,
-        state,
-        velocity,
-        neighbours,
-        factor,
-        family_volume,
-    )
+unsafe fn gas_expansion_closing_avx2(i: usize, row: &GasRow) -> (f64, f64, f64, f64) {
+    gas_expansion_closing_lanes(i, row)
 }
 
 /// One products pair's terms of eq 17 and of the stable step:
@@ -1025,15 +1005,15 @@ fn gas_pair_closing(dx: [f64; 3], uj: [f64; 3], ui: [f64; 3], dv: [f64; 3], beta
 /// time in the row's order, so the sums are those of a pair-by-pair loop
 /// to the bit; the rest of the row pair by pair.
 #[inline(always)]
-fn gas_expansion_closing_lanes(
-    i: usize,
-    reference: &[[f64; 4]],
-    state: &[[f64; 4]],
-    velocity: Option<&[[f64; 3]]>,
-    neighbours: &[u32],
-    factor: &[f32],
-    family_volume: f64,
-) -> (f64, f64, f64, f64) {
+fn gas_expansion_closing_lanes(i: usize, row: &GasRow) -> (f64, f64, f64, f64) {
+    let GasRow {
+        reference,
+        state,
+        velocity,
+        neighbours,
+        factor,
+        family_volume,
+    } = *row;
     let xi = reference[i];
     let ui = state[i];
     let ui3 = [ui[0], ui[1], ui[2]];

@@ -26,7 +26,8 @@ use crate::contact::{
 use crate::family::{Families, OneSidedPairs};
 use crate::forces::{
     bond_forces_dissipating_in, for_each_node, for_each_node_in, for_each_node_pair_in,
-    gas_expansion_closing, one_sided_gas_reaction, wall_sum_change, BondLaw, ForceInput, NodeForce,
+    gas_expansion_closing, one_sided_gas_reaction, wall_sum_change, BondLaw, ForceInput, GasRow,
+    NodeForce,
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::material::PdMaterial;
@@ -641,15 +642,15 @@ impl PdSolver {
             };
             let row = families.row(i);
             let vf = family_volume[i];
-            let (x, s3, s4, c) = gas_expansion_closing(
-                i,
+            let gas_row = GasRow {
                 reference,
                 state,
-                closing.is_some().then_some(&velocity[..]),
-                &families.neighbours[row.clone()],
-                &factor[row.clone()],
-                vf,
-            );
+                velocity: closing.is_some().then_some(&velocity[..]),
+                neighbours: &families.neighbours[row.clone()],
+                factor: &factor[row.clone()],
+                family_volume: vf,
+            };
+            let (x, s3, s4, c) = gas_expansion_closing(i, &gas_row);
             if let Some(out) = closing {
                 *out = c;
             }
@@ -784,16 +785,15 @@ impl PdSolver {
             *c = match materials[material[i] as usize] {
                 PdMaterial::Gas(_) => {
                     let row = families.row(i);
-                    gas_expansion_closing(
-                        i,
+                    let gas_row = GasRow {
                         reference,
                         state,
-                        Some(velocity),
-                        &families.neighbours[row.clone()],
-                        &factor[row],
-                        family_volume[i],
-                    )
-                    .3
+                        velocity: Some(velocity),
+                        neighbours: &families.neighbours[row.clone()],
+                        factor: &factor[row],
+                        family_volume: family_volume[i],
+                    };
+                    gas_expansion_closing(i, &gas_row).3
                 }
                 _ => f64::INFINITY,
             };

@@ -645,22 +645,24 @@ proptest! {
         let expected = gas_expansion_closing_by_pairs(
             0, &reference, &state, &velocity, &neighbours, &factor, 3e-8,
         );
-        let got = gas_expansion_closing(
-            0, &reference, &state, Some(&velocity), &neighbours, &factor, 3e-8,
-        );
+        let row = GasRow {
+            reference: &reference,
+            state: &state,
+            velocity: Some(&velocity),
+            neighbours: &neighbours,
+            factor: &factor,
+            family_volume: 3e-8,
+        };
+        let got = gas_expansion_closing(0, &row);
         let bits = |t: (f64, f64, f64, f64)| [t.0, t.1, t.2, t.3].map(f64::to_bits);
         prop_assert_eq!(bits(got), bits(expected));
-        let no_velocity = gas_expansion_closing(
-            0, &reference, &state, None, &neighbours, &factor, 3e-8,
-        );
+        let no_velocity = gas_expansion_closing(0, &GasRow { velocity: None, ..row });
         prop_assert_eq!(
             bits(no_velocity),
             bits((expected.0, expected.1, expected.2, f64::INFINITY))
         );
         // The portable grouped body, whatever the processor.
-        let portable = gas_expansion_closing_lanes(
-            0, &reference, &state, Some(&velocity), &neighbours, &factor, 3e-8,
-        );
+        let portable = gas_expansion_closing_lanes(0, &row);
         prop_assert_eq!(bits(portable), bits(expected));
     }
 }
