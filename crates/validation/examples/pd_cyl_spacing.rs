@@ -9,19 +9,18 @@
 
 use brisance_pd::cases::{case_material, copper_cylinder as case_constants, EnergyBudget};
 use brisance_validation::pd_cylinder::{copper_cylinder_with, wall};
+use brisance_validation::pd_tube::spacing_args;
 
 const USAGE: &str = "pd_cyl_spacing SPACING_M [KEY=VALUE ...]";
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let spacing = match args.next().map(|s| s.parse::<f64>()) {
-        Some(Ok(h)) => h,
-        _ => {
-            eprintln!("usage: {USAGE}");
+    let (spacing, overrides) = match spacing_args(std::env::args().skip(1), USAGE) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
             std::process::exit(2);
         }
     };
-    let overrides: Vec<String> = args.collect();
     if let Err(e) = run(spacing, &overrides) {
         eprintln!("{e}");
         std::process::exit(1);

@@ -7,30 +7,24 @@
 //! averaged over the last tenth of the 80 µs record, and the whole wall's
 //! kinetic-energy mean over the same tenth.
 
+use brisance_validation::last_tenth_mean;
 use brisance_validation::pd_cylinder::seed000_cylinder_with;
+use brisance_validation::pd_tube::spacing_args;
 
 const USAGE: &str = "pd_seed000_side SPACING_M [KEY=VALUE ...]";
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let spacing = match args.next().map(|s| s.parse::<f64>()) {
-        Some(Ok(h)) if h > 0.0 => h,
-        _ => {
-            eprintln!("usage: {USAGE}");
+    let (spacing, overrides) = match spacing_args(std::env::args().skip(1), USAGE) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
             std::process::exit(2);
         }
     };
-    let overrides: Vec<String> = args.collect();
     if let Err(e) = run(spacing, &overrides) {
         eprintln!("{e}");
         std::process::exit(1);
     }
-}
-
-/// The mean of the last tenth of `record` (the report's terminal value).
-fn last_tenth_mean(record: &[f64]) -> f64 {
-    let tail = &record[record.len() - record.len() / 10..];
-    tail.iter().sum::<f64>() / tail.len() as f64
 }
 
 fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
@@ -50,12 +44,12 @@ fn run(spacing: f64, overrides: &[String]) -> Result<(), String> {
     println!(
         "outer wall at z = 25 cm, terminal (last tenth of {:.1} µs): {:.0} m/s; peak {v_peak:.0} m/s at {:.1} µs",
         h.time[n - 1] * 1e6,
-        last_tenth_mean(&h.radial_velocity),
+        last_tenth_mean(&h.radial_velocity, |v| *v),
         h.time[k] * 1e6
     );
     println!(
         "whole wall at z = 25 cm (kinetic-energy mean), terminal: {:.0} m/s",
-        last_tenth_mean(&h.wall_velocity)
+        last_tenth_mean(&h.wall_velocity, |v| *v)
     );
     Ok(())
 }

@@ -20,3 +20,30 @@ pub mod rz_octant;
 pub mod shock_tubes;
 pub mod smooth;
 pub mod taylor;
+
+/// The mean of `f` over the last tenth of `record` (its last ⌊n/10⌋
+/// entries, at least the last one): the terminal figure of a wall
+/// record. NaN for an empty record.
+pub fn last_tenth_mean<T>(record: &[T], f: impl Fn(&T) -> f64) -> f64 {
+    let n = record.len();
+    let tail = &record[n - (n / 10).max(1).min(n)..];
+    tail.iter().map(f).sum::<f64>() / tail.len() as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::last_tenth_mean;
+
+    #[test]
+    fn the_terminal_figure_is_the_mean_of_the_last_tenth() {
+        let record: Vec<f64> = (1..=20).map(f64::from).collect();
+        // The last two of twenty: (19 + 20)/2.
+        assert_eq!(last_tenth_mean(&record, |v| *v), 19.5);
+        let pairs: Vec<(f64, f64)> = (0..30).map(|k| (0.0, f64::from(k))).collect();
+        // The last three of thirty: (27 + 28 + 29)/3.
+        assert_eq!(last_tenth_mean(&pairs, |p| p.1), 28.0);
+        // Fewer than ten entries: the last one.
+        assert_eq!(last_tenth_mean(&record[..4], |v| *v), 4.0);
+        assert!(last_tenth_mean(&record[..0], |v| *v).is_nan());
+    }
+}

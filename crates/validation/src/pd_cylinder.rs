@@ -160,4 +160,35 @@ mod tests {
         let (_, b) = brisance_pd::cases::run_cylinder(&case, end, 1).unwrap();
         assert_eq!(a, b);
     }
+
+    /// The examples' command line: a positive finite spacing, then the
+    /// overrides; anything else is the usage line.
+    #[test]
+    fn the_examples_take_a_positive_spacing_and_overrides() {
+        use crate::pd_tube::spacing_args;
+        let args = |a: &[&str]| {
+            a.iter()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>()
+                .into_iter()
+        };
+        assert_eq!(
+            spacing_args(
+                args(&["1.5e-3", "pipeline.products_family=MirroredWall"]),
+                "u"
+            ),
+            Ok((
+                1.5e-3,
+                vec!["pipeline.products_family=MirroredWall".to_string()]
+            ))
+        );
+        assert_eq!(spacing_args(args(&["2e-3"]), "u"), Ok((2e-3, vec![])));
+        for bad in [&[][..], &["0"], &["-1e-3"], &["inf"], &["NaN"], &["mm"]] {
+            assert_eq!(
+                spacing_args(args(bad), "u"),
+                Err("usage: u".into()),
+                "{bad:?}"
+            );
+        }
+    }
 }

@@ -135,7 +135,7 @@ pub fn study_args(
     usage: &str,
 ) -> Result<(Strength, f64, Vec<String>), String> {
     let strength = args.next().as_deref().and_then(Strength::named);
-    let spacing = args.next().and_then(|s| s.parse::<f64>().ok());
+    let spacing = crate::pd_tube::parse_spacing(args.next());
     match (strength, spacing) {
         (Some(st), Some(h)) => Ok((st, h, args.collect())),
         _ => Err(format!("usage: {usage}")),
@@ -368,6 +368,13 @@ mod tests {
             study_args(args(&["x", "1e-3"]), "u"),
             Err("usage: u".into())
         );
+        for bad in ["0", "-1e-3", "inf", "NaN"] {
+            assert_eq!(
+                study_args(args(&["printed", bad]), "u"),
+                Err("usage: u".into()),
+                "{bad}"
+            );
+        }
     }
 
     /// The census by hand: the whole tube is one full-length fragment;

@@ -147,6 +147,26 @@ fn case_wall(scenario: &Scenario, pd: &PdConfig) -> Option<CaseWall> {
         })
 }
 
+/// A lattice spacing from the command line: a finite positive number of
+/// metres, or `None`.
+pub(crate) fn parse_spacing(arg: Option<String>) -> Option<f64> {
+    arg.and_then(|s| s.parse::<f64>().ok())
+        .filter(|h| h.is_finite() && *h > 0.0)
+}
+
+/// The command line of the tube examples (`pd_cyl_spacing`,
+/// `pd_seed000_side`): `SPACING_M` and the `KEY=VALUE` overrides that
+/// follow, or the usage line `usage` as the error.
+pub fn spacing_args(
+    mut args: impl Iterator<Item = String>,
+    usage: &str,
+) -> Result<(f64, Vec<String>), String> {
+    match parse_spacing(args.next()) {
+        Some(h) => Ok((h, args.collect())),
+        None => Err(format!("usage: {usage}")),
+    }
+}
+
 /// The tube `a` a scenario file built is the library case's `b` node for
 /// node: positions, masses and stable step to the bit; the file numbers
 /// its two materials in the order of its regions (the charge first), the

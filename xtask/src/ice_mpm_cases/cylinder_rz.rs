@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use anyhow::{anyhow, Result};
+use brisance::verification::last_tenth_mean;
 
 use super::tube_gurney;
 use crate::Report;
@@ -50,13 +51,6 @@ impl RzRun {
         }
         last_tenth_mean(&self.record, |x| x.1)
     }
-}
-
-/// The mean of `f` over the last 10 % of `record` (the entries from index
-/// n − ⌊n/10⌋ on): the terminal figure of a wall record.
-fn last_tenth_mean<T>(record: &[T], f: impl Fn(&T) -> f64) -> f64 {
-    let tail = &record[record.len() - record.len() / 10..];
-    tail.iter().map(f).sum::<f64>() / tail.len() as f64
 }
 
 /// The axis gauges of configs/cylinder_rz.ron, m (D between them).
