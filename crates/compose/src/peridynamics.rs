@@ -227,6 +227,7 @@ fn gas_viscosity_is_read_and_checked() {
             linear: 1.0,
             quadratic: 2.0,
             shear: 0.0,
+            deviatoric: 0.0,
         })
     );
     let shear = "pipeline.gas_viscosity=(linear: 1.0, quadratic: 2.0, shear: 0.5)";
@@ -235,6 +236,18 @@ fn gas_viscosity_is_read_and_checked() {
         panic!("not a Peridynamics pipeline");
     };
     assert_eq!(pd.gas_viscosity.map(|v| v.shear), Some(0.5));
+    let deviatoric = "pipeline.gas_viscosity=(linear: 0.0, quadratic: 0.0, deviatoric: 0.1)";
+    let loaded = load_str("v.ron", text, &[deviatoric.into()]).unwrap();
+    let Some(pd) = loaded.scenario.pipeline.section::<brisance_pd::PdConfig>() else {
+        panic!("not a Peridynamics pipeline");
+    };
+    assert_eq!(pd.gas_viscosity.map(|v| v.deviatoric), Some(0.1));
+    let bad = "pipeline.gas_viscosity=(linear: 0.0, quadratic: 0.0, deviatoric: -0.1)";
+    let e = load_str("v.ron", text, &[bad.into()])
+        .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))
+        .unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("pipeline.gas_viscosity"), "{e}");
+    assert!(e.to_string().contains("deviatoric"), "{e}");
     let bad = "pipeline.gas_viscosity=(linear: -1.0, quadratic: 2.0)";
     let e = load_str("v.ron", text, &[bad.into()])
         .and_then(|l| crate::build::build_solver(&l.scenario).map(|_| ()))

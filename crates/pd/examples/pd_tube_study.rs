@@ -6,7 +6,7 @@
 //! `cargo run --release -p brisance-pd --example pd_tube_study -- \
 //!    LENGTH_M END_S SPACING_M [DISTANCE_FACTOR REFERENCE_FRACTION FORCE_FACTOR]`
 //!
-//! Environment: `VISC=α,β[,α_s]` turns on the products' artificial viscosity
+//! Environment: `VISC=α,β[,α_s[,α_d]]` turns on the products' artificial viscosity
 //! (α_s: the linear term on receding pairs too, `GasViscosity::shear`);
 //! `PUSH=1` applies the products' force to explosive not yet detonated
 //! (it matters only for an explosive without a `reactant`; the cases' TNT
@@ -124,14 +124,16 @@ fn main() -> Result<(), String> {
     if std::env::var_os("PCONTACT").is_some() {
         s.set_products_contact(true);
     }
-    // VISC=α,β[,α_s]: with the products' artificial viscosity (off by
-    // default); α_s the linear term on receding pairs too.
+    // VISC=α,β[,α_s[,α_d]]: with the products' artificial viscosity (off by
+    // default); α_s the linear term on receding pairs too, α_d the
+    // deviatoric term.
     if let Ok(v) = std::env::var("VISC") {
         let c: Vec<f64> = v.split(',').filter_map(|x| x.parse().ok()).collect();
         s.set_gas_viscosity(Some(GasViscosity {
             linear: c.first().copied().unwrap_or(1.0),
             quadratic: c.get(1).copied().unwrap_or(2.0),
             shear: c.get(2).copied().unwrap_or(0.0),
+            deviatoric: c.get(3).copied().unwrap_or(0.0),
         }))
         .map_err(|e| e.to_string())?;
     }

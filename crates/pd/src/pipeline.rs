@@ -57,8 +57,9 @@ pub struct PdConfig {
     pub detonation: Option<PdDetonationConfig>,
     /// Pair viscosity between approaching products nodes, its work returned
     /// as heat (`crate::GasViscosity`, docs/physics/pd/gas.md):
-    /// `gas_viscosity: (linear: 1.0, quadratic: 2.0)`; default none (measured not to
-    /// help the cylinder test).
+    /// `gas_viscosity: (linear: 1.0, quadratic: 2.0)`, with the optional
+    /// `shear` (receding pairs too) and `deviatoric` (shear only) terms;
+    /// default none (measured not to help the cylinder test).
     #[serde(default)]
     pub gas_viscosity: Option<crate::GasViscosity>,
     /// A perturbed lattice, `jitter: (amplitude: 0.2, seed: 1)`: every

@@ -31,7 +31,10 @@ use crate::forces::{
 };
 use crate::fragments::{find_fragments, write_cmd_csv, write_fragments_csv, Fragment};
 use crate::material::PdMaterial;
-use crate::viscosity::{viscous_forces_in, GasViscosity, ViscousInput, ViscousNode, ViscousOut};
+use crate::viscosity::{
+    deviatoric_node, viscous_forces_in, DeviatoricNode, GasViscosity, ViscousInput, ViscousNode,
+    ViscousOut,
+};
 use brisance_core::SolverError;
 use brisance_core::{ReactionModel, ReactionState};
 use brisance_reaction::ProgramBurn;
@@ -146,6 +149,9 @@ pub struct PdSolver {
     /// Heat per unit volume of the last half kick's viscous work; empty
     /// when the viscosity is off.
     kick_heat: Vec<f64>,
+    /// Per node (θ̇, 15η/m) of the deviatoric viscosity at the last force
+    /// pass; empty when that term is off.
+    deviatoric: Vec<DeviatoricNode>,
     /// Whether the products' force on explosive not yet detonated is left
     /// out (`program_burn.md`).
     hold_unreacted: bool,
@@ -198,6 +204,8 @@ impl PdSolver {
         self.viscous_node = vec![[0.0; 4]; if on { n } else { 0 }];
         self.viscous = vec![ViscousOut::default(); if on { n } else { 0 }];
         self.kick_heat = vec![0.0; if on { n } else { 0 }];
+        let deviatoric = on && viscosity.is_some_and(|v| v.deviatoric > 0.0);
+        self.deviatoric = vec![[0.0; 2]; if deviatoric { n } else { 0 }];
         self.update_node_scalars();
         self.compute_forces();
         Ok(())
@@ -291,6 +299,7 @@ impl PdSolver {
             + heap(&self.viscous_node)
             + heap(&self.viscous)
             + heap(&self.kick_heat)
+            + heap(&self.deviatoric)
             + cells;
         let bond_bytes = heap(&self.families.neighbours) + heap(&self.factor) + heap(&self.plastic);
         let other_bytes = heap(&self.materials)
@@ -861,7 +870,8 @@ impl PdSolver {
     /// velocities (nothing when it is off).
     fn viscous_pass(&mut self) {
         if let Some(params) = self.viscosity {
-            let input = ViscousInput {
+            let mut deviatoric = std::mem::take(&mut self.deviatoric);
+            let mut input = ViscousInput {
                 reference: &self.reference,
                 state: &self.state,
                 velocity: &self.velocity,
@@ -869,10 +879,19 @@ impl PdSolver {
                 neighbours: &self.families.neighbours,
                 factor: &self.factor,
                 node: &self.viscous_node,
+                deviatoric: &[],
                 spacing: self.options.spacing,
                 params,
             };
+            if !deviatoric.is_empty() {
+                // Every node's, on every rank: the force pass reads the
+                // neighbours' (viscosity.rs).
+                let all = 0..deviatoric.len();
+                for_each_node_in(&mut deviatoric, all, |i, d| *d = deviatoric_node(&input, i));
+            }
+            input.deviatoric = &deviatoric;
             viscous_forces_in(&input, self.ranks.nodes(), &mut self.viscous);
+            self.deviatoric = deviatoric;
         }
     }
 

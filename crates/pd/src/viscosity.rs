@@ -61,6 +61,37 @@
 //! expansion, the kinetic energy of both going to the products' heat.
 //! A departure from seed 004 (whose products have no viscosity),
 //! measured in `docs/physics/pd/validation.md`.
+//!
+//! **Deviatoric viscosity (option `deviatoric`, α_d; 0 by default).** A
+//! pair force sees only the pair's stretching rate, of which a uniform
+//! expansion is a part, so the terms above resist the products'
+//! expansion as much as their shear. The deviatoric term leaves every
+//! uniform expansion and rigid motion alone: the viscous analogue of the
+//! deviatoric part of the linear peridynamic solid (Silling, Epton,
+//! Weckner, Xu & Askari 2007, J. Elasticity 88:151–184, §15; its
+//! viscous dashpot form in Mitchell 2011, "A nonlocal, ordinary,
+//! state-based viscoelasticity model for peridynamics", Sandia report
+//! SAND2011-8064), written on the current bonds y_ij with the weights
+//! β_ij V_j of eq 17. Per node, over the family's products nodes,
+//!
+//! ```text
+//! m_i = Σ_j β V_j |y_ij|²,   θ̇_i = (3/m_i) Σ_j β V_j (v_ij · y_ij)
+//! ė_ij = v_ij · y_ij / |y_ij|,   ė^d_ij = ė_ij − θ̇_i |y_ij| / 3
+//! t_ij = (15 η_i / m_i) ė^d_ij,   η_i = α_d ρ_i c_i h
+//! f_i  = Σ_j β V_j (t_ij + t_ji) y_ij / |y_ij|
+//! ```
+//!
+//! (θ̇ the dilatation rate, exact for v = A y with A = (θ̇/3) I + W, W
+//! skew, for which every ė^d vanishes; 15η/m is LPS's 15μ/m with the
+//! shear modulus μ replaced by the shear viscosity η). The force is
+//! central and odd, so momentum and angular momentum are conserved; since
+//! Σ_j β V_j |y_ij| ė^d_ij = 0 by the definition of θ̇, the power the pair
+//! forces take out is exactly Σ_i V_i D_i with each node's
+//! D_i = (15 η_i / m_i) Σ_j β V_j (ė^d_ij)² ≥ 0, returned as heat through
+//! the kick like the terms above. A node whose family holds no other
+//! products node has no deviatoric term. On several MPI ranks every rank
+//! forms (θ̇, 15η/m) of every node (a pass over the bonds of all nodes,
+//! not only the owned ones), so the force pass reads its neighbours'.
 
 use crate::forces::for_each_node_in;
 use serde::{Deserialize, Serialize};
@@ -81,6 +112,10 @@ pub struct GasViscosity {
     /// pairs included (module doc); 0 (the default): approaching pairs only.
     #[serde(default)]
     pub shear: f64,
+    /// α_d, the coefficient of the deviatoric (shear-only) viscosity
+    /// η = α_d ρ c h (module doc); 0 (the default): none.
+    #[serde(default)]
+    pub deviatoric: f64,
 }
 
 impl Default for GasViscosity {
@@ -89,6 +124,7 @@ impl Default for GasViscosity {
             linear: 1.0,
             quadratic: 2.0,
             shear: 0.0,
+            deviatoric: 0.0,
         }
     }
 }
@@ -100,6 +136,7 @@ impl GasViscosity {
             ("linear", self.linear),
             ("quadratic", self.quadratic),
             ("shear", self.shear),
+            ("deviatoric", self.deviatoric),
         ] {
             if !(v >= 0.0 && v.is_finite()) {
                 return Err(format!(
@@ -115,6 +152,11 @@ impl GasViscosity {
 /// c, ρ₀); a = 0 marks a node that takes no part (a solid, or explosive
 /// not yet detonated).
 pub type ViscousNode = [f64; 4];
+
+/// Per node, what the deviatoric term reads of it: (θ̇, 15η/m), the
+/// dilatation rate and the force-state coefficient (module doc); 15η/m = 0
+/// marks a node without the term.
+pub type DeviatoricNode = [f64; 2];
 
 /// What the viscous pass returns per node.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -148,6 +190,9 @@ pub struct ViscousInput<'a> {
     pub factor: &'a [f32],
     /// Per node, [`ViscousNode`].
     pub node: &'a [ViscousNode],
+    /// Per node, [`DeviatoricNode`] from [`deviatoric_node`]; empty when
+    /// the deviatoric term is off.
+    pub deviatoric: &'a [DeviatoricNode],
     /// Lattice spacing h, m.
     pub spacing: f64,
     /// Coefficients.
@@ -185,6 +230,43 @@ pub fn pair_pressure(
     let q = rho * (linear * c * mu.abs() + params.quadratic * mu * mu);
     let dq = rho * (linear * c + 2.0 * params.quadratic * mu.abs()) * dmu_ds;
     (q, dq)
+}
+
+/// Node i's (θ̇, 15η/m) for the deviatoric term (module doc), from the
+/// positions and velocities of `input` (its `deviatoric` is not read):
+/// [0, 0] when `deviatoric` is 0, when the node takes no part, or when
+/// no other products node of its family has moved apart from it.
+#[inline]
+pub fn deviatoric_node(input: &ViscousInput, i: usize) -> DeviatoricNode {
+    let ni = input.node[i];
+    if input.params.deviatoric == 0.0 || ni[0] == 0.0 {
+        return [0.0; 2];
+    }
+    let xi = input.reference[i];
+    let ui = input.state[i];
+    let vi = input.velocity[i];
+    let (mut m, mut s) = (0.0, 0.0);
+    for k in input.offsets[i] as usize..input.offsets[i + 1] as usize {
+        let j = input.neighbours[k] as usize;
+        if input.node[j][0] == 0.0 {
+            continue;
+        }
+        let (xj, uj, vj) = (input.reference[j], input.state[j], input.velocity[j]);
+        let y = [
+            xj[0] - xi[0] + uj[0] - ui[0],
+            xj[1] - xi[1] + uj[1] - ui[1],
+            xj[2] - xi[2] + uj[2] - ui[2],
+        ];
+        let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
+        let bv = input.factor[k] as f64 * xj[3];
+        m += bv * (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+        s += bv * (v[0] * y[0] + v[1] * y[1] + v[2] * y[2]);
+    }
+    if !(m > 0.0) {
+        return [0.0; 2];
+    }
+    let eta = input.params.deviatoric * ni[1] * ni[2] * input.spacing;
+    [3.0 * s / m, 15.0 * eta / m]
 }
 
 /// The viscous pass over all nodes (deterministic, allocation-free): each
@@ -233,6 +315,23 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
         ];
         let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
         let vr = v[0] * y[0] + v[1] * y[1] + v[2] * y[2];
+        if let (Some(di), Some(dj)) = (input.deviatoric.get(i), input.deviatoric.get(j)) {
+            let py = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
+            if py > 0.0 && (di[1] > 0.0 || dj[1] > 0.0) {
+                // t_ij + t_ji along ê = y/|y|, ė = v·y/|y| the same both ways.
+                let rate = vr / py;
+                let tij = di[1] * (rate - di[0] * py / 3.0);
+                let tji = dj[1] * (rate - dj[0] * py / 3.0);
+                let bv = input.factor[k] as f64 * xj[3];
+                let g = bv * (tij + tji) / py;
+                for (fd, yd) in o.force.iter_mut().zip(y) {
+                    *fd += g * yd;
+                }
+                // The node's own dissipation D_i = Σ β V t_ij ė_ij (module doc).
+                o.heating += bv * tij * rate;
+                o.damping += 4.0 * bv * (di[1] + dj[1]) / ni[3];
+            }
+        }
         if vr >= 0.0 && (input.params.shear == 0.0 || vr == 0.0) {
             continue;
         }
@@ -278,6 +377,7 @@ mod tests {
             neighbours: &[1, 0],
             factor: &[1.0, 1.0],
             node: &node,
+            deviatoric: &[],
             spacing: 1e-3,
             params,
         };
@@ -395,6 +495,198 @@ mod tests {
         );
     }
 
+    /// The deviatoric pass over `nodes` (all mutual neighbours, β = 1) at
+    /// their reference positions with the given velocities; every node
+    /// (a, ρ, c, ρ₀) = (6, 2000, 3000, 2000), h = 1 mm, only α_d on.
+    fn deviatoric_cloud(
+        reference: &[[f64; 4]],
+        velocity: &[[f64; 3]],
+        alpha_d: f64,
+    ) -> (Vec<ViscousOut>, Vec<DeviatoricNode>) {
+        let n = reference.len();
+        let mut offsets = vec![0u32];
+        let mut neighbours = Vec::new();
+        for i in 0..n {
+            neighbours.extend((0..n as u32).filter(|&j| j as usize != i));
+            offsets.push(neighbours.len() as u32);
+        }
+        let factor = vec![1.0f32; neighbours.len()];
+        let node = vec![[6.0, 2000.0, 3000.0, 2000.0]; n];
+        let state = vec![[0.0; 4]; n];
+        let mut input = ViscousInput {
+            reference,
+            state: &state,
+            velocity,
+            offsets: &offsets,
+            neighbours: &neighbours,
+            factor: &factor,
+            node: &node,
+            deviatoric: &[],
+            spacing: 1e-3,
+            params: GasViscosity {
+                linear: 0.0,
+                quadratic: 0.0,
+                shear: 0.0,
+                deviatoric: alpha_d,
+            },
+        };
+        let dev: Vec<DeviatoricNode> = (0..n).map(|i| deviatoric_node(&input, i)).collect();
+        input.deviatoric = &dev;
+        let mut out = vec![ViscousOut::default(); n];
+        viscous_forces(&input, &mut out);
+        (out, dev)
+    }
+
+    /// Three mutual neighbours at (0, 0), (h, 0), (0, h) (h = 1 mm,
+    /// V = 1e-9 m³) in the pure shear v = (a x, −a y, 0), a = 1e5 1/s,
+    /// α_d = 0.1 (η = 0.1 · 2000 · 3000 · 1e-3 = 600 Pa·s), by hand:
+    /// m₀ = 2e-15, θ̇₀ = 0, 15η/m₀ = 4.5e18; m₁ = m₂ = 3e-15 m⁵,
+    /// θ̇₁ = +1e5, θ̇₂ = −1e5 1/s, 15η/m = 3e18. Pair (0, 1): ė = 100 m/s,
+    /// t₀₁ = 4.5e18 · 100 = 4.5e20, t₁₀ = 3e18 (100 − 1e5 · 1e-3/3) =
+    /// 2e20, force on 0: 1e-9 · 6.5e20 along +x = 6.5e11 N/m³; pair (0, 2)
+    /// the mirror image along −y; pair (1, 2): ė = 0, t₁₂ = −t₂₁, no force.
+    /// Heating D_i = Σ β V t_ij ė_ij: 9e13, 2e13, 2e13 W/m³; their sum
+    /// times V is the power the forces take out, 1.3e5 W.
+    #[test]
+    fn deviatoric_term_by_hand() {
+        let h = 1e-3;
+        let reference = [
+            [0.0, 0.0, 0.0, 1e-9],
+            [h, 0.0, 0.0, 1e-9],
+            [0.0, h, 0.0, 1e-9],
+        ];
+        let velocity = [[0.0; 3], [100.0, 0.0, 0.0], [0.0, -100.0, 0.0]];
+        let (out, dev) = deviatoric_cloud(&reference, &velocity, 0.1);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+        assert!(close(dev[0][0], 0.0) && close(dev[0][1], 4.5e18), "{dev:?}");
+        assert!(close(dev[1][0], 1e5) && close(dev[1][1], 3e18), "{dev:?}");
+        assert!(close(dev[2][0], -1e5) && close(dev[2][1], 3e18), "{dev:?}");
+        let f = 6.5e11;
+        for (o, e) in out
+            .iter()
+            .zip([[f, -f, 0.0], [-f, 0.0, 0.0], [0.0, f, 0.0]])
+        {
+            for d in 0..3 {
+                assert!(
+                    (o.force[d] - e[d]).abs() <= 1e-12 * f,
+                    "{:?} vs {e:?}",
+                    o.force
+                );
+            }
+        }
+        for (o, e) in out.iter().zip([9e13, 2e13, 2e13]) {
+            assert!(close(o.heating, e), "{} vs {e}", o.heating);
+            assert_eq!(o.stiffness, 0.0);
+        }
+        // Damping of node 0: 4 Σ_j β V (15η/m_0 + 15η/m_j)/ρ₀ = 3e7 1/s.
+        assert!(close(out[0].damping, 3e7), "{}", out[0].damping);
+        let power: f64 = out
+            .iter()
+            .zip(&velocity)
+            .map(|(o, v)| 1e-9 * (0..3).map(|d| o.force[d] * v[d]).sum::<f64>())
+            .sum();
+        assert!(close(power, -1.3e5), "{power}");
+        // Off: nothing at all.
+        let (out, dev) = deviatoric_cloud(&reference, &velocity, 0.0);
+        assert_eq!(dev, vec![[0.0; 2]; 3]);
+        assert_eq!(out, vec![ViscousOut::default(); 3]);
+    }
+
+    fn cloud() -> impl Strategy<Value = (Vec<[f64; 4]>, Vec<[f64; 3]>)> {
+        (3usize..8).prop_flat_map(|n| {
+            (
+                prop::collection::vec(
+                    (
+                        -2e-3..2e-3f64,
+                        -2e-3..2e-3f64,
+                        -2e-3..2e-3f64,
+                        0.5e-9..2e-9f64,
+                    )
+                        .prop_map(|(x, y, z, v)| [x, y, z, v]),
+                    n,
+                ),
+                prop::collection::vec(
+                    (-300.0..300.0f64, -300.0..300.0f64, -300.0..300.0f64)
+                        .prop_map(|(a, b, c)| [a, b, c]),
+                    n,
+                ),
+            )
+        })
+    }
+
+    /// Cross product.
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The deviatoric term's contract on any cloud and motion: it
+        /// conserves momentum and angular momentum, takes out exactly the
+        /// power its heating books, each node's own dissipation is ≥ 0,
+        /// and any uniform expansion with a rigid rotation (v = (θ̇/3) y +
+        /// ω × y + v₀) feels nothing.
+        #[test]
+        fn deviatoric_term_conserves_and_dissipates((reference, velocity) in cloud(),
+                                                    rate in -1e5..1e5f64,
+                                                    spin in prop::array::uniform3(-1e5..1e5f64)) {
+            let (out, _) = deviatoric_cloud(&reference, &velocity, 0.3);
+            let scale: f64 = out
+                .iter()
+                .zip(&reference)
+                .map(|(o, x)| x[3] * o.force.iter().map(|f| f.abs()).sum::<f64>())
+                .sum::<f64>()
+                .max(1e-300);
+            let (mut momentum, mut angular) = ([0.0; 3], [0.0; 3]);
+            let (mut power, mut heat) = (0.0, 0.0);
+            for ((o, x), v) in out.iter().zip(&reference).zip(&velocity) {
+                let r = [x[0], x[1], x[2]];
+                let t = cross(r, o.force);
+                for d in 0..3 {
+                    momentum[d] += x[3] * o.force[d];
+                    angular[d] += x[3] * t[d];
+                    power += x[3] * o.force[d] * v[d];
+                }
+                heat += x[3] * o.heating;
+                prop_assert!(o.heating >= -1e-12 * o.heating.abs().max(1.0), "{}", o.heating);
+            }
+            for d in 0..3 {
+                prop_assert!(momentum[d].abs() <= 1e-12 * scale, "{momentum:?} {scale}");
+                prop_assert!(angular[d].abs() <= 1e-12 * scale * 4e-3, "{angular:?} {scale}");
+            }
+            prop_assert!((power + heat).abs() <= 1e-10 * heat.abs().max(1e-300), "{power} {heat}");
+            // Uniform expansion, rotation and translation.
+            let rigid: Vec<[f64; 3]> = reference
+                .iter()
+                .map(|x| {
+                    let w = cross(spin, [x[0], x[1], x[2]]);
+                    [
+                        rate / 3.0 * x[0] + w[0] + 10.0,
+                        rate / 3.0 * x[1] + w[1] - 20.0,
+                        rate / 3.0 * x[2] + w[2] + 5.0,
+                    ]
+                })
+                .collect();
+            let (out, dev) = deviatoric_cloud(&reference, &rigid, 0.3);
+            let c = dev.iter().map(|d| d[1]).fold(0.0, f64::max);
+            // Forces of the size round-off leaves: 15η/m · V · |v| ~ c 1e-9 · 1e-12 · 1e3.
+            for o in &out {
+                for d in 0..3 {
+                    prop_assert!(o.force[d].abs() <= c * 1e-9 * 1e-9, "{:?} (c {c})", o.force);
+                }
+            }
+            for (d, x) in dev.iter().zip(&reference) {
+                let _ = x;
+                prop_assert!((d[0] - rate).abs() <= 1e-9 * rate.abs().max(1.0) + 1e-6, "{} vs {rate}", d[0]);
+            }
+        }
+    }
+
     #[test]
     fn invalid_coefficients_name_the_field() {
         let v = GasViscosity {
@@ -415,5 +707,13 @@ mod tests {
             ..GasViscosity::default()
         };
         assert!(v.validate().unwrap_err().contains("gas_viscosity.shear"));
+        let v = GasViscosity {
+            deviatoric: f64::INFINITY,
+            ..GasViscosity::default()
+        };
+        assert!(v
+            .validate()
+            .unwrap_err()
+            .contains("gas_viscosity.deviatoric"));
     }
 }

@@ -349,6 +349,7 @@ impl PdSolver {
             viscous_node: Vec::new(),
             viscous: Vec::new(),
             kick_heat: Vec::new(),
+            deviatoric: Vec::new(),
             plastic: vec![0.0; factor.len()],
             factor,
             strength,

@@ -611,6 +611,105 @@ fn the_shear_term_slows_a_receding_pair_and_returns_the_energy_as_heat() {
     );
 }
 
+/// A 3 × 3 × 3 block of the weak gas of [`colliding_gas_nodes`] (h = 1 mm,
+/// every node lit at t = 0) with the given viscosity and velocity field.
+fn gas_block(viscosity: Option<GasViscosity>, velocity: impl Fn([f64; 3]) -> [f64; 3]) -> PdSolver {
+    let h = 1.0e-3;
+    let points = (0..27)
+        .map(|k| DetonationPoint {
+            position: [
+                (0.5 + (k % 3) as f64) * h,
+                (0.5 + (k / 3 % 3) as f64) * h,
+                (0.5 + (k / 9) as f64) * h,
+            ],
+            time: 0.0,
+        })
+        .collect();
+    let mut s = PdSolver::new(PdSetup {
+        options: PdOptions {
+            spacing: h,
+            contact: None,
+            ..PdOptions::default()
+        },
+        materials: vec![PdMaterial::Gas(crate::material::Gas {
+            density: 1000.0,
+            detonation_velocity: 1000.0,
+            isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
+                gamma: 1.4,
+                reference_pressure: 1.0e5,
+            },
+            reactant: None,
+        })],
+        bodies: vec![box_body([0.0; 3], [3.0 * h; 3], 0)],
+        boundaries: vec![],
+        detonation: Some(DetonationSpec {
+            points,
+            method: BurnMethod::StraightLine,
+        }),
+    })
+    .unwrap();
+    s.set_gas_viscosity(viscosity).unwrap();
+    s.set_velocities(velocity);
+    s.compute_forces();
+    s
+}
+
+/// The deviatoric viscosity (α_d, viscosity.rs) in the solver: a uniform
+/// expansion of the block about its centre feels no deviatoric force (to
+/// round-off), a shear flow does; run in shear, the kinetic energy the
+/// term takes is the products' heat, the total energy and the momentum
+/// kept as in the collision above.
+#[test]
+fn the_deviatoric_term_damps_shear_and_leaves_expansion_alone() {
+    let h = 1.0e-3;
+    let deviatoric = GasViscosity {
+        linear: 0.0,
+        quadratic: 0.0,
+        shear: 0.0,
+        deviatoric: 10.0,
+    };
+    let shear = |x: [f64; 3]| [1.0e5 * (x[1] - 1.5 * h), 0.0, 0.0];
+    let expansion = |x: [f64; 3]| [0, 1, 2].map(|d| 1.0e5 * (x[d] - 1.5 * h));
+    let sheared = gas_block(Some(deviatoric), shear);
+    assert_eq!(sheared.node_count(), 27);
+    let largest = |s: &PdSolver| {
+        s.viscous
+            .iter()
+            .flat_map(|v| v.force)
+            .fold(0.0f64, |m, f| m.max(f.abs()))
+    };
+    let f_shear = largest(&sheared);
+    assert!(f_shear > 0.0);
+    let expanding = gas_block(Some(deviatoric), expansion);
+    assert!(
+        largest(&expanding) <= 1e-12 * f_shear,
+        "{} vs {f_shear}",
+        largest(&expanding)
+    );
+    assert_eq!(expanding.viscous_heat(), 0.0);
+    // In shear: the heat is the kinetic energy lost; energy and momentum kept.
+    let mut s = sheared;
+    let e0 = s.conservation_totals().energy;
+    let k0 = s.kinetic_energy();
+    let p0 = s.conservation_totals().momentum;
+    while s.time() < 2.0e-6 {
+        let dt = 0.25 * s.stable_dt().unwrap();
+        s.advance(dt).unwrap();
+    }
+    let heat = s.viscous_heat();
+    let change = (s.conservation_totals().energy - e0) / k0;
+    eprintln!("sheared block: heat {heat:e} J of KE {k0:e} J, ΔE/KE0 {change:e}");
+    assert!(heat > 0.01 * k0, "heat {heat} of {k0}");
+    assert!(
+        change.abs() < 1e-2,
+        "energy change {change} of the kinetic energy"
+    );
+    let p = s.conservation_totals().momentum;
+    for d in 0..3 {
+        assert!((p[d] - p0[d]).abs() < 1e-15, "{p:?} vs {p0:?}");
+    }
+}
+
 /// With heat ΔC the products' pressure is still −dW/dX of the stored
 /// energy W(X/X_d) + (ΔC/ω)(X/X_d)^{−ω} (ideal gas: ω = γ − 1), and at
 /// X = X_d = 1 it is P_S0 + ΔC.
