@@ -165,13 +165,7 @@ mod tests {
     /// overrides; anything else is the usage line.
     #[test]
     fn the_examples_take_a_positive_spacing_and_overrides() {
-        use crate::pd_tube::spacing_args;
-        let args = |a: &[&str]| {
-            a.iter()
-                .map(|s| s.to_string())
-                .collect::<Vec<_>>()
-                .into_iter()
-        };
+        use crate::pd_tube::{args, spacing_args};
         assert_eq!(
             spacing_args(
                 args(&["1.5e-3", "pipeline.products_family=MirroredWall"]),

@@ -349,12 +349,7 @@ mod tests {
             Some(Strength::WeibullPerturbed)
         );
         assert_eq!(Strength::named("regular"), None);
-        let args = |a: &[&str]| {
-            a.iter()
-                .map(|s| s.to_string())
-                .collect::<Vec<_>>()
-                .into_iter()
-        };
+        use crate::pd_tube::args;
         assert_eq!(
             study_args(args(&["perturbed", "1.3e-3", "time.end=5e-5"]), "u"),
             Ok((

@@ -167,6 +167,16 @@ pub fn spacing_args(
     }
 }
 
+/// A command line of strings, for the tests of [`spacing_args`] and
+/// `pd_fragmentation::study_args`.
+#[cfg(test)]
+pub(crate) fn args(a: &[&str]) -> std::vec::IntoIter<String> {
+    a.iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()
+        .into_iter()
+}
+
 /// The tube `a` a scenario file built is the library case's `b` node for
 /// node: positions, masses and stable step to the bit; the file numbers
 /// its two materials in the order of its regions (the charge first), the

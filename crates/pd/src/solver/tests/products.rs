@@ -405,6 +405,20 @@ fn the_step_is_burn_limited_until_the_front_has_crossed_the_explosive() {
     assert!(dt > limit, "after the burn: {dt} ({why})");
 }
 
+/// The weak ideal gas of the products tests: γ = 1.4, P_S0 = 1e5 Pa,
+/// ρ₀ = 1000 kg/m³, D = 1000 m/s.
+fn weak_gas() -> PdMaterial {
+    PdMaterial::Gas(crate::material::Gas {
+        density: 1000.0,
+        detonation_velocity: 1000.0,
+        isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
+            gamma: 1.4,
+            reference_pressure: 1.0e5,
+        },
+        reactant: None,
+    })
+}
+
 /// Two detonated products nodes of a weak ideal gas (γ = 1.4, P_S0 =
 /// 1e5 Pa, ρ₀ = 1000 kg/m³, h = 1 mm) thrown at each other at 100 m/s
 /// each, on both detonation points at t = 0.
@@ -433,15 +447,7 @@ fn colliding_gas_nodes_at(
             closing_step_fraction,
             ..PdOptions::default()
         },
-        materials: vec![gas.unwrap_or(PdMaterial::Gas(crate::material::Gas {
-            density: 1000.0,
-            detonation_velocity: 1000.0,
-            isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
-                gamma: 1.4,
-                reference_pressure: 1.0e5,
-            },
-            reactant: None,
-        }))],
+        materials: vec![gas.unwrap_or_else(weak_gas)],
         bodies: vec![box_body([0.0; 3], [2.0 * h, h, h], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
@@ -631,15 +637,7 @@ fn gas_block(viscosity: Option<GasViscosity>, velocity: impl Fn([f64; 3]) -> [f6
             contact: None,
             ..PdOptions::default()
         },
-        materials: vec![PdMaterial::Gas(crate::material::Gas {
-            density: 1000.0,
-            detonation_velocity: 1000.0,
-            isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
-                gamma: 1.4,
-                reference_pressure: 1.0e5,
-            },
-            reactant: None,
-        })],
+        materials: vec![weak_gas()],
         bodies: vec![box_body([0.0; 3], [3.0 * h; 3], 0)],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
