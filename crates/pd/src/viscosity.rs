@@ -232,6 +232,30 @@ pub fn pair_pressure(
     (q, dq)
 }
 
+/// Bond k from node i (reference position and volume, displacement
+/// `xu`, velocity `vi`) to node j: the reference bond ξ = x_j − x_i, the
+/// current bond y = ξ + u_j − u_i, the relative velocity v_j − v_i and
+/// the weight β V_j.
+#[inline(always)]
+fn pair(
+    input: &ViscousInput,
+    xu: [[f64; 4]; 2],
+    vi: [f64; 3],
+    k: usize,
+    j: usize,
+) -> ([f64; 3], [f64; 3], [f64; 3], f64) {
+    let [xi, ui] = xu;
+    let (xj, uj, vj) = (input.reference[j], input.state[j], input.velocity[j]);
+    let xi_ = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let y = [
+        xi_[0] + uj[0] - ui[0],
+        xi_[1] + uj[1] - ui[1],
+        xi_[2] + uj[2] - ui[2],
+    ];
+    let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
+    (xi_, y, v, input.factor[k] as f64 * xj[3])
+}
+
 /// Node i's (θ̇, 15η/m) for the deviatoric term (module doc), from the
 /// positions and velocities of `input` (its `deviatoric` is not read):
 /// [0, 0] when `deviatoric` is 0, when the node takes no part, or when
@@ -251,14 +275,7 @@ pub fn deviatoric_node(input: &ViscousInput, i: usize) -> DeviatoricNode {
         if input.node[j][0] == 0.0 {
             continue;
         }
-        let (xj, uj, vj) = (input.reference[j], input.state[j], input.velocity[j]);
-        let y = [
-            xj[0] - xi[0] + uj[0] - ui[0],
-            xj[1] - xi[1] + uj[1] - ui[1],
-            xj[2] - xi[2] + uj[2] - ui[2],
-        ];
-        let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
-        let bv = input.factor[k] as f64 * xj[3];
+        let (_, y, v, bv) = pair(input, [xi, ui], vi, k, j);
         m += bv * (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
         s += bv * (v[0] * y[0] + v[1] * y[1] + v[2] * y[2]);
     }
@@ -304,16 +321,7 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
         if nj[0] == 0.0 {
             continue;
         }
-        let xj = input.reference[j];
-        let uj = input.state[j];
-        let vj = input.velocity[j];
-        let xi_ = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
-        let y = [
-            xi_[0] + uj[0] - ui[0],
-            xi_[1] + uj[1] - ui[1],
-            xi_[2] + uj[2] - ui[2],
-        ];
-        let v = [vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]];
+        let (xi_, y, v, bv) = pair(input, [xi, ui], vi, k, j);
         let vr = v[0] * y[0] + v[1] * y[1] + v[2] * y[2];
         if let (Some(di), Some(dj)) = (input.deviatoric.get(i), input.deviatoric.get(j)) {
             let py = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
@@ -322,7 +330,6 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
                 let rate = vr / py;
                 let tij = di[1] * (rate - di[0] * py / 3.0);
                 let tji = dj[1] * (rate - dj[0] * py / 3.0);
-                let bv = input.factor[k] as f64 * xj[3];
                 let g = bv * (tij + tji) / py;
                 for (fd, yd) in o.force.iter_mut().zip(y) {
                     *fd += g * yd;
@@ -342,7 +349,6 @@ pub fn viscous_row(input: &ViscousInput, i: usize) -> ViscousOut {
         let c = 0.5 * (ni[2] + nj[2]);
         let (q, dq) = pair_pressure(input.params, input.spacing, vr, p2, rho, c);
         let abar = 0.5 * (ni[0] + nj[0]);
-        let bv = input.factor[k] as f64 * xj[3];
         // Force on i, repulsive: −q ā r/p² along ê = y/p, times β V_j.
         let g = -q * abar * r * bv / (p2 * p);
         for (fd, yd) in o.force.iter_mut().zip(y) {

@@ -737,14 +737,8 @@ fn heated_products_pressure_is_minus_the_energy_derivative() {
             / (2.0 * d);
         assert!((fd / dp - 1.0).abs() < 1e-6, "{x}: {fd} vs {dp}");
     }
-    let ideal = crate::material::Gas {
-        density: 1000.0,
-        detonation_velocity: 1000.0,
-        isentrope: brisance_reaction::ProductsIsentrope::IdealGas {
-            gamma: 1.4,
-            reference_pressure: 1.0e5,
-        },
-        reactant: None,
+    let PdMaterial::Gas(ideal) = weak_gas() else {
+        unreachable!()
     };
     assert!((heat_exponent(&ideal) - 0.4).abs() < 1e-15);
     // Ideal gas: heat 1e5 at X = 1 doubles the pressure, P ∝ X^{−γ} after.
