@@ -185,8 +185,8 @@ pub fn e_pd_cyl(report: &mut Report, img: &Path) -> Result<()> {
         m.total_momentum_z,
         match s.gas_viscosity() {
             Some(v) => format!(
-                "on (α = {}, β = {}, α_s = {})",
-                v.linear, v.quadratic, v.shear
+                "on (α = {}, β = {}, α_s = {}, α_d = {})",
+                v.linear, v.quadratic, v.shear, v.deviatoric
             ),
             None => "off (the default, docs/physics/pd/gas.md)".into(),
         },

@@ -884,10 +884,13 @@ impl PdSolver {
                 params,
             };
             if !deviatoric.is_empty() {
-                // Every node's, on every rank: the force pass reads the
-                // neighbours' (viscosity.rs).
-                let all = 0..deviatoric.len();
-                for_each_node_in(&mut deviatoric, all, |i, d| *d = deviatoric_node(&input, i));
+                // The owned nodes' and their neighbours': the force pass
+                // over the owned nodes reads the neighbours'
+                // (viscosity.rs). Entries outside are not read.
+                let reach = self.ranks.reach();
+                for_each_node_in(&mut deviatoric, reach, |i, d| {
+                    *d = deviatoric_node(&input, i)
+                });
             }
             input.deviatoric = &deviatoric;
             viscous_forces_in(&input, self.ranks.nodes(), &mut self.viscous);

@@ -89,9 +89,11 @@
 //! forces take out is exactly Σ_i V_i D_i with each node's
 //! D_i = (15 η_i / m_i) Σ_j β V_j (ė^d_ij)² ≥ 0, returned as heat through
 //! the kick like the terms above. A node whose family holds no other
-//! products node has no deviatoric term. On several MPI ranks every rank
-//! forms (θ̇, 15η/m) of every node (a pass over the bonds of all nodes,
-//! not only the owned ones), so the force pass reads its neighbours'.
+//! products node has no deviatoric term. On several MPI ranks each rank
+//! forms (θ̇, 15η/m) over the reach of its nodes (its own and every
+//! neighbour in their rows, a contiguous range: `solver::ranks`), so the
+//! force pass over its own nodes reads its neighbours' without another
+//! exchange.
 
 use crate::forces::for_each_node_in;
 use serde::{Deserialize, Serialize};

@@ -30,6 +30,10 @@ use std::sync::Arc;
 #[derive(Debug, Clone)]
 pub(super) struct Ranks {
     runs: NodeRuns,
+    /// The owned nodes and every neighbour in their rows: the nodes whose
+    /// per-node values a row pass over the owned nodes reads (all of them
+    /// on one rank).
+    reach: Range<usize>,
     /// Intact bonds of each owned node after the last exchange, to find
     /// the rows in which a bond broke.
     intact: Vec<u32>,
@@ -40,6 +44,7 @@ impl Ranks {
     pub(super) fn serial(nodes: usize) -> Self {
         Self {
             runs: NodeRuns::serial(nodes),
+            reach: 0..nodes,
             intact: Vec::new(),
         }
     }
@@ -53,6 +58,29 @@ impl Ranks {
     pub(super) fn nodes(&self) -> Range<usize> {
         self.runs.nodes()
     }
+
+    /// The owned nodes and their rows' neighbours, as one range
+    /// ([`row_reach`]).
+    pub(super) fn reach(&self) -> Range<usize> {
+        self.reach.clone()
+    }
+}
+
+/// The smallest range of nodes holding `own` and every neighbour in the
+/// rows of `own` (families in compressed-row form, `offsets` one longer
+/// than the node count): what a pass that reads its neighbours' per-node
+/// values needs formed before it runs over `own`.
+pub fn row_reach(offsets: &[u32], neighbours: &[u32], own: Range<usize>) -> Range<usize> {
+    if own.is_empty() {
+        return own;
+    }
+    let bonds = offsets[own.start] as usize..offsets[own.end] as usize;
+    let (low, high) = neighbours[bonds]
+        .iter()
+        .fold((own.start, own.end), |(low, high), &j| {
+            (low.min(j as usize), high.max(j as usize + 1))
+        });
+    low..high
 }
 
 /// The first node of each of `ranks` ranks, then `offsets.len() − 1` (the
@@ -110,6 +138,11 @@ impl PdSolver {
         let starts = node_starts(&self.families.offsets, comm.size())?;
         let r = comm.rank();
         self.ranks = Ranks {
+            reach: row_reach(
+                &self.families.offsets,
+                &self.families.neighbours,
+                starts[r]..starts[r + 1],
+            ),
             intact: self.bond_out[starts[r]..starts[r + 1]]
                 .iter()
                 .map(|b| b.intact)
@@ -294,6 +327,30 @@ impl PdSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A chain of 6 nodes, each bonded to its neighbours within two: the
+    /// reach of a run is the run widened by two on each side, cut at the
+    /// chain's ends; an empty run reaches nothing.
+    #[test]
+    fn a_runs_reach_holds_its_rows_neighbours() {
+        let mut offsets = vec![0u32];
+        let mut neighbours = Vec::new();
+        for i in 0..6i64 {
+            neighbours.extend(
+                (i - 2..=i + 2)
+                    .filter(|&j| j != i && (0..6).contains(&j))
+                    .map(|j| j as u32),
+            );
+            offsets.push(neighbours.len() as u32);
+        }
+        assert_eq!(row_reach(&offsets, &neighbours, 0..6), 0..6);
+        assert_eq!(row_reach(&offsets, &neighbours, 0..1), 0..3);
+        assert_eq!(row_reach(&offsets, &neighbours, 2..3), 0..5);
+        assert_eq!(row_reach(&offsets, &neighbours, 4..6), 2..6);
+        assert!(row_reach(&offsets, &neighbours, 3..3).is_empty());
+        // A node without bonds reaches itself.
+        assert_eq!(row_reach(&[0, 0, 0], &[], 1..2), 1..2);
+    }
 
     #[test]
     fn nodes_are_shared_by_bonds_in_contiguous_runs() {

@@ -16,6 +16,17 @@ fn products_beside_copper(
     contact: bool,
     reactant: bool,
 ) -> PdSolver {
+    products_beside_copper_deep(family, speed, contact, reactant, 4.0)
+}
+
+/// [`products_beside_copper`] `depth` spacings deep along z (4 there).
+fn products_beside_copper_deep(
+    family: ProductsFamily,
+    speed: Option<f64>,
+    contact: bool,
+    reactant: bool,
+    depth: f64,
+) -> PdSolver {
     let h = 1.0e-3;
     let mut copper = Proportional::seed_004_copper();
     copper.kind = ProportionalKind::MicroElastic;
@@ -38,8 +49,8 @@ fn products_beside_copper(
         },
         materials: vec![PdMaterial::Gas(gas), PdMaterial::Proportional(copper)],
         bodies: vec![
-            box_body([0.0; 3], [6.0 * h, 4.0 * h, 4.0 * h], 0),
-            box_body([6.0 * h, 0.0, 0.0], [9.0 * h, 4.0 * h, 4.0 * h], 1),
+            box_body([0.0; 3], [6.0 * h, 4.0 * h, depth * h], 0),
+            box_body([6.0 * h, 0.0, 0.0], [9.0 * h, 4.0 * h, depth * h], 1),
         ],
         boundaries: vec![],
         detonation: Some(DetonationSpec {
@@ -310,15 +321,61 @@ fn products_at_rest_in_a_rigid_case_move_less_with_the_case_in_their_families() 
 /// The interface with a mirrored wall, contact and a reactant, `steps`
 /// steps on `ranks` thread ranks: each rank's saved state.
 fn mirrored_on_thread_ranks(ranks: usize, steps: usize) -> Vec<Vec<u8>> {
-    brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
-        let mut s = products_beside_copper(ProductsFamily::MirroredWall, None, true, true);
+    mirrored_viscous_on_thread_ranks(ranks, steps, 4.0, None).0
+}
+
+/// [`mirrored_on_thread_ranks`] `depth` spacings deep with the products'
+/// viscosity `viscosity`: each rank's saved state and whether a rank's
+/// reach ([`super::ranks::row_reach`]) left out some node.
+fn mirrored_viscous_on_thread_ranks(
+    ranks: usize,
+    steps: usize,
+    depth: f64,
+    viscosity: Option<GasViscosity>,
+) -> (Vec<Vec<u8>>, bool) {
+    let narrower = std::sync::atomic::AtomicBool::new(false);
+    let states = brisance_grid::comm::InProcess::run(ranks, 2, |comm| {
+        let mut s =
+            products_beside_copper_deep(ProductsFamily::MirroredWall, None, true, true, depth);
+        if viscosity.is_some() {
+            s.set_gas_viscosity(viscosity).unwrap();
+        }
         s.distribute(comm).unwrap();
+        if s.ranks.reach().len() < s.node_count() {
+            narrower.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
         for _ in 0..steps {
             let dt = s.stable_dt().unwrap();
             s.advance(dt).unwrap();
         }
         s.save_state().unwrap()
-    })
+    });
+    (states, narrower.into_inner())
+}
+
+/// The deviatoric viscosity (α_d = 0.3) on 2 and 3 ranks, the interface
+/// 10 spacings deep (a horizon is 3): each rank forms the nodes'
+/// (θ̇, 15η/m) only over its reach (its nodes and their rows' neighbours,
+/// some rank's leaving nodes out) and every rank ends with the bits of one
+/// rank.
+#[test]
+fn the_deviatoric_viscosity_on_ranks_gives_the_bits_of_one_rank() {
+    let deviatoric = Some(GasViscosity {
+        linear: 0.0,
+        quadratic: 0.0,
+        shear: 0.0,
+        deviatoric: 0.3,
+    });
+    let (one, _) = mirrored_viscous_on_thread_ranks(1, 40, 10.0, deviatoric);
+    let (plain, _) = mirrored_viscous_on_thread_ranks(1, 40, 10.0, None);
+    assert!(one[0] != plain[0], "the term acts in these steps");
+    for ranks in [2, 3] {
+        let (states, narrower) = mirrored_viscous_on_thread_ranks(ranks, 40, 10.0, deviatoric);
+        assert!(narrower, "no rank's reach left a node out on {ranks} ranks");
+        for (r, state) in states.into_iter().enumerate() {
+            assert!(state == one[0], "rank {r} of {ranks}");
+        }
+    }
 }
 
 /// The mirrored wall's heat (formed from the neighbours' half-step
