@@ -210,9 +210,80 @@ impl OneSidedPairs {
     }
 }
 
+/// For each node that satisfies `holder`, the positions k in its own row
+/// of [`Families`] of the neighbours that do not, ascending in k: with
+/// `holder` the products nodes, each products node's wall pairs
+/// (`crate::ProductsFamily::MirroredWall`), so a pass over them visits
+/// them in the row's order without scanning the rest of the row. Row i is
+/// `bond[offsets[i]..offsets[i + 1]]`; empty (no offsets) when not built.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ForeignBonds {
+    /// Row starts, one per node plus the end; empty when not built.
+    pub offsets: Vec<u32>,
+    /// Positions in [`Families::neighbours`].
+    pub bond: Vec<u32>,
+}
+
+impl ForeignBonds {
+    /// The bonds of `families` from a node satisfying `holder` to one that
+    /// does not.
+    pub fn of(families: &Families, holder: impl Fn(usize) -> bool) -> Self {
+        let n = families.node_count();
+        let mut offsets = Vec::with_capacity(n + 1);
+        offsets.push(0u32);
+        let mut bond = Vec::new();
+        for i in 0..n {
+            if holder(i) {
+                bond.extend(
+                    families
+                        .row(i)
+                        .filter(|&k| !holder(families.neighbours[k] as usize))
+                        .map(|k| k as u32),
+                );
+            }
+            offsets.push(bond.len() as u32);
+        }
+        Self { offsets, bond }
+    }
+
+    /// Node i's bond positions (none when not built).
+    #[inline]
+    pub fn row(&self, i: usize) -> &[u32] {
+        if self.offsets.is_empty() {
+            &[]
+        } else {
+            &self.bond[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two products nodes (0, 2) and two solid ones (1, 3), every node in
+    /// every other's row: node 0's foreign bonds are its row positions of
+    /// 1 and 3, node 2's likewise, the solids' rows are empty; not built,
+    /// every row is empty.
+    #[test]
+    fn foreign_bonds_are_a_holders_row_positions_of_the_others() {
+        let families = Families {
+            offsets: vec![0, 3, 6, 9, 12],
+            neighbours: vec![1, 2, 3, 0, 2, 3, 0, 1, 3, 0, 1, 2],
+        };
+        let gas = |i: usize| i.is_multiple_of(2);
+        let f = ForeignBonds::of(&families, gas);
+        assert_eq!(f.row(0), &[0, 2]);
+        assert_eq!(f.row(1), &[] as &[u32]);
+        assert_eq!(f.row(2), &[7, 8]);
+        assert_eq!(f.row(3), &[] as &[u32]);
+        for i in 0..4 {
+            for &k in f.row(i) {
+                assert!(!gas(families.neighbours[k as usize] as usize));
+            }
+        }
+        assert_eq!(ForeignBonds::default().row(3), &[] as &[u32]);
+    }
 
     fn cube(n: usize, h: f64) -> Vec<[f64; 3]> {
         let mut x = Vec::new();

@@ -1088,7 +1088,11 @@ fn gas_expansion_closing_lanes(i: usize, row: &GasRow) -> (f64, f64, f64, f64) {
 /// of its family (`crate::ProductsFamily::MirroredWall`), m³: p_k the
 /// pair's current length, p_k⁰ its length before the drift, whose bond
 /// vector was y − dt (v_k − v_i) with v the half-step velocities the drift
-/// moved the nodes with. Negative when the wall recedes.
+/// moved the nodes with. Negative when the wall recedes. `pairs` gives
+/// the family's (neighbour, β) in the row's order; those that are not
+/// solid are passed over, so the row's wall pairs alone
+/// ([`crate::family::ForeignBonds`]) give the sum of the whole row, to the
+/// bit.
 #[allow(clippy::too_many_arguments)]
 pub fn wall_sum_change(
     i: usize,
@@ -1096,8 +1100,7 @@ pub fn wall_sum_change(
     state: &[[f64; 4]],
     velocity: &[[f64; 3]],
     dt: f64,
-    neighbours: &[u32],
-    factor: &[f32],
+    pairs: impl IntoIterator<Item = (u32, f32)>,
     material: &[u16],
     laws: &[BondLaw],
 ) -> f64 {
@@ -1105,7 +1108,7 @@ pub fn wall_sum_change(
     let ui = state[i];
     let vi = velocity[i];
     let mut ds = 0.0;
-    for (k, &j) in neighbours.iter().enumerate() {
+    for (j, beta) in pairs {
         let j = j as usize;
         if !matches!(laws[material[j] as usize], BondLaw::Solid { .. }) {
             continue;
@@ -1126,7 +1129,7 @@ pub fn wall_sum_change(
         let p0 = (y0[0] * y0[0] + y0[1] * y0[1] + y0[2] * y0[2])
             .sqrt()
             .max(1e-15 * r);
-        ds += factor[k] as f64 * xj[3] * (r / p - r / p0);
+        ds += beta as f64 * xj[3] * (r / p - r / p0);
     }
     ds
 }

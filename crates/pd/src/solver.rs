@@ -23,7 +23,7 @@ use crate::cell_list::CellList;
 use crate::contact::{
     bin_current_positions, contact_energies, contact_forces_in, ContactInput, ContactParams,
 };
-use crate::family::{Families, OneSidedPairs};
+use crate::family::{Families, ForeignBonds, OneSidedPairs};
 use crate::forces::{
     bond_forces_dissipating_in, for_each_node, for_each_node_in, for_each_node_pair_in,
     gas_expansion_closing, one_sided_gas_reaction, wall_sum_change, BondLaw, ForceInput, GasRow,
@@ -114,6 +114,10 @@ pub struct PdSolver {
     /// Per solid node, the products nodes whose families hold it
     /// ([`ProductsFamily::WithSolids`]); empty otherwise.
     one_sided: OneSidedPairs,
+    /// Per products node, the positions in its row of its solid
+    /// neighbours ([`ProductsFamily::MirroredWall`]: the wall pairs step 3
+    /// books the work of); empty otherwise.
+    wall_bonds: ForeignBonds,
     // Per node, evolving.
     time: f64,
     steps: u64,
@@ -311,7 +315,9 @@ impl PdSolver {
             + heap(&self.prescribed)
             + heap(&self.one_sided.offsets)
             + heap(&self.one_sided.partner)
-            + heap(&self.one_sided.bond);
+            + heap(&self.one_sided.bond)
+            + heap(&self.wall_bonds.offsets)
+            + heap(&self.wall_bonds.bond);
         PdMemory {
             nodes: n,
             bonds: self.bond_count(),
@@ -626,6 +632,7 @@ impl PdSolver {
         let reference = &self.reference;
         let state = &self.state;
         let families = &self.families;
+        let wall_bonds = &self.wall_bonds;
         let factor = &self.factor;
         let material = &self.material;
         let materials = &self.materials;
@@ -695,8 +702,10 @@ impl PdSolver {
                     state,
                     velocity,
                     dt,
-                    &families.neighbours[row.clone()],
-                    &factor[row.clone()],
+                    wall_bonds.row(i).iter().map(|&k| {
+                        let k = k as usize;
+                        (families.neighbours[k], factor[k])
+                    }),
                     material,
                     laws,
                 );

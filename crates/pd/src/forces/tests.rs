@@ -278,8 +278,7 @@ fn the_wall_sum_changes_by_the_solid_pairs_stretch_over_the_drift() {
             &state,
             &velocity,
             dt,
-            &[1, 2],
-            &[1.0, 1.0],
+            [(1, 1.0), (2, 1.0)],
             &material,
             &laws,
         )
@@ -292,6 +291,98 @@ fn the_wall_sum_changes_by_the_solid_pairs_stretch_over_the_drift() {
     );
     let none = ds(0.0);
     assert_eq!(none, 0.0);
+}
+
+/// A products slab beside a solid one, every node in every family within
+/// the horizon (the mirrored wall's families), displaced and moving: each
+/// products node's ΔS_wall over its wall pairs alone
+/// ([`crate::family::ForeignBonds`]) has the bits of the scan over its
+/// whole row, and the wall pairs are fewer than the row's.
+#[test]
+fn the_wall_pairs_alone_give_the_whole_rows_wall_sum_to_the_bit() {
+    use crate::family::{build_families_where, ForeignBonds};
+    let h = 1.0e-3;
+    let mut positions = Vec::new();
+    for k in 0..4 {
+        for j in 0..4 {
+            for i in 0..8 {
+                positions.push([
+                    (i as f64 + 0.5) * h,
+                    (j as f64 + 0.5) * h,
+                    (k as f64 + 0.5) * h,
+                ]);
+            }
+        }
+    }
+    let n = positions.len();
+    let material: Vec<u16> = positions
+        .iter()
+        .map(|x| u16::from(x[0] > 5.0 * h))
+        .collect();
+    let laws = [BondLaw::Gas, SOLID];
+    let is_gas = |i: usize| material[i] == 0;
+    let families = build_families_where(&positions, 3.0 * h, h, |_, _| true);
+    let wall = ForeignBonds::of(&families, is_gas);
+    let wobble = |i: usize, s: f64| ((i as f64 * s).sin() * 1.0e-4, (i as f64 * s * 1.7).cos());
+    let reference: Vec<[f64; 4]> = positions
+        .iter()
+        .map(|x| [x[0], x[1], x[2], h * h * h])
+        .collect();
+    let state: Vec<[f64; 4]> = (0..n)
+        .map(|i| [wobble(i, 0.37).0, wobble(i, 0.11).0, wobble(i, 0.23).0, 0.0])
+        .collect();
+    let velocity: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            [
+                1.0e3 * wobble(i, 0.5).1,
+                5.0e2 * wobble(i, 0.9).1,
+                -2.0e2 * wobble(i, 1.3).1,
+            ]
+        })
+        .collect();
+    let factor: Vec<f32> = (0..families.bond_count())
+        .map(|k| {
+            if k % 7 == 3 {
+                0.0
+            } else {
+                1.0 - (k % 5) as f32 * 0.1
+            }
+        })
+        .collect();
+    let mut compared = 0;
+    for i in (0..n).filter(|&i| is_gas(i)) {
+        let row = families.row(i);
+        let whole = wall_sum_change(
+            i,
+            &reference,
+            &state,
+            &velocity,
+            2.0e-8,
+            families.neighbours[row.clone()]
+                .iter()
+                .copied()
+                .zip(factor[row.clone()].iter().copied()),
+            &material,
+            &laws,
+        );
+        let pairs = wall.row(i);
+        let alone = wall_sum_change(
+            i,
+            &reference,
+            &state,
+            &velocity,
+            2.0e-8,
+            pairs
+                .iter()
+                .map(|&k| (families.neighbours[k as usize], factor[k as usize])),
+            &material,
+            &laws,
+        );
+        assert_eq!(whole.to_bits(), alone.to_bits(), "node {i}");
+        assert!(pairs.len() < row.len());
+        compared += usize::from(whole != 0.0);
+    }
+    assert!(compared > 0, "no products node has a wall pair");
 }
 
 #[test]

@@ -3,7 +3,9 @@
 
 use super::{distance, invalid, BurnMethod, PdSetup, PdSetupError, PdSolver, BURN_STEP_FRACTION};
 use crate::cell_list::CellList;
-use crate::family::{build_families, build_families_where, partial_volume, OneSidedPairs};
+use crate::family::{
+    build_families, build_families_where, partial_volume, ForeignBonds, OneSidedPairs,
+};
 use crate::forces::{BondLaw, NodeForce};
 use crate::lattice::{fill_lattice, LatticeSpec};
 use crate::material::{micromodulus, PdMaterial, Proportional, ProportionalKind};
@@ -115,6 +117,11 @@ impl PdSolver {
             OneSidedPairs::of(&families, |i| is_gas[i])
         } else {
             OneSidedPairs::default()
+        };
+        let wall_bonds = if o.products_family.mirrors_walls() {
+            ForeignBonds::of(&families, |i| is_gas[i])
+        } else {
+            ForeignBonds::default()
         };
         // Strength factors of the materials with a spread critical stretch
         // (`strength.rs`; empty when none has one), and per material the
@@ -326,6 +333,7 @@ impl PdSolver {
             prescribed,
             families,
             one_sided,
+            wall_bonds,
             time: 0.0,
             steps: 0,
             state,
