@@ -352,32 +352,15 @@ fn the_wall_pairs_alone_give_the_whole_rows_wall_sum_to_the_bit() {
     let mut compared = 0;
     for i in (0..n).filter(|&i| is_gas(i)) {
         let row = families.row(i);
-        let whole = wall_sum_change(
-            i,
-            &reference,
-            &state,
-            &velocity,
-            2.0e-8,
-            families.neighbours[row.clone()]
-                .iter()
-                .copied()
-                .zip(factor[row.clone()].iter().copied()),
-            &material,
-            &laws,
-        );
+        let pair = |k: usize| (families.neighbours[k], factor[k]);
+        let ds = |pairs: Vec<(u32, f32)>| {
+            wall_sum_change(
+                i, &reference, &state, &velocity, 2.0e-8, pairs, &material, &laws,
+            )
+        };
+        let whole = ds(row.clone().map(pair).collect());
         let pairs = wall.row(i);
-        let alone = wall_sum_change(
-            i,
-            &reference,
-            &state,
-            &velocity,
-            2.0e-8,
-            pairs
-                .iter()
-                .map(|&k| (families.neighbours[k as usize], factor[k as usize])),
-            &material,
-            &laws,
-        );
+        let alone = ds(pairs.iter().map(|&k| pair(k as usize)).collect());
         assert_eq!(whole.to_bits(), alone.to_bits(), "node {i}");
         assert!(pairs.len() < row.len());
         compared += usize::from(whole != 0.0);
