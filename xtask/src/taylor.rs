@@ -551,7 +551,7 @@ mod tests {
         // G = E/(2(1 + ν)) = 206.9/2.6 GPa.
         assert!((ep.shear_modulus / 79.576_923e9 - 1.0).abs() < 1e-7);
         assert_eq!(ep.taylor_quinney, 0.9);
-        assert_eq!(ep.specific_heat, 460.0);
+        assert_eq!(ep.specific_heat.constant(), Some(460.0));
         // Linear pressure K (1 − ρ₀/ρ), K = E/(3(1 − 2ν)) = 172.4167 GPa, at
         // 1 % compression and zero energy: 1.7071 GPa to the 10⁻⁶ of the
         // vanishing S and Γ₀.

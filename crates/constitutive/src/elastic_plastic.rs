@@ -52,6 +52,7 @@
 //! distributions ([`Material::init_history`]) or the point's own draws
 //! ([`Material::init_history_at`]).
 
+use crate::specific_heat::SpecificHeat;
 use crate::{
     error::positive,
     hypoelastic::{deviator, von_mises},
@@ -164,8 +165,10 @@ pub struct ElasticPlastic {
     /// Fraction χ of plastic work turned into heat (seed 000: 0.9).
     #[serde(default = "default_taylor_quinney")]
     pub taylor_quinney: f64,
-    /// Specific heat c_v for the plastic heating, J/(kg·K).
-    pub specific_heat: f64,
+    /// Specific heat c_v for the plastic heating, J/(kg·K): a number, or
+    /// a temperature-dependent form (`Curie(...)`,
+    /// [`crate::specific_heat`]; seed 000 §5.3, ref \[44\]).
+    pub specific_heat: SpecificHeat,
 }
 
 /// Radial return: the plastic strain increment Δε_p solving
@@ -279,7 +282,7 @@ impl ElasticPlastic {
                 expected: "a fraction in [0, 1]",
             });
         }
-        positive(NAME, "specific_heat", self.specific_heat)
+        self.specific_heat.validate(NAME)
     }
 
     /// The OFHC copper tube of seed 000 §5.2: elastic–perfectly plastic,
@@ -298,7 +301,7 @@ impl ElasticPlastic {
             stability: StabilityChecks::default(),
             rate: ObjectiveRate::GreenNaghdi,
             taylor_quinney: TAYLOR_QUINNEY_SEED000,
-            specific_heat: 383.0,
+            specific_heat: SpecificHeat::Constant(383.0),
         }
     }
 
@@ -318,7 +321,7 @@ impl ElasticPlastic {
             stability: StabilityChecks::default(),
             rate: ObjectiveRate::GreenNaghdi,
             taylor_quinney: TAYLOR_QUINNEY_SEED000,
-            specific_heat: 383.0,
+            specific_heat: SpecificHeat::Constant(383.0),
         }
     }
 
@@ -341,7 +344,7 @@ impl ElasticPlastic {
             stability: StabilityChecks::default(),
             rate: ObjectiveRate::GreenNaghdi,
             taylor_quinney: TAYLOR_QUINNEY_SEED000,
-            specific_heat: 477.0,
+            specific_heat: SpecificHeat::Constant(477.0),
         }
     }
 
@@ -349,10 +352,12 @@ impl ElasticPlastic {
     /// treatment of §4.2: [`ElasticPlastic::steel_4340_seed000`] plus a
     /// Gaussian initial damage (mean 0.005, standard deviation 0.001), TEPLA-F
     /// ([`Tepla::steel_4340_seed000`]: initial porosity 0.005 ± 0.001,
-    /// f_c = 0.3, ε_n = 0.3, s_n = 0.1, f_n = 0.1) and both stability checks
-    /// (Drucker and loss of hyperbolicity).
+    /// f_c = 0.3, ε_n = 0.3, s_n = 0.1, f_n = 0.1), both stability checks
+    /// (Drucker and loss of hyperbolicity) and the temperature-dependent
+    /// specific heat of §5.3 (ref \[44\]; [`SpecificHeat::steel_4340`]).
     pub fn steel_4340_cookoff_seed000() -> Self {
         Self {
+            specific_heat: SpecificHeat::steel_4340(),
             damage: Some(JohnsonCookDamage {
                 initial_damage: Some(Gaussian::new(0.005, 0.001)),
                 ..JohnsonCookDamage::steel_4340_seed000()
@@ -384,7 +389,7 @@ impl ElasticPlastic {
             stability: StabilityChecks::default(),
             rate: ObjectiveRate::Jaumann,
             taylor_quinney: TAYLOR_QUINNEY_SEED000,
-            specific_heat: 477.0,
+            specific_heat: SpecificHeat::Constant(477.0),
         }
     }
 
@@ -411,7 +416,7 @@ impl ElasticPlastic {
             return d_eps;
         }
         let sigma_y = self.flow_stress.flow_stress(eps_p, eps_p_rate, t);
-        d_eps + d_t * self.taylor_quinney * sigma_y / (rho * self.specific_heat)
+        d_eps + d_t * self.taylor_quinney * sigma_y / (rho * self.specific_heat.at(t))
     }
 
     /// The loss-of-stability criterion a yielding step meets, if any:
@@ -529,12 +534,14 @@ impl Material for ElasticPlastic {
 
         let eps_rate = if dt > 0.0 { d_eps / dt } else { 0.0 };
         let plastic_work = sigma_y * d_eps;
-        let d_temp = plastic_heating(
-            self.taylor_quinney,
-            plastic_work,
-            input.density,
-            self.specific_heat,
-        );
+        let d_temp = match self.specific_heat {
+            SpecificHeat::Constant(c) => {
+                plastic_heating(self.taylor_quinney, plastic_work, input.density, c)
+            }
+            SpecificHeat::Model(_) => self
+                .specific_heat
+                .temperature_rise(t, self.taylor_quinney * plastic_work / input.density),
+        };
         scalars[PLASTIC_STRAIN_INDEX] = eps_p + d_eps;
         scalars[PLASTIC_STRAIN_RATE_INDEX] = eps_rate;
         scalars[TEMPERATURE_INCREMENT_INDEX] = d_temp;
@@ -671,23 +678,31 @@ mod tests {
     /// perfectly plastic shear step of Δε_p = 1e-3 in copper gives
     /// Δw_p = 70e6 × 1e-3 = 7e4 J/m³ and ΔT = 0.9 × 7e4/(8930 × 383) =
     /// 0.018420 K.
-    #[test]
-    fn plastic_work_heats_with_taylor_quinney_fraction() {
+    /// One perfectly plastic shear step of the seed 000 copper (with the
+    /// specific heat `c_v`) at temperature `t`: from the yield surface in
+    /// pure shear (s_xy = σ_y/√3), the shear rate D_xy chosen so that the
+    /// plastic increment is 1e-3 (trial σ̄ = σ_y + 3G Δε_p needs
+    /// 2G D_xy Δt √3 = 3G × 1e-3). Returns the update and the history.
+    fn plastic_shear_step(c_v: SpecificHeat, t: f64) -> (StressUpdate, Vec<f64>) {
         let m = ElasticPlastic {
             rate: ObjectiveRate::Jaumann,
+            specific_heat: c_v,
             ..ElasticPlastic::ofhc_copper_seed000()
         };
         let (g, sy) = (43.8e9, 70.0e6);
-        // Start on the yield surface in pure shear: s_xy = σ_y/√3.
         let tau = sy / 3f64.sqrt();
         let sigma = Mat3::new(0.0, tau, 0.0, tau, 0.0, 0.0, 0.0, 0.0, 0.0);
-        // Shear rate D_xy chosen so the plastic increment is 1e-3:
-        // trial σ̄ = σ_y + 3G Δε_p needs 2G D_xy Δt √3 = 3G × 1e-3.
         let dt = 1e-6;
         let d_xy = 3.0 * g * 1e-3 / (2.0 * g * dt * 3f64.sqrt());
         let l = Mat3::new(0.0, d_xy, 0.0, d_xy, 0.0, 0.0, 0.0, 0.0, 0.0);
         let mut h = fresh(&m);
-        let out = m.update_stress(&input(l, dt, sigma, 300.0, 8930.0), &mut h);
+        let out = m.update_stress(&input(l, dt, sigma, t, 8930.0), &mut h);
+        (out, h)
+    }
+
+    #[test]
+    fn plastic_work_heats_with_taylor_quinney_fraction() {
+        let (out, h) = plastic_shear_step(SpecificHeat::Constant(383.0), 300.0);
         assert!(
             (h[PLASTIC_STRAIN_INDEX] - 1e-3).abs() < 1e-15,
             "{}",
@@ -705,6 +720,45 @@ mod tests {
         );
         assert!((dtemp - 0.018_420).abs() < 1e-6, "{dtemp}");
         assert!((h[PLASTIC_STRAIN_RATE_INDEX] - 1e3).abs() < 1e-9);
+    }
+
+    /// With c_v(T) through the Curie point the same step heats the point
+    /// by the rise whose heat is χ Δw_p/ρ = 0.9 × 7e4/8930 = 7.0549 J/kg
+    /// (H(T + ΔT) − H(T), [`crate::specific_heat`]): at 1000 K, where the
+    /// steel's c_v is 982.18 J/(kg·K) (t = 1 − 1000/1040 = 0.0384615,
+    /// 190.14 − 10.529 + 418.30/0.521201), about 7.18 mK instead of the
+    /// 18.4 mK of the constant 383.
+    #[test]
+    fn plastic_work_heats_through_a_temperature_dependent_specific_heat() {
+        let curie = SpecificHeat::steel_4340();
+        let (out, h) = plastic_shear_step(curie.clone(), 1000.0);
+        let q = 0.9 * out.plastic_work / 8930.0;
+        assert!((q - 7.0549).abs() < 1e-4, "{q}");
+        let dtemp = h[TEMPERATURE_INCREMENT_INDEX];
+        let held = curie.heat(1000.0 + dtemp) - curie.heat(1000.0);
+        assert!((held - q).abs() < 1e-9 * q, "{held} vs {q}");
+        assert!(
+            (dtemp - q / curie.at(1000.0)).abs() < 1e-4 * dtemp,
+            "{dtemp}"
+        );
+        assert!((dtemp - 7.1829e-3).abs() < 1e-6, "{dtemp}");
+        // The model validates the Curie form and a constant alike.
+        let m = ElasticPlastic {
+            specific_heat: curie,
+            ..ElasticPlastic::ofhc_copper_seed000()
+        };
+        assert!(m.validate().is_ok());
+        let bad = ElasticPlastic {
+            specific_heat: SpecificHeat::Constant(-1.0),
+            ..m
+        };
+        assert!(matches!(
+            bad.validate(),
+            Err(ConstitutiveError::InvalidParameter {
+                field: "specific_heat",
+                ..
+            })
+        ));
     }
 
     /// Johnson–Cook return: after a large shear step of 4340 steel the

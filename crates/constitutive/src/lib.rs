@@ -16,6 +16,8 @@
 //!   000 eqs 43–46).
 //! - [`stability`]: loss of material stability — Drucker's postulate and
 //!   the loss of hyperbolicity (seed 000 §4.2, eq 48).
+//! - [`specific_heat`]: c_v constant or through a steel's Curie point
+//!   (seed 000 §5.3, ref \[44\]), and the temperature a heat raises.
 //! - [`random`]: counter-based random draws of per-point initial values
 //!   (Gaussian porosity and damage, seed 000 §5.3).
 //! - [`drucker_prager`]: Drucker–Prager soil with shear and tension
@@ -50,6 +52,7 @@ pub mod objective;
 pub mod plugin;
 pub mod pressure;
 pub mod random;
+pub mod specific_heat;
 pub mod stability;
 pub mod tepla;
 pub mod viscoscram;
@@ -67,6 +70,7 @@ pub use objective::ObjectiveRate;
 pub use plugin::{MaterialPlugin, MaterialRegistry, PluginConstitutive, PluginMaterial};
 pub use pressure::PressureModel;
 pub use random::Gaussian;
+pub use specific_heat::{CurieSpecificHeat, SpecificHeat, SpecificHeatModel};
 pub use stability::StabilityChecks;
 pub use tepla::Tepla;
 pub use viscoscram::ViscoScram;

@@ -245,12 +245,37 @@ impl MaterialModel {
         }
     }
 
-    /// The specific heat the model carries, J/(kg·K): the J2 metal's and a
-    /// plugin model's own, `None` for the others.
+    /// The constant specific heat the model carries, J/(kg·K): the J2
+    /// metal's (`None` where it follows the temperature,
+    /// [`crate::specific_heat`]) and a plugin model's own, `None` for the
+    /// others.
     pub fn specific_heat(&self) -> Option<f64> {
         match self {
-            Self::ElasticPlastic(m) => Some(m.specific_heat),
+            Self::ElasticPlastic(m) => m.specific_heat.constant(),
             Self::Plugin(m) => m.model().specific_heat(),
+            _ => None,
+        }
+    }
+
+    /// Whether the model carries a specific heat (constant or following the
+    /// temperature): the J2 metal, and a plugin model that gives one.
+    pub fn carries_specific_heat(&self) -> bool {
+        match self {
+            Self::ElasticPlastic(_) => true,
+            Self::Plugin(m) => m.model().specific_heat().is_some(),
+            _ => false,
+        }
+    }
+
+    /// The temperature rise (K) of a point of this model at `temperature`
+    /// (K) given the heat `q` (J/kg) — q/c_v for a constant specific heat,
+    /// the rise whose heat is q for one that follows the temperature
+    /// ([`crate::SpecificHeat::temperature_rise`]) — for the models that
+    /// carry a specific heat, `None` for the others.
+    pub fn temperature_rise(&self, temperature: f64, q: f64) -> Option<f64> {
+        match self {
+            Self::ElasticPlastic(m) => Some(m.specific_heat.temperature_rise(temperature, q)),
+            Self::Plugin(m) => m.model().specific_heat().map(|c| q / c),
             _ => None,
         }
     }

@@ -192,7 +192,7 @@ pub fn thermal_properties(
             Err(FieldError::new(
                 path,
                 format!(
-                    "give `specific_heat`: a conducting material needs one, and the `{}` model carries none",
+                    "give `specific_heat`: a conducting material needs a constant one (the conduction takes c_v constant), and the `{}` model carries none",
                     model.name()
                 ),
             ))

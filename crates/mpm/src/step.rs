@@ -805,7 +805,8 @@ fn deformation_beyond(f: &Mat3, j: f64, limit: f64) -> bool {
 /// q, Δt (qⁿ + qⁿ⁺¹)/2 |tr D| / ρ^{n+½}, heats the particle. A model that
 /// tracks its temperature apart from e (the elastic–plastic one, a plugin
 /// model with a temperature increment and a specific heat) also gets that
-/// work as ΔT = w_q / c_v.
+/// work as ΔT = w_q / c_v, or, where c_v follows the temperature, as the
+/// rise whose heat is w_q (`MaterialModel::temperature_rise`).
 ///
 /// Returns (J, reason) when the new state is not physical; the particle is
 /// then left partly updated and the step must be abandoned.
@@ -894,14 +895,16 @@ pub fn update_particle_stress(
     if !e_new.is_finite() {
         return Err((j, FAILURE_REASONS[3]));
     }
-    if let (Some(d_temp), Some(specific_heat)) = (
+    if let (Some(d_temp), true) = (
         material.temperature_increment(history),
-        material.specific_heat(),
+        material.carries_specific_heat(),
     ) {
         *state.temperature += d_temp;
         if q_old != 0.0 || q_new != 0.0 {
             let viscous_work = -dt * 0.5 * (q_old + q_new) * trace_d / rho_mid;
-            *state.temperature += viscous_work / specific_heat;
+            if let Some(rise) = material.temperature_rise(*state.temperature, viscous_work) {
+                *state.temperature += rise;
+            }
         }
     }
     *state.specific_internal_energy = e_new;

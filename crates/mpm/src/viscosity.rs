@@ -346,6 +346,47 @@ mod tests {
         );
     }
 
+    /// A metal heated by the work of q through a specific heat that follows
+    /// the temperature (the 4340 steel's Curie form): its heat H(T) rises by
+    /// the viscous work, step by step, as its energy does; without q its
+    /// temperature stays (the steps are elastic).
+    #[test]
+    fn the_viscous_work_heats_a_metal_through_its_specific_heat_curve() {
+        use brisance_constitutive::{ElasticPlastic, SpecificHeat};
+        let curie = SpecificHeat::steel_4340();
+        let m = MaterialModel::ElasticPlastic(ElasticPlastic {
+            specific_heat: curie.clone(),
+            ..ElasticPlastic::steel_4340_seed000()
+        });
+        let v0 = 1e-6;
+        let mass = 7830.0 * v0;
+        let visc = ViscosityParams {
+            model: BulkViscosity::UINTAH,
+            length: 1e-3,
+        };
+        let l = Mat3::new(-300.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let dt = 1e-6;
+        let mut on = One::new([0.0; 6], v0, 0.0);
+        on.history = vec![0.0; m.history_len()];
+        m.init_history(&mut on.history);
+        let mut off = on.clone();
+        let mut work = 0.0;
+        for _ in 0..3 {
+            let (q_old, v_old) = (on.bulk.q, on.volume);
+            on.update(&m, &l, mass, v0, dt, Some(visc));
+            off.update(&m, &l, mass, v0, dt, None);
+            let rho_mid = 2.0 * mass / (v_old + on.volume);
+            work += dt * 0.5 * (q_old + on.bulk.q) * 300.0 / rho_mid;
+        }
+        assert!(work > 0.0);
+        assert_eq!(off.temperature, 300.0);
+        let held = curie.heat(on.temperature) - curie.heat(300.0);
+        assert!((held - work).abs() < 1e-9 * work, "{held} vs {work}");
+        // Not the rise of the constant c_v the library's steel carries.
+        let constant = on.temperature - 300.0 - work / 477.0;
+        assert!(constant.abs() > 1e-3 * (work / 477.0), "{constant}");
+    }
+
     #[test]
     fn without_compression_there_is_no_q_and_the_update_is_unchanged() {
         let m = gas();

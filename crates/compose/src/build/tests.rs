@@ -392,6 +392,36 @@ fn bad_thermal_values_name_their_field_and_line() {
     assert_eq!(built.thermal_properties()[0].specific_heat, 385.0);
 }
 
+/// `specific_heat: Curie(...)` (the 4340 steel's c_v(T), seed 000 §5.3)
+/// loads, builds and steps like a number; a bad constant names its field
+/// and line, and a conducting material with it must give a constant c_v
+/// for the conduction.
+#[test]
+fn a_specific_heat_that_follows_the_temperature_reads_from_a_config() {
+    let curie = "Curie(t_c: 1040.0, a0: 190.14, b0: 273.75, c0: 418.3, n0: 0.2, \
+                 a1: 465.21, b1: 267.52, c1: 58.16, n1: 0.35)";
+    let number = "specific_heat: 383.0,";
+    assert!(TAYLOR.contains(number));
+    let text = TAYLOR.replace(number, &format!("specific_heat: {curie},"));
+    let loaded = load_str("t.ron", &text, &[]).unwrap();
+    let mut built = mpm_build(&loaded.scenario);
+    for _ in 0..3 {
+        let dt = built.stable_dt().unwrap();
+        built.advance(dt).unwrap();
+    }
+    let bad = text.replace("n0: 0.2", "n0: 1.5");
+    let e = load_str("t.ron", &bad, &[]).unwrap_err();
+    assert!(e.to_string().contains("specific_heat.n0"), "{e}");
+    assert!(e.to_string().starts_with("t.ron:"), "{e}");
+    let unknown = text.replace("n1: 0.35", "n2: 0.35");
+    let e = load_str("t.ron", &unknown, &[]).unwrap_err();
+    assert!(e.to_string().starts_with("t.ron:"), "{e}");
+    let conducting = taylor_with_thermal("(conductivity: 386.0)")
+        .replace(number, &format!("specific_heat: {curie},"));
+    let e = load_str("t.ron", &conducting, &[]).unwrap_err();
+    assert!(e.message.contains("constant"), "{e}");
+}
+
 #[test]
 fn thermal_on_a_material_without_particles_is_refused() {
     // A gas of the Fdm pipeline.
