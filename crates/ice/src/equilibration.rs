@@ -290,10 +290,26 @@ fn describe_energy(rho: &[f64], energy: &[f64]) -> String {
     s
 }
 
+/// Where a solve that did not converge from the cell's last pressure starts
+/// again, Pa (1 atm; also the start for a guess that is not positive).
+const RESTART_PRESSURE: f64 = 1.0e5;
+
+/// The reason [`newton_eq7`] gives when its iterations ran out.
+const NOT_CONVERGED: &str = "not converged";
+
 /// The Newton iteration on eq 7 shared by both equilibrations: `fill(p,
 /// vsp, theta)` writes v_r and θ_r at p and returns f(p) = 1 − Σθ_r,
 /// `slope(p, vsp, theta)` returns f'(p) at the state `fill` left (called
 /// only for a Newton step), `state()` spells the cell out for an error.
+///
+/// Started from the cell's last pressure. Without a bracket the iteration
+/// moves at most a decade a step, so a last pressure far below the root
+/// (a cell emptied to near vacuum, whose pressure fell to 10⁻⁹⁸ Pa in the
+/// 1 mm cook-off) can spend every iteration climbing; a solve that runs
+/// out of iterations is started once more from 1 atm, and fails with the
+/// first attempt's error if that does not converge either. A solve that
+/// converges from its guess is untouched (the same iterates, the same
+/// bits).
 fn solve_eq7(
     guess: f64,
     settings: &EquilibrationSettings,
@@ -302,6 +318,42 @@ fn solve_eq7(
     mut fill: impl FnMut(f64, &mut [f64], &mut [f64]) -> Result<f64, String>,
     mut slope: impl FnMut(f64, &[f64], &[f64]) -> Result<f64, String>,
     state: impl Fn() -> String,
+) -> Result<(f64, EquilibrationReport), EquilibrationError> {
+    let first = newton_eq7(guess, settings, vsp, theta, &mut fill, &mut slope, &state);
+    match first {
+        Err(e) if e.reason == NOT_CONVERGED && guess != RESTART_PRESSURE => {
+            match newton_eq7(
+                RESTART_PRESSURE,
+                settings,
+                vsp,
+                theta,
+                &mut fill,
+                &mut slope,
+                &state,
+            ) {
+                Ok((p, rep)) => Ok((
+                    p,
+                    EquilibrationReport {
+                        iterations: e.iterations + rep.iterations,
+                        residual: rep.residual,
+                    },
+                )),
+                Err(_) => Err(e),
+            }
+        }
+        other => other,
+    }
+}
+
+/// One Newton iteration on eq 7 from `guess` ([`solve_eq7`]).
+fn newton_eq7(
+    guess: f64,
+    settings: &EquilibrationSettings,
+    vsp: &mut [f64],
+    theta: &mut [f64],
+    fill: &mut impl FnMut(f64, &mut [f64], &mut [f64]) -> Result<f64, String>,
+    slope: &mut impl FnMut(f64, &[f64], &[f64]) -> Result<f64, String>,
+    state: &impl Fn() -> String,
 ) -> Result<(f64, EquilibrationReport), EquilibrationError> {
     let fail = |iterations, residual, pressure, reason: String| EquilibrationError {
         iterations,
@@ -313,7 +365,7 @@ fn solve_eq7(
     let mut p = if guess > 0.0 && guess.is_finite() {
         guess
     } else {
-        1.0e5
+        RESTART_PRESSURE
     };
     let mut f = fill(p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
     // Bracket: f(lo) < 0 < f(hi); 0 and ∞ mean "not found yet".
@@ -388,7 +440,7 @@ fn solve_eq7(
             },
         ));
     }
-    Err(fail(settings.max_iterations, f, p, "not converged".into()))
+    Err(fail(settings.max_iterations, f, p, NOT_CONVERGED.into()))
 }
 
 #[cfg(test)]
@@ -430,6 +482,58 @@ mod tests {
             assert!(rep.residual.abs() <= 1e-12);
             assert!(rep.iterations <= 60, "guess {guess}: {rep:?}");
         }
+    }
+
+    /// The cook-off cell that stopped the 1 mm E-COOKOFF run at 69.2 µs
+    /// (docs/physics/couple/cookoff.md): near vacuum on the axis (PBX-9501
+    /// products at 2·10⁻⁴ kg/m³ and 1.2·10⁴ K, traces of air, steel and
+    /// the reactant), its last pressure ~10⁻⁹⁸ Pa. With no bracket the
+    /// iteration climbs at most a decade a step (and Newton on the gas's
+    /// 1 − A/p only doubles p), so 100 iterations end at 7.3 Pa with the
+    /// root at 500 Pa; the solve is then restarted from 1 atm, where it
+    /// converges in a few steps. A guess it converges from keeps its
+    /// iterates: same pressure, same bits.
+    #[test]
+    fn a_guess_decades_below_the_root_restarts_from_one_atmosphere() {
+        let eos: Vec<EosModel> = [
+            "Jwl(a: 8.524e11, b: 1.802e10, r1: 4.6, r2: 1.3, omega: 0.38, e0: 1.02e10, rho0: 1840.0, cv: 543.4782608695652)",
+            "IdealGas(gamma: 1.4, cv: 717.6, rho0: 1.225)",
+            "MieGruneisenLinear(c0: 3574.0, s: 1.92, gamma0: 1.69, rho0: 7830.0, cv: 477.0, t0: 294.0)",
+            "SolidThreshold(solid: Murnaghan(n: 10.3, kappa: 1.7475236134128263e-10, rho0: 1840.0, cv: 996.0, t_ref: 298.0), threshold_pressure: 101325.0)",
+        ]
+        .iter()
+        .map(|t| ron::from_str(&format!("#![enable(unwrap_variant_newtypes)] {t}")).unwrap())
+        .collect();
+        let rho = [
+            2.010998772929144e-4,
+            1.0656536236108207e-16,
+            9.102057890765737e-3,
+            2.160805126857097e-3,
+        ];
+        let temp = [
+            1.2046227310192438e4,
+            4.2164661233188707e2,
+            4.509999999999997e2,
+            2.9800000000000153e2,
+        ];
+        let settings = EquilibrationSettings::default();
+        let solve = |guess: f64| {
+            let (mut v, mut th) = ([0.0; 4], [0.0; 4]);
+            equilibration_pressure(&eos, &rho, &temp, guess, &settings, &mut v, &mut th)
+                .map(|(p, rep)| (p, rep, th))
+        };
+        let (p_atm, rep_atm, th) = solve(1.0e5).unwrap();
+        assert!((p_atm - 500.299).abs() < 1e-3, "{p_atm}");
+        assert!(rep_atm.iterations < 20, "{rep_atm:?}");
+        assert!(th[0] > 0.99999, "{th:?}");
+        // 10⁻⁹⁸ Pa: a hundred decades below the root.
+        let (p, rep, _) = solve(7.313074249033026e-98).unwrap();
+        assert_eq!(p.to_bits(), p_atm.to_bits());
+        assert!(rep.iterations > settings.max_iterations, "{rep:?}");
+        // A guess it converges from on its own is not restarted.
+        let (p, rep, _) = solve(1.0e-3).unwrap();
+        assert!((p / p_atm - 1.0).abs() < 1e-12, "{p}");
+        assert!(rep.iterations < settings.max_iterations, "{rep:?}");
     }
 
     #[test]
