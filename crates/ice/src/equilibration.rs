@@ -294,22 +294,30 @@ fn describe_energy(rho: &[f64], energy: &[f64]) -> String {
 /// again, Pa (1 atm; also the start for a guess that is not positive).
 const RESTART_PRESSURE: f64 = 1.0e5;
 
-/// The reason [`newton_eq7`] gives when its iterations ran out.
-const NOT_CONVERGED: &str = "not converged";
+/// How one Newton attempt on eq 7 ([`newton_eq7`]) stopped short.
+struct Stopped {
+    /// The error the run stops with if no other attempt converges.
+    error: EquilibrationError,
+    /// True when the iterations ran out (the only failure a restart from
+    /// another start can mend; an EOS that refuses a state refuses it
+    /// from any start).
+    ran_out: bool,
+}
 
 /// The Newton iteration on eq 7 shared by both equilibrations: `fill(p,
 /// vsp, theta)` writes v_r and θ_r at p and returns f(p) = 1 − Σθ_r,
 /// `slope(p, vsp, theta)` returns f'(p) at the state `fill` left (called
 /// only for a Newton step), `state()` spells the cell out for an error.
 ///
-/// Started from the cell's last pressure. Without a bracket the iteration
-/// moves at most a decade a step, so a last pressure far below the root
-/// (a cell emptied to near vacuum, whose pressure fell to 10⁻⁹⁸ Pa in the
-/// 1 mm cook-off) can spend every iteration climbing; a solve that runs
-/// out of iterations is started once more from 1 atm, and fails with the
-/// first attempt's error if that does not converge either. A solve that
-/// converges from its guess is untouched (the same iterates, the same
-/// bits).
+/// Started from the cell's last pressure (1 atm for a last pressure that
+/// is not positive and finite). Without a bracket the iteration moves at
+/// most a decade a step, so a last pressure far below the root (a cell
+/// emptied to near vacuum, whose pressure fell to 10⁻⁹⁸ Pa in the 1 mm
+/// cook-off) can spend every iteration climbing; a solve that runs out of
+/// iterations from any start but 1 atm is started once more from 1 atm,
+/// and fails with the first attempt's error if that does not converge
+/// either. A solve that converges from its guess is untouched (the same
+/// iterates, the same bits).
 fn solve_eq7(
     guess: f64,
     settings: &EquilibrationSettings,
@@ -319,9 +327,14 @@ fn solve_eq7(
     mut slope: impl FnMut(f64, &[f64], &[f64]) -> Result<f64, String>,
     state: impl Fn() -> String,
 ) -> Result<(f64, EquilibrationReport), EquilibrationError> {
-    let first = newton_eq7(guess, settings, vsp, theta, &mut fill, &mut slope, &state);
-    match first {
-        Err(e) if e.reason == NOT_CONVERGED && guess != RESTART_PRESSURE => {
+    let start = if guess > 0.0 && guess.is_finite() {
+        guess
+    } else {
+        RESTART_PRESSURE
+    };
+    match newton_eq7(start, settings, vsp, theta, &mut fill, &mut slope, &state) {
+        Ok(solved) => Ok(solved),
+        Err(first) if first.ran_out && start != RESTART_PRESSURE => {
             match newton_eq7(
                 RESTART_PRESSURE,
                 settings,
@@ -334,39 +347,39 @@ fn solve_eq7(
                 Ok((p, rep)) => Ok((
                     p,
                     EquilibrationReport {
-                        iterations: e.iterations + rep.iterations,
+                        iterations: first.error.iterations + rep.iterations,
                         residual: rep.residual,
                     },
                 )),
-                Err(_) => Err(e),
+                Err(_) => Err(first.error),
             }
         }
-        other => other,
+        Err(first) => Err(first.error),
     }
 }
 
-/// One Newton iteration on eq 7 from `guess` ([`solve_eq7`]).
+/// One Newton iteration on eq 7 from `start` (positive and finite;
+/// [`solve_eq7`]).
 fn newton_eq7(
-    guess: f64,
+    start: f64,
     settings: &EquilibrationSettings,
     vsp: &mut [f64],
     theta: &mut [f64],
     fill: &mut impl FnMut(f64, &mut [f64], &mut [f64]) -> Result<f64, String>,
     slope: &mut impl FnMut(f64, &[f64], &[f64]) -> Result<f64, String>,
     state: &impl Fn() -> String,
-) -> Result<(f64, EquilibrationReport), EquilibrationError> {
-    let fail = |iterations, residual, pressure, reason: String| EquilibrationError {
-        iterations,
-        residual,
-        pressure,
-        reason,
-        state: state(),
+) -> Result<(f64, EquilibrationReport), Stopped> {
+    let fail = |iterations, residual, pressure, reason: String| Stopped {
+        error: EquilibrationError {
+            iterations,
+            residual,
+            pressure,
+            reason,
+            state: state(),
+        },
+        ran_out: false,
     };
-    let mut p = if guess > 0.0 && guess.is_finite() {
-        guess
-    } else {
-        RESTART_PRESSURE
-    };
+    let mut p = start;
     let mut f = fill(p, vsp, theta).map_err(|e| fail(0, f64::NAN, p, e))?;
     // Bracket: f(lo) < 0 < f(hi); 0 and ∞ mean "not found yet".
     let mut lo = 0.0_f64;
@@ -440,7 +453,10 @@ fn newton_eq7(
             },
         ));
     }
-    Err(fail(settings.max_iterations, f, p, NOT_CONVERGED.into()))
+    Err(Stopped {
+        ran_out: true,
+        ..fail(settings.max_iterations, f, p, "not converged".into())
+    })
 }
 
 #[cfg(test)]
@@ -534,6 +550,55 @@ mod tests {
         let (p, rep, _) = solve(1.0e-3).unwrap();
         assert!((p / p_atm - 1.0).abs() < 1e-12, "{p}");
         assert!(rep.iterations < settings.max_iterations, "{rep:?}");
+    }
+
+    /// The restart is for running out of iterations from a start other
+    /// than 1 atm: a guess that is not positive already started at 1 atm
+    /// and is not tried again, and a state an EOS refuses is refused from
+    /// any start, so it stops at the first attempt. Counted by the calls to
+    /// `fill` (a residual that never reaches the tolerance: f = 1 at every
+    /// pressure, so each attempt walks down a decade a step until its
+    /// iterations run out).
+    #[test]
+    fn only_an_attempt_that_ran_out_from_its_own_guess_is_restarted() {
+        let settings = EquilibrationSettings {
+            tolerance: 1e-12,
+            max_iterations: 7,
+        };
+        let attempt = settings.max_iterations + 1;
+        let calls = |guess: f64, refuse: bool| {
+            let mut n = 0;
+            let (mut v, mut th) = ([0.0; 1], [0.0; 1]);
+            let out = solve_eq7(
+                guess,
+                &settings,
+                &mut v,
+                &mut th,
+                |_, _, _| {
+                    n += 1;
+                    if refuse && n > 1 {
+                        Err("refused".to_string())
+                    } else {
+                        Ok(1.0)
+                    }
+                },
+                |_, _, _| Ok(1.0),
+                || "cell".to_string(),
+            );
+            let e = out.unwrap_err();
+            (n, e.iterations, e.reason)
+        };
+        // From its own guess: one attempt, one restart, the first error.
+        assert_eq!(
+            calls(3.0e7, false),
+            (2 * attempt, settings.max_iterations, "not converged".into())
+        );
+        // A guess of 0, −1, NaN or 1 atm: the one attempt from 1 atm.
+        for guess in [0.0, -1.0, f64::NAN, RESTART_PRESSURE] {
+            assert_eq!(calls(guess, false).0, attempt, "guess {guess}");
+        }
+        // Refused by an EOS: no restart.
+        assert_eq!(calls(3.0e7, true), (2, 1, "refused".into()));
     }
 
     #[test]
