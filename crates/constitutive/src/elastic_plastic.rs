@@ -534,14 +534,12 @@ impl Material for ElasticPlastic {
 
         let eps_rate = if dt > 0.0 { d_eps / dt } else { 0.0 };
         let plastic_work = sigma_y * d_eps;
-        let d_temp = match self.specific_heat {
-            SpecificHeat::Constant(c) => {
-                plastic_heating(self.taylor_quinney, plastic_work, input.density, c)
-            }
-            SpecificHeat::Model(_) => self
-                .specific_heat
-                .temperature_rise(t, self.taylor_quinney * plastic_work / input.density),
-        };
+        let d_temp = self.specific_heat.plastic_heating_rise(
+            t,
+            self.taylor_quinney,
+            plastic_work,
+            input.density,
+        );
         scalars[PLASTIC_STRAIN_INDEX] = eps_p + d_eps;
         scalars[PLASTIC_STRAIN_RATE_INDEX] = eps_rate;
         scalars[TEMPERATURE_INCREMENT_INDEX] = d_temp;
