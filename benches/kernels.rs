@@ -461,6 +461,53 @@ fn mpm_kernels(c: &mut Criterion) {
     }
 }
 
+/// One explicit heat-conduction step inside the MPM solid
+/// (`brisance::mpm::conduction::conduct`: capacity scatter, flux
+/// gather–scatter, temperature gather) on [`mpm_bench_block`] after 40
+/// steps (12 288 particles, linear shape functions) with a temperature
+/// field of 950–1150 K, particle-steps per second: `constant` with the
+/// steel's c_v = 477 J/(kg·K), `curie` with the 4340 steel's c_v(T)
+/// through its Curie point (the capacity takes c_v(T_p), the update the
+/// rise through H(T)). Each iteration starts from the same temperatures.
+fn mpm_conduction(c: &mut Criterion) {
+    use brisance::constitutive::SpecificHeat;
+    use brisance::mpm::conduction::{conduct, HeatWork};
+    use brisance::mpm::ThermalProperties;
+    let mut k = MpmKernelState::new("Linear");
+    let n = k.particles.len();
+    for (p, t) in k.particles.temperature.iter_mut().enumerate() {
+        *t = 950.0 + 2.0 * ((p * 37) % 101) as f64;
+    }
+    let start = k.particles.temperature.clone();
+    let mut group = c.benchmark_group("mpm_conduction");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(n as u64));
+    for (name, heat) in [
+        ("constant", SpecificHeat::Constant(477.0)),
+        ("curie", SpecificHeat::steel_4340()),
+    ] {
+        let properties = [ThermalProperties {
+            conductivity: 44.5,
+            specific_heat: heat,
+        }];
+        let mut work = HeatWork::default();
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                k.particles.temperature.copy_from_slice(&start);
+                conduct(
+                    &k.map,
+                    &k.bins,
+                    &mut k.particles,
+                    &properties,
+                    &mut work,
+                    1e-6,
+                );
+            })
+        });
+    }
+    group.finish();
+}
+
 /// The peridynamic bond-force pass (seed 004 eq 9 with the proportional
 /// micro-elastic bond of eq 8) on a 3D block of 28³ nodes with δ = 3h:
 /// bond evaluations per second, one evaluation being the force of one bond
@@ -551,6 +598,7 @@ criterion_group!(
     eos_density_inversion,
     mpm_step,
     mpm_kernels,
+    mpm_conduction,
     pd_bond_forces,
     pd_contact_forces
 );

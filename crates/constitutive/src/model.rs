@@ -245,14 +245,13 @@ impl MaterialModel {
         }
     }
 
-    /// The constant specific heat the model carries, J/(kg·K): the J2
-    /// metal's (`None` where it follows the temperature,
-    /// [`crate::specific_heat`]) and a plugin model's own, `None` for the
-    /// others.
-    pub fn specific_heat(&self) -> Option<f64> {
+    /// The specific heat the model carries: the J2 metal's (a constant or
+    /// one that follows the temperature, [`crate::specific_heat`]) and a
+    /// plugin model's own constant, `None` for the others.
+    pub fn specific_heat(&self) -> Option<crate::SpecificHeat> {
         match self {
-            Self::ElasticPlastic(m) => m.specific_heat.constant(),
-            Self::Plugin(m) => m.model().specific_heat(),
+            Self::ElasticPlastic(m) => Some(m.specific_heat.clone()),
+            Self::Plugin(m) => m.model().specific_heat().map(crate::SpecificHeat::Constant),
             _ => None,
         }
     }

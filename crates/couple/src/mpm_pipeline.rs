@@ -13,7 +13,7 @@
 //! particles with it ([`mpm_parts`]): the `IceMpm` pipeline's solids and
 //! the bridge's MPM region are `Mpm` sections of their own.
 
-use brisance_constitutive::MaterialModel;
+use brisance_constitutive::{MaterialModel, SpecificHeat};
 use brisance_core::Geometry;
 use brisance_core::Material;
 use brisance_grid::Level;
@@ -184,15 +184,15 @@ pub fn thermal_properties(
     }
     let option = HeatConduction {
         conductivity: vec![k],
-        specific_heat: vec![thermal.specific_heat],
+        specific_heat: vec![thermal.specific_heat.map(SpecificHeat::Constant)],
     };
     match option.resolve(std::slice::from_ref(model)) {
-        Ok(p) => Ok(p[0]),
+        Ok(mut p) => Ok(p.swap_remove(0)),
         Err(("heat_conduction.specific_heat", ..)) if thermal.specific_heat.is_none() => {
             Err(FieldError::new(
                 path,
                 format!(
-                    "give `specific_heat`: a conducting material needs a constant one (the conduction takes c_v constant), and the `{}` model carries none",
+                    "give `specific_heat`: a conducting material needs one, and the `{}` model carries none",
                     model.name()
                 ),
             ))
@@ -814,7 +814,7 @@ fn heat_conduction(
             None => (0.0, None),
         };
         heat.conductivity.push(k);
-        heat.specific_heat.push(c);
+        heat.specific_heat.push(c.map(SpecificHeat::Constant));
     }
     Ok(Some(heat))
 }

@@ -18,7 +18,16 @@
 //!
 //! Σ_p m_p c_p ΔT_p = Δt Σ_I C_I Ṫ_I = Δt Σ_I q_I = 0, since Σ_I ∇N_Ip = 0
 //! (partition of unity): the heat moves between particles and its total is
-//! kept to round-off. Every face is adiabatic (the weak form's natural
+//! kept to round-off.
+//!
+//! A specific heat that follows the temperature
+//! ([`brisance_constitutive::SpecificHeat`], the cook-off steel's c_v(T))
+//! enters as the apparent heat capacity of the enthalpy method: c_p =
+//! c_v(T_pⁿ) in step 1 (its finite mean over T_c ± 1 mK at the Curie point,
+//! [`SpecificHeat::finite_at`]), and in step 5 the particle takes the heat
+//! q_p = c_p Δt Σ_I N_Ip Ṫ_I and moves to the T' with H(T') − H(T_pⁿ) = q_p
+//! (H = ∫ c_v dT), so Σ_p m_p H(T_p) is what is kept. A constant c_v
+//! takes step 5 as written (the same bits as before). Every face is adiabatic (the weak form's natural
 //! condition, zero flux through the body's surface).
 //!
 //! On an axisymmetric (r, z) grid the masses and volumes are the rings'
@@ -42,7 +51,7 @@
 use crate::transfer::heat::{self, HeatNodeSums, HeatParticles};
 use crate::transfer::{GridMap, ParticleBins};
 use crate::Particles;
-use brisance_constitutive::MaterialModel;
+use brisance_constitutive::{MaterialModel, SpecificHeat};
 use brisance_core::UniformGridGeometry;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -58,24 +67,47 @@ pub struct HeatConduction {
     /// a material past the end of the list has k = 0.
     #[serde(default)]
     pub conductivity: Vec<f64>,
-    /// Specific heat c_v of each material, J/(kg·K), finite and > 0; `None`
-    /// or past the end of the list: the model's own (the J2 metal's
-    /// `specific_heat`, or a plugin model's). A material with k > 0 needs
-    /// one; a material without one takes no part in the conduction (its
+    /// Specific heat c_v of each material, J/(kg·K): a constant, finite
+    /// and > 0, or one that follows the temperature
+    /// ([`brisance_constitutive::SpecificHeat`]); `None` or past the end of
+    /// the list: the model's own (the J2 metal's `specific_heat`, constant
+    /// or not, or a plugin model's). A material with k > 0 needs one; a
+    /// material without one takes no part in the conduction (its
     /// temperature is left alone).
     #[serde(default)]
-    pub specific_heat: Vec<Option<f64>>,
+    pub specific_heat: Vec<Option<SpecificHeat>>,
 }
 
 /// The conductivity and specific heat of one material as the kernels use
-/// them: k (W/(m·K)) and c_v (J/(kg·K)); c_v = 0 for a material that
-/// takes no part in the conduction.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// them: k (W/(m·K)) and c_v (J/(kg·K)); c_v the constant 0 for a
+/// material that takes no part in the conduction.
+#[derive(Debug, Clone, PartialEq)]
 pub struct ThermalProperties {
     /// k, W/(m·K).
     pub conductivity: f64,
-    /// c_v, J/(kg·K).
-    pub specific_heat: f64,
+    /// c_v, J/(kg·K): a constant, or one that follows the temperature.
+    pub specific_heat: SpecificHeat,
+}
+
+impl Default for ThermalProperties {
+    fn default() -> Self {
+        Self {
+            conductivity: 0.0,
+            specific_heat: SpecificHeat::Constant(0.0),
+        }
+    }
+}
+
+impl ThermalProperties {
+    /// Whether the material's temperature takes part in the conduction
+    /// (it has a specific heat).
+    #[inline]
+    pub fn takes_part(&self) -> bool {
+        match &self.specific_heat {
+            SpecificHeat::Constant(c) => *c > 0.0,
+            SpecificHeat::Model(_) => true,
+        }
+    }
 }
 
 /// Why a [`HeatConduction`] option cannot be used: the option's name, its
@@ -121,37 +153,42 @@ impl HeatConduction {
                         "must be finite and ≥ 0",
                     ));
                 }
-                let given = self.specific_heat.get(i).copied().flatten();
-                if let Some(c) = given {
-                    if !(c > 0.0 && c.is_finite()) {
+                let given = self.specific_heat.get(i).cloned().flatten();
+                match &given {
+                    Some(SpecificHeat::Constant(c)) if !(*c > 0.0 && c.is_finite()) => {
                         return Err((
                             "heat_conduction.specific_heat",
                             c.to_string(),
                             "must be finite and > 0",
                         ));
                     }
+                    Some(curve) => curve.validate("HeatConduction").map_err(|e| {
+                        (
+                            "heat_conduction.specific_heat",
+                            e.to_string(),
+                            "valid constants of the curve",
+                        )
+                    })?,
+                    None => {}
                 }
-                let c = given.or_else(|| model_specific_heat(model)).unwrap_or(0.0);
-                if k > 0.0 && c == 0.0 {
+                let c = given
+                    .or_else(|| model.specific_heat())
+                    .unwrap_or(SpecificHeat::Constant(0.0));
+                let properties = ThermalProperties {
+                    conductivity: k,
+                    specific_heat: c,
+                };
+                if k > 0.0 && !properties.takes_part() {
                     return Err((
                         "heat_conduction.specific_heat",
                         format!("none for material {i} ({})", model_name(model)),
                         "a specific heat for every conducting material whose model has none",
                     ));
                 }
-                Ok(ThermalProperties {
-                    conductivity: k,
-                    specific_heat: c,
-                })
+                Ok(properties)
             })
             .collect()
     }
-}
-
-/// The specific heat a model carries, J/(kg·K): the J2 metal's, or a
-/// plugin model's own ([`MaterialModel::specific_heat`]).
-fn model_specific_heat(model: &MaterialModel) -> Option<f64> {
-    model.specific_heat()
 }
 
 fn model_name(model: &MaterialModel) -> &'static str {
@@ -260,8 +297,9 @@ pub fn conduct(
 }
 
 /// The largest thermal diffusivity α_p = k V_p / (m_p c_p) over the
-/// particles of a conducting material, m²/s (0 if none), or the index of
-/// the lowest particle whose α is not finite.
+/// particles of a conducting material (c_p at the particle's temperature),
+/// m²/s (0 if none), or the index of the lowest particle whose α is not
+/// finite.
 pub fn max_diffusivity(
     particles: &Particles,
     properties: &[ThermalProperties],
@@ -271,11 +309,12 @@ pub fn max_diffusivity(
         .into_par_iter()
         .with_min_len(4096)
         .map(|p| {
-            let th = properties[ps.material[p].0 as usize];
+            let th = &properties[ps.material[p].0 as usize];
             if th.conductivity == 0.0 {
                 return (0.0, usize::MAX);
             }
-            let a = th.conductivity * ps.volume[p] / (ps.mass[p] * th.specific_heat);
+            let c = th.specific_heat.finite_at(ps.temperature[p]);
+            let a = th.conductivity * ps.volume[p] / (ps.mass[p] * c);
             if a.is_finite() {
                 (a, usize::MAX)
             } else {

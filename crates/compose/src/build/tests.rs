@@ -1,5 +1,6 @@
 use super::*;
 use crate::load_str;
+use brisance_constitutive::SpecificHeat;
 
 const TAYLOR: &str = include_str!("../../../../configs/taylor2d.ron");
 const SOD: &str = include_str!("../../../../configs/sod.ron");
@@ -306,7 +307,7 @@ fn a_thermal_entry_turns_on_the_heat_conduction_of_its_particles() {
             built.thermal_properties(),
             &[brisance_mpm::ThermalProperties {
                 conductivity: 386.0,
-                specific_heat: c
+                specific_heat: SpecificHeat::Constant(c)
             }],
             "{thermal}"
         );
@@ -389,13 +390,16 @@ fn bad_thermal_values_name_their_field_and_line() {
         "(conductivity: 386.0, specific_heat: 385.0)",
     );
     let built = mpm_build(&load_str("t.ron", &text, &[]).unwrap().scenario);
-    assert_eq!(built.thermal_properties()[0].specific_heat, 385.0);
+    assert_eq!(
+        built.thermal_properties()[0].specific_heat,
+        SpecificHeat::Constant(385.0)
+    );
 }
 
 /// `specific_heat: Curie(...)` (the 4340 steel's c_v(T), seed 000 §5.3)
 /// loads, builds and steps like a number; a bad constant names its field
-/// and line, and a conducting material with it must give a constant c_v
-/// for the conduction.
+/// and line, and a conducting material with it conducts through the curve
+/// (or through the constant its `thermal` gives).
 #[test]
 fn a_specific_heat_that_follows_the_temperature_reads_from_a_config() {
     let curie = "Curie(t_c: 1040.0, a0: 190.14, b0: 273.75, c0: 418.3, n0: 0.2, \
@@ -416,10 +420,22 @@ fn a_specific_heat_that_follows_the_temperature_reads_from_a_config() {
     let unknown = text.replace("n1: 0.35", "n2: 0.35");
     let e = load_str("t.ron", &unknown, &[]).unwrap_err();
     assert!(e.to_string().starts_with("t.ron:"), "{e}");
-    let conducting = taylor_with_thermal("(conductivity: 386.0)")
-        .replace(number, &format!("specific_heat: {curie},"));
-    let e = load_str("t.ron", &conducting, &[]).unwrap_err();
-    assert!(e.message.contains("constant"), "{e}");
+    // A conducting material takes the model's curve, unless its `thermal`
+    // gives a constant.
+    for (thermal, c) in [
+        ("(conductivity: 386.0)", SpecificHeat::steel_4340()),
+        (
+            "(conductivity: 386.0, specific_heat: 385.0)",
+            SpecificHeat::Constant(385.0),
+        ),
+    ] {
+        let conducting =
+            taylor_with_thermal(thermal).replace(number, &format!("specific_heat: {curie},"));
+        let mut built = mpm_build(&load_str("t.ron", &conducting, &[]).unwrap().scenario);
+        assert_eq!(built.thermal_properties()[0].specific_heat, c, "{thermal}");
+        let dt = built.stable_dt().unwrap();
+        built.advance(dt).unwrap();
+    }
 }
 
 #[test]

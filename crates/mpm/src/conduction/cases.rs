@@ -12,7 +12,9 @@
 
 use std::f64::consts::PI;
 
-use brisance_constitutive::{Hypoelastic, MaterialModel, ObjectiveRate, PressureModel};
+use brisance_constitutive::{
+    Hypoelastic, MaterialModel, ObjectiveRate, PressureModel, SpecificHeat,
+};
 use brisance_core::{Geometry, Solver};
 use brisance_grid::Level;
 
@@ -122,7 +124,7 @@ pub(crate) fn conducting_solver(
     .map_err(|e| e.to_string())?
     .with_heat_conduction(HeatConduction {
         conductivity: vec![k],
-        specific_heat: vec![Some(CV)],
+        specific_heat: vec![Some(SpecificHeat::Constant(CV))],
     })
     .map_err(|e| e.to_string())
 }

@@ -4,11 +4,12 @@
 //! capacity, temperature and temperature gradient.
 //!
 //! - [`p2g_heat_capacity`]: C_I = Σ_p N_Ip m_p c_p and
-//!   H_I = Σ_p N_Ip m_p c_p T_p (one coloured scatter);
+//!   H_I = Σ_p N_Ip m_p c_p T_p (one coloured scatter), c_p = c_v(T_p);
 //! - [`p2g_heat_flux`]: per particle the gradient ∇T_p = Σ_I (T_I − T_p)
 //!   ∇N_Ip, gathered and used at once to scatter the internal heat rate
 //!   q_I = −Σ_p V_p k_p ∇T_p · ∇N_Ip (one coloured gather–scatter);
-//! - [`g2p_temperature_rate`]: T_p += Δt Σ_I N_Ip Ṫ_I (storage order).
+//! - [`g2p_temperature_rate`]: T_p += Δt Σ_I N_Ip Ṫ_I, or through the heat
+//!   H(T) for a c_v(T) (storage order).
 //!
 //! A node receives its contributions in the fixed order of the colouring,
 //! so the sums are the same bits for any thread count.
@@ -19,6 +20,7 @@ use super::{
 };
 use crate::conduction::ThermalProperties;
 use crate::MaterialId;
+use brisance_constitutive::SpecificHeat;
 use rayon::prelude::*;
 
 /// The particle quantities the heat transfers read.
@@ -91,7 +93,10 @@ impl StencilPass for Capacity<'_> {
         bins.for_each_coloured(|block, p| {
             let s = map.stencil::<NX, NY, NZ>(ps.position[p], bins.half_width(p));
             check_footprint(map, s.offset, block);
-            let mc = ps.mass[p] * ps.properties[ps.material[p].0 as usize].specific_heat;
+            let c = ps.properties[ps.material[p].0 as usize]
+                .specific_heat
+                .finite_at(ps.temperature[p]);
+            let mc = ps.mass[p] * c;
             let mct = mc * ps.temperature[p];
             for c in 0..NZ {
                 for b in 0..NY {
@@ -207,7 +212,10 @@ impl StencilPass for Flux<'_> {
 /// The temperature update over the particles in storage order, in
 /// parallel, each particle writing only itself: T_p += Δt Σ_I N_Ip Ṫ_I
 /// for the particles of a material with a heat capacity (c_p > 0), with
-/// the weights of the positions `position`; `rate` is Ṫ_I, K/s.
+/// the weights of the positions `position`; `rate` is Ṫ_I, K/s. For a
+/// c_v(T) the particle takes the heat q_p = c_v(T_p) Δt Σ_I N_Ip Ṫ_I
+/// (J/kg, the c_v of [`p2g_heat_capacity`]) and moves to the T' with
+/// H(T') − H(T_p) = q_p.
 #[allow(clippy::too_many_arguments)]
 pub fn g2p_temperature_rate(
     map: &GridMap,
@@ -268,9 +276,12 @@ impl StencilPass for TemperatureRange<'_> {
         } = self;
         for (i, t) in temperature.iter_mut().enumerate() {
             let p = first + i;
-            if !(properties[material[p].0 as usize].specific_heat > 0.0) {
-                continue;
-            }
+            let heat = &properties[material[p].0 as usize].specific_heat;
+            let curve = match heat {
+                SpecificHeat::Constant(c) if !(*c > 0.0) => continue,
+                SpecificHeat::Constant(_) => false,
+                SpecificHeat::Model(_) => true,
+            };
             let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
             let mut dtemp = 0.0;
             for c in 0..NZ {
@@ -283,7 +294,15 @@ impl StencilPass for TemperatureRange<'_> {
                     }
                 }
             }
-            *t += dtemp * dt;
+            if curve {
+                // The heat the particle's share of the nodal rates brings,
+                // m_p c_p(Tⁿ) Δt Σ N Ṫ_I (the c_p of the capacity pass), J/kg
+                // once divided by m_p, raises H(T) by exactly that much.
+                let q = heat.finite_at(*t) * (dtemp * dt);
+                *t += heat.temperature_rise(*t, q);
+            } else {
+                *t += dtemp * dt;
+            }
         }
     }
 }
