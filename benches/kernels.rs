@@ -545,7 +545,7 @@ fn pd_contact_forces(c: &mut Criterion) {
     use brisance::pd::cases::BondBenchBlock;
     use brisance::pd::cell_list::CellList;
     use brisance::pd::contact::{
-        bin_current_positions, contact_forces, ContactInput, ContactParams,
+        bin_current_positions, contact_forces, ContactInput, ContactParams, ContactParts,
     };
     let h = 1.0e-3;
     let block = BondBenchBlock::new(28, h);
@@ -563,7 +563,7 @@ fn pd_contact_forces(c: &mut Criterion) {
         reference_fraction: 0.9,
         horizon: 3.0 * h,
     };
-    let input = ContactInput {
+    let input = ContactInput::new(ContactParts {
         reference: &block.reference,
         state: &block.state,
         body: &body,
@@ -573,7 +573,8 @@ fn pd_contact_forces(c: &mut Criterion) {
         families: &block.families,
         factor: &block.factor,
         family_cutoff: 3.5 * h,
-    };
+    })
+    .expect("the bench block's arrays agree");
     let mut cells = CellList::default();
     let mut out = vec![([0.0; 3], 0.0); n];
     let mut group = c.benchmark_group("pd_contact_forces");
@@ -581,8 +582,8 @@ fn pd_contact_forces(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function("solid_and_explosive_block_28cubed", |b| {
         b.iter(|| {
-            bin_current_positions(&mut cells, input.reference, input.state, &params);
-            contact_forces(&input, &cells, &params, &mut out);
+            bin_current_positions(&mut cells, &input, &params);
+            contact_forces(&input, &cells, &params, &mut out).expect("arrays agree");
             black_box(&out);
         })
     });

@@ -105,6 +105,15 @@ impl CellList {
         }
     }
 
+    /// The number of points binned by [`CellList::rebuild_with_positions`],
+    /// whose positions the list keeps; `None` for a list built without
+    /// them (by [`CellList::rebuild`], or never built), which
+    /// [`CellList::for_each_candidate_within`] cannot search.
+    pub fn points_with_positions(&self) -> Option<usize> {
+        let n = self.sorted.len();
+        (self.positions.iter().all(|p| p.len() == n + LANES) && !self.start.is_empty()).then_some(n)
+    }
+
     /// Heap bytes of the buffers as [`CellList::rebuild`] sizes them for
     /// `n` points (a bucket table of the power of two ≥ max(2n, 64) plus
     /// one `u32` starts, two `u32` per point), with the kept positions and

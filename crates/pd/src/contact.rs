@@ -80,9 +80,10 @@ impl ContactParams {
     }
 }
 
-/// Read-only inputs of the contact pass.
+/// The arrays of the contact pass as given; [`ContactInput::new`] checks
+/// that they agree before a pass reads them.
 #[derive(Debug, Clone, Copy)]
-pub struct ContactInput<'a> {
+pub struct ContactParts<'a> {
     /// Reference positions and volumes (x, V).
     pub reference: &'a [[f64; 4]],
     /// Displacements (u, ·): the current position is x + u.
@@ -110,6 +111,133 @@ pub struct ContactInput<'a> {
     pub family_cutoff: f64,
 }
 
+/// Read-only inputs of the contact pass: [`ContactParts`] whose lengths
+/// and indices agree (one entry per node in `reference`, `state`, `body`
+/// and `material`; a material id below the length of `bulk_modulus` and
+/// `breakable`, which agree; families of as many nodes with ascending
+/// rows of node indices, and one factor per bond), so a pass cannot index
+/// past an array. Read the parts through `Deref`.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactInput<'a> {
+    parts: ContactParts<'a>,
+}
+
+impl<'a> std::ops::Deref for ContactInput<'a> {
+    type Target = ContactParts<'a>;
+    fn deref(&self) -> &ContactParts<'a> {
+        &self.parts
+    }
+}
+
+/// Why a [`ContactInput`], or a pass's other arguments, do not fit
+/// together: the array named and what was expected of it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("contact pass: {0}")]
+pub struct ContactInputError(pub String);
+
+fn mismatch(what: &str, len: usize, expected: usize, of: &str) -> ContactInputError {
+    ContactInputError(format!(
+        "`{what}` has {len} entries, expected {expected} ({of})"
+    ))
+}
+
+impl<'a> ContactInput<'a> {
+    /// The parts, checked (once, O(nodes + bonds)): see the type's doc.
+    pub fn new(parts: ContactParts<'a>) -> Result<Self, ContactInputError> {
+        let n = parts.reference.len();
+        for (what, len) in [
+            ("state", parts.state.len()),
+            ("body", parts.body.len()),
+            ("material", parts.material.len()),
+        ] {
+            if len != n {
+                return Err(mismatch(what, len, n, "one per node of `reference`"));
+            }
+        }
+        let materials = parts.bulk_modulus.len();
+        if parts.breakable.len() != materials {
+            return Err(mismatch(
+                "breakable",
+                parts.breakable.len(),
+                materials,
+                "one per material of `bulk_modulus`",
+            ));
+        }
+        if let Some(i) = parts.material.iter().position(|&m| m as usize >= materials) {
+            return Err(ContactInputError(format!(
+                "node {i} is of material {}, but {materials} materials are given",
+                parts.material[i]
+            )));
+        }
+        let f = parts.families;
+        if f.offsets.len() != n + 1 {
+            return Err(mismatch(
+                "families.offsets",
+                f.offsets.len(),
+                n + 1,
+                "one per node and the end",
+            ));
+        }
+        let bonds = f.neighbours.len();
+        let rows_fit = f.offsets[0] == 0
+            && f.offsets.windows(2).all(|w| w[0] <= w[1])
+            && f.offsets[n] as usize == bonds;
+        if !rows_fit {
+            return Err(ContactInputError(format!(
+                "`families.offsets` must rise from 0 to the {bonds} neighbours"
+            )));
+        }
+        for i in 0..n {
+            let row = &f.neighbours[f.row(i)];
+            if !(row.iter().all(|&j| (j as usize) < n) && row.windows(2).all(|w| w[0] < w[1])) {
+                return Err(ContactInputError(format!(
+                    "the family of node {i} must list nodes below {n} in ascending order"
+                )));
+            }
+        }
+        if parts.factor.len() != bonds {
+            return Err(mismatch(
+                "factor",
+                parts.factor.len(),
+                bonds,
+                "one per bond of `families`",
+            ));
+        }
+        Ok(Self { parts })
+    }
+
+    /// The parts unchecked: for the solver, whose arrays agree by
+    /// construction.
+    pub(crate) fn trusted(parts: ContactParts<'a>) -> Self {
+        Self { parts }
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.parts.reference.len()
+    }
+}
+
+/// Checks that `cells` binned the current positions of every node of
+/// `input` (with [`bin_current_positions`]) and that `out` has one entry a
+/// node.
+fn check_pass(input: &ContactInput, cells: &CellList, out: usize) -> Result<(), ContactInputError> {
+    let n = input.node_count();
+    match cells.points_with_positions() {
+        Some(m) if m == n => {}
+        Some(m) => return Err(mismatch("cells", m, n, "points binned, one per node")),
+        None => {
+            return Err(ContactInputError(
+                "`cells` keeps no positions: bin them with `bin_current_positions`".into(),
+            ))
+        }
+    }
+    if out != n {
+        return Err(mismatch("out", out, n, "one per node"));
+    }
+    Ok(())
+}
+
 /// Current position x + u of node i, m.
 #[inline(always)]
 pub fn current_position(reference: &[[f64; 4]], state: &[[f64; 4]], i: usize) -> [f64; 3] {
@@ -117,9 +245,15 @@ pub fn current_position(reference: &[[f64; 4]], state: &[[f64; 4]], i: usize) ->
     [x[0] + u[0], x[1] + u[1], x[2] + u[2]]
 }
 
-/// Rebuilds `cells` over the current positions with cells of the search
-/// reach, keeping the positions in the buckets' order.
-pub fn bin_current_positions(
+/// Rebuilds `cells` over the current positions of `input`'s nodes with
+/// cells of the search reach, keeping the positions in the buckets' order.
+pub fn bin_current_positions(cells: &mut CellList, input: &ContactInput, params: &ContactParams) {
+    bin_positions(cells, input.reference, input.state, params);
+}
+
+/// [`bin_current_positions`] from the arrays (`state` as long as
+/// `reference`).
+pub(crate) fn bin_positions(
     cells: &mut CellList,
     reference: &[[f64; 4]],
     state: &[[f64; 4]],
@@ -215,19 +349,41 @@ fn for_each_contact<F: FnMut(usize, f64, f64, f64, [f64; 3])>(
 /// stiffness Σ_j F_SR k_PD V_j / δ over the pairs closer than 1.5 d_ij
 /// (for the stable step, so that contacts that start during the next step
 /// are already counted). `cells` must bin the current positions
-/// ([`bin_current_positions`]).
+/// ([`bin_current_positions`]); `out` has one entry a node. An error
+/// where `cells` or `out` do not fit `input`.
 pub fn contact_forces(
     input: &ContactInput,
     cells: &CellList,
     params: &ContactParams,
     out: &mut [([f64; 3], f64)],
-) {
-    contact_forces_in(input, cells, params, 0..out.len(), out);
+) -> Result<(), ContactInputError> {
+    contact_forces_in(input, cells, params, 0..out.len(), out)
 }
 
 /// [`contact_forces`] for the nodes of `nodes` only (`out` is the whole
-/// per-node array; the other entries are left as they are).
+/// per-node array; the other entries are left as they are). An error
+/// where `cells` or `out` do not fit `input` or `nodes` reaches past them.
 pub fn contact_forces_in(
+    input: &ContactInput,
+    cells: &CellList,
+    params: &ContactParams,
+    nodes: std::ops::Range<usize>,
+    out: &mut [([f64; 3], f64)],
+) -> Result<(), ContactInputError> {
+    check_pass(input, cells, out.len())?;
+    if nodes.start > nodes.end || nodes.end > out.len() {
+        return Err(ContactInputError(format!(
+            "nodes {nodes:?} reach past the {} nodes",
+            out.len()
+        )));
+    }
+    forces_in(input, cells, params, nodes, out);
+    Ok(())
+}
+
+/// [`contact_forces_in`] unchecked: for the solver, whose arrays agree by
+/// construction.
+pub(crate) fn forces_in(
     input: &ContactInput,
     cells: &CellList,
     params: &ContactParams,
@@ -255,8 +411,21 @@ pub fn contact_forces_in(
 /// Each node's half of the contact energy of its pairs, J: the pair
 /// potential ½ F_SR k_PD V_i V_j (p − d_ij)²/δ of eq 27's force (zero
 /// beyond d_ij) shared equally by the two nodes, so `out` sums to the
-/// energy stored in the contacts. `cells` must bin the current positions.
+/// energy stored in the contacts. `cells` must bin the current positions;
+/// an error where `cells` or `out` do not fit `input`.
 pub fn contact_energies(
+    input: &ContactInput,
+    cells: &CellList,
+    params: &ContactParams,
+    out: &mut [f64],
+) -> Result<(), ContactInputError> {
+    check_pass(input, cells, out.len())?;
+    energies(input, cells, params, out);
+    Ok(())
+}
+
+/// [`contact_energies`] unchecked: for the solver.
+pub(crate) fn energies(
     input: &ContactInput,
     cells: &CellList,
     params: &ContactParams,
@@ -329,7 +498,7 @@ mod tests {
             gas_k,
             |input, cells, p| {
                 let mut out = vec![([0.0; 3], 0.0); reference.len()];
-                contact_forces(input, cells, p, &mut out);
+                contact_forces(input, cells, p, &mut out).unwrap();
                 out
             },
         )
@@ -348,7 +517,7 @@ mod tests {
             0.0,
             |input, cells, p| {
                 let mut out = vec![0.0; reference.len()];
-                contact_energies(input, cells, p, &mut out);
+                contact_energies(input, cells, p, &mut out).unwrap();
                 out
             },
         )
@@ -377,20 +546,156 @@ mod tests {
             .zip(current)
             .map(|(x, y)| [y[0] - x[0], y[1] - x[1], y[2] - x[2], 0.0])
             .collect();
-        let mut cells = CellList::default();
-        bin_current_positions(&mut cells, &refs, &state, &p);
-        let input = ContactInput {
+        let bulk_modulus = [K, gas_k];
+        let input = ContactInput::new(ContactParts {
             reference: &refs,
             state: &state,
             body,
             material,
-            bulk_modulus: &[K, gas_k],
+            bulk_modulus: &bulk_modulus,
+            breakable: &[true, false],
+            families: &families,
+            factor: &factor,
+            family_cutoff: p.horizon + 0.5 * H,
+        })
+        .unwrap();
+        let mut cells = CellList::default();
+        bin_current_positions(&mut cells, &input, &p);
+        pass(&input, &cells, &p)
+    }
+
+    /// Arrays that do not agree are refused by `ContactInput::new`, each
+    /// by the array's name, and a pass given cells or an output that do
+    /// not fit its input returns an error instead of indexing past an
+    /// array (the earlier struct literal panicked in the row scan).
+    #[test]
+    fn arrays_that_do_not_agree_are_refused_by_name() {
+        let p = params();
+        let reference: Vec<[f64; 3]> = (0..6).map(|i| [i as f64 * H, 0.0, 0.0]).collect();
+        let body = [0u32; 6];
+        let material = [0u16, 0, 0, 1, 1, 1];
+        let families = build_families(&reference, &body, p.horizon, H);
+        let factor = vec![1.0f32; families.bond_count()];
+        let refs: Vec<[f64; 4]> = reference.iter().map(|x| [x[0], x[1], x[2], 1e-9]).collect();
+        let state = vec![[0.0; 4]; 6];
+        let good = ContactParts {
+            reference: &refs,
+            state: &state,
+            body: &body,
+            material: &material,
+            bulk_modulus: &[K, 0.0],
             breakable: &[true, false],
             families: &families,
             factor: &factor,
             family_cutoff: p.horizon + 0.5 * H,
         };
-        pass(&input, &cells, &p)
+        let input = ContactInput::new(good).unwrap();
+        assert_eq!(input.node_count(), 6);
+        let short_families = build_families(&reference[..5], &body[..5], p.horizon, H);
+        let mut unsorted = families.clone();
+        let row = unsorted.row(0);
+        unsorted.neighbours[row].reverse();
+        let mut past = families.clone();
+        past.neighbours[0] = 6;
+        let cases: [(ContactParts, &str); 9] = [
+            (
+                ContactParts {
+                    state: &state[..5],
+                    ..good
+                },
+                "`state`",
+            ),
+            (
+                ContactParts {
+                    body: &body[..4],
+                    ..good
+                },
+                "`body`",
+            ),
+            (
+                ContactParts {
+                    material: &material[1..],
+                    ..good
+                },
+                "`material`",
+            ),
+            (
+                ContactParts {
+                    breakable: &[true],
+                    ..good
+                },
+                "`breakable`",
+            ),
+            (
+                ContactParts {
+                    bulk_modulus: &[K],
+                    breakable: &[true],
+                    ..good
+                },
+                "node 3 is of material 1",
+            ),
+            (
+                ContactParts {
+                    families: &short_families,
+                    ..good
+                },
+                "`families.offsets`",
+            ),
+            (
+                ContactParts {
+                    families: &unsorted,
+                    ..good
+                },
+                "family of node 0",
+            ),
+            (
+                ContactParts {
+                    families: &past,
+                    ..good
+                },
+                "family of node 0",
+            ),
+            (
+                ContactParts {
+                    factor: &factor[1..],
+                    ..good
+                },
+                "`factor`",
+            ),
+        ];
+        for (parts, name) in cases {
+            let e = ContactInput::new(parts).unwrap_err();
+            assert!(e.to_string().contains(name), "{name}: {e}");
+        }
+        // The passes: cells never binned, binned for another count, an
+        // output of the wrong length, a node range past the end.
+        let mut out = vec![([0.0; 3], 0.0); 6];
+        let mut energy = vec![0.0; 6];
+        let unbinned = CellList::default();
+        let e = contact_forces(&input, &unbinned, &p, &mut out).unwrap_err();
+        assert!(e.to_string().contains("bin_current_positions"), "{e}");
+        let short_factor = vec![1.0; short_families.bond_count()];
+        let other = ContactInput::new(ContactParts {
+            reference: &refs[..5],
+            state: &state[..5],
+            body: &body[..5],
+            material: &material[..5],
+            families: &short_families,
+            factor: &short_factor,
+            ..good
+        })
+        .unwrap();
+        let mut cells = CellList::default();
+        bin_current_positions(&mut cells, &other, &p);
+        let e = contact_energies(&input, &cells, &p, &mut energy).unwrap_err();
+        assert!(e.to_string().contains("`cells` has 5 entries"), "{e}");
+        bin_current_positions(&mut cells, &input, &p);
+        let e = contact_forces(&input, &cells, &p, &mut out[..5]).unwrap_err();
+        assert!(e.to_string().contains("`out` has 5 entries"), "{e}");
+        let e = contact_forces_in(&input, &cells, &p, 4..7, &mut out).unwrap_err();
+        assert!(e.to_string().contains("4..7"), "{e}");
+        contact_forces_in(&input, &cells, &p, 2..4, &mut out).unwrap();
+        contact_energies(&input, &cells, &p, &mut energy).unwrap();
     }
 
     /// The pair of `a_node_from_afar_meets_the_full_contact_distance`
@@ -691,7 +996,7 @@ mod tests {
                 ]
             })
             .collect();
-        let input = ContactInput {
+        let parts = ContactParts {
             reference: &refs,
             state: &state,
             body: &body,
@@ -702,14 +1007,16 @@ mod tests {
             factor: &factor,
             family_cutoff: p.horizon + 0.5 * H,
         };
+        let input = ContactInput::new(parts).unwrap();
         let expected = forces_by_lookup(&input, &p);
         let touching = expected.iter().filter(|o| o.0 != [0.0; 3]).count();
         assert!(touching > reference.len() / 2, "{touching}");
         // Threads, and the family test by search alone (no cutoff given).
-        let searching = ContactInput {
+        let searching = ContactInput::new(ContactParts {
             family_cutoff: 0.0,
-            ..input
-        };
+            ..parts
+        })
+        .unwrap();
         for (threads, input) in [(1, input), (2, input), (3, input), (2, searching)] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -717,9 +1024,9 @@ mod tests {
                 .unwrap();
             let out = pool.install(|| {
                 let mut cells = CellList::default();
-                bin_current_positions(&mut cells, &refs, &state, &p);
+                bin_current_positions(&mut cells, &input, &p);
                 let mut out = vec![([0.0; 3], 0.0); refs.len()];
-                contact_forces(&input, &cells, &p, &mut out);
+                contact_forces(&input, &cells, &p, &mut out).unwrap();
                 out
             });
             for (i, (a, b)) in out.iter().zip(&expected).enumerate() {

@@ -21,7 +21,7 @@
 
 use crate::cell_list::CellList;
 use crate::contact::{
-    bin_current_positions, contact_energies, contact_forces_in, ContactInput, ContactParams,
+    bin_positions, energies, forces_in, ContactInput, ContactParams, ContactParts,
 };
 use crate::family::{Families, ForeignBonds, OneSidedPairs};
 use crate::forces::{
@@ -864,11 +864,11 @@ impl PdSolver {
             });
         }
         if let Some(params) = self.contact_params() {
-            bin_current_positions(&mut self.cells, &self.reference, &self.state, &params);
+            bin_positions(&mut self.cells, &self.reference, &self.state, &params);
             // Taken out for the pass (no copy) so the inputs can borrow
             // the solver.
             let mut out = std::mem::take(&mut self.contact);
-            contact_forces_in(&self.contact_input(), &self.cells, &params, own, &mut out);
+            forces_in(&self.contact_input(), &self.cells, &params, own, &mut out);
             self.contact = out;
         }
         self.viscous_pass();
@@ -1014,7 +1014,7 @@ impl PdSolver {
 
     /// The contact pass's view of the nodes.
     fn contact_input(&self) -> ContactInput<'_> {
-        ContactInput {
+        ContactInput::trusted(ContactParts {
             reference: &self.reference,
             state: &self.state,
             body: &self.body,
@@ -1024,7 +1024,7 @@ impl PdSolver {
             families: &self.families,
             factor: &self.factor,
             family_cutoff: self.horizon + 0.5 * self.options.spacing,
-        }
+        })
     }
 }
 

@@ -114,7 +114,7 @@ impl PdSolver {
 
     /// Energy stored in the short-range contacts, J: the pair potential of
     /// eq 27 over the pairs closer than their contact distance
-    /// ([`contact_energies`]); 0 with contact off. Summed node by node in
+    /// ([`crate::contact::contact_energies`]); 0 with contact off. Summed node by node in
     /// node order, so it has the same bits for any thread count.
     pub fn contact_energy(&self) -> f64 {
         let Some(params) = self.contact_params() else {
@@ -123,9 +123,9 @@ impl PdSolver {
         // A list of its own: the solver's bins the positions of the last
         // force pass, which may not be the current ones.
         let mut cells = CellList::default();
-        bin_current_positions(&mut cells, &self.reference, &self.state, &params);
+        bin_positions(&mut cells, &self.reference, &self.state, &params);
         let mut per_node = vec![0.0; self.node_count()];
-        contact_energies(&self.contact_input(), &cells, &params, &mut per_node);
+        energies(&self.contact_input(), &cells, &params, &mut per_node);
         per_node.iter().sum()
     }
 
