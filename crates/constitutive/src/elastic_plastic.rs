@@ -165,7 +165,8 @@ pub struct ElasticPlastic {
     /// Fraction χ of plastic work turned into heat (seed 000: 0.9).
     #[serde(default = "default_taylor_quinney")]
     pub taylor_quinney: f64,
-    /// Specific heat c_v for the plastic heating, J/(kg·K): a number, or
+    /// Specific heat c_v, J/(kg·K), for the plastic heating (and, in the
+    /// MPM, the viscous heating and the heat conduction): a number, or
     /// a temperature-dependent form (`Curie(...)`,
     /// [`crate::specific_heat`]; seed 000 §5.3, ref \[44\]).
     pub specific_heat: SpecificHeat,

@@ -203,9 +203,9 @@ impl CurieSpecificHeat {
 }
 
 /// The half-width δ of the temperature span (K) over which
-/// [`SpecificHeat::finite_at`] averages c_v at a point where it is
-/// infinite: 1 mK.
-pub const SINGULAR_SPAN: f64 = 1.0e-3;
+/// [`SpecificHeat::smoothed_at`] averages c_v around its singular point:
+/// 1 K.
+pub const SMOOTHING_SPAN: f64 = 1.0;
 
 impl SpecificHeat {
     /// The 4340 steel of Banerjee (2007) (module docs).
@@ -247,19 +247,26 @@ impl SpecificHeat {
         }
     }
 
-    /// c_v at `temperature` (K) where it is finite, J/(kg·K); at the one
-    /// point where it is not (T_c of a Curie curve with C₀ or C₁ ≠ 0) the
-    /// mean (H(T + δ) − H(T − δ))/(2δ) over δ = [`SINGULAR_SPAN`] either
-    /// side, finite since the singularity is integrable (n < 1). For a
-    /// heat capacity used as a weight, which must be finite (the heat
-    /// conduction's). NaN for a NaN temperature.
-    pub fn finite_at(&self, temperature: f64) -> f64 {
-        let c = self.at(temperature);
-        if c.is_finite() || !temperature.is_finite() {
-            c
-        } else {
-            let d = SINGULAR_SPAN;
-            (self.heat(temperature + d) - self.heat(temperature - d)) / (2.0 * d)
+    /// c_v at `temperature` (K), J/(kg·K), averaged near its singular
+    /// point: within δ = [`SMOOTHING_SPAN`] of T_c of a Curie curve, the
+    /// mean (H(T + δ) − H(T − δ))/(2δ) over T ± δ (finite, since the
+    /// singularity is integrable, n < 1); elsewhere, and for a constant,
+    /// c_v itself. The smoothed apparent heat capacity of the enthalpy
+    /// method, for a heat capacity used as a weight, which must be finite
+    /// and should not outweigh its neighbours by orders of magnitude (the
+    /// heat conduction's; docs/physics/mpm/heat_conduction.md). NaN for a
+    /// NaN temperature.
+    pub fn smoothed_at(&self, temperature: f64) -> f64 {
+        match self {
+            Self::Constant(c) => *c,
+            Self::Model(SpecificHeatModel::Curie(m)) => {
+                let d = SMOOTHING_SPAN;
+                if (temperature - m.t_c).abs() < d {
+                    (m.heat(temperature + d) - m.heat(temperature - d)) / (2.0 * d)
+                } else {
+                    m.at(temperature)
+                }
+            }
         }
     }
 
@@ -427,30 +434,40 @@ mod tests {
         assert_eq!(SpecificHeat::Constant(477.0).heat(2.0), 954.0);
     }
 
-    /// At T_c, where c is infinite, the finite c_v is the mean over
-    /// T_c ± 1 mK, (H(T_c + δ) − H(T_c − δ))/(2δ): 1.02·10⁴ J/(kg·K) for
-    /// the 4340 steel (by hand the singular parts C₀ T_c (δ/T_c)^0.8/0.8
-    /// below and C₁ T_c (δ/T_c)^0.65/0.65 above, 8.35 + 11.42 J/kg over
-    /// 2 mK, plus the regular parts' (A₀ + A₁)/2), above c at either end
-    /// of the span; elsewhere it is c itself.
+    /// Within 1 K of T_c, where c rises without bound, the smoothed c_v is
+    /// the mean over T ± 1 K, (H(T + δ) − H(T − δ))/(2δ): at T_c 1886
+    /// J/(kg·K) for the 4340 steel (by hand the singular parts
+    /// C₀ T_c (δ/T_c)^0.8/0.8 = 2098 J/kg below and C₁ T_c (δ/T_c)^0.65/0.65
+    /// = 1018 J/kg above over the 2 K, plus the regular parts' mean
+    /// ≈ (A₀ + A₁)/2 = 327.7), between c at the span's ends (1868 and 1127)
+    /// and far below c near T_c (1.06·10⁵ at T_c − 1 nK); elsewhere it is
+    /// c.
     #[test]
-    fn the_finite_specific_heat_at_the_curie_point_is_its_mean_nearby() {
+    fn the_smoothed_specific_heat_near_the_curie_point_is_its_mean_nearby() {
         let s = SpecificHeat::steel_4340();
         let m = steel();
         assert!(s.at(1040.0).is_infinite());
-        let c = s.finite_at(1040.0);
-        let d = SINGULAR_SPAN;
+        let c = s.smoothed_at(1040.0);
+        let d = SMOOTHING_SPAN;
         let below = 418.30 * 1040.0 * (d / 1040.0_f64).powf(0.8) / 0.8;
         let above = 58.16 * 1040.0 * (d / 1040.0_f64).powf(0.65) / 0.65;
-        // The regular parts (A, B) add c ≈ 190 + 465 over half the span each.
+        assert!((below - 2098.0).abs() < 1.0 && (above - 1018.0).abs() < 1.0);
+        // The regular parts add about A₀ and A₁ over half the span each
+        // (B t is below 0.3 J/(kg·K) there).
         let by_hand = (below + above) / (2.0 * d) + 0.5 * (m.a0 + m.a1);
         assert!(rel(c, by_hand) < 1e-3, "{c} vs {by_hand}");
-        assert!(c > s.at(1040.0 - d) && c > s.at(1040.0 + d), "{c}");
-        for t in [300.0, 1039.0, 1041.0, 2000.0] {
-            assert_eq!(s.finite_at(t).to_bits(), s.at(t).to_bits());
+        assert!((c - 1885.6).abs() < 0.5, "{c}");
+        assert!(c > s.at(1040.0 + d) && c < s.at(1040.0 - d) * 1.01, "{c}");
+        for t in [1039.5, 1040.0 - 1e-9, 1040.2] {
+            let mean = (s.heat(t + d) - s.heat(t - d)) / (2.0 * d);
+            assert_eq!(s.smoothed_at(t).to_bits(), mean.to_bits(), "{t}");
+            assert!(s.smoothed_at(t) < 0.1 * s.at(1040.0 - 1e-9));
         }
-        assert_eq!(SpecificHeat::Constant(477.0).finite_at(1040.0), 477.0);
-        assert!(s.finite_at(f64::NAN).is_nan());
+        for t in [300.0, 1038.9, 1041.1, 2000.0] {
+            assert_eq!(s.smoothed_at(t).to_bits(), s.at(t).to_bits());
+        }
+        assert_eq!(SpecificHeat::Constant(477.0).smoothed_at(1040.0), 477.0);
+        assert!(s.smoothed_at(f64::NAN).is_nan());
     }
 
     /// Plastic heating's rise is χ w/(ρ c) for a constant (the bits of

@@ -23,8 +23,8 @@
 //! A specific heat that follows the temperature
 //! ([`brisance_constitutive::SpecificHeat`], the cook-off steel's c_v(T))
 //! enters as the apparent heat capacity of the enthalpy method: c_p =
-//! c_v(T_pⁿ) in step 1 (its finite mean over T_c ± 1 mK at the Curie point,
-//! [`SpecificHeat::finite_at`]), and in step 5 the particle takes the heat
+//! c_v(T_pⁿ) in step 1 (its mean over T ± 1 K within 1 K of the Curie
+//! point, [`SpecificHeat::smoothed_at`]), and in step 5 the particle takes the heat
 //! q_p = c_p Δt Σ_I N_Ip Ṫ_I and moves to the T' with H(T') − H(T_pⁿ) = q_p
 //! (H = ∫ c_v dT), so Σ_p m_p H(T_p) is what is kept. A constant c_v
 //! takes step 5 as written (the same bits as before). Every face is adiabatic (the weak form's natural
@@ -313,7 +313,7 @@ pub fn max_diffusivity(
             if th.conductivity == 0.0 {
                 return (0.0, usize::MAX);
             }
-            let c = th.specific_heat.finite_at(ps.temperature[p]);
+            let c = th.specific_heat.smoothed_at(ps.temperature[p]);
             let a = th.conductivity * ps.volume[p] / (ps.mass[p] * c);
             if a.is_finite() {
                 (a, usize::MAX)

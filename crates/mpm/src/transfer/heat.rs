@@ -95,7 +95,7 @@ impl StencilPass for Capacity<'_> {
             check_footprint(map, s.offset, block);
             let c = ps.properties[ps.material[p].0 as usize]
                 .specific_heat
-                .finite_at(ps.temperature[p]);
+                .smoothed_at(ps.temperature[p]);
             let mc = ps.mass[p] * c;
             let mct = mc * ps.temperature[p];
             for c in 0..NZ {
@@ -298,7 +298,7 @@ impl StencilPass for TemperatureRange<'_> {
                 // The heat the particle's share of the nodal rates brings,
                 // m_p c_p(Tⁿ) Δt Σ N Ṫ_I (the c_p of the capacity pass), J/kg
                 // once divided by m_p, raises H(T) by exactly that much.
-                let q = heat.finite_at(*t) * (dtemp * dt);
+                let q = heat.smoothed_at(*t) * (dtemp * dt);
                 *t += heat.temperature_rise(*t, q);
             } else {
                 *t += dtemp * dt;
