@@ -556,9 +556,9 @@ mod tests {
     /// than 1 atm: a guess that is not positive already started at 1 atm
     /// and is not tried again, and a state an EOS refuses is refused from
     /// any start, so it stops at the first attempt. Counted by the calls to
-    /// `fill` (a residual that never reaches the tolerance: f = 1 at every
-    /// pressure, so each attempt walks down a decade a step until its
-    /// iterations run out).
+    /// `fill` (a residual that never reaches the tolerance: f = 1 and
+    /// f' = 1 at every pressure, so each Newton step goes down 1 Pa until
+    /// the attempt's iterations run out).
     #[test]
     fn only_an_attempt_that_ran_out_from_its_own_guess_is_restarted() {
         let settings = EquilibrationSettings {
