@@ -466,23 +466,29 @@ fn a_random_field_stays_bounded_at_the_diffusive_limit() {
 /// The same bits on 1 and 3 threads.
 #[test]
 fn conduction_is_the_same_bits_on_any_thread_count() {
-    let temps: Vec<f64> = (0..61).map(|i| 250.0 + (i * 13 % 61) as f64).collect();
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let mut s =
-                    insulated_block(ShapeFunction::QuadraticBSpline, Geometry::Cartesian, &temps);
-                let dt = s.stable_dt().unwrap();
-                for _ in 0..5 {
-                    s.advance(dt).unwrap();
-                }
-                s.particles().temperature.clone()
-            })
-    };
-    assert_eq!(run(1), run(3));
+    // A constant c_v, and the 4340 steel's curve on a field across T_c.
+    for (base, curve) in [(250.0, None), (1010.0, Some(SpecificHeat::steel_4340()))] {
+        let temps: Vec<f64> = (0..61).map(|i| base + (i * 13 % 61) as f64).collect();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let (shape, geometry) = (ShapeFunction::QuadraticBSpline, Geometry::Cartesian);
+                    let mut s = match &curve {
+                        None => insulated_block(shape, geometry, &temps),
+                        Some(c) => insulated_block_with(shape, geometry, &temps, c.clone()),
+                    };
+                    let dt = s.stable_dt().unwrap();
+                    for _ in 0..5 {
+                        s.advance(dt).unwrap();
+                    }
+                    s.particles().temperature.clone()
+                })
+        };
+        assert_eq!(run(1), run(3), "{curve:?}");
+    }
 }
 
 #[test]
