@@ -111,6 +111,18 @@ pub(crate) fn conducting_solver(
     geometry: Geometry,
     k: f64,
 ) -> Result<MpmSolver, String> {
+    conducting_solver_with(level, ps, shape, geometry, k, SpecificHeat::Constant(CV))
+}
+
+/// [`conducting_solver`] with the specific heat `heat`.
+pub(crate) fn conducting_solver_with(
+    level: Level,
+    ps: Particles,
+    shape: ShapeFunction,
+    geometry: Geometry,
+    k: f64,
+    heat: SpecificHeat,
+) -> Result<MpmSolver, String> {
     MpmSolver::new(
         level,
         vec![solid()],
@@ -124,7 +136,7 @@ pub(crate) fn conducting_solver(
     .map_err(|e| e.to_string())?
     .with_heat_conduction(HeatConduction {
         conductivity: vec![k],
-        specific_heat: vec![Some(SpecificHeat::Constant(CV))],
+        specific_heat: vec![Some(heat)],
     })
     .map_err(|e| e.to_string())
 }

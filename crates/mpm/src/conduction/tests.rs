@@ -180,22 +180,7 @@ fn insulated_block_with(
 ) -> MpmSolver {
     let s = insulated_block(shape, geometry, temps);
     let (level, ps) = (s.level().clone(), s.particles().clone());
-    MpmSolver::new(
-        level,
-        vec![solid()],
-        ps,
-        MpmOptions {
-            shape,
-            geometry,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .with_heat_conduction(HeatConduction {
-        conductivity: vec![K],
-        specific_heat: vec![Some(heat)],
-    })
-    .unwrap()
+    cases::conducting_solver_with(level, ps, shape, geometry, K, heat).unwrap()
 }
 
 /// Σ m_p H(T_p), J, H = ∫₀ᵀ c dT' of `heat`.
