@@ -8,6 +8,14 @@
 //! container (venting), the hottest products in it, the closure of mass
 //! and energy and the wall time; particle frames are drawn at the seed's
 //! times (Fig. 6) that the run reached, and at the last step.
+//!
+//! The case is chaotic at these grids (a 1 mK change of the steel's start
+//! moves the burnt fraction at the end by points), so E-COOKOFF-ENSEMBLE
+//! ([`e_cookoff_ensemble`]) runs it as ensembles: at each h of
+//! `BRISANCE_COOKOFF_ENSEMBLE_H` (default 2, 1), `BRISANCE_COOKOFF_MEMBERS`
+//! runs (default [`MEMBERS`]), member k with the steel started k mK
+//! warmer, and reports the figures at the end as the members' mean,
+//! standard deviation and range.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -39,6 +47,12 @@ const BUDGET_S: f64 = 1200.0;
 const FIELD_EVERY: f64 = 1e-6;
 /// Volume share above which the products count as present in a cell.
 const PRESENT: f64 = 1e-4;
+/// Members of the ensemble at each h (`BRISANCE_COOKOFF_MEMBERS` sets
+/// another; 1 runs none but the plain run).
+const MEMBERS: usize = 4;
+/// How much warmer member k's steel starts than the scenario's: k times
+/// this, K.
+const WARMER: f64 = 1.0e-3;
 
 /// One sample of the record.
 #[derive(Clone, Copy)]
@@ -76,6 +90,66 @@ struct Run {
     steps: usize,
     wall_s: f64,
     stop: Option<String>,
+}
+
+/// What one run of an ensemble ended with.
+#[derive(Clone, Copy)]
+struct End {
+    h: f64,
+    /// Time reached, s, and whether that is the end time.
+    t: f64,
+    finished: bool,
+    burnt: f64,
+    /// Pressure inside the wall at mid-height at the end, Pa.
+    p_wall: f64,
+    /// First rupture, s.
+    rupture: Option<f64>,
+    wall_s: f64,
+}
+
+impl End {
+    fn of(r: &Run) -> Self {
+        let last = r.record.last().copied();
+        Self {
+            h: r.h,
+            t: last.map_or(0.0, |s| s.t),
+            finished: r.stop.is_none(),
+            burnt: last.map_or(f64::NAN, |s| s.burnt),
+            p_wall: last.map_or(f64::NAN, |s| s.p_wall),
+            rupture: r.rupture.map(|(t, _)| t),
+            wall_s: r.wall_s,
+        }
+    }
+}
+
+/// Mean, sample standard deviation (0 for one value), least and greatest
+/// of `x`.
+fn spread(x: &[f64]) -> (f64, f64, f64, f64) {
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let sd = if x.len() > 1 {
+        (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    } else {
+        0.0
+    };
+    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (mean, sd, lo, hi)
+}
+
+/// "mean ± sd (lo–hi)" of `x` scaled by `scale`, with `d` decimals.
+fn spread_text(x: &[f64], scale: f64, d: usize) -> String {
+    let (m, sd, lo, hi) = spread(x);
+    if x.len() == 1 {
+        return format!("{:.d$} (one run)", m * scale);
+    }
+    format!(
+        "{:.d$} ± {:.d$} ({:.d$}–{:.d$})",
+        m * scale,
+        sd * scale,
+        lo * scale,
+        hi * scale
+    )
 }
 
 /// Draws the particles of `s` in the (r, z) plane into `path`: steel, the
@@ -138,12 +212,29 @@ fn frame(s: &IceMpm, steel: u16, failed0: &BTreeSet<u32>, path: &Path, title: &s
 }
 
 /// Runs configs/cookoff_rz.ron at cell size `h`.
-fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
+/// One run at cell size `h` (m) with the steel started `warmer` K above
+/// the scenario's temperature, stopped after `budget_s` s of wall time;
+/// particle frames into `img` where given.
+fn cookoff_run(h: f64, budget_s: f64, img: Option<&Path>, warmer: f64) -> Result<Run> {
     let text = include_str!("../../configs/cookoff_rz.ron");
     let n = (0.09 / h).round() as usize;
     let sets = [format!("domain.cells=({n},{n},1)")];
-    let loaded = load_str("cookoff_rz.ron", text, &sets)
+    let mut loaded = load_str("cookoff_rz.ron", text, &sets)
         .map_err(|e| anyhow!("configs/cookoff_rz.ron: {e}"))?;
+    if warmer != 0.0 {
+        let mut warmed = 0;
+        for region in loaded.scenario.initial.iter_mut() {
+            if let (true, Some(t)) = (region.material == "steel", region.state.temperature) {
+                region.state.temperature = Some(t + warmer);
+                warmed += 1;
+            }
+        }
+        if warmed == 0 {
+            return Err(anyhow!(
+                "configs/cookoff_rz.ron: no `steel` initial region gives a temperature to start warmer"
+            ));
+        }
+    }
     let s = &loaded.scenario;
     let t_end = s.time.end;
     let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
@@ -218,12 +309,14 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         stop: None,
     };
     let label = |t: f64| format!("{:.3}", t * 1e3);
-    // A frame into img/e_cookoff_<name>.png; its file name.
-    let draw = |s: &IceMpm, name: &str, title: &str| -> Result<String> {
+    // A frame into img/e_cookoff_<name>.png; its file name (none without
+    // `img`).
+    let draw = |s: &IceMpm, name: &str, title: &str| -> Result<Option<String>> {
+        let Some(img) = img else { return Ok(None) };
         let file = format!("e_cookoff_{name}.png");
         let title = format!("E-COOKOFF r-z, {title}");
         frame(s, steel, &failed0, &img.join(&file), &title)?;
-        Ok(file)
+        Ok(Some(file))
     };
     let mut next_frame = 0usize;
     let mut next_fields = 0.0;
@@ -234,7 +327,7 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         while next_frame < FRAMES.len() && t >= FRAMES[next_frame] * (1.0 - 1e-9) {
             let name = format!("{}mm_{}ms", h * 1e3, label(FRAMES[next_frame]));
             let title = format!("h = {} mm, t = {} ms (seed 000 fig. 6)", h * 1e3, label(t));
-            run.frames.push(draw(&solver, &name, &title)?);
+            run.frames.extend(draw(&solver, &name, &title)?);
             next_frame += 1;
         }
         // The record.
@@ -311,8 +404,13 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
         run.steps += 1;
         if run.steps.is_multiple_of(2000) {
             println!(
-                "    h {:.2} mm: step {}, t = {:.2} µs, {:.0} s",
+                "    h {:.2} mm{}: step {}, t = {:.2} µs, {:.0} s",
                 h * 1e3,
+                if warmer != 0.0 {
+                    format!(" (steel {:.0} mK warmer)", warmer * 1e3)
+                } else {
+                    String::new()
+                },
                 run.steps,
                 solver.time() * 1e6,
                 start.elapsed().as_secs_f64()
@@ -328,7 +426,7 @@ fn cookoff_run(h: f64, budget_s: f64, img: &Path) -> Result<Run> {
             h * 1e3,
             solver.time() * 1e6
         );
-        run.frames.push(draw(&solver, &name, &title)?);
+        run.frames.extend(draw(&solver, &name, &title)?);
     }
     Ok(run)
 }
@@ -368,7 +466,7 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
     let budget_s = crate::env_seconds("BRISANCE_COOKOFF_BUDGET", BUDGET_S)?;
     let mut runs = Vec::new();
     for &h in &hs {
-        let r = cookoff_run(h, budget_s, img)?;
+        let r = cookoff_run(h, budget_s, Some(img), 0.0)?;
         let last = r.record.last().copied();
         println!(
             "  h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
@@ -532,6 +630,166 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<()> {
             "≤ 1200 s, ruptured",
             r.stop.is_none() && r.rupture.is_some() && r.wall_s <= BUDGET_S,
         );
+    }
+    let _ = writeln!(report.md);
+    Ok(())
+}
+
+/// E-COOKOFF-ENSEMBLE: E-COOKOFF at the cell sizes of
+/// `BRISANCE_COOKOFF_ENSEMBLE_H` (mm; default 2, 1), each as an ensemble of
+/// `BRISANCE_COOKOFF_MEMBERS` runs (default [`MEMBERS`]), member k with the
+/// steel started k·[`WARMER`] warmer: the figures at the end as the
+/// members' mean, standard deviation and range, and the mean burnt
+/// fraction's change in h against its standard error.
+pub(crate) fn e_cookoff_ensemble(report: &mut Report) -> Result<()> {
+    println!("E-COOKOFF-ENSEMBLE: the cook-off as ensembles of runs a few mK apart");
+    let hs = crate::env_cell_sizes("BRISANCE_COOKOFF_ENSEMBLE_H", "2,1")?;
+    let budget_s = crate::env_seconds("BRISANCE_COOKOFF_BUDGET", BUDGET_S)?;
+    let members = match std::env::var("BRISANCE_COOKOFF_MEMBERS") {
+        Ok(v) => v
+            .trim()
+            .parse::<usize>()
+            .map_err(|e| anyhow!("BRISANCE_COOKOFF_MEMBERS: {e}"))?
+            .max(1),
+        Err(_) => MEMBERS,
+    };
+    let mut ensembles: Vec<Vec<End>> = Vec::new();
+    for &h in &hs {
+        let mut ends = Vec::new();
+        for k in 0..members {
+            let m = cookoff_run(h, budget_s, None, k as f64 * WARMER)?;
+            let end = End::of(&m);
+            println!(
+                    "  h {:.2} mm, steel {} mK warmer: {} steps, {:.0} s, t = {:.2} µs, burnt {:.4}, p wall {:.3e} Pa",
+                    h * 1e3,
+                    k,
+                    m.steps,
+                    m.wall_s,
+                    end.t * 1e6,
+                    end.burnt,
+                    end.p_wall
+                );
+            ends.push(end);
+        }
+        ensembles.push(ends);
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "## E-COOKOFF-ENSEMBLE — the cook-off's figures at the end over runs a few mK apart\n"
+    );
+    let mut changes = Vec::new();
+    {
+        let _ = writeln!(
+            md,
+            "E-COOKOFF's figures at the end move by points under a change of the start far below any that \
+             an experiment controls (docs/physics/couple/cookoff.md), so a figure at one h is a sample. Here the \
+             case is run {members} times at each h (`BRISANCE_COOKOFF_ENSEMBLE_H`, mm; \
+             `BRISANCE_COOKOFF_MEMBERS`), member k with the steel (wall and cap) started k mK warmer than the \
+             scenario's 451 K (member 0 is E-COOKOFF's run), each with E-COOKOFF's wall-time budget. Mean ± \
+             sample standard deviation (least–greatest) over the members that reached the end time; the \
+             figure of merit is the mean burnt fraction at the end, converged in h when its change between \
+             successive h is within two standard errors of that change. Wall times on 2 cores, one member at \
+             a time.\n"
+        );
+        let _ = writeln!(
+            md,
+            "| h (mm) | members at the end time | burnt at the end | p inside wall at the end (MPa) | first rupture (µs) | wall time a member (s) |\n\
+             |---:|---:|---|---|---|---|"
+        );
+        // Per h: (h, mean, sd, members at the end, members run).
+        let mut means = Vec::new();
+        for ends in &ensembles {
+            let done: Vec<&End> = ends.iter().filter(|e| e.finished).collect();
+            let col = |f: fn(&End) -> f64| done.iter().map(|e| f(e)).collect::<Vec<f64>>();
+            let burnt = col(|e| e.burnt);
+            let ruptures: Vec<f64> = done.iter().filter_map(|e| e.rupture).collect();
+            let walls: Vec<f64> = ends.iter().map(|e| e.wall_s).collect();
+            let h = ends[0].h;
+            if done.is_empty() {
+                means.push((h, f64::NAN, f64::NAN, 0, ends.len()));
+                let _ = writeln!(
+                    md,
+                    "| {} | 0 of {} | — | — | — | {} |",
+                    h * 1e3,
+                    ends.len(),
+                    spread_text(&walls, 1.0, 0)
+                );
+                continue;
+            }
+            let _ = writeln!(
+                md,
+                "| {} | {} of {} | {} | {} | {} | {} |",
+                h * 1e3,
+                done.len(),
+                ends.len(),
+                spread_text(&burnt, 1.0, 3),
+                spread_text(&col(|e| e.p_wall), 1e-6, 1),
+                if ruptures.is_empty() {
+                    "none".to_string()
+                } else {
+                    spread_text(&ruptures, 1e6, 2)
+                },
+                spread_text(&walls, 1.0, 0)
+            );
+            let (m, sd, ..) = spread(&burnt);
+            means.push((h, m, sd, burnt.len(), ends.len()));
+        }
+        let _ = writeln!(md);
+        // Successive h in the order run; a pair is judged only when both
+        // have two members or more at the end time (a sample standard
+        // deviation needs two).
+        for w in means.windows(2) {
+            let ((h0, m0, s0, n0, r0), (h1, m1, s1, n1, r1)) = (w[0], w[1]);
+            let pair = format!("{} → {} mm", h0 * 1e3, h1 * 1e3);
+            if n0 < 2 || n1 < 2 {
+                let _ = writeln!(
+                    md,
+                    "Mean burnt fraction {pair}: not judged, {n0} of {r0} and {n1} of {r1} members reached the end time (two or more needed at each h).\n"
+                );
+                changes.push((pair, None));
+                continue;
+            }
+            let se = (s0 * s0 / n0 as f64 + s1 * s1 / n1 as f64).sqrt();
+            let how_many = if se > 0.0 {
+                format!("{:.1} standard errors", (m1 - m0).abs() / se)
+            } else {
+                "the members did not spread at all: the perturbation moved nothing".to_string()
+            };
+            let _ = writeln!(
+                md,
+                "Mean burnt fraction from {} to {} mm: {:+.3}, against a standard error of the difference of {:.3} ({how_many}).\n",
+                h0 * 1e3,
+                h1 * 1e3,
+                m1 - m0,
+                se,
+            );
+            changes.push((pair, Some((m1 - m0, se))));
+        }
+        if means.len() < 2 {
+            changes.push(("(one h only)".into(), None));
+        }
+    }
+    let _ = writeln!(
+        md,
+        "| figure | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    for (pair, judged) in changes {
+        let name = format!("E-COOKOFF-ENSEMBLE mean burnt fraction, {pair}");
+        match judged {
+            Some((change, se)) => report.target(
+                &name,
+                format!("{change:+.3} (standard error {se:.3})"),
+                "within 2 standard errors",
+                change.abs() <= 2.0 * se,
+            ),
+            None => report.target(
+                &name,
+                "not judged (too few members at the end, or one h)".into(),
+                "within 2 standard errors",
+                false,
+            ),
+        }
     }
     let _ = writeln!(report.md);
     Ok(())

@@ -837,7 +837,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 45] = [
+const CASES: [&str; 46] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -854,6 +854,7 @@ const CASES: [&str; 45] = [
     "cylinder-rz",
     "cylinder-rz-slip",
     "cookoff",
+    "cookoff-ensemble",
     "smooth",
     "cj",
     "bar",
@@ -959,6 +960,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cookoff") {
         cookoff::e_cookoff(&mut body, &img)?;
+    }
+    if run("cookoff-ensemble") {
+        cookoff::e_cookoff_ensemble(&mut body)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
