@@ -958,11 +958,12 @@ fn validate(only: &[String]) -> Result<()> {
     if run("cylinder-rz-slip") {
         ice_mpm_cases::e_cylinder_rz_slip(&mut body)?;
     }
+    let mut plain_cookoff = cookoff::PlainRuns::default();
     if run("cookoff") {
-        cookoff::e_cookoff(&mut body, &img)?;
+        plain_cookoff = cookoff::e_cookoff(&mut body, &img)?;
     }
     if run("cookoff-ensemble") {
-        cookoff::e_cookoff_ensemble(&mut body)?;
+        cookoff::e_cookoff_ensemble(&mut body, &plain_cookoff)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
