@@ -120,8 +120,19 @@ fn cylinder_radial_bessel_mode_decays_at_the_analytic_rate() {
 }
 
 /// A 3D block with a random temperature field, or its r–z twin, in a grid
-/// larger than itself (every face of the block adiabatic).
+/// larger than itself (every face of the block adiabatic), with c_v [`CV`].
 fn insulated_block(shape: ShapeFunction, geometry: Geometry, temps: &[f64]) -> MpmSolver {
+    insulated_block_with(shape, geometry, temps, SpecificHeat::Constant(CV))
+}
+
+/// The block of [`insulated_block`] conducting through the specific heat
+/// `heat`.
+fn insulated_block_with(
+    shape: ShapeFunction,
+    geometry: Geometry,
+    temps: &[f64],
+    heat: SpecificHeat,
+) -> MpmSolver {
     let (level, lo, hi) = match geometry {
         Geometry::Cartesian => (
             Level::new([0.0; 3], [0.75, 0.625, 0.5], [6, 5, 4], [1, 1, 1], 0).unwrap(),
@@ -138,7 +149,7 @@ fn insulated_block(shape: ShapeFunction, geometry: Geometry, temps: &[f64]) -> M
     for p in 0..ps.len() {
         ps.temperature[p] = temps[p % temps.len()];
     }
-    solver(level, ps, shape, geometry, K)
+    cases::conducting_solver_with(level, ps, shape, geometry, K, heat).unwrap()
 }
 
 const SHAPES: [ShapeFunction; 4] = [
@@ -168,19 +179,6 @@ fn insulated_block_keeps_its_heat_to_round_off() {
             assert_ne!(s.particles().temperature, t0, "the heat moved");
         }
     }
-}
-
-/// The block of [`insulated_block`] conducting through the specific heat
-/// `heat` (the option's, in place of the constant [`CV`]).
-fn insulated_block_with(
-    shape: ShapeFunction,
-    geometry: Geometry,
-    temps: &[f64],
-    heat: SpecificHeat,
-) -> MpmSolver {
-    let s = insulated_block(shape, geometry, temps);
-    let (level, ps) = (s.level().clone(), s.particles().clone());
-    cases::conducting_solver_with(level, ps, shape, geometry, K, heat).unwrap()
 }
 
 /// Σ m_p H(T_p), J, H = ∫₀ᵀ c dT' of `heat`.
@@ -452,7 +450,10 @@ fn a_random_field_stays_bounded_at_the_diffusive_limit() {
 #[test]
 fn conduction_is_the_same_bits_on_any_thread_count() {
     // A constant c_v, and the 4340 steel's curve on a field across T_c.
-    for (base, curve) in [(250.0, None), (1010.0, Some(SpecificHeat::steel_4340()))] {
+    for (base, heat) in [
+        (250.0, SpecificHeat::Constant(CV)),
+        (1010.0, SpecificHeat::steel_4340()),
+    ] {
         let temps: Vec<f64> = (0..61).map(|i| base + (i * 13 % 61) as f64).collect();
         let run = |threads: usize| {
             rayon::ThreadPoolBuilder::new()
@@ -461,10 +462,7 @@ fn conduction_is_the_same_bits_on_any_thread_count() {
                 .unwrap()
                 .install(|| {
                     let (shape, geometry) = (ShapeFunction::QuadraticBSpline, Geometry::Cartesian);
-                    let mut s = match &curve {
-                        None => insulated_block(shape, geometry, &temps),
-                        Some(c) => insulated_block_with(shape, geometry, &temps, c.clone()),
-                    };
+                    let mut s = insulated_block_with(shape, geometry, &temps, heat.clone());
                     let dt = s.stable_dt().unwrap();
                     for _ in 0..5 {
                         s.advance(dt).unwrap();
@@ -472,7 +470,7 @@ fn conduction_is_the_same_bits_on_any_thread_count() {
                     s.particles().temperature.clone()
                 })
         };
-        assert_eq!(run(1), run(3), "{curve:?}");
+        assert_eq!(run(1), run(3), "{heat:?}");
     }
 }
 

@@ -276,12 +276,12 @@ impl StencilPass for TemperatureRange<'_> {
         } = self;
         for (i, t) in temperature.iter_mut().enumerate() {
             let p = first + i;
-            let heat = &properties[material[p].0 as usize].specific_heat;
-            let curve = match heat {
-                SpecificHeat::Constant(c) if !(*c > 0.0) => continue,
-                SpecificHeat::Constant(_) => false,
-                SpecificHeat::Model(_) => true,
-            };
+            let props = &properties[material[p].0 as usize];
+            if !props.takes_part() {
+                continue;
+            }
+            let heat = &props.specific_heat;
+            let curve = matches!(heat, SpecificHeat::Model(_));
             let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
             let mut dtemp = 0.0;
             for c in 0..NZ {
