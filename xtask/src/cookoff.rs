@@ -691,96 +691,94 @@ pub(crate) fn e_cookoff_ensemble(report: &mut Report, plain: &PlainRuns) -> Resu
         "## E-COOKOFF-ENSEMBLE — the cook-off's figures at the end over runs a few mK apart\n"
     );
     let mut changes = Vec::new();
-    {
-        let _ = writeln!(
-            md,
-            "E-COOKOFF's figures at the end move by points under a change of the start far below any that \
-             an experiment controls (docs/physics/couple/cookoff.md), so a figure at one h is a sample. Here the \
-             case is run {members} times at each h (`BRISANCE_COOKOFF_ENSEMBLE_H`, mm; \
-             `BRISANCE_COOKOFF_MEMBERS`), member k with the steel (wall and cap) started k mK warmer than the \
-             scenario's 451 K (member 0 is E-COOKOFF's run), each with E-COOKOFF's wall-time budget. Mean ± \
-             sample standard deviation (least–greatest) over the members that reached the end time; the \
-             figure of merit is the mean burnt fraction at the end, converged in h when its change between \
-             successive h is within two standard errors of that change. Wall times on 2 cores, one member at \
-             a time.\n"
-        );
-        let _ = writeln!(
-            md,
-            "| h (mm) | members at the end time | burnt at the end | p inside wall at the end (MPa) | first rupture (µs) | wall time a member (s) |\n\
-             |---:|---:|---|---|---|---|"
-        );
-        // Per h: (h, mean, sd, members at the end, members run).
-        let mut means = Vec::new();
-        for ends in &ensembles {
-            let done: Vec<&End> = ends.iter().filter(|e| e.finished).collect();
-            let col = |f: fn(&End) -> f64| done.iter().map(|e| f(e)).collect::<Vec<f64>>();
-            let burnt = col(|e| e.burnt);
-            let ruptures: Vec<f64> = done.iter().filter_map(|e| e.rupture).collect();
-            let walls: Vec<f64> = ends.iter().map(|e| e.wall_s).collect();
-            let h = ends[0].h;
-            if done.is_empty() {
-                means.push((h, f64::NAN, f64::NAN, 0, ends.len()));
-                let _ = writeln!(
-                    md,
-                    "| {} | 0 of {} | — | — | — | {} |",
-                    h * 1e3,
-                    ends.len(),
-                    spread_text(&walls, 1.0, 0)
-                );
-                continue;
-            }
+    let _ = writeln!(
+        md,
+        "E-COOKOFF's figures at the end move by points under a change of the start far below any that \
+         an experiment controls (docs/physics/couple/cookoff.md), so a figure at one h is a sample. Here the \
+         case is run {members} times at each h (`BRISANCE_COOKOFF_ENSEMBLE_H`, mm; \
+         `BRISANCE_COOKOFF_MEMBERS`), member k with the steel (wall and cap) started k mK warmer than the \
+         scenario's 451 K (member 0 is E-COOKOFF's run), each with E-COOKOFF's wall-time budget. Mean ± \
+         sample standard deviation (least–greatest) over the members that reached the end time; the \
+         figure of merit is the mean burnt fraction at the end, converged in h when its change between \
+         successive h is within two standard errors of that change. Wall times on 2 cores, one member at \
+         a time.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| h (mm) | members at the end time | burnt at the end | p inside wall at the end (MPa) | first rupture (µs) | wall time a member (s) |\n\
+         |---:|---:|---|---|---|---|"
+    );
+    // Per h: (h, mean, sd, members at the end, members run).
+    let mut means = Vec::new();
+    for ends in &ensembles {
+        let done: Vec<&End> = ends.iter().filter(|e| e.finished).collect();
+        let col = |f: fn(&End) -> f64| done.iter().map(|e| f(e)).collect::<Vec<f64>>();
+        let burnt = col(|e| e.burnt);
+        let ruptures: Vec<f64> = done.iter().filter_map(|e| e.rupture).collect();
+        let walls: Vec<f64> = ends.iter().map(|e| e.wall_s).collect();
+        let h = ends[0].h;
+        if done.is_empty() {
+            means.push((h, f64::NAN, f64::NAN, 0, ends.len()));
             let _ = writeln!(
                 md,
-                "| {} | {} of {} | {} | {} | {} | {} |",
+                "| {} | 0 of {} | — | — | — | {} |",
                 h * 1e3,
-                done.len(),
                 ends.len(),
-                spread_text(&burnt, 1.0, 3),
-                spread_text(&col(|e| e.p_wall), 1e-6, 1),
-                if ruptures.is_empty() {
-                    "none".to_string()
-                } else {
-                    spread_text(&ruptures, 1e6, 2)
-                },
                 spread_text(&walls, 1.0, 0)
             );
-            let (m, sd, ..) = spread(&burnt);
-            means.push((h, m, sd, burnt.len(), ends.len()));
+            continue;
         }
-        let _ = writeln!(md);
-        // Successive h in the order run; a pair is judged only when both
-        // have two members or more at the end time (a sample standard
-        // deviation needs two).
-        for w in means.windows(2) {
-            let ((h0, m0, s0, n0, r0), (h1, m1, s1, n1, r1)) = (w[0], w[1]);
-            let pair = format!("{} → {} mm", h0 * 1e3, h1 * 1e3);
-            if n0 < 2 || n1 < 2 {
-                let _ = writeln!(
-                    md,
-                    "Mean burnt fraction {pair}: not judged, {n0} of {r0} and {n1} of {r1} members reached the end time (two or more needed at each h).\n"
-                );
-                changes.push((pair, None));
-                continue;
-            }
-            let se = (s0 * s0 / n0 as f64 + s1 * s1 / n1 as f64).sqrt();
-            let how_many = if se > 0.0 {
-                format!("{:.1} standard errors", (m1 - m0).abs() / se)
+        let _ = writeln!(
+            md,
+            "| {} | {} of {} | {} | {} | {} | {} |",
+            h * 1e3,
+            done.len(),
+            ends.len(),
+            spread_text(&burnt, 1.0, 3),
+            spread_text(&col(|e| e.p_wall), 1e-6, 1),
+            if ruptures.is_empty() {
+                "none".to_string()
             } else {
-                "the members did not spread at all: the perturbation moved nothing".to_string()
-            };
+                spread_text(&ruptures, 1e6, 2)
+            },
+            spread_text(&walls, 1.0, 0)
+        );
+        let (m, sd, ..) = spread(&burnt);
+        means.push((h, m, sd, burnt.len(), ends.len()));
+    }
+    let _ = writeln!(md);
+    // Successive h in the order run; a pair is judged only when both
+    // have two members or more at the end time (a sample standard
+    // deviation needs two).
+    for w in means.windows(2) {
+        let ((h0, m0, s0, n0, r0), (h1, m1, s1, n1, r1)) = (w[0], w[1]);
+        let pair = format!("{} → {} mm", h0 * 1e3, h1 * 1e3);
+        if n0 < 2 || n1 < 2 {
             let _ = writeln!(
                 md,
-                "Mean burnt fraction from {} to {} mm: {:+.3}, against a standard error of the difference of {:.3} ({how_many}).\n",
-                h0 * 1e3,
-                h1 * 1e3,
-                m1 - m0,
-                se,
+                "Mean burnt fraction {pair}: not judged, {n0} of {r0} and {n1} of {r1} members reached the end time (two or more needed at each h).\n"
             );
-            changes.push((pair, Some((m1 - m0, se))));
+            changes.push((pair, None));
+            continue;
         }
-        if means.len() < 2 {
-            changes.push(("(one h only)".into(), None));
-        }
+        let se = (s0 * s0 / n0 as f64 + s1 * s1 / n1 as f64).sqrt();
+        let how_many = if se > 0.0 {
+            format!("{:.1} standard errors", (m1 - m0).abs() / se)
+        } else {
+            "the members did not spread at all: the perturbation moved nothing".to_string()
+        };
+        let _ = writeln!(
+            md,
+            "Mean burnt fraction from {} to {} mm: {:+.3}, against a standard error of the difference of {:.3} ({how_many}).\n",
+            h0 * 1e3,
+            h1 * 1e3,
+            m1 - m0,
+            se,
+        );
+        changes.push((pair, Some((m1 - m0, se))));
+    }
+    if means.len() < 2 {
+        changes.push(("(one h only)".into(), None));
     }
     let _ = writeln!(
         md,
