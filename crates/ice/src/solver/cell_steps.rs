@@ -673,7 +673,22 @@ pub(super) fn lagrangian_cell<E: Eos>(
             rho_cv[r] = rho[r] * cv[r];
         }
         let before = temp;
-        heat_exchange(&rho_cv[..n], &theta[..n], params.h, dt, &mut temp[..n]);
+        // A Lagrangian material's trace (no body: the solid's trace state
+        // at its reference temperature where its particles are not) takes
+        // no part: with θ = 0 in the exchange its row is ΔT = 0 and it
+        // neither gives the fluids heat nor takes it from them. Its heat
+        // would reach no particle, and a trace at its reference
+        // temperature beside a fluid at another was a source of heat
+        // without end (docs/physics/couple/ice_mpm.md, "Heat between the
+        // frames").
+        let mut theta_x = theta;
+        let rho_sum: f64 = rho[..n].iter().sum();
+        for r in 0..n {
+            if params.lagrangian[r] && is_trace(theta[r], rho[r] / rho_sum) {
+                theta_x[r] = 0.0;
+            }
+        }
+        heat_exchange(&rho_cv[..n], &theta_x[..n], params.h, dt, &mut temp[..n]);
         for r in 0..n {
             let dtemp = temp[r][0] - before[r][0];
             e[r] += cv[r] * dtemp;
