@@ -238,6 +238,9 @@ struct Workspace {
     shifted_stress: Vec<[f64; 6]>,
     /// The coupled step's nodal velocity changes (empty unless it runs).
     node_change: Vec<[f64; 3]>,
+    /// The coupled step's temperature change per particle gathered from
+    /// the nodes (empty unless it runs with that transfer).
+    particle_change: Vec<f64>,
     /// The particles the coupled step's fluid frame consumed whole.
     consumed: Vec<usize>,
     /// The buffers the sort gathers the bulk-viscosity states and
@@ -503,6 +506,7 @@ impl MpmSolver {
                 average: PatchAverage::default(),
                 shifted_stress: Vec::new(),
                 node_change: Vec::new(),
+                particle_change: Vec::new(),
                 consumed: Vec::new(),
                 bulk_scratch: Vec::new(),
                 id_scratch: Vec::new(),

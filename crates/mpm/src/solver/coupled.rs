@@ -26,7 +26,10 @@
 //! 4. [`CoupledStep::update_particles`] (step 14 and the stress of step
 //!    7): G2P (eqs 16–17) and the stress update from the grid velocity
 //!    gradient (eq 13; MUSL re-maps v_I^{n+1} on light nodes too), then
-//!    the temperature change of the heat exchange at each particle.
+//!    the temperature change of the heat exchange at each particle
+//!    ([`CoupledStep::update_particles_from_nodes`]: the same with that
+//!    change given on the nodes and gathered with the shape functions of
+//!    the start of the step).
 //! 5. [`CoupledStep::consume_particles`]: the particles' loss of mass to
 //!    the fluids where a solid reactant burns (step 4's source applied to
 //!    the particles).
@@ -232,6 +235,54 @@ impl CoupledStep<'_> {
         &mut self,
         temperature_change: impl Fn([f64; 3], MaterialId) -> f64 + Sync,
     ) -> Result<(), SolverError> {
+        self.g2p_and_stresses()?;
+        let ps = &mut self.solver.particles;
+        ps.temperature
+            .par_iter_mut()
+            .zip(ps.position.par_iter().zip(ps.material.par_iter()))
+            .with_min_len(1024)
+            .for_each(|(temp, (x, m))| *temp += temperature_change(*x, *m));
+        Ok(())
+    }
+
+    /// Phase 4 with the temperature change given on the nodes:
+    /// `node_change` holds, per particle material m, a value per node (node
+    /// storage order, material m's block at `m · nodes .. (m + 1) · nodes`,
+    /// `nodes` = [`GridNodes::mass`]'s length), and each particle takes
+    /// ΔT_p = Σ_I N_Ip ΔT_I with the shape functions of the step's start,
+    /// the ones its mass reached the nodes with (gathered before G2P moves
+    /// it), so Σ_p m_p ΔT_p = Σ_I m_I ΔT_I for one material. The change
+    /// is added after the stress update, as in
+    /// [`CoupledStep::update_particles`].
+    pub fn update_particles_from_nodes(&mut self, node_change: &[f64]) -> Result<(), SolverError> {
+        let s = &mut *self.solver;
+        let mut change = std::mem::take(&mut s.work.particle_change);
+        change.clear();
+        change.resize(s.particles.len(), 0.0);
+        crate::transfer::heat::g2p_node_values(
+            &s.work.map,
+            &s.work.bins,
+            &s.particles.position,
+            &s.particles.material,
+            node_change,
+            &mut change,
+        );
+        let result = self.g2p_and_stresses();
+        let s = &mut *self.solver;
+        if result.is_ok() {
+            s.particles
+                .temperature
+                .par_iter_mut()
+                .zip(change.par_iter())
+                .with_min_len(1024)
+                .for_each(|(t, dt)| *t += dt);
+        }
+        s.work.particle_change = change;
+        result
+    }
+
+    /// G2P (eqs 16–17) and the stress update of phase 4.
+    fn g2p_and_stresses(&mut self) -> Result<(), SolverError> {
         let runs = self.solver.particle_runs();
         let mut p = self.parts();
         p.params.own = runs.as_ref().map(|r| (r.nodes().start, r.nodes().end));
@@ -257,16 +308,10 @@ impl CoupledStep<'_> {
                 share(&runs, ps, p.bulk, parts, failure)
             }
         };
-        if let Some(f) = failure {
-            return Err(self.solver.particle_error(f.index, f.describe()));
+        match failure {
+            Some(f) => Err(self.solver.particle_error(f.index, f.describe())),
+            None => Ok(()),
         }
-        let ps = &mut self.solver.particles;
-        ps.temperature
-            .par_iter_mut()
-            .zip(ps.position.par_iter().zip(ps.material.par_iter()))
-            .with_min_len(1024)
-            .for_each(|(temp, (x, m))| *temp += temperature_change(*x, *m));
-        Ok(())
     }
 
     /// Phase 5: `consume(particles, consumed)` may take mass from the
@@ -408,6 +453,112 @@ mod tests {
                     "{scheme:?}: particle {p} at {v:?}"
                 );
             }
+        }
+    }
+
+    /// A temperature change given on the nodes reaches the particles with
+    /// the heat the nodes hold, Σ_p m_p ΔT_p = Σ_I m_I ΔT_I, for every
+    /// shape function and each of two materials (its own block of node
+    /// values), although the particles move a fifth of a cell in the step
+    /// (the gather uses the shape functions the mass was scattered with);
+    /// a material with no block gets no change.
+    #[test]
+    fn a_node_temperature_change_reaches_the_particles_with_its_heat() {
+        for shape in [
+            ShapeFunction::Linear,
+            ShapeFunction::Gimp,
+            ShapeFunction::CpGimp,
+            ShapeFunction::QuadraticBSpline,
+        ] {
+            let level = Level::new([0.0; 3], [1.0, 0.5, 0.125], [8, 4, 1], [1, 1, 1], 0).unwrap();
+            let h = 0.125;
+            let fill = |particles: &mut Particles, m: usize| {
+                let (lo, hi) = [(2.0, 4.0), (4.0, 6.0)][m];
+                fill_shape(
+                    particles,
+                    &level.geometry,
+                    &FillSpec {
+                        shape: Shape::Box {
+                            min: [lo * h, h, 0.0],
+                            max: [hi * h, 3.0 * h, h],
+                        },
+                        ppc: 2,
+                        density: 1000.0 * (1.0 + m as f64),
+                        material: MaterialId(m as u16),
+                        velocity: [2.5, 0.0, 0.0],
+                        temperature: 300.0,
+                        specific_internal_energy: 0.0,
+                    },
+                )
+                .unwrap();
+            };
+            let mut particles = Particles::default();
+            fill(&mut particles, 0);
+            fill(&mut particles, 1);
+            let model = MaterialModel::Hypoelastic(Hypoelastic {
+                shear_modulus: 5e6,
+                pressure: PressureModel::Linear { bulk_modulus: 1e7 },
+                rate: ObjectiveRate::Jaumann,
+            });
+            let options = MpmOptions {
+                shape,
+                ..Default::default()
+            };
+            let models = vec![model.clone(), model];
+            // The nodes' mass of each material alone, from the start
+            // positions and the same shape functions.
+            let alone: Vec<Vec<f64>> = (0..2)
+                .map(|m| {
+                    let mut own = Particles::default();
+                    fill(&mut own, m);
+                    let mut one =
+                        MpmSolver::new(level.clone(), models.clone(), own, options).unwrap();
+                    one.project_to_nodes().unwrap().mass.clone()
+                })
+                .collect();
+            let mut s = MpmSolver::new(level, models, particles, options).unwrap();
+            let start: Vec<[f64; 3]> = s.particles().position.clone();
+            let mut step = s.begin_coupled_step(0.01).unwrap();
+            step.project();
+            let nodes = step.nodes().mass.len();
+            let values: Vec<f64> = (0..2 * nodes)
+                .map(|i| 10.0 * ((i * 7919 % 101) as f64 / 101.0 - 0.5))
+                .collect();
+            step.internal_forces(|_| 0.0);
+            step.add_node_velocity_change(|_, _| Ok(())).unwrap();
+            step.update_particles_from_nodes(&values).unwrap();
+            step.consume_particles(|_, _| Ok(())).unwrap();
+            step.finish().unwrap();
+            let ps = s.particles();
+            // (The step sorts the particles: compare their mean.)
+            let mean = |x: &[[f64; 3]]| x.iter().map(|x| x[0]).sum::<f64>() / x.len() as f64;
+            assert!(
+                (mean(&ps.position) - mean(&start) - 0.025).abs() < 1e-12,
+                "{shape:?}: the particles moved 0.025 m"
+            );
+            for m in 0..2u16 {
+                let heat: f64 = (0..ps.len())
+                    .filter(|&p| ps.material[p] == MaterialId(m))
+                    .map(|p| ps.mass[p] * (ps.temperature[p] - 300.0))
+                    .sum();
+                let mass = &alone[m as usize];
+                let block = &values[m as usize * nodes..(m as usize + 1) * nodes];
+                let nodal: f64 = mass.iter().zip(block).map(|(m, v)| m * v).sum();
+                assert!(
+                    (heat - nodal).abs() <= 1e-12 * nodal.abs().max(1.0),
+                    "{shape:?} material {m}: particles {heat:e}, nodes {nodal:e}"
+                );
+            }
+            // No block for either material: nothing changes.
+            let before = s.particles().temperature.clone();
+            let mut step = s.begin_coupled_step(1e-6).unwrap();
+            step.project();
+            step.internal_forces(|_| 0.0);
+            step.add_node_velocity_change(|_, _| Ok(())).unwrap();
+            step.update_particles_from_nodes(&[]).unwrap();
+            step.consume_particles(|_, _| Ok(())).unwrap();
+            step.finish().unwrap();
+            assert_eq!(s.particles().temperature, before, "{shape:?}");
         }
     }
 }

@@ -9,7 +9,10 @@
 //!   ∇N_Ip, gathered and used at once to scatter the internal heat rate
 //!   q_I = −Σ_p V_p k_p ∇T_p · ∇N_Ip (one coloured gather–scatter);
 //! - [`g2p_temperature_rate`]: T_p += Δt Σ_I N_Ip Ṫ_I, or through the heat
-//!   H(T) for a c_v(T) (storage order).
+//!   H(T) for a c_v(T) (storage order);
+//! - [`g2p_node_values`]: a node field per material gathered to its
+//!   particles, Σ_I N_Ip f_I (storage order; the coupled ICE–MPM step's
+//!   temperature change through the nodes).
 //!
 //! A node receives its contributions in the fixed order of the colouring,
 //! so the sums are the same bits for any thread count.
@@ -247,6 +250,84 @@ pub fn g2p_temperature_rate(
                 },
             )
         });
+}
+
+/// Storage-order gather of a node field per material: each particle's
+/// `out[p] = Σ_I N_Ip f_I` with `f` the block of `node_values` for its
+/// material (material m's values at `m · nodes .. (m + 1) · nodes`, node
+/// storage order). With the particles at the positions the nodes' mass was
+/// scattered from, Σ_p m_p out[p] = Σ_I m_I f_I for one material: the
+/// adjoint of the mass scatter (the coupled ICE–MPM step's temperature
+/// change through the nodes, `brisance-couple`). A material with no block
+/// (`node_values` too short) gets 0.
+pub fn g2p_node_values(
+    map: &GridMap,
+    bins: &ParticleBins,
+    position: &[[f64; 3]],
+    material: &[MaterialId],
+    node_values: &[f64],
+    out: &mut [f64],
+) {
+    let chunk = PARTICLES_PER_TASK;
+    out.par_chunks_mut(chunk).enumerate().for_each(|(k, o)| {
+        dispatch(
+            map,
+            NodeValueRange {
+                map,
+                bins,
+                first: k * chunk,
+                position,
+                material,
+                node_values,
+                out: o,
+            },
+        )
+    });
+}
+
+struct NodeValueRange<'a> {
+    map: &'a GridMap,
+    bins: &'a ParticleBins,
+    first: usize,
+    position: &'a [[f64; 3]],
+    material: &'a [MaterialId],
+    node_values: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl StencilPass for NodeValueRange<'_> {
+    fn run<const NX: usize, const NY: usize, const NZ: usize>(self) {
+        let Self {
+            map,
+            bins,
+            first,
+            position,
+            material,
+            node_values,
+            out,
+        } = self;
+        let nodes = map.lattice.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            let p = first + i;
+            let base = material[p].0 as usize * nodes;
+            let Some(f) = node_values.get(base..base + nodes) else {
+                *o = 0.0;
+                continue;
+            };
+            let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
+            let mut sum = 0.0;
+            for c in 0..NZ {
+                for b in 0..NY {
+                    let row = s.row(b, c);
+                    let start = map.row_start(s.base, b, c);
+                    for (&wx, &v) in s.x.w.iter().zip(&f[start..start + NX]) {
+                        sum += row.weight(wx) * v;
+                    }
+                }
+            }
+            *o = sum;
+        }
+    }
 }
 
 struct TemperatureRange<'a> {
