@@ -36,7 +36,7 @@ pub use bridge_pipeline::{BridgeConfig, BridgeSolver};
 pub use cfdmp::{Cfdmp, CfdmpOptions, TransportTotals, FIELDS as CFDMP_FIELDS};
 pub use gas_remap::{cached_remap, remap_cache_dir, GasRemap, MpmRemapConfig};
 pub use ice_mpm::pipeline::{IceMpmConfig, Solids};
-pub use ice_mpm::{IceMpm, IceMpmError};
+pub use ice_mpm::{IceMpm, IceMpmError, ParticleHeat};
 pub use mpm_pipeline::{BulkViscosityConfig, MpmConfig, SurfaceLoadConfig};
 pub use regions::{BridgeRegions, RegionBox, RegionError, Side};
 pub use remap::{

@@ -69,6 +69,29 @@ pub const BURNT_OUT_FRACTION: f64 = 1e-2;
 #[error("ICE–MPM: {0}")]
 pub struct IceMpmError(pub String);
 
+/// How the temperature change that steps 8–11 give a solid in each cell
+/// (its heat exchange with the fluids and its share of the heat the
+/// exchanges dissipate) reaches the particles in step 14
+/// (docs/physics/couple/ice_mpm.md, "Heat between the frames").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ParticleHeat {
+    /// Each particle takes the change of the cell it lies in (the
+    /// default). Not conservative: the solid's cell mass of eq 18 and the
+    /// particles that hold it need not lie in the same cell (a cell beside
+    /// the solid's face holds a share of it through the face's nodes and
+    /// no particle), so the heat the fluids exchange with the solid there
+    /// is not taken from any particle.
+    #[default]
+    Cell,
+    /// Through the nodes, as the velocity change of step 13 (Uintah's
+    /// `interpolateCCToNC` of dT/dt and the particles' gather of it):
+    /// ΔT_I = Σ_c w_Ic ΔT_c with the weights of eq 18, then
+    /// ΔT_p = Σ_I N_Ip ΔT_I, so Σ_p m_p c ΔT_p = Σ_c M_c c ΔT_c for one
+    /// solid of constant c_v (exact with linear shape functions and
+    /// several solids too). A solid's trace gives the nodes nothing.
+    Nodes,
+}
+
 /// One Lagrangian material's cell fields of a coupled step.
 #[derive(Debug, Clone, Default)]
 struct SolidCells {
@@ -165,6 +188,9 @@ struct Scratch {
     /// solids only).
     mass_buffers: Vec<Vec<f64>>,
     state_buffers: Vec<Vec<Option<(f64, f64)>>>,
+    /// Per solid, the temperature change of steps 8–11 on the nodes
+    /// ([`ParticleHeat::Nodes`] only; material-major blocks).
+    node_temperature: Vec<f64>,
 }
 
 impl Scratch {
@@ -191,6 +217,7 @@ impl Scratch {
             solids: (0..solids).map(|_| SolidCells::sized(cells)).collect(),
             mass_buffers: Vec::with_capacity(solids),
             state_buffers: Vec::with_capacity(solids),
+            node_temperature: Vec::new(),
         }
     }
 }
@@ -642,6 +669,36 @@ impl FluidFrame<'_> {
         steps::cells_to_nodes(&self.grid, self.rz, &nodes.lattice, change, dv);
     }
 
+    /// Step 14's temperature change on the nodes ([`ParticleHeat::Nodes`]):
+    /// each solid's cell change (zero where it is a trace) by the adjoint of
+    /// eq 18 into its block of `node_temperature` (material-major, one
+    /// value per node of `nodes`).
+    fn temperature_change_to_nodes(&mut self, nodes: &GridNodes) -> &[f64] {
+        let count = nodes.mass.len();
+        let s = &mut *self.s;
+        s.node_temperature.clear();
+        s.node_temperature.resize(count * s.solids.len(), 0.0);
+        for (c, block) in s
+            .solids
+            .iter_mut()
+            .zip(s.node_temperature.chunks_mut(count))
+        {
+            for (dt, trace) in c.temperature_change.iter_mut().zip(&c.trace) {
+                if *trace {
+                    *dt = 0.0;
+                }
+            }
+            steps::cell_values_to_nodes(
+                &self.grid,
+                self.rz,
+                &nodes.lattice,
+                &c.temperature_change,
+                block,
+            );
+        }
+        &s.node_temperature
+    }
+
     /// The temperature change of the heat exchange at point `x` over the
     /// step for a particle of `material`, K.
     fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64 {
@@ -751,6 +808,8 @@ pub struct IceMpm {
     rz: bool,
     /// Each cell's volume, m³ (global order).
     volumes: Vec<f64>,
+    /// How steps 8–11's temperature change reaches the particles.
+    particle_heat: ParticleHeat,
     /// This process's rank ([`IceMpm::distribute`]; 0 on one rank): every
     /// rank holds the whole fluid, and rank 0 alone hands out its patch
     /// pieces for output.
@@ -766,6 +825,17 @@ struct SavedState {
 }
 
 impl IceMpm {
+    /// Sets how steps 8–11's temperature change reaches the particles
+    /// (config `pipeline.particle_heat`; [`ParticleHeat::Cell`] unless set).
+    pub fn set_particle_heat(&mut self, heat: ParticleHeat) {
+        self.particle_heat = heat;
+    }
+
+    /// How steps 8–11's temperature change reaches the particles.
+    pub fn particle_heat(&self) -> ParticleHeat {
+        self.particle_heat
+    }
+
     /// Spreads the coupled step over the ranks of `comm` (nothing to do on
     /// one rank; docs/cluster.md): every rank holds the whole fluid and
     /// every particle and runs every phase over all of them, except the
@@ -785,6 +855,7 @@ impl IceMpm {
     /// adjoint, the solids' cell states, the burning particles) the fluid
     /// frame's.
     fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        let particle_heat = self.particle_heat;
         let (mut frame, mpm) = self.frames();
         let mut mpm = mpm.begin_coupled_step(dt)?;
         // 1. Particles → nodes (eq 12) → cells (eq 18): each solid's state
@@ -815,7 +886,13 @@ impl IceMpm {
         })?;
         // 14. The particles from the nodes (eqs 16–17) with their stress
         //     (eq 13, step 7) and the heat exchange's temperature change.
-        mpm.update_particles(|x, m| frame.temperature_change(x, m))?;
+        match particle_heat {
+            ParticleHeat::Cell => mpm.update_particles(|x, m| frame.temperature_change(x, m))?,
+            ParticleHeat::Nodes => {
+                let change = frame.temperature_change_to_nodes(mpm.nodes());
+                mpm.update_particles_from_nodes(change)?;
+            }
+        }
         // 4. Solid reactants: the burnt mass leaves the particles for the
         //    product.
         mpm.consume_particles(|particles, consumed| frame.consume_particles(particles, consumed))?;
@@ -936,6 +1013,7 @@ impl IceMpm {
             scratch: Scratch::sized(cells, solids.len()),
             rz: geometry.is_axisymmetric(),
             volumes,
+            particle_heat: ParticleHeat::Cell,
             rank: 0,
         };
         coupled

@@ -48,6 +48,13 @@ pub struct IceMpmConfig {
     pub solid: Solids,
     /// The particle options.
     pub mpm: MpmConfig,
+    /// How the temperature change steps 8–11 give a solid in each cell
+    /// reaches its particles: `Cell` (default: the cell each particle lies
+    /// in) or `Nodes` (through the nodes by the adjoint of eq 18, heat
+    /// conserving; docs/physics/couple/ice_mpm.md, "Heat between the
+    /// frames").
+    #[serde(default)]
+    pub particle_heat: super::ParticleHeat,
 }
 
 /// One Lagrangian material or several.
@@ -274,6 +281,7 @@ impl PipelineSpec for IceMpmConfig {
             .collect();
         let mut solver = IceMpm::new(ice, mpm, &solids)
             .map_err(|e| FieldError::new("pipeline", e.to_string()))?;
+        solver.set_particle_heat(self.particle_heat);
         solver.distribute(brisance_grid::comm::world());
         Ok(solver)
     }
@@ -303,7 +311,10 @@ impl PipelineSpec for IceMpmConfig {
             self.ice.momentum_exchange,
             self.ice.solid_exchange,
             s.end_time
-        )
+        ) + match self.particle_heat {
+            super::ParticleHeat::Cell => "",
+            super::ParticleHeat::Nodes => "\n  particle heat: through the nodes (adjoint of eq 18)",
+        }
     }
 }
 

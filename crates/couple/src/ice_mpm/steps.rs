@@ -436,39 +436,69 @@ pub fn cells_to_nodes(
     cell_change: &[[f64; 3]],
     node_change: &mut [[f64; 3]],
 ) {
-    node_change
-        .par_iter_mut()
-        .enumerate()
-        .for_each(|(idx, dv)| {
-            let node = lattice.node(idx);
-            *dv = [0.0; 3];
-            let mut range = [[0isize; 2]; 3];
-            for d in 0..3 {
-                if active(grid, d) {
-                    let n = grid.cells[d] as isize;
-                    if node[d] < 0 || node[d] > n {
-                        return;
-                    }
-                    range[d] = [(node[d] - 1).max(0), node[d].min(n - 1)];
+    adjoint_of_eq18(grid, rz, lattice, node_change, |dv, w, c| {
+        for d in 0..3 {
+            dv[d] += w * cell_change[c][d];
+        }
+    });
+}
+
+/// Step 14's temperature change through the nodes (Uintah's
+/// `interpolateCCToNC` of dT/dt before the particles gather it): the
+/// scalar form of [`cells_to_nodes`], ΔT_I = Σ_c w_Ic ΔT_c, so that
+/// Σ_I m_I ΔT_I = Σ_c M_c ΔT_c with M_c the cell mass of eq 18 (the heat
+/// the cells' exchange gave the solid reaches its nodes whole).
+pub fn cell_values_to_nodes(
+    grid: &UniformGridGeometry,
+    rz: bool,
+    lattice: &NodeLattice,
+    cell_value: &[f64],
+    node_value: &mut [f64],
+) {
+    adjoint_of_eq18(grid, rz, lattice, node_value, |v, w, c| {
+        *v += w * cell_value[c];
+    });
+}
+
+/// Each node's sum `add(value, w_Ic, c)` over the cells c that have it as a
+/// corner, with the weights of eq 18, from a zero `T::default()`; nodes
+/// outside the domain's corners keep zero. Nodes in parallel, cells in a
+/// fixed order.
+fn adjoint_of_eq18<T: Default + Send>(
+    grid: &UniformGridGeometry,
+    rz: bool,
+    lattice: &NodeLattice,
+    node_value: &mut [T],
+    add: impl Fn(&mut T, f64, usize) + Sync,
+) {
+    node_value.par_iter_mut().enumerate().for_each(|(idx, dv)| {
+        let node = lattice.node(idx);
+        *dv = T::default();
+        let mut range = [[0isize; 2]; 3];
+        for d in 0..3 {
+            if active(grid, d) {
+                let n = grid.cells[d] as isize;
+                if node[d] < 0 || node[d] > n {
+                    return;
+                }
+                range[d] = [(node[d] - 1).max(0), node[d].min(n - 1)];
+            }
+        }
+        let w: f64 = (1..3)
+            .map(|d| corner_weight(grid, rz, d, node[d], false))
+            .product();
+        for k in range[2][0]..=range[2][1] {
+            for j in range[1][0]..=range[1][1] {
+                for i in range[0][0]..=range[0][1] {
+                    let c = grid.linear_index([i as usize, j as usize, k as usize]);
+                    // Along x the node is the high corner of cell
+                    // node − 1 and the low corner of cell node.
+                    let w = w * corner_weight(grid, rz, 0, node[0], i < node[0]);
+                    add(dv, w, c);
                 }
             }
-            let w: f64 = (1..3)
-                .map(|d| corner_weight(grid, rz, d, node[d], false))
-                .product();
-            for k in range[2][0]..=range[2][1] {
-                for j in range[1][0]..=range[1][1] {
-                    for i in range[0][0]..=range[0][1] {
-                        let c = grid.linear_index([i as usize, j as usize, k as usize]);
-                        // Along x the node is the high corner of cell
-                        // node − 1 and the low corner of cell node.
-                        let w = w * corner_weight(grid, rz, 0, node[0], i < node[0]);
-                        for d in 0..3 {
-                            dv[d] += w * cell_change[c][d];
-                        }
-                    }
-                }
-            }
-        });
+        }
+    });
 }
 
 /// The cells a particle at `x` reaches through the linear (tent) shape
@@ -676,6 +706,40 @@ mod tests {
                 let cells: f64 = (0..g.cell_count()).map(|k| cm[k] * du[k][d]).sum();
                 let nodes: f64 = (0..lat.len()).map(|i| mass[i] * dv[i][d]).sum();
                 prop_assert!((cells - nodes).abs() <= 1e-12 * cells.abs().max(1.0));
+            }
+        });
+    }
+
+    /// The temperature change through the nodes: Σ_I m_I ΔT_I =
+    /// Σ_c M_c ΔT_c for any nodal masses (the heat the cells' solid took
+    /// reaches its nodes whole), planar and on rings, and each node's value
+    /// is the bits of the vector form's component.
+    #[test]
+    fn cell_temperature_changes_reach_the_nodes_with_their_heat() {
+        proptest!(|(seed in 0u64..1000, rz in proptest::bool::ANY)| {
+            let g = grid([3, 4, 2]);
+            let lat = NodeLattice::new(&g, ShapeFunction::Linear);
+            let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            let mut rnd = || {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                ((x >> 11) as f64) / ((1u64 << 53) as f64)
+            };
+            let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
+            let vel = vec![[0.0; 3]; lat.len()];
+            let mut cm = vec![0.0; g.cell_count()];
+            let mut cu = vec![[0.0; 3]; g.cell_count()];
+            nodes_to_cells(&g, rz, &lat, &mass, &vel, &mut cm, &mut cu);
+            let dt: Vec<f64> = (0..g.cell_count()).map(|_| 100.0 * (rnd() - 0.5)).collect();
+            let mut node_dt = vec![f64::NAN; lat.len()];
+            cell_values_to_nodes(&g, rz, &lat, &dt, &mut node_dt);
+            let cells: f64 = (0..g.cell_count()).map(|k| cm[k] * dt[k]).sum();
+            let nodes: f64 = (0..lat.len()).map(|i| mass[i] * node_dt[i]).sum();
+            prop_assert!((cells - nodes).abs() <= 1e-12 * cells.abs().max(1.0));
+            let as_vector: Vec<[f64; 3]> = dt.iter().map(|&v| [v, 0.0, 0.0]).collect();
+            let mut dv = vec![[0.0; 3]; lat.len()];
+            cells_to_nodes(&g, rz, &lat, &as_vector, &mut dv);
+            for (a, b) in node_dt.iter().zip(&dv) {
+                prop_assert_eq!(a.to_bits(), b[0].to_bits());
             }
         });
     }
