@@ -1,7 +1,9 @@
 //! V-CONDUCTION: heat conduction inside the MPM solids
 //! (`brisance_mpm::conduction`) against the analytic decay of a bar's
 //! cosine mode and of a solid cylinder's first radial Bessel mode on an
-//! (r, z) grid (`brisance_mpm::conduction::cases`).
+//! (r, z) grid (`brisance_mpm::conduction::cases`), and across a
+//! solid–fluid contact in the IceMpm pipeline against the transient of two
+//! semi-infinite bodies (`brisance::verification::conduction_contact`).
 
 use std::fmt::Write as _;
 
@@ -11,6 +13,7 @@ use brisance::mpm::conduction::cases::{
 };
 use brisance::mpm::ShapeFunction;
 use brisance::verification::cases::observed_orders;
+use brisance::verification::conduction_contact::{contact_transient, ContactTransient};
 
 use crate::Report;
 
@@ -20,6 +23,9 @@ const CELLS: [usize; 3] = [16, 32, 64];
 /// The cells at which every shape function is measured and the 1 % target
 /// is set.
 const TARGET_CELLS: usize = 32;
+
+/// Cells of the contact's sequence (h = 1, 0.5, 0.25, 0.125 mm).
+const CONTACT_CELLS: [usize; 4] = [50, 100, 200, 400];
 
 /// One measured row of the table.
 struct Row {
@@ -92,7 +98,7 @@ pub(crate) fn v_conduction(report: &mut Report) -> Result<()> {
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "## V-CONDUCTION — heat conduction inside MPM solids against the analytic decay\n"
+        "## V-CONDUCTION — heat conduction inside MPM solids and across a solid–fluid contact against analytic transients\n"
     );
     let _ = writeln!(
         md,
@@ -170,6 +176,127 @@ pub(crate) fn v_conduction(report: &mut Report) -> Result<()> {
             e.abs() <= 0.01,
         );
     }
+    contact_rows(report)?;
     let _ = writeln!(report.md);
+    Ok(())
+}
+
+/// The contact's sequence with `particle_heat: Nodes` (the config's), and
+/// the coarsest and finest with `Cell`, into the report.
+fn contact_rows(report: &mut Report) -> Result<()> {
+    let run = |cells: usize, set: &[String]| -> Result<ContactTransient> {
+        contact_transient(cells, set).map_err(|e| anyhow!("contact at {cells} cells: {e}"))
+    };
+    let nodes: Vec<ContactTransient> = CONTACT_CELLS
+        .iter()
+        .map(|&n| run(n, &[]))
+        .collect::<Result<_>>()?;
+    let cell_set = ["pipeline.particle_heat=Cell".to_string()];
+    let cell: Vec<ContactTransient> = [CONTACT_CELLS[0], CONTACT_CELLS[CONTACT_CELLS.len() - 1]]
+        .iter()
+        .map(|&n| run(n, &cell_set))
+        .collect::<Result<_>>()?;
+    let errors: Vec<f64> = nodes.iter().map(|r| r.error().abs()).collect();
+    let orders = observed_orders(&CONTACT_CELLS, &errors);
+    for (k, r) in nodes.iter().enumerate() {
+        println!(
+            "  contact (Nodes) {:>3} cells  {:>5} steps  heat {:.6e} J vs {:.6e} J ({:+.3} %), balance {:+.1e}{}",
+            r.cells,
+            r.steps,
+            r.solid_loss,
+            r.analytic,
+            100.0 * r.error(),
+            r.balance(),
+            k.checked_sub(1)
+                .map_or(String::new(), |j| format!("  order {:.2}", orders[j]))
+        );
+    }
+    for r in &cell {
+        println!(
+            "  contact (Cell)  {:>3} cells  particles lose {:.4e} J, liquid gains {:.4e} J",
+            r.cells, r.solid_loss, r.fluid_gain
+        );
+    }
+    let md = &mut report.md;
+    let _ = writeln!(
+        md,
+        "\n**Across a solid–fluid contact** (`configs/validation/conduction_contact.ron`, \
+         `brisance::verification::conduction_contact`; docs/physics/couple/ice_mpm.md, \
+         \"Heat between the frames\"). IceMpm, 1D along x: a block of conducting particles at 400 K \
+         (x < 30 mm; k = 8·10⁴ W/(m·K), ρ = 2001 kg/m³, c_v = 1000 J/(kg·K)) against a conducting \
+         Eulerian liquid at 300 K (k = 2·10⁴ W/(m·K), ρ = 1001 kg/m³, c_v = 2000 J/(kg·K)), at rest, \
+         every face closed and adiabatic; test materials whose Murnaghan pressure does not depend on \
+         the temperature and whose acoustic and diffusive steps meet; heat exchange H = 10¹⁸ \
+         W/(m³·K) (complete within a step), `particle_heat: Nodes`. The heat that crossed by \
+         t = 0.625 ms (the particles' loss Σ m c ΔT) against two semi-infinite bodies in perfect \
+         contact, Q = 2ΔT e_s e_f/(e_s + e_f) √(t/π) with e = √(kρc) (Carslaw & Jaeger 1959, §2.15): \
+         {:.6e} J over the 1 mm² section; the balance is the liquid's gain (the run's energy \
+         change) over the particles' loss − 1. Last two rows: each particle taking its own cell's \
+         change (`particle_heat: Cell`, the default).\n",
+        nodes[0].analytic
+    );
+    let _ = writeln!(
+        md,
+        "| transfer | cells | h (mm) | steps | particles' loss (J) | loss / Q − 1 | observed order | liquid's gain / particles' loss − 1 |\n|---|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (k, r) in nodes.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| Nodes | {} | {} | {} | {:.6e} | {:+.3} % | {} | {:+.1e} |",
+            r.cells,
+            50.0 / r.cells as f64,
+            r.steps,
+            r.solid_loss,
+            100.0 * r.error(),
+            k.checked_sub(1)
+                .map_or("—".to_string(), |j| format!("{:.2}", orders[j])),
+            r.balance()
+        );
+    }
+    for r in &cell {
+        let _ = writeln!(
+            md,
+            "| Cell | {} | {} | {} | {:.6e} | {:+.3} % | — | {:+.1e} |",
+            r.cells,
+            50.0 / r.cells as f64,
+            r.steps,
+            r.solid_loss,
+            100.0 * r.error(),
+            r.balance()
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
+    );
+    let finest = &nodes[nodes.len() - 1];
+    report.target(
+        &format!(
+            "V-CONDUCTION contact heat crossed at {} cells (finest, Nodes) vs Q(t)",
+            finest.cells
+        ),
+        format!("{:+.3} %", 100.0 * finest.error()),
+        "within 1 %",
+        finest.error().abs() <= 0.01,
+    );
+    let falls = errors.windows(2).all(|w| w[1] < w[0]);
+    let worst = orders.iter().copied().fold(f64::INFINITY, f64::min);
+    report.target(
+        &format!(
+            "V-CONDUCTION contact error falls with h, {}→{} cells (lowest observed order)",
+            CONTACT_CELLS[0],
+            CONTACT_CELLS[CONTACT_CELLS.len() - 1]
+        ),
+        format!("{worst:.2}"),
+        "falls at every halving, order ≥ 1",
+        falls && worst >= 1.0,
+    );
+    let balance = nodes.iter().map(|r| r.balance().abs()).fold(0.0, f64::max);
+    report.target(
+        "V-CONDUCTION contact liquid's gain / particles' loss − 1 (Nodes, worst)",
+        format!("{balance:.1e}"),
+        "≤ 1e-5",
+        balance <= 1e-5,
+    );
     Ok(())
 }

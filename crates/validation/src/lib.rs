@@ -7,6 +7,7 @@
 
 pub mod blast;
 pub mod cases;
+pub mod conduction_contact;
 pub mod flyer;
 pub mod kingery_bulmash;
 pub mod mott;
