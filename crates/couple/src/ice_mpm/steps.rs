@@ -689,11 +689,7 @@ mod tests {
         proptest!(|(seed in 0u64..1000)| {
             let g = grid([3, 4, 2]);
             let lat = NodeLattice::new(&g, ShapeFunction::Linear);
-            let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-            let mut rnd = || {
-                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                ((x >> 11) as f64) / ((1u64 << 53) as f64)
-            };
+            let mut rnd = lcg(seed);
             let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
             let vel = vec![[0.0; 3]; lat.len()];
             let mut cm = vec![0.0; g.cell_count()];
@@ -719,11 +715,7 @@ mod tests {
         proptest!(|(seed in 0u64..1000, rz in proptest::bool::ANY)| {
             let g = grid([3, 4, 2]);
             let lat = NodeLattice::new(&g, ShapeFunction::Linear);
-            let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-            let mut rnd = || {
-                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                ((x >> 11) as f64) / ((1u64 << 53) as f64)
-            };
+            let mut rnd = lcg(seed);
             let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
             let vel = vec![[0.0; 3]; lat.len()];
             let mut cm = vec![0.0; g.cell_count()];
@@ -887,6 +879,17 @@ mod tests {
         );
     }
 
+    /// Uniform numbers in [0, 1) from a fixed LCG started at `seed`.
+    fn lcg(seed: u64) -> impl FnMut() -> f64 {
+        let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+        move || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((x >> 11) as f64) / ((1u64 << 53) as f64)
+        }
+    }
+
     /// Random nodal fields and particles on `g` (a fixed LCG from `seed`).
     #[allow(clippy::type_complexity)]
     fn random_case(
@@ -901,13 +904,7 @@ mod tests {
         Vec<f64>,
         Vec<f64>,
     ) {
-        let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-        let mut rnd = || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((x >> 11) as f64) / ((1u64 << 53) as f64)
-        };
+        let mut rnd = lcg(seed);
         // Some nodes empty, so that some cells have no mass.
         let mass: Vec<f64> = (0..lat.len())
             .map(|_| if rnd() < 0.3 { 0.0 } else { rnd() })

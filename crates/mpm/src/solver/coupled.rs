@@ -366,6 +366,15 @@ mod tests {
     use crate::{fill_shape, FillSpec, Shape};
     use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
 
+    /// A soft hypoelastic solid (K 10 MPa, G 5 MPa).
+    fn soft_solid() -> MaterialModel {
+        MaterialModel::Hypoelastic(Hypoelastic {
+            shear_modulus: 5e6,
+            pressure: PressureModel::Linear { bulk_modulus: 1e7 },
+            rate: ObjectiveRate::Jaumann,
+        })
+    }
+
     /// A stress-free 1D bar at 2 m/s whose leading particle lies 10⁻⁴ of a
     /// cell past a node (8 cells of 1/8 m, 2 particles per cell, cut-off
     /// 10⁻³ of a particle's mass): the node ahead of it holds 10⁻⁴ of a
@@ -404,11 +413,7 @@ mod tests {
             for x in &mut particles.position {
                 x[0] += 0.25 * h + 1e-4 * h;
             }
-            let model = MaterialModel::Hypoelastic(Hypoelastic {
-                shear_modulus: 5e6,
-                pressure: PressureModel::Linear { bulk_modulus: 1e7 },
-                rate: ObjectiveRate::Jaumann,
-            });
+            let model = soft_solid();
             let options = MpmOptions {
                 scheme,
                 mass_cutoff: 1e-3,
@@ -495,11 +500,7 @@ mod tests {
             let mut particles = Particles::default();
             fill(&mut particles, 0);
             fill(&mut particles, 1);
-            let model = MaterialModel::Hypoelastic(Hypoelastic {
-                shear_modulus: 5e6,
-                pressure: PressureModel::Linear { bulk_modulus: 1e7 },
-                rate: ObjectiveRate::Jaumann,
-            });
+            let model = soft_solid();
             let options = MpmOptions {
                 shape,
                 ..Default::default()

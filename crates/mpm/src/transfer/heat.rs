@@ -256,7 +256,7 @@ pub fn g2p_temperature_rate(
 /// `out[p] = Σ_I N_Ip f_I` with `f` the block of `node_values` for its
 /// material (material m's values at `m · nodes .. (m + 1) · nodes`, node
 /// storage order). With the particles at the positions the nodes' mass was
-/// scattered from, Σ_p m_p out[p] = Σ_I m_I f_I for one material: the
+/// scattered from, Σ_p m_p out_p = Σ_I m_I f_I for one material: the
 /// adjoint of the mass scatter (the coupled ICE–MPM step's temperature
 /// change through the nodes, `brisance-couple`). A material with no block
 /// (`node_values` too short) gets 0.
@@ -283,6 +283,30 @@ pub fn g2p_node_values(
             },
         )
     });
+}
+
+/// Σ_I N_Ip f_I of a node field `field` (storage order) at a particle at
+/// `x` of GIMP half-width `half_width`, summed row by row in storage
+/// order.
+#[inline(always)]
+fn gather<const NX: usize, const NY: usize, const NZ: usize>(
+    map: &GridMap,
+    x: [f64; 3],
+    half_width: [f64; 3],
+    field: &[f64],
+) -> f64 {
+    let s = map.stencil::<NX, NY, NZ>(x, half_width);
+    let mut sum = 0.0;
+    for c in 0..NZ {
+        for b in 0..NY {
+            let row = s.row(b, c);
+            let start = map.row_start(s.base, b, c);
+            for (&wx, &v) in s.x.w.iter().zip(&field[start..start + NX]) {
+                sum += row.weight(wx) * v;
+            }
+        }
+    }
+    sum
 }
 
 struct NodeValueRange<'a> {
@@ -314,18 +338,7 @@ impl StencilPass for NodeValueRange<'_> {
                 *o = 0.0;
                 continue;
             };
-            let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
-            let mut sum = 0.0;
-            for c in 0..NZ {
-                for b in 0..NY {
-                    let row = s.row(b, c);
-                    let start = map.row_start(s.base, b, c);
-                    for (&wx, &v) in s.x.w.iter().zip(&f[start..start + NX]) {
-                        sum += row.weight(wx) * v;
-                    }
-                }
-            }
-            *o = sum;
+            *o = gather::<NX, NY, NZ>(map, position[p], bins.half_width(p), f);
         }
     }
 }
@@ -363,18 +376,7 @@ impl StencilPass for TemperatureRange<'_> {
             }
             let heat = &props.specific_heat;
             let curve = matches!(heat, SpecificHeat::Model(_));
-            let s = map.stencil::<NX, NY, NZ>(position[p], bins.half_width(p));
-            let mut dtemp = 0.0;
-            for c in 0..NZ {
-                for b in 0..NY {
-                    let row = s.row(b, c);
-                    let start = map.row_start(s.base, b, c);
-                    let rr = &rate[start..start + NX];
-                    for (&wx, &r) in s.x.w.iter().zip(rr) {
-                        dtemp += row.weight(wx) * r;
-                    }
-                }
-            }
+            let dtemp = gather::<NX, NY, NZ>(map, position[p], bins.half_width(p), rate);
             if curve {
                 // The heat the particle's share of the nodal rates brings,
                 // m_p c_p(Tⁿ) Δt Σ N Ṫ_I (the c_p of the capacity pass), J/kg
