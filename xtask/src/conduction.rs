@@ -232,7 +232,7 @@ fn contact_rows(report: &mut Report) -> Result<()> {
          contact, Q = 2ΔT e_s e_f/(e_s + e_f) √(t/π) with e = √(kρc) (Carslaw & Jaeger 1959, §2.15): \
          {:.6e} J over the 1 mm² section; the balance is the liquid's gain (the run's energy \
          change) over the particles' loss − 1. Last two rows: each particle taking its own cell's \
-         change (`particle_heat: Cell`, the default).\n",
+         change (`particle_heat: Cell`, the rule before `Nodes`).\n",
         nodes[0].analytic
     );
     let _ = writeln!(

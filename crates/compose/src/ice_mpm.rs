@@ -350,6 +350,48 @@ mod solids_tests {
         assert!(e.contains("pipeline.ice.reactions.0.product"), "{e}");
     }
 
+    /// The piston without heat exchange (H = 0, the total energy
+    /// conserved): the cells give the steel no temperature change, so both
+    /// ways of handing it to the particles give the same bits over 30
+    /// steps; with H = 10¹⁰ W/(m³·K) the air the piston compresses heats
+    /// the steel and the two differ.
+    #[test]
+    fn without_heat_exchange_both_particle_heat_rules_give_the_same_bits() {
+        let run = |set: &[&str]| -> (Vec<u64>, f64) {
+            let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+            let loaded = load_str("piston_icempm.ron", PISTON, &set).unwrap();
+            let mut built = icempm(&loaded.scenario);
+            for _ in 0..30 {
+                let dt = built.stable_dt().unwrap();
+                built.advance(dt).unwrap();
+            }
+            let ps = built.mpm().particles();
+            let bits = ps
+                .temperature
+                .iter()
+                .chain(ps.position.iter().map(|x| &x[0]))
+                .chain(ps.velocity.iter().map(|v| &v[0]))
+                .map(|v| v.to_bits())
+                .collect();
+            let warmest = ps.temperature.iter().copied().fold(f64::MIN, f64::max);
+            (bits, warmest)
+        };
+        let (nodes, _) = run(&["pipeline.particle_heat=Nodes"]);
+        let (cell, warmest) = run(&["pipeline.particle_heat=Cell"]);
+        assert_eq!(nodes, cell);
+        assert_eq!(warmest, 300.0);
+        let (nodes, warmest) = run(&[
+            "pipeline.particle_heat=Nodes",
+            "pipeline.ice.heat_exchange=1e10",
+        ]);
+        let (cell, _) = run(&[
+            "pipeline.particle_heat=Cell",
+            "pipeline.ice.heat_exchange=1e10",
+        ]);
+        assert!(warmest > 300.0, "{warmest}");
+        assert_ne!(nodes, cell);
+    }
+
     /// `thermal` on one of two solids turns on the conduction of the MPM
     /// side with that solid's properties at its particle material number
     /// (name order: `steel` 0, `steel_b` 1), and the run steps; on a fluid

@@ -8,8 +8,7 @@
 //! 1959, §2.15): the contact sits at T_c = (e_s T_s + e_f T_f)/(e_s + e_f)
 //! from the first instant, e = √(kρc) the effusivity, and the heat that
 //! has crossed a unit area by time t is
-//!
-//!     Q(t) = 2 (T_s − T_f) e_s e_f / (e_s + e_f) · √(t/π).
+//! Q(t) = 2 (T_s − T_f) e_s e_f / (e_s + e_f) · √(t/π).
 
 use std::f64::consts::PI;
 
@@ -148,8 +147,8 @@ mod tests {
         );
     }
 
-    /// With each particle taking its own cell's change (the default
-    /// `particle_heat: Cell`) the liquid gains heat that no particle
+    /// With each particle taking its own cell's change (`particle_heat:
+    /// Cell`, the rule before `Nodes`) the liquid gains heat that no particle
     /// gives: the cell beside the solid's face holds a share of the solid
     /// through the face's nodes and no particle.
     #[test]

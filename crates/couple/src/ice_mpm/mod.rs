@@ -70,26 +70,29 @@ pub const BURNT_OUT_FRACTION: f64 = 1e-2;
 pub struct IceMpmError(pub String);
 
 /// How the temperature change that steps 8–11 give a solid in each cell
-/// (its heat exchange with the fluids and its share of the heat the
-/// exchanges dissipate) reaches the particles in step 14
-/// (docs/physics/couple/ice_mpm.md, "Heat between the frames").
+/// (its heat exchange with the fluids; with `conserve_total_energy: false`
+/// also its share of the kinetic energy the exchanges dissipate) reaches
+/// the particles in step 14 (docs/physics/couple/ice_mpm.md, "Heat between
+/// the frames"). Without heat exchange (H = 0) and with the total energy
+/// conserved (the defaults) that change is zero in every cell and both
+/// give the same bits.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ParticleHeat {
-    /// Each particle takes the change of the cell it lies in (the
-    /// default). Not conservative: the solid's cell mass of eq 18 and the
-    /// particles that hold it need not lie in the same cell (a cell beside
-    /// the solid's face holds a share of it through the face's nodes and
-    /// no particle), so the heat the fluids exchange with the solid there
-    /// is not taken from any particle.
-    #[default]
-    Cell,
-    /// Through the nodes, as the velocity change of step 13 (Uintah's
-    /// `interpolateCCToNC` of dT/dt and the particles' gather of it):
-    /// ΔT_I = Σ_c w_Ic ΔT_c with the weights of eq 18, then
+    /// Through the nodes (the default), as the velocity change of step 13
+    /// (Uintah's `interpolateCCToNC` of dT/dt and the particles' gather of
+    /// it): ΔT_I = Σ_c w_Ic ΔT_c with the weights of eq 18, then
     /// ΔT_p = Σ_I N_Ip ΔT_I, so Σ_p m_p c ΔT_p = Σ_c M_c c ΔT_c for one
     /// solid of constant c_v (exact with linear shape functions and
     /// several solids too). A solid's trace gives the nodes nothing.
+    #[default]
     Nodes,
+    /// Each particle takes the change of the cell it lies in (the rule
+    /// before `Nodes`). Not conservative: the solid's cell mass of eq 18
+    /// and the particles that hold it need not lie in the same cell (a
+    /// cell beside the solid's face holds a share of it through the face's
+    /// nodes and no particle), so the heat the fluids exchange with the
+    /// solid there is not taken from any particle.
+    Cell,
 }
 
 /// One Lagrangian material's cell fields of a coupled step.
@@ -826,7 +829,7 @@ struct SavedState {
 
 impl IceMpm {
     /// Sets how steps 8–11's temperature change reaches the particles
-    /// (config `pipeline.particle_heat`; [`ParticleHeat::Cell`] unless set).
+    /// (config `pipeline.particle_heat`; [`ParticleHeat::Nodes`] unless set).
     pub fn set_particle_heat(&mut self, heat: ParticleHeat) {
         self.particle_heat = heat;
     }
@@ -887,11 +890,11 @@ impl IceMpm {
         // 14. The particles from the nodes (eqs 16–17) with their stress
         //     (eq 13, step 7) and the heat exchange's temperature change.
         match particle_heat {
-            ParticleHeat::Cell => mpm.update_particles(|x, m| frame.temperature_change(x, m))?,
             ParticleHeat::Nodes => {
                 let change = frame.temperature_change_to_nodes(mpm.nodes());
                 mpm.update_particles_from_nodes(change)?;
             }
+            ParticleHeat::Cell => mpm.update_particles(|x, m| frame.temperature_change(x, m))?,
         }
         // 4. Solid reactants: the burnt mass leaves the particles for the
         //    product.
@@ -1013,7 +1016,7 @@ impl IceMpm {
             scratch: Scratch::sized(cells, solids.len()),
             rz: geometry.is_axisymmetric(),
             volumes,
-            particle_heat: ParticleHeat::Cell,
+            particle_heat: ParticleHeat::Nodes,
             rank: 0,
         };
         coupled

@@ -49,10 +49,10 @@ pub struct IceMpmConfig {
     /// The particle options.
     pub mpm: MpmConfig,
     /// How the temperature change steps 8–11 give a solid in each cell
-    /// reaches its particles: `Cell` (default: the cell each particle lies
-    /// in) or `Nodes` (through the nodes by the adjoint of eq 18, heat
-    /// conserving; docs/physics/couple/ice_mpm.md, "Heat between the
-    /// frames").
+    /// reaches its particles: `Nodes` (default: through the nodes by the
+    /// adjoint of eq 18, heat conserving) or `Cell` (the cell each particle
+    /// lies in, the rule before; docs/physics/couple/ice_mpm.md, "Heat
+    /// between the frames").
     #[serde(default)]
     pub particle_heat: super::ParticleHeat,
 }
@@ -312,8 +312,10 @@ impl PipelineSpec for IceMpmConfig {
             self.ice.solid_exchange,
             s.end_time
         ) + match self.particle_heat {
-            super::ParticleHeat::Cell => "",
-            super::ParticleHeat::Nodes => "\n  particle heat: through the nodes (adjoint of eq 18)",
+            super::ParticleHeat::Nodes => "",
+            super::ParticleHeat::Cell => {
+                "\n  particle heat: each particle its cell's change (`Cell`)"
+            }
         }
     }
 }
