@@ -675,11 +675,22 @@ impl FluidFrame<'_> {
     /// Step 14's temperature change on the nodes ([`ParticleHeat::Nodes`]):
     /// each solid's cell change (zero where it is a trace) by the adjoint of
     /// eq 18 into its block of `node_temperature` (material-major, one
-    /// value per node of `nodes`).
+    /// value per node of `nodes`). Empty where no cell changed (no heat
+    /// exchange, the total energy conserved): the particles then skip the
+    /// gather and keep their bits.
     fn temperature_change_to_nodes(&mut self, nodes: &GridNodes) -> &[f64] {
         let count = nodes.mass.len();
         let s = &mut *self.s;
         s.node_temperature.clear();
+        let changed = s.solids.iter().any(|c| {
+            c.temperature_change
+                .par_iter()
+                .zip(c.trace.par_iter())
+                .any(|(dt, trace)| !*trace && *dt != 0.0)
+        });
+        if !changed {
+            return &s.node_temperature;
+        }
         s.node_temperature.resize(count * s.solids.len(), 0.0);
         for (c, block) in s
             .solids

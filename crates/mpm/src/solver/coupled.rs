@@ -253,8 +253,12 @@ impl CoupledStep<'_> {
     /// the ones its mass reached the nodes with (gathered before G2P moves
     /// it), so Σ_p m_p ΔT_p = Σ_I m_I ΔT_I for one material. The change
     /// is added after the stress update, as in
-    /// [`CoupledStep::update_particles`].
+    /// [`CoupledStep::update_particles`]. An empty `node_change` changes no
+    /// temperature (no gather).
     pub fn update_particles_from_nodes(&mut self, node_change: &[f64]) -> Result<(), SolverError> {
+        if node_change.is_empty() {
+            return self.g2p_and_stresses();
+        }
         let s = &mut *self.solver;
         let mut change = std::mem::take(&mut s.work.particle_change);
         change.clear();
