@@ -239,29 +239,21 @@ fn contact_rows(report: &mut Report) -> Result<()> {
         md,
         "| transfer | cells | h (mm) | steps | particles' loss (J) | loss / Q − 1 | observed order | liquid's gain / particles' loss − 1 |\n|---|---:|---:|---:|---:|---:|---:|---:|"
     );
-    for (k, r) in nodes.iter().enumerate() {
+    let rows = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, r)| ("Nodes", r, k.checked_sub(1).map(|j| orders[j])))
+        .chain(cell.iter().map(|r| ("Cell", r, None)));
+    for (transfer, r, order) in rows {
         let _ = writeln!(
             md,
-            "| Nodes | {} | {} | {} | {:.6e} | {:+.3} % | {} | {:+.1e} |",
+            "| {transfer} | {} | {} | {} | {:.6e} | {:+.3} % | {} | {:+.1e} |",
             r.cells,
-            50.0 / r.cells as f64,
+            1e3 * r.spacing(),
             r.steps,
             r.solid_loss,
             100.0 * r.error(),
-            k.checked_sub(1)
-                .map_or("—".to_string(), |j| format!("{:.2}", orders[j])),
-            r.balance()
-        );
-    }
-    for r in &cell {
-        let _ = writeln!(
-            md,
-            "| Cell | {} | {} | {} | {:.6e} | {:+.3} % | — | {:+.1e} |",
-            r.cells,
-            50.0 / r.cells as f64,
-            r.steps,
-            r.solid_loss,
-            100.0 * r.error(),
+            order.map_or("—".to_string(), |o| format!("{o:.2}")),
             r.balance()
         );
     }

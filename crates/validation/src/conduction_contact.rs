@@ -26,6 +26,8 @@ const FLUID: (f64, f64, f64) = (2.0e4, 1001.0117136175182, 2000.0);
 const T_SOLID: f64 = 400.0;
 const T_FLUID: f64 = 300.0;
 const AREA: f64 = 1.0e-6;
+/// The domain's length along x, m.
+const LENGTH: f64 = 0.05;
 const END: f64 = 6.25e-4;
 
 /// What [`contact_transient`] measured at the end time.
@@ -46,6 +48,11 @@ pub struct ContactTransient {
 }
 
 impl ContactTransient {
+    /// The cell size h, m.
+    pub fn spacing(&self) -> f64 {
+        LENGTH / self.cells as f64
+    }
+
     /// The particles' loss over the analytic heat, − 1.
     pub fn error(&self) -> f64 {
         self.solid_loss / self.analytic - 1.0

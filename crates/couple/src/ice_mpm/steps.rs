@@ -690,11 +690,7 @@ mod tests {
             let g = grid([3, 4, 2]);
             let lat = NodeLattice::new(&g, ShapeFunction::Linear);
             let mut rnd = lcg(seed);
-            let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
-            let vel = vec![[0.0; 3]; lat.len()];
-            let mut cm = vec![0.0; g.cell_count()];
-            let mut cu = vec![[0.0; 3]; g.cell_count()];
-            nodes_to_cells(&g, false, &lat, &mass, &vel, &mut cm, &mut cu);
+            let (mass, cm) = random_masses(&g, false, &lat, &mut rnd);
             let du: Vec<[f64; 3]> = (0..g.cell_count()).map(|_| [rnd() - 0.5, rnd(), -rnd()]).collect();
             let mut dv = vec![[0.0; 3]; lat.len()];
             cells_to_nodes(&g, false, &lat, &du, &mut dv);
@@ -716,11 +712,7 @@ mod tests {
             let g = grid([3, 4, 2]);
             let lat = NodeLattice::new(&g, ShapeFunction::Linear);
             let mut rnd = lcg(seed);
-            let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
-            let vel = vec![[0.0; 3]; lat.len()];
-            let mut cm = vec![0.0; g.cell_count()];
-            let mut cu = vec![[0.0; 3]; g.cell_count()];
-            nodes_to_cells(&g, rz, &lat, &mass, &vel, &mut cm, &mut cu);
+            let (mass, cm) = random_masses(&g, rz, &lat, &mut rnd);
             let dt: Vec<f64> = (0..g.cell_count()).map(|_| 100.0 * (rnd() - 0.5)).collect();
             let mut node_dt = vec![f64::NAN; lat.len()];
             cell_values_to_nodes(&g, rz, &lat, &dt, &mut node_dt);
@@ -888,6 +880,22 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((x >> 11) as f64) / ((1u64 << 53) as f64)
         }
+    }
+
+    /// Random nodal masses from `rnd` and the cell masses eq 18 makes of
+    /// them (planar or rings).
+    fn random_masses(
+        g: &UniformGridGeometry,
+        rz: bool,
+        lat: &NodeLattice,
+        rnd: &mut impl FnMut() -> f64,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let mass: Vec<f64> = (0..lat.len()).map(|_| rnd()).collect();
+        let vel = vec![[0.0; 3]; lat.len()];
+        let mut cm = vec![0.0; g.cell_count()];
+        let mut cu = vec![[0.0; 3]; g.cell_count()];
+        nodes_to_cells(g, rz, lat, &mass, &vel, &mut cm, &mut cu);
+        (mass, cm)
     }
 
     /// Random nodal fields and particles on `g` (a fixed LCG from `seed`).
