@@ -72,8 +72,8 @@ pub use material::{CellState, ExchangeCoefficients, IceError, MaterialState};
 pub use reaction::{detonation_energy, BurntMass, IceRate, IceReaction};
 pub use solver::implicit::{ImplicitPressure, PressureSolve, PressureSolveStats, MAX_STEP_RETRIES};
 pub use solver::{
-    EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells, WholeGridPass,
-    GHOST,
+    EquilibrationStats, IceOptions, IceSolver, KeptWarmTotals, LagrangianCells,
+    LagrangianSpecificHeat, WholeGridPass, GHOST,
 };
 
 #[cfg(test)]

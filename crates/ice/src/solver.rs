@@ -54,15 +54,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// params.
 macro_rules! solver_params {
     ($s:expr) => {
-        make_params(
-            &$s.eos,
-            &$s.reactions,
-            &$s.exchange,
-            $s.options,
-            &$s.level,
-            &$s.lagrangian,
-            $s.time,
-        )
+        $crate::solver::Params {
+            specific_heat: &$s.specific_heat,
+            ..make_params(
+                &$s.eos,
+                &$s.reactions,
+                &$s.exchange,
+                $s.options,
+                &$s.level,
+                &$s.lagrangian,
+                $s.time,
+            )
+        }
     };
 }
 
@@ -472,6 +475,30 @@ struct Params<'a, E: Eos> {
     axisymmetric: bool,
     /// The solver's time at the start of the step, s.
     time: f64,
+    /// Per material: the specific heat its particles carry, where given
+    /// ([`IceSolver::set_lagrangian_specific_heat`]); empty or `None`: the
+    /// material's EOS c_v.
+    specific_heat: &'a [Option<LagrangianSpecificHeat>],
+}
+
+/// The specific heat c_v(T) (J/(kg·K) of the temperature in K) that a
+/// Lagrangian material's particles carry, for the heat exchange of steps
+/// 8–11 ([`IceSolver::set_lagrangian_specific_heat`]).
+#[derive(Clone)]
+pub struct LagrangianSpecificHeat(pub std::sync::Arc<dyn Fn(f64) -> f64 + Send + Sync>);
+
+impl LagrangianSpecificHeat {
+    /// c_v at `temperature`.
+    #[inline]
+    pub fn at(&self, temperature: f64) -> f64 {
+        (self.0)(temperature)
+    }
+}
+
+impl std::fmt::Debug for LagrangianSpecificHeat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("LagrangianSpecificHeat(..)")
+    }
 }
 
 fn make_params<'a, E: Eos>(
@@ -496,6 +523,7 @@ fn make_params<'a, E: Eos>(
         coupled: lagrangian.iter().any(|&l| l),
         axisymmetric: options.geometry.is_axisymmetric(),
         time,
+        specific_heat: &[],
     }
 }
 
@@ -525,6 +553,9 @@ pub struct IceSolver<E: Eos> {
     last_equilibration: EquilibrationStats,
     /// Per material: whether particles carry it ([`IceSolver::set_lagrangian`]).
     lagrangian: Vec<bool>,
+    /// Per material: the specific heat its particles carry
+    /// ([`IceSolver::set_lagrangian_specific_heat`]).
+    specific_heat: Vec<Option<LagrangianSpecificHeat>>,
     /// Mass, momentum and energy the coupled equilibration gave the
     /// Eulerian materials since the start ([`IceSolver::rescaled_totals`]).
     rescaled: ConservationTotals,
@@ -681,7 +712,38 @@ impl<E: Eos> IceSolver<E> {
             }
         }
         self.lagrangian = mask.to_vec();
+        self.specific_heat = vec![None; n];
         self.still_distributable()
+    }
+
+    /// Gives Lagrangian material `r` the specific heat its particles carry
+    /// (after [`IceSolver::set_lagrangian`]): the heat exchange of steps
+    /// 8–11 then weighs the material's temperature change by ρ c(T) with
+    /// this c at its cell temperature instead of its EOS's c_v, and its
+    /// Lagrangian energy changes by the heat c(T) ΔT it takes, which
+    /// [`IceSolver::lagrangian_heat`] reads back, so that the particles
+    /// can take that heat through their own H(T) and the heat the fluids
+    /// give is the heat the particles gain (docs/physics/couple/ice_mpm.md,
+    /// "Heat between the frames").
+    pub fn set_lagrangian_specific_heat(
+        &mut self,
+        r: usize,
+        specific_heat: LagrangianSpecificHeat,
+    ) -> Result<(), IceError> {
+        if !self.is_lagrangian(r) {
+            return Err(IceError::Invalid(format!(
+                "ice: material {} is not carried by particles",
+                r + 1
+            )));
+        }
+        self.specific_heat[r] = Some(specific_heat);
+        Ok(())
+    }
+
+    /// Whether Lagrangian material `r` carries its own specific heat
+    /// ([`IceSolver::set_lagrangian_specific_heat`]).
+    pub fn has_lagrangian_specific_heat(&self, r: usize) -> bool {
+        self.specific_heat.get(r).is_some_and(|c| c.is_some())
     }
 
     /// Where the CFL rate of [`Solver::stable_dt`] is largest (first in

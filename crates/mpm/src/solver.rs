@@ -303,6 +303,11 @@ pub struct MpmSolver {
     /// The conductivity and specific heat of every material
     /// ([`crate::conduction`]); empty when no material conducts.
     thermal: Vec<ThermalProperties>,
+    /// Per material: the specific heat through which the coupled step's
+    /// heat exchange change is a heat (J/kg) rather than a temperature
+    /// change ([`MpmSolver::set_coupled_heat`]); empty: temperature
+    /// changes for every material.
+    coupled_heat: Vec<Option<brisance_constitutive::SpecificHeat>>,
     /// The ranks the particle updates are spread over
     /// ([`MpmSolver::distribute`]); `None` on one rank.
     comm: Option<std::sync::Arc<dyn brisance_grid::comm::Communicator>>,
@@ -523,6 +528,7 @@ impl MpmSolver {
             inflow,
             held_back: [false; 6],
             thermal: Vec::new(),
+            coupled_heat: Vec::new(),
             comm: None,
             gauges: Vec::new(),
         })
@@ -585,6 +591,32 @@ impl MpmSolver {
     /// [`MaterialId`]; empty when heat conduction is off.
     pub fn thermal_properties(&self) -> &[ThermalProperties] {
         &self.thermal
+    }
+
+    /// The specific heat material `material` carries: its conduction's
+    /// ([`MpmSolver::with_heat_conduction`], where it takes part), else its
+    /// model's (the J2 metal's, constant or following the temperature, or
+    /// a plugin model's); `None` for a model without one.
+    pub fn specific_heat(
+        &self,
+        material: MaterialId,
+    ) -> Option<brisance_constitutive::SpecificHeat> {
+        let m = material.0 as usize;
+        match self.thermal.get(m) {
+            Some(t) if t.takes_part() => Some(t.specific_heat.clone()),
+            _ => self.materials.get(m)?.specific_heat(),
+        }
+    }
+
+    /// Per material (indexed by [`MaterialId`]; past the end: `None`): the
+    /// specific heat through which the heat exchange's change that the
+    /// coupled step hands each particle ([`CoupledStep::update_particles`],
+    /// [`CoupledStep::update_particles_from_nodes`]) is a heat q in J/kg,
+    /// the particle's temperature rising by the ΔT with
+    /// H(T + ΔT) − H(T) = q; `None`: the change is a temperature change in
+    /// K (the default for every material).
+    pub fn set_coupled_heat(&mut self, heat: Vec<Option<brisance_constitutive::SpecificHeat>>) {
+        self.coupled_heat = heat;
     }
 
     /// Adds prescribed surface tractions ([`crate::traction`]); their

@@ -38,7 +38,7 @@ use brisance_core::{
     CellData, ConservationTotals, NodeData, ParticleData, Solver, SolverError, UniformGridGeometry,
 };
 use brisance_eos::EosModel;
-use brisance_ice::{BurntMass, IceSolver, LagrangianCells};
+use brisance_ice::{BurntMass, IceSolver, LagrangianCells, LagrangianSpecificHeat};
 #[cfg(doc)]
 use brisance_mpm::CoupledStep;
 use brisance_mpm::{GridNodes, MaterialId, MpmSolver, Particles};
@@ -107,6 +107,9 @@ struct SolidCells {
     velocity: Vec<[f64; 3]>,
     trace: Vec<bool>,
     change: Vec<[f64; 3]>,
+    /// The heat exchange's change of the solid in each cell: a temperature
+    /// change (K), or the heat (J/kg) for a solid whose particles carry a
+    /// specific heat ([`Solid::carries_heat`]).
     temperature_change: Vec<f64>,
 }
 
@@ -136,6 +139,10 @@ struct Solid {
     reference_temperature: f64,
     /// Mean initial particle mass, kg (the burnt-out threshold's scale).
     particle_mass: f64,
+    /// Whether its particles carry a specific heat: the heat exchange then
+    /// weighs it with theirs and hands them a heat (J/kg), not a
+    /// temperature change ([`IceSolver::set_lagrangian_specific_heat`]).
+    carries_heat: bool,
 }
 
 /// A reaction whose reactant particles carry (seed 000 step 4 on the
@@ -652,6 +659,11 @@ impl FluidFrame<'_> {
         for (solid, c) in self.solids.iter().zip(self.s.solids.iter_mut()) {
             self.ice
                 .lagrangian_increments(solid.ice, &mut c.change, &mut c.temperature_change);
+            if solid.carries_heat {
+                // Its particles take the heat through their own H(T).
+                self.ice
+                    .lagrangian_heat(solid.ice, &mut c.temperature_change);
+            }
         }
         self.combine_solid_changes();
         self.bound_trace_momentum();
@@ -672,7 +684,8 @@ impl FluidFrame<'_> {
         steps::cells_to_nodes(&self.grid, self.rz, &nodes.lattice, change, dv);
     }
 
-    /// Step 14's temperature change on the nodes ([`ParticleHeat::Nodes`]):
+    /// Step 14's temperature change (or heat, [`Solid::carries_heat`]) on
+    /// the nodes ([`ParticleHeat::Nodes`]):
     /// each solid's cell change (zero where it is a trace) by the adjoint of
     /// eq 18 into its block of `node_temperature` (material-major, one
     /// value per node of `nodes`). Empty where no cell changed (no heat
@@ -978,6 +991,7 @@ impl IceMpm {
                 reference_volume: v / m,
                 reference_temperature: mt / m,
                 particle_mass: m / count as f64,
+                carries_heat: false,
             })
             .collect();
         let mut mask = vec![false; n];
@@ -986,6 +1000,26 @@ impl IceMpm {
         }
         ice.set_lagrangian(&mask)
             .map_err(|e| IceMpmError(e.to_string()))?;
+        // A solid whose particles carry a specific heat (their conduction's
+        // or their model's) exchanges heat with it, and its particles take
+        // the heat through it (docs/physics/couple/ice_mpm.md, "Heat
+        // between the frames").
+        let mut mpm = mpm;
+        let mut solid_list = solid_list;
+        let laws: Vec<_> = (0..solids.len())
+            .map(|k| mpm.specific_heat(MaterialId(k as u16)))
+            .collect();
+        for ((law, solid), &r) in laws.iter().zip(&mut solid_list).zip(solids) {
+            if let Some(c) = law.clone() {
+                ice.set_lagrangian_specific_heat(
+                    r,
+                    LagrangianSpecificHeat(std::sync::Arc::new(move |t| c.smoothed_at(t))),
+                )
+                .map_err(|e| IceMpmError(e.to_string()))?;
+                solid.carries_heat = true;
+            }
+        }
+        mpm.set_coupled_heat(laws);
         let cells = gi.cell_count();
         let burns = ice
             .reactions()

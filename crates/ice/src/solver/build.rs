@@ -193,6 +193,7 @@ impl<E: Eos> IceSolver<E> {
             steps: 0,
             last_equilibration: EquilibrationStats::default(),
             lagrangian: vec![false; n],
+            specific_heat: vec![None; n],
             rescaled: ConservationTotals::default(),
             kept_warm: [KeptWarmTotals::default(); MAX_MATERIALS],
             kept_warm_advection: [KeptWarmTotals::default(); MAX_MATERIALS],

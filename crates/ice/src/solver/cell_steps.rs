@@ -669,7 +669,13 @@ pub(super) fn lagrangian_cell<E: Eos>(
         for r in 0..n {
             let rho_micro = 1.0 / sv[r * NS + VSP];
             temp[r][0] = params.eos[r].temperature(rho_micro, e[r]);
-            cv[r] = params.eos[r].cv(rho_micro, temp[r][0]);
+            // A Lagrangian material whose particles carry a specific heat
+            // exchanges with theirs (its energy below changes by the heat
+            // c ΔT it takes, which its particles take through their H(T)).
+            cv[r] = match params.specific_heat.get(r) {
+                Some(Some(c)) => c.at(temp[r][0]),
+                _ => params.eos[r].cv(rho_micro, temp[r][0]),
+            };
             rho_cv[r] = rho[r] * cv[r];
         }
         let before = temp;

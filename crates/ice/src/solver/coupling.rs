@@ -152,7 +152,11 @@ impl<E: Eos> IceSolver<E> {
     /// changes of Lagrangian material `r` over steps 8–10 (global cell
     /// order) — the velocity change of the pressure gradient and the
     /// momentum exchange, and the temperature change of the heat exchange
-    /// and of the kinetic energy the exchange dissipated — for step 13.
+    /// and of the kinetic energy the exchange dissipated, through its EOS's
+    /// T(e) — for step 13. For a material given its particles' specific
+    /// heat ([`IceSolver::set_lagrangian_specific_heat`]) the heat is the
+    /// change to use ([`IceSolver::lagrangian_heat`]); its temperature
+    /// change here is that heat over the EOS's c_v.
     pub fn lagrangian_increments(&self, r: usize, dv: &mut [[f64; 3]], dtemp: &mut [f64]) {
         assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
         let count = self.level.geometry.cell_count();
@@ -168,6 +172,23 @@ impl<E: Eos> IceSolver<E> {
             let (b, bl) = (r * NS, r * NL);
             let rho_micro = 1.0 / d[b + VSP][c];
             eos.temperature(rho_micro, l[bl + L_ENERGY][c]) - d[b + TEMP][c]
+        });
+    }
+
+    /// After [`IceSolver::compute_lagrangian_values`]: the heat (J/kg) that
+    /// Lagrangian material `r` took in each cell over steps 8–10 (global
+    /// cell order), the change of its Lagrangian specific energy — the
+    /// heat exchange's c ΔT with the specific heat its particles carry
+    /// ([`IceSolver::set_lagrangian_specific_heat`]) and the kinetic
+    /// energy the exchange dissipated into it — for step 14's particles to
+    /// take through their own H(T). Exactly 0 in a cell where neither
+    /// changed it.
+    pub fn lagrangian_heat(&self, r: usize, heat: &mut [f64]) {
+        assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
+        assert_eq!(heat.len(), self.level.geometry.cell_count());
+        par_gather(&self.level, heat, |pid, c| {
+            let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
+            l[r * NL + L_ENERGY][c] - d[r * NS + ENERGY][c]
         });
     }
 

@@ -12,13 +12,23 @@ fn lagrangian_column(
     p: impl Fn(f64) -> f64 + Sync,
     u: impl Fn(f64) -> f64 + Sync,
 ) -> (IceSolver<IdealGas>, Vec<f64>, Vec<[f64; 3]>, Vec<f64>) {
+    lagrangian_column_with(0.0, p, u)
+}
+
+/// [`lagrangian_column`] with the heat exchange coefficient `h`
+/// (W/(m³·K)) between the two materials.
+fn lagrangian_column_with(
+    h: f64,
+    p: impl Fn(f64) -> f64 + Sync,
+    u: impl Fn(f64) -> f64 + Sync,
+) -> (IceSolver<IdealGas>, Vec<f64>, Vec<[f64; 3]>, Vec<f64>) {
     let n = 16;
     let level = Level::new([0.0; 3], [1.0, 0.1, 0.1], [n, 1, 1], [1, 1, 1], GHOST).unwrap();
     let mut s = IceSolver::new(
         two_gases(),
         level,
         std::array::from_fn(|_| IceBoundary::Outflow),
-        ExchangeCoefficients::uniform(2, 1e15, 0.0),
+        ExchangeCoefficients::uniform(2, 1e15, h),
         IceOptions::default(),
         |x| CellState {
             pressure: p(x[0]),
@@ -177,6 +187,65 @@ fn added_eulerian_momentum_reaches_the_fluids_exactly() {
     // untouched.
     assert!(vx[7] - vx0[7] > 0.0);
     assert_eq!(vx[0], vx0[0]);
+}
+
+/// A Lagrangian material given the specific heat its particles carry
+/// (here 3 × its EOS's c_v, 9345 J/(kg·K)) exchanges heat with it: with
+/// H = 10¹⁵ W/(m³·K) the gas (ρ 1.2·10⁻³ kg/m³ of the cell, c_v 717.5,
+/// 290.36 K) and the Lagrangian material (ρ 0.1998, 239.57 K) reach
+/// T* = Σ ρ c T / Σ ρ c with c = 9345 for the latter, and the heat
+/// `lagrangian_heat` gives its particles is c (T* − T_s) = 218.8 J/kg,
+/// which is what the gas lost: the fluids' energy falls by Σ ρ_s q V to
+/// round-off. With the EOS's c_v (3115) in the exchange the heat would be
+/// c_v (T*' − T_s), T*' the mean with c_v: 6·10⁻⁴ more, the gas's
+/// capacity being small beside the solid's either way.
+#[test]
+fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
+    use crate::LagrangianSpecificHeat;
+    let (p0, dt, c_s, c_g) = (1e5, 1e-6, 3.0 * 3115.0, 717.5);
+    let (mut s, mass, vel, temp) = lagrangian_column_with(1e15, |_| p0, |_| 0.0);
+    s.set_lagrangian_specific_heat(1, LagrangianSpecificHeat(std::sync::Arc::new(move |_| c_s)))
+        .unwrap();
+    assert!(s.has_lagrangian_specific_heat(1) && !s.has_lagrangian_specific_heat(0));
+    assert!(s
+        .set_lagrangian_specific_heat(0, LagrangianSpecificHeat(std::sync::Arc::new(|_| 1.0)))
+        .is_err());
+    let cells = crate::LagrangianCells {
+        mass_density: &mass,
+        velocity: &vel,
+        specific_volume: None,
+        temperature: &temp,
+    };
+    s.import_lagrangian(1, &cells).unwrap();
+    s.compute_equilibration_pressure().unwrap();
+    let t_of = |s: &IceSolver<IdealGas>, m: usize| {
+        s.cell_data(&[format!("temperature_{m}")]).unwrap().fields[0].1[8]
+    };
+    let (t_gas, t_solid) = (t_of(&s, 1), t_of(&s, 2));
+    let energy = s.conservation_totals().energy;
+    s.compute_face_centred_velocities(dt);
+    s.compute_pressure_increment(dt);
+    s.set_lagrangian_velocity(1, &vel);
+    s.compute_lagrangian_values(dt).unwrap();
+    let mut q = vec![0.0; vel.len()];
+    s.lagrangian_heat(1, &mut q);
+    s.advect_fluids(dt).unwrap();
+    s.finish_coupled_step(dt);
+    let (rho_g, rho_s) = (1e-3 * 1.2, mass[8]);
+    let t_star = (rho_g * c_g * t_gas + rho_s * c_s * t_solid) / (rho_g * c_g + rho_s * c_s);
+    assert!(t_gas - t_solid > 50.0, "{t_gas} {t_solid}");
+    let expected = c_s * (t_star - t_solid);
+    assert!(
+        (q[8] / expected - 1.0).abs() < 1e-5,
+        "q {} J/kg, c (T* − T) {expected}",
+        q[8]
+    );
+    let gain = rho_s * q.iter().sum::<f64>() * (0.1 * 0.1 / 16.0);
+    let loss = energy - s.conservation_totals().energy;
+    assert!(
+        (loss / gain - 1.0).abs() < 1e-9,
+        "fluids lost {loss:e} J, particles' heat {gain:e} J"
+    );
 }
 
 /// Step 4 with a reactant carried by particles (material 1 of the column,

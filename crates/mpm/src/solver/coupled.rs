@@ -225,7 +225,9 @@ impl CoupledStep<'_> {
 
     /// Phase 4 (step 14 and the stress update of step 7): G2P and the
     /// stress update, then each particle's temperature change of the heat
-    /// exchange, `temperature_change(x_p, material)` in K.
+    /// exchange, `temperature_change(x_p, material)` in K — or, for a
+    /// material given a specific heat by [`MpmSolver::set_coupled_heat`],
+    /// the heat in J/kg its temperature rises by through it.
     ///
     /// On several ranks ([`MpmSolver::distribute`]) each rank runs the
     /// fused G2P and stress update for its run of particles and the
@@ -236,12 +238,15 @@ impl CoupledStep<'_> {
         temperature_change: impl Fn([f64; 3], MaterialId) -> f64 + Sync,
     ) -> Result<(), SolverError> {
         self.g2p_and_stresses()?;
-        let ps = &mut self.solver.particles;
+        let s = &mut *self.solver;
+        let (ps, heat) = (&mut s.particles, &s.coupled_heat);
         ps.temperature
             .par_iter_mut()
             .zip(ps.position.par_iter().zip(ps.material.par_iter()))
             .with_min_len(1024)
-            .for_each(|(temp, (x, m))| *temp += temperature_change(*x, *m));
+            .for_each(|(temp, (x, m))| {
+                add_change(temp, temperature_change(*x, *m), heat_law(heat, *m))
+            });
         Ok(())
     }
 
@@ -253,7 +258,9 @@ impl CoupledStep<'_> {
     /// the ones its mass reached the nodes with (gathered before G2P moves
     /// it), so Σ_p m_p ΔT_p = Σ_I m_I ΔT_I for one material. The change
     /// is added after the stress update, as in
-    /// [`CoupledStep::update_particles`]. An empty `node_change` changes no
+    /// [`CoupledStep::update_particles`] (a heat in J/kg for a material
+    /// given a specific heat by [`MpmSolver::set_coupled_heat`], so that
+    /// Σ_p m_p q_p = Σ_I m_I q_I is the heat its particles gain). An empty `node_change` changes no
     /// temperature (no gather).
     pub fn update_particles_from_nodes(&mut self, node_change: &[f64]) -> Result<(), SolverError> {
         if node_change.is_empty() {
@@ -274,12 +281,12 @@ impl CoupledStep<'_> {
         let result = self.g2p_and_stresses();
         let s = &mut *self.solver;
         if result.is_ok() {
-            s.particles
-                .temperature
+            let (ps, heat) = (&mut s.particles, &s.coupled_heat);
+            ps.temperature
                 .par_iter_mut()
-                .zip(change.par_iter())
+                .zip(change.par_iter().zip(ps.material.par_iter()))
                 .with_min_len(1024)
-                .for_each(|(t, dt)| *t += dt);
+                .for_each(|(t, (dt, m))| add_change(t, *dt, heat_law(heat, *m)));
         }
         s.work.particle_change = change;
         result
@@ -361,6 +368,33 @@ impl Drop for CoupledStep<'_> {
         if !self.surface_forces.is_empty() {
             self.solver.surface_forces = std::mem::take(&mut self.surface_forces);
         }
+    }
+}
+
+/// Material `m`'s specific heat of [`MpmSolver::set_coupled_heat`], if any.
+#[inline]
+fn heat_law(
+    heat: &[Option<brisance_constitutive::SpecificHeat>],
+    m: MaterialId,
+) -> Option<&brisance_constitutive::SpecificHeat> {
+    heat.get(m.0 as usize).and_then(|c| c.as_ref())
+}
+
+/// A particle's temperature after the heat exchange's `change`: T + ΔT
+/// for a temperature change (`heat` `None`, the bits of T + ΔT), the rise
+/// whose heat is `change` (J/kg) through the specific heat `heat`
+/// otherwise ([`brisance_constitutive::SpecificHeat::temperature_rise`]);
+/// a zero change leaves T as it is.
+#[inline]
+fn add_change(
+    temperature: &mut f64,
+    change: f64,
+    heat: Option<&brisance_constitutive::SpecificHeat>,
+) {
+    match heat {
+        None => *temperature += change,
+        Some(_) if change == 0.0 => {}
+        Some(c) => *temperature += c.temperature_rise(*temperature, change),
     }
 }
 
