@@ -431,6 +431,44 @@ mod solids_tests {
         assert!(e.position.is_some(), "{e}");
     }
 
+    /// A solid whose pressure does not depend on its energy (the piston's
+    /// Murnaghan steel, t_ref 300 K) may start at another temperature in
+    /// IceMpm: its particles carry it (the Ice pipeline refuses such a
+    /// region, whose cells would keep the EOS's 300 K). The piston starts
+    /// at 450 K, its particles hold it over 20 steps (no heat exchange),
+    /// and the run is the shipped one's in everything but the
+    /// temperature: the particle positions the same to 10 nm (the air's
+    /// trace inside the steel, held at the steel's temperature, is all
+    /// that differs; 10⁻¹⁰ m measured).
+    #[test]
+    fn a_murnaghan_solid_starts_at_the_temperature_its_particles_carry() {
+        let steps = |text: &str| {
+            let loaded = load_str("hot_piston.ron", text, &[]).unwrap();
+            let mut built = icempm(&loaded.scenario);
+            for _ in 0..20 {
+                let dt = built.stable_dt().unwrap();
+                built.advance(dt).unwrap();
+            }
+            let ps = built.mpm().particles();
+            (ps.temperature.clone(), ps.position.clone())
+        };
+        let hot = PISTON.replace(
+            "velocity: (100.0, 0.0, 0.0), temperature: 300.0)",
+            "velocity: (100.0, 0.0, 0.0), temperature: 450.0)",
+        );
+        assert_ne!(hot, PISTON);
+        let (t_hot, x_hot) = steps(&hot);
+        let (t_cold, x_cold) = steps(PISTON);
+        assert!(t_hot.iter().all(|&t| t == 450.0), "{t_hot:?}");
+        assert!(t_cold.iter().all(|&t| t == 300.0), "{t_cold:?}");
+        let moved = x_hot
+            .iter()
+            .zip(&x_cold)
+            .map(|(a, b)| (a[0] - b[0]).abs())
+            .fold(0.0, f64::max);
+        assert!(moved < 1e-8, "positions differ by up to {moved:e} m");
+    }
+
     /// A QM-100 block as particles (the library's Murnaghan reactant with
     /// a hypoelastic model) in its products at 1 GPa, JWL++ reaction.
     const BURNING: &str = r#"Scenario(

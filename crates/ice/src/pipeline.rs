@@ -584,11 +584,15 @@ fn checked_fluids(
 fn build_with_traces(
     s: &Scene<'_>,
     cfg: &IceConfig,
-    own_density: bool,
+    particle_materials: usize,
     ranks: Arc<dyn Communicator>,
 ) -> Result<IceSolver<EosModel>, Problem> {
+    let own_density = particle_materials > 0;
     let (eos, reactions) = checked_fluids(s, cfg)?;
     let n = eos.len();
+    // The last `particle_materials` materials are carried by particles,
+    // which carry their own temperature.
+    let carried = |m: usize| m + particle_materials >= n;
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
@@ -608,7 +612,7 @@ fn build_with_traces(
                 .map_err(|e| (path.to_string(), e))?,
         };
         let trace = TRACE_FRACTION;
-        let t_region = eos[m].temperature(
+        let mut t_region = eos[m].temperature(
             p.density,
             eos[m]
                 .specific_internal_energy(p.density, p.pressure)
@@ -616,12 +620,17 @@ fn build_with_traces(
         );
         // The cells keep a pressure, not an energy: a temperature the
         // material's (ρ, p) cannot carry would be lost without a word.
+        // A material carried by particles keeps its temperature on them
+        // (their cells take it from them in step 1), so it may start at
+        // any, and the traces beside it take it.
         if let (None, None, Some(t)) = (
             state.pressure,
             state.specific_internal_energy,
             state.temperature,
         ) {
-            if !((t_region - t).abs() <= 1e-6 * t.abs().max(1.0)) {
+            if carried(m) {
+                t_region = t;
+            } else if !((t_region - t).abs() <= 1e-6 * t.abs().max(1.0)) {
                 return Err((
                     format!("{path}.temperature"),
                     format!(
@@ -821,19 +830,24 @@ impl IceConfig {
     }
 
     /// Builds the solver, its patches shared among `ranks` from the start
-    /// (each rank allocates and fills only its own). With `own_density`
+    /// (each rank allocates and fills only its own). `particle_materials`
+    /// is the number of the section's last materials that particles carry
+    /// (the IceMpm pipeline's solids; 0 for the Ice pipeline). With any,
     /// every trace material takes its own density at the region's
     /// pressure and temperature, or at 300 K where it has none at the
-    /// region's temperature (the IceMpm pipeline, whose solid and gases
-    /// must not trace each other's density), else the rule of the module
-    /// doc.
+    /// region's temperature (whose solid and gases must not trace each
+    /// other's density), else the rule of the module doc; and a region of
+    /// a material the particles carry may give it any temperature (the
+    /// particles keep it), where the Ice pipeline refuses one that its
+    /// equation of state cannot give the region's pressure.
     pub fn build_on(
         &self,
         scene: &Scene<'_>,
-        own_density: bool,
+        particle_materials: usize,
         ranks: Arc<dyn Communicator>,
     ) -> Result<IceSolver<EosModel>, FieldError> {
-        build_with_traces(scene, self, own_density, ranks).map_err(|(f, m)| FieldError::new(f, m))
+        build_with_traces(scene, self, particle_materials, ranks)
+            .map_err(|(f, m)| FieldError::new(f, m))
     }
 }
 
@@ -871,7 +885,7 @@ impl PipelineSpec for IceConfig {
     /// ([`brisance_grid::comm::world`]; docs/cluster.md) from the start.
     fn build(&self, scene: &Scene<'_>) -> Result<IceSolver<EosModel>, FieldError> {
         check_alone(self).map_err(|(f, m)| FieldError::new(f, m))?;
-        self.build_on(scene, false, brisance_grid::comm::world())
+        self.build_on(scene, 0, brisance_grid::comm::world())
     }
 
     fn describe(&self, scene: &Scene<'_>) -> String {

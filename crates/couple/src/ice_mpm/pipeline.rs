@@ -264,7 +264,7 @@ impl PipelineSpec for IceMpmConfig {
         let ice = ice_section(self)
             .build_on(
                 scene,
-                true,
+                self.solid.names().len(),
                 std::sync::Arc::new(brisance_grid::comm::Serial),
             )
             .map_err(|e| under("ice", e))?;
