@@ -58,6 +58,24 @@ fn lagrangian_column_with(
     (s, mass, vel, temp)
 }
 
+/// Step 1 as the coupled pipeline runs it (the Lagrangian material's
+/// cells imported) and step 2's equilibration.
+fn import_and_equilibrate(
+    s: &mut IceSolver<IdealGas>,
+    mass: &[f64],
+    vel: &[[f64; 3]],
+    temp: &[f64],
+) {
+    let cells = crate::LagrangianCells {
+        mass_density: mass,
+        velocity: vel,
+        specific_volume: None,
+        temperature: temp,
+    };
+    s.import_lagrangian(1, &cells).unwrap();
+    s.compute_equilibration_pressure().unwrap();
+}
+
 /// Steps 1–11 of the coupled pipeline on the column (the particles'
 /// forces left out: the Lagrangian velocity is the imported one), then
 /// advection and the next import and equilibration; returns the
@@ -69,14 +87,7 @@ fn coupled_step(
     temp: &[f64],
     dt: f64,
 ) -> Vec<f64> {
-    let cells = crate::LagrangianCells {
-        mass_density: mass,
-        velocity: vel,
-        specific_volume: None,
-        temperature: temp,
-    };
-    s.import_lagrangian(1, &cells).unwrap();
-    s.compute_equilibration_pressure().unwrap();
+    import_and_equilibrate(s, mass, vel, temp);
     s.compute_face_centred_velocities(dt);
     s.compute_pressure_increment(dt);
     s.set_lagrangian_velocity(1, vel);
@@ -86,8 +97,7 @@ fn coupled_step(
     s.lagrangian_increments(1, &mut dv, &mut dtemp);
     s.advect_fluids(dt).unwrap();
     s.finish_coupled_step(dt);
-    s.import_lagrangian(1, &cells).unwrap();
-    s.compute_equilibration_pressure().unwrap();
+    import_and_equilibrate(s, mass, vel, temp);
     dtemp
 }
 
@@ -145,15 +155,8 @@ fn the_exchange_dissipation_stays_with_the_fluids_that_paid_for_it() {
 fn added_eulerian_momentum_reaches_the_fluids_exactly() {
     let step = |add: bool| {
         let (mut s, mass, vel, temp) = lagrangian_column(|_| 1e5, |_| 0.0);
-        let cells = crate::LagrangianCells {
-            mass_density: &mass,
-            velocity: &vel,
-            specific_volume: None,
-            temperature: &temp,
-        };
         let dt = 1e-6;
-        s.import_lagrangian(1, &cells).unwrap();
-        s.compute_equilibration_pressure().unwrap();
+        import_and_equilibrate(&mut s, &mass, &vel, &temp);
         s.compute_face_centred_velocities(dt);
         s.compute_pressure_increment(dt);
         s.set_lagrangian_velocity(1, &vel);
@@ -210,14 +213,7 @@ fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
     assert!(s
         .set_lagrangian_specific_heat(0, LagrangianSpecificHeat(std::sync::Arc::new(|_| 1.0)))
         .is_err());
-    let cells = crate::LagrangianCells {
-        mass_density: &mass,
-        velocity: &vel,
-        specific_volume: None,
-        temperature: &temp,
-    };
-    s.import_lagrangian(1, &cells).unwrap();
-    s.compute_equilibration_pressure().unwrap();
+    import_and_equilibrate(&mut s, &mass, &vel, &temp);
     let t_of = |s: &IceSolver<IdealGas>, m: usize| {
         s.cell_data(&[format!("temperature_{m}")]).unwrap().fields[0].1[8]
     };
@@ -278,14 +274,7 @@ fn a_lagrangian_reactant_burns_at_g_p_dt_and_its_product_takes_the_source() {
             heat_of_reaction: 4e6,
         }])
         .unwrap();
-        let cells = crate::LagrangianCells {
-            mass_density: &mass,
-            velocity: &vel,
-            specific_volume: None,
-            temperature: &temp,
-        };
-        s.import_lagrangian(1, &cells).unwrap();
-        s.compute_equilibration_pressure().unwrap();
+        import_and_equilibrate(&mut s, &mass, &vel, &temp);
         (s, vel)
     };
     let (mut a, vel) = build();
@@ -341,13 +330,6 @@ fn a_lagrangian_reactant_burns_at_g_p_dt_and_its_product_takes_the_source() {
     // The fluids' totals are those of the same column without the
     // reaction: the reactant's 4 MJ/kg is not in them.
     let (mut plain, mass, vel, temp) = lagrangian_column(|_| p0, |_| 0.0);
-    let cells = crate::LagrangianCells {
-        mass_density: &mass,
-        velocity: &vel,
-        specific_volume: None,
-        temperature: &temp,
-    };
-    plain.import_lagrangian(1, &cells).unwrap();
-    plain.compute_equilibration_pressure().unwrap();
+    import_and_equilibrate(&mut plain, &mass, &vel, &temp);
     assert_eq!(chemical_free, plain.conservation_totals());
 }
