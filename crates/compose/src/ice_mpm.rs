@@ -435,30 +435,43 @@ mod solids_tests {
     /// Murnaghan steel, t_ref 300 K) may start at another temperature in
     /// IceMpm: its particles carry it (the Ice pipeline refuses such a
     /// region, whose cells would keep the EOS's 300 K). The piston starts
-    /// at 450 K, its particles hold it over 20 steps (no heat exchange),
-    /// and the run is the shipped one's in everything but the
-    /// temperature: the particle positions the same to 10 nm (the air's
-    /// trace inside the steel, held at the steel's temperature, is all
-    /// that differs; 10⁻¹⁰ m measured).
+    /// at 450 K: from the start (the first output) its cells and the air's
+    /// trace inside it are at 450 K, its particles hold it over 20 steps
+    /// (no heat exchange), and the run is the shipped one's in everything
+    /// but the temperature: the particle positions the same to 10 nm (the
+    /// air's trace inside the steel, held at the steel's temperature, is
+    /// all that differs; 10⁻¹⁰ m measured).
     #[test]
     fn a_murnaghan_solid_starts_at_the_temperature_its_particles_carry() {
+        use brisance_core::Solver;
         let steps = |text: &str| {
             let loaded = load_str("hot_piston.ron", text, &[]).unwrap();
             let mut built = icempm(&loaded.scenario);
+            // Cell 55 lies inside the piston (50–60 mm).
+            let data = built
+                .cell_data(&["temperature_1".into(), "temperature_2".into()])
+                .unwrap();
+            let start = (data.fields[0].1[55], data.fields[1].1[55]);
             for _ in 0..20 {
                 let dt = built.stable_dt().unwrap();
                 built.advance(dt).unwrap();
             }
             let ps = built.mpm().particles();
-            (ps.temperature.clone(), ps.position.clone())
+            (ps.temperature.clone(), ps.position.clone(), start)
         };
         let hot = PISTON.replace(
             "velocity: (100.0, 0.0, 0.0), temperature: 300.0)",
             "velocity: (100.0, 0.0, 0.0), temperature: 450.0)",
         );
         assert_ne!(hot, PISTON);
-        let (t_hot, x_hot) = steps(&hot);
-        let (t_cold, x_cold) = steps(PISTON);
+        let (t_hot, x_hot, start_hot) = steps(&hot);
+        let (t_cold, x_cold, start_cold) = steps(PISTON);
+        for (start, t) in [(start_hot, 450.0), (start_cold, 300.0)] {
+            assert!(
+                (start.0 - t).abs() < 1e-6 && (start.1 - t).abs() < 1e-6,
+                "air trace and steel in cell 55 at the start: {start:?}, not {t} K"
+            );
+        }
         assert!(t_hot.iter().all(|&t| t == 450.0), "{t_hot:?}");
         assert!(t_cold.iter().all(|&t| t == 300.0), "{t_cold:?}");
         let moved = x_hot

@@ -576,7 +576,8 @@ fn checked_fluids(
 }
 
 /// Builds the solver, its patches shared among `ranks` from the start;
-/// with `own_density` every trace material takes its
+/// `particle_materials` as [`IceConfig::build_on`]; with any, every trace
+/// material takes its
 /// own density at the region's pressure and temperature, or at 300 K where
 /// it has none at the region's temperature (the IceMpm pipeline, whose
 /// solid and gases must not trace each other's density), else the rule of
@@ -593,6 +594,9 @@ fn build_with_traces(
     // The last `particle_materials` materials are carried by particles,
     // which carry their own temperature.
     let carried = |m: usize| m + particle_materials >= n;
+    // Whether a region gave such a material a temperature its cells'
+    // (ρ, p) do not carry (IceSolver::start_temperatures_on_particles).
+    let carried_own_temperature = std::sync::atomic::AtomicBool::new(false);
     let d = &s.domain;
     let level = Level::new(d.lower, d.upper, d.cells, d.patches, GHOST)
         .map_err(|e| ("domain.patches".to_string(), e.to_string()))?;
@@ -628,9 +632,11 @@ fn build_with_traces(
             state.specific_internal_energy,
             state.temperature,
         ) {
-            if carried(m) {
+            let carries = (t_region - t).abs() <= 1e-6 * t.abs().max(1.0);
+            if carried(m) && !carries {
                 t_region = t;
-            } else if !((t_region - t).abs() <= 1e-6 * t.abs().max(1.0)) {
+                carried_own_temperature.store(true, std::sync::atomic::Ordering::Relaxed);
+            } else if !carries {
                 return Err((
                     format!("{path}.temperature"),
                     format!(
@@ -748,6 +754,9 @@ fn build_with_traces(
     solver
         .set_reactions(reactions)
         .map_err(|e| ("pipeline.reactions".to_string(), e.to_string()))?;
+    solver.set_start_temperatures_on_particles(
+        carried_own_temperature.load(std::sync::atomic::Ordering::Relaxed),
+    );
     if !cfg.transport.is_empty() {
         let transport = cfg
             .materials

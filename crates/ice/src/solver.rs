@@ -556,6 +556,10 @@ pub struct IceSolver<E: Eos> {
     /// Per material: the specific heat its particles carry
     /// ([`IceSolver::set_lagrangian_specific_heat`]).
     specific_heat: Vec<Option<LagrangianSpecificHeat>>,
+    /// Whether a region gave a material carried by particles a start
+    /// temperature its cells' (ρ, p) do not carry
+    /// ([`IceSolver::start_temperatures_on_particles`]).
+    start_on_particles: bool,
     /// Mass, momentum and energy the coupled equilibration gave the
     /// Eulerian materials since the start ([`IceSolver::rescaled_totals`]).
     rescaled: ConservationTotals,
@@ -685,7 +689,9 @@ impl<E: Eos> IceSolver<E> {
     /// Lagrangian material the volume fractions of step 2 are shares of
     /// the materials' total volume. A Lagrangian material may be a
     /// reactant (its particles burn: [`IceSolver::lagrangian_burn_fraction`],
-    /// [`IceSolver::add_burnt_particles`]), never a product.
+    /// [`IceSolver::add_burnt_particles`]), never a product. It clears the
+    /// specific heats of [`IceSolver::set_lagrangian_specific_heat`] (set
+    /// them after).
     pub fn set_lagrangian(&mut self, mask: &[bool]) -> Result<(), IceError> {
         let n = self.eos.len();
         if mask.len() != n {
@@ -738,6 +744,21 @@ impl<E: Eos> IceSolver<E> {
         }
         self.specific_heat[r] = Some(specific_heat);
         Ok(())
+    }
+
+    /// Records whether a region gave a material carried by particles a
+    /// start temperature its cells' (ρ, p) do not carry (a Murnaghan solid
+    /// away from its `t_ref`; the pipeline builder's finding).
+    pub fn set_start_temperatures_on_particles(&mut self, on_particles: bool) {
+        self.start_on_particles = on_particles;
+    }
+
+    /// Whether the start temperature of a material carried by particles is
+    /// only on its particles ([`IceSolver::set_start_temperatures_on_particles`]):
+    /// the coupled pipeline then gives its cells the particles' state
+    /// before the first fit of the fluids around them.
+    pub fn start_temperatures_on_particles(&self) -> bool {
+        self.start_on_particles
     }
 
     /// Whether Lagrangian material `r` carries its own specific heat

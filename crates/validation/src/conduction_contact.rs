@@ -100,12 +100,12 @@ pub fn contact_transient(cells: usize, set: &[String]) -> Result<ContactTransien
 /// particles given the specific heat `specific_heat` (the overrides `set`
 /// may give the particles another one than their EOS's c_v): the heat the
 /// liquid gained and the heat the particles lost through their own H(T),
-/// Σ m_p (H(T_s) − H(T_p)), J.
+/// Σ m_p (H(T_s) − H(T_p)), J, and the coldest particle's temperature, K.
 pub fn contact_heat_balance(
     cells: usize,
     set: &[String],
     specific_heat: &SpecificHeat,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64, f64), String> {
     let (solver, _, fluid_gain) = run_to_end(cells, set)?;
     let data = solver
         .particle_data()
@@ -124,7 +124,8 @@ pub fn contact_heat_balance(
         .zip(temperature)
         .map(|(m, t)| m * (start - specific_heat.heat(*t)))
         .sum();
-    Ok((fluid_gain, loss))
+    let coldest = temperature.iter().copied().fold(f64::INFINITY, f64::min);
+    Ok((fluid_gain, loss, coldest))
 }
 
 /// The config at `cells` cells with the overrides `set`, run to its end
@@ -222,7 +223,7 @@ mod tests {
         let errors: Vec<f64> = [50, 100]
             .into_iter()
             .map(|cells| {
-                let (gain, loss) =
+                let (gain, loss, _) =
                     contact_heat_balance(cells, &set, &SpecificHeat::Constant(2000.0)).unwrap();
                 assert!((gain / loss - 1.0).abs() < 1e-5, "gain {gain}, loss {loss}");
                 loss / q - 1.0
@@ -250,8 +251,12 @@ mod tests {
             "materials.block.thermal.specific_heat=None".to_string(),
         ];
         let heat: SpecificHeat = ron::from_str(curve).unwrap();
-        let (gain, loss) = contact_heat_balance(50, &set, &heat).unwrap();
+        let (gain, loss, coldest) = contact_heat_balance(50, &set, &heat).unwrap();
         assert!((gain / loss - 1.0).abs() < 1e-5, "gain {gain}, loss {loss}");
+        assert!(
+            coldest < 379.0,
+            "no particle went through the peak: {coldest} K"
+        );
     }
 
     #[test]

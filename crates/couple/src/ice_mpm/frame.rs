@@ -505,7 +505,8 @@ impl FluidFrame<'_> {
     }
 
     /// The temperature change of the heat exchange at point `x` over the
-    /// step for a particle of `material`, K.
+    /// step for a particle of `material`, K — the heat, J/kg, for a solid
+    /// whose particles carry a specific heat ([`Solid::carries_heat`]).
     pub(super) fn temperature_change(&self, x: [f64; 3], material: MaterialId) -> f64 {
         steps::cell_value_at(
             &self.grid,

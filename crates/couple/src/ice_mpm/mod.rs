@@ -86,7 +86,10 @@ pub enum ParticleHeat {
     /// it): ΔT_I = Σ_c w_Ic ΔT_c with the weights of eq 18, then
     /// ΔT_p = Σ_I N_Ip ΔT_I, so Σ_p m_p c ΔT_p = Σ_c M_c c ΔT_c for one
     /// solid of constant c_v (exact with linear shape functions and
-    /// several solids too). A solid's trace gives the nodes nothing.
+    /// several solids too); for a solid whose particles carry a specific
+    /// heat the value sent is the heat q_c (J/kg), and Σ_p m_p q_p =
+    /// Σ_c M_c q_c whatever its c(T). A solid's trace gives the nodes
+    /// nothing.
     #[default]
     Nodes,
     /// Each particle takes the change of the cell it lies in (the rule
@@ -515,7 +518,16 @@ impl IceMpm {
         let (mut frame, mpm) = self.frames();
         let grid = frame.grid;
         let nodes = mpm.project_to_nodes()?.clone();
-        frame.project_particles_to_cells(&nodes, mpm.particles());
+        if frame.ice.start_temperatures_on_particles() {
+            // A solid that starts at a temperature its cells' (ρ, p) do
+            // not carry (a Murnaghan solid away from its t_ref): its cells
+            // take the particles' state before the fit, so that the fluid
+            // traces held at its temperature and the first output see the
+            // particles' (step 1 does the same every step).
+            frame.import_solids(&nodes, mpm.particles())?;
+        } else {
+            frame.project_particles_to_cells(&nodes, mpm.particles());
+        }
         let s = &self.scratch;
         let theta: Vec<f64> = (0..grid.cell_count())
             .map(|k| {

@@ -194,6 +194,7 @@ impl<E: Eos> IceSolver<E> {
             last_equilibration: EquilibrationStats::default(),
             lagrangian: vec![false; n],
             specific_heat: vec![None; n],
+            start_on_particles: false,
             rescaled: ConservationTotals::default(),
             kept_warm: [KeptWarmTotals::default(); MAX_MATERIALS],
             kept_warm_advection: [KeptWarmTotals::default(); MAX_MATERIALS],

@@ -156,7 +156,8 @@ impl<E: Eos> IceSolver<E> {
     /// T(e) — for step 13. For a material given its particles' specific
     /// heat ([`IceSolver::set_lagrangian_specific_heat`]) the heat is the
     /// change to use ([`IceSolver::lagrangian_heat`]); its temperature
-    /// change here is that heat over the EOS's c_v.
+    /// change here is the EOS's T(e) of the changed energy, that heat over
+    /// the EOS's c_v for an EOS of constant c_v.
     pub fn lagrangian_increments(&self, r: usize, dv: &mut [[f64; 3]], dtemp: &mut [f64]) {
         assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
         let count = self.level.geometry.cell_count();

@@ -200,8 +200,10 @@ fn added_eulerian_momentum_reaches_the_fluids_exactly() {
 /// `lagrangian_heat` gives its particles is c (T* − T_s) = 218.8 J/kg,
 /// which is what the gas lost: the fluids' energy falls by Σ ρ_s q V to
 /// round-off. With the EOS's c_v (3115) in the exchange the heat would be
-/// c_v (T*' − T_s), T*' the mean with c_v: 6·10⁻⁴ more, the gas's
-/// capacity being small beside the solid's either way.
+/// c_v (T*' − T_s), T*' the mean with c_v: 218.56 against 218.76 J/kg,
+/// 9·10⁻⁴ less (the gas's capacity is small beside the solid's either
+/// way, so the heat itself moves little; the balance below holds with
+/// either c).
 #[test]
 fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
     use crate::LagrangianSpecificHeat;
