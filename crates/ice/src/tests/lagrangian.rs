@@ -12,13 +12,14 @@ fn lagrangian_column(
     p: impl Fn(f64) -> f64 + Sync,
     u: impl Fn(f64) -> f64 + Sync,
 ) -> (IceSolver<IdealGas>, Vec<f64>, Vec<[f64; 3]>, Vec<f64>) {
-    lagrangian_column_with(0.0, p, u)
+    lagrangian_column_with(0.0, IceOptions::default(), p, u)
 }
 
 /// [`lagrangian_column`] with the heat exchange coefficient `h`
-/// (W/(m³·K)) between the two materials.
+/// (W/(m³·K)) between the two materials and the options `options`.
 fn lagrangian_column_with(
     h: f64,
+    options: IceOptions,
     p: impl Fn(f64) -> f64 + Sync,
     u: impl Fn(f64) -> f64 + Sync,
 ) -> (IceSolver<IdealGas>, Vec<f64>, Vec<[f64; 3]>, Vec<f64>) {
@@ -29,7 +30,7 @@ fn lagrangian_column_with(
         level,
         std::array::from_fn(|_| IceBoundary::Outflow),
         ExchangeCoefficients::uniform(2, 1e15, h),
-        IceOptions::default(),
+        options,
         |x| CellState {
             pressure: p(x[0]),
             materials: vec![
@@ -208,7 +209,8 @@ fn added_eulerian_momentum_reaches_the_fluids_exactly() {
 fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
     use crate::LagrangianSpecificHeat;
     let (p0, dt, c_s, c_g) = (1e5, 1e-6, 3.0 * 3115.0, 717.5);
-    let (mut s, mass, vel, temp) = lagrangian_column_with(1e15, |_| p0, |_| 0.0);
+    let (mut s, mass, vel, temp) =
+        lagrangian_column_with(1e15, IceOptions::default(), |_| p0, |_| 0.0);
     s.set_lagrangian_specific_heat(1, LagrangianSpecificHeat(std::sync::Arc::new(move |_| c_s)))
         .unwrap();
     assert!(s.has_lagrangian_specific_heat(1) && !s.has_lagrangian_specific_heat(0));
@@ -244,6 +246,51 @@ fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
         (loss / gain - 1.0).abs() < 1e-9,
         "fluids lost {loss:e} J, particles' heat {gain:e} J"
     );
+}
+
+/// The heat `lagrangian_heat` hands the particles of a Lagrangian
+/// material that carries its own specific heat, without heat exchange, on
+/// the column of `the_exchange_dissipation_stays_with_the_fluids_that_paid_for_it`:
+/// exactly 0 in every cell with the energy closure (so that runs without
+/// heat exchange keep their bits), and without it the kinetic energy the
+/// momentum exchange dissipated, one specific increment for every material
+/// — the heat behind the EOS's temperature change, q = c_v ΔT.
+#[test]
+fn without_heat_exchange_the_particles_take_only_the_dissipated_heat() {
+    use crate::LagrangianSpecificHeat;
+    for conserve in [true, false] {
+        let options = IceOptions {
+            conserve_total_energy: conserve,
+            ..IceOptions::default()
+        };
+        let (mut s, mass, vel, temp) =
+            lagrangian_column_with(0.0, options, |x| 1e5 * (1.0 + 10.0 * x), |_| 0.0);
+        s.set_lagrangian_specific_heat(1, LagrangianSpecificHeat(std::sync::Arc::new(|_| 9345.0)))
+            .unwrap();
+        let dt = 1e-5;
+        import_and_equilibrate(&mut s, &mass, &vel, &temp);
+        s.compute_face_centred_velocities(dt);
+        s.compute_pressure_increment(dt);
+        s.set_lagrangian_velocity(1, &vel);
+        s.compute_lagrangian_values(dt).unwrap();
+        let n = vel.len();
+        let (mut q, mut dv, mut dtemp) = (vec![0.0; n], vec![[0.0; 3]; n], vec![0.0; n]);
+        s.lagrangian_heat(1, &mut q);
+        s.lagrangian_increments(1, &mut dv, &mut dtemp);
+        if conserve {
+            assert!(q.iter().all(|&x| x == 0.0), "{q:?}");
+        } else {
+            for k in 1..n - 1 {
+                assert!(q[k] > 0.0, "cell {k}: {q:?}");
+                let via_eos = 3115.0 * dtemp[k];
+                assert!(
+                    (q[k] - via_eos).abs() <= 1e-6 * q[k],
+                    "cell {k}: heat {} against c_v ΔT {via_eos}",
+                    q[k]
+                );
+            }
+        }
+    }
 }
 
 /// Step 4 with a reactant carried by particles (material 1 of the column,
