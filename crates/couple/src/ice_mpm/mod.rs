@@ -355,7 +355,7 @@ impl IceMpm {
     /// temperature.
     pub fn new(
         mut ice: IceSolver<EosModel>,
-        mpm: MpmSolver,
+        mut mpm: MpmSolver,
         solids: &[usize],
     ) -> Result<Self, IceMpmError> {
         let n = ice.material_count();
@@ -398,7 +398,7 @@ impl IceMpm {
                 solids[k] + 1
             )));
         }
-        let solid_list: Vec<Solid> = solids
+        let mut solid_list: Vec<Solid> = solids
             .iter()
             .zip(&sums)
             .map(|(&r, &(m, v, mt, count))| Solid {
@@ -419,8 +419,6 @@ impl IceMpm {
         // or their model's) exchanges heat with it, and its particles take
         // the heat through it (docs/physics/couple/ice_mpm.md, "Heat
         // between the frames").
-        let mut mpm = mpm;
-        let mut solid_list = solid_list;
         let laws: Vec<_> = (0..solids.len())
             .map(|k| mpm.specific_heat(MaterialId(k as u16)))
             .collect();

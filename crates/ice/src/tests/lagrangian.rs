@@ -77,6 +77,15 @@ fn import_and_equilibrate(
     s.compute_equilibration_pressure().unwrap();
 }
 
+/// Steps 3–11 with the Lagrangian velocity `vel` as imported (the
+/// particles' forces left out), after [`import_and_equilibrate`].
+fn lagrangian_values(s: &mut IceSolver<IdealGas>, vel: &[[f64; 3]], dt: f64) {
+    s.compute_face_centred_velocities(dt);
+    s.compute_pressure_increment(dt);
+    s.set_lagrangian_velocity(1, vel);
+    s.compute_lagrangian_values(dt).unwrap();
+}
+
 /// Steps 1–11 of the coupled pipeline on the column (the particles'
 /// forces left out: the Lagrangian velocity is the imported one), then
 /// advection and the next import and equilibration; returns the
@@ -89,10 +98,7 @@ fn coupled_step(
     dt: f64,
 ) -> Vec<f64> {
     import_and_equilibrate(s, mass, vel, temp);
-    s.compute_face_centred_velocities(dt);
-    s.compute_pressure_increment(dt);
-    s.set_lagrangian_velocity(1, vel);
-    s.compute_lagrangian_values(dt).unwrap();
+    lagrangian_values(s, vel, dt);
     let mut dv = vec![[0.0; 3]; vel.len()];
     let mut dtemp = vec![0.0; vel.len()];
     s.lagrangian_increments(1, &mut dv, &mut dtemp);
@@ -158,10 +164,7 @@ fn added_eulerian_momentum_reaches_the_fluids_exactly() {
         let (mut s, mass, vel, temp) = lagrangian_column(|_| 1e5, |_| 0.0);
         let dt = 1e-6;
         import_and_equilibrate(&mut s, &mass, &vel, &temp);
-        s.compute_face_centred_velocities(dt);
-        s.compute_pressure_increment(dt);
-        s.set_lagrangian_velocity(1, &vel);
-        s.compute_lagrangian_values(dt).unwrap();
+        lagrangian_values(&mut s, &vel, dt);
         if add {
             let mut dp = vec![[0.0; 3]; vel.len()];
             dp[7] = [2e-6, -1e-6, 0.0];
@@ -223,10 +226,7 @@ fn a_lagrangian_material_exchanges_heat_with_its_particles_specific_heat() {
     };
     let (t_gas, t_solid) = (t_of(&s, 1), t_of(&s, 2));
     let energy = s.conservation_totals().energy;
-    s.compute_face_centred_velocities(dt);
-    s.compute_pressure_increment(dt);
-    s.set_lagrangian_velocity(1, &vel);
-    s.compute_lagrangian_values(dt).unwrap();
+    lagrangian_values(&mut s, &vel, dt);
     let mut q = vec![0.0; vel.len()];
     s.lagrangian_heat(1, &mut q);
     s.advect_fluids(dt).unwrap();
@@ -269,10 +269,7 @@ fn without_heat_exchange_the_particles_take_only_the_dissipated_heat() {
             .unwrap();
         let dt = 1e-5;
         import_and_equilibrate(&mut s, &mass, &vel, &temp);
-        s.compute_face_centred_velocities(dt);
-        s.compute_pressure_increment(dt);
-        s.set_lagrangian_velocity(1, &vel);
-        s.compute_lagrangian_values(dt).unwrap();
+        lagrangian_values(&mut s, &vel, dt);
         let n = vel.len();
         let (mut q, mut dv, mut dtemp) = (vec![0.0; n], vec![[0.0; 3]; n], vec![0.0; n]);
         s.lagrangian_heat(1, &mut q);
@@ -353,10 +350,7 @@ fn a_lagrangian_reactant_burns_at_g_p_dt_and_its_product_takes_the_source() {
         volume: m * v[8],
     };
     for (s, with) in [(&mut a, true), (&mut b, false)] {
-        s.compute_face_centred_velocities(dt);
-        s.compute_pressure_increment(dt);
-        s.set_lagrangian_velocity(1, &vel);
-        s.compute_lagrangian_values(dt).unwrap();
+        lagrangian_values(s, &vel, dt);
         if with {
             s.add_burnt_particles(0, &src);
         }

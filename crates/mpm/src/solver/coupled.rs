@@ -405,6 +405,33 @@ mod tests {
     use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
 
     /// A soft hypoelastic solid (K 10 MPa, G 5 MPa).
+    /// A tube of 8 cells of 0.125 m along x and a block of particles (2 per
+    /// cell per direction, 1000 kg/m³) filling cells 2–4 at `velocity` and
+    /// `temperature` (K).
+    fn block_of_three_cells(velocity: [f64; 3], temperature: f64) -> (Level, Particles) {
+        let level = Level::new([0.0; 3], [1.0, 0.125, 0.125], [8, 1, 1], [1, 1, 1], 0).unwrap();
+        let h = 0.125;
+        let mut particles = Particles::default();
+        fill_shape(
+            &mut particles,
+            &level.geometry,
+            &FillSpec {
+                shape: Shape::Box {
+                    min: [2.0 * h, 0.0, 0.0],
+                    max: [5.0 * h, h, h],
+                },
+                ppc: 2,
+                density: 1000.0,
+                material: MaterialId(0),
+                velocity,
+                temperature,
+                specific_internal_energy: 0.0,
+            },
+        )
+        .unwrap();
+        (level, particles)
+    }
+
     fn soft_solid() -> MaterialModel {
         MaterialModel::Hypoelastic(Hypoelastic {
             shear_modulus: 5e6,
@@ -427,26 +454,8 @@ mod tests {
     #[test]
     fn light_nodes_carry_the_particles_velocity_and_their_share_of_the_change() {
         for scheme in [UpdateScheme::Usl, UpdateScheme::Musl] {
-            let level = Level::new([0.0; 3], [1.0, 0.125, 0.125], [8, 1, 1], [1, 1, 1], 0).unwrap();
+            let (level, mut particles) = block_of_three_cells([2.0, 0.0, 0.0], 300.0);
             let h = 0.125;
-            let mut particles = Particles::default();
-            fill_shape(
-                &mut particles,
-                &level.geometry,
-                &FillSpec {
-                    shape: Shape::Box {
-                        min: [2.0 * h, 0.0, 0.0],
-                        max: [5.0 * h, h, h],
-                    },
-                    ppc: 2,
-                    density: 1000.0,
-                    material: MaterialId(0),
-                    velocity: [2.0, 0.0, 0.0],
-                    temperature: 300.0,
-                    specific_internal_energy: 0.0,
-                },
-            )
-            .unwrap();
             // From h/4 and 3h/4 in their cells to just past h/2 and h.
             for x in &mut particles.position {
                 x[0] += 0.25 * h + 1e-4 * h;
@@ -515,27 +524,7 @@ mod tests {
         ];
         for law in laws {
             for through_nodes in [true, false] {
-                let level =
-                    Level::new([0.0; 3], [1.0, 0.125, 0.125], [8, 1, 1], [1, 1, 1], 0).unwrap();
-                let h = 0.125;
-                let mut particles = Particles::default();
-                fill_shape(
-                    &mut particles,
-                    &level.geometry,
-                    &FillSpec {
-                        shape: Shape::Box {
-                            min: [2.0 * h, 0.0, 0.0],
-                            max: [5.0 * h, h, h],
-                        },
-                        ppc: 2,
-                        density: 1000.0,
-                        material: MaterialId(0),
-                        velocity: [0.0; 3],
-                        temperature: 1039.5,
-                        specific_internal_energy: 0.0,
-                    },
-                )
-                .unwrap();
+                let (level, particles) = block_of_three_cells([0.0; 3], 1039.5);
                 let mut s =
                     MpmSolver::new(level, vec![soft_solid()], particles, MpmOptions::default())
                         .unwrap();
