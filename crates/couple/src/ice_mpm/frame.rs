@@ -436,11 +436,14 @@ impl FluidFrame<'_> {
         self.ice.compute_lagrangian_values(dt)?;
         for (solid, c) in self.solids.iter().zip(self.s.solids.iter_mut()) {
             self.ice
-                .lagrangian_increments(solid.ice, &mut c.change, &mut c.temperature_change);
+                .lagrangian_velocity_change(solid.ice, &mut c.change);
             if solid.carries_heat {
                 // Its particles take the heat through their own H(T).
                 self.ice
                     .lagrangian_heat(solid.ice, &mut c.temperature_change);
+            } else {
+                self.ice
+                    .lagrangian_temperature_change(solid.ice, &mut c.temperature_change);
             }
         }
         self.combine_solid_changes();

@@ -159,15 +159,32 @@ impl<E: Eos> IceSolver<E> {
     /// change here is the EOS's T(e) of the changed energy, that heat over
     /// the EOS's c_v for an EOS of constant c_v.
     pub fn lagrangian_increments(&self, r: usize, dv: &mut [[f64; 3]], dtemp: &mut [f64]) {
+        self.lagrangian_velocity_change(r, dv);
+        self.lagrangian_temperature_change(r, dtemp);
+    }
+
+    /// The velocity half of [`IceSolver::lagrangian_increments`]: the
+    /// change of Lagrangian material `r`'s cell velocity over steps 8–10
+    /// (global cell order).
+    pub fn lagrangian_velocity_change(&self, r: usize, dv: &mut [[f64; 3]]) {
         assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
-        let count = self.level.geometry.cell_count();
-        assert!(dv.len() == count && dtemp.len() == count);
-        let eos = &self.eos[r];
+        assert_eq!(dv.len(), self.level.geometry.cell_count());
         par_gather(&self.level, dv, |pid, c| {
             let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
             let (b, bl) = (r * NS, r * NL);
             std::array::from_fn(|a| l[bl + L_VEL + a][c] - d[b + VEL + a][c])
         });
+    }
+
+    /// The temperature half of [`IceSolver::lagrangian_increments`]: the
+    /// change of Lagrangian material `r`'s temperature over steps 8–10
+    /// through its EOS's T(e) (global cell order). A material whose
+    /// particles carry their own specific heat takes
+    /// [`IceSolver::lagrangian_heat`] instead.
+    pub fn lagrangian_temperature_change(&self, r: usize, dtemp: &mut [f64]) {
+        assert!(self.is_lagrangian(r), "material {r} is not Lagrangian");
+        assert_eq!(dtemp.len(), self.level.geometry.cell_count());
+        let eos = &self.eos[r];
         par_gather(&self.level, dtemp, |pid, c| {
             let (d, l) = (&self.state[pid].data, &self.lag[pid].data);
             let (b, bl) = (r * NS, r * NL);
