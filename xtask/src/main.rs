@@ -101,14 +101,6 @@ fn verdict(ok: bool) -> &'static str {
     }
 }
 
-/// Resident memory of this process, bytes (Linux), for bytes-per-cell.
-fn resident_bytes() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
-}
-
 struct Report {
     md: String,
     failures: Vec<String>,

@@ -19,7 +19,9 @@ use brisance::compose::load_str;
 use brisance::constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
 use brisance::core::Solver;
 
-use crate::{resident_bytes, Report};
+use brisance::verification::bridge_blast::resident_bytes;
+
+use crate::Report;
 
 /// Steps before the clock starts (first-touch of the node arrays and
 /// scratch buffers).

@@ -167,7 +167,8 @@ pub(crate) fn make_remap(case: &SlabCase, out: &Path) -> Result<String> {
         radius: case.remap_radius(),
         coordinates: brisance::core::Geometry::Cartesian,
     }
-    .write(out)?;
+    .write(out)
+    .map_err(|e| anyhow!(e))?;
     Ok(format!(
         "1D: r_c {:.1} mm, {} cells to {:.0} mm, remapped at {:.2} µs within {:.1} mm; {changes}",
         case.charge_radius() * 1e3,
@@ -434,7 +435,7 @@ pub(crate) fn run_case(
     out: &Path,
     remap_line: String,
 ) -> Result<SlabRun> {
-    let mut run = CaseRun::build(root, case.config, sets, out)?;
+    let mut run = CaseRun::build(root, case.config, sets, out).map_err(|e| anyhow!(e))?;
     let initial = initial_positions(run.solver.as_ref())?;
     let mut onset = DamageOnset::new();
     let mut history = vec![(0.0, 0.0, 0usize, 0.0)];
@@ -465,7 +466,7 @@ pub(crate) fn run_case(
                 elapsed
             );
         }
-        Ok(false)
+        Ok::<_, anyhow::Error>(false)
     })?;
     let wall = run.elapsed();
     let solver = &run.solver;
@@ -1046,7 +1047,7 @@ mod tests {
     #[test]
     fn run_case_samples_the_slab_and_writes_its_history() {
         let out = std::env::temp_dir().join(format!("xtask_slab_run_case_{}", std::process::id()));
-        let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
+        let sets = brisance::verification::bridge_blast::reduced_sets(Some(2 * SAMPLE_EVERY));
         let r = run_case(
             &workspace_root(),
             &SLAB_CASES[1],
@@ -1073,7 +1074,7 @@ mod tests {
     /// intact, fill 0.5–0.65 m, and the top layer is 40 × 40 particles.
     #[test]
     fn the_slab_configs_build_and_step() {
-        let sets = crate::bridge3d::reduced_sets(None);
+        let sets = brisance::verification::bridge_blast::reduced_sets(None);
         let root = workspace_root();
         for config in ["configs/slab_4kg.ron", "configs/slab_10kg.ron"] {
             let loaded = load_file(&root.join(config), &sets).unwrap();

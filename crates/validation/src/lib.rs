@@ -1,11 +1,13 @@
 //! Brisance validation: exact solutions the validation suite compares
 //! against, written from the physics, the empirical Kingery–Bulmash blast
 //! fits it compares free-air bursts with, Mott's fragmentation of shells
-//! (E-PD-FRAG), and the case drivers the
+//! (E-PD-FRAG), and the case drivers (E-PLATE's plates under a spherical
+//! charge through the bridge among them) the
 //! integration tests and `cargo xtask validate` share (the root package
 //! re-exports the crate as `brisance::verification`).
 
 pub mod blast;
+pub mod bridge_blast;
 pub mod cases;
 pub mod conduction_contact;
 pub mod flyer;
@@ -15,6 +17,7 @@ pub mod open_faces;
 pub mod pd_cylinder;
 pub mod pd_fragmentation;
 pub mod pd_tube;
+pub mod plate;
 pub mod riemann;
 pub mod ring;
 pub mod rz_octant;

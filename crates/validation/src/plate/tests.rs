@@ -1,6 +1,13 @@
+use std::path::PathBuf;
+
 use super::*;
-use brisance::compose::build::build_solver;
-use brisance::compose::load_file;
+use brisance_compose::build::build_solver;
+use brisance_compose::load_file;
+
+/// The workspace's root, where the configs are.
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
 
 #[test]
 fn charge_radii_and_remap_times_follow_the_tnt_density() {
@@ -87,7 +94,7 @@ fn the_scaled_configs_are_the_scale_4_configs_with_lengths_and_times_times_k() {
             let bridge = loaded
                 .scenario
                 .pipeline
-                .section::<brisance::couple::BridgeConfig>();
+                .section::<brisance_couple::BridgeConfig>();
             bridge
                 .unwrap_or_else(|| panic!("{config} is not a bridge"))
                 .charge
@@ -194,8 +201,9 @@ fn the_plate_config_runs_and_the_fixed_face_holds_the_ring() {
 /// every SAMPLE_EVERY steps, and writes the centre's history.
 #[test]
 fn run_case_samples_the_centre_and_writes_its_history() {
-    let out = std::env::temp_dir().join(format!("xtask_plate_run_case_{}", std::process::id()));
-    let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
+    let out =
+        std::env::temp_dir().join(format!("validation_plate_run_case_{}", std::process::id()));
+    let sets = crate::bridge_blast::reduced_sets(Some(2 * SAMPLE_EVERY));
     let r = run_case(
         &workspace_root(),
         &PLATE_CASES[0],
@@ -222,8 +230,11 @@ fn on_rings_run_case_samples_the_centre_near_the_axis() {
     // The r–z config of case 1, reduced as above: the centre is the
     // plate's particles with r < h (one per cell along r with the
     // reduced 1 per cell, 4 cells through the thickness).
-    let out = std::env::temp_dir().join(format!("xtask_plate_rz_run_case_{}", std::process::id()));
-    let sets = crate::bridge3d::reduced_sets(Some(2 * SAMPLE_EVERY));
+    let out = std::env::temp_dir().join(format!(
+        "validation_plate_rz_run_case_{}",
+        std::process::id()
+    ));
+    let sets = crate::bridge_blast::reduced_sets(Some(2 * SAMPLE_EVERY));
     let r = run_case(
         &workspace_root(),
         &PLATE_CASES[0],
