@@ -1,15 +1,14 @@
-//! What the E-SLAB driver (`slab_cases.rs`) and the E-PLATE report
-//! (`plate_cases.rs`) share beyond the cases themselves, which live in
-//! `brisance::verification::bridge_blast` and `brisance::verification::plate`:
-//! the splice of a section's rows into docs/validation.md after each case.
+//! What the E-PLATE and E-SLAB reports (`plate_cases.rs`,
+//! `slab_cases.rs`) share beyond the cases themselves, which live in
+//! `brisance::verification::{bridge_blast, plate, slab}`: the splice of a
+//! section's rows into docs/validation.md after each case (and the case
+//! peak memory the 2D bridge cases take too).
 
 use std::path::Path;
 
 use anyhow::{Context, Result};
 
-pub(crate) use brisance::verification::bridge_blast::{
-    charge_radius, remap_time, CasePeak, CaseRun, Finished, SphericalRemap,
-};
+pub(crate) use brisance::verification::bridge_blast::CasePeak;
 
 use crate::Report;
 

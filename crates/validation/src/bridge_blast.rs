@@ -213,6 +213,12 @@ pub fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
     sets
 }
 
+/// The workspace's root, where the configs are (for the tests).
+#[cfg(test)]
+pub(crate) fn workspace_root() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 /// The peak resident memory of one case run in this process.
 pub struct CasePeak {
     reset: bool,

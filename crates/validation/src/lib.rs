@@ -22,6 +22,7 @@ pub mod riemann;
 pub mod ring;
 pub mod rz_octant;
 pub mod shock_tubes;
+pub mod slab;
 pub mod smooth;
 pub mod taylor;
 

@@ -1,13 +1,7 @@
-use std::path::PathBuf;
-
 use super::*;
+use crate::bridge_blast::{reduced_sets, workspace_root};
 use brisance_compose::build::build_solver;
 use brisance_compose::load_file;
-
-/// The workspace's root, where the configs are.
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 #[test]
 fn charge_radii_and_remap_times_follow_the_tnt_density() {
@@ -153,14 +147,8 @@ fn ten_percent_is_the_band() {
 #[test]
 fn the_plate_config_runs_and_the_fixed_face_holds_the_ring() {
     let v0 = 10.0;
-    let sets: Vec<String> = vec![
-        "pipeline.remap=None".into(),
-        "pipeline.charge=None".into(),
-        "pipeline.ppc=1".into(),
-        "pipeline.activation_pressure=1.0e5".into(),
-        format!("initial.1.state.velocity=(0.0, 0.0, {v0})"),
-        format!("initial.2.state.velocity=(0.0, 0.0, {v0})"),
-    ];
+    let mut sets = reduced_sets(None);
+    sets.extend((1..=2).map(|r| format!("initial.{r}.state.velocity=(0.0, 0.0, {v0})")));
     let root = workspace_root();
     let loaded = load_file(&root.join("configs/plate_case4.ron"), &sets).unwrap();
     let mut solver = build_solver(&loaded.scenario).unwrap();
@@ -196,18 +184,16 @@ fn the_plate_config_runs_and_the_fixed_face_holds_the_ring() {
     assert!((centre - v0).abs() < 0.01 * v0, "{centre}");
 }
 
-/// The driver's loop on a few steps of case 1 (no remap, one particle
-/// per cell, MPM at once): it stops at the step limit with one sample
-/// every SAMPLE_EVERY steps, and writes the centre's history.
-#[test]
-fn run_case_samples_the_centre_and_writes_its_history() {
-    let out =
-        std::env::temp_dir().join(format!("validation_plate_run_case_{}", std::process::id()));
-    let sets = crate::bridge_blast::reduced_sets(Some(2 * SAMPLE_EVERY));
+/// Case 1 on `grid`, reduced (no remap, one particle per cell, MPM at
+/// once) to 2 samples: the run and its output directory, which the
+/// caller removes.
+fn reduced_run(grid: Grid, tag: &str) -> (PlateRun, std::path::PathBuf) {
+    let out = std::env::temp_dir().join(format!("validation_{tag}_{}", std::process::id()));
+    let sets = reduced_sets(Some(2 * SAMPLE_EVERY));
     let r = run_case(
         &workspace_root(),
         &PLATE_CASES[0],
-        Grid::Quarter,
+        grid,
         &sets,
         &out,
         "none".into(),
@@ -217,6 +203,15 @@ fn run_case_samples_the_centre_and_writes_its_history() {
         (r.steps, r.history.len(), r.stop.as_deref()),
         (2 * SAMPLE_EVERY, 3, None)
     );
+    (r, out)
+}
+
+/// The driver's loop on a few steps of case 1: it stops at the step limit
+/// with one sample every SAMPLE_EVERY steps, and writes the centre's
+/// history.
+#[test]
+fn run_case_samples_the_centre_and_writes_its_history() {
+    let (r, out) = reduced_run(Grid::Quarter, "plate_run_case");
     assert!(!r.peak_reached);
     assert_eq!(r.particles_sampled, 2);
     assert!(r.finished.final_time > 0.0 && r.finished.wall > 0.0);
@@ -225,29 +220,12 @@ fn run_case_samples_the_centre_and_writes_its_history() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// The r–z config of case 1, reduced as above: the centre is the
+/// plate's particles with r < h (one per cell along r with the reduced 1
+/// per cell, 4 cells through the thickness).
 #[test]
 fn on_rings_run_case_samples_the_centre_near_the_axis() {
-    // The r–z config of case 1, reduced as above: the centre is the
-    // plate's particles with r < h (one per cell along r with the
-    // reduced 1 per cell, 4 cells through the thickness).
-    let out = std::env::temp_dir().join(format!(
-        "validation_plate_rz_run_case_{}",
-        std::process::id()
-    ));
-    let sets = crate::bridge_blast::reduced_sets(Some(2 * SAMPLE_EVERY));
-    let r = run_case(
-        &workspace_root(),
-        &PLATE_CASES[0],
-        Grid::Rz { h4: RZ_CELL },
-        &sets,
-        &out,
-        "none".into(),
-    )
-    .unwrap();
-    assert_eq!(
-        (r.steps, r.history.len(), r.stop.as_deref()),
-        (2 * SAMPLE_EVERY, 3, None)
-    );
+    let (r, out) = reduced_run(Grid::Rz { h4: RZ_CELL }, "plate_rz_run_case");
     assert_eq!(r.particles_sampled, 4);
     let _ = std::fs::remove_dir_all(&out);
 }
