@@ -292,8 +292,7 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
     if !not_run.is_empty() {
         let _ = writeln!(
             md,
-            "\nNot run here: {}. A case left out by `PLATE_CASES` did not fit the session's time on the \
-             shared machine.",
+            "\nNot run here: {}, left out by `PLATE_CASES` in the run that wrote this section.",
             not_run.join(", ")
         );
     }
