@@ -200,7 +200,8 @@ impl CaseRun {
 /// The overrides the reduced tests of a case's config use: no remap, one
 /// particle per cell, the MPM started at once (activation below ambient),
 /// and at most `max_steps` steps if given.
-pub fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
+#[cfg(test)]
+pub(crate) fn reduced_sets(max_steps: Option<u64>) -> Vec<String> {
     let mut sets: Vec<String> = vec![
         "pipeline.remap=None".into(),
         "pipeline.charge=None".into(),
