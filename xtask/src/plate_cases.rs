@@ -13,8 +13,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
 use brisance::verification::plate::{
-    make_remap, run_case, within_ten_percent, Grid, PlateRun, PLATE_CASES, RZ_CELL,
+    make_remap, run_case, Grid, PlateRun, PLATE_CASES, RZ_CELL, TOLERANCE,
 };
+
+use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
 use crate::plot::{self, Panel, Series, SeriesStyle};
@@ -114,7 +116,10 @@ fn run_plates(
         ));
         sets.push("pipeline.charge=None".into());
         let out = root.join(format!("out/xtask_{}", grid.tag(case)));
-        let r = run_case(&root, case, grid, &sets, &out, remap_line).map_err(|e| anyhow!(e))?;
+        let r = run_case(&root, case, grid, &sets, &out, remap_line, &mut |line| {
+            println!("    {line}")
+        })
+        .map_err(|e| anyhow!(e))?;
         println!(
             "  case {id} ({:.2} mm cells): δ/t = {:.3} at {:.0} µs, {} steps to {:.0} µs in {:.0} s, split {:?}{}",
             grid.cell(case) * 1e3,
@@ -365,7 +370,7 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
             &format!("{name} case {} δ/t vs experiment {exp:.2}", label(r)),
             format!("{m:.2} ({:+.1} %)", 100.0 * (m - exp) / exp),
             "within 10 %",
-            r.peak_reached && r.stop.is_none() && within_ten_percent(m, exp),
+            r.peak_reached && r.stop.is_none() && within_relative(m, exp, TOLERANCE),
         );
     }
     let _ = writeln!(report.md);

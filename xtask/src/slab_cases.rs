@@ -11,9 +11,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
 use brisance::verification::slab::{
-    axis_impulse, eq67_diameter, make_remap, run_case, within_tolerance, SlabRun, HEIGHT,
-    SLAB_CASES, SPACING,
+    axis_impulse, eq67_diameter, make_remap, run_case, SlabRun, HEIGHT, SLAB_CASES, SPACING,
+    TOLERANCE,
 };
+use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
 use crate::plot::{self, Panel, Series, SeriesStyle};
@@ -47,7 +48,10 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
             "pipeline.charge=None".into(),
         ];
         let out = root.join(format!("out/xtask_slab_{}", case.slug()));
-        let r = run_case(&root, case, &sets, &out, remap_line).map_err(|e| anyhow!(e))?;
+        let r = run_case(&root, case, &sets, &out, remap_line, &mut |line| {
+            println!("    {line}")
+        })
+        .map_err(|e| anyhow!(e))?;
         println!(
             "  {}: crushing D = {:.0} mm (area {:.0} mm), back face {} of {} failed, {} steps to {:.0} µs in {:.0} s, split {:?}{}",
             case.label(),
@@ -188,7 +192,7 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
                 ),
                 format!("{:.0} mm ({:+.1} %)", m * 1e3, 100.0 * (m - exp) / exp),
                 "within 20 %",
-                ok && within_tolerance(m, exp),
+                ok && within_relative(m, exp, TOLERANCE),
             );
         }
         let eq = eq67_diameter(c.charge, HEIGHT);
@@ -200,7 +204,7 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
             ),
             format!("{:.0} mm ({:+.1} %)", m * 1e3, 100.0 * (m - eq) / eq),
             "within 20 %",
-            ok && within_tolerance(m, eq),
+            ok && within_relative(m, eq, TOLERANCE),
         );
     }
     let _ = writeln!(report.md);

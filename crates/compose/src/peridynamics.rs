@@ -323,12 +323,8 @@ outputs: (interval: 1.0e-6, fields: [], vtk: false),
     let data = solver.particle_data().unwrap();
     assert_eq!(data.positions.len(), 72);
     let field = |name: &str| {
-        &data
-            .fields
-            .iter()
-            .find(|(n, _)| n == name)
+        data.field(name)
             .unwrap_or_else(|| panic!("no field `{name}`"))
-            .1
     };
     let (ux, uy, uz) = (
         field("displacement_x"),

@@ -131,13 +131,18 @@ pub struct CellData {
     pub fields: Vec<(String, Vec<f64>)>,
 }
 
+/// The values of the field called `name` in a `(name, values)` list.
+fn named_field<'a>(fields: &'a [(String, Vec<f64>)], name: &str) -> Option<&'a [f64]> {
+    fields
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.as_slice())
+}
+
 impl CellData {
     /// The values of a named field.
     pub fn field(&self, name: &str) -> Option<&[f64]> {
-        self.fields
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
+        named_field(&self.fields, name)
     }
 }
 
@@ -179,6 +184,13 @@ pub struct ParticleData {
     pub fields: Vec<(String, Vec<f64>)>,
 }
 
+impl ParticleData {
+    /// The values of a named field.
+    pub fn field(&self, name: &str) -> Option<&[f64]> {
+        named_field(&self.fields, name)
+    }
+}
+
 /// Fields on the nodes of a uniform lattice (the background grid of a
 /// particle method): `nodes[d]` nodes per direction, node (i, j, k) at
 /// `origin + (i, j, k) · spacing`, each field one value per node in
@@ -203,10 +215,7 @@ impl NodeData {
 
     /// The values of a named field.
     pub fn field(&self, name: &str) -> Option<&[f64]> {
-        self.fields
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
+        named_field(&self.fields, name)
     }
 }
 
@@ -297,6 +306,20 @@ mod tests {
         assert_eq!(d.node_count(), 6);
         assert_eq!(d.field("mass").map(|m| m[5]), Some(6.0));
         assert_eq!(d.field("velocity_x"), None);
+    }
+
+    #[test]
+    fn particle_data_finds_fields_by_name() {
+        let d = ParticleData {
+            positions: vec![[0.0; 3], [1.0, 0.0, 0.0]],
+            fields: vec![
+                ("id".into(), vec![7.0, 8.0]),
+                ("mass".into(), vec![0.5, 0.25]),
+            ],
+        };
+        assert_eq!(d.field("mass"), Some(&[0.5, 0.25][..]));
+        assert_eq!(d.field("id").map(|v| v[1]), Some(8.0));
+        assert_eq!(d.field("Mass"), None);
     }
 
     #[test]

@@ -379,7 +379,7 @@ mod tests {
         }
         assert!(s.bulk_viscosity().iter().any(|b| b.q > 0.0));
         let data = s.particle_data().unwrap();
-        let col = |n: &str| &data.fields.iter().find(|f| f.0 == n).unwrap().1;
+        let col = |n: &str| data.field(n).unwrap();
         let (p, v) = (col("pressure"), col("volume"));
         let expected: f64 =
             p.iter().zip(v).map(|(p, v)| p * v).sum::<f64>() / v.iter().sum::<f64>();

@@ -169,10 +169,9 @@ fn sod_run(cells: usize, extra: &[String]) -> Result<SodResult, String> {
         .fold(0.0, f64::max);
     let final_mass = solver.conservation_totals().mass;
     let tube: f64 = (0..3).map(|d| g.spacing[d] * g.cells[d] as f64).product();
-    let particle_volume_excess = solver.particle_data().and_then(|p| {
-        let (_, v) = p.fields.iter().find(|(name, _)| name == "volume")?;
-        Some(v.iter().sum::<f64>() / tube - 1.0)
-    });
+    let particle_volume_excess = solver
+        .particle_data()
+        .and_then(|p| Some(p.field("volume")?.iter().sum::<f64>() / tube - 1.0));
     Ok(SodResult {
         cells,
         steps,

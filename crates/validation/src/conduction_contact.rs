@@ -111,10 +111,7 @@ pub fn contact_heat_balance(
         .particle_data()
         .ok_or("V-CONDUCTION contact: the run has no particles")?;
     let field = |name: &str| {
-        data.fields
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v)
+        data.field(name)
             .ok_or(format!("V-CONDUCTION contact: no particle field `{name}`"))
     };
     let (mass, temperature) = (field("mass")?, field("temperature")?);

@@ -35,9 +35,27 @@ pub fn last_tenth_mean<T>(record: &[T], f: impl Fn(&T) -> f64) -> f64 {
     tail.iter().map(f).sum::<f64>() / tail.len() as f64
 }
 
+/// Whether `measured` lies within the relative `band` of `reference`:
+/// |measured − reference| ≤ band |reference|. False where either is NaN
+/// or the reference is 0 (nothing is within a band of nothing).
+pub fn within_relative(measured: f64, reference: f64, band: f64) -> bool {
+    ((measured - reference) / reference).abs() <= band
+}
+
 #[cfg(test)]
 mod tests {
-    use super::last_tenth_mean;
+    use super::{last_tenth_mean, within_relative};
+
+    #[test]
+    fn the_band_is_relative_to_the_reference_and_closed() {
+        assert!(within_relative(1.1, 1.0, 0.1 + 1e-15));
+        assert!(!within_relative(1.1 + 1e-9, 1.0, 0.1));
+        assert!(within_relative(-0.95, -1.0, 0.05 + 1e-15));
+        assert!(!within_relative(-0.9, -1.0, 0.05));
+        assert!(!within_relative(f64::NAN, 1.0, 0.5));
+        assert!(!within_relative(0.0, 0.0, 0.5));
+        assert!(!within_relative(1e-300, 0.0, 0.5));
+    }
 
     #[test]
     fn the_terminal_figure_is_the_mean_of_the_last_tenth() {

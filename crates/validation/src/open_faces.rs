@@ -234,8 +234,9 @@ pub fn run_tube_outcome(text: &str, sets: &[String]) -> Result<TubeOutcome, Stri
         relative_mass_change: (solver.conservation_totals().mass - m0) / m0,
         outflow_mass: solver.outflow_totals().map(|o| o.mass),
         particles: solver.particle_data().map(|p| {
-            let ids = p.fields.iter().find(|(n, _)| n == "id");
-            let max = ids.map_or(0.0, |(_, v)| v.iter().cloned().fold(0.0, f64::max));
+            let max = p
+                .field("id")
+                .map_or(0.0, |v| v.iter().copied().fold(0.0, f64::max));
             (p.positions.len(), max as u64)
         }),
     };

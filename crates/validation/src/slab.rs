@@ -340,13 +340,8 @@ fn initial_positions(solver: &dyn Solver) -> Result<Initial, String> {
     let data = solver
         .particle_data()
         .ok_or("the bridge gives no particle data")?;
-    let id = data
-        .fields
-        .iter()
-        .find(|(n, _)| n == "id")
-        .ok_or("particle field id missing")?;
+    let id = data.field("id").ok_or("particle field id missing")?;
     Ok(id
-        .1
         .iter()
         .map(|&i| i as u32)
         .zip(data.positions.iter().copied())
@@ -434,6 +429,7 @@ pub fn run_case(
     sets: &[String],
     out: &Path,
     remap_line: String,
+    progress: &mut dyn FnMut(&str),
 ) -> Result<SlabRun, String> {
     let mut run = CaseRun::build(root, case.config, sets, out)?;
     let initial = initial_positions(run.solver.as_ref())?;
@@ -457,14 +453,14 @@ pub fn run_case(
         }
         history.push((solver.time(), front.diameter, failed, p));
         if steps.is_multiple_of(20 * SAMPLE_EVERY) {
-            println!(
-                "    {}: step {steps}, t = {:.1} µs, crushing D = {:.0} mm, {failed} failed, axis p {:.1} MPa, {:.0} s",
+            progress(&format!(
+                "{}: step {steps}, t = {:.1} µs, crushing D = {:.0} mm, {failed} failed, axis p {:.1} MPa, {:.0} s",
                 case.label(),
                 solver.time() * 1e6,
                 front.diameter * 1e3,
                 p / 1e6,
                 elapsed
-            );
+            ));
         }
         Ok::<_, String>(false)
     })?;
@@ -525,11 +521,6 @@ pub fn axis_impulse(history: &[(f64, f64, usize, f64)]) -> f64 {
         .map(|w| 0.5 * (w[0].3 + w[1].3) * (w[1].0 - w[0].0))
         .filter(|v| v.is_finite())
         .sum()
-}
-
-/// Whether `measured` lies within [`TOLERANCE`] of `reference`.
-pub fn within_tolerance(measured: f64, reference: f64) -> bool {
-    ((measured - reference) / reference).abs() <= TOLERANCE
 }
 
 #[cfg(test)]

@@ -687,7 +687,7 @@ fn viscous_runs_are_deterministic_restartable_and_conserve_mass_and_momentum() {
     let saved = s.save_state().unwrap();
     let pressure_and_q: Vec<(f64, f64)> = {
         let data = s.particle_data().unwrap();
-        let col = |n: &str| data.fields.iter().find(|f| f.0 == n).unwrap().1.clone();
+        let col = |n: &str| data.field(n).unwrap().to_vec();
         col("pressure")
             .into_iter()
             .zip(col("bulk_viscosity"))
@@ -1034,7 +1034,7 @@ fn particle_data_gives_each_models_damage_and_the_particle_identity() {
     s.particles.history_of_mut(c)[hjc::COMPRESSION_DAMAGE_INDEX] = 0.5;
     s.particles.history_of_mut(c)[hjc::TENSILE_DAMAGE_INDEX] = 0.75;
     let data = s.particle_data().unwrap();
-    let col = |n: &str| data.fields.iter().find(|f| f.0 == n).unwrap().1.clone();
+    let col = |n: &str| data.field(n).unwrap().to_vec();
     let (damage, tensile, id) = (col("damage"), col("tensile_damage"), col("id"));
     for p in 0..s.particles.len() {
         let (d, t) = match p {

@@ -641,11 +641,7 @@ fn particle_output_carries_the_node_damage() {
     let s = bar_with_a_broken_and_a_compressed_bond(None);
     let data = s.particle_data().unwrap();
     assert_eq!(data.positions.len(), 5);
-    let (_, damage) = data
-        .fields
-        .iter()
-        .find(|(name, _)| name == "damage")
-        .expect("a `damage` field");
+    let damage = data.field("damage").expect("a `damage` field");
     let want = [0.0, 0.0, 0.25, 0.0, 1.0 / 3.0];
     assert_eq!(damage.len(), 5);
     for i in 0..5 {
