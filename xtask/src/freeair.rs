@@ -9,16 +9,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
-use brisance::core::{Solver, UniformGridGeometry};
-use brisance::couple::remap::{remap, RadialProfile, RemapTarget};
-use brisance::eos::{IdealGas, Jwl};
-use brisance::fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
-use brisance::fdm::{
-    FaceLimiter, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState, ProductsInAir,
-};
-use brisance::grid::Level;
+use brisance::fdm::FaceLimiter;
 use brisance::verification::blast::{
-    blast_parameters, charge_radius, free_air_run, BlastParameters, FreeAirRun, FreeAirSetup,
+    charge_radius, free_air_run, octant_run, BlastParameters, FreeAirRun, FreeAirSetup, OctantSetup,
 };
 use brisance::verification::kingery_bulmash as kb;
 
@@ -288,110 +281,38 @@ pub fn e_freeair(report: &mut Report, img: &Path) -> Result<()> {
             panel("arrival time ratio", 2),
         ],
     )?;
-    octant(report, img, w, &radii)?;
+    octant(report, w, &radii)?;
     Ok(())
 }
 
 /// The same charge remapped from the 1D run onto a coarse 3D octant
-/// (symmetry planes x = 0, y = 0, z = 0) and run on the FDM; gauges on an
-/// axis and on the diagonal at the Z of the 1D gauges that fit, against
-/// the 1D run at the same cell size used for the remap.
-fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> {
-    let _ = img;
-    let n = 120;
-    let side = 1.8;
-    let h3 = side / n as f64;
-    let h1 = 1.0e-3;
-    let t_remap = 6.0e-5;
-    let remap_radius = 0.4;
-    let end = 4.0e-3;
-    // The 1D run to the remap time, and its profile.
-    let setup = DetonationSetup::tnt_in_air(
-        Symmetry::Spherical,
-        charge_radius(1.0),
-        DOMAIN_RADIUS,
-        (DOMAIN_RADIUS / h1).round() as usize,
-    );
-    let mut run = RadialDetonation::new(setup).map_err(|e| anyhow!("{e}"))?;
-    run.run_until(t_remap).map_err(|e| anyhow!("{e}"))?;
-    let profile = RadialProfile::from_detonation(&run).map_err(|e| anyhow!("{e}"))?;
-    let geometry = UniformGridGeometry {
-        origin: [0.0; 3],
-        spacing: [h3; 3],
-        cells: [n; 3],
-    };
-    let target = RemapTarget {
-        geometry,
-        centre: [0.0; 3],
-        radius: Some(remap_radius),
-        subsamples: None,
-        coordinates: brisance::core::Geometry::Cartesian,
-    };
-    let mapped = remap(&profile, &target).map_err(|e| anyhow!("{e}"))?;
-    let level = Level::new([0.0; 3], [side; 3], [n; 3], [1, 1, 1], brisance::fdm::GHOST)
-        .map_err(|e| anyhow!("{e}"))?;
-    let gas = ProductsInAir::new(Jwl::tnt(), IdealGas::air()).map_err(|e| anyhow!("{e}"))?;
-    let p0 = setup.air_pressure;
-    let ambient = PrimitiveState {
-        density: 1.225,
-        velocity: [0.0; 3],
-        pressure: p0,
-    };
-    let bcs = [
-        FdmBoundary::Reflective,
-        FdmBoundary::Outflow,
-        FdmBoundary::Reflective,
-        FdmBoundary::Outflow,
-        FdmBoundary::Reflective,
-        FdmBoundary::Outflow,
-    ];
-    let mut fdm = FdmSolver::new(gas, level, bcs, FdmOptions::default(), |_| ambient)
-        .map_err(|e| anyhow!("{e}"))?;
-    fdm.set_conservative_fields(&mapped.fields)
-        .map_err(|e| anyhow!("{e}"))?;
-    // Gauges: on the x axis and on the diagonal, at the 1D radii inside
-    // the octant (a cell and a half from the far faces).
-    let reach = side - 1.5 * h3;
-    let gauges: Vec<(usize, [f64; 3])> = radii
-        .iter()
-        .enumerate()
-        .filter(|&(_, &r)| r <= reach && r >= 0.5)
-        .flat_map(|(g, &r)| {
-            let d = r / 3f64.sqrt();
-            [(g, [r, 0.5 * h3, 0.5 * h3]), (g, [d, d, d])]
-        })
-        .collect();
-    let names = vec!["pressure".to_string()];
-    let mut times = vec![t_remap];
-    let mut series: Vec<Vec<f64>> = Vec::new();
-    let mut out = Vec::new();
-    for (_, x) in &gauges {
-        fdm.sample(*x, &names, &mut out)?;
-        series.push(vec![out[0] - p0]);
-    }
-    let t0 = std::time::Instant::now();
-    let mut steps = 0;
-    while fdm.time() + t_remap < end {
-        let dt = fdm.stable_dt()?.min(end - t_remap - fdm.time());
-        fdm.advance(dt)?;
-        steps += 1;
-        times.push(t_remap + fdm.time());
-        for ((_, x), s) in gauges.iter().zip(&mut series) {
-            fdm.sample(*x, &names, &mut out)?;
-            s.push(out[0] - p0);
-        }
-    }
-    let wall = t0.elapsed().as_secs_f64();
-    // The 1D reference at the same 1D cell size, to the same end time.
-    let one = free_air_run(&FreeAirSetup {
+/// (`brisance::verification::blast::octant_run`); gauges on an axis and
+/// on the diagonal at the Z of the 1D gauges that fit, against the 1D run
+/// at the same cell size used for the remap.
+fn octant(report: &mut Report, w: f64, radii: &[f64]) -> Result<()> {
+    let setup = OctantSetup {
         charge_mass: 1.0,
         domain_radius: DOMAIN_RADIUS,
-        cells: (DOMAIN_RADIUS / h1).round() as usize,
-        end_time: end,
+        cell_1d: 1.0e-3,
+        remap_time: 6.0e-5,
+        remap_radius: 0.4,
+        cells: 120,
+        side: 1.8,
+        end_time: 4.0e-3,
         gauge_radii: radii.to_vec(),
-        limiter: FaceLimiter::Full,
-    })
-    .map_err(anyhow::Error::msg)?;
+    };
+    let run = octant_run(&setup).map_err(anyhow::Error::msg)?;
+    let OctantSetup {
+        cell_1d: h1,
+        remap_time: t_remap,
+        remap_radius,
+        cells: n,
+        side,
+        end_time: end,
+        ..
+    } = setup;
+    let h3 = side / n as f64;
+    let (steps, wall) = (run.steps, run.wall_seconds);
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -411,14 +332,10 @@ fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> 
         md,
         "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
-    for (k, (g, x)) in gauges.iter().enumerate() {
-        let z = radii[*g] / w.cbrt();
-        let where_ = if x[1] > x[0] * 0.5 {
-            "diagonal"
-        } else {
-            "axis"
-        };
-        let (Some(a), Some(b)) = (one.parameters(*g), blast_parameters(&times, &series[k])) else {
+    for (k, g) in run.gauges.iter().enumerate() {
+        let z = radii[g.radius] / w.cbrt();
+        let where_ = if g.diagonal { "diagonal" } else { "axis" };
+        let (Some(a), Some(b)) = (run.reference.parameters(g.radius), run.parameters(k)) else {
             let _ = writeln!(
                 md,
                 "| {z:.2} | {where_} | no complete positive phase by {} ms | | | | | | | | |",
@@ -441,6 +358,5 @@ fn octant(report: &mut Report, img: &Path, w: f64, radii: &[f64]) -> Result<()> 
         );
     }
     let _ = writeln!(md);
-    let _ = w;
     Ok(())
 }
