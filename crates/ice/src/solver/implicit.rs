@@ -547,14 +547,21 @@ impl<E: Eos> IceSolver<E> {
 
     /// The largest Courant number |u*_r| Δt/Δx of any material on any face
     /// of the owned patches (the largest over the ranks), and the face:
-    /// the global index of the cell on its high side and the axis.
+    /// the global index of the cell on its high side and the axis. Above
+    /// 1 (the failure the caller reports) the face is the one a single
+    /// rank names, on every rank: the first face with that number in
+    /// the scan order of one rank (patch, axis, cell), agreed by one more
+    /// minimum over the ranks.
     fn largest_face_courant(&self, dt: f64) -> (f64, ([usize; 3], usize)) {
-        let mut worst = (0.0_f64, ([0; 3], 0));
-        for ((sc, patch), &own) in self
+        // (Courant number, (patch, axis, local cell)); no face until one
+        // moves.
+        let mut worst = (0.0_f64, None);
+        for (pid, ((sc, patch), &own)) in self
             .scratch
             .iter()
             .zip(&self.level.patches)
             .zip(&self.ranks.owned)
+            .enumerate()
         {
             if !own {
                 continue;
@@ -575,7 +582,7 @@ impl<E: Eos> IceSolver<E> {
                             for fv in &sc.face_velocity[a] {
                                 let courant = (fv[c] * lam).abs();
                                 if courant > worst.0 || courant.is_nan() {
-                                    worst = (courant, (global_of(patch, c), a));
+                                    worst = (courant, Some((pid, a, c)));
                                 }
                             }
                         }
@@ -583,7 +590,29 @@ impl<E: Eos> IceSolver<E> {
                 }
             }
         }
-        (self.max_over_ranks(worst.0), worst.1)
+        let largest = self.max_over_ranks(worst.0);
+        let mut face = worst.1;
+        if largest > 1.0 && self.ranks.several() {
+            // The face as one key in the scan order of one rank; exact in
+            // an f64 below 2^53 (patches × 3 × allocated cells).
+            let span = self
+                .level
+                .patches
+                .iter()
+                .map(|p| p.allocated_cells())
+                .max()
+                .unwrap_or(1);
+            let key = match face {
+                Some((pid, a, c)) if worst.0 == largest => ((pid * 3 + a) * span + c) as f64,
+                _ => f64::INFINITY,
+            };
+            let first = self.ranks.comm.min(key) as usize;
+            face = Some((first / span / 3, first / span % 3, first % span));
+        }
+        let face = face.map_or(([0; 3], 0), |(pid, a, c)| {
+            (global_of(&self.level.patches[pid], c), a)
+        });
+        (largest, face)
     }
 
     /// Σθκ per cell and β on every face (global order), from the state at

@@ -437,6 +437,39 @@ fn a_step_moving_more_than_a_cell_is_retried_at_half_its_step() {
     make(0).advance(1e-5).unwrap();
 }
 
+/// The Courant failure on ranks names one face, the one a single rank
+/// names: 10 cells in two patches, the pressure jump at x = 0.3 (inside
+/// the first patch), so the second patch's own largest face velocity is
+/// elsewhere and far below 1. Every rank of 2 gives the error of one rank.
+#[test]
+fn a_step_moving_more_than_a_cell_names_the_same_face_on_every_rank() {
+    let build = |comm: std::sync::Arc<dyn brisance_grid::comm::Communicator>| {
+        let level = Level::new([0.0; 3], [1.0, 0.1, 0.1], [10, 1, 1], [2, 1, 1], GHOST).unwrap();
+        let mut s = IceSolver::new_on(
+            comm,
+            vec![air()],
+            level,
+            walls(),
+            ExchangeCoefficients::uniform(1, 0.0, 0.0),
+            implicit_retrying(1e-10, 20, 0),
+            |x| CellState::single(if x[0] < 0.3 { 4.0 * P0 } else { P0 }, RHO0, [0.0; 3]),
+        )
+        .unwrap();
+        s.advance(1e-2).unwrap_err().to_string()
+    };
+    let one = build(std::sync::Arc::new(brisance_grid::comm::Serial));
+    assert!(
+        one.contains("Courant number above 1") && one.contains("face of cell [3, 0, 0]"),
+        "{one}"
+    );
+    for (r, e) in brisance_grid::comm::InProcess::run(2, 1, build)
+        .into_iter()
+        .enumerate()
+    {
+        assert_eq!(e, one, "rank {r} of 2");
+    }
+}
+
 /// Implicit: Δt = cfl Δx / max(|u|, wall speed) — no sound speed.
 #[test]
 fn implicit_time_step_follows_the_material_velocity() {
