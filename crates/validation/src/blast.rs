@@ -273,6 +273,29 @@ impl OctantRun {
 /// then the 1D reference ([`free_air_run`], face limiter on). Fails where
 /// a run stops or the octant does not build, saying which.
 pub fn octant_run(setup: &OctantSetup) -> Result<OctantRun, String> {
+    let positive = |v: f64| v > 0.0 && v.is_finite();
+    if setup.cells == 0 || !positive(setup.side) {
+        return Err(format!(
+            "octant: needs at least one cell and a positive side, got {} cells of side {} m",
+            setup.cells, setup.side
+        ));
+    }
+    if !positive(setup.cell_1d)
+        || !positive(setup.domain_radius)
+        || setup.domain_radius / setup.cell_1d > 1e8
+    {
+        return Err(format!(
+            "1D run: cells of {} m to {} m do not make a grid",
+            setup.cell_1d, setup.domain_radius
+        ));
+    }
+    if !(setup.remap_time >= 0.0 && setup.remap_time < setup.end_time && setup.end_time.is_finite())
+    {
+        return Err(format!(
+            "octant: the remap time {} s must lie in [0, end time {} s)",
+            setup.remap_time, setup.end_time
+        ));
+    }
     let n = setup.cells;
     let h3 = setup.side / n as f64;
     let cells_1d = (setup.domain_radius / setup.cell_1d).round() as usize;
@@ -483,6 +506,67 @@ mod tests {
             three_d[0].peak_overpressure,
             0.10
         ));
+    }
+
+    #[test]
+    fn an_octant_that_makes_no_grid_is_refused() {
+        let good = OctantSetup {
+            charge_mass: 1.0,
+            domain_radius: 2.0,
+            cell_1d: 5e-3,
+            remap_time: 6e-5,
+            remap_radius: 0.4,
+            cells: 12,
+            side: 1.2,
+            end_time: 1e-3,
+            gauge_radii: vec![0.6],
+        };
+        let refused = |setup: OctantSetup, what: &str| {
+            let err = octant_run(&setup).unwrap_err();
+            assert!(err.contains(what), "{err}");
+        };
+        refused(
+            OctantSetup {
+                cells: 0,
+                ..good.clone()
+            },
+            "at least one cell",
+        );
+        refused(
+            OctantSetup {
+                side: f64::NAN,
+                ..good.clone()
+            },
+            "positive side",
+        );
+        refused(
+            OctantSetup {
+                cell_1d: 0.0,
+                ..good.clone()
+            },
+            "do not make a grid",
+        );
+        refused(
+            OctantSetup {
+                cell_1d: 1e-12,
+                ..good.clone()
+            },
+            "do not make a grid",
+        );
+        refused(
+            OctantSetup {
+                remap_time: 2e-3,
+                ..good.clone()
+            },
+            "remap time",
+        );
+        refused(
+            OctantSetup {
+                end_time: f64::INFINITY,
+                ..good
+            },
+            "remap time",
+        );
     }
 
     #[test]
