@@ -2,12 +2,12 @@
 //! (configs/cookoff_rz.ron): a 4340 steel container of PBX-9501 particles
 //! whose whole explosive surface lights at once, run at the cell sizes of
 //! `BRISANCE_COOKOFF_H` (mm, comma-separated; default 2, 1, 0.5) to the
-//! seed's last frame (0.312 ms) or until the run stops. Each run records
-//! the pressure inside, the burnt fraction, the mid-wall hoop strain, the
-//! first failed steel particle (rupture), the products outside the
-//! container (venting), the hottest products in it, the closure of mass
-//! and energy and the wall time; particle frames are drawn at the seed's
-//! times (Fig. 6) that the run reached, and at the last step.
+//! seed's last frame (0.312 ms) or until the run stops. The run and its
+//! record (pressure inside, burnt fraction, mid-wall hoop strain, first
+//! failed steel particle, venting, hottest products, closure of mass and
+//! energy, wall time) are `brisance::verification::cookoff::cookoff_run`;
+//! this driver draws its particle frames at the seed's times (Fig. 6) that
+//! the run reached and at the last step, and writes the report's tables.
 //!
 //! The case is chaotic at these grids (a 1 mK change of the steel's start
 //! moves the burnt fraction at the end by points), so E-COOKOFF-ENSEMBLE
@@ -17,80 +17,26 @@
 //! warmer, and reports the figures at the end as the members' mean,
 //! standard deviation and range.
 
-use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
 
 use anyhow::{anyhow, Result};
-use brisance::compose::build::build_section;
-use brisance::compose::load_str;
-use brisance::core::Solver;
-use brisance::couple::IceMpm;
+use brisance::verification::cookoff::{
+    cookoff_run, spread, CookoffFrame, CookoffRun, CookoffSample, CookoffSetup, MID, PRESENT,
+};
 
 use crate::plot::{plot_panels, Panel, Series, SeriesStyle};
 use crate::Report;
 
-/// The seed's frame times (Fig. 6), s.
-const FRAMES: [f64; 5] = [0.0, 1.37e-4, 2.03e-4, 2.59e-4, 3.12e-4];
-/// The container: inner radius and half-length, outer radius and
-/// half-length, m (configs/cookoff_rz.ron).
-const INNER: f64 = 0.0508;
-const OUTER: f64 = 0.05715;
-/// Mid-wall particles: within this distance of the mid-plane, m.
-const MID: f64 = 0.005;
-/// Wall-time bound of one run, s: the 20 minutes at h = 0.5 mm
-/// (`BRISANCE_COOKOFF_BUDGET` sets another).
+/// The wall-time budget a run has, s (E-COOKOFF's 0.5 mm target).
 const BUDGET_S: f64 = 1200.0;
-/// How often the cell fields are read for venting and the hottest
-/// products, s of simulated time.
-const FIELD_EVERY: f64 = 1e-6;
-/// Volume share above which the products count as present in a cell.
-const PRESENT: f64 = 1e-4;
-/// Members of the ensemble at each h (`BRISANCE_COOKOFF_MEMBERS` sets
-/// another; 1 runs none but the plain run).
+/// Members of an ensemble at each h.
 const MEMBERS: usize = 4;
-/// How much warmer member k's steel starts than the scenario's: k times
-/// this, K.
+/// How much warmer each member's steel starts than the one before, K.
 const WARMER: f64 = 1.0e-3;
-
-/// One sample of the record.
-#[derive(Clone, Copy)]
-struct Sample {
-    t: f64,
-    /// Cell pressure just inside the wall at the mid-plane, Pa.
-    p_wall: f64,
-    /// Cell pressure on the axis at the mid-plane, Pa.
-    p_centre: f64,
-    /// Burnt share of the explosive's mass.
-    burnt: f64,
-    /// Mid-wall hoop strain, mean r / mean r₀ − 1.
-    hoop: f64,
-    /// Failed steel particles.
-    failed: usize,
-}
 
 /// One h's curves: label, time, pressure, burnt fraction, hoop strain.
 type Curves = (String, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
-
-/// One h.
-struct Run {
-    h: f64,
-    record: Vec<Sample>,
-    /// First failed steel particle: time, s, and where it started (r, z), m.
-    rupture: Option<(f64, [f64; 2])>,
-    /// Products mass outside the container at the end, kg per radian.
-    vented: f64,
-    /// Hottest products (θ > [`PRESENT`]) seen, K, time and cell centre.
-    hottest: (f64, f64, [f64; 2]),
-    /// Largest |M(t)/M(0) − 1| and |E(t)/E(0) − 1| seen.
-    mass: f64,
-    energy: f64,
-    frames: Vec<String>,
-    steps: usize,
-    wall_s: f64,
-    stop: Option<String>,
-}
 
 /// What E-COOKOFF's plain runs ended with, for E-COOKOFF-ENSEMBLE's
 /// member 0 when both cases run in one `cargo xtask validate` (the same
@@ -114,7 +60,7 @@ struct End {
 }
 
 impl End {
-    fn of(r: &Run) -> Self {
+    fn of(r: &CookoffRun) -> Self {
         let last = r.record.last().copied();
         Self {
             h: r.h,
@@ -126,21 +72,6 @@ impl End {
             wall_s: r.wall_s,
         }
     }
-}
-
-/// Mean, sample standard deviation (0 for one value), least and greatest
-/// of `x`.
-fn spread(x: &[f64]) -> (f64, f64, f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let sd = if x.len() > 1 {
-        (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
-    } else {
-        0.0
-    };
-    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (mean, sd, lo, hi)
 }
 
 /// "mean ± sd (lo–hi)" of `x` scaled by `scale`, with `d` decimals.
@@ -158,10 +89,10 @@ fn spread_text(x: &[f64], scale: f64, d: usize) -> String {
     )
 }
 
-/// Draws the particles of `s` in the (r, z) plane into `path`: steel, the
-/// explosive and the steel failed since the start.
-fn frame(s: &IceMpm, steel: u16, failed0: &BTreeSet<u32>, path: &Path, title: &str) -> Result<()> {
-    let ps = s.mpm().particles();
+/// Draws the particles of a frame in the (r, z) plane into `path`: steel,
+/// the explosive and the steel failed since the start.
+fn draw(f: &CookoffFrame<'_>, path: &Path) -> Result<()> {
+    let ps = f.solver.mpm().particles();
     let (mut sr, mut sz, mut er, mut ez, mut fr, mut fz) = (
         Vec::new(),
         Vec::new(),
@@ -170,13 +101,13 @@ fn frame(s: &IceMpm, steel: u16, failed0: &BTreeSet<u32>, path: &Path, title: &s
         Vec::new(),
         Vec::new(),
     );
-    let ids = s.mpm().particle_ids();
+    let ids = f.solver.mpm().particle_ids();
     for (p, id) in ids.iter().enumerate() {
         let (r, z) = (ps.position[p][0] * 1e3, ps.position[p][1] * 1e3);
-        if ps.material[p].0 != steel {
+        if ps.material[p].0 != f.steel {
             er.push(r);
             ez.push(z);
-        } else if ps.failed[p] && !failed0.contains(id) {
+        } else if ps.failed[p] && !f.failed_at_start.contains(id) {
             fr.push(r);
             fz.push(z);
         } else {
@@ -208,7 +139,7 @@ fn frame(s: &IceMpm, steel: u16, failed0: &BTreeSet<u32>, path: &Path, title: &s
     }
     plot_panels(
         path,
-        title,
+        &format!("E-COOKOFF r-z, {}", f.title),
         "r [mm]",
         &[Panel {
             y_label: "z [mm]",
@@ -217,224 +148,23 @@ fn frame(s: &IceMpm, steel: u16, failed0: &BTreeSet<u32>, path: &Path, title: &s
     )
 }
 
-/// Runs configs/cookoff_rz.ron at cell size `h`.
 /// One run at cell size `h` (m) with the steel started `warmer` K above
 /// the scenario's temperature, stopped after `budget_s` s of wall time;
-/// particle frames into `img` where given.
-fn cookoff_run(h: f64, budget_s: f64, img: Option<&Path>, warmer: f64) -> Result<Run> {
-    let text = include_str!("../../configs/cookoff_rz.ron");
-    let n = (0.09 / h).round() as usize;
-    let sets = [format!("domain.cells=({n},{n},1)")];
-    let mut loaded = load_str("cookoff_rz.ron", text, &sets)
-        .map_err(|e| anyhow!("configs/cookoff_rz.ron: {e}"))?;
-    if warmer != 0.0 {
-        let mut warmed = 0;
-        for region in loaded.scenario.initial.iter_mut() {
-            if let (true, Some(t)) = (region.material == "steel", region.state.temperature) {
-                region.state.temperature = Some(t + warmer);
-                warmed += 1;
-            }
-        }
-        if warmed == 0 {
-            return Err(anyhow!(
-                "configs/cookoff_rz.ron: no `steel` initial region gives a temperature to start warmer"
-            ));
-        }
-    }
-    let s = &loaded.scenario;
-    let t_end = s.time.end;
-    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
-        return Err(anyhow!("configs/cookoff_rz.ron is not an IceMpm pipeline"));
-    };
-    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
-    let ps = solver.mpm().particles();
-    // The explosive is the material of the particle nearest the origin;
-    // the other is the steel.
-    let nearest = (0..ps.len())
-        .min_by(|&a, &b| {
-            let d = |p: usize| ps.position[p][0].hypot(ps.position[p][1]);
-            d(a).total_cmp(&d(b))
-        })
-        .ok_or_else(|| anyhow!("no particles"))?;
-    let pbx = ps.material[nearest].0;
-    let steel = (0..ps.len())
-        .map(|p| ps.material[p].0)
-        .find(|&m| m != pbx)
-        .ok_or_else(|| anyhow!("no steel particles"))?;
-    let ids = solver.mpm().particle_ids();
-    // Particles the library's Gaussian initial damage already marks failed
-    // are not a rupture.
-    let failed0: BTreeSet<u32> = (0..ps.len())
-        .filter(|&p| ps.failed[p])
-        .map(|p| ids[p])
-        .collect();
-    let mid: BTreeSet<u32> = (0..ps.len())
-        .filter(|&p| {
-            ps.material[p].0 == steel && ps.position[p][1] < MID && ps.position[p][0] < OUTER
-        })
-        .map(|p| ids[p])
-        .collect();
-    let mid_r = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let (ps, ids) = (m.particles(), m.particle_ids());
-        let (mut sum, mut w) = (0.0, 0.0);
-        for (p, id) in ids.iter().enumerate() {
-            if mid.contains(id) {
-                sum += ps.mass[p] * ps.position[p][0];
-                w += ps.mass[p];
-            }
-        }
-        sum / w
-    };
-    let pbx_mass = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let ps = m.particles();
-        (0..ps.len())
-            .filter(|&p| ps.material[p].0 == pbx)
-            .map(|p| ps.mass[p])
-            .sum()
-    };
-    let (r0, m0) = (mid_r(solver.mpm()), pbx_mass(solver.mpm()));
-    let t0 = solver.conservation_totals();
-    let fields = ["pressure".to_string()];
-    let cell_fields = [
-        "volume_fraction_1".to_string(),
-        "density_1".to_string(),
-        "temperature_1".to_string(),
-    ];
-    let mut sample = Vec::new();
-    let mut run = Run {
+/// particle frames into `img/e_cookoff_<name>.png` where `img` is given.
+fn run_at(h: f64, budget_s: f64, img: Option<&Path>, warmer: f64) -> Result<CookoffRun> {
+    let setup = CookoffSetup {
         h,
-        record: Vec::new(),
-        rupture: None,
-        vented: 0.0,
-        hottest: (0.0, 0.0, [0.0; 2]),
-        mass: 0.0,
-        energy: 0.0,
-        frames: Vec::new(),
-        steps: 0,
-        wall_s: 0.0,
-        stop: None,
+        budget_s,
+        warmer,
+        end: None,
     };
-    let label = |t: f64| format!("{:.3}", t * 1e3);
-    // A frame into img/e_cookoff_<name>.png; its file name (none without
-    // `img`).
-    let draw = |s: &IceMpm, name: &str, title: &str| -> Result<Option<String>> {
+    let mut frame = |f: CookoffFrame<'_>| -> Result<Option<String>, String> {
         let Some(img) = img else { return Ok(None) };
-        let file = format!("e_cookoff_{name}.png");
-        let title = format!("E-COOKOFF r-z, {title}");
-        frame(s, steel, &failed0, &img.join(&file), &title)?;
+        let file = format!("e_cookoff_{}.png", f.name);
+        draw(&f, &img.join(&file)).map_err(|e| format!("{file}: {e}"))?;
         Ok(Some(file))
     };
-    let mut next_frame = 0usize;
-    let mut next_fields = 0.0;
-    let start = Instant::now();
-    loop {
-        let t = solver.time();
-        // Frames at the seed's times the run has reached.
-        while next_frame < FRAMES.len() && t >= FRAMES[next_frame] * (1.0 - 1e-9) {
-            let name = format!("{}mm_{}ms", h * 1e3, label(FRAMES[next_frame]));
-            let title = format!("h = {} mm, t = {} ms (seed 000 fig. 6)", h * 1e3, label(t));
-            run.frames.extend(draw(&solver, &name, &title)?);
-            next_frame += 1;
-        }
-        // The record.
-        solver.sample([INNER - 0.5 * h, 0.5 * h, 0.5e-3], &fields, &mut sample)?;
-        let p_wall = sample[0];
-        solver.sample([0.5 * h, 0.5 * h, 0.5e-3], &fields, &mut sample)?;
-        let p_centre = sample[0];
-        let ps = solver.mpm().particles();
-        let ids = solver.mpm().particle_ids();
-        let failed = (0..ps.len())
-            .filter(|&p| ps.material[p].0 == steel && ps.failed[p] && !failed0.contains(&ids[p]))
-            .count();
-        if failed > 0 && run.rupture.is_none() {
-            let p = (0..ps.len())
-                .find(|&p| ps.material[p].0 == steel && ps.failed[p] && !failed0.contains(&ids[p]))
-                .unwrap_or(0);
-            run.rupture = Some((t, [ps.position[p][0], ps.position[p][1]]));
-        }
-        run.record.push(Sample {
-            t,
-            p_wall,
-            p_centre,
-            burnt: 1.0 - pbx_mass(solver.mpm()) / m0,
-            hoop: mid_r(solver.mpm()) / r0 - 1.0,
-            failed,
-        });
-        let totals = solver.conservation_totals();
-        run.mass = run.mass.max((totals.mass / t0.mass - 1.0).abs());
-        let de = (totals.energy / t0.energy - 1.0).abs();
-        if !(de <= run.energy) {
-            run.energy = de;
-        }
-        // Venting and the hottest products.
-        if t >= next_fields {
-            let data = solver.cell_data(&cell_fields)?;
-            let g = &data.geometry;
-            let (theta, rho, temp) = (
-                data.field("volume_fraction_1").unwrap_or(&[]),
-                data.field("density_1").unwrap_or(&[]),
-                data.field("temperature_1").unwrap_or(&[]),
-            );
-            let (dr, dz) = (g.spacing[0], g.spacing[1]);
-            let nr = g.cells[0];
-            let mut vented = 0.0;
-            for c in 0..theta.len() {
-                let (i, j) = (c % nr, c / nr);
-                let (r, z) = ((i as f64 + 0.5) * dr, (j as f64 + 0.5) * dz);
-                if r > OUTER || z > OUTER {
-                    vented += theta[c] * rho[c] * r * dr * dz;
-                } else if theta[c] > PRESENT && temp[c] > run.hottest.0 {
-                    run.hottest = (temp[c], t, [r, z]);
-                }
-            }
-            run.vented = vented;
-            next_fields = t + FIELD_EVERY;
-        }
-        if t >= t_end * (1.0 - 1e-12) {
-            break;
-        }
-        if start.elapsed().as_secs_f64() > budget_s {
-            run.stop = Some(format!(
-                "the wall-time budget of {budget_s:.0} s was spent at t = {:.2} µs",
-                t * 1e6
-            ));
-            break;
-        }
-        let step = solver
-            .stable_dt()
-            .and_then(|dt| solver.advance(dt.min(t_end - t)));
-        if let Err(e) = step {
-            run.stop = Some(e.to_string());
-            break;
-        }
-        run.steps += 1;
-        if run.steps.is_multiple_of(2000) {
-            println!(
-                "    h {:.2} mm{}: step {}, t = {:.2} µs, {:.0} s",
-                h * 1e3,
-                if warmer != 0.0 {
-                    format!(" (steel {:.0} mK warmer)", warmer * 1e3)
-                } else {
-                    String::new()
-                },
-                run.steps,
-                solver.time() * 1e6,
-                start.elapsed().as_secs_f64()
-            );
-        }
-    }
-    run.wall_s = start.elapsed().as_secs_f64();
-    // The state the run ended in.
-    if run.stop.is_some() {
-        let name = format!("{}mm_stop", h * 1e3);
-        let title = format!(
-            "h = {} mm: the last step, t = {:.2} µs",
-            h * 1e3,
-            solver.time() * 1e6
-        );
-        run.frames.extend(draw(&solver, &name, &title)?);
-    }
-    Ok(run)
+    cookoff_run(setup, &mut frame, &mut |line| println!("{line}")).map_err(|e| anyhow!("{e}"))
 }
 
 /// The first part of a stop message, for the table.
@@ -447,7 +177,7 @@ fn short(stop: &str) -> String {
 /// The last mid-wall hoop strain of a record: the last finite one, with
 /// its time where the mid-wall particles left the domain after it (their
 /// mean radius is then undefined), or "—" where there is none.
-fn hoop_text(record: &[Sample]) -> String {
+fn hoop_text(record: &[CookoffSample]) -> String {
     let last_t = record.last().map_or(0.0, |s| s.t);
     record
         .iter()
@@ -472,7 +202,7 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<PlainRuns> {
     let budget_s = crate::env_seconds("BRISANCE_COOKOFF_BUDGET", BUDGET_S)?;
     let mut runs = Vec::new();
     for &h in &hs {
-        let r = cookoff_run(h, budget_s, Some(img), 0.0)?;
+        let r = run_at(h, budget_s, Some(img), 0.0)?;
         let last = r.record.last().copied();
         println!(
             "  h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
@@ -572,7 +302,7 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<PlainRuns> {
             md,
             "| {} | {} | {} | {:.2} | {:.3} | {:.3} | {:.3e} | {} | {} | {:.3e} | {:.3e} K at {:.2} µs, (r, z) = ({:.1}, {:.1}) mm | {:.1e} / {:.1e} | {:.0} s | {} |",
             r.h * 1e3,
-            (0.09 / r.h).round().powi(2),
+            CookoffRun::rings(r.h),
             r.steps,
             last.t * 1e6,
             last.p_wall / 1e6,
@@ -669,7 +399,7 @@ pub(crate) fn e_cookoff_ensemble(report: &mut Report, plain: &PlainRuns) -> Resu
                 ends.push(end);
                 continue;
             }
-            let m = cookoff_run(h, budget_s, None, k as f64 * WARMER)?;
+            let m = run_at(h, budget_s, None, k as f64 * WARMER)?;
             let end = End::of(&m);
             println!(
                 "  h {:.2} mm, steel {} mK warmer: {} steps, {:.0} s, t = {:.2} µs, burnt {:.4}, p wall {:.3e} Pa",

@@ -2,7 +2,7 @@
 //! against, written from the physics, the empirical Kingery–Bulmash blast
 //! fits it compares free-air bursts with, Mott's fragmentation of shells
 //! (E-PD-FRAG), and the case drivers (E-PLATE's plates under a spherical
-//! charge through the bridge among them) the
+//! charge through the bridge and E-COOKOFF's container among them) the
 //! integration tests and `cargo xtask validate` share (the root package
 //! re-exports the crate as `brisance::verification`).
 
@@ -10,6 +10,7 @@ pub mod blast;
 pub mod bridge_blast;
 pub mod cases;
 pub mod conduction_contact;
+pub mod cookoff;
 pub mod flyer;
 pub mod kingery_bulmash;
 pub mod mott;
