@@ -326,53 +326,6 @@ fn step_cost() -> Result<(f64, f64, f64, usize)> {
     Ok((coupled, ice_alone, mpm_alone, particles))
 }
 
-/// The copper tube of the cylinder test (seed 000 §5.2): inner and outer
-/// radius, m, and density, kg/m³.
-const TUBE: (f64, f64, f64) = (0.0254, 0.0306, 8930.0);
-
-/// The Gurney estimate of the cylinder test's terminal wall velocity
-/// (docs/physics/couple/ice_mpm_cylinder_audit.md).
-struct TubeGurney {
-    /// The scenario's `products` (JWL C-term).
-    products: brisance::eos::JwlCTerm,
-    /// Their CJ state on the principal isentrope.
-    cj: brisance::eos::tools::CjState,
-    /// The products' Gurney energy from CJ to V = 7.
-    estimate: brisance::eos::tools::GurneyEstimate,
-    /// The tube's metal-to-charge mass ratio M/C.
-    m_over_c: f64,
-    /// The open-ended cylinder's wall velocity at that M/C, m/s.
-    wall: f64,
-}
-
-/// [`TubeGurney`] for scenario `s` (`config` names it in errors): its
-/// `products` on their principal isentrope from CJ to V = 7, and M/C of
-/// the copper tube [`TUBE`] filled with products at their ρ₀.
-fn tube_gurney(s: &brisance::compose::config::Scenario, config: &str) -> Result<TubeGurney> {
-    use brisance::eos::tools::gurney::CYLINDER_TEST_RELATIVE_VOLUME;
-    use brisance::eos::tools::{
-        cj_on_jwl_cterm_isentrope, cylinder_wall_velocity, gurney_estimate,
-    };
-    let products = match s.materials.get("products").and_then(|m| m.eos()) {
-        Some(brisance::eos::EosModel::JwlCTerm(j)) => *j,
-        _ => return Err(anyhow!("{config}: `products` is not JwlCTerm")),
-    };
-    let cj = cj_on_jwl_cterm_isentrope(&products).map_err(|e| anyhow!("CJ: {e}"))?;
-    let estimate = gurney_estimate(&products, &cj, CYLINDER_TEST_RELATIVE_VOLUME, 1e-11)
-        .map_err(|e| anyhow!("Gurney: {e}"))?;
-    let (r_in, r_out, rho) = TUBE;
-    let m_over_c = rho * (r_out * r_out - r_in * r_in) / (products.rho0 * r_in * r_in);
-    let wall =
-        cylinder_wall_velocity(estimate.gurney_velocity, m_over_c).map_err(|e| anyhow!("{e}"))?;
-    Ok(TubeGurney {
-        products,
-        cj,
-        estimate,
-        m_over_c,
-        wall,
-    })
-}
-
 /// V-FLYER: a 10 mm copper plate (particles) driven by an ideal gas at
 /// 10 GPa (configs/flyer_icempm.ron), the plate's mean velocity at 2 µs
 /// against the exact Riemann solution (`brisance::verification::flyer`)

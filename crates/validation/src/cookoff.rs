@@ -432,7 +432,11 @@ mod tests {
         assert!(last.p_wall > 0.0 && last.p_centre > 0.0);
         // The pipeline conserves mass to round-off (the report's target).
         assert!(run.mass <= 1e-12, "{}", run.mass);
-        assert!(run.energy.is_finite() && run.energy < 1e-2, "{}", run.energy);
+        assert!(
+            run.energy.is_finite() && run.energy < 1e-2,
+            "{}",
+            run.energy
+        );
         assert!(run.hottest.0 > 0.0);
     }
 
@@ -442,7 +446,12 @@ mod tests {
         let (warm, _) = short(1.0);
         let (a, b) = (cold.record.last().unwrap(), warm.record.last().unwrap());
         assert_ne!(a.burnt, b.burnt);
-        for (h, end) in [(0.0, None), (f64::NAN, None), (1.0, None), (3e-3, Some(-1.0))] {
+        for (h, end) in [
+            (0.0, None),
+            (f64::NAN, None),
+            (1.0, None),
+            (3e-3, Some(-1.0)),
+        ] {
             let setup = CookoffSetup {
                 h,
                 budget_s: 1.0,

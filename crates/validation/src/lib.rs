@@ -11,6 +11,7 @@ pub mod bridge_blast;
 pub mod cases;
 pub mod conduction_contact;
 pub mod cookoff;
+pub mod cylinder;
 pub mod flyer;
 pub mod kingery_bulmash;
 pub mod mott;

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use anyhow::{anyhow, Result};
 
-use super::{tube_gurney, TubeGurney, TUBE};
 use crate::Report;
+use brisance::verification::cylinder::{tube_gurney, TubeGurney, TUBE};
 
 /// Axial position of the wall gauge, m: 15 cm from initiation, 5 cm before
 /// the tube's open end (whose rarefaction reaches it after the record).
@@ -186,7 +186,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
         estimate: g,
         m_over_c,
         wall: gurney,
-    } = tube_gurney(s, "configs/cylinder_icempm.ron")?;
+    } = tube_gurney(s, "configs/cylinder_icempm.ron").map_err(|e| anyhow!("{e}"))?;
     // The Gurney estimate at the expansion the run reached (for reading
     // the terminal value of a record that ends before V = 7).
     let gurney_at_end = if v_end.is_finite() && v_end > 1.0 {

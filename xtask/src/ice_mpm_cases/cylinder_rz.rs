@@ -1,62 +1,18 @@
 //! E-CYLINDER in r–z: the copper cylinder test on rings at several cell
-//! sizes (configs/cylinder_rz.ron).
+//! sizes (configs/cylinder_rz.ron). The run and its record are
+//! `brisance::verification::cylinder::cylinder_rz_run`; this driver writes
+//! the report's tables and plots.
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
 use anyhow::{anyhow, Result};
+use brisance::verification::cylinder::{
+    cylinder_rz_run, CylinderRzSetup, RzRun, TubeGurney, RZ_WALL,
+};
 use brisance::verification::last_tenth_mean;
 
-use super::tube_gurney;
 use crate::Report;
-
-/// One h of [`e_cylinder_rz`].
-struct RzRun {
-    h: f64,
-    /// Axis arrivals (pressure above 1 GPa) at 20 and 25 cm, s.
-    arrival: [Option<f64>; 2],
-    /// The 1D QM-100 column's D at the same h and ν*, m/s.
-    column: Option<f64>,
-    /// The outer-wall gauge's mean radial velocity against time, s, m/s.
-    record: Vec<(f64, f64)>,
-    /// Largest |E(t)/E(0) − 1| of the coupled total energy, and its end value.
-    energy: (f64, f64),
-    /// What steps 2 and 12's cold-material rules (with the fluid traces
-    /// held at the solid's temperature in steps 2 and 8–11) added over
-    /// the run, relative to
-    /// E(0) (`IceSolver::kept_warm_totals`).
-    kept_warm: f64,
-    /// What step 2's rescale gave the fluids over the run (booked in the
-    /// total, heat of reaction included), relative to E(0).
-    rescaled: f64,
-    wall_s: f64,
-    steps: usize,
-    failure: Option<String>,
-}
-
-impl RzRun {
-    /// D between the 20 and 25 cm gauges, m/s.
-    fn detonation_velocity(&self) -> f64 {
-        match self.arrival {
-            [Some(a), Some(b)] if b > a => 0.05 / (b - a),
-            _ => f64::NAN,
-        }
-    }
-
-    /// Mean over the last 10 % of the record, m/s (NaN if the run stopped
-    /// or the wave never reached the gauge).
-    fn terminal(&self) -> f64 {
-        if self.failure.is_some() || self.arrival[1].is_none() || self.record.is_empty() {
-            return f64::NAN;
-        }
-        last_tenth_mean(&self.record, |x| x.1)
-    }
-}
-
-/// The axis gauges of configs/cylinder_rz.ron, m (D between them).
-const RZ_AXIS: [f64; 2] = [0.20, 0.25];
-/// Length of configs/cylinder_rz.ron's charge, m (booster included).
-const RZ_CHARGE: f64 = 0.35;
 
 /// Wall-time bound of one E-CYLINDER-RZ run, s (`BRISANCE_CYLINDER_RZ_BUDGET`
 /// sets another): an hour, room for the h = 0.5 mm run to reach 80 µs on
@@ -66,160 +22,22 @@ const RZ_BUDGET_S: f64 = 3600.0;
 /// The wall-time target of the h = 0.5 mm run, s.
 const RZ_TARGET_S: f64 = 900.0;
 
-/// The wall gauge of configs/cylinder_rz.ron: outer-wall particles starting
-/// at r 29.6–30.7 mm and within 1 mm of z = 25 cm.
-const RZ_WALL: ([f64; 2], f64, f64) = ([0.0296, 0.0307], 0.25, 1e-3);
-
 /// The CJ state and Gurney wall velocity of configs/cylinder_rz.ron as
 /// shipped.
-fn rz_gurney() -> Result<super::TubeGurney> {
-    let text = include_str!("../../../configs/cylinder_rz.ron");
-    let loaded = brisance::compose::load_str("cylinder_rz.ron", text, &[])
-        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
-    tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")
+fn rz_gurney() -> Result<TubeGurney> {
+    brisance::verification::cylinder::rz_gurney().map_err(|e| anyhow!("{e}"))
 }
 
-/// Runs configs/cylinder_rz.ron at cell size `h` (m) with `sets` added.
-fn cylinder_rz_run(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
-    use brisance::compose::build::build_section;
-    use brisance::compose::load_str;
-    use brisance::core::Solver;
-    use brisance::ice::column::{run_column, Column};
-
-    let text = include_str!("../../../configs/cylinder_rz.ron");
-    let mut all = vec![format!(
-        "domain.cells=({},{},1)",
-        (0.08 / h).round() as usize,
-        (0.36 / h).round() as usize
-    )];
-    all.extend_from_slice(sets);
-    let loaded = load_str("cylinder_rz.ron", text, &all)
-        .map_err(|e| anyhow!("configs/cylinder_rz.ron: {e}"))?;
-    let s = &loaded.scenario;
-    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
-        return Err(anyhow!("configs/cylinder_rz.ron is not an IceMpm pipeline"));
+/// Runs configs/cylinder_rz.ron at cell size `h` (m) with `sets` added,
+/// its progress printed (with the fluids' and the particles' steps where
+/// `BRISANCE_CYLINDER_RZ_WHY` is set).
+fn run_rz(h: f64, sets: &[String], budget_s: f64) -> Result<RzRun> {
+    let setup = CylinderRzSetup {
+        sets: sets.to_vec(),
+        explain_steps: std::env::var_os("BRISANCE_CYLINDER_RZ_WHY").is_some(),
+        ..CylinderRzSetup::at(h, budget_s)
     };
-    let nu = section.ice.face_pressure_courant;
-    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
-    let t_end = s.time.end;
-    let e0 = solver.conservation_totals().energy;
-    let rescaled0 = solver.rescaled_totals().energy;
-    let ps = solver.mpm().particles();
-    let ((r_lo, r_hi), z, dz) = ((RZ_WALL.0[0], RZ_WALL.0[1]), RZ_WALL.1, RZ_WALL.2);
-    let gauge: std::collections::BTreeSet<u32> = (0..ps.len())
-        .filter(|&p| {
-            let x = ps.position[p];
-            x[0] > r_lo && x[0] < r_hi && (x[1] - z).abs() < dz
-        })
-        .map(|p| solver.mpm().particle_ids()[p])
-        .collect();
-    if gauge.is_empty() {
-        return Err(anyhow!("no outer-wall particle at the gauge"));
-    }
-    let radial = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let (ps, ids) = (m.particles(), m.particle_ids());
-        let (mut sum, mut n) = (0.0, 0usize);
-        for (p, id) in ids.iter().enumerate() {
-            if gauge.contains(id) {
-                sum += ps.velocity[p][0];
-                n += 1;
-            }
-        }
-        sum / n as f64
-    };
-    let mut run = RzRun {
-        h,
-        arrival: [None; 2],
-        column: None,
-        record: Vec::new(),
-        energy: (0.0, 0.0),
-        kept_warm: 0.0,
-        rescaled: 0.0,
-        wall_s: 0.0,
-        steps: 0,
-        failure: None,
-    };
-    let fields = ["pressure".to_string()];
-    let mut sample = Vec::new();
-    let mut next_energy = 0.0;
-    let start = Instant::now();
-    while solver.time() < t_end * (1.0 - 1e-12) {
-        let step = solver
-            .stable_dt()
-            .and_then(|dt| solver.advance(dt.min(t_end - solver.time())));
-        if let Err(e) = step {
-            run.failure = Some(e.to_string());
-            break;
-        }
-        run.steps += 1;
-        let t = solver.time();
-        if start.elapsed().as_secs_f64() > budget_s && t < t_end * (1.0 - 1e-12) {
-            run.failure = Some(format!(
-                "the wall-time budget of {budget_s:.0} s was spent at t = {:.2} µs, step {}, Δt {:.2e} s; the fluids' fastest signal: {}",
-                t * 1e6,
-                run.steps,
-                solver.stable_dt().unwrap_or(f64::NAN),
-                solver.ice().fastest_signal()
-            ));
-            break;
-        }
-        if run.steps.is_multiple_of(1000) {
-            println!(
-                "    h {:.2} mm: step {}, t = {:.2} µs, {:.0} s",
-                h * 1e3,
-                run.steps,
-                t * 1e6,
-                start.elapsed().as_secs_f64()
-            );
-            if std::env::var_os("BRISANCE_CYLINDER_RZ_WHY").is_some() {
-                println!(
-                    "      Δt: fluids {:?}, particles {:?}; fastest: {}",
-                    solver.ice().stable_dt(),
-                    solver.mpm().stable_dt(),
-                    solver.ice().fastest_signal()
-                );
-            }
-        }
-        for (k, zk) in RZ_AXIS.iter().enumerate() {
-            if run.arrival[k].is_some() {
-                continue;
-            }
-            solver.sample([1e-4, *zk, 1e-3], &fields, &mut sample)?;
-            if sample[0] > 1e9 {
-                run.arrival[k] = Some(t);
-            }
-        }
-        run.record.push((t, radial(solver.mpm())));
-        if t >= next_energy || t >= t_end * (1.0 - 1e-12) {
-            let rel = solver.conservation_totals().energy / e0 - 1.0;
-            run.energy.1 = rel;
-            if !(rel.abs() <= run.energy.0) {
-                run.energy.0 = rel.abs();
-            }
-            next_energy = t + 1e-6;
-        }
-    }
-    run.wall_s = start.elapsed().as_secs_f64();
-    run.rescaled = (solver.rescaled_totals().energy - rescaled0) / e0;
-    let ice = solver.ice();
-    run.kept_warm = ice
-        .kept_warm_totals()
-        .iter()
-        .chain(ice.kept_warm_advection_totals())
-        .map(|k| k.energy)
-        .sum::<f64>()
-        / e0;
-    // The column is the tube's charge without the tube: the same 35 cm of
-    // QM-100 behind the same booster, D timed between the axis gauges' 20
-    // and 25 cm, so the two figures differ only by the wall and the rings.
-    let column = Column {
-        face_pressure_courant: nu,
-        length: RZ_CHARGE,
-        gauges: [RZ_AXIS[0], 0.22, 0.24, RZ_AXIS[1]],
-        ..Column::qm100(h)
-    };
-    run.column = run_column(&column).ok().and_then(|r| r.detonation_velocity);
-    Ok(run)
+    cylinder_rz_run(&setup, &mut |line| println!("{line}")).map_err(|e| anyhow!("{e}"))
 }
 
 /// E-CYLINDER in r–z: configs/cylinder_rz.ron (seed 000 §5.2 as printed:
@@ -252,7 +70,7 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
         .collect();
     let mut runs = Vec::new();
     for &h in &hs {
-        let r = cylinder_rz_run(h, &sets, budget_s)?;
+        let r = run_rz(h, &sets, budget_s)?;
         println!(
             "  h {:.2} mm: {} steps in {:.0} s, D {:.0} m/s (1D column {:?}), terminal {:.0} m/s (Gurney {:.0}), energy max |drift| {:.3} % (end {:+.3} %, cold-material rules {:+.3} %, rescale {:+.3} %), failure {:?}",
             h * 1e3,
@@ -349,11 +167,11 @@ pub fn e_cylinder_rz(report: &mut Report, img: &std::path::Path) -> Result<()> {
     for r in &runs {
         let d = r.detonation_velocity();
         let term = r.terminal();
-        let rings = (0.08 / r.h).round() * (0.36 / r.h).round();
+        let rings = RzRun::rings(r.h);
         let dash = |x: f64, s: String| if x.is_finite() { s } else { "—".to_string() };
         let _ = writeln!(
             md,
-            "| {} | {rings:.0} | {} | {} | {} | {} | {} | {} | {:.2} % / {:+.2} % | {:+.3} % | {:+.3} % | {:.0} s{} |",
+            "| {} | {rings} | {} | {} | {} | {} | {} | {} | {:.2} % / {:+.2} % | {:+.3} % | {:+.3} % | {:.0} s{} |",
             r.h * 1e3,
             r.steps,
             dash(d, format!("{d:.0}")),
@@ -453,13 +271,13 @@ pub fn e_cylinder_rz_slip(report: &mut Report) -> Result<()> {
     for &h in &hs {
         // The two exchanges run side by side.
         let slip = std::thread::spawn(move || {
-            cylinder_rz_run(
+            run_rz(
                 h,
                 &["pipeline.ice.solid_exchange=Slip".to_string()],
                 budget_s,
             )
         });
-        let iso = cylinder_rz_run(h, &[], budget_s)?;
+        let iso = run_rz(h, &[], budget_s)?;
         let slip = slip
             .join()
             .map_err(|_| anyhow!("the slip run's thread panicked"))??;
@@ -572,7 +390,7 @@ pub fn e_pd_icempm_cyl(report: &mut Report, img: &std::path::Path) -> Result<()>
     }
     for h in SIDE_RZ {
         println!("  ICE–MPM (r, z), h = {h} m");
-        let r = cylinder_rz_run(h, &[], RZ_BUDGET_S)?;
+        let r = run_rz(h, &[], RZ_BUDGET_S)?;
         let t0 = r.arrival[1]
             .ok_or_else(|| anyhow!("ICE–MPM h = {h}: the detonation never reached the gauge"))?;
         runs.push(SideRun {
