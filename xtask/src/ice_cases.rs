@@ -9,104 +9,19 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use brisance::core::Solver;
 use brisance::ice::cases::{contact_width, sod_one, sod_two, ContactMeasure};
 use brisance::ice::Advection;
 use brisance::verification::cases::observed_orders;
-use brisance::verification::riemann::{sod, PrimitiveState, RiemannProblem};
+use brisance::verification::rate_stick::{quadratic_fit, LLNL_ANFO_K1, SEED_000_FIG3};
+use brisance::verification::riemann::sod;
+use brisance::verification::sod_ice::{ice_tube, two_gas_sod, IceTube, SOD_ICE_END};
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::Report;
 
-/// Time of the comparison.
-const T_END: f64 = 0.2;
-
-/// One tube run compared with the exact solution.
-pub struct IceTube {
-    /// Cells along x.
-    pub cells: usize,
-    /// Cell centres.
-    pub x: Vec<f64>,
-    /// Computed mixture density.
-    pub density: Vec<f64>,
-    /// Exact cell averages of the density.
-    pub exact_density: Vec<f64>,
-    /// Σ|ρ − ρ_exact| Δx.
-    pub l1_density: f64,
-    /// Relative change of total mass over the run.
-    pub mass_change: f64,
-    /// Relative change of total (internal + kinetic) energy.
-    pub energy_change: f64,
-    /// Volume fraction of material 1 (two-material runs).
-    pub theta: Vec<f64>,
-    /// Wall time, s.
-    pub wall: f64,
-}
-
-/// Runs `make(cells, t)` to T_END and compares it with `exact`.
-pub fn ice_tube<S: Solver>(
-    cells: usize,
-    exact: &RiemannProblem,
-    make: impl Fn(usize, f64) -> S,
-) -> Result<IceTube, String> {
-    let t0 = make(cells, 0.0).conservation_totals();
-    let start = Instant::now();
-    let s = make(cells, T_END);
-    let wall = start.elapsed().as_secs_f64();
-    let t1 = s.conservation_totals();
-    let solution = exact.solve()?;
-    let names = ["density".to_string(), "volume_fraction_1".to_string()];
-    let two = s.cell_field_names().contains(&"volume_fraction_2");
-    let d = s
-        .cell_data(&names[..if two { 2 } else { 1 }])
-        .map_err(|e| e.to_string())?;
-    let density = d.fields[0].1.clone();
-    let theta = if two {
-        d.fields[1].1.clone()
-    } else {
-        Vec::new()
-    };
-    let dx = 1.0 / cells as f64;
-    let x: Vec<f64> = (0..cells).map(|i| (i as f64 + 0.5) * dx).collect();
-    let exact_density: Vec<f64> = x
-        .iter()
-        .map(|xi| {
-            solution
-                .cell_average(xi - 0.5 * dx, xi + 0.5 * dx, 0.5, T_END)
-                .density
-        })
-        .collect();
-    let l1_density = density
-        .iter()
-        .zip(&exact_density)
-        .map(|(a, b)| (a - b).abs() * dx)
-        .sum();
-    Ok(IceTube {
-        cells,
-        x,
-        density,
-        exact_density,
-        l1_density,
-        mass_change: (t1.mass - t0.mass) / t0.mass,
-        energy_change: (t1.energy - t0.energy) / t0.energy,
-        theta,
-        wall,
-    })
-}
-
-/// The two-material tube's exact solution (γ 1.4 | 1.67).
-fn two_gas_sod() -> RiemannProblem {
-    RiemannProblem::new(
-        PrimitiveState::new(1.0, 0.0, 1.0),
-        PrimitiveState::new(0.125, 0.0, 0.1),
-        1.4,
-        1.67,
-    )
-}
-
 /// V-SOD-ICE section of the report.
 pub fn v_sod_ice(report: &mut Report, img: &Path) -> Result<()> {
-    println!("V-SOD-ICE: Sod tube with ICE, one and two materials, t = {T_END}");
+    println!("V-SOD-ICE: Sod tube with ICE, one and two materials, t = {SOD_ICE_END}");
     let cells = [100usize, 200, 400, 800, 1600];
     let mut one = Vec::new();
     let mut donor = Vec::new();
@@ -142,7 +57,7 @@ pub fn v_sod_ice(report: &mut Report, img: &Path) -> Result<()> {
         for &n in &two_cells {
             let r = ice_tube(n, &two_gas_sod(), |c, t| sod_two(c, scheme, t))
                 .map_err(anyhow::Error::msg)?;
-            let m = contact_width(&sod_two(n, scheme, T_END)).map_err(anyhow::Error::msg)?;
+            let m = contact_width(&sod_two(n, scheme, SOD_ICE_END)).map_err(anyhow::Error::msg)?;
             println!(
                 "  two materials, {label}, {n:>5} cells  L1(ρ) {:.4e}  contact 0.9→0.1 over {:.2} cells  pressure excursion {:.2e}",
                 r.l1_density, m.width_cells, m.pressure_excursion
@@ -384,85 +299,6 @@ fn fine_radii() -> Vec<f64> {
         .copied()
         .filter(|&r| quarter_cells(FINE_H, r) <= FINE_CELL_BUDGET)
         .collect()
-}
-
-/// The LLNL ANFO-K1 rate-stick measurements, (1/R in 1/mm, D in m/s): the
-/// experimental points of seed 000 Fig. 3 (P. C. Souers, S. Anderson,
-/// J. Mercer, E. McGuire, P. Vitello, "JWL++: a simple reactive flow code
-/// package for detonation", Propellants, Explosives, Pyrotechnics 25 (2000)
-/// 54–58), as digitised from that figure for the blastFoam rate-stick
-/// validation (`validation/blastFoam/rateStick/validation/validationData/
-/// experimental_LNLL.csv`, github.com/synthetik-technologies/blastfoam).
-/// Read off a plot: tens of m/s of reading error.
-const LLNL_ANFO_K1: [(f64, f64); 17] = [
-    (0.000404, 5890.0),
-    (0.02306, 5617.0),
-    (0.02569, 5647.0),
-    (0.03600, 5463.0),
-    (0.04166, 5383.0),
-    (0.06007, 5379.0),
-    (0.05299, 5359.0),
-    (0.05885, 5230.0),
-    (0.05885, 5080.0),
-    (0.09162, 4533.0),
-    (0.09425, 4533.0),
-    (0.09769, 4648.0),
-    (0.09748, 4742.0),
-    (0.1181, 4394.0),
-    (0.1183, 4324.0),
-    (0.1466, 3757.0),
-    (0.1539, 3672.0),
-];
-
-/// Seed 000 Fig. 3's computed points (ICE with JWL++, 1/R in 1/mm, D in
-/// m/s) from the same digitisation (`guilkey_et_al_2007.csv`), which keeps
-/// one of the figure's three resolutions without saying which.
-const SEED_000_FIG3: [(f64, f64); 5] = [
-    (0.0, 5760.0),
-    (0.05, 5404.0),
-    (0.08, 4906.0),
-    (0.125, 4624.0),
-    (0.16667, 4087.0),
-];
-
-/// Least-squares parabola D = c₀ + c₁x + c₂x² through `points` (x, D),
-/// from the 3 × 3 normal equations by Cramer's rule; `None` when they are
-/// singular (fewer than three distinct x).
-fn quadratic_fit(points: &[(f64, f64)]) -> Option<[f64; 3]> {
-    let mut s = [0.0; 5];
-    let mut t = [0.0; 3];
-    for &(x, y) in points {
-        let mut xp = 1.0;
-        for (k, sk) in s.iter_mut().enumerate() {
-            *sk += xp;
-            if k < 3 {
-                t[k] += xp * y;
-            }
-            xp *= x;
-        }
-    }
-    let a = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-    let det3 = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let mut xs: Vec<f64> = points.iter().map(|p| p.0).collect();
-    xs.sort_by(f64::total_cmp);
-    xs.dedup();
-    let d = det3(a);
-    if xs.len() < 3 || !d.is_finite() || d == 0.0 {
-        return None;
-    }
-    let mut c = [0.0; 3];
-    for (j, cj) in c.iter_mut().enumerate() {
-        let mut m = a;
-        for (row, tr) in m.iter_mut().zip(t) {
-            row[j] = tr;
-        }
-        *cj = det3(m) / d;
-    }
-    Some(c)
 }
 
 /// E-RATESTICK section of the report: the ANFO-K1 JWL++ rate stick of

@@ -20,12 +20,14 @@ pub mod pd_cylinder;
 pub mod pd_fragmentation;
 pub mod pd_tube;
 pub mod plate;
+pub mod rate_stick;
 pub mod riemann;
 pub mod ring;
 pub mod rz_octant;
 pub mod shock_tubes;
 pub mod slab;
 pub mod smooth;
+pub mod sod_ice;
 pub mod taylor;
 
 /// The mean of `f` over the last tenth of `record` (its last ⌊n/10⌋
