@@ -4,10 +4,13 @@
 //! to run, splices each finished case's rows into docs/validation.md at
 //! once, and writes the section and its plots.
 //!
-//! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset.
+//! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset; the
+//! section then keeps the other cases' rows, notes and verdicts from the
+//! report it replaces (module `kept`).
 //! `BRISANCE_PLATE_RZ_H` (mm, default `5,1.25`) sets the r–z case 1's h
 //! sequence beside the configs' 2.5 mm.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -19,8 +22,11 @@ use brisance::verification::plate::{
 use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
+
+mod kept;
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
+use kept::{kept_cases, Kept};
 
 pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-PLATE: RHA plates under a spherical TNT air blast through the 3D FDM-MPM bridge");
@@ -69,9 +75,29 @@ enum Section {
     Rz,
 }
 
+impl Section {
+    /// The start of the section's heading line.
+    fn heading(self) -> &'static str {
+        match self {
+            Self::Quarter => "## E-PLATE — ",
+            Self::Rz => "## E-PLATE-RZ — ",
+        }
+    }
+
+    /// The name its figures of merit start with.
+    fn name(self) -> &'static str {
+        match self {
+            Self::Quarter => "E-PLATE",
+            Self::Rz => "E-PLATE-RZ",
+        }
+    }
+}
+
 /// Makes the remaps and runs the cases `planned` ((case, grid), in that
 /// order), splicing the section after each; `PLATE_CASES` (e.g.
-/// `PLATE_CASES=1` or `4,1`) keeps the runs of those cases only.
+/// `PLATE_CASES=1` or `4,1`) keeps the runs of those cases only, and the
+/// section then keeps the other cases' rows, notes and verdicts from the
+/// report it replaces (docs/validation.md as the run found it).
 fn run_plates(
     report: &mut Report,
     img: &Path,
@@ -95,6 +121,13 @@ fn run_plates(
     {
         bail!("PLATE_CASES: there is no case {bad} (cases 1 to 6)");
     }
+    // Read before the first splice rewrites the section.
+    let kept = if keep.is_some() {
+        let previous = std::fs::read_to_string(root.join("docs/validation.md")).unwrap_or_default();
+        kept_cases(&previous, section.heading(), section.name())
+    } else {
+        BTreeMap::new()
+    };
     let mut prepared = Vec::new();
     for &(id, grid) in planned {
         if keep.as_ref().is_some_and(|k| !k.contains(&id)) {
@@ -135,21 +168,29 @@ fn run_plates(
                 .unwrap_or_default()
         );
         runs.push(r);
-        splice_now(&root, |partial| write_section(partial, &runs, section))?;
+        splice_now(&root, |partial| {
+            write_section(partial, &runs, &kept, section)
+        })?;
     }
-    write_section(report, &runs, section)?;
+    write_section(report, &runs, &kept, section)?;
     plot_histories(img, &runs, section)?;
     Ok(())
 }
 
-fn write_section(report: &mut Report, runs: &[PlateRun], section: Section) -> Result<()> {
+fn write_section(
+    report: &mut Report,
+    runs: &[PlateRun],
+    kept: &BTreeMap<u8, Kept>,
+    section: Section,
+) -> Result<()> {
     if section == Section::Rz {
-        return write_rz_section(report, runs);
+        return write_rz_section(report, runs, kept);
     }
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "## E-PLATE — RHA plates under a spherical TNT air blast through the FDM–MPM bridge (3D)\n"
+        "{}RHA plates under a spherical TNT air blast through the FDM–MPM bridge (3D)\n",
+        Section::Quarter.heading()
     );
     let _ = writeln!(
         md,
@@ -177,15 +218,20 @@ fn write_section(report: &mut Report, runs: &[PlateRun], section: Section) -> Re
          build and run, and its peak during the case (the process's peak reset at the build; — where the kernel refuses the reset). FDM / MPM: the bridge's split of the wall time \
          (`time_split.json`).\n"
     );
-    plate_rows(report, runs, "E-PLATE", "e_plate.png")
+    plate_rows(report, runs, kept, Section::Quarter.name(), "e_plate.png")
 }
 
 /// The E-PLATE section on (r, z) grids: what differs from the 3D quarter
 /// model, then the rows and verdicts of [`plate_rows`].
-fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
+fn write_rz_section(
+    report: &mut Report,
+    runs: &[PlateRun],
+    kept: &BTreeMap<u8, Kept>,
+) -> Result<()> {
     let _ = writeln!(
         report.md,
-        "## E-PLATE-RZ — the six plates through the FDM–MPM bridge on axisymmetric (r, z) grids\n"
+        "{}the six plates through the FDM–MPM bridge on axisymmetric (r, z) grids\n",
+        Section::Rz.heading()
     );
     let _ = writeln!(
         report.md,
@@ -202,7 +248,7 @@ fn write_rz_section(report: &mut Report, runs: &[PlateRun]) -> Result<()> {
          the axis). The centre is the plate particles within one cell of the axis; the stop rule and \
          the columns are the 3D section's.\n"
     );
-    plate_rows(report, runs, "E-PLATE-RZ", "e_plate_rz.png")
+    plate_rows(report, runs, kept, Section::Rz.name(), "e_plate_rz.png")
 }
 
 /// A run's case number, with its cells on an (r, z) grid other than the
@@ -216,9 +262,22 @@ fn label(r: &PlateRun) -> String {
     }
 }
 
-/// The table of `runs` (a row per run, cases not run marked), the scale
-/// and run notes, the plot's link `image` and the verdicts, named `name`.
-fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -> Result<()> {
+/// The table of `runs` (a row per run; a case not run has the rows of
+/// `kept`, or is marked), the scale and run notes, the plot's link `image`
+/// and the verdicts (the kept cases' after the runs'), named `name`.
+fn plate_rows(
+    report: &mut Report,
+    runs: &[PlateRun],
+    kept: &BTreeMap<u8, Kept>,
+    name: &str,
+    image: &str,
+) -> Result<()> {
+    // The cases this section keeps from the earlier report: those not run.
+    let kept: Vec<(u8, &Kept)> = kept
+        .iter()
+        .filter(|(id, _)| runs.iter().all(|r| r.case.id != **id))
+        .map(|(id, k)| (*id, k))
+        .collect();
     let md = &mut report.md;
     let _ = writeln!(
         md,
@@ -227,6 +286,12 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
     for c in &PLATE_CASES {
         let of_case: Vec<&PlateRun> = runs.iter().filter(|r| r.case.id == c.id).collect();
         let opt = |x: Option<f64>| x.map_or("—".into(), |v| format!("{v:.2}"));
+        if let Some((_, k)) = kept.iter().find(|(id, _)| *id == c.id) {
+            for row in &k.rows {
+                let _ = writeln!(md, "{row}");
+            }
+            continue;
+        }
         let rows: Vec<Option<&PlateRun>> = if of_case.is_empty() {
             vec![None]
         } else {
@@ -289,9 +354,19 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
             }
         }
     }
+    let kept_ids: Vec<String> = kept.iter().map(|(id, _)| id.to_string()).collect();
+    if !kept_ids.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nKept from the report this section replaced: case{} {} (rows, notes and verdicts as that report had them), left out by `PLATE_CASES` in the run that wrote this section.",
+            if kept_ids.len() > 1 { "s" } else { "" },
+            kept_ids.join(", ")
+        );
+    }
     let not_run: Vec<String> = PLATE_CASES
         .iter()
         .filter(|c| runs.iter().all(|r| r.case.id != c.id))
+        .filter(|c| kept.iter().all(|(id, _)| *id != c.id))
         .map(|c| c.id.to_string())
         .collect();
     if !not_run.is_empty() {
@@ -358,6 +433,11 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
             }
         );
     }
+    for (_, k) in &kept {
+        for note in &k.notes {
+            let _ = writeln!(md, "\n{note}");
+        }
+    }
     let _ = writeln!(
         report.md,
         "\n![{name} centre deflection](img/{image})\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
@@ -372,6 +452,11 @@ fn plate_rows(report: &mut Report, runs: &[PlateRun], name: &str, image: &str) -
             "within 10 %",
             r.peak_reached && r.stop.is_none() && within_relative(m, exp, TOLERANCE),
         );
+    }
+    for (_, k) in &kept {
+        for (what, measured, target, ok) in &k.targets {
+            report.target(what, measured.clone(), target, *ok);
+        }
     }
     let _ = writeln!(report.md);
     Ok(())

@@ -1,0 +1,140 @@
+//! The rows of cases a run leaves out (`PLATE_CASES`), kept from the
+//! report it replaces: a case takes 25–45 min on two cores, so the six
+//! are often run a few at a time, and the section each run writes keeps
+//! the other cases' table rows, notes and verdicts as the earlier report
+//! had them (and says which).
+
+use std::collections::BTreeMap;
+
+/// What an earlier report's section said about one case, verbatim: its
+/// table rows (one per grid it ran on), its note lines and its
+/// figure-of-merit rows (what, measured, target, passed).
+#[derive(Debug, Default, Clone, PartialEq)]
+pub(super) struct Kept {
+    pub rows: Vec<String>,
+    pub notes: Vec<String>,
+    pub targets: Vec<(String, String, String, bool)>,
+}
+
+/// The case number a row label starts with ("4", "1 (h 5 mm)").
+fn case_of(label: &str) -> Option<u8> {
+    let digits: String = label.chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
+}
+
+/// The cells of a markdown table row, trimmed.
+fn cells(line: &str) -> Vec<&str> {
+    line.trim()
+        .trim_start_matches('|')
+        .trim_end_matches('|')
+        .split('|')
+        .map(str::trim)
+        .collect()
+}
+
+/// The cases of the section whose heading starts with `heading` in
+/// `report` (a whole report's text), by case number: the rows of its case
+/// table, its "Case …:" notes and its rows of `name`'s figures of merit.
+/// Empty where the report has no such section.
+pub(super) fn kept_cases(report: &str, heading: &str, name: &str) -> BTreeMap<u8, Kept> {
+    let mut kept: BTreeMap<u8, Kept> = BTreeMap::new();
+    let Some(start) = report.find(&format!("\n{heading}")).map(|i| i + 1) else {
+        return kept;
+    };
+    let body = &report[start..];
+    let end = body[1..].find("\n## ").map_or(body.len(), |i| i + 2);
+    let target_prefix = format!("{name} case ");
+    for line in body[..end].lines().skip(1) {
+        if line.starts_with('|') {
+            let c = cells(line);
+            if let Some(rest) = c[0].strip_prefix(&target_prefix) {
+                let (Some(id), 4) = (case_of(rest), c.len()) else {
+                    continue;
+                };
+                kept.entry(id).or_default().targets.push((
+                    c[0].to_string(),
+                    c[1].to_string(),
+                    c[2].to_string(),
+                    c[3] == "PASS",
+                ));
+            } else if let Some(id) = case_of(c[0]) {
+                kept.entry(id).or_default().rows.push(line.to_string());
+            }
+        } else if let Some(rest) = line.strip_prefix("Case ") {
+            if let (Some(id), true) = (case_of(rest), rest.contains(": ")) {
+                kept.entry(id).or_default().notes.push(line.to_string());
+            }
+        }
+    }
+    // A case the earlier section only named in a note or a verdict has no
+    // row to keep: it was not run there either.
+    kept.retain(|_, k| !k.rows.is_empty());
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kept_cases;
+
+    const REPORT: &str = "# Report\n\n## E-PLATE — quarter\n\nIntro.\n\n\
+| case | scale | δ/t measured |\n|---|---:|---:|\n\
+| 1 | 4 | 2.61 |\n| 2 | 2 | 2.62 |\n| 3 | 1 | not run |\n\n\
+Case 1: remap ok; the centre is 16 particles.\n\n\
+Case 2: remap ok; the centre is 16 particles.\n\n\
+| figure of merit | measured | target | verdict |\n|---|---:|---|---|\n\
+| E-PLATE case 1 δ/t vs experiment 2.60 | 2.61 (+0.3 %) | within 10 % | PASS |\n\
+| E-PLATE case 2 δ/t vs experiment 2.70 | 2.31 (-14.4 %) | within 10 % | FAIL |\n\n\
+## E-PLATE-RZ — rings\n\n\
+| case | scale | δ/t measured |\n|---|---:|---:|\n\
+| 1 | 4 | 2.78 |\n| 1 (h 5 mm) | 4 | 2.89 |\n\n\
+Case 1 (h 5 mm): remap ok.\n\n\
+| E-PLATE-RZ case 1 δ/t vs experiment 2.60 | 2.78 (+6.9 %) | within 10 % | PASS |\n\n\
+## E-SLAB — slab\n\n| 1 | 9 |\n";
+
+    #[test]
+    fn the_quarters_rows_notes_and_verdicts_are_kept_by_case() {
+        let k = kept_cases(REPORT, "## E-PLATE — ", "E-PLATE");
+        // Case 3's row says "not run" and is kept as such; nothing of the
+        // r–z section or of E-SLAB leaks in.
+        assert_eq!(k.keys().copied().collect::<Vec<_>>(), [1, 2, 3]);
+        assert_eq!(k[&1].rows, ["| 1 | 4 | 2.61 |"]);
+        assert_eq!(
+            k[&1].notes,
+            ["Case 1: remap ok; the centre is 16 particles."]
+        );
+        assert_eq!(
+            k[&2].targets,
+            [(
+                "E-PLATE case 2 δ/t vs experiment 2.70".to_string(),
+                "2.31 (-14.4 %)".to_string(),
+                "within 10 %".to_string(),
+                false
+            )]
+        );
+        assert!(k[&1].targets[0].3);
+        assert!(k[&3].notes.is_empty() && k[&3].targets.is_empty());
+    }
+
+    #[test]
+    fn the_rz_sections_h_sequence_rows_belong_to_their_case() {
+        let k = kept_cases(REPORT, "## E-PLATE-RZ — ", "E-PLATE-RZ");
+        assert_eq!(k.len(), 1);
+        assert_eq!(
+            k[&1].rows,
+            ["| 1 | 4 | 2.78 |", "| 1 (h 5 mm) | 4 | 2.89 |"]
+        );
+        assert_eq!(k[&1].notes, ["Case 1 (h 5 mm): remap ok."]);
+        assert_eq!(k[&1].targets.len(), 1);
+    }
+
+    #[test]
+    fn no_report_or_no_section_keeps_nothing() {
+        assert!(kept_cases("", "## E-PLATE — ", "E-PLATE").is_empty());
+        assert!(kept_cases(
+            "# Report\n\n## V-SOD — x\n| 1 | 2 |\n",
+            "## E-PLATE — ",
+            "E-PLATE"
+        )
+        .is_empty());
+    }
+}
