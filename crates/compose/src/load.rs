@@ -31,6 +31,21 @@ pub struct LoadedScenario {
     pub warnings: Vec<ConfigError>,
 }
 
+impl LoadedScenario {
+    /// `e` (a build error, which carries the field path only:
+    /// [`crate::build::build_solver`], [`crate::build::build_section`])
+    /// with this scenario's file and the line and column of that field in
+    /// its text (after the overrides), as a load error has them.
+    pub fn locate(&self, mut e: ConfigError) -> ConfigError {
+        e.file = self.file.clone();
+        if let Some(field) = &e.field {
+            e.position = ron_path::find_nearest(&self.text, field)
+                .map(|r| ron_path::line_col(&self.text, r.start));
+        }
+        e
+    }
+}
+
 /// RON options shared by every reader: `Some(x)` may be written `x`, and
 /// `Variant((fields))` may be written `Variant(fields)`. Every reader comes
 /// here first, so this is where the plugin models become nameable

@@ -13,9 +13,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::build::build_solver;
 use crate::config::{CheckpointLayout, Scenario, VtkLayout};
-use crate::error::{ConfigError, RunError};
+use crate::error::RunError;
 use crate::load::LoadedScenario;
-use crate::ron_path;
 
 /// How to run.
 #[derive(Debug, Clone, Default)]
@@ -715,15 +714,6 @@ fn same_problem(a: &Scenario, b: &Scenario) -> Result<(), String> {
     Ok(())
 }
 
-fn located(loaded: &LoadedScenario, mut e: ConfigError) -> ConfigError {
-    e.file = loaded.file.clone();
-    if let Some(field) = &e.field {
-        e.position = ron_path::find_nearest(&loaded.text, field)
-            .map(|r| ron_path::line_col(&loaded.text, r.start));
-    }
-    e
-}
-
 /// What `--restart` takes to mean the newest valid checkpoint of the
 /// output folder.
 pub const LATEST: &str = "latest";
@@ -796,7 +786,7 @@ pub fn run_until_stopped(
     let started = Instant::now();
     let mut solver = {
         let _span = tracing::info_span!("build").entered();
-        build_solver(scenario).map_err(|e| located(loaded, e))?
+        build_solver(scenario).map_err(|e| loaded.locate(e))?
     };
     let mut state = RunState {
         gauge_rows: vec![Vec::new(); scenario.outputs.gauges.len()],

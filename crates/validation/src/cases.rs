@@ -127,7 +127,7 @@ fn sod_run(cells: usize, extra: &[String]) -> Result<SodResult, String> {
     sets.extend_from_slice(extra);
     let loaded = load_str("configs/sod.ron", SOD_CONFIG, &sets).map_err(|e| e.to_string())?;
     let end = loaded.scenario.time.end;
-    let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
+    let mut solver = build_solver(&loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
     let initial_mass = solver.conservation_totals().mass;
     let steps = advance_to(solver.as_mut(), end).map_err(|e| e.to_string())?;
     let names = ["density", "velocity_x", "pressure"].map(String::from);

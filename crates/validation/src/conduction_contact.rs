@@ -142,7 +142,7 @@ fn run_to_end(cells: usize, set: &[String]) -> Result<(Box<dyn Solver>, usize, f
         &sets,
     )
     .map_err(|e| e.to_string())?;
-    let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
+    let mut solver = build_solver(&loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
     let energy0 = solver.conservation_totals().energy;
     let mut steps = 0;
     while solver.time() < END * (1.0 - 1e-12) {

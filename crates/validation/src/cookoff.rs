@@ -150,8 +150,8 @@ pub fn cookoff_run(
     }
     let n = (DOMAIN / h).round() as usize;
     let sets = [format!("domain.cells=({n},{n},1)")];
-    let mut loaded = load_str("cookoff_rz.ron", COOKOFF_CONFIG, &sets)
-        .map_err(|e| format!("configs/cookoff_rz.ron: {e}"))?;
+    let mut loaded =
+        load_str("configs/cookoff_rz.ron", COOKOFF_CONFIG, &sets).map_err(|e| e.to_string())?;
     if warmer != 0.0 {
         let mut warmed = 0;
         for region in loaded.scenario.initial.iter_mut() {
@@ -172,7 +172,7 @@ pub fn cookoff_run(
     let Some(section) = s.pipeline.section::<IceMpmConfig>() else {
         return Err("configs/cookoff_rz.ron is not an IceMpm pipeline".into());
     };
-    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
+    let mut solver = build_section(section, s).map_err(|e| loaded.locate(e).to_string())?;
     let ps = solver.mpm().particles();
     // The explosive is the material of the particle nearest the origin;
     // the other is the steel.

@@ -88,8 +88,8 @@ pub fn tube_gurney(s: &Scenario, config: &str) -> Result<TubeGurney, String> {
 /// The CJ state and Gurney wall velocity of configs/cylinder_rz.ron as
 /// shipped.
 pub fn rz_gurney() -> Result<TubeGurney, String> {
-    let loaded = load_str("cylinder_rz.ron", CYLINDER_RZ_CONFIG, &[])
-        .map_err(|e| format!("configs/cylinder_rz.ron: {e}"))?;
+    let loaded =
+        load_str("configs/cylinder_rz.ron", CYLINDER_RZ_CONFIG, &[]).map_err(|e| e.to_string())?;
     tube_gurney(&loaded.scenario, "configs/cylinder_rz.ron")
 }
 
@@ -205,14 +205,14 @@ pub fn cylinder_rz_run(
     let [nr, nz] = RZ_DOMAIN.map(|l| (l / h).round() as usize);
     let mut all = vec![format!("domain.cells=({nr},{nz},1)")];
     all.extend_from_slice(&setup.sets);
-    let loaded = load_str("cylinder_rz.ron", CYLINDER_RZ_CONFIG, &all)
-        .map_err(|e| format!("configs/cylinder_rz.ron: {e}"))?;
+    let loaded =
+        load_str("configs/cylinder_rz.ron", CYLINDER_RZ_CONFIG, &all).map_err(|e| e.to_string())?;
     let s = &loaded.scenario;
     let Some(section) = s.pipeline.section::<IceMpmConfig>() else {
         return Err("configs/cylinder_rz.ron is not an IceMpm pipeline".into());
     };
     let nu = section.ice.face_pressure_courant;
-    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
+    let mut solver = build_section(section, s).map_err(|e| loaded.locate(e).to_string())?;
     let t_end = setup.end.unwrap_or(s.time.end);
     let e0 = solver.conservation_totals().energy;
     let rescaled0 = solver.rescaled_totals().energy;
@@ -405,6 +405,22 @@ mod tests {
         assert!(v > 0.2 * g.wall && v < 1.2 * g.wall, "{v}");
         assert!(run.energy.0 < 0.05 && run.energy.0 >= run.energy.1.abs());
         assert!(run.column.is_none());
+    }
+
+    #[test]
+    fn a_grid_too_coarse_for_the_wall_gauge_names_the_file_line_and_field() {
+        // At 4 mm no copper particle starts inside the config's outer-wall
+        // gauge: the build refuses it, at the gauge's place in the file.
+        let e = cylinder_rz_run(&CylinderRzSetup::at(4e-3, 1.0), &mut |_| {}).unwrap_err();
+        let text = super::CYLINDER_RZ_CONFIG;
+        let line = 1 + text[..text.find("outer_wall_250").unwrap()]
+            .matches('\n')
+            .count();
+        assert!(
+            e.starts_with(&format!("configs/cylinder_rz.ron:{line}:")),
+            "{e}"
+        );
+        assert!(e.contains("`outputs.particle_gauges.0.region`"), "{e}");
     }
 
     #[test]

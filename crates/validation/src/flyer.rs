@@ -164,13 +164,12 @@ pub fn run_flyer(cells: usize, shape: &str) -> Result<FlyerRun, String> {
         format!("pipeline.mpm.shape_function={shape}"),
         "outputs.lineouts=[]".to_string(),
     ];
-    let loaded = load_str("flyer_icempm.ron", text, &sets)
-        .map_err(|e| format!("configs/flyer_icempm.ron: {e}"))?;
+    let loaded = load_str("configs/flyer_icempm.ron", text, &sets).map_err(|e| e.to_string())?;
     let s = &loaded.scenario;
     let Some(section) = s.pipeline.section::<brisance_couple::IceMpmConfig>() else {
         return Err("configs/flyer_icempm.ron is not an IceMpm pipeline".into());
     };
-    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
+    let mut solver = build_section(section, s).map_err(|e| loaded.locate(e).to_string())?;
     let t_end = s.time.end;
     let plate_mass: f64 = solver.mpm().particles().mass.iter().sum();
     let fluids = solver.conservation_totals().mass - plate_mass;
@@ -250,13 +249,12 @@ pub fn run_shock_plate(cells: usize, shape: &str) -> Result<ShockPlateRun, Strin
             rear + 0.5 * h
         ),
     ];
-    let loaded = load_str("shock_plate_mpm.ron", text, &sets)
-        .map_err(|e| format!("configs/shock_plate_mpm.ron: {e}"))?;
+    let loaded = load_str("configs/shock_plate_mpm.ron", text, &sets).map_err(|e| e.to_string())?;
     let s = &loaded.scenario;
     let Some(section) = s.pipeline.section::<brisance_couple::MpmConfig>() else {
         return Err("configs/shock_plate_mpm.ron is not an Mpm pipeline".into());
     };
-    let mut solver = build_section(section, s).map_err(|e| e.to_string())?;
+    let mut solver = build_section(section, s).map_err(|e| loaded.locate(e).to_string())?;
     let t_end = s.time.end;
     let rearmost = |ps: &brisance_mpm::Particles| {
         ps.position

@@ -178,7 +178,7 @@ pub struct TubeOutcome {
 pub fn run_tube_outcome(text: &str, sets: &[String]) -> Result<TubeOutcome, String> {
     let loaded = load_str("tube.ron", text, sets).map_err(|e| e.to_string())?;
     let end = loaded.scenario.time.end;
-    let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
+    let mut solver = build_solver(&loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
     let m0 = solver.conservation_totals().mass;
     let names = ["density", "velocity_x", "pressure"].map(String::from);
     let smallest = |solver: &dyn Solver| -> Result<(f64, f64), String> {

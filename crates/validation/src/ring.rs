@@ -63,7 +63,7 @@ pub fn ring_breathing(shape: ShapeFunction, cells_across: usize) -> Result<RingB
         &sets,
     )
     .map_err(|e| e.to_string())?;
-    let mut solver = build_solver(&loaded.scenario).map_err(|e| e.to_string())?;
+    let mut solver = build_solver(&loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
     let analytic = 2.0 * PI * r_mean / (e / rho).sqrt();
     let mut sample = Vec::with_capacity(3);
     let mut mean_vr = |s: &dyn Solver| -> Result<f64, String> {
