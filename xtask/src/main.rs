@@ -17,6 +17,7 @@ mod ice_cases;
 mod ice_diffusion;
 mod ice_implicit;
 mod ice_mpm_cases;
+mod kept;
 mod lattice_cases;
 mod mpm_throughput;
 mod noble_abel;

@@ -6,7 +6,7 @@
 //!
 //! `PLATE_CASES=4` (or `1`, `4,1`) in the environment runs a subset; the
 //! section then keeps the other cases' rows, notes and verdicts from the
-//! report it replaces (module `kept`).
+//! report it replaces (`crate::kept`).
 //! `BRISANCE_PLATE_RZ_H` (mm, default `5,1.25`) sets the r–z case 1's h
 //! sequence beside the configs' 2.5 mm.
 
@@ -22,11 +22,9 @@ use brisance::verification::plate::{
 use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
-
-mod kept;
+use crate::kept::{kept_cases, Kept};
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
-use kept::{kept_cases, Kept};
 
 pub(crate) fn e_plate(report: &mut Report, img: &Path) -> Result<()> {
     println!("E-PLATE: RHA plates under a spherical TNT air blast through the 3D FDM-MPM bridge");
@@ -84,7 +82,7 @@ impl Section {
         }
     }
 
-    /// The name its figures of merit start with.
+    /// The name its figures of merit start with (then `case <label>`).
     fn name(self) -> &'static str {
         match self {
             Self::Quarter => "E-PLATE",
@@ -124,7 +122,12 @@ fn run_plates(
     // Read before the first splice rewrites the section.
     let kept = if keep.is_some() {
         let previous = std::fs::read_to_string(root.join("docs/validation.md")).unwrap_or_default();
-        kept_cases(&previous, section.heading(), section.name())
+        kept_cases(
+            &previous,
+            section.heading(),
+            &format!("{} case ", section.name()),
+            "Case ",
+        )
     } else {
         BTreeMap::new()
     };
@@ -180,7 +183,7 @@ fn run_plates(
 fn write_section(
     report: &mut Report,
     runs: &[PlateRun],
-    kept: &BTreeMap<u8, Kept>,
+    kept: &BTreeMap<String, Kept>,
     section: Section,
 ) -> Result<()> {
     if section == Section::Rz {
@@ -226,7 +229,7 @@ fn write_section(
 fn write_rz_section(
     report: &mut Report,
     runs: &[PlateRun],
-    kept: &BTreeMap<u8, Kept>,
+    kept: &BTreeMap<String, Kept>,
 ) -> Result<()> {
     let _ = writeln!(
         report.md,
@@ -268,15 +271,15 @@ fn label(r: &PlateRun) -> String {
 fn plate_rows(
     report: &mut Report,
     runs: &[PlateRun],
-    kept: &BTreeMap<u8, Kept>,
+    kept: &BTreeMap<String, Kept>,
     name: &str,
     image: &str,
 ) -> Result<()> {
     // The cases this section keeps from the earlier report: those not run.
-    let kept: Vec<(u8, &Kept)> = kept
+    let kept: Vec<(u8, &Kept)> = PLATE_CASES
         .iter()
-        .filter(|(id, _)| runs.iter().all(|r| r.case.id != **id))
-        .map(|(id, k)| (*id, k))
+        .filter(|c| runs.iter().all(|r| r.case.id != c.id))
+        .filter_map(|c| Some((c.id, kept.get(&c.id.to_string())?)))
         .collect();
     let md = &mut report.md;
     let _ = writeln!(

@@ -4,8 +4,11 @@
 //! which to run, splices each finished charge's rows into
 //! docs/validation.md at once, and writes the section and its plots.
 //!
-//! `SLAB_CHARGES=4,10` (kg; default 4,10,2,20) runs a subset.
+//! `SLAB_CHARGES=4,10` (kg; default 4,10,2,20) runs a subset; the section
+//! then keeps the other charges' rows, notes and verdicts from the report
+//! it replaces (`crate::kept`).
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -17,8 +20,12 @@ use brisance::verification::slab::{
 use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
+use crate::kept::{kept_cases, Kept};
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
+
+/// The start of E-SLAB's heading line.
+const HEADING: &str = "## E-SLAB — ";
 
 pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
     println!(
@@ -33,6 +40,10 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
             .context("SLAB_CHARGES takes charge masses in kg, e.g. 4,10")?,
         Err(_) => vec![4.0, 10.0, 2.0, 20.0],
     };
+    // The charges left out keep their rows, notes and verdicts from the
+    // report this run replaces (read before the first splice).
+    let previous = std::fs::read_to_string(root.join("docs/validation.md")).unwrap_or_default();
+    let kept = kept_cases(&previous, HEADING, "E-SLAB ", "");
     let mut runs: Vec<SlabRun> = Vec::new();
     for w in charges {
         let Some(case) = SLAB_CASES.iter().find(|c| c.charge == w) else {
@@ -70,19 +81,30 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
         );
         runs.push(r);
         runs.sort_by(|a, b| a.case.charge.total_cmp(&b.case.charge));
-        splice_now(&root, |partial| write_section(partial, &runs))?;
+        splice_now(&root, |partial| write_section(partial, &runs, &kept))?;
         plot_diameters(img, &runs)?;
         draw_faces(&img.join("e_slab_faces.png"), &runs)?;
     }
-    write_section(report, &runs)?;
+    write_section(report, &runs, &kept)?;
     Ok(())
 }
 
-fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
+/// The section from `runs`; a charge not run keeps its rows, notes and
+/// verdicts from `kept` (the report this run replaces), or is marked.
+fn write_section(
+    report: &mut Report,
+    runs: &[SlabRun],
+    kept: &BTreeMap<String, Kept>,
+) -> Result<()> {
+    let kept: Vec<(f64, &Kept)> = SLAB_CASES
+        .iter()
+        .filter(|c| runs.iter().all(|r| r.case.charge != c.charge))
+        .filter_map(|c| Some((c.charge, kept.get(&c.charge.to_string())?)))
+        .collect();
     let md = &mut report.md;
     let _ = writeln!(
         md,
-        "## E-SLAB — concrete slab under spherical TNT charges at 0.5 m through the FDM–MPM bridge (3D)\n"
+        "{HEADING}concrete slab under spherical TNT charges at 0.5 m through the FDM–MPM bridge (3D)\n"
     );
     let _ = writeln!(
         md,
@@ -148,14 +170,29 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
                     mb(r.finished.peak_resident),
                 );
             }
-            None => {
-                let _ = writeln!(
-                    md,
-                    "| {} | not run | — | {test} | {eq:.0} | — | — | — | — | — | — | — | — | — |",
-                    c.charge
-                );
-            }
+            None => match kept.iter().find(|(w, _)| *w == c.charge) {
+                Some((_, k)) => {
+                    for row in &k.rows {
+                        let _ = writeln!(md, "{row}");
+                    }
+                }
+                None => {
+                    let _ = writeln!(
+                        md,
+                        "| {} | not run | — | {test} | {eq:.0} | — | — | — | — | — | — | — | — | — |",
+                        c.charge
+                    );
+                }
+            },
         }
+    }
+    if !kept.is_empty() {
+        let ws: Vec<String> = kept.iter().map(|(w, _)| format!("{w} kg")).collect();
+        let _ = writeln!(
+            md,
+            "\nKept from the report this section replaced: {} (rows, notes and verdicts as that report had them), left out by `SLAB_CHARGES` in the run that wrote this section.",
+            ws.join(", ")
+        );
     }
     for r in runs {
         let _ = writeln!(
@@ -174,6 +211,11 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
                 ),
             }
         );
+    }
+    for (_, k) in &kept {
+        for note in &k.notes {
+            let _ = writeln!(md, "\n{note}");
+        }
     }
     let _ = writeln!(
         md,
@@ -206,6 +248,11 @@ fn write_section(report: &mut Report, runs: &[SlabRun]) -> Result<()> {
             "within 20 %",
             ok && within_relative(m, eq, TOLERANCE),
         );
+    }
+    for (_, k) in &kept {
+        for (what, measured, target, ok) in &k.targets {
+            report.target(what, measured.clone(), target, *ok);
+        }
     }
     let _ = writeln!(report.md);
     Ok(())
