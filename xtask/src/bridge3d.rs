@@ -2,7 +2,8 @@
 //! `slab_cases.rs`) share beyond the cases themselves, which live in
 //! `brisance::verification::{bridge_blast, plate, slab}`: the splice of a
 //! section's rows into docs/validation.md after each case (and the case
-//! peak memory the 2D bridge cases take too).
+//! peak memory the 2D bridge cases take too); what a run of some cases
+//! keeps of the others is `crate::kept`.
 
 use std::path::Path;
 
@@ -24,7 +25,7 @@ pub(crate) fn splice_now(
         failures: Vec::new(),
     };
     section(&mut partial)?;
-    let path = root.join("docs/validation.md");
+    let path = crate::splice::report_path(root);
     let existing = std::fs::read_to_string(&path).unwrap_or_default();
     std::fs::write(&path, crate::splice::splice(&existing, &partial.md, ""))
         .with_context(|| format!("cannot write {}", path.display()))

@@ -6,6 +6,11 @@
 //! (and says which).
 
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::splice::report_path;
+use crate::Report;
 
 /// What an earlier report's section said about one case, verbatim: its
 /// table rows (one per grid it ran on), its note lines and its
@@ -15,6 +20,53 @@ pub(crate) struct Kept {
     pub rows: Vec<String>,
     pub notes: Vec<String>,
     pub targets: Vec<(String, String, String, bool)>,
+}
+
+impl Kept {
+    /// Writes its table rows into `md`, in the order the earlier section
+    /// had them.
+    pub fn write_rows(&self, md: &mut String) {
+        for row in &self.rows {
+            let _ = writeln!(md, "{row}");
+        }
+    }
+}
+
+/// After a section's table: the sentence naming what it kept (`what`:
+/// "case 3", "4 kg, 10 kg") and the run switch (`PLATE_CASES`,
+/// `SLAB_CHARGES`) that left it out.
+pub(crate) fn write_kept_sentence(md: &mut String, what: &str, switch: &str) {
+    let _ = writeln!(
+        md,
+        "\nKept from the report this section replaced: {what} (rows, notes and verdicts as that report had them), left out by `{switch}` in the run that wrote this section."
+    );
+}
+
+/// The kept cases' notes into `md`, each as a paragraph.
+pub(crate) fn write_kept_notes<'a>(md: &mut String, kept: impl IntoIterator<Item = &'a Kept>) {
+    for note in kept.into_iter().flat_map(|k| &k.notes) {
+        let _ = writeln!(md, "\n{note}");
+    }
+}
+
+/// The kept cases' figures of merit into `report`, verdicts as they were.
+pub(crate) fn add_kept_verdicts<'a>(report: &mut Report, kept: impl IntoIterator<Item = &'a Kept>) {
+    for (what, measured, target, ok) in kept.into_iter().flat_map(|k| &k.targets) {
+        report.target(what, measured.clone(), target, *ok);
+    }
+}
+
+/// [`kept_cases`] of the report under `root` (docs/validation.md) as it
+/// stands: read it before the run's first splice rewrites the section.
+/// Nothing is kept where there is no report yet.
+pub(crate) fn kept_in_report(
+    root: &Path,
+    heading: &str,
+    target_prefix: &str,
+    note_prefix: &str,
+) -> BTreeMap<String, Kept> {
+    let previous = std::fs::read_to_string(report_path(root)).unwrap_or_default();
+    kept_cases(&previous, heading, target_prefix, note_prefix)
 }
 
 /// The case a row label starts with: its leading number ("4" of
@@ -43,7 +95,7 @@ fn cells(line: &str) -> Vec<&str> {
 /// (lines `note_prefix` + label + ": …") and its figure-of-merit rows
 /// (first cell `target_prefix` + label + …). Empty where the report has no
 /// such section.
-pub(crate) fn kept_cases(
+fn kept_cases(
     report: &str,
     heading: &str,
     target_prefix: &str,

@@ -1045,7 +1045,7 @@ fn validate(only: &[String]) -> Result<()> {
     if run("throughput") {
         throughput(&mut body)?;
     }
-    let path = root.join("docs/validation.md");
+    let path = splice::report_path(&root);
     if !only.is_empty() {
         let existing = std::fs::read_to_string(&path).unwrap_or_default();
         report.md = splice::splice(&existing, &body.md, &report.md);

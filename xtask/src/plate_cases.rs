@@ -22,7 +22,7 @@ use brisance::verification::plate::{
 use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
-use crate::kept::{kept_cases, Kept};
+use crate::kept::{add_kept_verdicts, kept_in_report, write_kept_notes, write_kept_sentence, Kept};
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
 
@@ -119,18 +119,14 @@ fn run_plates(
     {
         bail!("PLATE_CASES: there is no case {bad} (cases 1 to 6)");
     }
-    // Read before the first splice rewrites the section.
-    let kept = if keep.is_some() {
-        let previous = std::fs::read_to_string(root.join("docs/validation.md")).unwrap_or_default();
-        kept_cases(
-            &previous,
-            section.heading(),
-            &format!("{} case ", section.name()),
-            "Case ",
-        )
-    } else {
-        BTreeMap::new()
-    };
+    // The cases left out keep their rows, notes and verdicts from the
+    // report this run replaces (read before the first splice).
+    let kept = kept_in_report(
+        &root,
+        section.heading(),
+        &format!("{} case ", section.name()),
+        "Case ",
+    );
     let mut prepared = Vec::new();
     for &(id, grid) in planned {
         if keep.as_ref().is_some_and(|k| !k.contains(&id)) {
@@ -290,9 +286,7 @@ fn plate_rows(
         let of_case: Vec<&PlateRun> = runs.iter().filter(|r| r.case.id == c.id).collect();
         let opt = |x: Option<f64>| x.map_or("—".into(), |v| format!("{v:.2}"));
         if let Some((_, k)) = kept.iter().find(|(id, _)| *id == c.id) {
-            for row in &k.rows {
-                let _ = writeln!(md, "{row}");
-            }
+            k.write_rows(md);
             continue;
         }
         let rows: Vec<Option<&PlateRun>> = if of_case.is_empty() {
@@ -359,12 +353,12 @@ fn plate_rows(
     }
     let kept_ids: Vec<String> = kept.iter().map(|(id, _)| id.to_string()).collect();
     if !kept_ids.is_empty() {
-        let _ = writeln!(
-            md,
-            "\nKept from the report this section replaced: case{} {} (rows, notes and verdicts as that report had them), left out by `PLATE_CASES` in the run that wrote this section.",
+        let what = format!(
+            "case{} {}",
             if kept_ids.len() > 1 { "s" } else { "" },
             kept_ids.join(", ")
         );
+        write_kept_sentence(md, &what, "PLATE_CASES");
     }
     let not_run: Vec<String> = PLATE_CASES
         .iter()
@@ -436,11 +430,7 @@ fn plate_rows(
             }
         );
     }
-    for (_, k) in &kept {
-        for note in &k.notes {
-            let _ = writeln!(md, "\n{note}");
-        }
-    }
+    write_kept_notes(md, kept.iter().map(|(_, k)| *k));
     let _ = writeln!(
         report.md,
         "\n![{name} centre deflection](img/{image})\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
@@ -456,11 +446,7 @@ fn plate_rows(
             r.peak_reached && r.stop.is_none() && within_relative(m, exp, TOLERANCE),
         );
     }
-    for (_, k) in &kept {
-        for (what, measured, target, ok) in &k.targets {
-            report.target(what, measured.clone(), target, *ok);
-        }
-    }
+    add_kept_verdicts(report, kept.iter().map(|(_, k)| *k));
     let _ = writeln!(report.md);
     Ok(())
 }

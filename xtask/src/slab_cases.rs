@@ -20,7 +20,7 @@ use brisance::verification::slab::{
 use brisance::verification::within_relative;
 
 use crate::bridge3d::splice_now;
-use crate::kept::{kept_cases, Kept};
+use crate::kept::{add_kept_verdicts, kept_in_report, write_kept_notes, write_kept_sentence, Kept};
 use crate::plot::{self, Panel, Series, SeriesStyle};
 use crate::{workspace_root, Report};
 
@@ -42,8 +42,7 @@ pub(crate) fn e_slab(report: &mut Report, img: &Path) -> Result<()> {
     };
     // The charges left out keep their rows, notes and verdicts from the
     // report this run replaces (read before the first splice).
-    let previous = std::fs::read_to_string(root.join("docs/validation.md")).unwrap_or_default();
-    let kept = kept_cases(&previous, HEADING, "E-SLAB ", "");
+    let kept = kept_in_report(&root, HEADING, "E-SLAB ", "");
     let mut runs: Vec<SlabRun> = Vec::new();
     for w in charges {
         let Some(case) = SLAB_CASES.iter().find(|c| c.charge == w) else {
@@ -171,11 +170,7 @@ fn write_section(
                 );
             }
             None => match kept.iter().find(|(w, _)| *w == c.charge) {
-                Some((_, k)) => {
-                    for row in &k.rows {
-                        let _ = writeln!(md, "{row}");
-                    }
-                }
+                Some((_, k)) => k.write_rows(md),
                 None => {
                     let _ = writeln!(
                         md,
@@ -188,11 +183,7 @@ fn write_section(
     }
     if !kept.is_empty() {
         let ws: Vec<String> = kept.iter().map(|(w, _)| format!("{w} kg")).collect();
-        let _ = writeln!(
-            md,
-            "\nKept from the report this section replaced: {} (rows, notes and verdicts as that report had them), left out by `SLAB_CHARGES` in the run that wrote this section.",
-            ws.join(", ")
-        );
+        write_kept_sentence(md, &ws.join(", "), "SLAB_CHARGES");
     }
     for r in runs {
         let _ = writeln!(
@@ -212,11 +203,7 @@ fn write_section(
             }
         );
     }
-    for (_, k) in &kept {
-        for note in &k.notes {
-            let _ = writeln!(md, "\n{note}");
-        }
-    }
+    write_kept_notes(md, kept.iter().map(|(_, k)| *k));
     let _ = writeln!(
         md,
         "\n![E-SLAB crushing diameter](img/e_slab.png)\n\n![E-SLAB crushing diameter and axis pressure during the runs](img/e_slab_history.png)\n\n![E-SLAB top and back faces](img/e_slab_faces.png)\n\n| figure of merit | measured | target | verdict |\n|---|---:|---|---|"
@@ -249,11 +236,7 @@ fn write_section(
             ok && within_relative(m, eq, TOLERANCE),
         );
     }
-    for (_, k) in &kept {
-        for (what, measured, target, ok) in &k.targets {
-            report.target(what, measured.clone(), target, *ok);
-        }
-    }
+    add_kept_verdicts(report, kept.iter().map(|(_, k)| *k));
     let _ = writeln!(report.md);
     Ok(())
 }

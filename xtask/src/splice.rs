@@ -10,6 +10,11 @@
 //! every figure-of-merit row of the spliced report (`| what | measured |
 //! target | FAIL |`), in the same form the full run writes.
 
+/// The report under the workspace `root`: docs/validation.md.
+pub(crate) fn report_path(root: &std::path::Path) -> std::path::PathBuf {
+    root.join("docs/validation.md")
+}
+
 /// The summary block of a report body: `## Summary`, then the failing
 /// figure-of-merit rows of `body`, as `validate` writes it.
 pub(crate) fn summary(body: &str) -> String {
