@@ -100,11 +100,16 @@ pub struct CookoffRun {
     pub stop: Option<String>,
 }
 
+/// The cells along r and along z at cell size `h`, m (the run's
+/// `domain.cells`).
+fn cells_across(h: f64) -> usize {
+    (DOMAIN / h).round() as usize
+}
+
 impl CookoffRun {
     /// The number of (r, z) cells at cell size `h`, m.
     pub fn rings(h: f64) -> usize {
-        let n = (DOMAIN / h).round() as usize;
-        n * n
+        cells_across(h).pow(2)
     }
 }
 
@@ -148,7 +153,7 @@ pub fn cookoff_run(
             return Err(format!("cook-off: end time {e} s is not positive"));
         }
     }
-    let n = (DOMAIN / h).round() as usize;
+    let n = cells_across(h);
     let sets = [format!("domain.cells=({n},{n},1)")];
     let mut loaded =
         load_str("configs/cookoff_rz.ron", COOKOFF_CONFIG, &sets).map_err(|e| e.to_string())?;

@@ -179,9 +179,15 @@ impl RzRun {
 
     /// The number of (r, z) cells at cell size `h`, m.
     pub fn rings(h: f64) -> usize {
-        let [r, z] = RZ_DOMAIN.map(|l| (l / h).round() as usize);
+        let [r, z] = rz_cells(h);
         r * z
     }
+}
+
+/// The cells along r and along z at cell size `h`, m (the run's
+/// `domain.cells`).
+fn rz_cells(h: f64) -> [usize; 2] {
+    RZ_DOMAIN.map(|l| (l / h).round() as usize)
 }
 
 /// Runs configs/cylinder_rz.ron as `setup` says; `progress` gets a line
@@ -202,7 +208,7 @@ pub fn cylinder_rz_run(
             return Err(format!("cylinder r–z: end time {e} s is not positive"));
         }
     }
-    let [nr, nz] = RZ_DOMAIN.map(|l| (l / h).round() as usize);
+    let [nr, nz] = rz_cells(h);
     let mut all = vec![format!("domain.cells=({nr},{nz},1)")];
     all.extend_from_slice(&setup.sets);
     let loaded =
