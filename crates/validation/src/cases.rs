@@ -8,7 +8,7 @@ use brisance_eos::IdealGas;
 use brisance_fdm::{ArtificialViscosity, FdmBoundary, FdmOptions, FdmSolver, PrimitiveState};
 use brisance_grid::Level;
 
-use super::riemann::{sod, RiemannSolution};
+use super::riemann::{l1_distance, sod, RiemannSolution};
 use super::smooth::AdvectedSine;
 
 /// The V-SOD scenario file.
@@ -143,12 +143,7 @@ fn sod_run(cells: usize, extra: &[String]) -> Result<SodResult, String> {
     let col = |k: usize| data.fields[k].1.clone();
     let (density, velocity, pressure) = (col(0), col(1), col(2));
     let exact_density: Vec<f64> = averages.iter().map(|s| s.density).collect();
-    let l1_density = density
-        .iter()
-        .zip(&exact_density)
-        .map(|(a, b)| (a - b).abs())
-        .sum::<f64>()
-        * dx;
+    let l1_density = l1_distance(&density, &exact_density, dx);
     // Windows: the contact between the rarefaction tail and the shock, the
     // shock from half-way to it up to the end of the tube.
     let w = exact.waves();

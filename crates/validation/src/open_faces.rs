@@ -308,17 +308,6 @@ pub fn toro5_case(
     ))?;
     let exact = problem.solve()?;
     let dx = 1.0 / cells as f64;
-    let l1 = run
-        .x
-        .iter()
-        .zip(&run.density)
-        .map(|(x, rho)| {
-            (rho - exact
-                .cell_average(x - 0.5 * dx, x + 0.5 * dx, x0, end)
-                .density)
-                .abs()
-        })
-        .sum::<f64>()
-        * dx;
+    let l1 = exact.l1_density_error(&run.x, &run.density, dx, x0, end);
     Ok((run, l1))
 }

@@ -736,6 +736,38 @@ impl RiemannSolution {
         let len = hi - lo;
         sum.map(|s| s / len)
     }
+
+    /// The exact density averaged over each cell `[x − dx/2, x + dx/2]` of
+    /// the centres `centres` at time `t` ([`Self::cell_average`]): the
+    /// reference a finite-volume run's density column is compared with.
+    pub fn density_averages(&self, centres: &[f64], dx: f64, x0: f64, t: f64) -> Vec<f64> {
+        centres
+            .iter()
+            .map(|x| self.cell_average(x - 0.5 * dx, x + 0.5 * dx, x0, t).density)
+            .collect()
+    }
+
+    /// The L1 error Σ|ρ_i − ρ̄_i| Δx of the densities `density` on cells of
+    /// width `dx` centred at `centres` against the exact cell averages
+    /// ([`Self::density_averages`], [`l1_distance`]).
+    pub fn l1_density_error(
+        &self,
+        centres: &[f64],
+        density: &[f64],
+        dx: f64,
+        x0: f64,
+        t: f64,
+    ) -> f64 {
+        l1_distance(density, &self.density_averages(centres, dx, x0, t), dx)
+    }
+}
+
+/// The discrete L1 distance Σ|a_i − b_i| Δx of two columns of cell values
+/// on cells of width `dx` (the sum taken first, then scaled); a column
+/// longer than the other is compared over the shorter's length.
+pub fn l1_distance(a: &[f64], b: &[f64], dx: f64) -> f64 {
+    debug_assert_eq!(a.len(), b.len(), "columns of different lengths");
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>() * dx
 }
 
 /// Sod's shock tube (Toro test 1, Table 4.1): `ρ = 1 / 0.125`, `u = 0 / 0`,
@@ -791,6 +823,33 @@ mod tests {
 
     fn solve(n: usize) -> RiemannSolution {
         toro_test(n).unwrap().solve().unwrap()
+    }
+
+    #[test]
+    fn l1_distance_by_hand() {
+        // (|1 − 1| + |2 − 1| + |3 − 5|) × 0.5 = 1.5.
+        assert_eq!(l1_distance(&[1.0, 2.0, 3.0], &[1.0, 1.0, 5.0], 0.5), 1.5);
+        assert_eq!(l1_distance(&[], &[], 0.1), 0.0);
+    }
+
+    #[test]
+    fn density_averages_and_l1_on_sod_at_a_quarter() {
+        // Sod at t = 0.25 from x0 = 0.5: the rarefaction's head at
+        // 0.5 − √1.4 · 0.25 = 0.204, the contact at 0.5 + 0.92745 · 0.25 =
+        // 0.732, the shock at 0.5 + 1.7522 · 0.25 = 0.938. Cells of 0.01
+        // centred at 0.105 (undisturbed left), 0.805 (between contact and
+        // shock: ρ*_R = 0.26557, Toro Table 4.2) and 0.995 (undisturbed
+        // right).
+        let s = sod().solve().unwrap();
+        let centres = [0.105, 0.805, 0.995];
+        let rho = s.density_averages(&centres, 0.01, 0.5, 0.25);
+        assert!((rho[0] - 1.0).abs() < 1e-14, "{rho:?}");
+        assert!((rho[1] - 0.26557).abs() < 5e-6, "{rho:?}");
+        assert!((rho[2] - 0.125).abs() < 1e-14, "{rho:?}");
+        // A column off by +0.1 in the middle cell only: 0.1 × 0.01.
+        let run = [rho[0], rho[1] + 0.1, rho[2]];
+        let l1 = s.l1_density_error(&centres, &run, 0.01, 0.5, 0.25);
+        assert!((l1 - 1e-3).abs() < 1e-15, "{l1}");
     }
 
     #[test]

@@ -11,7 +11,9 @@
 
 use super::cases;
 use super::open_faces::{run_tube_outcome, tube_scenario, Method, TubeOutcome, TubeState};
-use super::riemann::{toro_test, PrimitiveState, RiemannProblem, RiemannSolution, WaveKind};
+use super::riemann::{
+    l1_distance, toro_test, PrimitiveState, RiemannProblem, RiemannSolution, WaveKind,
+};
 
 /// One of Toro's tests on x ∈ [0, 1]: the Riemann problem, where its
 /// diaphragm stands and when it is compared.
@@ -183,24 +185,9 @@ pub fn shock_tube(
     let exact = case.problem.solve()?;
     let run = &outcome.run;
     let dx = 1.0 / cells as f64;
-    let exact_density: Vec<f64> = run
-        .x
-        .iter()
-        .map(|x| {
-            exact
-                .cell_average(x - 0.5 * dx, x + 0.5 * dx, case.diaphragm, case.end)
-                .density
-        })
-        .collect();
+    let exact_density = exact.density_averages(&run.x, dx, case.diaphragm, case.end);
     let completed = outcome.stopped.is_none();
-    let l1_density = completed.then(|| {
-        run.density
-            .iter()
-            .zip(&exact_density)
-            .map(|(a, b)| (a - b).abs())
-            .sum::<f64>()
-            * dx
-    });
+    let l1_density = completed.then(|| l1_distance(&run.density, &exact_density, dx));
     let waves =
         completed.then(|| wave_overshoots(&exact, &case, &run.x, &run.density, &run.pressure));
     let contact_pressure_excursion = waves.map(|w| {

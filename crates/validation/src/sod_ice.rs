@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use brisance_core::Solver;
 
-use crate::riemann::{PrimitiveState, RiemannProblem};
+use crate::riemann::{l1_distance, PrimitiveState, RiemannProblem};
 
 /// Time of the comparison (Toro's test 1 output time).
 pub const SOD_ICE_END: f64 = 0.2;
@@ -60,19 +60,8 @@ pub fn ice_tube<S: Solver>(
     };
     let dx = 1.0 / cells as f64;
     let x: Vec<f64> = (0..cells).map(|i| (i as f64 + 0.5) * dx).collect();
-    let exact_density: Vec<f64> = x
-        .iter()
-        .map(|xi| {
-            solution
-                .cell_average(xi - 0.5 * dx, xi + 0.5 * dx, 0.5, SOD_ICE_END)
-                .density
-        })
-        .collect();
-    let l1_density = density
-        .iter()
-        .zip(&exact_density)
-        .map(|(a, b)| (a - b).abs() * dx)
-        .sum();
+    let exact_density = solution.density_averages(&x, dx, 0.5, SOD_ICE_END);
+    let l1_density = l1_distance(&density, &exact_density, dx);
     Ok(IceTube {
         cells,
         x,
