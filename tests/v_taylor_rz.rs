@@ -48,7 +48,7 @@ fn v_taylor_rz_first_ten_microseconds_match_the_3d_quarter_rod() {
 #[test]
 fn the_composer_builds_the_rz_rod_as_rings() {
     let test = JOHNSON_COOK_1983_OFHC_190;
-    let s = taylor_rz_scenario(3, 1e-6, &[]).unwrap();
+    let s = taylor_rz_scenario(3, 1e-6, &[]).unwrap().scenario;
     let mut solver = build_solver(&s).unwrap();
     let exact = s.initial[0].state.density
         * std::f64::consts::PI

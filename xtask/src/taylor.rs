@@ -526,7 +526,9 @@ mod tests {
 
     #[test]
     fn jc_steel_overrides_make_the_published_rod() {
-        let s = bilinear_bar_scenario(2, &jc_steel::overrides()).unwrap();
+        let s = bilinear_bar_scenario(2, &jc_steel::overrides())
+            .unwrap()
+            .scenario;
         let state = &s.initial[0].state;
         assert_eq!(state.velocity, [0.0, 0.0, -287.0]);
         assert_eq!(state.density, 7830.0);

@@ -128,8 +128,7 @@ impl CaseRun {
         let peak = CasePeak::start();
         let rss0 = resident_bytes();
         let start = Instant::now();
-        let solver =
-            build_solver(&loaded.scenario).map_err(|e| format!("{config} does not build: {e}"))?;
+        let solver = build_solver(&loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
         Ok(Self {
             solver,
             end: loaded.scenario.time.end,

@@ -118,6 +118,43 @@ mod tests {
         assert_eq!(brisance_pd::cases::case_material(&b), 0);
     }
 
+    /// A negative products viscosity, which the solver refuses as it is
+    /// built (not when the scenario loads): the error names the file, the
+    /// line and column of the field in the text after the overrides, and
+    /// the field.
+    #[test]
+    fn a_tube_that_does_not_build_names_the_file_line_and_field() {
+        let file = "configs/pd_cylinder_seed000.ron";
+        let set = [
+            "pipeline.gas_viscosity=(linear: -1.0, quadratic: 0.0, deviatoric: 0.0)".to_string(),
+        ];
+        let Err(e) = Tube::at_with(file, PD_SEED000_CONFIG, 4.0e-3, &set) else {
+            panic!("a negative products viscosity built");
+        };
+        let place = e
+            .strip_prefix(&format!("{file}:"))
+            .unwrap_or_else(|| panic!("{e}"));
+        let mut parts = place.splitn(3, ':');
+        let line: usize = parts
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap_or_else(|_| panic!("{e}"));
+        let column: usize = parts
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap_or_else(|_| panic!("{e}"));
+        assert!(line > 1 && column > 0, "{e}");
+        assert!(
+            parts
+                .next()
+                .unwrap()
+                .starts_with(" `pipeline.gas_viscosity"),
+            "{e}"
+        );
+    }
+
     /// The seed 000 file builds seed 000's tube with QM-100's printed
     /// isentrope, and a few steps record its wall at z = 25 cm.
     #[test]

@@ -3,7 +3,7 @@
 //! solver the `Peridynamics` section builds from it.
 
 use brisance_compose::config::Scenario;
-use brisance_compose::{build::build_section, load_str};
+use brisance_compose::{build::build_section, load_str, LoadedScenario};
 use brisance_grid::Shape;
 use brisance_pd::{PdConfig, PdMaterialConfig, PdSolver};
 
@@ -53,14 +53,16 @@ impl Tube {
         spacing: f64,
         overrides: &[String],
     ) -> Result<Self, String> {
-        let (scenario, wall) = load(file, text, spacing, overrides)?;
-        let pd = scenario
+        let (loaded, wall) = load(file, text, spacing, overrides)?;
+        let pd = loaded
+            .scenario
             .pipeline
             .section::<PdConfig>()
             .ok_or_else(|| format!("{file}: not a Peridynamics pipeline"))?;
-        let solver = build_section(pd, &scenario).map_err(|e| e.to_string())?;
+        let solver =
+            build_section(pd, &loaded.scenario).map_err(|e| loaded.locate(e).to_string())?;
         Ok(Self {
-            scenario,
+            scenario: loaded.scenario,
             solver,
             wall,
         })
@@ -77,13 +79,13 @@ pub fn wall_of(file: &str, text: &str) -> Result<CaseWall, String> {
 }
 
 /// `text` loaded with the spacing, the detonation point and `overrides`
-/// set, and its wall.
+/// set (with its text, for the place of a build error), and its wall.
 fn load(
     file: &str,
     text: &str,
     spacing: f64,
     overrides: &[String],
-) -> Result<(Scenario, CaseWall), String> {
+) -> Result<(LoadedScenario, CaseWall), String> {
     if !(spacing > 0.0 && spacing.is_finite()) {
         return Err(format!(
             "{file}: spacing {spacing} m must be finite and > 0"
@@ -97,11 +99,9 @@ fn load(
         ),
     ];
     sets.extend_from_slice(overrides);
-    let scenario = load_str(file, text, &sets)
-        .map_err(|e| e.to_string())?
-        .scenario;
-    let wall = wall_in(file, &scenario)?;
-    Ok((scenario, wall))
+    let loaded = load_str(file, text, &sets).map_err(|e| e.to_string())?;
+    let wall = wall_in(file, &loaded.scenario)?;
+    Ok((loaded, wall))
 }
 
 /// The wall of a loaded scenario ([`case_wall`]), or an error naming the file.

@@ -51,8 +51,8 @@
 //!   particle are left out).
 
 use brisance_compose::build::build_section;
-use brisance_compose::config::{BoundaryConfig, Scenario};
-use brisance_compose::{load_str, run::advance_to};
+use brisance_compose::config::BoundaryConfig;
+use brisance_compose::{load_str, run::advance_to, LoadedScenario};
 use brisance_constitutive::elastic_plastic::PLASTIC_STRAIN_INDEX;
 use brisance_core::Solver;
 use brisance_mpm::{MpmSolver, Particles};
@@ -251,7 +251,7 @@ pub fn taylor_scenario(
     cells_across_radius: usize,
     end: f64,
     extra: &[String],
-) -> Result<Scenario, String> {
+) -> Result<LoadedScenario, String> {
     if cells_across_radius == 0 {
         return Err("cells_across_radius must be at least 1".into());
     }
@@ -272,9 +272,7 @@ pub fn taylor_scenario(
         format!("time.end={end:e}"),
     ];
     sets.extend_from_slice(extra);
-    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
-        .map(|l| l.scenario)
-        .map_err(|e| e.to_string())
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets).map_err(|e| e.to_string())
 }
 
 /// Builds the MPM solver of a one-region `Mpm` scenario by the `Mpm`
@@ -283,7 +281,8 @@ pub fn taylor_scenario(
 /// particles can be measured. The rod needs one initial region (its
 /// material's particles are the rod) and `Wall`, `Reflective` or
 /// `Outflow` faces.
-pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
+pub fn taylor_solver(loaded: &LoadedScenario) -> Result<MpmSolver, String> {
+    let s = &loaded.scenario;
     let Some(mpm) = s.pipeline.section::<brisance_couple::MpmConfig>() else {
         return Err("pipeline: V-TAYLOR needs the Mpm pipeline".into());
     };
@@ -305,7 +304,7 @@ pub fn taylor_solver(s: &Scenario) -> Result<MpmSolver, String> {
             bc.name()
         ));
     }
-    build_section(mpm, s).map_err(|e| e.to_string())
+    build_section(mpm, s).map_err(|e| loaded.locate(e).to_string())
 }
 
 /// `configs/taylor3d.ron` on an axisymmetric (r, z) grid with
@@ -317,9 +316,9 @@ pub fn taylor_rz_scenario(
     cells_across_radius: usize,
     end: f64,
     extra: &[String],
-) -> Result<Scenario, String> {
+) -> Result<LoadedScenario, String> {
     let three_d = taylor_scenario(cells_across_radius, end, &[])?;
-    let [across, _, along] = three_d.domain.cells;
+    let [across, _, along] = three_d.scenario.domain.cells;
     let dx = rod_radius() / cells_across_radius as f64;
     let (w, h) = (across as f64 * dx, along as f64 * dx);
     let test = JOHNSON_COOK_1983_OFHC_190;
@@ -336,9 +335,7 @@ pub fn taylor_rz_scenario(
         format!("initial.0.state.velocity=(0.0,{:e},0.0)", -test.velocity),
     ];
     sets.extend_from_slice(extra);
-    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
-        .map(|l| l.scenario)
-        .map_err(|e| e.to_string())
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets).map_err(|e| e.to_string())
 }
 
 /// The rod's shape on an (r, z) grid, measured as [`rod_shape`] does in
@@ -412,13 +409,14 @@ pub fn taylor_case(
 /// quarter rod ([`rod_shape`], mass against ρπR²L₀/4), an axisymmetric one
 /// the whole rod as rings ([`rod_shape_rz`], mass against ρπR²L₀).
 fn run_rod(
-    scenario: &Scenario,
+    loaded: &LoadedScenario,
     cells_across_radius: usize,
     radius: f64,
     length: f64,
     end: f64,
 ) -> Result<TaylorResult, String> {
-    let mut solver = taylor_solver(scenario)?;
+    let mut solver = taylor_solver(loaded)?;
+    let scenario = &loaded.scenario;
     let rho = scenario.initial[0].state.density;
     let axisymmetric = scenario.domain.geometry.is_axisymmetric();
     let measure = if axisymmetric {
@@ -517,7 +515,7 @@ pub mod bilinear_bar {
 pub fn bilinear_bar_scenario(
     cells_across_radius: usize,
     extra: &[String],
-) -> Result<Scenario, String> {
+) -> Result<LoadedScenario, String> {
     use bilinear_bar as b;
     if cells_across_radius == 0 {
         return Err("cells_across_radius must be at least 1".into());
@@ -551,9 +549,7 @@ pub fn bilinear_bar_scenario(
         "materials.copper.model.taylor_quinney=0.0".to_string(),
     ];
     sets.extend_from_slice(extra);
-    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets)
-        .map(|l| l.scenario)
-        .map_err(|e| e.to_string())
+    load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &sets).map_err(|e| e.to_string())
 }
 
 /// Runs the bilinear bar ([`bilinear_bar_scenario`]) and measures it as
@@ -641,7 +637,9 @@ mod tests {
         let shipped = load_str("configs/taylor3d.ron", TAYLOR3D_CONFIG, &[])
             .unwrap()
             .scenario;
-        let built = taylor_scenario(CONFIG_CELLS_ACROSS_RADIUS, shipped.time.end, &[]).unwrap();
+        let built = taylor_scenario(CONFIG_CELLS_ACROSS_RADIUS, shipped.time.end, &[])
+            .unwrap()
+            .scenario;
         assert_eq!(built.domain.cells, shipped.domain.cells);
         for d in 0..3 {
             let (a, b) = (built.domain.upper[d], shipped.domain.upper[d]);
@@ -649,6 +647,24 @@ mod tests {
         }
         assert_eq!(built.materials, shipped.materials);
         assert_eq!(built.initial, shipped.initial);
+    }
+
+    #[test]
+    fn a_scenario_that_does_not_build_names_the_file_line_and_field() {
+        // A particle gauge over a box of air, away from the rod: the build
+        // refuses it, at the gauge's place in the text after the overrides.
+        let set = ["outputs.particle_gauges=[(name: \"air\", region: Box(min: (0.008, 0.008, 0.03), \
+                    max: (0.009, 0.009, 0.031)), material: \"copper\", quantities: [MeanVelocity])]"
+            .to_string()];
+        let loaded = taylor_scenario(2, 1e-6, &set).unwrap();
+        let e = taylor_solver(&loaded).unwrap_err();
+        let at = loaded.text.find("region: Box(min: (0.008").unwrap();
+        let line = 1 + loaded.text[..at].matches('\n').count();
+        assert!(
+            e.starts_with(&format!("configs/taylor3d.ron:{line}:")),
+            "{e}"
+        );
+        assert!(e.contains("`outputs.particle_gauges.0.region`"), "{e}");
     }
 
     #[test]
@@ -664,7 +680,7 @@ mod tests {
     #[test]
     fn the_rod_uses_the_published_johnson_cook_constants_and_the_library_copper() {
         use brisance_constitutive::{FlowStress, PressureModel};
-        let s = taylor_scenario(3, 1e-6, &[]).unwrap();
+        let s = taylor_scenario(3, 1e-6, &[]).unwrap().scenario;
         let copper = &s.materials["copper"];
         let Some(MaterialModel::ElasticPlastic(ep)) = &copper.model else {
             panic!("the rod is not ElasticPlastic");
@@ -696,7 +712,8 @@ mod tests {
         assert!((b::shear_modulus() - 43.333_333_333e9).abs() < 1.0);
         assert!((b::bulk_modulus() - 130.0e9).abs() < 1.0);
         assert!((b::plastic_modulus() - 100.085_543_2e6).abs() < 1.0);
-        let s = bilinear_bar_scenario(8, &[]).unwrap();
+        let loaded = bilinear_bar_scenario(8, &[]).unwrap();
+        let s = &loaded.scenario;
         // Δx = 0.4 mm: L₀ = 81 Δx, 83 cells along, 24 across.
         assert_eq!(s.domain.cells, [24, 24, 83]);
         let Some(MaterialModel::ElasticPlastic(ep)) = &s.materials["copper"].model else {
@@ -718,7 +735,7 @@ mod tests {
         assert_eq!(s.initial[0].state.velocity, [0.0, 0.0, -b::VELOCITY]);
         // The undeformed bar measures L₀ (81 particle pairs) and R₀ within
         // one particle width.
-        let solver = taylor_solver(&s).unwrap();
+        let solver = taylor_solver(&loaded).unwrap();
         let shape = rod_shape(solver.particles()).unwrap();
         assert!((shape.length - b::LENGTH).abs() < 1e-12, "{}", shape.length);
         assert!((0.5 * shape.diameter - b::RADIUS).abs() <= 0.5 * 0.4e-3);
