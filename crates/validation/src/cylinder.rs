@@ -6,6 +6,8 @@
 //! rules and step 2's rescale added, and the 1D QM-100 column at the same
 //! h beside it). `cargo xtask validate --only cylinder-rz` (and
 //! `cylinder-rz-slip`, `pd-icempm-cyl`) write the report's tables from it.
+//! E-CYLINDER's run on the 3D quarter is [`quarter`]
+//! (`cargo xtask validate --only cylinder`).
 
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -24,6 +26,11 @@ use brisance_ice::column::{run_column, Column};
 use brisance_mpm::MpmSolver;
 
 use crate::last_tenth_mean;
+
+pub mod quarter;
+pub use quarter::{
+    cylinder_quarter_run, QuarterRun, QuarterSetup, CYLINDER_QUARTER_CONFIG, QUARTER_GAUGE_Z,
+};
 
 /// The scenario, configs/cylinder_rz.ron.
 pub const CYLINDER_RZ_CONFIG: &str = include_str!("../../../configs/cylinder_rz.ron");

@@ -7,249 +7,68 @@ use std::time::Instant;
 use anyhow::{anyhow, Result};
 
 use crate::Report;
-use brisance::verification::cylinder::{tube_gurney, TubeGurney, TUBE};
-
-/// Axial position of the wall gauge, m: 15 cm from initiation, 5 cm before
-/// the tube's open end (whose rarefaction reaches it after the record).
-/// At 5 cm, the first reduced tube's gauge, the detonation was still
-/// building up from the booster (docs/physics/couple/ice_mpm_cylinder_audit.md).
-const GAUGE_Z: f64 = 0.15;
+use brisance::verification::cylinder::{
+    cylinder_quarter_run, QuarterRun, QuarterSetup, TubeGurney, QUARTER_GAUGE_Z,
+};
 
 /// E-CYLINDER: configs/cylinder_icempm.ron (the seed 000 §5.2 copper
-/// cylinder test, reduced): the mean radial velocity of the outer-wall
-/// particles that start within 1 mm of z = GAUGE_Z, time-shifted to the
-/// detonation's arrival there (products volume fraction on the axis above
-/// 1/2), and its terminal value against the Gurney estimate.
+/// cylinder test, reduced), run by `brisance_validation::cylinder::
+/// cylinder_quarter_run`: the mean radial velocity of the outer-wall
+/// particles that start within 1 mm of z = QUARTER_GAUGE_Z, time-shifted to
+/// the detonation's arrival there (products volume fraction on the axis
+/// above 1/2), and its terminal value against the Gurney estimate.
 pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
-    use brisance::compose::build::build_section;
-    use brisance::compose::load_str;
-    use brisance::core::Solver;
-    use brisance::eos::tools::{cylinder_wall_velocity, gurney_estimate};
-
     if let Ok(path) = std::env::var("BRISANCE_CYLINDER_AUDIT") {
         return cylinder_audit(&path);
     }
     println!("E-CYLINDER: copper cylinder test on the IceMpm pipeline (reduced)");
-    let text = include_str!("../../../configs/cylinder_icempm.ron");
-    let loaded = load_str("cylinder_icempm.ron", text, &[])
-        .map_err(|e| anyhow!("configs/cylinder_icempm.ron: {e}"))?;
-    let s = &loaded.scenario;
-    let Some(section) = s.pipeline.section::<brisance::couple::IceMpmConfig>() else {
-        return Err(anyhow!(
-            "configs/cylinder_icempm.ron is not an IceMpm pipeline"
-        ));
-    };
-    let mut solver = build_section(section, s).map_err(|e| anyhow!("{e}"))?;
-    let t_end = s.time.end;
-    let energy_start = brisance::core::Solver::conservation_totals(&solver).energy;
-    // The outer-wall particles at the gauge, by identity.
-    let (r_in, r_out, _) = TUBE;
-    let h = s
-        .domain
-        .cells
-        .iter()
-        .zip(0..3)
-        .map(|(n, d)| (s.domain.upper[d] - s.domain.lower[d]) / *n as f64)
-        .fold(0.0, f64::max);
-    let ps = solver.mpm().particles();
-    let ids = solver.mpm().particle_ids();
-    let r_max = (0..ps.len())
-        .map(|p| ps.position[p][0].hypot(ps.position[p][1]))
-        .fold(0.0, f64::max);
-    let gauge: std::collections::BTreeSet<u32> = (0..ps.len())
-        .filter(|&p| {
-            let x = ps.position[p];
-            x[0].hypot(x[1]) > r_max - 0.5 * h && (x[2] - GAUGE_Z).abs() < 1e-3
-        })
-        .map(|p| ids[p])
-        .collect();
-    if gauge.is_empty() {
-        return Err(anyhow!("no outer-wall particle at the gauge"));
-    }
-    let gauge_radius = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let (ps, ids) = (m.particles(), m.particle_ids());
-        let (mut sum, mut n) = (0.0, 0);
-        for (p, id) in ids.iter().enumerate() {
-            if gauge.contains(id) {
-                sum += ps.position[p][0].hypot(ps.position[p][1]);
-                n += 1;
-            }
-        }
-        sum / n as f64
-    };
-    let gauge_r0 = gauge_radius(solver.mpm());
-    // The whole wall at the gauge (every particle starting within h/2 of
-    // GAUGE_Z): its kinetic-energy mean radial velocity is the velocity
-    // the Gurney relation speaks of (a thick wall's outer surface moves
-    // slower than its mean, by r_in/r_out for an incompressible wall).
-    let slice: std::collections::BTreeSet<u32> = (0..ps.len())
-        .filter(|&p| (ps.position[p][2] - GAUGE_Z).abs() < 0.5 * h)
-        .map(|p| ids[p])
-        .collect();
-    let slice_speed = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let (ps, ids) = (m.particles(), m.particle_ids());
-        let (mut ke, mut mass) = (0.0, 0.0);
-        for (p, id) in ids.iter().enumerate() {
-            if slice.contains(id) {
-                let (x, v) = (ps.position[p], ps.velocity[p]);
-                let vr = (x[0] * v[0] + x[1] * v[1]) / x[0].hypot(x[1]);
-                ke += ps.mass[p] * vr * vr;
-                mass += ps.mass[p];
-            }
-        }
-        (ke / mass).sqrt()
-    };
-    let radial = |m: &brisance::mpm::MpmSolver| -> f64 {
-        let (ps, ids) = (m.particles(), m.particle_ids());
-        let (mut sum, mut n) = (0.0, 0);
-        for (p, id) in ids.iter().enumerate() {
-            if gauge.contains(id) {
-                let (x, v) = (ps.position[p], ps.velocity[p]);
-                let r = x[0].hypot(x[1]);
-                sum += (x[0] * v[0] + x[1] * v[1]) / r;
-                n += 1;
-            }
-        }
-        if n > 0 {
-            sum / n as f64
-        } else {
-            f64::NAN
-        }
-    };
-    let axis = [0.5 * h, 0.5 * h, GAUGE_Z];
-    // Detonation arrival on the axis every 5 mm from 5 cm before the gauge
-    // to 3 cm after it, for the detonation velocity there.
-    let mut fronts: Vec<(f64, Option<f64>)> = (0..17)
-        .map(|i| (GAUGE_Z - 0.05 + 0.005 * i as f64, None))
-        .filter(|f| f.0 > 0.0 && f.0 < s.domain.upper[2])
-        .collect();
-    let mut slice_speeds = Vec::new();
-    let start = Instant::now();
-    let mut times = Vec::new();
-    let mut speeds = Vec::new();
-    let mut arrival = None;
-    let mut sample = Vec::new();
-    let mut steps = 0usize;
-    let mut failure = None;
-    while solver.time() < t_end * (1.0 - 1e-12) {
-        let dt = match solver.stable_dt() {
-            Ok(dt) => dt.min(t_end - solver.time()),
-            Err(e) => {
-                failure = Some(e.to_string());
-                break;
-            }
-        };
-        if let Err(e) = solver.advance(dt) {
-            failure = Some(e.to_string());
-            break;
-        }
-        steps += 1;
-        for f in fronts.iter_mut().filter(|f| f.1.is_none()) {
-            solver.sample(
-                [0.5 * h, 0.5 * h, f.0],
-                &["volume_fraction_2".into()],
-                &mut sample,
-            )?;
-            if sample[0] > 0.5 {
-                f.1 = Some(solver.time());
-            }
-        }
-        if arrival.is_none() {
-            solver.sample(axis, &["volume_fraction_2".into()], &mut sample)?;
-            if sample[0] > 0.5 {
-                arrival = Some(solver.time());
-            }
-        }
-        times.push(solver.time());
-        speeds.push(radial(solver.mpm()));
-        slice_speeds.push(slice_speed(solver.mpm()));
-    }
-    let wall = start.elapsed().as_secs_f64();
-    let cells: usize = s.domain.cells.iter().product();
-    let particles = solver.particles_per_step();
+    let run = cylinder_quarter_run(&QuarterSetup::shipped()).map_err(|e| anyhow!("{e}"))?;
+    let QuarterRun {
+        extent,
+        cells,
+        particles,
+        steps,
+        gauge_z,
+        arrival,
+        slice_end,
+        relative_volume_end: v_end,
+        gurney_at_end,
+        energy_start,
+        ..
+    } = run;
+    let wall = run.wall_s;
     let cell_rate = (cells * steps) as f64 / wall;
     let particle_rate = (particles * steps) as f64 / wall;
-    // How far the wall got: the gauge particles' mean radius scaled to the
-    // outer surface, the inner radius from the copper's area (its volume
-    // per length, nearly incompressible), and the products' relative
-    // volume V = (r_in/r_in0)² there.
-    let r_out_end = gauge_radius(solver.mpm()) * r_out / gauge_r0;
-    let r_in_end = (r_out_end * r_out_end - (r_out * r_out - r_in * r_in))
-        .max(0.0)
-        .sqrt();
-    let v_end = (r_in_end / r_in).powi(2);
-    // Gurney: QM-100 products on their principal isentrope to V = 7, the
-    // reduced tube's metal-to-charge ratio.
     let TubeGurney {
-        products,
         cj,
         estimate: g,
         m_over_c,
         wall: gurney,
-    } = tube_gurney(s, "configs/cylinder_icempm.ron").map_err(|e| anyhow!("{e}"))?;
-    // The Gurney estimate at the expansion the run reached (for reading
-    // the terminal value of a record that ends before V = 7).
-    let gurney_at_end = if v_end.is_finite() && v_end > 1.0 {
-        gurney_estimate(&products, &cj, v_end, 1e-11)
-            .ok()
-            .and_then(|ge| cylinder_wall_velocity(ge.gurney_velocity, m_over_c).ok())
-    } else {
-        None
-    };
+        ..
+    } = &run.gurney;
+    let (m_over_c, gurney) = (*m_over_c, *gurney);
     let t0 = arrival.unwrap_or(f64::NAN);
-    // Least-squares detonation velocity over the arrivals recorded.
-    let pts: Vec<(f64, f64)> = fronts
-        .iter()
-        .filter_map(|f| f.1.map(|t| (t, f.0)))
-        .collect();
-    let detonation_velocity = if pts.len() >= 3 {
-        let n = pts.len() as f64;
-        let (st, sz) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
-        let (mt, mz) = (st / n, sz / n);
-        let (num, den) = pts.iter().fold((0.0, 0.0), |a, p| {
-            (a.0 + (p.0 - mt) * (p.1 - mz), a.1 + (p.0 - mt) * (p.0 - mt))
-        });
-        num / den
-    } else {
-        f64::NAN
-    };
-    let slice_end = slice_speeds.last().copied().unwrap_or(f64::NAN);
-    // Step 2's cold-material rule: its firings and the energy it added,
-    // per material (the pipeline's fluids, then the solids).
-    let names: Vec<String> = section
-        .ice
-        .materials
-        .iter()
-        .cloned()
-        .chain(section.solid.names().iter().cloned())
-        .collect();
-    let booked = |totals: &[brisance::ice::KeptWarmTotals]| {
+    let detonation_velocity = run.detonation_velocity();
+    let booked = |totals: &[(String, brisance::ice::KeptWarmTotals)]| {
         totals
             .iter()
-            .enumerate()
-            .map(|(r, k)| {
-                let name = names.get(r).map_or("?", String::as_str);
-                format!("{name} {} cell-steps, {:+.3e} J", k.firings, k.energy)
-            })
+            .map(|(name, k)| format!("{name} {} cell-steps, {:+.3e} J", k.firings, k.energy))
             .collect::<Vec<_>>()
             .join("; ")
     };
-    let warm = booked(solver.ice().kept_warm_totals());
-    let warm12 = booked(solver.ice().kept_warm_advection_totals());
+    let warm = booked(&run.kept_warm);
+    let warm12 = booked(&run.kept_warm_advection);
     println!(
         "  cold-material rule (kept_warm): step 2 {warm}; step 12 {warm12}; initial total energy {energy_start:.4e} J"
     );
-    let terminal = if failure.is_none() {
-        // Mean over the last 10 % of the record.
-        let k = speeds.len() - speeds.len() / 10;
-        speeds[k..].iter().sum::<f64>() / (speeds.len() - k) as f64
-    } else {
-        f64::NAN
-    };
+    let terminal = run.terminal();
+    let failure = &run.failure;
     println!(
         "  {steps} steps in {wall:.0} s ({cell_rate:.3e} cell-updates/s, {particle_rate:.3e} particle-steps/s, {cells} cells, {particles} particles), arrival at z = {:.1} cm {t0:e} s, terminal {terminal:.0} m/s, Gurney {gurney:.0} m/s (at the V = {v_end:.2} reached: {gurney_at_end:?}), failure {failure:?}",
-        GAUGE_Z * 100.0
+        gauge_z * 100.0
     );
+    let times: Vec<f64> = run.record.iter().map(|r| r.0).collect();
+    let speeds: Vec<f64> = run.record.iter().map(|r| r.1).collect();
     // Plot v_r against t − t_arrival.
     let shifted: Vec<f64> = times.iter().map(|t| (t - t0) * 1e6).collect();
     let png = img.join("e_cylinder.png");
@@ -260,7 +79,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
             &png,
             &format!(
                 "E-CYLINDER: outer wall at z = {:.1} cm (IceMpm, reduced)",
-                GAUGE_Z * 100.0
+                gauge_z * 100.0
             ),
             "t − t_arrival [µs]",
             &[Panel {
@@ -296,12 +115,12 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
          {steps} steps to {:.1} µs, {wall:.0} s wall (2 cores, shared): {cells} cells and {particles} particles, \
          {cell_rate:.3e} cell-updates/s, {particle_rate:.3e} particle-steps/s. At the end the wall at the gauge \
          had expanded to an inner radius of {:.1} mm, products relative volume V = {v_end:.2}{}.{}\n",
-        (s.domain.upper[2] - s.domain.lower[2]) * 1e2,
-        (s.domain.upper[0] - s.domain.lower[0]) * 1e3,
-        (s.domain.upper[1] - s.domain.lower[1]) * 1e3,
-        GAUGE_Z * 100.0,
-        solver.time() * 1e6,
-        r_in_end * 1e3,
+        extent[2] * 1e2,
+        extent[0] * 1e3,
+        extent[1] * 1e3,
+        gauge_z * 100.0,
+        run.time * 1e6,
+        run.inner_radius_end * 1e3,
         gurney_at_end.map_or(String::new(), |v| format!(
             " (the Gurney estimate at that V, same M/C: {v:.0} m/s)"
         )),
@@ -327,12 +146,12 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
          rule and trace hold (`kept_warm`, in step 2 and carried through steps 8–11; \
          docs/physics/ice/steps.md) fired over the run: {warm}; step 12's: {warm12} \
          (initial total energy of the quarter model {energy_start:.4e} J).\n",
-        fronts.first().map_or(f64::NAN, |f| f.0 * 100.0),
-        fronts.last().map_or(f64::NAN, |f| f.0 * 100.0),
+        run.fronts.first().map_or(f64::NAN, |f| f.0 * 100.0),
+        run.fronts.last().map_or(f64::NAN, |f| f.0 * 100.0),
         detonation_velocity,
         cj.detonation_velocity,
         100.0 * (detonation_velocity / cj.detonation_velocity - 1.0),
-        GAUGE_Z * 100.0,
+        gauge_z * 100.0,
         gurney_at_end.map_or(String::new(), |v| format!(
             " ({:+.1} % from the Gurney estimate at the V reached)",
             100.0 * (slice_end / v - 1.0)
@@ -362,7 +181,7 @@ pub fn e_cylinder(report: &mut Report, img: &std::path::Path) -> Result<()> {
 /// cylinder` runs that config instead and prints the energy audit over time
 /// and the state of the gauge slice, then stops without writing the report.
 /// `BRISANCE_CYLINDER_AUDIT_EVERY` (steps between lines, default 20) and
-/// `BRISANCE_CYLINDER_AUDIT_Z` (slice position, m, default GAUGE_Z).
+/// `BRISANCE_CYLINDER_AUDIT_Z` (slice position, m, default QUARTER_GAUGE_Z).
 pub fn cylinder_audit(path: &str) -> Result<()> {
     use brisance::compose::build::build_section;
     use brisance::compose::load_str;
@@ -384,7 +203,7 @@ pub fn cylinder_audit(path: &str) -> Result<()> {
     let zg: f64 = std::env::var("BRISANCE_CYLINDER_AUDIT_Z")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(GAUGE_Z);
+        .unwrap_or(QUARTER_GAUGE_Z);
     let t_end: f64 = std::env::var("BRISANCE_CYLINDER_AUDIT_END")
         .ok()
         .and_then(|v| v.parse().ok())
