@@ -830,7 +830,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 46] = [
+const CASES: [&str; 47] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -848,6 +848,7 @@ const CASES: [&str; 46] = [
     "cylinder-rz-slip",
     "cookoff",
     "cookoff-ensemble",
+    "cookoff-eighth",
     "smooth",
     "cj",
     "bar",
@@ -957,6 +958,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("cookoff-ensemble") {
         cookoff::e_cookoff_ensemble(&mut body, &plain_cookoff)?;
+    }
+    if run("cookoff-eighth") {
+        cookoff::e_cookoff_eighth(&mut body, &img)?;
     }
     if run("smooth") {
         v_smooth(&mut body, &img)?;
