@@ -49,6 +49,13 @@ pub const FIELD_EVERY: f64 = 1e-6;
 /// hottest products.
 pub const PRESENT: f64 = 1e-4;
 
+/// A cell size `h` (m) in millimetres, rounded to the micrometre, for
+/// names and tables: 4.5 for the 0.0045000000000000005 m that "4.5 mm"
+/// parses to.
+pub fn mm(h: f64) -> f64 {
+    (h * 1e6).round() / 1e3
+}
+
 /// The grid a cook-off runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CookoffGrid {
@@ -110,7 +117,7 @@ impl CookoffGrid {
         }
     }
 
-    /// A short name for progress lines and frame names: "" for the rings,
+    /// What progress lines put before the cell size: "" for the rings,
     /// "eighth " for the eighth.
     pub fn label(self) -> &'static str {
         match self {
@@ -191,13 +198,6 @@ pub struct CookoffRun {
 /// `domain.cells`).
 fn cells_across(h: f64) -> usize {
     (DOMAIN / h).round() as usize
-}
-
-impl CookoffRun {
-    /// The number of (r, z) cells at cell size `h`, m.
-    pub fn rings(h: f64) -> usize {
-        CookoffGrid::Rings.cell_count(h)
-    }
 }
 
 /// A frame to draw: the solver, which material the steel is, the steel
@@ -353,8 +353,8 @@ pub fn cookoff_run(
                 grid,
                 steel,
                 failed_at_start: &failed0,
-                name: format!("{}mm_{}ms", h * 1e3, label(FRAMES[next_frame])),
-                title: format!("h = {} mm, t = {} ms (seed 000 fig. 6)", h * 1e3, label(t)),
+                name: format!("{}mm_{}ms", mm(h), label(FRAMES[next_frame])),
+                title: format!("h = {} mm, t = {} ms (seed 000 fig. 6)", mm(h), label(t)),
             })?;
             run.frames.extend(shown);
             next_frame += 1;
@@ -455,7 +455,7 @@ pub fn cookoff_run(
             progress(&format!(
                 "    {}h {:.2} mm{}: step {}, t = {:.2} µs, {:.0} s",
                 grid.label(),
-                h * 1e3,
+                mm(h),
                 if warmer != 0.0 {
                     format!(" (steel {:.0} mK warmer)", warmer * 1e3)
                 } else {
@@ -475,10 +475,10 @@ pub fn cookoff_run(
             grid,
             steel,
             failed_at_start: &failed0,
-            name: format!("{}mm_stop", h * 1e3),
+            name: format!("{}mm_stop", mm(h)),
             title: format!(
                 "h = {} mm: the last step, t = {:.2} µs",
-                h * 1e3,
+                mm(h),
                 solver.time() * 1e6
             ),
         })?;
@@ -531,7 +531,6 @@ mod tests {
     #[test]
     fn a_short_coarse_run_records_every_step_and_closes_its_mass() {
         let (run, names) = short(0.0);
-        assert_eq!(CookoffRun::rings(3e-3), 900);
         assert!(run.stop.is_none(), "{:?}", run.stop);
         assert!(run.steps > 0);
         // A sample before each step and after the last.
@@ -636,6 +635,13 @@ mod tests {
             CookoffGrid::Eighth.config().0,
             "configs/validation/cookoff_eighth.ron"
         );
+    }
+
+    #[test]
+    fn cell_sizes_print_in_whole_micrometres() {
+        assert_eq!(super::mm(4.5 * 1e-3), 4.5);
+        assert_eq!(format!("{}", super::mm(0.5e-3)), "0.5");
+        assert_eq!(format!("{}", super::mm(2e-3)), "2");
     }
 
     #[test]
