@@ -253,6 +253,28 @@ fn plot_records(
     )
 }
 
+/// One run's figures at its end on the console: steps, wall time, time
+/// reached, pressure inside the wall, burnt fraction, hoop strain, failed
+/// steel, venting, hottest products and why it stopped.
+fn print_summary(r: &CookoffRun) {
+    let last = r.record.last().copied();
+    println!(
+        "  {}h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
+        r.grid.label(),
+        mm(r.h),
+        r.steps,
+        r.wall_s,
+        last.map_or(0.0, |s| s.t * 1e6),
+        last.map_or(f64::NAN, |s| s.p_wall),
+        last.map_or(f64::NAN, |s| s.burnt),
+        hoop_text(&r.record),
+        last.map_or(0, |s| s.failed),
+        r.vented,
+        r.hottest.0,
+        r.stop
+    );
+}
+
 /// One run's row of the E-COOKOFF table (after `lead`, the cells before
 /// h, each followed by " |"; "" for none): h, cells, steps, reached,
 /// pressures, burnt, hoop strain, first rupture, venting, hottest
@@ -326,21 +348,7 @@ pub(crate) fn e_cookoff(report: &mut Report, img: &Path) -> Result<PlainRuns> {
     let mut runs = Vec::new();
     for &h in &hs {
         let r = run_at(h, budget_s, Some(img), 0.0)?;
-        let last = r.record.last().copied();
-        println!(
-            "  h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, failed {}, vented {:.3e} kg/rad, hottest products {:.3e} K; stop {:?}",
-            mm(h),
-            r.steps,
-            r.wall_s,
-            last.map_or(0.0, |s| s.t * 1e6),
-            last.map_or(f64::NAN, |s| s.p_wall),
-            last.map_or(f64::NAN, |s| s.burnt),
-            hoop_text(&r.record),
-            last.map_or(0, |s| s.failed),
-            r.vented,
-            r.hottest.0,
-            r.stop
-        );
+        print_summary(&r);
         runs.push(r);
     }
     // Pressure, burnt fraction and hoop strain against time, one curve per h.
@@ -623,20 +631,7 @@ pub(crate) fn e_cookoff_eighth(report: &mut Report, img: &Path) -> Result<()> {
             name.ends_with("0.312ms") || name.ends_with("stop")
         })?;
         for r in [&rings, &eighth] {
-            let last = r.record.last().copied();
-            println!(
-                "  {}h {:.2} mm: {} steps in {:.0} s to t = {:.2} µs; p wall {:.3e} Pa, burnt {:.3e}, hoop {}, vented {:.3e} kg/rad; stop {:?}",
-                r.grid.label(),
-                mm(h),
-                r.steps,
-                r.wall_s,
-                last.map_or(0.0, |s| s.t * 1e6),
-                last.map_or(f64::NAN, |s| s.p_wall),
-                last.map_or(f64::NAN, |s| s.burnt),
-                hoop_text(&r.record),
-                r.vented,
-                r.stop
-            );
+            print_summary(r);
         }
         pairs.push((rings, eighth));
     }
