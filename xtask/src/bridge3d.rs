@@ -1,15 +1,12 @@
 //! What the E-PLATE and E-SLAB reports (`plate_cases.rs`,
 //! `slab_cases.rs`) share beyond the cases themselves, which live in
 //! `brisance::verification::{bridge_blast, plate, slab}`: the splice of a
-//! section's rows into docs/validation.md after each case (and the case
-//! peak memory the 2D bridge cases take too); what a run of some cases
-//! keeps of the others is `crate::kept`.
+//! section's rows into docs/validation.md after each case; what a run of
+//! some cases keeps of the others is `crate::kept`.
 
 use std::path::Path;
 
 use anyhow::{Context, Result};
-
-pub(crate) use brisance::verification::bridge_blast::CasePeak;
 
 use crate::Report;
 

@@ -2,11 +2,13 @@
 //! against, written from the physics, the empirical Kingery–Bulmash blast
 //! fits it compares free-air bursts with, Mott's fragmentation of shells
 //! (E-PD-FRAG), and the case drivers (E-PLATE's plates under a spherical
-//! charge through the bridge and E-COOKOFF's container among them) the
+//! charge through the bridge, E-BLAST2D's slab behind the 2D bridge and
+//! E-COOKOFF's container among them) the
 //! integration tests and `cargo xtask validate` share (the root package
 //! re-exports the crate as `brisance::verification`).
 
 pub mod blast;
+pub mod blast2d;
 pub mod bridge_blast;
 pub mod cases;
 pub mod conduction_contact;
