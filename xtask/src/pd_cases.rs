@@ -14,7 +14,8 @@ use brisance::pd::{cumulative_mass_distribution, write_cmd_csv, write_fragments_
 use brisance::verification::mott::{fracture_spacing, MottDistribution};
 use brisance::verification::pd_cylinder;
 use brisance::verification::pd_fragmentation::{
-    census, fragmenting_cylinder_with, mean_speed, Strength,
+    census, fragmenting_cylinder_with, mass_median, mean_speed, median_mass, ten_largest_fraction,
+    Strength,
 };
 
 use crate::plot::{self, Panel, Series, SeriesStyle};
@@ -427,25 +428,6 @@ struct FragStats {
     mass_fraction: Vec<f64>,
 }
 
-/// Median of the fragment masses (by count), kg.
-fn median_mass(fragments: &[brisance::pd::Fragment]) -> f64 {
-    let n = fragments.len();
-    // Sorted by decreasing mass.
-    if n % 2 == 1 {
-        fragments[n / 2].mass
-    } else {
-        0.5 * (fragments[n / 2 - 1].mass + fragments[n / 2].mass)
-    }
-}
-
-/// Mass-median fragment mass m₅₀, kg: the smallest fragment mass such that
-/// the fragments at least this heavy hold half the case mass.
-fn mass_median(cmd: &[brisance::pd::CmdPoint]) -> f64 {
-    cmd.iter()
-        .find(|c| c.mass_fraction_at_least >= 0.5)
-        .map_or(0.0, |c| c.mass)
-}
-
 /// E-PD-FRAG: steel tube 4.25 in, fragment count and CMD at three spacings
 /// against Mott's distribution,
 /// mass conservation across fragments.
@@ -581,7 +563,7 @@ fn frag_study(
             node_mass * 1e6,
             median_mass(&r.fragments) * 1e6,
             mass_median(&cmd) * 1e3,
-            r.fragments[0].mass * 1e3,
+            r.fragments.first().map_or(f64::NAN, |f| f.mass) * 1e3,
             100.0 * single / r.case_mass,
             dm
         );
@@ -593,7 +575,7 @@ fn frag_study(
         let radius = 0.5 * (wall.inner_radius + wall.outer_radius) * (1.0 + wall.critical_stretch);
         let m50 = mass_median(&cmd);
         m50s.push(m50);
-        let ten: f64 = r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass;
+        let ten = ten_largest_fraction(r);
         tens.push(ten);
         let c = census(s, wall, hs);
         let _ = write!(

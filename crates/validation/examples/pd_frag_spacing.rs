@@ -9,7 +9,7 @@
 
 use brisance_pd::cumulative_mass_distribution;
 use brisance_validation::pd_fragmentation::{
-    census, fragmenting_cylinder_set, mean_speed, study_args,
+    census, fragmenting_cylinder_set, mass_median, mean_speed, study_args, ten_largest_fraction,
 };
 
 fn main() {
@@ -33,11 +33,8 @@ fn main() {
     };
     let r = &run.result;
     let cmd = cumulative_mass_distribution(&r.fragments);
-    let m50 = cmd
-        .iter()
-        .find(|c| c.mass_fraction_at_least >= 0.5)
-        .map_or(0.0, |c| c.mass);
-    let ten: f64 = r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass;
+    let m50 = mass_median(&cmd);
+    let ten = ten_largest_fraction(r);
     let c = census(&run.solver, &run.case, spacing);
     let speed = mean_speed(r);
     println!(

@@ -3,7 +3,7 @@
 //! spacing, run to the config's end and cut into fragments.
 
 use brisance_pd::cases::{fragment, EnergyBudget, FragmentResult};
-use brisance_pd::PdSolver;
+use brisance_pd::{CmdPoint, Fragment, PdSolver};
 
 use crate::pd_tube::{CaseWall, Tube};
 
@@ -151,6 +151,36 @@ pub fn mean_speed(r: &FragmentResult) -> f64 {
         .sum::<f64>()
         / r.fragment_mass)
         .sqrt()
+}
+
+/// Median of the fragment masses by count, kg, of `fragments` sorted by
+/// decreasing mass (as the fragment search returns them): the middle one,
+/// or the mean of the middle two; NaN without fragments.
+pub fn median_mass(fragments: &[Fragment]) -> f64 {
+    let n = fragments.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => fragments[n / 2].mass,
+        _ => 0.5 * (fragments[n / 2 - 1].mass + fragments[n / 2].mass),
+    }
+}
+
+/// Mass-median fragment mass m₅₀, kg, from the cumulative mass
+/// distribution `cmd` (`brisance_pd::cumulative_mass_distribution`): the
+/// smallest fragment mass such that the fragments at least this heavy hold
+/// half the fragments' mass (the case's to round-off); 0 for an empty
+/// distribution.
+pub fn mass_median(cmd: &[CmdPoint]) -> f64 {
+    cmd.iter()
+        .find(|c| c.mass_fraction_at_least >= 0.5)
+        .map_or(0.0, |c| c.mass)
+}
+
+/// The share of the case mass in the ten largest fragments (in all of
+/// them when there are fewer): E-PD-FRAG's figure of merit for
+/// convergence beside m₅₀.
+pub fn ten_largest_fraction(r: &FragmentResult) -> f64 {
+    r.fragments.iter().take(10).map(|f| f.mass).sum::<f64>() / r.case_mass
 }
 
 /// How the case broke up: the fragments a plane across the tube's middle
@@ -417,5 +447,37 @@ mod tests {
         for h in [0.0, -1e-3, f64::NAN] {
             assert!(fragmenting_cylinder(h).is_err());
         }
+    }
+
+    /// The three measures by hand on five fragments of 5, 4, 3, 2, 1 kg
+    /// (case 15 kg): median by count 3 kg (and 3.5 kg without the last),
+    /// m₅₀ 4 kg (5 + 4 = 9 of 15 kg is the first share ≥ ½), the ten
+    /// largest all of them; twelve 1 kg fragments hold 10 of 12 kg in
+    /// their ten largest; no fragments give NaN, 0 and 0.
+    #[test]
+    fn the_fragment_measures_by_hand() {
+        let frag = |mass: f64| Fragment {
+            mass,
+            velocity: [0.0; 3],
+            nodes: 1,
+            label: 0,
+        };
+        let five: Vec<Fragment> = [5.0, 4.0, 3.0, 2.0, 1.0].map(frag).to_vec();
+        assert_eq!(median_mass(&five), 3.0);
+        assert_eq!(median_mass(&five[..4]), 3.5);
+        let cmd = brisance_pd::cumulative_mass_distribution(&five);
+        assert_eq!(mass_median(&cmd), 4.0);
+        let result = |fragments: Vec<Fragment>| FragmentResult {
+            case_mass: fragments.iter().map(|f| f.mass).sum(),
+            fragment_mass: fragments.iter().map(|f| f.mass).sum(),
+            fragments,
+            steps: 1,
+        };
+        assert_eq!(ten_largest_fraction(&result(five)), 1.0);
+        let twelve = result(vec![frag(1.0); 12]);
+        assert!((ten_largest_fraction(&twelve) - 10.0 / 12.0).abs() < 1e-15);
+        assert!(median_mass(&[]).is_nan());
+        assert_eq!(mass_median(&[]), 0.0);
+        assert!(ten_largest_fraction(&result(Vec::new())).is_nan());
     }
 }
