@@ -41,7 +41,8 @@ pub const AMBIENT: f64 = 0.4 * 1.225 * 2.0685e5;
 /// reach the gauges.
 pub const PEAK_WINDOW: f64 = 3.0e-6;
 
-/// The remap's time (`--time` below): the zero of the 2D runs, s after
+/// The remap's time (`--time` of the `brisance remap` command in
+/// `configs/blast2d.ron`'s header): the zero of the 2D runs, s after
 /// initiation.
 pub const REMAP_TIME: f64 = 1.2e-5;
 
