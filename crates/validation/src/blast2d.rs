@@ -372,6 +372,11 @@ pub fn reference_1d(cells: usize) -> Result<History, String> {
     let mut run = RadialDetonation::new(setup).map_err(|e| format!("1D reference: {e}"))?;
     let x = GAUGE_RADIUS / run.cell_size() - 0.5;
     let (i, f) = (x.floor() as usize, x - x.floor());
+    if !(x >= 0.0) || i + 1 >= cells {
+        return Err(format!(
+            "1D reference: {cells} cells to 0.2 m have no two cell centres around r = {GAUGE_RADIUS} m"
+        ));
+    }
     let end = REMAP_TIME + 1.0e-5;
     let mut h = History {
         time: Vec::new(),
@@ -490,5 +495,14 @@ mod tests {
             e.starts_with("configs/blast2d_mpm.ron does not load"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_reference_too_coarse_for_its_gauge_is_refused() {
+        for cells in [0, 1] {
+            assert!(reference_1d(cells).is_err(), "{cells} cells");
+        }
+        let e = reference_1d(1).unwrap_err();
+        assert!(e.starts_with("1D reference: "), "{e}");
     }
 }
