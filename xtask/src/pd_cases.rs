@@ -544,6 +544,7 @@ fn frag_study(
             &r.fragments,
         )?;
         let cmd = cumulative_mass_distribution(&r.fragments);
+        let m50 = mass_median(&cmd);
         let node_mass = wall.density * hs.powi(3);
         let single: f64 = r
             .fragments
@@ -562,7 +563,7 @@ fn frag_study(
             r.fragments.iter().filter(|f| f.nodes >= 10).count(),
             node_mass * 1e6,
             median_mass(&r.fragments) * 1e6,
-            mass_median(&cmd) * 1e3,
+            m50 * 1e3,
             r.fragments.first().map_or(f64::NAN, |f| f.mass) * 1e3,
             100.0 * single / r.case_mass,
             dm
@@ -573,7 +574,6 @@ fn frag_study(
         let speed = mean_speed(r);
         let thickness = wall.outer_radius - wall.inner_radius;
         let radius = 0.5 * (wall.inner_radius + wall.outer_radius) * (1.0 + wall.critical_stretch);
-        let m50 = mass_median(&cmd);
         m50s.push(m50);
         let ten = ten_largest_fraction(r);
         tens.push(ten);
