@@ -83,17 +83,9 @@ pub fn read_gauge(path: &Path) -> Result<History, String> {
                 k + 1
             ));
         };
-        let bad = |e| format!("{} line {}: {e}", path.display(), k + 1);
-        h.time.push(
-            t.trim()
-                .parse()
-                .map_err(|e: std::num::ParseFloatError| bad(e))?,
-        );
-        h.pressure.push(
-            p.trim()
-                .parse()
-                .map_err(|e: std::num::ParseFloatError| bad(e))?,
-        );
+        let bad = |e: std::num::ParseFloatError| format!("{} line {}: {e}", path.display(), k + 1);
+        h.time.push(t.trim().parse().map_err(bad)?);
+        h.pressure.push(p.trim().parse().map_err(bad)?);
     }
     Ok(h)
 }
