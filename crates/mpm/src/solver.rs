@@ -832,7 +832,12 @@ impl MpmSolver {
             BinError::Outside { index, position } => outside(index, position),
             BinError::Shape { index, error } => self.particle_error(index, error.to_string()),
             BinError::TooMany { .. } => SolverError::Other(e.to_string()),
-        })
+        })?;
+        let (first, count) = self.work.load_only;
+        if count > 0 && self.options.shape.is_gimp() {
+            self.work.bins.point_particles(&self.ids, first, count);
+        }
+        Ok(())
     }
 
     /// The nodal forces of the surface tractions at the current time, in

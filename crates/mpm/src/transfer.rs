@@ -600,6 +600,29 @@ impl ParticleBins {
         Ok(())
     }
 
+    /// Gives the particles whose identity (`ids`, storage order) lies in
+    /// [`first`, `first + count`) a zero GIMP half-width on every axis: the
+    /// linear hat of seed 001 eq 16 in GIMP's stencil
+    /// ([`gimp::ugimp_1d_padded_into`]), so that they reach only the nodes
+    /// of the cell they are in. For the MPM's load-only particles
+    /// ([`crate::MpmSolver::set_load_only`]); nothing to do for the shapes
+    /// without a half-width.
+    pub fn point_particles(&mut self, ids: &[u32], first: u32, count: u32) {
+        let point = |id: u32| id >= first && id - first < count;
+        if !self.half_width.is_empty() {
+            for (l, &id) in self.half_width.iter_mut().zip(ids) {
+                if point(id) {
+                    *l = 0.0;
+                }
+            }
+        }
+        for (l, &id) in self.deformed_half_width.iter_mut().zip(ids) {
+            if point(id) {
+                *l = [0.0; 3];
+            }
+        }
+    }
+
     /// Bytes of the per-particle arrays: each particle's block and its
     /// place in the lists, 8 bytes (16 with uGIMP's half-widths, 32 with
     /// cpGIMP's three).

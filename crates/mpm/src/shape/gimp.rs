@@ -156,6 +156,17 @@ pub fn ugimp_1d_padded(xi: f64, h: f64, lp: f64) -> Stencil1d {
 
 /// The three weights and derivatives of [`ugimp_1d_padded`] written into
 /// `weight[..3]` and `gradient[..3]`; returns the first node.
+///
+/// A zero half-width (`lp == 0.0`, a point particle, which
+/// [`admissible_half_width`] refuses for ordinary particles) gives the
+/// linear hat of seed 001 eq 16 in the same three slots: the limit of the
+/// closed form as l_p → 0, whose first and third branches shrink to
+/// nothing, evaluated as [`super::linear::hat_1d_into`] does (f = xi −
+/// ⌊xi⌋, weights 1 − f and f, derivatives ∓1/h, the cell above for a
+/// particle exactly on a node), so that its weights are bit-identical to
+/// the hat's and its gradients sum to zero. The MPM gives it to load-only
+/// particles (the FDM–MPM bridge's donor cells), which must reach only the
+/// nodes of the cell they are in.
 #[inline(always)]
 pub fn ugimp_1d_padded_into(
     xi: f64,
@@ -165,6 +176,21 @@ pub fn ugimp_1d_padded_into(
     gradient: &mut [f64],
 ) -> isize {
     let c = floor(xi + 0.5);
+    if lp == 0.0 {
+        let cell = floor(xi);
+        let f = xi - cell;
+        let inv_h = 1.0 / h;
+        // Slots 1, 2 (nodes c, c + 1) when xi lies in the lower half of
+        // cell c, slots 0, 1 (nodes c − 1, c) in the upper half of c − 1.
+        let lo = if cell == c { 1 } else { 0 };
+        weight[..3].fill(0.0);
+        gradient[..3].fill(0.0);
+        weight[lo] = 1.0 - f;
+        weight[lo + 1] = f;
+        gradient[lo] = -inv_h;
+        gradient[lo + 1] = inv_h;
+        return c as isize - 1;
+    }
     for k in 0..3 {
         let node = c - 1.0 + k as f64;
         let r = (xi - node) * h;

@@ -767,3 +767,62 @@ fn cpgimp_keeps_the_particle_volume_of_a_closed_gas_tube_closer_than_ugimp() {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// A zero half-width (the MPM's load-only particles under GIMP) is the
+    /// linear hat of seed 001 eq 16, bit for bit, in GIMP's three slots:
+    /// the same nodes, weights and derivatives, zero in the third slot,
+    /// also exactly on a node (the cell above, as the hat takes it).
+    #[test]
+    fn zero_half_width_is_the_linear_hat_bit_for_bit(
+        cell in 0usize..7,
+        f in fraction(),
+        h in 1e-3..2.0f64,
+    ) {
+        let xi = cell as f64 + f;
+        let mut w = [f64::NAN; 3];
+        let mut g = [f64::NAN; 3];
+        let first = gimp::ugimp_1d_padded_into(xi, h, 0.0, &mut w, &mut g);
+        let hat = linear::hat_1d(xi, h, 8);
+        let k = (hat.first - first) as usize;
+        prop_assert!(k <= 1, "hat from node {} outside the slots from {}", hat.first, first);
+        for j in 0..3usize {
+            let (hw, hg): (f64, f64) = match j.checked_sub(k) {
+                Some(i) if i < 2 => (hat.weight[i], hat.gradient[i]),
+                _ => (0.0, 0.0),
+            };
+            prop_assert_eq!(w[j].to_bits(), hw.to_bits(), "weight of slot {} at xi = {}", j, xi);
+            prop_assert_eq!(g[j].to_bits(), hg.to_bits(), "gradient of slot {} at xi = {}", j, xi);
+        }
+        prop_assert_eq!(g.iter().sum::<f64>(), 0.0);
+    }
+}
+
+#[test]
+fn zero_half_width_at_hand_computed_points() {
+    // xi = 2.25 on h = 0.5: slots from node 1 (⌊2.75⌋ − 1); the hat of
+    // cell 2 in slots 1, 2: weights 0.75 and 0.25, derivatives ∓2 1/m.
+    let (mut w, mut g) = ([9.0; 3], [9.0; 3]);
+    assert_eq!(
+        gimp::ugimp_1d_padded_into(2.25, 0.5, 0.0, &mut w, &mut g),
+        1
+    );
+    assert_eq!((w, g), ([0.0, 0.75, 0.25], [0.0, -2.0, 2.0]));
+    // xi = 2.75: slots from node 2; the hat of cell 2 in slots 0, 1.
+    assert_eq!(
+        gimp::ugimp_1d_padded_into(2.75, 0.5, 0.0, &mut w, &mut g),
+        2
+    );
+    assert_eq!((w, g), ([0.25, 0.75, 0.0], [-2.0, 2.0, 0.0]));
+    // Next to node 3 a positive half-width reaches node 4 beyond it; a
+    // point does not.
+    assert_eq!(
+        gimp::ugimp_1d_padded_into(2.999, 0.5, 0.01, &mut w, &mut g),
+        2
+    );
+    assert!(w[2] > 0.0);
+    gimp::ugimp_1d_padded_into(2.999, 0.5, 0.0, &mut w, &mut g);
+    assert_eq!(w[2], 0.0);
+}

@@ -113,7 +113,11 @@ impl MpmSolver {
     /// FDM's, not the MPM's to update and remap. Other schemes than MUSL
     /// ignore the mark (they have no re-mapping). With inflow faces the
     /// mark is ignored too (the reservoirs add momentum to the re-mapping
-    /// but no mass to its weights).
+    /// but no mass to its weights). With GIMP or cpGIMP the marked
+    /// particles are points (zero half-width, the linear hat of eq 16:
+    /// [`crate::transfer::ParticleBins::point_particles`]), so that a donor at a
+    /// cell's centre reaches that cell's nodes alone, as with linear
+    /// shape functions, whatever its volume.
     pub fn set_load_only(&mut self, first: u32, count: u32) {
         self.work.load_only = (first, count);
     }

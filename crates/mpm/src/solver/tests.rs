@@ -1221,3 +1221,75 @@ fn a_wall_mirrors_a_shallow_crossing_and_refuses_a_deep_one() {
     let msg = s.handle_leaving_particles().unwrap_err().to_string();
     assert!(msg.contains("x-") && msg.contains("Free"), "{msg}");
 }
+
+/// The nodes that carry mass after one step of a solver on
+/// [`dyadic_level`] (cells of 0.125 m) with `shape`: a soft block in the
+/// low corner and one particle of a whole cell's volume at 0.3 of cell
+/// (5, 5), load-only if `load_only`; the block's nodes (i, j < 4) left out.
+fn nodes_of_a_cell_sized_particle(shape: ShapeFunction, load_only: bool) -> Vec<[isize; 2]> {
+    let level = dyadic_level();
+    let mut ps = Particles::new(0);
+    fill(
+        &mut ps,
+        &level,
+        [0.0; 3],
+        [0.125, 0.125, 1.0],
+        1024.0,
+        [0.0; 3],
+        0,
+    );
+    let options = MpmOptions {
+        shape,
+        ..MpmOptions::default()
+    };
+    let mut solver = MpmSolver::new(level, vec![soft()], ps, options).unwrap();
+    let h = 0.125;
+    let p = ParticleInit {
+        position: [(5.3) * h, (5.3) * h, 0.5],
+        mass: 2.0,
+        volume: h * h,
+        ..Default::default()
+    };
+    let first = solver.insert_particles(&[p]).unwrap();
+    if load_only {
+        solver.set_load_only(first, 1);
+    }
+    solver.advance(1e-6).unwrap();
+    let nodes = solver.grid_nodes();
+    let mut out = Vec::new();
+    for j in 4..=8 {
+        for i in 4..=8 {
+            let n = nodes.lattice.index([i, j, 0]).unwrap();
+            if nodes.mass[n] > 0.0 {
+                out.push([i, j]);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn load_only_particles_are_points_under_gimp() {
+    let cell = vec![[5, 5], [6, 5], [5, 6], [6, 6]];
+    // Linear: the cell's four nodes, load-only or not.
+    assert_eq!(
+        nodes_of_a_cell_sized_particle(ShapeFunction::Linear, false),
+        cell
+    );
+    assert_eq!(
+        nodes_of_a_cell_sized_particle(ShapeFunction::Linear, true),
+        cell
+    );
+    for shape in [ShapeFunction::Gimp, ShapeFunction::CpGimp] {
+        // A cell-sized GIMP particle 0.3 into its cell reaches node 4
+        // (1.3 h away, inside h + l_p = 1.5 h): nine nodes.
+        let spread = nodes_of_a_cell_sized_particle(shape, false);
+        assert_eq!(spread.len(), 9, "{shape:?}: {spread:?}");
+        // Load-only, it is a point: its cell's four nodes, as linear.
+        assert_eq!(
+            nodes_of_a_cell_sized_particle(shape, true),
+            cell,
+            "{shape:?}"
+        );
+    }
+}
