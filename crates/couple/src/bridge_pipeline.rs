@@ -96,6 +96,16 @@ pub struct BridgeConfig {
     /// MPM particles per cell per active direction.
     #[serde(default = "default_ppc")]
     pub ppc: usize,
+    /// The MPM region's shape functions: `Linear` (default, seed 001 eq
+    /// 16) or `CpGimp`. With cpGIMP the donor cells stay points (the
+    /// linear hat: they reach the halo cell's nodes alone), a deposit moves
+    /// its particle to the common centre of mass, and the fictitious cells
+    /// read node values as before (docs/physics/couple/bridge.md, "cpGIMP
+    /// in the MPM region"). `Gimp` is refused (uGIMP's fixed domains cannot
+    /// take the deposits), `QuadraticBSpline` too (its donors would reach
+    /// past the halo cell).
+    #[serde(default)]
+    pub shape_function: ShapeFunction,
     /// MPM Courant number (the FDM's is `time.cfl`).
     #[serde(default = "default_mpm_cfl")]
     pub mpm_cfl: f64,
@@ -338,6 +348,21 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
             "pipeline.ppc".into(),
             format!("ppc = {} must lie in 1..=8", cfg.ppc),
         ));
+    }
+    match cfg.shape_function {
+        ShapeFunction::Linear | ShapeFunction::CpGimp => {}
+        ShapeFunction::Gimp => {
+            return Err((
+                "pipeline.shape_function".into(),
+                "Gimp: uGIMP's particle domains keep their first size, which the inflow's deposits outgrow (a half-width past half a cell stops the run); use CpGimp, whose domains follow the particles' volume, or Linear".into(),
+            ))
+        }
+        ShapeFunction::QuadraticBSpline => {
+            return Err((
+                "pipeline.shape_function".into(),
+                "QuadraticBSpline: the bridge's donor cells must reach the halo cell's nodes alone, which a B-spline cannot; use Linear or CpGimp".into(),
+            ))
+        }
     }
     // The MPM region's bulk viscosity, as the Mpm section checks it.
     cfg.bulk_viscosity
@@ -801,7 +826,7 @@ fn build_with<'a, E: GasLaw + 'static>(
         models,
         particles,
         MpmOptions {
-            shape: ShapeFunction::Linear,
+            shape: cfg.shape_function,
             scheme: UpdateScheme::Musl,
             cfl: cfg.mpm_cfl,
             boundaries: std::array::from_fn(boundary),

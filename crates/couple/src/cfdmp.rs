@@ -243,9 +243,9 @@ impl<E: GasLaw> Cfdmp<E> {
                 mg.cells
             ));
         }
-        if mpm.options().shape != brisance_mpm::ShapeFunction::Linear {
+        if mpm.options().shape == brisance_mpm::ShapeFunction::QuadraticBSpline {
             return Err(
-                "the bridge maps through the linear shape functions of seed 001 eq 16: use shape_function: Linear"
+                "the bridge's donor cells reach the halo cell's nodes alone, which the quadratic B-spline cannot: use shape_function: Linear, Gimp or CpGimp"
                     .into(),
             );
         }

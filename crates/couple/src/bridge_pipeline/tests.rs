@@ -59,6 +59,15 @@ fn the_checks_name_their_fields() {
     let s = owned.scene();
     let field = |extra: &str| section(extra).validate(&s).unwrap_err().field;
     assert_eq!(field(", ppc: 0"), "pipeline.ppc");
+    assert_eq!(
+        field(", shape_function: QuadraticBSpline"),
+        "pipeline.shape_function"
+    );
+    assert_eq!(field(", shape_function: Gimp"), "pipeline.shape_function");
+    for shape in ["Linear", "CpGimp"] {
+        let cfg = section(&format!(", shape_function: {shape}"));
+        cfg.validate(&s).expect(shape);
+    }
     assert_eq!(field(", w: Some(4)"), "pipeline.w");
     assert_eq!(field(", mpm_cfl: 1.5"), "pipeline.mpm_cfl");
     assert_eq!(

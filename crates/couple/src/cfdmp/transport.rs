@@ -77,6 +77,7 @@ impl<E: GasLaw> Cfdmp<E> {
             if self.options.deposit {
                 // Into the particles of the same material in the face's
                 // first bridge cell, by shares of their mass.
+                let gimp = self.mpm.options().shape.is_gimp();
                 let ps = self.mpm.particles();
                 let list = &self.members[self.start[f]..self.start[f + 1]];
                 let reach = 0.5 * fg.spacing[a];
@@ -109,8 +110,20 @@ impl<E: GasLaw> Cfdmp<E> {
                             d.specific_internal_energy,
                             y,
                         );
+                        // A GIMP particle stands for a domain around
+                        // it, which the deposit, entering at the face,
+                        // extends towards the face: the particle moves to
+                        // the centre of mass of itself and the deposit
+                        // along the axis, so that the domains keep tiling
+                        // (docs/physics/couple/bridge.md, "cpGIMP in the
+                        // MPM region"). A linear particle is a point and
+                        // stays.
+                        let mut position = ps.position[p];
+                        if gimp {
+                            position[a] = (ps.mass[p] * position[a] + dm * x_face) / d.mass;
+                        }
                         self.inits.push(ParticleInit {
-                            position: ps.position[p],
+                            position,
                             velocity: d.velocity,
                             mass: d.mass,
                             volume: d.volume,
