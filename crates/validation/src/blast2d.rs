@@ -5,7 +5,8 @@
 //! The runs of the case, each built from its RON config through the
 //! composer and run by its run loop: the bridge at widths w = 5, 2 and 8
 //! ([`run_bridge`], from the remap `brisance remap` writes into
-//! [`REMAP_DIR`]), the w = 5 bridge on finer cells ([`run_refined`]), the
+//! [`REMAP_DIR`]), the w = 5 bridge on finer cells, with linear or cpGIMP
+//! shape functions in its MPM region ([`run_refined`]), the
 //! same problem as pure MPM ([`run_pure_mpm`], `configs/blast2d_mpm.ron`),
 //! and the 1D cylindrical reference ([`reference_1d`]); and what is
 //! measured on a gauge's pressure history: the blast's arrival and peak
@@ -18,6 +19,7 @@ use std::path::Path;
 
 use brisance_compose::{load_file, run, RunOptions};
 use brisance_fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
+use brisance_mpm::ShapeFunction;
 
 use crate::bridge_blast::CasePeak;
 
@@ -235,17 +237,30 @@ pub fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<Bridg
 /// The w = 5 bridge (its MPM region from 110 mm, the bridge 10 mm wide)
 /// on cells `refine` times finer than the config's 2 mm, to
 /// [`REFINED_END`]; its FDM region from the config's own `charge`, remapped
-/// onto the finer grid by the run.
-pub fn run_refined(root: &Path, refine: usize) -> Result<BridgeRun, String> {
-    let sets = vec![
+/// onto the finer grid by the run; the MPM region's shape functions
+/// `shape` (the config's `Linear` or `CpGimp`, docs/physics/couple/bridge.md).
+pub fn run_refined(root: &Path, refine: usize, shape: ShapeFunction) -> Result<BridgeRun, String> {
+    let label = match shape {
+        ShapeFunction::Linear => format!("{:.1} mm", 2.0 / refine as f64),
+        _ => format!("{:.1} mm, {shape:?}", 2.0 / refine as f64),
+    };
+    let tag = match shape {
+        ShapeFunction::Linear => format!("h{refine}"),
+        _ => format!("h{refine}_{shape:?}"),
+    };
+    bridge_run(root, refined_sets(refine, shape), false, &tag, label, 5)
+}
+
+/// The `--set` overrides of [`run_refined`].
+pub fn refined_sets(refine: usize, shape: ShapeFunction) -> Vec<String> {
+    vec![
         format!("time.end={REFINED_END:e}"),
         format!("domain.cells=({}, {}, 1)", 170 * refine, 250 * refine),
         format!("pipeline.w=Some({})", 5 * refine),
+        format!("pipeline.shape_function={shape:?}"),
         "outputs.interval=1.0".to_string(),
         "outputs.vtk=false".to_string(),
-    ];
-    let label = format!("{:.1} mm", 2.0 / refine as f64);
-    bridge_run(root, sets, false, &format!("h{refine}"), label, 5)
+    ]
 }
 
 /// Runs `configs/blast2d.ron` with `sets` into `out/xtask_blast2d_{tag}`.
@@ -487,6 +502,17 @@ mod tests {
             e.starts_with("configs/blast2d_mpm.ron does not load"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn the_refined_runs_load_with_either_shape_and_ugimp_is_refused() {
+        let config = crate::bridge_blast::workspace_root().join("configs/blast2d.ron");
+        for shape in [ShapeFunction::Linear, ShapeFunction::CpGimp] {
+            let loaded = load_file(&config, &refined_sets(2, shape)).expect("loads");
+            assert_eq!(loaded.scenario.domain.cells, [340, 500, 1]);
+        }
+        let e = load_file(&config, &refined_sets(2, ShapeFunction::Gimp)).unwrap_err();
+        assert!(e.to_string().contains("pipeline.shape_function"), "{e}");
     }
 
     #[test]
