@@ -285,9 +285,22 @@ impl GridMap {
     /// The cpGIMP half-widths per axis of a particle of initial volume `v0`
     /// and deformation gradient `f` (row-major): l_p,i = l_p0 F_ii
     /// ([`gimp::cpgimp_half_width`]) on active axes, l_p0 =
-    /// [`GridMap::half_width`]; Δx/2 on inactive ones (unused).
+    /// [`gimp_half_width`] of `v0`; Δx/2 on inactive ones (unused). Like a
+    /// stretched domain, one born wider than a cell (a particle the
+    /// FDM–MPM bridge's inflow deposits grew) is capped at Δx/2
+    /// (docs/physics/mpm/gimp.md, "Bounds"); a zero, negative or
+    /// non-finite l_p0 is refused.
     pub fn deformed_half_width(&self, v0: f64, f: &[f64; 9]) -> Result<[f64; 3], ShapeError> {
-        let l0 = self.half_width(v0)?;
+        let l0 = gimp_half_width(&self.grid, v0);
+        if let Some(d) = (0..3).find(|&d| self.grid.cells[d] > 1) {
+            if !(l0 > 0.0 && l0.is_finite()) {
+                return Err(ShapeError::HalfWidth {
+                    axis: d,
+                    half_width: l0,
+                    max: 0.5 * self.grid.spacing[d],
+                });
+            }
+        }
         let mut out = [0.0; 3];
         for d in 0..3 {
             let h = self.grid.spacing[d];

@@ -666,3 +666,29 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_cpgimp_particle_born_wider_than_a_cell_is_capped_and_a_bad_volume_refused() {
+    let g = grid([6, 5, 4]);
+    let map = GridMap::new(&g, ShapeFunction::CpGimp);
+    // Δx/2 = (0.25, 0.125, 0.375) m. A particle of (0.6 m)³: l_p0 = 0.3 m,
+    // past Δx/2 on x and y, capped there as a stretched domain is; uGIMP
+    // refuses the same particle.
+    let v0 = 0.6 * 0.6 * 0.6;
+    let lp = map
+        .deformed_half_width(v0, &crate::particles::IDENTITY)
+        .unwrap();
+    assert_eq!(lp, [0.25, 0.125, 0.3]);
+    assert!(GridMap::new(&g, ShapeFunction::Gimp)
+        .half_width(v0)
+        .is_err());
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = map
+            .deformed_half_width(bad, &crate::particles::IDENTITY)
+            .unwrap_err();
+        assert!(
+            matches!(e, ShapeError::HalfWidth { axis: 0, .. }),
+            "{bad}: {e:?}"
+        );
+    }
+}
