@@ -234,33 +234,83 @@ pub fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<Bridg
     )
 }
 
+/// The MPM region's options a refined run takes: its shape functions
+/// and, when not the config's LS-DYNA default (Q₁ 1.5, Q₂ 0.06), its
+/// bulk viscosity (quadratic, linear).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefinedMpm {
+    /// Shape functions (`Linear` or `CpGimp`).
+    pub shape: ShapeFunction,
+    /// Bulk viscosity coefficients (quadratic, linear), `None` for the
+    /// config's.
+    pub bulk_viscosity: Option<(f64, f64)>,
+}
+
+impl RefinedMpm {
+    /// The config's own: linear shape functions, the default viscosity.
+    pub const LINEAR: Self = Self {
+        shape: ShapeFunction::Linear,
+        bulk_viscosity: None,
+    };
+    /// cpGIMP with the default viscosity.
+    pub const CPGIMP: Self = Self {
+        shape: ShapeFunction::CpGimp,
+        bulk_viscosity: None,
+    };
+    /// cpGIMP with the linear term raised to 1.0, which takes the MPM
+    /// gas's shock overshoot out (docs/physics/couple/bridge.md, "The
+    /// shock's overshoot").
+    pub const CPGIMP_STRONG_LINEAR_Q: Self = Self {
+        shape: ShapeFunction::CpGimp,
+        bulk_viscosity: Some((1.5, 1.0)),
+    };
+
+    /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 1.0").
+    pub fn label(&self, h_mm: f64) -> String {
+        let mut s = format!("{h_mm:.1} mm");
+        if self.shape != ShapeFunction::Linear {
+            s += &format!(", {:?}", self.shape);
+        }
+        if let Some((q, l)) = self.bulk_viscosity {
+            s += &format!(", Q {q:?} / {l:?}");
+        }
+        s
+    }
+}
+
 /// The w = 5 bridge (its MPM region from 110 mm, the bridge 10 mm wide)
 /// on cells `refine` times finer than the config's 2 mm, to
 /// [`REFINED_END`]; its FDM region from the config's own `charge`, remapped
-/// onto the finer grid by the run; the MPM region's shape functions
-/// `shape` (the config's `Linear` or `CpGimp`, docs/physics/couple/bridge.md).
-pub fn run_refined(root: &Path, refine: usize, shape: ShapeFunction) -> Result<BridgeRun, String> {
-    let label = match shape {
-        ShapeFunction::Linear => format!("{:.1} mm", 2.0 / refine as f64),
-        _ => format!("{:.1} mm, {shape:?}", 2.0 / refine as f64),
-    };
-    let tag = match shape {
-        ShapeFunction::Linear => format!("h{refine}"),
-        _ => format!("h{refine}_{shape:?}"),
-    };
-    bridge_run(root, refined_sets(refine, shape), false, &tag, label, 5)
+/// onto the finer grid by the run; the MPM region's options `mpm`
+/// (docs/physics/couple/bridge.md, "cpGIMP in the MPM region").
+pub fn run_refined(root: &Path, refine: usize, mpm: RefinedMpm) -> Result<BridgeRun, String> {
+    let label = mpm.label(2.0 / refine as f64);
+    let mut tag = format!("h{refine}");
+    if mpm != RefinedMpm::LINEAR {
+        tag += &format!("_{:?}", mpm.shape);
+    }
+    if mpm.bulk_viscosity.is_some() {
+        tag += "_q";
+    }
+    bridge_run(root, refined_sets(refine, mpm), false, &tag, label, 5)
 }
 
 /// The `--set` overrides of [`run_refined`].
-pub fn refined_sets(refine: usize, shape: ShapeFunction) -> Vec<String> {
-    vec![
+pub fn refined_sets(refine: usize, mpm: RefinedMpm) -> Vec<String> {
+    let mut sets = vec![
         format!("time.end={REFINED_END:e}"),
         format!("domain.cells=({}, {}, 1)", 170 * refine, 250 * refine),
         format!("pipeline.w=Some({})", 5 * refine),
-        format!("pipeline.shape_function={shape:?}"),
+        format!("pipeline.shape_function={:?}", mpm.shape),
         "outputs.interval=1.0".to_string(),
         "outputs.vtk=false".to_string(),
-    ]
+    ];
+    if let Some((q, l)) = mpm.bulk_viscosity {
+        sets.push(format!(
+            "pipeline.bulk_viscosity=On(quadratic: {q:?}, linear: {l:?})"
+        ));
+    }
+    sets
 }
 
 /// Runs `configs/blast2d.ron` with `sets` into `out/xtask_blast2d_{tag}`.
@@ -507,11 +557,30 @@ mod tests {
     #[test]
     fn the_refined_runs_load_with_either_shape_and_ugimp_is_refused() {
         let config = crate::bridge_blast::workspace_root().join("configs/blast2d.ron");
-        for shape in [ShapeFunction::Linear, ShapeFunction::CpGimp] {
-            let loaded = load_file(&config, &refined_sets(2, shape)).expect("loads");
+        for mpm in [
+            RefinedMpm::LINEAR,
+            RefinedMpm::CPGIMP,
+            RefinedMpm::CPGIMP_STRONG_LINEAR_Q,
+        ] {
+            let loaded = load_file(&config, &refined_sets(2, mpm)).expect("loads");
             assert_eq!(loaded.scenario.domain.cells, [340, 500, 1]);
+            let text = &loaded.text;
+            assert_eq!(
+                text.contains("linear: 1.0"),
+                mpm.bulk_viscosity.is_some(),
+                "{mpm:?}"
+            );
         }
-        let e = load_file(&config, &refined_sets(2, ShapeFunction::Gimp)).unwrap_err();
+        assert_eq!(RefinedMpm::LINEAR.label(1.0), "1.0 mm");
+        assert_eq!(
+            RefinedMpm::CPGIMP_STRONG_LINEAR_Q.label(0.5),
+            "0.5 mm, CpGimp, Q 1.5 / 1.0"
+        );
+        let ugimp = RefinedMpm {
+            shape: ShapeFunction::Gimp,
+            bulk_viscosity: None,
+        };
+        let e = load_file(&config, &refined_sets(2, ugimp)).unwrap_err();
         assert!(e.to_string().contains("pipeline.shape_function"), "{e}");
     }
 
