@@ -622,11 +622,10 @@ impl ParticleBins {
     /// without a half-width.
     pub fn point_particles(&mut self, ids: &[u32], first: u32, count: u32) {
         let point = |id: u32| id >= first && id - first < count;
-        if !self.half_width.is_empty() {
-            for (l, &id) in self.half_width.iter_mut().zip(ids) {
-                if point(id) {
-                    *l = 0.0;
-                }
+        // Only one of the two is filled (uGIMP's or cpGIMP's).
+        for (l, &id) in self.half_width.iter_mut().zip(ids) {
+            if point(id) {
+                *l = 0.0;
             }
         }
         for (l, &id) in self.deformed_half_width.iter_mut().zip(ids) {

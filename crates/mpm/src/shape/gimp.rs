@@ -177,18 +177,21 @@ pub fn ugimp_1d_padded_into(
 ) -> isize {
     let c = floor(xi + 0.5);
     if lp == 0.0 {
-        let cell = floor(xi);
-        let f = xi - cell;
-        let inv_h = 1.0 / h;
         // Slots 1, 2 (nodes c, c + 1) when xi lies in the lower half of
         // cell c, slots 0, 1 (nodes c − 1, c) in the upper half of c − 1.
-        let lo = if cell == c { 1 } else { 0 };
+        let lo = if floor(xi) == c { 1 } else { 0 };
         weight[..3].fill(0.0);
         gradient[..3].fill(0.0);
-        weight[lo] = 1.0 - f;
-        weight[lo + 1] = f;
-        gradient[lo] = -inv_h;
-        gradient[lo + 1] = inv_h;
+        // The hat itself, without its upper-boundary rule (no cell count
+        // here: GIMP's lattice holds the ghost node past the last one).
+        let inv_h = 1.0 / h;
+        super::linear::hat_1d_into(
+            xi,
+            inv_h,
+            usize::MAX,
+            &mut weight[lo..],
+            &mut gradient[lo..],
+        );
         return c as isize - 1;
     }
     for k in 0..3 {
