@@ -265,16 +265,25 @@ impl RefinedMpm {
         bulk_viscosity: Some((1.5, 1.0)),
     };
 
-    /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 1.0").
-    pub fn label(&self, h_mm: f64) -> String {
-        let mut s = format!("{h_mm:.1} mm");
+    /// What differs from the config ("CpGimp, Q 1.5 / 1.0"; empty for
+    /// [`RefinedMpm::LINEAR`]).
+    pub fn name(&self) -> String {
+        let mut parts = Vec::new();
         if self.shape != ShapeFunction::Linear {
-            s += &format!(", {:?}", self.shape);
+            parts.push(format!("{:?}", self.shape));
         }
         if let Some((q, l)) = self.bulk_viscosity {
-            s += &format!(", Q {q:?} / {l:?}");
+            parts.push(format!("Q {q:?} / {l:?}"));
         }
-        s
+        parts.join(", ")
+    }
+
+    /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 1.0").
+    pub fn label(&self, h_mm: f64) -> String {
+        match self.name() {
+            name if name.is_empty() => format!("{h_mm:.1} mm"),
+            name => format!("{h_mm:.1} mm, {name}"),
+        }
     }
 }
 
@@ -572,6 +581,7 @@ mod tests {
             );
         }
         assert_eq!(RefinedMpm::LINEAR.label(1.0), "1.0 mm");
+        assert_eq!(RefinedMpm::CPGIMP.name(), "CpGimp");
         assert_eq!(
             RefinedMpm::CPGIMP_STRONG_LINEAR_Q.label(0.5),
             "0.5 mm, CpGimp, Q 1.5 / 1.0"
