@@ -234,56 +234,46 @@ pub fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<Bridg
     )
 }
 
-/// The MPM region's options a refined run takes: its shape functions
-/// and, when not the config's LS-DYNA default (Q₁ 1.5, Q₂ 0.06), its
-/// bulk viscosity (quadratic, linear).
+/// The MPM region's options a refined run takes: its shape functions and
+/// its bulk viscosity (quadratic, linear), both stated on the command line
+/// whatever the config holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefinedMpm {
     /// Shape functions (`Linear` or `CpGimp`).
     pub shape: ShapeFunction,
-    /// Bulk viscosity coefficients (quadratic, linear), `None` for the
-    /// config's.
-    pub bulk_viscosity: Option<(f64, f64)>,
+    /// Bulk viscosity coefficients (quadratic Q₁, linear Q₂).
+    pub bulk_viscosity: (f64, f64),
 }
 
 impl RefinedMpm {
-    /// The config's own: linear shape functions, the default viscosity.
-    pub const LINEAR: Self = Self {
+    /// The config's own: cpGIMP with the linear term raised to 1.0, which
+    /// takes the MPM gas's shock overshoot out (docs/physics/couple/bridge.md,
+    /// "The shock's overshoot").
+    pub const CONFIG: Self = Self {
+        shape: ShapeFunction::CpGimp,
+        bulk_viscosity: (1.5, 1.0),
+    };
+    /// Seed 001's method: linear shape functions (its eq 16) and LS-DYNA's
+    /// default bulk viscosity.
+    pub const SEED: Self = Self {
         shape: ShapeFunction::Linear,
-        bulk_viscosity: None,
+        bulk_viscosity: (1.5, 0.06),
     };
-    /// cpGIMP with the default viscosity.
-    pub const CPGIMP: Self = Self {
+    /// cpGIMP with LS-DYNA's default bulk viscosity.
+    pub const CPGIMP_LS_DYNA_Q: Self = Self {
         shape: ShapeFunction::CpGimp,
-        bulk_viscosity: None,
-    };
-    /// cpGIMP with the linear term raised to 1.0, which takes the MPM
-    /// gas's shock overshoot out (docs/physics/couple/bridge.md, "The
-    /// shock's overshoot").
-    pub const CPGIMP_STRONG_LINEAR_Q: Self = Self {
-        shape: ShapeFunction::CpGimp,
-        bulk_viscosity: Some((1.5, 1.0)),
+        bulk_viscosity: (1.5, 0.06),
     };
 
-    /// What differs from the config ("CpGimp, Q 1.5 / 1.0"; empty for
-    /// [`RefinedMpm::LINEAR`]).
+    /// The options by name ("CpGimp, Q 1.5 / 1.0").
     pub fn name(&self) -> String {
-        let mut parts = Vec::new();
-        if self.shape != ShapeFunction::Linear {
-            parts.push(format!("{:?}", self.shape));
-        }
-        if let Some((q, l)) = self.bulk_viscosity {
-            parts.push(format!("Q {q:?} / {l:?}"));
-        }
-        parts.join(", ")
+        let (q, l) = self.bulk_viscosity;
+        format!("{:?}, Q {q:?} / {l:?}", self.shape)
     }
 
     /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 1.0").
     pub fn label(&self, h_mm: f64) -> String {
-        match self.name() {
-            name if name.is_empty() => format!("{h_mm:.1} mm"),
-            name => format!("{h_mm:.1} mm, {name}"),
-        }
+        format!("{h_mm:.1} mm, {}", self.name())
     }
 }
 
@@ -294,32 +284,23 @@ impl RefinedMpm {
 /// (docs/physics/couple/bridge.md, "cpGIMP in the MPM region").
 pub fn run_refined(root: &Path, refine: usize, mpm: RefinedMpm) -> Result<BridgeRun, String> {
     let label = mpm.label(2.0 / refine as f64);
-    let mut tag = format!("h{refine}");
-    if mpm != RefinedMpm::LINEAR {
-        tag += &format!("_{:?}", mpm.shape);
-    }
-    if mpm.bulk_viscosity.is_some() {
-        tag += "_q";
-    }
+    let (q, l) = mpm.bulk_viscosity;
+    let tag = format!("h{refine}_{:?}_q{q}_{l}", mpm.shape);
     bridge_run(root, refined_sets(refine, mpm), false, &tag, label, 5)
 }
 
 /// The `--set` overrides of [`run_refined`].
 pub fn refined_sets(refine: usize, mpm: RefinedMpm) -> Vec<String> {
-    let mut sets = vec![
+    let (q, l) = mpm.bulk_viscosity;
+    vec![
         format!("time.end={REFINED_END:e}"),
         format!("domain.cells=({}, {}, 1)", 170 * refine, 250 * refine),
         format!("pipeline.w=Some({})", 5 * refine),
         format!("pipeline.shape_function={:?}", mpm.shape),
+        format!("pipeline.bulk_viscosity=On(quadratic: {q:?}, linear: {l:?})"),
         "outputs.interval=1.0".to_string(),
         "outputs.vtk=false".to_string(),
-    ];
-    if let Some((q, l)) = mpm.bulk_viscosity {
-        sets.push(format!(
-            "pipeline.bulk_viscosity=On(quadratic: {q:?}, linear: {l:?})"
-        ));
-    }
-    sets
+    ]
 }
 
 /// Runs `configs/blast2d.ron` with `sets` into `out/xtask_blast2d_{tag}`.
@@ -563,32 +544,53 @@ mod tests {
         );
     }
 
+    /// The MPM options a loaded bridge or pure-MPM config holds.
+    fn mpm_options(loaded: &brisance_compose::LoadedScenario) -> RefinedMpm {
+        let pipeline = &loaded.scenario.pipeline;
+        let (shape, viscosity) =
+            if let Some(b) = pipeline.section::<brisance_couple::BridgeConfig>() {
+                (b.shape_function, b.bulk_viscosity.option())
+            } else if let Some(m) = pipeline.section::<brisance_couple::MpmConfig>() {
+                (m.shape_function, m.bulk_viscosity.option())
+            } else {
+                panic!("neither a bridge nor MPM");
+            };
+        let v = viscosity.expect("bulk viscosity on");
+        RefinedMpm {
+            shape,
+            bulk_viscosity: (v.quadratic, v.linear),
+        }
+    }
+
+    #[test]
+    fn the_configs_hold_the_reports_mpm_options() {
+        // The report's rows of configs/blast2d.ron and blast2d_mpm.ron
+        // are said to run `RefinedMpm::CONFIG`.
+        let root = crate::bridge_blast::workspace_root();
+        for config in ["configs/blast2d.ron", "configs/blast2d_mpm.ron"] {
+            let loaded = load_file(&root.join(config), &[]).expect("loads");
+            assert_eq!(mpm_options(&loaded), RefinedMpm::CONFIG, "{config}");
+        }
+    }
+
     #[test]
     fn the_refined_runs_load_with_either_shape_and_ugimp_is_refused() {
         let config = crate::bridge_blast::workspace_root().join("configs/blast2d.ron");
         for mpm in [
-            RefinedMpm::LINEAR,
-            RefinedMpm::CPGIMP,
-            RefinedMpm::CPGIMP_STRONG_LINEAR_Q,
+            RefinedMpm::CONFIG,
+            RefinedMpm::SEED,
+            RefinedMpm::CPGIMP_LS_DYNA_Q,
         ] {
             let loaded = load_file(&config, &refined_sets(2, mpm)).expect("loads");
             assert_eq!(loaded.scenario.domain.cells, [340, 500, 1]);
-            let text = &loaded.text;
-            assert_eq!(
-                text.contains("linear: 1.0"),
-                mpm.bulk_viscosity.is_some(),
-                "{mpm:?}"
-            );
+            assert_eq!(mpm_options(&loaded), mpm);
         }
-        assert_eq!(RefinedMpm::LINEAR.label(1.0), "1.0 mm");
-        assert_eq!(RefinedMpm::CPGIMP.name(), "CpGimp");
-        assert_eq!(
-            RefinedMpm::CPGIMP_STRONG_LINEAR_Q.label(0.5),
-            "0.5 mm, CpGimp, Q 1.5 / 1.0"
-        );
+        assert_eq!(RefinedMpm::SEED.label(1.0), "1.0 mm, Linear, Q 1.5 / 0.06");
+        assert_eq!(RefinedMpm::CPGIMP_LS_DYNA_Q.name(), "CpGimp, Q 1.5 / 0.06");
+        assert_eq!(RefinedMpm::CONFIG.label(0.5), "0.5 mm, CpGimp, Q 1.5 / 1.0");
         let ugimp = RefinedMpm {
             shape: ShapeFunction::Gimp,
-            bulk_viscosity: None,
+            bulk_viscosity: (1.5, 0.06),
         };
         let e = load_file(&config, &refined_sets(2, ugimp)).unwrap_err();
         assert!(e.to_string().contains("pipeline.shape_function"), "{e}");
