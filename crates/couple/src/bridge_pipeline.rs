@@ -35,8 +35,8 @@ use brisance_fdm::{
 };
 use brisance_grid::Level;
 use brisance_mpm::{
-    GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet, Particles,
-    ShapeFunction, UpdateScheme,
+    BulkViscosity, GridBoundary, MaterialId, MpmOptions, MpmSolver, ParticleInit, ParticleSet,
+    Particles, ShapeFunction, UpdateScheme,
 };
 use brisance_scene::{
     BoundaryConfig, FieldError, IntoSolver, PipelineInfo, PipelineLimits, PipelineSpec, Scene,
@@ -44,7 +44,9 @@ use brisance_scene::{
 use serde::{Deserialize, Serialize};
 
 use crate::gas_remap::cached_remap;
-use crate::mpm_pipeline::BulkViscosityConfig;
+use crate::mpm_pipeline::{
+    check_fluid_bulk_viscosity, describe_bulk_viscosity, BulkViscosityConfig,
+};
 use crate::{BridgeRegions, Cfdmp, CfdmpOptions, Charge, RegionBox, Remapped, Side};
 
 type Problem = (String, String);
@@ -112,6 +114,11 @@ pub struct BridgeConfig {
     /// MPM artificial bulk viscosity.
     #[serde(default)]
     pub bulk_viscosity: BulkViscosityConfig,
+    /// The bulk viscosity of the MPM region's gas particles (air and
+    /// products), in place of `bulk_viscosity` for them (default `None`:
+    /// theirs is `bulk_viscosity`); see the `Mpm` section's.
+    #[serde(default)]
+    pub fluid_bulk_viscosity: Option<BulkViscosity>,
     /// Pressure near the interface that starts the MPM region, Pa.
     pub activation_pressure: f64,
     /// FDM cells on the donor side of the interface watched for it.
@@ -367,6 +374,7 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
     // The MPM region's bulk viscosity, as the Mpm section checks it.
     cfg.bulk_viscosity
         .check("pipeline.bulk_viscosity")
+        .and_then(|()| check_fluid_bulk_viscosity(cfg.fluid_bulk_viscosity))
         .map_err(|e| (e.field, e.message))?;
     if !(cfg.mpm_cfl > 0.0 && cfg.mpm_cfl <= 1.0) {
         return Err((
@@ -831,6 +839,7 @@ fn build_with<'a, E: GasLaw + 'static>(
             cfl: cfg.mpm_cfl,
             boundaries: std::array::from_fn(boundary),
             bulk_viscosity: cfg.bulk_viscosity.option(),
+            fluid_bulk_viscosity: cfg.fluid_bulk_viscosity,
             geometry,
             ..Default::default()
         },
@@ -873,7 +882,8 @@ fn describe(s: &Scene<'_>, cfg: &BridgeConfig) -> String {
     match regions(s, cfg) {
         Ok(r) => format!(
             "FdmMpmBridge (seed 001 §3): FDM {:?} cells, MPM {:?} cells, bridge w = {} cells along {}, \
-             air `{}`{}, {} particles per cell per direction, MPM starts at {:e} Pa near the interface{}",
+             air `{}`{}, {} particles per cell per direction, {:?} shape functions, bulk viscosity {}, \
+             MPM starts at {:e} Pa near the interface{}",
             r.fdm.cells,
             r.mpm.cells,
             r.width,
@@ -884,6 +894,8 @@ fn describe(s: &Scene<'_>, cfg: &BridgeConfig) -> String {
                 .map(|p| format!(", products `{p}`"))
                 .unwrap_or_default(),
             cfg.ppc,
+            cfg.shape_function,
+            describe_bulk_viscosity(&cfg.bulk_viscosity, cfg.fluid_bulk_viscosity),
             cfg.activation_pressure,
             cfg.remap
                 .as_ref()

@@ -56,6 +56,13 @@ pub struct MpmConfig {
     /// Artificial bulk viscosity of the particles (default `Off`).
     #[serde(default)]
     pub bulk_viscosity: BulkViscosityConfig,
+    /// The bulk viscosity of the `Null`-fluid (gas) particles, in place of
+    /// `bulk_viscosity` for them: `Some(quadratic: 1.5, linear: 1.0)`
+    /// gives a gas shock the linear term it needs without damping the
+    /// solids (docs/physics/mpm/bulk_viscosity.md). Default `None`: the
+    /// fluids take `bulk_viscosity`.
+    #[serde(default)]
+    pub fluid_bulk_viscosity: Option<BulkViscosity>,
     /// Volumetric anti-locking of the stress update: `Off` (the default)
     /// or `FBar`, the ΔF̄ volume averaging of Coombs et al. (2018) over
     /// the particles of each cell (docs/physics/mpm/anti_locking.md).
@@ -111,6 +118,29 @@ pub enum BulkViscosityConfig {
     /// On, with `quadratic` Q₁ (default 1.5) and `linear` Q₂ (default
     /// 0.06), LS-DYNA's defaults: `On()` or `On(quadratic: 1.5, linear: 0.06)`.
     On(BulkViscosity),
+}
+
+/// A section's `fluid_bulk_viscosity`: both coefficients finite and ≥ 0,
+/// the error naming `pipeline.fluid_bulk_viscosity.<coefficient>`.
+pub fn check_fluid_bulk_viscosity(v: Option<BulkViscosity>) -> Result<(), FieldError> {
+    v.map_or(Ok(()), |v| {
+        BulkViscosityConfig::On(v).check("pipeline.fluid_bulk_viscosity")
+    })
+}
+
+/// The section's bulk viscosity in words ("Q1 = 1.5, Q2 = 0.06", "off"),
+/// with the fluids' where they differ.
+pub fn describe_bulk_viscosity(all: &BulkViscosityConfig, fluid: Option<BulkViscosity>) -> String {
+    let words = |v: Option<BulkViscosity>| match v {
+        None => "off".to_string(),
+        Some(v) => format!("Q1 = {}, Q2 = {}", v.quadratic, v.linear),
+    };
+    match fluid {
+        Some(f) if Some(f) != all.option() => {
+            format!("{} (fluids {})", words(all.option()), words(Some(f)))
+        }
+        _ => words(all.option()),
+    }
 }
 
 impl BulkViscosityConfig {
@@ -313,6 +343,7 @@ impl MpmConfig {
             })?;
         }
         self.bulk_viscosity.check("pipeline.bulk_viscosity")?;
+        check_fluid_bulk_viscosity(self.fluid_bulk_viscosity)?;
         for (i, g) in s.particle_gauges.iter().enumerate() {
             if let Some(m) = g.material {
                 if s.material(m).and_then(|m| m.model).is_none() {
@@ -462,10 +493,7 @@ impl PipelineSpec for MpmConfig {
             self.shape_function,
             self.scheme,
             self.ppc,
-            match self.bulk_viscosity.option() {
-                None => "off".to_string(),
-                Some(v) => format!("Q1 = {}, Q2 = {}", v.quadratic, v.linear),
-            },
+            describe_bulk_viscosity(&self.bulk_viscosity, self.fluid_bulk_viscosity),
             d.cells[0],
             d.cells[1],
             d.cells[2],
@@ -699,6 +727,7 @@ pub fn mpm_parts(
         boundaries: std::array::from_fn(|k| boundary(faces[k].1)),
         mass_cutoff: mpm.mass_cutoff,
         bulk_viscosity: mpm.bulk_viscosity.option(),
+        fluid_bulk_viscosity: mpm.fluid_bulk_viscosity,
         anti_locking: mpm.anti_locking,
         reservoirs,
         geometry: d.geometry,

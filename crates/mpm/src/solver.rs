@@ -102,6 +102,12 @@ pub struct MpmOptions {
     /// Artificial bulk viscosity of the particles ([`crate::viscosity`]);
     /// `None` (the default) adds none.
     pub bulk_viscosity: Option<BulkViscosity>,
+    /// The bulk viscosity of the particles of `Null` fluids (gases), in
+    /// place of `bulk_viscosity` for them; `None` (the default): theirs is
+    /// `bulk_viscosity`. A gas shock needs a linear term of order one,
+    /// which would damp a solid's elastic waves (docs/physics/mpm/bulk_viscosity.md).
+    #[serde(default)]
+    pub fluid_bulk_viscosity: Option<BulkViscosity>,
     /// Volumetric anti-locking of the stress update
     /// ([`crate::anti_locking`]); `Off` by default.
     #[serde(default)]
@@ -131,6 +137,7 @@ impl Default for MpmOptions {
             mass_cutoff: 1e-3,
             min_dt: 1e-14,
             bulk_viscosity: None,
+            fluid_bulk_viscosity: None,
             anti_locking: AntiLocking::Off,
             reservoirs: [None; 6],
             geometry: Geometry::Cartesian,
@@ -384,13 +391,19 @@ impl MpmSolver {
         if let Some(g) = options.gravity.iter().find(|g| !g.is_finite()) {
             return Err(bad("gravity", *g, "components must be finite"));
         }
-        if let Some(Err((name, value))) = options.bulk_viscosity.map(|v| v.validate()) {
-            let option = if name == "linear" {
-                "bulk_viscosity.linear"
-            } else {
-                "bulk_viscosity.quadratic"
-            };
-            return Err(bad(option, value, "must be finite and ≥ 0"));
+        for (field, viscosity) in [
+            ("bulk_viscosity", options.bulk_viscosity),
+            ("fluid_bulk_viscosity", options.fluid_bulk_viscosity),
+        ] {
+            if let Some(Err((name, value))) = viscosity.map(|v| v.validate()) {
+                let option = match (field, name) {
+                    ("bulk_viscosity", "linear") => "bulk_viscosity.linear",
+                    ("bulk_viscosity", _) => "bulk_viscosity.quadratic",
+                    (_, "linear") => "fluid_bulk_viscosity.linear",
+                    _ => "fluid_bulk_viscosity.quadratic",
+                };
+                return Err(bad(option, value, "must be finite and ≥ 0"));
+            }
         }
         if particles.is_empty() {
             return Err(MpmSetupError::NoParticles);
@@ -768,11 +781,14 @@ impl MpmSolver {
     fn signal_speed(&self, p: usize, viscosity: Option<ViscosityParams>) -> (f64, f64, f64) {
         let ps = &self.particles;
         let rho = ps.mass[p] / ps.volume[p];
-        let c = self.materials[ps.material[p].0 as usize]
-            .wave_speed(rho, ps.specific_internal_energy[p]);
-        let s = viscosity.map_or(c, |v| {
-            v.model.signal_speed(self.bulk[p].trace_d, c, v.length)
-        });
+        let material = &self.materials[ps.material[p].0 as usize];
+        let c = material.wave_speed(rho, ps.specific_internal_energy[p]);
+        let fluid = matches!(material, MaterialModel::Null(_));
+        let s = viscosity
+            .and_then(|v| Some((v.coefficients(fluid)?, v.length)))
+            .map_or(c, |(model, length)| {
+                model.signal_speed(self.bulk[p].trace_d, c, length)
+            });
         let v = ps.velocity[p];
         (c, s, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
     }
@@ -1132,9 +1148,12 @@ fn viscosity_params(
     options: &MpmOptions,
     grid: &brisance_core::UniformGridGeometry,
 ) -> Option<ViscosityParams> {
-    options.bulk_viscosity.map(|model| ViscosityParams {
-        model,
-        length: viscosity_length(grid),
+    (options.bulk_viscosity.is_some() || options.fluid_bulk_viscosity.is_some()).then(|| {
+        ViscosityParams {
+            model: options.bulk_viscosity,
+            fluid: options.fluid_bulk_viscosity,
+            length: viscosity_length(grid),
+        }
     })
 }
 

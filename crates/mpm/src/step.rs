@@ -874,10 +874,10 @@ pub fn update_particle_stress(
     }
     let d = 0.5 * (l + l.transpose());
     let trace_d = d.trace();
-    let q_new = match viscosity {
-        Some(v) => {
+    let q_new = match viscosity.and_then(|v| Some((v.coefficients(fluid)?, v.length))) {
+        Some((model, length)) => {
             let c = material.wave_speed(rho, *state.specific_internal_energy);
-            v.model.pressure(trace_d, rho, c, v.length)
+            model.pressure(trace_d, rho, c, length)
         }
         None => 0.0,
     };

@@ -138,10 +138,34 @@ pub fn viscosity_length(grid: &UniformGridGeometry) -> f64 {
 /// What the stress update needs: the coefficients and the length.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViscosityParams {
-    /// The coefficients.
-    pub model: BulkViscosity,
+    /// The coefficients of every particle (`None`: none but the fluids').
+    pub model: Option<BulkViscosity>,
+    /// The coefficients of the particles of a `Null` fluid, in place of
+    /// `model` (`None`: `model`'s).
+    pub fluid: Option<BulkViscosity>,
     /// The length l, m.
     pub length: f64,
+}
+
+impl ViscosityParams {
+    /// The same coefficients for every particle.
+    pub fn new(model: BulkViscosity, length: f64) -> Self {
+        Self {
+            model: Some(model),
+            fluid: None,
+            length,
+        }
+    }
+
+    /// The coefficients of a particle of a fluid (`fluid`) or of a solid.
+    #[inline]
+    pub fn coefficients(&self, fluid: bool) -> Option<BulkViscosity> {
+        if fluid {
+            self.fluid.or(self.model)
+        } else {
+            self.model
+        }
+    }
 }
 
 #[cfg(test)]
@@ -270,10 +294,7 @@ mod tests {
         // F = 1 − 0.05, V = 0.95, ρ = 1/0.95.
         let m = gas();
         let l = Mat3::new(-0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-        let visc = ViscosityParams {
-            model: BulkViscosity::LS_DYNA,
-            length: 0.2,
-        };
+        let visc = ViscosityParams::new(BulkViscosity::LS_DYNA, 0.2);
         let mut on = One::new([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], 1.0, 2.5);
         let mut off = on.clone();
         on.update(&m, &l, 1.0, 1.0, 0.1, Some(visc));
@@ -299,6 +320,61 @@ mod tests {
     }
 
     #[test]
+    fn fluids_take_their_own_coefficients_and_solids_the_common_ones() {
+        // The gas of the test above and a hypoelastic solid under the same
+        // compression, with LS-DYNA's coefficients for all and Q₂ = 1.0 for
+        // the fluids: the gas's q is the hand value with Q₂ = 1.0, the
+        // solid's LS-DYNA's; fluids alone (no common coefficients): the
+        // solid gets none; no fluid coefficients: the gas takes LS-DYNA's.
+        let strong = BulkViscosity {
+            quadratic: 1.5,
+            linear: 1.0,
+        };
+        let split = ViscosityParams {
+            model: Some(BulkViscosity::LS_DYNA),
+            fluid: Some(strong),
+            length: 0.2,
+        };
+        assert_eq!(split.coefficients(true), Some(strong));
+        assert_eq!(split.coefficients(false), Some(BulkViscosity::LS_DYNA));
+        let fluid_only = ViscosityParams {
+            model: None,
+            ..split
+        };
+        assert_eq!(fluid_only.coefficients(false), None);
+        let common = ViscosityParams::new(BulkViscosity::LS_DYNA, 0.2);
+        assert_eq!(common.coefficients(true), Some(BulkViscosity::LS_DYNA));
+
+        let l = Mat3::new(-0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let rho: f64 = 1.0 / 0.95;
+        let c = 1.4_f64.sqrt();
+        let mut g = One::new([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], 1.0, 2.5);
+        g.update(&gas(), &l, 1.0, 1.0, 0.1, Some(split));
+        // q = ρ l (1.5 l 0.25 + 1.0 c 0.5) = ρ 0.2 (0.075 + 0.5 √1.4).
+        let q = rho * 0.2 * (0.075 + 0.5 * c);
+        assert!((g.bulk.q - q).abs() < 1e-15, "{} {q}", g.bulk.q);
+
+        let solid = MaterialModel::Hypoelastic(Hypoelastic {
+            shear_modulus: 3.0e9,
+            pressure: PressureModel::Linear {
+                bulk_modulus: 8.0e9,
+            },
+            rate: ObjectiveRate::Jaumann,
+        });
+        let (rho0, v0) = (2000.0, 1e-6);
+        let l = Mat3::new(-300.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut a = One::new([0.0; 6], v0, 0.0);
+        let mut b = a.clone();
+        let mut n = a.clone();
+        a.update(&solid, &l, rho0 * v0, v0, 1e-6, Some(split));
+        b.update(&solid, &l, rho0 * v0, v0, 1e-6, Some(common));
+        n.update(&solid, &l, rho0 * v0, v0, 1e-6, Some(fluid_only));
+        assert!(a.bulk.q > 0.0);
+        assert_eq!(a, b);
+        assert_eq!(n.bulk.q, 0.0);
+    }
+
+    #[test]
     fn the_viscous_work_is_the_energy_the_particle_gains() {
         // A hypoelastic particle (its stress does not depend on e), three
         // compressive steps with and without q: the energy difference is the
@@ -314,10 +390,7 @@ mod tests {
         let rho0 = 2000.0;
         let v0 = 1e-6;
         let mass = rho0 * v0;
-        let visc = ViscosityParams {
-            model: BulkViscosity::UINTAH,
-            length: 1e-3,
-        };
+        let visc = ViscosityParams::new(BulkViscosity::UINTAH, 1e-3);
         let l = Mat3::new(-300.0, 20.0, 0.0, -20.0, -100.0, 0.0, 0.0, 0.0, 50.0);
         let dt = 1e-6;
         let mut on = One::new([0.0; 6], v0, 0.0);
@@ -330,7 +403,10 @@ mod tests {
             assert_eq!(on.volume, off.volume);
             let rho_mid = 2.0 * mass / (v_old + on.volume);
             let c = m.wave_speed(mass / on.volume, 0.0);
-            let q = visc.model.pressure(-350.0, mass / on.volume, c, 1e-3);
+            let q = visc
+                .model
+                .unwrap()
+                .pressure(-350.0, mass / on.volume, c, 1e-3);
             assert!((on.bulk.q - q).abs() < 1e-12 * q);
             work += dt * 0.5 * (q_old + on.bulk.q) * 350.0 / rho_mid;
             for k in 0..3 {
@@ -360,10 +436,7 @@ mod tests {
         });
         let v0 = 1e-6;
         let mass = 7830.0 * v0;
-        let visc = ViscosityParams {
-            model: BulkViscosity::UINTAH,
-            length: 1e-3,
-        };
+        let visc = ViscosityParams::new(BulkViscosity::UINTAH, 1e-3);
         let l = Mat3::new(-300.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         let dt = 1e-6;
         let mut on = One::new([0.0; 6], v0, 0.0);
@@ -391,10 +464,7 @@ mod tests {
     fn without_compression_there_is_no_q_and_the_update_is_unchanged() {
         let m = gas();
         let l = Mat3::new(0.3, 0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0);
-        let visc = ViscosityParams {
-            model: BulkViscosity::LS_DYNA,
-            length: 0.2,
-        };
+        let visc = ViscosityParams::new(BulkViscosity::LS_DYNA, 0.2);
         let mut on = One::new([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], 1.0, 2.5);
         let mut off = on.clone();
         on.update(&m, &l, 1.0, 1.0, 0.1, Some(visc));

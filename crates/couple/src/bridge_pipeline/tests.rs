@@ -79,6 +79,13 @@ fn the_checks_name_their_fields() {
         "pipeline.bulk_viscosity.quadratic"
     );
     assert_eq!(
+        field(", fluid_bulk_viscosity: Some(quadratic: 1.5, linear: -1.0)"),
+        "pipeline.fluid_bulk_viscosity.linear"
+    );
+    section(", fluid_bulk_viscosity: Some(linear: 1.0)")
+        .validate(&s)
+        .expect("the fluids' own coefficients");
+    assert_eq!(
         field(", min_particle_mass: 2.0"),
         "pipeline.min_particle_mass"
     );

@@ -112,6 +112,27 @@ fn the_checks_name_their_fields() {
     );
     q.bulk_viscosity = BulkViscosityConfig::Off;
     assert!(q.validate(&s).is_ok());
+    q.fluid_bulk_viscosity = Some(BulkViscosity {
+        quadratic: 1.5,
+        linear: f64::INFINITY,
+    });
+    assert_eq!(
+        q.validate(&s).unwrap_err().field,
+        "pipeline.fluid_bulk_viscosity.linear"
+    );
+    let fluids: MpmConfig = parse("(fluid_bulk_viscosity: Some(quadratic: 1.5, linear: 1.0))");
+    assert!(fluids.validate(&s).is_ok());
+    assert_eq!(
+        describe_bulk_viscosity(&fluids.bulk_viscosity, fluids.fluid_bulk_viscosity),
+        "off (fluids Q1 = 1.5, Q2 = 1)"
+    );
+    assert_eq!(
+        describe_bulk_viscosity(
+            &BulkViscosityConfig::On(BulkViscosity::LS_DYNA),
+            Some(BulkViscosity::LS_DYNA)
+        ),
+        "Q1 = 1.5, Q2 = 0.06"
+    );
 
     // Heat conduction is for particle materials.
     let mut warm = gas_scene();

@@ -672,6 +672,18 @@ fn stable_dt_uses_the_viscous_signal_speed_of_compressed_particles() {
     // Expansion does not shorten the step.
     s.bulk[5].trace_d = 2000.0;
     assert!((s.stable_dt().unwrap() - plain).abs() < 1e-12 * plain);
+    // The fluids' coefficients leave a solid's signal speed alone: the
+    // same step with Q₂ = 1.0 for fluids; with the fluids' alone, the
+    // plain one.
+    s.bulk[5].trace_d = -2000.0;
+    let strong = Some(crate::BulkViscosity {
+        quadratic: 1.5,
+        linear: 1.0,
+    });
+    s.options.fluid_bulk_viscosity = strong;
+    assert_eq!(s.stable_dt().unwrap(), dt);
+    s.options.bulk_viscosity = None;
+    assert!((s.stable_dt().unwrap() - plain).abs() < 1e-12 * plain);
 }
 
 #[test]
@@ -744,6 +756,35 @@ fn negative_viscosity_coefficients_are_refused_by_name() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("bulk_viscosity.linear"), "{e}");
+    let e = MpmSolver::new(
+        dyadic_level(),
+        vec![soft()],
+        {
+            let mut ps = Particles::new(0);
+            fill(
+                &mut ps,
+                &dyadic_level(),
+                [0.25, 0.25, 0.0],
+                [0.5, 0.5, 1.0],
+                1024.0,
+                [0.0; 3],
+                0,
+            );
+            ps
+        },
+        MpmOptions {
+            fluid_bulk_viscosity: Some(crate::BulkViscosity {
+                quadratic: f64::NAN,
+                linear: 1.0,
+            }),
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("fluid_bulk_viscosity.quadratic"),
+        "{e}"
+    );
 }
 
 #[test]
