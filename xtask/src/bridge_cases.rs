@@ -180,8 +180,9 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
          time the pressure first reaches half-way from ambient to the blast peak; peak: the largest pressure \
          within {:.0} µs of the first sample above twice ambient (the blast wave, before the products and the \
          slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). The MPM region \
-         takes cpGIMP with the bulk viscosity's linear term at 1.0 (Q₁ 1.5, Q₂ 1.0; seed 001's linear functions \
-         and LS-DYNA's Q₂ 0.06 in the refinement below). The bridge runs \
+         takes cpGIMP, its gas particles the bulk viscosity's linear term at 1.0 (`fluid_bulk_viscosity`: Q₁ 1.5, \
+         Q₂ 1.0) and the slab LS-DYNA's (Q₁ 1.5, Q₂ 0.06); seed 001's linear functions with LS-DYNA's Q₂ 0.06 for \
+         the gas too in the refinement below. The bridge runs \
          deposit each step's inflow into the air or products particles within half a cell of the interface in \
          its face's first bridge cell, and create particles sized like the initial ones only where there are \
          none (`inflow_deposit: true`, `inflow_particle_volume: true`, docs/physics/couple/bridge.md); the row \
@@ -293,7 +294,7 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
     let _ = writeln!(
         md,
         "\nRefinement: the w = 5 bridge as configured (MPM region from 110 mm, the bridge 10 mm wide; cpGIMP, \
-         Q₁ 1.5, Q₂ 1.0) at 2, 1 and 0.5 mm \
+         the gas's Q₁ 1.5, Q₂ 1.0) at 2, 1 and 0.5 mm \
          (the finer runs to {:.0} µs, their FDM region from the config's `charge` remapped onto their own grid). \
          Mean peak: the largest mean pressure over {:.1} µs within the peak window, which averages out the MPM \
          gas's pressure oscillation where there is one. Against the finest 1D reference:\n\n\
@@ -342,10 +343,11 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
     let _ = writeln!(
         md,
         "\nThe same refinement with seed 001's method in the MPM region (linear functions, its eq 16, and LS-DYNA's \
-         bulk viscosity Q₁ 1.5, Q₂ 0.06: `--set pipeline.shape_function=Linear --set pipeline.bulk_viscosity=On()`) \
+         bulk viscosity Q₁ 1.5, Q₂ 0.06 for every particle: `--set pipeline.shape_function=Linear --set \
+         pipeline.fluid_bulk_viscosity=None`) \
          and with cpGIMP under LS-DYNA's bulk viscosity (the donor cells stay points, a deposit moves its particle \
          to the centre of mass: docs/physics/couple/bridge.md, \"cpGIMP in the MPM region\"; the linear term 0.06 \
-         leaves the MPM gas's shock overshoot of about 20 %, which Q₂ 1.0 takes out: \"The shock's overshoot\" \
+         leaves the MPM gas's shock overshoot of about 20 %, which the gas's Q₂ 1.0 takes out: \"The shock's overshoot\" \
          there), all to {:.0} µs, against the finest 1D reference:\n\n\
          | MPM region | h (mm) | steps | wall (s) | gauge 1 peak vs 1D | gauge 2 peak (MPa) | gauge 2 peak vs 1D | \
          gauge 2 mean peak (MPa) | gauge 2 mean peak vs 1D |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|",

@@ -234,44 +234,56 @@ pub fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<Bridg
     )
 }
 
-/// The MPM region's options a refined run takes: its shape functions and
-/// its bulk viscosity (quadratic, linear), both stated on the command line
-/// whatever the config holds.
+/// The MPM region's options a refined run takes: its shape functions, its
+/// bulk viscosity (quadratic, linear) and the gas particles' own, all
+/// stated on the command line whatever the config holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefinedMpm {
     /// Shape functions (`Linear` or `CpGimp`).
     pub shape: ShapeFunction,
     /// Bulk viscosity coefficients (quadratic Q₁, linear Q₂).
     pub bulk_viscosity: (f64, f64),
+    /// The gas particles' coefficients in place of `bulk_viscosity`
+    /// (`fluid_bulk_viscosity`), if any.
+    pub fluid_bulk_viscosity: Option<(f64, f64)>,
 }
 
 impl RefinedMpm {
-    /// The config's own: cpGIMP with the linear term raised to 1.0, which
-    /// takes the MPM gas's shock overshoot out (docs/physics/couple/bridge.md,
-    /// "The shock's overshoot").
+    /// The config's own: cpGIMP, LS-DYNA's bulk viscosity for the slab and
+    /// the gas particles' linear term raised to 1.0, which takes the MPM
+    /// gas's shock overshoot out (docs/physics/couple/bridge.md, "The
+    /// shock's overshoot").
     pub const CONFIG: Self = Self {
         shape: ShapeFunction::CpGimp,
-        bulk_viscosity: (1.5, 1.0),
+        bulk_viscosity: (1.5, 0.06),
+        fluid_bulk_viscosity: Some((1.5, 1.0)),
     };
     /// Seed 001's method: linear shape functions (its eq 16) and LS-DYNA's
-    /// default bulk viscosity.
+    /// default bulk viscosity for every particle.
     pub const SEED: Self = Self {
         shape: ShapeFunction::Linear,
         bulk_viscosity: (1.5, 0.06),
+        fluid_bulk_viscosity: None,
     };
-    /// cpGIMP with LS-DYNA's default bulk viscosity.
+    /// cpGIMP with LS-DYNA's default bulk viscosity for every particle.
     pub const CPGIMP_LS_DYNA_Q: Self = Self {
         shape: ShapeFunction::CpGimp,
         bulk_viscosity: (1.5, 0.06),
+        fluid_bulk_viscosity: None,
     };
 
-    /// The options by name ("CpGimp, Q 1.5 / 1.0").
+    /// The options by name ("CpGimp, Q 1.5 / 0.06, gas 1.5 / 1.0").
     pub fn name(&self) -> String {
         let (q, l) = self.bulk_viscosity;
-        format!("{:?}, Q {q:?} / {l:?}", self.shape)
+        let mut name = format!("{:?}, Q {q:?} / {l:?}", self.shape);
+        if let Some((q, l)) = self.fluid_bulk_viscosity {
+            name += &format!(", gas {q:?} / {l:?}");
+        }
+        name
     }
 
-    /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 1.0").
+    /// The run's name after its cell size ("1.0 mm, CpGimp, Q 1.5 / 0.06,
+    /// gas 1.5 / 1.0").
     pub fn label(&self, h_mm: f64) -> String {
         format!("{h_mm:.1} mm, {}", self.name())
     }
@@ -285,7 +297,10 @@ impl RefinedMpm {
 pub fn run_refined(root: &Path, refine: usize, mpm: RefinedMpm) -> Result<BridgeRun, String> {
     let label = mpm.label(2.0 / refine as f64);
     let (q, l) = mpm.bulk_viscosity;
-    let tag = format!("h{refine}_{:?}_q{q}_{l}", mpm.shape);
+    let mut tag = format!("h{refine}_{:?}_q{q}_{l}", mpm.shape);
+    if let Some((q, l)) = mpm.fluid_bulk_viscosity {
+        tag += &format!("_gas{q}_{l}");
+    }
     bridge_run(root, refined_sets(refine, mpm), false, &tag, label, 5)
 }
 
@@ -298,6 +313,12 @@ pub fn refined_sets(refine: usize, mpm: RefinedMpm) -> Vec<String> {
         format!("pipeline.w=Some({})", 5 * refine),
         format!("pipeline.shape_function={:?}", mpm.shape),
         format!("pipeline.bulk_viscosity=On(quadratic: {q:?}, linear: {l:?})"),
+        match mpm.fluid_bulk_viscosity {
+            Some((q, l)) => {
+                format!("pipeline.fluid_bulk_viscosity=Some(quadratic: {q:?}, linear: {l:?})")
+            }
+            None => "pipeline.fluid_bulk_viscosity=None".to_string(),
+        },
         "outputs.interval=1.0".to_string(),
         "outputs.vtk=false".to_string(),
     ]
@@ -547,11 +568,19 @@ mod tests {
     /// The MPM options a loaded bridge or pure-MPM config holds.
     fn mpm_options(loaded: &brisance_compose::LoadedScenario) -> RefinedMpm {
         let pipeline = &loaded.scenario.pipeline;
-        let (shape, viscosity) =
+        let (shape, viscosity, fluid) =
             if let Some(b) = pipeline.section::<brisance_couple::BridgeConfig>() {
-                (b.shape_function, b.bulk_viscosity.option())
+                (
+                    b.shape_function,
+                    b.bulk_viscosity.option(),
+                    b.fluid_bulk_viscosity,
+                )
             } else if let Some(m) = pipeline.section::<brisance_couple::MpmConfig>() {
-                (m.shape_function, m.bulk_viscosity.option())
+                (
+                    m.shape_function,
+                    m.bulk_viscosity.option(),
+                    m.fluid_bulk_viscosity,
+                )
             } else {
                 panic!("neither a bridge nor MPM");
             };
@@ -559,6 +588,7 @@ mod tests {
         RefinedMpm {
             shape,
             bulk_viscosity: (v.quadratic, v.linear),
+            fluid_bulk_viscosity: fluid.map(|f| (f.quadratic, f.linear)),
         }
     }
 
@@ -587,10 +617,13 @@ mod tests {
         }
         assert_eq!(RefinedMpm::SEED.label(1.0), "1.0 mm, Linear, Q 1.5 / 0.06");
         assert_eq!(RefinedMpm::CPGIMP_LS_DYNA_Q.name(), "CpGimp, Q 1.5 / 0.06");
-        assert_eq!(RefinedMpm::CONFIG.label(0.5), "0.5 mm, CpGimp, Q 1.5 / 1.0");
+        assert_eq!(
+            RefinedMpm::CONFIG.label(0.5),
+            "0.5 mm, CpGimp, Q 1.5 / 0.06, gas 1.5 / 1.0"
+        );
         let ugimp = RefinedMpm {
             shape: ShapeFunction::Gimp,
-            bulk_viscosity: (1.5, 0.06),
+            ..RefinedMpm::SEED
         };
         let e = load_file(&config, &refined_sets(2, ugimp)).unwrap_err();
         assert!(e.to_string().contains("pipeline.shape_function"), "{e}");
