@@ -785,7 +785,7 @@ impl MpmSolver {
         let c = material.wave_speed(rho, ps.specific_internal_energy[p]);
         let fluid = matches!(material, MaterialModel::Null(_));
         let s = viscosity
-            .and_then(|v| Some((v.coefficients(fluid)?, v.length)))
+            .and_then(|v| v.coefficients(fluid))
             .map_or(c, |(model, length)| {
                 model.signal_speed(self.bulk[p].trace_d, c, length)
             });

@@ -874,7 +874,7 @@ pub fn update_particle_stress(
     }
     let d = 0.5 * (l + l.transpose());
     let trace_d = d.trace();
-    let q_new = match viscosity.and_then(|v| Some((v.coefficients(fluid)?, v.length))) {
+    let q_new = match viscosity.and_then(|v| v.coefficients(fluid)) {
         Some((model, length)) => {
             let c = material.wave_speed(rho, *state.specific_internal_energy);
             model.pressure(trace_d, rho, c, length)

@@ -157,14 +157,16 @@ impl ViscosityParams {
         }
     }
 
-    /// The coefficients of a particle of a fluid (`fluid`) or of a solid.
+    /// The coefficients of a particle of a fluid (`fluid`) or of a solid,
+    /// with the length l; `None` where that particle takes no viscosity.
     #[inline]
-    pub fn coefficients(&self, fluid: bool) -> Option<BulkViscosity> {
-        if fluid {
+    pub fn coefficients(&self, fluid: bool) -> Option<(BulkViscosity, f64)> {
+        let model = if fluid {
             self.fluid.or(self.model)
         } else {
             self.model
-        }
+        };
+        model.map(|m| (m, self.length))
     }
 }
 
@@ -335,15 +337,21 @@ mod tests {
             fluid: Some(strong),
             length: 0.2,
         };
-        assert_eq!(split.coefficients(true), Some(strong));
-        assert_eq!(split.coefficients(false), Some(BulkViscosity::LS_DYNA));
+        assert_eq!(split.coefficients(true), Some((strong, 0.2)));
+        assert_eq!(
+            split.coefficients(false),
+            Some((BulkViscosity::LS_DYNA, 0.2))
+        );
         let fluid_only = ViscosityParams {
             model: None,
             ..split
         };
         assert_eq!(fluid_only.coefficients(false), None);
         let common = ViscosityParams::new(BulkViscosity::LS_DYNA, 0.2);
-        assert_eq!(common.coefficients(true), Some(BulkViscosity::LS_DYNA));
+        assert_eq!(
+            common.coefficients(true),
+            Some((BulkViscosity::LS_DYNA, 0.2))
+        );
 
         let l = Mat3::new(-0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         let rho: f64 = 1.0 / 0.95;

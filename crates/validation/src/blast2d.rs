@@ -19,7 +19,7 @@ use std::path::Path;
 
 use brisance_compose::{load_file, run, RunOptions};
 use brisance_fdm::detonation::{DetonationSetup, RadialDetonation, Symmetry};
-use brisance_mpm::ShapeFunction;
+use brisance_mpm::{BulkViscosity, ShapeFunction};
 
 use crate::bridge_blast::CasePeak;
 
@@ -241,11 +241,11 @@ pub fn run_bridge(root: &Path, width: usize, paper_inflow: bool) -> Result<Bridg
 pub struct RefinedMpm {
     /// Shape functions (`Linear` or `CpGimp`).
     pub shape: ShapeFunction,
-    /// Bulk viscosity coefficients (quadratic Q₁, linear Q₂).
-    pub bulk_viscosity: (f64, f64),
+    /// Bulk viscosity coefficients.
+    pub bulk_viscosity: BulkViscosity,
     /// The gas particles' coefficients in place of `bulk_viscosity`
     /// (`fluid_bulk_viscosity`), if any.
-    pub fluid_bulk_viscosity: Option<(f64, f64)>,
+    pub fluid_bulk_viscosity: Option<BulkViscosity>,
 }
 
 impl RefinedMpm {
@@ -255,29 +255,32 @@ impl RefinedMpm {
     /// shock's overshoot").
     pub const CONFIG: Self = Self {
         shape: ShapeFunction::CpGimp,
-        bulk_viscosity: (1.5, 0.06),
-        fluid_bulk_viscosity: Some((1.5, 1.0)),
+        bulk_viscosity: BulkViscosity::LS_DYNA,
+        fluid_bulk_viscosity: Some(BulkViscosity {
+            quadratic: 1.5,
+            linear: 1.0,
+        }),
     };
     /// Seed 001's method: linear shape functions (its eq 16) and LS-DYNA's
     /// default bulk viscosity for every particle.
     pub const SEED: Self = Self {
         shape: ShapeFunction::Linear,
-        bulk_viscosity: (1.5, 0.06),
+        bulk_viscosity: BulkViscosity::LS_DYNA,
         fluid_bulk_viscosity: None,
     };
     /// cpGIMP with LS-DYNA's default bulk viscosity for every particle.
     pub const CPGIMP_LS_DYNA_Q: Self = Self {
         shape: ShapeFunction::CpGimp,
-        bulk_viscosity: (1.5, 0.06),
+        bulk_viscosity: BulkViscosity::LS_DYNA,
         fluid_bulk_viscosity: None,
     };
 
     /// The options by name ("CpGimp, Q 1.5 / 0.06, gas 1.5 / 1.0").
     pub fn name(&self) -> String {
-        let (q, l) = self.bulk_viscosity;
-        let mut name = format!("{:?}, Q {q:?} / {l:?}", self.shape);
-        if let Some((q, l)) = self.fluid_bulk_viscosity {
-            name += &format!(", gas {q:?} / {l:?}");
+        let v = self.bulk_viscosity;
+        let mut name = format!("{:?}, Q {:?} / {:?}", self.shape, v.quadratic, v.linear);
+        if let Some(g) = self.fluid_bulk_viscosity {
+            name += &format!(", gas {:?} / {:?}", g.quadratic, g.linear);
         }
         name
     }
@@ -296,27 +299,25 @@ impl RefinedMpm {
 /// (docs/physics/couple/bridge.md, "cpGIMP in the MPM region").
 pub fn run_refined(root: &Path, refine: usize, mpm: RefinedMpm) -> Result<BridgeRun, String> {
     let label = mpm.label(2.0 / refine as f64);
-    let (q, l) = mpm.bulk_viscosity;
-    let mut tag = format!("h{refine}_{:?}_q{q}_{l}", mpm.shape);
-    if let Some((q, l)) = mpm.fluid_bulk_viscosity {
-        tag += &format!("_gas{q}_{l}");
+    let v = mpm.bulk_viscosity;
+    let mut tag = format!("h{refine}_{:?}_q{}_{}", mpm.shape, v.quadratic, v.linear);
+    if let Some(g) = mpm.fluid_bulk_viscosity {
+        tag += &format!("_gas{}_{}", g.quadratic, g.linear);
     }
     bridge_run(root, refined_sets(refine, mpm), false, &tag, label, 5)
 }
 
 /// The `--set` overrides of [`run_refined`].
 pub fn refined_sets(refine: usize, mpm: RefinedMpm) -> Vec<String> {
-    let (q, l) = mpm.bulk_viscosity;
+    let on = |v: BulkViscosity| format!("(quadratic: {:?}, linear: {:?})", v.quadratic, v.linear);
     vec![
         format!("time.end={REFINED_END:e}"),
         format!("domain.cells=({}, {}, 1)", 170 * refine, 250 * refine),
         format!("pipeline.w=Some({})", 5 * refine),
         format!("pipeline.shape_function={:?}", mpm.shape),
-        format!("pipeline.bulk_viscosity=On(quadratic: {q:?}, linear: {l:?})"),
+        format!("pipeline.bulk_viscosity=On{}", on(mpm.bulk_viscosity)),
         match mpm.fluid_bulk_viscosity {
-            Some((q, l)) => {
-                format!("pipeline.fluid_bulk_viscosity=Some(quadratic: {q:?}, linear: {l:?})")
-            }
+            Some(g) => format!("pipeline.fluid_bulk_viscosity=Some{}", on(g)),
             None => "pipeline.fluid_bulk_viscosity=None".to_string(),
         },
         "outputs.interval=1.0".to_string(),
@@ -584,11 +585,10 @@ mod tests {
             } else {
                 panic!("neither a bridge nor MPM");
             };
-        let v = viscosity.expect("bulk viscosity on");
         RefinedMpm {
             shape,
-            bulk_viscosity: (v.quadratic, v.linear),
-            fluid_bulk_viscosity: fluid.map(|f| (f.quadratic, f.linear)),
+            bulk_viscosity: viscosity.expect("bulk viscosity on"),
+            fluid_bulk_viscosity: fluid,
         }
     }
 
