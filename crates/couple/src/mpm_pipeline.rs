@@ -607,7 +607,20 @@ pub fn mpm_parts(
         };
         let (temperature, energy) =
             particle_thermodynamics(&models[id], r.state, &format!("{path}.state"))?;
-        regions.push((r, MaterialId(id as u16), temperature, energy));
+        // A fluid's particles start at their EOS pressure, as the bridge's
+        // and the remap's do: σ = −p(ρ, e) I (a solid starts unstressed,
+        // its stress built by its constitutive model from the motion).
+        let pressure = match (&models[id], models[id].eos()) {
+            (MaterialModel::Null(_), Some(eos)) => eos.pressure(r.state.density, energy),
+            _ => 0.0,
+        };
+        if !pressure.is_finite() {
+            return Err(FieldError::new(
+                format!("{path}.state"),
+                format!("the fluid's pressure at this state is {pressure}"),
+            ));
+        }
+        regions.push((r, MaterialId(id as u16), temperature, energy, pressure));
     }
     let ppc = mpm.ppc;
     let active: [bool; 3] = std::array::from_fn(|a| d.cells[a] > 1);
@@ -635,7 +648,7 @@ pub fn mpm_parts(
                                     + (idx[a] as f64 + (sub[a] as f64 + 0.5) / per_axis[a] as f64)
                                         * grid.spacing[a]
                             });
-                            let Some(&(r, material, temperature, energy)) =
+                            let Some(&(r, material, temperature, energy, pressure)) =
                                 regions.iter().rev().find(|(r, ..)| r.region.contains(x))
                             else {
                                 continue;
@@ -662,6 +675,7 @@ pub fn mpm_parts(
                                 temperature,
                                 specific_internal_energy: energy,
                                 material,
+                                stress: [-pressure, -pressure, -pressure, 0.0, 0.0, 0.0],
                                 ..Default::default()
                             });
                             particles

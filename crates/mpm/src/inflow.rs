@@ -546,10 +546,10 @@ impl Reservoirs {
 
     /// Step 2 of the module doc: the reservoir particles' node shares and
     /// internal forces on `map`'s lattice ([`Reservoirs::shares`],
-    /// [`Reservoirs::forces`]). On the `first_step` a fixed reservoir
-    /// exerts no stress, as the particles of the initial fill, whose
-    /// stress the first update forms, exert none.
-    pub fn share(&mut self, map: &GridMap, first_step: bool) -> Result<(), String> {
+    /// [`Reservoirs::forces`]), from the first step on: a fluid's
+    /// particles start at their pressure, so a fixed reservoir pushes
+    /// with its state's stress as they do.
+    pub fn share(&mut self, map: &GridMap) -> Result<(), String> {
         self.shares.clear();
         self.forces.clear();
         let grid = map.grid;
@@ -559,11 +559,10 @@ impl Reservoirs {
         let reach = map.shape.required_ghost_nodes() as f64 + 1.5;
         for f in &self.faces {
             let depth = reach * grid.spacing[f.axis];
-            let stressed = !(first_step && matches!(f.kind, ReservoirKind::Fixed(_)));
             for (col, r) in f.columns.iter().enumerate() {
                 let Some(r) = r else { continue };
                 let s = &r.state;
-                let stress = if stressed { s.stress } else { [0.0; 6] };
+                let stress = s.stress;
                 // The particles' domains as the transfers form them: uGIMP
                 // keeps the half-width of V⁰, cpGIMP stretches it with F.
                 let f_r = f.deformation(r.stretch);
@@ -833,7 +832,7 @@ mod tests {
         let new = r.inject(&grid(), &Particles::new(0), &[], &air(), &mut booked);
         r.return_injected(new);
         let map = GridMap::new(&grid(), ShapeFunction::Linear);
-        r.share(&map, false).unwrap();
+        r.share(&map).unwrap();
         let node0 = map.lattice.index([0, 0, 0]).unwrap();
         let m = 1.0 / 64.0;
         assert_eq!(
@@ -858,10 +857,6 @@ mod tests {
                 (node0, [3.0 / 64.0, 0.0, 0.0])
             ]
         );
-        // On the first step the fixed reservoir pushes with no stress, as
-        // the initial particles do.
-        r.share(&map, true).unwrap();
-        assert!(r.forces().iter().all(|(_, f)| *f == [0.0; 3]));
     }
 
     /// Two particles in the boundary cell, at 3/16 and 7/32 m, of 1/64 kg
@@ -905,7 +900,7 @@ mod tests {
         );
         // Its particles are at rest along the normal: no momentum reaches
         // the nodes.
-        r.share(&GridMap::new(&grid(), ShapeFunction::Linear), false)
+        r.share(&GridMap::new(&grid(), ShapeFunction::Linear))
             .unwrap();
         assert!(r.shares().iter().all(|s| s.momentum == [0.0; 3]));
     }

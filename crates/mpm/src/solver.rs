@@ -882,8 +882,7 @@ impl MpmSolver {
         }
         self.sort_particles()?;
         if !self.inflow.is_empty() {
-            let first = self.steps == 0;
-            if let Err(e) = self.inflow.share(&self.work.map, first) {
+            if let Err(e) = self.inflow.share(&self.work.map) {
                 return Err(SolverError::Other(format!(
                     "MPM at t = {:e} s: {e}",
                     self.time

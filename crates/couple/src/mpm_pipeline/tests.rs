@@ -46,6 +46,47 @@ fn every_sub_cell_point_becomes_a_particle_of_its_share_of_the_mass() {
     assert!(solver.particle_gauges().is_empty());
 }
 
+/// A fluid's particles start at their EOS pressure, σ = −p I (their first
+/// step pushes as the gas does); a solid's start unstressed.
+#[test]
+fn fluid_particles_start_at_their_pressure_and_solid_ones_unstressed() {
+    use brisance_constitutive::{Hypoelastic, ObjectiveRate, PressureModel};
+    let solid = MaterialModel::Hypoelastic(Hypoelastic {
+        shear_modulus: 80e9,
+        pressure: PressureModel::Linear {
+            bulk_modulus: 160e9,
+        },
+        rate: ObjectiveRate::Jaumann,
+    });
+    let cold = StateConfig {
+        temperature: Some(293.0),
+        pressure: None,
+        ..StateConfig::at_pressure(7800.0, 0.0)
+    };
+    let owned = gas_scene().with_model("ghost", solid, None).with_region(
+        Shape::Box {
+            min: [0.1, 0.0, 0.0],
+            max: [0.2, 1.0, 1.0],
+        },
+        "ghost",
+        cold,
+    );
+    let solver = mpm_parts(&owned.scene(), &section(2), false).expect("builds");
+    let p = solver.particles();
+    assert_eq!(p.len(), 4);
+    for k in 0..2 {
+        assert!(p.position[k][0] < 0.1);
+        for a in 0..3 {
+            assert!((p.stress[k][a] + P).abs() < 1e-9 * P, "{:?}", p.stress[k]);
+            assert_eq!(p.stress[k][a + 3], 0.0);
+        }
+    }
+    for k in 2..4 {
+        assert!(p.position[k][0] > 0.1);
+        assert_eq!(p.stress[k], [0.0; 6]);
+    }
+}
+
 /// On an (r, z) grid a particle is a ring: its sub-cell's cross-section
 /// swept through 2π at its radius.
 #[test]
