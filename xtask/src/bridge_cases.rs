@@ -176,7 +176,10 @@ pub(crate) fn e_blast2d(report: &mut Report, img: &Path) -> Result<()> {
          MPM region (110, 160) × (0, 500) mm (bridge w = 5), 2 mm cells, flow-out faces, a 20 mm concrete slab at \
          x = 140–160 mm. The FDM region starts from the 1D detonation at 12 µs remapped onto it (`brisance remap`, \
          {remap_line}); times below are after that. Each run ends at {:.0} µs. Gauge 1 (−125, 250) mm lies in the \
-         FDM region, gauge 2 (125, 250) mm in the MPM region, at the same distance from the charge. Arrival: the \
+         FDM region, gauge 2 (125, 250) mm in the MPM region, at the same distance from the charge; gauge 2 reads its cell \
+         as the mass-weighted mean of the particles that reach it (with cpGIMP each particle weighted by its \
+         domain's share of the cell, with linear functions the particles whose centres lie in it: \
+         docs/physics/mpm/explicit_mpm.md, \"Cell output\"). Arrival: the \
          time the pressure first reaches half-way from ambient to the blast peak; peak: the largest pressure \
          within {:.0} µs of the first sample above twice ambient (the blast wave, before the products and the \
          slab's reflection). w = 2 and 8 move the MPM region's low face (seed 001 Fig. 11). The MPM region \

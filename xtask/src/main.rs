@@ -400,7 +400,9 @@ fn v_sod_mpm(report: &mut Report) -> Result<()> {
          4 particles per cell, Courant number 0.4, rigid tube ends, and the artificial bulk viscosity \
          `bulk_viscosity: {SOD_MPM_BULK_VISCOSITY}` (LS-DYNA's Q₁ = 1.5, Q₂ = 0.06; \
          docs/physics/mpm/bulk_viscosity.md). The MPM density of a cell is the mass-weighted mean of the particle \
-         densities m_p/V_p in it; the column \"GIMP without q\" is the same run with `bulk_viscosity: Off`. The \
+         densities m_p/V_p over the particles that reach it (the whole particle in the cell of its centre with \
+         linear functions, its domain's share of the cell with GIMP and cpGIMP: docs/physics/mpm/explicit_mpm.md, \
+         \"Cell output\"); the column \"GIMP without q\" is the same run with `bulk_viscosity: Off`. The \
          plateau oscillation is the largest |ρ − ρ*_L|/ρ*_L between the rarefaction tail and the contact; the shock \
          overshoot is the largest density excursion above ρ*_R near the shock, as a fraction of the shock's jump. \
          Seed 001 (§5.1, figs 6–7) reports that MPM oscillates and that FDM's error at N cells is about GIMP's at \

@@ -3,7 +3,7 @@
 
 use super::{particle_energy, MpmSolver, CELL_FIELDS, MPM_NODE_FIELDS};
 use crate::viscosity::BulkViscosityState;
-use crate::{MaterialId, Particles};
+use crate::{MaterialId, Particles, ShapeFunction};
 use brisance_core::{AxisWindow, CellData, ConservationTotals, Material, Solver, SolverError};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -39,6 +39,87 @@ struct SavedState {
 }
 
 impl MpmSolver {
+    /// The half-widths per axis of particle `p`'s domain in the cell
+    /// estimator: its GIMP domain as the transfers form it (uGIMP's l_p,
+    /// cpGIMP's l_p0 F_ii, from the ring's cross-section on an (r, z)
+    /// grid), zero on an axis of one cell, and zero on every axis for the
+    /// shapes without a domain (linear, B-spline) and for the load-only
+    /// particles, which the transfers treat as points too.
+    fn domain_half_widths(&self, p: usize) -> [f64; 3] {
+        let shape = self.options.shape;
+        if !shape.is_gimp() {
+            return [0.0; 3];
+        }
+        let (first, count) = self.work.load_only;
+        let id = self.ids[p];
+        if id >= first && id - first < count {
+            return [0.0; 3];
+        }
+        let ps = &self.particles;
+        let map = &self.work.map;
+        let f = &ps.deformation_gradient[p];
+        let v0 = map.planar_volume(ps.initial_volume[p], ps.position[p], f);
+        let l = if shape == ShapeFunction::CpGimp {
+            map.deformed_half_width(v0, f)
+        } else {
+            map.half_width(v0).map(|l| [l; 3])
+        };
+        // The step checked the domain; one it would refuse counts as a
+        // point here rather than failing an output.
+        let l = l.unwrap_or([0.0; 3]);
+        let cells = self.level.geometry.cells;
+        std::array::from_fn(|d| if cells[d] > 1 { l[d] } else { 0.0 })
+    }
+
+    /// The cells a particle at `x` with domain half-widths `l` shares its
+    /// mass with along axis `d`, as an inclusive index range: the cell
+    /// that contains `x` for a point (the rule of
+    /// `UniformGridGeometry::cell_containing`), every cell its domain
+    /// overlaps otherwise, clipped to the grid.
+    #[inline]
+    fn axis_cells(&self, d: usize, x: f64, l: f64) -> (usize, usize) {
+        let g = &self.level.geometry;
+        let n = g.cells[d];
+        let index = |y: f64| {
+            let s = ((y - g.origin[d]) / g.spacing[d]).clamp(0.0, n as f64);
+            (s.floor() as usize).min(n - 1)
+        };
+        if l == 0.0 {
+            let i = index(x);
+            (i, i)
+        } else {
+            (index(x - l), index(x + l))
+        }
+    }
+
+    /// The share of a particle's domain (centre `x`, half-width `l`) that
+    /// lies in cell `i` along axis `d`: 1 or 0 for a point (in the cell of
+    /// [`MpmSolver::axis_cells`] or not), the overlap of [x − l, x + l]
+    /// with the cell over 2l otherwise: the planar share, the one GIMP's
+    /// weights integrate, on an (r, z) grid as well.
+    #[inline]
+    fn axis_share(&self, d: usize, x: f64, l: f64, i: usize) -> f64 {
+        if l == 0.0 {
+            let (c, _) = self.axis_cells(d, x, 0.0);
+            return if c == i { 1.0 } else { 0.0 };
+        }
+        let g = &self.level.geometry;
+        let lo = g.origin[d] + i as f64 * g.spacing[d];
+        let hi = lo + g.spacing[d];
+        let a = (x - l).max(lo);
+        let b = (x + l).min(hi);
+        if b > a {
+            (b - a) / (2.0 * l)
+        } else {
+            0.0
+        }
+    }
+
+    /// The cell fields `names` on the whole grid: in each cell the
+    /// mass-weighted mean of the particles' quantities, each particle
+    /// weighted by m_p times the share of its domain in the cell (the
+    /// whole particle in the cell that holds its centre for the shapes
+    /// without a domain), and the mass density Σ m_p share / V_cell.
     fn cell_fields(&self, names: &[usize]) -> Vec<Vec<f64>> {
         let grid = &self.level.geometry;
         let n = grid.cell_count();
@@ -46,14 +127,31 @@ impl MpmSolver {
         let mut sums = vec![vec![0.0; n]; names.len()];
         let ps = &self.particles;
         for p in 0..ps.len() {
-            let Some(c) = grid.cell_containing(ps.position[p]) else {
+            let x = ps.position[p];
+            if grid.cell_containing(x).is_none() {
                 continue;
-            };
-            let c = grid.linear_index(c);
+            }
+            let l = self.domain_half_widths(p);
+            let range: [(usize, usize); 3] =
+                std::array::from_fn(|d| self.axis_cells(d, x[d], l[d]));
             let m = ps.mass[p];
-            mass[c] += m;
-            for (k, &f) in names.iter().enumerate() {
-                sums[k][c] += m * self.cell_field_quantity(p, f);
+            for k in range[2].0..=range[2].1 {
+                for j in range[1].0..=range[1].1 {
+                    for i in range[0].0..=range[0].1 {
+                        let w = self.axis_share(0, x[0], l[0], i)
+                            * self.axis_share(1, x[1], l[1], j)
+                            * self.axis_share(2, x[2], l[2], k);
+                        if w == 0.0 {
+                            continue;
+                        }
+                        let c = grid.linear_index([i, j, k]);
+                        let mw = m * w;
+                        mass[c] += mw;
+                        for (s, &f) in sums.iter_mut().zip(names) {
+                            s[c] += mw * self.cell_field_quantity(p, f);
+                        }
+                    }
+                }
             }
         }
         let cell_volume: f64 = grid.spacing.iter().product();
@@ -67,29 +165,33 @@ impl MpmSolver {
 
     /// The fields `names` of cell `cell` alone, into `out`: the sums of
     /// [`MpmSolver::cell_fields`] for that cell, over the same particles
-    /// in the same order, so the same bits, without the whole-grid arrays.
+    /// in the same order with the same shares, so the same bits, without
+    /// the whole-grid arrays.
     fn cell_value(&self, cell: [usize; 3], names: &[usize], out: &mut Vec<f64>) {
         let grid = &self.level.geometry;
         out.clear();
         out.resize(names.len(), 0.0);
         let mut mass = 0.0;
         let ps = &self.particles;
-        let c = grid.linear_index(cell);
+        // A domain reaches at most half a cell past its centre; the
+        // windows keep a whole cell either side.
         let windows = grid.cell_windows(cell);
         for p in 0..ps.len() {
-            if !AxisWindow::admit_all(&windows, ps.position[p]) {
+            let x = ps.position[p];
+            if !AxisWindow::admit_all(&windows, x) || grid.cell_containing(x).is_none() {
                 continue;
             }
-            let Some(cp) = grid.cell_containing(ps.position[p]) else {
-                continue;
-            };
-            if grid.linear_index(cp) != c {
+            let l = self.domain_half_widths(p);
+            let w = self.axis_share(0, x[0], l[0], cell[0])
+                * self.axis_share(1, x[1], l[1], cell[1])
+                * self.axis_share(2, x[2], l[2], cell[2]);
+            if w == 0.0 {
                 continue;
             }
-            let m = ps.mass[p];
-            mass += m;
+            let mw = ps.mass[p] * w;
+            mass += mw;
             for (sum, &f) in out.iter_mut().zip(names) {
-                *sum += m * self.cell_field_quantity(p, f);
+                *sum += mw * self.cell_field_quantity(p, f);
             }
         }
         let cell_volume: f64 = grid.spacing.iter().product();
