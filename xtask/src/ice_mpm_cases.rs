@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use anyhow::{anyhow, Result};
 use brisance::couple::ice_mpm::{cases, tubes};
+use brisance::verification::ice_mpm_cost::step_cost;
 
 use crate::Report;
 
@@ -83,8 +84,8 @@ pub fn v_ice_mpm(report: &mut Report) -> Result<()> {
          piston's kinetic energy; the equilibration moved {rescaled:+.2e} of the air's mass (booked).\n",
         tube_time * 1e6
     );
-    let (coupled, ice_alone, mpm_alone, particles) = step_cost()?;
-    let ratio = coupled / (ice_alone + mpm_alone);
+    let cost = step_cost(&cases::moving_cube(), 5, 3).map_err(|e| anyhow!(e))?;
+    let ratio = cost.ratio();
     let _ = writeln!(
         md,
         "**Step cost** (the criterion bench `ice_mpm_step`'s case: a 12 mm steel cube, {particles} \
@@ -92,9 +93,10 @@ pub fn v_ice_mpm(report: &mut Report) -> Result<()> {
          at one Δt, on this machine): coupled step {:.1} ms, the ICE step of the same two materials \
          (steel Eulerian) {:.1} ms, the MPM step of the particles alone {:.1} ms — coupled / (ICE + \
          MPM) = {ratio:.2}.\n",
-        coupled * 1e3,
-        ice_alone * 1e3,
-        mpm_alone * 1e3
+        cost.coupled * 1e3,
+        cost.ice_alone * 1e3,
+        cost.mpm_alone * 1e3,
+        particles = cost.particles,
     );
     let _ = writeln!(md, "| check | measured | target | |\n|---|---:|---:|---|");
     report.target(
@@ -284,46 +286,6 @@ pub fn v_ice_mpm_solids(report: &mut Report) -> Result<()> {
     );
     let _ = writeln!(report.md);
     Ok(())
-}
-
-/// Seconds per step of the coupled step, the ICE step alone and the MPM
-/// step alone on the case of the criterion bench `ice_mpm_step`
-/// (benches/ice_mpm.rs), and its particle count: each the best of 3
-/// timings of 5 steps at the Δt of the coupled case after 3 steps, the
-/// building outside the timings.
-fn step_cost() -> Result<(f64, f64, f64, usize)> {
-    use brisance::core::Solver;
-    let setup = cases::moving_cube;
-    let warm = || -> Result<_> {
-        let mut s = cases::build(&setup());
-        for _ in 0..3 {
-            let dt = s.stable_dt().map_err(|e| anyhow!("{e}"))?;
-            s.advance(dt).map_err(|e| anyhow!("{e}"))?;
-        }
-        Ok(s)
-    };
-    let s0 = warm()?;
-    let dt = s0.stable_dt().map_err(|e| anyhow!("{e}"))?;
-    let particles = s0.particles_per_step();
-    const STEPS: usize = 5;
-    fn best(mut one: impl FnMut() -> Result<f64>) -> Result<f64> {
-        let mut t = f64::INFINITY;
-        for _ in 0..3 {
-            t = t.min(one()?);
-        }
-        Ok(t / STEPS as f64)
-    }
-    let timed = |s: &mut dyn Solver| -> Result<f64> {
-        let t = Instant::now();
-        for _ in 0..STEPS {
-            s.advance(dt).map_err(|e| anyhow!("{e}"))?;
-        }
-        Ok(t.elapsed().as_secs_f64())
-    };
-    let coupled = best(|| timed(&mut warm()?))?;
-    let ice_alone = best(|| timed(&mut cases::build_frames(&setup()).0))?;
-    let mpm_alone = best(|| timed(&mut cases::build_frames(&setup()).1))?;
-    Ok((coupled, ice_alone, mpm_alone, particles))
 }
 
 /// V-FLYER: a 10 mm copper plate (particles) driven by an ideal gas at

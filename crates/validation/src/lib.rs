@@ -15,6 +15,7 @@ pub mod conduction_contact;
 pub mod cookoff;
 pub mod cylinder;
 pub mod flyer;
+pub mod ice_mpm_cost;
 pub mod kingery_bulmash;
 pub mod mott;
 pub mod open_faces;
