@@ -104,6 +104,13 @@ fn an_rz_particle_is_a_ring_about_the_axis() {
             RHO * volume
         );
     }
+    // A cell is the ring it sweeps: the rings' masses over the rings'
+    // volumes give the gas's density back.
+    use brisance_core::Solver;
+    let d = solver.cell_data(&["mass_density".to_string()]).unwrap();
+    for &rho in d.field("mass_density").unwrap() {
+        assert!((rho - RHO).abs() < 1e-12 * RHO, "{rho}");
+    }
 }
 
 /// A region of a material without a constitutive model is refused at its

@@ -115,6 +115,18 @@ impl MpmSolver {
         }
     }
 
+    /// The volume of a cell in column `i` along x: the box on a Cartesian
+    /// grid, the ring π Δr (2 r_lo + Δr) Δz on an (r, z) one, where the
+    /// particles' masses are the rings' (`Geometry::cell_volume`).
+    #[inline]
+    fn cell_volume(&self, i: usize) -> f64 {
+        let g = &self.level.geometry;
+        let r_lo = g.origin[0] + i as f64 * g.spacing[0];
+        self.options
+            .geometry
+            .cell_volume(r_lo, g.spacing[0], g.spacing[1], g.spacing[2])
+    }
+
     /// The cell fields `names` on the whole grid: in each cell the
     /// mass-weighted mean of the particles' quantities, each particle
     /// weighted by m_p times the share of its domain in the cell (the
@@ -154,10 +166,10 @@ impl MpmSolver {
                 }
             }
         }
-        let cell_volume: f64 = grid.spacing.iter().product();
         for (k, &f) in names.iter().enumerate() {
             for c in 0..n {
-                sums[k][c] = cell_field_value(f, sums[k][c], mass[c], cell_volume);
+                let i = c % grid.cells[0];
+                sums[k][c] = cell_field_value(f, sums[k][c], mass[c], self.cell_volume(i));
             }
         }
         sums
@@ -194,7 +206,7 @@ impl MpmSolver {
                 *sum += mw * self.cell_field_quantity(p, f);
             }
         }
-        let cell_volume: f64 = grid.spacing.iter().product();
+        let cell_volume = self.cell_volume(cell[0]);
         for (sum, &f) in out.iter_mut().zip(names) {
             *sum = cell_field_value(f, *sum, mass, cell_volume);
         }
