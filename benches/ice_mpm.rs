@@ -18,7 +18,7 @@
 //! steps is the cost of n steps, free of the set-up.
 
 use brisance::core::Solver;
-use brisance_couple::ice_mpm::cases::{build, build_frames, moving_cube, Setup};
+use brisance_couple::ice_mpm::cases::{build_frames, build_warm, moving_cube, Setup};
 use brisance_couple::IceMpm;
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 
@@ -31,12 +31,7 @@ fn setup() -> Setup {
 
 /// The coupled case after a few steps, so the air already moves.
 fn coupled() -> IceMpm {
-    let mut s = build(&setup());
-    for _ in 0..3 {
-        let dt = s.stable_dt().expect("dt");
-        s.advance(dt).expect("coupled step");
-    }
-    s
+    build_warm(&setup()).expect("the warm-up steps")
 }
 
 fn ice_mpm_step(c: &mut Criterion) {

@@ -8,7 +8,7 @@
 use std::time::Instant;
 
 use brisance_core::Solver;
-use brisance_couple::ice_mpm::cases::{build, build_frames, Setup};
+use brisance_couple::ice_mpm::cases::{build_frames, build_warm, Setup};
 
 /// Seconds per step of the three steps, and the coupled case's particles.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,12 +30,9 @@ impl StepCost {
     }
 }
 
-/// Steps the coupled case takes before it is timed, so that the air
-/// already moves.
-pub const WARM_UP_STEPS: usize = 3;
-
 /// The step cost of `setup`: each of the three steps timed over `steps`
-/// steps at the Δt of the coupled case after [`WARM_UP_STEPS`] steps, the
+/// steps at the Δt of the coupled case after
+/// [`WARM_UP_STEPS`](brisance_couple::ice_mpm::cases::WARM_UP_STEPS) steps, the
 /// best of `repeats` timings (each on a freshly built case, the building
 /// outside the timing), per step. Fails with the solver's message if a
 /// step fails, or if `steps` or `repeats` is 0.
@@ -45,14 +42,7 @@ pub fn step_cost(setup: &Setup, steps: usize, repeats: usize) -> Result<StepCost
             "step cost: steps ({steps}) and repeats ({repeats}) must be at least 1"
         ));
     }
-    let warm = || -> Result<_, String> {
-        let mut s = build(setup);
-        for _ in 0..WARM_UP_STEPS {
-            let dt = s.stable_dt().map_err(|e| e.to_string())?;
-            s.advance(dt).map_err(|e| e.to_string())?;
-        }
-        Ok(s)
-    };
+    let warm = || build_warm(setup).map_err(|e| e.to_string());
     let s0 = warm()?;
     let dt = s0.stable_dt().map_err(|e| e.to_string())?;
     let particles = s0.particles_per_step();
