@@ -8,7 +8,8 @@
 //! [250, 252) mm) and between `--x-from` and `--x-to` (m), sorted by x:
 //! position, mass over an initial air particle's, density, pressure,
 //! velocity along x, specific internal energy and material (0 air, 1
-//! products). Trailing arguments are `--set` strings.
+//! products). `--set KEY=VALUE` (or a bare `KEY=VALUE`) overrides the
+//! config as `brisance run --set` does.
 //!
 //! `cargo run --release -p brisance-validation --example bridge_gauge2_particles -- --from 6.2e-6 --to 8.2e-6 --every 2e-7 --x-from 0.116 --x-to 0.130`
 //!
@@ -49,6 +50,7 @@ fn parse() -> Result<Args, String> {
             "--every" => a.every = value("--every")?,
             "--x-from" => a.x.0 = value("--x-from")?,
             "--x-to" => a.x.1 = value("--x-to")?,
+            "--set" => a.sets.push(it.next().ok_or("--set needs a value")?),
             _ => a.sets.push(k),
         }
     }
@@ -58,19 +60,21 @@ fn parse() -> Result<Args, String> {
     Ok(a)
 }
 
+fn fail(e: impl std::fmt::Display) -> ! {
+    eprintln!("bridge_gauge2_particles: {e}");
+    std::process::exit(2)
+}
+
 fn main() {
-    let args = parse().unwrap_or_else(|e| {
-        eprintln!("bridge_gauge2_particles: {e}");
-        std::process::exit(2)
-    });
+    let args = parse().unwrap_or_else(|e| fail(e));
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let loaded =
-        load_file(&root.join("configs/blast2d.ron"), &args.sets).unwrap_or_else(|e| panic!("{e}"));
+        load_file(&root.join("configs/blast2d.ron"), &args.sets).unwrap_or_else(|e| fail(e));
     let d = &loaded.scenario.domain;
     let h: [f64; 3] = std::array::from_fn(|k| (d.upper[k] - d.lower[k]) / d.cells[k] as f64);
     // The initial air particles: 2 per cell and direction in (x, y).
     let m0 = 1.225 * h[0] * h[1] * h[2] / 4.0;
-    let reference = reference_1d(3200).unwrap_or_else(|e| panic!("{e}"));
+    let reference = reference_1d(3200).unwrap_or_else(|e| fail(e));
     let at = |t: f64| {
         let k = reference.time.partition_point(|&x| x < t);
         match (reference.time.get(k.wrapping_sub(1)), reference.time.get(k)) {
@@ -81,22 +85,22 @@ fn main() {
             _ => f64::NAN,
         }
     };
-    let mut s = build_solver(&loaded.scenario).unwrap_or_else(|e| panic!("{e}"));
+    let mut s = build_solver(&loaded.scenario).unwrap_or_else(|e| fail(e));
     let fields = vec!["pressure".to_string()];
     let (mut g1, mut g2) = (Vec::new(), Vec::new());
     let mut next_dump = args.from;
     let mut printed = f64::NEG_INFINITY;
     println!("t (µs) | gauge 2 (MPa) | gauge 1 (MPa) | 1D reference (MPa)");
     while s.time() < args.to {
-        let dt = s.stable_dt().unwrap_or_else(|e| panic!("{e}"));
-        s.advance(dt).unwrap_or_else(|e| panic!("{e}"));
+        let dt = s.stable_dt().unwrap_or_else(|e| fail(e));
+        s.advance(dt).unwrap_or_else(|e| fail(e));
         let t = s.time();
         if t >= args.from && t - printed >= 0.05e-6 {
             g1.clear();
             g2.clear();
             s.sample([0.125, 0.25, 0.001], &fields, &mut g2)
                 .and_then(|_| s.sample([-0.125, 0.25, 0.001], &fields, &mut g1))
-                .unwrap_or_else(|e| panic!("{e}"));
+                .unwrap_or_else(|e| fail(e));
             println!(
                 "{:.3} | {:.2} | {:.2} | {:.2}",
                 t * 1e6,
