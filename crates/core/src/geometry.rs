@@ -10,6 +10,8 @@ use std::f64::consts::PI;
 
 use serde::{Deserialize, Serialize};
 
+use crate::UniformGridGeometry;
+
 /// How a grid's cells are to be read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum Geometry {
@@ -46,6 +48,15 @@ impl Geometry {
         }
     }
 
+    /// Volume of a cell of `grid` in column `i` along x (from
+    /// [`Self::cell_volume`]: its lower radius `origin + i Δx`): the box,
+    /// or the ring about the axis on an (r, z) grid.
+    #[inline]
+    pub fn column_cell_volume(self, grid: &UniformGridGeometry, i: usize) -> f64 {
+        let [dr, dy, dz] = grid.spacing;
+        self.cell_volume(grid.origin[0] + i as f64 * dr, dr, dy, dz)
+    }
+
     /// Area of the face normal to x at `x = r` of a cell `dy × dz` wide:
     /// `dy·dz`, or the cylinder `2π r·dy`.
     #[inline]
@@ -77,6 +88,19 @@ mod tests {
         assert_eq!(g.cell_volume(3.0, 0.5, 0.25, 2.0), 0.25);
         assert_eq!(g.x_face_area(3.0, 0.25, 2.0), 0.5);
         assert_eq!(g.y_face_area(3.0, 0.5, 2.0), 1.0);
+    }
+
+    #[test]
+    fn a_column_s_cell_starts_at_its_lower_radius() {
+        // Column 2 of a grid from r = 1 m in steps of 0.5 m spans r 2–2.5 m.
+        let grid = UniformGridGeometry {
+            origin: [1.0, 0.0, 0.0],
+            spacing: [0.5, 0.25, 2.0],
+            cells: [4, 3, 1],
+        };
+        assert_eq!(Geometry::Cartesian.column_cell_volume(&grid, 2), 0.25);
+        let ring = Geometry::Axisymmetric.column_cell_volume(&grid, 2);
+        assert!((ring - PI * (2.5f64.powi(2) - 2.0f64.powi(2)) * 0.25).abs() < 1e-14);
     }
 
     #[test]

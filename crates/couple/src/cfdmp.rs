@@ -446,10 +446,7 @@ impl<E: GasLaw> Cfdmp<E> {
         if !self.geometry.is_axisymmetric() {
             return self.regions.cell_volume();
         }
-        let f = &self.regions.fdm;
-        let r_lo = f.origin[0] + g[0] as f64 * f.spacing[0];
-        self.geometry
-            .cell_volume(r_lo, f.spacing[0], f.spacing[1], f.spacing[2])
+        self.geometry.column_cell_volume(&self.regions.fdm, g[0])
     }
 
     /// Area of the interface face of the line through cell `g`, m²: the

@@ -893,11 +893,9 @@ impl<E: GasLaw> FdmSolver<E> {
     /// Volume of the ring of an axisymmetric grid's cells in column `i`,
     /// π(r₊² − r₋²)Δz ([`Geometry::cell_volume`]).
     fn ring_volume(&self, i: usize) -> f64 {
-        let g = &self.level.geometry;
-        let r_lo = g.origin[0] + i as f64 * g.spacing[0];
         self.options
             .geometry
-            .cell_volume(r_lo, g.spacing[0], g.spacing[1], g.spacing[2])
+            .column_cell_volume(&self.level.geometry, i)
     }
 
     /// What one unit of a face accumulator of [`Self::outflow`] stands

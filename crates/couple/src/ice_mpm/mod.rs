@@ -461,10 +461,7 @@ impl IceMpm {
             )));
         }
         let volumes = (0..cells)
-            .map(|k| {
-                let r_lo = gi.origin[0] + (k % gi.cells[0]) as f64 * gi.spacing[0];
-                geometry.cell_volume(r_lo, gi.spacing[0], gi.spacing[1], gi.spacing[2])
-            })
+            .map(|k| geometry.column_cell_volume(&gi, k % gi.cells[0]))
             .collect();
         let mut coupled = Self {
             ice,

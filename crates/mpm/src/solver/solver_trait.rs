@@ -120,11 +120,9 @@ impl MpmSolver {
     /// particles' masses are the rings' (`Geometry::cell_volume`).
     #[inline]
     fn cell_volume(&self, i: usize) -> f64 {
-        let g = &self.level.geometry;
-        let r_lo = g.origin[0] + i as f64 * g.spacing[0];
         self.options
             .geometry
-            .cell_volume(r_lo, g.spacing[0], g.spacing[1], g.spacing[2])
+            .column_cell_volume(&self.level.geometry, i)
     }
 
     /// The cell fields `names` on the whole grid: in each cell the
