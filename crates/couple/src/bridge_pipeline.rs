@@ -148,6 +148,16 @@ pub struct BridgeConfig {
     /// false`, the paper's rule).
     #[serde(default = "default_true")]
     pub inflow_deposit: bool,
+    /// Start the MPM region inside the bridge (`Some(k)`, 1 ≤ k < w): it
+    /// starts when the shock is k cells into the bridge in some row of
+    /// interface faces, each row joins the coupling when its own shock gets
+    /// there, and the air and products particles of the row's bridge cells
+    /// then take their FDM cell's state. Until a row joins, its donor cell
+    /// pushes with its initial state and it takes no inflow. Default
+    /// `None`: seed 001's start, `activation_cells` before the interface
+    /// (docs/physics/couple/bridge.md, "Starting inside the bridge").
+    #[serde(default)]
+    pub start_in_bridge: Option<usize>,
 }
 
 /// Bridge width when `w` is omitted, cells (the default).
@@ -387,6 +397,15 @@ fn validate(s: &Scene<'_>, cfg: &BridgeConfig) -> Result<(), Problem> {
             "pipeline.activation_pressure".into(),
             format!("{} Pa must be positive", cfg.activation_pressure),
         ));
+    }
+    if let Some(k) = cfg.start_in_bridge {
+        let w = cfg.w.unwrap_or(DEFAULT_BRIDGE_WIDTH);
+        if k == 0 || k >= w {
+            return Err((
+                "pipeline.start_in_bridge".into(),
+                format!("{k} cells must lie in [1, w) = [1, {w}): the rows start once the shock is that far inside the bridge, short of the FDM region's end"),
+            ));
+        }
     }
     if !(0.0..=1.0).contains(&cfg.min_particle_mass) {
         return Err((
@@ -868,6 +887,7 @@ fn build_with<'a, E: GasLaw + 'static>(
             },
             deposit: cfg.inflow_deposit,
             donor_rings: per[0],
+            start_in_bridge: cfg.start_in_bridge,
         },
     )
     .map_err(|m| ("pipeline".to_string(), m))?;

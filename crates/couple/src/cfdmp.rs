@@ -96,6 +96,21 @@ pub struct CfdmpOptions {
     /// differently from two). Ignored on a Cartesian grid (one particle per
     /// cell, exact there).
     pub donor_rings: usize,
+    /// Start each row of interface faces inside the bridge (`Some(k)`,
+    /// 1 ≤ k < w): the MPM region starts when the shock is k cells into
+    /// the bridge (FDM pressure ≥ `activation_pressure` in the k-th
+    /// bridge cell from the interface) in some row, and each row joins
+    /// the coupling when its own shock gets there: until then its donor
+    /// cell pushes with its initial state and its inflow waits in the FDM;
+    /// then its air and products particles inside the bridge take the
+    /// state of the FDM cell they are in (mass ρ_c V_p at their own volume;
+    /// the change booked as inflow). A shock then enters the MPM region
+    /// already inside its particles, as the FDM carries it, instead of
+    /// being started at the interface by the donor's pressure and the
+    /// inflow (docs/physics/couple/bridge.md, "Starting inside the
+    /// bridge"). `None`: seed 001's start (`activation_cells` before the
+    /// interface, the particles as they are).
+    pub start_in_bridge: Option<usize>,
 }
 
 /// Inflow of one interface face not yet made into particles (sums over
@@ -135,6 +150,9 @@ pub struct TransportTotals {
     pub supersonic_outflow: u64,
     /// Particles that received a deposit of inflow (`CfdmpOptions::deposit`).
     pub deposited: u64,
+    /// Particles given their FDM cell's state as their row joined
+    /// (`CfdmpOptions::start_in_bridge`).
+    pub restarted: u64,
     /// Fictitious cells (steps × cells) whose MPM cell held no material
     /// and that took the state inside them (zero gradient).
     pub zero_gradient: u64,
@@ -171,6 +189,12 @@ pub struct Cfdmp<E: GasLaw> {
     mpm_seconds: f64,
     /// Inflow in transit per interface face (`face_cells` order).
     pending: Vec<Pending>,
+    /// Per interface face, whether its row has joined the coupling
+    /// (always, without `start_in_bridge`).
+    joined: Vec<bool>,
+    /// Per interface face, its donor cell's initial state, the push of a
+    /// row that has not joined.
+    donor_initial: Vec<Primitive>,
     /// Tangential FDM-grid cells of one layer normal to the split axis
     /// ([`Cfdmp::face_cells`]).
     faces: Vec<[usize; 3]>,
@@ -278,6 +302,14 @@ impl<E: GasLaw> Cfdmp<E> {
                 options.existing_volume
             ));
         }
+        if let Some(k) = options.start_in_bridge {
+            if k == 0 || k >= regions.width {
+                return Err(format!(
+                    "start_in_bridge = {k} cells must lie in [1, w) = [1, {}): the shock has to be inside the bridge, short of the FDM region's end",
+                    regions.width
+                ));
+            }
+        }
         if !(options.existing_mass > 0.0) {
             return Err(format!(
                 "existing_mass = {} kg must be positive",
@@ -327,6 +359,8 @@ impl<E: GasLaw> Cfdmp<E> {
             fdm_seconds: 0.0,
             mpm_seconds: 0.0,
             pending: Vec::new(),
+            joined: Vec::new(),
+            donor_initial: Vec::new(),
             cells: Vec::new(),
             sources: Vec::new(),
             values: Vec::new(),
@@ -349,6 +383,15 @@ impl<E: GasLaw> Cfdmp<E> {
         s.faces = s.face_cells();
         s.fictitious = s.fictitious_cells();
         s.pending = vec![Pending::default(); s.faces.len()];
+        s.joined = vec![options.start_in_bridge.is_none(); s.faces.len()];
+        let donor = s.fdm_index(s.regions.donor_cell());
+        s.donor_initial = (0..s.faces.len())
+            .map(|f| {
+                let mut c = s.faces[f];
+                c[a] = donor;
+                s.primitive(c).0
+            })
+            .collect();
         let cells = s.fictitious.clone();
         s.fictitious_initial = cells
             .iter()
@@ -512,7 +555,12 @@ impl<E: GasLaw> Cfdmp<E> {
             // Eqs 37–39 with V_c the cell's volume (its ring on an (r, z)
             // grid: the MPM's ring particle of the cell's cross-section).
             let volume = self.volume_at(c);
-            let (s, _) = self.primitive(c);
+            // A row that has not joined pushes with its initial state.
+            let s = if self.joined[f] {
+                self.primitive(c).0
+            } else {
+                self.donor_initial[f]
+            };
             let centre = geometry.cell_centre(c);
             // One particle, or on an (r, z) grid `donor_rings` rings of
             // the cell's state at r_k = r₋ + (k + ½)Δr/n, V_k = 2π r_k
@@ -612,6 +660,110 @@ impl<E: GasLaw> Cfdmp<E> {
         false
     }
 
+    /// Whether the FDM pressure of face `f`'s row has reached
+    /// `activation_pressure` in the `k`-th bridge cell from the interface
+    /// (k = 0: the first bridge cell).
+    fn shock_in_bridge(&self, f: usize, k: usize) -> bool {
+        let a = self.regions.axis;
+        let first = self.regions.first_bridge_cell();
+        let i = match self.regions.mpm_side {
+            Side::High => first + k,
+            Side::Low => first - k,
+        };
+        let mut c = self.faces[f];
+        c[a] = self.fdm_index(i);
+        self.primitive(c).0.pressure >= self.options.activation_pressure
+    }
+
+    /// With `start_in_bridge`: the rows whose shock has reached the k-th
+    /// bridge cell join the coupling, and their air and products
+    /// particles inside the bridge take the state of the FDM cell they are
+    /// in (mass ρ_c V_p at their own volume, the FDM velocity, air's
+    /// specific internal energy by eq 48 and products' the cell's own,
+    /// stress −p_c I), the change booked as inflow.
+    fn join_rows(&mut self) -> Result<(), SolverError> {
+        let Some(k) = self.options.start_in_bridge else {
+            return Ok(());
+        };
+        let rows: Vec<usize> = (0..self.faces.len())
+            .filter(|&f| !self.joined[f] && self.shock_in_bridge(f, k))
+            .collect();
+        if rows.is_empty() {
+            return Ok(());
+        }
+        for &f in &rows {
+            self.joined[f] = true;
+        }
+        let a = self.regions.axis;
+        let fg = self.fdm.level().geometry;
+        // The bridge's FDM-grid cells along the axis, [lo, hi).
+        let (lo, hi) = {
+            let first = self.fdm_index(self.regions.first_bridge_cell());
+            let w = self.regions.width;
+            match self.regions.mpm_side {
+                Side::High => (first, first + w),
+                Side::Low => (first + 1 - w, first + 1),
+            }
+        };
+        let ps = self.mpm.particles();
+        self.leaving.clear();
+        self.inits.clear();
+        let mut change = ConservationTotals::default();
+        for p in 0..ps.len() {
+            let m = ps.material[p];
+            let fluid = m == self.options.air || Some(m) == self.options.products;
+            if !fluid {
+                continue;
+            }
+            let Some(c) = fg.cell_containing(ps.position[p]) else {
+                continue;
+            };
+            if c[a] < lo || c[a] >= hi || !rows.contains(&self.line_of(c)) {
+                continue;
+            }
+            let (st, y) = self.primitive(c);
+            let products = self.options.products.filter(|_| y >= 0.5);
+            let e = if products.is_some() {
+                let u = self.fdm.cell_conservative(c).unwrap_or([0.0; 6]);
+                specific_internal_energy(u[0], u[1], u[2], u[3], u[4])
+            } else {
+                st.pressure / ((self.options.gamma - 1.0) * st.density)
+            };
+            let volume = ps.volume[p];
+            let mass = st.density * volume;
+            book(&mut change, mass, st.velocity, e);
+            book(
+                &mut change,
+                -ps.mass[p],
+                ps.velocity[p],
+                ps.specific_internal_energy[p],
+            );
+            self.leaving.push(p);
+            self.inits.push(ParticleInit {
+                position: ps.position[p],
+                velocity: st.velocity,
+                mass,
+                volume,
+                stress: [-st.pressure, -st.pressure, -st.pressure, 0.0, 0.0, 0.0],
+                specific_internal_energy: e,
+                material: products.unwrap_or(self.options.air),
+                ..Default::default()
+            });
+        }
+        self.mpm.remove_particles(&self.leaving);
+        self.mpm
+            .insert_particles(&self.inits)
+            .map_err(|e| SolverError::Other(format!("bridge rows joining: {e}")))?;
+        book_parts(
+            &mut self.totals.into_mpm,
+            change.mass,
+            change.momentum,
+            change.energy,
+        );
+        self.totals.restarted += self.inits.len() as u64;
+        Ok(())
+    }
+
     /// One coupled step of Δt = `dt` (module doc).
     pub fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
         if !self.active {
@@ -621,13 +773,18 @@ impl<E: GasLaw> Cfdmp<E> {
             self.fdm_seconds += t.elapsed().as_secs_f64();
             self.time += dt;
             self.steps += 1;
-            if self.shock_near_interface() {
+            let start = match self.options.start_in_bridge {
+                None => self.shock_near_interface(),
+                Some(k) => (0..self.faces.len()).any(|f| self.shock_in_bridge(f, k)),
+            };
+            if start {
                 self.active = true;
                 self.activated_at = Some(self.time);
             }
             return Ok(());
         }
         let t = Instant::now();
+        self.join_rows()?;
         self.mpm_step(dt)?;
         self.update_fictitious_cells()?;
         let t1 = Instant::now();
@@ -716,6 +873,9 @@ struct SavedState {
     counts: [u64; 7],
     products_as_air: f64,
     pending: Vec<Pending>,
+    /// Per face, whether its row has joined; the particles restarted.
+    joined: Vec<bool>,
+    restarted: u64,
     fdm: Vec<u8>,
     mpm: Vec<u8>,
 }
@@ -1005,6 +1165,8 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             ],
             products_as_air: t.products_as_air,
             pending: self.pending.clone(),
+            joined: self.joined.clone(),
+            restarted: t.restarted,
             fdm: self.fdm.save_state()?,
             mpm: self.mpm.save_state()?,
         };
@@ -1024,6 +1186,9 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             )));
         }
         self.pending = s.pending;
+        if s.joined.len() == self.joined.len() {
+            self.joined = s.joined;
+        }
         self.time = s.time;
         self.steps = s.steps;
         self.active = s.active;
@@ -1038,6 +1203,7 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             deposited: s.counts[3],
             zero_gradient: s.counts[4],
             wall: s.counts[5],
+            restarted: s.restarted,
         };
         self.particle_steps = s.counts[6];
         Ok(())

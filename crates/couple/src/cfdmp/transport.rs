@@ -27,6 +27,11 @@ impl<E: GasLaw> Cfdmp<E> {
         self.leaving.clear();
         self.scan_particles(x_face);
         for f in 0..self.faces.len() {
+            // A row that has not joined (`start_in_bridge`) takes no
+            // inflow: the FDM keeps it until the row joins.
+            if !self.joined[f] {
+                continue;
+            }
             let c = self.faces[f];
             let (mut cd, mut cb) = (c, c);
             cd[a] = donor;
