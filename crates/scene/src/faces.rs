@@ -112,6 +112,22 @@ pub fn fixed_face_material<'a>(
             .join(", ")
     };
     match (&state.material, materials) {
+        // No material of that kind at all: say so rather than list none.
+        (m, []) => Err(FieldError::new(
+            if m.is_some() {
+                format!("boundaries.{face}.material")
+            } else {
+                format!("boundaries.{face}")
+            },
+            format!(
+                "the pipeline has no {kind}{} to fill this face's state",
+                if kind == "particle material" {
+                    " (a material with a constitutive `model`, e.g. `(model: Null(eos: ...))` for a gas)"
+                } else {
+                    ""
+                }
+            ),
+        )),
         (Some(m), _) if materials.contains(m) => Ok(m),
         (Some(m), _) => Err(FieldError::new(
             format!("boundaries.{face}.material"),
@@ -366,5 +382,22 @@ mod tests {
         );
         let e = fixed_face_material("x_low", &s, &one, "gas").unwrap_err();
         assert_eq!(e.field, "boundaries.x_low.material");
+        // None of the kind: named as such, not as an empty list.
+        let e = fixed_face_material("x_low", &s, &[], "particle material").unwrap_err();
+        assert_eq!(e.field, "boundaries.x_low.material");
+        assert!(
+            e.message.starts_with(
+                "the pipeline has no particle material (a material with a constitutive `model`"
+            ),
+            "{}",
+            e.message
+        );
+        s.material = None;
+        let e = fixed_face_material("x_low", &s, &[], "gas").unwrap_err();
+        assert_eq!(e.field, "boundaries.x_low");
+        assert_eq!(
+            e.message,
+            "the pipeline has no gas to fill this face's state"
+        );
     }
 }
