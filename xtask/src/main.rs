@@ -8,6 +8,7 @@
 
 mod bridge3d;
 mod bridge_cases;
+mod bridge_shock;
 mod burn_rate;
 mod conduction;
 mod constitutive_cases;
@@ -886,7 +887,7 @@ fn throughput(report: &mut Report) -> Result<()> {
 
 /// The cases of `cargo xtask validate`, in report order, by the names that
 /// `--only` takes.
-const CASES: [&str; 47] = [
+const CASES: [&str; 48] = [
     "sod",
     "sod-ice",
     "noble-abel",
@@ -928,6 +929,7 @@ const CASES: [&str; 47] = [
     "hotspot",
     "freeair",
     "blast2d",
+    "bridge-shock",
     "plate",
     "plate-rz",
     "slab",
@@ -1086,6 +1088,9 @@ fn validate(only: &[String]) -> Result<()> {
     }
     if run("blast2d") {
         bridge_cases::e_blast2d(&mut body, &img)?;
+    }
+    if run("bridge-shock") {
+        bridge_shock::v_bridge_shock(&mut body)?;
     }
     if run("plate") {
         plate_cases::e_plate(&mut body, &img)?;

@@ -10,6 +10,7 @@
 pub mod blast;
 pub mod blast2d;
 pub mod bridge_blast;
+pub mod bridge_shock;
 pub mod cases;
 pub mod conduction_contact;
 pub mod cookoff;
