@@ -685,14 +685,14 @@ impl<E: GasLaw> Cfdmp<E> {
         let Some(k) = self.options.start_in_bridge else {
             return Ok(());
         };
-        let rows: Vec<usize> = (0..self.faces.len())
-            .filter(|&f| !self.joined[f] && self.shock_in_bridge(f, k))
-            .collect();
-        if rows.is_empty() {
+        // Nothing to do (and nothing allocated) on the steps no row joins.
+        let joins = |f: usize| !self.joined[f] && self.shock_in_bridge(f, k);
+        if !(0..self.faces.len()).any(joins) {
             return Ok(());
         }
-        for &f in &rows {
-            self.joined[f] = true;
+        let rows: Vec<bool> = (0..self.faces.len()).map(joins).collect();
+        for (j, &r) in self.joined.iter_mut().zip(&rows) {
+            *j |= r;
         }
         let a = self.regions.axis;
         let fg = self.fdm.level().geometry;
@@ -718,7 +718,7 @@ impl<E: GasLaw> Cfdmp<E> {
             let Some(c) = fg.cell_containing(ps.position[p]) else {
                 continue;
             };
-            if c[a] < lo || c[a] >= hi || !rows.contains(&self.line_of(c)) {
+            if c[a] < lo || c[a] >= hi || !rows[self.line_of(c)] {
                 continue;
             }
             let (st, y) = self.primitive(c);
@@ -1186,9 +1186,8 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
             )));
         }
         self.pending = s.pending;
-        if s.joined.len() == self.joined.len() {
-            self.joined = s.joined;
-        }
+        // As many faces as `pending` (checked above).
+        self.joined = s.joined;
         self.time = s.time;
         self.steps = s.steps;
         self.active = s.active;
