@@ -37,8 +37,8 @@ use brisance_mpm::{MaterialId, MpmSolver, ParticleInit};
 use crate::bridge::{
     absorb_particle, centre_weight, create_particles, deposit_into_particle, fdm_cell_as_particle,
     fdm_outflow_is_supersonic, fictitious_mass_momentum, fictitious_source, interface_fluxes,
-    interface_state, resolve_fictitious_line, CellParticles, Deposit, FaceInflow, FictitiousSource,
-    NewParticle, NormalState, Primitive,
+    interface_state, resolve_fictitious_line, CellParticle, CellParticles, Deposit, FaceInflow,
+    FictitiousSource, NewParticle, NormalState, Primitive,
 };
 use crate::regions::{BridgeRegions, Side};
 
@@ -578,16 +578,8 @@ impl<E: GasLaw> Cfdmp<E> {
                     v = volume * x[0] / (centre[0] * rings as f64);
                 }
                 let cp = fdm_cell_as_particle(x, s.density, s.velocity, s.pressure, v);
-                self.inits.push(ParticleInit {
-                    position: cp.position,
-                    velocity: cp.velocity,
-                    mass: cp.mass,
-                    volume: cp.volume,
-                    stress: cp.stress,
-                    specific_internal_energy: s.pressure / ((self.options.gamma - 1.0) * s.density),
-                    material: self.options.air,
-                    ..Default::default()
-                });
+                let e = self.particle_energy(c, &s, false);
+                self.inits.push(particle_init(&cp, e, self.options.air));
             }
         }
         let first = self
@@ -634,6 +626,19 @@ impl<E: GasLaw> Cfdmp<E> {
         self.donors = (0, 0);
     }
 
+    /// The specific internal energy of air or products particles made from
+    /// FDM cell `c` in state `s`: eq 48's p/((γ − 1)ρ) for air, the cell's
+    /// own for `products` (the donors, the transport's new particles and
+    /// the particles of a row that joins).
+    fn particle_energy(&self, c: [usize; 3], s: &Primitive, products: bool) -> f64 {
+        if products {
+            let u = self.fdm.cell_conservative(c).unwrap_or([0.0; 6]);
+            specific_internal_energy(u[0], u[1], u[2], u[3], u[4])
+        } else {
+            s.pressure / ((self.options.gamma - 1.0) * s.density)
+        }
+    }
+
     /// Whether an FDM cell within `activation_cells` of the interface
     /// (donor side) has reached the activation pressure.
     fn shock_near_interface(&self) -> bool {
@@ -649,30 +654,31 @@ impl<E: GasLaw> Cfdmp<E> {
             if i < 0 || i >= n {
                 break;
             }
-            for &c in &self.faces {
-                let mut c = c;
-                c[a] = self.fdm_index(i as usize);
-                if self.primitive(c).0.pressure >= self.options.activation_pressure {
-                    return true;
-                }
+            if (0..self.faces.len()).any(|f| self.reached(f, i as usize)) {
+                return true;
             }
         }
         false
+    }
+
+    /// Whether the FDM pressure in face `f`'s row at FDM-region cell `i`
+    /// along the split axis has reached `activation_pressure`.
+    fn reached(&self, f: usize, i: usize) -> bool {
+        let mut c = self.faces[f];
+        c[self.regions.axis] = self.fdm_index(i);
+        self.primitive(c).0.pressure >= self.options.activation_pressure
     }
 
     /// Whether the FDM pressure of face `f`'s row has reached
     /// `activation_pressure` in the `k`-th bridge cell from the interface
     /// (k = 0: the first bridge cell).
     fn shock_in_bridge(&self, f: usize, k: usize) -> bool {
-        let a = self.regions.axis;
         let first = self.regions.first_bridge_cell();
         let i = match self.regions.mpm_side {
             Side::High => first + k,
             Side::Low => first - k,
         };
-        let mut c = self.faces[f];
-        c[a] = self.fdm_index(i);
-        self.primitive(c).0.pressure >= self.options.activation_pressure
+        self.reached(f, i)
     }
 
     /// With `start_in_bridge`: the rows whose shock has reached the k-th
@@ -723,15 +729,17 @@ impl<E: GasLaw> Cfdmp<E> {
             }
             let (st, y) = self.primitive(c);
             let products = self.options.products.filter(|_| y >= 0.5);
-            let e = if products.is_some() {
-                let u = self.fdm.cell_conservative(c).unwrap_or([0.0; 6]);
-                specific_internal_energy(u[0], u[1], u[2], u[3], u[4])
-            } else {
-                st.pressure / ((self.options.gamma - 1.0) * st.density)
-            };
-            let volume = ps.volume[p];
-            let mass = st.density * volume;
-            book(&mut change, mass, st.velocity, e);
+            let e = self.particle_energy(c, &st, products.is_some());
+            // The cell's state at the particle's own volume, as a donor
+            // cell joins the MPM step (eqs 37–39).
+            let cp = fdm_cell_as_particle(
+                ps.position[p],
+                st.density,
+                st.velocity,
+                st.pressure,
+                ps.volume[p],
+            );
+            book(&mut change, cp.mass, cp.velocity, e);
             book(
                 &mut change,
                 -ps.mass[p],
@@ -739,16 +747,8 @@ impl<E: GasLaw> Cfdmp<E> {
                 ps.specific_internal_energy[p],
             );
             self.leaving.push(p);
-            self.inits.push(ParticleInit {
-                position: ps.position[p],
-                velocity: st.velocity,
-                mass,
-                volume,
-                stress: [-st.pressure, -st.pressure, -st.pressure, 0.0, 0.0, 0.0],
-                specific_internal_energy: e,
-                material: products.unwrap_or(self.options.air),
-                ..Default::default()
-            });
+            self.inits
+                .push(particle_init(&cp, e, products.unwrap_or(self.options.air)));
         }
         self.mpm.remove_particles(&self.leaving);
         self.mpm
@@ -1206,6 +1206,21 @@ impl<E: GasLaw> Solver for Cfdmp<E> {
         };
         self.particle_steps = s.counts[6];
         Ok(())
+    }
+}
+
+/// The MPM particle of a cell's state `cp` ([`fdm_cell_as_particle`]) with
+/// specific internal energy `e`, of `material`.
+fn particle_init(cp: &CellParticle, e: f64, material: MaterialId) -> ParticleInit {
+    ParticleInit {
+        position: cp.position,
+        velocity: cp.velocity,
+        mass: cp.mass,
+        volume: cp.volume,
+        stress: cp.stress,
+        specific_internal_energy: e,
+        material,
+        ..Default::default()
     }
 }
 

@@ -42,15 +42,10 @@ impl<E: GasLaw> Cfdmp<E> {
             let (fm, fp) = interface_fluxes(&face, a, side, self.area_at(c), dt);
             if fm > 0.0 {
                 let products = self.options.products.is_some() && yd >= 0.5;
-                // The new particles' specific internal energy: eq 48 for
-                // air, the donor's own for products.
-                let e = if products {
-                    let u = self.fdm.cell_conservative(cd).unwrap_or([0.0; 6]);
-                    specific_internal_energy(u[0], u[1], u[2], u[3], u[4])
-                } else {
+                if !products {
                     self.totals.products_as_air += yd * fm;
-                    sd.pressure / ((self.options.gamma - 1.0) * sd.density)
-                };
+                }
+                let e = self.particle_energy(cd, &sd, products);
                 let v2: f64 = face.velocity.iter().map(|v| v * v).sum();
                 let q = &mut self.pending[f];
                 q.mass += fm;
